@@ -1,0 +1,460 @@
+"""The evaluator: a batch of model calls through an executor, with time-outs, failure records and the
+evaluation store.
+
+The model is any function ``f(x) -> (outputs, status)`` of one input row ``x`` (a 1-D float64 array):
+
+- ``outputs``: a 1-D array (or a scalar), or a dict of scalars/arrays;
+- ``status``: ``"ok"`` for a good call; any other string declares a failure and is kept as its reason
+  (``"no assembly at crank angle 1.2 rad"``). A function may also return just ``outputs`` (status ok).
+
+The failure rule (one bad call never ends a batch):
+
+- the model raises, declares a failure, or returns non-finite outputs -> status ``"failed"``;
+- the call runs longer than ``timeout`` seconds -> status ``"timeout"``;
+- the worker process running the call dies -> the call is run again on a fresh worker, at most
+  ``max_attempts`` times in all, then status ``"failed"`` (reason ``"worker died ..."``);
+
+A failed call is stored like a good one (with its reason and wall time) and its outputs are NaN in
+:attr:`BatchResult.Y`. What a study does with failed calls is the study's rule; the evaluator only
+records them. Calls already in the store (same tag, bit-identical input row) are served from it and
+never run again; failed calls too, unless ``retry_failed=True``.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import functools
+import math
+import os
+import pickle
+import signal
+import socket
+import threading
+import time
+import traceback
+from collections import deque
+from concurrent.futures import FIRST_COMPLETED, CancelledError, wait
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass, field
+from typing import Any, Callable, Mapping
+
+import numpy as np
+
+from .executors import SerialExecutor
+from .store import CallRecord, EvaluationStore, _row_bytes
+
+__all__ = ["BatchResult", "Evaluator", "run_call"]
+
+OK, FAILED, TIMEOUT = "ok", "failed", "timeout"
+
+
+def _now() -> str:
+    return _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="microseconds")
+
+
+# ----------------------------------------------------------------------------------------------------
+# one call, on the worker
+
+
+class CallTimeout(BaseException):
+    """Raised inside a model call that ran past its time-out (a BaseException, so that a model's own
+    ``except Exception`` does not swallow it)."""
+
+
+def _call_with_alarm(model: Callable, x: np.ndarray, timeout: float):
+    def _on_alarm(signum, frame):
+        raise CallTimeout()
+
+    old = signal.signal(signal.SIGALRM, _on_alarm)
+    signal.setitimer(signal.ITIMER_REAL, timeout)
+    try:
+        return model(x)
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0.0)
+        signal.signal(signal.SIGALRM, old)
+
+
+def _call_in_thread(model: Callable, x: np.ndarray, timeout: float):
+    box: dict[str, Any] = {}
+
+    def target():
+        try:
+            box["value"] = model(x)
+        except BaseException as exc:  # noqa: BLE001 - re-raised in the caller
+            box["error"] = exc
+
+    t = threading.Thread(target=target, name="jointwear-model-call", daemon=True)
+    t.start()
+    t.join(timeout)
+    if t.is_alive():  # cannot be stopped: it finishes in the background and its result is dropped
+        raise CallTimeout()
+    if "error" in box:
+        raise box["error"]
+    return box["value"]
+
+
+def _split_result(res: Any) -> tuple[Any, str]:
+    if isinstance(res, tuple) and len(res) == 2 and isinstance(res[1], str):
+        return res[0], res[1]
+    return res, OK
+
+
+def _as_outputs(outputs: Any) -> np.ndarray | dict[str, np.ndarray]:
+    if isinstance(outputs, Mapping):
+        return {str(k): np.array(v, dtype=np.float64) for k, v in outputs.items()}
+    return np.atleast_1d(np.array(outputs, dtype=np.float64))
+
+
+def _all_finite(outputs) -> bool:
+    if isinstance(outputs, dict):
+        return all(np.all(np.isfinite(v)) for v in outputs.values())
+    return bool(np.all(np.isfinite(outputs)))
+
+
+def _reason(exc: BaseException) -> str:
+    tb = traceback.extract_tb(exc.__traceback__)
+    where = f" (at {os.path.basename(tb[-1].filename)}:{tb[-1].lineno} in {tb[-1].name})" if tb else ""
+    msg = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
+    return f"{type(exc).__name__}: {msg}{where}" if msg else f"{type(exc).__name__}{where}"
+
+
+def run_call(model: Callable, x: np.ndarray, timeout: float | None = None) -> dict:
+    """Run ``model(x)`` once and return its outcome as a plain dict (``status``, ``reason``,
+    ``outputs``, ``wall_s``, ``started_at``, ``finished_at``, ``worker``). Never raises for a model
+    error. The time-out uses SIGALRM when the call runs on a process's main thread (it interrupts
+    Python code; compiled code is interrupted when it returns to Python), otherwise a watcher thread
+    (the call is abandoned, not stopped)."""
+    x = np.array(x, dtype=np.float64)  # a private copy: the model may not change the caller's row
+    started = _now()
+    t0 = time.perf_counter()
+    status, reason, outputs = OK, None, None
+    try:
+        if timeout is None:
+            res = model(x)
+        elif hasattr(signal, "SIGALRM") and threading.current_thread() is threading.main_thread():
+            res = _call_with_alarm(model, x, timeout)
+        else:
+            res = _call_in_thread(model, x, timeout)
+        out, st = _split_result(res)
+        if st != OK:
+            status, reason = FAILED, f"model: {st}"
+        else:
+            outputs = _as_outputs(out)
+            if not _all_finite(outputs):
+                status, reason, outputs = FAILED, "model returned non-finite outputs", None
+    except CallTimeout:
+        status, reason, outputs = TIMEOUT, f"time-out after {timeout:g} s", None
+    except (Exception, SystemExit) as exc:
+        status, reason, outputs = FAILED, _reason(exc), None
+    wall = time.perf_counter() - t0
+    return {
+        "status": status,
+        "reason": reason,
+        "outputs": outputs,
+        "wall_s": wall,
+        "started_at": started,
+        "finished_at": _now(),
+        "worker": f"{socket.gethostname()}:{os.getpid()}",
+    }
+
+
+@functools.lru_cache(maxsize=8)
+def _load_model(blob: bytes) -> Callable:
+    return pickle.loads(blob)
+
+
+def _run_pickled(blob: bytes, x: np.ndarray, timeout: float | None) -> dict:
+    """Worker entry point: the model travels as cloudpickle bytes (unpickled once per worker)."""
+    return run_call(_load_model(blob), x, timeout)
+
+
+def _dumps_model(model: Callable) -> bytes:
+    try:
+        import cloudpickle
+
+        return cloudpickle.dumps(model)
+    except ImportError:  # pragma: no cover - cloudpickle comes with dask
+        return pickle.dumps(model)
+
+
+# ----------------------------------------------------------------------------------------------------
+# results
+
+
+@dataclass
+class BatchResult:
+    """The outcome of :meth:`Evaluator.evaluate`, one entry per input row, in the input order."""
+
+    X: np.ndarray
+    records: list[CallRecord]
+    #: True where the row was served from the store (or repeated an earlier row of the batch).
+    reused: np.ndarray
+    #: model calls actually made for this batch
+    n_evaluated: int
+    wall_s: float
+    n_outputs: int | None = None
+    output_names: list[str] | None = field(default=None)
+
+    def __len__(self) -> int:
+        return len(self.records)
+
+    @property
+    def status(self) -> np.ndarray:
+        return np.array([r.status for r in self.records], dtype=object)
+
+    @property
+    def ok(self) -> np.ndarray:
+        return np.array([r.status == OK for r in self.records], dtype=bool)
+
+    @property
+    def n_failed(self) -> int:
+        return int((~self.ok).sum())
+
+    @property
+    def wall_per_call(self) -> np.ndarray:
+        return np.array([r.wall_s for r in self.records], dtype=np.float64)
+
+    @property
+    def failures(self) -> list[tuple[int, str, str | None]]:
+        """(row index, status, reason) of every failed row."""
+        return [(i, r.status, r.reason) for i, r in enumerate(self.records) if r.status != OK]
+
+    @property
+    def outputs(self) -> list[np.ndarray | dict[str, np.ndarray] | None]:
+        return [r.outputs for r in self.records]
+
+    @property
+    def Y(self) -> np.ndarray:
+        """Outputs as an (n, m) float64 array (dict outputs flattened in key order); NaN rows for
+        failed calls."""
+        flat = []
+        for r in self.records:
+            o = r.outputs
+            if o is None:
+                flat.append(None)
+            elif isinstance(o, dict):
+                flat.append(np.concatenate([np.ravel(v) for v in o.values()]) if o else np.empty(0))
+            else:
+                flat.append(np.ravel(o))
+        m = self.n_outputs
+        if m is None:
+            m = next((f.size for f in flat if f is not None), 1)
+        Y = np.full((len(flat), m), np.nan)
+        for i, f in enumerate(flat):
+            if f is not None:
+                if f.size != m:
+                    raise ValueError(
+                        f"model outputs have different sizes across calls ({f.size} at row {i}, "
+                        f"expected {m})"
+                    )
+                Y[i] = f
+        return Y
+
+
+# ----------------------------------------------------------------------------------------------------
+# the evaluator
+
+
+class Evaluator:
+    """Evaluate a model over batches of input rows through an executor, with a store.
+
+    Parameters
+    ----------
+    model : ``f(x: 1-D float64 array) -> (outputs, status)``; see the module docstring.
+    executor : from :func:`make_executor`; None runs in this process, serially. Not closed by the
+        evaluator.
+    store : an open :class:`EvaluationStore`, or None (no persistence, no reuse across batches).
+    timeout : seconds per call, or None.
+    tag : name of this model inside the store (a study with several models uses several tags).
+    retry_failed : run stored failed/timed-out calls again instead of reusing their outcome.
+    max_attempts : runs of one call when its worker process dies under it (local pools; on Dask
+        the scheduler re-runs lost tasks itself).
+    max_in_flight : calls submitted ahead of completions (default 2 per worker; all at once on Dask).
+    n_outputs : output length, for the NaN rows of :attr:`BatchResult.Y` when every call failed.
+    progress : a :class:`~jointwear.compute.Progress`, advanced by one per completed call.
+    """
+
+    def __init__(
+        self,
+        model: Callable,
+        executor=None,
+        store: EvaluationStore | None = None,
+        *,
+        timeout: float | None = None,
+        tag: str = "model",
+        retry_failed: bool = False,
+        max_attempts: int = 3,
+        max_in_flight: int | None = None,
+        n_outputs: int | None = None,
+        progress=None,
+    ) -> None:
+        if not callable(model):
+            raise TypeError(f"model must be callable, got {type(model).__name__}")
+        if timeout is not None and not (isinstance(timeout, (int, float)) and timeout > 0):
+            raise ValueError(f"timeout must be a positive number of seconds or None, got {timeout!r}")
+        if max_attempts < 1:
+            raise ValueError(f"max_attempts must be >= 1, got {max_attempts}")
+        self.model = model
+        self.executor = executor if executor is not None else SerialExecutor()
+        self.store = store
+        self.timeout = float(timeout) if timeout is not None else None
+        self.tag = str(tag)
+        self.retry_failed = retry_failed
+        self.max_attempts = int(max_attempts)
+        self.max_in_flight = max_in_flight
+        self.n_outputs = n_outputs
+        self.progress = progress
+        self._blob: bytes | None = None
+        #: model calls made by this evaluator / served from the store, over all batches
+        self.n_model_calls = 0
+        self.n_reused = 0
+
+    # -- helpers ------------------------------------------------------------------------------------
+    def _model_blob(self) -> bytes:
+        if self._blob is None:
+            try:
+                self._blob = _dumps_model(self.model)
+            except Exception as exc:
+                raise TypeError(
+                    f"the model cannot be sent to worker processes ({_reason(exc)}); make it a "
+                    "module-level function or an object without open files/locks, or use workers=1"
+                ) from exc
+        return self._blob
+
+    def _window(self) -> int:
+        if self.max_in_flight is not None:
+            return max(1, int(self.max_in_flight))
+        if getattr(self.executor, "kind", None) == "dask":
+            return 1 << 30
+        return 2 * max(1, int(getattr(self.executor, "n_workers", 1)))
+
+    def _record(self, x: np.ndarray, out: dict) -> CallRecord:
+        return CallRecord(
+            x=x,
+            status=out["status"],
+            reason=out["reason"],
+            outputs=out["outputs"],
+            wall_s=out["wall_s"],
+            started_at=out["started_at"],
+            finished_at=out["finished_at"],
+            worker=out["worker"],
+        )
+
+    def _completed(self, x: np.ndarray, rec: CallRecord) -> CallRecord:
+        if self.store is not None:
+            self.store.put(self.tag, rec)  # committed before the call counts as done
+        self.n_model_calls += 1
+        if self.progress is not None:
+            self.progress.advance(1)
+        return rec
+
+    # -- the batch ------------------------------------------------------------------------------------
+    def __call__(self, X) -> np.ndarray:
+        """``evaluate(X).Y``: outputs as an (n, m) array, NaN rows for failed calls."""
+        return self.evaluate(X).Y
+
+    def evaluate(self, X) -> BatchResult:
+        """Evaluate every row of ``X`` (shape (n, d); a 1-D array is one row). Never raises for a
+        failed model call; raises only for a broken setup (unpicklable model, closed store)."""
+        t0 = time.perf_counter()
+        X = np.array(X, dtype=np.float64)
+        if X.ndim == 1:
+            X = X[None, :]
+        if X.ndim != 2:
+            raise ValueError(f"X must have shape (n, d), got {X.shape}")
+        n = X.shape[0]
+
+        # unique rows, by exact bytes
+        first_of: dict[bytes, int] = {}
+        owner = np.empty(n, dtype=np.int64)
+        for i in range(n):
+            owner[i] = first_of.setdefault(_row_bytes(X[i]), i)
+        uniq = [i for i in range(n) if owner[i] == i]
+
+        records: dict[int, CallRecord] = {}
+        if self.store is not None and uniq:
+            for i, rec in zip(uniq, self.store.get_many(self.tag, [X[i] for i in uniq])):
+                if rec is not None and (rec.status == OK or not self.retry_failed):
+                    records[i] = rec
+        todo = [i for i in uniq if i not in records]
+        reused = np.array([owner[i] != i or i in records for i in range(n)], dtype=bool)
+        n_cached = int(reused.sum())
+        self.n_reused += n_cached
+        if self.progress is not None:
+            self.progress.expect(n)
+            if n_cached:
+                self.progress.advance(n_cached)
+
+        if todo:
+            if getattr(self.executor, "in_process", False):
+                for i in todo:
+                    records[i] = self._completed(
+                        X[i], self._record(X[i], run_call(self.model, X[i], self.timeout))
+                    )
+            else:
+                self._run_pool(X, todo, records)
+
+        out = [records[owner[i]] for i in range(n)]
+        names = None
+        for r in out:
+            if isinstance(r.outputs, dict):
+                names = list(r.outputs)
+                break
+        return BatchResult(
+            X=X,
+            records=out,
+            reused=reused,
+            n_evaluated=len(todo),
+            wall_s=time.perf_counter() - t0,
+            n_outputs=self.n_outputs,
+            output_names=names,
+        )
+
+    def _run_pool(self, X: np.ndarray, todo: list[int], records: dict[int, CallRecord]) -> None:
+        blob = self._model_blob()
+        window = self._window()
+        queue: deque[int] = deque(todo)
+        attempts: dict[int, int] = {}
+        in_flight: dict[Any, int] = {}
+
+        def submit_next() -> None:
+            while queue and len(in_flight) < window:
+                i = queue[0]
+                try:
+                    fut = self.executor.submit(_run_pickled, blob, X[i], self.timeout)
+                except BrokenProcessPool:
+                    self.executor.restart()
+                    continue
+                queue.popleft()
+                in_flight[fut] = i
+
+        try:
+            submit_next()
+            while in_flight:
+                done, _ = wait(list(in_flight), return_when=FIRST_COMPLETED)
+                for fut in done:
+                    i = in_flight.pop(fut)
+                    try:
+                        rec = self._record(X[i], fut.result())
+                    except (BrokenProcessPool, CancelledError) as exc:
+                        # the worker process died (or its pool was replaced): run the call again
+                        attempts[i] = attempts.get(i, 1) + 1
+                        if attempts[i] <= self.max_attempts:
+                            queue.appendleft(i)
+                            continue
+                        rec = self._infra_failure(X[i], f"worker died {self.max_attempts} times: {_reason(exc)}")
+                    except Exception as exc:  # noqa: BLE001
+                        # e.g. distributed's KilledWorker: the scheduler already re-ran the task
+                        rec = self._infra_failure(X[i], f"worker error: {_reason(exc)}")
+                    records[i] = self._completed(X[i], rec)
+                submit_next()
+        except BaseException:
+            for fut in in_flight:
+                fut.cancel()
+            raise
+
+    def _infra_failure(self, x: np.ndarray, reason: str) -> CallRecord:
+        now = _now()
+        return CallRecord(
+            x=x, status=FAILED, reason=reason, outputs=None, wall_s=math.nan, started_at=now, finished_at=now, worker=None
+        )

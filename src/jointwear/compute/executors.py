@@ -1,0 +1,289 @@
+"""Where model calls run: one ``concurrent.futures``-style interface over three back-ends.
+
+=====================  ======================================  ==========================================
+``make_executor(...)``  back-end                               when
+=====================  ======================================  ==========================================
+``workers=1``          :class:`SerialExecutor` (in-process)    debugging, tiny studies, exact tracebacks
+``workers=None|n>1``   :class:`LocalExecutor` (process pool)   default: all usable cores of this machine
+``scheduler="tcp:.."`` :class:`DaskExecutor` (distributed)     a Dask cluster, possibly many machines
+=====================  ======================================  ==========================================
+
+Every executor has ``submit(fn, *args)`` and ``map(fn, *iterables)`` with the semantics of
+:class:`concurrent.futures.Executor` (``map`` keeps the input order), a ``kind`` and an ``n_workers``,
+and is a context manager that releases its processes (or its Dask client) on exit.
+
+Nothing here draws random numbers, so a deterministic function gives the same results on every executor.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import ctypes
+import multiprocessing
+import os
+import signal
+import sys
+from typing import Any, Callable
+
+__all__ = [
+    "DaskExecutor",
+    "LocalExecutor",
+    "SerialExecutor",
+    "available_cores",
+    "make_executor",
+    "start_local_cluster",
+]
+
+
+def available_cores() -> int:
+    """The number of CPU cores this process may run on (the affinity mask, not the machine's count)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):  # pragma: no cover - not Linux
+        return max(1, os.cpu_count() or 1)
+
+
+class _ExecutorBase(cf.Executor):
+    kind: str = "base"
+    #: True when ``submit`` runs the call at once in the calling process.
+    in_process: bool = False
+
+    @property
+    def n_workers(self) -> int:  # pragma: no cover - overridden
+        return 1
+
+    def __exit__(self, exc_type, exc, tb):
+        # On an error or Ctrl-C, do not wait for the queued calls.
+        self.shutdown(wait=exc_type is None, cancel_futures=exc_type is not None)
+        return False
+
+    def restart(self) -> None:
+        """Replace broken workers (only local process pools can break)."""
+
+    def __repr__(self) -> str:
+        return f"<{type(self).__name__} kind={self.kind} n_workers={self.n_workers}>"
+
+
+class SerialExecutor(_ExecutorBase):
+    """Runs each call at once, in this process, when it is submitted (no pool, no pickling)."""
+
+    kind = "serial"
+    in_process = True
+
+    def __init__(self) -> None:
+        self._shutdown = False
+
+    @property
+    def n_workers(self) -> int:
+        return 1
+
+    def submit(self, fn: Callable, /, *args: Any, **kwargs: Any) -> cf.Future:
+        if self._shutdown:
+            raise RuntimeError("cannot schedule new calls after shutdown")
+        fut: cf.Future = cf.Future()
+        fut.set_running_or_notify_cancel()
+        try:
+            fut.set_result(fn(*args, **kwargs))
+        except Exception as exc:  # KeyboardInterrupt and SystemExit propagate
+            fut.set_exception(exc)
+        return fut
+
+    def map(self, fn: Callable, *iterables, timeout=None, chunksize: int = 1):
+        # lazy, like the builtin: each result is computed when it is asked for
+        if self._shutdown:
+            raise RuntimeError("cannot schedule new calls after shutdown")
+        return map(fn, *iterables)
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        self._shutdown = True
+
+
+# ----------------------------------------------------------------------------------------------------
+# local processes
+
+_PR_SET_PDEATHSIG = 1
+
+
+def _worker_init() -> None:
+    """Runs once in each local worker process."""
+    # Die with the parent: a study killed with kill -9 must not leave workers computing in the
+    # background (Linux only; elsewhere the workers end when they next read their closed queue).
+    if sys.platform.startswith("linux"):
+        try:
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+        except Exception:  # pragma: no cover - exotic libc
+            pass
+    # Ctrl-C goes to the parent, which cancels the batch; workers are ended by the pool's shutdown.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+class LocalExecutor(_ExecutorBase):
+    """A pool of ``workers`` local processes (:class:`concurrent.futures.ProcessPoolExecutor`).
+
+    ``mp_context`` defaults to ``"forkserver"``: workers start from a clean single-threaded server
+    process, so a study may hold threads (progress display, a Dask client) without the risk of a
+    ``fork`` deadlock. Functions sent to the workers must be picklable by reference (importable)
+    unless they go through :class:`~jointwear.compute.Evaluator`, which ships the model with
+    cloudpickle (so models defined in ``__main__`` or a notebook work too).
+    """
+
+    kind = "local"
+
+    def __init__(self, workers: int | None = None, mp_context: str | None = None) -> None:
+        self._workers = int(workers) if workers is not None else available_cores()
+        if self._workers < 1:
+            raise ValueError(f"workers must be >= 1, got {workers}")
+        if mp_context is None:
+            methods = multiprocessing.get_all_start_methods()
+            mp_context = "forkserver" if "forkserver" in methods else "spawn"
+        self._mp_context = mp_context
+        self._pool = self._new_pool()
+        self.n_restarts = 0
+
+    def _new_pool(self) -> cf.ProcessPoolExecutor:
+        return cf.ProcessPoolExecutor(
+            max_workers=self._workers,
+            mp_context=multiprocessing.get_context(self._mp_context),
+            initializer=_worker_init,
+        )
+
+    @property
+    def n_workers(self) -> int:
+        return self._workers
+
+    def submit(self, fn: Callable, /, *args: Any, **kwargs: Any) -> cf.Future:
+        return self._pool.submit(fn, *args, **kwargs)
+
+    def map(self, fn: Callable, *iterables, timeout=None, chunksize: int = 1):
+        return self._pool.map(fn, *iterables, timeout=timeout, chunksize=chunksize)
+
+    def restart(self) -> None:
+        """Replace a pool broken by a worker that died (segfault, out of memory, ``os._exit``)."""
+        try:
+            self._pool.shutdown(wait=False, cancel_futures=True)
+        except Exception:  # pragma: no cover
+            pass
+        self._pool = self._new_pool()
+        self.n_restarts += 1
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        self._pool.shutdown(wait=wait, cancel_futures=cancel_futures)
+
+
+# ----------------------------------------------------------------------------------------------------
+# Dask distributed
+
+
+class DaskExecutor(_ExecutorBase):
+    """Calls run on a Dask distributed cluster, through ``Client.get_executor()``.
+
+    ``scheduler`` is an address (``"tcp://10.0.0.5:8786"``), a ``distributed.Client`` (not closed on
+    exit) or a cluster object (``LocalCluster``; a client is made and closed on exit). Tasks are
+    submitted with ``pure=False``. When a worker dies mid-task, the scheduler re-runs its tasks on the
+    remaining workers (up to ``distributed.scheduler.allowed-failures`` times per task, default 3).
+    """
+
+    kind = "dask"
+
+    def __init__(self, scheduler: Any, timeout: float = 30.0) -> None:
+        try:
+            import distributed
+        except ImportError as exc:  # pragma: no cover - declared dependency
+            raise ImportError(
+                'a Dask scheduler was given but dask.distributed is not installed: pip install "dask[distributed]"'
+            ) from exc
+        if isinstance(scheduler, distributed.Client):
+            self.client = scheduler
+            self._owns_client = False
+        else:
+            try:
+                self.client = distributed.Client(scheduler, timeout=timeout, set_as_default=False)
+            except OSError as exc:
+                raise ConnectionError(
+                    f"cannot reach the Dask scheduler at {scheduler!r}: {exc}; start it with "
+                    "`dask scheduler` and give its tcp:// address"
+                ) from exc
+            self._owns_client = True
+        self._executor = self.client.get_executor(pure=False)
+        self._shutdown = False
+
+    @property
+    def address(self) -> str:
+        return self.client.scheduler.address
+
+    @property
+    def n_workers(self) -> int:
+        try:
+            return max(1, len(self.client.scheduler_info().get("workers", {})))
+        except Exception:  # pragma: no cover - scheduler gone
+            return 1
+
+    def submit(self, fn: Callable, /, *args: Any, **kwargs: Any) -> cf.Future:
+        return self._executor.submit(fn, *args, **kwargs)
+
+    def map(self, fn: Callable, *iterables, timeout=None, chunksize: int = 1):
+        return self._executor.map(fn, *iterables, timeout=timeout)
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        if self._shutdown:
+            return
+        self._shutdown = True
+        try:
+            self._executor.shutdown(wait=wait and not cancel_futures)
+        finally:
+            if self._owns_client:
+                self.client.close()
+
+
+def make_executor(
+    workers: int | None = None,
+    scheduler: Any | None = None,
+    *,
+    mp_context: str | None = None,
+) -> SerialExecutor | LocalExecutor | DaskExecutor:
+    """The executor for model calls.
+
+    - ``scheduler`` given (a ``tcp://host:port`` address of a running ``dask scheduler``, a
+      ``distributed.Client`` or a ``LocalCluster``): calls run on that Dask cluster; ``workers`` must
+      then be None (the cluster decides).
+    - otherwise ``workers`` local processes; None means every usable core, 1 means in this process,
+      serially, without a pool.
+    """
+    if scheduler is not None and scheduler != "":
+        if workers is not None:
+            raise ValueError(
+                "give either workers (local processes) or scheduler (a Dask cluster), not both"
+            )
+        return DaskExecutor(scheduler)
+    if workers is not None:
+        if isinstance(workers, bool) or not isinstance(workers, int):
+            raise TypeError(f"workers must be an integer >= 1 or None, got {workers!r}")
+        if workers < 1:
+            raise ValueError(f"workers must be >= 1 (or None for all cores), got {workers}")
+    n = workers if workers is not None else available_cores()
+    if n == 1:
+        return SerialExecutor()
+    return LocalExecutor(n, mp_context=mp_context)
+
+
+def start_local_cluster(
+    n_workers: int = 2,
+    threads_per_worker: int = 1,
+    processes: bool = True,
+    **kwargs: Any,
+):
+    """Start a ``distributed.LocalCluster`` (no dashboard, quiet logs) for tests and benchmarks.
+
+    Use it as a context manager and pass it (or its ``scheduler_address``) as ``scheduler``. In a
+    script, call it under ``if __name__ == "__main__":`` (worker processes re-import the main module).
+    """
+    import logging
+
+    from distributed import LocalCluster
+
+    kwargs.setdefault("dashboard_address", None)
+    kwargs.setdefault("silence_logs", logging.ERROR)
+    return LocalCluster(
+        n_workers=n_workers, threads_per_worker=threads_per_worker, processes=processes, **kwargs
+    )
