@@ -1,1 +1,23 @@
-"""jointwear.sensitivity"""
+"""Sensitivity of the reliability and of the wear to every random variable.
+
+* :func:`sobol_indices` - first-order and total Sobol' indices of a vectorised function (usually the
+  Kriging surrogate of the max wear) under independent marginals, by SALib's Saltelli/Jansen estimators.
+* :func:`reliability_derivatives` - derivatives of Pf with respect to the mean and the standard deviation of
+  each normal input, from one Monte Carlo population (score-function / likelihood-ratio estimator).
+* :func:`mean_shift_table` - the paper's one-at-a-time mean shifts (80 % / 120 %), given any function that
+  returns the reliability for a list of marginals.
+"""
+
+from jointwear.sensitivity.derivatives import ReliabilityDerivatives, reliability_derivatives
+from jointwear.sensitivity.mean_shift import MeanShiftResult, mean_shift_table, shifted_marginal
+from jointwear.sensitivity.sobol import SobolResult, sobol_indices
+
+__all__ = [
+    "MeanShiftResult",
+    "ReliabilityDerivatives",
+    "SobolResult",
+    "mean_shift_table",
+    "reliability_derivatives",
+    "shifted_marginal",
+    "sobol_indices",
+]

@@ -1,0 +1,54 @@
+"""ISO 286 tolerances and the paper's random variables."""
+
+import math
+
+import pytest
+
+from jointwear.uncertainty.tolerances import clearance_from_fit, it_tolerance, length_sigma
+from jointwear.uncertainty.variables import ClearanceSpec, RandomVariableSpec, UncertaintySettings
+
+
+def test_it_grades_at_2_mm_follow_iso_286_1():
+    # ISO 286-1:2010 Table 1, nominal sizes up to 3 mm: IT6 = 6 um, IT7 = 10 um.
+    assert it_tolerance("IT6", 2e-3) == pytest.approx(6e-6, rel=1e-12)
+    assert it_tolerance("it7", 2e-3) == pytest.approx(10e-6, rel=1e-12)
+    assert it_tolerance("IT7", 38e-3) == pytest.approx(25e-6, rel=1e-12)  # 30-50 mm row
+
+
+def test_clearance_sigma_of_the_paper_fit():
+    # paper-notes.md: Eq. 40 with IT7/IT6 at 2 mm gives sqrt(10^2 + 6^2)/12 = 0.97 um.
+    fit = clearance_from_fit(2e-3, "IT7", "IT6", 2e-6)
+    assert fit.std == pytest.approx(math.sqrt(10**2 + 6**2) / 12 * 1e-6, rel=1e-12)
+
+
+def test_length_sigma_is_a_sixth_of_the_band():
+    assert length_sigma(0.144e-3) == pytest.approx(0.024e-3, rel=1e-12)  # Eq. 41
+    with pytest.raises(ValueError):
+        length_sigma(0.0)
+
+
+def test_bad_grade_and_size_are_named():
+    with pytest.raises(ValueError, match="grade"):
+        it_tolerance("IT42", 2e-3)
+    with pytest.raises(ValueError, match="nominal size"):
+        it_tolerance("IT7", 0.5)
+
+
+def test_clearance_rules():
+    spec = ClearanceSpec(target="x")
+    assert spec.infeasible_probability() == pytest.approx(0.0216, abs=5e-4)  # Phi((0.1-2)/0.97)
+    truncated = spec.frozen()
+    assert truncated.ppf(0.0) == pytest.approx(spec.minimum, rel=1e-9)
+    printed = ClearanceSpec(target="x", source="table5")
+    assert printed.std == 1e-9
+
+
+def test_variable_validation():
+    with pytest.raises(ValueError, match="std"):
+        RandomVariableSpec(name="a", target="x", mean=1.0, std=0.0)
+    with pytest.raises(ValueError):
+        RandomVariableSpec(name="a", target="x", mean=float("nan"), std=1.0)
+    with pytest.raises(ValueError, match="duplicate"):
+        UncertaintySettings(variables=[RandomVariableSpec(name="a", target="x", mean=1, std=1)] * 2)
+    ln = RandomVariableSpec(name="k", target="x", distribution="lognormal", mean=2.0, std=0.5).frozen()
+    assert ln.mean() == pytest.approx(2.0, rel=1e-12) and ln.std() == pytest.approx(0.5, rel=1e-12)
