@@ -1,0 +1,471 @@
+"""Study configuration: pydantic models, TOML loading and built-in presets.
+
+``load_config(source)`` accepts a TOML file path, a preset name (a file
+``jointwear/presets/<name>.toml``) or None for the default preset
+``jin2025_flapping_wing``.  Every problem becomes a :class:`ConfigError` with one line that
+names the field (dotted path) and the allowed range.
+
+Units: TOML keys may carry a unit suffix (``length_mm``, ``speed_rpm``, ``youngs_modulus_GPa``,
+``hardness_HB``, ``angle_deg`` ...; table in :mod:`jointwear.units`).  Models hold SI values
+under plain names.  Subclass :class:`SIModel` to get the same behaviour (and ``extra="forbid"``,
+NaN/inf rejection) in other sections.
+
+Extending: add a field to :class:`StudyConfig` whose type is an ``SIModel`` defined in the
+owning subpackage, e.g. ``wear: WearConfig = Field(default_factory=WearConfig, description=...)``.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from importlib import resources
+from pathlib import Path
+from typing import Annotated, Any, Literal, Union
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+
+from jointwear.units import UnitError, convert_keys, fmt_mm
+
+DEFAULT_PRESET = "jin2025_flapping_wing"
+
+
+class ConfigError(ValueError):
+    """A configuration problem; ``str(err)`` is one line naming the field and the allowed range."""
+
+
+def F(default: Any = ..., *, unit: str | None = None, description: str, **kw: Any) -> Any:
+    """A pydantic Field with a unit recorded in the JSON schema (used by the config reference)."""
+    extra = {"unit": unit} if unit else None
+    return Field(default, description=description, json_schema_extra=extra, **kw)
+
+
+class SIModel(BaseModel):
+    """Base of every config section: unknown keys rejected, NaN/inf rejected, unit suffixes to SI."""
+
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False, validate_default=True)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _unit_suffixes(cls, data: Any) -> Any:
+        if isinstance(data, dict):
+            try:
+                return convert_keys(data, frozenset(cls.model_fields))
+            except UnitError as exc:
+                raise ValueError(str(exc)) from None
+        return data
+
+
+Vec2 = tuple[float, float]
+
+
+# ---------------------------------------------------------------------------------------------
+# materials, friction, clearance joints
+# ---------------------------------------------------------------------------------------------
+class MaterialConfig(SIModel):
+    """Elastic and wear properties of one body of a clearance joint."""
+
+    name: str = F("", description="Material name, for reports only.")
+    youngs_modulus: float = F(unit="Pa", gt=0, description="Young's modulus E (key e.g. youngs_modulus_GPa).")
+    poissons_ratio: float = F(gt=-1.0, lt=0.5, description="Poisson's ratio nu, in (-1, 0.5).")
+    hardness: float = F(
+        unit="Pa", gt=0,
+        description="Hardness H used by Archard's law (key hardness_HB: Brinell number x 9.807e6 Pa; paper-notes).",
+    )
+    wear_coefficient: float = F(
+        ge=0, description="Dimensionless Archard wear coefficient k (paper Eq. 29; paper-notes reading of Table 2).",
+    )
+
+
+class FrictionConfig(SIModel):
+    """Modified Coulomb friction of Ambrosio (2003) in the continuous cubic-blend form (docs/dynamics.md)."""
+
+    law: Literal["ambrosio", "none"] = F("ambrosio", description="'ambrosio' (modified Coulomb) or 'none' (frictionless).")
+    mu_d: float = F(0.1, ge=0, description="Dynamic (sliding) friction coefficient; paper gives none, paper-notes baseline 0.1.")
+    mu_s: float = F(0.15, ge=0, description="Static friction coefficient; paper-notes baseline 0.15.")
+    v_s: float = F(1e-4, unit="m/s", gt=0, description="Static-friction critical slip speed; paper-notes baseline 1e-4 m/s.")
+    v_d: float = F(1e-3, unit="m/s", gt=0, description="Speed above which friction is purely dynamic; paper-notes baseline 1e-3 m/s.")
+
+    @model_validator(mode="after")
+    def _speeds(self) -> "FrictionConfig":
+        if not self.v_s < self.v_d:
+            raise ValueError(f"v_s ({self.v_s:g} m/s) must be smaller than v_d ({self.v_d:g} m/s)")
+        return self
+
+
+class ClearanceJointConfig(SIModel):
+    """A revolute joint with radial clearance: a journal (pin) inside a bearing (eye)."""
+
+    name: str = F("A", description="Name of the clearance joint (reports, traces).")
+    joint: str = F(
+        description="Name of the mechanism's revolute joint that carries the clearance (four_bar: A, B, C; "
+        "slider_crank: A, B). Joint O (the driven crank pivot) cannot carry clearance."
+    )
+    bearing_body: str = F(description="Body carrying the bearing (the hole); one of the two bodies of `joint`.")
+    journal_body: str = F(description="Body carrying the journal (the pin); the other body of `joint`.")
+    bearing_radius: float = F(unit="m", gt=0, description="Inner radius R_i of the bearing (paper Table 2: 1.002 mm).")
+    journal_radius: float = F(unit="m", gt=0, description="Radius R_j of the journal; must be < bearing_radius.")
+    bearing_outer_radius: float | None = F(
+        None, unit="m", gt=0,
+        description="Outer radius of the bearing (Table 2: 1.5 mm); the wear allowance 0.01 D uses its diameter.",
+    )
+    width: float = F(unit="m", gt=0, description="Axial width L of the contact (Table 4: 1 mm).")
+    bearing_material: MaterialConfig = F(description="Bearing material.")
+    journal_material: MaterialConfig = F(description="Journal material.")
+    contact_law: Literal["lankarani_nikravesh", "flores", "hunt_crossley"] = F(
+        "lankarani_nikravesh",
+        description="Normal force law: 'lankarani_nikravesh' (paper Eq. 16-18, D = 3K(1-cr^2)d^n/(4 v0)), "
+        "'flores' (Flores et al. 2011, D = 8K(1-cr)d^n/(5 cr v0)), 'hunt_crossley' (D = 3K(1-cr)d^n/(2 v0)).",
+    )
+    exponent: float = F(1.5, gt=0, description="Force exponent n of K d^n; 1.5 (Hertz, paper Eq. 16).")
+    restitution: float = F(0.9, gt=0, le=1, description="Coefficient of restitution cr (Table 4: 0.9).")
+    v0_min: float = F(
+        1e-4, unit="m/s", gt=0,
+        description="Floor on the impact speed v0 in the damping term; paper silent, paper-notes suggests 1e-4 m/s.",
+    )
+    friction: FrictionConfig = F(default_factory=FrictionConfig, description="Friction law parameters.")
+
+    @field_validator("journal_radius")
+    @classmethod
+    def _journal_smaller(cls, v: float, info: Any) -> float:
+        rb = info.data.get("bearing_radius")
+        if rb is not None and not v < rb:
+            raise ValueError(
+                f"journal radius {fmt_mm(v)} must be smaller than bearing_radius {fmt_mm(rb)} "
+                f"(clearance = bearing_radius - journal_radius = {fmt_mm(rb - v)} must be > 0)"
+            )
+        return v
+
+    @model_validator(mode="after")
+    def _outer(self) -> "ClearanceJointConfig":
+        if self.bearing_outer_radius is not None and not self.bearing_outer_radius > self.bearing_radius:
+            raise ValueError(
+                f"bearing_outer_radius {fmt_mm(self.bearing_outer_radius)} must exceed bearing_radius "
+                f"{fmt_mm(self.bearing_radius)}"
+            )
+        if self.bearing_body == self.journal_body:
+            raise ValueError("bearing_body and journal_body must differ")
+        return self
+
+    @property
+    def clearance(self) -> float:
+        """Radial clearance c = R_i - R_j (m)."""
+        return self.bearing_radius - self.journal_radius
+
+
+# ---------------------------------------------------------------------------------------------
+# mechanisms
+# ---------------------------------------------------------------------------------------------
+class LinkConfig(SIModel):
+    """A rigid link between two joints (or a slider block)."""
+
+    length: float = F(0.0, unit="m", ge=0, description="Distance between the link's two joints (0 for a slider block).")
+    mass: float = F(unit="kg", gt=0, description="Mass.")
+    inertia: float = F(unit="kg m^2", gt=0, description="Moment of inertia about the centre of mass.")
+    com_offset: float | None = F(
+        None, unit="m",
+        description="Distance of the centre of mass from the link's first joint along the link "
+        "(crank: from O; rod: from A; rocker: from C). Default: length / 2.",
+    )
+
+
+def _com(link: LinkConfig) -> float:
+    return link.length / 2 if link.com_offset is None else link.com_offset
+
+
+def _positive_length(link: LinkConfig, where: str) -> None:
+    if not link.length > 0:
+        raise ValueError(f"{where}.length must be > 0 (got {fmt_mm(link.length)})")
+
+
+class FourBarConfig(SIModel):
+    """Crank-rocker four-bar O-A-B-C: crank OA driven at constant speed, rod AB, rocker CB.
+
+    Body frames: origin at the centre of mass, x axis along the link from its first joint to the
+    second (crank O->A, rod A->B, rocker C->B).
+    """
+
+    type: Literal["four_bar"] = "four_bar"
+    crank_pivot: Vec2 = F((0.0, 0.0), unit="m", description="Ground pivot O of the crank (Fig. 14: origin).")
+    rocker_pivot: Vec2 = F(unit="m", description="Ground pivot C of the rocker (Table 4: (11.5, 38) mm).")
+    crank: LinkConfig = F(description="Crank OA (Table 3). Its mass does not matter while its speed is imposed.")
+    rod: LinkConfig = F(description="Connecting rod AB (Table 3).")
+    rocker: LinkConfig = F(
+        description="Rocker CB: length = l_BC (Table 4); com_offset from C (paper-notes baseline: uniform 27 mm bar, "
+        "C at one end, com 13.5 mm from C)."
+    )
+    crank_speed: float = F(
+        unit="rad/s", description="Constant crank speed, positive counter-clockwise (480 rpm, Section 6.1.1)."
+    )
+    crank_angle0: float = F(0.0, unit="rad", description="Crank angle at t = 0, from +x, CCW.")
+    assembly_branch: Literal[1, -1] = F(
+        1,
+        description="+1: joint B lies to the left of the directed line from crank pin A to rocker pivot C "
+        "((C-A) x (B-A) > 0); -1: to the right. The paper does not fix it (paper-notes).",
+    )
+    gravity: Vec2 = F(
+        (0.0, -9.80665), unit="m/s^2", description="Gravity vector; paper silent, paper-notes baseline (0, -g)."
+    )
+    rocker_torque: float = F(
+        0.0, unit="N m", description="Constant external torque on the rocker (CCW positive); paper gives no load."
+    )
+    rod_force: Vec2 = F((0.0, 0.0), unit="N", description="Constant external force on the rod at its centre of mass.")
+
+    @model_validator(mode="after")
+    def _closure(self) -> "FourBarConfig":
+        for name in ("crank", "rod", "rocker"):
+            _positive_length(getattr(self, name), name)
+        l1, l2, l3 = self.crank.length, self.rod.length, self.rocker.length
+        d = math.hypot(self.rocker_pivot[0] - self.crank_pivot[0], self.rocker_pivot[1] - self.crank_pivot[1])
+        lo, hi = d - l1, d + l1  # range of |AC| over a full crank turn
+        need_lo, need_hi = abs(l2 - l3), l2 + l3
+        if not (lo > need_lo and hi < need_hi and d > l1):
+            raise ValueError(
+                f"links rod ({fmt_mm(l2)}) and rocker ({fmt_mm(l3)}) cannot close the loop for every crank angle: "
+                f"the distance from crank pin A to rocker pivot C ranges over [{fmt_mm(max(lo, 0))}, {fmt_mm(hi)}] "
+                f"(crank {fmt_mm(l1)}, pivots {fmt_mm(d)} apart) but must stay strictly inside "
+                f"[{fmt_mm(need_lo)}, {fmt_mm(need_hi)}]"
+            )
+        return self
+
+
+class SliderCrankConfig(SIModel):
+    """Slider-crank O-A-B: crank OA driven at constant speed, rod AB, slider at B on a straight guide.
+
+    Body frames: origin at the centre of mass, x along O->A (crank), A->B (rod), the guide (slider).
+    """
+
+    type: Literal["slider_crank"] = "slider_crank"
+    crank_pivot: Vec2 = F((0.0, 0.0), unit="m", description="Ground pivot O of the crank.")
+    crank: LinkConfig = F(description="Crank OA.")
+    rod: LinkConfig = F(description="Connecting rod AB.")
+    slider: LinkConfig = F(description="Slider block (length ignored; its centre of mass is at B).")
+    crank_speed: float = F(unit="rad/s", description="Constant crank speed, positive counter-clockwise.")
+    crank_angle0: float = F(0.0, unit="rad", description="Crank angle at t = 0, from +x, CCW.")
+    offset: float = F(0.0, unit="m", description="Offset of the slider guide line from O, along the guide's normal.")
+    guide_angle: float = F(0.0, unit="rad", description="Direction of the slider guide, from +x, CCW.")
+    assembly_branch: Literal[1, -1] = F(
+        1, description="+1: slider on the positive guide direction side of the crank pin; -1: the other side."
+    )
+    gravity: Vec2 = F((0.0, 0.0), unit="m/s^2", description="Gravity vector (Flores et al. 2006 benchmark: none).")
+
+    @model_validator(mode="after")
+    def _closure(self) -> "SliderCrankConfig":
+        for name in ("crank", "rod"):
+            _positive_length(getattr(self, name), name)
+        l1, l2 = self.crank.length, self.rod.length
+        if not l2 > l1 + abs(self.offset):
+            raise ValueError(
+                f"links crank ({fmt_mm(l1)}) and rod ({fmt_mm(l2)}) cannot close the loop for every crank angle: "
+                f"the rod must be longer than crank + |offset| = {fmt_mm(l1 + abs(self.offset))}"
+            )
+        return self
+
+
+MechanismConfig = Annotated[Union[FourBarConfig, SliderCrankConfig], Field(discriminator="type")]
+
+_MECH_JOINTS = {
+    "four_bar": {"O": ("ground", "crank"), "A": ("crank", "rod"), "B": ("rod", "rocker"), "C": ("ground", "rocker")},
+    "slider_crank": {"O": ("ground", "crank"), "A": ("crank", "rod"), "B": ("rod", "slider")},
+}
+
+
+# ---------------------------------------------------------------------------------------------
+# simulation
+# ---------------------------------------------------------------------------------------------
+class SimulationConfig(SIModel):
+    """Integrator and recording settings (Dormand-Prince 5(4) with error control)."""
+
+    rtol: float = F(1e-6, gt=0, lt=1, description="Relative tolerance of the step-size control (project choice).")
+    atol: float = F(
+        1e-9, unit="m", gt=0,
+        description="Absolute tolerance on positions (m); angles use atol / length_ref, velocities atol * "
+        "omega_ref (docs/dynamics.md). Project choice, checked against tighter runs.",
+    )
+    max_step: float | None = F(
+        None, unit="s", gt=0, description="Largest step; default period / 200 (so no phase of the cycle is skipped)."
+    )
+    clearance_step_fraction: float = F(
+        0.25, gt=0, le=1,
+        description="A step may move the journal relative to the bearing by at most this fraction of the clearance "
+        "(impact-capture rule; project choice).",
+    )
+    baumgarte_alpha: float = F(
+        100.0, unit="1/s", ge=0, description="Baumgarte alpha (paper Eq. 6, value not given; project choice)."
+    )
+    baumgarte_beta: float = F(
+        100.0, unit="1/s", ge=0, description="Baumgarte beta (paper Eq. 6, value not given; project choice)."
+    )
+    settle_cycles: int = F(
+        3, ge=0, description="Crank cycles simulated and discarded before recording (transient from the centred start)."
+    )
+    cycles: int = F(2, ge=1, description="Crank cycles recorded by `jointwear simulate` unless --cycles is given.")
+    max_steps: int = F(50_000_000, ge=1000, description="Safety limit on accepted+rejected steps per call.")
+
+
+# ---------------------------------------------------------------------------------------------
+# study
+# ---------------------------------------------------------------------------------------------
+class StudyConfig(SIModel):
+    """A whole study. Later stages add their sections here (wear, uncertainty, reliability, sensitivity, compute)."""
+
+    name: str = F("study", description="Name of the study / preset.")
+    citation: str = F("", description="Source of the data (presets are cited data).")
+    description: str = F("", description="Free text.")
+    mechanism: MechanismConfig = F(description="The planar mechanism (type = 'four_bar' or 'slider_crank').")
+    clearance_joints: list[ClearanceJointConfig] = F(
+        default_factory=list, description="Revolute joints with clearance (any number)."
+    )
+    simulation: SimulationConfig = F(default_factory=SimulationConfig, description="Integrator settings.")
+    # --- room for later stages (added by their owners) -----------------------------------------
+    # wear: WearConfig = Field(default_factory=WearConfig, description="...")
+    # uncertainty: ..., reliability: ..., sensitivity: ..., compute: ...
+
+    @model_validator(mode="after")
+    def _joints_exist(self) -> "StudyConfig":
+        joints = _MECH_JOINTS[self.mechanism.type]
+        seen = set()
+        for i, cj in enumerate(self.clearance_joints):
+            where = f"clearance_joints[{i}]"
+            if cj.joint not in joints or cj.joint == "O":
+                allowed = ", ".join(k for k in joints if k != "O")
+                raise ValueError(f"{where}.joint: '{cj.joint}' is not a joint that can carry clearance (allowed: {allowed})")
+            if cj.joint in seen:
+                raise ValueError(f"{where}.joint: joint '{cj.joint}' given twice")
+            seen.add(cj.joint)
+            pair = set(joints[cj.joint])
+            if {cj.bearing_body, cj.journal_body} != pair:
+                raise ValueError(
+                    f"{where}: bearing_body/journal_body must be the bodies of joint {cj.joint}: "
+                    f"{' and '.join(joints[cj.joint])}"
+                )
+        return self
+
+
+# ---------------------------------------------------------------------------------------------
+# loading
+# ---------------------------------------------------------------------------------------------
+def _loc(loc: tuple[Any, ...]) -> str:
+    out = ""
+    for part in loc:
+        if isinstance(part, int):
+            out += f"[{part}]"
+        elif part in ("four_bar", "slider_crank") and out == "mechanism":
+            continue  # discriminated-union tag
+        else:
+            out += ("." if out else "") + str(part)
+    return out or "config"
+
+
+def _one_line(exc: ValidationError) -> str:
+    err = exc.errors()[0]
+    where = _loc(tuple(err.get("loc", ())))
+    msg = err.get("msg", "invalid").removeprefix("Value error, ")
+    extra_n = len(exc.errors()) - 1
+    inp = err.get("input")
+    shown = ""
+    if err.get("type") not in ("missing", "extra_forbidden") and isinstance(inp, (int, float, str)) and not isinstance(inp, bool):
+        shown = f" (got {inp!r})"
+    more = f" [+{extra_n} more problem{'s' if extra_n > 1 else ''}]" if extra_n else ""
+    if err.get("type") == "extra_forbidden":
+        msg = "unknown key (not a setting of this section)"
+    return f"{where}: {msg}{shown}{more}".replace("\n", " ")
+
+
+def available_presets() -> list[str]:
+    """Names of the built-in presets."""
+    files = resources.files("jointwear.presets")
+    return sorted(p.name[:-5] for p in files.iterdir() if p.name.endswith(".toml"))
+
+
+def config_from_dict(data: dict[str, Any], source: str = "config") -> StudyConfig:
+    """Validate a dict (as parsed from TOML) into a StudyConfig, raising ConfigError."""
+    try:
+        return StudyConfig.model_validate(data)
+    except ValidationError as exc:
+        raise ConfigError(f"{source}: {_one_line(exc)}") from None
+
+
+def _parse_toml(text: str, source: str) -> dict[str, Any]:
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{source}: malformed TOML: {exc}") from None
+
+
+def load_config(source: str | Path | None = None) -> StudyConfig:
+    """Load a StudyConfig from a TOML file, a preset name, or None (default preset)."""
+    if source is None:
+        source = DEFAULT_PRESET
+    if isinstance(source, StudyConfig):
+        return source
+    text_source = str(source)
+    path = Path(text_source)
+    is_pathlike = isinstance(source, Path) or text_source.endswith(".toml") or "/" in text_source or "\\" in text_source
+    if not is_pathlike and not path.exists():
+        names = available_presets()
+        if text_source not in names:
+            raise ConfigError(
+                f"config: unknown preset '{text_source}' and no such file (available presets: {', '.join(names)})"
+            )
+        text = (resources.files("jointwear.presets") / f"{text_source}.toml").read_text(encoding="utf-8")
+        return config_from_dict(_parse_toml(text, f"preset {text_source}"), f"preset {text_source}")
+    try:
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise ConfigError(f"config: cannot read file '{path}': {exc.strerror or exc}") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError:
+        raise ConfigError(f"config: file '{path}' is not UTF-8 text (expected TOML)") from None
+    return config_from_dict(_parse_toml(text, str(path)), str(path))
+
+
+# ---------------------------------------------------------------------------------------------
+# reference documentation
+# ---------------------------------------------------------------------------------------------
+def _type_name(ann: Any) -> str:
+    s = getattr(ann, "__name__", None) or str(ann)
+    return s.replace("typing.", "").replace("jointwear.config.", "")
+
+
+def config_reference_markdown() -> str:
+    """Markdown reference of every config section and field, generated from the pydantic models."""
+    lines = [
+        "# Configuration reference",
+        "",
+        "Generated by `jointwear.config.config_reference_markdown()`. Values are SI; a TOML key may carry a",
+        "unit suffix (`length_mm`, `crank_speed_rpm`, `youngs_modulus_GPa`, `hardness_HB`, `crank_angle0_deg`, ...)",
+        "that is converted to SI on load (table in `jointwear/units.py`). Unknown keys are errors.",
+        "",
+    ]
+    sections: list[tuple[str, type[BaseModel]]] = [
+        ("(top level)", StudyConfig),
+        ("mechanism (type = \"four_bar\")", FourBarConfig),
+        ("mechanism (type = \"slider_crank\")", SliderCrankConfig),
+        ("mechanism.crank / rod / rocker / slider", LinkConfig),
+        ("[[clearance_joints]]", ClearanceJointConfig),
+        ("clearance_joints.bearing_material / journal_material", MaterialConfig),
+        ("clearance_joints.friction", FrictionConfig),
+        ("simulation", SimulationConfig),
+    ]
+    for title, model in sections:
+        lines += [f"## {title}", "", (model.__doc__ or "").strip().splitlines()[0], "",
+                  "| key | unit (SI) | default | description |", "|---|---|---|---|"]
+        for fname, finfo in model.model_fields.items():
+            extra = finfo.json_schema_extra if isinstance(finfo.json_schema_extra, dict) else {}
+            unit = extra.get("unit", "") if extra else ""
+            if finfo.is_required():
+                default = "required"
+            elif finfo.default_factory is not None:
+                default = "(section)"
+            else:
+                default = f"`{finfo.default!r}`"
+            desc = (finfo.description or "").replace("|", "\\|")
+            lines.append(f"| `{fname}` | {unit} | {default} | {desc} |")
+        lines.append("")
+    lines += ["## Presets", ""]
+    for name in available_presets():
+        cfg = load_config(name)
+        lines.append(f"- `{name}`: {cfg.description} Source: {cfg.citation}")
+    lines.append("")
+    return "\n".join(lines)

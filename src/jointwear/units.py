@@ -1,0 +1,129 @@
+"""Unit suffixes of config keys, converted to SI in this one place.
+
+A TOML key may carry a unit suffix: ``length_mm = 6``, ``speed_rpm = 480``,
+``youngs_modulus_GPa = 120``, ``hardness_HB = 350``, ``angle_deg = 30``.  The
+config models (``jointwear.config.SIModel``) strip the suffix and store the value
+in SI under the plain name (``length`` in m, ``speed`` in rad/s, ``youngs_modulus``
+in Pa, ``hardness`` in Pa, ``angle`` in rad).  A key is only treated as
+``<field>_<suffix>`` when ``<field>`` is a field of the model and the whole key is
+not itself a field (so ``mu_s`` stays the static friction coefficient and is never
+read as "mu in seconds").
+
+Brinell hardness: ``HB`` is converted with 9.807e6 Pa per HB (1 kgf/mm^2 =
+9.80665 N/mm^2, rounded as in the project's paper notes), so that Archard's
+``k / H`` has units 1/Pa with k dimensionless.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+#: Pa per Brinell hardness number (kgf/mm^2 -> Pa); paper-notes.md.
+PA_PER_HB = 9.807e6
+
+#: suffix -> (multiplier to SI, SI unit name). Matching is case-sensitive
+#: (``mm`` is not ``Mm``); the longest matching suffix wins.
+SUFFIXES: dict[str, tuple[float, str]] = {
+    # length
+    "m": (1.0, "m"),
+    "mm": (1e-3, "m"),
+    "um": (1e-6, "m"),
+    "nm": (1e-9, "m"),
+    "cm": (1e-2, "m"),
+    # angle
+    "rad": (1.0, "rad"),
+    "deg": (math.pi / 180.0, "rad"),
+    # angular speed
+    "rad_s": (1.0, "rad/s"),
+    "rpm": (2.0 * math.pi / 60.0, "rad/s"),
+    "deg_s": (math.pi / 180.0, "rad/s"),
+    # speed / acceleration
+    "m_s": (1.0, "m/s"),
+    "mm_s": (1e-3, "m/s"),
+    "m_s2": (1.0, "m/s^2"),
+    # mass / inertia
+    "kg": (1.0, "kg"),
+    "g": (1e-3, "kg"),
+    "kg_m2": (1.0, "kg m^2"),
+    "g_mm2": (1e-9, "kg m^2"),
+    # pressure / modulus / hardness
+    "Pa": (1.0, "Pa"),
+    "kPa": (1e3, "Pa"),
+    "MPa": (1e6, "Pa"),
+    "GPa": (1e9, "Pa"),
+    "HB": (PA_PER_HB, "Pa"),
+    # force / torque
+    "N": (1.0, "N"),
+    "mN": (1e-3, "N"),
+    "N_m": (1.0, "N m"),
+    "mN_m": (1e-3, "N m"),
+    # time
+    "s": (1.0, "s"),
+    "ms": (1e-3, "s"),
+    "us": (1e-6, "s"),
+    "h": (3600.0, "s"),
+}
+
+
+class UnitError(ValueError):
+    """A value that cannot be converted (not a number or a list of numbers)."""
+
+
+def split_unit_key(key: str, fields: set[str] | frozenset[str]) -> tuple[str, str] | None:
+    """Return ``(field, suffix)`` if ``key`` is ``<field>_<suffix>`` for a known field and suffix.
+
+    Returns None if ``key`` is itself a field or no split matches. The longest suffix wins.
+    """
+    if key in fields:
+        return None
+    best: tuple[str, str] | None = None
+    for suffix in SUFFIXES:
+        tail = "_" + suffix
+        if key.endswith(tail):
+            base = key[: -len(tail)]
+            if base in fields and (best is None or len(suffix) > len(best[1])):
+                best = (base, suffix)
+    return best
+
+
+def to_si(value: Any, suffix: str) -> Any:
+    """Multiply a number, or a (nested) list of numbers, by the suffix's factor to SI."""
+    factor = SUFFIXES[suffix][0]
+    if isinstance(value, bool):
+        raise UnitError(f"expected a number with unit '{suffix}', got a boolean")
+    if isinstance(value, (int, float)):
+        return float(value) * factor
+    if isinstance(value, (list, tuple)):
+        return [to_si(v, suffix) for v in value]
+    raise UnitError(f"expected a number with unit '{suffix}', got {type(value).__name__}")
+
+
+def convert_keys(data: dict[str, Any], fields: set[str] | frozenset[str]) -> dict[str, Any]:
+    """Return a copy of ``data`` with unit-suffixed keys renamed to plain fields, values in SI.
+
+    Raises UnitError if a field is given twice (e.g. ``length`` and ``length_mm``) or a value
+    cannot be converted.
+    """
+    out: dict[str, Any] = {}
+    origin: dict[str, str] = {}
+    for key, value in data.items():
+        split = split_unit_key(key, fields)
+        if split is None:
+            name, val = key, value
+        else:
+            name, suffix = split
+            try:
+                val = to_si(value, suffix)
+            except UnitError as exc:
+                raise UnitError(f"{key}: {exc}") from None
+        if name in out:
+            raise UnitError(f"{name} given twice (as '{origin[name]}' and '{key}')")
+        out[name] = val
+        origin[name] = key
+    return out
+
+
+def fmt_mm(x: float) -> str:
+    """Format a length in m as mm for messages."""
+    return f"{x * 1e3:.6g} mm"
