@@ -1,0 +1,159 @@
+"""Archard wear kernels: plain functions over arrays, compiled with numba.
+
+Physics (paper Section 3 with the corrections of paper-notes.md, "Wear"):
+
+* sliding distance of a step: ds = |v_t| dt, v_t the relative tangential velocity of the contact points
+  (not the paper's Eq. 30, which uses link lengths times angular speeds);
+* line-contact half-width b = c sqrt(F_N R* (h_i + h_j) / L), R* = R_i R_j / (R_i - R_j), h = (1 - nu^2) / E,
+  c = sqrt(4/pi) = 1.128 (Johnson's b = sqrt(4 F R* / (pi L E*)), 1/E* = h_i + h_j); contact area A = 2 b L;
+* Archard depth on each body (its own k and H): dh = (k / H) p ds with p = F_N / A (the paper's Eq. 31 divides by
+  A twice; that is a typo). The worn volume of the step is then (k / H) F_N ds whatever b is;
+* the depth is spread over the patch |s| <= b, i.e. |theta - theta_c| <= b / R, on the body's angular grid with
+  exact overlap integration of the patch shape with each cell. The cell value is the cell-average depth, so
+  sum_k h_k R Delta L equals the Archard volume to rounding, and the profile does not depend on the grid.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+TWO_PI = 2.0 * math.pi
+
+
+@njit(cache=True, inline="always")
+def _shape_cdf(u: float, hertz: bool) -> float:
+    """Fraction of the patch load in [-1, u] (u in patch half-widths). Uniform: (u+1)/2; Hertz: elliptical."""
+    if u <= -1.0:
+        return 0.0
+    if u >= 1.0:
+        return 1.0
+    if hertz:
+        return 0.5 + (u * math.sqrt(1.0 - u * u) + math.asin(u)) / math.pi
+    return 0.5 * (u + 1.0)
+
+
+@njit(cache=True)
+def spread_patch(grid: np.ndarray, center: float, half_angle: float, area: float, hertz: bool) -> None:
+    """Spread a worn cross-section over a patch of `grid` (in place).
+
+    `grid` (n,) holds cell-average depths (m) on cells centred at 2 pi k / n. `area` is the worn cross-section
+    divided by the radius (m * rad), i.e. volume / (L R). The patch covers [center - half_angle, center + half_angle]
+    with a uniform or elliptical (Hertz) shape. Cell k receives area * (fraction of the patch in the cell) / Delta,
+    so sum(grid) * Delta increases by exactly `area`. Periodic.
+    """
+    n = grid.shape[0]
+    delta = TWO_PI / n
+    c = center % TWO_PI
+    if half_angle <= 0.0 or not math.isfinite(half_angle):
+        j = int(math.floor(c / delta + 0.5)) % n
+        grid[j] += area / delta
+        return
+    j0 = int(math.floor((c - half_angle) / delta + 0.5))
+    j1 = int(math.floor((c + half_angle) / delta + 0.5))
+    scale = area / delta
+    prev = 0.0
+    for j in range(j0, j1 + 1):
+        if j == j1:
+            cur = 1.0
+        else:
+            cur = _shape_cdf(((j + 0.5) * delta - c) / half_angle, hertz)
+        frac = cur - prev
+        prev = cur
+        if frac != 0.0:
+            grid[j % n] += scale * frac
+
+
+@njit(cache=True)
+def accumulate_wear(
+    theta_b: np.ndarray,
+    theta_j: np.ndarray,
+    force: np.ndarray,
+    slip: np.ndarray,
+    dt: np.ndarray,
+    r_b: np.ndarray,
+    r_j: np.ndarray,
+    r_b0: float,
+    r_j0: float,
+    h_b: float,
+    h_j: float,
+    kH_b: float,
+    kH_j: float,
+    width: float,
+    c_half: float,
+    hertz: bool,
+    track_journal: bool,
+    wear_b: np.ndarray,
+    wear_j: np.ndarray,
+    diag: np.ndarray,
+) -> tuple:
+    """Accumulate the Archard wear of all steps onto `wear_b` (bearing grid) and `wear_j` (journal grid).
+
+    Per step i: theta_b/theta_j the direction of the contact normal in the bearing/journal body frame (rad),
+    force the normal force (N, <= 0 out of contact), slip the relative tangential speed (m/s), dt the quadrature
+    weight (s), r_b/r_j the current (local) bearing/journal radii used for R* (m). r_b0/r_j0: nominal radii that
+    convert arc length to grid angle. h = (1 - nu^2)/E of each body, kH = k/H (1/Pa), width L (m), c_half the
+    half-width factor.
+
+    diag (4, n) on the bearing grid (nearest cell): [0] contact time (s), [1] integral of F dt (N s),
+    [2] sliding distance (m), [3] integral of A dt (m^2 s).
+
+    Returns (archard volume bearing, archard volume journal, sliding distance, max half-width) in SI.
+    """
+    n_b = wear_b.shape[0]
+    n_j = wear_j.shape[0]
+    delta_b = TWO_PI / n_b
+    vol_b = 0.0
+    vol_j = 0.0
+    s_tot = 0.0
+    b_max = 0.0
+    hsum = h_b + h_j
+    for i in range(force.shape[0]):
+        f = force[i]
+        if not (f > 0.0):
+            continue
+        ds = abs(slip[i]) * dt[i]
+        rb = r_b[i]
+        rj = r_j[i]
+        rstar = rb * rj / (rb - rj)
+        b = c_half * math.sqrt(f * rstar * hsum / width)
+        if b > b_max:
+            b_max = b
+        # Archard volume of the step on each body: (k/H) p ds * (2 b L) = (k/H) F ds.
+        dvb = kH_b * f * ds
+        spread_patch(wear_b, theta_b[i], b / r_b0, dvb / (width * r_b0), hertz)
+        vol_b += dvb
+        if track_journal:
+            dvj = kH_j * f * ds
+            spread_patch(wear_j, theta_j[i], b / r_j0, dvj / (width * r_j0), hertz)
+            vol_j += dvj
+        s_tot += ds
+        k = int(math.floor((theta_b[i] % TWO_PI) / delta_b + 0.5)) % n_b
+        diag[0, k] += dt[i]
+        diag[1, k] += f * dt[i]
+        diag[2, k] += ds
+        diag[3, k] += 2.0 * b * width * dt[i]
+    return vol_b, vol_j, s_tot, b_max
+
+
+def worn_area(profile: np.ndarray, radius: float) -> float:
+    """Worn cross-section (m^2) of a cell-average depth profile on a grid of the body with nominal radius `radius`.
+
+    Thin-layer measure sum_k h_k R Delta (the measure the spreading conserves exactly); times the width it is the
+    worn volume.
+    """
+    profile = np.asarray(profile, dtype=float)
+    return float(profile.sum() * radius * TWO_PI / profile.shape[0])
+
+
+def periodic_interp(profile: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    """Linear periodic interpolation of a grid profile (cells centred at 2 pi k / n) at angles theta (rad)."""
+    profile = np.asarray(profile, dtype=float)
+    n = profile.shape[0]
+    x = np.mod(np.asarray(theta, dtype=float), TWO_PI) * (n / TWO_PI)
+    i0 = np.floor(x).astype(np.int64)
+    w = x - i0
+    i0 %= n
+    return (1.0 - w) * profile[i0] + w * profile[(i0 + 1) % n]

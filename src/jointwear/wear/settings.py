@@ -1,0 +1,193 @@
+"""Settings of the wear model (``config.wear``).
+
+Every choice that the reference paper (Jin et al., Drones 2025, 9, 282, Section 3) leaves open, or states in a
+form that cannot be used literally (see ``shared/reference/paper-notes.md``, "Wear"), is a named field here with
+a default and a docstring that says where the default comes from. Units are SI; cycles are crank revolutions.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+
+#: sqrt(4/pi) = 1.1284: Johnson's line-contact half-width b = sqrt(4 F R* / (pi L E*)) written as
+#: 1.128 sqrt(F R* (h_i + h_j) / L) with 1/E* = h_i + h_j, h = (1 - nu^2) / E (Johnson, Contact Mechanics, Eq. 4.43).
+JOHNSON_FACTOR = math.sqrt(4.0 / math.pi)
+
+
+class WearSettings(BaseModel):
+    """How the Archard wear of the clearance joints is computed and extrapolated over many cycles."""
+
+    model_config = ConfigDict(extra="forbid", validate_assignment=True)
+
+    geometry_mode: Literal["uniform", "profile"] = Field(
+        "uniform",
+        description=(
+            "How the accumulated wear feeds back into the contact search. 'uniform': the paper's Eqs. 36-37, the "
+            "clearance grows uniformly by the wear (R_i += h/2, R_j -= h/2, see `uniform_growth`). 'profile': the "
+            "worn bearing and journal profiles R_i(theta) = R_i0 + h_i(theta), R_j(theta) = R_j0 - h_j(theta) are "
+            "used by the contact search and the contact stiffness. Default 'uniform': the paper's method, and the "
+            "mode that the reproduction targets of Section 6.1.3 refer to (docs/wear.md compares both)."
+        ),
+    )
+    uniform_growth: Literal["max_sum", "bearing_max"] = Field(
+        "max_sum",
+        description=(
+            "Uniform mode only: the wear depth h by which the clearance grows (paper Eq. 35-37, 'h is the total "
+            "amount of wear'). 'max_sum' (default): max bearing depth + max journal depth, the clearance at the "
+            "deepest point, split as R_i += h/2, R_j -= h/2 as in Eqs. 36-37. 'bearing_max': max bearing depth only."
+        ),
+    )
+    n_grid: int = Field(
+        720,
+        ge=16,
+        le=100_000,
+        description=(
+            "Angular grid points on each body (cell-centred at 2 pi k / n_grid). The wear increment of every step is "
+            "spread over the contact patch with exact overlap integration, so the grid only sets the output "
+            "resolution. Default 720 (0.5 deg cells): halving it changes the max wear at 400k cycles by well under "
+            "2 % (benchmarks/wear.py, docs/wear.md)."
+        ),
+    )
+    cycles: int | None = Field(
+        400_000,
+        description=(
+            "Number of crank cycles of the wear history when the caller does not give one. Default 400,000: the "
+            "paper's nominal case (Section 6.1.3)."
+        ),
+    )
+    initial_block: int = Field(
+        10_000,
+        ge=1,
+        description=(
+            "Cycles over which the first steady-cycle wear rate is extrapolated before the geometry is updated. "
+            "Default 10,000: the update interval of the quick model quoted in DESIGN.md."
+        ),
+    )
+    max_block: int = Field(
+        80_000,
+        ge=1,
+        description=(
+            "Largest block. Default 80,000 (keeps >= 6 history points to 400k cycles for the linear interpolation "
+            "of max_wear_at)."
+        ),
+    )
+    block_growth: float = Field(
+        2.0,
+        ge=1.0,
+        description="Factor by which the block grows when the wear rate changed by less than `rate_tolerance`.",
+    )
+    rate_tolerance: float = Field(
+        0.05,
+        gt=0.0,
+        description=(
+            "Adaptive block rule: relative change of the peak bearing wear rate between two consecutive blocks. Below "
+            "it the next block grows by `block_growth` (up to `max_block`); above twice it the block is halved (down "
+            "to `min_block`). Default 0.05: the error of one explicit block is about half the rate change times the "
+            "block's wear, so the accumulated max-wear error stays near 1 %."
+        ),
+    )
+    min_block: int = Field(2_500, ge=1, description="Smallest block of the adaptive rule.")
+    settle_cycles_initial: float | None = Field(
+        None,
+        ge=0.0,
+        description=(
+            "Cycles simulated and discarded before the first recorded cycles (start from the assembled rest state). "
+            "None: the dynamics' own default."
+        ),
+    )
+    settle_cycles: float = Field(
+        1.0,
+        ge=0.0,
+        description=(
+            "Cycles simulated and discarded at the start of every later block, which continues from the end state of "
+            "the previous block on the updated geometry. Default 1 cycle: the post-update transient of the flapping "
+            "preset decays within a fraction of a cycle."
+        ),
+    )
+    record_cycles: int = Field(
+        2,
+        ge=1,
+        description=(
+            "Steady cycles recorded per block; the wear rate is their mean. Default 2 (the rate of single cycles "
+            "differs by well under 1 % in the flapping preset; 2 averages the impact phase)."
+        ),
+    )
+    pressure: Literal["uniform", "hertz"] = Field(
+        "uniform",
+        description=(
+            "Pressure distribution over the contact patch |s| <= b. 'uniform': p = F_N / A with A = 2 b L, the "
+            "paper's Eq. 31-33 (depth dh = (k/H) p ds over the whole patch). 'hertz': the elliptical line-contact "
+            "distribution p(s) = 2 F_N / (pi b L) sqrt(1 - s^2/b^2). Both conserve the Archard volume (k/H) F_N ds."
+        ),
+    )
+    half_width_factor: float = Field(
+        JOHNSON_FACTOR,
+        gt=0.0,
+        description=(
+            "c in b = c sqrt(F_N R* (h_i + h_j) / L). Default sqrt(4/pi) = 1.128, Johnson's line-contact half-width "
+            "b = sqrt(4 F R* / (pi L E*)). The paper's garbled Eq. 32 shows '1.128 x 2 x F_N/L': read as a factor 2 "
+            "inside the root (c = 1.128 sqrt(2) = 1.596) when the force is taken per unit half-width; set that value "
+            "to reproduce it. With uniform or Hertz spreading the volume does not depend on c; it only sets the "
+            "patch width and the reported contact area."
+        ),
+    )
+    track_journal: bool = Field(
+        True,
+        description="Accumulate the journal's wear on a grid fixed in the journal body (it turns fully against the rod).",
+    )
+    peak_prominence: float = Field(
+        0.05,
+        gt=0.0,
+        lt=1.0,
+        description=(
+            "Peak detection on the periodic bearing profile: a local maximum is a peak when its prominence is at least "
+            "this fraction of the maximum depth. Default 0.05 (ignores the ripples of the impact phase; keeps the "
+            "paper's second peak, 35 % of the first)."
+        ),
+    )
+    rtol: float | None = Field(None, gt=0.0, description="Integrator relative tolerance; None: the dynamics' default.")
+    atol: float | None = Field(None, gt=0.0, description="Integrator absolute tolerance; None: the dynamics' default.")
+
+    @field_validator("cycles", mode="before")
+    @classmethod
+    def _cycles_positive(cls, v):
+        return check_cycles(v, "wear.cycles") if v is not None else None
+
+    @model_validator(mode="after")
+    def _blocks_consistent(self):
+        if self.min_block > self.max_block:
+            raise ValueError(f"wear.min_block ({self.min_block}) must be <= wear.max_block ({self.max_block})")
+        if not (self.min_block <= self.initial_block <= self.max_block):
+            raise ValueError(
+                f"wear.initial_block ({self.initial_block}) must lie in [min_block, max_block] = "
+                f"[{self.min_block}, {self.max_block}]"
+            )
+        return self
+
+
+def check_cycles(value, field: str = "cycles") -> int:
+    """Validate a cycle count at an API boundary: a finite, positive whole number. Raises ValueError naming `field`."""
+    if isinstance(value, bool):
+        raise ValueError(f"{field} must be a positive whole number of cycles, got {value!r}")
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{field} must be a positive whole number of cycles, got {value!r}") from None
+    if not math.isfinite(x):
+        raise ValueError(f"{field} must be a finite positive number of cycles, got {value!r}")
+    if x <= 0:
+        raise ValueError(f"{field} must be > 0 cycles, got {value!r}")
+    if x != int(x):
+        raise ValueError(f"{field} must be a whole number of cycles, got {value!r}")
+    return int(x)
+
+
+def check_material(k: float, H: float, body: str) -> None:
+    """Raise ValueError naming the field if a wear coefficient is negative/non-finite or a hardness is not > 0."""
+    if not (math.isfinite(k) and k >= 0.0):
+        raise ValueError(f"{body}.wear_coefficient must be a finite number >= 0 (dimensionless), got {k!r}")
+    if not (math.isfinite(H) and H > 0.0):
+        raise ValueError(f"{body}.hardness must be a finite number > 0 Pa, got {H!r}")
