@@ -104,18 +104,62 @@ class SerialExecutor(_ExecutorBase):
 _PR_SET_PDEATHSIG = 1
 
 
-def _worker_init() -> None:
-    """Runs once in each local worker process."""
-    # Die with the parent: a study killed with kill -9 must not leave workers computing in the
-    # background (Linux only; elsewhere the workers end when they next read their closed queue).
-    if sys.platform.startswith("linux"):
+def _exit_when_gone(main_pid: int) -> None:
+    """Block until process ``main_pid`` has ended, then end this process at once."""
+    try:
+        import select
+
+        fd = os.pidfd_open(main_pid)  # Linux >= 5.3: readable when the process ends
+        select.select([fd], [], [])
+    except (AttributeError, OSError):  # older kernels, other systems: poll
+        import time
+
+        while True:
+            try:
+                os.kill(main_pid, 0)
+            except ProcessLookupError:
+                break
+            except PermissionError:
+                pass
+            time.sleep(0.5)
+    os._exit(1)
+
+
+def _worker_init(main_pid: int) -> None:
+    """Runs once in each local worker process.
+
+    A study killed with ``kill -9`` must not leave its workers computing in the background. A worker
+    forked by the study itself asks the kernel for SIGKILL when its parent dies (PR_SET_PDEATHSIG); a
+    worker started by the forkserver (whose parent is the forkserver, which outlives the study) runs a
+    watcher thread that ends it when the study's process ends. Once the workers are gone the
+    forkserver and the resource tracker see their pipes close and exit too.
+    """
+    if sys.platform.startswith("linux") and os.getppid() == main_pid:
         try:
             libc = ctypes.CDLL(None, use_errno=True)
             libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
         except Exception:  # pragma: no cover - exotic libc
             pass
-    # Ctrl-C goes to the parent, which cancels the batch; workers are ended by the pool's shutdown.
+    else:
+        import threading
+
+        threading.Thread(
+            target=_exit_when_gone, args=(main_pid,), name="jointwear-parent-watch", daemon=True
+        ).start()
+    if os.getppid() != main_pid and not _pid_alive(main_pid):  # the study died while we started
+        os._exit(1)
+    # Ctrl-C goes to the study, which cancels the batch; workers are ended by the pool's shutdown.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _pid_alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
 
 
 class LocalExecutor(_ExecutorBase):
@@ -142,10 +186,15 @@ class LocalExecutor(_ExecutorBase):
         self.n_restarts = 0
 
     def _new_pool(self) -> cf.ProcessPoolExecutor:
+        ctx = multiprocessing.get_context(self._mp_context)
+        if self._mp_context == "forkserver":
+            # workers fork from a server that has already imported numpy and the worker code
+            ctx.set_forkserver_preload(["__main__", "numpy", "jointwear.compute.evaluator"])
         return cf.ProcessPoolExecutor(
             max_workers=self._workers,
-            mp_context=multiprocessing.get_context(self._mp_context),
+            mp_context=ctx,
             initializer=_worker_init,
+            initargs=(os.getpid(),),
         )
 
     @property
