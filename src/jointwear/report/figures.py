@@ -1,0 +1,590 @@
+"""Figure functions of jointwear: plain data in, a styled :class:`~matplotlib.figure.Figure` out.
+
+Every function takes arrays, lists or numbers as they appear in the JSON contracts (millimetres, degrees,
+newtons, cycles) and returns a figure in the house style of :mod:`jointwear.report.style`; write it with
+:func:`jointwear.report.style.savefig` or embed it with :func:`jointwear.report.style.to_data_uri`. No function
+reads files, so the stages and the HTML report draw the same figure from the same numbers.
+
+Angles on the bearing follow the paper (Section 6.1.3, Figs. 17-18): the bearing's (rod's) frame, 0 deg at the
+leftmost point, growing clockwise.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from .style import (
+    COLORS,
+    LIMIT_COLOR,
+    PAPER_COLOR,
+    TARGET_COLOR,
+    angle_axis,
+    as_array,
+    axis_label,
+    figure,
+    hline,
+    label_axes,
+    nice_number,
+    no_data,
+    note,
+    panel_letter,
+    scale_to_unit,
+    vline,
+)
+
+__all__ = [
+    "mechanism_figure",
+    "orbit_figure",
+    "contact_force_figure",
+    "wear_polar_figure",
+    "wear_panels_figure",
+    "wear_history_figure",
+    "reliability_curve_figure",
+    "wear_histograms_figure",
+    "convergence_figure",
+    "tornado_figure",
+    "sobol_figure",
+]
+
+Array = Sequence[float] | np.ndarray
+
+
+def _arr(values) -> np.ndarray:
+    out = as_array(values)
+    if out is None:
+        raise ValueError("missing data for a figure")
+    return out
+
+
+def _break_wraps(angle_deg: np.ndarray, *ys: np.ndarray):
+    """Insert NaN where an angle series wraps (360 -> 0), so a line does not jump across the plot."""
+    a = np.mod(angle_deg, 360.0)
+    jumps = np.where(np.diff(a) < -180.0)[0] + 1
+    if jumps.size == 0:
+        return (a, *ys)
+    a = np.insert(a, jumps, np.nan)
+    return (a, *(np.insert(y, jumps, np.nan) for y in ys))
+
+
+def _kilo_cycles(cycles) -> np.ndarray:
+    return _arr(cycles) / 1e3
+
+
+CYCLES_LABEL = axis_label("crank cycles N", "\u00d710\u00b3")
+
+
+# --------------------------------------------------------------------------------------------- mechanism
+def _four_bar_B(a: np.ndarray, rod: float, rocker: float, pivot: np.ndarray, branch: int) -> np.ndarray | None:
+    d = pivot - a
+    dist = float(np.hypot(*d))
+    if dist == 0 or dist > rod + rocker or dist < abs(rod - rocker):
+        return None
+    along = (rod**2 - rocker**2 + dist**2) / (2 * dist)
+    h = np.sqrt(max(rod**2 - along**2, 0.0))
+    base = a + along * d / dist
+    perp = np.array([-d[1], d[0]]) / dist
+    return base + (1 if branch >= 0 else -1) * h * perp
+
+
+def mechanism_figure(
+    crank_mm: float,
+    rod_mm: float,
+    rocker_mm: float,
+    pivot_mm: Sequence[float],
+    *,
+    branch: int = 1,
+    crank_angle_deg: float = 45.0,
+    clearance_joint: str = "A",
+    n_ghosts: int = 12,
+) -> Figure:
+    """Sketch of the crank-rocker: crank O-A about O = (0, 0), rod A-B, rocker B-C about the ground pivot C.
+
+    ``branch`` (+1 / -1) picks the assembly; faint ghosts show the linkage over a crank turn, the bold
+    linkage sits at ``crank_angle_deg``; the clearance joint is ringed.
+    """
+    pivot = np.asarray(pivot_mm, dtype=float)
+    fig, ax = figure(size="square")
+    o = np.zeros(2)
+    for k, phi in enumerate(np.linspace(0, 2 * np.pi, n_ghosts, endpoint=False)):
+        a = crank_mm * np.array([np.cos(phi), np.sin(phi)])
+        b = _four_bar_B(a, rod_mm, rocker_mm, pivot, branch)
+        if b is None:
+            continue
+        ax.plot(*np.c_[o, a, b, pivot], color="#BBBBBB", lw=0.7, zorder=1)
+    ax.add_patch(_circle(o, crank_mm, ls=":", ec="#999999"))
+    phi = np.deg2rad(crank_angle_deg)
+    a = crank_mm * np.array([np.cos(phi), np.sin(phi)])
+    b = _four_bar_B(a, rod_mm, rocker_mm, pivot, branch)
+    if b is None:
+        no_data(ax, "the linkage does not assemble at this crank angle")
+        return fig
+    ax.plot(*np.c_[o, a], color=COLORS[0], lw=3, label=f"crank l1 = {crank_mm:g} mm", zorder=3)
+    ax.plot(*np.c_[a, b], color=COLORS[1], lw=3, label=f"rod l2 = {rod_mm:g} mm", zorder=3)
+    ax.plot(*np.c_[b, pivot], color=COLORS[2], lw=3, label=f"rocker l_BC = {rocker_mm:g} mm", zorder=3)
+    pts = {"O": o, "A": a, "B": b, "C": pivot}
+    for name, p in pts.items():
+        ground = name in ("O", "C")
+        ax.plot(*p, marker="^" if ground else "o", ms=9 if ground else 6, color="#333333", zorder=4)
+        ax.annotate(name, p, xytext=(6, 4), textcoords="offset points", fontsize=10, fontweight="bold")
+    if clearance_joint in pts:
+        ax.plot(*pts[clearance_joint], marker="o", ms=16, mfc="none", mec=LIMIT_COLOR, mew=1.8, zorder=5,
+                label=f"clearance joint {clearance_joint}")
+    ax.set_aspect("equal", adjustable="datalim")
+    label_axes(ax, "x", "mm", "y", "mm")
+    ax.legend(loc="lower right")
+    ax.set_title("Mechanism (crank-rocker)")
+    return fig
+
+
+def _circle(center, radius, **kw):
+    from matplotlib.patches import Circle
+
+    style = {"fill": False, "lw": 1.2, "ec": "#555555"}
+    style.update(kw)
+    return Circle(tuple(center), radius, **style)
+
+
+# --------------------------------------------------------------------------------------------- dynamics
+def orbit_figure(
+    x_mm: Array,
+    y_mm: Array,
+    clearance_mm: float | None = None,
+    *,
+    title: str = "Journal centre orbit in the bearing frame",
+) -> Figure:
+    """The journal centre relative to the bearing centre, in the bearing frame, with the clearance circle.
+
+    Plotted in micrometres. The bearing-frame angles of the paper (0 deg at the leftmost point, clockwise) are
+    marked on the clearance circle.
+    """
+    x = _arr(x_mm) * 1e3
+    y = _arr(y_mm) * 1e3
+    fig, ax = figure(size="square")
+    ax.plot(x, y, color=COLORS[0], lw=0.9, label="journal centre")
+    if x.size:
+        ax.plot(x[0], y[0], "o", color=COLORS[2], ms=5, label="start")
+    if clearance_mm is not None and clearance_mm > 0:
+        c = clearance_mm * 1e3
+        ax.add_patch(_circle((0, 0), c, ec=LIMIT_COLOR, ls="--", lw=1.3, label=f"clearance c = {c:.3g} \u00b5m"))
+        for deg, (ha, va) in {0: ("right", "center"), 90: ("center", "bottom"),
+                              180: ("left", "center"), 270: ("center", "top")}.items():
+            t = np.deg2rad(deg)
+            px, py = -np.cos(t) * c * 1.06, np.sin(t) * c * 1.06
+            ax.text(px, py, f"{deg}\u00b0", ha=ha, va=va, fontsize=8.5, color="#666666")
+        lim = 1.25 * max(c, float(np.nanmax(np.hypot(x, y))) if x.size else c)
+        ax.set_xlim(-lim, lim)
+        ax.set_ylim(-lim, lim)
+    ax.plot(0, 0, "+", color="#555555", ms=8)
+    ax.set_aspect("equal")
+    label_axes(ax, "x, bearing frame", "um", "y, bearing frame", "um")
+    ax.legend(loc="upper right", fontsize=8)
+    ax.set_title(title)
+    return fig
+
+
+def contact_force_figure(
+    crank_angle_deg: Array,
+    force_N: Array,
+    *,
+    mean_N: float | None = None,
+    ideal_N: Array | None = None,
+    title: str = "Contact force in the clearance joint",
+) -> Figure:
+    """Normal contact force against crank angle (several cycles overlay, wrapped to 0-360 deg).
+
+    ``ideal_N`` (same length) draws the reaction of the ideal joint for comparison.
+    """
+    force, unit = scale_to_unit(_arr(force_N), "N")
+    factor = (float(np.nanmax(np.abs(_arr(force_N)))) / float(np.nanmax(np.abs(force)))) if np.nanmax(
+        np.abs(force)) > 0 else 1.0
+    ang = _arr(crank_angle_deg)
+    a, f = _break_wraps(ang, force)
+    fig, ax = figure(size="wide")
+    ax.plot(a, f, color=COLORS[0], lw=1.0, label="clearance joint")
+    if ideal_N is not None:
+        a2, f2 = _break_wraps(ang, _arr(ideal_N) / factor)
+        ax.plot(a2, f2, color=PAPER_COLOR, lw=1.0, ls="--", label="ideal joint")
+    if mean_N is not None:
+        hline(ax, mean_N / factor, f"mean {mean_N / factor:.3g} {unit}", color=COLORS[1])
+    angle_axis(ax, "x", label="crank angle")
+    ax.set_ylabel(axis_label("normal contact force", unit))
+    ax.set_ylim(bottom=0)
+    if ideal_N is not None:
+        ax.legend(loc="upper left")
+    ax.set_title(title)
+    return fig
+
+
+# --------------------------------------------------------------------------------------------- wear
+def _peak_list(peaks) -> list[tuple[float, float]]:
+    out = []
+    for p in peaks or []:
+        if isinstance(p, Mapping):
+            a, d = p.get("angle_deg"), p.get("depth_mm")
+        else:
+            a, d = p
+        if a is not None and d is not None:
+            out.append((float(a), float(d)))
+    return out
+
+
+def wear_polar_figure(
+    angle_deg: Array,
+    depth_mm: Array,
+    *,
+    radius_mm: float | None = None,
+    exaggeration: float | None = None,
+    peaks: Sequence | None = None,
+    cycles: float | None = None,
+    title: str | None = None,
+) -> Figure:
+    """The worn bearing profile over its initial circle (the paper's Fig. 18).
+
+    Bearing frame, 0 deg at the leftmost point, clockwise. The wear depth is drawn radially outwards,
+    multiplied by ``exaggeration`` (chosen so the largest wear shows as about 30 % of the radius when not given);
+    the factor is written on the figure. ``radius_mm`` is the initial bearing radius (1 when unknown).
+    """
+    ang = _arr(angle_deg)
+    depth = np.nan_to_num(_arr(depth_mm))
+    order = np.argsort(np.mod(ang, 360))
+    ang, depth = np.mod(ang, 360)[order], depth[order]
+    r0 = float(radius_mm) if radius_mm else 1.0
+    dmax = float(depth.max()) if depth.size else 0.0
+    if exaggeration is None:
+        exaggeration = nice_number(0.3 * r0 / dmax) if dmax > 0 else 1.0
+    theta = np.deg2rad(np.r_[ang, ang[:1] + 360.0]) if ang.size else np.array([])
+    r = r0 + exaggeration * np.r_[depth, depth[:1]] if ang.size else np.array([])
+    fig, ax = figure(size="square", polar=True)
+    ax.set_theta_zero_location("W")
+    ax.set_theta_direction(-1)
+    circ = np.linspace(0, 2 * np.pi, 361)
+    ax.fill_between(theta, r0, r, color=COLORS[1], alpha=0.35, lw=0, label="worn material")
+    ax.plot(circ, np.full_like(circ, r0), color="#555555", ls="--", lw=1.2, label="initial profile")
+    ax.plot(theta, r, color=COLORS[1], lw=1.8, label="worn profile")
+    pk = _peak_list(peaks)
+    if not pk and dmax > 0:
+        i = int(np.argmax(depth))
+        pk = [(float(ang[i]), dmax)]
+    for k, (a, d) in enumerate(pk[:3]):
+        ax.plot(np.deg2rad(a), r0 + exaggeration * d, "o", color=PAPER_COLOR, ms=5, zorder=5)
+        ux, uy = -np.cos(np.deg2rad(a)), np.sin(np.deg2rad(a))  # outward direction on the page
+        ax.annotate(f"{d:.4f} mm\nat {a:.0f}\u00b0", (np.deg2rad(a), r0 + exaggeration * d),
+                    xytext=(14 * ux, 14 * uy), textcoords="offset points", fontsize=8.5,
+                    ha="left" if ux >= 0 else "right", va="bottom" if uy >= 0 else "top",
+                    bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.8})
+    rmax = r0 + exaggeration * dmax if dmax > 0 else r0
+    ax.set_rlim(0, rmax * 1.08)
+    ax.set_yticklabels([])
+    ax.set_thetagrids(np.arange(0, 360, 45), [f"{d}\u00b0" for d in range(0, 360, 45)])
+    ax.grid(True, color="#E0E0E0")
+    cyc = f" after {cycles:,.0f} cycles" if cycles else ""
+    ax.set_title(title or f"Bearing wear profile{cyc}", pad=14)
+    r0_txt = f"initial radius R0 = {r0:g} mm" if radius_mm else "initial circle (radius not given)"
+    fig.text(0.02, -0.01, f"angle on the bearing (deg): 0\u00b0 = leftmost point, clockwise; {r0_txt} (dashed);\n"
+             f"wear depth (mm) drawn radially outwards, exaggerated \u00d7{exaggeration:g}", fontsize=8.5,
+             color="#444444", va="top")
+    ax.legend(loc="upper right", bbox_to_anchor=(1.12, 1.12), fontsize=8)
+    return fig
+
+
+def wear_panels_figure(
+    angle_deg: Array,
+    depth_mm: Array,
+    *,
+    slip_mm: Array | None = None,
+    contact_force_N: Array | None = None,
+    contact_area_mm2: Array | None = None,
+    slip_angle_deg: Array | None = None,
+    force_angle_deg: Array | None = None,
+    area_angle_deg: Array | None = None,
+    cycles: float | None = None,
+) -> Figure:
+    """The paper's Fig. 17: (a) relative slip distance, (b) contact force, (c) contact area and (d) bearing wear
+    depth against the angle on the bearing. Panels without data say so. Each quantity may have its own angle
+    grid (``*_angle_deg``); by default all share ``angle_deg``."""
+    fig, axes = figure(2, 2, size="panels")
+    ang = _arr(angle_deg)
+
+    def series(ax, a, y, color):
+        a = np.mod(ang if a is None else _arr(a), 360)
+        order = np.argsort(a)
+        ax.plot(a[order], y[order], color=color, lw=1.3)
+
+    ax = axes[0, 0]
+    panel_letter(ax, "a")
+    if slip_mm is not None:
+        s, unit = scale_to_unit(_arr(slip_mm) * 1e-3, "m")
+        series(ax, slip_angle_deg, s, COLORS[0])
+        ax.set_ylabel(axis_label("relative slip distance", unit))
+        angle_axis(ax, "x")
+    else:
+        no_data(ax, "relative slip distance: not provided")
+    ax.set_title("relative slip distance", loc="center", fontweight="normal")
+
+    ax = axes[0, 1]
+    panel_letter(ax, "b")
+    if contact_force_N is not None:
+        f, unit = scale_to_unit(_arr(contact_force_N), "N")
+        series(ax, force_angle_deg, f, COLORS[2])
+        ax.set_ylabel(axis_label("contact force", unit))
+        angle_axis(ax, "x")
+    else:
+        no_data(ax, "contact force: not provided")
+    ax.set_title("contact force", loc="center", fontweight="normal")
+
+    ax = axes[1, 0]
+    panel_letter(ax, "c")
+    if contact_area_mm2 is not None:
+        area = _arr(contact_area_mm2)
+        unit = "mm2"
+        if np.nanmax(np.abs(area)) < 0.1:
+            area, unit = area * 1e6, "um2"
+        series(ax, area_angle_deg, area, COLORS[3])
+        ax.set_ylabel(axis_label("contact area", unit))
+        angle_axis(ax, "x")
+    else:
+        no_data(ax, "contact area: not provided")
+    ax.set_title("contact area", loc="center", fontweight="normal")
+
+    ax = axes[1, 1]
+    panel_letter(ax, "d")
+    series(ax, None, np.nan_to_num(_arr(depth_mm)), COLORS[1])
+    ax.set_ylabel(axis_label("bearing wear depth", "mm"))
+    angle_axis(ax, "x")
+    ax.set_ylim(bottom=0)
+    cyc = f" ({cycles:,.0f} cycles)" if cycles else ""
+    ax.set_title("bearing wear depth" + cyc, loc="center", fontweight="normal")
+    fig.suptitle("Wear data against the angle on the bearing (0\u00b0 = leftmost point, clockwise)")
+    return fig
+
+
+def wear_history_figure(
+    cycles: Array,
+    max_wear_mm: Array,
+    *,
+    limit_mm: float | None = None,
+    mean_cycles: Array | None = None,
+    mean_max_wear_mm: Array | None = None,
+    paper_mean: Mapping[float, float] | None = None,
+    paper_nominal: tuple[float, float] | None = None,
+) -> Figure:
+    """Max bearing wear against cycles: the nominal history, optionally the Monte Carlo mean of the max wear,
+    the allowable wear ``limit_mm`` and the paper's values (``paper_mean`` {cycles: mm},
+    ``paper_nominal`` (cycles, mm))."""
+    fig, ax = figure()
+    ax.plot(_kilo_cycles(cycles), _arr(max_wear_mm), color=COLORS[0], label="nominal design")
+    if mean_cycles is not None and mean_max_wear_mm is not None:
+        ax.plot(_kilo_cycles(mean_cycles), _arr(mean_max_wear_mm), color=COLORS[2], ls="-", marker="o", ms=3.5,
+                label="mean over the random inputs")
+    if paper_mean:
+        ks = sorted(paper_mean)
+        ax.plot(np.array(ks) / 1e3, [paper_mean[k] for k in ks], "x", color=PAPER_COLOR, ms=7, mew=1.8,
+                label="paper, mean (Fig. 20)")
+    if paper_nominal:
+        ax.plot(paper_nominal[0] / 1e3, paper_nominal[1], "s", mfc="none", color=PAPER_COLOR, ms=7,
+                label="paper, nominal")
+    if limit_mm is not None:
+        hline(ax, limit_mm, f"allowable wear \u03b4\u2080 = {limit_mm:g} mm")
+    ax.set_xlim(left=0)
+    ax.set_ylim(bottom=0)
+    ax.set_xlabel(CYCLES_LABEL)
+    ax.set_ylabel(axis_label("max bearing wear", "mm"))
+    ax.legend(loc="lower right")
+    ax.set_title("Max wear against cycles")
+    return fig
+
+
+# --------------------------------------------------------------------------------------------- reliability
+def reliability_curve_figure(
+    cycles: Array,
+    reliability: Array,
+    *,
+    pf_cov: Array | None = None,
+    target: float | None = None,
+    life_cycles: float | None = None,
+    paper: Mapping[float, float] | None = None,
+    paper_life: float | None = None,
+) -> Figure:
+    """R(N) with a 95 % band from the COV of Pf, the target line, the life at the target and the paper's points."""
+    n = _kilo_cycles(cycles)
+    rel = _arr(reliability)
+    fig, ax = figure()
+    if pf_cov is not None:
+        cov = np.nan_to_num(_arr(pf_cov))
+        half = 1.96 * cov * (1.0 - rel)
+        ax.fill_between(n, np.clip(rel - half, 0, 1), np.clip(rel + half, 0, 1), color=COLORS[0], alpha=0.2,
+                        lw=0, label="95 % band (COV of Pf)")
+    ax.plot(n, rel, color=COLORS[0], marker="o", ms=3, label="this study")
+    if paper:
+        ks = sorted(paper)
+        ax.plot(np.array(ks) / 1e3, [paper[k] for k in ks], "x", color=PAPER_COLOR, ms=7, mew=1.8,
+                label="paper (Fig. 21)")
+    if target is not None:
+        hline(ax, target, f"target R = {target:g}", color=TARGET_COLOR)
+    if life_cycles is not None and np.isfinite(life_cycles):
+        vline(ax, life_cycles / 1e3, f"life {life_cycles:,.0f} cycles", color=TARGET_COLOR)
+        if target is not None:
+            ax.plot(life_cycles / 1e3, target, "D", color=TARGET_COLOR, ms=6, zorder=5)
+    if paper_life is not None:
+        ax.plot(paper_life / 1e3, target if target is not None else 0.9, "D", mfc="none", color=PAPER_COLOR, ms=7,
+                label=f"paper life {paper_life:,.0f} cycles")
+    ax.set_ylim(-0.02, 1.02)
+    ax.set_xlabel(CYCLES_LABEL)
+    ax.set_ylabel(axis_label("reliability R(N)", None))
+    ax.legend(loc="lower left")
+    ax.set_title("Reliability against cycles")
+    return fig
+
+
+def wear_histograms_figure(
+    cycles: Sequence[float],
+    max_wear_mm: Sequence[Array],
+    *,
+    limit_mm: float | None = None,
+    paper_means: Mapping[float, float] | None = None,
+) -> Figure:
+    """Histograms of the max wear over the random inputs at a few cycle counts, and all of them together
+    (the paper's Fig. 20: 360k, 400k, 440k cycles)."""
+    sets = [(float(c), _arr(s)[np.isfinite(_arr(s))]) for c, s in zip(cycles, max_wear_mm)]
+    npanel = len(sets) + (1 if len(sets) > 1 else 0)
+    ncols = 2 if npanel == 4 else min(npanel, 3)
+    nrows = int(np.ceil(npanel / ncols))
+    fig, axes = figure(nrows, ncols, size=(9.6, 3.4 * nrows), squeeze=False)
+    axes = axes.ravel()
+    allvals = np.concatenate([s for _, s in sets]) if sets else np.array([])
+    bins = np.histogram_bin_edges(allvals, bins=40) if allvals.size else 10
+    letters = "abcdefghij"
+    for k, (c, s) in enumerate(sets):
+        ax = axes[k]
+        color = COLORS[k % len(COLORS)]
+        ax.hist(s, bins=bins, density=True, color=color, alpha=0.75, edgecolor="white")
+        m = float(np.mean(s)) if s.size else np.nan
+        vline(ax, m, None, color=PAPER_COLOR, ls="-")
+        if paper_means and c in paper_means:
+            vline(ax, paper_means[c], None, color=PAPER_COLOR, ls=":")
+        if limit_mm is not None:
+            vline(ax, limit_mm, None, color=LIMIT_COLOR, ls="--")
+        txt = f"n = {s.size:,}\nmean = {m:.4f} mm\nstd = {np.std(s):.4f} mm"
+        if paper_means and c in paper_means:
+            txt += f"\npaper mean = {paper_means[c]:.4f} mm"
+        if limit_mm is not None and s.size:
+            txt += f"\nP(> {limit_mm:g} mm) = {np.mean(s > limit_mm):.3f}"
+        centre = 0.5 * (bins[0] + bins[-1]) if not isinstance(bins, int) else m
+        note(ax, txt, loc="upper left" if m > centre else "upper right")
+        ax.set_xlabel(axis_label("max wear", "mm"))
+        ax.set_ylabel(axis_label("probability density", "1/mm"))
+        panel_letter(ax, letters[k])
+        ax.set_title(f"{c:,.0f} cycles", loc="center", fontweight="normal")
+    if len(sets) > 1:
+        ax = axes[len(sets)]
+        for k, (c, s) in enumerate(sets):
+            ax.hist(s, bins=bins, density=True, histtype="step", lw=1.6, color=COLORS[k % len(COLORS)],
+                    label=f"{c:,.0f} cycles")
+        if limit_mm is not None:
+            vline(ax, limit_mm, f"\u03b4\u2080 = {limit_mm:g} mm", color=LIMIT_COLOR, ls="--")
+        ax.set_xlabel(axis_label("max wear", "mm"))
+        ax.set_ylabel(axis_label("probability density", "1/mm"))
+        ax.legend(loc="upper left")
+        panel_letter(ax, letters[len(sets)])
+        ax.set_title("together", loc="center", fontweight="normal")
+    for ax in axes[npanel:]:
+        ax.set_visible(False)
+    fig.suptitle("Distribution of the max wear of the joint")
+    return fig
+
+
+def convergence_figure(
+    n_calls: Array,
+    pf: Array,
+    *,
+    cov: Array | None = None,
+    label: str | None = None,
+) -> Figure:
+    """The failure probability estimate against the number of true-model calls during active learning."""
+    calls = _arr(n_calls)
+    p = _arr(pf)
+    fig, ax = figure()
+    if cov is not None:
+        half = 1.96 * np.nan_to_num(_arr(cov)) * p
+        ax.fill_between(calls, np.clip(p - half, 0, 1), np.clip(p + half, 0, 1), color=COLORS[0], alpha=0.2, lw=0,
+                        label="95 % band (COV of Pf)")
+    ax.plot(calls, p, color=COLORS[0], marker="o", ms=3.5, label=label or "Pf estimate")
+    if p.size:
+        hline(ax, float(p[-1]), f"final Pf = {p[-1]:.4g}", color=COLORS[1], ls=":")
+    pos = p[p > 0]
+    if pos.size and pos.max() / pos.min() > 50:
+        ax.set_yscale("log")
+    ax.set_xlabel(axis_label("true-model calls", "count"))
+    ax.set_ylabel(axis_label("failure probability Pf", None))
+    ax.legend(loc="best")
+    ax.set_title("Convergence of Pf against model calls")
+    return fig
+
+
+# --------------------------------------------------------------------------------------------- sensitivity
+def tornado_figure(
+    labels: Sequence[str],
+    reliability_low: Array,
+    reliability_high: Array,
+    reliability_nominal: float,
+    *,
+    cycles: float | None = None,
+    low_label: str = "mean \u00d7 0.8",
+    high_label: str = "mean \u00d7 1.2",
+    title: str | None = None,
+) -> Figure:
+    """Tornado of the reliability when each variable's mean is moved to 80 % and 120 % (Figs. 22-24).
+
+    Bars start at the nominal reliability; the most influential variable is on top.
+    """
+    lo = _arr(reliability_low)
+    hi = _arr(reliability_high)
+    nom = float(reliability_nominal)
+    spread = np.nanmax(np.abs(np.c_[lo - nom, hi - nom]), axis=1) if lo.size else np.array([])
+    order = np.argsort(-np.nan_to_num(spread, nan=-1.0), kind="stable")[::-1]
+    fig, ax = figure(size=(6.4, max(2.4, 0.45 * len(labels) + 1.4)))
+    y = np.arange(len(labels))
+    ax.barh(y, lo[order] - nom, left=nom, height=0.38, align="edge", color=COLORS[0], label=low_label)
+    ax.barh(y - 0.38, hi[order] - nom, left=nom, height=0.38, align="edge", color=COLORS[1], label=high_label)
+    ax.axvline(nom, color=PAPER_COLOR, lw=1.0)
+    ax.set_yticks(y)
+    ax.set_yticklabels([labels[i] for i in order])
+    ax.set_xlim(-0.02, 1.02)
+    ax.set_xlabel(axis_label("reliability R" + (f" at {cycles:,.0f} cycles" if cycles else ""), None))
+    ax.grid(axis="y", visible=False)
+    ax.legend(loc="lower left", bbox_to_anchor=(0, 1.0), ncols=2, fontsize=8.5)
+    ax.set_title(title or f"Sensitivity: nominal R = {nom:.3f}", pad=22)
+    return fig
+
+
+def sobol_figure(
+    names: Sequence[str],
+    S1: Array,
+    ST: Array,
+    *,
+    S1_conf: Array | None = None,
+    ST_conf: Array | None = None,
+    output: str = "max wear",
+) -> Figure:
+    """First-order and total Sobol' indices (sorted by the total index), with confidence intervals if given."""
+    s1 = _arr(S1)
+    st = _arr(ST)
+    order = np.argsort(-np.nan_to_num(st))
+    fig, ax = figure(size=(max(6.4, 0.55 * len(names) + 2), 4.0))
+    x = np.arange(len(names))
+    w = 0.38
+    ax.bar(x - w / 2, s1[order], w, color=COLORS[0], label="first order S1",
+           yerr=None if S1_conf is None else _arr(S1_conf)[order], capsize=2)
+    ax.bar(x + w / 2, st[order], w, color=COLORS[1], label="total ST",
+           yerr=None if ST_conf is None else _arr(ST_conf)[order], capsize=2)
+    ax.set_xticks(x)
+    ax.set_xticklabels([names[i] for i in order], rotation=35, ha="right")
+    ax.set_ylim(bottom=min(0.0, float(np.nanmin(np.r_[s1, st, 0.0])) * 1.1))
+    ax.set_ylabel(axis_label(f"Sobol' index of the {output}", None))
+    ax.grid(axis="x", visible=False)
+    ax.legend(loc="upper right")
+    ax.set_title(f"Global sensitivity (Sobol') of the {output}")
+    return fig
