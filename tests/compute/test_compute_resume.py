@@ -185,9 +185,9 @@ def test_kill9_resume_equals_uninterrupted(tmp_path):
             assert key not in committed_at_kill[earlier], f"completed call {key[:10]} was run again"
             n_rerun += 1
     # only calls in flight at a kill can re-run: at most 2 per worker per kill (the evaluator keeps
-    # 2 calls per worker submitted)
-    print(f"{n_total} calls, {n_rerun} re-run after kills, committed at kills: {[len(c) for c in committed_at_kill.values()]}")
-    assert n_rerun <= 2 * 2 * len(kill_points)
+    # 2 calls per worker submitted); and some do (a call sleeps 40 ms, the kill lands within ~10 ms of
+    # a commit while the other worker is mid-call), so the check above is not vacuous
+    assert 1 <= n_rerun <= 2 * 2 * len(kill_points)
 
 
 def test_resume_with_changed_config_is_refused(tmp_path):
