@@ -10,17 +10,22 @@ from __future__ import annotations
 import math
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import ConfigDict, Field, field_validator, model_validator
+
+from jointwear.config import SIModel
 
 #: sqrt(4/pi) = 1.1284: Johnson's line-contact half-width b = sqrt(4 F R* / (pi L E*)) written as
 #: 1.128 sqrt(F R* (h_i + h_j) / L) with 1/E* = h_i + h_j, h = (1 - nu^2) / E (Johnson, Contact Mechanics, Eq. 4.43).
 JOHNSON_FACTOR = math.sqrt(4.0 / math.pi)
 
 
-class WearSettings(BaseModel):
-    """How the Archard wear of the clearance joints is computed and extrapolated over many cycles."""
+class WearSettings(SIModel):
+    """How the Archard wear of the clearance joints is computed and extrapolated over many cycles (``config.wear``).
 
-    model_config = ConfigDict(extra="forbid", validate_assignment=True)
+    An :class:`jointwear.config.SIModel`: unknown keys, NaN and inf are rejected with the field named.
+    """
+
+    model_config = ConfigDict(validate_assignment=True)
 
     geometry_mode: Literal["uniform", "profile"] = Field(
         "uniform",
@@ -90,17 +95,17 @@ class WearSettings(BaseModel):
         ),
     )
     min_block: int = Field(2_500, ge=1, description="Smallest block of the adaptive rule.")
-    settle_cycles_initial: float | None = Field(
+    settle_cycles_initial: int | None = Field(
         None,
-        ge=0.0,
+        ge=0,
         description=(
             "Cycles simulated and discarded before the first recorded cycles (start from the assembled rest state). "
             "None: the dynamics' own default."
         ),
     )
-    settle_cycles: float = Field(
-        1.0,
-        ge=0.0,
+    settle_cycles: int = Field(
+        1,
+        ge=0,
         description=(
             "Cycles simulated and discarded at the start of every later block, which continues from the end state of "
             "the previous block on the updated geometry. Default 1 cycle: the post-update transient of the flapping "
