@@ -11,8 +11,11 @@ The failure rule (one bad call never ends a batch):
 
 - the model raises, declares a failure, or returns non-finite outputs -> status ``"failed"``;
 - the call runs longer than ``timeout`` seconds -> status ``"timeout"``;
-- the worker process running the call dies -> the call is run again on a fresh worker, at most
-  ``max_attempts`` times in all, then status ``"failed"`` (reason ``"worker died ..."``);
+- the worker process running the call dies -> the call is run again, alone, on a fresh worker; when it
+  has killed its worker ``max_attempts`` times (default 2) it is ``"failed"`` (reason ``"the worker
+  process died ..."``); calls that merely shared the pool with it are run again, not failed;
+- on Dask, the scheduler re-runs the tasks of a lost worker; a task that keeps killing workers ends as
+  ``KilledWorker`` -> status ``"failed"``;
 
 A failed call is stored like a good one (with its reason and wall time) and its outputs are NaN in
 :attr:`BatchResult.Y`. What a study does with failed calls is the study's rule; the evaluator only
@@ -267,8 +270,9 @@ class Evaluator:
     timeout : seconds per call, or None.
     tag : name of this model inside the store (a study with several models uses several tags).
     retry_failed : run stored failed/timed-out calls again instead of reusing their outcome.
-    max_attempts : runs of one call when its worker process dies under it (local pools; on Dask
-        the scheduler re-runs lost tasks itself).
+    max_attempts : how many times a call may kill its local worker process (running alone, see
+        ``_run_pool``) before it is recorded as failed (on Dask the scheduler re-runs lost tasks
+        itself, ``distributed.scheduler.allowed-failures``).
     max_in_flight : calls submitted ahead of completions (default 2 per worker; all at once on Dask).
     n_outputs : output length, for the NaN rows of :attr:`BatchResult.Y` when every call failed.
     progress : a :class:`~jointwear.compute.Progress`, advanced by one per completed call.
@@ -283,7 +287,7 @@ class Evaluator:
         timeout: float | None = None,
         tag: str = "model",
         retry_failed: bool = False,
-        max_attempts: int = 3,
+        max_attempts: int = 2,
         max_in_flight: int | None = None,
         n_outputs: int | None = None,
         progress=None,
@@ -411,38 +415,59 @@ class Evaluator:
         )
 
     def _run_pool(self, X: np.ndarray, todo: list[int], records: dict[int, CallRecord]) -> None:
+        """Run the calls ``todo`` through the executor, at most ``window`` at a time.
+
+        When a local worker process dies, every call in flight fails with ``BrokenProcessPool`` and
+        nobody knows which one killed it. Those calls become *suspects* and run again one at a time,
+        alone in a fresh pool: a suspect that completes is innocent; one that kills its worker while
+        running alone is the culprit, and after ``max_attempts`` such deaths it is recorded as failed.
+        A crashing call therefore never fails the calls that happened to share the pool with it.
+        """
         blob = self._model_blob()
         window = self._window()
         queue: deque[int] = deque(todo)
-        attempts: dict[int, int] = {}
-        in_flight: dict[Any, int] = {}
+        suspects: deque[int] = deque()
+        deaths: dict[int, int] = {}
+        in_flight: dict[Any, tuple[int, bool]] = {}  # future -> (row, ran alone)
 
-        def submit_next() -> None:
-            while queue and len(in_flight) < window:
-                i = queue[0]
+        def submit(i: int) -> Any:
+            while True:
                 try:
-                    fut = self.executor.submit(_run_pickled, blob, X[i], self.timeout)
+                    return self.executor.submit(_run_pickled, blob, X[i], self.timeout)
                 except BrokenProcessPool:
                     self.executor.restart()
-                    continue
-                queue.popleft()
-                in_flight[fut] = i
+
+        def submit_next() -> None:
+            if suspects:
+                if not in_flight:
+                    i = suspects.popleft()
+                    in_flight[submit(i)] = (i, True)
+                return
+            while queue and len(in_flight) < window:
+                i = queue.popleft()
+                in_flight[submit(i)] = (i, False)
 
         try:
             submit_next()
             while in_flight:
                 done, _ = wait(list(in_flight), return_when=FIRST_COMPLETED)
                 for fut in done:
-                    i = in_flight.pop(fut)
+                    i, alone = in_flight.pop(fut)
                     try:
                         rec = self._record(X[i], fut.result())
                     except (BrokenProcessPool, CancelledError) as exc:
-                        # the worker process died (or its pool was replaced): run the call again
-                        attempts[i] = attempts.get(i, 1) + 1
-                        if attempts[i] <= self.max_attempts:
-                            queue.appendleft(i)
+                        # a worker process died (segfault, out of memory, os._exit) under this call
+                        # or under another one in the same pool
+                        if not alone:
+                            suspects.append(i)
                             continue
-                        rec = self._infra_failure(X[i], f"worker died {self.max_attempts} times: {_reason(exc)}")
+                        deaths[i] = deaths.get(i, 0) + 1
+                        if deaths[i] < self.max_attempts:
+                            suspects.appendleft(i)
+                            continue
+                        rec = self._infra_failure(
+                            X[i], f"the worker process died running this call ({deaths[i]} times): {_reason(exc)}"
+                        )
                     except Exception as exc:  # noqa: BLE001
                         # e.g. distributed's KilledWorker: the scheduler already re-ran the task
                         rec = self._infra_failure(X[i], f"worker error: {_reason(exc)}")

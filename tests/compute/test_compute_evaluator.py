@@ -1,0 +1,196 @@
+"""The evaluator and the executors: the failure rule, time-outs, dying workers, reuse of stored calls,
+determinism across executors, order, progress."""
+
+from __future__ import annotations
+
+import io
+import os
+import threading
+import time
+
+import numpy as np
+import pytest
+
+from jointwear.compute import (
+    EvaluationStore,
+    Evaluator,
+    LocalExecutor,
+    Progress,
+    SerialExecutor,
+    config_hash,
+    make_executor,
+    run_call,
+)
+
+
+def smooth_model(x):
+    """Deterministic floating-point work (a small linear solve, transcendental functions)."""
+    A = np.eye(3) * 4.0 + np.outer(np.sin(x[:3]), np.cos(x[:3]))
+    y = np.linalg.solve(A, np.exp(-x[:3] ** 2))
+    return np.array([y.sum(), np.prod(np.cos(x)), np.hypot(*x[:2])]), "ok"
+
+
+def faulty_model(x):
+    """x[0] selects the behaviour: the four ways a call can fail, or success."""
+    kind = int(x[0])
+    if kind == 1:
+        raise ValueError("the mechanism cannot assemble")
+    if kind == 2:
+        return np.array([0.0, 0.0]), "integrator step size underflow"
+    if kind == 3:
+        return np.array([np.nan, 1.0]), "ok"
+    if kind == 4:
+        time.sleep(3.0)  # longer than the 0.4 s time-out below
+    if kind == 5:
+        raise SystemExit(3)  # a model that calls sys.exit must not end the batch either
+    return np.array([x[1], 2 * x[1]]), "ok"
+
+
+def crashing_model(x):
+    """Kills its worker process for x[0] == 7 (like a segfault in compiled code)."""
+    if x[0] == 7.0:
+        os._exit(9)
+    time.sleep(0.05)
+    return np.array([x[0] ** 2]), "ok"
+
+
+FAULTY_X = np.array([[0, 1.5], [1, 0], [2, 0], [3, 0], [4, 0], [5, 0], [0, 2.5]], dtype=float)
+
+
+def _check_faulty(res):
+    assert list(res.status) == ["ok", "failed", "failed", "failed", "timeout", "failed", "ok"]
+    reasons = {i: reason for i, _, reason in res.failures}
+    assert reasons[1].startswith("ValueError: the mechanism cannot assemble")
+    assert reasons[2] == "model: integrator step size underflow"
+    assert reasons[3] == "model returned non-finite outputs"
+    assert reasons[4] == "time-out after 0.4 s"
+    assert reasons[5].startswith("SystemExit")
+    Y = res.Y
+    assert Y.shape == (7, 2)
+    assert np.isnan(Y[1:6]).all()
+    np.testing.assert_array_equal(Y[[0, 6]], [[1.5, 3.0], [2.5, 5.0]])
+    # the timed-out call was stopped near its time-out, not after its 3 s sleep
+    # (tolerance: 0.4 s limit + 0.5 s for signal delivery and a loaded 2-core machine)
+    assert res.records[4].wall_s < 0.9
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_failure_rule_never_raises(workers):
+    with make_executor(workers) as ex:
+        res = Evaluator(faulty_model, ex, timeout=0.4).evaluate(FAULTY_X)
+    _check_faulty(res)
+
+
+def test_timeout_off_the_main_thread():
+    # Dask runs tasks in worker threads, where SIGALRM cannot be used: a watcher thread applies the limit
+    box = {}
+    t = threading.Thread(target=lambda: box.update(out=run_call(faulty_model, np.array([4.0, 0.0]), 0.3)))
+    t.start()
+    t.join()
+    assert box["out"]["status"] == "timeout"
+    assert box["out"]["wall_s"] < 1.0  # 0.3 s limit + slack for a loaded machine; the call itself is 3 s
+
+
+def test_dying_worker_fails_only_its_call():
+    X = np.array([[float(i)] for i in range(12)])  # row 7 kills its worker process
+    with make_executor(2) as ex:
+        res = Evaluator(crashing_model, ex, max_attempts=2).evaluate(X)
+        assert ex.n_restarts >= 2  # the pool was replaced after each death
+    assert list(res.status).count("failed") == 1
+    assert res.status[7] == "failed" and "worker process died" in res.records[7].reason
+    ok = np.arange(12) != 7
+    np.testing.assert_array_equal(res.Y[ok, 0], np.arange(12.0)[ok] ** 2)
+
+
+def test_same_results_serial_and_local_processes():
+    rng = np.random.default_rng(7)
+    X = rng.normal(size=(24, 4))
+    with make_executor(1) as ex:
+        serial = Evaluator(smooth_model, ex).evaluate(X).Y
+    with make_executor(2) as ex:
+        assert isinstance(ex, LocalExecutor)
+        local = Evaluator(smooth_model, ex).evaluate(X).Y
+        mapped = list(ex.map(abs, [-3, 1, -2]))  # concurrent.futures map keeps the order
+    np.testing.assert_array_equal(serial, local)  # bit for bit: no tolerance
+    assert mapped == [3, 1, 2]
+
+
+def test_store_serves_completed_calls_and_duplicates(tmp_path):
+    calls = []
+
+    def counted(x):
+        calls.append(x.copy())
+        if x[0] < 0:
+            raise RuntimeError("boom")
+        return {"g": x.sum(), "profile": np.array([x[0], x[0] / 3.0])}, "ok"
+
+    X = np.array([[1.0, 2.0], [-1.0, 0.0], [1.0, 2.0], [0.1, 0.2]])
+    with EvaluationStore.open(tmp_path, config_hash({"case": 1})) as store:
+        ev = Evaluator(counted, store=store)
+        first = ev.evaluate(X)
+        assert first.n_evaluated == 3 and len(calls) == 3  # the repeated row ran once
+        assert list(first.reused) == [False, False, True, False]
+        again = ev.evaluate(X[::-1])
+        assert again.n_evaluated == 0 and len(calls) == 3 and again.reused.all()
+        np.testing.assert_array_equal(again.Y, first.Y[::-1])
+        assert first.output_names == ["g", "profile"]
+        assert store.stats().n_calls == 3 and store.stats().n_failed == 1
+
+    with EvaluationStore.open(tmp_path, config_hash({"case": 1}), resume=True) as store:
+        res = Evaluator(counted, store=store).evaluate(X)
+        assert res.n_evaluated == 0  # failed calls are reused too, by default
+        np.testing.assert_array_equal(res.Y, first.Y)  # exact float64 round trip through SQLite
+        assert res.outputs[3]["profile"][1] == 0.1 / 3.0
+        res = Evaluator(counted, store=store, retry_failed=True).evaluate(X)
+        assert res.n_evaluated == 1 and len(calls) == 4
+        stats = store.stats()
+        # the retried failure is a second row for the same input: the repeat counter sees it
+        assert stats.n_calls == 4 and stats.n_repeated == 1
+
+
+def test_store_lookup_is_bit_exact(tmp_path):
+    x = np.array([0.1, 0.2])
+    with EvaluationStore.open(tmp_path / "s.sqlite", "h") as store:
+        ev = Evaluator(lambda v: (v * 2, "ok"), store=store)
+        ev.evaluate(x)
+        res = ev.evaluate(np.vstack([x, np.nextafter(x, 1.0)]))
+        assert list(res.reused) == [True, False]
+
+
+def test_progress_counts_calls_and_is_silent_off_a_terminal(tmp_path, capsys):
+    X = np.arange(10.0).reshape(5, 2)
+    with Progress(description="calls") as progress:  # stderr is captured: not a terminal
+        Evaluator(smooth_model, progress=progress).evaluate(np.vstack([X, X[:2]]))
+        progress.update(pf=1.234e-3, cov="0.05")
+    assert not progress.enabled
+    assert (progress.completed, progress.total) == (7, 7)
+    assert capsys.readouterr().err == ""
+
+    from rich.console import Console
+
+    buf = io.StringIO()
+    console = Console(file=buf, force_terminal=True, width=120)
+    with Progress(total=5, console=console) as progress:
+        progress.update(pf=1.234e-3, cov=0.05)
+        Evaluator(smooth_model, progress=progress).evaluate(X)
+    assert progress.enabled and progress.total == 5
+    text = buf.getvalue()
+    assert "5/5" in text and "pf=0.001234" in text and "cov=0.05" in text
+
+
+def test_make_executor_arguments():
+    assert isinstance(make_executor(1), SerialExecutor)
+    with pytest.raises(ValueError, match="workers must be >= 1"):
+        make_executor(0)
+    with pytest.raises(ValueError, match="not both"):
+        make_executor(2, scheduler="tcp://127.0.0.1:1")
+    with pytest.raises(TypeError):
+        make_executor(2.5)
+    with pytest.raises(ValueError, match="timeout"):
+        Evaluator(smooth_model, timeout=-1)
+
+
+def test_config_hash():
+    assert config_hash({"a": 1, "b": [1.0, 2.0]}) == config_hash({"b": [1.0, 2.0], "a": 1})
+    assert config_hash({"a": 0.1}) != config_hash({"a": np.nextafter(0.1, 1.0)})
+    assert config_hash({"a": np.array([1.0, 2.0])}) != config_hash({"a": np.array([1.0, 2.5])})
