@@ -322,7 +322,7 @@ def start_local_cluster(
     processes: bool = True,
     **kwargs: Any,
 ):
-    """Start a ``distributed.LocalCluster`` (no dashboard, quiet logs) for tests and benchmarks.
+    """Start a ``distributed.LocalCluster`` (dashboard on a free port, quiet logs) for tests and benchmarks.
 
     Use it as a context manager and pass it (or its ``scheduler_address``) as ``scheduler``. In a
     script, call it under ``if __name__ == "__main__":`` (worker processes re-import the main module).
@@ -331,7 +331,7 @@ def start_local_cluster(
 
     from distributed import LocalCluster
 
-    kwargs.setdefault("dashboard_address", None)
+    kwargs.setdefault("dashboard_address", ":0")  # a free port: no clash with a running cluster
     kwargs.setdefault("silence_logs", logging.ERROR)
     return LocalCluster(
         n_workers=n_workers, threads_per_worker=threads_per_worker, processes=processes, **kwargs
