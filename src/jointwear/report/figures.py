@@ -202,14 +202,14 @@ def contact_force_figure(
         np.abs(force)) > 0 else 1.0
     ang = _arr(crank_angle_deg)
     a, f = _break_wraps(ang, force)
-    fig, ax = figure(size="wide")
+    fig, ax = figure()
     ax.plot(a, f, color=COLORS[0], lw=1.0, label="clearance joint")
     if ideal_N is not None:
         a2, f2 = _break_wraps(ang, _arr(ideal_N) / factor)
         ax.plot(a2, f2, color=PAPER_COLOR, lw=1.0, ls="--", label="ideal joint")
     if mean_N is not None:
         hline(ax, mean_N / factor, f"mean {mean_N / factor:.3g} {unit}", color=COLORS[1])
-    angle_axis(ax, "x", label="crank angle")
+    angle_axis(ax, "x", step=60.0, label="crank angle")
     ax.set_ylabel(axis_label("normal contact force", unit))
     ax.set_ylim(bottom=0)
     if ideal_N is not None:
@@ -272,8 +272,8 @@ def wear_polar_figure(
         ax.plot(np.deg2rad(a), r0 + exaggeration * d, "o", color=PAPER_COLOR, ms=5, zorder=5)
         ux, uy = -np.cos(np.deg2rad(a)), np.sin(np.deg2rad(a))  # outward direction on the page
         ax.annotate(f"{d:.4f} mm\nat {a:.0f}\u00b0", (np.deg2rad(a), r0 + exaggeration * d),
-                    xytext=(14 * ux, 14 * uy), textcoords="offset points", fontsize=8.5,
-                    ha="left" if ux >= 0 else "right", va="bottom" if uy >= 0 else "top",
+                    xytext=(-16 * ux, -16 * uy), textcoords="offset points", fontsize=8.5,
+                    ha="right" if ux >= 0 else "left", va="top" if uy >= 0 else "bottom",
                     bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.8})
     rmax = r0 + exaggeration * dmax if dmax > 0 else r0
     ax.set_rlim(0, rmax * 1.08)

@@ -1,0 +1,1121 @@
+"""The self-contained HTML report of a study: ``build_report(out_dir) -> out_dir / "report.html"``.
+
+The page needs nothing but the file: figures are PNG data URIs, the CSS is inline, there is no script and no
+external resource. It reads whatever of the stage outputs are present in ``out_dir`` and says plainly what is
+missing; a malformed file or key spoils only its own section.
+
+Files and keys read (all optional; units in the key names)
+-----------------------------------------------------------
+``config.json`` (or ``settings.json``): the study's resolved configuration::
+
+    {"preset": "jin2025_flapping_wing" | null,
+     "citation": "Jin et al. ... Drones 2025, 9(4), 282.",
+     "source": "preset" | "path/to/study.toml",
+     "seed": 12345, "jointwear_version": "0.1.0",              # any other top-level scalars are listed too
+     "mechanism": {"type": "crank_rocker", "crank_mm": 6, "rod_mm": 38, "rocker_mm": 12,
+                   "pivot_mm": [11.5, 38], "branch": 1, "clearance_joint": "A"},   # for the sketch
+     "settings": [{"name": "friction.mu_dynamic", "value": 0.1, "unit": null,
+                   "source": "paper-notes.md: Eq. 19 garbled", "paper_open": true,
+                   "description": "..."}, ...]}
+
+  Without a ``settings`` list, a nested config dump is flattened into dotted names (no sources then).
+
+``simulate.json``: ``contact_force_mean_N``, ``contact_force_max_N``, ``contact_fraction``,
+``impacts_per_cycle``, ``steps_per_cycle``, ``wall_seconds_per_cycle`` (DESIGN.md) and, for the figures,
+``clearance_mm``, ``orbit`` {``x_mm``, ``y_mm``} (journal centre relative to the bearing centre, bearing
+frame) and ``contact_force`` {``crank_angle_deg``, ``force_N``[, ``ideal_force_N``]}. Where the series are not in
+the JSON, any ``*.csv`` in ``out_dir`` (or ``out_dir/data``) with columns ``x_mm``/``y_mm`` and
+``crank_angle_deg``/``contact_force_N`` (or ``force_N``) is used; ``_um``, ``_m``, ``_mN``, ``_rad`` suffixes are
+converted.
+
+``wear.json``: ``cycles``, ``max_wear_mm``, ``max_wear_angle_deg``, ``peaks`` [{``angle_deg``, ``depth_mm``}],
+``profile`` {``angle_deg``, ``depth_mm``[, ``contact_force_N``, ``slip_mm``, ``contact_area_mm2``]},
+``history`` {``cycles``, ``max_wear_mm``}, ``wall_seconds`` and optionally ``bearing_radius_mm``,
+``geometry_mode``, ``limit_mm``, ``journal_profile`` {``angle_deg``, ``depth_mm``}. The Fig. 17 columns may
+instead be in a CSV with an ``angle_deg`` column.
+
+``reliability.json``: ``curve`` {``cycles``, ``reliability``, ``pf_cov``}, ``life_at_target`` {``target``,
+``cycles``, ``hours``}, ``model_calls``, ``n_mc``, ``wall_seconds``; optionally ``histograms`` {``cycles``,
+``max_wear_mm``: [[...], ...]}, ``convergence`` {``n_calls``, ``pf``[, ``cov``, ``cycles``]},
+``mean_max_wear_mm`` {``cycles``, ``mean``}, ``limit_mm``, and any other scalar (listed as is).
+
+``sensitivity.json``: ``variables`` [{``name``, ``label``, ``reliability_low``, ``reliability_high``[,
+``group``]}], ``reliability_nominal``, ``cycles``, optionally ``sobol`` {``names``, ``S1``, ``ST``[,
+``S1_conf``, ``ST_conf``, ``output``]}.
+
+Any ``*.png`` in ``out_dir`` is embedded where the report has no data to draw that figure itself (matched by
+name: orbit, force, polar/profile, fig17/panels, history, reliability, histogram, convergence, tornado, sobol)
+and the others in an appendix.
+"""
+
+from __future__ import annotations
+
+import base64
+import csv
+import datetime as _dt
+import html
+import json
+import math
+import traceback
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from . import figures as F
+from .style import DPI, to_data_uri
+
+__all__ = ["build_report", "PAPER", "Check", "paper_checks"]
+
+# ------------------------------------------------------------------------------------------------ the paper
+#: What the reference paper reports (paper-notes.md, "What the paper reports").
+PAPER = {
+    "citation": ("Jin, Z.; Chen, Y.; Wang, Y.; Jiang, L.; Liu, H.; Pang, J. Uncertainty Control Method for "
+                 "Non-Uniform Wear of the Driving Mechanism of Flapping Wing Aircraft. Drones 2025, 9(4), 282."),
+    "nominal_max_wear_mm": 0.0249,
+    "nominal_cycles": 400_000,
+    "nominal_peak_angle_deg": 110.0,
+    "second_peak_mm": 0.0087,
+    "second_peak_angle_deg": 310.0,
+    "mean_max_wear_mm": {360_000: 0.0256, 400_000: 0.0285, 440_000: 0.0313},
+    "reliability": {360_000: 0.978, 400_000: 0.739, 420_000: 0.538, 520_000: 0.006},
+    "life_cycles": 371_640.0,
+    "life_hours": 12.90,
+    "model_calls": 20,
+    "ranking": {
+        "tolerances": ["rod length", "clearance", "journal radius", "crank length", "rocker length"],
+        "journal material": ["Brinell hardness", "Young's modulus", "wear coefficient", "Poisson's ratio"],
+        "bearing material": ["Brinell hardness", "wear coefficient", "Young's modulus", "Poisson's ratio"],
+    },
+}
+
+RELIABILITY_BANDED = (360_000, 400_000, 520_000)  # +-0.15 absolute
+PASS, FAIL, INFO, NA = "pass", "fail", "info", "n/a"
+
+
+def e(x) -> str:
+    """HTML-escaped text of anything."""
+    return html.escape("" if x is None else str(x), quote=True)
+
+
+def _num(v, digits: int = 4) -> str:
+    if v is None:
+        return "\u2014"
+    if isinstance(v, bool):
+        return "yes" if v else "no"
+    if isinstance(v, (int, np.integer)):
+        return f"{int(v):,}"
+    if isinstance(v, (float, np.floating)):
+        v = float(v)
+        if not math.isfinite(v):
+            return str(v)
+        if v != 0 and float(v).is_integer() and abs(v) >= 1000:
+            return f"{v:,.0f}"
+        if v != 0 and (abs(v) < 1e-3 or abs(v) >= 1e6):
+            return f"{v:.{digits - 1}e}"
+        return f"{v:.{digits}g}"
+    if isinstance(v, (list, tuple)):
+        if len(v) > 8:
+            return f"[{', '.join(_num(x, digits) for x in v[:6])}, \u2026 ({len(v)} values)]"
+        return "[" + ", ".join(_num(x, digits) for x in v) + "]"
+    return str(v)
+
+
+def _float(v) -> float | None:
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        return None
+    return f if math.isfinite(f) else None
+
+
+# ------------------------------------------------------------------------------------------------ reading
+@dataclass
+class Inputs:
+    out_dir: Path
+    data: dict[str, dict] = field(default_factory=dict)  # stage -> parsed JSON
+    errors: dict[str, str] = field(default_factory=dict)  # stage -> why it could not be read
+    files: list[Path] = field(default_factory=list)
+    csv_tables: list[tuple[str, dict[str, np.ndarray]]] = field(default_factory=list)
+    pngs: dict[str, Path] = field(default_factory=dict)  # stem -> path
+    used_pngs: set[str] = field(default_factory=set)
+
+
+def _read_json(path: Path):
+    text = path.read_text(encoding="utf-8")
+    obj = json.loads(text)
+    if not isinstance(obj, dict):
+        raise ValueError(f"expected a JSON object, found {type(obj).__name__}")
+    return obj
+
+
+def _read_csv(path: Path) -> dict[str, np.ndarray]:
+    rows: list[list[str]] = []
+    with path.open(newline="", encoding="utf-8", errors="replace") as fh:
+        lines = (ln for ln in fh if ln.strip() and not ln.lstrip().startswith("#"))
+        reader = csv.reader(lines)
+        header = next(reader, None)
+        if not header:
+            return {}
+        for row in reader:
+            rows.append(row)
+    names = [h.strip() for h in header]
+    out: dict[str, np.ndarray] = {}
+    for j, name in enumerate(names):
+        col = []
+        for r in rows:
+            try:
+                col.append(float(r[j]))
+            except (ValueError, IndexError):
+                col.append(np.nan)
+        out[name] = np.asarray(col, dtype=float)
+    return out
+
+
+def read_inputs(out_dir: Path) -> Inputs:
+    inp = Inputs(Path(out_dir))
+    names = {"simulate": ["simulate.json"], "wear": ["wear.json"], "reliability": ["reliability.json"],
+             "sensitivity": ["sensitivity.json"], "config": ["config.json", "settings.json"]}
+    for stage, candidates in names.items():
+        for name in candidates:
+            p = inp.out_dir / name
+            if p.is_file():
+                inp.files.append(p)
+                try:
+                    inp.data[stage] = _read_json(p)
+                    inp.errors.pop(stage, None)
+                    break
+                except Exception as exc:  # malformed file: its section says so
+                    inp.errors[stage] = f"{name} could not be read: {exc}"
+    for folder in (inp.out_dir, inp.out_dir / "data"):
+        if not folder.is_dir():
+            continue
+        for p in sorted(folder.glob("*.csv")):
+            if p.stat().st_size > 200e6:
+                continue
+            try:
+                table = _read_csv(p)
+            except Exception:
+                continue
+            if table:
+                inp.csv_tables.append((p.name, table))
+                inp.files.append(p)
+        for p in sorted(folder.glob("*.png")):
+            inp.pngs[p.stem] = p
+    return inp
+
+
+_UNITS = {
+    "length_mm": {"mm": 1.0, "um": 1e-3, "m": 1e3},
+    "force_N": {"N": 1.0, "mN": 1e-3},
+    "area_mm2": {"mm2": 1.0, "um2": 1e-6, "m2": 1e6},
+    "angle_deg": {"deg": 1.0, "rad": 180.0 / math.pi},
+    "plain": {"": 1.0},
+}
+
+
+def _lookup(sources: Sequence[Mapping], bases: Sequence[str], kind: str) -> np.ndarray | None:
+    """The first series named ``base_suffix`` (converted to the kind's unit) in the first source that has it."""
+    for src in sources:
+        if not isinstance(src, Mapping):
+            continue
+        for base in bases:
+            for suffix, factor in _UNITS[kind].items():
+                key = f"{base}_{suffix}" if suffix else base
+                if key in src and src[key] is not None:
+                    try:
+                        arr = np.asarray(src[key], dtype=float).ravel() * factor
+                    except (TypeError, ValueError):
+                        continue
+                    if arr.size:
+                        return arr
+    return None
+
+
+def _pair(inp: Inputs, json_src: Mapping | None, xb, xk, yb, yk):
+    """Two series from the same source: the JSON object first, then each CSV table."""
+    sources = ([json_src] if isinstance(json_src, Mapping) else []) + [t for _, t in inp.csv_tables]
+    for src in sources:
+        x = _lookup([src], xb, xk)
+        y = _lookup([src], yb, yk)
+        if x is not None and y is not None and x.size == y.size:
+            return x, y, src
+    return None, None, None
+
+
+# ------------------------------------------------------------------------------------------------ html bits
+def _png_width(uri: str) -> int | None:
+    """Width in pixels of a PNG data URI (from its IHDR chunk)."""
+    try:
+        head = base64.b64decode(uri.split(",", 1)[1][:48])
+        return int.from_bytes(head[16:20], "big") if head[:8] == b"\x89PNG\r\n\x1a\n" else None
+    except Exception:
+        return None
+
+
+def _figure_html(uri: str, caption: str, *, wide: bool = False) -> str:
+    """A figure shown at its physical size (DPI pixels per inch), never wider than the page."""
+    cls = "fig wide" if wide else "fig"
+    px = _png_width(uri)
+    width = f' width="{round(px * 96 / DPI)}"' if px else ""
+    return (f'<figure class="{cls}"><img src="{uri}"{width} alt="{e(caption)}">'
+            f"<figcaption>{e(caption)}</figcaption></figure>")
+
+
+def _missing(text: str) -> str:
+    return f'<p class="missing">{e(text)}</p>'
+
+
+def _cards(items: Sequence[tuple[str, str, str | None]]) -> str:
+    """Key numbers as cards: (label, value, note)."""
+    out = ['<div class="cards">']
+    for label, value, note in items:
+        out.append(f'<div class="card"><div class="card-label">{e(label)}</div>'
+                   f'<div class="card-value">{e(value)}</div>'
+                   + (f'<div class="card-note">{e(note)}</div>' if note else "") + "</div>")
+    out.append("</div>")
+    return "".join(out)
+
+
+def _table(header: Sequence[str], rows: Sequence[Sequence[str]], *, cls: str = "",
+           raw_cols: Sequence[int] = (), row_cls: Sequence[str] | None = None) -> str:
+    """A table; cells are escaped except the columns in ``raw_cols`` (already HTML)."""
+    out = [f'<table class="{cls}"><thead><tr>' + "".join(f"<th>{e(h)}</th>" for h in header) + "</tr></thead><tbody>"]
+    for i, r in enumerate(rows):
+        rc = f' class="{row_cls[i]}"' if row_cls and row_cls[i] else ""
+        out.append(f"<tr{rc}>" + "".join(f"<td>{c if j in raw_cols else e(c)}</td>" for j, c in enumerate(r))
+                   + "</tr>")
+    out.append("</tbody></table>")
+    return "".join(out)
+
+
+def _pill(status: str) -> str:
+    text = {PASS: "PASS", FAIL: "FAIL", INFO: "info", NA: "no data"}.get(status, status)
+    return f'<span class="pill {e(status.replace("/", ""))}">{e(text)}</span>'
+
+
+class _Figures:
+    """Draws figures, falling back to a stage's PNG file, and records failures instead of raising."""
+
+    def __init__(self, inp: Inputs):
+        self.inp = inp
+        self.count = 0
+
+    def draw(self, make: Callable[[], object] | None, caption: str, *, png_keys: Sequence[str] = (),
+             wide: bool = False, missing: str | None = None) -> str:
+        if make is not None:
+            try:
+                uri = to_data_uri(make())
+                self.count += 1
+                return _figure_html(uri, caption, wide=wide)
+            except Exception as exc:  # a figure that cannot be drawn must not end the report
+                err = f"{type(exc).__name__}: {exc}"
+                png = self._png(png_keys)
+                if png:
+                    return png
+                return _missing(f"{caption}: the figure could not be drawn ({err}).")
+        png = self._png(png_keys, caption)
+        if png:
+            return png
+        return _missing(missing or f"{caption}: no data in this folder.")
+
+    def _png(self, keys: Sequence[str], caption: str = "") -> str | None:
+        for key in keys:
+            for stem, path in sorted(self.inp.pngs.items()):
+                if stem in self.inp.used_pngs or key not in stem.lower():
+                    continue
+                try:
+                    data = path.read_bytes()
+                except OSError:
+                    continue
+                if not data.startswith(b"\x89PNG"):
+                    continue
+                self.inp.used_pngs.add(stem)
+                self.count += 1
+                uri = "data:image/png;base64," + base64.b64encode(data).decode("ascii")
+                return _figure_html(uri, f"{caption} (figure file {path.name})" if caption else path.name)
+        return None
+
+
+# ------------------------------------------------------------------------------------------------ checks
+@dataclass
+class Check:
+    """One reproduced number against the paper's."""
+
+    quantity: str
+    paper: float | None
+    ours: float | None
+    unit: str
+    band: str
+    status: str
+    note: str = ""
+    digits: int = 4
+
+    @property
+    def rel_diff(self) -> float | None:
+        if self.paper in (None, 0) or self.ours is None:
+            return None
+        return (self.ours - self.paper) / abs(self.paper)
+
+
+def _circ_diff(a: float, b: float) -> float:
+    d = abs((a - b) % 360.0)
+    return min(d, 360.0 - d)
+
+
+def _interp_at(xs, ys, x: float) -> float | None:
+    try:
+        xs = np.asarray(xs, dtype=float)
+        ys = np.asarray([np.nan if v is None else v for v in ys], dtype=float)
+    except (TypeError, ValueError):
+        return None
+    ok = np.isfinite(xs) & np.isfinite(ys)
+    xs, ys = xs[ok], ys[ok]
+    if xs.size == 0 or x < xs.min() - 1e-9 or x > xs.max() + 1e-9:
+        return None
+    order = np.argsort(xs)
+    return float(np.interp(x, xs[order], ys[order]))
+
+
+def _life_from_curve(cycles, rel, target: float) -> float | None:
+    try:
+        c = np.asarray(cycles, dtype=float)
+        r = np.asarray([np.nan if v is None else v for v in rel], dtype=float)
+    except (TypeError, ValueError):
+        return None
+    order = np.argsort(c)
+    c, r = c[order], r[order]
+    for i in range(len(c) - 1):
+        if r[i] >= target > r[i + 1]:
+            return float(c[i] + (c[i + 1] - c[i]) * (r[i] - target) / (r[i] - r[i + 1]))
+    return None
+
+
+def _second_peak(wear: Mapping) -> tuple[float, float] | None:
+    """The largest wear on the far side (more than 90 deg from the main peak)."""
+    main = _float(wear.get("max_wear_angle_deg"))
+    peaks = [(float(p["angle_deg"]), float(p["depth_mm"])) for p in wear.get("peaks") or []
+             if isinstance(p, Mapping) and _float(p.get("angle_deg")) is not None
+             and _float(p.get("depth_mm")) is not None]
+    prof = wear.get("profile") or {}
+    ang = np.asarray(prof.get("angle_deg") or [], dtype=float)
+    dep = np.asarray([np.nan if v is None else v for v in prof.get("depth_mm") or []], dtype=float)
+    if main is None:
+        if peaks:
+            main = max(peaks, key=lambda p: p[1])[0]
+        elif ang.size and ang.size == dep.size:
+            main = float(ang[np.nanargmax(dep)])
+        else:
+            return None
+    far = [p for p in peaks if _circ_diff(p[0], main) > 90.0]
+    if far:
+        return max(far, key=lambda p: p[1])
+    if ang.size and ang.size == dep.size:
+        mask = np.array([_circ_diff(a, main) > 90.0 for a in ang])
+        if mask.any():
+            i = np.nanargmax(np.where(mask, dep, -np.inf))
+            return float(ang[i]), float(dep[i])
+    return None
+
+
+def _mean_max_wear(rel: Mapping) -> dict[float, float]:
+    out: dict[float, float] = {}
+    m = rel.get("mean_max_wear_mm")
+    if isinstance(m, Mapping) and m.get("cycles") is not None and m.get("mean") is not None:
+        for n in PAPER["mean_max_wear_mm"]:
+            v = _interp_at(m["cycles"], m["mean"], n)
+            if v is not None:
+                out[n] = v
+    h = rel.get("histograms")
+    if isinstance(h, Mapping) and h.get("cycles") is not None and h.get("max_wear_mm") is not None:
+        for c, s in zip(h["cycles"], h["max_wear_mm"]):
+            c = _float(c)
+            if c in PAPER["mean_max_wear_mm"] and c not in out:
+                arr = np.asarray([np.nan if v is None else v for v in s], dtype=float)
+                if np.isfinite(arr).any():
+                    out[c] = float(np.nanmean(arr))
+    return out
+
+
+_TOL_KEYS = [("rod length", ("rod", "l2")), ("clearance", ("clearance",)), ("journal radius", ("journal radius", "r_j")),
+             ("crank length", ("crank", "l1")), ("rocker length", ("rocker", "l_bc"))]
+_MAT_KEYS = [("Brinell hardness", ("hardness", "brinell", "hb")), ("Young's modulus", ("young", "modulus")),
+             ("wear coefficient", ("wear coef", "wear_coef")), ("Poisson's ratio", ("poisson",))]
+
+
+def _classify(var: Mapping) -> tuple[str | None, str | None]:
+    """(group, paper quantity) of a sensitivity variable, from its group, label and name."""
+    label = str(var.get("label") or "").lower()
+    name = str(var.get("name") or "").lower()
+    text = f"{label} | {name}"
+    group = str(var.get("group") or "").lower() or None
+    for qty, keys in _MAT_KEYS:
+        if any(k in text for k in keys) or (qty == "Young's modulus" and name.startswith("e_")) or (
+                qty == "Poisson's ratio" and name.startswith("nu")) or (
+                qty == "wear coefficient" and name.startswith("k_")):
+            if group is None:
+                if "journal" in text or name.endswith("_j"):
+                    group = "journal material"
+                elif "bearing" in text or name.endswith("_b"):
+                    group = "bearing material"
+            return group, qty
+    for qty, keys in _TOL_KEYS:
+        if any(k == name or k in label for k in keys):
+            return group or "tolerances", qty
+    return group, None
+
+
+def _spread(var: Mapping, nominal: float) -> float:
+    vals = [_float(var.get("reliability_low")), _float(var.get("reliability_high"))]
+    return max([abs(v - nominal) for v in vals if v is not None] or [0.0])
+
+
+def _rankings(sens: Mapping) -> dict[str, list[tuple[str, str | None, float]]]:
+    """Per group, the variables by decreasing effect on R: (display label, paper quantity, spread)."""
+    nominal = _float(sens.get("reliability_nominal"))
+    out: dict[str, list] = {}
+    if nominal is None:
+        return out
+    for var in sens.get("variables") or []:
+        if not isinstance(var, Mapping):
+            continue
+        group, qty = _classify(var)
+        out.setdefault(group or "variables", []).append(
+            (str(var.get("label") or var.get("name")), qty, _spread(var, nominal)))
+    for g in out:
+        out[g].sort(key=lambda t: -t[2])
+    return out
+
+
+def paper_checks(data: Mapping[str, Mapping]) -> list[Check]:
+    """Every reproduced number against the paper's, with the acceptance bands of the project."""
+    checks: list[Check] = []
+    wear = data.get("wear") or {}
+    rel = data.get("reliability") or {}
+    sens = data.get("sensitivity") or {}
+
+    # nominal max wear at 400k
+    n0 = PAPER["nominal_cycles"]
+    ours = None
+    note = ""
+    if wear:
+        wc = _float(wear.get("cycles"))
+        if wc == n0:
+            ours = _float(wear.get("max_wear_mm"))
+        else:
+            h = wear.get("history") or {}
+            if h.get("cycles") is not None and h.get("max_wear_mm") is not None:
+                ours = _interp_at(h["cycles"], h["max_wear_mm"], n0)
+                note = "read from the wear history" if ours is not None else ""
+            if ours is None:
+                note = f"the wear run stopped at {_num(wc)} cycles" if wc else "no wear result"
+        if wear.get("geometry_mode"):
+            note = (note + "; " if note else "") + f"geometry mode: {wear['geometry_mode']}"
+    checks.append(Check("nominal max bearing wear after 400,000 cycles", PAPER["nominal_max_wear_mm"], ours, "mm",
+                        "0.021-0.029 mm", NA if ours is None else (PASS if 0.021 <= ours <= 0.029 else FAIL), note))
+    ang = _float(wear.get("max_wear_angle_deg")) if wear else None
+    d = None if ang is None else _circ_diff(ang, PAPER["nominal_peak_angle_deg"])
+    checks.append(Check("angle of the max wear", PAPER["nominal_peak_angle_deg"], ang, "deg", "within 20 deg",
+                        NA if ang is None else (PASS if d <= 20 else FAIL),
+                        "" if d is None else f"{d:.1f} deg from the paper's", digits=4))
+    sp = _second_peak(wear) if wear else None
+    checks.append(Check("second wear peak, depth", PAPER["second_peak_mm"], None if sp is None else sp[1], "mm",
+                        "reported (no band)", NA if sp is None else INFO,
+                        "largest wear more than 90 deg from the main peak" if sp else ""))
+    d2 = None if sp is None else _circ_diff(sp[0], PAPER["second_peak_angle_deg"])
+    checks.append(Check("second wear peak, angle", PAPER["second_peak_angle_deg"], None if sp is None else sp[0],
+                        "deg", "within 20 deg", NA if sp is None else (PASS if d2 <= 20 else FAIL),
+                        "" if d2 is None else f"{d2:.1f} deg from the paper's"))
+
+    means = _mean_max_wear(rel) if rel else {}
+    for n, pv in PAPER["mean_max_wear_mm"].items():
+        v = means.get(n)
+        st = NA if v is None else (PASS if abs(v - pv) <= 0.15 * pv else FAIL)
+        checks.append(Check(f"mean of the max wear at {n:,} cycles", pv, v, "mm", "within 15 %", st))
+
+    curve = rel.get("curve") if isinstance(rel.get("curve"), Mapping) else {}
+    for n, pv in PAPER["reliability"].items():
+        v = None
+        if curve.get("cycles") is not None and curve.get("reliability") is not None:
+            v = _interp_at(curve["cycles"], curve["reliability"], n)
+        if n in RELIABILITY_BANDED:
+            st = NA if v is None else (PASS if abs(v - pv) <= 0.15 else FAIL)
+            band = "\u00b10.15 absolute"
+        else:
+            st, band = (NA if v is None else INFO), "reported (no band)"
+        note = "" if v is not None or not curve else "outside the computed curve"
+        if v is not None:
+            note = f"absolute difference {v - pv:+.3f}"
+        checks.append(Check(f"reliability R(N) at {n:,} cycles", pv, v, "-", band, st, note, digits=3))
+
+    life = None
+    note = ""
+    lt = rel.get("life_at_target") if isinstance(rel.get("life_at_target"), Mapping) else {}
+    if lt and _float(lt.get("target")) in (None, 0.9):
+        life = _float(lt.get("cycles"))
+    if life is None and curve.get("cycles") is not None and curve.get("reliability") is not None:
+        life = _life_from_curve(curve["cycles"], curve["reliability"], 0.9)
+        note = "interpolated on the R(N) curve" if life is not None else ""
+    checks.append(Check("life at R = 0.9", PAPER["life_cycles"], life, "cycles", "within 15 %",
+                        NA if life is None else (PASS if abs(life - PAPER["life_cycles"]) <= 0.15 *
+                                                 PAPER["life_cycles"] else FAIL), note))
+    hours = _float(lt.get("hours")) if lt else None
+    if hours is None and life is not None:
+        hours = life / (480 * 60)
+    checks.append(Check("life at R = 0.9, hours at 480 rpm", PAPER["life_hours"], hours, "h", "follows the cycles",
+                        NA if hours is None else INFO))
+    calls = _float(rel.get("model_calls")) if rel else None
+    checks.append(Check("true-model calls (whole curve)", PAPER["model_calls"], calls, "calls",
+                        "project goal \u2264 60", NA if calls is None else (PASS if calls <= 60 else FAIL),
+                        "the paper's count is for one N", digits=4))
+    # sensitivity rankings
+    ranks = _rankings(sens) if sens else {}
+    for group, paper_rank in PAPER["ranking"].items():
+        ours_rank = [q for _, q, _s in ranks.get(group, []) if q is not None]
+        if not ours_rank:
+            checks.append(Check(f"sensitivity ranking, {group}", None, None, "", "reported", NA,
+                                " > ".join(paper_rank)))
+            continue
+        same = ours_rank == paper_rank[: len(ours_rank)]
+        top = ours_rank[0] == paper_rank[0]
+        checks.append(Check(f"sensitivity ranking, {group}", None, None, "", "same order as the paper",
+                            PASS if same else INFO,
+                            f"ours: {' > '.join(ours_rank)} | paper: {' > '.join(paper_rank)}"
+                            + ("" if same else (" (same most influential)" if top else " (differs)"))))
+    return checks
+
+
+# ------------------------------------------------------------------------------------------------ sections
+def _section(sid: str, title: str, body: str, *, lead: str = "") -> str:
+    lead_html = f'<p class="lead">{e(lead)}</p>' if lead else ""
+    return f'<section id="{e(sid)}"><h2>{e(title)}</h2>{lead_html}{body}</section>'
+
+
+def _safe(builder: Callable[[], str], what: str) -> str:
+    try:
+        return builder()
+    except Exception as exc:  # one bad key spoils one section, never the report
+        tb = traceback.format_exception_only(type(exc), exc)[-1].strip()
+        return _missing(f"The {what} could not be shown: {tb}")
+
+
+def _flatten(obj, prefix: str = "") -> list[tuple[str, object]]:
+    out: list[tuple[str, object]] = []
+    if isinstance(obj, Mapping):
+        for k, v in obj.items():
+            out += _flatten(v, f"{prefix}.{k}" if prefix else str(k))
+    else:
+        out.append((prefix, obj))
+    return out
+
+
+def _settings_section(inp: Inputs, figs: _Figures) -> str:
+    cfg = inp.data.get("config")
+    parts: list[str] = []
+    if cfg is None:
+        msg = inp.errors.get("config") or ("No config.json or settings.json in this folder: the settings of the "
+                                           "study are not known to the report.")
+        return _missing(msg)
+    meta = [(k, v) for k, v in cfg.items() if k not in ("settings", "mechanism", "citation")
+            and not isinstance(v, (Mapping, list))]
+    if cfg.get("citation"):
+        parts.append(f'<p class="citation"><b>Source of the preset:</b> {e(cfg["citation"])}</p>')
+    parts.append('<div class="grid"><div>')
+    if meta:
+        parts.append(_table(["item", "value"], [(k, _num(v)) for k, v in meta], cls="kv"))
+    mech = cfg.get("mechanism")
+    if isinstance(mech, Mapping):
+        parts.append(_table(["mechanism", "value"], [(k, _num(v)) for k, v in mech.items()], cls="kv"))
+    parts.append("</div>")
+    if isinstance(mech, Mapping) and all(mech.get(k) is not None for k in ("crank_mm", "rod_mm", "rocker_mm",
+                                                                          "pivot_mm")):
+        parts.append(figs.draw(lambda: F.mechanism_figure(
+            float(mech["crank_mm"]), float(mech["rod_mm"]), float(mech["rocker_mm"]), mech["pivot_mm"],
+            branch=int(mech.get("branch", 1) or 1), clearance_joint=str(mech.get("clearance_joint", "A"))),
+            "The mechanism at a crank angle of 45 deg, with ghosts over one crank turn; the clearance joint is ringed.",
+            png_keys=("mechanism",)))
+    else:
+        parts.append(figs.draw(None, "Mechanism sketch", png_keys=("mechanism",),
+                               missing="Mechanism sketch: no 'mechanism' geometry in the config dump."))
+    parts.append("</div>")
+    settings = cfg.get("settings")
+    rows, classes = [], []
+    if isinstance(settings, list):
+        for s in settings:
+            if not isinstance(s, Mapping):
+                continue
+            open_ = bool(s.get("paper_open"))
+            flag = '<span class="pill open">paper open</span>' if open_ else ""
+            rows.append((e(s.get("name")), e(_num(s.get("value"))), e(s.get("unit") or ""), flag,
+                         e(s.get("source") or "\u2014") + (f'<div class="desc">{e(s["description"])}</div>'
+                                                          if s.get("description") else "")))
+            classes.append("open" if open_ else "")
+        n_open = sum(1 for c in classes if c)
+        parts.append(f'<p>{len(rows)} settings; <b>{n_open}</b> of them are left open by the paper (flagged '
+                     "<span class=\"pill open\">paper open</span>): their values are this project's baseline "
+                     "reading, with the source of each choice.</p>")
+        parts.append(_table(["setting", "value", "unit", "", "source"], rows, cls="settings",
+                            raw_cols=(0, 1, 2, 3, 4), row_cls=classes))
+    else:
+        flat = [(k, v) for k, v in _flatten({k: v for k, v in cfg.items() if k not in ("citation",)})]
+        parts.append(_missing("The config dump has no 'settings' list with sources; its values are listed as is."))
+        parts.append(_table(["setting", "value"], [(k, _num(v)) for k, v in flat], cls="kv"))
+    return "".join(parts)
+
+
+def _dynamics_section(inp: Inputs, figs: _Figures) -> str:
+    sim = inp.data.get("simulate")
+    parts: list[str] = []
+    if sim is None:
+        parts.append(_missing(inp.errors.get("simulate") or "No simulate.json in this folder: the dynamics stage "
+                                                            "has not been run (jointwear simulate)."))
+        sim = {}
+    else:
+        f_mean, f_max = _float(sim.get("contact_force_mean_N")), _float(sim.get("contact_force_max_N"))
+        cards = [
+            ("mean contact force", "\u2014" if f_mean is None else f"{f_mean * 1e3:.4g} mN", None),
+            ("peak contact force", "\u2014" if f_max is None else f"{f_max * 1e3:.4g} mN", None),
+            ("contact fraction", _num(sim.get("contact_fraction"), 3), "share of the cycle in contact"),
+            ("impacts per cycle", _num(sim.get("impacts_per_cycle"), 3), None),
+            ("steps per cycle", _num(sim.get("steps_per_cycle")), None),
+            ("wall time per cycle", "\u2014" if _float(sim.get("wall_seconds_per_cycle")) is None
+             else f"{_float(sim['wall_seconds_per_cycle']) * 1e3:.3g} ms", None),
+        ]
+        parts.append(_cards(cards))
+        extra = [(k, _num(v)) for k, v in sim.items() if not isinstance(v, (Mapping, list)) and k not in (
+            "contact_force_mean_N", "contact_force_max_N", "contact_fraction", "impacts_per_cycle",
+            "steps_per_cycle", "wall_seconds_per_cycle")]
+        if extra:
+            parts.append(_table(["other result", "value"], extra, cls="kv"))
+    x, y, _ = _pair(inp, sim.get("orbit"), ("x", "journal_x", "orbit_x", "ex"), "length_mm",
+                    ("y", "journal_y", "orbit_y", "ey"), "length_mm")
+    clearance = _float(sim.get("clearance_mm"))
+    parts.append('<div class="grid">')
+    parts.append(figs.draw(None if x is None else (lambda: F.orbit_figure(x, y, clearance)),
+                           "Journal centre orbit relative to the bearing centre, in the bearing (rod) frame; "
+                           "dashed: the clearance circle.", png_keys=("orbit",),
+                           missing="Journal orbit: no orbit series (simulate.json 'orbit' or a CSV with "
+                                   "x_mm, y_mm)."))
+    cf = sim.get("contact_force") if isinstance(sim.get("contact_force"), Mapping) else None
+    a, f, src = _pair(inp, cf, ("crank_angle",), "angle_deg", ("force", "contact_force", "normal_force"), "force_N")
+    ideal = _lookup([src], ("ideal_force", "ideal"), "force_N") if src is not None else None
+    if ideal is not None and a is not None and ideal.size != a.size:
+        ideal = None
+    parts.append(figs.draw(
+        None if a is None else (lambda: F.contact_force_figure(a, f, mean_N=_float(sim.get("contact_force_mean_N")),
+                                                               ideal_N=ideal)),
+        "Normal contact force in the clearance joint against the crank angle.", png_keys=("contact_force", "force"),
+        missing="Contact force: no series (simulate.json 'contact_force' or a CSV with crank_angle_deg, "
+                "contact_force_N)."))
+    parts.append("</div>")
+    return "".join(parts)
+
+
+def _wear_section(inp: Inputs, figs: _Figures) -> str:
+    wear = inp.data.get("wear")
+    if wear is None:
+        return _missing(inp.errors.get("wear") or "No wear.json in this folder: the wear stage has not been run "
+                                                  "(jointwear wear).")
+    parts: list[str] = []
+    cycles = _float(wear.get("cycles"))
+    sp = _second_peak(wear)
+    cards = [
+        ("cycles simulated", _num(wear.get("cycles")), None),
+        ("max bearing wear", f"{_num(wear.get('max_wear_mm'))} mm", None),
+        ("at angle", f"{_num(wear.get('max_wear_angle_deg'), 4)} deg", "0 deg = leftmost, clockwise"),
+        ("second peak", "\u2014" if sp is None else f"{sp[1]:.4g} mm", None if sp is None else f"at {sp[0]:.0f} deg"),
+        ("wall time", "\u2014" if _float(wear.get("wall_seconds")) is None else f"{float(wear['wall_seconds']):.3g} s",
+         None),
+    ]
+    if wear.get("geometry_mode"):
+        cards.append(("geometry mode", str(wear["geometry_mode"]), None))
+    parts.append(_cards(cards))
+    prof = wear.get("profile") if isinstance(wear.get("profile"), Mapping) else {}
+    ang, depth, _ = _pair(inp, prof, ("angle",), "angle_deg", ("depth", "wear_depth", "bearing_depth"), "length_mm")
+    radius = _float(wear.get("bearing_radius_mm"))
+    if radius is None:
+        cfg = inp.data.get("config") or {}
+        for s in cfg.get("settings") or []:
+            if isinstance(s, Mapping) and "bearing_radius" in str(s.get("name")) and str(s.get("unit")) == "mm":
+                radius = _float(s.get("value"))
+    parts.append('<div class="grid">')
+    parts.append(figs.draw(
+        None if ang is None else (lambda: F.wear_polar_figure(ang, depth, radius_mm=radius, peaks=wear.get("peaks"),
+                                                              cycles=cycles)),
+        "Bearing wear profile over the initial circle (as the paper's Fig. 18); the radial exaggeration factor "
+        "is written on the figure.", png_keys=("polar", "profile"),
+        missing="Polar wear profile: no profile (wear.json 'profile')."))
+    h = wear.get("history") if isinstance(wear.get("history"), Mapping) else {}
+    rel = inp.data.get("reliability") or {}
+    mm = rel.get("mean_max_wear_mm") if isinstance(rel.get("mean_max_wear_mm"), Mapping) else {}
+    limit = _float(wear.get("limit_mm")) or _float(rel.get("limit_mm"))
+    hc, hw = h.get("cycles"), h.get("max_wear_mm")
+    parts.append(figs.draw(
+        None if hc is None or hw is None else (lambda: F.wear_history_figure(
+            hc, hw, limit_mm=limit, mean_cycles=mm.get("cycles"), mean_max_wear_mm=mm.get("mean"),
+            paper_mean=PAPER["mean_max_wear_mm"], paper_nominal=(PAPER["nominal_cycles"],
+                                                                 PAPER["nominal_max_wear_mm"]))),
+        "Max bearing wear against cycles: the nominal design, the Monte Carlo mean (if computed) and the "
+        "paper's values.", png_keys=("history",), missing="Wear history: no history (wear.json 'history')."))
+    parts.append("</div>")
+    # Fig. 17 panels: JSON profile columns first, then CSV columns on an angle grid
+    series = {}
+    for key, bases, kind in (("contact_force_N", ("contact_force", "force"), "force_N"),
+                             ("slip_mm", ("slip", "slip_distance", "relative_slip"), "length_mm"),
+                             ("contact_area_mm2", ("contact_area", "area"), "area_mm2")):
+        a2, v2, _ = _pair(inp, prof, ("angle",), "angle_deg", bases, kind)
+        if a2 is not None:
+            series[key] = (a2, v2)
+    if ang is not None:
+        parts.append(figs.draw(lambda: F.wear_panels_figure(
+            ang, depth, cycles=cycles,
+            slip_mm=series.get("slip_mm", (None, None))[1], slip_angle_deg=series.get("slip_mm", (None, None))[0],
+            contact_force_N=series.get("contact_force_N", (None, None))[1],
+            force_angle_deg=series.get("contact_force_N", (None, None))[0],
+            contact_area_mm2=series.get("contact_area_mm2", (None, None))[1],
+            area_angle_deg=series.get("contact_area_mm2", (None, None))[0]),
+            "Relative slip distance, contact force, contact area and bearing wear depth against the angle on the "
+            "bearing (as the paper's Fig. 17).", png_keys=("fig17", "panels"), wide=True))
+    else:
+        parts.append(figs.draw(None, "Fig. 17 panels", png_keys=("fig17", "panels"),
+                               missing="Fig. 17 panels: no wear profile."))
+    peaks = [p for p in wear.get("peaks") or [] if isinstance(p, Mapping)]
+    if peaks:
+        parts.append("<h3>Wear peaks</h3>")
+        parts.append(_table(["angle (deg)", "depth (mm)"], [(_num(p.get("angle_deg"), 4), _num(p.get("depth_mm")))
+                                                          for p in peaks], cls="kv"))
+    jp = wear.get("journal_profile")
+    if isinstance(jp, Mapping) and jp.get("depth_mm"):
+        jd = np.asarray([np.nan if v is None else v for v in jp["depth_mm"]], dtype=float)
+        parts.append(f"<p>Journal (crank pin) wear: max {np.nanmax(jd):.4g} mm, spread over its circumference.</p>")
+    return "".join(parts)
+
+
+def _reliability_section(inp: Inputs, figs: _Figures) -> str:
+    rel = inp.data.get("reliability")
+    if rel is None:
+        return _missing(inp.errors.get("reliability") or "No reliability.json in this folder: the reliability study "
+                                                         "has not been run (jointwear reliability).")
+    parts: list[str] = []
+    lt = rel.get("life_at_target") if isinstance(rel.get("life_at_target"), Mapping) else {}
+    curve = rel.get("curve") if isinstance(rel.get("curve"), Mapping) else {}
+    target = _float(lt.get("target"))
+    life = _float(lt.get("cycles"))
+    hours = _float(lt.get("hours"))
+    covs = [v for v in (curve.get("pf_cov") or []) if _float(v) is not None]
+    cards = [
+        (f"life at R = {target:g}" if target is not None else "life at target",
+         "\u2014" if life is None else f"{life:,.0f} cycles", None if hours is None else f"{hours:.3g} h"),
+        ("true-model calls", _num(rel.get("model_calls")), "for the whole curve"),
+        ("Monte Carlo population", _num(rel.get("n_mc")), "n_mc"),
+        ("max COV of Pf", "\u2014" if not covs else f"{max(float(v) for v in covs):.3g}", "over the curve"),
+        ("wall time", "\u2014" if _float(rel.get("wall_seconds")) is None else f"{float(rel['wall_seconds']):.4g} s",
+         None),
+    ]
+    parts.append(_cards(cards))
+    cyc, r = curve.get("cycles"), curve.get("reliability")
+    parts.append('<div class="grid">')
+    parts.append(figs.draw(
+        None if cyc is None or r is None else (lambda: F.reliability_curve_figure(
+            cyc, r, pf_cov=curve.get("pf_cov"), target=target, life_cycles=life, paper=PAPER["reliability"],
+            paper_life=PAPER["life_cycles"])),
+        "Reliability R(N) with a 95 % band from the COV of Pf, the target and the life; crosses: the paper's "
+        "values (Fig. 21).", png_keys=("reliability", "r_n", "rn_curve"),
+        missing="R(N): no curve (reliability.json 'curve')."))
+    conv = rel.get("convergence") if isinstance(rel.get("convergence"), Mapping) else {}
+    cn, cp = conv.get("n_calls"), conv.get("pf")
+    at = f" at {_float(conv.get('cycles')):,.0f} cycles" if _float(conv.get("cycles")) else ""
+    parts.append(figs.draw(
+        None if cn is None or cp is None else (lambda: F.convergence_figure(cn, cp, cov=conv.get("cov"))),
+        f"Convergence of the failure probability{at} against the number of true-model calls.",
+        png_keys=("convergence",),
+        missing="Convergence of Pf: not recorded (reliability.json 'convergence')."))
+    parts.append("</div>")
+    hist = rel.get("histograms") if isinstance(rel.get("histograms"), Mapping) else {}
+    limit = _float(rel.get("limit_mm"))
+    if limit is None:
+        limit = _float((inp.data.get("wear") or {}).get("limit_mm"))
+    parts.append(figs.draw(
+        None if not hist.get("cycles") or not hist.get("max_wear_mm") else (lambda: F.wear_histograms_figure(
+            hist["cycles"], hist["max_wear_mm"], limit_mm=limit, paper_means=PAPER["mean_max_wear_mm"])),
+        "Distribution of the max wear over the random inputs (as the paper's Fig. 20); solid line: mean, dotted: "
+        "the paper's mean, dashed: the allowable wear.", png_keys=("histogram", "hist"), wide=True,
+        missing="Max wear histograms: not recorded (reliability.json 'histograms')."))
+    if cyc is not None and r is not None:
+        rows = []
+        covl = curve.get("pf_cov") or [None] * len(cyc)
+        for c, rv, cv in zip(cyc, r, covl):
+            rows.append((_num(_float(c)), _num(_float(rv), 4), _num(_float(1 - rv) if _float(rv) is not None else None),
+                         _num(_float(cv), 3)))
+        parts.append('<details><summary>R(N) as numbers</summary>')
+        parts.append(_table(["cycles", "R(N)", "Pf", "COV of Pf"], rows, cls="num"))
+        parts.append("</details>")
+    known = {"curve", "life_at_target", "model_calls", "n_mc", "wall_seconds", "histograms", "convergence",
+             "mean_max_wear_mm"}
+    extra = [(k, _num(v)) for k, v in rel.items() if k not in known and not isinstance(v, (Mapping, list))]
+    if extra:
+        parts.append(_table(["other result", "value"], extra, cls="kv"))
+    return "".join(parts)
+
+
+def _sensitivity_section(inp: Inputs, figs: _Figures) -> str:
+    sens = inp.data.get("sensitivity")
+    if sens is None:
+        return _missing(inp.errors.get("sensitivity") or "No sensitivity.json in this folder: the sensitivity study "
+                                                         "has not been run (jointwear sensitivity).")
+    parts: list[str] = []
+    nominal = _float(sens.get("reliability_nominal"))
+    cyc = _float(sens.get("cycles"))
+    variables = [v for v in sens.get("variables") or [] if isinstance(v, Mapping)]
+    lead = (f"Reliability at {cyc:,.0f} cycles" if cyc else "Reliability") + (
+        f" (nominal {nominal:.3f})" if nominal is not None else "") + \
+        " when the mean of each variable is moved to 80 % and to 120 % of its value, the others fixed " \
+        "(the paper's Figs. 22-24)."
+    parts.append(f"<p>{e(lead)}</p>")
+    if variables and nominal is not None:
+        groups: dict[str, list[Mapping]] = {}
+        for v in variables:
+            groups.setdefault(_classify(v)[0] or "variables", []).append(v)
+        parts.append('<div class="grid">')
+        for g, vs in groups.items():
+            parts.append(figs.draw(lambda vs=vs, g=g: F.tornado_figure(
+                [str(v.get("label") or v.get("name")) for v in vs],
+                [_float(v.get("reliability_low")) if _float(v.get("reliability_low")) is not None else np.nan
+                 for v in vs],
+                [_float(v.get("reliability_high")) if _float(v.get("reliability_high")) is not None else np.nan
+                 for v in vs], nominal, cycles=cyc, title=g[:1].upper() + g[1:]),
+                f"Sensitivity of the reliability: {g}.", png_keys=("tornado",)))
+        parts.append("</div>")
+        rows = []
+        for v in variables:
+            lo, hi = _float(v.get("reliability_low")), _float(v.get("reliability_high"))
+            rows.append((str(v.get("label") or v.get("name")), str(v.get("name")), _classify(v)[0] or "",
+                         _num(lo, 3), _num(hi, 3), _num(_spread(v, nominal), 3)))
+        rows.sort(key=lambda r: (r[2], -float(r[5]) if r[5] not in ("\u2014",) else 0))
+        parts.append('<details><summary>Sensitivity as numbers</summary>')
+        parts.append(_table(["variable", "name", "group", "R at mean \u00d7 0.8", "R at mean \u00d7 1.2",
+                             "largest change of R"], rows, cls="num"))
+        parts.append("</details>")
+        ranks = _rankings(sens)
+        rrows = []
+        for g, items in ranks.items():
+            paper = PAPER["ranking"].get(g)
+            rrows.append((g, " > ".join(lbl for lbl, _q, _s in items), " > ".join(paper) if paper else "\u2014"))
+        parts.append("<h3>Ranking beside the paper's</h3>")
+        parts.append(_table(["group", "this study (largest change of R first)", "paper"], rrows, cls="kv"))
+    else:
+        parts.append(figs.draw(None, "Tornado", png_keys=("tornado",),
+                               missing="Tornado: no per-variable reliabilities (sensitivity.json 'variables', "
+                                       "'reliability_nominal')."))
+    sob = sens.get("sobol") if isinstance(sens.get("sobol"), Mapping) else {}
+    if sob.get("names") and sob.get("S1") is not None and sob.get("ST") is not None:
+        out = str(sob.get("output") or "max wear")
+        labels = {str(v.get("name")): str(v.get("label")) for v in variables if v.get("label")}
+        names = [f"{labels[str(n)]} ({n})" if str(n) in labels else str(n) for n in sob["names"]]
+        parts.append(figs.draw(lambda: F.sobol_figure(names, sob["S1"], sob["ST"], S1_conf=sob.get("S1_conf"),
+                                                      ST_conf=sob.get("ST_conf"), output=out),
+                               f"First-order and total Sobol' indices of the {out}, on the surrogate.",
+                               png_keys=("sobol",), wide=True))
+    else:
+        parts.append(figs.draw(None, "Sobol' indices", png_keys=("sobol",),
+                               missing="Sobol' indices: not computed (sensitivity.json 'sobol')."))
+    return "".join(parts)
+
+
+def _comparison_section(checks: Sequence[Check]) -> str:
+    rows, classes = [], []
+    for c in checks:
+        rd = c.rel_diff
+        unit = "" if c.unit in ("-", "") else f" {c.unit}"
+        rows.append((e(c.quantity), e("\u2014" if c.paper is None else _num(c.paper, c.digits) + unit),
+                     e("\u2014" if c.ours is None else _num(c.ours, c.digits) + unit),
+                     e("\u2014" if rd is None else f"{rd * 100:+.1f} %"), e(c.band), _pill(c.status), e(c.note)))
+        classes.append(c.status.replace("/", ""))
+    n_pass = sum(c.status == PASS for c in checks)
+    n_fail = sum(c.status == FAIL for c in checks)
+    n_na = sum(c.status == NA for c in checks)
+    head = (f"<p><b>{n_pass}</b> within their band, <b>{n_fail}</b> outside, <b>{n_na}</b> without data. Bands: "
+            "the project's acceptance criteria (R(N) \u00b10.15 absolute; life and mean max wear \u00b115 %; nominal "
+            "max wear 0.021-0.029 mm; peak angles within 20 deg). Paper values: Jin et al. 2025, Section 6 "
+            "(\"36,000\" cycles in its text read as 360,000).</p>")
+    return head + _table(["quantity", "paper", "this study", "relative difference", "band", "status", "note"],
+                         rows, cls="compare", raw_cols=(0, 1, 2, 3, 4, 5, 6), row_cls=classes)
+
+
+def _files_section(inp: Inputs) -> str:
+    rows = []
+    for p in inp.files:
+        try:
+            st = p.stat()
+        except OSError:
+            continue
+        mtime = _dt.datetime.fromtimestamp(st.st_mtime, _dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+        rows.append((str(p.relative_to(inp.out_dir)), f"{st.st_size:,} bytes", mtime))
+    out = _table(["file", "size", "modified"], rows, cls="kv") if rows else _missing("No study files were found.")
+    if inp.errors:
+        out += "".join(_missing(msg) for msg in inp.errors.values())
+    return out
+
+
+CSS = """
+:root{--ink:#1d2733;--muted:#5b6673;--line:#dde3ea;--bg:#f6f8fa;--accent:#4477AA;--pass:#1e7b34;--fail:#b42318;
+--open:#8a5a00}
+*{box-sizing:border-box}
+body{margin:0;font:15px/1.5 system-ui,-apple-system,"Segoe UI",Roboto,"DejaVu Sans",sans-serif;color:var(--ink);
+background:var(--bg)}
+header{background:#1f3a56;color:#fff;padding:28px 0 22px}
+header .wrap{display:flex;flex-direction:column;gap:4px}
+header h1{margin:0;font-size:26px;letter-spacing:.2px}
+header .sub{color:#c9d6e3;font-size:14px}
+.wrap{max-width:1180px;margin:0 auto;padding:0 24px}
+nav{background:#fff;border-bottom:1px solid var(--line);position:sticky;top:0;z-index:2}
+nav .wrap{display:flex;flex-wrap:wrap;gap:4px 18px;padding-top:10px;padding-bottom:10px}
+nav a{color:var(--accent);text-decoration:none;font-weight:600;font-size:14px}
+nav a:hover{text-decoration:underline}
+main .wrap{padding-top:8px;padding-bottom:40px}
+section{background:#fff;border:1px solid var(--line);border-radius:10px;padding:18px 22px 20px;margin:18px 0}
+h2{margin:0 0 10px;font-size:20px;border-bottom:2px solid var(--accent);padding-bottom:6px}
+h3{font-size:16px;margin:18px 0 8px}
+.lead{color:var(--muted);margin-top:0}
+.cards{display:grid;grid-template-columns:repeat(auto-fill,minmax(170px,1fr));gap:10px;margin:10px 0 14px}
+.card{border:1px solid var(--line);border-radius:8px;padding:10px 12px;background:#fbfcfd}
+.card-label{font-size:12px;color:var(--muted);text-transform:uppercase;letter-spacing:.4px}
+.card-value{font-size:20px;font-weight:700;font-variant-numeric:tabular-nums}
+.card-note{font-size:12px;color:var(--muted)}
+.summary .card-value.pass{color:var(--pass)} .summary .card-value.fail{color:var(--fail)}
+.grid{display:grid;grid-template-columns:repeat(auto-fit,minmax(460px,1fr));gap:14px;align-items:start}
+figure{margin:10px 0;padding:8px;border:1px solid var(--line);border-radius:8px;background:#fff}
+figure img{display:block;max-width:100%;height:auto;margin:0 auto}
+figcaption{font-size:13px;color:var(--muted);margin-top:6px}
+table{border-collapse:collapse;width:100%;margin:8px 0 12px;font-size:14px}
+th,td{border-bottom:1px solid var(--line);padding:6px 8px;text-align:left;vertical-align:top}
+th{background:#eef2f6;font-weight:600;font-size:13px}
+tbody tr:nth-child(even){background:#fafbfc}
+table.kv{width:auto;min-width:380px}
+table.num td,table.compare td:nth-child(2),table.compare td:nth-child(3),table.compare td:nth-child(4){
+font-variant-numeric:tabular-nums;white-space:nowrap}
+table.settings tr.open{background:#fff8e6}
+table.compare td:first-child{min-width:230px}
+table.compare tr.fail{background:#fdf0ef}
+.desc{color:var(--muted);font-size:12.5px}
+.pill{display:inline-block;padding:1px 8px;border-radius:999px;font-size:12px;font-weight:700;white-space:nowrap}
+.pill.pass{background:#dcf2e1;color:var(--pass)} .pill.fail{background:#fbdcd9;color:var(--fail)}
+.pill.info,.pill.na{background:#e8ecf0;color:#44505c} .pill.open{background:#ffe9b3;color:var(--open)}
+.missing{color:#6b5a00;background:#fff9e0;border-left:4px solid #e0b400;padding:8px 12px;border-radius:4px}
+.citation{font-size:14px}
+details{margin:8px 0}
+summary{cursor:pointer;color:var(--accent);font-weight:600}
+footer{color:var(--muted);font-size:12.5px;text-align:center;padding:10px 0 30px}
+@media print{nav{display:none}section{break-inside:avoid-page;border:none}}
+"""
+
+
+def build_report(out_dir: Path | str, *, output: Path | str | None = None, title: str | None = None) -> Path:
+    """Write a self-contained ``report.html`` summarising the study in ``out_dir``; returns its path.
+
+    Reads whatever of ``config.json``/``settings.json``, ``simulate.json``, ``wear.json``, ``reliability.json``,
+    ``sensitivity.json`` (and CSV and PNG files) are present; missing parts are stated in the page. ``output``
+    overrides the page's path (default ``out_dir / "report.html"``). Raises ``FileNotFoundError`` only when
+    ``out_dir`` is not a directory.
+    """
+    out_dir = Path(out_dir)
+    if not out_dir.is_dir():
+        raise FileNotFoundError(f"report: no such directory: {out_dir}")
+    inp = read_inputs(out_dir)
+    figs = _Figures(inp)
+    cfg = inp.data.get("config") or {}
+    checks = paper_checks(inp.data)
+
+    sections = [
+        ("comparison", "Comparison with the paper", lambda: _comparison_section(checks),
+         "Every reproduced number beside the reference paper's."),
+        ("study", "Study and settings", lambda: _settings_section(inp, figs),
+         "The mechanism and every setting of this study; settings the paper leaves open are flagged with the "
+         "source of the value chosen."),
+        ("dynamics", "Dynamics of the clearance joint", lambda: _dynamics_section(inp, figs),
+         "Journal motion and contact force in the revolute clearance joint (crank pin in the rod eye)."),
+        ("wear", "Wear of the joint", lambda: _wear_section(inp, figs),
+         "Archard wear on the bearing; angles in the bearing frame, 0 deg at the leftmost point, clockwise."),
+        ("reliability", "Wear reliability", lambda: _reliability_section(inp, figs),
+         "Limit state G = \u03b4\u2080 \u2212 \u03b4max(x, N): failure when the max wear exceeds the allowable wear."),
+        ("sensitivity", "Sensitivity", lambda: _sensitivity_section(inp, figs), ""),
+        ("files", "Files of this study", lambda: _files_section(inp), ""),
+    ]
+    bodies = [(sid, t, _safe(b, t.lower()), lead) for sid, t, b, lead in sections]
+    leftovers = [p for stem, p in sorted(inp.pngs.items()) if stem not in inp.used_pngs]
+    if leftovers:
+        extra = []
+        for p in leftovers:
+            try:
+                data = p.read_bytes()
+            except OSError:
+                continue
+            if data.startswith(b"\x89PNG"):
+                extra.append(_figure_html("data:image/png;base64," + base64.b64encode(data).decode("ascii"),
+                                          f"{p.name}"))
+                figs.count += 1
+        if extra:
+            bodies.insert(-1, ("stage-figures", "Figures written by the stages",
+                               '<div class="grid">' + "".join(extra) + "</div>",
+                               "PNG files found in the output folder that the sections above do not show."))
+
+    n_pass = sum(c.status == PASS for c in checks)
+    n_fail = sum(c.status == FAIL for c in checks)
+    n_banded = sum(c.status in (PASS, FAIL) for c in checks)
+    life = next((c for c in checks if c.quantity == "life at R = 0.9"), None)
+    r400 = next((c for c in checks if c.quantity.startswith("reliability R(N) at 400,000")), None)
+    wmax = checks[0]
+    summary = _cards([
+        ("checks against the paper", f"{n_pass} / {n_banded}" if n_banded else "\u2014",
+         f"{n_fail} outside the band" if n_banded else "no results yet"),
+        ("nominal max wear, 400k", "\u2014" if wmax.ours is None else f"{wmax.ours:.4f} mm", "paper 0.0249 mm"),
+        ("R at 400k cycles", "\u2014" if r400 is None or r400.ours is None else f"{r400.ours:.3f}", "paper 0.739"),
+        ("life at R = 0.9", "\u2014" if life is None or life.ours is None else f"{life.ours:,.0f} cycles",
+         "paper 371,640 cycles"),
+    ]).replace('class="cards"', 'class="cards summary"', 1)
+
+    preset = cfg.get("preset")
+    source = cfg.get("source")
+    sub = " \u00b7 ".join(x for x in [
+        f"preset {preset}" if preset else (f"config {source}" if source else "config unknown"),
+        f"folder {out_dir.resolve().name}",
+        "generated " + _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+    ] if x)
+    page_title = title or "jointwear study report"
+    nav = "".join(f'<a href="#{e(sid)}">{e(t)}</a>' for sid, t, _b, _l in bodies)
+    main = "".join(_section(sid, t, b, lead=lead) for sid, t, b, lead in bodies)
+    try:
+        from jointwear import __version__ as version
+    except Exception:  # pragma: no cover
+        version = "?"
+    doc = f"""<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1">
+<meta name="generator" content="jointwear {e(version)}">
+<title>{e(page_title)}</title>
+<style>{CSS}</style>
+</head>
+<body>
+<header><div class="wrap"><h1>{e(page_title)}</h1>
+<div class="sub">Wear of revolute clearance joints and wear reliability of a planar mechanism \u00b7 {e(sub)}</div>
+</div></header>
+<nav><div class="wrap">{nav}</div></nav>
+<main><div class="wrap">
+<section id="summary"><h2>Summary</h2>{summary}
+<p class="lead">Reference: {e(PAPER['citation'])}</p></section>
+{main}
+</div></main>
+<footer>jointwear {e(version)} \u00b7 {figs.count} figures embedded \u00b7 self-contained page: no scripts, no external
+resources</footer>
+</body>
+</html>
+"""
+    path = Path(output) if output is not None else out_dir / "report.html"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(doc, encoding="utf-8")
+    tmp.replace(path)
+    return path
