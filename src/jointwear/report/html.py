@@ -110,9 +110,9 @@ def _num(v, digits: int = 4) -> str:
         v = float(v)
         if not math.isfinite(v):
             return str(v)
-        if v != 0 and float(v).is_integer() and abs(v) >= 1000:
+        if 1000 <= abs(v) < 1e9:
             return f"{v:,.0f}"
-        if v != 0 and (abs(v) < 1e-3 or abs(v) >= 1e6):
+        if v != 0 and (abs(v) < 1e-3 or abs(v) >= 1e9):
             return f"{v:.{digits - 1}e}"
         return f"{v:.{digits}g}"
     if isinstance(v, (list, tuple)):

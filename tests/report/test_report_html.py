@@ -1,0 +1,154 @@
+"""The HTML report: self-contained, tolerant of missing and malformed inputs, escaped, and checked against
+the paper's numbers."""
+
+from __future__ import annotations
+
+import json
+import re
+import shutil
+from pathlib import Path
+
+import pytest
+
+from jointwear.report import build_report
+from jointwear.report.html import FAIL, NA, PASS, paper_checks, read_inputs
+from report_fixtures import make_fixture_dir
+
+SECTIONS = ("summary", "comparison", "study", "dynamics", "wear", "reliability", "sensitivity", "files")
+
+
+def _imgs(page: str) -> list[str]:
+    return re.findall(r"<img\s[^>]*src=\"([^\"]*)\"", page)
+
+
+def test_full_report_is_self_contained(full_report: Path):
+    page = full_report.read_text(encoding="utf-8")
+    assert full_report.name == "report.html"
+    for sid in SECTIONS:
+        assert f'id="{sid}"' in page, sid
+    srcs = _imgs(page)
+    # mechanism, orbit, force, polar, history, Fig. 17, R(N), convergence, histograms, 3 tornados, Sobol'
+    assert len(srcs) == 13
+    assert all(s.startswith("data:image/png;base64,") for s in srcs)
+    assert "<script" not in page.lower()
+    assert not re.search(r"""(src|href)\s*=\s*["']?(https?:)?//""", page, re.I)
+    assert "url(" not in page and "@import" not in page and "<link" not in page.lower()
+    assert 'class="missing"' not in page  # full fixture: nothing missing
+
+
+def test_every_setting_and_paper_open_flag(full_report: Path, study_dir: Path):
+    page = full_report.read_text(encoding="utf-8")
+    cfg = json.loads((study_dir / "config.json").read_text())
+    for s in cfg["settings"]:
+        assert s["name"] in page
+    n_open = sum(s["paper_open"] for s in cfg["settings"])
+    assert page.count('<tr class="open">') == n_open
+
+
+def test_text_is_escaped(full_report: Path):
+    page = full_report.read_text(encoding="utf-8")
+    assert "&lt;script&gt;alert(&#x27;escaped&#x27;)&lt;/script&gt;" in page
+
+
+def test_comparison_with_paper_on_fixture(study_dir: Path):
+    checks = paper_checks(read_inputs(study_dir).data)
+    banded = [c for c in checks if c.status in (PASS, FAIL)]
+    assert len(banded) >= 12
+    assert all(c.status == PASS for c in banded), [(c.quantity, c.ours) for c in banded if c.status != PASS]
+    byname = {c.quantity: c for c in checks}
+    assert byname["life at R = 0.9"].ours == pytest.approx(381_000, rel=0.01)
+    assert byname["reliability R(N) at 400,000 cycles"].paper == 0.739
+    assert byname["sensitivity ranking, tolerances"].status == PASS
+
+
+def test_comparison_flags_out_of_band(tmp_path: Path):
+    d = make_fixture_dir(tmp_path, which=("wear", "reliability"))
+    wear = json.loads((d / "wear.json").read_text())
+    wear["max_wear_mm"] = 0.05
+    wear["max_wear_angle_deg"] = 200.0
+    (d / "wear.json").write_text(json.dumps(wear))
+    rel = json.loads((d / "reliability.json").read_text())
+    rel["curve"]["reliability"] = [1.0] * len(rel["curve"]["cycles"])
+    del rel["life_at_target"]
+    (d / "reliability.json").write_text(json.dumps(rel))
+    byname = {c.quantity: c for c in paper_checks(read_inputs(d).data)}
+    assert byname["nominal max bearing wear after 400,000 cycles"].status == FAIL
+    assert byname["angle of the max wear"].status == FAIL
+    assert byname["reliability R(N) at 520,000 cycles"].status == FAIL
+    assert byname["life at R = 0.9"].status == NA  # never reaches 0.9 on the curve
+    page = build_report(d).read_text()
+    assert "FAIL" in page and "No simulate.json" in page
+
+
+def test_empty_folder_says_what_is_missing(tmp_path: Path):
+    page = build_report(tmp_path).read_text()
+    for what in ("No simulate.json", "No wear.json", "No reliability.json", "No sensitivity.json",
+                 "No config.json"):
+        assert what in page
+    assert _imgs(page) == []
+
+
+def test_malformed_and_odd_inputs_spoil_only_their_section(tmp_path: Path):
+    d = make_fixture_dir(tmp_path, which=("wear", "reliability", "sensitivity", "config"))
+    (d / "simulate.json").write_text("{not json")
+    rel = json.loads((d / "reliability.json").read_text())
+    rel["curve"]["reliability"] = "oops"  # wrong type
+    rel["histograms"] = {"cycles": [360000], "max_wear_mm": [[None, 0.02, 0.03]]}
+    (d / "reliability.json").write_text(json.dumps(rel))
+    (d / "sensitivity.json").write_text(json.dumps([1, 2, 3]))  # not an object
+    page = build_report(d).read_text()
+    assert "simulate.json could not be read" in page
+    assert "sensitivity.json could not be read" in page
+    assert 'id="wear"' in page and len(_imgs(page)) >= 4
+
+
+def test_optional_keys_absent(tmp_path: Path):
+    d = make_fixture_dir(tmp_path, optional=False, csv=False)
+    sim = json.loads((d / "simulate.json").read_text())
+    for k in ("orbit", "contact_force", "clearance_mm"):
+        sim.pop(k)
+    (d / "simulate.json").write_text(json.dumps(sim))
+    cfg = json.loads((d / "config.json").read_text())
+    cfg.pop("mechanism")
+    (d / "config.json").write_text(json.dumps(cfg))
+    page = build_report(d).read_text()
+    for what in ("Journal orbit: no orbit series", "Contact force: no series", "not recorded (reliability.json "
+                 "&#x27;convergence&#x27;)", "not recorded (reliability.json &#x27;histograms&#x27;)",
+                 "Sobol&#x27; indices: not computed", "no &#x27;mechanism&#x27; geometry"):
+        assert what in page, what
+    # mean max wear falls back to nothing: its checks say no data, the rest still compare
+    checks = {c.quantity: c for c in paper_checks(read_inputs(d).data)}
+    assert checks["mean of the max wear at 400,000 cycles"].status == NA
+    assert checks["reliability R(N) at 400,000 cycles"].status == PASS
+
+
+def test_csv_series_and_stage_png_fallback(tmp_path: Path, study_dir: Path):
+    d = make_fixture_dir(tmp_path, which=("simulate", "wear"))
+    sim = json.loads((d / "simulate.json").read_text())
+    orbit = sim.pop("orbit")
+    (d / "simulate.json").write_text(json.dumps(sim))
+    # orbit only as a CSV in micrometres
+    rows = ["time_s,x_um,y_um"] + [f"{i},{x * 1e3},{y * 1e3}" for i, (x, y) in enumerate(zip(orbit["x_mm"],
+                                                                                          orbit["y_mm"]))]
+    (d / "data").mkdir()
+    (d / "data" / "orbit.csv").write_text("\n".join(rows))
+    # a stage figure the report cannot draw itself, and one it can
+    shutil.copy(Path(__file__).with_name("report_fixtures.py"), d / "not-a-figure.png")
+    from jointwear.report.figures import sobol_figure
+    from jointwear.report.style import savefig
+
+    savefig(sobol_figure(["a", "b"], [0.2, 0.5], [0.3, 0.6]), d / "sobol_indices.png")
+    inp = read_inputs(d)
+    assert any(name == "orbit.csv" for name, _ in inp.csv_tables)
+    page = build_report(d).read_text()
+    assert "Journal orbit: no orbit series" not in page
+    assert "figure file sobol_indices.png" not in page  # no sensitivity.json: Sobol' slot not drawn
+    assert "sobol_indices.png" in page  # but the stage's own figure is embedded (appendix or slot)
+    assert "not-a-figure.png" not in page.split('id="files"')[0]  # not a PNG: never embedded
+
+
+def test_output_path_and_missing_dir(tmp_path: Path, study_dir: Path):
+    out = build_report(study_dir, output=tmp_path / "elsewhere" / "r.html")
+    assert out.is_file() and out.parent.name == "elsewhere"
+    with pytest.raises(FileNotFoundError):
+        build_report(tmp_path / "does-not-exist")
