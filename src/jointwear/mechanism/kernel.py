@@ -1,0 +1,512 @@
+"""Compiled kernels: constraint equations, contact forces, equations of motion, Dormand-Prince 5(4).
+
+Formulation (paper Section 2.1): Cartesian coordinates q = (x, y, phi) of every *free* body (origin
+at the centre of mass), Newton-Euler equations with Lagrange multipliers and Baumgarte stabilisation
+
+    M qdd + J^T lam = f(t, q, qd)           (f: gravity, applied loads, clearance contact forces)
+    J qdd = gamma - 2 alpha Phidot - beta^2 Phi
+
+solved by the Schur complement (M is diagonal):  (J M^-1 J^T) lam = J M^-1 f - gamma_stab,
+qdd = M^-1 (f - J^T lam).  Bodies driven at constant speed about a ground pivot are *prescribed*:
+their pose, velocity and acceleration are closed-form functions of t (equivalent to keeping them
+in q with a driver constraint, but 3 coordinates and 3 constraint rows fewer).
+
+Body codes in the joint tables: -1 ground, 0..nb-1 free bodies, nb..nb+nd-1 driven bodies.
+
+All arrays are preallocated by the caller; nothing is allocated in the step loop.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from jointwear.contact.laws import contact_stiffness, friction_coefficient, normal_force
+
+# joint types
+REVOLUTE = 0
+PRISMATIC = 1
+
+# columns of the kinematics work table kin (one row per body code, ground last)
+K_X, K_Y, K_PHI, K_C, K_S, K_VX, K_VY, K_W, K_AX, K_AY, K_AL = range(11)
+NKIN = 11
+
+# columns of cpar (clearance joint parameters)
+(C_SBX, C_SBY, C_SJX, C_SJY, C_RB, C_RJ, C_GROW, C_HSUM, C_K0, C_NEXP, C_CR, C_V0MIN,
+ C_MUD, C_MUS, C_VS, C_VD) = range(16)
+NCPAR = 16
+# columns of cint
+CI_BB, CI_BJ, CI_LAW, CI_FRIC, CI_PROF = range(5)
+# columns of cout (contact outputs of the latest evaluation)
+(O_FN, O_FT, O_VT, O_DELTA, O_VN, O_NX, O_NY, O_EX, O_EY, O_CLOC, O_VREL, O_PHIB, O_PHIJ, O_K) = range(14)
+NCOUT = 14
+# columns of cstate
+S_V0, S_INC = 0, 1
+
+
+@njit(cache=True)
+def _row(b, nb, nd):
+    return b if b >= 0 else nb + nd
+
+
+@njit(cache=True)
+def fill_kinematics(t, y, nb, dpar, kin):
+    """Fill the kinematics table for free bodies (from y), driven bodies (closed form) and ground."""
+    nd = dpar.shape[0]
+    for b in range(nb):
+        phi = y[3 * b + 2]
+        kin[b, K_X] = y[3 * b]
+        kin[b, K_Y] = y[3 * b + 1]
+        kin[b, K_PHI] = phi
+        kin[b, K_C] = math.cos(phi)
+        kin[b, K_S] = math.sin(phi)
+        kin[b, K_VX] = y[3 * nb + 3 * b]
+        kin[b, K_VY] = y[3 * nb + 3 * b + 1]
+        kin[b, K_W] = y[3 * nb + 3 * b + 2]
+        kin[b, K_AX] = 0.0
+        kin[b, K_AY] = 0.0
+        kin[b, K_AL] = 0.0
+    for d in range(nd):
+        r = nb + d
+        px, py, sx, sy, phi0, w = dpar[d, 0], dpar[d, 1], dpar[d, 2], dpar[d, 3], dpar[d, 4], dpar[d, 5]
+        phi = phi0 + w * t
+        c = math.cos(phi)
+        s = math.sin(phi)
+        # r_body = P - A s ; rel = r_body - P = -A s
+        relx = -(c * sx - s * sy)
+        rely = -(s * sx + c * sy)
+        kin[r, K_X] = px + relx
+        kin[r, K_Y] = py + rely
+        kin[r, K_PHI] = phi
+        kin[r, K_C] = c
+        kin[r, K_S] = s
+        kin[r, K_VX] = -w * rely
+        kin[r, K_VY] = w * relx
+        kin[r, K_W] = w
+        kin[r, K_AX] = -w * w * relx
+        kin[r, K_AY] = -w * w * rely
+        kin[r, K_AL] = 0.0
+    g = nb + nd
+    for k in range(NKIN):
+        kin[g, k] = 0.0
+    kin[g, K_C] = 1.0
+
+
+@njit(cache=True)
+def eval_constraints(nb, nd, jint, jpar, kin, phi_, phid, rest, jac):
+    """Constraint values Phi, their rates Phidot, the acceleration remainder `rest` (Phi'' evaluated
+    with free-body accelerations set to zero, so gamma = -rest) and the Jacobian J wrt free coordinates."""
+    nj = jint.shape[0]
+    nq = 3 * nb
+    for r in range(2 * nj):
+        for c in range(nq):
+            jac[r, c] = 0.0
+    for k in range(nj):
+        r = 2 * k
+        bi = jint[k, 1]
+        bj = jint[k, 2]
+        ri = _row(bi, nb, nd)
+        rj = _row(bj, nb, nd)
+        ci, si_ = kin[ri, K_C], kin[ri, K_S]
+        cj, sj_ = kin[rj, K_C], kin[rj, K_S]
+        wi, wj = kin[ri, K_W], kin[rj, K_W]
+        # body-fixed vectors to the joint points, in the global frame
+        aix = ci * jpar[k, 0] - si_ * jpar[k, 1]
+        aiy = si_ * jpar[k, 0] + ci * jpar[k, 1]
+        ajx = cj * jpar[k, 2] - sj_ * jpar[k, 3]
+        ajy = sj_ * jpar[k, 2] + cj * jpar[k, 3]
+        pix = kin[ri, K_X] + aix
+        piy = kin[ri, K_Y] + aiy
+        pjx = kin[rj, K_X] + ajx
+        pjy = kin[rj, K_Y] + ajy
+        vpix = kin[ri, K_VX] - wi * aiy
+        vpiy = kin[ri, K_VY] + wi * aix
+        vpjx = kin[rj, K_VX] - wj * ajy
+        vpjy = kin[rj, K_VY] + wj * ajx
+        apix = kin[ri, K_AX] - kin[ri, K_AL] * aiy - wi * wi * aix
+        apiy = kin[ri, K_AY] + kin[ri, K_AL] * aix - wi * wi * aiy
+        apjx = kin[rj, K_AX] - kin[rj, K_AL] * ajy - wj * wj * ajx
+        apjy = kin[rj, K_AY] + kin[rj, K_AL] * ajx - wj * wj * ajy
+        if jint[k, 0] == REVOLUTE:
+            phi_[r] = pix - pjx
+            phi_[r + 1] = piy - pjy
+            phid[r] = vpix - vpjx
+            phid[r + 1] = vpiy - vpjy
+            rest[r] = apix - apjx
+            rest[r + 1] = apiy - apjy
+            if 0 <= bi < nb:
+                jac[r, 3 * bi] += 1.0
+                jac[r, 3 * bi + 2] += -aiy
+                jac[r + 1, 3 * bi + 1] += 1.0
+                jac[r + 1, 3 * bi + 2] += aix
+            if 0 <= bj < nb:
+                jac[r, 3 * bj] -= 1.0
+                jac[r, 3 * bj + 2] -= -ajy
+                jac[r + 1, 3 * bj + 1] -= 1.0
+                jac[r + 1, 3 * bj + 2] -= ajx
+        else:
+            # prismatic: relative angle fixed, and j's point stays on i's axis (normal n fixed in i)
+            phi_[r] = kin[ri, K_PHI] - kin[rj, K_PHI] - jpar[k, 6]
+            phid[r] = wi - wj
+            rest[r] = kin[ri, K_AL] - kin[rj, K_AL]
+            nx = ci * jpar[k, 4] - si_ * jpar[k, 5]
+            ny = si_ * jpar[k, 4] + ci * jpar[k, 5]
+            knx, kny = -ny, nx
+            dx, dy = pjx - pix, pjy - piy
+            ddx, ddy = vpjx - vpix, vpjy - vpiy
+            phi_[r + 1] = nx * dx + ny * dy
+            phid[r + 1] = wi * (knx * dx + kny * dy) + nx * ddx + ny * ddy
+            rest[r + 1] = (kin[ri, K_AL] * (knx * dx + kny * dy) - wi * wi * (nx * dx + ny * dy)
+                           + 2.0 * wi * (knx * ddx + kny * ddy) + nx * (apjx - apix) + ny * (apjy - apiy))
+            if 0 <= bi < nb:
+                jac[r, 3 * bi + 2] += 1.0
+                jac[r + 1, 3 * bi] += -nx
+                jac[r + 1, 3 * bi + 1] += -ny
+                jac[r + 1, 3 * bi + 2] += knx * (pjx - kin[ri, K_X]) + kny * (pjy - kin[ri, K_Y])
+            if 0 <= bj < nb:
+                jac[r, 3 * bj + 2] -= 1.0
+                jac[r + 1, 3 * bj] += nx
+                jac[r + 1, 3 * bj + 1] += ny
+                jac[r + 1, 3 * bj + 2] += nx * (-ajy) + ny * ajx
+
+
+@njit(cache=True)
+def _interp_periodic(prof, k, side, n, ang):
+    """Linear periodic interpolation of prof[k, side, 0:n] given at angles 2 pi k / n."""
+    u = ang / (2.0 * math.pi)
+    u = u - math.floor(u)
+    x = u * n
+    i0 = int(x)
+    if i0 >= n:
+        i0 = n - 1
+    fr = x - i0
+    i1 = i0 + 1
+    if i1 >= n:
+        i1 = 0
+    return prof[k, side, i0] * (1.0 - fr) + prof[k, side, i1] * fr
+
+
+@njit(cache=True)
+def eval_contacts(nb, nd, cint, cpar, prof, ngrid, cstate, kin, f, cout):
+    """Clearance-joint contact forces, added to the generalized forces f of free bodies."""
+    ncj = cint.shape[0]
+    for k in range(ncj):
+        bb = cint[k, CI_BB]
+        bj = cint[k, CI_BJ]
+        rb = _row(bb, nb, nd)
+        rj = _row(bj, nb, nd)
+        cb, sb = kin[rb, K_C], kin[rb, K_S]
+        cj, sj = kin[rj, K_C], kin[rj, K_S]
+        wb, wj = kin[rb, K_W], kin[rj, K_W]
+        abx = cb * cpar[k, C_SBX] - sb * cpar[k, C_SBY]
+        aby = sb * cpar[k, C_SBX] + cb * cpar[k, C_SBY]
+        ajx = cj * cpar[k, C_SJX] - sj * cpar[k, C_SJY]
+        ajy = sj * cpar[k, C_SJX] + cj * cpar[k, C_SJY]
+        obx = kin[rb, K_X] + abx
+        oby = kin[rb, K_Y] + aby
+        ojx = kin[rj, K_X] + ajx
+        ojy = kin[rj, K_Y] + ajy
+        vbx = kin[rb, K_VX] - wb * aby
+        vby = kin[rb, K_VY] + wb * abx
+        vjx = kin[rj, K_VX] - wj * ajy
+        vjy = kin[rj, K_VY] + wj * ajx
+        ex = ojx - obx
+        ey = ojy - oby
+        emag = math.sqrt(ex * ex + ey * ey)
+        rvx = vjx - vbx
+        rvy = vjy - vby
+        if emag > 1e-300:
+            nx = ex / emag
+            ny = ey / emag
+        else:
+            nx = 1.0
+            ny = 0.0
+        grow = cpar[k, C_GROW]
+        rbl = cpar[k, C_RB] + 0.5 * grow
+        rjl = cpar[k, C_RJ] - 0.5 * grow
+        kstiff = cpar[k, C_K0]
+        if cint[k, CI_PROF] != 0:
+            ang = math.atan2(ny, nx)
+            hb = _interp_periodic(prof, k, 0, ngrid[k, 0], ang - kin[rb, K_PHI])
+            hj = _interp_periodic(prof, k, 1, ngrid[k, 1], ang - kin[rj, K_PHI])
+            rbl += hb
+            rjl -= hj
+            kstiff = contact_stiffness(cpar[k, C_HSUM], rbl, rjl)
+        elif grow != 0.0:
+            kstiff = contact_stiffness(cpar[k, C_HSUM], rbl, rjl)
+        cloc = rbl - rjl
+        delta = emag - cloc
+        vn = rvx * nx + rvy * ny
+        tx = -ny
+        ty = nx
+        vt = rvx * tx + rvy * ty + wj * rjl - wb * rbl
+        fn = 0.0
+        ft = 0.0
+        if delta > 0.0:
+            if cstate[k, S_INC] > 0.5:
+                v0 = cstate[k, S_V0]
+            else:
+                v0 = vn if vn > cpar[k, C_V0MIN] else cpar[k, C_V0MIN]
+            fn = normal_force(cint[k, CI_LAW], kstiff, cpar[k, C_NEXP], delta, vn, cpar[k, C_CR], v0)
+            if cint[k, CI_FRIC] != 0 and fn > 0.0:
+                ft = -friction_coefficient(vt, cpar[k, C_MUD], cpar[k, C_MUS], cpar[k, C_VS], cpar[k, C_VD]) * fn
+            # force on the journal: -fn n + ft t, at Q_j = O_j + R_j n ; on the bearing the opposite at Q_b
+            fx = -fn * nx + ft * tx
+            fy = -fn * ny + ft * ty
+            if 0 <= bj < nb:
+                qx = ajx + rjl * nx
+                qy = ajy + rjl * ny
+                f[3 * bj] += fx
+                f[3 * bj + 1] += fy
+                f[3 * bj + 2] += qx * fy - qy * fx
+            if 0 <= bb < nb:
+                qx = abx + rbl * nx
+                qy = aby + rbl * ny
+                f[3 * bb] -= fx
+                f[3 * bb + 1] -= fy
+                f[3 * bb + 2] -= qx * fy - qy * fx
+        cout[k, O_FN] = fn
+        cout[k, O_FT] = ft
+        cout[k, O_VT] = vt
+        cout[k, O_DELTA] = delta
+        cout[k, O_VN] = vn
+        cout[k, O_NX] = nx
+        cout[k, O_NY] = ny
+        cout[k, O_EX] = ex
+        cout[k, O_EY] = ey
+        cout[k, O_CLOC] = cloc
+        cout[k, O_VREL] = math.sqrt(rvx * rvx + rvy * rvy)
+        cout[k, O_PHIB] = kin[rb, K_PHI]
+        cout[k, O_PHIJ] = kin[rj, K_PHI]
+        cout[k, O_K] = kstiff
+
+
+@njit(cache=True)
+def rhs(t, y, dy, row, nb, bpar, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+        kin, phi_, phid, rest, jac, smat, lam, f, cout):
+    """dy[row] = (qd, qdd) for the state y = (q, qd) of the free bodies; also fills lam and cout."""
+    nd = dpar.shape[0]
+    nq = 3 * nb
+    nc = 2 * jint.shape[0]
+    fill_kinematics(t, y, nb, dpar, kin)
+    for i in range(nq):
+        f[i] = fext[i // 3, i % 3]
+    eval_contacts(nb, nd, cint, cpar, prof, ngrid, cstate, kin, f, cout)
+    if nc > 0:
+        eval_constraints(nb, nd, jint, jpar, kin, phi_, phid, rest, jac)
+        alpha2 = 2.0 * baum[0]
+        beta2 = baum[1] * baum[1]
+        # S = J W J^T (lower triangle), rhs = J W f + rest + 2 alpha Phidot + beta^2 Phi
+        for a in range(nc):
+            acc = 0.0
+            for c in range(nq):
+                jv = jac[a, c]
+                if jv != 0.0:
+                    acc += jv * f[c] / bpar[c // 3, 1 if c % 3 == 2 else 0]
+            lam[a] = acc + rest[a] + alpha2 * phid[a] + beta2 * phi_[a]
+            for b in range(a + 1):
+                acc = 0.0
+                for c in range(nq):
+                    jv = jac[a, c]
+                    if jv != 0.0:
+                        acc += jv * jac[b, c] / bpar[c // 3, 1 if c % 3 == 2 else 0]
+                smat[a, b] = acc
+        # Cholesky in place (lower)
+        for j in range(nc):
+            s = smat[j, j]
+            for k in range(j):
+                s -= smat[j, k] * smat[j, k]
+            if s <= 0.0:
+                s = 1e-300
+            d = math.sqrt(s)
+            smat[j, j] = d
+            for i in range(j + 1, nc):
+                s = smat[i, j]
+                for k in range(j):
+                    s -= smat[i, k] * smat[j, k]
+                smat[i, j] = s / d
+        for i in range(nc):
+            s = lam[i]
+            for k in range(i):
+                s -= smat[i, k] * lam[k]
+            lam[i] = s / smat[i, i]
+        for i in range(nc - 1, -1, -1):
+            s = lam[i]
+            for k in range(i + 1, nc):
+                s -= smat[k, i] * lam[k]
+            lam[i] = s / smat[i, i]
+        for c in range(nq):
+            s = f[c]
+            for a in range(nc):
+                s -= jac[a, c] * lam[a]
+            f[c] = s
+    for i in range(nq):
+        dy[row, i] = y[nq + i]
+        dy[row, nq + i] = f[i] / bpar[i // 3, 1 if i % 3 == 2 else 0]
+
+
+# Dormand-Prince 5(4) tableau (Dormand & Prince 1980; Hairer, Norsett & Wanner I, Table II.5.2).
+# Row 6 of DP_A equals the 5th-order weights (FSAL): stage 6 is evaluated at the new point.
+DP_C = np.array([0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0])
+DP_A = np.array([
+    [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [1.0 / 5.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0, 0.0, 0.0],
+    [19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0, 0.0, 0.0, 0.0],
+    [9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0, 0.0, 0.0],
+    [35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0, 0.0],
+])
+# error weights: b5 - b4
+DP_E = np.array([71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0, 22.0 / 525.0,
+                 -1.0 / 40.0])
+
+
+@njit(cache=True)
+def integrate(t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_steps, t_record,
+              nb, bpar, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+              kin, phi_, phid, rest, jac, smat, lam, f, cout, ks, ytmp,
+              rec_t, rec_h, rec_y, rec_acc, rec_lam, rec_c, counters):
+    """Dormand-Prince 5(4) with error control from t to t_end (in place on y).
+
+    ks: (7, ny) stage derivatives; ks[0] must hold f(t, y) on entry (and holds f at the final
+    point on exit).  Records every accepted step with t >= t_record into the rec_* buffers
+    (starting at counters[0]); stops early when the buffers are full.  counters: [n_recorded,
+    n_accepted, n_rejected, status]; status 0 = reached t_end, 1 = buffer full, 2 = max_steps,
+    3 = step underflow.  Step limits: h <= hmax and, per clearance joint, h <= clear_frac *
+    clearance / |relative velocity of the journal centre| (no impact can be stepped over).
+    Returns (t, h).
+    """
+    ny = y.shape[0]
+    nq = ny // 2
+    nc = lam.shape[0]
+    ncj = cint.shape[0]
+    cap = rec_t.shape[0]
+    nrec = counters[0]
+    nsteps = 0
+    counters[3] = 0
+    hmin = 1e-15 * max(abs(t), abs(t_end), 1.0)
+    hlim = hmax
+    for k in range(ncj):
+        vrel = cout[k, O_VREL]
+        cl = cout[k, O_CLOC]
+        if vrel > 0.0 and cl > 0.0:
+            hh = clear_frac * cl / vrel
+            if hh < hlim:
+                hlim = hh
+    while t < t_end:
+        if nrec >= cap:
+            counters[3] = 1
+            break
+        if nsteps >= max_steps:
+            counters[3] = 2
+            break
+        if h > hlim:
+            h = hlim
+        tn = t + h
+        if tn >= t_end - 1e-14 * abs(t_end):
+            h = t_end - t
+            tn = t_end
+        if h < hmin:
+            counters[3] = 3
+            break
+        for st in range(1, 7):
+            for i in range(ny):
+                acc = y[i]
+                for m in range(st):
+                    a = DP_A[st, m]
+                    if a != 0.0:
+                        acc += h * a * ks[m, i]
+                ytmp[st - 1, i] = acc
+            ts = tn if st >= 5 else t + DP_C[st] * h
+            rhs(ts, ytmp[st - 1], ks, st, nb, bpar, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+                kin, phi_, phid, rest, jac, smat, lam, f, cout)
+        err = 0.0
+        for i in range(ny):
+            ei = 0.0
+            for m in range(7):
+                ei += DP_E[m] * ks[m, i]
+            ei *= h
+            yi = abs(y[i])
+            yn = abs(ytmp[5, i])
+            sc = atolv[i] + rtol * (yi if yi > yn else yn)
+            r = ei / sc
+            err += r * r
+        err = math.sqrt(err / ny)
+        nsteps += 1
+        if err <= 1.0:
+            t = tn
+            for i in range(ny):
+                y[i] = ytmp[5, i]
+                ks[0, i] = ks[6, i]
+            counters[1] += 1
+            hlim = hmax
+            for k in range(ncj):
+                # impact speed at the start of each contact (damping term of the normal force)
+                if cout[k, O_DELTA] > 0.0:
+                    if cstate[k, S_INC] < 0.5:
+                        vn = cout[k, O_VN]
+                        cstate[k, S_V0] = vn if vn > cpar[k, C_V0MIN] else cpar[k, C_V0MIN]
+                        cstate[k, S_INC] = 1.0
+                else:
+                    cstate[k, S_INC] = 0.0
+                vrel = cout[k, O_VREL]
+                cl = cout[k, O_CLOC]
+                if vrel > 0.0 and cl > 0.0:
+                    hh = clear_frac * cl / vrel
+                    if hh < hlim:
+                        hlim = hh
+            if t >= t_record:
+                rec_t[nrec] = t
+                rec_h[nrec] = h
+                for i in range(ny):
+                    rec_y[nrec, i] = y[i]
+                for i in range(nq):
+                    rec_acc[nrec, i] = ks[0, nq + i]
+                for i in range(nc):
+                    rec_lam[nrec, i] = lam[i]
+                for k in range(ncj):
+                    for m in range(NCOUT):
+                        rec_c[nrec, k, m] = cout[k, m]
+                nrec += 1
+            fac = 0.9 * (err if err > 1e-10 else 1e-10) ** (-0.2)
+            if fac > 5.0:
+                fac = 5.0
+            if fac < 0.2:
+                fac = 0.2
+            h = h * fac
+        else:
+            counters[2] += 1
+            fac = 0.9 * err ** (-0.2)
+            if fac < 0.2:
+                fac = 0.2
+            h = h * fac
+    counters[0] = nrec
+    return t, h
+
+
+@njit(cache=True)
+def accelerations(t, y, dy, nb, bpar, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+                  kin, phi_, phid, rest, jac, smat, lam, f, cout):
+    """One evaluation of the equations of motion into dy (2-D, row 0)."""
+    rhs(t, y, dy, 0, nb, bpar, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+        kin, phi_, phid, rest, jac, smat, lam, f, cout)
+
+
+def empty_work(nb: int, nd: int, nj: int, ncj: int) -> dict[str, np.ndarray]:
+    """Preallocated work arrays of the kernels."""
+    nq = 3 * nb
+    nc = 2 * nj
+    return {
+        "kin": np.zeros((nb + nd + 1, NKIN)),
+        "phi_": np.zeros(nc),
+        "phid": np.zeros(nc),
+        "rest": np.zeros(nc),
+        "jac": np.zeros((nc, nq)),
+        "smat": np.zeros((nc, nc)),
+        "lam": np.zeros(nc),
+        "f": np.zeros(nq),
+        "cout": np.zeros((ncj, NCOUT)),
+    }

@@ -1,0 +1,313 @@
+"""Forward dynamics: settle, then record whole crank cycles; typed results for the wear stage."""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from jointwear.contact.geometry import ClearanceGeometry
+from jointwear.mechanism import kernel as K
+from jointwear.mechanism.model import MechanismModel
+
+TWO_PI = 2.0 * math.pi
+
+
+@dataclass
+class SimulationState:
+    """Everything needed to continue a simulation: time, free-body state, contact memory, step size."""
+
+    t: float
+    y: np.ndarray
+    cstate: np.ndarray
+    h: float
+
+
+@dataclass
+class ContactTrace:
+    """One clearance joint over the recorded accepted steps (after the settling cycles).
+
+    Angles: theta_bearing / theta_journal are the directions of n (bearing centre -> journal
+    centre) in the bearing / journal body frames, CCW from the body x axis, in [0, 2 pi).
+    force_tangential is the friction force on the journal along t = k x n (signed);
+    slip_speed the relative tangential velocity of the journal's contact point w.r.t. the bearing's.
+    """
+
+    name: str
+    bearing_body: str
+    journal_body: str
+    t: np.ndarray
+    dt_weight: np.ndarray
+    theta_bearing: np.ndarray
+    theta_journal: np.ndarray
+    force_normal: np.ndarray
+    force_tangential: np.ndarray
+    slip_speed: np.ndarray
+    penetration: np.ndarray
+    penetration_rate: np.ndarray
+    in_contact: np.ndarray
+    eccentricity: np.ndarray  # (steps, 2), bearing frame
+    bearing_body_angle: np.ndarray
+    journal_body_angle: np.ndarray
+    stiffness: np.ndarray  # K used at each sample (N/m^1.5)
+    bearing_radius: float
+    journal_radius: float
+    clearance_used: float
+    width: float
+    E_bearing: float
+    nu_bearing: float
+    k_bearing: float
+    H_bearing: float
+    E_journal: float
+    nu_journal: float
+    k_journal: float
+    H_journal: float
+    bearing_outer_radius: float | None = None
+
+    @property
+    def duration(self) -> float:
+        return float(self.dt_weight.sum())
+
+    @property
+    def contact_force(self) -> np.ndarray:
+        """Magnitude of the contact force (normal and friction), N."""
+        return np.hypot(self.force_normal, self.force_tangential)
+
+    @property
+    def n_impacts(self) -> int:
+        """Number of transitions from free flight to contact."""
+        c = self.in_contact.astype(np.int8)
+        return int(np.count_nonzero(np.diff(c) == 1))
+
+    @property
+    def contact_fraction(self) -> float:
+        return float(np.sum(self.dt_weight * self.in_contact) / self.duration)
+
+    @property
+    def mean_force(self) -> float:
+        """Time-average of the contact force magnitude, N."""
+        return float(np.sum(self.dt_weight * self.contact_force) / self.duration)
+
+
+@dataclass
+class SimulationResult:
+    """Recorded steps of a forward simulation (like scipy's OdeResult)."""
+
+    t: np.ndarray
+    crank_angle: np.ndarray  # driver angle wrapped to [0, 2 pi)
+    body_angles: np.ndarray  # (steps, n_bodies), all bodies in model order (unwrapped)
+    body_names: list[str]
+    free_body_names: list[str]
+    q: np.ndarray  # (steps, 3 n_free): x, y, phi of the free bodies
+    qd: np.ndarray
+    qdd: np.ndarray
+    multipliers: np.ndarray  # (steps, n_constraints): lam of the ideal joints (M qdd + J^T lam = f)
+    joint_names: list[str]
+    joints: list[ContactTrace]
+    state_end: SimulationState
+    n_steps: int  # accepted steps over the whole call (settling included)
+    n_rejected: int
+    n_recorded_steps: int
+    n_cycles: float
+    settle_cycles: float
+    period: float
+    wall_seconds: float
+    status: str = "ok"
+    extra: dict = field(default_factory=dict)
+
+    def body_pose(self, name: str) -> np.ndarray:
+        """(steps, 3) x, y, phi of a free body."""
+        i = self.free_body_names.index(name)
+        return self.q[:, 3 * i: 3 * i + 3]
+
+    def body_acceleration(self, name: str) -> np.ndarray:
+        i = self.free_body_names.index(name)
+        return self.qdd[:, 3 * i: 3 * i + 3]
+
+    def reaction(self, joint: str) -> np.ndarray:
+        """(steps, 2) multipliers of an ideal joint: force on body_j by body_i (revolute)."""
+        k = self.joint_names.index(joint)
+        return self.multipliers[:, 2 * k: 2 * k + 2]
+
+    @property
+    def steps_per_cycle(self) -> float:
+        return self.n_recorded_steps / self.n_cycles if self.n_cycles else float("nan")
+
+
+class SimulationError(RuntimeError):
+    """The integrator could not proceed (step-size underflow or step budget exhausted)."""
+
+
+def _atol_vector(model: MechanismModel, atol: float) -> np.ndarray:
+    nb = len(model.free_bodies)
+    per = model.period
+    wref = TWO_PI / per if per else 1.0
+    lref = model.length_ref
+    pos = np.tile([atol, atol, atol / lref], nb)
+    vel = np.tile([atol * wref, atol * wref, atol * wref / lref], nb)
+    return np.concatenate([pos, vel])
+
+
+def initial_state(model: MechanismModel, t0: float = 0.0) -> SimulationState:
+    """Ideal-kinematics state at t0 with every journal centred in its bearing."""
+    q, qd, _ = model.kinematics(t0)
+    return SimulationState(t0, np.concatenate([q, qd]), np.zeros((len(model.clearance_joints), 2)), 0.0)
+
+
+class _Runner:
+    def __init__(self, model: MechanismModel, geometry, rtol, atol):
+        self.model = model
+        self.a = model.kernel_arrays(geometry)
+        a = self.a
+        nb = a["nb"]
+        self.w = K.empty_work(nb, a["dpar"].shape[0], a["jint"].shape[0], a["cint"].shape[0])
+        self.ny = 6 * nb
+        self.rtol = rtol
+        self.atolv = _atol_vector(model, atol)
+        self.ks = np.zeros((7, self.ny))
+        self.ytmp = np.zeros((6, self.ny))
+
+    def _args(self):
+        a, w = self.a, self.w
+        return (a["nb"], a["bpar"], a["fext"], a["dpar"], a["jint"], a["jpar"], a["cint"], a["cpar"], a["prof"],
+                a["ngrid"], a["cstate"], a["baum"], w["kin"], w["phi_"], w["phid"], w["rest"], w["jac"], w["smat"],
+                w["lam"], w["f"], w["cout"])
+
+    def eval(self, t, y):
+        """Evaluate the equations of motion at (t, y) into ks[0] (also fills lam and cout)."""
+        K.accelerations(t, y, self.ks, *self._args())
+
+    def run(self, t, y, t_end, h, hmax, t_record, cap, max_steps, counters):
+        ncj = self.a["cint"].shape[0]
+        nc = 2 * self.a["jint"].shape[0]
+        rec = dict(
+            rec_t=np.empty(cap), rec_h=np.empty(cap), rec_y=np.empty((cap, self.ny)),
+            rec_acc=np.empty((cap, self.ny // 2)), rec_lam=np.empty((cap, nc)),
+            rec_c=np.empty((cap, ncj, K.NCOUT)),
+        )
+        s = self.model.settings
+        t, h = K.integrate(t, y, t_end, h, self.rtol, self.atolv, hmax, s.clearance_step_fraction, max_steps,
+                           t_record, *self._args(), self.ks, self.ytmp, rec["rec_t"], rec["rec_h"], rec["rec_y"],
+                           rec["rec_acc"], rec["rec_lam"], rec["rec_c"], counters)
+        return t, h, rec
+
+
+def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeometry] | None = None,
+             settle_cycles: float | None = None, rtol: float | None = None, atol: float | None = None,
+             state0: SimulationState | None = None, *, record: bool = True) -> SimulationResult:
+    """Integrate the mechanism: settle_cycles crank cycles (discarded), then n_cycles recorded.
+
+    geometry: one ClearanceGeometry per clearance joint (default: unworn). state0: continue from a
+    previous result's ``state_end`` (default: ideal kinematics at t = 0, journals centred).
+    The cycle length is the driver's period (or model.period_override).
+    """
+    wall0 = time.perf_counter()
+    period = model.period
+    if period is None:
+        raise ValueError("model has no driver: set model.period_override to define a cycle length")
+    s = model.settings
+    settle = s.settle_cycles if settle_cycles is None else settle_cycles
+    rtol = s.rtol if rtol is None else rtol
+    atol = s.atol if atol is None else atol
+    if geometry is None:
+        geometry = model.initial_geometry()
+    run = _Runner(model, geometry, rtol, atol)
+    st = initial_state(model) if state0 is None else state0
+    y = np.array(st.y, dtype=float)
+    run.a["cstate"][:] = st.cstate
+    t = float(st.t)
+    hmax = s.max_step if s.max_step is not None else period / 200.0
+    h = st.h if st.h > 0 else min(hmax, 1e-7)
+    k1 = run.ks[0]
+    run.eval(t, y)
+    counters = np.zeros(4, dtype=np.int64)
+    max_steps = int(s.max_steps)
+    # settling (not recorded)
+    t_settle = t + settle * period
+    while t < t_settle:
+        t, h, _ = run.run(t, y, t_settle, h, hmax, math.inf, 1, max_steps, counters)
+        if counters[3] in (2, 3):
+            raise SimulationError(_status_text(counters[3], t))
+    # recording: the first sample is the state at the start of the recorded window
+    t_end = t + n_cycles * period
+    ncj = len(model.clearance_joints)
+    run.eval(t, y)
+    first = dict(rec_t=np.array([t]), rec_h=np.array([0.0]), rec_y=y[None, :].copy(),
+                 rec_acc=k1[None, run.ny // 2:].copy(), rec_lam=run.w["lam"][None, :].copy(),
+                 rec_c=run.w["cout"][None, :, :].copy())
+    chunks = [first]
+    est = int(max(1000, 20000 * n_cycles)) if record else 1
+    while t < t_end:
+        counters[0] = 0
+        t, h, rec = run.run(t, y, t_end, h, hmax, -math.inf if record else math.inf, est, max_steps, counters)
+        if counters[3] in (2, 3):
+            raise SimulationError(_status_text(counters[3], t))
+        n = int(counters[0])
+        if record:
+            chunks.append({k: v[:n] for k, v in rec.items()})
+    cat = {k: np.concatenate([c[k] for c in chunks]) for k in chunks[0]}
+    state_end = SimulationState(t, y.copy(), run.a["cstate"].copy(), h)
+    return _package(model, geometry, cat, state_end, counters, n_cycles, settle, period,
+                    time.perf_counter() - wall0)
+
+
+def _status_text(code: int, t: float) -> str:
+    return {2: f"step budget exhausted at t = {t:.6g} s", 3: f"step size underflow at t = {t:.6g} s"}[int(code)]
+
+
+def _trapezoid_weights(t: np.ndarray) -> np.ndarray:
+    w = np.zeros_like(t)
+    if t.size > 1:
+        d = np.diff(t)
+        w[:-1] += 0.5 * d
+        w[1:] += 0.5 * d
+    return w
+
+
+def _package(model, geometry, cat, state_end, counters, n_cycles, settle, period, wall) -> SimulationResult:
+    t = cat["rec_t"]
+    nb = len(model.free_bodies)
+    nq = 3 * nb
+    q = cat["rec_y"][:, :nq]
+    qd = cat["rec_y"][:, nq:]
+    crank = model.crank
+    names = model.body_names
+    angles = np.empty((t.size, len(names)))
+    free = [b.name for b in model.free_bodies]
+    for i, b in enumerate(model.bodies):
+        if b.driver is None:
+            angles[:, i] = q[:, 3 * free.index(b.name) + 2]
+        else:
+            angles[:, i] = b.driver.angle0 + b.driver.speed * t
+    crank_angle = np.mod(crank.driver.angle0 + crank.driver.speed * t, 2 * math.pi) if crank else np.zeros_like(t)
+    w = _trapezoid_weights(t)
+    traces = []
+    for k, (cj, g) in enumerate(zip(model.clearance_joints, geometry)):
+        c = cat["rec_c"][:, k, :]
+        nx, ny = c[:, K.O_NX], c[:, K.O_NY]
+        ang = np.arctan2(ny, nx)
+        phib, phij = c[:, K.O_PHIB], c[:, K.O_PHIJ]
+        cb, sb = np.cos(phib), np.sin(phib)
+        ex, ey = c[:, K.O_EX], c[:, K.O_EY]
+        ecc = np.column_stack([cb * ex + sb * ey, -sb * ex + cb * ey])
+        bm, jm = cj.bearing_material, cj.journal_material
+        traces.append(ContactTrace(
+            name=cj.name, bearing_body=cj.bearing_body, journal_body=cj.journal_body, t=t, dt_weight=w,
+            theta_bearing=np.mod(ang - phib, 2 * math.pi), theta_journal=np.mod(ang - phij, 2 * math.pi),
+            force_normal=c[:, K.O_FN].copy(), force_tangential=c[:, K.O_FT].copy(), slip_speed=c[:, K.O_VT].copy(),
+            penetration=c[:, K.O_DELTA].copy(), penetration_rate=c[:, K.O_VN].copy(),
+            in_contact=c[:, K.O_DELTA] > 0.0, eccentricity=ecc, bearing_body_angle=phib.copy(),
+            journal_body_angle=phij.copy(), stiffness=c[:, K.O_K].copy(),
+            bearing_radius=g.bearing_radius, journal_radius=g.journal_radius, clearance_used=g.clearance,
+            width=cj.width, E_bearing=bm.youngs_modulus, nu_bearing=bm.poissons_ratio, k_bearing=bm.wear_coefficient,
+            H_bearing=bm.hardness, E_journal=jm.youngs_modulus, nu_journal=jm.poissons_ratio,
+            k_journal=jm.wear_coefficient, H_journal=jm.hardness, bearing_outer_radius=cj.bearing_outer_radius,
+        ))
+    return SimulationResult(
+        t=t, crank_angle=crank_angle, body_angles=angles, body_names=names, free_body_names=free, q=q, qd=qd,
+        qdd=cat["rec_acc"], multipliers=cat["rec_lam"], joint_names=[j.name for j in model.joints], joints=traces,
+        state_end=state_end, n_steps=int(counters[1]), n_rejected=int(counters[2]), n_recorded_steps=t.size - 1,
+        n_cycles=n_cycles, settle_cycles=settle, period=period, wall_seconds=wall,
+    )
