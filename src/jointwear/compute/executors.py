@@ -217,7 +217,22 @@ class LocalExecutor(_ExecutorBase):
         self.n_restarts += 1
 
     def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        """Release the workers. With ``cancel_futures`` (the context manager does it on an error or
+        Ctrl-C) the calls still running are stopped too: their results are not wanted."""
+        if cancel_futures:
+            self._terminate_workers()
         self._pool.shutdown(wait=wait, cancel_futures=cancel_futures)
+
+    def _terminate_workers(self) -> None:
+        pool = self._pool
+        if hasattr(pool, "terminate_workers"):  # Python >= 3.14
+            pool.terminate_workers()
+            return
+        for proc in list((getattr(pool, "_processes", None) or {}).values()):
+            try:
+                proc.terminate()
+            except Exception:  # pragma: no cover - already gone
+                pass
 
 
 # ----------------------------------------------------------------------------------------------------
