@@ -66,6 +66,8 @@ SCRIPT = textwrap.dedent(
         }
 
     if __name__ == "__main__":
+        import signal
+        signal.signal(signal.SIGINT, signal.default_int_handler)  # even if started as a background job
         out, workers, resume = sys.argv[1], int(sys.argv[2]), sys.argv[3] == "resume"
         result = study(out, workers, resume)
         with open(os.path.join(out, "result.json"), "w") as fh:
@@ -134,21 +136,26 @@ def test_kill9_resume_equals_uninterrupted(tmp_path):
     # the same study, 2 local workers, killed with SIGKILL after k stored calls, then resumed
     out, log = tmp_path / "run", tmp_path / "run.log"
     db = out / "evaluations.sqlite"
-    kill_points = [4, 13, 25]
-    assert kill_points[-1] < n_total
+    # (stored calls, signal): kill -9 twice, and a Ctrl-C (SIGINT) in between
+    kill_points = [(4, signal.SIGKILL), (13, signal.SIGINT), (25, signal.SIGKILL)]
+    assert kill_points[-1][0] < n_total
     committed_at_kill: dict[int, set[str]] = {}
-    for run, k in enumerate(kill_points):
+    for run, (k, sig) in enumerate(kill_points):
         p = _run(script, out, 2, "fresh" if run == 0 else "resume", log, run)
         deadline = time.monotonic() + 60
         while _n_stored(db) < k:
             assert p.poll() is None, f"run {run} ended before {k} calls: {p.stderr.read().decode()}"
             assert time.monotonic() < deadline, "timed out waiting for stored calls"
             time.sleep(0.01)
-        p.send_signal(signal.SIGKILL)
+        p.send_signal(sig)
         p.wait(timeout=30)
+        err = p.stderr.read().decode()
         p.stdout.close()
         p.stderr.close()
-        assert p.returncode == -signal.SIGKILL
+        if sig == signal.SIGKILL:
+            assert p.returncode == -signal.SIGKILL
+        else:  # Ctrl-C: KeyboardInterrupt ends the study (the completed calls are already stored)
+            assert p.returncode != 0 and "KeyboardInterrupt" in err, err
         assert not (out / "result.json").exists()
         committed_at_kill[run] = set(_stored_keys(db))
         assert len(committed_at_kill[run]) >= k
