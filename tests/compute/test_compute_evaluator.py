@@ -194,3 +194,24 @@ def test_config_hash():
     assert config_hash({"a": 1, "b": [1.0, 2.0]}) == config_hash({"b": [1.0, 2.0], "a": 1})
     assert config_hash({"a": 0.1}) != config_hash({"a": np.nextafter(0.1, 1.0)})
     assert config_hash({"a": np.array([1.0, 2.0])}) != config_hash({"a": np.array([1.0, 2.5])})
+
+
+def test_compute_imports_no_other_stage_and_no_dask():
+    import json
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    import jointwear
+
+    code = (
+        "import sys, json, numpy as np; import jointwear.compute as c;"
+        "c.Evaluator(lambda x: (x, 'ok'), c.make_executor(1)).evaluate(np.ones((2, 2)));"
+        "print(json.dumps(sorted(m for m in sys.modules if m.startswith(('jointwear.', 'distributed')))))"
+    )
+    env = dict(__import__("os").environ)
+    env["PYTHONPATH"] = str(Path(jointwear.__file__).resolve().parents[1])
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, check=True)
+    modules = json.loads(out.stdout)
+    assert all(m.startswith("jointwear.compute") for m in modules), modules  # a service: no stage imported
+    assert not any(m.startswith("distributed") for m in modules)  # Dask is imported only when asked for
