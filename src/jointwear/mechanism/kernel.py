@@ -284,15 +284,18 @@ def eval_contacts(nb, nd, cint, cpar, prof, ngrid, cstate, kin, f, cout):
 
 
 @njit(cache=True)
-def rhs(t, y, dy, row, nb, bpar, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+def rhs(t, y, dy, row, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
         kin, phi_, phid, rest, jac, smat, lam, f, cout):
-    """dy[row] = (qd, qdd) for the state y = (q, qd) of the free bodies; also fills lam and cout."""
+    """dy[row] = (qd, qdd) for the state y = (q, qd) of the free bodies; also fills lam and cout.
+
+    winv: inverse masses/inertias per free coordinate (diagonal M^-1); fext: constant generalized
+    forces per free coordinate (gravity, applied loads)."""
     nd = dpar.shape[0]
     nq = 3 * nb
     nc = 2 * jint.shape[0]
     fill_kinematics(t, y, nb, dpar, kin)
     for i in range(nq):
-        f[i] = fext[i // 3, i % 3]
+        f[i] = fext[i]
     eval_contacts(nb, nd, cint, cpar, prof, ngrid, cstate, kin, f, cout)
     if nc > 0:
         eval_constraints(nb, nd, jint, jpar, kin, phi_, phid, rest, jac)
@@ -304,14 +307,14 @@ def rhs(t, y, dy, row, nb, bpar, fext, dpar, jint, jpar, cint, cpar, prof, ngrid
             for c in range(nq):
                 jv = jac[a, c]
                 if jv != 0.0:
-                    acc += jv * f[c] / bpar[c // 3, 1 if c % 3 == 2 else 0]
+                    acc += jv * f[c] * winv[c]
             lam[a] = acc + rest[a] + alpha2 * phid[a] + beta2 * phi_[a]
             for b in range(a + 1):
                 acc = 0.0
                 for c in range(nq):
                     jv = jac[a, c]
                     if jv != 0.0:
-                        acc += jv * jac[b, c] / bpar[c // 3, 1 if c % 3 == 2 else 0]
+                        acc += jv * jac[b, c] * winv[c]
                 smat[a, b] = acc
         # Cholesky in place (lower)
         for j in range(nc):
@@ -344,7 +347,7 @@ def rhs(t, y, dy, row, nb, bpar, fext, dpar, jint, jpar, cint, cpar, prof, ngrid
             f[c] = s
     for i in range(nq):
         dy[row, i] = y[nq + i]
-        dy[row, nq + i] = f[i] / bpar[i // 3, 1 if i % 3 == 2 else 0]
+        dy[row, nq + i] = f[i] * winv[i]
 
 
 # Dormand-Prince 5(4) tableau (Dormand & Prince 1980; Hairer, Norsett & Wanner I, Table II.5.2).
@@ -366,7 +369,7 @@ DP_E = np.array([71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 /
 
 @njit(cache=True)
 def integrate(t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_steps, t_record,
-              nb, bpar, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+              nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
               kin, phi_, phid, rest, jac, smat, lam, f, cout, ks, ytmp,
               rec_t, rec_h, rec_y, rec_acc, rec_lam, rec_c, counters):
     """Dormand-Prince 5(4) with error control from t to t_end (in place on y).
@@ -421,7 +424,7 @@ def integrate(t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_steps, t_record
                         acc += h * a * ks[m, i]
                 ytmp[st - 1, i] = acc
             ts = tn if st >= 5 else t + DP_C[st] * h
-            rhs(ts, ytmp[st - 1], ks, st, nb, bpar, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+            rhs(ts, ytmp[st - 1], ks, st, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
                 kin, phi_, phid, rest, jac, smat, lam, f, cout)
         err = 0.0
         for i in range(ny):
@@ -488,10 +491,10 @@ def integrate(t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_steps, t_record
 
 
 @njit(cache=True)
-def accelerations(t, y, dy, nb, bpar, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+def accelerations(t, y, dy, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
                   kin, phi_, phid, rest, jac, smat, lam, f, cout):
     """One evaluation of the equations of motion into dy (2-D, row 0)."""
-    rhs(t, y, dy, 0, nb, bpar, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+    rhs(t, y, dy, 0, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
         kin, phi_, phid, rest, jac, smat, lam, f, cout)
 
 

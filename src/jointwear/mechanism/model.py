@@ -256,7 +256,11 @@ class MechanismModel:
             ngrid[k] = (g.bearing_wear.size, g.journal_wear.size)
         s = self.settings
         baum = np.array([s.baumgarte_alpha, s.baumgarte_beta])
-        return dict(nb=nb, bpar=bpar, fext=fext, dpar=dpar, jint=jint, jpar=jpar, cint=cint, cpar=cpar, prof=prof,
+        winv = np.empty(3 * nb)
+        winv[0::3] = 1.0 / bpar[:, 0]
+        winv[1::3] = 1.0 / bpar[:, 0]
+        winv[2::3] = 1.0 / bpar[:, 1]
+        return dict(nb=nb, bpar=bpar, winv=winv, fext=fext, dpar=dpar, jint=jint, jpar=jpar, cint=cint, cpar=cpar, prof=prof,
                     ngrid=ngrid, cstate=np.zeros((ncj, 2)), baum=baum)
 
     def state_from_poses(self, poses: dict[str, tuple[float, float, float]]) -> np.ndarray:
