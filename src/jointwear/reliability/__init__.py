@@ -1,1 +1,29 @@
-"""jointwear.reliability"""
+"""jointwear.reliability: a reliability engine for any vectorised limit state (it knows nothing about wear).
+
+Failure is g(X) < 0; inputs are independent, given as frozen ``scipy.stats`` marginals. See
+``docs/reliability.md`` for the methods, choices, NaN rule and benchmark numbers.
+"""
+
+from ._core import (
+    Evaluator,
+    IsoTransform,
+    IterationRecord,
+    MultiReliabilityResult,
+    ReliabilityResult,
+    check_marginals,
+)
+from .akmcs import akmcs, akmcs_multi, esc_error
+from .kriging import KrigingSurrogate
+
+__all__ = [
+    "akmcs",
+    "akmcs_multi",
+    "esc_error",
+    "KrigingSurrogate",
+    "Evaluator",
+    "IsoTransform",
+    "IterationRecord",
+    "ReliabilityResult",
+    "MultiReliabilityResult",
+    "check_marginals",
+]

@@ -1,0 +1,410 @@
+"""AK-MCS: active-learning Kriging + Monte Carlo simulation (Echard, Gayton & Lemaire 2011), extended.
+
+Algorithm (standard-normal space u, x = T(u)):
+
+1. Monte Carlo population of ``n_mc`` points u ~ N(0, I) (the candidates).
+2. Initial design: ``n_initial`` Latin hypercube points, uniform in [-b, b]^d with b = ``initial_bound`` = 5
+   (for normal inputs exactly the paper's [mu - 5 sigma, mu + 5 sigma]; for other marginals the same
+   probability content), evaluated with the model.
+3. Fit one ordinary Kriging per limit state (constant trend, Gaussian correlation; :mod:`.kriging`).
+4. Predict mean mu and standard deviation s on the population; U = |mu| / s; Pf = share of candidates with
+   mu < 0 (evaluated candidates use their true value; a failed call counts as failure).
+5. Learning stop (``stopping``):
+   * ``"u"`` (paper): min U >= ``u_threshold`` (2: probability of a wrong sign <= Phi(-2) = 2.3 % everywhere).
+   * ``"error"``: the estimated relative error of Pf caused by candidates whose sign may be wrong is below
+     ``error_tol`` (ESC of Wang & Shafieezadeh 2019: the numbers of wrongly-safe and wrongly-failed candidates
+     are Poisson-binomial with probabilities Phi(-U); their 95 % upper bounds N_sf, N_fs give
+     eps = max(N_fs / (N_f - N_fs), N_sf / (N_f + N_sf))). It stops long before min U >= 2 once the remaining
+     uncertain candidates cannot move Pf by more than the tolerance.
+   Before stopping, a surrogate whose hyperparameters were carried over is re-optimised and re-checked.
+6. If not stopped: add ``batch_size`` points (lowest U; for k > 1 the lowest-U point of each of k k-means
+   clusters of the uncertain candidates, so the batch is spread over the limit state and can run in
+   parallel), evaluate, go to 3.
+7. When stopped: if COV(Pf) = sqrt((1 - Pf) / ((N - 1) Pf)) >= ``cov_target``, grow the population to the size
+   that meets it (+10 %) and go to 4; otherwise done.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+from collections.abc import Callable, MutableMapping, Sequence
+
+import numpy as np
+from scipy.cluster.vq import kmeans2
+from scipy.special import ndtr
+from scipy.stats import qmc
+
+from ._core import (
+    IsoTransform,
+    IterationRecord,
+    MultiReliabilityResult,
+    ReliabilityResult,
+    check_marginals,
+    check_positive,
+    check_positive_int,
+    make_evaluator,
+    mc_cov,
+    pf_to_beta,
+)
+from .kriging import KrigingSurrogate
+
+__all__ = ["akmcs", "akmcs_multi", "esc_error"]
+
+_Z95 = 1.959963984540054
+
+
+def esc_error(u: np.ndarray, fail: np.ndarray, known: np.ndarray | None = None, z: float = _Z95) -> float:
+    """Estimated maximum relative error of Pf from the surrogate's sign uncertainty (ESC criterion).
+
+    ``u``: U values of the candidates; ``fail``: predicted failure flags; ``known``: candidates whose sign
+    is known exactly (evaluated). Returns +inf when no candidate is predicted to fail.
+    """
+    p = ndtr(-u)
+    if known is not None:
+        p = np.where(known, 0.0, p)
+    n_f = float(np.count_nonzero(fail))
+    pf_, ps_ = p[fail], p[~fail]
+    n_fs = float(pf_.sum() + z * math.sqrt(float((pf_ * (1 - pf_)).sum())))
+    n_sf = float(ps_.sum() + z * math.sqrt(float((ps_ * (1 - ps_)).sum())))
+    if n_f - n_fs <= 0:
+        return math.inf
+    return max(n_fs / (n_f - n_fs), n_sf / (n_f + n_sf))
+
+
+def _select_batch(score: np.ndarray, u_pop: np.ndarray, k: int, threshold: float, rng: np.random.Generator,
+                  exclude: np.ndarray) -> np.ndarray:
+    """Indices of k candidates to evaluate: lowest score; for k > 1 spread by k-means."""
+    score = np.where(exclude, np.inf, score)
+    if k == 1:
+        return np.array([int(np.argmin(score))])
+    pool = np.flatnonzero(score < threshold)
+    cap = max(50 * k, 2000)
+    if pool.size > cap:  # the most uncertain candidates are enough to find k regions
+        pool = pool[np.argpartition(score[pool], cap)[:cap]]
+    if pool.size <= k:
+        order = np.argsort(score)
+        return order[: k][np.isfinite(score[order[:k]])]
+    seed = int(rng.integers(2**31 - 1))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # empty-cluster warnings: handled below
+        _, labels = kmeans2(u_pop[pool], k, minit="++", seed=seed)
+    chosen = []
+    for c in range(k):
+        members = pool[labels == c]
+        if members.size:
+            chosen.append(int(members[np.argmin(score[members])]))
+    if len(chosen) < k:  # empty clusters: fill with the next lowest scores
+        rest = pool[np.argsort(score[pool])]
+        for i in rest:
+            if len(chosen) == k:
+                break
+            if i not in chosen:
+                chosen.append(int(i))
+    return np.array(chosen)
+
+
+def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch_size, u_threshold, cov_target,
+         stopping, error_tol, max_calls, seed, executor, evaluator, cache, on_evaluate, progress, nan_policy,
+         pf_floor, kriging, refit_growth, full_sweep_every=10):
+    t_start = time.perf_counter()
+    marginals = check_marginals(marginals)
+    d = len(marginals)
+    n_mc = check_positive_int("n_mc", n_mc, 2)
+    n_mc_max = max(n_mc, check_positive_int("n_mc_max", n_mc_max, 2))
+    n_initial = check_positive_int("n_initial", max(12, 2 * d + 2) if n_initial is None else n_initial, 2)
+    batch_size = check_positive_int("batch_size", batch_size)
+    u_threshold = check_positive("u_threshold", u_threshold)
+    cov_target = check_positive("cov_target", cov_target)
+    initial_bound = check_positive("initial_bound", initial_bound)
+    if stopping not in ("u", "error"):
+        raise ValueError(f"stopping must be 'u' (min U >= u_threshold) or 'error' (ESC); got {stopping!r}")
+    error_tol = check_positive("error_tol", error_tol)
+    max_calls = check_positive_int("max_calls", max_calls, n_initial)
+    if not (0.0 <= pf_floor < 1.0):
+        raise ValueError(f"pf_floor must be in [0, 1); got {pf_floor!r}")
+
+    rng = np.random.default_rng(seed)
+    transform = IsoTransform(marginals)
+    ev = make_evaluator(g, d, evaluator=evaluator, executor=executor, cache=cache, on_evaluate=on_evaluate,
+                        nan_policy=nan_policy, n_outputs="auto" if multi else None)
+
+    u_pop = rng.standard_normal((n_mc, d))
+    lhs = qmc.LatinHypercube(d=d, seed=rng).random(n_initial)
+    design_u = (2.0 * lhs - 1.0) * initial_bound
+    G0 = np.asarray(ev.evaluate(transform.to_x(design_u)), dtype=float)
+    G0 = G0 if G0.ndim == 2 else G0[:, None]
+    if multi and G0.ndim == 2 and G0.shape[1] < 1:
+        raise ValueError("g returned zero columns")
+    if not np.isfinite(G0).any():
+        reason = next(iter(getattr(ev, "failure_reasons", {}).values()), "g returned NaN")
+        raise ValueError(
+            f"g returned NaN (or failed) for every one of the {n_initial} initial design points ({reason}); "
+            "check g and that it expects X with one column per marginal "
+            f"({d} marginals given)"
+        )
+    design_g = G0
+    m = design_g.shape[1]
+    kriging = dict(kriging or {})
+    surrogates = [KrigingSurrogate(seed=(None if seed is None else int(seed) * 1000 + j), **kriging)
+                  for j in range(m)]
+    n_at_opt = [0] * m  # training size at the last hyperparameter optimisation
+
+    known_idx: list[int] = []  # population indices already evaluated
+    known_g: list[np.ndarray] = []
+
+    history: list[IterationRecord] = []
+    message = ""
+    converged = False
+    iteration = 0
+    force_opt = np.zeros(m, dtype=bool)
+    # Active-set prediction: a full sweep over the population computes U everywhere; in between, only the
+    # candidates that had U < u_active at the last sweep are re-predicted (the others keep their last sign).
+    # Full sweeps happen after every hyperparameter optimisation, every `full_sweep_every` iterations, after
+    # the population grows and always before a stop is accepted, so the stopping decision is exact.
+    u_active = u_threshold + 2.0
+    U = np.full((u_pop.shape[0], m), np.inf)
+    fail = np.zeros((u_pop.shape[0], m), dtype=bool)
+    active_idx = np.arange(u_pop.shape[0])
+    need_full = True
+    since_full = 0
+    sweep_scales: list = [None] * m
+    while True:
+        # ---- fit
+        for j in range(m):
+            ok = np.isfinite(design_g[:, j])
+            n_ok = int(ok.sum())
+            if n_ok < 2:
+                raise ValueError(f"column {j}: fewer than 2 finite g values in the design; cannot fit Kriging")
+            optimize = (force_opt[j] or n_at_opt[j] == 0 or n_ok <= 30
+                        or n_ok >= (1.0 + refit_growth) * n_at_opt[j])
+            surrogates[j].fit(design_u[ok], design_g[ok, j], optimize=optimize)
+            if optimize:
+                n_at_opt[j] = n_ok
+                sc = np.log(surrogates[j].hyperparameters.scale)
+                if sweep_scales[j] is None or np.max(np.abs(sc - sweep_scales[j])) > 0.2:
+                    need_full = True  # the surrogate may have changed everywhere
+        force_opt[:] = False
+        # ---- predict on the population (all of it, or the active set)
+        n_pop = u_pop.shape[0]
+        if U.shape[0] < n_pop:  # the population grew
+            U = np.vstack([U, np.full((n_pop - U.shape[0], m), np.inf)])
+            fail = np.vstack([fail, np.zeros((n_pop - fail.shape[0], m), dtype=bool)])
+            need_full = True
+        if since_full >= full_sweep_every:
+            need_full = True
+        was_full = need_full
+        idx = slice(None) if need_full else active_idx
+        known = np.zeros(n_pop, dtype=bool)
+        kidx = np.array(known_idx, dtype=int)
+        known[kidx] = True
+        kg = np.array(known_g).reshape(len(known_idx), m) if known_idx else np.empty((0, m))
+        pf = np.empty(m)
+        err = np.empty(m)
+        for j in range(m):
+            mu, var = surrogates[j].predict(u_pop[idx])
+            sd = np.sqrt(var)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                Uj = np.abs(mu) / sd
+            Uj[~np.isfinite(Uj)] = np.inf  # zero variance: the sign is certain
+            U[idx, j] = Uj
+            fail[idx, j] = mu < 0
+            if kidx.size:
+                U[kidx, j] = np.inf
+                fail[kidx, j] = ~(kg[:, j] >= 0)  # NaN -> failure (conservative)
+            pf[j] = fail[:, j].mean()
+            err[j] = esc_error(U[:, j], fail[:, j], known)
+        if need_full:
+            active_idx = np.flatnonzero(U.min(axis=1) < u_active)
+            sweep_scales = [np.log(sur.hyperparameters.scale) for sur in surrogates]
+            need_full = False
+            since_full = 0
+        else:
+            since_full += 1
+        cov = np.atleast_1d(mc_cov(pf, n_pop))
+        min_u = U.min(axis=0)
+        rec = IterationRecord(iteration=iteration, n_calls=ev.n_calls, n_mc=n_pop,
+                              pf=pf.copy() if multi else float(pf[0]), cov=cov.copy() if multi else float(cov[0]),
+                              min_u=min_u.copy() if multi else float(min_u[0]),
+                              error=err.copy() if multi else float(err[0]),
+                              wall_seconds=time.perf_counter() - t_start)
+        history.append(rec)
+        if progress is not None:
+            progress(rec)
+        iteration += 1
+
+        # ---- learning convergence per column
+        learned = min_u >= u_threshold
+        if stopping == "error":
+            learned |= err <= error_tol
+        if learned.all():
+            # the last fit may have reused hyperparameters: re-optimise once before accepting
+            stale = np.array([n_at_opt[j] != int(np.isfinite(design_g[:, j]).sum()) for j in range(m)])
+            if stale.any() or not was_full:
+                force_opt[:] = stale
+                need_full = True
+                continue
+            below = pf < pf_floor if multi else np.zeros(m, dtype=bool)
+            need = (~below) & ~(cov < cov_target)
+            if not need.any():
+                converged = True
+                message = "converged"
+                break
+            if n_pop >= n_mc_max:
+                message = (f"COV target {cov_target} not met with the maximum population n_mc_max={n_mc_max} "
+                           f"(pf={pf[need].min():.3g}); use subset_simulation for small pf or raise n_mc_max")
+                break
+            with np.errstate(divide="ignore"):
+                target = np.where(pf[need] > 0, (1.0 - pf[need]) / (cov_target**2 * pf[need]) + 1.0, 2.0 * n_pop)
+            new_n = int(min(n_mc_max, max(1.1 * target.max(), 1.2 * n_pop)))
+            u_pop = np.vstack([u_pop, rng.standard_normal((new_n - n_pop, d))])
+            need_full = True
+            continue
+        if ev.n_calls >= max_calls:
+            message = f"max_calls={max_calls} reached before the learning criterion was met"
+            break
+        # ---- enrichment
+        active = ~learned
+        score = U[:, active].min(axis=1)
+        k = min(batch_size, max_calls - ev.n_calls)
+        sel = _select_batch(score, u_pop, k, u_threshold, rng, known)
+        if sel.size == 0:
+            message = "no candidate left to evaluate"
+            break
+        new_u = u_pop[sel]
+        Gn = np.asarray(ev.evaluate(transform.to_x(new_u)), dtype=float).reshape(sel.size, m)
+        design_u = np.vstack([design_u, new_u])
+        design_g = np.vstack([design_g, Gn])
+        known_idx.extend(int(i) for i in sel)
+        known_g.extend(Gn)
+
+    pf_col = fail.mean(axis=0)
+    cov_col = np.atleast_1d(mc_cov(pf_col, u_pop.shape[0]))
+    design_x = getattr(ev, "design_x", None)
+    if design_x is None or len(design_x) != design_u.shape[0]:
+        design_x = transform.to_x(design_u)
+    common = dict(n_calls=int(design_u.shape[0]), design_x=design_x, design_u=design_u,
+                  n_failed_calls=int(getattr(ev, "n_failed_calls", int((~np.isfinite(design_g)).any(axis=1).sum()))),
+                  failure_reasons=dict(getattr(ev, "failure_reasons", {})), history=history, n_mc=int(u_pop.shape[0]),
+                  message=message, wall_seconds=time.perf_counter() - t_start)
+    if multi:
+        below = pf_col < pf_floor
+        col_ok = (min_u >= u_threshold) | ((err <= error_tol) if stopping == "error" else False)
+        col_ok = col_ok & (below | (cov_col < cov_target))
+        return MultiReliabilityResult(pf=pf_col, cov=cov_col, beta=np.atleast_1d(pf_to_beta(pf_col)),
+                                      converged=converged, column_converged=col_ok, below_floor=below,
+                                      design_g=design_g, surrogates=surrogates, min_u=min_u, error_estimate=err,
+                                      **common)
+    return ReliabilityResult(method="akmcs", pf=float(pf_col[0]), cov=float(cov_col[0]), beta=pf_to_beta(pf_col[0]),
+                             converged=converged, design_g=design_g[:, 0], surrogate=surrogates[0],
+                             error_estimate=float(err[0]), details={"min_u": float(min_u[0])}, **common)
+
+
+def akmcs(
+    g: Callable[[np.ndarray], np.ndarray],
+    marginals: Sequence,
+    *,
+    n_mc: int = 100_000,
+    n_mc_max: int = 5_000_000,
+    n_initial: int | None = None,
+    initial_bound: float = 5.0,
+    batch_size: int = 1,
+    u_threshold: float = 2.0,
+    cov_target: float = 0.05,
+    stopping: str = "u",
+    error_tol: float = 0.01,
+    max_calls: int = 1000,
+    seed: int | None = 0,
+    executor=None,
+    evaluator=None,
+    cache: MutableMapping | None = None,
+    on_evaluate: Callable | None = None,
+    progress: Callable[[IterationRecord], None] | None = None,
+    nan_policy: str = "failure",
+    kriging: dict | None = None,
+    refit_growth: float = 0.1,
+) -> ReliabilityResult:
+    """AK-MCS estimate of Pf = P[g(X) < 0] for independent inputs X_i ~ ``marginals[i]``.
+
+    Parameters
+    ----------
+    g:
+        Vectorised limit state: X of shape (n, d) (physical units) -> array of shape (n,); failure where g < 0.
+    marginals:
+        Sequence of d frozen ``scipy.stats`` continuous distributions (independent inputs).
+    n_mc, n_mc_max:
+        Initial and maximum Monte Carlo population (candidates). The population grows until
+        COV(Pf) < ``cov_target``. Default 1e5 (COV 5 % down to Pf ~ 4e-3) and 5e6 (Pf ~ 8e-5).
+    n_initial:
+        Initial Latin hypercube design size; default max(12, 2 d + 2) (12 as in Echard et al. 2011).
+    initial_bound:
+        The initial design is uniform in [-b, b]^d in standard-normal space (b = 5: mu +/- 5 sigma).
+    batch_size:
+        Points added per iteration (k-means spread; evaluated together, in parallel with an executor).
+    u_threshold, stopping, error_tol:
+        Learning stop, see the module docstring: ``"u"`` min U >= u_threshold (paper),
+        ``"error"`` ESC estimated relative error <= error_tol (or min U >= u_threshold, whichever first).
+    cov_target:
+        Required coefficient of variation of the Monte Carlo estimate.
+    max_calls:
+        Budget of model calls (initial design included).
+    seed:
+        Seed of every random choice (population, design, k-means, multistart); same seed, same result.
+    executor, evaluator, cache, on_evaluate, nan_policy:
+        How the model is called; see :class:`jointwear.reliability.Evaluator`. ``evaluator`` (any object with
+        ``evaluate(X) -> G``) replaces the default one entirely.
+    progress:
+        Called with an :class:`IterationRecord` (pf, cov, min_u, error, n_calls) after every iteration.
+    kriging:
+        Keyword arguments for :class:`KrigingSurrogate` (nugget, scale_bounds, n_starts, chunk_size).
+    refit_growth:
+        Hyperparameters are re-optimised when the design has grown by this fraction since the last
+        optimisation (and always while it has <= 30 points, and before stopping); in between, the Kriging is
+        re-conditioned with the previous correlation lengths (exact interpolation, much cheaper).
+    """
+    return _run(g, marginals, multi=False, n_mc=n_mc, n_mc_max=n_mc_max, n_initial=n_initial,
+                initial_bound=initial_bound, batch_size=batch_size, u_threshold=u_threshold, cov_target=cov_target,
+                stopping=stopping, error_tol=error_tol, max_calls=max_calls, seed=seed, executor=executor,
+                evaluator=evaluator, cache=cache, on_evaluate=on_evaluate, progress=progress,
+                nan_policy=nan_policy, pf_floor=0.0, kriging=kriging, refit_growth=refit_growth)
+
+
+def akmcs_multi(
+    g: Callable[[np.ndarray], np.ndarray],
+    marginals: Sequence,
+    *,
+    n_mc: int = 100_000,
+    n_mc_max: int = 5_000_000,
+    n_initial: int | None = None,
+    initial_bound: float = 5.0,
+    batch_size: int = 1,
+    u_threshold: float = 2.0,
+    cov_target: float = 0.05,
+    stopping: str = "u",
+    error_tol: float = 0.01,
+    pf_floor: float = 1e-3,
+    max_calls: int = 2000,
+    seed: int | None = 0,
+    executor=None,
+    evaluator=None,
+    cache: MutableMapping | None = None,
+    on_evaluate: Callable | None = None,
+    progress: Callable[[IterationRecord], None] | None = None,
+    nan_policy: str = "failure",
+    kriging: dict | None = None,
+    refit_growth: float = 0.1,
+) -> MultiReliabilityResult:
+    """AK-MCS for m limit states sharing one design (e.g. one model call -> the limit state at m cycle counts).
+
+    g returns shape (n, m). One Kriging per column; every iteration adds the candidate with the lowest U over
+    the columns that have not met the learning criterion, so the final design meets it for *every* column.
+    The population grows until every column with Pf >= ``pf_floor`` has COV < ``cov_target``; columns below
+    the floor (``below_floor``) meet the U criterion but their COV is reported, not enforced (a Pf of 1e-5
+    would need 4e7 candidates). Other parameters as :func:`akmcs`.
+    """
+    return _run(g, marginals, multi=True, n_mc=n_mc, n_mc_max=n_mc_max, n_initial=n_initial,
+                initial_bound=initial_bound, batch_size=batch_size, u_threshold=u_threshold, cov_target=cov_target,
+                stopping=stopping, error_tol=error_tol, max_calls=max_calls, seed=seed, executor=executor,
+                evaluator=evaluator, cache=cache, on_evaluate=on_evaluate, progress=progress,
+                nan_policy=nan_policy, pf_floor=pf_floor, kriging=kriging, refit_growth=refit_growth)

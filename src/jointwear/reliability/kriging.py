@@ -1,0 +1,301 @@
+"""Ordinary Kriging surrogate: OpenTURNS fits, numpy predicts.
+
+Model: ``Y(u) = beta + Z(u)`` with a constant trend ``beta`` and a stationary Gaussian process ``Z`` of
+variance ``sigma^2`` and squared-exponential (Gaussian) correlation
+
+    R(u, u') = exp(-1/2 * sum_i ((u_i - u'_i) / theta_i)^2)
+
+(the DACE / Echard et al. 2011 model; OpenTURNS' ``SquaredExponential`` uses the same parametrisation).
+
+* Fitting (the hyperparameters ``theta``, then ``beta`` and ``sigma^2`` in closed form) is done by
+  OpenTURNS' ``GaussianProcessFitter`` (maximum likelihood), with bounds on the scales, a small nugget,
+  an optional multistart, a warm start from the previous fit and a fallback to the previous hyperparameters
+  when a fit fails or is worse (by the concentrated likelihood) than the previous one. The choice of
+  library is measured in ``docs/reliability.md``.
+* Prediction is done here with numpy from the fitted hyperparameters: one Cholesky factorisation of the
+  correlation matrix, then per chunk of candidates one BLAS product for the squared distances, one
+  element-wise ``exp``, and one BLAS product ``r @ L^-T`` for the variance. It reproduces OpenTURNS'
+  ``GaussianProcessRegression`` mean and ``GaussianProcessConditionalCovariance`` variance (tested), and is
+  ~20-50x faster on 1e6 candidates.
+
+The variance is the universal-Kriging (DACE) mean squared error, which accounts for the estimated trend:
+
+    s^2(u) = sigma^2 * (1 - r^T R^-1 r + (1 - 1^T R^-1 r)^2 / (1^T R^-1 1))
+
+Outputs are standardised (zero mean, unit variance) before fitting and mapped back on prediction, so limit
+states in any unit (metres of wear, pascals) fit the same way.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import warnings
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.linalg import cho_solve, solve_triangular
+
+__all__ = ["KrigingSurrogate", "KrigingHyperparameters"]
+
+
+@dataclass(frozen=True)
+class KrigingHyperparameters:
+    """Fitted hyperparameters, on the standardised output scale."""
+
+    scale: np.ndarray  # correlation lengths theta_i (input units: standard-normal space)
+    nugget: float  # relative nugget added to the diagonal of the correlation matrix
+
+
+@dataclass
+class _Conditioned:
+    x: np.ndarray  # (n, d) training inputs divided by the scales
+    x_sq: np.ndarray  # (n,) squared norms of x
+    chol: np.ndarray  # (n, n) lower Cholesky factor of R + nugget I
+    chol_inv_t: np.ndarray  # (n, n) L^-T, so that r @ L^-T = (L^-1 r)^T
+    alpha: np.ndarray  # R^-1 (y - beta)
+    w: np.ndarray  # R^-1 1
+    s1: float  # 1^T R^-1 1
+    beta: float  # GLS constant trend (standardised scale)
+    sigma2: float  # process variance (standardised scale)
+    loglik: float  # concentrated log-likelihood
+
+
+def _corr(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Gaussian correlation between pre-scaled point sets a (m, d) and b (n, d)."""
+    d2 = np.sum(a * a, axis=1)[:, None] + np.sum(b * b, axis=1)[None, :] - 2.0 * (a @ b.T)
+    np.maximum(d2, 0.0, out=d2)
+    d2 *= -0.5
+    return np.exp(d2, out=d2)
+
+
+def _condition(x_scaled: np.ndarray, y: np.ndarray, nugget: float) -> _Conditioned:
+    """Closed-form part of ordinary Kriging for fixed correlation lengths (raises LinAlgError)."""
+    n = x_scaled.shape[0]
+    r = _corr(x_scaled, x_scaled)
+    r[np.diag_indices(n)] += nugget
+    chol = np.linalg.cholesky(r)
+    ones = np.ones(n)
+    w = cho_solve((chol, True), ones)
+    s1 = float(ones @ w)
+    beta = float(w @ y) / s1
+    resid = y - beta
+    alpha = cho_solve((chol, True), resid)
+    sigma2 = max(float(resid @ alpha) / n, 1e-300)
+    # concentrated (profile) log-likelihood, up to a constant
+    loglik = -0.5 * n * math.log(sigma2) - float(np.sum(np.log(np.diag(chol))))
+    chol_inv_t = solve_triangular(chol, np.eye(n), lower=True).T.copy()
+    return _Conditioned(
+        x=x_scaled,
+        x_sq=np.sum(x_scaled * x_scaled, axis=1),
+        chol=chol,
+        chol_inv_t=chol_inv_t,
+        alpha=alpha,
+        w=w,
+        s1=s1,
+        beta=beta,
+        sigma2=sigma2,
+        loglik=loglik,
+    )
+
+
+@dataclass
+class KrigingSurrogate:
+    """Ordinary Kriging (constant trend, Gaussian correlation) in standard-normal space.
+
+    Parameters
+    ----------
+    nugget:
+        Relative nugget added to the correlation matrix diagonal. Default 1e-10: the smallest value that kept
+        the Cholesky factorisation positive definite with nearly duplicated AK-MCS design points on the
+        benchmark problems; it is multiplied by 10 (up to 1e-4) whenever the factorisation fails.
+    scale_bounds:
+        Bounds on every correlation length, in standard-normal units. Default (0.01, 100): from well below the
+        period of the modified Rastrigin function (~0.3 after scaling) to far beyond the +/-5 design box
+        (a nearly linear limit state).
+    n_starts:
+        Number of starting points of the likelihood optimisation (the previous optimum, then log-uniform
+        Latin hypercube points within the bounds). 1 means a warm start only.
+    seed:
+        Seed of the multistart points.
+    """
+
+    nugget: float = 1e-10
+    scale_bounds: tuple[float, float] = (0.01, 100.0)
+    n_starts: int = 3
+    seed: int | None = 0
+    chunk_size: int = 4096
+    n_threads: int | None = None
+    hyperparameters: KrigingHyperparameters | None = None
+    n_fit_failures: int = 0
+    _cond: _Conditioned | None = field(default=None, repr=False)
+    _x: np.ndarray | None = field(default=None, repr=False)
+    _y: np.ndarray | None = field(default=None, repr=False)
+    _ymean: float = 0.0
+    _ystd: float = 1.0
+
+    # ------------------------------------------------------------------ fitting
+    @property
+    def n_train(self) -> int:
+        return 0 if self._x is None else self._x.shape[0]
+
+    def fit(self, x: np.ndarray, y: np.ndarray, *, optimize: bool = True) -> "KrigingSurrogate":
+        """Fit to training data; ``optimize=False`` keeps the correlation lengths (cheap update)."""
+        x = np.ascontiguousarray(x, dtype=float)
+        y = np.asarray(y, dtype=float).ravel()
+        if x.ndim != 2 or x.shape[0] != y.shape[0]:
+            raise ValueError(f"KrigingSurrogate.fit: x {x.shape} and y {y.shape} do not match")
+        if not np.all(np.isfinite(y)) or not np.all(np.isfinite(x)):
+            raise ValueError("KrigingSurrogate.fit: training data must be finite")
+        d = x.shape[1]
+        self._x, self._y = x, y
+        self._ymean = float(np.mean(y))
+        std = float(np.std(y))
+        self._ystd = std if std > 0 else 1.0
+        ys = (y - self._ymean) / self._ystd
+
+        candidates: list[np.ndarray] = []
+        if self.hyperparameters is not None:
+            candidates.append(np.asarray(self.hyperparameters.scale, dtype=float))
+        if optimize or self.hyperparameters is None:
+            try:
+                candidates.extend(self._fit_openturns(x, ys))
+            except Exception as exc:  # OpenTURNS can fail on ill-conditioned designs: keep last good fit
+                self.n_fit_failures += 1
+                warnings.warn(f"Kriging fit failed ({exc}); keeping previous hyperparameters", RuntimeWarning)
+            if not candidates:
+                candidates.append(np.full(d, 0.5 * (np.ptp(x, axis=0).mean() + 1e-12)))
+
+        best: tuple[_Conditioned, np.ndarray, float] | None = None
+        for scale in candidates:
+            nug = self.nugget
+            while nug <= 1e-4:
+                try:
+                    cond = _condition(x / scale, ys, nug)
+                except np.linalg.LinAlgError:
+                    nug *= 10.0
+                    continue
+                if best is None or cond.loglik > best[0].loglik:
+                    best = (cond, scale, nug)
+                break
+        if best is None:
+            raise np.linalg.LinAlgError("Kriging: correlation matrix not positive definite even with nugget 1e-4")
+        cond, scale, nug = best
+        self._cond = cond
+        self.hyperparameters = KrigingHyperparameters(scale=np.array(scale, dtype=float), nugget=nug)
+        return self
+
+    def _fit_openturns(self, x: np.ndarray, ys: np.ndarray) -> list[np.ndarray]:
+        import openturns as ot
+
+        n, d = x.shape
+        lo, hi = self.scale_bounds
+        if self.hyperparameters is not None:
+            start = np.clip(self.hyperparameters.scale, lo * 1.0001, hi * 0.9999)
+        else:
+            start = np.clip(np.ptp(x, axis=0) / 3.0 + 1e-3, lo * 1.0001, hi * 0.9999)
+        cov = ot.SquaredExponential(list(map(float, start)), [1.0])
+        cov.setNuggetFactor(self.nugget)
+        basis = ot.ConstantBasisFactory(d).build()
+        fitter = ot.GaussianProcessFitter(ot.Sample(x), ot.Sample(ys[:, None]), cov, basis)
+        fitter.setOptimizationBounds(ot.Interval([lo] * d, [hi] * d))
+        if self.n_starts > 1:
+            rng = np.random.default_rng(self.seed if self.seed is None else self.seed + n)
+            from scipy.stats import qmc
+
+            lhs = qmc.LatinHypercube(d=d, seed=rng).random(self.n_starts - 1)
+            starts = np.exp(np.log(lo) + (np.log(hi) - np.log(lo)) * (0.15 + 0.5 * lhs))
+            sample = ot.Sample(np.vstack([start[None, :], starts]))
+            fitter.setOptimizationAlgorithm(ot.MultiStart(ot.Cobyla(), sample))
+        flags = ot.Log.Flags()
+        ot.Log.Show(ot.Log.NONE)  # Cobyla "maximum number of evaluations" warnings are expected
+        try:
+            fitter.run()
+        finally:
+            ot.Log.Show(flags)
+        result = fitter.getResult()
+        scale = np.array(result.getCovarianceModel().getScale(), dtype=float)
+        return [scale]
+
+    # --------------------------------------------------------------- prediction
+    def predict(self, u: np.ndarray, *, return_variance: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
+        """Mean and (DACE) variance of the surrogate at points ``u`` of shape (m, d)."""
+        if self._cond is None:
+            raise RuntimeError("KrigingSurrogate.predict called before fit")
+        u = np.asarray(u, dtype=float)
+        if u.ndim == 1:
+            u = u[None, :]
+        m = u.shape[0]
+        mean = np.empty(m)
+        var = np.empty(m) if return_variance else None
+        chunk = max(1, int(self.chunk_size))
+        starts = range(0, m, chunk)
+        scale = self.hyperparameters.scale
+
+        c = self._cond
+        # -0.5 * |a - x|^2 = a.x - 0.5 |a|^2 - 0.5 |x|^2 as one BLAS product of augmented matrices
+        x_aug = np.hstack([c.x, np.ones((c.x.shape[0], 1)), -0.5 * c.x_sq[:, None]])
+        aw = np.column_stack([c.alpha, c.w])
+
+        def work(s: int) -> None:
+            e = min(s + chunk, m)
+            a = u[s:e] / scale
+            a_aug = np.hstack([a, -0.5 * np.einsum("ij,ij->i", a, a)[:, None], np.ones((e - s, 1))])
+            r = a_aug @ x_aug.T
+            np.minimum(r, 0.0, out=r)
+            np.exp(r, out=r)
+            mw = r @ aw
+            mean[s:e] = c.beta + mw[:, 0]
+            if var is not None:
+                v = r @ c.chol_inv_t
+                q = np.einsum("ij,ij->i", v, v)
+                t = 1.0 - mw[:, 1]
+                var[s:e] = c.sigma2 * np.maximum(1.0 - q + t * t / c.s1, 0.0)
+
+        n_threads = self.n_threads or 1  # BLAS already uses the cores; Python threads only contend
+        if n_threads > 1 and m > 4 * chunk:
+            with ThreadPoolExecutor(n_threads) as pool:
+                list(pool.map(work, starts))
+        else:
+            for s in starts:
+                work(s)
+        mean = mean * self._ystd + self._ymean
+        if var is not None:
+            var = var * self._ystd**2
+        return mean, var
+
+    def __call__(self, u: np.ndarray) -> np.ndarray:
+        return self.predict(u, return_variance=False)[0]
+
+    # ------------------------------------------------------------- interop
+    def to_openturns(self):
+        """OpenTURNS ``GaussianProcessRegressionResult`` conditioned on the same data and hyperparameters
+        (correlation lengths fixed, not re-optimised); used to cross-check :meth:`predict`."""
+        import openturns as ot
+
+        if self._cond is None:
+            raise RuntimeError("fit first")
+        d = self._x.shape[1]
+        ys = (self._y - self._ymean) / self._ystd
+        amplitude = math.sqrt(self._cond.sigma2)
+        cov = ot.SquaredExponential(list(map(float, self.hyperparameters.scale)), [amplitude])
+        cov.setNuggetFactor(self.hyperparameters.nugget)
+        fitter = ot.GaussianProcessFitter(
+            ot.Sample(self._x), ot.Sample(ys[:, None]), cov, ot.ConstantBasisFactory(d).build()
+        )
+        fitter.setOptimizeParameters(False)
+        fitter.run()
+        reg = ot.GaussianProcessRegression(fitter.getResult())
+        reg.run()
+        return reg.getResult()
+
+    def predict_openturns(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Mean and variance predicted by OpenTURNS itself (slow; for verification)."""
+        import openturns as ot
+
+        res = self.to_openturns()
+        s = ot.Sample(np.atleast_2d(np.asarray(u, dtype=float)))
+        mean = np.array(res.getMetaModel()(s), dtype=float).ravel()
+        var = np.array(ot.GaussianProcessConditionalCovariance(res).getConditionalMarginalVariance(s)).ravel()
+        return mean * self._ystd + self._ymean, var * self._ystd**2

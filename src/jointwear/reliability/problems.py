@@ -1,0 +1,173 @@
+"""Reliability problems with known answers (tests and ``benchmarks/reliability.py``).
+
+Each problem is a :class:`Problem`: a vectorised limit state, its marginals and a reference Pf with the
+source of that reference.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+from scipy import integrate, stats
+from scipy.special import ndtr
+
+__all__ = ["Problem", "four_branch", "linear", "lognormal_rs", "oscillator", "rastrigin", "four_branch_exact_pf"]
+
+
+@dataclass(frozen=True)
+class Problem:
+    name: str
+    g: Callable[[np.ndarray], np.ndarray]
+    marginals: tuple
+    pf_ref: float
+    ref_source: str
+    echard_calls: int | None = None  # AK-MCS+U calls in Echard, Gayton & Lemaire (2011), Struct. Saf. 33
+    echard_n_mc: int | None = None  # Monte Carlo population they used
+
+
+# ------------------------------------------------------------------------------------------ four-branch
+def _four_branch(x: np.ndarray, k: float) -> np.ndarray:
+    x1, x2 = x[:, 0], x[:, 1]
+    a = 3.0 + 0.1 * (x1 - x2) ** 2
+    s = (x1 + x2) / math.sqrt(2.0)
+    return np.minimum(np.minimum(a - s, a + s), np.minimum((x1 - x2) + k / math.sqrt(2.0), (x2 - x1) + k / math.sqrt(2.0)))
+
+
+class _FourBranch:  # a class, not a closure, so that it pickles for process executors
+    def __init__(self, k: float):
+        self.k = k
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        return _four_branch(np.asarray(x, dtype=float), self.k)
+
+
+def four_branch_exact_pf(k: float) -> float:
+    """Exact Pf of the four-branch system by 1-D quadrature.
+
+    With v1 = (x1 + x2)/sqrt 2 and v2 = (x1 - x2)/sqrt 2 (independent standard normals), failure is
+    |v1| > 3 + 0.2 v2^2 or |v2| > k/2, so Pf = P(|v2| > k/2) + int_{|v2| <= k/2} phi(v2) 2 Phi(-(3 + 0.2 v2^2)) dv2.
+    """
+    tail = 2.0 * ndtr(-k / 2.0)
+    inner, _ = integrate.quad(lambda v: stats.norm.pdf(v) * 2.0 * ndtr(-(3.0 + 0.2 * v * v)), -k / 2, k / 2,
+                              epsabs=1e-14, epsrel=1e-12)
+    return float(tail + inner)
+
+
+def four_branch(k: float = 6.0) -> Problem:
+    """Four-branch series system (Echard et al. 2011, Sec. 5.1), two standard normal inputs."""
+    calls = {6.0: 126, 7.0: 96}.get(float(k))
+    return Problem(
+        name=f"four_branch_k{k:g}",
+        g=_FourBranch(k),
+        marginals=(stats.norm(), stats.norm()),
+        pf_ref=four_branch_exact_pf(k),
+        ref_source="exact, 1-D quadrature in rotated coordinates (four_branch_exact_pf); "
+        "Echard 2011 MCS 1e6: 4.416e-3 (k=6), 2.233e-3 (k=7)",
+        echard_calls=calls,
+        echard_n_mc=1_000_000,
+    )
+
+
+# ------------------------------------------------------------------------------------------ linear
+class _Linear:
+    def __init__(self, beta: float, d: int):
+        self.beta, self.d = beta, d
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        x = np.asarray(x, dtype=float)
+        # inputs N(mu_i, sigma_i) with mu_i = i + 1, sigma_i = 0.5 (i + 1); standardised sum
+        mu = np.arange(1, self.d + 1, dtype=float)
+        u = (x - mu) / (0.5 * mu)
+        return self.beta - u.sum(axis=1) / math.sqrt(self.d)
+
+
+def linear(beta: float = 3.0, d: int = 2) -> Problem:
+    """Linear limit state in d normal inputs of different means/scales: exact Pf = Phi(-beta)."""
+    mu = np.arange(1, d + 1, dtype=float)
+    return Problem(
+        name=f"linear_beta{beta:g}_d{d}",
+        g=_Linear(beta, d),
+        marginals=tuple(stats.norm(m, 0.5 * m) for m in mu),
+        pf_ref=float(ndtr(-beta)),
+        ref_source="exact: Phi(-beta)",
+    )
+
+
+# ------------------------------------------------------------------------------------------ lognormal R - S
+class _RS:
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        x = np.asarray(x, dtype=float)
+        return x[:, 0] - x[:, 1]
+
+
+def lognormal_rs(mean_r: float = 200e6, cov_r: float = 0.1, mean_s: float = 120e6, cov_s: float = 0.2) -> Problem:
+    """g = R - S with lognormal R (resistance, Pa) and S (load, Pa). ln R - ln S is normal, so
+    Pf = Phi(-(lambda_R - lambda_S) / sqrt(zeta_R^2 + zeta_S^2)) exactly."""
+
+    def ln_params(mean: float, cov: float) -> tuple[float, float]:
+        zeta = math.sqrt(math.log(1.0 + cov * cov))
+        return math.log(mean) - 0.5 * zeta * zeta, zeta
+
+    lr, zr = ln_params(mean_r, cov_r)
+    ls, zs = ln_params(mean_s, cov_s)
+    pf = float(ndtr(-(lr - ls) / math.hypot(zr, zs)))
+    return Problem(
+        name="lognormal_r_minus_s",
+        g=_RS(),
+        marginals=(stats.lognorm(s=zr, scale=math.exp(lr)), stats.lognorm(s=zs, scale=math.exp(ls))),
+        pf_ref=pf,
+        ref_source="exact: ln R - ln S normal",
+    )
+
+
+# ------------------------------------------------------------------------------------------ oscillator
+class _Oscillator:
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        x = np.asarray(x, dtype=float)
+        m, c1, c2, r, f1, t1 = (x[:, i] for i in range(6))
+        w0 = np.sqrt((c1 + c2) / m)
+        return 3.0 * r - np.abs(2.0 * f1 / (m * w0**2) * np.sin(w0 * t1 / 2.0))
+
+
+# Reference: crude MCS with 1e8 samples, seed 20261121 (benchmarks/reliability.py --reference); COV 5.8e-4.
+OSCILLATOR_PF_REF = 2.85626e-2
+# Reference: crude MCS with 1e8 samples, seed 20261121; COV 3.6e-4.
+RASTRIGIN_PF_REF = 7.296866e-2
+
+
+def oscillator() -> Problem:
+    """Non-linear undamped single-degree-of-freedom oscillator (Echard et al. 2011, Sec. 5.3), 6 normals."""
+    margs = (stats.norm(1.0, 0.05), stats.norm(1.0, 0.1), stats.norm(0.1, 0.01), stats.norm(0.5, 0.05),
+             stats.norm(1.0, 0.2), stats.norm(1.0, 0.2))
+    return Problem(
+        name="oscillator",
+        g=_Oscillator(),
+        marginals=margs,
+        pf_ref=OSCILLATOR_PF_REF,
+        ref_source="crude MCS 1e8 samples (this repo); Echard 2011 MCS 7e4: 2.850e-2",
+        echard_calls=58,
+        echard_n_mc=70_000,
+    )
+
+
+class _Rastrigin:
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        x = np.asarray(x, dtype=float)
+        return 10.0 - np.sum(x * x - 5.0 * np.cos(2.0 * np.pi * x), axis=1)
+
+
+def rastrigin() -> Problem:
+    """Modified Rastrigin function (Echard et al. 2011, Sec. 5.4), two standard normals; non-convex,
+    scattered failure domains."""
+    return Problem(
+        name="rastrigin",
+        g=_Rastrigin(),
+        marginals=(stats.norm(), stats.norm()),
+        pf_ref=RASTRIGIN_PF_REF,
+        ref_source="crude MCS 1e8 samples (this repo); Echard 2011 MCS 6e4: 7.34e-2",
+        echard_calls=416,
+        echard_n_mc=60_000,
+    )
