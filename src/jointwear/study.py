@@ -1,0 +1,436 @@
+"""The wear reliability study: joins the wear model, the random variables and the reliability engine.
+
+One true-model call maps a sample x of the random variables to the whole wear history of the first
+clearance joint, read at the cycle counts of the R(N) curve: delta_max(x, N_1..N_m). The limit state
+of level k is G_k = delta_0 - delta_max(x, N_k) (paper Eq. 42); one shared design serves the whole curve
+(:func:`jointwear.reliability.akmcs_multi`). Samples that cannot run are handled by the rule of
+``config.uncertainty.clearance.infeasible_rule`` (truncated clearance by default) and, for anything else
+(a linkage that cannot assemble, an integrator failure), by the reliability engine's NaN rule: a failed
+call counts as a failure of the mechanism, never as safe, and is reported.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Sequence
+
+import numpy as np
+
+from jointwear.config import ConfigError, StudyConfig, config_from_dict
+
+CLEARANCE_SUFFIX = ".clearance"
+
+
+# ---------------------------------------------------------------------------------------------
+# samples -> configs
+# ---------------------------------------------------------------------------------------------
+def _set_path(data: dict, path: str, value: float) -> None:
+    keys = path.split(".")
+    node: Any = data
+    for key in keys[:-1]:
+        node = node[int(key)] if isinstance(node, list) else node[key]
+    last = keys[-1]
+    if isinstance(node, list):
+        node[int(last)] = value
+    else:
+        if last not in node:
+            raise KeyError(path)
+        node[last] = value
+
+
+def apply_sample(base: StudyConfig | dict, targets: Sequence[str], x: Sequence[float]) -> StudyConfig:
+    """A copy of the config with each target field set to the sample value (SI).
+
+    A target ``clearance_joints.<i>.clearance`` sets the bearing radius to journal radius + c after all
+    other targets (so a sampled journal radius and a sampled clearance combine as R_i = R_j + c).
+    Raises ConfigError when the sample gives an invalid config (e.g. a linkage that cannot assemble).
+    """
+    data = base.model_dump() if isinstance(base, StudyConfig) else json.loads(json.dumps(base))
+    clearances = []
+    for path, value in zip(targets, x):
+        if path.endswith(CLEARANCE_SUFFIX):
+            clearances.append((path[: -len(CLEARANCE_SUFFIX)], float(value)))
+            continue
+        try:
+            _set_path(data, path, float(value))
+        except (KeyError, IndexError, ValueError, TypeError):
+            raise ConfigError(f"uncertainty: target '{path}' is not a field of the config") from None
+    for joint_path, c in clearances:
+        try:
+            node: Any = data
+            for key in joint_path.split("."):
+                node = node[int(key)] if isinstance(node, list) else node[key]
+            node["bearing_radius"] = node["journal_radius"] + c
+        except (KeyError, IndexError, ValueError, TypeError):
+            raise ConfigError(f"uncertainty: target '{joint_path}.clearance' is not a clearance joint") from None
+    return config_from_dict(data, source="sample")
+
+
+def check_targets(config: StudyConfig) -> None:
+    """Every random variable's target must exist in the config (checked once, at the boundary)."""
+    unc = config.uncertainty
+    if unc is None:
+        return
+    specs = unc.all_specs()
+    nominal = [s.mean for s in specs]
+    try:
+        apply_sample(config, [s.target for s in specs], nominal)
+    except ConfigError as exc:
+        raise ConfigError(str(exc).replace("sample: ", "uncertainty (at the nominal values): ")) from None
+
+
+# ---------------------------------------------------------------------------------------------
+# the true model
+# ---------------------------------------------------------------------------------------------
+@dataclass
+class WearModelCall:
+    """One true-model call: sample x -> max bearing wear (m) of joint 0 at each of ``cycles``.
+
+    A plain picklable object so that worker processes and Dask workers can run it.
+    """
+
+    base: dict
+    targets: list[str]
+    cycles: list[int]
+
+    def __call__(self, x: np.ndarray):
+        from jointwear.mechanism import build_model
+        from jointwear.wear import wear_history
+
+        try:
+            cfg = apply_sample(self.base, self.targets, x)
+        except ConfigError as exc:
+            return np.full(len(self.cycles), np.nan), f"infeasible sample: {exc}"
+        model = build_model(cfg)
+        res = wear_history(model, cfg.wear, max(self.cycles))
+        return np.asarray(res.max_wear_at(np.asarray(self.cycles, dtype=float)), dtype=float), "ok"
+
+
+def nominal_wear(config: StudyConfig, n_cycles: int):
+    """Wear history of the nominal mechanism (no sampling)."""
+    from jointwear.mechanism import build_model
+    from jointwear.wear import wear_history
+
+    return wear_history(build_model(config), config.wear, n_cycles)
+
+
+# ---------------------------------------------------------------------------------------------
+# results
+# ---------------------------------------------------------------------------------------------
+@dataclass
+class ReliabilityStudyResult:
+    """R(N) curve, life at the target reliability and the wear distributions of a study."""
+
+    cycles: np.ndarray
+    reliability: np.ndarray
+    pf: np.ndarray
+    pf_cov: np.ndarray
+    below_floor: np.ndarray
+    target: float
+    life_cycles: float | None
+    life_hours: float | None
+    model_calls: int
+    failed_calls: int
+    n_mc: int
+    converged: bool
+    wall_seconds: float
+    names: list[str]
+    histograms: dict
+    mean_max_wear: dict
+    convergence: dict
+    design_x: np.ndarray
+    design_wear: np.ndarray
+    engine: Any = field(repr=False, default=None)
+    population: np.ndarray | None = field(repr=False, default=None)
+    infeasible: dict = field(default_factory=dict)
+
+    def as_json(self) -> dict:
+        return {
+            "curve": {"cycles": self.cycles.tolist(), "reliability": self.reliability.tolist(),
+                      "pf": self.pf.tolist(), "pf_cov": self.pf_cov.tolist(),
+                      "cov_waived_below_pf_floor": self.below_floor.tolist()},
+            "life_at_target": {"target": self.target, "cycles": self.life_cycles, "hours": self.life_hours},
+            "model_calls": self.model_calls,
+            "failed_calls": self.failed_calls,
+            "n_mc": self.n_mc,
+            "converged": self.converged,
+            "wall_seconds": self.wall_seconds,
+            "variables": self.names,
+            "histograms": self.histograms,
+            "mean_max_wear_mm": self.mean_max_wear,
+            "convergence": self.convergence,
+            "infeasible": self.infeasible,
+        }
+
+
+def life_at(cycles: np.ndarray, reliability: np.ndarray, target: float) -> float | None:
+    """First cycle count where R(N) falls to ``target``, by linear interpolation of R(N)."""
+    r = np.asarray(reliability, dtype=float)
+    n = np.asarray(cycles, dtype=float)
+    below = np.nonzero(r <= target)[0]
+    if below.size == 0 or below[0] == 0:
+        return None if below.size == 0 else float(n[0])
+    i = below[0]
+    r0, r1 = r[i - 1], r[i]
+    if r0 == r1:
+        return float(n[i])
+    return float(n[i - 1] + (r0 - target) * (n[i] - n[i - 1]) / (r0 - r1))
+
+
+def crank_speed(config: StudyConfig) -> float:
+    """Crank speed, rad/s."""
+    return float(config.mechanism.crank_speed)
+
+
+def cycles_to_hours(cycles: float, config: StudyConfig) -> float:
+    return cycles * (2.0 * math.pi / abs(crank_speed(config))) / 3600.0
+
+
+# ---------------------------------------------------------------------------------------------
+# the reliability study
+# ---------------------------------------------------------------------------------------------
+@dataclass
+class StudyContext:
+    """What a study's stages share: the config, the random inputs and the evaluator of true-model calls."""
+
+    config: StudyConfig
+    names: list[str]
+    labels: list[str]
+    marginals: list
+    targets: list[str]
+    cycles: list[int]
+    evaluator: Any
+    random_allowance: bool
+
+    @property
+    def allowance(self) -> float:
+        return float(self.config.reliability.allowance)
+
+    def g(self, X: np.ndarray) -> np.ndarray:
+        """Limit states G_k = delta_0 - delta_max(x, N_k), shape (n, m); NaN rows for failed calls."""
+        X = np.atleast_2d(np.asarray(X, dtype=float))
+        if self.random_allowance:
+            wear = np.asarray(self.evaluator(X[:, :-1]), dtype=float).reshape(len(X), -1)
+            return X[:, -1:] - wear
+        wear = np.asarray(self.evaluator(X), dtype=float).reshape(len(X), -1)
+        return self.allowance - wear
+
+
+def study_context(config: StudyConfig, evaluator_factory: Callable[[WearModelCall], Any]) -> StudyContext:
+    """Random inputs and the true model of the study (checked once, here, at the boundary)."""
+    unc = config.uncertainty
+    if unc is None or not unc.all_specs():
+        raise ConfigError("uncertainty: the study needs random variables ([uncertainty] section)")
+    if not config.clearance_joints:
+        raise ConfigError("clearance_joints: the wear study needs at least one clearance joint")
+    check_targets(config)
+    specs = unc.all_specs()
+    names = [s.name for s in specs]
+    labels = [s.label or s.name for s in specs]
+    marginals = unc.marginals()
+    rel = config.reliability
+    cycles = rel.curve_cycles()
+    call = WearModelCall(base=config.model_dump(), targets=[s.target for s in specs], cycles=cycles)
+    random_allowance = rel.allowance_std > 0
+    if random_allowance:
+        from scipy import stats
+
+        names.append("delta_0")
+        labels.append("wear allowance")
+        marginals.append(stats.norm(rel.allowance, rel.allowance_std))
+    return StudyContext(config, names, labels, marginals, [s.target for s in specs], cycles,
+                        evaluator_factory(call), random_allowance)
+
+
+def population(marginals: Sequence, n: int, seed: int) -> np.ndarray:
+    """A Monte Carlo population of the inputs (physical space)."""
+    rng = np.random.default_rng(seed)
+    return np.column_stack([m.rvs(size=n, random_state=rng) for m in marginals])
+
+
+def predict_wear(engine, marginals: Sequence, x: np.ndarray, allowance: np.ndarray | float,
+                 columns: Sequence[int]) -> np.ndarray:
+    """Surrogate prediction of the max wear (m) at the given curve columns, shape (n, len(columns))."""
+    from jointwear.reliability import IsoTransform
+
+    u = IsoTransform(marginals).to_u(x)
+    out = np.empty((len(x), len(columns)))
+    for k, j in enumerate(columns):
+        mu, _ = engine.surrogates[j].predict(u, return_variance=False)
+        out[:, k] = allowance - mu
+    return out
+
+
+def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> ReliabilityStudyResult:
+    """R(N) over the curve's cycle counts from one shared AK-MCS design (paper Sections 5-6.2)."""
+    from jointwear.reliability import akmcs_multi
+
+    rel = ctx.config.reliability
+    t0 = time.perf_counter()
+    engine = akmcs_multi(
+        ctx.g, ctx.marginals, n_mc=rel.n_mc, n_mc_max=rel.n_mc_max, n_initial=rel.n_initial,
+        batch_size=rel.batch_size, u_threshold=rel.u_threshold, cov_target=rel.cov_target,
+        pf_floor=rel.pf_floor, max_calls=rel.max_calls, seed=rel.seed, progress=progress)
+    cycles = np.asarray(ctx.cycles, dtype=float)
+    pf = np.asarray(engine.pf, dtype=float)
+    reliability = 1.0 - pf
+    life = life_at(cycles, reliability, rel.target_reliability)
+
+    # Wear distributions over the random inputs (paper Fig. 20) from the surrogates on a population.
+    n_hist = min(engine.n_mc, 100_000)
+    pop = population(ctx.marginals, n_hist, rel.seed + 1)
+    allowance = pop[:, -1] if ctx.random_allowance else ctx.allowance
+    allow_col = allowance[:, None] if np.ndim(allowance) else allowance
+    wear_all = predict_wear(engine, ctx.marginals, pop, allow_col, range(len(cycles)))
+    hist_cols = [ctx.cycles.index(c) for c in rel.histogram_cycles]
+    histograms = {"cycles": list(rel.histogram_cycles),
+                  "max_wear_mm": [(wear_all[:2000, j] * 1e3).tolist() for j in hist_cols],
+                  "n_samples_shown": 2000, "n_population": int(n_hist)}
+    mean_max = {"cycles": cycles.astype(int).tolist(), "mean": (wear_all.mean(axis=0) * 1e3).tolist(),
+                "std": (wear_all.std(axis=0) * 1e3).tolist()}
+    hist = engine.history
+    convergence = {"n_calls": [h.n_calls for h in hist], "pf": [_first(h.pf) for h in hist],
+                   "min_u": [_first(h.min_u) for h in hist]}
+    design_wear = ctx.allowance - np.asarray(engine.design_g, dtype=float)
+    unc = ctx.config.uncertainty
+    infeasible = {}
+    if unc.clearance is not None:
+        infeasible = {"rule": unc.clearance.infeasible_rule, "minimum_clearance_m": unc.clearance.minimum,
+                      "probability_below_minimum": unc.clearance.infeasible_probability()}
+    infeasible["failed_calls"] = int(engine.n_failed_calls)
+    infeasible["failure_reasons"] = {str(k): v for k, v in engine.failure_reasons.items()}
+    return ReliabilityStudyResult(
+        cycles=cycles, reliability=reliability, pf=pf, pf_cov=np.asarray(engine.cov, dtype=float),
+        below_floor=np.asarray(engine.below_floor, dtype=bool), target=rel.target_reliability,
+        life_cycles=life, life_hours=None if life is None else cycles_to_hours(life, ctx.config),
+        model_calls=int(engine.n_calls), failed_calls=int(engine.n_failed_calls), n_mc=int(engine.n_mc),
+        converged=bool(engine.converged), wall_seconds=time.perf_counter() - t0, names=ctx.names,
+        histograms=histograms, mean_max_wear=mean_max, convergence=convergence,
+        design_x=np.asarray(engine.design_x), design_wear=design_wear, engine=engine, infeasible=infeasible)
+
+
+def _first(value) -> float:
+    arr = np.atleast_1d(np.asarray(value, dtype=float))
+    return float(arr[0]) if arr.size else float("nan")
+
+
+# ---------------------------------------------------------------------------------------------
+# sensitivity
+# ---------------------------------------------------------------------------------------------
+PAPER_RANKINGS = {
+    "tolerance": ["l2", "c", "Rj", "l1", "lBC"],
+    "journal_material": ["HB_j", "E_j", "k_j", "nu_j"],
+    "bearing_material": ["HB_b", "k_b", "E_b", "nu_b"],
+}
+
+
+def run_sensitivity(ctx: StudyContext, reliability: ReliabilityStudyResult) -> dict:
+    """Mean shifts (paper Figs. 22-24), Sobol' indices and reliability derivatives at one cycle count.
+
+    Re-uses the reliability study's surrogate; see docs/sensitivity.md for the two rules:
+
+    * a shift that stays inside the design's region (|shift| <= 4 sigma; the initial design spans +-5
+      sigma) is evaluated on the surrogate with a shifted Monte Carlo population (no model call);
+    * a larger shift (the geometric means moved by 20 % are hundreds of standard deviations away) is
+      evaluated by the *separable scaling* rule: one true-model call at the shifted nominal point and one at
+      the nominal point give the ratio rho of the max wear, and the reliability is P(rho * delta_max(x) <
+      delta_0) over the nominal population. A shifted mechanism that cannot run (e.g. a rod too short to
+      close the loop) has reliability 0, with its reason reported.
+    """
+    from jointwear.sensitivity import mean_shift_table, reliability_derivatives, shifted_marginal, sobol_indices
+
+    sens = ctx.config.sensitivity
+    rel = ctx.config.reliability
+    if sens.cycles not in ctx.cycles:
+        raise ConfigError(f"sensitivity.cycles: {sens.cycles} is not on the R(N) curve grid {ctx.cycles}")
+    col = ctx.cycles.index(sens.cycles)
+    engine = reliability.engine
+    n_pop = min(max(engine.n_mc, 100_000), 400_000)
+    pop = population(ctx.marginals, n_pop, rel.seed + 2)
+
+    def allowance_of(x):
+        return x[:, -1] if ctx.random_allowance else ctx.allowance
+
+    def wear_on(x):
+        return predict_wear(engine, ctx.marginals, x, allowance_of(x), [col])[:, 0]
+
+    wear_nominal_pop = wear_on(pop)
+    r_nominal = float(np.mean(wear_nominal_pop < allowance_of(pop)))
+
+    n_model = len(ctx.targets)
+    means = np.array([m.mean() for m in ctx.marginals[:n_model]])
+    extra_calls = {"n": 0}
+    point_cache: dict[tuple, float] = {}
+
+    def true_wear(x_point: np.ndarray) -> float:
+        key = tuple(np.round(x_point, 15))
+        if key not in point_cache:
+            y = np.asarray(ctx.evaluator(x_point[None, :]), dtype=float).reshape(-1)
+            extra_calls["n"] += 1
+            point_cache[key] = float(y[col])
+        return point_cache[key]
+
+    rules: list[dict] = []
+
+    def reliability_of(marginals):
+        changed = [i for i, (a, b) in enumerate(zip(marginals, ctx.marginals)) if a is not b]
+        if not changed:
+            return r_nominal, 0
+        i = changed[0]
+        shift = marginals[i].mean() - ctx.marginals[i].mean()
+        sigma = ctx.marginals[i].std()
+        if abs(shift) <= 4.0 * sigma:
+            shifted_pop = pop.copy()
+            shifted_pop[:, i] = population([marginals[i]], n_pop, rel.seed + 3 + i)[:, 0]
+            r = float(np.mean(wear_on(shifted_pop) < allowance_of(shifted_pop)))
+            rules.append({"variable": ctx.names[i], "factor": marginals[i].mean() / ctx.marginals[i].mean(),
+                          "rule": "surrogate", "reliability": r})
+            return r, 0
+        before = extra_calls["n"]
+        base_wear = true_wear(means)
+        x_s = means.copy()
+        x_s[i] = marginals[i].mean()
+        shifted_wear = true_wear(x_s)
+        entry = {"variable": ctx.names[i], "factor": marginals[i].mean() / ctx.marginals[i].mean(),
+                 "rule": "separable_scaling"}
+        if not math.isfinite(shifted_wear):
+            entry.update(reliability=0.0, reason="the shifted mechanism could not run (counted as failure)")
+            rules.append(entry)
+            return 0.0, extra_calls["n"] - before
+        rho = shifted_wear / base_wear
+        r = float(np.mean(rho * wear_nominal_pop < allowance_of(pop)))
+        entry.update(reliability=r, wear_ratio=rho)
+        rules.append(entry)
+        return r, extra_calls["n"] - before
+
+    table = mean_shift_table(reliability_of, ctx.marginals, ctx.names, ctx.labels, factors=tuple(sens.factors),
+                             reliability_nominal=r_nominal)
+    sobol = sobol_indices(lambda x: wear_on(x) * 1e3, ctx.marginals, ctx.names, n_base=sens.sobol_base_samples,
+                          seed=rel.seed)
+    deriv = reliability_derivatives(pop, wear_nominal_pop >= allowance_of(pop), ctx.marginals, ctx.names)
+    groups = {}
+    specs = ctx.config.uncertainty.all_specs()
+    for spec in specs:
+        groups.setdefault(spec.group, []).append(spec.name)
+    ranking = table.ranking()
+    ranking_by_group = {g: [n for n in ranking if n in members] for g, members in groups.items()}
+    variables = []
+    for k, name in enumerate(ctx.names):
+        variables.append({
+            "name": name, "label": ctx.labels[k],
+            "group": specs[k].group if k < len(specs) else "other",
+            "reliability_low": table.reliability_low[k], "reliability_high": table.reliability_high[k],
+            "dR_dmean": float(-deriv.dpf_dmean[k]), "dR_dstd": float(-deriv.dpf_dstd[k]),
+            "elasticity_mean": float(-deriv.elasticity_mean[k]) if deriv.pf > 0 else 0.0,
+            "S1": float(sobol.S1[k]), "ST": float(sobol.ST[k]),
+        })
+    return {
+        "cycles": sens.cycles, "factors": list(sens.factors), "reliability_nominal": r_nominal,
+        "variables": variables, "ranking": ranking, "ranking_by_group": ranking_by_group,
+        "paper_ranking_by_group": PAPER_RANKINGS, "rules": rules, "extra_model_calls": extra_calls["n"],
+        "sobol": sobol.as_dict(), "derivatives": deriv.as_dict(), "n_population": n_pop,
+    }
