@@ -42,7 +42,7 @@ def test_every_setting_and_paper_open_flag(full_report: Path, study_dir: Path):
     for s in cfg["settings"]:
         assert s["name"] in page
     n_open = sum(s["paper_open"] for s in cfg["settings"])
-    assert page.count('<tr class="open">') == n_open
+    assert page.count('<tr class="open">') == 2 * n_open  # open table + full list
 
 
 def test_text_is_escaped(full_report: Path):

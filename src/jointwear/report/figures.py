@@ -153,12 +153,13 @@ def orbit_figure(
     y_mm: Array,
     clearance_mm: float | None = None,
     *,
+    angle_labels: bool = False,
     title: str = "Journal centre orbit in the bearing frame",
 ) -> Figure:
     """The journal centre relative to the bearing centre, in the bearing frame, with the clearance circle.
 
-    Plotted in micrometres. The bearing-frame angles of the paper (0 deg at the leftmost point, clockwise) are
-    marked on the clearance circle.
+    Plotted in micrometres. With ``angle_labels`` (only when x, y are already laid as in the paper: x to the
+    right, y up), the paper's bearing angles (0 deg at the leftmost point, clockwise) are marked on the circle.
     """
     x = _arr(x_mm) * 1e3
     y = _arr(y_mm) * 1e3
@@ -169,8 +170,8 @@ def orbit_figure(
     if clearance_mm is not None and clearance_mm > 0:
         c = clearance_mm * 1e3
         ax.add_patch(_circle((0, 0), c, ec=LIMIT_COLOR, ls="--", lw=1.3, label=f"clearance c = {c:.3g} \u00b5m"))
-        for deg, (ha, va) in {0: ("right", "center"), 90: ("center", "bottom"),
-                              180: ("left", "center"), 270: ("center", "top")}.items():
+        for deg, (ha, va) in ({0: ("right", "center"), 90: ("center", "bottom"), 180: ("left", "center"),
+                               270: ("center", "top")} if angle_labels else {}).items():
             t = np.deg2rad(deg)
             px, py = -np.cos(t) * c * 1.06, np.sin(t) * c * 1.06
             ax.text(px, py, f"{deg}\u00b0", ha=ha, va=va, fontsize=8.5, color="#666666")
@@ -301,6 +302,8 @@ def wear_panels_figure(
     force_angle_deg: Array | None = None,
     area_angle_deg: Array | None = None,
     cycles: float | None = None,
+    slip_quantity: str = "relative slip distance",
+    slip_unit: str | None = None,
 ) -> Figure:
     """The paper's Fig. 17: (a) relative slip distance, (b) contact force, (c) contact area and (d) bearing wear
     depth against the angle on the bearing. Panels without data say so. Each quantity may have its own angle
@@ -316,13 +319,16 @@ def wear_panels_figure(
     ax = axes[0, 0]
     panel_letter(ax, "a")
     if slip_mm is not None:
-        s, unit = scale_to_unit(_arr(slip_mm) * 1e-3, "m")
+        if slip_unit is None:  # a distance in mm: shown with a readable prefix
+            s, unit = scale_to_unit(_arr(slip_mm) * 1e-3, "m")
+        else:  # a distribution (for example mm per degree of bearing per cycle): as given
+            s, unit = _arr(slip_mm), slip_unit
         series(ax, slip_angle_deg, s, COLORS[0])
-        ax.set_ylabel(axis_label("relative slip distance", unit))
+        ax.set_ylabel(axis_label(slip_quantity, unit))
         angle_axis(ax, "x")
     else:
-        no_data(ax, "relative slip distance: not provided")
-    ax.set_title("relative slip distance", loc="center", fontweight="normal")
+        no_data(ax, f"{slip_quantity}: not provided")
+    ax.set_title(slip_quantity, loc="center", fontweight="normal")
 
     ax = axes[0, 1]
     panel_letter(ax, "b")

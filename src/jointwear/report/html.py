@@ -212,6 +212,7 @@ _UNITS = {
     "area_mm2": {"mm2": 1.0, "um2": 1e-6, "m2": 1e6},
     "angle_deg": {"deg": 1.0, "rad": 180.0 / math.pi},
     "plain": {"": 1.0},
+    "slip_density": {"mm_per_deg_per_cycle": 1.0},
 }
 
 
@@ -242,6 +243,35 @@ def _pair(inp: Inputs, json_src: Mapping | None, xb, xk, yb, yk):
         if x is not None and y is not None and x.size == y.size:
             return x, y, src
     return None, None, None
+
+
+def _npz_series(inp: Inputs, sim: Mapping) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Orbit and contact force of the first clearance joint from the dynamics stage's ``series_file`` (npz):
+    ``crank_angle_rad``, ``<joint>_eccentricity_bearing_frame_m`` (n x 2), ``<joint>_force_normal_N``."""
+    out: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+    name = sim.get("series_file")
+    if not isinstance(name, str):
+        return out
+    path = (inp.out_dir / name).resolve()
+    if inp.out_dir.resolve() not in path.parents or not path.is_file():
+        return out
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            keys = list(z.files)
+            joints = sim.get("joints") if isinstance(sim.get("joints"), list) else []
+            prefix = f"{joints[0].get('name')}_" if joints and isinstance(joints[0], Mapping) else ""
+            ecc = next((k for k in keys if k.startswith(prefix) and k.endswith("eccentricity_bearing_frame_m")), None)
+            if ecc is not None:
+                e_ = np.asarray(z[ecc], dtype=float)
+                if e_.ndim == 2 and e_.shape[1] == 2:
+                    out["orbit"] = (e_[:, 0] * 1e3, e_[:, 1] * 1e3)
+            fkey = next((k for k in keys if k.startswith(prefix) and k.endswith("force_normal_N")), None)
+            if fkey is not None and "crank_angle_rad" in keys:
+                out["force"] = (np.degrees(np.asarray(z["crank_angle_rad"], dtype=float)),
+                                np.asarray(z[fkey], dtype=float))
+    except Exception:  # an unreadable series file leaves the figures to the other sources
+        return {}
+    return out
 
 
 # ------------------------------------------------------------------------------------------------ html bits
@@ -308,6 +338,7 @@ class _Figures:
             try:
                 uri = to_data_uri(make())
                 self.count += 1
+                self._supersede(png_keys)
                 return _figure_html(uri, caption, wide=wide)
             except Exception as exc:  # a figure that cannot be drawn must not end the report
                 err = f"{type(exc).__name__}: {exc}"
@@ -319,6 +350,14 @@ class _Figures:
         if png:
             return png
         return _missing(missing or f"{caption}: no data in this folder.")
+
+    def _supersede(self, keys: Sequence[str]) -> None:
+        """The stage's own file of a figure drawn here from data is not shown again in the appendix."""
+        for key in keys:
+            for stem in sorted(self.inp.pngs):
+                if stem not in self.inp.used_pngs and key in stem.lower():
+                    self.inp.used_pngs.add(stem)
+                    return
 
     def _png(self, keys: Sequence[str], caption: str = "") -> str | None:
         for key in keys:
@@ -640,23 +679,30 @@ def _settings_section(inp: Inputs, figs: _Figures) -> str:
                                missing="Mechanism sketch: no 'mechanism' geometry in the config dump."))
     parts.append("</div>")
     settings = cfg.get("settings")
-    rows, classes = [], []
     if isinstance(settings, list):
-        for s in settings:
-            if not isinstance(s, Mapping):
-                continue
-            open_ = bool(s.get("paper_open"))
+        recs = [x for x in settings if isinstance(x, Mapping)]
+
+        def row(x: Mapping) -> tuple:
+            open_ = bool(x.get("paper_open"))
             flag = '<span class="pill open">paper open</span>' if open_ else ""
-            rows.append((e(s.get("name")), e(_num(s.get("value"))), e(s.get("unit") or ""), flag,
-                         e(s.get("source") or "\u2014") + (f'<div class="desc">{e(s["description"])}</div>'
-                                                          if s.get("description") else "")))
-            classes.append("open" if open_ else "")
-        n_open = sum(1 for c in classes if c)
-        parts.append(f'<p>{len(rows)} settings; <b>{n_open}</b> of them are left open by the paper (flagged '
-                     "<span class=\"pill open\">paper open</span>): their values are this project's baseline "
-                     "reading, with the source of each choice.</p>")
-        parts.append(_table(["setting", "value", "unit", "", "source"], rows, cls="settings",
-                            raw_cols=(0, 1, 2, 3, 4), row_cls=classes))
+            src = e(x.get("source") or "\u2014")
+            if x.get("description") and x.get("description") != x.get("source"):
+                src += f'<div class="desc">{e(x["description"])}</div>'
+            return (e(x.get("name")), e(_num(x.get("value"))), e(x.get("unit") or ""), flag, src)
+
+        open_recs = [x for x in recs if x.get("paper_open")]
+        parts.append(f"<h3>Settings the paper leaves open ({len(open_recs)})</h3>")
+        parts.append("<p>Each value below is this project's baseline reading of the paper (see the user guide), "
+                     "not a number printed in the paper; the source says where it comes from.</p>")
+        if open_recs:
+            parts.append(_table(["setting", "value", "unit", "", "source"], [row(x) for x in open_recs],
+                                cls="settings", raw_cols=(0, 1, 2, 3, 4), row_cls=["open"] * len(open_recs)))
+        else:
+            parts.append(_missing("No setting is marked paper_open in the config dump."))
+        parts.append(f"<details><summary>All {len(recs)} settings of this study</summary>")
+        parts.append(_table(["setting", "value", "unit", "", "source"], [row(x) for x in recs], cls="settings",
+                            raw_cols=(0, 1, 2, 3, 4), row_cls=["open" if x.get("paper_open") else "" for x in recs]))
+        parts.append("</details>")
     else:
         flat = [(k, v) for k, v in _flatten({k: v for k, v in cfg.items() if k not in ("citation",)})]
         parts.append(_missing("The config dump has no 'settings' list with sources; its values are listed as is."))
@@ -690,7 +736,14 @@ def _dynamics_section(inp: Inputs, figs: _Figures) -> str:
             parts.append(_table(["other result", "value"], extra, cls="kv"))
     x, y, _ = _pair(inp, sim.get("orbit"), ("x", "journal_x", "orbit_x", "ex"), "length_mm",
                     ("y", "journal_y", "orbit_y", "ey"), "length_mm")
+    npz = _npz_series(inp, sim)
+    if x is None and npz.get("orbit") is not None:
+        x, y = npz["orbit"]
     clearance = _float(sim.get("clearance_mm"))
+    if clearance is None:
+        joints = sim.get("joints") if isinstance(sim.get("joints"), list) else []
+        cm = _float(joints[0].get("clearance_m")) if joints and isinstance(joints[0], Mapping) else None
+        clearance = None if cm is None else cm * 1e3
     parts.append('<div class="grid">')
     parts.append(figs.draw(None if x is None else (lambda: F.orbit_figure(x, y, clearance)),
                            "Journal centre orbit relative to the bearing centre, in the bearing (rod) frame; "
@@ -700,6 +753,8 @@ def _dynamics_section(inp: Inputs, figs: _Figures) -> str:
     cf = sim.get("contact_force") if isinstance(sim.get("contact_force"), Mapping) else None
     a, f, src = _pair(inp, cf, ("crank_angle",), "angle_deg", ("force", "contact_force", "normal_force"), "force_N")
     ideal = _lookup([src], ("ideal_force", "ideal"), "force_N") if src is not None else None
+    if a is None and npz.get("force") is not None:
+        a, f = npz["force"]
     if ideal is not None and a is not None and ideal.size != a.size:
         ideal = None
     parts.append(figs.draw(
@@ -744,7 +799,7 @@ def _wear_section(inp: Inputs, figs: _Figures) -> str:
         None if ang is None else (lambda: F.wear_polar_figure(ang, depth, radius_mm=radius, peaks=wear.get("peaks"),
                                                               cycles=cycles)),
         "Bearing wear profile over the initial circle (as the paper's Fig. 18); the radial exaggeration factor "
-        "is written on the figure.", png_keys=("polar", "profile"),
+        "is written on the figure.", png_keys=("polar",),
         missing="Polar wear profile: no profile (wear.json 'profile')."))
     h = wear.get("history") if isinstance(wear.get("history"), Mapping) else {}
     rel = inp.data.get("reliability") or {}
@@ -761,24 +816,27 @@ def _wear_section(inp: Inputs, figs: _Figures) -> str:
     parts.append("</div>")
     # Fig. 17 panels: JSON profile columns first, then CSV columns on an angle grid
     series = {}
-    for key, bases, kind in (("contact_force_N", ("contact_force", "force"), "force_N"),
+    for key, bases, kind in (("contact_force_N", ("contact_force", "force", "contact_force_mean"), "force_N"),
                              ("slip_mm", ("slip", "slip_distance", "relative_slip"), "length_mm"),
-                             ("contact_area_mm2", ("contact_area", "area"), "area_mm2")):
+                             ("slip_density", ("sliding", "slip", "slip_distance"), "slip_density"),
+                             ("contact_area_mm2", ("contact_area", "area", "contact_area_mean"), "area_mm2")):
         a2, v2, _ = _pair(inp, prof, ("angle",), "angle_deg", bases, kind)
         if a2 is not None:
             series[key] = (a2, v2)
+    slip = series.get("slip_mm") or series.get("slip_density") or (None, None)
     if ang is not None:
         parts.append(figs.draw(lambda: F.wear_panels_figure(
             ang, depth, cycles=cycles,
-            slip_mm=series.get("slip_mm", (None, None))[1], slip_angle_deg=series.get("slip_mm", (None, None))[0],
+            slip_mm=slip[1], slip_angle_deg=slip[0], slip_unit=None if "slip_mm" in series else "mm/deg per cycle",
+            slip_quantity="relative slip distance" if "slip_mm" in series else "sliding distance",
             contact_force_N=series.get("contact_force_N", (None, None))[1],
             force_angle_deg=series.get("contact_force_N", (None, None))[0],
             contact_area_mm2=series.get("contact_area_mm2", (None, None))[1],
             area_angle_deg=series.get("contact_area_mm2", (None, None))[0]),
             "Relative slip distance, contact force, contact area and bearing wear depth against the angle on the "
-            "bearing (as the paper's Fig. 17).", png_keys=("fig17", "panels"), wide=True))
+            "bearing (as the paper's Fig. 17).", png_keys=("fig17", "panels", "vs_angle"), wide=True))
     else:
-        parts.append(figs.draw(None, "Fig. 17 panels", png_keys=("fig17", "panels"),
+        parts.append(figs.draw(None, "Fig. 17 panels", png_keys=("fig17", "panels", "vs_angle"),
                                missing="Fig. 17 panels: no wear profile."))
     peaks = [p for p in wear.get("peaks") or [] if isinstance(p, Mapping)]
     if peaks:
@@ -840,7 +898,7 @@ def _reliability_section(inp: Inputs, figs: _Figures) -> str:
         None if not hist.get("cycles") or not hist.get("max_wear_mm") else (lambda: F.wear_histograms_figure(
             hist["cycles"], hist["max_wear_mm"], limit_mm=limit, paper_means=PAPER["mean_max_wear_mm"])),
         "Distribution of the max wear over the random inputs (as the paper's Fig. 20); solid line: mean, dotted: "
-        "the paper's mean, dashed: the allowable wear.", png_keys=("histogram", "hist"), wide=True,
+        "the paper's mean, dashed: the allowable wear.", png_keys=("histogram",), wide=True,
         missing="Max wear histograms: not recorded (reliability.json 'histograms')."))
     if cyc is not None and r is not None:
         rows = []

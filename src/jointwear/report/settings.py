@@ -1,0 +1,169 @@
+"""The study's resolved settings as the report reads them: ``config.json`` in the output folder.
+
+Contract (every key optional; the report lists whatever is there)::
+
+    {"preset": "jin2025_flapping_wing" | null,       # preset name, or null for a TOML file
+     "source": "preset" | "path/to/study.toml",
+     "citation": "...",                              # the preset's citation
+     "jointwear_version": "0.1.0", "seed": 2025,     # any other top-level scalars are listed too
+     "mechanism": {"type": "crank_rocker", "crank_mm": 6.0, "rod_mm": 38.0, "rocker_mm": 12.0,
+                   "pivot_mm": [11.5, 38.0], "branch": 1, "clearance_joint": "A"},
+     "settings": [{"name": "clearance_joints[0].friction.mu_d", "value": 0.1, "unit": null,
+                   "source": "<the field's docstring: where the value comes from>",
+                   "paper_open": true, "description": "..."}, ...]}
+
+:func:`settings_dump` builds it from the validated pydantic config (and any stage settings models), so each
+setting carries the description its field already has; :func:`write_settings` writes it. A field is marked
+``paper_open`` when its ``json_schema_extra`` says so, otherwise when its description says the value is not from
+the paper (``paper-notes``, ``paper silent``, ``not fixed by the paper``, ``project choice``, ...).
+Values are shown in report units: lengths in mm, moduli and hardness in GPa / MPa, speeds in rpm where the
+unit is rad/s of a crank.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+__all__ = ["settings_records", "settings_dump", "write_settings", "is_paper_open"]
+
+_OPEN = re.compile(
+    r"paper[- ]notes|paper (is )?silent|paper gives no|not (fixed|given|stated) (by|in) the paper|project choice|"
+    r"paper leaves|assumed|baseline|not in the paper|no value in the paper|convergence study",
+    re.I,
+)
+
+
+def is_paper_open(description: str | None, extra: Mapping | None = None) -> bool:
+    """Whether a setting is one the paper leaves open: explicit ``paper_open`` in the field's schema extra,
+    else read from its description."""
+    if extra and "paper_open" in extra:
+        return bool(extra["paper_open"])
+    return bool(description and _OPEN.search(description))
+
+
+def _display(value: Any, unit: str | None) -> tuple[Any, str | None]:
+    """SI value -> report units (mm, GPa/MPa, rpm)."""
+    def conv(v, f):
+        if isinstance(v, (list, tuple)):
+            return [conv(x, f) for x in v]
+        if isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v):
+            return v * f
+        return v
+
+    if unit == "m":
+        return conv(value, 1e3), "mm"
+    if unit == "Pa":
+        mag = max((abs(x) for x in (value if isinstance(value, (list, tuple)) else [value])
+                   if isinstance(x, (int, float))), default=0)
+        return (conv(value, 1e-9), "GPa") if mag >= 1e9 else (conv(value, 1e-6), "MPa")
+    if unit == "rad/s":
+        return conv(value, 60 / (2 * math.pi)), "rpm"
+    if unit == "rad":
+        return conv(value, 180 / math.pi), "deg"
+    return value, unit
+
+
+def _plain(v: Any) -> Any:
+    if isinstance(v, (str, int, float, bool)) or v is None:
+        return v
+    if isinstance(v, (list, tuple)):
+        return [_plain(x) for x in v]
+    if isinstance(v, Path):
+        return str(v)
+    try:  # numpy scalars
+        return v.item()
+    except AttributeError:
+        return str(v)
+
+
+def settings_records(model: Any, prefix: str = "") -> list[dict]:
+    """Flatten a pydantic model into ``{"name", "value", "unit", "source", "paper_open", "description"}``."""
+    from pydantic import BaseModel
+
+    out: list[dict] = []
+    fields = type(model).model_fields
+    for name, info in fields.items():
+        value = getattr(model, name)
+        full = f"{prefix}.{name}" if prefix else name
+        if isinstance(value, BaseModel):
+            out += settings_records(value, full)
+            continue
+        if isinstance(value, (list, tuple)) and value and all(isinstance(v, BaseModel) for v in value):
+            for i, v in enumerate(value):
+                out += settings_records(v, f"{full}[{i}]")
+            continue
+        extra = info.json_schema_extra if isinstance(info.json_schema_extra, Mapping) else {}
+        unit = extra.get("unit")
+        shown, shown_unit = _display(_plain(value), unit)
+        desc = info.description or ""
+        out.append({
+            "name": full,
+            "value": shown,
+            "unit": shown_unit,
+            "source": extra.get("source") or desc,
+            "paper_open": is_paper_open(desc, extra),
+            "description": desc if extra.get("source") else "",
+        })
+    return out
+
+
+def _mechanism(config: Any) -> dict | None:
+    mech = getattr(config, "mechanism", None)
+    if mech is None or getattr(mech, "type", None) != "four_bar":
+        return None
+    try:
+        o = mech.crank_pivot
+        c = mech.rocker_pivot
+        joints = getattr(config, "clearance_joints", []) or []
+        return {
+            "type": "crank_rocker",
+            "crank_mm": mech.crank.length * 1e3,
+            "rod_mm": mech.rod.length * 1e3,
+            "rocker_mm": mech.rocker.length * 1e3,
+            "pivot_mm": [(c[0] - o[0]) * 1e3, (c[1] - o[1]) * 1e3],
+            "branch": int(mech.assembly_branch),
+            "clearance_joint": str(joints[0].joint) if joints else "",
+        }
+    except AttributeError:
+        return None
+
+
+def settings_dump(config: Any, *sections: tuple[str, Any], preset: str | None = None, source: str | None = None,
+                  **extra: Any) -> dict:
+    """The ``config.json`` contract from the validated config and any ``(name, settings_model)`` of the stages.
+
+    ``extra`` top-level scalars (for example ``seed=2025``) are added as given.
+    """
+    from jointwear import __version__
+
+    name = getattr(config, "name", None)
+    settings = [r for r in settings_records(config) if r["name"] not in ("name", "citation", "description")]
+    for sec_name, model in sections:
+        if model is not None:
+            settings += settings_records(model, sec_name)
+    out: dict[str, Any] = {
+        "preset": preset if preset is not None else name,
+        "source": source or ("preset" if preset or name else "config"),
+        "citation": getattr(config, "citation", "") or "",
+        "jointwear_version": __version__,
+    }
+    out.update({k: _plain(v) for k, v in extra.items()})
+    mech = _mechanism(config)
+    if mech:
+        out["mechanism"] = mech
+    out["settings"] = settings
+    return out
+
+
+def write_settings(out_dir: Path | str, config: Any, *sections: tuple[str, Any], filename: str = "config.json",
+                   **kw: Any) -> Path:
+    """Write :func:`settings_dump` to ``out_dir / "config.json"``; returns the path."""
+    path = Path(out_dir) / filename
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(settings_dump(config, *sections, **kw), indent=1, default=str), encoding="utf-8")
+    return path
