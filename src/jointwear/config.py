@@ -24,35 +24,13 @@ from typing import Annotated, Any, Literal, Union
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
-from jointwear.units import UnitError, convert_keys, fmt_mm
+from jointwear.schema import F, ConfigError, SIModel
+from jointwear.study_settings import ComputeSettings, ReliabilitySettings, SensitivitySettings
+from jointwear.uncertainty.variables import UncertaintySettings
+from jointwear.units import fmt_mm
+from jointwear.wear.settings import WearSettings
 
 DEFAULT_PRESET = "jin2025_flapping_wing"
-
-
-class ConfigError(ValueError):
-    """A configuration problem; ``str(err)`` is one line naming the field and the allowed range."""
-
-
-def F(default: Any = ..., *, unit: str | None = None, description: str, **kw: Any) -> Any:
-    """A pydantic Field with a unit recorded in the JSON schema (used by the config reference)."""
-    extra = {"unit": unit} if unit else None
-    return Field(default, description=description, json_schema_extra=extra, **kw)
-
-
-class SIModel(BaseModel):
-    """Base of every config section: unknown keys rejected, NaN/inf rejected, unit suffixes to SI."""
-
-    model_config = ConfigDict(extra="forbid", allow_inf_nan=False, validate_default=True)
-
-    @model_validator(mode="before")
-    @classmethod
-    def _unit_suffixes(cls, data: Any) -> Any:
-        if isinstance(data, dict):
-            try:
-                return convert_keys(data, frozenset(cls.model_fields))
-            except UnitError as exc:
-                raise ValueError(str(exc)) from None
-        return data
 
 
 Vec2 = tuple[float, float]
@@ -316,9 +294,12 @@ class StudyConfig(SIModel):
         default_factory=list, description="Revolute joints with clearance (any number)."
     )
     simulation: SimulationConfig = F(default_factory=SimulationConfig, description="Integrator settings.")
-    # --- room for later stages (added by their owners) -----------------------------------------
-    # wear: WearConfig = Field(default_factory=WearConfig, description="...")
-    # uncertainty: ..., reliability: ..., sensitivity: ..., compute: ...
+    wear: WearSettings = F(default_factory=WearSettings, description="Archard wear and the cycle-block history.")
+    uncertainty: UncertaintySettings | None = F(
+        None, description="Random inputs (paper Tables 5-6); needed by the reliability and sensitivity stages.")
+    reliability: ReliabilitySettings = F(default_factory=ReliabilitySettings, description="Wear reliability (Section 5).")
+    sensitivity: SensitivitySettings = F(default_factory=SensitivitySettings, description="Sensitivity (Section 6.2.3).")
+    compute: ComputeSettings = F(default_factory=ComputeSettings, description="Where model calls run.")
 
     @model_validator(mode="after")
     def _joints_exist(self) -> "StudyConfig":

@@ -14,9 +14,9 @@ from __future__ import annotations
 import json
 import math
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
-from typing import Any, Callable, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -341,7 +341,11 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityStudyResult) -> d
       delta_0) over the nominal population. A shifted mechanism that cannot run (e.g. a rod too short to
       close the loop) has reliability 0, with its reason reported.
     """
-    from jointwear.sensitivity import mean_shift_table, reliability_derivatives, shifted_marginal, sobol_indices
+    from jointwear.sensitivity import (
+        mean_shift_table,
+        reliability_derivatives,
+        sobol_indices,
+    )
 
     sens = ctx.config.sensitivity
     rel = ctx.config.reliability

@@ -7,15 +7,14 @@ Each field that the paper leaves open has a default and says where it comes from
 from __future__ import annotations
 
 import math
-from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import Field, field_validator, model_validator
+
+from jointwear.schema import SIModel
 
 
-class ReliabilitySettings(BaseModel):
+class ReliabilitySettings(SIModel):
     """Wear reliability: limit state G = delta_0 - delta_max(x, N) (paper Section 5)."""
-
-    model_config = ConfigDict(extra="forbid")
 
     allowance: float = Field(
         3e-5, description="Wear allowance delta_0, m: 0.01 D with D = 3 mm, the bearing's outer diameter "
@@ -46,7 +45,7 @@ class ReliabilitySettings(BaseModel):
         return value
 
     @model_validator(mode="after")
-    def _ranges(self) -> "ReliabilitySettings":
+    def _ranges(self) -> ReliabilitySettings:
         if not 0 < self.target_reliability < 1:
             raise ValueError("target_reliability must be in (0, 1)")
         if self.allowance_std < 0 or not math.isfinite(self.allowance_std):
@@ -71,10 +70,8 @@ class ReliabilitySettings(BaseModel):
         return sorted(grid)
 
 
-class SensitivitySettings(BaseModel):
+class SensitivitySettings(SIModel):
     """Sensitivity of the reliability (paper Section 6.2.3) and Sobol' indices of the max wear."""
-
-    model_config = ConfigDict(extra="forbid")
 
     cycles: int = Field(360_000, description="Cycle count of the sensitivity study (paper: 360,000).")
     factors: tuple[float, float] = Field((0.8, 1.2), description="Mean shifts (paper: 80 % and 120 %).")
@@ -83,7 +80,7 @@ class SensitivitySettings(BaseModel):
         60, description="Model calls allowed to re-learn the surrogate for all shifted populations together.")
 
     @model_validator(mode="after")
-    def _check(self) -> "SensitivitySettings":
+    def _check(self) -> SensitivitySettings:
         if self.cycles <= 0:
             raise ValueError("cycles must be > 0")
         if not all(f > 0 and math.isfinite(f) for f in self.factors):
@@ -94,10 +91,8 @@ class SensitivitySettings(BaseModel):
         return self
 
 
-class ComputeSettings(BaseModel):
+class ComputeSettings(SIModel):
     """Where model calls run."""
-
-    model_config = ConfigDict(extra="forbid")
 
     workers: int | None = Field(None, description="Local worker processes; None = all cores, 1 = in-process.")
     scheduler: str | None = Field(None, description="Dask scheduler address (tcp://host:8786); None = local.")

@@ -8,8 +8,15 @@
   returns the reliability for a list of marginals.
 """
 
-from jointwear.sensitivity.derivatives import ReliabilityDerivatives, reliability_derivatives
-from jointwear.sensitivity.mean_shift import MeanShiftResult, mean_shift_table, shifted_marginal
+from jointwear.sensitivity.derivatives import (
+    ReliabilityDerivatives,
+    reliability_derivatives,
+)
+from jointwear.sensitivity.mean_shift import (
+    MeanShiftResult,
+    mean_shift_table,
+    shifted_marginal,
+)
 from jointwear.sensitivity.sobol import SobolResult, sobol_indices
 
 __all__ = [

@@ -8,10 +8,8 @@ where the shifted population leaves the design's region, enriched by active lear
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Callable, Sequence
-
-from scipy import stats
 
 
 def shifted_marginal(marginal, factor: float):

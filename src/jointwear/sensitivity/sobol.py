@@ -6,8 +6,8 @@ inverse CDF, so any frozen ``scipy.stats`` marginal works (normal, truncated nor
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Callable, Sequence
 
 import numpy as np
 from SALib.analyze import sobol as sobol_analyze

@@ -13,18 +13,17 @@ import math
 from typing import Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import Field, field_validator, model_validator
 from scipy import stats
 
+from jointwear.schema import SIModel
 from jointwear.uncertainty.tolerances import clearance_from_fit
 
 DistributionName = Literal["normal", "lognormal", "uniform"]
 
 
-class RandomVariableSpec(BaseModel):
+class RandomVariableSpec(SIModel):
     """One independent random input."""
-
-    model_config = ConfigDict(extra="forbid")
 
     name: str = Field(description="Short identifier, e.g. 'l2'.")
     label: str = Field("", description="Readable name for reports, e.g. 'rod length'.")
@@ -44,7 +43,7 @@ class RandomVariableSpec(BaseModel):
         return value
 
     @model_validator(mode="after")
-    def _positive_std(self) -> "RandomVariableSpec":
+    def _positive_std(self) -> RandomVariableSpec:
         if self.std <= 0:
             raise ValueError(f"std of variable {self.name!r} must be > 0 (got {self.std:g})")
         if self.distribution == "lognormal" and self.mean <= 0:
@@ -62,10 +61,8 @@ class RandomVariableSpec(BaseModel):
         return stats.uniform(loc=self.mean - half, scale=2.0 * half)
 
 
-class ClearanceSpec(BaseModel):
+class ClearanceSpec(SIModel):
     """The radial clearance of the clearance joint as a random variable."""
-
-    model_config = ConfigDict(extra="forbid")
 
     target: str = Field(description="Dotted path of the clearance in the SI config.")
     mean: float = Field(2e-6, description="Designed radial clearance, m (Table 2: 1.002 mm - 1 mm).")
@@ -103,16 +100,14 @@ class ClearanceSpec(BaseModel):
         return float(stats.norm.cdf((self.minimum - self.mean) / self.std))
 
 
-class UncertaintySettings(BaseModel):
+class UncertaintySettings(SIModel):
     """The random inputs of a study (paper Tables 5-6, with the label fix of paper-notes.md)."""
-
-    model_config = ConfigDict(extra="forbid")
 
     clearance: ClearanceSpec | None = None
     variables: list[RandomVariableSpec] = Field(default_factory=list)
 
     @model_validator(mode="after")
-    def _unique_names(self) -> "UncertaintySettings":
+    def _unique_names(self) -> UncertaintySettings:
         names = [v.name for v in self.variables] + (["c"] if self.clearance else [])
         duplicates = {n for n in names if names.count(n) > 1}
         if duplicates:

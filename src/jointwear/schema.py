@@ -1,0 +1,39 @@
+"""Base of every config section: one-line errors, unit-suffixed keys converted to SI, NaN/inf rejected.
+
+Kept apart from :mod:`jointwear.config` so that each stage can define its own section
+(``wear.settings``, ``uncertainty.variables``, ``study_settings``) and ``config`` can compose them.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+from jointwear.units import UnitError, convert_keys
+
+
+class ConfigError(ValueError):
+    """A configuration problem; ``str(err)`` is one line naming the field and the allowed range."""
+
+
+def F(default: Any = ..., *, unit: str | None = None, description: str, **kw: Any) -> Any:
+    """A pydantic Field with a unit recorded in the JSON schema (used by the config reference)."""
+    extra = {"unit": unit} if unit else None
+    return Field(default, description=description, json_schema_extra=extra, **kw)
+
+
+class SIModel(BaseModel):
+    """Base of every config section: unknown keys rejected, NaN/inf rejected, unit suffixes to SI."""
+
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False, validate_default=True)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _unit_suffixes(cls, data: Any) -> Any:
+        if isinstance(data, dict):
+            try:
+                return convert_keys(data, frozenset(cls.model_fields))
+            except UnitError as exc:
+                raise ValueError(str(exc)) from None
+        return data
