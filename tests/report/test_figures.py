@@ -1,0 +1,89 @@
+"""Every figure function draws from plain data, in the house style, with units on every axis."""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+from matplotlib.projections.polar import PolarAxes
+
+from jointwear.report import figures as F
+from jointwear.report.style import COLORS, DPI, figure, savefig, scale_to_unit, to_data_uri
+
+ANG = np.linspace(0, 359, 360)
+DEPTH = 0.0249 * np.exp(-0.5 * ((ANG - 110) / 14) ** 2) + 0.0087 * np.exp(-0.5 * ((ANG - 310) / 11) ** 2)
+CYC = np.arange(300_000, 560_001, 20_000)
+REL = 1 / (1 + np.exp((CYC - 410_000) / 20_000))
+
+CASES = {
+    "mechanism": lambda: F.mechanism_figure(6, 38, 12, (11.5, 38), branch=1),
+    "mechanism_other_branch": lambda: F.mechanism_figure(6, 38, 12, (11.5, 38), branch=-1),
+    "orbit": lambda: F.orbit_figure(2e-3 * np.cos(ANG / 30), 2e-3 * np.sin(ANG / 30), 2e-3, angle_labels=True),
+    "force": lambda: F.contact_force_figure(np.linspace(0, 720, 500), 0.03 + 0.01 * np.sin(np.linspace(0, 12, 500)),
+                                            mean_N=0.03, ideal_N=np.full(500, 0.03)),
+    "polar": lambda: F.wear_polar_figure(ANG, DEPTH, radius_mm=1.002, peaks=[{"angle_deg": 110, "depth_mm": 0.0249}],
+                                         cycles=400_000),
+    "polar_no_wear": lambda: F.wear_polar_figure(ANG, np.zeros_like(ANG)),
+    "panels": lambda: F.wear_panels_figure(ANG, DEPTH, slip_mm=DEPTH / 20, contact_force_N=DEPTH,
+                                           contact_area_mm2=DEPTH / 10, cycles=400_000),
+    "panels_depth_only": lambda: F.wear_panels_figure(ANG, DEPTH),
+    "history": lambda: F.wear_history_figure(CYC, 7e-8 * CYC, limit_mm=0.03, mean_cycles=CYC,
+                                             mean_max_wear_mm=7.1e-8 * CYC, paper_mean={400_000: 0.0285},
+                                             paper_nominal=(400_000, 0.0249)),
+    "reliability": lambda: F.reliability_curve_figure(CYC, REL, pf_cov=[0.02] * len(CYC), target=0.9,
+                                                      life_cycles=371_640, paper={400_000: 0.739},
+                                                      paper_life=371_640),
+    "histograms": lambda: F.wear_histograms_figure([360_000, 400_000, 440_000],
+                                                   [np.random.default_rng(k).normal(0.026 + k * 0.003, 0.002, 500)
+                                                    for k in range(3)], limit_mm=0.03,
+                                                   paper_means={360_000: 0.0256}),
+    "one_histogram": lambda: F.wear_histograms_figure([400_000], [np.random.default_rng(1).normal(0.028, 0.002, 300)]),
+    "convergence": lambda: F.convergence_figure(np.arange(12, 40), np.geomspace(0.3, 0.001, 28),
+                                                cov=np.full(28, 0.05)),
+    "tornado": lambda: F.tornado_figure(["rod length", "clearance", "crank"], [0.0, 0.99, 0.95], [0.0, 0.5, 0.98],
+                                        0.978, cycles=360_000),
+    "sobol": lambda: F.sobol_figure(["a", "b", "c"], [0.1, 0.5, 0.2], [0.15, 0.6, 0.2], S1_conf=[0.01] * 3,
+                                    ST_conf=[0.02] * 3),
+}
+
+
+def _has_unit(label: str) -> bool:
+    return bool(re.search(r"\([^()]+\)\s*$", label.strip()))
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_figure_draws_with_units_on_every_axis(name, tmp_path):
+    fig = CASES[name]()
+    for ax in fig.axes:
+        if not ax.get_visible() or isinstance(ax, PolarAxes):
+            continue  # polar wear profile: angle ticks in degrees, radius explained on the figure
+        if not ax.get_xticks().size and not ax.get_yticks().size:
+            continue  # an empty panel that says "not provided"
+        for label, ticks in ((ax.get_xlabel(), ax.get_xticklabels()), (ax.get_ylabel(), ax.get_yticklabels())):
+            categorical = label == "" and any(re.search(r"[A-Za-z]", t.get_text()) for t in ticks)
+            assert categorical or _has_unit(label), f"{name}: axis label without a unit: {label!r}"
+    if name.startswith("polar"):
+        texts = " ".join(t.get_text() for t in fig.texts)
+        assert "exaggerated" in texts and "clockwise" in texts
+    path = savefig(fig, tmp_path / f"{name}.png")
+    data = path.read_bytes()
+    assert data.startswith(b"\x89PNG")
+
+
+def test_style_helpers(tmp_path):
+    fig, ax = figure()
+    ax.plot([0, 1], [0, 1])
+    assert ax.get_lines()[0].get_color().lower() == COLORS[0].lower()
+    uri = to_data_uri(fig)
+    assert uri.startswith("data:image/png;base64,")
+    fig, _ = figure(size=(2.0, 1.0))
+    path = savefig(fig, tmp_path / "x.svg")  # always PNG
+    assert path.suffix == ".png"
+    import struct
+
+    width = struct.unpack(">I", path.read_bytes()[16:20])[0]
+    assert abs(width - 2.0 * DPI) <= 0.25 * 2.0 * DPI  # tight bbox trims a little
+    vals, unit = scale_to_unit([0.029, 0.001], "N")
+    assert unit == "mN" and vals[0] == pytest.approx(29.0)
+    assert scale_to_unit([2e-6], "m")[1] == "\u00b5m"
