@@ -14,7 +14,9 @@ Measures, through :class:`jointwear.compute.Evaluator` (the path a study uses):
 3. the overhead per call: ``--tiny`` calls that do nothing, per call, on local processes and on Dask,
    and the extra cost per call of the evaluation store (one SQLite commit per call, synchronous=FULL).
 
-The machine's load average is recorded: other work on the same cores lowers the speed-up.
+The machine's load average is recorded: other work on the same cores lowers the speed-up (on a machine
+whose 2 cores are already busy, a second worker process has no free core to run on); ``--wait-quiet``
+waits for a quiet machine first.
 """
 
 from __future__ import annotations
@@ -90,8 +92,19 @@ def main(argv=None) -> dict:
     ap.add_argument("--seconds", type=float, default=0.3, help="target seconds per model call")
     ap.add_argument("--repeats", type=int, default=3, help="batches per setting (the median is used)")
     ap.add_argument("--tiny", type=int, default=200, help="no-op calls for the overhead measurements")
+    ap.add_argument(
+        "--wait-quiet",
+        type=float,
+        default=0.0,
+        metavar="SECONDS",
+        help="first wait up to SECONDS for the 1-minute load average to drop below 1.0",
+    )
     args = ap.parse_args(argv)
 
+    waited = 0.0
+    while args.wait_quiet > waited and os.getloadavg()[0] >= 1.0:
+        time.sleep(10.0)
+        waited += 10.0
     load_before = os.getloadavg()
     n_iter = calibrate(args.seconds)
     model = CpuModel(n_iter)
@@ -103,6 +116,7 @@ def main(argv=None) -> dict:
             "python": platform.python_version(),
             "platform": platform.platform(),
             "load_average_before": load_before,
+            "waited_for_quiet_seconds": waited,
         },
         "settings": {
             "calls_per_batch": args.calls,
