@@ -214,3 +214,9 @@ def _plot(out: Path, res) -> None:
 def main_entry(argv: list[str] | None = None) -> int:
     """Run the CLI in-process and return the exit status (used by tests)."""
     return main.run(argv)
+
+
+# the study commands (wear, reliability, sensitivity, report, run) live in jointwear.commands
+from jointwear.commands import register as _register_study_commands  # noqa: E402
+
+_register_study_commands(main)
