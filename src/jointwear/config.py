@@ -338,14 +338,16 @@ def _loc(loc: tuple[Any, ...]) -> str:
 
 
 def _one_line(exc: ValidationError) -> str:
-    err = exc.errors()[0]
+    errors = exc.errors()
+    # an unknown key usually also causes a "missing" error for the key it misspells: report it first
+    err = next((e for e in errors if e.get("type") == "extra_forbidden"), errors[0])
     where = _loc(tuple(err.get("loc", ())))
     msg = err.get("msg", "invalid").removeprefix("Value error, ")
     extra_n = len(exc.errors()) - 1
     inp = err.get("input")
     shown = ""
     if err.get("type") not in ("missing", "extra_forbidden") and isinstance(inp, (int, float, str)) and not isinstance(inp, bool):
-        shown = f" (got {inp!r})"
+        shown = f" (got {inp!r}{', SI units' if isinstance(inp, float) else ''})"
     more = f" [+{extra_n} more problem{'s' if extra_n > 1 else ''}]" if extra_n else ""
     if err.get("type") == "extra_forbidden":
         msg = "unknown key (not a setting of this section)"

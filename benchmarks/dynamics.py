@@ -1,0 +1,125 @@
+"""Benchmark of the dynamics stage: wall time per crank cycle of the flapping-wing preset.
+
+Writes benchmarks/results/dynamics.json. Run: python benchmarks/dynamics.py [--repeats 5] [--no-scipy]
+
+- compiled: jointwear.mechanism.simulate (numba Dormand-Prince 5(4)), after compilation, from a
+  settled state, median over repeats of one recorded cycle;
+- scipy: the same cycle (same state, tolerances and equations) by scipy.integrate.solve_ivp(RK45)
+  with (a) the compiled right-hand side called from Python, (b) a pure-Python right-hand side
+  (the kernel's Python source, numba bypassed).  The contact memory (impact speed v0) is frozen at
+  its settled value in the scipy runs (no per-step bookkeeping hook in solve_ivp).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--no-scipy", action="store_true")
+    ap.add_argument("--out", default=str(Path(__file__).parent / "results" / "dynamics.json"))
+    args = ap.parse_args()
+
+    from jointwear.config import load_config
+    from jointwear.mechanism import build_model, simulate
+    from jointwear.mechanism import kernel as K
+    from jointwear.mechanism.simulate import _atol_vector, _Runner
+
+    cfg = load_config("jin2025_flapping_wing")
+    model = build_model(cfg)
+    t0 = time.perf_counter()
+    simulate(model, 0.01, settle_cycles=0)
+    first_call = time.perf_counter() - t0
+    settled = simulate(model, 0.0, settle_cycles=model.settings.settle_cycles)
+    state = settled.state_end
+    walls, steps, rejected = [], [], []
+    for _ in range(args.repeats):
+        r = simulate(model, 1, settle_cycles=0, state0=state)
+        walls.append(r.wall_seconds)
+        steps.append(r.n_recorded_steps)
+        rejected.append(r.n_rejected)
+    tr = r.joints[0]
+    out = {
+        "preset": "jin2025_flapping_wing",
+        "machine": {"cpus": os.cpu_count(), "python": sys.version.split()[0], "platform": platform.platform(),
+                    "loadavg_1min": os.getloadavg()[0] if hasattr(os, "getloadavg") else None},
+        "rtol": model.settings.rtol, "atol_m": model.settings.atol,
+        "first_call_seconds_incl_compile_or_cache_load": first_call,
+        "wall_seconds_per_cycle_median": statistics.median(walls),
+        "wall_seconds_per_cycle_all": walls,
+        "steps_per_cycle": statistics.median(steps),
+        "rejected_steps_per_cycle": statistics.median(rejected),
+        "microseconds_per_step": statistics.median(walls) / statistics.median(steps) * 1e6,
+        "contact_force_mean_N": tr.mean_force,
+        "contact_force_max_N": float(tr.contact_force.max()),
+        "contact_fraction": tr.contact_fraction,
+        "impacts_per_cycle": tr.n_impacts,
+    }
+    if not args.no_scipy:
+        from scipy.integrate import solve_ivp
+
+        run = _Runner(model, None, model.settings.rtol, model.settings.atol)
+        run.a["cstate"][:] = state.cstate
+        a = run._args()
+        dy = np.zeros((7, run.ny))
+        period = model.period
+        atolv = _atol_vector(model, model.settings.atol)
+
+        def f_compiled(t, y):
+            K.rhs(t, y, dy, 0, *a)
+            return dy[0].copy()
+
+        tt = time.perf_counter()
+        sol = solve_ivp(f_compiled, (state.t, state.t + period), state.y, method="RK45",
+                        rtol=model.settings.rtol, atol=atolv, max_step=period / 200)
+        w_c = time.perf_counter() - tt
+        out["scipy_rk45_compiled_rhs"] = {"wall_seconds_per_cycle": w_c, "steps": int(sol.t.size - 1),
+                                          "nfev": int(sol.nfev), "status": int(sol.status)}
+        # pure Python right-hand side: the kernel's own Python source with numba bypassed
+        names = ["fill_kinematics", "eval_constraints", "eval_contacts", "_row", "_interp_periodic",
+                 "normal_force", "friction_coefficient", "contact_stiffness", "rhs"]
+        saved = {n: getattr(K, n) for n in names}
+        try:
+            for n in names:
+                setattr(K, n, saved[n].py_func)
+            import jointwear.contact.laws as L
+
+            saved_h = L.hysteresis_factor
+            L.hysteresis_factor = saved_h.py_func
+            K.normal_force.__globals__["hysteresis_factor"] = saved_h.py_func
+
+            def f_python(t, y):
+                K.rhs(t, y, dy, 0, *a)
+                return dy[0].copy()
+
+            tt = time.perf_counter()
+            sol = solve_ivp(f_python, (state.t, state.t + period), state.y, method="RK45",
+                            rtol=model.settings.rtol, atol=atolv, max_step=period / 200)
+            w_p = time.perf_counter() - tt
+        finally:
+            for n in names:
+                setattr(K, n, saved[n])
+            L.hysteresis_factor = saved_h
+            saved["normal_force"].py_func.__globals__["hysteresis_factor"] = saved_h
+        out["scipy_rk45_python_rhs"] = {"wall_seconds_per_cycle": w_p, "steps": int(sol.t.size - 1),
+                                        "nfev": int(sol.nfev), "status": int(sol.status)}
+        out["speedup_vs_scipy_python_rhs"] = w_p / out["wall_seconds_per_cycle_median"]
+        out["speedup_vs_scipy_compiled_rhs"] = w_c / out["wall_seconds_per_cycle_median"]
+    Path(args.out).parent.mkdir(parents=True, exist_ok=True)
+    Path(args.out).write_text(json.dumps(out, indent=2) + "\n")
+    print(json.dumps(out, indent=2))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,106 @@
+"""Bad input ends `jointwear simulate` with exit status 2 and one line naming the field; no traceback."""
+
+import subprocess
+import sys
+from importlib import resources
+
+import pytest
+
+from jointwear.cli import main_entry
+
+PRESET = (resources.files("jointwear.presets") / "jin2025_flapping_wing.toml").read_text(encoding="utf-8")
+
+
+def _variant(tmp_path, old, new, name="cfg.toml"):
+    assert old in PRESET, old
+    p = tmp_path / name
+    p.write_text(PRESET.replace(old, new, 1), encoding="utf-8")
+    return str(p)
+
+
+def _run(capsys, args):
+    code = main_entry(args)
+    err = capsys.readouterr().err
+    return code, err
+
+
+CASES = [
+    # (old, new, words expected in the message)
+    ("journal_radius_mm = 1.0 ", "journal_radius_mm = 1.002 ", ["clearance_joints[0].journal_radius", "> 0"]),
+    ("journal_radius_mm = 1.0 ", "journal_radius_mm = 1.1 ", ["clearance_joints[0].journal_radius", "smaller"]),
+    ("bearing_radius_mm = 1.002", "bearing_radius_mm = -1.0", ["clearance_joints[0].bearing_radius", "greater than 0"]),
+    ("mass_kg = 8.71e-4", "mass_kg = nan", ["mechanism.rod.mass", "finite"]),
+    ("mass_kg = 8.71e-4", "mass_kg = 0.0", ["mechanism.rod.mass", "greater than 0"]),
+    ("mass_kg = 8.71e-4", "mass_kg = -1e-3", ["mechanism.rod.mass", "greater than 0"]),
+    ("length_mm = 38.0", "length_mm = 20.0", ["mechanism", "rod", "rocker", "cannot close the loop"]),
+    ("length_mm = 6.0", "length_mm = 0.0", ["crank.length", "> 0"]),
+    ("restitution = 0.9 ", "restitution = 1.5 ", ["clearance_joints[0].restitution", "less than or equal to 1"]),
+    ("width_mm = 1.0", "width_mm = 1.0\nwidht_mm = 2.0", ["widht_mm", "unknown key"]),
+    ("crank_speed_rpm = 480.0", 'crank_speed_rpm = "fast"', ["mechanism", "crank_speed_rpm"]),
+    ('joint = "A"', 'joint = "O"', ["clearance_joints[0].joint", "allowed"]),
+]
+
+
+@pytest.mark.parametrize("old,new,words", CASES)
+def test_bad_config_one_line_exit_2(tmp_path, capsys, old, new, words):
+    path = _variant(tmp_path, old, new)
+    code, err = _run(capsys, ["simulate", path, "--cycles", "1", "--out", str(tmp_path / "o")])
+    assert code == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert "Traceback" not in err
+    for w in words:
+        assert w in lines[0], (w, lines[0])
+    assert not (tmp_path / "o" / "simulate.json").exists()
+
+
+def test_unknown_preset(tmp_path, capsys):
+    code, err = _run(capsys, ["simulate", "no_such_preset", "--out", str(tmp_path)])
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert "unknown preset 'no_such_preset'" in err and "jin2025_flapping_wing" in err
+
+
+def test_missing_file(tmp_path, capsys):
+    code, err = _run(capsys, ["simulate", str(tmp_path / "missing.toml"), "--out", str(tmp_path)])
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert "cannot read file" in err
+
+
+def test_unreadable_directory(tmp_path, capsys):
+    d = tmp_path / "dir.toml"
+    d.mkdir()
+    code, err = _run(capsys, ["simulate", str(d), "--out", str(tmp_path)])
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert "cannot read file" in err
+
+
+def test_malformed_toml(tmp_path, capsys):
+    p = tmp_path / "bad.toml"
+    p.write_text("[mechanism\ntype = 'four_bar'\n", encoding="utf-8")
+    code, err = _run(capsys, ["simulate", str(p), "--out", str(tmp_path)])
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert "malformed TOML" in err
+
+
+def test_binary_file(tmp_path, capsys):
+    p = tmp_path / "bin.toml"
+    p.write_bytes(b"\xff\xfe\x00\x01")
+    code, err = _run(capsys, ["simulate", str(p), "--out", str(tmp_path)])
+    assert code == 2 and "not UTF-8" in err
+
+
+def test_bad_argument(tmp_path, capsys):
+    code, err = _run(capsys, ["simulate", "--cycles", "0", "--out", str(tmp_path)])
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "--cycles" in err
+    code, err = _run(capsys, ["simulate", "--bogus"])
+    assert code == 2 and "--bogus" in err
+
+
+def test_console_script_exit_status(tmp_path):
+    """The installed entry point (not only main_entry) maps errors to one line and status 2."""
+    path = _variant(tmp_path, "journal_radius_mm = 1.0 ", "journal_radius_mm = 1.1 ")
+    code = "import sys; from jointwear.cli import main; sys.argv=['jointwear','simulate',%r]; main()" % path
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 2
+    assert len(p.stderr.strip().splitlines()) == 1 and "Traceback" not in p.stderr
+    assert "journal_radius" in p.stderr
