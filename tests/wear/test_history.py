@@ -38,7 +38,7 @@ def test_history_runs_and_conserves(mode):
 
 def test_adaptive_block_grows_when_rate_is_steady():
     m = FakeModel()
-    s = WearSettings(n_grid=360, initial_block=5000, min_block=1000, max_block=80_000)
+    s = WearSettings(n_grid=360, block_rule="adaptive", initial_block=5000, min_block=1000, max_block=80_000)
     r = wear_history(m, s, 520_000, simulate=fake_simulate)
     sizes = [b.size for b in r.blocks]
     assert sizes[0] == 5000 and max(sizes) >= 20_000
@@ -59,8 +59,8 @@ def test_max_wear_at_interpolates():
 def test_block_halving_converges():
     """Halving every block changes the final max wear by far less than 2 % (the rate drifts smoothly)."""
     a = wear_history(FakeModel(), WearSettings(n_grid=360), 400_000, simulate=fake_simulate)
-    b = wear_history(FakeModel(), WearSettings(n_grid=360, initial_block=5000, max_block=40_000, min_block=1250),
-                     400_000, simulate=fake_simulate)
+    b = wear_history(FakeModel(), WearSettings(n_grid=360, block_cycles=5_000), 400_000, simulate=fake_simulate)
+    assert len(b.blocks) == 2 * len(a.blocks) == 80
     assert abs(a.max_wear_at(400_000) / b.max_wear_at(400_000) - 1) < 0.02
 
 

@@ -6,10 +6,11 @@ Simulating every cycle (the paper's Step 5) costs hours per model call. Instead 
 2. integrate the Archard wear of the recorded steps on the bearing and journal grids -> wear per cycle,
 3. extrapolate that rate over a block of cycles (explicit Euler in cycles), update the geometry, repeat to N.
 
-The block size is adaptive: it starts at `initial_block`, grows by `block_growth` while the peak wear rate
-changes by less than `rate_tolerance` between blocks, and is halved when the rate changes by more than twice
-that. The history (max depth after every block) is linear between block ends to well under 1 % because the rate
-is nearly constant (the paper's Monte Carlo means are linear in cycles), so `max_wear_at(N)` interpolates it.
+The block size is fixed (`block_cycles`, default) or adaptive (`block_rule = "adaptive"`: it starts at
+`initial_block`, grows by `block_growth` while the bearing's Archard volume rate changes by less than
+`rate_tolerance` between blocks, and is halved when it changes by more than twice that). The history (max depth
+after every block) is linear between block ends to well under 1 % because the rate is nearly constant (the
+paper's Monte Carlo means are linear in cycles), so `max_wear_at(N)` interpolates it.
 """
 
 from __future__ import annotations
@@ -142,8 +143,10 @@ def cycle_wear(
 
 
 # --------------------------------------------------------------------------------------------------- results
-def find_peaks_periodic(profile: np.ndarray, prominence_fraction: float = 0.05) -> list[int]:
-    """Indices of the peaks of a periodic profile, deepest first (prominence >= fraction of the max)."""
+def find_peaks_periodic(profile: np.ndarray, prominence_fraction: float = 0.05,
+                        separation_deg: float = 30.0) -> list[int]:
+    """Indices of the peaks of a periodic profile, deepest first (prominence >= fraction of the max, peaks at
+    least `separation_deg` apart; of closer ones the deeper is kept)."""
     from scipy.signal import find_peaks
 
     p = np.asarray(profile, dtype=float)
@@ -152,7 +155,8 @@ def find_peaks_periodic(profile: np.ndarray, prominence_fraction: float = 0.05) 
     if n == 0 or top <= 0.0:
         return []
     ext = np.concatenate([p, p, p])
-    idx, _ = find_peaks(ext, prominence=prominence_fraction * top)
+    dist = max(1, int(round(separation_deg / 360.0 * n)))
+    idx, _ = find_peaks(ext, prominence=prominence_fraction * top, distance=dist)
     idx = sorted({int(i) % n for i in idx if n <= i < 2 * n})
     if not idx:  # a plateau or a single flat-topped hump
         idx = [int(np.argmax(p))]
@@ -214,7 +218,7 @@ class BlockRecord:
     start: int
     size: int
     peak_rate: float  # max bearing depth rate of joint 0 (m / cycle)
-    rate_change: float  # relative change vs the previous block (nan for the first)
+    rate_change: float  # relative change of joint 0's bearing volume rate vs the previous block (nan for the first)
     sim_seconds: float
     n_steps: int
 
@@ -322,8 +326,8 @@ def wear_history(
     blocks: list[BlockRecord] = []
     state = None
     done = 0
-    block = settings.initial_block
-    prev_peak = None
+    block = settings.initial_block if settings.block_rule == "adaptive" else settings.block_cycles
+    prev_vrate = None
     sim_seconds = 0.0
     sim_cycles = 0.0
     n_steps = 0
@@ -351,14 +355,16 @@ def wear_history(
             last[i] = cw
             rates.append(cw)
         peak = float(rates[0].bearing.max())
+        vrate = rates[0].volume_bearing
         change = float("nan")
-        if prev_peak is not None:
-            change = abs(peak - prev_peak) / max(prev_peak, 1e-300)
-            if change > 2.0 * settings.rate_tolerance:
-                block = max(settings.min_block, block // 2)
-            elif change < settings.rate_tolerance:
-                block = min(settings.max_block, int(round(block * settings.block_growth)))
-        prev_peak = peak
+        if prev_vrate is not None:
+            change = abs(vrate - prev_vrate) / max(prev_vrate, 1e-300)
+            if settings.block_rule == "adaptive":
+                if change > 2.0 * settings.rate_tolerance:
+                    block = max(settings.min_block, block // 2)
+                elif change < settings.rate_tolerance:
+                    block = min(settings.max_block, int(round(block * settings.block_growth)))
+        prev_vrate = vrate
         dn = min(block, n_cycles - done)
         for i, cw in enumerate(rates):
             wb[i] += cw.bearing * dn
@@ -388,7 +394,7 @@ def wear_history(
         )
         ang = jw.angle_deg
         jw.peaks = [{"angle_deg": float(ang[k]), "depth": float(wb[i][k])}
-                    for k in find_peaks_periodic(wb[i], settings.peak_prominence)]
+                    for k in find_peaks_periodic(wb[i], settings.peak_prominence, settings.peak_separation_deg)]
         joints.append(jw)
     return WearResult(joints, settings, n_cycles, blocks, time.perf_counter() - t_wall, sim_seconds, sim_cycles,
                       n_steps)

@@ -71,7 +71,7 @@ def polar_profile(res: WearResult, path: Path, joint: int = 0, title: str | None
         ax.set_aspect("equal")
         ax.set_xlabel("x (mm, global directions at the rod's mean orientation)")
         ax.set_ylabel("y (mm)")
-        ax.set_title(title or f"Bearing wear profile after {res.n_cycles:,} cycles (angles clockwise from left)")
+        ax.set_title(title or f"Bearing wear profile after {res.n_cycles:,} cycles")
         ax.legend(loc="lower right", fontsize=8)
         fig.tight_layout()
         fig.savefig(path)

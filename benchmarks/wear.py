@@ -1,0 +1,198 @@
+"""Wear-stage benchmark and convergence study; writes benchmarks/results/wear.json.
+
+    python benchmarks/wear.py                 # everything (timing, literal method, convergence, reproduction)
+    python benchmarks/wear.py --only timing   # timing | literal | convergence | reproduction (comma separated)
+
+Sections
+- timing: wall time of one whole wear history to 520k cycles (flapping-wing preset, default settings), median of
+  repeats after a warm-up run that compiles everything (goal <= 1.5 s, issue 3).
+- literal: the paper's method (re-integrate every cycle, update the geometry after every cycle, Section 3 Step 5):
+  a few cycles are timed, the time per cycle is extrapolated to 520k cycles, and the ratio to `timing` reported.
+- convergence: max bearing wear at 400k cycles, baseline vs (a) every block size halved, (b) the angular grid
+  spacing halved (n_grid doubled), (c) rtol and atol halved; acceptance < 2 % each (issue 3).
+- reproduction: both assembly branches x both geometry modes at 400k cycles (paper: 0.0249 mm at 110 deg, second
+  peak 0.0087 mm at 310 deg).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from jointwear.config import load_config
+from jointwear.mechanism import build_model, simulate
+from jointwear.wear import WearSettings, wear_history
+
+OUT = Path(__file__).resolve().parent / "results" / "wear.json"
+MM = 1e3
+
+
+def config_for(branch: int | None = None):
+    cfg = load_config(None)
+    if branch is not None:
+        mech = cfg.mechanism.model_copy(update={"assembly_branch": branch})
+        cfg = cfg.model_copy(update={"mechanism": mech})
+    return cfg
+
+
+def base_settings(cfg) -> WearSettings:
+    s = getattr(cfg, "wear", None)
+    return s if isinstance(s, WearSettings) else WearSettings()
+
+
+def summary(res, n=400_000) -> dict:
+    j = res.joints[0]
+    return {
+        "max_wear_mm": float(res.max_wear_at(n) * MM),
+        "final_max_wear_mm": j.max_bearing_wear * MM,
+        "max_wear_angle_deg": j.max_wear_angle_deg,
+        "peaks": [{"angle_deg": round(p["angle_deg"], 2), "depth_mm": p["depth"] * MM} for p in j.peaks[:4]],
+        "journal_max_wear_mm": float(j.journal_wear.max() * MM),
+        "n_blocks": len(res.blocks),
+        "n_simulated_cycles": res.n_simulated_cycles,
+        "wall_seconds": res.wall_seconds,
+        "rate_initial_mm_per_cycle": float(j.first_rate.bearing.max() * MM),
+        "rate_final_mm_per_cycle": float(j.diagnostics.bearing.max() * MM),
+        "rod_mean_orientation_deg": float(np.degrees(j.mean_orientation)),
+    }
+
+
+def bench_timing(repeats: int = 5) -> dict:
+    cfg = config_for()
+    model = build_model(cfg)
+    s = base_settings(cfg)
+    t0 = time.perf_counter()
+    wear_history(model, s, 20_000)  # warm-up: compiles the dynamics and the wear kernels
+    warm = time.perf_counter() - t0
+    times, last = [], None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        last = wear_history(model, s, 520_000)
+        times.append(time.perf_counter() - t0)
+    return {
+        "cycles": 520_000,
+        "wall_seconds_median": statistics.median(times),
+        "wall_seconds_all": times,
+        "goal_seconds": 1.5,
+        "warmup_seconds_including_compilation": warm,
+        "n_blocks": len(last.blocks),
+        "block_sizes": [b.size for b in last.blocks],
+        "n_simulated_cycles": last.n_simulated_cycles,
+        "simulation_seconds": last.sim_seconds,
+        "max_wear_mm_at_520k": float(last.max_wear_at(520_000) * MM),
+    }
+
+
+def bench_literal(n_measure: int = 6) -> dict:
+    """Paper Section 3 Step 5: one simulated cycle per wear cycle, geometry updated after every cycle."""
+    from jointwear.wear.history import JointMaterials, _growth, _update_geometry, cycle_wear
+
+    cfg = config_for()
+    model = build_model(cfg)
+    s = base_settings(cfg)
+    geoms0 = list(model.initial_geometry())
+    res = simulate(model, 1, geometry=geoms0, state0=None)  # settle from rest + compile (not timed)
+    state = res.state_end
+    n = s.n_grid
+    wb, wj = np.zeros(n), np.zeros(n)
+    mat = JointMaterials.from_trace(res.joints[0], geoms0[0])
+    growth = 0.0
+    t0 = time.perf_counter()
+    for _ in range(n_measure):
+        geoms = [_update_geometry(geoms0[0], s, wb, wj, growth)] + geoms0[1:]
+        res = simulate(model, 1, geometry=geoms, settle_cycles=0, state0=state)
+        state = res.state_end
+        cw = cycle_wear(res.joints[0], s, 1, mat, growth=growth)
+        wb += cw.bearing
+        wj += cw.journal
+        growth = _growth(s, wb, wj)
+    per = (time.perf_counter() - t0) / n_measure
+    return {"cycles_measured": n_measure, "seconds_per_cycle": per, "extrapolated_seconds_520k": per * 520_000,
+            "extrapolated_hours_520k": per * 520_000 / 3600.0}
+
+
+def bench_convergence() -> dict:
+    cfg = config_for()
+    model = build_model(cfg)
+    s = base_settings(cfg)
+    rtol = s.rtol if s.rtol is not None else cfg.simulation.rtol
+    atol = s.atol if s.atol is not None else cfg.simulation.atol
+    variants = {
+        "baseline": s,
+        "block_halved": s.model_copy(update={"initial_block": max(1, s.initial_block // 2),
+                                             "max_block": max(1, s.max_block // 2),
+                                             "min_block": max(1, s.min_block // 2)}),
+        "grid_halved": s.model_copy(update={"n_grid": 2 * s.n_grid}),
+        "tolerance_halved": s.model_copy(update={"rtol": rtol / 2, "atol": atol / 2}),
+        "block_quartered": s.model_copy(update={"initial_block": max(1, s.initial_block // 4),
+                                                "max_block": max(1, s.max_block // 4),
+                                                "min_block": max(1, s.min_block // 4)}),
+        "record_cycles_doubled": s.model_copy(update={"record_cycles": 2 * s.record_cycles}),
+    }
+    out = {}
+    for name, v in variants.items():
+        out[name] = summary(wear_history(model, v, 400_000))
+    b = out["baseline"]["max_wear_mm"]
+    for name in variants:
+        out[name]["rel_change_vs_baseline"] = out[name]["max_wear_mm"] / b - 1.0
+    out["acceptance"] = {"limit": 0.02, "pass": all(abs(out[k]["rel_change_vs_baseline"]) < 0.02
+                                                   for k in ("block_halved", "grid_halved", "tolerance_halved"))}
+    out["baseline_settings"] = s.model_dump(mode="json")
+    out["integrator_baseline"] = {"rtol": rtol, "atol": atol}
+    return out
+
+
+def bench_reproduction() -> dict:
+    out = {}
+    for branch in (1, -1):
+        cfg = config_for(branch)
+        model = build_model(cfg)
+        for mode in ("uniform", "profile"):
+            s = base_settings(cfg).model_copy(update={"geometry_mode": mode})
+            out[f"branch{branch:+d}_{mode}"] = summary(wear_history(model, s, 400_000))
+    out["paper"] = {"max_wear_mm": 0.0249, "angle_deg": 110, "second_peak_mm": 0.0087, "second_peak_angle_deg": 310}
+    return out
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--only", default="timing,literal,convergence,reproduction")
+    ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--out", default=str(OUT))
+    a = ap.parse_args(argv)
+    out_path = Path(a.out)
+    data = json.loads(out_path.read_text()) if out_path.exists() else {}
+    data["machine"] = {"python": sys.version.split()[0], "platform": platform.platform(), "cpus": os.cpu_count()}
+    data["date_utc"] = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
+    for sec in a.only.split(","):
+        t0 = time.perf_counter()
+        if sec == "timing":
+            data["timing"] = bench_timing(a.repeats)
+        elif sec == "literal":
+            data["literal"] = bench_literal()
+        elif sec == "convergence":
+            data["convergence"] = bench_convergence()
+        elif sec == "reproduction":
+            data["reproduction"] = bench_reproduction()
+        else:
+            raise SystemExit(f"unknown section {sec!r}")
+        print(f"{sec}: {time.perf_counter() - t0:.1f} s", file=sys.stderr)
+    if "timing" in data and "literal" in data:
+        data["literal"]["ratio_literal_to_block_method"] = (data["literal"]["extrapolated_seconds_520k"]
+                                                            / data["timing"]["wall_seconds_median"])
+    out_path.parent.mkdir(parents=True, exist_ok=True)
+    out_path.write_text(json.dumps(data, indent=1))
+    print(json.dumps({k: data[k] for k in data if k in ("timing", "literal")}, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
