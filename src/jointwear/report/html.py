@@ -431,6 +431,16 @@ def _life_from_curve(cycles, rel, target: float) -> float | None:
     return None
 
 
+def _limit_mm(*sources: Mapping) -> float | None:
+    """The allowable wear delta_0 (mm): ``limit_mm`` or ``allowance_mm`` of any stage."""
+    for src in sources:
+        for key in ("limit_mm", "allowance_mm"):
+            v = _float(src.get(key)) if isinstance(src, Mapping) else None
+            if v is not None:
+                return v
+    return None
+
+
 def _second_peak(wear: Mapping) -> tuple[float, float] | None:
     """The largest wear on the far side (more than 90 deg from the main peak)."""
     main = _float(wear.get("max_wear_angle_deg"))
@@ -488,7 +498,8 @@ def _classify(var: Mapping) -> tuple[str | None, str | None]:
     label = str(var.get("label") or "").lower()
     name = str(var.get("name") or "").lower()
     text = f"{label} | {name}"
-    group = str(var.get("group") or "").lower() or None
+    group = str(var.get("group") or "").lower().replace("_", " ").strip() or None
+    group = {"tolerance": "tolerances", "other": None}.get(group, group) if group else None
     for qty, keys in _MAT_KEYS:
         if any(k in text for k in keys) or (qty == "Young's modulus" and name.startswith("e_")) or (
                 qty == "Poisson's ratio" and name.startswith("nu")) or (
@@ -804,7 +815,7 @@ def _wear_section(inp: Inputs, figs: _Figures) -> str:
     h = wear.get("history") if isinstance(wear.get("history"), Mapping) else {}
     rel = inp.data.get("reliability") or {}
     mm = rel.get("mean_max_wear_mm") if isinstance(rel.get("mean_max_wear_mm"), Mapping) else {}
-    limit = _float(wear.get("limit_mm")) or _float(rel.get("limit_mm"))
+    limit = _limit_mm(wear, rel)
     hc, hw = h.get("cycles"), h.get("max_wear_mm")
     parts.append(figs.draw(
         None if hc is None or hw is None else (lambda: F.wear_history_figure(
@@ -891,9 +902,7 @@ def _reliability_section(inp: Inputs, figs: _Figures) -> str:
         missing="Convergence of Pf: not recorded (reliability.json 'convergence')."))
     parts.append("</div>")
     hist = rel.get("histograms") if isinstance(rel.get("histograms"), Mapping) else {}
-    limit = _float(rel.get("limit_mm"))
-    if limit is None:
-        limit = _float((inp.data.get("wear") or {}).get("limit_mm"))
+    limit = _limit_mm(inp.data.get("wear") or {}, rel)
     parts.append(figs.draw(
         None if not hist.get("cycles") or not hist.get("max_wear_mm") else (lambda: F.wear_histograms_figure(
             hist["cycles"], hist["max_wear_mm"], limit_mm=limit, paper_means=PAPER["mean_max_wear_mm"])),
@@ -926,9 +935,14 @@ def _sensitivity_section(inp: Inputs, figs: _Figures) -> str:
     nominal = _float(sens.get("reliability_nominal"))
     cyc = _float(sens.get("cycles"))
     variables = [v for v in sens.get("variables") or [] if isinstance(v, Mapping)]
+    factors = sens.get("factors") if isinstance(sens.get("factors"), list) and len(sens["factors"]) == 2 else []
+    lo_f = _float(factors[0]) if factors else None
+    hi_f = _float(factors[1]) if factors else None
+    lo_f = 0.8 if lo_f is None else lo_f
+    hi_f = 1.2 if hi_f is None else hi_f
     lead = (f"Reliability at {cyc:,.0f} cycles" if cyc else "Reliability") + (
         f" (nominal {nominal:.3f})" if nominal is not None else "") + \
-        " when the mean of each variable is moved to 80 % and to 120 % of its value, the others fixed " \
+        f" when the mean of each variable is moved to {lo_f * 100:g} % and to {hi_f * 100:g} % of its value, the others fixed " \
         "(the paper's Figs. 22-24)."
     parts.append(f"<p>{e(lead)}</p>")
     if variables and nominal is not None:
@@ -942,7 +956,8 @@ def _sensitivity_section(inp: Inputs, figs: _Figures) -> str:
                 [_float(v.get("reliability_low")) if _float(v.get("reliability_low")) is not None else np.nan
                  for v in vs],
                 [_float(v.get("reliability_high")) if _float(v.get("reliability_high")) is not None else np.nan
-                 for v in vs], nominal, cycles=cyc, title=g[:1].upper() + g[1:]),
+                 for v in vs], nominal, cycles=cyc, title=g[:1].upper() + g[1:],
+                low_label=f"mean \u00d7 {lo_f:g}", high_label=f"mean \u00d7 {hi_f:g}"),
                 f"Sensitivity of the reliability: {g}.", png_keys=("tornado",)))
         parts.append("</div>")
         rows = []
@@ -952,7 +967,7 @@ def _sensitivity_section(inp: Inputs, figs: _Figures) -> str:
                          _num(lo, 3), _num(hi, 3), _num(_spread(v, nominal), 3)))
         rows.sort(key=lambda r: (r[2], -float(r[5]) if r[5] not in ("\u2014",) else 0))
         parts.append('<details><summary>Sensitivity as numbers</summary>')
-        parts.append(_table(["variable", "name", "group", "R at mean \u00d7 0.8", "R at mean \u00d7 1.2",
+        parts.append(_table(["variable", "name", "group", f"R at mean \u00d7 {lo_f:g}", f"R at mean \u00d7 {hi_f:g}",
                              "largest change of R"], rows, cls="num"))
         parts.append("</details>")
         ranks = _rankings(sens)
