@@ -52,12 +52,12 @@ def _default(info) -> str:
     from pydantic_core import PydanticUndefined
 
     if info.default_factory is not None:
+        if _models_in(info.annotation):
+            return "(section)"
         try:
             value = info.default_factory()
-        except TypeError:
+        except Exception:  # noqa: BLE001 - a factory that needs context: say so, do not fail the docs
             return "(computed)"
-        if hasattr(value, "model_fields"):
-            return "(section)"
         return f"`{value!r}`"
     if info.default is PydanticUndefined:
         return "**required**"
@@ -90,13 +90,13 @@ def config_reference_markdown(root: type | None = None) -> str:
         "",
     ]
     seen: set[tuple[str, type]] = set()
-    queue: list[tuple[str, type]] = [("", root)]
+    queue: list[tuple[str, type, bool]] = [("", root, False)]
     while queue:
-        path, model = queue.pop(0)
+        path, model, is_list = queue.pop(0)
         if (path, model) in seen:
             continue
         seen.add((path, model))
-        title = f"`[{path}]`" if path else "top level"
+        title = (f"`[[{path}]]`" if is_list else f"`[{path}]`") if path else "top level"
         doc = (model.__doc__ or "").strip().splitlines()[0] if model.__doc__ else ""
         variant = ""
         tfield = model.model_fields.get("type")
@@ -117,7 +117,7 @@ def config_reference_markdown(root: type | None = None) -> str:
                 desc = _esc(info.description or "") + f" See `{shown}`."
                 lines.append(f"| `{name}` | | {_default(info)} | {desc} |")
                 for sub in subs:
-                    queue.append((sub_path, sub))
+                    queue.append((sub_path, sub, _is_list(info.annotation)))
             else:
                 desc = _esc(info.description or "")
                 typ = typing.get_origin(info.annotation)
