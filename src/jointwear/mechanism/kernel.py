@@ -368,7 +368,7 @@ DP_E = np.array([71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 /
 
 
 @njit(cache=True)
-def integrate(t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_steps, t_record,
+def integrate(mode, t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_steps, t_record,
               nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
               kin, phi_, phid, rest, jac, smat, lam, f, cout, ks, ytmp,
               rec_t, rec_h, rec_y, rec_acc, rec_lam, rec_c, counters):
@@ -424,8 +424,11 @@ def integrate(t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_steps, t_record
                         acc += h * a * ks[m, i]
                 ytmp[st - 1, i] = acc
             ts = tn if st >= 5 else t + DP_C[st] * h
-            rhs(ts, ytmp[st - 1], ks, st, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
-                kin, phi_, phid, rest, jac, smat, lam, f, cout)
+            if mode == 0:
+                rhs(ts, ytmp[st - 1], ks, st, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate,
+                    baum, kin, phi_, phid, rest, jac, smat, lam, f, cout)
+            else:
+                rhs_fourbar(ts, ytmp[st - 1], ks, st, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
         err = 0.0
         for i in range(ny):
             ei = 0.0
@@ -491,11 +494,14 @@ def integrate(t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_steps, t_record
 
 
 @njit(cache=True)
-def accelerations(t, y, dy, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+def accelerations(mode, t, y, dy, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
                   kin, phi_, phid, rest, jac, smat, lam, f, cout):
     """One evaluation of the equations of motion into dy (2-D, row 0)."""
-    rhs(t, y, dy, 0, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
-        kin, phi_, phid, rest, jac, smat, lam, f, cout)
+    if mode == 0:
+        rhs(t, y, dy, 0, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+            kin, phi_, phid, rest, jac, smat, lam, f, cout)
+    else:
+        rhs_fourbar(t, y, dy, 0, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
 
 
 def empty_work(nb: int, nd: int, nj: int, ncj: int) -> dict[str, np.ndarray]:
@@ -513,3 +519,188 @@ def empty_work(nb: int, nd: int, nj: int, ncj: int) -> dict[str, np.ndarray]:
         "f": np.zeros(nq),
         "cout": np.zeros((ncj, NCOUT)),
     }
+
+
+# ---------------------------------------------------------------------------------------------
+# Fast path: four-bar with the clearance joint between the driven crank and the rod (joint A).
+# Natural coordinates (Garcia de Jalon & Bayo 1994): q = (A, B), the rod's end points (A = centre
+# of the rod's eye), the rocker is the segment C-B with C fixed. The mass matrix is constant,
+# the constraints are the two link lengths, no trigonometry except the crank angle. Same physics
+# as the Cartesian formulation above (checked by tests/dynamics/test_fast_path.py).
+# fp (1 x NFP) layout:
+FP_L2, FP_L3, FP_CX, FP_CY, FP_P, FP_R, FP_S, FP_QAX, FP_QAY, FP_QBX, FP_QBY, FP_T3, FP_T2, FP_SIG, FP_PX, FP_PY = range(16)
+NFP = 16
+
+
+@njit(cache=True, inline="always")
+def rhs_fourbar(t, y, dy, row, dpar, fp, cint, cpar, prof, ngrid, cstate, baum, lam, cout):
+    """dy[row] for y = (A, B, Adot, Bdot) of the natural-coordinate four-bar (see module notes)."""
+    ax, ay, bx, by = y[0], y[1], y[2], y[3]
+    avx, avy, bvx, bvy = y[4], y[5], y[6], y[7]
+    l2 = fp[0, FP_L2]
+    l3 = fp[0, FP_L3]
+    p = fp[0, FP_P]
+    r = fp[0, FP_R]
+    s = fp[0, FP_S]
+    sig = fp[0, FP_SIG]
+    # crank pin (prescribed): pin = pivot + R(theta) (s_A - s_O)
+    w = dpar[0, 5]
+    th = dpar[0, 4] + w * t
+    c = math.cos(th)
+    sn = math.sin(th)
+    ux = fp[0, FP_PX]
+    uy = fp[0, FP_PY]
+    relx = c * ux - sn * uy
+    rely = sn * ux + c * uy
+    pinx = dpar[0, 0] + relx
+    piny = dpar[0, 1] + rely
+    pvx = -w * rely
+    pvy = w * relx
+    dx = bx - ax
+    dyy = by - ay
+    ddx = bvx - avx
+    ddy = bvy - avy
+    d2 = dx * dx + dyy * dyy
+    wrod = (dx * ddy - dyy * ddx) / d2
+    ex3 = bx - fp[0, FP_CX]
+    ey3 = by - fp[0, FP_CY]
+    qax = fp[0, FP_QAX]
+    qay = fp[0, FP_QAY]
+    qbx = fp[0, FP_QBX]
+    qby = fp[0, FP_QBY]
+    tq = fp[0, FP_T2]  # torque on the rod
+    t3 = fp[0, FP_T3]
+    if t3 != 0.0:
+        e32 = ex3 * ex3 + ey3 * ey3
+        qbx += -t3 * ey3 / e32
+        qby += t3 * ex3 / e32
+    # ---- contact (bearing centre -> journal centre) ----
+    k = 0
+    if sig > 0.0:  # bearing on the rod, journal = crank pin
+        ex = pinx - ax
+        ey = piny - ay
+        rvx = pvx - avx
+        rvy = pvy - avy
+        wb = wrod
+        wj = w
+    else:  # bearing on the crank, journal = rod's pin
+        ex = ax - pinx
+        ey = ay - piny
+        rvx = avx - pvx
+        rvy = avy - pvy
+        wb = w
+        wj = wrod
+    emag = math.sqrt(ex * ex + ey * ey)
+    if emag > 1e-300:
+        nx = ex / emag
+        ny = ey / emag
+    else:
+        nx = 1.0
+        ny = 0.0
+    grow = cpar[k, C_GROW]
+    rbl = cpar[k, C_RB] + 0.5 * grow
+    rjl = cpar[k, C_RJ] - 0.5 * grow
+    kstiff = cpar[k, C_K0]
+    if cint[k, CI_PROF] != 0:
+        # angles of n relative to the body x axes (rod: along A->B; crank: at angle th)
+        dl = math.sqrt(d2)
+        rdx = dx / dl
+        rdy = dyy / dl
+        ang_rod = math.atan2(rdx * ny - rdy * nx, rdx * nx + rdy * ny)
+        ang_crk = math.atan2(c * ny - sn * nx, c * nx + sn * ny)
+        if sig > 0.0:
+            hb = _interp_periodic(prof, k, 0, ngrid[k, 0], ang_rod)
+            hj = _interp_periodic(prof, k, 1, ngrid[k, 1], ang_crk)
+        else:
+            hb = _interp_periodic(prof, k, 0, ngrid[k, 0], ang_crk)
+            hj = _interp_periodic(prof, k, 1, ngrid[k, 1], ang_rod)
+        rbl += hb
+        rjl -= hj
+        kstiff = contact_stiffness(cpar[k, C_HSUM], rbl, rjl)
+    elif grow != 0.0:
+        kstiff = contact_stiffness(cpar[k, C_HSUM], rbl, rjl)
+    cloc = rbl - rjl
+    delta = emag - cloc
+    vn = rvx * nx + rvy * ny
+    tx = -ny
+    ty = nx
+    vt = rvx * tx + rvy * ty + wj * rjl - wb * rbl
+    fn = 0.0
+    ft = 0.0
+    if delta > 0.0:
+        if cstate[k, S_INC] > 0.5:
+            v0 = cstate[k, S_V0]
+        else:
+            v0 = vn if vn > cpar[k, C_V0MIN] else cpar[k, C_V0MIN]
+        fn = normal_force(cint[k, CI_LAW], kstiff, cpar[k, C_NEXP], delta, vn, cpar[k, C_CR], v0)
+        if cint[k, CI_FRIC] != 0 and fn > 0.0:
+            ft = -friction_coefficient(vt, cpar[k, C_MUD], cpar[k, C_MUS], cpar[k, C_VS], cpar[k, C_VD]) * fn
+        fjx = -fn * nx + ft * tx
+        fjy = -fn * ny + ft * ty
+        if sig > 0.0:  # rod carries the bearing: force -Fj at A + R_b n
+            frx = -fjx
+            fry = -fjy
+            arm = rbl
+        else:  # rod carries the journal: force Fj at A + R_j n
+            frx = fjx
+            fry = fjy
+            arm = rjl
+        qax += frx
+        qay += fry
+        tq += arm * (nx * fry - ny * frx)
+    cout[k, O_FN] = fn
+    cout[k, O_FT] = ft
+    cout[k, O_VT] = vt
+    cout[k, O_DELTA] = delta
+    cout[k, O_VN] = vn
+    cout[k, O_NX] = nx
+    cout[k, O_NY] = ny
+    cout[k, O_EX] = ex
+    cout[k, O_EY] = ey
+    cout[k, O_CLOC] = cloc
+    cout[k, O_VREL] = math.sqrt(rvx * rvx + rvy * rvy)
+    cout[k, O_PHIB] = 0.0
+    cout[k, O_PHIJ] = 0.0
+    cout[k, O_K] = kstiff
+    # torque on the rod -> couple on (A, B)
+    if tq != 0.0:
+        qbx += -tq * dyy / d2
+        qby += tq * dx / d2
+        qax -= -tq * dyy / d2
+        qay -= tq * dx / d2
+    # ---- constraints |B - A|^2 = l2^2, |B - C|^2 = l3^2 (Baumgarte) ----
+    alpha2 = 2.0 * baum[0]
+    beta2 = baum[1] * baum[1]
+    phi1 = d2 - l2 * l2
+    phi2 = ex3 * ex3 + ey3 * ey3 - l3 * l3
+    phid1 = 2.0 * (dx * ddx + dyy * ddy)
+    phid2 = 2.0 * (ex3 * bvx + ey3 * bvy)
+    g1 = -2.0 * (ddx * ddx + ddy * ddy) - alpha2 * phid1 - beta2 * phi1
+    g2 = -2.0 * (bvx * bvx + bvy * bvy) - alpha2 * phid2 - beta2 * phi2
+    # free accelerations M^-1 Q
+    fax = p * qax + r * qbx
+    fay = p * qay + r * qby
+    fbx = r * qax + s * qbx
+    fby = r * qay + s * qby
+    b1 = 2.0 * (dx * (fbx - fax) + dyy * (fby - fay)) - g1
+    b2 = 2.0 * (ex3 * fbx + ey3 * fby) - g2
+    s11 = 4.0 * d2 * (p - 2.0 * r + s)
+    s12 = 4.0 * (s - r) * (dx * ex3 + dyy * ey3)
+    s22 = 4.0 * s * (ex3 * ex3 + ey3 * ey3)
+    det = s11 * s22 - s12 * s12
+    lam1 = (s22 * b1 - s12 * b2) / det
+    lam2 = (s11 * b2 - s12 * b1) / det
+    lam[0] = lam1
+    lam[1] = lam2
+    qax += 2.0 * dx * lam1
+    qay += 2.0 * dyy * lam1
+    qbx -= 2.0 * dx * lam1 + 2.0 * ex3 * lam2
+    qby -= 2.0 * dyy * lam1 + 2.0 * ey3 * lam2
+    dy[row, 0] = avx
+    dy[row, 1] = avy
+    dy[row, 2] = bvx
+    dy[row, 3] = bvy
+    dy[row, 4] = p * qax + r * qbx
+    dy[row, 5] = p * qay + r * qby
+    dy[row, 6] = r * qax + s * qbx
+    dy[row, 7] = r * qay + s * qby

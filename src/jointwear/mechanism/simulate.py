@@ -199,51 +199,86 @@ def initial_state(model: MechanismModel, t0: float = 0.0, preload: bool = True) 
 
 
 class _Runner:
-    def __init__(self, model: MechanismModel, geometry, rtol, atol):
+    """Kernel arrays, work arrays and the coordinate set (mode 0: Cartesian, 1: natural four-bar)."""
+
+    def __init__(self, model: MechanismModel, geometry, rtol, atol, fast: bool | None = None):
+        from jointwear.mechanism.fast import fast_layout
+
         self.model = model
         self.a = model.kernel_arrays(geometry)
         a = self.a
         nb = a["nb"]
-        self.w = K.empty_work(nb, a["dpar"].shape[0], a["jint"].shape[0], a["cint"].shape[0])
-        self.ny = 6 * nb
+        self.lay = fast_layout(model) if fast in (None, True) else None
+        if fast is True and self.lay is None:
+            raise ValueError("fast=True but the model does not qualify for the natural-coordinate kernel")
+        self.mode = 0 if self.lay is None else 1
+        if self.mode == 1:
+            a["jpar"] = self.lay.fp
+            self.w = K.empty_work(nb, a["dpar"].shape[0], 1, a["cint"].shape[0])
+            self.ny = 8
+            per = model.period
+            wref = TWO_PI / per if per else 1.0
+            self.atolv = np.concatenate([np.full(4, atol), np.full(4, atol * wref)])
+        else:
+            self.w = K.empty_work(nb, a["dpar"].shape[0], a["jint"].shape[0], a["cint"].shape[0])
+            self.ny = 6 * nb
+            self.atolv = _atol_vector(model, atol)
         self.rtol = rtol
-        self.atolv = _atol_vector(model, atol)
         self.ks = np.zeros((7, self.ny))
         self.ytmp = np.zeros((6, self.ny))
 
+    def to_internal(self, y_cart: np.ndarray) -> np.ndarray:
+        if self.mode == 0:
+            return np.array(y_cart, dtype=float)
+        from jointwear.mechanism.fast import to_natural
+
+        return to_natural(self.model, self.lay, y_cart)
+
+    def to_cartesian(self, Y: np.ndarray, Ydd: np.ndarray | None, phi_ref=None):
+        """Recorded internal states -> Cartesian q, qd, qdd."""
+        if self.mode == 0:
+            nq = Y.shape[1] // 2
+            return Y[:, :nq], Y[:, nq:], Ydd
+        from jointwear.mechanism.fast import to_cartesian
+
+        return to_cartesian(self.model, self.lay, Y, Ydd, phi_ref)
+
     def _args(self):
         a, w = self.a, self.w
-        return (a["nb"], a["winv"], a["fext"].ravel(), a["dpar"], a["jint"], a["jpar"], a["cint"], a["cpar"], a["prof"],
-                a["ngrid"], a["cstate"], a["baum"], w["kin"], w["phi_"], w["phid"], w["rest"], w["jac"], w["smat"],
-                w["lam"], w["f"], w["cout"])
+        return (a["nb"], a["winv"], a["fext"].ravel(), a["dpar"], a["jint"], a["jpar"], a["cint"], a["cpar"],
+                a["prof"], a["ngrid"], a["cstate"], a["baum"], w["kin"], w["phi_"], w["phid"], w["rest"], w["jac"],
+                w["smat"], w["lam"], w["f"], w["cout"])
 
     def eval(self, t, y):
         """Evaluate the equations of motion at (t, y) into ks[0] (also fills lam and cout)."""
-        K.accelerations(t, y, self.ks, *self._args())
+        K.accelerations(self.mode, t, y, self.ks, *self._args())
 
     def run(self, t, y, t_end, h, hmax, t_record, cap, max_steps, counters):
         ncj = self.a["cint"].shape[0]
-        nc = 2 * self.a["jint"].shape[0]
+        nc = self.w["lam"].shape[0]
         rec = dict(
             rec_t=np.empty(cap), rec_h=np.empty(cap), rec_y=np.empty((cap, self.ny)),
             rec_acc=np.empty((cap, self.ny // 2)), rec_lam=np.empty((cap, nc)),
             rec_c=np.empty((cap, ncj, K.NCOUT)),
         )
         s = self.model.settings
-        t, h = K.integrate(t, y, t_end, h, self.rtol, self.atolv, hmax, s.clearance_step_fraction, max_steps,
-                           t_record, *self._args(), self.ks, self.ytmp, rec["rec_t"], rec["rec_h"], rec["rec_y"],
-                           rec["rec_acc"], rec["rec_lam"], rec["rec_c"], counters)
+        t, h = K.integrate(self.mode, t, y, t_end, h, self.rtol, self.atolv, hmax, s.clearance_step_fraction,
+                           max_steps, t_record, *self._args(), self.ks, self.ytmp, rec["rec_t"], rec["rec_h"],
+                           rec["rec_y"], rec["rec_acc"], rec["rec_lam"], rec["rec_c"], counters)
         return t, h, rec
 
 
 def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeometry] | None = None,
              settle_cycles: float | None = None, rtol: float | None = None, atol: float | None = None,
-             state0: SimulationState | None = None, *, record: bool = True) -> SimulationResult:
+             state0: SimulationState | None = None, *, record: bool = True,
+             fast: bool | None = None) -> SimulationResult:
     """Integrate the mechanism: settle_cycles crank cycles (discarded), then n_cycles recorded.
 
     geometry: one ClearanceGeometry per clearance joint (default: unworn). state0: continue from a
-    previous result's ``state_end`` (default: ideal kinematics at t = 0, journals centred).
+    previous result's ``state_end`` (default: ideal kinematics at t = 0, journals preloaded).
     The cycle length is the driver's period (or model.period_override).
+    fast: None (default) uses the natural-coordinate four-bar kernel when the model qualifies
+    (jointwear.mechanism.fast), True requires it, False forces the general Cartesian kernel.
     """
     wall0 = time.perf_counter()
     period = model.period
@@ -255,9 +290,11 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
     atol = s.atol if atol is None else atol
     if geometry is None:
         geometry = model.initial_geometry()
-    run = _Runner(model, geometry, rtol, atol)
+    run = _Runner(model, geometry, rtol, atol, fast)
     st = initial_state(model) if state0 is None else state0
-    y = np.array(st.y, dtype=float)
+    y = run.to_internal(st.y)
+    free_names = [b.name for b in model.free_bodies]
+    phi_ref = {n: float(st.y[3 * i + 2]) for i, n in enumerate(free_names)}
     run.a["cstate"][:] = st.cstate
     t = float(st.t)
     hmax = s.max_step if s.max_step is not None else period / 200.0
@@ -290,9 +327,30 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
         if record:
             chunks.append({k: v[:n] for k, v in rec.items()})
     cat = {k: np.concatenate([c[k] for c in chunks]) for k in chunks[0]}
-    state_end = SimulationState(t, y.copy(), run.a["cstate"].copy(), h)
-    return _package(model, geometry, cat, state_end, counters, n_cycles, settle, period,
-                    time.perf_counter() - wall0)
+    q, qd, qdd = run.to_cartesian(cat["rec_y"], cat["rec_acc"], phi_ref if settle == 0 else None)
+    if run.mode == 1:
+        _fill_fast_angles(model, run, cat, q)
+        cat["rec_lam"] = np.full((q.shape[0], 2 * len(model.joints)), np.nan)
+    qe, qde, _ = run.to_cartesian(y[None, :], None, {n: float(q[-1, 3 * i + 2]) for i, n in enumerate(free_names)})
+    state_end = SimulationState(t, np.concatenate([qe[0], qde[0]]), run.a["cstate"].copy(), h)
+    res = _package(model, geometry, cat, q, qd, qdd, state_end, counters, n_cycles, settle, period,
+                   time.perf_counter() - wall0)
+    res.extra["kernel"] = "natural_fourbar" if run.mode == 1 else "cartesian"
+    return res
+
+
+def _fill_fast_angles(model, run, cat, q):
+    """The fast kernel leaves body angles out of its contact outputs; fill them from q."""
+    lay = run.lay
+    names = [b.name for b in model.free_bodies]
+    phi_rod = q[:, 3 * names.index(lay.rod) + 2]
+    crank = model.body(lay.crank)
+    phi_crank = crank.driver.angle0 + crank.driver.speed * cat["rec_t"]
+    cj = model.clearance_joints[0]
+    if cj.bearing_body == lay.rod:
+        cat["rec_c"][:, 0, K.O_PHIB], cat["rec_c"][:, 0, K.O_PHIJ] = phi_rod, phi_crank
+    else:
+        cat["rec_c"][:, 0, K.O_PHIB], cat["rec_c"][:, 0, K.O_PHIJ] = phi_crank, phi_rod
 
 
 def _status_text(code: int, t: float) -> str:
@@ -308,12 +366,9 @@ def _trapezoid_weights(t: np.ndarray) -> np.ndarray:
     return w
 
 
-def _package(model, geometry, cat, state_end, counters, n_cycles, settle, period, wall) -> SimulationResult:
+def _package(model, geometry, cat, q, qd, qdd, state_end, counters, n_cycles, settle, period, wall
+             ) -> SimulationResult:
     t = cat["rec_t"]
-    nb = len(model.free_bodies)
-    nq = 3 * nb
-    q = cat["rec_y"][:, :nq]
-    qd = cat["rec_y"][:, nq:]
     crank = model.crank
     names = model.body_names
     angles = np.empty((t.size, len(names)))
@@ -349,7 +404,7 @@ def _package(model, geometry, cat, state_end, counters, n_cycles, settle, period
         ))
     return SimulationResult(
         t=t, crank_angle=crank_angle, body_angles=angles, body_names=names, free_body_names=free, q=q, qd=qd,
-        qdd=cat["rec_acc"], multipliers=cat["rec_lam"], joint_names=[j.name for j in model.joints], joints=traces,
+        qdd=qdd, multipliers=cat["rec_lam"], joint_names=[j.name for j in model.joints], joints=traces,
         state_end=state_end, n_steps=int(counters[1]), n_rejected=int(counters[2]), n_recorded_steps=t.size - 1,
         n_cycles=n_cycles, settle_cycles=settle, period=period, wall_seconds=wall,
     )

@@ -1,0 +1,78 @@
+"""The study joins random inputs, the true model and the reliability engine correctly.
+
+The wear model is replaced by an analytic law with the structure of Archard's (wear depth proportional
+to k / H and to the number of cycles), so the exact R(N) is known by brute-force Monte Carlo.
+"""
+
+import numpy as np
+import pytest
+
+from jointwear import compute
+from jointwear.config import load_config
+from jointwear.study import life_at, population, run_reliability, study_context
+
+RATE = 7.1e-11  # m per cycle at the nominal point: the paper's mean slope (paper-notes: 7.1e-8 mm/cycle)
+
+
+class AnalyticWear:
+    """delta_max(x, N) = RATE * N * (k_b / k_b0) * (H_b0 / H_b) * (1 + 0.05 (c - c0) / 1 um)."""
+
+    def __init__(self, names, cycles):
+        self.i_k, self.i_h, self.i_c = names.index("k_b"), names.index("HB_b"), names.index("c")
+        self.cycles = np.asarray(cycles, dtype=float)
+
+    def scale(self, x):
+        x = np.atleast_2d(x)
+        return (x[:, self.i_k] / 1.2e-3) * (350 * 9.807e6 / x[:, self.i_h]) * (1 + 0.05 * (x[:, self.i_c] - 2e-6) / 1e-6)
+
+    def __call__(self, x):
+        return RATE * self.cycles * self.scale(x)[0], "ok"
+
+
+@pytest.fixture(scope="module")
+def study():
+    cfg = load_config()
+    cfg.reliability.cycles_start, cfg.reliability.cycles_stop, cfg.reliability.cycles_step = 340_000, 480_000, 40_000
+    cfg.reliability.histogram_cycles = [380_000, 420_000]
+    cfg.reliability.n_mc = 50_000
+    holder = {}
+
+    def factory(call):
+        holder["model"] = AnalyticWear([s.name for s in cfg.uncertainty.all_specs()], call.cycles)
+        return compute.Evaluator(holder["model"], None, None, n_outputs=len(call.cycles))
+
+    ctx = study_context(cfg, factory)
+    return cfg, ctx, run_reliability(ctx), holder["model"]
+
+
+def test_reliability_curve_matches_brute_force_monte_carlo(study):
+    cfg, ctx, res, model = study
+    x = population(ctx.marginals, 1_000_000, seed=99)
+    wear = RATE * model.scale(x)[:, None] * res.cycles[None, :]
+    pf_ref = np.mean(wear > cfg.reliability.allowance, axis=0)
+    se_ref = np.sqrt(pf_ref * (1 - pf_ref) / len(x))
+    for k in range(len(res.cycles)):
+        if pf_ref[k] < 1e-3:
+            continue
+        # Tolerance: 3 x the study's reported COV (its Monte Carlo error) plus 3 reference standard errors.
+        tol = 3 * res.pf_cov[k] * res.pf[k] + 3 * se_ref[k]
+        assert abs(res.pf[k] - pf_ref[k]) < tol, (res.cycles[k], res.pf[k], pf_ref[k])
+    assert res.model_calls <= cfg.reliability.max_calls
+    assert np.all(np.diff(res.reliability) <= 1e-12)  # wear grows with N, so R(N) cannot increase
+
+
+def test_life_and_histograms_are_consistent(study):
+    cfg, ctx, res, model = study
+    life = life_at(res.cycles, res.reliability, cfg.reliability.target_reliability)
+    assert life == res.life_cycles
+    # Mean max wear from the surrogate vs the exact mean RATE * N * E[scale] (Monte Carlo, 1e6 samples).
+    x = population(ctx.marginals, 1_000_000, seed=5)
+    exact = RATE * model.scale(x).mean() * np.asarray(res.mean_max_wear["cycles"]) * 1e3
+    # 1 % : the surrogate's error on a smooth 3-variable product over the population, well above MC noise
+    np.testing.assert_allclose(res.mean_max_wear["mean"], exact, rtol=1e-2)
+    assert res.histograms["cycles"] == [380_000, 420_000]
+
+
+def test_life_at_interpolates():
+    assert life_at([1, 2, 3], [1.0, 0.95, 0.85], 0.9) == pytest.approx(2.5)  # exact linear interpolation
+    assert life_at([1, 2], [1.0, 0.95], 0.9) is None
