@@ -211,13 +211,25 @@ class StudyContext:
         return float(self.config.reliability.allowance)
 
     def g(self, X: np.ndarray) -> np.ndarray:
-        """Limit states G_k = delta_0 - delta_max(x, N_k), shape (n, m); NaN rows for failed calls."""
+        """Limit states G_k = ln delta_0 - ln delta_max(x, N_k), shape (n, m); NaN rows for failed calls.
+
+        Same sign as the paper's G = delta_0 - delta_max (Eq. 42), so the same failure domain; the
+        logarithm makes the Archard response (a product of powers of k, H, F, ...) nearly linear in the
+        inputs, which the Kriging learns with far fewer calls.
+        """
         X = np.atleast_2d(np.asarray(X, dtype=float))
         if self.random_allowance:
             wear = np.asarray(self.evaluator(X[:, :-1]), dtype=float).reshape(len(X), -1)
-            return X[:, -1:] - wear
-        wear = np.asarray(self.evaluator(X), dtype=float).reshape(len(X), -1)
-        return self.allowance - wear
+            allowance = X[:, -1:]
+        else:
+            wear = np.asarray(self.evaluator(X), dtype=float).reshape(len(X), -1)
+            allowance = self.allowance
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.log(allowance) - np.log(np.where(wear > 0, wear, np.nan))
+
+    def wear_from_g(self, g: np.ndarray, allowance) -> np.ndarray:
+        """Max wear (m) from limit-state values."""
+        return np.asarray(allowance) * np.exp(-np.asarray(g))
 
 
 def study_context(config: StudyConfig, evaluator_factory: Callable[[WearModelCall], Any]) -> StudyContext:
@@ -261,7 +273,7 @@ def predict_wear(engine, marginals: Sequence, x: np.ndarray, allowance: np.ndarr
     out = np.empty((len(x), len(columns)))
     for k, j in enumerate(columns):
         mu, _ = engine.surrogates[j].predict(u, return_variance=False)
-        out[:, k] = allowance - mu
+        out[:, k] = np.squeeze(allowance) * np.exp(-mu) if np.ndim(allowance) else allowance * np.exp(-mu)
     return out
 
 
@@ -274,7 +286,8 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     engine = akmcs_multi(
         ctx.g, ctx.marginals, n_mc=rel.n_mc, n_mc_max=rel.n_mc_max, n_initial=rel.n_initial,
         batch_size=rel.batch_size, u_threshold=rel.u_threshold, cov_target=rel.cov_target,
-        pf_floor=rel.pf_floor, max_calls=rel.max_calls, seed=rel.seed, progress=progress)
+        pf_floor=rel.pf_floor, max_calls=rel.max_calls, seed=rel.seed, progress=progress,
+        stopping=rel.stopping, error_tol=rel.error_tol)
     cycles = np.asarray(ctx.cycles, dtype=float)
     pf = np.asarray(engine.pf, dtype=float)
     reliability = 1.0 - pf
@@ -295,7 +308,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     hist = engine.history
     convergence = {"n_calls": [h.n_calls for h in hist], "pf": [_first(h.pf) for h in hist],
                    "min_u": [_first(h.min_u) for h in hist]}
-    design_wear = ctx.allowance - np.asarray(engine.design_g, dtype=float)
+    design_wear = ctx.allowance * np.exp(-np.asarray(engine.design_g, dtype=float))
     unc = ctx.config.uncertainty
     infeasible = {}
     if unc.clearance is not None:

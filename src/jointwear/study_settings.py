@@ -7,6 +7,7 @@ Each field that the paper leaves open has a default and says where it comes from
 from __future__ import annotations
 
 import math
+from typing import Literal
 
 from pydantic import Field, field_validator, model_validator
 
@@ -32,6 +33,13 @@ class ReliabilitySettings(SIModel):
     n_initial: int = Field(12, description="Latin hypercube initial design size (paper: 20 calls in all).")
     batch_size: int = Field(2, description="Points added per learning iteration (run in parallel).")
     u_threshold: float = Field(2.0, description="Stop learning when min U >= this (paper Eq. 46: 2).")
+    stopping: Literal["u", "error"] = Field(
+        "error",
+        description="Learning stop: 'u' = min U >= u_threshold at every level (the paper's rule); 'error' = the "
+        "estimated relative error of every level's Pf from the surrogate's sign uncertainty is below error_tol, "
+        "or min U >= u_threshold (project choice: the U rule keeps adding calls near levels with Pf ~ 0.5, where "
+        "a population of 1e5 always has points on the limit state).")
+    error_tol: float = Field(0.02, description="Relative Pf error tolerance of the 'error' stopping rule (project choice).")
     cov_target: float = Field(0.05, description="Required COV of Pf at every N with Pf > pf_floor (paper: 0.05).")
     pf_floor: float = Field(1e-3, description="Levels with Pf below this need not meet the COV target.")
     max_calls: int = Field(120, description="Budget of true-model calls for the reliability analysis.")
