@@ -150,13 +150,15 @@ def _atol_vector(model: MechanismModel, atol: float) -> np.ndarray:
     return np.concatenate([pos, vel])
 
 
-def initial_state(model: MechanismModel, t0: float = 0.0, preload: bool = True) -> SimulationState:
+def initial_state(model: MechanismModel, t0: float = 0.0, preload: bool = True,
+                  geometry: list[ClearanceGeometry] | None = None) -> SimulationState:
     """Start state at t0 from the ideal kinematics.
 
     preload=True (default): every journal starts in contact, pushed against its bearing along the
     ideal joint reaction with the static penetration (|R| / K)^(1/n), and the contact is marked as
     established (damping with v0 = v0_min); this removes most of the start-up transient.
-    preload=False: journals centred in their bearings.
+    preload=False: journals centred in their bearings. geometry: the (worn) clearance geometry whose
+    local clearance in the preload direction is used (default: nominal).
     """
     q, qd, qdd = model.kinematics(t0)
     ncj = len(model.clearance_joints)
@@ -173,15 +175,31 @@ def initial_state(model: MechanismModel, t0: float = 0.0, preload: bool = True) 
             if fmag <= 0.0:
                 continue
             n = -r / fmag
-            delta = (fmag / cj.stiffness) ** (1.0 / cj.exponent)
-            e = (cj.clearance + delta) * n
-            if cj.bearing_body == "ground":
-                phib = 0.0
-            elif cj.bearing_body in free:
-                phib = q[3 * free.index(cj.bearing_body) + 2]
-            else:
-                b = model.body(cj.bearing_body)
-                phib = b.driver.angle0 + b.driver.speed * t0
+
+            def body_angle(name):
+                if name == "ground":
+                    return 0.0
+                if name in free:
+                    return q[3 * free.index(name) + 2]
+                b = model.body(name)
+                return b.driver.angle0 + b.driver.speed * t0
+
+            phib = body_angle(cj.bearing_body)
+            clear = cj.clearance
+            kst = cj.stiffness
+            if geometry is not None:
+                g = geometry[k]
+                clear = g.clearance
+                rb, rj = g.bearing_radius + g.clearance_growth / 2, g.journal_radius - g.clearance_growth / 2
+                if g.use_profile:
+                    ang = np.arctan2(n[1], n[0])
+                    hb = _interp_periodic_py(g.bearing_wear, ang - phib)
+                    hj = _interp_periodic_py(g.journal_wear, ang - body_angle(cj.journal_body))
+                    clear += hb + hj
+                    rb, rj = rb + hb, rj - hj
+                kst = 4.0 / (3.0 * cj.hsum) * np.sqrt(rb * rj / (rb - rj))
+            delta = (fmag / kst) ** (1.0 / cj.exponent)
+            e = (clear + delta) * n
             c, s = np.cos(phib), np.sin(phib)
             local = (c * e[0] + s * e[1], -s * e[0] + c * e[1])
             joint = next(j for j in ideal.joints if j.name == cj.name)
@@ -196,6 +214,14 @@ def initial_state(model: MechanismModel, t0: float = 0.0, preload: bool = True) 
         ideal.guess = None
         q, qd, _ = ideal.kinematics(t0, q_guess=q)
     return SimulationState(t0, np.concatenate([q, qd]), cstate, 0.0)
+
+
+def _interp_periodic_py(prof: np.ndarray, ang: float) -> float:
+    n = prof.size
+    x = (ang / TWO_PI) % 1.0 * n
+    i0 = int(x) % n
+    fr = x - int(x)
+    return float(prof[i0] * (1 - fr) + prof[(i0 + 1) % n] * fr)
 
 
 class _Runner:
@@ -291,7 +317,7 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
     if geometry is None:
         geometry = model.initial_geometry()
     run = _Runner(model, geometry, rtol, atol, fast)
-    st = initial_state(model) if state0 is None else state0
+    st = initial_state(model, geometry=geometry) if state0 is None else state0
     y = run.to_internal(st.y)
     free_names = [b.name for b in model.free_bodies]
     phi_ref = {n: float(st.y[3 * i + 2]) for i, n in enumerate(free_names)}
