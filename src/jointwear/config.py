@@ -20,12 +20,23 @@ import math
 import tomllib
 from importlib import resources
 from pathlib import Path
-from typing import Annotated, Any, Literal, Union
+from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+from pydantic import (
+    BaseModel,
+    Field,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
 
-from jointwear.schema import F, ConfigError, SIModel
-from jointwear.study_settings import ComputeSettings, ReliabilitySettings, SensitivitySettings
+from jointwear.schema import ConfigError, F, SIModel
+from jointwear.study_settings import (
+    ComputeSettings,
+    ReliabilitySettings,
+    SensitivitySettings,
+)
+from jointwear.uncertainty.targets import target_error
 from jointwear.uncertainty.variables import UncertaintySettings
 from jointwear.units import fmt_mm
 from jointwear.wear.settings import WearSettings
@@ -64,7 +75,7 @@ class FrictionConfig(SIModel):
     v_d: float = F(1e-3, unit="m/s", gt=0, description="Speed above which friction is purely dynamic; paper-notes baseline 1e-3 m/s.")
 
     @model_validator(mode="after")
-    def _speeds(self) -> "FrictionConfig":
+    def _speeds(self) -> FrictionConfig:
         if not self.v_s < self.v_d:
             raise ValueError(f"v_s ({self.v_s:g} m/s) must be smaller than v_d ({self.v_d:g} m/s)")
         return self
@@ -114,7 +125,7 @@ class ClearanceJointConfig(SIModel):
         return v
 
     @model_validator(mode="after")
-    def _outer(self) -> "ClearanceJointConfig":
+    def _outer(self) -> ClearanceJointConfig:
         if self.bearing_outer_radius is not None and not self.bearing_outer_radius > self.bearing_radius:
             raise ValueError(
                 f"bearing_outer_radius {fmt_mm(self.bearing_outer_radius)} must exceed bearing_radius "
@@ -189,7 +200,7 @@ class FourBarConfig(SIModel):
     rod_force: Vec2 = F((0.0, 0.0), unit="N", description="Constant external force on the rod at its centre of mass.")
 
     @model_validator(mode="after")
-    def _closure(self) -> "FourBarConfig":
+    def _closure(self) -> FourBarConfig:
         for name in ("crank", "rod", "rocker"):
             _positive_length(getattr(self, name), name)
         l1, l2, l3 = self.crank.length, self.rod.length, self.rocker.length
@@ -227,7 +238,7 @@ class SliderCrankConfig(SIModel):
     gravity: Vec2 = F((0.0, 0.0), unit="m/s^2", description="Gravity vector (Flores et al. 2006 benchmark: none).")
 
     @model_validator(mode="after")
-    def _closure(self) -> "SliderCrankConfig":
+    def _closure(self) -> SliderCrankConfig:
         for name in ("crank", "rod"):
             _positive_length(getattr(self, name), name)
         l1, l2 = self.crank.length, self.rod.length
@@ -239,7 +250,7 @@ class SliderCrankConfig(SIModel):
         return self
 
 
-MechanismConfig = Annotated[Union[FourBarConfig, SliderCrankConfig], Field(discriminator="type")]
+MechanismConfig = Annotated[FourBarConfig | SliderCrankConfig, Field(discriminator="type")]
 
 _MECH_JOINTS = {
     "four_bar": {"O": ("ground", "crank"), "A": ("crank", "rod"), "B": ("rod", "rocker"), "C": ("ground", "rocker")},
@@ -302,7 +313,19 @@ class StudyConfig(SIModel):
     compute: ComputeSettings = F(default_factory=ComputeSettings, description="Where model calls run.")
 
     @model_validator(mode="after")
-    def _joints_exist(self) -> "StudyConfig":
+    def _targets_exist(self) -> StudyConfig:
+        if self.uncertainty is None:
+            return self
+        data = self.model_dump()
+        for i, spec in enumerate(self.uncertainty.all_specs()):
+            problem = target_error(data, spec.target)
+            if problem:
+                where = "uncertainty.clearance" if spec.name == "c" else f"uncertainty.variables[{spec.name}]"
+                raise ValueError(f"{where}.target: {problem}")
+        return self
+
+    @model_validator(mode="after")
+    def _joints_exist(self) -> StudyConfig:
         joints = _MECH_JOINTS[self.mechanism.type]
         seen = set()
         for i, cj in enumerate(self.clearance_joints):

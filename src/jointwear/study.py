@@ -11,7 +11,7 @@ call counts as a failure of the mechanism, never as safe, and is reported.
 
 from __future__ import annotations
 
-import json
+import copy
 import math
 import time
 from collections.abc import Callable, Sequence
@@ -21,27 +21,17 @@ from typing import Any
 import numpy as np
 
 from jointwear.config import ConfigError, StudyConfig, config_from_dict
-
-CLEARANCE_SUFFIX = ".clearance"
+from jointwear.uncertainty.targets import (
+    CLEARANCE_SUFFIX,
+    set_clearance,
+    set_target,
+    target_error,
+)
 
 
 # ---------------------------------------------------------------------------------------------
 # samples -> configs
 # ---------------------------------------------------------------------------------------------
-def _set_path(data: dict, path: str, value: float) -> None:
-    keys = path.split(".")
-    node: Any = data
-    for key in keys[:-1]:
-        node = node[int(key)] if isinstance(node, list) else node[key]
-    last = keys[-1]
-    if isinstance(node, list):
-        node[int(last)] = value
-    else:
-        if last not in node:
-            raise KeyError(path)
-        node[last] = value
-
-
 def apply_sample(base: StudyConfig | dict, targets: Sequence[str], x: Sequence[float]) -> StudyConfig:
     """A copy of the config with each target field set to the sample value (SI).
 
@@ -49,38 +39,19 @@ def apply_sample(base: StudyConfig | dict, targets: Sequence[str], x: Sequence[f
     other targets (so a sampled journal radius and a sampled clearance combine as R_i = R_j + c).
     Raises ConfigError when the sample gives an invalid config (e.g. a linkage that cannot assemble).
     """
-    data = base.model_dump() if isinstance(base, StudyConfig) else json.loads(json.dumps(base))
-    clearances = []
+    data = base.model_dump() if isinstance(base, StudyConfig) else copy.deepcopy(base)
+    derived = []
     for path, value in zip(targets, x):
+        problem = target_error(data, path)
+        if problem:
+            raise ConfigError(f"uncertainty: target {problem}")
         if path.endswith(CLEARANCE_SUFFIX):
-            clearances.append((path[: -len(CLEARANCE_SUFFIX)], float(value)))
-            continue
-        try:
-            _set_path(data, path, float(value))
-        except (KeyError, IndexError, ValueError, TypeError):
-            raise ConfigError(f"uncertainty: target '{path}' is not a field of the config") from None
-    for joint_path, c in clearances:
-        try:
-            node: Any = data
-            for key in joint_path.split("."):
-                node = node[int(key)] if isinstance(node, list) else node[key]
-            node["bearing_radius"] = node["journal_radius"] + c
-        except (KeyError, IndexError, ValueError, TypeError):
-            raise ConfigError(f"uncertainty: target '{joint_path}.clearance' is not a clearance joint") from None
+            derived.append((path, float(value)))
+        else:
+            set_target(data, path, float(value))
+    for path, c in derived:
+        set_clearance(data, path, c)
     return config_from_dict(data, source="sample")
-
-
-def check_targets(config: StudyConfig) -> None:
-    """Every random variable's target must exist in the config (checked once, at the boundary)."""
-    unc = config.uncertainty
-    if unc is None:
-        return
-    specs = unc.all_specs()
-    nominal = [s.mean for s in specs]
-    try:
-        apply_sample(config, [s.target for s in specs], nominal)
-    except ConfigError as exc:
-        raise ConfigError(str(exc).replace("sample: ", "uncertainty (at the nominal values): ")) from None
 
 
 # ---------------------------------------------------------------------------------------------
@@ -239,7 +210,6 @@ def study_context(config: StudyConfig, evaluator_factory: Callable[[WearModelCal
         raise ConfigError("uncertainty: the study needs random variables ([uncertainty] section)")
     if not config.clearance_joints:
         raise ConfigError("clearance_joints: the wear study needs at least one clearance joint")
-    check_targets(config)
     specs = unc.all_specs()
     names = [s.name for s in specs]
     labels = [s.label or s.name for s in specs]
