@@ -431,6 +431,13 @@ def _life_from_curve(cycles, rel, target: float) -> float | None:
     return None
 
 
+def _geometry_mode(wear: Mapping) -> str | None:
+    mode = wear.get("geometry_mode")
+    if mode is None and isinstance(wear.get("settings"), Mapping):
+        mode = wear["settings"].get("geometry_mode")
+    return None if mode is None else str(mode)
+
+
 def _limit_mm(*sources: Mapping) -> float | None:
     """The allowable wear delta_0 (mm): ``limit_mm`` or ``allowance_mm`` of any stage."""
     for src in sources:
@@ -560,8 +567,9 @@ def paper_checks(data: Mapping[str, Mapping]) -> list[Check]:
                 note = "read from the wear history" if ours is not None else ""
             if ours is None:
                 note = f"the wear run stopped at {_num(wc)} cycles" if wc else "no wear result"
-        if wear.get("geometry_mode"):
-            note = (note + "; " if note else "") + f"geometry mode: {wear['geometry_mode']}"
+        mode = _geometry_mode(wear)
+        if mode:
+            note = (note + "; " if note else "") + f"geometry mode: {mode}"
     checks.append(Check("nominal max bearing wear after 400,000 cycles", PAPER["nominal_max_wear_mm"], ours, "mm",
                         "0.021-0.029 mm", NA if ours is None else (PASS if 0.021 <= ours <= 0.029 else FAIL), note))
     ang = _float(wear.get("max_wear_angle_deg")) if wear else None
@@ -794,8 +802,8 @@ def _wear_section(inp: Inputs, figs: _Figures) -> str:
         ("wall time", "\u2014" if _float(wear.get("wall_seconds")) is None else f"{float(wear['wall_seconds']):.3g} s",
          None),
     ]
-    if wear.get("geometry_mode"):
-        cards.append(("geometry mode", str(wear["geometry_mode"]), None))
+    if _geometry_mode(wear):
+        cards.append(("geometry mode", _geometry_mode(wear), None))
     parts.append(_cards(cards))
     prof = wear.get("profile") if isinstance(wear.get("profile"), Mapping) else {}
     ang, depth, _ = _pair(inp, prof, ("angle",), "angle_deg", ("depth", "wear_depth", "bearing_depth"), "length_mm")
