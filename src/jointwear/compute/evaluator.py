@@ -201,6 +201,14 @@ class BatchResult:
     def __len__(self) -> int:
         return len(self.records)
 
+    def __repr__(self) -> str:
+        st = self.status
+        return (
+            f"BatchResult(n={len(self)}, ok={int((st == OK).sum())}, failed={int((st == FAILED).sum())}, "
+            f"timeout={int((st == TIMEOUT).sum())}, reused={int(self.reused.sum())}, "
+            f"n_evaluated={self.n_evaluated}, wall_s={self.wall_s:.3g})"
+        )
+
     @property
     def status(self) -> np.ndarray:
         return np.array([r.status for r in self.records], dtype=object)
