@@ -152,3 +152,13 @@ def test_output_path_and_missing_dir(tmp_path: Path, study_dir: Path):
     assert out.is_file() and out.parent.name == "elsewhere"
     with pytest.raises(FileNotFoundError):
         build_report(tmp_path / "does-not-exist")
+
+
+def test_comparison_markdown(study_dir: Path):
+    from jointwear.report.compare import comparison_markdown, main
+
+    md = comparison_markdown(study_dir)
+    assert md.startswith("| quantity | paper | jointwear |")
+    assert "| life at R = 0.9 | 371,640 cycles |" in md
+    assert md.count("**pass**") >= 12
+    assert main(["/does/not/exist"]) == 2
