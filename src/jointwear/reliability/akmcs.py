@@ -61,11 +61,13 @@ def esc_error(u: np.ndarray, fail: np.ndarray, known: np.ndarray | None = None, 
     ``u``: U values of the candidates; ``fail``: predicted failure flags; ``known``: candidates whose sign
     is known exactly (evaluated). Returns +inf when no candidate is predicted to fail.
     """
-    p = ndtr(-u)
+    relevant = u < 8.0  # Phi(-8) = 6e-16: candidates beyond contribute nothing
     if known is not None:
-        p = np.where(known, 0.0, p)
+        relevant &= ~known
+    p = ndtr(-u[relevant])
+    f = fail[relevant]
     n_f = float(np.count_nonzero(fail))
-    pf_, ps_ = p[fail], p[~fail]
+    pf_, ps_ = p[f], p[~f]
     n_fs = float(pf_.sum() + z * math.sqrt(float((pf_ * (1 - pf_)).sum())))
     n_sf = float(ps_.sum() + z * math.sqrt(float((ps_ * (1 - ps_)).sum())))
     if n_f - n_fs <= 0:
@@ -163,13 +165,15 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
     # candidates that had U < u_active at the last sweep are re-predicted (the others keep their last sign).
     # Full sweeps happen after every hyperparameter optimisation, every `full_sweep_every` iterations, after
     # the population grows and always before a stop is accepted, so the stopping decision is exact.
-    u_active = u_threshold + 2.0
+    u_active = u_threshold + 1.5
     U = np.full((u_pop.shape[0], m), np.inf)
     fail = np.zeros((u_pop.shape[0], m), dtype=bool)
     active_idx = np.arange(u_pop.shape[0])
     need_full = True
     since_full = 0
     sweep_scales: list = [None] * m
+    n_sweeps = 0
+    n_active_sum = 0
     while True:
         # ---- fit
         for j in range(m):
@@ -217,11 +221,14 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
             err[j] = esc_error(U[:, j], fail[:, j], known)
         if need_full:
             active_idx = np.flatnonzero(U.min(axis=1) < u_active)
+            n_sweeps += 1
             sweep_scales = [np.log(sur.hyperparameters.scale) for sur in surrogates]
             need_full = False
             since_full = 0
         else:
             since_full += 1
+            active_idx = active_idx[U[active_idx].min(axis=1) < u_active]  # shrinks between sweeps
+        n_active_sum += active_idx.size
         cov = np.atleast_1d(mc_cov(pf, n_pop))
         min_u = U.min(axis=0)
         rec = IterationRecord(iteration=iteration, n_calls=ev.n_calls, n_mc=n_pop,
@@ -298,7 +305,8 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
                                       **common)
     return ReliabilityResult(method="akmcs", pf=float(pf_col[0]), cov=float(cov_col[0]), beta=pf_to_beta(pf_col[0]),
                              converged=converged, design_g=design_g[:, 0], surrogate=surrogates[0],
-                             error_estimate=float(err[0]), details={"min_u": float(min_u[0])}, **common)
+                             error_estimate=float(err[0]), details={"min_u": float(min_u[0]), "n_full_sweeps": n_sweeps,
+                                                                  "mean_active": n_active_sum / max(iteration, 1)}, **common)
 
 
 def akmcs(

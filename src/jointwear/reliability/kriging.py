@@ -37,7 +37,59 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.linalg import cho_solve, solve_triangular
 
-__all__ = ["KrigingSurrogate", "KrigingHyperparameters"]
+__all__ = ["KrigingSurrogate", "KrigingHyperparameters", "blas_threads"]
+
+
+def _openblas_setter():
+    """(get, set) functions of the OpenBLAS bundled with numpy, or None (best effort, via ctypes)."""
+    import ctypes
+    import glob
+
+    libdir = os.path.join(os.path.dirname(os.path.dirname(np.__file__)), "numpy.libs")
+    for path in glob.glob(os.path.join(libdir, "*openblas*.so*")):
+        try:
+            lib = ctypes.CDLL(path)
+        except OSError:
+            continue
+        for suffix in ("64_", "_64_", ""):
+            get = getattr(lib, f"scipy_openblas_get_num_threads{suffix}", None)
+            put = getattr(lib, f"scipy_openblas_set_num_threads{suffix}", None)
+            if get is not None and put is not None:
+                get.restype = ctypes.c_int
+                put.argtypes = [ctypes.c_int]
+                return get, put
+    return None
+
+
+_BLAS = None
+
+
+class blas_threads:
+    """Context manager limiting numpy's OpenBLAS to ``n`` threads (no-op if that BLAS is not found).
+
+    Prediction runs single-threaded BLAS inside its own chunk threads: multi-threaded OpenBLAS spin-waits and
+    was 5-15x *slower* on this 2-core machine when other processes were busy (docs/reliability.md).
+    """
+
+    def __init__(self, n: int | None):
+        self.n = n
+        self.old = None
+
+    def __enter__(self):
+        global _BLAS
+        if self.n is None:
+            return self
+        if _BLAS is None:
+            _BLAS = _openblas_setter() or False
+        if _BLAS:
+            self.old = _BLAS[0]()
+            _BLAS[1](int(self.n))
+        return self
+
+    def __exit__(self, *exc):
+        if self.old is not None and _BLAS:
+            _BLAS[1](self.old)
+        return False
 
 
 @dataclass(frozen=True)
@@ -125,7 +177,7 @@ class KrigingSurrogate:
     scale_bounds: tuple[float, float] = (0.01, 100.0)
     n_starts: int = 3
     seed: int | None = 0
-    chunk_size: int = 4096
+    chunk_size: int = 2048
     n_threads: int | None = None
     hyperparameters: KrigingHyperparameters | None = None
     n_fit_failures: int = 0
@@ -253,13 +305,14 @@ class KrigingSurrogate:
                 t = 1.0 - mw[:, 1]
                 var[s:e] = c.sigma2 * np.maximum(1.0 - q + t * t / c.s1, 0.0)
 
-        n_threads = self.n_threads or 1  # BLAS already uses the cores; Python threads only contend
-        if n_threads > 1 and m > 4 * chunk:
-            with ThreadPoolExecutor(n_threads) as pool:
-                list(pool.map(work, starts))
-        else:
-            for s in starts:
-                work(s)
+        n_threads = self.n_threads or min(4, os.cpu_count() or 1)
+        with blas_threads(1):  # parallel over chunks instead (numpy releases the GIL in BLAS and ufuncs)
+            if n_threads > 1 and m > 2 * chunk:
+                with ThreadPoolExecutor(n_threads) as pool:
+                    list(pool.map(work, starts))
+            else:
+                for s in starts:
+                    work(s)
         mean = mean * self._ystd + self._ymean
         if var is not None:
             var = var * self._ystd**2
