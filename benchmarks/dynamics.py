@@ -34,7 +34,7 @@ def main() -> None:
     from jointwear.config import load_config
     from jointwear.mechanism import build_model, simulate
     from jointwear.mechanism import kernel as K
-    from jointwear.mechanism.simulate import _atol_vector, _Runner
+    from jointwear.mechanism.simulate import _Runner
 
     cfg = load_config("jin2025_flapping_wing")
     model = build_model(cfg)
@@ -72,46 +72,53 @@ def main() -> None:
         run = _Runner(model, None, model.settings.rtol, model.settings.atol)
         run.a["cstate"][:] = state.cstate
         a = run._args()
+        y0 = run.to_internal(state.y)
         dy = np.zeros((7, run.ny))
         period = model.period
-        atolv = _atol_vector(model, model.settings.atol)
+        atolv = run.atolv
+        mode = run.mode
+        nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum = a[:12]
+        lam, cout = a[18], a[20]
 
-        def f_compiled(t, y):
-            K.rhs(t, y, dy, 0, *a)
-            return dy[0].copy()
+        def make_f(rhs_func, fourbar):
+            if fourbar:
+                def f(t, y):
+                    rhs_func(t, y, dy, 0, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
+                    return dy[0].copy()
+            else:
+                def f(t, y):
+                    rhs_func(t, y, dy, 0, *a)
+                    return dy[0].copy()
+            return f
 
+        rhs_name = "rhs_fourbar" if mode == 1 else "rhs"
         tt = time.perf_counter()
-        sol = solve_ivp(f_compiled, (state.t, state.t + period), state.y, method="RK45",
+        sol = solve_ivp(make_f(getattr(K, rhs_name), mode == 1), (state.t, state.t + period), y0, method="RK45",
                         rtol=model.settings.rtol, atol=atolv, max_step=period / 200)
         w_c = time.perf_counter() - tt
+        out["kernel"] = "natural_fourbar" if mode == 1 else "cartesian"
         out["scipy_rk45_compiled_rhs"] = {"wall_seconds_per_cycle": w_c, "steps": int(sol.t.size - 1),
                                           "nfev": int(sol.nfev), "status": int(sol.status)}
         # pure Python right-hand side: the kernel's own Python source with numba bypassed
+        import jointwear.contact.laws as L
+
         names = ["fill_kinematics", "eval_constraints", "eval_contacts", "_row", "_interp_periodic",
-                 "normal_force", "friction_coefficient", "contact_stiffness", "rhs"]
+                 "normal_force", "friction_coefficient", "contact_stiffness", "rhs", "rhs_fourbar"]
         saved = {n: getattr(K, n) for n in names}
+        saved_h = L.hysteresis_factor
+        glob = saved["normal_force"].py_func.__globals__
         try:
             for n in names:
                 setattr(K, n, saved[n].py_func)
-            import jointwear.contact.laws as L
-
-            saved_h = L.hysteresis_factor
-            L.hysteresis_factor = saved_h.py_func
-            K.normal_force.__globals__["hysteresis_factor"] = saved_h.py_func
-
-            def f_python(t, y):
-                K.rhs(t, y, dy, 0, *a)
-                return dy[0].copy()
-
+            glob["hysteresis_factor"] = saved_h.py_func
             tt = time.perf_counter()
-            sol = solve_ivp(f_python, (state.t, state.t + period), state.y, method="RK45",
-                            rtol=model.settings.rtol, atol=atolv, max_step=period / 200)
+            sol = solve_ivp(make_f(getattr(K, rhs_name), mode == 1), (state.t, state.t + period), y0,
+                            method="RK45", rtol=model.settings.rtol, atol=atolv, max_step=period / 200)
             w_p = time.perf_counter() - tt
         finally:
             for n in names:
                 setattr(K, n, saved[n])
-            L.hysteresis_factor = saved_h
-            saved["normal_force"].py_func.__globals__["hysteresis_factor"] = saved_h
+            glob["hysteresis_factor"] = saved_h
         out["scipy_rk45_python_rhs"] = {"wall_seconds_per_cycle": w_p, "steps": int(sol.t.size - 1),
                                         "nfev": int(sol.nfev), "status": int(sol.status)}
         out["speedup_vs_scipy_python_rhs"] = w_p / out["wall_seconds_per_cycle_median"]
