@@ -13,12 +13,21 @@ from ._core import (
     check_marginals,
 )
 from .akmcs import akmcs, akmcs_multi, esc_error
-from .kriging import KrigingSurrogate
+from .kriging import KrigingSurrogate, blas_threads
+from .methods import form, importance_sampling, monte_carlo, sorm, subset_simulation
+from . import problems
 
 __all__ = [
     "akmcs",
     "akmcs_multi",
     "esc_error",
+    "monte_carlo",
+    "form",
+    "sorm",
+    "subset_simulation",
+    "importance_sampling",
+    "problems",
+    "blas_threads",
     "KrigingSurrogate",
     "Evaluator",
     "IsoTransform",

@@ -211,11 +211,15 @@ class KrigingSurrogate:
         if self.hyperparameters is not None:
             candidates.append(np.asarray(self.hyperparameters.scale, dtype=float))
         if optimize or self.hyperparameters is None:
-            try:
-                candidates.extend(self._fit_openturns(x, ys))
-            except Exception as exc:  # OpenTURNS can fail on ill-conditioned designs: keep last good fit
+            for n_starts in dict.fromkeys((self.n_starts, 1)):  # multistart, then a single warm start
+                try:
+                    candidates.extend(self._fit_openturns(x, ys, n_starts))
+                    break
+                except Exception as exc:  # OpenTURNS can fail on ill-conditioned designs: keep last good fit
+                    last_exc = exc
+            else:
                 self.n_fit_failures += 1
-                warnings.warn(f"Kriging fit failed ({exc}); keeping previous hyperparameters", RuntimeWarning)
+                warnings.warn(f"Kriging fit failed ({last_exc}); keeping previous hyperparameters", RuntimeWarning)
             if not candidates:
                 candidates.append(np.full(d, 0.5 * (np.ptp(x, axis=0).mean() + 1e-12)))
 
@@ -238,7 +242,7 @@ class KrigingSurrogate:
         self.hyperparameters = KrigingHyperparameters(scale=np.array(scale, dtype=float), nugget=nug)
         return self
 
-    def _fit_openturns(self, x: np.ndarray, ys: np.ndarray) -> list[np.ndarray]:
+    def _fit_openturns(self, x: np.ndarray, ys: np.ndarray, n_starts: int) -> list[np.ndarray]:
         import openturns as ot
 
         n, d = x.shape
@@ -252,11 +256,11 @@ class KrigingSurrogate:
         basis = ot.ConstantBasisFactory(d).build()
         fitter = ot.GaussianProcessFitter(ot.Sample(x), ot.Sample(ys[:, None]), cov, basis)
         fitter.setOptimizationBounds(ot.Interval([lo] * d, [hi] * d))
-        if self.n_starts > 1:
+        if n_starts > 1:
             rng = np.random.default_rng(self.seed if self.seed is None else self.seed + n)
             from scipy.stats import qmc
 
-            lhs = qmc.LatinHypercube(d=d, seed=rng).random(self.n_starts - 1)
+            lhs = qmc.LatinHypercube(d=d, seed=rng).random(n_starts - 1)
             starts = np.exp(np.log(lo) + (np.log(hi) - np.log(lo)) * (0.15 + 0.5 * lhs))
             sample = ot.Sample(np.vstack([start[None, :], starts]))
             fitter.setOptimizationAlgorithm(ot.MultiStart(ot.Cobyla(), sample))

@@ -1,0 +1,85 @@
+"""AK-MCS on problems with known answers.
+
+Acceptance rule (issue 4): Pf within 3 % of the reference or within 2x the reported COV.
+"""
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from jointwear.reliability import akmcs, akmcs_multi, problems
+
+
+def _accept(pf, cov, ref):
+    rel = abs(pf / ref - 1.0)
+    # issue 4 acceptance: 3 % of the reference, or 2x the reported coefficient of variation
+    assert rel <= max(0.03, 2.0 * cov), f"pf={pf:.5g} ref={ref:.5g} rel={rel:.3%} cov={cov:.3%}"
+
+
+def test_four_branch_k6():
+    p = problems.four_branch(6)
+    # reference: exact 4.4573e-3 by quadrature; agrees with the issue's 1e8-sample MCS (4.45e-3)
+    assert p.pf_ref == pytest.approx(4.45e-3, rel=3e-3)  # 1e8 MCS has COV 1.5e-3: 2 sigma
+    r = akmcs(p.g, p.marginals, n_mc=100_000, seed=3)
+    assert r.converged, r.message
+    assert r.history[-1].min_u >= 2.0  # the paper's stopping rule held at the end
+    assert r.cov < 0.05  # the COV rule held at the end
+    _accept(r.pf, r.cov, p.pf_ref)
+    # Echard et al. (2011) needed 126 calls with 1e6 candidates; allow that budget
+    assert r.n_calls <= 126
+    assert r.design_x.shape == (r.n_calls, 2) and r.design_g.shape == (r.n_calls,)
+    np.testing.assert_allclose(p.g(r.design_x), r.design_g)
+
+
+def test_linear_beta3_ak_mcs_error_stopping_and_batch():
+    p = problems.linear(3.0, 3)
+    r = akmcs(p.g, p.marginals, seed=0, stopping="error", batch_size=3)
+    assert r.converged, r.message
+    assert r.cov < 0.05  # population grown to meet the COV target
+    assert r.n_mc > 100_000
+    _accept(r.pf, r.cov, p.pf_ref)
+    # a linear limit state is learnt with very few points (initial design 12 + a few batches)
+    assert r.n_calls <= 40
+
+
+def test_lognormal_inputs():
+    p = problems.lognormal_rs()
+    r = akmcs(p.g, p.marginals, seed=1, stopping="error")
+    assert r.converged, r.message
+    _accept(r.pf, r.cov, p.pf_ref)
+    # the design is kept in physical units (Pa), strictly positive
+    assert np.all(r.design_x > 0)
+
+
+def test_multi_levels_share_one_design():
+    # g at three "cycle counts": the same model with a threshold that decreases with the level
+    shifts = np.array([3.5, 3.0, 2.5])
+
+    def g(x):
+        s = (x[:, 0] + x[:, 1]) / np.sqrt(2.0)
+        return shifts[None, :] - s[:, None]
+
+    marg = [stats.norm(), stats.norm()]
+    seen = []
+    r = akmcs_multi(g, marg, seed=0, stopping="error", progress=lambda rec: seen.append(rec), pf_floor=1e-3)
+    assert r.converged, r.message
+    assert r.pf.shape == (3,) and r.cov.shape == (3,)
+    ref = stats.norm.sf(shifts)
+    for j in range(3):
+        if not r.below_floor[j]:
+            _accept(r.pf[j], r.cov[j], ref[j])
+            assert r.cov[j] < 0.05
+    assert np.all(np.diff(r.pf) > 0)  # reliability decreases with the level
+    assert r.column_converged.all()
+    assert r.design_g.shape == (r.n_calls, 3)
+    assert len(seen) == len(r.history) and seen[0].pf.shape == (3,)
+    assert len(r.surrogates) == 3
+
+
+def test_progress_callback_and_history():
+    p = problems.linear(2.0, 2)
+    recs = []
+    r = akmcs(p.g, p.marginals, seed=0, n_mc=20_000, progress=recs.append)
+    assert recs == r.history
+    assert [h.n_calls for h in r.history] == sorted(h.n_calls for h in r.history)
+    assert all(np.isfinite(h.pf) for h in r.history)

@@ -1,0 +1,120 @@
+"""Bad input, the NaN rule, determinism, executors and the evaluation cache."""
+
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from jointwear.reliability import Evaluator, akmcs, monte_carlo, problems, subset_simulation
+
+NORM2 = [stats.norm(), stats.norm()]
+
+
+def _lin(x):
+    return 2.5 - (x[:, 0] + x[:, 1]) / np.sqrt(2.0)
+
+
+def test_unfrozen_distribution():
+    with pytest.raises(ValueError, match=r"marginals\[1\] is the unfrozen distribution scipy.stats.norm"):
+        akmcs(_lin, [stats.norm(), stats.norm])
+
+
+def test_not_a_distribution_and_not_a_sequence():
+    with pytest.raises(ValueError, match=r"marginals\[0\] is a float"):
+        akmcs(_lin, [1.0, stats.norm()])
+    with pytest.raises(ValueError, match="sequence"):
+        akmcs(_lin, stats.norm())
+
+
+def test_wrong_shape():
+    with pytest.raises(ValueError, match=r"g returned an array of shape \(12, 2\)"):
+        akmcs(lambda x: np.column_stack([x[:, 0], x[:, 1]]), NORM2, n_initial=12)
+    with pytest.raises(ValueError, match=r"shape \(\)"):
+        monte_carlo(lambda x: 1.0, NORM2, 100)
+
+
+def test_dimension_mismatch():
+    def g3(x):  # a model of three inputs
+        return 3.0 - x[:, 0] - x[:, 1] - x[:, 2]
+
+    with pytest.raises(ValueError, match=r"2 marginals given"):
+        akmcs(g3, NORM2)
+    with pytest.raises(ValueError, match="u0 has 3 components"):
+        from jointwear.reliability import form
+
+        form(_lin, NORM2, u0=[0, 0, 0])
+
+
+def test_all_nan_raises_and_nan_policy_raise():
+    with pytest.raises(ValueError, match="NaN"):
+        akmcs(lambda x: np.full(len(x), np.nan), NORM2)
+    with pytest.raises(ValueError, match="nan_policy='raise'"):
+        akmcs(lambda x: np.where(x[:, 0] > 1, np.nan, _lin(x)), NORM2, nan_policy="raise")
+
+
+def test_nan_counts_as_failure_never_safe():
+    # the model fails (NaN) in a region that is *safe* in truth: the rule must count those calls as failures
+    def g(x):
+        out = _lin(x)
+        out[(x[:, 0] < -3.0)] = np.nan
+        return out
+
+    r = monte_carlo(g, NORM2, 200_000, seed=0, keep_design=True)
+    exact = stats.norm.sf(2.5) + stats.norm.cdf(-3.0)  # union is ~disjoint: overlap ~1e-9
+    assert r.pf == pytest.approx(exact, rel=3 * r.cov)  # 3 sigma of the MC estimate
+    assert r.n_failed_calls == int(np.count_nonzero(r.design_x[:, 0] < -3.0))
+    ra = akmcs(g, NORM2, seed=0, n_mc=50_000, stopping="error")
+    assert ra.pf >= stats.norm.sf(2.5) * 0.9  # never "safe": NaN points add to pf, not subtract
+    assert ra.n_failed_calls == int(np.count_nonzero(~np.isfinite(ra.design_g)))
+    assert all("non-finite" in v for v in ra.failure_reasons.values())
+
+
+def test_exceptions_in_model_calls_are_failed_calls():
+    def g(x):
+        if np.any(x[:, 0] > 4.0):
+            raise RuntimeError("integrator cannot proceed")
+        return _lin(x)
+
+    r = subset_simulation(g, NORM2, n_per_level=500, seed=0)
+    assert np.isfinite(r.pf)
+    reasons = set(r.failure_reasons.values())
+    assert not reasons or reasons == {"RuntimeError: integrator cannot proceed"}
+
+
+def test_determinism():
+    p = problems.four_branch(6)
+    kw = dict(n_mc=30_000, seed=11, stopping="error", batch_size=2)
+    a = akmcs(p.g, p.marginals, **kw)
+    b = akmcs(p.g, p.marginals, **kw)
+    assert a.pf == b.pf and a.n_calls == b.n_calls
+    np.testing.assert_array_equal(a.design_x, b.design_x)
+    s1 = subset_simulation(_lin, NORM2, n_per_level=500, seed=5)
+    s2 = subset_simulation(_lin, NORM2, n_per_level=500, seed=5)
+    assert s1.pf == s2.pf
+
+
+def test_executor_cache_and_evaluator_give_same_result():
+    p = problems.linear(2.0, 2)
+    base = akmcs(p.g, p.marginals, n_mc=20_000, seed=4)
+    cache = {}
+    seen = []
+    with ThreadPoolExecutor(2) as pool:
+        r = akmcs(p.g, p.marginals, n_mc=20_000, seed=4, executor=pool, cache=cache,
+                  on_evaluate=lambda x, g, why: seen.append(len(x)))
+    assert r.pf == base.pf and r.n_calls == base.n_calls
+    assert len(cache) == r.n_calls and sum(seen) == r.n_calls
+    # a rerun with the filled cache calls the model zero times and reproduces the run (resumability)
+    ev = Evaluator(p.g, 2, cache=cache)
+    r2 = akmcs(p.g, p.marginals, n_mc=20_000, seed=4, evaluator=ev)
+    assert ev.n_model_calls == 0 and r2.pf == base.pf
+    np.testing.assert_array_equal(r2.design_x, base.design_x)
+
+
+def test_bad_options():
+    with pytest.raises(ValueError, match="stopping"):
+        akmcs(_lin, NORM2, stopping="maybe")
+    with pytest.raises(ValueError, match="batch_size"):
+        akmcs(_lin, NORM2, batch_size=0)
+    with pytest.raises(ValueError, match="executor"):
+        akmcs(_lin, NORM2, executor=object())

@@ -1,0 +1,65 @@
+"""Kriging surrogate: numpy prediction equals OpenTURNS' own prediction; robustness."""
+
+import numpy as np
+import pytest
+
+from jointwear.reliability import KrigingSurrogate
+
+
+def _data(d, n, seed=0):
+    rng = np.random.default_rng(seed)
+    x = rng.uniform(-3, 3, (n, d))
+    y = np.sin(x[:, 0]) + 0.3 * x[:, 1] ** 2 + 0.1 * x.sum(axis=1)
+    return x, y
+
+
+@pytest.mark.parametrize("d,n", [(2, 25), (6, 40)])
+def test_prediction_matches_openturns(d, n):
+    x, y = _data(d, n)
+    k = KrigingSurrogate(nugget=1e-8, n_starts=1).fit(x, y)
+    xt = np.random.default_rng(1).uniform(-3, 3, (7, d))
+    mean, var = k.predict(xt)
+    mean_ot, var_ot = k.predict_openturns(xt)
+    # means: identical formulas, differences are round-off of a conditioned solve (cond(R) ~ 1e8 here)
+    np.testing.assert_allclose(mean, mean_ot, rtol=1e-6, atol=1e-8 * np.ptp(y))
+    # variances: same DACE/universal-Kriging formula; absolute round-off ~ sigma^2 * cond(R) * eps
+    np.testing.assert_allclose(var, var_ot, rtol=1e-4, atol=1e-6 * np.var(y))
+
+
+def test_prediction_interpolates_and_chunks():
+    x, y = _data(3, 30)
+    k = KrigingSurrogate(n_starts=1, chunk_size=7, n_threads=2).fit(x, y)
+    mean, var = k.predict(x)
+    # interpolation up to the 1e-10 nugget (relative to the output spread)
+    np.testing.assert_allclose(mean, y, atol=1e-5 * np.ptp(y))
+    assert np.all(var <= 1e-6 * np.var(y))
+    # chunked + threaded prediction equals one-chunk prediction up to BLAS summation order (~1e-10 relative)
+    xt = np.random.default_rng(2).normal(size=(100, 3))
+    m1, v1 = k.predict(xt)
+    k.chunk_size, k.n_threads = 10_000, 1
+    m2, v2 = k.predict(xt)
+    np.testing.assert_allclose(m1, m2, rtol=1e-8, atol=1e-10 * np.ptp(y))
+    np.testing.assert_allclose(v1, v2, rtol=1e-6, atol=1e-12 * np.var(y))
+
+
+def test_duplicated_points_and_wild_scales_fit():
+    # nearly duplicated design points + output of order 1e-6 (metres of wear): the nugget escalation and the
+    # output standardisation must keep the fit usable
+    x, y = _data(2, 20)
+    x = np.vstack([x, x[:5] + 1e-12])
+    y = np.concatenate([y, y[:5]]) * 1e-6
+    k = KrigingSurrogate().fit(x, y)
+    mean, var = k.predict(x[:5])
+    np.testing.assert_allclose(mean, y[:5], atol=1e-3 * np.ptp(y))
+    assert np.all(np.isfinite(var))
+
+
+def test_reconditioning_keeps_hyperparameters():
+    x, y = _data(2, 30)
+    k = KrigingSurrogate(n_starts=1).fit(x[:20], y[:20])
+    scale = k.hyperparameters.scale.copy()
+    k.fit(x, y, optimize=False)
+    np.testing.assert_array_equal(k.hyperparameters.scale, scale)
+    # with larger correlation lengths R is worse conditioned and the nugget may escalate (up to 1e-4):
+    # interpolation then holds to ~nugget x output spread
+    np.testing.assert_allclose(k.predict(x)[0], y, atol=1e-3 * np.ptp(y))

@@ -1,0 +1,62 @@
+"""Monte Carlo, FORM, SORM, subset simulation and importance sampling on exact problems."""
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from jointwear.reliability import form, importance_sampling, monte_carlo, problems, sorm, subset_simulation
+
+
+def _accept(pf, cov, ref):
+    rel = abs(pf / ref - 1.0)
+    # issue 4 acceptance: 3 % of the reference, or 2x the reported coefficient of variation
+    assert rel <= max(0.03, 2.0 * cov), f"pf={pf:.5g} ref={ref:.5g} rel={rel:.3%} cov={cov:.3%}"
+
+
+@pytest.mark.parametrize("beta", [3.0, 5.0])
+def test_form_exact_on_linear(beta):
+    p = problems.linear(beta, 4)
+    r = form(p.g, p.marginals)
+    assert r.converged
+    # FORM is exact for a linear limit state in normal variables; 1e-6 = the HL-RF tolerance
+    assert r.beta == pytest.approx(beta, rel=1e-6)
+    assert r.pf == pytest.approx(p.pf_ref, rel=1e-5)
+    np.testing.assert_allclose(r.alpha, np.full(4, 0.5), atol=1e-5)  # equal weights 1/sqrt(4)
+    s = sorm(p.g, p.marginals, form_result=r)
+    np.testing.assert_allclose(s.curvatures, 0.0, atol=1e-4)  # zero curvature, up to FD error h^2
+    assert s.pf == pytest.approx(p.pf_ref, rel=1e-3)
+
+
+def test_beta5_subset_simulation_and_importance_sampling():
+    p = problems.linear(5.0, 2)  # exact pf = Phi(-5) = 2.87e-7
+    r = subset_simulation(p.g, p.marginals, n_per_level=2000, seed=2)
+    assert r.converged
+    _accept(r.pf, r.cov, p.pf_ref)
+    assert r.n_calls < 20_000  # vs ~1e9 for crude MCS at 5 % COV
+    ri = importance_sampling(p.g, p.marginals, n=4000, seed=0)
+    _accept(ri.pf, ri.cov, p.pf_ref)
+
+
+def test_sorm_curvature_and_lognormal_form():
+    # paraboloid g = beta - u2 + k/2 u1^2: curvature k; Breitung is the classical asymptotic answer
+    beta, kap = 3.0, 0.2
+
+    def g(x):
+        return beta - x[:, 1] + 0.5 * kap * x[:, 0] ** 2
+
+    marg = [stats.norm(), stats.norm()]
+    s = sorm(g, marg)
+    assert s.curvatures == pytest.approx([kap], abs=1e-3)  # central FD with h = 1e-3: O(h^2)
+    assert s.pf == pytest.approx(stats.norm.sf(beta) / np.sqrt(1 + beta * kap), rel=1e-3)
+    # lognormal R - S: FORM is exact because ln R - ln S is linear in u
+    p = problems.lognormal_rs()
+    f = form(p.g, p.marginals)
+    assert f.pf == pytest.approx(p.pf_ref, rel=1e-4)  # HL-RF tolerance 1e-6 on beta, amplified by dlnPf/dbeta
+
+
+def test_monte_carlo_lognormal():
+    p = problems.lognormal_rs()
+    r = monte_carlo(p.g, p.marginals, 200_000, seed=0)
+    _accept(r.pf, r.cov, p.pf_ref)
+    r2 = monte_carlo(p.g, p.marginals, 10_000, cov_target=0.05, seed=0)
+    assert r2.cov < 0.05 and r2.n_calls > 10_000
