@@ -83,7 +83,7 @@ def main() -> None:
         def make_f(rhs_func, fourbar):
             if fourbar:
                 def f(t, y):
-                    rhs_func(t, y, dy, 0, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
+                    rhs_func(t, y[None, :], 0, dy, 0, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
                     return dy[0].copy()
             else:
                 def f(t, y):

@@ -194,3 +194,16 @@ def test_friction_law_shape():
     # continuous: steepest slope is 3 mu_s / (2 v_s) = 2250 s/m at v = 0, times the grid step 1e-6 m/s
     assert np.max(np.abs(np.diff(mu))) < 2.3e-3
     np.testing.assert_allclose(mu, -mu[::-1], atol=1e-15)  # odd
+
+
+def test_build_model_revalidates_copied_configs():
+    """Configs changed with model_copy skip validation; build_model re-checks closure and clearance."""
+    from jointwear.config import ConfigError
+
+    cfg = load_config("jin2025_flapping_wing")
+    bad = cfg.model_copy(update={"mechanism": cfg.mechanism.model_copy(update={"rocker_pivot": (0.0115, 0.08)})})
+    with pytest.raises(ConfigError, match="rod .* and rocker .* cannot close the loop"):
+        build_model(bad)
+    cj = cfg.clearance_joints[0].model_copy(update={"journal_radius": 1.003e-3})
+    with pytest.raises(ConfigError, match=r"clearance_joints\[0\].journal_radius"):
+        build_model(cfg.model_copy(update={"clearance_joints": [cj]}))

@@ -428,7 +428,7 @@ def integrate(mode, t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_steps, t_
                 rhs(ts, ytmp[st - 1], ks, st, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate,
                     baum, kin, phi_, phid, rest, jac, smat, lam, f, cout)
             else:
-                rhs_fourbar(ts, ytmp[st - 1], ks, st, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
+                rhs_fourbar(ts, ytmp, st - 1, ks, st, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
         err = 0.0
         for i in range(ny):
             ei = 0.0
@@ -501,7 +501,9 @@ def accelerations(mode, t, y, dy, nb, winv, fext, dpar, jint, jpar, cint, cpar, 
         rhs(t, y, dy, 0, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
             kin, phi_, phid, rest, jac, smat, lam, f, cout)
     else:
-        rhs_fourbar(t, y, dy, 0, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
+        Y = np.empty((1, y.shape[0]))
+        Y[0, :] = y
+        rhs_fourbar(t, Y, 0, dy, 0, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
 
 
 def empty_work(nb: int, nd: int, nj: int, ncj: int) -> dict[str, np.ndarray]:
@@ -533,10 +535,10 @@ NFP = 16
 
 
 @njit(cache=True, inline="always")
-def rhs_fourbar(t, y, dy, row, dpar, fp, cint, cpar, prof, ngrid, cstate, baum, lam, cout):
-    """dy[row] for y = (A, B, Adot, Bdot) of the natural-coordinate four-bar (see module notes)."""
-    ax, ay, bx, by = y[0], y[1], y[2], y[3]
-    avx, avy, bvx, bvy = y[4], y[5], y[6], y[7]
+def rhs_fourbar(t, Y, yrow, dy, row, dpar, fp, cint, cpar, prof, ngrid, cstate, baum, lam, cout):
+    """dy[row] for the state Y[yrow] = (A, B, Adot, Bdot) of the natural-coordinate four-bar (see notes)."""
+    ax, ay, bx, by = Y[yrow, 0], Y[yrow, 1], Y[yrow, 2], Y[yrow, 3]
+    avx, avy, bvx, bvy = Y[yrow, 4], Y[yrow, 5], Y[yrow, 6], Y[yrow, 7]
     l2 = fp[0, FP_L2]
     l3 = fp[0, FP_L3]
     p = fp[0, FP_P]

@@ -420,8 +420,31 @@ def _slider_crank(cfg) -> tuple[list[Body], list[Joint], dict, Callable]:
     return [crank, rod, slider], joints, {"O": O, "P0": P0}, guess
 
 
+def _revalidate(config: StudyConfig) -> None:
+    """Re-check the mechanism and clearance sections (configs changed with model_copy are not validated):
+    a linkage that cannot close or a non-positive clearance becomes a ConfigError naming the field."""
+    from pydantic import ValidationError
+
+    from jointwear.config import ClearanceJointConfig, _one_line
+
+    try:
+        type(config.mechanism).model_validate(config.mechanism.model_dump())
+    except ValidationError as exc:
+        raise ConfigError(f"mechanism: {_one_line(exc).removeprefix('config: ')}") from None
+    for i, cj in enumerate(config.clearance_joints):
+        try:
+            ClearanceJointConfig.model_validate(cj.model_dump())
+        except ValidationError as exc:
+            raise ConfigError(f"clearance_joints[{i}].{_one_line(exc)}") from None
+
+
 def build_model(config: StudyConfig) -> MechanismModel:
-    """MechanismModel from a validated StudyConfig (clearance joints replace their ideal revolutes)."""
+    """MechanismModel from a StudyConfig (clearance joints replace their ideal revolutes).
+
+    Raises ConfigError if the mechanism cannot assemble over a full crank turn or a clearance is <= 0
+    (re-checked here because configs derived with ``model_copy(update=...)`` skip validation).
+    """
+    _revalidate(config)
     mcfg = config.mechanism
     if mcfg.type == "four_bar":
         bodies, joints, gpoints, guess = _four_bar(config)
