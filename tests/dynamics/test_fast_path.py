@@ -56,4 +56,8 @@ def test_same_cycle_statistics(model):
     assert tb.contact_fraction == pytest.approx(ta.contact_fraction, abs=0.02)
     # both report accelerations in Cartesian coordinates
     assert a.qdd.shape[1] == b.qdd.shape[1] == 6
-    assert np.median(np.abs(b.qdd[:, 2])) == pytest.approx(np.median(np.abs(a.qdd[:, 2])), rel=0.05)
+    # the rocker swing is kinematic: same extremes (1e-5 rad ~ 0.1 um at B, clearance-sized differences)
+    ia = a.free_body_names.index("rocker")
+    ib = b.free_body_names.index("rocker")
+    assert a.q[:, 3 * ia + 2].max() == pytest.approx(b.q[:, 3 * ib + 2].max(), abs=1e-5)
+    assert a.q[:, 3 * ia + 2].min() == pytest.approx(b.q[:, 3 * ib + 2].min(), abs=1e-5)

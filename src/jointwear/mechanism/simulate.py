@@ -156,7 +156,7 @@ def initial_state(model: MechanismModel, t0: float = 0.0, preload: bool = True,
 
     preload=True (default): every journal starts in contact, pushed against its bearing along the
     ideal joint reaction with the static penetration (|R| / K)^(1/n), and the contact is marked as
-    established (damping with v0 = v0_min); this removes most of the start-up transient.
+    established (v0 = max(v0_min, clearance x driver speed)); this removes most of the start-up transient.
     preload=False: journals centred in their bearings. geometry: the (worn) clearance geometry whose
     local clearance in the preload direction is used (default: nominal).
     """
@@ -210,7 +210,13 @@ def initial_state(model: MechanismModel, t0: float = 0.0, preload: bool = True,
                 body = ideal.body(joint.body_i)
                 p = body.points[joint.point_i]
                 body.points = {**body.points, joint.point_i: (p[0] + local[0], p[1] + local[1])}
-            cstate[k] = (cj.v0_min, 1.0)
+            # contact memory: established, with the impact speed scale clearance x driver speed
+            # (floored by v0_min): flapping wing 2 um x 50 rad/s = 1e-4 m/s; slider-crank 0.26 m/s.
+            # v0_min alone would make the damping of a fast mechanism absurdly stiff until the first
+            # separation.
+            per = model.period
+            wdrv = TWO_PI / per if per else 0.0
+            cstate[k] = (max(cj.v0_min, clear * wdrv), 1.0)
         ideal.guess = None
         q, qd, _ = ideal.kinematics(t0, q_guess=q)
     return SimulationState(t0, np.concatenate([q, qd]), cstate, 0.0)
