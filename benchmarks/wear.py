@@ -107,7 +107,7 @@ def bench_literal(n_measure: int = 6) -> dict:
     growth = 0.0
     t0 = time.perf_counter()
     for _ in range(n_measure):
-        geoms = [_update_geometry(geoms0[0], s, wb, wj, growth)] + geoms0[1:]
+        geoms = [_update_geometry(geoms0[0], s, wb, wj, growth)[0]] + geoms0[1:]
         res = simulate(model, 1, geometry=geoms, settle_cycles=0, state0=state)
         state = res.state_end
         cw = cycle_wear(res.joints[0], s, 1, mat, growth=growth)
@@ -119,45 +119,62 @@ def bench_literal(n_measure: int = 6) -> dict:
             "extrapolated_hours_520k": per * 520_000 / 3600.0}
 
 
-def bench_convergence() -> dict:
-    cfg = config_for()
+def bench_convergence(replicates: int = 3) -> dict:
+    """Max wear at 400k cycles: baseline vs each refinement, each as the mean of `replicates` runs.
+
+    The clearance dynamics is chaotic: any change (block size, tolerance, even the grid through the uniform growth)
+    gives another sample of the cycle-to-cycle scatter. Replicates differ only in the length of the initial settling
+    (3.00, 3.05, 3.10 ... cycles: another start phase); the scatter of the replicates is reported with each mean.
+    """
+    cfg = config_for(-1)
     model = build_model(cfg)
     s = base_settings(cfg)
     rtol = s.rtol if s.rtol is not None else cfg.simulation.rtol
     atol = s.atol if s.atol is not None else cfg.simulation.atol
+    settle0 = s.settle_cycles_initial if s.settle_cycles_initial is not None else cfg.simulation.settle_cycles
     variants = {
-        "baseline": s,
-        "block_halved": s.model_copy(update={"initial_block": max(1, s.initial_block // 2),
-                                             "max_block": max(1, s.max_block // 2),
-                                             "min_block": max(1, s.min_block // 2)}),
-        "grid_halved": s.model_copy(update={"n_grid": 2 * s.n_grid}),
-        "tolerance_halved": s.model_copy(update={"rtol": rtol / 2, "atol": atol / 2}),
-        "block_quartered": s.model_copy(update={"initial_block": max(1, s.initial_block // 4),
-                                                "max_block": max(1, s.max_block // 4),
-                                                "min_block": max(1, s.min_block // 4)}),
-        "record_cycles_doubled": s.model_copy(update={"record_cycles": 2 * s.record_cycles}),
+        "baseline": {},
+        "block_halved": {"block_cycles": max(1, s.block_cycles // 2)},
+        "grid_halved": {"n_grid": 2 * s.n_grid},
+        "tolerance_halved": {"rtol": rtol / 2, "atol": atol / 2},
     }
     out = {}
-    for name, v in variants.items():
-        out[name] = summary(wear_history(model, v, 400_000))
-    b = out["baseline"]["max_wear_mm"]
+    for name, upd in variants.items():
+        runs = []
+        for r in range(replicates):
+            v = s.model_copy(update={**upd, "settle_cycles_initial": settle0 + 0.05 * r})
+            runs.append(summary(wear_history(model, v, 400_000)))
+        vals = np.array([x["max_wear_mm"] for x in runs])
+        out[name] = {"settings_changed": upd, "max_wear_mm_runs": vals.tolist(), "mean_mm": float(vals.mean()),
+                     "std_mm": float(vals.std(ddof=1)) if vals.size > 1 else 0.0,
+                     "peak_angle_deg_runs": [x["max_wear_angle_deg"] for x in runs],
+                     "wall_seconds_runs": [x["wall_seconds"] for x in runs], "n_blocks": runs[0]["n_blocks"]}
+    b = out["baseline"]["mean_mm"]
     for name in variants:
-        out[name]["rel_change_vs_baseline"] = out[name]["max_wear_mm"] / b - 1.0
-    out["acceptance"] = {"limit": 0.02, "pass": all(abs(out[k]["rel_change_vs_baseline"]) < 0.02
+        out[name]["rel_change_of_mean"] = out[name]["mean_mm"] / b - 1.0
+        out[name]["rel_change_first_run"] = out[name]["max_wear_mm_runs"][0] / out["baseline"]["max_wear_mm_runs"][0] - 1
+    out["run_to_run_scatter_rel"] = out["baseline"]["std_mm"] / b
+    out["acceptance"] = {"limit": 0.02, "pass": all(abs(out[k]["rel_change_of_mean"]) < 0.02
                                                    for k in ("block_halved", "grid_halved", "tolerance_halved"))}
+    out["branch"] = -1
     out["baseline_settings"] = s.model_dump(mode="json")
     out["integrator_baseline"] = {"rtol": rtol, "atol": atol}
     return out
 
 
-def bench_reproduction() -> dict:
+def bench_reproduction(profile_cycles: int = 20_000) -> dict:
+    """Both branches, uniform mode to 400k cycles; profile mode only to `profile_cycles` (see docs/wear.md: the
+    dynamics' profile contact needs 10^5-10^6 steps per cycle once the profile is non-uniform)."""
     out = {}
     for branch in (1, -1):
         cfg = config_for(branch)
         model = build_model(cfg)
-        for mode in ("uniform", "profile"):
-            s = base_settings(cfg).model_copy(update={"geometry_mode": mode})
-            out[f"branch{branch:+d}_{mode}"] = summary(wear_history(model, s, 400_000))
+        s = base_settings(cfg)
+        out[f"branch{branch:+d}_uniform"] = summary(wear_history(model, s, 400_000))
+        u20 = wear_history(model, s, profile_cycles)
+        p20 = wear_history(model, s.model_copy(update={"geometry_mode": "profile"}), profile_cycles)
+        out[f"branch{branch:+d}_uniform_{profile_cycles}"] = summary(u20, profile_cycles)
+        out[f"branch{branch:+d}_profile_{profile_cycles}"] = summary(p20, profile_cycles)
     out["paper"] = {"max_wear_mm": 0.0249, "angle_deg": 110, "second_peak_mm": 0.0087, "second_peak_angle_deg": 310}
     return out
 

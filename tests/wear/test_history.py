@@ -20,7 +20,7 @@ def test_history_runs_and_conserves(mode):
     s = WearSettings(geometry_mode=mode, n_grid=360)
     r = wear_history(m, s, 400_000, simulate=fake_simulate)
     assert r.cycles[0] == 0 and r.cycles[-1] == 400_000
-    assert np.all(np.diff(r.cycles) > 0) and np.all(np.diff(r.max_bearing_wear) > 0)
+    assert np.all(np.diff(r.cycles) > 0) and np.all(np.diff(r.max_bearing_wear) >= 0)  # profile: flanks may take it all
     for j in r.joints:
         eb, ej = conservation_error(j)
         assert eb < CONS_TOL and ej < CONS_TOL

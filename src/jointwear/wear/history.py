@@ -24,7 +24,7 @@ from typing import Any, Callable
 import numpy as np
 
 from .angles import circular_mean, report_angle_deg
-from .kernels import TWO_PI, accumulate_wear, periodic_interp, worn_area
+from .kernels import TWO_PI, accumulate_wear, contact_envelope, map_touch_angles, periodic_interp, worn_area
 from .settings import WearSettings, check_cycles, check_material
 
 
@@ -101,12 +101,16 @@ def cycle_wear(
     growth: float = 0.0,
     bearing_profile: np.ndarray | None = None,
     journal_profile: np.ndarray | None = None,
+    bearing_touch: np.ndarray | None = None,
+    journal_touch: np.ndarray | None = None,
 ) -> CycleWear:
     """Archard wear per cycle of one ContactTrace-like record that spans `n_cycles` cycles.
 
     The radii used for R* are those the contact search used: uniform mode R_b0 + growth/2 and R_j0 - growth/2
     (paper Eqs. 36-37); profile mode (when profiles are given) the local radii R_b0 + h_b(theta_b) and
-    R_j0 - h_j(theta_j).
+    R_j0 - h_j(theta_j), with the profiles exactly as given to the contact search. bearing_touch / journal_touch
+    (profile mode, 'envelope' contact): grid index of the bore point that touches for each centre-line direction
+    (kernels.contact_envelope); the wear is laid there.
     """
     mat = materials or JointMaterials.from_trace(trace)
     n = settings.n_grid
@@ -125,11 +129,18 @@ def cycle_wear(
     else:
         r_b = np.full(F.shape, mat.r_b0 + 0.5 * growth)
         r_j = np.full(F.shape, mat.r_j0 - 0.5 * growth)
+    tb_w, tj_w = tb, tj
+    if bearing_touch is not None:
+        tb_w = np.empty_like(tb)
+        map_touch_angles(tb, bearing_touch, tb_w)
+    if journal_touch is not None:
+        tj_w = np.empty_like(tj)
+        map_touch_angles(tj, journal_touch, tj_w)
     wb = np.zeros(n)
     wj = np.zeros(n)
     diag = np.zeros((4, n))
     vb, vj, s, bmax = accumulate_wear(
-        tb, tj, F, v, dt, r_b, r_j, mat.r_b0, mat.r_j0, mat.h_b, mat.h_j, mat.kH_b, mat.kH_j, mat.width,
+        tb_w, tj_w, F, v, dt, r_b, r_j, mat.r_b0, mat.r_j0, mat.h_b, mat.h_j, mat.kH_b, mat.kH_j, mat.width,
         settings.half_width_factor, settings.pressure == "hertz", settings.track_journal, wb, wj, diag,
     )
     inv = 1.0 / n_cycles
@@ -262,11 +273,26 @@ class WearResult:
 
 
 # --------------------------------------------------------------------------------------------------- the loop
+def contact_profiles(c0: float, wb: np.ndarray, wj: np.ndarray, settings: WearSettings):
+    """Profiles given to the contact search in profile mode and the touching-point maps (None for 'radial')."""
+    if settings.profile_contact == "radial":
+        return wb.copy(), wj.copy(), None, None
+    out = []
+    for w in (wb, wj):
+        ce = np.empty_like(w)
+        idx = np.empty(w.shape[0], dtype=np.int64)
+        contact_envelope(c0 + w, ce, idx)
+        out.append((np.maximum(ce - c0, 0.0), idx))
+    return out[0][0], out[1][0], out[0][1], out[1][1]
+
+
 def _update_geometry(g0, settings: WearSettings, wb: np.ndarray, wj: np.ndarray, growth: float):
+    """(geometry for the dynamics, bearing touch map, journal touch map)."""
     if settings.geometry_mode == "profile":
-        return dataclasses.replace(g0, use_profile=True, bearing_wear=wb.copy(), journal_wear=wj.copy(),
-                                   clearance_growth=0.0)
-    return dataclasses.replace(g0, use_profile=False, clearance_growth=float(growth))
+        c0 = float(g0.bearing_radius - g0.journal_radius + (getattr(g0, "clearance_growth", 0.0) or 0.0))
+        hb, hj, ib, ij = contact_profiles(c0, wb, wj, settings)
+        return dataclasses.replace(g0, use_profile=True, bearing_wear=hb, journal_wear=hj), ib, ij
+    return dataclasses.replace(g0, use_profile=False, clearance_growth=float(growth)), None, None
 
 
 def _growth(settings: WearSettings, wb: np.ndarray, wj: np.ndarray) -> float:
@@ -333,7 +359,8 @@ def wear_history(
     n_steps = 0
     rec = settings.record_cycles
     while done < n_cycles:
-        geoms = [_update_geometry(geoms0[i], settings, wb[i], wj[i], growth[i]) for i in range(nj)]
+        upd = [_update_geometry(geoms0[i], settings, wb[i], wj[i], growth[i]) for i in range(nj)]
+        geoms = [u[0] for u in upd]
         settle = settings.settle_cycles_initial if state is None else settings.settle_cycles
         t0 = time.perf_counter()
         res = simulate(model, rec, geometry=geoms, settle_cycles=settle, state0=state,
@@ -349,7 +376,9 @@ def wear_history(
                 mats[i] = JointMaterials.from_trace(tr, geoms0[i])
             prof = settings.geometry_mode == "profile"
             cw = cycle_wear(tr, settings, rec, mats[i], growth=growth[i],
-                            bearing_profile=wb[i] if prof else None, journal_profile=wj[i] if prof else None)
+                            bearing_profile=geoms[i].bearing_wear if prof else None,
+                            journal_profile=geoms[i].journal_wear if prof else None,
+                            bearing_touch=upd[i][1], journal_touch=upd[i][2])
             if first[i] is None:
                 first[i] = cw
             last[i] = cw

@@ -37,6 +37,18 @@ class WearSettings(SIModel):
             "mode that the reproduction targets of Section 6.1.3 refer to (docs/wear.md compares both)."
         ),
     )
+    profile_contact: Literal["envelope", "radial"] = Field(
+        "envelope",
+        description=(
+            "Profile mode only: what the contact search is given. 'envelope' (default): the clearance a rigid round "
+            "journal can use in each direction, min_k (c0 + h_k) / cos(theta_k - theta) (kernels.contact_envelope), "
+            "and the wear of each step is laid at the bore point that actually touches (a flank of a pocket narrower "
+            "than the journal). 'radial': the raw profiles, c_loc = c0 + h(theta) along the centre line (the "
+            "contract's literal reading); a pocket narrower than the journal is then entered radially, which is "
+            "unphysical (the journal would cut its flanks) and makes the dynamics stiff (10^6 steps per cycle for "
+            "a 10 um pocket, docs/wear.md)."
+        ),
+    )
     uniform_growth: Literal["max_sum", "bearing_max"] = Field(
         "max_sum",
         description=(
