@@ -43,9 +43,11 @@ def main() -> None:
     first_call = time.perf_counter() - t0
     settled = simulate(model, 0.0, settle_cycles=model.settings.settle_cycles)
     state = settled.state_end
-    walls, steps, rejected = [], [], []
+    walls, cpus, steps, rejected = [], [], [], []
     for _ in range(args.repeats):
+        c0 = time.process_time()
         r = simulate(model, 1, settle_cycles=0, state0=state)
+        cpus.append(time.process_time() - c0)
         walls.append(r.wall_seconds)
         steps.append(r.n_recorded_steps)
         rejected.append(r.n_rejected)
@@ -58,6 +60,9 @@ def main() -> None:
         "first_call_seconds_incl_compile_or_cache_load": first_call,
         "wall_seconds_per_cycle_median": statistics.median(walls),
         "wall_seconds_per_cycle_all": walls,
+        "cpu_seconds_per_cycle_median": statistics.median(cpus),
+        "note": "wall time is inflated when other work loads the machine (see loadavg_1min); CPU time is the "
+                "process's own time",
         "steps_per_cycle": statistics.median(steps),
         "rejected_steps_per_cycle": statistics.median(rejected),
         "microseconds_per_step": statistics.median(walls) / statistics.median(steps) * 1e6,

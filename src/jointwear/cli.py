@@ -127,7 +127,7 @@ def simulate(config: str | None, cycles: int | None, settle: int | None, out: Pa
     j = payload
     click.echo(
         f"simulate: {n} cycles, {j['steps_per_cycle']:.0f} steps/cycle, {j['wall_seconds_per_cycle'] * 1e3:.1f} ms/cycle; "
-        f"mean force {j.get('contact_force_mean_N', float('nan')) * 1e3:.2f} mN -> {out / 'simulate.json'}"
+        f"mean contact force {j.get('contact_force_mean_N', float('nan')):.4g} N -> {out / 'simulate.json'}"
     )
 
 
@@ -162,6 +162,7 @@ def simulate_summary(res, name: str = "") -> dict:
     payload["accepted_steps"] = res.n_steps
     payload["rejected_steps"] = res.n_rejected
     payload["joints"] = joints
+    payload["kernel"] = res.extra.get("kernel", "")
     payload["series_file"] = "simulate.npz"
     return payload
 
