@@ -29,7 +29,7 @@ C_JOURNAL = "#c0504d"
 C_REF = "#7f7f7f"
 
 
-def exaggeration_factor(max_depth: float, radius: float, target: float = 0.25) -> float:
+def exaggeration_factor(max_depth: float, radius: float, target: float = 0.4) -> float:
     """A round factor (1, 2, 5 x 10^k) that draws the max depth as about `target` of the radius."""
     if not (max_depth > 0):
         return 1.0
@@ -67,11 +67,13 @@ def polar_profile(res: WearResult, path: Path, joint: int = 0, title: str | None
             ax.plot([rr * math.cos(ga)], [rr * math.sin(ga)], "o", color=C_JOURNAL, ms=4)
             ax.annotate(f"{pk['angle_deg']:.0f} deg\n{pk['depth'] * MM:.4f} mm", (rr * math.cos(ga), rr * math.sin(ga)),
                         textcoords="offset points", xytext=(8, 4 if i == 0 else -22), fontsize=8)
-        ax.annotate("0 deg", (-R * MM, 0), textcoords="offset points", xytext=(-28, 2), fontsize=8, color=C_REF)
+        ax.annotate("0 deg", (-R * MM, 0), textcoords="offset points", xytext=(4, 2), fontsize=8, color=C_REF)
+        ax.annotate("90 deg", (0, R * MM), textcoords="offset points", xytext=(-14, -12), fontsize=8, color=C_REF)
         ax.set_aspect("equal")
         ax.set_xlabel("x (mm, global directions at the rod's mean orientation)")
         ax.set_ylabel("y (mm)")
-        ax.set_title(title or f"Bearing wear profile after {res.n_cycles:,} cycles")
+        ax.set_title(title or f"Bearing wear profile after {res.n_cycles:,} cycles\n"
+                     "(angles from the leftmost point, clockwise)", fontsize=10)
         ax.legend(loc="lower right", fontsize=8)
         fig.tight_layout()
         fig.savefig(path)
