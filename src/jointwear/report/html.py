@@ -802,6 +802,9 @@ def _wear_section(inp: Inputs, figs: _Figures) -> str:
         ("wall time", "\u2014" if _float(wear.get("wall_seconds")) is None else f"{float(wear['wall_seconds']):.3g} s",
          None),
     ]
+    journal = wear.get("journal") if isinstance(wear.get("journal"), Mapping) else {}
+    if _float(journal.get("max_wear_mm")) is not None:
+        cards.append(("journal max wear", f"{_float(journal['max_wear_mm']):.4g} mm", "crank pin, over its circumference"))
     if _geometry_mode(wear):
         cards.append(("geometry mode", _geometry_mode(wear), None))
     parts.append(_cards(cards))
