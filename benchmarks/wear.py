@@ -65,37 +65,56 @@ def summary(res, n=400_000) -> dict:
     }
 
 
-def bench_timing(repeats: int = 5) -> dict:
-    cfg = config_for()
+FAST = {"block_cycles": 40_000, "record_cycles": 1, "settle_cycles": 0.5}
+
+
+def _time_history(model, s, repeats):
+    times, cpu, last = [], [], None
+    for _ in range(repeats):
+        t0, c0 = time.perf_counter(), time.process_time()
+        last = wear_history(model, s, 520_000)
+        times.append(time.perf_counter() - t0)
+        cpu.append(time.process_time() - c0)
+    return {
+        "wall_seconds_median": statistics.median(times),
+        "wall_seconds_all": times,
+        "cpu_seconds_median": statistics.median(cpu),
+        "cpu_seconds_all": cpu,
+        "n_blocks": len(last.blocks),
+        "n_simulated_cycles": last.n_simulated_cycles,
+        "simulation_seconds": last.sim_seconds,
+        "simulation_seconds_per_cycle": last.sim_seconds / last.n_simulated_cycles,
+        "max_wear_mm_at_520k": float(last.max_wear_at(520_000) * MM),
+    }
+
+
+def bench_timing(repeats: int = 5, replicates: int = 4) -> dict:
+    """Whole history to 520k cycles (branch -1): default settings and the FAST settings; scatter of each."""
+    cfg = config_for(-1)
     model = build_model(cfg)
     s = base_settings(cfg)
     t0 = time.perf_counter()
     wear_history(model, s, 20_000)  # warm-up: compiles the dynamics and the wear kernels
     warm = time.perf_counter() - t0
-    times, last = [], None
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        last = wear_history(model, s, 520_000)
-        times.append(time.perf_counter() - t0)
-    return {
-        "cycles": 520_000,
-        "wall_seconds_median": statistics.median(times),
-        "wall_seconds_all": times,
-        "goal_seconds": 1.5,
-        "warmup_seconds_including_compilation": warm,
-        "n_blocks": len(last.blocks),
-        "block_sizes": [b.size for b in last.blocks],
-        "n_simulated_cycles": last.n_simulated_cycles,
-        "simulation_seconds": last.sim_seconds,
-        "max_wear_mm_at_520k": float(last.max_wear_at(520_000) * MM),
-    }
+    out = {"cycles": 520_000, "goal_seconds": 1.5, "warmup_seconds_including_compilation": warm}
+    settle0 = s.settle_cycles_initial if s.settle_cycles_initial is not None else cfg.simulation.settle_cycles
+    for name, upd in (("default", {}), ("fast", FAST)):
+        v = s.model_copy(update=upd)
+        rec = _time_history(model, v, repeats)
+        rec["settings_changed"] = upd
+        reps = [float(wear_history(model, v.model_copy(update={"settle_cycles_initial": settle0 + 0.05 * (r + 1)}),
+                                   400_000).max_wear_at(400_000) * MM) for r in range(replicates)]
+        rec["max_wear_mm_400k_replicates"] = reps
+        rec["scatter_rel_400k"] = float(np.std(reps, ddof=1) / np.mean(reps))
+        out[name] = rec
+    return out
 
 
 def bench_literal(n_measure: int = 6) -> dict:
     """Paper Section 3 Step 5: one simulated cycle per wear cycle, geometry updated after every cycle."""
     from jointwear.wear.history import JointMaterials, _growth, _update_geometry, cycle_wear
 
-    cfg = config_for()
+    cfg = config_for(-1)
     model = build_model(cfg)
     s = base_settings(cfg)
     geoms0 = list(model.initial_geometry())
@@ -105,7 +124,7 @@ def bench_literal(n_measure: int = 6) -> dict:
     wb, wj = np.zeros(n), np.zeros(n)
     mat = JointMaterials.from_trace(res.joints[0], geoms0[0])
     growth = 0.0
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     for _ in range(n_measure):
         geoms = [_update_geometry(geoms0[0], s, wb, wj, growth)[0]] + geoms0[1:]
         res = simulate(model, 1, geometry=geoms, settle_cycles=0, state0=state)
@@ -115,8 +134,10 @@ def bench_literal(n_measure: int = 6) -> dict:
         wj += cw.journal
         growth = _growth(s, wb, wj)
     per = (time.perf_counter() - t0) / n_measure
+    per_cpu = (time.process_time() - c0) / n_measure
     return {"cycles_measured": n_measure, "seconds_per_cycle": per, "extrapolated_seconds_520k": per * 520_000,
-            "extrapolated_hours_520k": per * 520_000 / 3600.0}
+            "extrapolated_hours_520k": per * 520_000 / 3600.0, "cpu_seconds_per_cycle": per_cpu,
+            "extrapolated_cpu_hours_520k": per_cpu * 520_000 / 3600.0}
 
 
 def bench_convergence(replicates: int = 3) -> dict:
@@ -187,7 +208,8 @@ def main(argv=None) -> int:
     a = ap.parse_args(argv)
     out_path = Path(a.out)
     data = json.loads(out_path.read_text()) if out_path.exists() else {}
-    data["machine"] = {"python": sys.version.split()[0], "platform": platform.platform(), "cpus": os.cpu_count()}
+    data["machine"] = {"python": sys.version.split()[0], "platform": platform.platform(), "cpus": os.cpu_count(),
+                       "load_average_at_start": os.getloadavg()}
     data["date_utc"] = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
     for sec in a.only.split(","):
         t0 = time.perf_counter()
@@ -203,8 +225,11 @@ def main(argv=None) -> int:
             raise SystemExit(f"unknown section {sec!r}")
         print(f"{sec}: {time.perf_counter() - t0:.1f} s", file=sys.stderr)
     if "timing" in data and "literal" in data:
-        data["literal"]["ratio_literal_to_block_method"] = (data["literal"]["extrapolated_seconds_520k"]
-                                                            / data["timing"]["wall_seconds_median"])
+        for name in ("default", "fast"):
+            data["literal"][f"ratio_literal_to_{name}"] = (data["literal"]["extrapolated_seconds_520k"]
+                                                          / data["timing"][name]["wall_seconds_median"])
+            data["literal"][f"cpu_ratio_literal_to_{name}"] = (
+                data["literal"]["cpu_seconds_per_cycle"] * 520_000 / data["timing"][name]["cpu_seconds_median"])
     out_path.parent.mkdir(parents=True, exist_ok=True)
     out_path.write_text(json.dumps(data, indent=1))
     print(json.dumps({k: data[k] for k in data if k in ("timing", "literal")}, indent=1))

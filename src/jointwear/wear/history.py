@@ -367,7 +367,10 @@ def wear_history(
                        rtol=settings.rtol, atol=settings.atol)
         dt_sim = time.perf_counter() - t0
         sim_seconds += dt_sim
-        sim_cycles += rec + (settle if settle is not None else _default_settle(model))
+        used_settle = getattr(res, "settle_cycles", None)
+        if used_settle is None:
+            used_settle = settle if settle is not None else _default_settle(model)
+        sim_cycles += float(getattr(res, "n_cycles", rec) or rec) + float(used_settle)
         n_steps += int(getattr(res, "n_steps", 0) or 0)
         state = getattr(res, "state_end", None)
         rates = []
