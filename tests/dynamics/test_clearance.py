@@ -208,3 +208,20 @@ def test_build_model_revalidates_copied_configs():
     cj = cfg.clearance_joints[0].model_copy(update={"journal_radius": 1.003e-3})
     with pytest.raises(ConfigError, match=r"clearance_joints\[0\].journal_radius"):
         build_model(cfg.model_copy(update={"clearance_joints": [cj]}))
+
+
+@pytest.mark.parametrize("amp", [0.0, 2e-6, 2e-5])
+def test_energy_conserved_with_worn_profile(amp):
+    """Worn (non-circular) bearing, cr = 1, frictionless: the normal force derives from the potential
+    K delta^(n+1)/(n+1) of delta = |e| - c_loc(theta), so energy is conserved through impacts."""
+    model = _free_journal_model()
+    th = np.linspace(0, 2 * np.pi, 720, endpoint=False)
+    geo = [ClearanceGeometry(1.1e-3, 1e-3, 0.0, amp * (1 + np.cos(2 * th)), np.zeros(720), use_profile=True)]
+    st = SimulationState(0.0, np.array([0.0, 0.0, 0.0, 0.012, 0.0071, 3.0]), np.zeros((1, 2)), 0.0)
+    res = simulate(model, 2, geometry=geo, settle_cycles=0, state0=st, rtol=1e-10, atol=1e-14)
+    tr = res.joints[0]
+    ke = 0.5e-3 * (res.qd[:, 0] ** 2 + res.qd[:, 1] ** 2) + 0.5e-8 * res.qd[:, 2] ** 2
+    assert tr.n_impacts > 100
+    # kinetic energy after 2 s of impacts: 1e-4 (the stiffness K follows the local radii, which the
+    # potential ignores: measured 2e-6 at 2 um, 3e-5 at 20 um of profile amplitude)
+    assert abs(ke[-1] - ke[0]) / ke[0] < 1e-4

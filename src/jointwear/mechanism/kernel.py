@@ -40,8 +40,8 @@ NCPAR = 16
 # columns of cint
 CI_BB, CI_BJ, CI_LAW, CI_FRIC, CI_PROF = range(5)
 # columns of cout (contact outputs of the latest evaluation)
-(O_FN, O_FT, O_VT, O_DELTA, O_VN, O_NX, O_NY, O_EX, O_EY, O_CLOC, O_VREL, O_PHIB, O_PHIJ, O_K) = range(14)
-NCOUT = 14
+(O_FN, O_FT, O_VT, O_DELTA, O_VN, O_NX, O_NY, O_EX, O_EY, O_CLOC, O_VREL, O_PHIB, O_PHIJ, O_K, O_TILT) = range(15)
+NCOUT = 15
 # columns of cstate
 S_V0, S_INC = 0, 1
 
@@ -189,6 +189,20 @@ def _interp_periodic(prof, k, side, n, ang):
 
 
 @njit(cache=True)
+def _slope_periodic(prof, k, side, n, ang):
+    """d/d(angle) of the linear periodic interpolation of prof[k, side, 0:n] (per radian)."""
+    u = ang / (2.0 * math.pi)
+    u = u - math.floor(u)
+    i0 = int(u * n)
+    if i0 >= n:
+        i0 = n - 1
+    i1 = i0 + 1
+    if i1 >= n:
+        i1 = 0
+    return (prof[k, side, i1] - prof[k, side, i0]) * n / (2.0 * math.pi)
+
+
+@njit(cache=True)
 def eval_contacts(nb, nd, cint, cpar, prof, ngrid, cstate, kin, f, cout):
     """Clearance-joint contact forces, added to the generalized forces f of free bodies."""
     ncj = cint.shape[0]
@@ -231,16 +245,29 @@ def eval_contacts(nb, nd, cint, cpar, prof, ngrid, cstate, kin, f, cout):
             ang = math.atan2(ny, nx)
             hb = _interp_periodic(prof, k, 0, ngrid[k, 0], ang - kin[rb, K_PHI])
             hj = _interp_periodic(prof, k, 1, ngrid[k, 1], ang - kin[rj, K_PHI])
+            hbp = _slope_periodic(prof, k, 0, ngrid[k, 0], ang - kin[rb, K_PHI])
+            hjp = _slope_periodic(prof, k, 1, ngrid[k, 1], ang - kin[rj, K_PHI])
             rbl += hb
             rjl -= hj
             kstiff = contact_stiffness(cpar[k, C_HSUM], rbl, rjl)
-        elif grow != 0.0:
-            kstiff = contact_stiffness(cpar[k, C_HSUM], rbl, rjl)
+        else:
+            hbp = 0.0
+            hjp = 0.0
+            if grow != 0.0:
+                kstiff = contact_stiffness(cpar[k, C_HSUM], rbl, rjl)
         cloc = rbl - rjl
+        # delta(e, phi_b, phi_j) = |e| - c_loc(theta): the normal force derives from the potential
+        # V = K delta^(n+1)/(n+1) (damping along the same direction): -fs grad_e(delta) on the journal
+        # centre, the opposite on the bearing centre, torques -fs h' on bodies with worn profiles (zero
+        # for circular surfaces). grad_e(delta) = n + gt t, gt = -(h_b' + h_j') / |e|.
+        gt = -(hbp + hjp) / emag if emag > 1e-15 else 0.0
+        gn = math.sqrt(1.0 + gt * gt)
         delta = emag - cloc
-        vn = rvx * nx + rvy * ny
-        tx = -ny
-        ty = nx
+        gx = nx - gt * ny
+        gy = ny + gt * nx
+        tx = -gy / gn
+        ty = gx / gn
+        vn = rvx * gx + rvy * gy + hbp * wb + hjp * wj  # d(delta)/dt
         vt = rvx * tx + rvy * ty + wj * rjl - wb * rbl
         fn = 0.0
         ft = 0.0
@@ -249,24 +276,21 @@ def eval_contacts(nb, nd, cint, cpar, prof, ngrid, cstate, kin, f, cout):
                 v0 = cstate[k, S_V0]
             else:
                 v0 = vn if vn > cpar[k, C_V0MIN] else cpar[k, C_V0MIN]
-            fn = normal_force(cint[k, CI_LAW], kstiff, cpar[k, C_NEXP], delta, vn, cpar[k, C_CR], v0)
+            fs = normal_force(cint[k, CI_LAW], kstiff, cpar[k, C_NEXP], delta, vn, cpar[k, C_CR], v0)
+            fn = fs * gn  # magnitude of the normal force
             if cint[k, CI_FRIC] != 0 and fn > 0.0:
                 ft = -friction_coefficient(vt, cpar[k, C_MUD], cpar[k, C_MUS], cpar[k, C_VS], cpar[k, C_VD]) * fn
-            # force on the journal: -fn n + ft t, at Q_j = O_j + R_j n ; on the bearing the opposite at Q_b
-            fx = -fn * nx + ft * tx
-            fy = -fn * ny + ft * ty
+            # on the journal centre; friction acts at the surface points (torques R ft about the centres)
+            fx = -fs * gx + ft * tx
+            fy = -fs * gy + ft * ty
             if 0 <= bj < nb:
-                qx = ajx + rjl * nx
-                qy = ajy + rjl * ny
                 f[3 * bj] += fx
                 f[3 * bj + 1] += fy
-                f[3 * bj + 2] += qx * fy - qy * fx
+                f[3 * bj + 2] += ajx * fy - ajy * fx - fs * hjp + rjl * ft
             if 0 <= bb < nb:
-                qx = abx + rbl * nx
-                qy = aby + rbl * ny
                 f[3 * bb] -= fx
                 f[3 * bb + 1] -= fy
-                f[3 * bb + 2] -= qx * fy - qy * fx
+                f[3 * bb + 2] += -(abx * fy - aby * fx) - fs * hbp - rbl * ft
         cout[k, O_FN] = fn
         cout[k, O_FT] = ft
         cout[k, O_VT] = vt
@@ -281,6 +305,7 @@ def eval_contacts(nb, nd, cint, cpar, prof, ngrid, cstate, kin, f, cout):
         cout[k, O_PHIB] = kin[rb, K_PHI]
         cout[k, O_PHIJ] = kin[rj, K_PHI]
         cout[k, O_K] = kstiff
+        cout[k, O_TILT] = math.atan(gt)
 
 
 @njit(cache=True)
@@ -611,21 +636,33 @@ def rhs_fourbar(t, Y, yrow, dy, row, dpar, fp, cint, cpar, prof, ngrid, cstate, 
         ang_rod = math.atan2(rdx * ny - rdy * nx, rdx * nx + rdy * ny)
         ang_crk = math.atan2(c * ny - sn * nx, c * nx + sn * ny)
         if sig > 0.0:
-            hb = _interp_periodic(prof, k, 0, ngrid[k, 0], ang_rod)
-            hj = _interp_periodic(prof, k, 1, ngrid[k, 1], ang_crk)
+            ab = ang_rod
+            aj = ang_crk
         else:
-            hb = _interp_periodic(prof, k, 0, ngrid[k, 0], ang_crk)
-            hj = _interp_periodic(prof, k, 1, ngrid[k, 1], ang_rod)
+            ab = ang_crk
+            aj = ang_rod
+        hb = _interp_periodic(prof, k, 0, ngrid[k, 0], ab)
+        hj = _interp_periodic(prof, k, 1, ngrid[k, 1], aj)
+        hbp = _slope_periodic(prof, k, 0, ngrid[k, 0], ab)
+        hjp = _slope_periodic(prof, k, 1, ngrid[k, 1], aj)
         rbl += hb
         rjl -= hj
         kstiff = contact_stiffness(cpar[k, C_HSUM], rbl, rjl)
-    elif grow != 0.0:
-        kstiff = contact_stiffness(cpar[k, C_HSUM], rbl, rjl)
+    else:
+        hbp = 0.0
+        hjp = 0.0
+        if grow != 0.0:
+            kstiff = contact_stiffness(cpar[k, C_HSUM], rbl, rjl)
     cloc = rbl - rjl
+    # same potential-consistent normal force as eval_contacts (see there)
+    gt = -(hbp + hjp) / emag if emag > 1e-15 else 0.0
+    gn = math.sqrt(1.0 + gt * gt)
     delta = emag - cloc
-    vn = rvx * nx + rvy * ny
-    tx = -ny
-    ty = nx
+    gx = nx - gt * ny
+    gy = ny + gt * nx
+    tx = -gy / gn
+    ty = gx / gn
+    vn = rvx * gx + rvy * gy + hbp * wb + hjp * wj
     vt = rvx * tx + rvy * ty + wj * rjl - wb * rbl
     fn = 0.0
     ft = 0.0
@@ -634,22 +671,20 @@ def rhs_fourbar(t, Y, yrow, dy, row, dpar, fp, cint, cpar, prof, ngrid, cstate, 
             v0 = cstate[k, S_V0]
         else:
             v0 = vn if vn > cpar[k, C_V0MIN] else cpar[k, C_V0MIN]
-        fn = normal_force(cint[k, CI_LAW], kstiff, cpar[k, C_NEXP], delta, vn, cpar[k, C_CR], v0)
+        fs = normal_force(cint[k, CI_LAW], kstiff, cpar[k, C_NEXP], delta, vn, cpar[k, C_CR], v0)
+        fn = fs * gn
         if cint[k, CI_FRIC] != 0 and fn > 0.0:
             ft = -friction_coefficient(vt, cpar[k, C_MUD], cpar[k, C_MUS], cpar[k, C_VS], cpar[k, C_VD]) * fn
-        fjx = -fn * nx + ft * tx
-        fjy = -fn * ny + ft * ty
-        if sig > 0.0:  # rod carries the bearing: force -Fj at A + R_b n
-            frx = -fjx
-            fry = -fjy
-            arm = rbl
-        else:  # rod carries the journal: force Fj at A + R_j n
-            frx = fjx
-            fry = fjy
-            arm = rjl
-        qax += frx
-        qay += fry
-        tq += arm * (nx * fry - ny * frx)
+        fjx = -fs * gx + ft * tx
+        fjy = -fs * gy + ft * ty
+        if sig > 0.0:  # rod carries the bearing: -Fj at A, torque -fs h_b' - R_b ft
+            qax -= fjx
+            qay -= fjy
+            tq += -fs * hbp - rbl * ft
+        else:  # rod carries the journal: Fj at A, torque -fs h_j' + R_j ft
+            qax += fjx
+            qay += fjy
+            tq += -fs * hjp + rjl * ft
     cout[k, O_FN] = fn
     cout[k, O_FT] = ft
     cout[k, O_VT] = vt
@@ -664,6 +699,7 @@ def rhs_fourbar(t, Y, yrow, dy, row, dpar, fp, cint, cpar, prof, ngrid, cstate, 
     cout[k, O_PHIB] = 0.0
     cout[k, O_PHIJ] = 0.0
     cout[k, O_K] = kstiff
+    cout[k, O_TILT] = math.atan(gt)
     # torque on the rod -> couple on (A, B)
     if tq != 0.0:
         qbx += -tq * dyy / d2

@@ -52,6 +52,7 @@ class ContactTrace:
     bearing_body_angle: np.ndarray
     journal_body_angle: np.ndarray
     stiffness: np.ndarray  # K used at each sample (N/m^1.5)
+    normal_tilt: np.ndarray  # angle from n to the contact normal (rad); 0 unless a worn profile is used
     bearing_radius: float
     journal_radius: float
     clearance_used: float
@@ -428,7 +429,7 @@ def _package(model, geometry, cat, q, qd, qdd, state_end, counters, n_cycles, se
             force_normal=c[:, K.O_FN].copy(), force_tangential=c[:, K.O_FT].copy(), slip_speed=c[:, K.O_VT].copy(),
             penetration=c[:, K.O_DELTA].copy(), penetration_rate=c[:, K.O_VN].copy(),
             in_contact=c[:, K.O_DELTA] > 0.0, eccentricity=ecc, bearing_body_angle=phib.copy(),
-            journal_body_angle=phij.copy(), stiffness=c[:, K.O_K].copy(),
+            journal_body_angle=phij.copy(), stiffness=c[:, K.O_K].copy(), normal_tilt=c[:, K.O_TILT].copy(),
             bearing_radius=g.bearing_radius, journal_radius=g.journal_radius, clearance_used=g.clearance,
             width=cj.width, E_bearing=bm.youngs_modulus, nu_bearing=bm.poissons_ratio, k_bearing=bm.wear_coefficient,
             H_bearing=bm.hardness, E_journal=jm.youngs_modulus, nu_journal=jm.poissons_ratio,
