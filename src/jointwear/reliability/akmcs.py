@@ -109,7 +109,7 @@ def _select_batch(score: np.ndarray, u_pop: np.ndarray, k: int, threshold: float
 
 def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch_size, u_threshold, cov_target,
          stopping, error_tol, max_calls, seed, executor, evaluator, cache, on_evaluate, progress, nan_policy,
-         pf_floor, kriging, refit_growth, full_sweep_every=10):
+         pf_floor, kriging, refit_growth, full_sweep_every=10, keep_population=False):
     t_start = time.perf_counter()
     marginals = check_marginals(marginals)
     d = len(marginals)
@@ -295,6 +295,10 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
                   n_failed_calls=int(getattr(ev, "n_failed_calls", int((~np.isfinite(design_g)).any(axis=1).sum()))),
                   failure_reasons=dict(getattr(ev, "failure_reasons", {})), history=history, n_mc=int(u_pop.shape[0]),
                   message=message, wall_seconds=time.perf_counter() - t_start)
+    if keep_population:
+        common_pop = {"population_u": u_pop, "population_fail": fail.copy()}
+    else:
+        common_pop = {}
     if multi:
         below = pf_col < pf_floor
         col_ok = (min_u >= u_threshold) | ((err <= error_tol) if stopping == "error" else False)
@@ -306,7 +310,7 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
     return ReliabilityResult(method="akmcs", pf=float(pf_col[0]), cov=float(cov_col[0]), beta=pf_to_beta(pf_col[0]),
                              converged=converged, design_g=design_g[:, 0], surrogate=surrogates[0],
                              error_estimate=float(err[0]), details={"min_u": float(min_u[0]), "n_full_sweeps": n_sweeps,
-                                                                  "mean_active": n_active_sum / max(iteration, 1)}, **common)
+                                                                  "mean_active": n_active_sum / max(iteration, 1), **common_pop}, **common)
 
 
 def akmcs(
@@ -332,6 +336,7 @@ def akmcs(
     nan_policy: str = "failure",
     kriging: dict | None = None,
     refit_growth: float = 0.1,
+    keep_population: bool = False,
 ) -> ReliabilityResult:
     """AK-MCS estimate of Pf = P[g(X) < 0] for independent inputs X_i ~ ``marginals[i]``.
 
@@ -366,6 +371,9 @@ def akmcs(
         Called with an :class:`IterationRecord` (pf, cov, min_u, error, n_calls) after every iteration.
     kriging:
         Keyword arguments for :class:`KrigingSurrogate` (nugget, scale_bounds, n_starts, chunk_size).
+    keep_population:
+        Store the final candidate population (``details["population_u"]``) and its classification
+        (``details["population_fail"]``), e.g. to compare with the true g on the same population.
     refit_growth:
         Hyperparameters are re-optimised when the design has grown by this fraction since the last
         optimisation (and always while it has <= 30 points, and before stopping); in between, the Kriging is
@@ -375,7 +383,8 @@ def akmcs(
                 initial_bound=initial_bound, batch_size=batch_size, u_threshold=u_threshold, cov_target=cov_target,
                 stopping=stopping, error_tol=error_tol, max_calls=max_calls, seed=seed, executor=executor,
                 evaluator=evaluator, cache=cache, on_evaluate=on_evaluate, progress=progress,
-                nan_policy=nan_policy, pf_floor=0.0, kriging=kriging, refit_growth=refit_growth)
+                nan_policy=nan_policy, pf_floor=0.0, kriging=kriging, refit_growth=refit_growth,
+                keep_population=keep_population)
 
 
 def akmcs_multi(

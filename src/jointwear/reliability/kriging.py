@@ -64,6 +64,23 @@ def _openblas_setter():
 _BLAS = None
 
 
+def _optimizer():
+    """Likelihood optimiser: NLopt BOBYQA when OpenTURNS has NLopt, else Cobyla with a larger budget.
+
+    Measured on a 13-D test function with n = 100 (docs/reliability.md): OpenTURNS' default Cobyla stopped
+    at log-likelihood 96 (R^2 0.97, or 0.55 from a poor start), BOBYQA reached 168 (R^2 0.996) in 1.8 s,
+    TNC 182 (R^2 0.998) but in 14-63 s.
+    """
+    import openturns as ot
+
+    try:
+        algo = ot.NLopt("LN_BOBYQA")
+    except Exception:
+        algo = ot.Cobyla()
+    algo.setMaximumCallsNumber(2000)
+    return algo
+
+
 class blas_threads:
     """Context manager limiting numpy's OpenBLAS to ``n`` threads (no-op if that BLAS is not found).
 
@@ -175,7 +192,7 @@ class KrigingSurrogate:
 
     nugget: float = 1e-10
     scale_bounds: tuple[float, float] = (0.01, 100.0)
-    n_starts: int = 3
+    n_starts: int = 2
     seed: int | None = 0
     chunk_size: int = 2048
     n_threads: int | None = None
@@ -251,28 +268,38 @@ class KrigingSurrogate:
             start = np.clip(self.hyperparameters.scale, lo * 1.0001, hi * 0.9999)
         else:
             start = np.clip(np.ptp(x, axis=0) / 3.0 + 1e-3, lo * 1.0001, hi * 0.9999)
-        cov = ot.SquaredExponential(list(map(float, start)), [1.0])
-        cov.setNuggetFactor(self.nugget)
-        basis = ot.ConstantBasisFactory(d).build()
-        fitter = ot.GaussianProcessFitter(ot.Sample(x), ot.Sample(ys[:, None]), cov, basis)
-        fitter.setOptimizationBounds(ot.Interval([lo] * d, [hi] * d))
+        starts = [start]
         if n_starts > 1:
-            rng = np.random.default_rng(self.seed if self.seed is None else self.seed + n)
+            rng = np.random.default_rng(None if self.seed is None else self.seed + n)
             from scipy.stats import qmc
 
             lhs = qmc.LatinHypercube(d=d, seed=rng).random(n_starts - 1)
-            starts = np.exp(np.log(lo) + (np.log(hi) - np.log(lo)) * (0.15 + 0.5 * lhs))
-            sample = ot.Sample(np.vstack([start[None, :], starts]))
-            fitter.setOptimizationAlgorithm(ot.MultiStart(ot.Cobyla(), sample))
+            # log-uniform in the upper-middle of the bounds (0.3..30 for the default bounds): short scales are
+            # reached from there, while starts near the lower bound get stuck in interpolating optima
+            starts += list(np.exp(np.log(lo) + (np.log(hi) - np.log(lo)) * (0.4 + 0.4 * lhs)))
+        basis = ot.ConstantBasisFactory(d).build()
+        found = []
+        errors = []
         flags = ot.Log.Flags()
-        ot.Log.Show(ot.Log.NONE)  # Cobyla "maximum number of evaluations" warnings are expected
+        ot.Log.Show(ot.Log.NONE)  # optimiser warnings (maximum evaluations reached...) are expected
         try:
-            fitter.run()
+            for st in starts:
+                cov = ot.SquaredExponential(list(map(float, st)), [1.0])
+                cov.setNuggetFactor(self.nugget)
+                fitter = ot.GaussianProcessFitter(ot.Sample(x), ot.Sample(ys[:, None]), cov, basis)
+                fitter.setOptimizationBounds(ot.Interval([lo] * d, [hi] * d))
+                fitter.setOptimizationAlgorithm(_optimizer())
+                try:
+                    fitter.run()
+                except Exception as exc:
+                    errors.append(exc)
+                    continue
+                found.append(np.array(fitter.getResult().getCovarianceModel().getScale(), dtype=float))
         finally:
             ot.Log.Show(flags)
-        result = fitter.getResult()
-        scale = np.array(result.getCovarianceModel().getScale(), dtype=float)
-        return [scale]
+        if not found:
+            raise errors[0]
+        return found
 
     # --------------------------------------------------------------- prediction
     def predict(self, u: np.ndarray, *, return_variance: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
