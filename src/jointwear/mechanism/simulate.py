@@ -314,6 +314,13 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
     (jointwear.mechanism.fast), True requires it, False forces the general Cartesian kernel.
     """
     wall0 = time.perf_counter()
+    if not (np.isfinite(n_cycles) and n_cycles >= 0):
+        raise ValueError(f"n_cycles must be a finite number >= 0 (got {n_cycles!r})")
+    if settle_cycles is not None and not (np.isfinite(settle_cycles) and settle_cycles >= 0):
+        raise ValueError(f"settle_cycles must be a finite number >= 0 (got {settle_cycles!r})")
+    for name, val in (("rtol", rtol), ("atol", atol)):
+        if val is not None and not (np.isfinite(val) and val > 0):
+            raise ValueError(f"{name} must be a finite number > 0 (got {val!r})")
     period = model.period
     if period is None:
         raise ValueError("model has no driver: set model.period_override to define a cycle length")
