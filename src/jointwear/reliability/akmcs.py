@@ -231,7 +231,7 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
         n_active_sum += active_idx.size
         cov = np.atleast_1d(mc_cov(pf, n_pop))
         min_u = U.min(axis=0)
-        rec = IterationRecord(iteration=iteration, n_calls=ev.n_calls, n_mc=n_pop,
+        rec = IterationRecord(iteration=iteration, n_calls=int(design_u.shape[0]), n_mc=n_pop,
                               pf=pf.copy() if multi else float(pf[0]), cov=cov.copy() if multi else float(cov[0]),
                               min_u=min_u.copy() if multi else float(min_u[0]),
                               error=err.copy() if multi else float(err[0]),
@@ -268,13 +268,13 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
             u_pop = np.vstack([u_pop, rng.standard_normal((new_n - n_pop, d))])
             need_full = True
             continue
-        if ev.n_calls >= max_calls:
+        if design_u.shape[0] >= max_calls:
             message = f"max_calls={max_calls} reached before the learning criterion was met"
             break
         # ---- enrichment
         active = ~learned
         score = U[:, active].min(axis=1)
-        k = min(batch_size, max_calls - ev.n_calls)
+        k = min(batch_size, max_calls - design_u.shape[0])
         sel = _select_batch(score, u_pop, k, u_threshold, rng, known)
         if sel.size == 0:
             message = "no candidate left to evaluate"

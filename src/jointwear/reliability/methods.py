@@ -382,7 +382,7 @@ def subset_simulation(
         levels.append({"threshold": b, "p": p0, "gamma": gamma,
                        "acceptance": n_acc / (n_chains * (chain_len - 1))})
         if progress is not None:
-            progress({"level": level, "threshold": b, "pf": pf, "n_calls": ev.n_calls})
+            progress({"level": level, "threshold": b, "pf": pf, "n_calls": getattr(ev, "n_calls", None)})
     cov = math.sqrt(delta2) if np.isfinite(delta2) else math.inf
     msg = "" if converged else f"max_levels={max_levels} reached before the failure threshold; pf is an upper bound"
     return ReliabilityResult(method="subset_simulation", pf=pf, cov=cov, beta=pf_to_beta(pf), converged=converged,
