@@ -150,6 +150,14 @@ def to_cartesian(model: MechanismModel, lay: FastLayout, Y: np.ndarray, Ydd: np.
     return q, qd, qdd
 
 
-def rod_angle_rate(Y: np.ndarray) -> float:
-    d = Y[2:4] - Y[0:2]
-    return math.atan2(d[1], d[0])
+def natural_angles(lay: FastLayout, Y: np.ndarray, phi_ref: dict[str, float] | None = None) -> dict[str, np.ndarray]:
+    """Unwrapped angles of rod and rocker from (steps, 8) natural states (cheap; no velocities)."""
+    Y = np.atleast_2d(Y)
+    out = {}
+    for name, P in ((lay.rod, Y[:, 0:2]), (lay.rocker, np.asarray(lay.c_point)[None, :])):
+        d = Y[:, 2:4] - P
+        phi = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
+        if phi_ref is not None and name in phi_ref:
+            phi += 2 * np.pi * np.round((phi_ref[name] - phi[0]) / (2 * np.pi))
+        out[name] = phi
+    return out

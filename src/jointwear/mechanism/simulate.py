@@ -10,6 +10,7 @@ import numpy as np
 
 from jointwear.contact.geometry import ClearanceGeometry
 from jointwear.mechanism import kernel as K
+from jointwear.mechanism.fast import natural_angles
 from jointwear.mechanism.model import MechanismModel
 
 TWO_PI = 2.0 * math.pi
@@ -101,9 +102,6 @@ class SimulationResult:
     body_angles: np.ndarray  # (steps, n_bodies), all bodies in model order (unwrapped)
     body_names: list[str]
     free_body_names: list[str]
-    q: np.ndarray  # (steps, 3 n_free): x, y, phi of the free bodies
-    qd: np.ndarray
-    qdd: np.ndarray
     multipliers: np.ndarray  # (steps, n_constraints): lam of the ideal joints (M qdd + J^T lam = f)
     joint_names: list[str]
     joints: list[ContactTrace]
@@ -117,6 +115,26 @@ class SimulationResult:
     wall_seconds: float
     status: str = "ok"
     extra: dict = field(default_factory=dict)
+    _cart_fn: object = field(default=None, repr=False)  # () -> (q, qd, qdd), evaluated on first access
+    _cart: tuple | None = field(default=None, repr=False)
+
+    def _cartesian(self) -> tuple:
+        if self._cart is None:
+            self._cart = self._cart_fn()
+        return self._cart
+
+    @property
+    def q(self) -> np.ndarray:
+        """(steps, 3 n_free): x, y, phi of the free bodies (centre of mass, global frame)."""
+        return self._cartesian()[0]
+
+    @property
+    def qd(self) -> np.ndarray:
+        return self._cartesian()[1]
+
+    @property
+    def qdd(self) -> np.ndarray:
+        return self._cartesian()[2]
 
     def body_pose(self, name: str) -> np.ndarray:
         """(steps, 3) x, y, phi of a free body."""
@@ -286,19 +304,21 @@ class _Runner:
         """Evaluate the equations of motion at (t, y) into ks[0] (also fills lam and cout)."""
         K.accelerations(self.mode, t, y, self.ks, *self._args())
 
-    def run(self, t, y, t_end, h, hmax, t_record, cap, max_steps, counters):
+    def buffers(self, cap: int) -> dict[str, np.ndarray]:
         ncj = self.a["cint"].shape[0]
         nc = self.w["lam"].shape[0]
-        rec = dict(
+        return dict(
             rec_t=np.empty(cap), rec_h=np.empty(cap), rec_y=np.empty((cap, self.ny)),
             rec_acc=np.empty((cap, self.ny // 2)), rec_lam=np.empty((cap, nc)),
             rec_c=np.empty((cap, ncj, K.NCOUT)),
         )
+
+    def run(self, t, y, t_end, h, hmax, t_record, rec, max_steps, counters):
         s = self.model.settings
         t, h = K.integrate(self.mode, t, y, t_end, h, self.rtol, self.atolv, hmax, s.clearance_step_fraction,
                            max_steps, t_record, *self._args(), self.ks, self.ytmp, rec["rec_t"], rec["rec_h"],
                            rec["rec_y"], rec["rec_acc"], rec["rec_lam"], rec["rec_c"], counters)
-        return t, h, rec
+        return t, h
 
 
 def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeometry] | None = None,
@@ -345,45 +365,65 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
     max_steps = int(s.max_steps)
     # settling (not recorded)
     t_settle = t + settle * period
+    settle_buf = run.buffers(1)
     while t < t_settle:
-        t, h, _ = run.run(t, y, t_settle, h, hmax, math.inf, 1, max_steps, counters)
+        counters[0] = 0
+        t, h = run.run(t, y, t_settle, h, hmax, math.inf, settle_buf, max_steps, counters)
         if counters[3] in (2, 3):
             raise SimulationError(_status_text(counters[3], t))
     # recording: the first sample is the state at the start of the recorded window
     t_end = t + n_cycles * period
-    ncj = len(model.clearance_joints)
     run.eval(t, y)
-    first = dict(rec_t=np.array([t]), rec_h=np.array([0.0]), rec_y=y[None, :].copy(),
-                 rec_acc=k1[None, run.ny // 2:].copy(), rec_lam=run.w["lam"][None, :].copy(),
-                 rec_c=run.w["cout"][None, :, :].copy())
-    chunks = [first]
     est = int(max(1000, 20000 * n_cycles)) if record else 1
-    while t < t_end:
+    chunks = []
+    first = True
+    while True:
         counters[0] = 0
-        t, h, rec = run.run(t, y, t_end, h, hmax, -math.inf if record else math.inf, est, max_steps, counters)
-        if counters[3] in (2, 3):
-            raise SimulationError(_status_text(counters[3], t))
+        rec = run.buffers(est + 1 if first else est)
+        if first:  # the first sample is the state at the start of the recorded window
+            rec["rec_t"][0], rec["rec_h"][0] = t, 0.0
+            rec["rec_y"][0] = y
+            rec["rec_acc"][0] = k1[run.ny // 2:]
+            rec["rec_lam"][0] = run.w["lam"]
+            rec["rec_c"][0] = run.w["cout"]
+            counters[0] = 1
+            first = False
+        if t < t_end:
+            t, h = run.run(t, y, t_end, h, hmax, -math.inf if record else math.inf, rec, max_steps, counters)
+            if counters[3] in (2, 3):
+                raise SimulationError(_status_text(counters[3], t))
         n = int(counters[0])
-        if record:
-            chunks.append({k: v[:n] for k, v in rec.items()})
-    cat = {k: np.concatenate([c[k] for c in chunks]) for k in chunks[0]}
-    q, qd, qdd = run.to_cartesian(cat["rec_y"], cat["rec_acc"], phi_ref if settle == 0 else None)
+        chunks.append({k: v[:n] for k, v in rec.items()})
+        if t >= t_end:
+            break
+    cat = chunks[0] if len(chunks) == 1 else {k: np.concatenate([c[k] for c in chunks]) for k in chunks[0]}
+    ref = phi_ref if settle == 0 else None
+    Y, Ydd = cat["rec_y"], cat["rec_acc"]
     if run.mode == 1:
-        _fill_fast_angles(model, run, cat, q)
-        cat["rec_lam"] = np.full((q.shape[0], 2 * len(model.joints)), np.nan)
-    qe, qde, _ = run.to_cartesian(y[None, :], None, {n: float(q[-1, 3 * i + 2]) for i, n in enumerate(free_names)})
+        angles = natural_angles(run.lay, Y, ref)
+        _fill_fast_angles(model, run, cat, angles[run.lay.rod])
+        cat["rec_lam"] = np.full((Y.shape[0], 2 * len(model.joints)), np.nan)
+        free_phi = {n: angles[n] for n in free_names}
+
+        def cart():
+            return run.to_cartesian(Y, Ydd, ref)
+    else:
+        nq = Y.shape[1] // 2
+        free_phi = {n: Y[:, 3 * i + 2] for i, n in enumerate(free_names)}
+
+        def cart():
+            return Y[:, :nq], Y[:, nq:], Ydd
+    qe, qde, _ = run.to_cartesian(y[None, :], None, {n: float(free_phi[n][-1]) for n in free_names})
     state_end = SimulationState(t, np.concatenate([qe[0], qde[0]]), run.a["cstate"].copy(), h)
-    res = _package(model, geometry, cat, q, qd, qdd, state_end, counters, n_cycles, settle, period,
+    res = _package(model, geometry, cat, free_phi, cart, state_end, counters, n_cycles, settle, period,
                    time.perf_counter() - wall0)
     res.extra["kernel"] = "natural_fourbar" if run.mode == 1 else "cartesian"
     return res
 
 
-def _fill_fast_angles(model, run, cat, q):
-    """The fast kernel leaves body angles out of its contact outputs; fill them from q."""
+def _fill_fast_angles(model, run, cat, phi_rod):
+    """The fast kernel leaves body angles out of its contact outputs; fill them in."""
     lay = run.lay
-    names = [b.name for b in model.free_bodies]
-    phi_rod = q[:, 3 * names.index(lay.rod) + 2]
     crank = model.body(lay.crank)
     phi_crank = crank.driver.angle0 + crank.driver.speed * cat["rec_t"]
     cj = model.clearance_joints[0]
@@ -406,7 +446,7 @@ def _trapezoid_weights(t: np.ndarray) -> np.ndarray:
     return w
 
 
-def _package(model, geometry, cat, q, qd, qdd, state_end, counters, n_cycles, settle, period, wall
+def _package(model, geometry, cat, free_phi, cart, state_end, counters, n_cycles, settle, period, wall
              ) -> SimulationResult:
     t = cat["rec_t"]
     crank = model.crank
@@ -415,7 +455,7 @@ def _package(model, geometry, cat, q, qd, qdd, state_end, counters, n_cycles, se
     free = [b.name for b in model.free_bodies]
     for i, b in enumerate(model.bodies):
         if b.driver is None:
-            angles[:, i] = q[:, 3 * free.index(b.name) + 2]
+            angles[:, i] = free_phi[b.name]
         else:
             angles[:, i] = b.driver.angle0 + b.driver.speed * t
     crank_angle = np.mod(crank.driver.angle0 + crank.driver.speed * t, 2 * math.pi) if crank else np.zeros_like(t)
@@ -443,8 +483,8 @@ def _package(model, geometry, cat, q, qd, qdd, state_end, counters, n_cycles, se
             k_journal=jm.wear_coefficient, H_journal=jm.hardness, bearing_outer_radius=cj.bearing_outer_radius,
         ))
     return SimulationResult(
-        t=t, crank_angle=crank_angle, body_angles=angles, body_names=names, free_body_names=free, q=q, qd=qd,
-        qdd=qdd, multipliers=cat["rec_lam"], joint_names=[j.name for j in model.joints], joints=traces,
+        t=t, crank_angle=crank_angle, body_angles=angles, body_names=names, free_body_names=free,
+        _cart_fn=cart, multipliers=cat["rec_lam"], joint_names=[j.name for j in model.joints], joints=traces,
         state_end=state_end, n_steps=int(counters[1]), n_rejected=int(counters[2]), n_recorded_steps=t.size - 1,
         n_cycles=n_cycles, settle_cycles=settle, period=period, wall_seconds=wall,
     )
