@@ -972,14 +972,17 @@ def _sensitivity_section(inp: Inputs, figs: _Figures) -> str:
                 f"Sensitivity of the reliability: {g}.", png_keys=("tornado",)))
         parts.append("</div>")
         rows = []
+        optional = [("elasticity_mean", "elasticity of R to the mean"), ("S1", "Sobol' S1"), ("ST", "Sobol' ST")]
+        extra_cols = [(k, h) for k, h in optional if any(_float(v.get(k)) is not None for v in variables)]
         for v in variables:
             lo, hi = _float(v.get("reliability_low")), _float(v.get("reliability_high"))
             rows.append((str(v.get("label") or v.get("name")), str(v.get("name")), _classify(v)[0] or "",
-                         _num(lo, 3), _num(hi, 3), _num(_spread(v, nominal), 3)))
+                         _num(lo, 3), _num(hi, 3), _num(_spread(v, nominal), 3))
+                        + tuple(_num(_float(v.get(k)), 3) for k, _h in extra_cols))
         rows.sort(key=lambda r: (r[2], -float(r[5]) if r[5] not in ("\u2014",) else 0))
         parts.append('<details><summary>Sensitivity as numbers</summary>')
         parts.append(_table(["variable", "name", "group", f"R at mean \u00d7 {lo_f:g}", f"R at mean \u00d7 {hi_f:g}",
-                             "largest change of R"], rows, cls="num"))
+                             "largest change of R"] + [h for _k, h in extra_cols], rows, cls="num"))
         parts.append("</details>")
         ranks = _rankings(sens)
         rrows = []
