@@ -578,19 +578,19 @@ def sobol_figure(
     """First-order and total Sobol' indices (sorted by the total index), with confidence intervals if given."""
     s1 = _arr(S1)
     st = _arr(ST)
-    order = np.argsort(-np.nan_to_num(st))
-    fig, ax = figure(size=(max(6.4, 0.55 * len(names) + 2), 4.0))
-    x = np.arange(len(names))
-    w = 0.38
-    ax.bar(x - w / 2, s1[order], w, color=COLORS[0], label="first order S1",
-           yerr=None if S1_conf is None else _arr(S1_conf)[order], capsize=2)
-    ax.bar(x + w / 2, st[order], w, color=COLORS[1], label="total ST",
-           yerr=None if ST_conf is None else _arr(ST_conf)[order], capsize=2)
-    ax.set_xticks(x)
-    ax.set_xticklabels([names[i] for i in order], rotation=35, ha="right")
-    ax.set_ylim(bottom=min(0.0, float(np.nanmin(np.r_[s1, st, 0.0])) * 1.1))
-    ax.set_ylabel(axis_label(f"Sobol' index of the {output}", None))
-    ax.grid(axis="x", visible=False)
-    ax.legend(loc="upper right")
+    order = np.argsort(np.nan_to_num(st), kind="stable")  # largest total index on top
+    fig, ax = figure(size=(7.2, max(2.6, 0.42 * len(names) + 1.3)))
+    y = np.arange(len(names))
+    h = 0.38
+    ax.barh(y + h / 2, s1[order], h, color=COLORS[0], label="first order S1",
+            xerr=None if S1_conf is None else _arr(S1_conf)[order], capsize=2)
+    ax.barh(y - h / 2, st[order], h, color=COLORS[1], label="total ST",
+            xerr=None if ST_conf is None else _arr(ST_conf)[order], capsize=2)
+    ax.set_yticks(y)
+    ax.set_yticklabels([names[i] for i in order])
+    ax.set_xlim(left=min(0.0, float(np.nanmin(np.r_[s1, st, 0.0])) * 1.1))
+    ax.set_xlabel(axis_label(f"Sobol' index of the {output}", None))
+    ax.grid(axis="y", visible=False)
+    ax.legend(loc="lower right")
     ax.set_title(f"Global sensitivity (Sobol') of the {output}")
     return fig
