@@ -116,6 +116,7 @@ class ReliabilityStudyResult:
     design_x: np.ndarray
     design_wear: np.ndarray
     engine: Any = field(repr=False, default=None)
+    wear_surrogates: Any = field(repr=False, default=None)
     population: np.ndarray | None = field(repr=False, default=None)
     infeasible: dict = field(default_factory=dict)
 
@@ -164,6 +165,33 @@ def cycles_to_hours(cycles: float, config: StudyConfig) -> float:
 # ---------------------------------------------------------------------------------------------
 # the reliability study
 # ---------------------------------------------------------------------------------------------
+def life_from_history(cycles: np.ndarray, wear: np.ndarray, allowance: float | np.ndarray) -> np.ndarray:
+    """Cycles N_f at which the max wear first reaches the allowance, for each row of ``wear`` (n, H).
+
+    Linear interpolation in the history (which starts at zero wear at N = 0); past the last history point,
+    linear extrapolation with the slope of the last history segment (the wear grows linearly in N, paper
+    Fig. 20 and paper-notes). NaN rows (failed calls) give NaN; a history that stops growing gives +inf.
+    """
+    n_h = np.concatenate([[0.0], np.asarray(cycles, dtype=float)])
+    w = np.atleast_2d(np.asarray(wear, dtype=float))
+    w = np.concatenate([np.zeros((w.shape[0], 1)), w], axis=1)
+    a = np.broadcast_to(np.asarray(allowance, dtype=float).reshape(-1), (w.shape[0],))
+    out = np.full(w.shape[0], np.nan)
+    for i in range(w.shape[0]):
+        row = w[i]
+        if not np.all(np.isfinite(row)):
+            continue
+        above = np.nonzero(row >= a[i])[0]
+        if above.size:
+            k = above[0]
+            w0, w1 = row[k - 1], row[k]
+            out[i] = n_h[k - 1] + (a[i] - w0) * (n_h[k] - n_h[k - 1]) / (w1 - w0)
+        else:
+            slope = (row[-1] - row[-2]) / (n_h[-1] - n_h[-2])
+            out[i] = np.inf if slope <= 0 else n_h[-1] + (a[i] - row[-1]) / slope
+    return out
+
+
 @dataclass
 class StudyContext:
     """What a study's stages share: the config, the random inputs and the evaluator of true-model calls."""
@@ -174,33 +202,48 @@ class StudyContext:
     marginals: list
     targets: list[str]
     cycles: list[int]
+    history_cycles: list[int]
     evaluator: Any
     random_allowance: bool
+    _wear_cache: dict = field(default_factory=dict, repr=False)
 
     @property
     def allowance(self) -> float:
         return float(self.config.reliability.allowance)
 
-    def g(self, X: np.ndarray) -> np.ndarray:
-        """Limit states G_k = ln delta_0 - ln delta_max(x, N_k), shape (n, m); NaN rows for failed calls.
+    def wear(self, X: np.ndarray) -> np.ndarray:
+        """Max bearing wear (m) at ``history_cycles`` for each row of the model inputs (n, H)."""
+        X = np.atleast_2d(np.asarray(X, dtype=float))
+        todo = [i for i, row in enumerate(X) if row.tobytes() not in self._wear_cache]
+        if todo:
+            y = np.asarray(self.evaluator(X[todo]), dtype=float).reshape(len(todo), -1)
+            for i, row in zip(todo, y):
+                self._wear_cache[X[i].tobytes()] = row
+        return np.stack([self._wear_cache[row.tobytes()] for row in X])
 
-        Same sign as the paper's G = delta_0 - delta_max (Eq. 42), so the same failure domain; the
-        logarithm makes the Archard response (a product of powers of k, H, F, ...) nearly linear in the
-        inputs, which the Kriging learns with far fewer calls.
-        """
+    def split(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray | float]:
         X = np.atleast_2d(np.asarray(X, dtype=float))
         if self.random_allowance:
-            wear = np.asarray(self.evaluator(X[:, :-1]), dtype=float).reshape(len(X), -1)
-            allowance = X[:, -1:]
-        else:
-            wear = np.asarray(self.evaluator(X), dtype=float).reshape(len(X), -1)
-            allowance = self.allowance
-        with np.errstate(divide="ignore", invalid="ignore"):
-            return np.log(allowance) - np.log(np.where(wear > 0, wear, np.nan))
+            return X[:, :-1], X[:, -1]
+        return X, self.allowance
 
-    def wear_from_g(self, g: np.ndarray, allowance) -> np.ndarray:
-        """Max wear (m) from limit-state values."""
-        return np.asarray(allowance) * np.exp(-np.asarray(g))
+    def life(self, X: np.ndarray) -> np.ndarray:
+        """Wear life N_f(x): cycles to reach the allowance (see :func:`life_from_history`)."""
+        x_model, allowance = self.split(X)
+        return life_from_history(np.asarray(self.history_cycles, dtype=float), self.wear(x_model), allowance)
+
+    def g(self, X: np.ndarray) -> np.ndarray:
+        """Limit states G_k = ln N_f(x) - ln N_k, shape (n, m); NaN rows for failed calls.
+
+        G_k < 0 exactly when delta_max(x, N_k) > delta_0, the paper's failure event (Eq. 42-43), because
+        the max wear grows with N; so every level has the paper's failure domain. All levels are one
+        function shifted by constants, so the Kriging of every level is the same (ordinary Kriging is
+        shift-equivariant) and R(N) is monotone by construction; the logarithm makes the Archard response
+        (a product of powers of k, H, F, ...) nearly linear in the inputs.
+        """
+        with np.errstate(divide="ignore", invalid="ignore"):
+            log_life = np.log(self.life(X))
+        return log_life[:, None] - np.log(np.asarray(self.cycles, dtype=float))[None, :]
 
 
 def study_context(config: StudyConfig, evaluator_factory: Callable[[WearModelCall], Any]) -> StudyContext:
@@ -216,7 +259,9 @@ def study_context(config: StudyConfig, evaluator_factory: Callable[[WearModelCal
     marginals = unc.marginals()
     rel = config.reliability
     cycles = rel.curve_cycles()
-    call = WearModelCall(base=config.model_dump(), targets=[s.target for s in specs], cycles=cycles)
+    step = rel.cycles_step
+    history = sorted(set(range(step, max(cycles) + 1, step)) | set(cycles))
+    call = WearModelCall(base=config.model_dump(), targets=[s.target for s in specs], cycles=history)
     random_allowance = rel.allowance_std > 0
     if random_allowance:
         from scipy import stats
@@ -224,7 +269,7 @@ def study_context(config: StudyConfig, evaluator_factory: Callable[[WearModelCal
         names.append("delta_0")
         labels.append("wear allowance")
         marginals.append(stats.norm(rel.allowance, rel.allowance_std))
-    return StudyContext(config, names, labels, marginals, [s.target for s in specs], cycles,
+    return StudyContext(config, names, labels, marginals, [s.target for s in specs], cycles, history,
                         evaluator_factory(call), random_allowance)
 
 
@@ -234,17 +279,32 @@ def population(marginals: Sequence, n: int, seed: int) -> np.ndarray:
     return np.column_stack([m.rvs(size=n, random_state=rng) for m in marginals])
 
 
-def predict_wear(engine, marginals: Sequence, x: np.ndarray, allowance: np.ndarray | float,
-                 columns: Sequence[int]) -> np.ndarray:
-    """Surrogate prediction of the max wear (m) at the given curve columns, shape (n, len(columns))."""
-    from jointwear.reliability import IsoTransform
+class WearSurrogates:
+    """Kriging of ln delta_max(x, N) at a few cycle counts, fitted once on the final design (no learning).
 
-    u = IsoTransform(marginals).to_u(x)
-    out = np.empty((len(x), len(columns)))
-    for k, j in enumerate(columns):
-        mu, _ = engine.surrogates[j].predict(u, return_variance=False)
-        out[:, k] = np.squeeze(allowance) * np.exp(-mu) if np.ndim(allowance) else allowance * np.exp(-mu)
-    return out
+    The reliability itself comes from the learned life surrogate; these give the wear distributions (paper
+    Fig. 20) and the Sobol' indices of the max wear.
+    """
+
+    def __init__(self, ctx: StudyContext, design_x: np.ndarray, cycles: Sequence[int], seed: int = 0):
+        from jointwear.reliability import IsoTransform, KrigingSurrogate
+
+        self.cycles = list(cycles)
+        self.iso = IsoTransform(ctx.marginals)
+        x_model, _ = ctx.split(design_x)
+        wear = ctx.wear(x_model)
+        cols = [ctx.history_cycles.index(c) for c in self.cycles]
+        u = self.iso.to_u(design_x)
+        self.surrogates = []
+        for j in cols:
+            y = np.log(wear[:, j])
+            ok = np.isfinite(y)
+            self.surrogates.append(KrigingSurrogate(seed=seed + j).fit(u[ok], y[ok]))
+
+    def predict(self, x: np.ndarray) -> np.ndarray:
+        """Max wear (m), shape (n, len(cycles))."""
+        u = self.iso.to_u(x)
+        return np.column_stack([np.exp(s.predict(u, return_variance=False)[0]) for s in self.surrogates])
 
 
 def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> ReliabilityStudyResult:
@@ -263,22 +323,22 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     reliability = 1.0 - pf
     life = life_at(cycles, reliability, rel.target_reliability)
 
-    # Wear distributions over the random inputs (paper Fig. 20) from the surrogates on a population.
+    # Wear distributions over the random inputs (paper Fig. 20) from wear surrogates fitted on the design.
     n_hist = min(engine.n_mc, 100_000)
     pop = population(ctx.marginals, n_hist, rel.seed + 1)
-    allowance = pop[:, -1] if ctx.random_allowance else ctx.allowance
-    allow_col = allowance[:, None] if np.ndim(allowance) else allowance
-    wear_all = predict_wear(engine, ctx.marginals, pop, allow_col, range(len(cycles)))
-    hist_cols = [ctx.cycles.index(c) for c in rel.histogram_cycles]
+    wear_levels = sorted(set(rel.histogram_cycles) | set(ctx.cycles))
+    wear_model = WearSurrogates(ctx, np.asarray(engine.design_x), wear_levels, seed=rel.seed)
+    wear_all = wear_model.predict(pop)
+    hist_cols = [wear_levels.index(c) for c in rel.histogram_cycles]
     histograms = {"cycles": list(rel.histogram_cycles),
                   "max_wear_mm": [(wear_all[:2000, j] * 1e3).tolist() for j in hist_cols],
                   "n_samples_shown": 2000, "n_population": int(n_hist)}
-    mean_max = {"cycles": cycles.astype(int).tolist(), "mean": (wear_all.mean(axis=0) * 1e3).tolist(),
+    mean_max = {"cycles": wear_levels, "mean": (wear_all.mean(axis=0) * 1e3).tolist(),
                 "std": (wear_all.std(axis=0) * 1e3).tolist()}
     hist = engine.history
     convergence = {"n_calls": [h.n_calls for h in hist], "pf": [_first(h.pf) for h in hist],
                    "min_u": [_first(h.min_u) for h in hist]}
-    design_wear = ctx.allowance * np.exp(-np.asarray(engine.design_g, dtype=float))
+    design_wear = ctx.wear(ctx.split(np.asarray(engine.design_x))[0])
     unc = ctx.config.uncertainty
     infeasible = {}
     if unc.clearance is not None:
@@ -293,7 +353,8 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         model_calls=int(engine.n_calls), failed_calls=int(engine.n_failed_calls), n_mc=int(engine.n_mc),
         converged=bool(engine.converged), wall_seconds=time.perf_counter() - t0, names=ctx.names,
         histograms=histograms, mean_max_wear=mean_max, convergence=convergence,
-        design_x=np.asarray(engine.design_x), design_wear=design_wear, engine=engine, infeasible=infeasible)
+        design_x=np.asarray(engine.design_x), design_wear=design_wear, engine=engine, infeasible=infeasible,
+        wear_surrogates=wear_model)
 
 
 def _first(value) -> float:
@@ -324,6 +385,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityStudyResult) -> d
       delta_0) over the nominal population. A shifted mechanism that cannot run (e.g. a rod too short to
       close the loop) has reliability 0, with its reason reported.
     """
+    from jointwear.reliability import IsoTransform
     from jointwear.sensitivity import (
         mean_shift_table,
         reliability_derivatives,
@@ -339,14 +401,15 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityStudyResult) -> d
     n_pop = min(max(engine.n_mc, 100_000), 400_000)
     pop = population(ctx.marginals, n_pop, rel.seed + 2)
 
-    def allowance_of(x):
-        return x[:, -1] if ctx.random_allowance else ctx.allowance
+    iso = IsoTransform(ctx.marginals)
 
-    def wear_on(x):
-        return predict_wear(engine, ctx.marginals, x, allowance_of(x), [col])[:, 0]
+    def log_life_margin(x):
+        """ln N_f(x) - ln N_s from the learned life surrogate (failure where < 0)."""
+        return engine.surrogates[col].predict(iso.to_u(x), return_variance=False)[0]
 
-    wear_nominal_pop = wear_on(pop)
-    r_nominal = float(np.mean(wear_nominal_pop < allowance_of(pop)))
+    margin_nominal_pop = log_life_margin(pop)
+    r_nominal = float(np.mean(margin_nominal_pop > 0))
+    wear_col = reliability.wear_surrogates.cycles.index(sens.cycles)
 
     n_model = len(ctx.targets)
     means = np.array([m.mean() for m in ctx.marginals[:n_model]])
@@ -373,7 +436,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityStudyResult) -> d
         if abs(shift) <= 4.0 * sigma:
             shifted_pop = pop.copy()
             shifted_pop[:, i] = population([marginals[i]], n_pop, rel.seed + 3 + i)[:, 0]
-            r = float(np.mean(wear_on(shifted_pop) < allowance_of(shifted_pop)))
+            r = float(np.mean(log_life_margin(shifted_pop) > 0))
             rules.append({"variable": ctx.names[i], "factor": marginals[i].mean() / ctx.marginals[i].mean(),
                           "rule": "surrogate", "reliability": r})
             return r, 0
@@ -389,16 +452,17 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityStudyResult) -> d
             rules.append(entry)
             return 0.0, extra_calls["n"] - before
         rho = shifted_wear / base_wear
-        r = float(np.mean(rho * wear_nominal_pop < allowance_of(pop)))
+        # wear x rho <=> life / rho (the wear grows linearly in N): failure where ln N_f - ln rho < ln N_s
+        r = float(np.mean(margin_nominal_pop - math.log(rho) > 0))
         entry.update(reliability=r, wear_ratio=rho)
         rules.append(entry)
         return r, extra_calls["n"] - before
 
     table = mean_shift_table(reliability_of, ctx.marginals, ctx.names, ctx.labels, factors=tuple(sens.factors),
                              reliability_nominal=r_nominal)
-    sobol = sobol_indices(lambda x: wear_on(x) * 1e3, ctx.marginals, ctx.names, n_base=sens.sobol_base_samples,
+    sobol = sobol_indices(lambda x: reliability.wear_surrogates.predict(x)[:, wear_col] * 1e3, ctx.marginals, ctx.names, n_base=sens.sobol_base_samples,
                           seed=rel.seed)
-    deriv = reliability_derivatives(pop, wear_nominal_pop >= allowance_of(pop), ctx.marginals, ctx.names)
+    deriv = reliability_derivatives(pop, margin_nominal_pop <= 0, ctx.marginals, ctx.names)
     groups = {}
     specs = ctx.config.uncertainty.all_specs()
     for spec in specs:

@@ -54,8 +54,9 @@ def test_reliability_curve_matches_brute_force_monte_carlo(study):
     for k in range(len(res.cycles)):
         if pf_ref[k] < 1e-3:
             continue
-        # Tolerance: 3 x the study's reported COV (its Monte Carlo error) plus 3 reference standard errors.
-        tol = 3 * res.pf_cov[k] * res.pf[k] + 3 * se_ref[k]
+        # Tolerance: the reliability engine's acceptance (issue 4): within 3 % of the reference or within
+        # 2x the reported COV, plus 3 standard errors of the 1e6-sample reference itself.
+        tol = max(0.03 * pf_ref[k], 2 * res.pf_cov[k] * res.pf[k]) + 3 * se_ref[k]
         assert abs(res.pf[k] - pf_ref[k]) < tol, (res.cycles[k], res.pf[k], pf_ref[k])
     assert res.model_calls <= cfg.reliability.max_calls
     assert np.all(np.diff(res.reliability) <= 1e-12)  # wear grows with N, so R(N) cannot increase
