@@ -24,7 +24,8 @@ from typing import Any, Callable
 import numpy as np
 
 from .angles import circular_mean, report_angle_deg
-from .kernels import TWO_PI, accumulate_wear, contact_envelope, map_touch_angles, periodic_interp, worn_area
+from .kernels import (TWO_PI, accumulate_wear, contact_envelope, map_touch_angles, periodic_interp, smooth_periodic,
+                      worn_area)
 from .settings import WearSettings, check_cycles, check_material
 
 
@@ -142,6 +143,7 @@ def cycle_wear(
     vb, vj, s, bmax = accumulate_wear(
         tb_w, tj_w, F, v, dt, r_b, r_j, mat.r_b0, mat.r_j0, mat.h_b, mat.h_j, mat.kH_b, mat.kH_j, mat.width,
         settings.half_width_factor, settings.pressure == "hertz", settings.track_journal, wb, wj, diag,
+        math.radians(settings.profile_smoothing_deg) * math.sqrt(3.0) if bearing_profile is not None else 0.0,
     )
     inv = 1.0 / n_cycles
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -275,6 +277,9 @@ class WearResult:
 # --------------------------------------------------------------------------------------------------- the loop
 def contact_profiles(c0: float, wb: np.ndarray, wj: np.ndarray, settings: WearSettings):
     """Profiles given to the contact search in profile mode and the touching-point maps (None for 'radial')."""
+    if settings.profile_smoothing_deg > 0.0:
+        wb = np.maximum(smooth_periodic(wb, settings.profile_smoothing_deg), 0.0)
+        wj = np.maximum(smooth_periodic(wj, settings.profile_smoothing_deg), 0.0)
     if settings.profile_contact == "radial":
         return wb.copy(), wj.copy(), None, None
     out = []

@@ -88,6 +88,7 @@ def accumulate_wear(
     wear_b: np.ndarray,
     wear_j: np.ndarray,
     diag: np.ndarray,
+    min_half_angle: float = 0.0,
 ) -> tuple:
     """Accumulate the Archard wear of all steps onto `wear_b` (bearing grid) and `wear_j` (journal grid).
 
@@ -96,6 +97,9 @@ def accumulate_wear(
     weight (s), r_b/r_j the current (local) bearing/journal radii used for R* (m). r_b0/r_j0: nominal radii that
     convert arc length to grid angle. h = (1 - nu^2)/E of each body, kH = k/H (1/Pa), width L (m), c_half the
     half-width factor.
+
+    min_half_angle (rad): lower bound of the patch half-angle (profile mode with a running-in smoothing length;
+    0 = the Hertz patch only).
 
     diag (4, n) on the bearing grid (nearest cell): [0] contact time (s), [1] integral of F dt (N s),
     [2] sliding distance (m), [3] integral of A dt (m^2 s).
@@ -123,11 +127,11 @@ def accumulate_wear(
             b_max = b
         # Archard volume of the step on each body: (k/H) p ds * (2 b L) = (k/H) F ds.
         dvb = kH_b * f * ds
-        spread_patch(wear_b, theta_b[i], b / r_b0, dvb / (width * r_b0), hertz)
+        spread_patch(wear_b, theta_b[i], max(b / r_b0, min_half_angle), dvb / (width * r_b0), hertz)
         vol_b += dvb
         if track_journal:
             dvj = kH_j * f * ds
-            spread_patch(wear_j, theta_j[i], b / r_j0, dvj / (width * r_j0), hertz)
+            spread_patch(wear_j, theta_j[i], max(b / r_j0, min_half_angle), dvj / (width * r_j0), hertz)
             vol_j += dvj
         s_tot += ds
         k = int(math.floor((theta_b[i] % TWO_PI) / delta_b + 0.5)) % n_b
@@ -204,3 +208,14 @@ def map_touch_angles(theta: np.ndarray, idx: np.ndarray, out: np.ndarray) -> Non
         i = int(math.floor((theta[s] % TWO_PI) / delta + 0.5)) % n
         k = idx[i]
         out[s] = theta[s] if k == i else k * delta
+
+
+def smooth_periodic(profile: np.ndarray, sigma_deg: float) -> np.ndarray:
+    """Periodic Gaussian smoothing (standard deviation sigma_deg) of a grid profile; conserves its sum exactly."""
+    p = np.asarray(profile, dtype=float)
+    if sigma_deg <= 0.0:
+        return p.copy()
+    n = p.shape[0]
+    k = np.fft.rfftfreq(n, d=1.0 / n)  # cycles per revolution
+    sig = math.radians(sigma_deg)
+    return np.fft.irfft(np.fft.rfft(p) * np.exp(-0.5 * (k * sig) ** 2), n)

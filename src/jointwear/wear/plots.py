@@ -121,7 +121,7 @@ def history_plot(res: WearResult, path: Path, joint: int = 0, allowance: float |
             ax.plot(jw.history_cycles / 1e3, jw.history_max_journal * MM, "s-", ms=3, color=C_JOURNAL,
                     label="journal (max depth)")
         if allowance is not None:
-            ax.axhline(allowance * MM, color=C_REF, ls="--", lw=1.0, label=f"allowance {allowance * MM:g} mm")
+            ax.axhline(allowance * MM, color=C_REF, ls="--", lw=1.0, label=f"bearing allowance 0.01 D = {allowance * MM:g} mm")
         ax.set_xlabel("crank cycles (thousands)")
         ax.set_ylabel("max wear depth (mm)")
         ax.set_title("Wear history (markers: geometry updates)")
