@@ -1,0 +1,55 @@
+"""Config loading, unit suffixes, presets, reference generation."""
+
+import math
+
+import pytest
+
+from jointwear.config import ConfigError, available_presets, config_from_dict, config_reference_markdown, load_config
+from jointwear.units import PA_PER_HB, convert_keys, split_unit_key
+
+
+def test_presets_load_with_si_values():
+    assert {"jin2025_flapping_wing", "flores_slider_crank"} <= set(available_presets())
+    cfg = load_config()  # default preset
+    assert cfg.name == "jin2025_flapping_wing" and "Drones" in cfg.citation
+    m = cfg.mechanism
+    assert m.crank.length == pytest.approx(6e-3) and m.rod.length == pytest.approx(38e-3)
+    assert m.rocker_pivot == pytest.approx((11.5e-3, 38e-3))
+    assert m.crank_speed == pytest.approx(480 * 2 * math.pi / 60)
+    cj = cfg.clearance_joints[0]
+    assert cj.clearance == pytest.approx(2e-6)
+    assert cj.bearing_material.youngs_modulus == 120e9
+    assert cj.bearing_material.hardness == pytest.approx(350 * 9.807e6)  # paper-notes: HB x 9.807e6 Pa
+    assert cj.journal_material.wear_coefficient == 2.1e-3
+    assert cj.friction.mu_s == 0.15 and cj.friction.v_s == 1e-4
+    sc = load_config("flores_slider_crank")
+    assert sc.clearance_joints[0].clearance == pytest.approx(0.5e-3)
+    assert sc.mechanism.crank_speed == pytest.approx(5000 * 2 * math.pi / 60)
+
+
+def test_unit_suffixes():
+    fields = frozenset({"length", "mu_s", "v_s", "hardness", "speed"})
+    assert split_unit_key("length_mm", fields) == ("length", "mm")
+    assert split_unit_key("mu_s", fields) is None  # a field, never "mu in seconds"
+    assert split_unit_key("v_s_m_s", fields) == ("v_s", "m_s")
+    assert convert_keys({"hardness_HB": 2.0}, fields) == {"hardness": 2 * PA_PER_HB}
+    assert convert_keys({"speed_rpm": 60.0}, fields)["speed"] == pytest.approx(2 * math.pi)
+    with pytest.raises(ValueError, match="given twice"):
+        convert_keys({"length": 1.0, "length_mm": 1.0}, fields)
+
+
+def test_duplicate_and_unknown_keys_are_config_errors():
+    cfg = load_config().model_dump()
+    cfg["mechanism"]["rod"]["length_mm"] = 38.0  # also given as length
+    with pytest.raises(ConfigError, match="mechanism.rod.*given twice"):
+        config_from_dict(cfg)
+    cfg = load_config().model_dump()
+    cfg["mechanism"]["rod"]["lenght"] = 1.0
+    with pytest.raises(ConfigError, match="lenght"):
+        config_from_dict(cfg)
+
+
+def test_config_reference_markdown():
+    md = config_reference_markdown()
+    for key in ("assembly_branch", "v0_min", "baumgarte_alpha", "jin2025_flapping_wing", "hardness"):
+        assert key in md
