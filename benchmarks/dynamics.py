@@ -82,7 +82,7 @@ def main() -> None:
         period = model.period
         atolv = run.atolv
         mode = run.mode
-        nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum = a[:12]
+        _, _, _, dpar, _, jpar, cint, cpar, prof, ngrid, cstate, baum = a[:12]
         lam, cout = a[18], a[20]
 
         def make_f(rhs_func, fourbar):

@@ -99,8 +99,8 @@ def test_bad_argument(tmp_path, capsys):
 def test_console_script_exit_status(tmp_path):
     """The installed entry point (not only main_entry) maps errors to one line and status 2."""
     path = _variant(tmp_path, "journal_radius_mm = 1.0 ", "journal_radius_mm = 1.1 ")
-    code = "import sys; from jointwear.cli import main; sys.argv=['jointwear','simulate',%r]; main()" % path
-    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    code = f"import sys; from jointwear.cli import main; sys.argv=['jointwear','simulate',{path!r}]; main()"
+    p = subprocess.run([sys.executable, "-c", code], check=False, capture_output=True, text=True, timeout=120)
     assert p.returncode == 2
     assert len(p.stderr.strip().splitlines()) == 1 and "Traceback" not in p.stderr
     assert "journal_radius" in p.stderr

@@ -57,7 +57,7 @@ def four_bar(t, m):
     q = np.array([*G2, p2, *G3, p3])
     qd = np.array([*vG2, w2, *vG3, w3])
     qdd = np.array([*aG2, al2, *aG3, al3])
-    return dict(q=q, qd=qd, qdd=qdd, A=A, B=B, C=C, G2=G2, G3=G3)
+    return {"q": q, "qd": qd, "qdd": qdd, "A": A, "B": B, "C": C, "G2": G2, "G3": G3}
 
 
 def four_bar_reactions(t, m):
@@ -115,7 +115,7 @@ def slider_crank(t, m):
     q = np.array([*G2, p2, xB, 0.0, 0.0])
     qd = np.array([*vG2, w2, vB, 0.0, 0.0])
     qdd = np.array([*aG2, al2, aB, 0.0, 0.0])
-    return dict(q=q, qd=qd, qdd=qdd, A=A, B=np.array([xB, 0.0]), G2=G2)
+    return {"q": q, "qd": qd, "qdd": qdd, "A": A, "B": np.array([xB, 0.0]), "G2": G2}
 
 
 def slider_crank_reactions(t, m):

@@ -1,6 +1,5 @@
 """Clearance joints: limit of zero clearance, energy conservation, regimes, trace conventions."""
 
-import math
 
 import numpy as np
 import pytest
@@ -9,7 +8,13 @@ from jointwear.config import load_config
 from jointwear.contact import ClearanceGeometry
 from jointwear.contact.laws import friction_coefficient, hysteresis_factor
 from jointwear.mechanism import (
-    Body, ClearanceJoint, MechanismModel, Material, SimulationState, build_model, simulate,
+    Body,
+    ClearanceJoint,
+    Material,
+    MechanismModel,
+    SimulationState,
+    build_model,
+    simulate,
 )
 from jointwear.mechanism.simulate import _trapezoid_weights
 
@@ -56,7 +61,7 @@ def test_flapping_wing_nominal(fw_result):
 
 
 def test_trace_conventions(fw_result):
-    model, res = fw_result
+    _model, res = fw_result
     tr = res.joints[0]
     assert tr.duration == pytest.approx(res.n_cycles * res.period, rel=1e-12)
     assert np.all(tr.force_normal >= 0.0)
@@ -186,7 +191,7 @@ def test_contact_law_switch():
 
 def test_friction_law_shape():
     mu_d, mu_s, vs, vd = 0.1, 0.15, 1e-4, 1e-3
-    f = lambda v: friction_coefficient(v, mu_d, mu_s, vs, vd)  # noqa: E731
+    f = lambda v: friction_coefficient(v, mu_d, mu_s, vs, vd)
     assert f(0.0) == 0.0
     assert f(vs) == pytest.approx(mu_s) and f(-vs) == pytest.approx(-mu_s)
     assert f(vd) == pytest.approx(mu_d) and f(1.0) == mu_d and f(-1.0) == -mu_d

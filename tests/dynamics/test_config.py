@@ -4,7 +4,13 @@ import math
 
 import pytest
 
-from jointwear.config import ConfigError, available_presets, config_from_dict, config_reference_markdown, load_config
+from jointwear.config import (
+    ConfigError,
+    available_presets,
+    config_from_dict,
+    config_reference_markdown,
+    load_config,
+)
 from jointwear.units import PA_PER_HB, convert_keys, split_unit_key
 
 

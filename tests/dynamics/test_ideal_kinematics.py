@@ -2,8 +2,13 @@
 
 import numpy as np
 import pytest
+from closed_form import (
+    four_bar,
+    four_bar_reactions,
+    slider_crank,
+    slider_crank_reactions,
+)
 
-from closed_form import four_bar, four_bar_reactions, slider_crank, slider_crank_reactions
 from jointwear.config import load_config
 from jointwear.mechanism import build_model, simulate
 
@@ -95,7 +100,7 @@ def test_slider_crank_forward_dynamics_and_reactions(sc):
         assert _rel(res.q[i], ref["q"], angles=True) < 1e-9  # issue 2 acceptance
         assert _rel(res.qd[i], ref["qd"]) < 1e-9
         assert _rel(res.qdd[i], ref["qdd"]) < 1e-9
-        FA, FB, N = slider_crank_reactions(t, cfg.mechanism)
+        FA, FB, _ = slider_crank_reactions(t, cfg.mechanism)
         scale = max(np.abs(FA).max(), np.abs(FB).max())
         assert np.max(np.abs(-res.reaction("A")[i] - FA)) / scale < 1e-6  # issue 2 acceptance
         # joint B: body_i = slider, body_j = rod -> multiplier = force on rod by slider

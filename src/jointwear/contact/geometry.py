@@ -45,5 +45,5 @@ class ClearanceGeometry:
         """Nominal clearance plus uniform growth (m)."""
         return self.bearing_radius - self.journal_radius + self.clearance_growth
 
-    def copy(self) -> "ClearanceGeometry":
+    def copy(self) -> ClearanceGeometry:
         return replace(self, bearing_wear=self.bearing_wear.copy(), journal_wear=self.journal_wear.copy())

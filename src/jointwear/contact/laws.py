@@ -64,7 +64,7 @@ def normal_force(law: int, k: float, nexp: float, delta: float, vn: float, cr: f
     else:
         dn = delta ** nexp
     f = k * dn * (1.0 + hysteresis_factor(law, cr, v0) * vn)
-    return f if f > 0.0 else 0.0
+    return max(0.0, f)
 
 
 @njit(cache=True, inline="always")

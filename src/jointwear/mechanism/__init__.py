@@ -26,7 +26,19 @@ from jointwear.mechanism.simulate import (
 )
 
 __all__ = [
-    "GROUND", "Body", "ClearanceJoint", "Driver", "IntegratorSettings", "Joint", "Material", "MechanismModel",
-    "build_model", "ContactTrace", "SimulationError", "SimulationResult", "SimulationState", "initial_state",
+    "GROUND",
+    "Body",
+    "ClearanceJoint",
+    "ContactTrace",
+    "Driver",
+    "IntegratorSettings",
+    "Joint",
+    "Material",
+    "MechanismModel",
+    "SimulationError",
+    "SimulationResult",
+    "SimulationState",
+    "build_model",
+    "initial_state",
     "simulate",
 ]

@@ -8,7 +8,6 @@ Everything else goes through the general Cartesian kernel.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np

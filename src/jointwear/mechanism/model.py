@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import copy
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 
@@ -192,7 +192,7 @@ class MechanismModel:
         return 3 * len(self.free_bodies) - 2 * len(self.joints)
 
     # ---- variants ---------------------------------------------------------------------------
-    def ideal(self) -> "MechanismModel":
+    def ideal(self) -> MechanismModel:
         """The same mechanism with every clearance joint replaced by an ideal revolute joint."""
         m = copy.copy(self)
         m.joints = list(self.joints) + [
@@ -260,8 +260,8 @@ class MechanismModel:
         winv[0::3] = 1.0 / bpar[:, 0]
         winv[1::3] = 1.0 / bpar[:, 0]
         winv[2::3] = 1.0 / bpar[:, 1]
-        return dict(nb=nb, bpar=bpar, winv=winv, fext=fext, dpar=dpar, jint=jint, jpar=jpar, cint=cint, cpar=cpar, prof=prof,
-                    ngrid=ngrid, cstate=np.zeros((ncj, 2)), baum=baum)
+        return {"nb": nb, "bpar": bpar, "winv": winv, "fext": fext, "dpar": dpar, "jint": jint, "jpar": jpar, "cint": cint, "cpar": cpar, "prof": prof,
+                    "ngrid": ngrid, "cstate": np.zeros((ncj, 2)), "baum": baum}
 
     def state_from_poses(self, poses: dict[str, tuple[float, float, float]]) -> np.ndarray:
         """q vector of the free bodies from a dict body -> (x, y, phi)."""

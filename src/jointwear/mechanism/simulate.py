@@ -307,11 +307,11 @@ class _Runner:
     def buffers(self, cap: int) -> dict[str, np.ndarray]:
         ncj = self.a["cint"].shape[0]
         nc = self.w["lam"].shape[0]
-        return dict(
-            rec_t=np.empty(cap), rec_h=np.empty(cap), rec_y=np.empty((cap, self.ny)),
-            rec_acc=np.empty((cap, self.ny // 2)), rec_lam=np.empty((cap, nc)),
-            rec_c=np.empty((cap, ncj, K.NCOUT)),
-        )
+        return {
+            "rec_t": np.empty(cap), "rec_h": np.empty(cap), "rec_y": np.empty((cap, self.ny)),
+            "rec_acc": np.empty((cap, self.ny // 2)), "rec_lam": np.empty((cap, nc)),
+            "rec_c": np.empty((cap, ncj, K.NCOUT)),
+        }
 
     def run(self, t, y, t_end, h, hmax, t_record, rec, max_steps, counters):
         s = self.model.settings
