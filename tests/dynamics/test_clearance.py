@@ -230,3 +230,16 @@ def test_energy_conserved_with_worn_profile(amp):
     # kinetic energy after 2 s of impacts: 1e-4 (the stiffness K follows the local radii, which the
     # potential ignores: measured 2e-6 at 2 um, 3e-5 at 20 um of profile amplitude)
     assert abs(ke[-1] - ke[0]) / ke[0] < 1e-4
+
+
+def test_model_and_result_pickle():
+    """Models and results cross process boundaries (compute stage)."""
+    import pickle
+
+    model = build_model(load_config("jin2025_flapping_wing"))
+    res = simulate(model, 0.05, settle_cycles=0)
+    res2 = pickle.loads(pickle.dumps(res))
+    np.testing.assert_array_equal(res2.q, res.q)
+    np.testing.assert_array_equal(res2.joints[0].force_normal, res.joints[0].force_normal)
+    model2 = pickle.loads(pickle.dumps(model))
+    np.testing.assert_allclose(model2.kinematics(0.01)[0], model.kinematics(0.01)[0])

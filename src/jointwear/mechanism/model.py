@@ -341,6 +341,76 @@ def _rot(phi: float, v: tuple[float, float]) -> tuple[float, float]:
     return (c * v[0] - s * v[1], s * v[0] + c * v[1])
 
 
+@dataclass
+class _FourBarGuess:
+    """Closed-form assembly of the four-bar on a branch (picklable; used as Newton's start)."""
+
+    O: tuple
+    C: tuple
+    l1: float
+    l2: float
+    l3: float
+    c1: float
+    c2: float
+    c3: float
+    angle0: float
+    speed: float
+    branch: int
+
+    def __call__(self, t: float) -> dict[str, tuple[float, float, float]]:
+        O, C, l1, l2, l3 = self.O, self.C, self.l1, self.l2, self.l3
+        th = self.angle0 + self.speed * t
+        ax, ay = O[0] + l1 * math.cos(th), O[1] + l1 * math.sin(th)
+        dx, dy = C[0] - ax, C[1] - ay
+        d = math.hypot(dx, dy)
+        a = (l2 * l2 - l3 * l3 + d * d) / (2 * d)
+        h = math.sqrt(max(l2 * l2 - a * a, 0.0))
+        ux, uy = dx / d, dy / d
+        bx = ax + a * ux - self.branch * h * uy
+        by = ay + a * uy + self.branch * h * ux
+        p2 = math.atan2(by - ay, bx - ax)
+        p3 = math.atan2(by - C[1], bx - C[0])
+        return {
+            "crank": (O[0] + self.c1 * math.cos(th), O[1] + self.c1 * math.sin(th), th),
+            "rod": (ax + self.c2 * math.cos(p2), ay + self.c2 * math.sin(p2), p2),
+            "rocker": (C[0] + self.c3 * math.cos(p3), C[1] + self.c3 * math.sin(p3), p3),
+        }
+
+
+@dataclass
+class _SliderCrankGuess:
+    """Closed-form assembly of the slider-crank on a branch (picklable)."""
+
+    O: tuple
+    P0: tuple
+    u: tuple
+    nrm: tuple
+    l1: float
+    l2: float
+    c1: float
+    c2: float
+    guide: float
+    angle0: float
+    speed: float
+    branch: int
+
+    def __call__(self, t: float) -> dict[str, tuple[float, float, float]]:
+        O, P0, u, nrm = self.O, self.P0, self.u, self.nrm
+        th = self.angle0 + self.speed * t
+        ax, ay = O[0] + self.l1 * math.cos(th), O[1] + self.l1 * math.sin(th)
+        rx, ry = ax - P0[0], ay - P0[1]
+        along = rx * u[0] + ry * u[1]
+        perp = rx * nrm[0] + ry * nrm[1]
+        s = along + self.branch * math.sqrt(max(self.l2 * self.l2 - perp * perp, 0.0))
+        bx, by = P0[0] + s * u[0], P0[1] + s * u[1]
+        p2 = math.atan2(by - ay, bx - ax)
+        return {
+            "crank": (O[0] + self.c1 * math.cos(th), O[1] + self.c1 * math.sin(th), th),
+            "rod": (ax + self.c2 * math.cos(p2), ay + self.c2 * math.sin(p2), p2),
+            "slider": (bx, by, self.guide),
+        }
+
+
 def _four_bar(cfg) -> tuple[list[Body], list[Joint], dict, Callable]:
     m = cfg.mechanism
     l1, l2, l3 = m.crank.length, m.rod.length, m.rocker.length
@@ -358,26 +428,7 @@ def _four_bar(cfg) -> tuple[list[Body], list[Joint], dict, Callable]:
         Joint("B", "revolute", "rocker", "B", "rod", "B"),
         Joint("C", "revolute", GROUND, "C", "rocker", "C"),
     ]
-    branch = m.assembly_branch
-
-    def guess(t: float) -> dict[str, tuple[float, float, float]]:
-        th = m.crank_angle0 + m.crank_speed * t
-        ax, ay = O[0] + l1 * math.cos(th), O[1] + l1 * math.sin(th)
-        dx, dy = C[0] - ax, C[1] - ay
-        d = math.hypot(dx, dy)
-        a = (l2 * l2 - l3 * l3 + d * d) / (2 * d)
-        h = math.sqrt(max(l2 * l2 - a * a, 0.0))
-        ux, uy = dx / d, dy / d
-        bx = ax + a * ux - branch * h * uy
-        by = ay + a * uy + branch * h * ux
-        p2 = math.atan2(by - ay, bx - ax)
-        p3 = math.atan2(by - C[1], bx - C[0])
-        return {
-            "crank": (O[0] + c1 * math.cos(th), O[1] + c1 * math.sin(th), th),
-            "rod": (ax + c2 * math.cos(p2), ay + c2 * math.sin(p2), p2),
-            "rocker": (C[0] + c3 * math.cos(p3), C[1] + c3 * math.sin(p3), p3),
-        }
-
+    guess = _FourBarGuess(O, C, l1, l2, l3, c1, c2, c3, m.crank_angle0, m.crank_speed, m.assembly_branch)
     return [crank, rod, rocker], joints, {"O": O, "C": C}, guess
 
 
@@ -400,23 +451,7 @@ def _slider_crank(cfg) -> tuple[list[Body], list[Joint], dict, Callable]:
         Joint("B", "revolute", "slider", "B", "rod", "B"),
         Joint("P", "prismatic", GROUND, "P0", "slider", "B", normal_i=nrm, angle0=-g),
     ]
-    branch = m.assembly_branch
-
-    def guess(t: float) -> dict[str, tuple[float, float, float]]:
-        th = m.crank_angle0 + m.crank_speed * t
-        ax, ay = O[0] + l1 * math.cos(th), O[1] + l1 * math.sin(th)
-        rx, ry = ax - P0[0], ay - P0[1]
-        along = rx * u[0] + ry * u[1]
-        perp = rx * nrm[0] + ry * nrm[1]
-        s = along + branch * math.sqrt(max(l2 * l2 - perp * perp, 0.0))
-        bx, by = P0[0] + s * u[0], P0[1] + s * u[1]
-        p2 = math.atan2(by - ay, bx - ax)
-        return {
-            "crank": (O[0] + c1 * math.cos(th), O[1] + c1 * math.sin(th), th),
-            "rod": (ax + c2 * math.cos(p2), ay + c2 * math.sin(p2), p2),
-            "slider": (bx, by, g),
-        }
-
+    guess = _SliderCrankGuess(O, P0, u, nrm, l1, l2, c1, c2, g, m.crank_angle0, m.crank_speed, m.assembly_branch)
     return [crank, rod, slider], joints, {"O": O, "P0": P0}, guess
 
 

@@ -123,6 +123,13 @@ class SimulationResult:
             self._cart = self._cart_fn()
         return self._cart
 
+    def __getstate__(self) -> dict:
+        """Picklable (for process pools): the lazy Cartesian arrays are materialised."""
+        state = dict(self.__dict__)
+        state["_cart"] = self._cartesian()
+        state["_cart_fn"] = None
+        return state
+
     @property
     def q(self) -> np.ndarray:
         """(steps, 3 n_free): x, y, phi of the free bodies (centre of mass, global frame)."""
