@@ -510,9 +510,12 @@ def integrate(mode, t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_steps, t_
             h = h * fac
         else:
             counters[2] += 1
-            fac = 0.9 * err ** (-0.2)
-            if fac < 0.2:
-                fac = 0.2
+            if err == err:  # not NaN
+                fac = 0.9 * err ** (-0.2)
+                if fac < 0.2:
+                    fac = 0.2
+            else:  # a stage produced NaN/inf (e.g. a huge penetration): shrink hard and retry
+                fac = 0.1
             h = h * fac
     counters[0] = nrec
     return t, h
