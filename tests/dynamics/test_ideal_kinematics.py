@@ -108,3 +108,22 @@ def test_slider_crank_forward_dynamics_and_reactions(sc):
         lam = model.inverse_dynamics(t, ref["q"], ref["qd"], ref["qdd"])
         assert np.max(np.abs(-lam["A"] - FA)) / scale < 1e-6
         assert np.max(np.abs(lam["B"] - FB)) / scale < 1e-6
+
+
+@pytest.mark.parametrize("branch", [1, -1])
+def test_assembly_branch_meaning(branch):
+    """+1: B lies to the left of the directed line from crank pin A to rocker pivot C; -1: right."""
+    cfg = load_config("jin2025_flapping_wing")
+    cfg.mechanism.assembly_branch = branch
+    model = build_model(cfg).ideal()
+    for t in TIMES:
+        ref = four_bar(t, cfg.mechanism)
+        q, _, _ = model.kinematics(t)
+        rod = model.body("rod")
+        phi = q[2]
+        c, s = np.cos(phi), np.sin(phi)
+        bx = q[0] + c * rod.points["B"][0] - s * rod.points["B"][1]
+        by = q[1] + s * rod.points["B"][0] + c * rod.points["B"][1]
+        A, C = ref["A"], ref["C"]
+        cross = (C[0] - A[0]) * (by - A[1]) - (C[1] - A[1]) * (bx - A[0])
+        assert np.sign(cross) == branch
