@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import platform
 import statistics
@@ -140,7 +141,7 @@ def bench_literal(n_measure: int = 6) -> dict:
             "extrapolated_cpu_hours_520k": per_cpu * 520_000 / 3600.0}
 
 
-def bench_convergence(replicates: int = 3) -> dict:
+def bench_convergence(replicates: int = 8) -> dict:
     """Max wear at 400k cycles: baseline vs each refinement, each as the mean of `replicates` runs.
 
     The clearance dynamics is chaotic: any change (block size, tolerance, even the grid through the uniform growth)
@@ -175,6 +176,10 @@ def bench_convergence(replicates: int = 3) -> dict:
         out[name]["rel_change_of_mean"] = out[name]["mean_mm"] / b - 1.0
         out[name]["rel_change_first_run"] = out[name]["max_wear_mm_runs"][0] / out["baseline"]["max_wear_mm_runs"][0] - 1
     out["run_to_run_scatter_rel"] = out["baseline"]["std_mm"] / b
+    for name in variants:
+        # standard error of the difference of two means of `replicates` runs each (relative to the baseline mean)
+        se = math.sqrt(out[name]["std_mm"] ** 2 / replicates + out["baseline"]["std_mm"] ** 2 / replicates) / b
+        out[name]["rel_change_standard_error"] = se
     out["acceptance"] = {"limit": 0.02, "pass": all(abs(out[k]["rel_change_of_mean"]) < 0.02
                                                    for k in ("block_halved", "grid_halved", "tolerance_halved"))}
     out["branch"] = -1
