@@ -220,34 +220,36 @@ class WearSettings(SIModel):
     @field_validator("cycles", mode="before")
     @classmethod
     def _cycles_positive(cls, v):
-        return check_cycles(v, "wear.cycles") if v is not None else None
+        return check_cycles(v, None) if v is not None else None  # pydantic / ConfigError add the field's path
 
     @model_validator(mode="after")
     def _blocks_consistent(self):
         if self.min_block > self.max_block:
-            raise ValueError(f"wear.min_block ({self.min_block}) must be <= wear.max_block ({self.max_block})")
+            raise ValueError(f"min_block ({self.min_block}) must be <= max_block ({self.max_block})")
         if not (self.min_block <= self.initial_block <= self.max_block):
             raise ValueError(
-                f"wear.initial_block ({self.initial_block}) must lie in [min_block, max_block] = "
+                f"initial_block ({self.initial_block}) must lie in [min_block, max_block] = "
                 f"[{self.min_block}, {self.max_block}]"
             )
         return self
 
 
-def check_cycles(value, field: str = "cycles") -> int:
-    """Validate a cycle count at an API boundary: a finite, positive whole number. Raises ValueError naming `field`."""
+def check_cycles(value, field: str | None = "cycles") -> int:
+    """Validate a cycle count at an API boundary: a finite, positive whole number. Raises ValueError naming `field`
+    (field None: the message starts with "must be", for validators whose caller adds the field's path)."""
+    field = field or ""
     if isinstance(value, bool):
-        raise ValueError(f"{field} must be a positive whole number of cycles, got {value!r}")
+        raise ValueError(f"{field}{' ' if field else ''}must be a positive whole number of cycles, got {value!r}")
     try:
         x = float(value)
     except (TypeError, ValueError):
-        raise ValueError(f"{field} must be a positive whole number of cycles, got {value!r}") from None
+        raise ValueError(f"{field}{' ' if field else ''}must be a positive whole number of cycles, got {value!r}") from None
     if not math.isfinite(x):
-        raise ValueError(f"{field} must be a finite positive number of cycles, got {value!r}")
+        raise ValueError(f"{field}{' ' if field else ''}must be a finite positive number of cycles, got {value!r}")
     if x <= 0:
-        raise ValueError(f"{field} must be > 0 cycles, got {value!r}")
+        raise ValueError(f"{field}{' ' if field else ''}must be > 0 cycles, got {value!r}")
     if x != int(x):
-        raise ValueError(f"{field} must be a whole number of cycles, got {value!r}")
+        raise ValueError(f"{field}{' ' if field else ''}must be a whole number of cycles, got {value!r}")
     return int(x)
 
 
