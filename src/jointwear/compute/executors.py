@@ -1,12 +1,9 @@
 """Where model calls run: one ``concurrent.futures``-style interface over three back-ends.
 
-=====================  ======================================  ==========================================
-``make_executor(...)``  back-end                               when
-=====================  ======================================  ==========================================
-``workers=1``          :class:`SerialExecutor` (in-process)    debugging, tiny studies, exact tracebacks
-``workers=None|n>1``   :class:`LocalExecutor` (process pool)   default: all usable cores of this machine
-``scheduler="tcp:.."`` :class:`DaskExecutor` (distributed)     a Dask cluster, possibly many machines
-=====================  ======================================  ==========================================
+- ``make_executor(1)``: :class:`SerialExecutor`, in this process (debugging, tiny studies);
+- ``make_executor()`` / ``make_executor(n)``: :class:`LocalExecutor`, a pool of local processes (the
+  default: every usable core);
+- ``make_executor(scheduler="tcp://host:8786")``: :class:`DaskExecutor`, a Dask distributed cluster.
 
 Every executor has ``submit(fn, *args)`` and ``map(fn, *iterables)`` with the semantics of
 :class:`concurrent.futures.Executor` (``map`` keeps the input order), a ``kind`` and an ``n_workers``,
