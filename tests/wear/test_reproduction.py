@@ -69,3 +69,16 @@ def test_reported_angles_in_range(result):
     j = result.joints[0]
     assert np.all((j.angle_deg >= 0) & (j.angle_deg < 360))
     assert math.isfinite(j.mean_orientation)
+
+
+def test_profile_mode_runs_and_conserves():
+    """Profile mode against the real dynamics, short (30k cycles, 3 blocks): conservation and the envelope feed."""
+    cfg = load_config(None)
+    mech = cfg.mechanism.model_copy(update={"assembly_branch": -1})
+    cfg = cfg.model_copy(update={"mechanism": mech})
+    model = mechanism.build_model(cfg)
+    res = wear_history(model, WearSettings(geometry_mode="profile"), 30_000)
+    j = res.joints[0]
+    eb, ej = conservation_error(j)
+    assert eb < CONS_TOL and ej < CONS_TOL
+    assert len(res.blocks) == 3 and j.max_bearing_wear > 0
