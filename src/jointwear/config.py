@@ -87,7 +87,8 @@ class ClearanceJointConfig(SIModel):
     name: str = F("A", description="Name of the clearance joint (reports, traces).")
     joint: str = F(
         description="Name of the mechanism's revolute joint that carries the clearance (four_bar: A, B, C; "
-        "slider_crank: A, B). Joint O (the driven crank pivot) cannot carry clearance."
+        "slider_crank: A, B; general: any revolute joint that is not a driver's). Joint O (the driven crank "
+        "pivot) cannot carry clearance."
     )
     bearing_body: str = F(description="Body carrying the bearing (the hole); one of the two bodies of `joint`.")
     journal_body: str = F(description="Body carrying the journal (the pin); the other body of `joint`.")
@@ -250,7 +251,248 @@ class SliderCrankConfig(SIModel):
         return self
 
 
-MechanismConfig = Annotated[FourBarConfig | SliderCrankConfig, Field(discriminator="type")]
+
+# ---------------------------------------------------------------------------------------------
+# general planar linkage
+# ---------------------------------------------------------------------------------------------
+def _convert_point_tables(data: Any, fields: frozenset[str], table_fields: tuple[str, ...]) -> Any:
+    """Unit suffix on a table of named points (``points_mm = {A = [6, 0]}``): convert every value to SI."""
+    if not isinstance(data, dict):
+        return data
+    from jointwear.units import UnitError, split_unit_key, to_si
+
+    out = dict(data)
+    for key, value in data.items():
+        split = split_unit_key(key, fields)
+        if split is None or split[0] not in table_fields or not isinstance(value, dict):
+            continue
+        name, suffix = split
+        if name in data:
+            raise ValueError(f"{name} given twice (as '{name}' and '{key}')")
+        try:
+            out[name] = {k: to_si(v, suffix) for k, v in value.items()}
+        except UnitError as exc:
+            raise ValueError(f"{key}: {exc}") from None
+        del out[key]
+    return out
+
+
+class GeneralBodyConfig(SIModel):
+    """A rigid body of a general linkage, drawn in GLOBAL coordinates at the assembly configuration.
+
+    Body-frame coordinates are derived: origin at the centre of mass ``com``, x axis along ``axis``
+    (from its first point to its second) or, without ``axis``, along the global x axis of the drawing.
+    """
+
+    name: str = F(description="Name of the body (unique; 'ground' is reserved).")
+    mass: float = F(unit="kg", gt=0, description="Mass.")
+    inertia: float = F(unit="kg m^2", gt=0, description="Moment of inertia about the centre of mass.")
+    com: Vec2 = F(unit="m", description="Centre of mass, global coordinates at the assembly configuration (the drawing).")
+    points: dict[str, Vec2] = F(
+        unit="m",
+        description="Named points (joint centres), global coordinates at the assembly configuration, "
+        "e.g. points_mm = {A = [6, 0], B = [-0.5, 37.4]}.",
+    )
+    axis: tuple[str, str] | None = F(
+        None,
+        description="Two of the body's points defining its x axis (first -> second); sets the frame in which "
+        "bearing angles are reported. Default: the global x axis of the drawing.",
+    )
+    force: Vec2 = F((0.0, 0.0), unit="N", description="Constant external force at the centre of mass.")
+    torque: float = F(0.0, unit="N m", description="Constant external torque (CCW positive).")
+
+    @model_validator(mode="before")
+    @classmethod
+    def _point_units(cls, data: Any) -> Any:
+        return _convert_point_tables(data, frozenset(cls.model_fields), ("points",))
+
+    @model_validator(mode="after")
+    def _check(self) -> GeneralBodyConfig:
+        if self.name == "ground":
+            raise ValueError("name: 'ground' is reserved for the fixed frame (use ground_points)")
+        if not self.points:
+            raise ValueError(f"points: body '{self.name}' has no points")
+        for k in self.points:
+            if not k or "." in k:
+                raise ValueError(f"points: point name {k!r} of body '{self.name}' must be non-empty without '.'")
+        if self.axis is not None:
+            a, b = self.axis
+            for p in (a, b):
+                if p not in self.points:
+                    raise ValueError(f"axis: '{p}' is not a point of body '{self.name}' "
+                                     f"(points: {', '.join(self.points)})")
+            pa, pb = self.points[a], self.points[b]
+            if math.hypot(pb[0] - pa[0], pb[1] - pa[1]) == 0.0:
+                raise ValueError(f"axis: points '{a}' and '{b}' of body '{self.name}' coincide")
+        return self
+
+
+class GeneralJointConfig(SIModel):
+    """An ideal joint of a general linkage between two body points (or a body point and a ground point)."""
+
+    name: str = F(description="Name of the joint (unique); clearance joints and drivers refer to it.")
+    type: Literal["revolute", "prismatic"] = F("revolute", description="'revolute' (pin) or 'prismatic' (slider).")
+    connects: tuple[str, str] = F(
+        description="The two points joined, as 'body.point' or 'ground.point', e.g. ['rod.A', 'crank.A']. "
+        "Revolute: the points coincide. Prismatic: the second point slides along a line through the first, "
+        "fixed in the first body, and the two bodies keep their relative angle."
+    )
+    direction: Vec2 | None = F(
+        None,
+        description="Prismatic only: direction of the sliding line in global coordinates at the assembly "
+        "configuration (e.g. [1, 0]); it moves with the first body.",
+    )
+
+    @model_validator(mode="after")
+    def _check(self) -> GeneralJointConfig:
+        for ref in self.connects:
+            if ref.count(".") != 1 or not all(ref.split(".")):
+                raise ValueError(f"connects: {ref!r} must be 'body.point' (or 'ground.point')")
+        bi, bj = (r.split(".")[0] for r in self.connects)
+        if bi == bj:
+            raise ValueError(f"connects: joint '{self.name}' joins body '{bi}' to itself")
+        if self.type == "prismatic":
+            if self.direction is None:
+                raise ValueError(f"direction: prismatic joint '{self.name}' needs a guide direction")
+            if math.hypot(*self.direction) == 0.0:
+                raise ValueError(f"direction: guide direction of joint '{self.name}' is zero")
+        elif self.direction is not None:
+            raise ValueError(f"direction: only a prismatic joint has a direction (joint '{self.name}' is revolute)")
+        return self
+
+
+class DriverConfig(SIModel):
+    """Constant-speed rotation of a body about a ground revolute joint."""
+
+    joint: str = F(description="Name of the revolute joint between the driven body and the ground.")
+    speed: float = F(unit="rad/s", description="Constant speed, CCW positive (key e.g. speed_rpm); must not be 0.")
+
+    @field_validator("speed")
+    @classmethod
+    def _nonzero(cls, v: float) -> float:
+        if v == 0.0:
+            raise ValueError("driver speed must not be 0")
+        return v
+
+
+class GeneralMechanismConfig(SIModel):
+    """Any planar linkage: bodies drawn in global coordinates, revolute/prismatic joints, constant-speed drivers.
+
+    The drawing (global positions of every body's points and centre of mass) is the assembly configuration at
+    t = 0: the mechanism is assembled around it (so the branch is the one drawn) and tracked by continuation over
+    one revolution of the first driver, which is the cycle. Checked at load: names, degrees of freedom, assembly
+    over the whole cycle (docs/config.md, "General linkages").
+    """
+
+    type: Literal["general"] = "general"
+    bodies: list[GeneralBodyConfig] = F(description="The moving bodies ([[mechanism.bodies]]).")
+    ground_points: dict[str, Vec2] = F(
+        default_factory=dict, unit="m",
+        description="Named fixed points (pivots, slider guide points), e.g. ground_points_mm = {O = [0, 0]}.",
+    )
+    joints: list[GeneralJointConfig] = F(description="Ideal joints ([[mechanism.joints]]); clearance joints name one of them.")
+    drivers: list[DriverConfig] = F(
+        description="Constant-speed drivers ([[mechanism.drivers]]); the cycle is one revolution of the first. "
+        "Further drivers must turn an integer number of times per cycle."
+    )
+    gravity: Vec2 = F((0.0, -9.80665), unit="m/s^2", description="Gravity vector; default (0, -g) as in the four_bar.")
+    closure_tolerance: float = F(
+        0.05, gt=0,
+        description="Largest gap between the two drawn points of a revolute joint, as a fraction of the median "
+        "link size; smaller gaps are closed by the assembly (project choice).",
+    )
+    assembly_steps: int = F(
+        360, ge=12, description="Driver positions per cycle at which the assembly is checked and tabulated (1 deg).",
+    )
+
+    @model_validator(mode="before")
+    @classmethod
+    def _point_units(cls, data: Any) -> Any:
+        return _convert_point_tables(data, frozenset(cls.model_fields), ("ground_points",))
+
+    @property
+    def crank_speed(self) -> float:
+        """Speed of the first driver (rad/s): the cycle is one of its revolutions."""
+        return self.drivers[0].speed
+
+    @property
+    def crank_angle0(self) -> float:
+        return 0.0
+
+    def revolute_joint_bodies(self) -> dict[str, tuple[str, str]]:
+        """Revolute joints that can carry clearance (not driver joints): name -> (body_i, body_j)."""
+        driven = {d.joint for d in self.drivers}
+        return {j.name: tuple(r.split(".")[0] for r in j.connects) for j in self.joints
+                if j.type == "revolute" and j.name not in driven}
+
+    @model_validator(mode="after")
+    def _topology(self) -> GeneralMechanismConfig:
+        names = [b.name for b in self.bodies]
+        if not names:
+            raise ValueError("bodies: at least one body is needed")
+        for i, n in enumerate(names):
+            if n in names[:i]:
+                raise ValueError(f"bodies[{i}].name: duplicate body name '{n}'")
+        for k in self.ground_points:
+            if not k or "." in k:
+                raise ValueError(f"ground_points: point name {k!r} must be non-empty without '.'")
+        bodies = {b.name: b for b in self.bodies}
+        jnames = [j.name for j in self.joints]
+        used: set[str] = set()
+        for i, j in enumerate(self.joints):
+            if j.name in jnames[:i]:
+                raise ValueError(f"joints[{i}].name: duplicate joint name '{j.name}'")
+            for ref in j.connects:
+                b, p = ref.split(".")
+                if b == "ground":
+                    if p not in self.ground_points:
+                        raise ValueError(f"joints[{i}].connects: '{ref}': no ground point '{p}' "
+                                         f"(ground_points: {', '.join(self.ground_points) or 'none'})")
+                elif b not in bodies:
+                    raise ValueError(f"joints[{i}].connects: '{ref}': unknown body '{b}' (bodies: {', '.join(names)})")
+                elif p not in bodies[b].points:
+                    raise ValueError(f"joints[{i}].connects: '{ref}': body '{b}' has no point '{p}' "
+                                     f"(points: {', '.join(bodies[b].points)})")
+                used.add(b)
+        for i, n in enumerate(names):
+            if n not in used:
+                raise ValueError(f"bodies[{i}]: body '{n}' has no joints")
+        if not self.drivers:
+            raise ValueError("drivers: at least one driver is needed (the cycle is one revolution of the first)")
+        jmap = {j.name: j for j in self.joints}
+        driven: set[str] = set()
+        for i, d in enumerate(self.drivers):
+            j = jmap.get(d.joint)
+            if j is None:
+                raise ValueError(f"drivers[{i}].joint: unknown joint '{d.joint}' (joints: {', '.join(jnames)})")
+            ends = [r.split(".")[0] for r in j.connects]
+            if j.type != "revolute" or "ground" not in ends:
+                raise ValueError(f"drivers[{i}].joint: '{d.joint}' must be a revolute joint between a body and the ground")
+            body = ends[0] if ends[1] == "ground" else ends[1]
+            if body in driven:
+                raise ValueError(f"drivers[{i}].joint: body '{body}' is driven twice")
+            driven.add(body)
+            ratio = d.speed / self.drivers[0].speed
+            if abs(ratio - round(ratio)) > 1e-9:
+                raise ValueError(f"drivers[{i}].speed: must be an integer multiple of the first driver's speed "
+                                 f"(ratio {ratio:.6g}): the cycle is one revolution of the first driver")
+        n_free = len(names) - len(driven)
+        n_rows = sum(2 for j in self.joints if j.name not in {d.joint for d in self.drivers})
+        dof = 3 * n_free - n_rows
+        if dof < 0:
+            raise ValueError(f"joints: the mechanism is over-constrained: {dof} degrees of freedom after the drivers "
+                             f"(3 x {n_free} free bodies - 2 x {n_rows // 2} joints); remove joints or add bodies")
+        if dof > 0:
+            raise ValueError(f"drivers: the mechanism has {dof} degree(s) of freedom left after the drivers "
+                             f"(3 x {n_free} free bodies - 2 x {n_rows // 2} joints); jointwear needs every body's "
+                             "motion fixed by the drivers (add a driver or joints)")
+        from jointwear.mechanism.model import check_general_assembly  # lazy: model imports this module
+
+        check_general_assembly(self)
+        return self
+
+
+MechanismConfig = Annotated[FourBarConfig | SliderCrankConfig | GeneralMechanismConfig, Field(discriminator="type")]
 
 _MECH_JOINTS = {
     "four_bar": {"O": ("ground", "crank"), "A": ("crank", "rod"), "B": ("rod", "rocker"), "C": ("ground", "rocker")},
@@ -300,7 +542,8 @@ class StudyConfig(SIModel):
     name: str = F("study", description="Name of the study / preset.")
     citation: str = F("", description="Source of the data (presets are cited data).")
     description: str = F("", description="Free text.")
-    mechanism: MechanismConfig = F(description="The planar mechanism (type = 'four_bar' or 'slider_crank').")
+    mechanism: MechanismConfig = F(
+        description="The planar mechanism (type = 'four_bar', 'slider_crank' or 'general').")
     clearance_joints: list[ClearanceJointConfig] = F(
         default_factory=list, description="Revolute joints with clearance (any number)."
     )
@@ -326,12 +569,15 @@ class StudyConfig(SIModel):
 
     @model_validator(mode="after")
     def _joints_exist(self) -> StudyConfig:
-        joints = _MECH_JOINTS[self.mechanism.type]
+        if self.mechanism.type == "general":
+            joints, excluded = self.mechanism.revolute_joint_bodies(), set()  # driver joints already left out
+        else:
+            joints, excluded = _MECH_JOINTS[self.mechanism.type], {"O"}
         seen = set()
         for i, cj in enumerate(self.clearance_joints):
             where = f"clearance_joints[{i}]"
-            if cj.joint not in joints or cj.joint == "O":
-                allowed = ", ".join(k for k in joints if k != "O")
+            if cj.joint not in joints or cj.joint in excluded:
+                allowed = ", ".join(k for k in joints if k not in excluded)
                 raise ValueError(f"{where}.joint: '{cj.joint}' is not a joint that can carry clearance (allowed: {allowed})")
             if cj.joint in seen:
                 raise ValueError(f"{where}.joint: joint '{cj.joint}' given twice")
@@ -353,7 +599,7 @@ def _loc(loc: tuple[Any, ...]) -> str:
     for part in loc:
         if isinstance(part, int):
             out += f"[{part}]"
-        elif part in ("four_bar", "slider_crank") and out == "mechanism":
+        elif part in ("four_bar", "slider_crank", "general") and out == "mechanism":
             continue  # discriminated-union tag
         else:
             out += ("." if out else "") + str(part)
