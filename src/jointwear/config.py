@@ -486,7 +486,9 @@ class GeneralMechanismConfig(SIModel):
             raise ValueError(f"drivers: the mechanism has {dof} degree(s) of freedom left after the drivers "
                              f"(3 x {n_free} free bodies - 2 x {n_rows // 2} joints); jointwear needs every body's "
                              "motion fixed by the drivers (add a driver or joints)")
-        from jointwear.mechanism.model import check_general_assembly  # lazy: model imports this module
+        from jointwear.mechanism.model import (
+            check_general_assembly,  # lazy: model imports this module
+        )
 
         check_general_assembly(self)
         return self
@@ -695,6 +697,10 @@ def config_reference_markdown() -> str:
         ("mechanism (type = \"four_bar\")", FourBarConfig),
         ("mechanism (type = \"slider_crank\")", SliderCrankConfig),
         ("mechanism.crank / rod / rocker / slider", LinkConfig),
+        ("mechanism (type = \"general\")", GeneralMechanismConfig),
+        ("[[mechanism.bodies]] (general)", GeneralBodyConfig),
+        ("[[mechanism.joints]] (general)", GeneralJointConfig),
+        ("[[mechanism.drivers]] (general)", DriverConfig),
         ("[[clearance_joints]]", ClearanceJointConfig),
         ("clearance_joints.bearing_material / journal_material", MaterialConfig),
         ("clearance_joints.friction", FrictionConfig),

@@ -565,6 +565,16 @@ def _joint_gap_check(m, lref: float) -> None:
             )
 
 
+def _culprits(model: MechanismModel, u: np.ndarray, v: np.ndarray, frac: float = 0.1) -> list[str]:
+    """Links of a singular Jacobian: the bodies carrying both the self-stress (left singular vector u, over the
+    joints) and the free motion (right singular vector v, over the free bodies); the former alone if none."""
+    rows = np.abs(u)
+    bad = [j for k, j in enumerate(model.joints) if max(rows[2 * k], rows[2 * k + 1]) >= frac * rows.max()]
+    stressed = {b for j in bad for b in (j.body_i, j.body_j)}
+    both = stressed & set(_links_of(model, v, frac))
+    return [b.name for b in model.bodies if b.name in (both or stressed)]
+
+
 def _links_of(model: MechanismModel, v: np.ndarray, frac: float = 0.1) -> list[str]:
     """Free bodies with a large share of the vector v over the free coordinates."""
     free = [b.name for b in model.free_bodies]
@@ -580,6 +590,7 @@ def _assemble(model: MechanismModel, arrays, t: float, q: np.ndarray, lref: floa
     zero = np.zeros_like(q)
     scale = np.ones_like(q)
     scale[2::3] = lref  # angle columns scaled to lengths: a dimensionless condition number
+    q_start = q.copy()
     for _ in range(30):
         phi, _, _, jac = model._constraint_eval(t, q, zero, arrays)
         try:
@@ -593,20 +604,19 @@ def _assemble(model: MechanismModel, arrays, t: float, q: np.ndarray, lref: floa
             break
     phi, phid0, _, jac = model._constraint_eval(t, q, zero, arrays)
     if not np.all(np.isfinite(phi)) or np.max(np.abs(phi)) > 1e-10 * lref:
-        bad = [j for k, j in enumerate(model.joints) if np.any(~np.isfinite(phi[2 * k: 2 * k + 2]))
-               or np.max(np.abs(phi[2 * k: 2 * k + 2])) > 1e-10 * lref]
-        bodies = sorted({b for j in bad for b in (j.body_i, j.body_j) if b != GROUND}) or [b.name for b in model.free_bodies]
+        # the loop that fails: the near-singular direction of the Jacobian where Newton started (close to a
+        # limit position the loop that cannot close has a vanishing singular value)
+        _, _, jac0 = model._constraint_eval(t, q_start, zero, arrays)[1:]
+        u0, _, vt0 = np.linalg.svd(jac0 / scale[None, :])
         raise AssemblyError(
-            f"cannot assemble {where}: the loop through links {', '.join(bodies)} (joints "
-            f"{', '.join(j.name for j in bad)}) does not close (links too short or too long for this position)"
+            f"cannot assemble {where}: the loop through links {', '.join(_culprits(model, u0[:, -1], vt0[-1]))} "
+            "does not close (links too short or too long for this position, or a dead point)"
         )
     u, sv, vt = np.linalg.svd(jac / scale[None, :])
     if sv[-1] < 1e-6 * sv[0]:
-        rows = np.abs(u[:, -1])
-        bad = [j.name for k, j in enumerate(model.joints) if max(rows[2 * k], rows[2 * k + 1]) >= 0.1 * rows.max()]
         raise AssemblyError(
             f"cannot assemble {where}: the constraint Jacobian is singular (dead point, lock-up or redundant joints) "
-            f"for links {', '.join(_links_of(model, vt[-1]))} (joints {', '.join(bad)})"
+            f"at links {', '.join(_culprits(model, u[:, -1], vt[-1]))}"
         )
     qd = np.linalg.solve(jac, -phid0)
     return q, qd
