@@ -493,7 +493,7 @@ def wear_histograms_figure(
             vline(ax, limit_mm, f"\u03b4\u2080 = {limit_mm:g} mm", color=LIMIT_COLOR, ls="--")
         ax.set_xlabel(axis_label("max wear", "mm"))
         ax.set_ylabel(axis_label("probability density", "1/mm"))
-        ax.legend(loc="upper left")
+        ax.legend(loc="upper right")
         panel_letter(ax, letters[len(sets)])
         ax.set_title("together", loc="center", fontweight="normal")
     for ax in axes[npanel:]:

@@ -615,6 +615,16 @@ def paper_checks(data: Mapping[str, Mapping]) -> list[Check]:
     if life is None and curve.get("cycles") is not None and curve.get("reliability") is not None:
         life = _life_from_curve(curve["cycles"], curve["reliability"], 0.9)
         note = "interpolated on the R(N) curve" if life is not None else ""
+    if life is not None and curve.get("cycles") is not None and curve.get("reliability") is not None:
+        try:
+            first = int(np.nanargmin(np.asarray(curve["cycles"], dtype=float)))
+            r_first = _float(curve["reliability"][first])
+            n_first = _float(curve["cycles"][first])
+        except (TypeError, ValueError, IndexError):
+            r_first = n_first = None
+        if r_first is not None and n_first is not None and r_first < 0.9 and life <= n_first:
+            note = (f"R = {r_first:.3f} < 0.9 already at the first cycle count of the curve "
+                    f"({n_first:,.0f}): the life is at most this")
     checks.append(Check("life at R = 0.9", PAPER["life_cycles"], life, "cycles", "within 15 %",
                         NA if life is None else (PASS if abs(life - PAPER["life_cycles"]) <= 0.15 *
                                                  PAPER["life_cycles"] else FAIL), note))
@@ -889,6 +899,9 @@ def _reliability_section(inp: Inputs, figs: _Figures) -> str:
          "\u2014" if life is None else f"{life:,.0f} cycles", None if hours is None else f"{hours:.3g} h"),
         ("true-model calls", _num(rel.get("model_calls")), "for the whole curve"),
         ("Monte Carlo population", _num(rel.get("n_mc")), "n_mc"),
+        *([("learning converged", "yes" if rel["converged"] else "NO",
+            None if rel["converged"] else "stopped by the budget of model calls")]
+          if isinstance(rel.get("converged"), bool) else []),
         ("max COV of Pf", "\u2014" if not covs else f"{max(float(v) for v in covs):.3g}", "over the curve"),
         ("wall time", "\u2014" if _float(rel.get("wall_seconds")) is None else f"{float(rel['wall_seconds']):.4g} s",
          None),
