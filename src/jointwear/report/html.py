@@ -1171,7 +1171,8 @@ def build_report(out_dir: Path | str, *, output: Path | str | None = None, title
          f"{n_fail} outside the band" if n_banded else "no results yet"),
         ("nominal max wear, 400k", "\u2014" if wmax.ours is None else f"{wmax.ours:.4f} mm", "paper 0.0249 mm"),
         ("R at 400k cycles", "\u2014" if r400 is None or r400.ours is None else f"{r400.ours:.3f}", "paper 0.739"),
-        ("life at R = 0.9", "\u2014" if life is None or life.ours is None else f"{life.ours:,.0f} cycles",
+        ("life at R = 0.9", "\u2014" if life is None or life.ours is None else
+         ("\u2264 " if "at most" in life.note else "") + f"{life.ours:,.0f} cycles",
          "paper 371,640 cycles"),
     ]).replace('class="cards"', 'class="cards summary"', 1)
 
