@@ -283,12 +283,18 @@ class MechanismModel:
                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Positions, velocities, accelerations of the free bodies of the *ideal* mechanism at time t.
 
-        Requires a kinematically determined ideal mechanism (0 degrees of freedom with clearance
-        joints made ideal). Newton iteration from the assembly-branch guess.
+        A kinematically determined ideal mechanism (0 degrees of freedom with clearance joints made
+        ideal): Newton iteration from the assembly-branch guess, then the velocity and acceleration
+        equations. With degrees of freedom left (> 0; general linkages): minimum-norm Newton steps from the
+        guess, the mass-weighted minimum-norm velocity (no free motion beyond what the drivers impose: the
+        start "at rest") and the accelerations of the forward dynamics of the ideal mechanism under its
+        applied loads.
         """
         ideal = self.ideal() if self.clearance_joints else self
-        if ideal.n_dof != 0:
-            raise ValueError(f"kinematics() needs 0 degrees of freedom; the ideal mechanism has {ideal.n_dof}")
+        if ideal.n_dof < 0:
+            raise ValueError(f"kinematics() needs >= 0 degrees of freedom; the ideal mechanism has {ideal.n_dof}")
+        if ideal.n_dof > 0:
+            return ideal._kinematics_free(t, self.guess if q_guess is None else None, q_guess, tol)
         arrays = ideal.kernel_arrays()
         if q_guess is None:
             if self.guess is None:
@@ -310,6 +316,35 @@ class MechanismModel:
         qd = np.linalg.solve(jac, -phid0)
         _, _, rest, _ = ideal._constraint_eval(t, q, qd, arrays)
         qdd = np.linalg.solve(jac, -rest)
+        return q, qd, qdd
+
+    def _kinematics_free(self, t: float, guess, q_guess, tol: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """kinematics() of an ideal mechanism with degrees of freedom left (see there)."""
+        arrays = self.kernel_arrays()
+        if q_guess is None:
+            if guess is None:
+                raise ValueError("no assembly guess available")
+            q_guess = self.state_from_poses(guess(t))
+        q = np.array(q_guess, dtype=float)
+        zero = np.zeros_like(q)
+        for _ in range(50):
+            phi, _, _, jac = self._constraint_eval(t, q, zero, arrays)
+            dq = np.linalg.lstsq(jac, -phi, rcond=None)[0]
+            q += dq
+            if np.max(np.abs(dq)) < tol * max(1.0, self.length_ref):
+                break
+        else:
+            raise ValueError(f"assembly did not converge at t = {t:g} s")
+        phi, phid0, _, jac = self._constraint_eval(t, q, zero, arrays)
+        if np.max(np.abs(phi)) > 1e-10 * self.length_ref:
+            raise ValueError(f"mechanism cannot be assembled at t = {t:g} s (residual {np.max(np.abs(phi)):.3g})")
+        winv, f = arrays["winv"], arrays["fext"].ravel()
+        jw = jac * winv[None, :]
+        schur = jw @ jac.T
+        qd = winv * (jac.T @ np.linalg.solve(schur, -phid0))  # J qd = -Phi_t, smallest kinetic energy
+        _, _, rest, _ = self._constraint_eval(t, q, qd, arrays)
+        lam = np.linalg.solve(schur, jw @ f + rest)  # J qdd = gamma = -rest with M qdd + J^T lam = f
+        qdd = winv * (f - jac.T @ lam)
         return q, qd, qdd
 
     def inverse_dynamics(self, t: float, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> dict[str, np.ndarray]:
@@ -594,7 +629,7 @@ def _assemble(model: MechanismModel, arrays, t: float, q: np.ndarray, lref: floa
     for _ in range(30):
         phi, _, _, jac = model._constraint_eval(t, q, zero, arrays)
         try:
-            dq = np.linalg.solve(jac, -phi)
+            dq = np.linalg.solve(jac, -phi) if jac.shape[0] == jac.shape[1] else np.linalg.lstsq(jac, -phi, rcond=None)[0]
         except np.linalg.LinAlgError:
             dq = np.full_like(q, np.nan)
         if not np.all(np.isfinite(dq)) or np.max(np.abs(dq / scale)) > 10.0:
@@ -607,18 +642,18 @@ def _assemble(model: MechanismModel, arrays, t: float, q: np.ndarray, lref: floa
         # the loop that fails: the near-singular direction of the Jacobian where Newton started (close to a
         # limit position the loop that cannot close has a vanishing singular value)
         _, _, jac0 = model._constraint_eval(t, q_start, zero, arrays)[1:]
-        u0, _, vt0 = np.linalg.svd(jac0 / scale[None, :])
+        u0, _, vt0 = np.linalg.svd(jac0 / scale[None, :], full_matrices=False)
         raise AssemblyError(
             f"cannot assemble {where}: the loop through links {', '.join(_culprits(model, u0[:, -1], vt0[-1]))} "
             "does not close (links too short or too long for this position, or a dead point)"
         )
-    u, sv, vt = np.linalg.svd(jac / scale[None, :])
+    u, sv, vt = np.linalg.svd(jac / scale[None, :], full_matrices=False)
     if sv[-1] < 1e-6 * sv[0]:
         raise AssemblyError(
             f"cannot assemble {where}: the constraint Jacobian is singular (dead point, lock-up or redundant joints) "
             f"at links {', '.join(_culprits(model, u[:, -1], vt[-1]))}"
         )
-    qd = np.linalg.solve(jac, -phid0)
+    qd = np.linalg.solve(jac, -phid0) if jac.shape[0] == jac.shape[1] else np.linalg.lstsq(jac, -phid0, rcond=None)[0]
     return q, qd
 
 
@@ -661,8 +696,12 @@ def _general_parts(m) -> _GeneralParts:
         q = q_new
         table.append(q.copy())
     tab = np.array(table)
-    gap = np.abs(tab[-1] - tab[0])
-    gap[2::3] = np.abs((gap[2::3] + math.pi) % (2 * math.pi) - math.pi) * lref
+    if model.n_dof > 0:  # free motion is decided by the dynamics: only the existence of an assembly is checked
+        tab[-1] = tab[0]  # the guess table is periodic; its rows are assembled (minimum-norm) poses
+        gap = np.zeros(1)
+    else:
+        gap = np.abs(tab[-1] - tab[0])
+        gap[2::3] = np.abs((gap[2::3] + math.pi) % (2 * math.pi) - math.pi) * lref
     if np.max(gap) > 1e-6 * lref:
         raise AssemblyError(
             f"cannot assemble: links {', '.join(_links_of(model, gap))} do not return to the drawn configuration "
