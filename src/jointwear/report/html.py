@@ -894,9 +894,18 @@ def _reliability_section(inp: Inputs, figs: _Figures) -> str:
     life = _float(lt.get("cycles"))
     hours = _float(lt.get("hours"))
     covs = [v for v in (curve.get("pf_cov") or []) if _float(v) is not None]
+    bound = ""
+    try:
+        i0 = int(np.nanargmin(np.asarray(curve.get("cycles"), dtype=float)))
+        r0, n0 = _float(curve["reliability"][i0]), _float(curve["cycles"][i0])
+        if life is not None and target is not None and r0 is not None and r0 < target and life <= n0:
+            bound = "\u2264 "
+    except (TypeError, ValueError, IndexError, KeyError):
+        pass
     cards = [
         (f"life at R = {target:g}" if target is not None else "life at target",
-         "\u2014" if life is None else f"{life:,.0f} cycles", None if hours is None else f"{hours:.3g} h"),
+         "\u2014" if life is None else f"{bound}{life:,.0f} cycles",
+         None if hours is None else f"{bound}{hours:.3g} h"),
         ("true-model calls", _num(rel.get("model_calls")), "for the whole curve"),
         ("Monte Carlo population", _num(rel.get("n_mc")), "n_mc"),
         *([("learning converged", "yes" if rel["converged"] else "NO",
