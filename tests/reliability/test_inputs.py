@@ -118,3 +118,14 @@ def test_bad_options():
         akmcs(_lin, NORM2, batch_size=0)
     with pytest.raises(ValueError, match="executor"):
         akmcs(_lin, NORM2, executor=object())
+
+
+def test_process_pool_executor_batch():
+    # model calls in worker processes (the default executor of the compute layer); batches of 3 run in parallel
+    from concurrent.futures import ProcessPoolExecutor
+
+    p = problems.four_branch(6)
+    with ProcessPoolExecutor(2) as pool:
+        r = akmcs(p.g, p.marginals, n_mc=20_000, seed=2, batch_size=3, stopping="error", executor=pool)
+    base = akmcs(p.g, p.marginals, n_mc=20_000, seed=2, batch_size=3, stopping="error")
+    assert r.pf == base.pf and r.n_calls == base.n_calls  # same algorithm, different place of the calls
