@@ -184,6 +184,20 @@ def test_six_bar_two_clearance_joints_simulate(six):
         assert np.all(tr.force_normal >= 0) and tr.mean_force > 0, tr.name
 
 
+def test_six_bar_preset_command_line(tmp_path, capsys):
+    """`jointwear simulate <preset> --cycles 1` and the wear stage with both clearance joints."""
+    import json
+
+    from jointwear.wear.cli import wear_command
+
+    assert main.run(["simulate", SIX, "--cycles", "1", "--settle", "0", "--out", str(tmp_path)]) == 0
+    sim = json.loads((tmp_path / "simulate.json").read_text())
+    assert [j["name"] for j in sim["joints"]] == ["A", "E"] and sim["contact_force_mean_N"] > 0
+    wear = wear_command(SIX, cycles=20000, out_dir=tmp_path / "wear", figures=False)
+    assert wear["cycles"] == 20000 and len(wear["joints"]) == 2
+    assert all(j["max_wear_mm"] > 0 for j in wear["joints"])
+
+
 def _central(f, t, h):
     return (f(t + h) - f(t - h)) / (2 * h), (f(t + h) - 2 * f(t) + f(t - h)) / (h * h)
 
