@@ -526,7 +526,7 @@ class AssemblyError(ValueError):
     """A general linkage cannot be assembled (one-line message naming the links)."""
 
 
-_GENERAL_CACHE: dict[str, _GeneralParts] = {}
+_GENERAL_CACHE: dict[str, _TableGuess] = {}
 
 
 def _body_angle0(b) -> float:
@@ -659,13 +659,15 @@ def _assemble(model: MechanismModel, arrays, t: float, q: np.ndarray, lref: floa
 
 def _general_parts(m) -> _GeneralParts:
     """Topology, drawn-configuration assembly and the one-cycle assembly table (cached per mechanism)."""
-    key = m.model_dump_json()
+    bodies, joints, gpts, poses, lref = _general_topology(m)
+    period = 2.0 * math.pi / abs(m.drivers[0].speed)
+    # the assembly depends on the geometry only (not on masses, inertias or loads): cache it by geometry, so
+    # that sampled masses or materials do not redo it
+    key = m.model_dump_json(exclude={"gravity": True, "bodies": {"__all__": {"mass", "inertia", "force", "torque"}}})
     hit = _GENERAL_CACHE.get(key)
     if hit is not None:
-        return copy.deepcopy(hit)
-    bodies, joints, gpts, poses, lref = _general_topology(m)
+        return _GeneralParts(bodies, joints, gpts, copy.deepcopy(hit), lref, period)
     _joint_gap_check(m, lref)
-    period = 2.0 * math.pi / abs(m.drivers[0].speed)
     model = MechanismModel(bodies=bodies, joints=joints, ground_points=gpts, length_ref=lref, period_override=period)
     arrays = model.kernel_arrays()
     q0 = model.state_from_poses(poses)
@@ -708,11 +710,10 @@ def _general_parts(m) -> _GeneralParts:
             "after one revolution of the first driver (branch change)"
         )
     guess = _TableGuess(period, [b.name for b in model.free_bodies], tab)
-    parts = _GeneralParts(bodies, joints, gpts, guess, lref, period)
     if len(_GENERAL_CACHE) > 32:
         _GENERAL_CACHE.pop(next(iter(_GENERAL_CACHE)))
-    _GENERAL_CACHE[key] = copy.deepcopy(parts)
-    return parts
+    _GENERAL_CACHE[key] = copy.deepcopy(guess)
+    return _GeneralParts(bodies, joints, gpts, guess, lref, period)
 
 
 def check_general_assembly(m) -> None:
