@@ -241,9 +241,15 @@ class StudyContext:
         shift-equivariant) and R(N) is monotone by construction; the logarithm makes the Archard response
         (a product of powers of k, H, F, ...) nearly linear in the inputs.
         """
+        return self.log_life(X)[:, None] - self.log_levels()[None, :]
+
+    def log_life(self, X: np.ndarray) -> np.ndarray:
+        """ln N_f(x), shape (n,); NaN for failed calls."""
         with np.errstate(divide="ignore", invalid="ignore"):
-            log_life = np.log(self.life(X))
-        return log_life[:, None] - np.log(np.asarray(self.cycles, dtype=float))[None, :]
+            return np.log(self.life(X))
+
+    def log_levels(self) -> np.ndarray:
+        return np.log(np.asarray(self.cycles, dtype=float))
 
 
 def study_context(config: StudyConfig, evaluator_factory: Callable[[WearModelCall], Any]) -> StudyContext:
@@ -314,7 +320,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     rel = ctx.config.reliability
     t0 = time.perf_counter()
     engine = akmcs_multi(
-        ctx.g, ctx.marginals, n_mc=rel.n_mc, n_mc_max=rel.n_mc_max, n_initial=rel.n_initial,
+        ctx.log_life, ctx.marginals, levels=ctx.log_levels(), n_mc=rel.n_mc, n_mc_max=rel.n_mc_max, n_initial=rel.n_initial,
         batch_size=rel.batch_size, u_threshold=rel.u_threshold, cov_target=rel.cov_target,
         pf_floor=rel.pf_floor, max_calls=rel.max_calls, seed=rel.seed, progress=progress,
         stopping=rel.stopping, error_tol=rel.error_tol)

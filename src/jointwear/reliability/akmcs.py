@@ -107,9 +107,27 @@ def _select_batch(score: np.ndarray, u_pop: np.ndarray, k: int, threshold: float
     return np.array(chosen)
 
 
+class _Shifted:
+    """A Kriging surrogate minus a constant (one level of a shared-response ``akmcs_multi``)."""
+
+    def __init__(self, surrogate, offset: float):
+        self.surrogate, self.offset = surrogate, float(offset)
+
+    @property
+    def hyperparameters(self):
+        return self.surrogate.hyperparameters
+
+    def predict(self, u, *, return_variance: bool = True):
+        mu, var = self.surrogate.predict(u, return_variance=return_variance)
+        return mu - self.offset, var
+
+    def __call__(self, u):
+        return self.predict(u, return_variance=False)[0]
+
+
 def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch_size, u_threshold, cov_target,
          stopping, error_tol, max_calls, seed, executor, evaluator, cache, on_evaluate, progress, nan_policy,
-         pf_floor, kriging, refit_growth, full_sweep_every=10, keep_population=False):
+         pf_floor, kriging, refit_growth, full_sweep_every=10, keep_population=False, levels=None):
     t_start = time.perf_counter()
     marginals = check_marginals(marginals)
     d = len(marginals)
@@ -129,14 +147,19 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
 
     rng = np.random.default_rng(seed)
     transform = IsoTransform(marginals)
+    if levels is not None:
+        levels = np.asarray(levels, dtype=float).reshape(-1)
+        if levels.size < 1 or not np.all(np.isfinite(levels)):
+            raise ValueError("levels must be a non-empty sequence of finite numbers")
     ev = make_evaluator(g, d, evaluator=evaluator, executor=executor, cache=cache, on_evaluate=on_evaluate,
-                        nan_policy=nan_policy, n_outputs="auto" if multi else None)
+                        nan_policy=nan_policy, n_outputs=None if (levels is not None or not multi) else "auto")
+    shift = (lambda y: y[:, :1] - levels[None, :]) if levels is not None else (lambda y: y)
 
     u_pop = rng.standard_normal((n_mc, d))
     lhs = qmc.LatinHypercube(d=d, seed=rng).random(n_initial)
     design_u = (2.0 * lhs - 1.0) * initial_bound
     G0 = np.asarray(ev.evaluate(transform.to_x(design_u)), dtype=float)
-    G0 = G0 if G0.ndim == 2 else G0[:, None]
+    G0 = shift(G0 if G0.ndim == 2 else G0[:, None])
     if multi and G0.ndim == 2 and G0.shape[1] < 1:
         raise ValueError("g returned zero columns")
     if not np.isfinite(G0).any():
@@ -149,9 +172,13 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
     design_g = G0
     m = design_g.shape[1]
     kriging = dict(kriging or {})
+    # With `levels`, every column is the same response shifted by a constant: one Kriging serves them all
+    # (ordinary Kriging is shift-equivariant), fitted on column 0 + levels[0].
+    n_fit = 1 if levels is not None else m
     surrogates = [KrigingSurrogate(seed=(None if seed is None else int(seed) * 1000 + j), **kriging)
-                  for j in range(m)]
-    n_at_opt = [0] * m  # training size at the last hyperparameter optimisation
+                  for j in range(n_fit)]
+    offsets = (levels - levels[0]) if levels is not None else np.zeros(m)
+    n_at_opt = [0] * n_fit  # training size at the last hyperparameter optimisation
 
     known_idx: list[int] = []  # population indices already evaluated
     known_g: list[np.ndarray] = []
@@ -160,7 +187,7 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
     message = ""
     converged = False
     iteration = 0
-    force_opt = np.zeros(m, dtype=bool)
+    force_opt = np.zeros(n_fit, dtype=bool)
     # Active-set prediction: a full sweep over the population computes U everywhere; in between, only the
     # candidates that had U < u_active at the last sweep are re-predicted (the others keep their last sign).
     # Full sweeps happen after every hyperparameter optimisation, every `full_sweep_every` iterations, after
@@ -171,12 +198,12 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
     active_idx = np.arange(u_pop.shape[0])
     need_full = True
     since_full = 0
-    sweep_scales: list = [None] * m
+    sweep_scales: list = [None] * n_fit
     n_sweeps = 0
     n_active_sum = 0
     while True:
         # ---- fit
-        for j in range(m):
+        for j in range(n_fit):
             ok = np.isfinite(design_g[:, j])
             n_ok = int(ok.sum())
             if n_ok < 2:
@@ -207,8 +234,10 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
         pf = np.empty(m)
         err = np.empty(m)
         for j in range(m):
-            mu, var = surrogates[j].predict(u_pop[idx])
-            sd = np.sqrt(var)
+            if j < n_fit:
+                mu0, var = surrogates[j].predict(u_pop[idx])
+                sd = np.sqrt(var)
+            mu = mu0 - offsets[j]
             with np.errstate(divide="ignore", invalid="ignore"):
                 Uj = np.abs(mu) / sd
             Uj[~np.isfinite(Uj)] = np.inf  # zero variance: the sign is certain
@@ -247,7 +276,7 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
             learned |= err <= error_tol
         if learned.all():
             # the last fit may have reused hyperparameters: re-optimise once before accepting
-            stale = np.array([n_at_opt[j] != int(np.isfinite(design_g[:, j]).sum()) for j in range(m)])
+            stale = np.array([n_at_opt[j] != int(np.isfinite(design_g[:, j]).sum()) for j in range(n_fit)])
             if stale.any() or not was_full:
                 force_opt[:] = stale
                 need_full = True
@@ -280,7 +309,8 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
             message = "no candidate left to evaluate"
             break
         new_u = u_pop[sel]
-        Gn = np.asarray(ev.evaluate(transform.to_x(new_u)), dtype=float).reshape(sel.size, m)
+        Gn = np.asarray(ev.evaluate(transform.to_x(new_u)), dtype=float)
+        Gn = shift(Gn.reshape(sel.size, -1)).reshape(sel.size, m)
         design_u = np.vstack([design_u, new_u])
         design_g = np.vstack([design_g, Gn])
         known_idx.extend(int(i) for i in sel)
@@ -305,7 +335,9 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
         col_ok = col_ok & (below | (cov_col < cov_target))
         return MultiReliabilityResult(pf=pf_col, cov=cov_col, beta=np.atleast_1d(pf_to_beta(pf_col)),
                                       converged=converged, column_converged=col_ok, below_floor=below,
-                                      design_g=design_g, surrogates=surrogates, min_u=min_u, error_estimate=err,
+                                      design_g=design_g, surrogates=surrogates if levels is None
+                                      else [_Shifted(surrogates[0], o) for o in offsets],
+                                      min_u=min_u, error_estimate=err,
                                       **common)
     return ReliabilityResult(method="akmcs", pf=float(pf_col[0]), cov=float(cov_col[0]), beta=pf_to_beta(pf_col[0]),
                              converged=converged, design_g=design_g[:, 0], surrogate=surrogates[0],
@@ -411,6 +443,7 @@ def akmcs_multi(
     nan_policy: str = "failure",
     kriging: dict | None = None,
     refit_growth: float = 0.1,
+    levels=None,
 ) -> MultiReliabilityResult:
     """AK-MCS for m limit states sharing one design (e.g. one model call -> the limit state at m cycle counts).
 
@@ -419,9 +452,14 @@ def akmcs_multi(
     The population grows until every column with Pf >= ``pf_floor`` has COV < ``cov_target``; columns below
     the floor (``below_floor``) meet the U criterion but their COV is reported, not enforced (a Pf of 1e-5
     would need 4e7 candidates). Other parameters as :func:`akmcs`.
+
+    ``levels``: a family of thresholds on one response. g then returns one value y per row and the limit
+    states are G_k = y - levels[k] (failure where y < levels[k]), e.g. y = ln(life) and levels = ln(N_k).
+    One Kriging serves every level (ordinary Kriging is shift-equivariant, so separate fits would agree),
+    which costs one fit per iteration instead of m and gives Pf monotone in the level.
     """
     return _run(g, marginals, multi=True, n_mc=n_mc, n_mc_max=n_mc_max, n_initial=n_initial,
                 initial_bound=initial_bound, batch_size=batch_size, u_threshold=u_threshold, cov_target=cov_target,
                 stopping=stopping, error_tol=error_tol, max_calls=max_calls, seed=seed, executor=executor,
                 evaluator=evaluator, cache=cache, on_evaluate=on_evaluate, progress=progress,
-                nan_policy=nan_policy, pf_floor=pf_floor, kriging=kriging, refit_growth=refit_growth)
+                nan_policy=nan_policy, pf_floor=pf_floor, kriging=kriging, refit_growth=refit_growth, levels=levels)
