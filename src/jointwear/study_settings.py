@@ -39,6 +39,12 @@ class ReliabilitySettings(SIModel):
         "estimated relative error of every level's Pf from the surrogate's sign uncertainty is below error_tol, "
         "or min U >= u_threshold (project choice: the U rule keeps adding calls near levels with Pf ~ 0.5, where "
         "a population of 1e5 always has points on the limit state).")
+    noise: Literal["estimate", "none"] = Field(
+        "estimate",
+        description="Kriging of a noisy model: 'estimate' fits a nugget (noise variance) by maximum likelihood. The "
+        "clearance-joint dynamics is chaotic, so the wear life of one call scatters by ~0.5 % between nearly equal "
+        "inputs (docs/wear.md); interpolating that scatter stalls the learning (project choice). 'none' = DACE "
+        "interpolation, as in the paper.")
     error_tol: float = Field(0.02, description="Relative Pf error tolerance of the 'error' stopping rule (project choice).")
     cov_target: float = Field(0.05, description="Required COV of Pf at every N with Pf > pf_floor (paper: 0.05).")
     pf_floor: float = Field(1e-3, description="Levels with Pf below this need not meet the COV target.")

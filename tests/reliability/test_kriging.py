@@ -63,3 +63,22 @@ def test_reconditioning_keeps_hyperparameters():
     # with larger correlation lengths R is worse conditioned and the nugget may escalate (up to 1e-4):
     # interpolation then holds to ~nugget x output spread
     np.testing.assert_allclose(k.predict(x)[0], y, atol=1e-3 * np.ptp(y))
+
+
+def test_estimated_nugget_smooths_a_noisy_response():
+    # y = sin(2 u) + N(0, 0.1^2): with the nugget estimated, the mean should track sin(2 u) more closely than
+    # the interpolant does, and the chosen relative nugget should be far above the interpolation default.
+    from jointwear.reliability import KrigingSurrogate
+
+    rng = np.random.default_rng(0)
+    u = rng.uniform(-3, 3, size=(60, 1))
+    y = np.sin(2 * u[:, 0]) + 0.1 * rng.standard_normal(60)
+    grid = np.linspace(-2.5, 2.5, 201)[:, None]
+    truth = np.sin(2 * grid[:, 0])
+    noisy = KrigingSurrogate(estimate_nugget=True, seed=1).fit(u, y)
+    plain = KrigingSurrogate(seed=1).fit(u, y)
+    err_noisy = np.sqrt(np.mean((noisy.predict(grid, return_variance=False)[0] - truth) ** 2))
+    err_plain = np.sqrt(np.mean((plain.predict(grid, return_variance=False)[0] - truth) ** 2))
+    assert noisy.hyperparameters.nugget >= 1e-3  # noise variance / process variance ~ 0.01 / 0.5
+    assert err_noisy < err_plain
+    assert err_noisy < 0.1  # below the noise level: the smoother averages several noisy points

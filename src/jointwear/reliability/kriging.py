@@ -188,9 +188,14 @@ class KrigingSurrogate:
         Latin hypercube points within the bounds). 1 means a warm start only.
     seed:
         Seed of the multistart points.
+    estimate_nugget, nugget_grid:
+        For a noisy model: choose the relative nugget from ``nugget_grid`` by maximum likelihood (at the fitted
+        correlation lengths). Off by default (deterministic models are interpolated, as in DACE).
     """
 
     nugget: float = 1e-10
+    estimate_nugget: bool = False
+    nugget_grid: tuple[float, ...] = (1e-8, 1e-6, 1e-5, 1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1)
     scale_bounds: tuple[float, float] = (0.01, 100.0)
     n_starts: int = 2
     seed: int | None = 0
@@ -201,6 +206,7 @@ class KrigingSurrogate:
     _cond: _Conditioned | None = field(default=None, repr=False)
     _x: np.ndarray | None = field(default=None, repr=False)
     _y: np.ndarray | None = field(default=None, repr=False)
+    _nugget_found: dict = field(default_factory=dict, repr=False)
     _ymean: float = 0.0
     _ystd: float = 1.0
 
@@ -242,8 +248,12 @@ class KrigingSurrogate:
 
         best: tuple[_Conditioned, np.ndarray, float] | None = None
         for scale in candidates:
-            nug = self.nugget
-            while nug <= 1e-4:
+            nug = self._nugget_found.get(tuple(np.asarray(scale, dtype=float)), self.nugget) if self.estimate_nugget \
+                else self.nugget
+            if self.estimate_nugget and self.hyperparameters is not None and nug == self.nugget:
+                nug = max(self.nugget, self.hyperparameters.nugget)  # warm start keeps the last nugget
+            nug_limit = max(1e-4, 10.0 * nug)
+            while nug <= nug_limit:
                 try:
                     cond = _condition(x / scale, ys, nug)
                 except np.linalg.LinAlgError:
@@ -254,6 +264,19 @@ class KrigingSurrogate:
                 break
         if best is None:
             raise np.linalg.LinAlgError("Kriging: correlation matrix not positive definite even with nugget 1e-4")
+        if self.estimate_nugget:
+            # Profile the concentrated likelihood over a relative nugget (homoscedastic noise variance over the
+            # process variance) at the chosen correlation lengths: a noisy model (e.g. chaotic dynamics) is then
+            # smoothed instead of interpolated, and the predicted variance is that of the latent mean.
+            for nug in self.nugget_grid:
+                if nug <= best[2]:
+                    continue
+                try:
+                    cond = _condition(x / best[1], ys, nug)
+                except np.linalg.LinAlgError:
+                    continue
+                if cond.loglik > best[0].loglik + 1e-9:
+                    best = (cond, best[1], nug)
         cond, scale, nug = best
         self._cond = cond
         self.hyperparameters = KrigingHyperparameters(scale=np.array(scale, dtype=float), nugget=nug)
@@ -285,16 +308,27 @@ class KrigingSurrogate:
         try:
             for st in starts:
                 cov = ot.SquaredExponential(list(map(float, st)), [1.0])
-                cov.setNuggetFactor(self.nugget)
+                if self.estimate_nugget:
+                    # optimise the nugget factor jointly with the correlation lengths (parameter index d)
+                    cov.setNuggetFactor(max(self.nugget, 1e-3))
+                    cov.setActiveParameter(list(range(d)) + [d])
+                    bounds = ot.Interval([lo] * d + [min(self.nugget_grid)], [hi] * d + [max(self.nugget_grid)])
+                else:
+                    cov.setNuggetFactor(self.nugget)
+                    bounds = ot.Interval([lo] * d, [hi] * d)
                 fitter = ot.GaussianProcessFitter(ot.Sample(x), ot.Sample(ys[:, None]), cov, basis)
-                fitter.setOptimizationBounds(ot.Interval([lo] * d, [hi] * d))
+                fitter.setOptimizationBounds(bounds)
                 fitter.setOptimizationAlgorithm(_optimizer())
                 try:
                     fitter.run()
                 except Exception as exc:
                     errors.append(exc)
                     continue
-                found.append(np.array(fitter.getResult().getCovarianceModel().getScale(), dtype=float))
+                model = fitter.getResult().getCovarianceModel()
+                scale = np.array(model.getScale(), dtype=float)
+                if self.estimate_nugget:
+                    self._nugget_found[tuple(scale)] = float(model.getNuggetFactor())
+                found.append(scale)
         finally:
             ot.Log.Show(flags)
         if not found:
