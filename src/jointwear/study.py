@@ -101,6 +101,7 @@ class ReliabilityStudyResult:
     pf: np.ndarray
     pf_cov: np.ndarray
     below_floor: np.ndarray
+    pf_error: np.ndarray
     target: float
     life_cycles: float | None
     life_hours: float | None
@@ -124,6 +125,7 @@ class ReliabilityStudyResult:
         return {
             "curve": {"cycles": self.cycles.tolist(), "reliability": self.reliability.tolist(),
                       "pf": self.pf.tolist(), "pf_cov": self.pf_cov.tolist(),
+                      "pf_error_estimate": self.pf_error.tolist(),
                       "cov_waived_below_pf_floor": self.below_floor.tolist()},
             "life_at_target": {"target": self.target, "cycles": self.life_cycles, "hours": self.life_hours},
             "model_calls": self.model_calls,
@@ -323,7 +325,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         ctx.log_life, ctx.marginals, levels=ctx.log_levels(), n_mc=rel.n_mc, n_mc_max=rel.n_mc_max, n_initial=rel.n_initial,
         batch_size=rel.batch_size, u_threshold=rel.u_threshold, cov_target=rel.cov_target,
         pf_floor=rel.pf_floor, max_calls=rel.max_calls, seed=rel.seed, progress=progress,
-        stopping=rel.stopping, error_tol=rel.error_tol, kriging={"estimate_nugget": rel.noise == "estimate"})
+        stopping=rel.stopping, error_tol=rel.error_tol, error_abs_tol=rel.error_abs_tol, kriging={"estimate_nugget": rel.noise == "estimate"})
     cycles = np.asarray(ctx.cycles, dtype=float)
     pf = np.asarray(engine.pf, dtype=float)
     reliability = 1.0 - pf
@@ -355,6 +357,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     return ReliabilityStudyResult(
         cycles=cycles, reliability=reliability, pf=pf, pf_cov=np.asarray(engine.cov, dtype=float),
         below_floor=np.asarray(engine.below_floor, dtype=bool), target=rel.target_reliability,
+        pf_error=np.asarray(engine.error_estimate, dtype=float) * pf,
         life_cycles=life, life_hours=None if life is None else cycles_to_hours(life, ctx.config),
         model_calls=int(engine.n_calls), failed_calls=int(engine.n_failed_calls), n_mc=int(engine.n_mc),
         converged=bool(engine.converged), wall_seconds=time.perf_counter() - t0, names=ctx.names,

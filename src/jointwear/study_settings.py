@@ -28,7 +28,8 @@ class ReliabilitySettings(SIModel):
     cycles_step: int = Field(20_000, description="Spacing of the R(N) curve; 20k hits 360k/400k/420k/440k/520k.")
     target_reliability: float = Field(0.9, description="Acceptable reliability for the life (paper: 0.9).")
     histogram_cycles: list[int] = Field([360_000, 400_000, 440_000], description="Paper Fig. 20.")
-    n_mc: int = Field(100_000, description="Initial Monte Carlo population (paper: 100,000).")
+    n_mc: int = Field(
+        200_000, description="Initial Monte Carlo population (paper: 100,000; 200,000 gives COV < 5 % down to Pf = 2e-3).")
     n_mc_max: int = Field(2_000_000, description="Largest population when the COV check grows it.")
     n_initial: int = Field(12, description="Latin hypercube initial design size (paper: 20 calls in all).")
     batch_size: int = Field(2, description="Points added per learning iteration (run in parallel).")
@@ -45,10 +46,14 @@ class ReliabilitySettings(SIModel):
         "clearance-joint dynamics is chaotic, so the wear life of one call scatters by ~0.5 % between nearly equal "
         "inputs (docs/wear.md); interpolating that scatter stalls the learning (project choice). 'none' = DACE "
         "interpolation, as in the paper.")
-    error_tol: float = Field(0.02, description="Relative Pf error tolerance of the 'error' stopping rule (project choice).")
+    error_tol: float = Field(0.05, description="Relative Pf error tolerance of the 'error' stopping rule (project choice).")
+    error_abs_tol: float = Field(
+        0.01, description="A level also counts as learned when its estimated absolute Pf error is below this "
+        "(project choice: 0.01 in R, well inside the 0.15 agreement band with the paper).")
     cov_target: float = Field(0.05, description="Required COV of Pf at every N with Pf > pf_floor (paper: 0.05).")
     pf_floor: float = Field(1e-3, description="Levels with Pf below this need not meet the COV target.")
-    max_calls: int = Field(120, description="Budget of true-model calls for the reliability analysis.")
+    max_calls: int = Field(
+        60, description="Budget of true-model calls for the reliability analysis (issue goal: <= 60 for the whole curve).")
     seed: int = Field(2025, description="Seed of every random draw of the study.")
 
     @field_validator("allowance", "target_reliability", "u_threshold", "cov_target", "pf_floor")

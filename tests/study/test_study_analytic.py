@@ -35,6 +35,9 @@ def study():
     cfg.reliability.cycles_start, cfg.reliability.cycles_stop, cfg.reliability.cycles_step = 340_000, 480_000, 40_000
     cfg.reliability.histogram_cycles = [380_000, 420_000]
     cfg.reliability.n_mc = 50_000
+    # a deterministic model: the engine's own accuracy settings (relative ESC error 2 %, absolute 0.2 %)
+    cfg.reliability.noise, cfg.reliability.error_tol, cfg.reliability.error_abs_tol = "none", 0.02, 0.002
+    cfg.reliability.max_calls = 120
     holder = {}
 
     def factory(call):

@@ -127,7 +127,8 @@ class _Shifted:
 
 def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch_size, u_threshold, cov_target,
          stopping, error_tol, max_calls, seed, executor, evaluator, cache, on_evaluate, progress, nan_policy,
-         pf_floor, kriging, refit_growth, full_sweep_every=10, keep_population=False, levels=None):
+         pf_floor, kriging, refit_growth, full_sweep_every=10, keep_population=False, levels=None,
+         error_abs_tol=None):
     t_start = time.perf_counter()
     marginals = check_marginals(marginals)
     d = len(marginals)
@@ -274,6 +275,8 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
         learned = min_u >= u_threshold
         if stopping == "error":
             learned |= err <= error_tol
+            if error_abs_tol is not None:
+                learned |= err * pf <= error_abs_tol
         if learned.all():
             # the last fit may have reused hyperparameters: re-optimise once before accepting
             stale = np.array([n_at_opt[j] != int(np.isfinite(design_g[:, j]).sum()) for j in range(n_fit)])
@@ -331,7 +334,8 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
         common_pop = {}
     if multi:
         below = pf_col < pf_floor
-        col_ok = (min_u >= u_threshold) | ((err <= error_tol) if stopping == "error" else False)
+        err_ok = (err <= error_tol) | ((err * pf_col <= error_abs_tol) if error_abs_tol is not None else False)
+        col_ok = (min_u >= u_threshold) | (err_ok if stopping == "error" else False)
         col_ok = col_ok & (below | (cov_col < cov_target))
         return MultiReliabilityResult(pf=pf_col, cov=cov_col, beta=np.atleast_1d(pf_to_beta(pf_col)),
                                       converged=converged, column_converged=col_ok, below_floor=below,
@@ -444,6 +448,7 @@ def akmcs_multi(
     kriging: dict | None = None,
     refit_growth: float = 0.1,
     levels=None,
+    error_abs_tol: float | None = None,
 ) -> MultiReliabilityResult:
     """AK-MCS for m limit states sharing one design (e.g. one model call -> the limit state at m cycle counts).
 
@@ -457,9 +462,14 @@ def akmcs_multi(
     states are G_k = y - levels[k] (failure where y < levels[k]), e.g. y = ln(life) and levels = ln(N_k).
     One Kriging serves every level (ordinary Kriging is shift-equivariant, so separate fits would agree),
     which costs one fit per iteration instead of m and gives Pf monotone in the level.
+
+    ``error_abs_tol`` (with ``stopping="error"``): a level also counts as learned when its estimated absolute
+    Pf error (relative ESC error x Pf) is below this, so a curve's small-Pf levels need not be resolved to a
+    relative accuracy that matters nowhere on the curve.
     """
     return _run(g, marginals, multi=True, n_mc=n_mc, n_mc_max=n_mc_max, n_initial=n_initial,
                 initial_bound=initial_bound, batch_size=batch_size, u_threshold=u_threshold, cov_target=cov_target,
                 stopping=stopping, error_tol=error_tol, max_calls=max_calls, seed=seed, executor=executor,
                 evaluator=evaluator, cache=cache, on_evaluate=on_evaluate, progress=progress,
-                nan_policy=nan_policy, pf_floor=pf_floor, kriging=kriging, refit_growth=refit_growth, levels=levels)
+                nan_policy=nan_policy, pf_floor=pf_floor, kriging=kriging, refit_growth=refit_growth, levels=levels,
+                error_abs_tol=error_abs_tol)
