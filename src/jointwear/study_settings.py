@@ -46,7 +46,7 @@ class ReliabilitySettings(SIModel):
         "clearance-joint dynamics is chaotic, so the wear life of one call scatters by ~0.5 % between nearly equal "
         "inputs (docs/wear.md); interpolating that scatter stalls the learning (project choice). 'none' = DACE "
         "interpolation, as in the paper.")
-    error_tol: float = Field(0.05, description="Relative Pf error tolerance of the 'error' stopping rule (project choice).")
+    error_tol: float = Field(0.02, description="Relative Pf error tolerance of the 'error' stopping rule (project choice).")
     error_abs_tol: float = Field(
         0.01, description="A level also counts as learned when its estimated absolute Pf error is below this "
         "(project choice: 0.01 in R, well inside the 0.15 agreement band with the paper).")

@@ -1,0 +1,116 @@
+"""kill -9 a real reliability study at several points, resume it, and get the uninterrupted result.
+
+Runs the CLI as a subprocess on a reduced version of the default preset (coarse wear blocks, a small
+Monte Carlo population and budget) so that the whole test takes about a minute on 2 cores.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import sqlite3
+import subprocess
+import sys
+import time
+from importlib import resources
+from pathlib import Path
+
+import pytest
+
+from jointwear.compute import EvaluationStore, config_hash
+from jointwear.config import load_config
+
+QUICK = """
+[wear]
+block_cycles = 80000
+record_cycles = 1
+
+[reliability]
+n_mc = 20000
+n_initial = 8
+max_calls = 14
+cycles_start = 320000
+cycles_stop = 480000
+cycles_step = 40000
+histogram_cycles = [360000, 400000, 440000]
+"""
+
+
+@pytest.fixture(scope="module")
+def quick_config(tmp_path_factory) -> Path:
+    text = (resources.files("jointwear.presets") / "jin2025_flapping_wing.toml").read_text(encoding="utf-8")
+    path = tmp_path_factory.mktemp("cfg") / "quick.toml"
+    path.write_text(text + QUICK, encoding="utf-8")
+    return path
+
+
+def _cmd(config: Path, out: Path, *extra: str) -> list[str]:
+    return [sys.executable, "-m", "jointwear", "reliability", str(config), "--out", str(out), "--workers", "2",
+            *extra]
+
+
+def _env() -> dict:
+    return dict(os.environ, JOINTWEAR_PROGRESS="0")
+
+
+def _stored_calls(out: Path) -> int:
+    db = out / "evaluations.sqlite"
+    if not db.exists():
+        return 0
+    try:
+        with sqlite3.connect(f"file:{db}?mode=ro", uri=True, timeout=1) as con:
+            return int(con.execute("select count(*) from calls").fetchone()[0])
+    except sqlite3.Error:
+        return 0
+
+
+def _run_and_kill(cmd: list[str], out: Path, after_calls: int, limit_s: float = 300) -> bool:
+    """Start the study, SIGKILL its whole process group once `after_calls` calls are stored."""
+    proc = subprocess.Popen(cmd, env=_env(), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                            start_new_session=True)
+    t0 = time.monotonic()
+    while proc.poll() is None and time.monotonic() - t0 < limit_s:
+        if _stored_calls(out) >= after_calls:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+            return True
+        time.sleep(0.05)
+    proc.wait()
+    return False
+
+
+def test_killed_and_resumed_study_equals_uninterrupted(quick_config, tmp_path):
+    reference = tmp_path / "reference"
+    done = subprocess.run(_cmd(quick_config, reference), env=_env(), capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-2000:]
+    expected = json.loads((reference / "reliability.json").read_text())
+
+    out = tmp_path / "interrupted"
+    killed = [_run_and_kill(_cmd(quick_config, out), out, after_calls=3)]
+    killed.append(_run_and_kill(_cmd(quick_config, out, "--resume"), out, after_calls=9))
+    assert any(killed), "the study finished before it could be killed"
+    final = subprocess.run(_cmd(quick_config, out, "--resume"), env=_env(), capture_output=True, text=True,
+                           timeout=600)
+    assert final.returncode == 0, final.stderr[-2000:]
+    got = json.loads((out / "reliability.json").read_text())
+
+    assert got["curve"]["reliability"] == expected["curve"]["reliability"]  # bit-identical: same seed, same calls
+    assert got["model_calls"] == expected["model_calls"]
+    assert got["life_at_target"] == expected["life_at_target"]
+    digest = config_hash(load_config(quick_config).model_dump(mode="json"))  # as the CLI computes it
+    with EvaluationStore.open(out, digest, resume=True) as store:
+        stats = store.stats()
+    assert stats.n_repeated == 0
+    assert stats.n_calls == expected["model_calls"]
+
+
+def test_resume_with_a_changed_config_is_refused(quick_config, tmp_path):
+    out = tmp_path / "study"
+    assert _run_and_kill(_cmd(quick_config, out), out, after_calls=1) or (out / "reliability.json").exists()
+    changed = quick_config.with_name("changed.toml")
+    changed.write_text(quick_config.read_text().replace("max_calls = 14", "max_calls = 15"), encoding="utf-8")
+    res = subprocess.run(_cmd(changed, out, "--resume"), env=_env(), capture_output=True, text=True, timeout=300)
+    assert res.returncode == 2
+    assert "config changed" in res.stderr
+    assert len([ln for ln in res.stderr.splitlines() if ln.strip()]) == 1
