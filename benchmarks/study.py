@@ -54,11 +54,17 @@ def main() -> None:
     ap.add_argument("--preset", default="jin2025_flapping_wing")
     ap.add_argument("--repeats", type=int, default=1)
     ap.add_argument("--out", type=Path, default=Path(__file__).parent / "results" / "study.json")
+    ap.add_argument("--keep", type=Path, default=None, help="Keep the last run's output folder here.")
     args = ap.parse_args()
     runs = []
     for _ in range(args.repeats):
         with tempfile.TemporaryDirectory() as tmp:
             runs.append(one_run(args.preset, Path(tmp)))
+            if args.keep is not None:
+                import shutil
+
+                shutil.rmtree(args.keep, ignore_errors=True)
+                shutil.copytree(Path(tmp) / "run", args.keep)
     result = {
         "benchmark": "jointwear run (whole study, end to end, fresh process)",
         "preset": args.preset, "machine": {"cpus": os.cpu_count(), "python": platform.python_version()},

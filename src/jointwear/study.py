@@ -328,6 +328,9 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         stopping=rel.stopping, error_tol=rel.error_tol, error_abs_tol=rel.error_abs_tol, kriging={"estimate_nugget": rel.noise == "estimate"})
     cycles = np.asarray(ctx.cycles, dtype=float)
     pf = np.asarray(engine.pf, dtype=float)
+    pf_cov = np.asarray(engine.cov, dtype=float)
+    n_mc = int(engine.n_mc)
+    pf, pf_cov, n_mc = _meet_cov_target(ctx, engine, pf, pf_cov, n_mc)
     reliability = 1.0 - pf
     life = life_at(cycles, reliability, rel.target_reliability)
 
@@ -355,15 +358,50 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     infeasible["failed_calls"] = int(engine.n_failed_calls)
     infeasible["failure_reasons"] = {str(k): v for k, v in engine.failure_reasons.items()}
     return ReliabilityStudyResult(
-        cycles=cycles, reliability=reliability, pf=pf, pf_cov=np.asarray(engine.cov, dtype=float),
-        below_floor=np.asarray(engine.below_floor, dtype=bool), target=rel.target_reliability,
+        cycles=cycles, reliability=reliability, pf=pf, pf_cov=pf_cov,
+        below_floor=pf < rel.pf_floor, target=rel.target_reliability,
         pf_error=np.asarray(engine.error_estimate, dtype=float) * pf,
         life_cycles=life, life_hours=None if life is None else cycles_to_hours(life, ctx.config),
-        model_calls=int(engine.n_calls), failed_calls=int(engine.n_failed_calls), n_mc=int(engine.n_mc),
+        model_calls=int(engine.n_calls), failed_calls=int(engine.n_failed_calls), n_mc=n_mc,
         converged=bool(engine.converged), wall_seconds=time.perf_counter() - t0, names=ctx.names,
         histograms=histograms, mean_max_wear=mean_max, convergence=convergence,
         design_x=np.asarray(engine.design_x), design_wear=design_wear, engine=engine, infeasible=infeasible,
         wear_surrogates=wear_model)
+
+
+def _meet_cov_target(ctx: StudyContext, engine, pf, pf_cov, n_mc):
+    """Grow the Monte Carlo population on the final surrogate until COV(Pf) < target at every level above
+    the floor (AK-MCS Step 6). The engine does this itself when its learning converges; when the call budget
+    ends the learning first, the population is grown here, on the last surrogate (no model call)."""
+    from jointwear.reliability import IsoTransform
+
+    rel = ctx.config.reliability
+    need = (pf >= rel.pf_floor) & ~(pf_cov < rel.cov_target)
+    if not need.any():
+        return pf, pf_cov, n_mc
+    p = pf[need].min()
+    n = int(min(rel.n_mc_max, 1.1 * ((1.0 - p) / (rel.cov_target**2 * p) + 1.0)))
+    if n <= n_mc:
+        return pf, pf_cov, n_mc
+    iso = IsoTransform(ctx.marginals)
+    fails = np.zeros(len(ctx.cycles))
+    rng_seed = rel.seed + 7
+    done = 0
+    chunk = 200_000
+    while done < n:
+        m = min(chunk, n - done)
+        u = iso.to_u(population(ctx.marginals, m, rng_seed + done))
+        mu0, _ = engine.surrogates[0].predict(u, return_variance=False)
+        offsets = [engine.surrogates[j].offset if hasattr(engine.surrogates[j], "offset") else None
+                   for j in range(len(ctx.cycles))]
+        for j, off in enumerate(offsets):
+            mu = mu0 - off if off is not None else engine.surrogates[j].predict(u, return_variance=False)[0]
+            fails[j] += np.count_nonzero(mu < 0)
+        done += m
+    pf_new = fails / n
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cov_new = np.where(pf_new > 0, np.sqrt((1.0 - pf_new) / ((n - 1) * pf_new)), np.inf)
+    return pf_new, cov_new, n
 
 
 def _first(value) -> float:
