@@ -20,7 +20,7 @@ import numpy as np
 from scipy import stats
 
 PAPER_CITATION = (
-    "Jin, Z.; Chen, Y.; Wang, Y.; Jiang, L.; Liu, H.; Pang, J. Uncertainty Control Method for Non-Uniform Wear "
+    "Jin, Y.; Chen, X.; Wang, K.; Jiang, D.; Liu, J.; Pang, H. Uncertainty Control Method for Non-Uniform Wear "
     "of the Driving Mechanism of Flapping Wing Aircraft. Drones 2025, 9(4), 282."
 )
 

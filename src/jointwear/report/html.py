@@ -71,7 +71,7 @@ __all__ = ["build_report", "PAPER", "Check", "paper_checks"]
 # ------------------------------------------------------------------------------------------------ the paper
 #: What the reference paper reports (paper-notes.md, "What the paper reports").
 PAPER = {
-    "citation": ("Jin, Z.; Chen, Y.; Wang, Y.; Jiang, L.; Liu, H.; Pang, J. Uncertainty Control Method for "
+    "citation": ("Jin, Y.; Chen, X.; Wang, K.; Jiang, D.; Liu, J.; Pang, H. Uncertainty Control Method for "
                  "Non-Uniform Wear of the Driving Mechanism of Flapping Wing Aircraft. Drones 2025, 9(4), 282."),
     "nominal_max_wear_mm": 0.0249,
     "nominal_cycles": 400_000,
