@@ -133,6 +133,26 @@ def do_sensitivity(cfg, out: Path, ctx, res) -> dict:
     return sens
 
 
+def do_wear(cfg, cycles, out: Path) -> dict:
+    from jointwear.wear.cli import wear_command
+
+    t0 = time.perf_counter()
+    summary = wear_command(cfg, cycles, out)
+    _say(f"wear: max bearing wear {summary.get('max_wear_mm', float('nan')):.4f} mm at "
+         f"{summary.get('max_wear_angle_deg', float('nan')):.0f} deg after {summary.get('cycles')} cycles "
+         f"({time.perf_counter() - t0:.1f} s) -> {out / 'wear.json'}")
+    return summary
+
+
+def do_reliability_and_sensitivity(cfg, out: Path, **opts) -> None:
+    from jointwear.study import run_reliability
+
+    with open_study(cfg, out, **opts) as (ctx, progress, _store):
+        res = run_reliability(ctx, progress=_progress_callback(progress, ctx.cycles))
+        write_reliability(res, cfg, out)
+        do_sensitivity(cfg, out, ctx, res)
+
+
 def register(main: click.Group) -> None:
     """Add the study commands to the ``jointwear`` group."""
     from jointwear.cli import config_argument, load_cli_config, out_option
@@ -144,14 +164,7 @@ def register(main: click.Group) -> None:
     @out_option
     def wear(config, cycles, out):
         """Non-uniform wear of the clearance joints over many cycles; write wear.json, data and figures."""
-        from jointwear.wear.cli import wear_command
-
-        cfg = load_cli_config(config)
-        t0 = time.perf_counter()
-        summary = wear_command(cfg, cycles, out)
-        _say(f"wear: max bearing wear {summary.get('max_wear_mm', float('nan')):.4f} mm at "
-             f"{summary.get('max_wear_angle_deg', float('nan')):.0f} deg after {summary.get('cycles')} cycles "
-             f"({time.perf_counter() - t0:.1f} s) -> {out / 'wear.json'}")
+        do_wear(load_cli_config(config), cycles, out)
 
     @main.command()
     @config_argument
@@ -172,13 +185,8 @@ def register(main: click.Group) -> None:
         Re-uses the evaluations of a reliability study in the same --out folder.
         """
         cfg = load_cli_config(config)
-        with open_study(cfg, out, workers=workers, scheduler=scheduler, resume=resume, overwrite=overwrite,
-                        reuse=not overwrite) as (ctx, progress, _store):
-            from jointwear.study import run_reliability
-
-            res = run_reliability(ctx, progress=_progress_callback(progress, ctx.cycles))
-            write_reliability(res, cfg, out)
-            do_sensitivity(cfg, out, ctx, res)
+        do_reliability_and_sensitivity(cfg, out, workers=workers, scheduler=scheduler, resume=resume,
+                                       overwrite=overwrite, reuse=not overwrite)
 
     @main.command()
     @click.argument("directory", type=click.Path(file_okay=False, path_type=Path))
@@ -200,7 +208,6 @@ def register(main: click.Group) -> None:
         from jointwear.cli import simulate as simulate_cmd
         from jointwear.report.html import build_report
         from jointwear.report.settings import write_settings
-        from jointwear.wear.cli import wear_command
 
         cfg = load_cli_config(config)
         t0 = time.perf_counter()
@@ -209,15 +216,8 @@ def register(main: click.Group) -> None:
                        source=str(config) if config else "preset")
         ctx_click = click.get_current_context()
         ctx_click.invoke(simulate_cmd, config=config, cycles=None, settle=None, out=out)
-        summary = wear_command(cfg, cfg.wear.cycles, out)
-        _say(f"wear: max bearing wear {summary.get('max_wear_mm', float('nan')):.4f} mm at "
-             f"{summary.get('max_wear_angle_deg', float('nan')):.0f} deg")
-        with open_study(cfg, out, workers=workers, scheduler=scheduler, resume=resume,
-                        overwrite=overwrite) as (ctx, progress, _store):
-            from jointwear.study import run_reliability
-
-            res = run_reliability(ctx, progress=_progress_callback(progress, ctx.cycles))
-            write_reliability(res, cfg, out)
-            do_sensitivity(cfg, out, ctx, res)
+        do_wear(cfg, cfg.wear.cycles, out)
+        do_reliability_and_sensitivity(cfg, out, workers=workers, scheduler=scheduler, resume=resume,
+                                       overwrite=overwrite)
         path = build_report(out)
         _say(f"run: done in {time.perf_counter() - t0:.0f} s -> {path}")
