@@ -80,3 +80,64 @@ def test_life_and_histograms_are_consistent(study):
 def test_life_at_interpolates():
     assert life_at([1, 2, 3], [1.0, 0.95, 0.85], 0.9) == pytest.approx(2.5)  # exact linear interpolation
     assert life_at([1, 2], [1.0, 0.95], 0.9) is None
+
+
+def _analytic_study(cfg, executor=None):
+    holder = {}
+
+    def factory(call):
+        holder["model"] = AnalyticWear([s.name for s in cfg.uncertainty.all_specs()], call.cycles)
+        return compute.Evaluator(holder["model"], executor, None, n_outputs=len(call.cycles))
+
+    ctx = study_context(cfg, factory)
+    return ctx, run_reliability(ctx), holder["model"]
+
+
+def _small_config():
+    cfg = load_config()
+    cfg.reliability.cycles_start, cfg.reliability.cycles_stop, cfg.reliability.cycles_step = 360_000, 440_000, 40_000
+    cfg.reliability.histogram_cycles = [400_000]
+    cfg.reliability.n_mc, cfg.reliability.max_calls = 20_000, 30
+    return cfg
+
+
+def test_random_allowance_enters_as_a_variable():
+    # Section 5.1: delta_0 ~ N(0.01 D, 0.0005 D). Exact R(N) by brute force with the allowance sampled too.
+    cfg = _small_config()
+    cfg.reliability.allowance_std = 0.0005 * 3e-3
+    cfg.reliability.noise, cfg.reliability.error_tol, cfg.reliability.error_abs_tol = "none", 0.02, 0.002
+    ctx, res, model = _analytic_study(cfg)
+    assert ctx.names[-1] == "delta_0" and len(ctx.marginals) == 14
+    x = population(ctx.marginals, 1_000_000, seed=11)
+    wear = RATE * model.scale(x[:, :-1])[:, None] * res.cycles[None, :]
+    pf_ref = np.mean(wear > x[:, -1:], axis=0)
+    for k in range(len(res.cycles)):
+        # the engine's acceptance (issue 4): 3 % of the reference or 2x the reported COV, + 3 reference s.e.
+        tol = max(0.03 * pf_ref[k], 2 * res.pf_cov[k] * res.pf[k]) + 3 * np.sqrt(pf_ref[k] * (1 - pf_ref[k]) / 1e6)
+        assert abs(res.pf[k] - pf_ref[k]) < tol
+
+
+def test_same_result_serially_and_with_two_local_workers():
+    from jointwear.compute import make_executor
+
+    cfg = _small_config()
+    _, serial, _ = _analytic_study(cfg)
+    with make_executor(workers=2) as ex:
+        _, parallel, _ = _analytic_study(cfg, ex)
+    assert parallel.model_calls == serial.model_calls
+    np.testing.assert_array_equal(parallel.reliability, serial.reliability)  # bit-identical by design
+
+
+def test_same_result_on_a_dask_cluster():
+    from jointwear.compute import make_executor, start_local_cluster
+
+    cfg = _small_config()
+    _, serial, _ = _analytic_study(cfg)
+    cluster = start_local_cluster(n_workers=2)
+    try:
+        with make_executor(scheduler=cluster) as ex:
+            _, on_dask, _ = _analytic_study(cfg, ex)
+    finally:
+        cluster.close()
+    assert on_dask.model_calls == serial.model_calls
+    np.testing.assert_array_equal(on_dask.reliability, serial.reliability)
