@@ -264,7 +264,10 @@ def study_context(config: StudyConfig, evaluator_factory: Callable[[WearModelCal
     specs = unc.all_specs()
     names = [s.name for s in specs]
     labels = [s.label or s.name for s in specs]
-    marginals = unc.marginals()
+    # The learning always runs on feasible samples (clearance above its minimum); under the 'fail' rule the
+    # infeasible probability mass is added to Pf afterwards (run_reliability), which is exact because the
+    # truncated distribution is the conditional one given feasibility.
+    marginals = unc.marginals(feasible=True)
     rel = config.reliability
     cycles = rel.curve_cycles()
     step = rel.cycles_step
@@ -331,6 +334,14 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     pf_cov = np.asarray(engine.cov, dtype=float)
     n_mc = int(engine.n_mc)
     pf, pf_cov, n_mc = _meet_cov_target(ctx, engine, pf, pf_cov, n_mc)
+    clearance = ctx.config.uncertainty.clearance
+    if clearance is not None and clearance.infeasible_rule == "fail":
+        # 'fail' rule: a sample whose clearance is at or below the minimum is a failure at every N.
+        p_inf = clearance.infeasible_probability()
+        pf_feasible = pf
+        pf = p_inf + (1.0 - p_inf) * pf_feasible
+        with np.errstate(divide="ignore", invalid="ignore"):
+            pf_cov = np.where(pf > 0, pf_cov * (1.0 - p_inf) * pf_feasible / pf, pf_cov)
     reliability = 1.0 - pf
     life = life_at(cycles, reliability, rel.target_reliability)
 

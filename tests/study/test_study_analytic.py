@@ -141,3 +141,15 @@ def test_same_result_on_a_dask_cluster():
         cluster.close()
     assert on_dask.model_calls == serial.model_calls
     np.testing.assert_array_equal(on_dask.reliability, serial.reliability)
+
+
+def test_fail_rule_adds_the_infeasible_probability():
+    # 'fail': Pf = P(c <= c_min) + P(c > c_min) Pf(feasible); 'truncate': Pf(feasible). Same learning (the
+    # learning always runs on the feasible samples), so the relation holds to rounding.
+    cfg = _small_config()
+    _, truncated, _ = _analytic_study(cfg)
+    cfg.uncertainty.clearance.infeasible_rule = "fail"
+    _, failing, _ = _analytic_study(cfg)
+    p_inf = cfg.uncertainty.clearance.infeasible_probability()
+    np.testing.assert_allclose(failing.pf, p_inf + (1 - p_inf) * truncated.pf, rtol=1e-12, atol=1e-15)
+    assert failing.infeasible["rule"] == "fail"

@@ -90,10 +90,15 @@ class ClearanceSpec(SIModel):
         return clearance_from_fit(self.nominal_diameter, self.hole_grade, self.shaft_grade, self.mean).std
 
     def frozen(self):
+        """The clearance as sampled: truncated at `minimum` ('truncate'), or the full normal ('fail')."""
         if self.infeasible_rule == "truncate":
-            a = (self.minimum - self.mean) / self.std
-            return stats.truncnorm(a=a, b=np.inf, loc=self.mean, scale=self.std)
+            return self.feasible()
         return stats.norm(loc=self.mean, scale=self.std)
+
+    def feasible(self):
+        """The clearance given that it exceeds `minimum`: the normal truncated there."""
+        a = (self.minimum - self.mean) / self.std
+        return stats.truncnorm(a=a, b=np.inf, loc=self.mean, scale=self.std)
 
     def infeasible_probability(self) -> float:
         """Probability that an untruncated normal clearance falls at or below `minimum`."""
@@ -127,12 +132,13 @@ class UncertaintySettings(SIModel):
                 mean=c.mean, std=c.std, unit="um", scale=1e6))
         return specs
 
-    def marginals(self) -> list:
-        """Frozen scipy.stats marginals in the order of `names()`."""
+    def marginals(self, feasible: bool = False) -> list:
+        """Frozen scipy.stats marginals in the order of `names()` (``feasible``: the clearance conditioned on
+        exceeding its minimum, whatever the rule)."""
         out = []
         for spec in self.all_specs():
             if spec.name == "c" and self.clearance is not None:
-                out.append(self.clearance.frozen())
+                out.append(self.clearance.feasible() if feasible else self.clearance.frozen())
             else:
                 out.append(spec.frozen())
         return out
