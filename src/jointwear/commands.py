@@ -103,7 +103,8 @@ def write_reliability(res, cfg, out: Path) -> None:
             out / "wear_histograms.png")
     conv = res.convergence
     if conv["n_calls"]:
-        savefig(figures.convergence_figure(conv["n_calls"], conv["pf"], label="Pf at 400k cycles"),
+        savefig(figures.convergence_figure(conv["n_calls"], conv["pf"], cov=conv.get("cov"),
+                                           label=f"Pf at {conv.get('cycles', 400_000):,} cycles"),
                 out / "convergence.png")
     life = "not reached in the curve" if res.life_cycles is None else (
         f"{res.life_cycles:,.0f} cycles = {res.life_hours:.2f} h")

@@ -358,8 +358,10 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     mean_max = {"cycles": wear_levels, "mean": (wear_all.mean(axis=0) * 1e3).tolist(),
                 "std": (wear_all.std(axis=0) * 1e3).tolist()}
     hist = engine.history
-    convergence = {"n_calls": [h.n_calls for h in hist], "pf": [_first(h.pf) for h in hist],
-                   "min_u": [_first(h.min_u) for h in hist]}
+    ref = ctx.cycles.index(400_000) if 400_000 in ctx.cycles else len(ctx.cycles) // 2
+    convergence = {"cycles": ctx.cycles[ref], "n_calls": [h.n_calls for h in hist],
+                   "pf": [_at(h.pf, ref) for h in hist], "cov": [_at(h.cov, ref) for h in hist],
+                   "error_estimate": [_at(h.error, ref) for h in hist], "min_u": [_at(h.min_u, ref) for h in hist]}
     design_wear = ctx.wear(ctx.split(np.asarray(engine.design_x))[0])
     unc = ctx.config.uncertainty
     infeasible = {}
@@ -415,9 +417,9 @@ def _meet_cov_target(ctx: StudyContext, engine, pf, pf_cov, n_mc):
     return pf_new, cov_new, n
 
 
-def _first(value) -> float:
+def _at(value, index: int) -> float:
     arr = np.atleast_1d(np.asarray(value, dtype=float))
-    return float(arr[0]) if arr.size else float("nan")
+    return float(arr[min(index, arr.size - 1)]) if arr.size else float("nan")
 
 
 # ---------------------------------------------------------------------------------------------
