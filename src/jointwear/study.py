@@ -234,19 +234,15 @@ class StudyContext:
         x_model, allowance = self.split(X)
         return life_from_history(np.asarray(self.history_cycles, dtype=float), self.wear(x_model), allowance)
 
-    def g(self, X: np.ndarray) -> np.ndarray:
-        """Limit states G_k = ln N_f(x) - ln N_k, shape (n, m); NaN rows for failed calls.
-
-        G_k < 0 exactly when delta_max(x, N_k) > delta_0, the paper's failure event (Eq. 42-43), because
-        the max wear grows with N; so every level has the paper's failure domain. All levels are one
-        function shifted by constants, so the Kriging of every level is the same (ordinary Kriging is
-        shift-equivariant) and R(N) is monotone by construction; the logarithm makes the Archard response
-        (a product of powers of k, H, F, ...) nearly linear in the inputs.
-        """
-        return self.log_life(X)[:, None] - self.log_levels()[None, :]
-
     def log_life(self, X: np.ndarray) -> np.ndarray:
-        """ln N_f(x), shape (n,); NaN for failed calls."""
+        """ln N_f(x), shape (n,); NaN for failed calls.
+
+        The limit state of level N_k is G_k = ln N_f(x) - ln N_k (``akmcs_multi(levels=log_levels())``):
+        G_k < 0 exactly when delta_max(x, N_k) > delta_0, the paper's failure event (Eq. 42-43), because the
+        max wear grows with N. All levels are one function shifted by constants, so one Kriging serves them
+        and R(N) is monotone by construction; the logarithm makes the Archard response (a product of powers
+        of k, H, F, ...) nearly linear in the inputs.
+        """
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.log(self.life(X))
 
@@ -397,6 +393,8 @@ def _meet_cov_target(ctx: StudyContext, engine, pf, pf_cov, n_mc):
     if n <= n_mc:
         return pf, pf_cov, n_mc
     iso = IsoTransform(ctx.marginals)
+    # the study learns one response for every level (akmcs_multi(levels=...)): level j is level 0 minus a constant
+    offsets = np.array([engine.surrogates[j].offset for j in range(len(ctx.cycles))])
     fails = np.zeros(len(ctx.cycles))
     rng_seed = rel.seed + 7
     done = 0
@@ -405,11 +403,7 @@ def _meet_cov_target(ctx: StudyContext, engine, pf, pf_cov, n_mc):
         m = min(chunk, n - done)
         u = iso.to_u(population(ctx.marginals, m, rng_seed + done))
         mu0, _ = engine.surrogates[0].predict(u, return_variance=False)
-        offsets = [engine.surrogates[j].offset if hasattr(engine.surrogates[j], "offset") else None
-                   for j in range(len(ctx.cycles))]
-        for j, off in enumerate(offsets):
-            mu = mu0 - off if off is not None else engine.surrogates[j].predict(u, return_variance=False)[0]
-            fails[j] += np.count_nonzero(mu < 0)
+        fails += np.count_nonzero(mu0[:, None] - (offsets[None, :] - offsets[0]) < 0, axis=0)
         done += m
     pf_new = fails / n
     with np.errstate(divide="ignore", invalid="ignore"):
