@@ -431,8 +431,8 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityStudyResult) -> d
 
     Re-uses the reliability study's surrogate; see docs/sensitivity.md for the two rules:
 
-    * a shift that stays inside the design's region (|shift| <= 4 sigma; the initial design spans +-5
-      sigma) is evaluated on the surrogate with a shifted Monte Carlo population (no model call);
+    * a shift that stays inside the design's region (|shift| <= ``sensitivity.surrogate_shift_limit`` = 4
+      sigma by default; the initial design spans +-5 sigma) is evaluated on the surrogate with a shifted Monte Carlo population (no model call);
     * a larger shift (the geometric means moved by 20 % are hundreds of standard deviations away) is
       evaluated by the *separable scaling* rule: one true-model call at the shifted nominal point and one at
       the nominal point give the ratio rho of the max wear, and the reliability is P(rho * delta_max(x) <
@@ -487,7 +487,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityStudyResult) -> d
         i = changed[0]
         shift = marginals[i].mean() - ctx.marginals[i].mean()
         sigma = ctx.marginals[i].std()
-        if abs(shift) <= 4.0 * sigma:
+        if abs(shift) <= sens.surrogate_shift_limit * sigma:
             shifted_pop = pop.copy()
             shifted_pop[:, i] = population([marginals[i]], n_pop, rel.seed + 3 + i)[:, 0]
             r = float(np.mean(log_life_margin(shifted_pop) > 0))
