@@ -153,3 +153,33 @@ def test_fail_rule_adds_the_infeasible_probability():
     p_inf = cfg.uncertainty.clearance.infeasible_probability()
     np.testing.assert_allclose(failing.pf, p_inf + (1 - p_inf) * truncated.pf, rtol=1e-12, atol=1e-15)
     assert failing.infeasible["rule"] == "fail"
+
+
+def test_sensitivity_mean_shifts_against_brute_force():
+    # Mean shifts of the analytic wear model at 400k cycles: k_b (a 2-sigma shift, on the surrogate) and the
+    # rod length l2 (hundreds of sigma, separable scaling: the analytic wear does not depend on l2, so its
+    # reliability must stay the nominal one). Exact values by brute-force Monte Carlo.
+    from jointwear.sensitivity import shifted_marginal
+    from jointwear.study import run_sensitivity
+
+    cfg = _small_config()
+    cfg.reliability.noise, cfg.reliability.error_tol, cfg.reliability.error_abs_tol = "none", 0.02, 0.002
+    cfg.sensitivity.cycles = 400_000
+    cfg.sensitivity.sobol_base_samples = 256
+    ctx, res, model = _analytic_study(cfg)
+    sens = run_sensitivity(ctx, res)
+    by_name = {v["name"]: v for v in sens["variables"]}
+    i = ctx.names.index("k_b")
+    for factor, key in ((0.8, "reliability_low"), (1.2, "reliability_high")):
+        marg = list(ctx.marginals)
+        marg[i] = shifted_marginal(marg[i], factor)
+        x = population(marg, 400_000, seed=21)
+        exact = np.mean(RATE * model.scale(x) * 400_000 <= cfg.reliability.allowance)
+        # 0.02: the learning's absolute error tolerance (0.002) on the nominal population, plus the surrogate's
+        # extrapolation toward the 2-sigma-shifted tail and Monte Carlo error (~0.001)
+        assert abs(by_name["k_b"][key] - exact) < 0.02, (factor, by_name["k_b"][key], exact)
+    rules = {(r["variable"], round(r["factor"], 3)): r for r in sens["rules"]}
+    assert rules[("l2", 0.8)]["rule"] == "separable_scaling"
+    assert rules[("k_b", 1.2)]["rule"] == "surrogate"
+    assert by_name["l2"]["reliability_high"] == pytest.approx(sens["reliability_nominal"], abs=1e-12)
+    assert sens["ranking"][0] in ("k_b", "HB_b")  # the only variables with a 10 % scatter in the model
