@@ -223,6 +223,11 @@ class StudyContext:
                 self._wear_cache[X[i].tobytes()] = row
         return np.stack([self._wear_cache[row.tobytes()] for row in X])
 
+    @property
+    def n_evaluated(self) -> int:
+        """Distinct model inputs evaluated (or read back from the store) through this context."""
+        return len(self._wear_cache)
+
     def split(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray | float]:
         X = np.atleast_2d(np.asarray(X, dtype=float))
         if self.random_allowance:
@@ -467,16 +472,12 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityStudyResult) -> d
 
     n_model = len(ctx.targets)
     means = np.array([m.mean() for m in ctx.marginals[:n_model]])
-    extra_calls = {"n": 0}
-    point_cache: dict[tuple, float] = {}
+    hist_col = ctx.history_cycles.index(sens.cycles)
+    known_before = ctx.n_evaluated
 
     def true_wear(x_point: np.ndarray) -> float:
-        key = tuple(np.round(x_point, 15))
-        if key not in point_cache:
-            y = np.asarray(ctx.evaluator(x_point[None, :]), dtype=float).reshape(-1)
-            extra_calls["n"] += 1
-            point_cache[key] = float(y[col])
-        return point_cache[key]
+        """Max wear at the sensitivity's cycle count by a true-model call (cached by the study context)."""
+        return float(ctx.wear(x_point[None, :])[0, hist_col])
 
     rules: list[dict] = []
 
@@ -494,7 +495,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityStudyResult) -> d
             rules.append({"variable": ctx.names[i], "factor": marginals[i].mean() / ctx.marginals[i].mean(),
                           "rule": "surrogate", "reliability": r})
             return r, 0
-        before = extra_calls["n"]
+        before = ctx.n_evaluated
         base_wear = true_wear(means)
         x_s = means.copy()
         x_s[i] = marginals[i].mean()
@@ -504,18 +505,18 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityStudyResult) -> d
         if not math.isfinite(shifted_wear):
             entry.update(reliability=0.0, reason="the shifted mechanism could not run (counted as failure)")
             rules.append(entry)
-            return 0.0, extra_calls["n"] - before
+            return 0.0, ctx.n_evaluated - before
         rho = shifted_wear / base_wear
         # wear x rho <=> life / rho (the wear grows linearly in N): failure where ln N_f - ln rho < ln N_s
         r = float(np.mean(margin_nominal_pop - math.log(rho) > 0))
         entry.update(reliability=r, wear_ratio=rho)
         rules.append(entry)
-        return r, extra_calls["n"] - before
+        return r, ctx.n_evaluated - before
 
     table = mean_shift_table(reliability_of, ctx.marginals, ctx.names, ctx.labels, factors=tuple(sens.factors),
                              reliability_nominal=r_nominal)
-    sobol = sobol_indices(lambda x: reliability.wear_surrogates.predict(x)[:, wear_col] * 1e3, ctx.marginals, ctx.names, n_base=sens.sobol_base_samples,
-                          seed=rel.seed)
+    sobol = sobol_indices(lambda x: reliability.wear_surrogates.predict(x)[:, wear_col] * 1e3, ctx.marginals,
+                          ctx.names, n_base=sens.sobol_base_samples, seed=rel.seed)
     deriv = reliability_derivatives(pop, margin_nominal_pop <= 0, ctx.marginals, ctx.names)
     groups = {}
     specs = ctx.config.uncertainty.all_specs()
@@ -536,6 +537,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityStudyResult) -> d
     return {
         "cycles": sens.cycles, "factors": list(sens.factors), "reliability_nominal": r_nominal,
         "variables": variables, "ranking": ranking, "ranking_by_group": ranking_by_group,
-        "paper_ranking_by_group": PAPER_RANKINGS, "rules": rules, "extra_model_calls": extra_calls["n"],
+        "paper_ranking_by_group": PAPER_RANKINGS, "rules": rules,
+        "extra_model_calls": ctx.n_evaluated - known_before,
         "sobol": sobol.as_dict(), "derivatives": deriv.as_dict(), "n_population": n_pop,
     }
