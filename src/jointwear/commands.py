@@ -64,7 +64,9 @@ def open_study(cfg, out: Path, *, workers, scheduler, resume: bool, overwrite: b
 
 
 def _progress_callback(progress, cycles):
-    ref = cycles.index(400_000) if 400_000 in cycles else len(cycles) // 2
+    from jointwear.study import reference_level
+
+    ref = reference_level(cycles)
 
     def on_iteration(rec):
         pf = np.atleast_1d(rec.pf)
@@ -87,19 +89,20 @@ def do_reliability(cfg, out: Path, **opts):
 def write_reliability(res, cfg, out: Path) -> None:
     from jointwear.cli import write_json
     from jointwear.report import figures
+    from jointwear.report.html import PAPER
     from jointwear.report.style import savefig
 
     payload = res.as_json()
     payload["allowance_mm"] = cfg.reliability.allowance * 1e3
     payload["crank_speed_rpm"] = abs(cfg.mechanism.crank_speed) * 60 / (2 * math.pi)
     write_json(out, "reliability.json", payload)
-    paper = {360_000: 0.978, 400_000: 0.739, 420_000: 0.538, 520_000: 0.006}
     savefig(figures.reliability_curve_figure(res.cycles, res.reliability, pf_cov=res.pf_cov, target=res.target,
-                                             life_cycles=res.life_cycles, paper=paper, paper_life=371_640),
+                                             life_cycles=res.life_cycles, paper=PAPER["reliability"],
+                                             paper_life=PAPER["life_cycles"]),
             out / "reliability_curve.png")
     h = res.histograms
     savefig(figures.wear_histograms_figure(h["cycles"], h["max_wear_mm"], limit_mm=cfg.reliability.allowance * 1e3,
-                                           paper_means={360_000: 0.0256, 400_000: 0.0285, 440_000: 0.0313}),
+                                           paper_means=PAPER["mean_max_wear_mm"]),
             out / "wear_histograms.png")
     conv = res.convergence
     if conv["n_calls"]:
