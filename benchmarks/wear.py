@@ -4,12 +4,14 @@
     python benchmarks/wear.py --only timing   # timing | literal | convergence | reproduction (comma separated)
 
 Sections
-- timing: wall time of one whole wear history to 520k cycles (flapping-wing preset, default settings), median of
-  repeats after a warm-up run that compiles everything (goal <= 1.5 s, issue 3).
+- timing: wall time of one whole wear history to 520k cycles (flapping-wing preset, default settings: 2 lanes), median
+  of repeats after a warm-up run that compiles everything (goal <= 1.5 s, issue 3), next to one lane (sequential)
+  and the `fast` settings, alternating in the same process.
 - literal: the paper's method (re-integrate every cycle, update the geometry after every cycle, Section 3 Step 5):
   a few cycles are timed, the time per cycle is extrapolated to 520k cycles, and the ratio to `timing` reported.
 - convergence: max bearing wear at 400k cycles, baseline vs (a) every block size halved, (b) the angular grid
-  spacing halved (n_grid doubled), (c) rtol and atol halved; acceptance < 2 % each (issue 3).
+  spacing halved (n_grid doubled), (c) rtol and atol halved; acceptance < 2 % each (issue 3); and (d) one lane
+  instead of two (the lanes' lag of the geometry update).
 - reproduction: both assembly branches x both geometry modes at 400k cycles (paper: 0.0249 mm at 110 deg, second
   peak 0.0087 mm at 310 deg).
 """
@@ -69,45 +71,61 @@ def summary(res, n=400_000) -> dict:
 FAST = {"block_cycles": 40_000, "record_cycles": 1, "settle_cycles": 0.5}
 
 
-def _time_history(model, s, repeats):
-    times, cpu, last = [], [], None
+def _time_histories(model, variants: dict, repeats: int) -> dict:
+    """Wall and CPU time of whole histories to 520k cycles; the variants alternate within each repeat."""
+    times = {k: [] for k in variants}
+    cpu = {k: [] for k in variants}
+    last = {}
     for _ in range(repeats):
-        t0, c0 = time.perf_counter(), time.process_time()
-        last = wear_history(model, s, 520_000)
-        times.append(time.perf_counter() - t0)
-        cpu.append(time.process_time() - c0)
-    return {
-        "wall_seconds_median": statistics.median(times),
-        "wall_seconds_all": times,
-        "cpu_seconds_median": statistics.median(cpu),
-        "cpu_seconds_all": cpu,
-        "n_blocks": len(last.blocks),
-        "n_simulated_cycles": last.n_simulated_cycles,
-        "simulation_seconds": last.sim_seconds,
-        "simulation_seconds_per_cycle": last.sim_seconds / last.n_simulated_cycles,
-        "max_wear_mm_at_520k": float(last.max_wear_at(520_000) * MM),
-    }
+        for name, v in variants.items():
+            t0, c0 = time.perf_counter(), time.process_time()
+            last[name] = wear_history(model, v, 520_000)
+            times[name].append(time.perf_counter() - t0)
+            cpu[name].append(time.process_time() - c0)
+    out = {}
+    for name in variants:
+        r = last[name]
+        out[name] = {
+            "wall_seconds_median": statistics.median(times[name]),
+            "wall_seconds_all": times[name],
+            "cpu_seconds_median": statistics.median(cpu[name]),
+            "cpu_seconds_all": cpu[name],
+            "n_blocks": len(r.blocks),
+            "n_simulated_cycles": r.n_simulated_cycles,
+            "simulation_seconds_summed_over_blocks": r.sim_seconds,
+            "simulation_seconds_per_cycle": r.sim_seconds / r.n_simulated_cycles,
+            "max_wear_mm_at_520k": float(r.max_wear_at(520_000) * MM),
+        }
+    return out, times
 
 
 def bench_timing(repeats: int = 5, replicates: int = 4) -> dict:
-    """Whole history to 520k cycles (branch -1): default settings and the FAST settings; scatter of each."""
+    """Whole history to 520k cycles (branch -1): default settings (2 lanes), one lane, the FAST settings."""
     cfg = config_for(-1)
     model = build_model(cfg)
     s = base_settings(cfg)
     t0 = time.perf_counter()
     wear_history(model, s, 20_000)  # warm-up: compiles the dynamics and the wear kernels
     warm = time.perf_counter() - t0
-    out = {"cycles": 520_000, "goal_seconds": 1.5, "warmup_seconds_including_compilation": warm}
+    out = {"cycles": 520_000, "goal_seconds": 1.5, "warmup_seconds_including_compilation": warm,
+           "cpus": os.cpu_count()}
     settle0 = s.settle_cycles_initial if s.settle_cycles_initial is not None else cfg.simulation.settle_cycles
-    for name, upd in (("default", {}), ("fast", FAST)):
-        v = s.model_copy(update=upd)
-        rec = _time_history(model, v, repeats)
+    updates = {"default": {}, "sequential": {"lanes": 1}, "fast": FAST}
+    variants = {k: s.model_copy(update=u) for k, u in updates.items()}
+    recs, times = _time_histories(model, variants, repeats)
+    for name, upd in updates.items():
+        rec = recs[name]
         rec["settings_changed"] = upd
+        v = variants[name]
         reps = [float(wear_history(model, v.model_copy(update={"settle_cycles_initial": settle0 + 0.05 * (r + 1)}),
                                    400_000).max_wear_at(400_000) * MM) for r in range(replicates)]
         rec["max_wear_mm_400k_replicates"] = reps
         rec["scatter_rel_400k"] = float(np.std(reps, ddof=1) / np.mean(reps))
         out[name] = rec
+    # same process, alternating: the lanes' wall-time ratio
+    out["wall_ratio_default_to_sequential_median"] = statistics.median(
+        [a / b for a, b in zip(times["default"], times["sequential"])])
+    out["goal_met_by_default"] = out["default"]["wall_seconds_median"] <= 1.5
     return out
 
 
@@ -159,6 +177,7 @@ def bench_convergence(replicates: int = 8) -> dict:
         "block_halved": {"block_cycles": max(1, s.block_cycles // 2)},
         "grid_halved": {"n_grid": 2 * s.n_grid},
         "tolerance_halved": {"rtol": rtol / 2, "atol": atol / 2},
+        "one_lane": {"lanes": 1},  # the lanes' one-block lag of the geometry update (docs/wear.md "Lanes")
     }
     out = {}
     for name, upd in variants.items():

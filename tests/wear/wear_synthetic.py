@@ -102,4 +102,5 @@ def fake_simulate(model, n_cycles, geometry=None, settle_cycles=None, rtol=None,
         extra = g.clearance_growth + (float(np.max(g.bearing_wear)) if g.use_profile and g.bearing_wear.size else 0.0)
         scale = 1.0 + extra / 1e-3  # rate up by 2 % per 20 um of wear (flapping preset: a few % over the history)
         joints.append(make_trace(n_cycles, model.steps_per_cycle, rate_scale=scale, **model.trace_over))
-    return FakeResult(joints, state_end=len(model.calls), n_steps=n_cycles * model.steps_per_cycle)
+    # the end state counts the blocks of this chain (deterministic when blocks run in threads)
+    return FakeResult(joints, state_end=(state0 or 0) + 1, n_steps=n_cycles * model.steps_per_cycle)

@@ -17,7 +17,10 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 import time
+from collections import deque
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
@@ -355,7 +358,6 @@ def wear_history(
     first: list[CycleWear | None] = [None] * nj
     last: list[CycleWear | None] = [None] * nj
     blocks: list[BlockRecord] = []
-    state = None
     done = 0
     block = settings.initial_block if settings.block_rule == "adaptive" else settings.block_cycles
     prev_vrate = None
@@ -363,61 +365,96 @@ def wear_history(
     sim_cycles = 0.0
     n_steps = 0
     rec = settings.record_cycles
-    while done < n_cycles:
-        upd = [_update_geometry(geoms0[i], settings, wb[i], wj[i], growth[i]) for i in range(nj)]
-        geoms = [u[0] for u in upd]
-        settle = settings.settle_cycles_initial if state is None else settings.settle_cycles
+    # lanes: independent dynamics chains simulating alternate blocks (see WearSettings.lanes). Block k continues
+    # from the end state of block k - lanes and sees the wear of blocks 0 .. k - lanes; the schedule, hence the
+    # result, does not depend on how many threads run it.
+    lanes = settings.lanes if settings.block_rule == "fixed" else 1
+    n_blocks = math.ceil(n_cycles / block) if settings.block_rule == "fixed" else None
+    lane_state: list = [None] * lanes
+    settle0 = settings.settle_cycles_initial
+    if settle0 is None and lanes > 1:
+        settle0 = _default_settle(model)
+        settle0 = settle0 if math.isfinite(settle0) else 1.0
+    inflight: deque = deque()
+    k_next = 0
+
+    def run_block(geoms, state, settle):
         t0 = time.perf_counter()
         res = simulate(model, rec, geometry=geoms, settle_cycles=settle, state0=state,
                        rtol=settings.rtol, atol=settings.atol)
-        dt_sim = time.perf_counter() - t0
-        sim_seconds += dt_sim
-        used_settle = getattr(res, "settle_cycles", None)
-        if used_settle is None:
-            used_settle = settle if settle is not None else _default_settle(model)
-        sim_cycles += float(getattr(res, "n_cycles", rec) or rec) + float(used_settle)
-        n_steps += int(getattr(res, "n_steps", 0) or 0)
-        state = getattr(res, "state_end", None)
-        rates = []
-        for i, tr in enumerate(res.joints):
-            if mats[i] is None:
-                mats[i] = JointMaterials.from_trace(tr, geoms0[i])
-            prof = settings.geometry_mode == "profile"
-            cw = cycle_wear(tr, settings, rec, mats[i], growth=growth[i],
-                            bearing_profile=geoms[i].bearing_wear if prof else None,
-                            journal_profile=geoms[i].journal_wear if prof else None,
-                            bearing_touch=upd[i][1], journal_touch=upd[i][2])
-            if first[i] is None:
-                first[i] = cw
-            last[i] = cw
-            rates.append(cw)
-        peak = float(rates[0].bearing.max())
-        vrate = rates[0].volume_bearing
-        change = float("nan")
-        if prev_vrate is not None:
-            change = abs(vrate - prev_vrate) / max(prev_vrate, 1e-300)
-            if settings.block_rule == "adaptive":
-                if change > 2.0 * settings.rate_tolerance:
-                    block = max(settings.min_block, block // 2)
-                elif change < settings.rate_tolerance:
-                    block = min(settings.max_block, int(round(block * settings.block_growth)))
-        prev_vrate = vrate
-        dn = min(block, n_cycles - done)
-        for i, cw in enumerate(rates):
-            wb[i] += cw.bearing * dn
-            wj[i] += cw.journal * dn
-            vol_b[i] += cw.volume_bearing * dn
-            vol_j[i] += cw.volume_journal * dn
-            if settings.geometry_mode == "uniform":
-                growth[i] = growth0[i] + _growth(settings, wb[i], wj[i])
-            hist_b[i].append(float(wb[i].max()))
-            hist_j[i].append(float(wj[i].max()))
-            hist_g[i].append(growth[i])
-        blocks.append(BlockRecord(done, dn, peak, change, dt_sim, int(getattr(res, "n_steps", 0) or 0)))
-        done += dn
-        hist_c.append(done)
-        if progress is not None:
-            progress(done, n_cycles)
+        return res, time.perf_counter() - t0
+
+    threads = min(lanes, os.cpu_count() or 1)
+    pool = ThreadPoolExecutor(threads, thread_name_prefix="jointwear-lane") if threads > 1 else None
+    try:
+        while done < n_cycles:
+            while len(inflight) < lanes and (k_next < n_blocks if n_blocks is not None else not inflight):
+                lane = k_next % lanes
+                upd = [_update_geometry(geoms0[i], settings, wb[i], wj[i], growth[i]) for i in range(nj)]
+                geoms = [u[0] for u in upd]
+                state = lane_state[lane]
+                if state is not None:
+                    settle = settings.settle_cycles
+                else:  # first block of a lane: from rest; lane j settles j / lanes cycle longer (another phase)
+                    settle = settle0 + lane / lanes if lane > 0 else settings.settle_cycles_initial
+                job = (geoms, state, settle)
+                fut = pool.submit(run_block, *job) if pool is not None else run_block(*job)
+                inflight.append((lane, upd, geoms, list(growth), settle, fut))
+                k_next += 1
+            lane, upd, geoms, growth_used, settle, fut = inflight.popleft()
+            res, dt_sim = fut.result() if pool is not None else fut
+            sim_seconds += dt_sim
+            used_settle = getattr(res, "settle_cycles", None)
+            if used_settle is None:
+                used_settle = settle if settle is not None else _default_settle(model)
+            sim_cycles += float(getattr(res, "n_cycles", rec) or rec) + float(used_settle)
+            n_steps += int(getattr(res, "n_steps", 0) or 0)
+            lane_state[lane] = getattr(res, "state_end", None)
+            rates = []
+            for i, tr in enumerate(res.joints):
+                if mats[i] is None:
+                    mats[i] = JointMaterials.from_trace(tr, geoms0[i])
+                prof = settings.geometry_mode == "profile"
+                cw = cycle_wear(tr, settings, rec, mats[i], growth=growth_used[i],
+                                bearing_profile=geoms[i].bearing_wear if prof else None,
+                                journal_profile=geoms[i].journal_wear if prof else None,
+                                bearing_touch=upd[i][1], journal_touch=upd[i][2])
+                if first[i] is None:
+                    first[i] = cw
+                last[i] = cw
+                rates.append(cw)
+            peak = float(rates[0].bearing.max())
+            vrate = rates[0].volume_bearing
+            change = float("nan")
+            if prev_vrate is not None:
+                change = abs(vrate - prev_vrate) / max(prev_vrate, 1e-300)
+                if settings.block_rule == "adaptive":
+                    if change > 2.0 * settings.rate_tolerance:
+                        block = max(settings.min_block, block // 2)
+                    elif change < settings.rate_tolerance:
+                        block = min(settings.max_block, int(round(block * settings.block_growth)))
+            prev_vrate = vrate
+            dn = min(block, n_cycles - done)
+            for i, cw in enumerate(rates):
+                wb[i] += cw.bearing * dn
+                wj[i] += cw.journal * dn
+                vol_b[i] += cw.volume_bearing * dn
+                vol_j[i] += cw.volume_journal * dn
+                if settings.geometry_mode == "uniform":
+                    growth[i] = growth0[i] + _growth(settings, wb[i], wj[i])
+                hist_b[i].append(float(wb[i].max()))
+                hist_j[i].append(float(wj[i].max()))
+                hist_g[i].append(growth[i])
+            blocks.append(BlockRecord(done, dn, peak, change, dt_sim, int(getattr(res, "n_steps", 0) or 0)))
+            done += dn
+            hist_c.append(done)
+            if progress is not None:
+                progress(done, n_cycles)
+    finally:
+        if pool is not None:
+            for item in inflight:
+                item[-1].cancel()
+            pool.shutdown(wait=True)
 
     joints = []
     for i in range(nj):
