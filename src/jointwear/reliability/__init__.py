@@ -12,12 +12,14 @@ from ._core import (
     ReliabilityResult,
     check_marginals,
 )
+from .akis import akis
 from .akmcs import akmcs, akmcs_multi, esc_error
 from .kriging import KrigingSurrogate, blas_threads
 from .methods import form, importance_sampling, monte_carlo, sorm, subset_simulation
 from . import problems
 
 __all__ = [
+    "akis",
     "akmcs",
     "akmcs_multi",
     "esc_error",

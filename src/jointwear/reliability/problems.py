@@ -14,7 +14,8 @@ import numpy as np
 from scipy import integrate, stats
 from scipy.special import ndtr
 
-__all__ = ["Problem", "four_branch", "linear", "lognormal_rs", "oscillator", "rastrigin", "four_branch_exact_pf"]
+__all__ = ["Problem", "four_branch", "linear", "lognormal_rs", "oscillator", "rastrigin", "four_branch_exact_pf",
+           "parabolic", "parabolic_exact_pf", "cubic_parabolic"]
 
 
 @dataclass(frozen=True)
@@ -170,4 +171,57 @@ def rastrigin() -> Problem:
         ref_source="crude MCS 1e8 samples (this repo); Echard 2011 MCS 6e4: 7.34e-2",
         echard_calls=416,
         echard_n_mc=60_000,
+    )
+
+
+# ------------------------------------------------------------------------------------------ small Pf (AK-IS)
+class _Parabolic:
+    def __init__(self, beta: float, kappa: float):
+        self.beta, self.kappa = beta, kappa
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        x = np.asarray(x, dtype=float)
+        return self.beta + self.kappa * x[:, 0] ** 2 - x[:, 1]
+
+
+def parabolic_exact_pf(beta: float, kappa: float) -> float:
+    """P[u2 > beta + kappa u1^2] = integral phi(t) Phi(-(beta + kappa t^2)) dt (adaptive quadrature)."""
+    val, _ = integrate.quad(lambda t: stats.norm.pdf(t) * ndtr(-(beta + kappa * t * t)), -np.inf, np.inf,
+                            epsabs=0.0, epsrel=1e-12, limit=200)
+    return float(val)
+
+
+def parabolic(beta: float = 5.0, kappa: float = 0.1) -> Problem:
+    """g = beta + kappa u1^2 - u2, two standard normals: a curved limit state at distance beta (Pf ~ 1e-7 at
+    beta = 5), where FORM's Phi(-beta) is off by the curvature (Breitung: a factor 1 / sqrt(1 + 2 kappa beta)).
+    The reference is the exact one-dimensional integral."""
+    return Problem(
+        name=f"parabolic_beta{beta:g}_kappa{kappa:g}",
+        g=_Parabolic(beta, kappa),
+        marginals=(stats.norm(), stats.norm()),
+        pf_ref=parabolic_exact_pf(beta, kappa),
+        ref_source="exact: 1-D quadrature of phi(t) Phi(-(beta + kappa t^2))",
+    )
+
+
+class _CubicParabolic:
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        x = np.asarray(x, dtype=float)
+        return 0.5 * (x[:, 0] - 2.0) ** 2 - 1.5 * (x[:, 1] - 5.0) ** 3 - 3.0
+
+
+# Reference: importance sampling at the design point (0.788, 3.853) with 1e8 samples (10 x 1e7, seed 1);
+# COV 3e-4. FORM gives 4.20e-5.
+CUBIC_PARABOLIC_PF_REF = 2.87559e-5
+
+
+def cubic_parabolic() -> Problem:
+    """g = 0.5 (u1 - 2)^2 - 1.5 (u2 - 5)^3 - 3, two standard normals (Echard, Gayton, Lemaire & Relun 2013,
+    AK-IS, example 1): small Pf with a strongly non-linear limit state."""
+    return Problem(
+        name="cubic_parabolic",
+        g=_CubicParabolic(),
+        marginals=(stats.norm(), stats.norm()),
+        pf_ref=CUBIC_PARABOLIC_PF_REF,
+        ref_source="importance sampling 1e8 samples at the design point (this repo); FORM 4.20e-5",
     )

@@ -66,7 +66,7 @@ def spread_patch(grid: np.ndarray, center: float, half_angle: float, area: float
             grid[j % n] += scale * frac
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def accumulate_wear(
     theta_b: np.ndarray,
     theta_j: np.ndarray,
