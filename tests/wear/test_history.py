@@ -45,7 +45,8 @@ def test_lanes_schedule_and_thread_independence(mode, monkeypatch):
     s = WearSettings(geometry_mode=mode, n_grid=360, lanes=2, settle_cycles_initial=3.0)
     m = FakeModel(n_joints=2)
     r = wear_history(m, s, 400_000, simulate=fake_simulate)
-    monkeypatch.setattr(H.os, "cpu_count", lambda: 1)  # no pool: the lanes run in turn
+    monkeypatch.setenv("JOINTWEAR_LANE_THREADS", "1")  # no pool: the lanes run in turn
+    assert H.lane_threads(2) == 1
     m1 = FakeModel(n_joints=2)
     r1 = wear_history(m1, s, 400_000, simulate=fake_simulate)
     for a, b in zip(r.joints, r1.joints):

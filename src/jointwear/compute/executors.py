@@ -122,7 +122,7 @@ def _exit_when_gone(main_pid: int) -> None:
     os._exit(1)
 
 
-def _worker_init(main_pid: int) -> None:
+def _worker_init(main_pid: int, lane_threads: int = 0) -> None:
     """Runs once in each local worker process.
 
     A study killed with ``kill -9`` must not leave its workers computing in the background. A worker
@@ -147,6 +147,8 @@ def _worker_init(main_pid: int) -> None:
         os._exit(1)
     # Ctrl-C goes to the study, which cancels the batch; workers are ended by the pool's shutdown.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if lane_threads > 0:  # threads per wear history (jointwear.wear.history.lane_threads): cores / workers
+        os.environ["JOINTWEAR_LANE_THREADS"] = str(lane_threads)
 
 
 def _pid_alive(pid: int) -> bool:
@@ -191,7 +193,7 @@ class LocalExecutor(_ExecutorBase):
             max_workers=self._workers,
             mp_context=ctx,
             initializer=_worker_init,
-            initargs=(os.getpid(),),
+            initargs=(os.getpid(), max(1, available_cores() // self._workers)),
         )
 
     @property

@@ -309,6 +309,23 @@ def _growth(settings: WearSettings, wb: np.ndarray, wj: np.ndarray) -> float:
     return float(wb.max() + wj.max())
 
 
+def lane_threads(lanes: int) -> int:
+    """Threads that run the lanes: min(lanes, cores this process may use), or the environment variable
+    JOINTWEAR_LANE_THREADS (set by jointwear.compute's worker processes to cores // workers, so that a pool of
+    workers does not oversubscribe the machine). The result never depends on it (see WearSettings.lanes)."""
+    env = os.environ.get("JOINTWEAR_LANE_THREADS")
+    if env:
+        try:
+            return max(1, min(lanes, int(env)))
+        except ValueError:
+            pass
+    try:
+        cores = len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):  # pragma: no cover - not Linux
+        cores = os.cpu_count() or 1
+    return max(1, min(lanes, cores))
+
+
 def wear_history(
     model,
     settings: WearSettings | None = None,
@@ -384,7 +401,7 @@ def wear_history(
                        rtol=settings.rtol, atol=settings.atol)
         return res, time.perf_counter() - t0
 
-    threads = min(lanes, os.cpu_count() or 1)
+    threads = lane_threads(lanes)
     pool = ThreadPoolExecutor(threads, thread_name_prefix="jointwear-lane") if threads > 1 else None
     try:
         while done < n_cycles:
