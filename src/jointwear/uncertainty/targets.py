@@ -1,6 +1,9 @@
 """Dotted paths from a random variable to the config field it sets.
 
 A path walks the SI config as plain data: ``mechanism.rod.length``, ``clearance_joints.0.journal_radius``.
+List items are addressed by index or, when they are tables with a ``name``, by name; the two coordinates of a
+point by 0/1 or x/y. So a point of a ``general`` mechanism is ``mechanism.bodies.coupler.points.B.x`` (or
+``mechanism.bodies.1.points.B.0``) and a ground pivot ``mechanism.ground_points.C.y``.
 The suffix ``.clearance`` on a clearance joint is a derived target: the bearing radius becomes the
 (sampled) journal radius plus the clearance.
 """
@@ -12,10 +15,26 @@ from typing import Any
 CLEARANCE_SUFFIX = ".clearance"
 
 
+_COORD = {"x": 0, "y": 1}
+
+
+def _index(node: list | tuple, key: str) -> int:
+    """Position of `key` in a list/tuple: an integer, x/y for a coordinate pair, or the `name` of a table."""
+    if key in _COORD and len(node) == 2 and all(isinstance(v, (int, float)) for v in node):
+        return _COORD[key]
+    try:
+        return int(key)
+    except ValueError:
+        for i, item in enumerate(node):
+            if isinstance(item, dict) and item.get("name") == key:
+                return i
+        raise KeyError(key) from None
+
+
 def _walk(data: Any, keys: list[str]) -> Any:
     node = data
     for key in keys:
-        node = node[int(key)] if isinstance(node, list) else node[key]
+        node = node[_index(node, key)] if isinstance(node, (list, tuple)) else node[key]
     return node
 
 
@@ -39,11 +58,19 @@ def target_error(data: dict, path: str) -> str | None:
 
 
 def set_target(data: dict, path: str, value: float) -> None:
-    """Set a plain (non-derived) target in place."""
+    """Set a plain (non-derived) target in place (a coordinate of a point tuple: the tuple is replaced)."""
     keys = path.split(".")
     parent = _walk(data, keys[:-1])
-    if isinstance(parent, list):
-        parent[int(keys[-1])] = value
+    if isinstance(parent, tuple):
+        items = list(parent)
+        items[_index(parent, keys[-1])] = value
+        grand = _walk(data, keys[:-2])
+        if isinstance(grand, list):
+            grand[_index(grand, keys[-2])] = tuple(items)
+        else:
+            grand[keys[-2]] = tuple(items)
+    elif isinstance(parent, list):
+        parent[_index(parent, keys[-1])] = value
     else:
         parent[keys[-1]] = value
 
