@@ -80,11 +80,16 @@ def _run_and_kill(cmd: list[str], out: Path, after_calls: int, limit_s: float = 
     return False
 
 
-def test_killed_and_resumed_study_equals_uninterrupted(quick_config, tmp_path):
-    reference = tmp_path / "reference"
+@pytest.fixture(scope="module")
+def expected(quick_config, tmp_path_factory) -> dict:
+    """The uninterrupted study (2 local workers): the reference of every interrupted run below."""
+    reference = tmp_path_factory.mktemp("reference")
     done = subprocess.run(_cmd(quick_config, reference), env=_env(), capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr[-2000:]
-    expected = json.loads((reference / "reliability.json").read_text())
+    return json.loads((reference / "reliability.json").read_text())
+
+
+def test_killed_and_resumed_study_equals_uninterrupted(quick_config, expected, tmp_path):
 
     out = tmp_path / "interrupted"
     killed = [_run_and_kill(_cmd(quick_config, out), out, after_calls=3)]
@@ -114,3 +119,43 @@ def test_resume_with_a_changed_config_is_refused(quick_config, tmp_path):
     assert res.returncode == 2
     assert "config changed" in res.stderr
     assert len([ln for ln in res.stderr.splitlines() if ln.strip()]) == 1
+
+
+@pytest.mark.timeout(600)
+def test_study_on_dask_survives_a_killed_worker(quick_config, expected, tmp_path):
+    """The whole study on a Dask cluster; a worker process busy with a wear history is killed with SIGKILL.
+    Its nanny restarts it, Dask re-runs the lost call elsewhere, and the study ends with the uninterrupted result:
+    no call lost, none stored twice."""
+    pytest.importorskip("distributed")
+    from distributed import Client
+
+    from jointwear.compute import start_local_cluster
+
+    out = tmp_path / "dask"
+    killed = {}
+    with start_local_cluster(n_workers=2, threads_per_worker=1, processes=True) as cluster, \
+            Client(cluster) as client:
+        cmd = _cmd(quick_config, out, "--scheduler", cluster.scheduler_address)
+        cmd.remove("--workers")
+        cmd.remove("2")
+        proc = subprocess.Popen(cmd, env=_env(), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        t0 = time.monotonic()
+        while proc.poll() is None and time.monotonic() - t0 < 300 and not killed:
+            if _stored_calls(out) >= 3:
+                busy = [w for w, tasks in client.processing().items() if tasks]
+                if busy:
+                    pid = client.run(os.getpid, workers=[busy[0]])[busy[0]]
+                    os.kill(pid, signal.SIGKILL)
+                    killed.update(pid=pid, calls=_stored_calls(out))
+            time.sleep(0.05)
+        _, err = proc.communicate(timeout=600)
+    assert killed, "the study finished before a worker could be killed"
+    assert proc.returncode == 0, err[-2000:]
+    got = json.loads((out / "reliability.json").read_text())
+    assert got["curve"]["reliability"] == expected["curve"]["reliability"]  # same calls, same numbers
+    assert got["model_calls"] == expected["model_calls"]
+    digest = config_hash(load_config(quick_config).model_dump(mode="json"))
+    with EvaluationStore.open(out, digest, resume=True) as store:
+        stats = store.stats()
+    assert stats.n_repeated == 0 and stats.n_failed == 0
+    assert stats.n_calls == expected["model_calls"]
