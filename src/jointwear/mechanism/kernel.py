@@ -206,6 +206,20 @@ def _slope_periodic(prof, k, side, n, ang):
     return (prof[k, side, i1] - prof[k, side, i0]) * n / (2.0 * math.pi)
 
 
+@njit(cache=True, inline="always", error_model="numpy")
+def contact_gradient(profiled, emag, hbp, hjp, nx, ny):
+    """grad_e(delta) = n + gt t of delta = |e| - c_loc(theta), gt = -(h_b' + h_j') / |e| (worn profiles; 0 for
+    round surfaces): its norm gn, direction (gx, gy), the unit tangent (tx, ty) = k x grad / gn and the tilt
+    atan(gt) of the contact normal from the centre line."""
+    if profiled and emag > 1e-15:
+        gt = -(hbp + hjp) / emag
+        gn = math.sqrt(1.0 + gt * gt)
+        gx = nx - gt * ny
+        gy = ny + gt * nx
+        return gn, gx, gy, -gy / gn, gx / gn, math.atan(gt)
+    return 1.0, nx, ny, -ny, nx, 0.0  # round surfaces: the gradient is n
+
+
 @njit(cache=True, error_model="numpy")
 def eval_contacts(nb, nd, cint, cpar, prof, ngrid, cstate, kin, f, cout):
     """Clearance-joint contact forces, added to the generalized forces f of free bodies."""
@@ -265,21 +279,7 @@ def eval_contacts(nb, nd, cint, cpar, prof, ngrid, cstate, kin, f, cout):
         # centre, the opposite on the bearing centre, torques -fs h' on bodies with worn profiles (zero
         # for circular surfaces). grad_e(delta) = n + gt t, gt = -(h_b' + h_j') / |e|.
         delta = emag - cloc
-        if cint[k, CI_PROF] != 0 and emag > 1e-15:
-            gt = -(hbp + hjp) / emag
-            gn = math.sqrt(1.0 + gt * gt)
-            gx = nx - gt * ny
-            gy = ny + gt * nx
-            tx = -gy / gn
-            ty = gx / gn
-            tilt = math.atan(gt)
-        else:  # round surfaces: the gradient is n
-            gn = 1.0
-            gx = nx
-            gy = ny
-            tx = -ny
-            ty = nx
-            tilt = 0.0
+        gn, gx, gy, tx, ty, tilt = contact_gradient(cint[k, CI_PROF] != 0, emag, hbp, hjp, nx, ny)
         vn = rvx * gx + rvy * gy + hbp * wb + hjp * wj  # d(delta)/dt
         vt = rvx * tx + rvy * ty + wj * rjl - wb * rbl
         fn = 0.0
@@ -670,21 +670,7 @@ def rhs_fourbar(t, Y, yrow, dy, row, dpar, fp, cint, cpar, prof, ngrid, cstate, 
     cloc = rbl - rjl
     # same potential-consistent normal force as eval_contacts (see there)
     delta = emag - cloc
-    if cint[k, CI_PROF] != 0 and emag > 1e-15:
-        gt = -(hbp + hjp) / emag
-        gn = math.sqrt(1.0 + gt * gt)
-        gx = nx - gt * ny
-        gy = ny + gt * nx
-        tx = -gy / gn
-        ty = gx / gn
-        tilt = math.atan(gt)
-    else:  # round surfaces: the gradient is n
-        gn = 1.0
-        gx = nx
-        gy = ny
-        tx = -ny
-        ty = nx
-        tilt = 0.0
+    gn, gx, gy, tx, ty, tilt = contact_gradient(cint[k, CI_PROF] != 0, emag, hbp, hjp, nx, ny)
     vn = rvx * gx + rvy * gy + hbp * wb + hjp * wj
     vt = rvx * tx + rvy * ty + wj * rjl - wb * rbl
     fn = 0.0
