@@ -8,9 +8,11 @@ Everything else goes through the general Cartesian kernel.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from jointwear.mechanism import kernel as K
 from jointwear.mechanism.model import GROUND, MechanismModel
@@ -149,13 +151,35 @@ def to_cartesian(model: MechanismModel, lay: FastLayout, Y: np.ndarray, Ydd: np.
     return q, qd, qdd
 
 
+@njit(cache=True, nogil=True)
+def _unwrapped_direction(Y, from_a, cx, cy, out):
+    """Angle of B - P over the steps (P = A = Y[:, 0:2], or the fixed point (cx, cy)), unwrapped as np.unwrap
+    (jumps larger than pi in magnitude are taken modulo 2 pi) in one pass."""
+    two_pi = 2.0 * math.pi
+    off = 0.0
+    prev = 0.0
+    for i in range(Y.shape[0]):
+        px = Y[i, 0] if from_a else cx
+        py = Y[i, 1] if from_a else cy
+        a = math.atan2(Y[i, 3] - py, Y[i, 2] - px) + off
+        if i > 0:
+            while a - prev > math.pi:
+                a -= two_pi
+                off -= two_pi
+            while a - prev < -math.pi:
+                a += two_pi
+                off += two_pi
+        out[i] = a
+        prev = a
+
+
 def natural_angles(lay: FastLayout, Y: np.ndarray, phi_ref: dict[str, float] | None = None) -> dict[str, np.ndarray]:
     """Unwrapped angles of rod and rocker from (steps, 8) natural states (cheap; no velocities)."""
-    Y = np.atleast_2d(Y)
+    Y = np.ascontiguousarray(np.atleast_2d(Y), dtype=float)
     out = {}
-    for name, P in ((lay.rod, Y[:, 0:2]), (lay.rocker, np.asarray(lay.c_point)[None, :])):
-        d = Y[:, 2:4] - P
-        phi = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
+    for name, from_a in ((lay.rod, True), (lay.rocker, False)):
+        phi = np.empty(Y.shape[0])
+        _unwrapped_direction(Y, from_a, float(lay.c_point[0]), float(lay.c_point[1]), phi)
         if phi_ref is not None and name in phi_ref:
             phi += 2 * np.pi * np.round((phi_ref[name] - phi[0]) / (2 * np.pi))
         out[name] = phi
