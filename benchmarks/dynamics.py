@@ -71,6 +71,21 @@ def main() -> None:
         "contact_fraction": tr.contact_fraction,
         "impacts_per_cycle": tr.n_impacts,
     }
+    # the experimental implicit option (simulation.method = "radau5") on the same cycle, rtol 1e-5
+    import dataclasses
+
+    rad = dataclasses.replace(model, settings=dataclasses.replace(model.settings, method="radau5"))
+    simulate(rad, 0.05, settle_cycles=0, state0=state, rtol=1e-5, atol=1e-8)  # compile
+    rwalls, rsteps = [], []
+    for _ in range(max(1, args.repeats // 2)):
+        rr = simulate(rad, 1, settle_cycles=0, state0=state, rtol=1e-5, atol=1e-8)
+        rwalls.append(rr.wall_seconds)
+        rsteps.append(rr.n_recorded_steps)
+    rtr = rr.joints[0]
+    out["radau5_rtol_1e-5"] = {"wall_seconds_per_cycle_median": statistics.median(rwalls),
+                               "steps_per_cycle": statistics.median(rsteps), "rejected_steps": rr.n_rejected,
+                               "contact_force_mean_N": rtr.mean_force, "impacts_per_cycle": rtr.n_impacts,
+                               "ratio_to_dopri5": statistics.median(rwalls) / statistics.median(walls)}
     if not args.no_scipy:
         from scipy.integrate import solve_ivp
 

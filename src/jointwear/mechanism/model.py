@@ -122,6 +122,7 @@ class IntegratorSettings:
     baumgarte_beta: float = 100.0
     settle_cycles: int = 3
     max_steps: int = 50_000_000
+    method: str = "dopri5"  # "dopri5" (explicit, default) or "radau5" (implicit, jointwear.mechanism.radau)
 
 
 @dataclass
@@ -783,7 +784,7 @@ def build_model(config: StudyConfig) -> MechanismModel:
     settings = IntegratorSettings(rtol=s.rtol, atol=s.atol, max_step=s.max_step,
                                   clearance_step_fraction=s.clearance_step_fraction,
                                   baumgarte_alpha=s.baumgarte_alpha, baumgarte_beta=s.baumgarte_beta,
-                                  settle_cycles=s.settle_cycles, max_steps=s.max_steps)
+                                  settle_cycles=s.settle_cycles, max_steps=s.max_steps, method=s.method)
     return MechanismModel(bodies=bodies, joints=joints, clearance_joints=cjs, ground_points=gpoints,
                           gravity=tuple(mcfg.gravity), settings=settings, guess=guess, name=config.name,
                           length_ref=lref, period_override=period)

@@ -284,6 +284,7 @@ class _Runner:
         self.rtol = rtol
         self.ks = np.zeros((7, self.ny))
         self.ytmp = np.zeros((6, self.ny))
+        self._radau_work = None
 
     def to_internal(self, y_cart: np.ndarray) -> np.ndarray:
         if self.mode == 0:
@@ -322,10 +323,16 @@ class _Runner:
 
     def run(self, t, y, t_end, h, hmax, t_record, rec, max_steps, counters):
         s = self.model.settings
-        t, h = K.integrate(self.mode, t, y, t_end, h, self.rtol, self.atolv, hmax, s.clearance_step_fraction,
-                           max_steps, t_record, *self._args(), self.ks, self.ytmp, rec["rec_t"], rec["rec_h"],
-                           rec["rec_y"], rec["rec_acc"], rec["rec_lam"], rec["rec_c"], counters)
-        return t, h
+        args = (self.mode, t, y, t_end, h, self.rtol, self.atolv, hmax, s.clearance_step_fraction, max_steps,
+                t_record, *self._args(), self.ks, self.ytmp, rec["rec_t"], rec["rec_h"], rec["rec_y"],
+                rec["rec_acc"], rec["rec_lam"], rec["rec_c"], counters)
+        if getattr(s, "method", "dopri5") == "radau5":
+            from jointwear.mechanism import radau
+
+            if self._radau_work is None:
+                self._radau_work = radau.work_arrays(self.ny)
+            return radau.integrate_radau(*args, *self._radau_work)
+        return K.integrate(*args)
 
 
 def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeometry] | None = None,
