@@ -7,7 +7,9 @@ physics of the rtol 1e-6 explicit solution at rtol 1e-4 (scipy's Radau: 2,421 st
 Algorithm: Hairer & Wanner, Solving ODEs II, Section IV.8 (RADAU5), as implemented by
 ``scipy.integrate.Radau`` (whose constants are imported): simplified Newton iterations on the transformed
 collocation system with one real and one complex LU of the iteration matrices, a finite-difference Jacobian
-refreshed when the Newton iterations converge slowly (rate > 1e-3 after more than 2 iterations), the embedded
+refreshed when the Newton iterations converge slowly (rate > 1e-3 after more than 2 iterations), up to 10 Newton
+iterations given up only when the contraction rate exceeds 0.9 (scipy's predictive give-up after at most 6 made
+every rejection of this contact problem a Newton failure: 2,900 per cycle at rtol 1e-4, against 1,055), the embedded
 error estimate (I - h gamma0 J)^-1 (f0 + Z^T E / h) (re-estimated once after a rejection), Gustafsson's
 predictive step control, and the step size kept (LU reused) when it would grow by less than 20 %.
 
@@ -49,7 +51,7 @@ RTI = np.array(_TI, dtype=float)
 RP = np.array(_P, dtype=float)
 MU_R = float(_MU_REAL)
 MU_C = complex(_MU_COMPLEX)
-NEWTON_MAXITER = 6
+NEWTON_MAXITER = 10  # scipy: 6 with a predictive give-up; the contact needs more iterations (docs/dynamics.md)
 MIN_FACTOR = 0.2
 MAX_FACTOR = 10.0
 
@@ -277,7 +279,7 @@ def integrate_radau(mode, t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_ste
             dw = math.sqrt(dw / (3 * ny))
             if dw_old >= 0.0:
                 rate = dw / dw_old
-            if rate >= 0.0 and (rate >= 1.0 or rate ** (NEWTON_MAXITER - it) / (1.0 - rate) * dw > newton_tol):
+            if rate >= 0.9:  # diverging or stalled (scipy also gives up when the predicted error misses newton_tol)
                 break
             for i in range(ny):
                 W[0, i] += vec[i]
