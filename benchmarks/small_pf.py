@@ -45,7 +45,13 @@ def main(argv=None) -> int:
     ap.add_argument("--seeds", type=int, default=8)
     ap.add_argument("--out", default=str(OUT))
     a = ap.parse_args(argv)
-    from jointwear.reliability import akis, form, importance_sampling, sorm, subset_simulation
+    from jointwear.reliability import (
+        akis,
+        form,
+        importance_sampling,
+        sorm,
+        subset_simulation,
+    )
 
     out = {"machine": {"python": sys.version.split()[0], "platform": platform.platform(), "cpus": os.cpu_count()},
            "date_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "seeds": a.seeds, "problems": {}}

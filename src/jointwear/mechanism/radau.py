@@ -23,13 +23,13 @@ import math
 
 import numpy as np
 from numba import njit
-from scipy.integrate._ivp.radau import C as _C
-from scipy.integrate._ivp.radau import E as _E
 from scipy.integrate._ivp.radau import MU_COMPLEX as _MU_COMPLEX
 from scipy.integrate._ivp.radau import MU_REAL as _MU_REAL
+from scipy.integrate._ivp.radau import TI as _TI
+from scipy.integrate._ivp.radau import C as _C
+from scipy.integrate._ivp.radau import E as _E
 from scipy.integrate._ivp.radau import P as _P
 from scipy.integrate._ivp.radau import T as _T
-from scipy.integrate._ivp.radau import TI as _TI
 
 from jointwear.mechanism.kernel import (
     C_V0MIN,
