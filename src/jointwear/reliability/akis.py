@@ -43,18 +43,9 @@ from ._core import (
 )
 from .akmcs import _select_batch
 from .kriging import KrigingSurrogate
-from .methods import form
+from .methods import form, is_estimate, is_weights
 
 __all__ = ["akis"]
-
-
-def _is_estimate(fail: np.ndarray, w: np.ndarray) -> tuple[float, float]:
-    """Importance-sampling estimate and its coefficient of variation."""
-    q = np.where(fail, w, 0.0)
-    pf = float(q.mean())
-    if pf <= 0.0:
-        return 0.0, math.inf
-    return pf, float(q.std(ddof=1) / (math.sqrt(q.size) * pf))
 
 
 def _thin(u: np.ndarray, g: np.ndarray, min_distance: float) -> tuple[np.ndarray, np.ndarray]:
@@ -152,11 +143,8 @@ def akis(
         design_g = np.concatenate([design_g, new_g])
     n_own = n_lhs  # calls made by AK-IS itself (FORM's are counted separately)
 
-    def weights(u: np.ndarray) -> np.ndarray:
-        return np.exp(-u @ ustar + 0.5 * float(ustar @ ustar))  # phi(u) / phi(u - u*)
-
     u_pop = ustar[None, :] + rng.standard_normal((n_is, d))
-    w_pop = weights(u_pop)
+    w_pop = is_weights(u_pop, ustar)
     known = np.zeros(n_is, dtype=bool)
     known_g = np.full(n_is, np.nan)
     surrogate = KrigingSurrogate(seed=None if seed is None else int(seed), **dict(kriging or {}))
@@ -183,7 +171,7 @@ def akis(
         fail = mu < 0
         U[known] = np.inf
         fail[known] = ~(known_g[known] >= 0)  # NaN -> failure (conservative)
-        pf, cov = _is_estimate(fail, w_pop)
+        pf, cov = is_estimate(fail, w_pop)
         min_u = float(U.min())
         rec = IterationRecord(iteration=iteration, n_calls=n_form + n_own, n_mc=int(u_pop.shape[0]), pf=pf, cov=cov,
                               min_u=min_u, error=float("nan"), wall_seconds=time.perf_counter() - t_start)
@@ -207,7 +195,7 @@ def akis(
             new_n = int(min(n_is_max, max(1.1 * target, 1.2 * n_pop)))
             extra = ustar[None, :] + rng.standard_normal((new_n - n_pop, d))
             u_pop = np.vstack([u_pop, extra])
-            w_pop = np.concatenate([w_pop, weights(extra)])
+            w_pop = np.concatenate([w_pop, is_weights(extra, ustar)])
             known = np.concatenate([known, np.zeros(extra.shape[0], dtype=bool)])
             known_g = np.concatenate([known_g, np.full(extra.shape[0], np.nan)])
             continue

@@ -61,6 +61,20 @@ def _common(ev, transform, t0, keep=True):
     return out
 
 
+def is_weights(u: np.ndarray, ustar: np.ndarray) -> np.ndarray:
+    """Importance weights phi(u) / phi(u - u*) of a unit normal density centred at u*."""
+    return np.exp(-u @ ustar + 0.5 * float(ustar @ ustar))
+
+
+def is_estimate(fail: np.ndarray, w: np.ndarray) -> tuple[float, float]:
+    """Importance-sampling estimate mean(w I[fail]) and its coefficient of variation (inf when it is 0)."""
+    q = np.where(fail, w, 0.0)
+    pf = float(q.mean())
+    if pf <= 0.0:
+        return 0.0, math.inf
+    return pf, float(q.std(ddof=1) / (math.sqrt(q.size) * pf))
+
+
 # ------------------------------------------------------------------------------------------ Monte Carlo
 def monte_carlo(
     g: Callable[[np.ndarray], np.ndarray],
@@ -420,10 +434,7 @@ def importance_sampling(
     u = ustar[None, :] + rng.standard_normal((n, d))
     gv = _g_u(ev, transform, u)
     _first_batch_check(gv, ev, d)
-    w = np.exp(-u @ ustar + 0.5 * ustar @ ustar)  # phi(u) / phi(u - u*)
-    q = _failed(gv) * w
-    pf = float(q.mean())
-    cov = float(q.std(ddof=1) / (math.sqrt(n) * pf)) if pf > 0 else math.inf
+    pf, cov = is_estimate(_failed(gv), is_weights(u, ustar))
     common = _common(ev, transform, t0)
     common["n_calls"] += form_result.n_calls
     return ReliabilityResult(method="importance_sampling", pf=pf, cov=cov, beta=pf_to_beta(pf), converged=pf > 0,
