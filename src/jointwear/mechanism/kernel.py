@@ -34,6 +34,14 @@ from jointwear.contact.laws import contact_stiffness, friction_coefficient, norm
 # step). About 5 % per cycle (same-process A/B); results change only at rounding level.
 FASTMATH = {"nsz", "arcp", "contract", "reassoc"}
 
+# The step loops compile without numba's reference counting (NRT): they allocate nothing, and with NRT every
+# inlined right-hand side increfs and decrefs each of its ~12 array arguments (an atomic operation through a
+# function pointer, ~24 per evaluation) that LLVM's refcount pruning does not remove. That was ~70 % of an
+# evaluation: 195-260 ns with NRT, 63 ns without, the same instructions otherwise (bit-identical results;
+# benchmarks/dynamics_limits.py). `_nrt` is numba's flag for this (numba.core.options); such a kernel may not
+# create or return arrays.
+STEP_LOOP_NRT = False
+
 # joint types
 REVOLUTE = 0
 PRISMATIC = 1
@@ -55,12 +63,12 @@ NCOUT = 15
 S_V0, S_INC = 0, 1
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=STEP_LOOP_NRT)
 def _row(b, nb, nd):
     return b if b >= 0 else nb + nd
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=STEP_LOOP_NRT)
 def fill_kinematics(t, y, nb, dpar, kin):
     """Fill the kinematics table for free bodies (from y), driven bodies (closed form) and ground."""
     nd = dpar.shape[0]
@@ -103,7 +111,7 @@ def fill_kinematics(t, y, nb, dpar, kin):
     kin[g, K_C] = 1.0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=STEP_LOOP_NRT)
 def eval_constraints(nb, nd, jint, jpar, kin, phi_, phid, rest, jac):
     """Constraint values Phi, their rates Phidot, the acceleration remainder `rest` (Phi'' evaluated
     with free-body accelerations set to zero, so gamma = -rest) and the Jacobian J wrt free coordinates."""
@@ -181,7 +189,7 @@ def eval_constraints(nb, nd, jint, jpar, kin, phi_, phid, rest, jac):
                 jac[r + 1, 3 * bj + 2] += nx * (-ajy) + ny * ajx
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=STEP_LOOP_NRT)
 def _interp_periodic(prof, k, side, n, ang):
     """Linear periodic interpolation of prof[k, side, 0:n] given at angles 2 pi k / n."""
     u = ang / (2.0 * math.pi)
@@ -197,7 +205,7 @@ def _interp_periodic(prof, k, side, n, ang):
     return prof[k, side, i0] * (1.0 - fr) + prof[k, side, i1] * fr
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=STEP_LOOP_NRT)
 def _slope_periodic(prof, k, side, n, ang):
     """d/d(angle) of the linear periodic interpolation of prof[k, side, 0:n] (per radian)."""
     u = ang / (2.0 * math.pi)
@@ -211,7 +219,7 @@ def _slope_periodic(prof, k, side, n, ang):
     return (prof[k, side, i1] - prof[k, side, i0]) * n / (2.0 * math.pi)
 
 
-@njit(cache=True, inline="always", error_model="numpy", fastmath=FASTMATH)
+@njit(cache=True, inline="always", error_model="numpy", fastmath=FASTMATH, _nrt=STEP_LOOP_NRT)
 def contact_gradient(profiled, emag, hbp, hjp, nx, ny):
     """grad_e(delta) = n + gt t of delta = |e| - c_loc(theta), gt = -(h_b' + h_j') / |e| (worn profiles; 0 for
     round surfaces): its norm gn, direction (gx, gy), the unit tangent (tx, ty) = k x grad / gn and the tilt
@@ -225,7 +233,7 @@ def contact_gradient(profiled, emag, hbp, hjp, nx, ny):
     return 1.0, nx, ny, -ny, nx, 0.0  # round surfaces: the gradient is n
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=STEP_LOOP_NRT)
 def eval_contacts(nb, nd, cint, cpar, prof, ngrid, cstate, kin, f, cout):
     """Clearance-joint contact forces, added to the generalized forces f of free bodies."""
     ncj = cint.shape[0]
@@ -326,7 +334,7 @@ def eval_contacts(nb, nd, cint, cpar, prof, ngrid, cstate, kin, f, cout):
         cout[k, O_TILT] = tilt
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=STEP_LOOP_NRT)
 def rhs(t, y, dy, row, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
         kin, phi_, phid, rest, jac, smat, lam, f, cout):
     """dy[row] = (qd, qdd) for the state y = (q, qd) of the free bodies; also fills lam and cout.
@@ -410,7 +418,7 @@ DP_E = np.array([71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 /
                  -1.0 / 40.0])
 
 
-@njit(cache=True, nogil=True, error_model="numpy", fastmath=FASTMATH)
+@njit(cache=True, nogil=True, error_model="numpy", fastmath=FASTMATH, _nrt=STEP_LOOP_NRT)
 def integrate(mode, t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_steps, t_record,
               nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
               kin, phi_, phid, rest, jac, smat, lam, f, cout, ks, ytmp,
@@ -576,7 +584,7 @@ FP_L2, FP_L3, FP_CX, FP_CY, FP_P, FP_R, FP_S, FP_QAX, FP_QAY, FP_QBX, FP_QBY, FP
 NFP = 16
 
 
-@njit(cache=True, inline="always", error_model="numpy", fastmath=FASTMATH)
+@njit(cache=True, inline="always", error_model="numpy", fastmath=FASTMATH, _nrt=STEP_LOOP_NRT)
 def rhs_fourbar(t, Y, yrow, dy, row, dpar, fp, cint, cpar, prof, ngrid, cstate, baum, lam, cout):
     """dy[row] for the state Y[yrow] = (A, B, Adot, Bdot) of the natural-coordinate four-bar (see notes)."""
     ax, ay, bx, by = Y[yrow, 0], Y[yrow, 1], Y[yrow, 2], Y[yrow, 3]

@@ -35,6 +35,7 @@ from scipy.integrate._ivp.radau import P as _P
 from scipy.integrate._ivp.radau import T as _T
 
 from jointwear.mechanism.kernel import (
+    STEP_LOOP_NRT,
     C_V0MIN,
     NCOUT,
     O_CLOC,
@@ -66,7 +67,7 @@ def work_arrays(ny: int) -> tuple:
             np.zeros(ny), np.zeros(ny), np.zeros(ny, dtype=np.complex128), np.zeros((3, ny)))
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, inline="always", error_model="numpy", _nrt=STEP_LOOP_NRT)
 def _f(mode, ts, Y, yrow, dst, drow, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
        kin, phi_, phid, rest, jac, smat, lam, f, cout):
     if mode == 0:
@@ -76,7 +77,7 @@ def _f(mode, ts, Y, yrow, dst, drow, nb, winv, fext, dpar, jint, jpar, cint, cpa
         rhs_fourbar(ts, Y, yrow, dst, drow, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=STEP_LOOP_NRT)
 def _lu_factor(a, piv):
     """In-place LU with partial pivoting (real or complex); False if singular."""
     n = a.shape[0]
@@ -105,7 +106,7 @@ def _lu_factor(a, piv):
     return True
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=STEP_LOOP_NRT)
 def _lu_solve(a, piv, b):
     """Solve in place with the factors of _lu_factor."""
     n = a.shape[0]
@@ -127,7 +128,7 @@ def _lu_solve(a, piv, b):
         b[i] = s / a[i, i]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=STEP_LOOP_NRT)
 def _rms(v, scale):
     s = 0.0
     for i in range(v.shape[0]):
@@ -136,7 +137,7 @@ def _rms(v, scale):
     return math.sqrt(s / v.shape[0])
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", _nrt=STEP_LOOP_NRT)
 def integrate_radau(mode, t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_steps, t_record,
                     nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
                     kin, phi_, phid, rest, jac, smat, lam, f, cout, ks, ytmp6,
