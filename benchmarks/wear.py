@@ -2,6 +2,7 @@
 
     python benchmarks/wear.py                 # everything (timing, literal method, convergence, reproduction)
     python benchmarks/wear.py --only timing   # timing | literal | convergence | reproduction (comma separated)
+    python benchmarks/wear.py --only profile_convergence   # profile mode's own study (~10 min; not in the default)
 
 Sections
 - timing: wall time of one whole wear history to 520k cycles (flapping-wing preset, default settings: 2 lanes), median
@@ -14,6 +15,10 @@ Sections
   instead of two (the lanes' lag of the geometry update).
 - reproduction: both assembly branches x both geometry modes at 400k cycles (paper: 0.0249 mm at 110 deg, second
   peak 0.0087 mm at 310 deg).
+- profile_convergence (only with --only, long: about 10 minutes on 2 cores): profile mode (geometry_mode = "profile")
+  at 400k cycles, baseline vs n_grid doubled, block halved, rtol/atol halved, profile_smoothing_deg 6 and 1.5; each
+  the mean of a few replicates. Besides the max it reports the worn area (the Archard volume / width, smooth), the
+  max of the profile smoothed at 5 deg, and the L2 distance of the mean profiles from the baseline's.
 """
 
 from __future__ import annotations
@@ -33,6 +38,9 @@ import numpy as np
 from jointwear.config import load_config
 from jointwear.mechanism import build_model, simulate
 from jointwear.wear import WearSettings, wear_history
+from jointwear.wear.angles import report_angle_deg
+from jointwear.wear.history import find_peaks_periodic
+from jointwear.wear.kernels import smooth_periodic, worn_area
 
 OUT = Path(__file__).resolve().parent / "results" / "wear.json"
 MM = 1e3
@@ -207,6 +215,161 @@ def bench_convergence(replicates: int = 8) -> dict:
     return out
 
 
+def _to_grid(profile: np.ndarray, n: int) -> np.ndarray:
+    """Cell averages of a cell-average profile on a grid of n cells (cells centred at 2 pi k / n), for a profile on
+    a grid of 2n cells: cell m of n covers half of fine cell 2m and a quarter of 2m - 1 and 2m + 1 (exact)."""
+    p = np.asarray(profile, dtype=float)
+    if p.size == n:
+        return p
+    if p.size != 2 * n:
+        raise ValueError(f"cannot map a grid of {p.size} cells onto {n}")
+    return 0.5 * p[0::2] + 0.25 * p[1::2] + 0.25 * np.roll(p[1::2], 1)
+
+
+def _rel_change(v: np.ndarray, b: np.ndarray) -> tuple[float, float]:
+    """Relative change of the mean of v against the mean of b, and its standard error (both relative to mean b)."""
+    mb = float(b.mean())
+    se = math.sqrt(v.var(ddof=1) / v.size + b.var(ddof=1) / b.size) / mb if min(v.size, b.size) > 1 else float("nan")
+    return float(v.mean()) / mb - 1.0, se
+
+
+def _smoothed_shape(section: dict, smooth_deg: float = 5.0) -> dict:
+    """Shape of the mean bearing profiles at the scale of the crescent: every variant's stored 2-deg mean profile
+    ("mean_bearing_profile_mm_2deg_body_frame") smoothed by a periodic Gaussian of `smooth_deg`; its max, the report
+    angle of the max, the width (deg) over which it exceeds half its max, and its L2 distance from the baseline's
+    smoothed mean profile relative to the latter's norm. Derived from the stored profiles only (no per-run noise
+    floor: compare with the replicate scatter of smoothed_max_wear_mm)."""
+    psi = math.radians(section["reported_angles_at_rod_mean_orientation_deg"])
+    names = [k for k, v in section.items() if isinstance(v, dict) and "mean_bearing_profile_mm_2deg_body_frame" in v]
+    sm = {k: smooth_periodic(np.array(section[k]["mean_bearing_profile_mm_2deg_body_frame"]), smooth_deg)
+          for k in names}
+    n = len(sm["baseline"])
+    cell = 360.0 / section["baseline_settings"]["n_grid"]
+    ang = report_angle_deg(np.radians(np.arange(n) * 360.0 / n + 0.5 * (360.0 / n - cell)), psi)
+    b = sm["baseline"]
+    return {k: {"smoothed_mean_profile_max_mm": float(v.max()), "angle_deg": float(ang[int(np.argmax(v))]),
+                "width_above_half_max_deg": float(np.sum(v > 0.5 * v.max()) * 360.0 / n),
+                "rel_l2_distance_from_baseline": float(np.linalg.norm(v - b) / np.linalg.norm(b))}
+            for k, v in sm.items()} | {"sigma_deg": smooth_deg}
+
+
+def bench_profile_convergence(replicates: int = 3, n_cycles: int = 400_000, smooth_deg: float = 5.0) -> dict:
+    """Profile mode (geometry_mode = "profile") at 400k cycles: baseline vs each refinement / smoothing length.
+
+    As `bench_convergence`, each variant is the mean of `replicates` runs that differ only in the length of the initial
+    settling (+0.05 cycle each); the runs are interleaved (replicate outer, variant inner) so that a change of the
+    machine's load hits every variant alike. Per run: max bearing wear and its angle, journal max, the worn area of
+    bearing and journal (integral of the profile, = Archard volume / width: the smooth measure), the max of the
+    profile smoothed by a Gaussian of `smooth_deg` (the depth of the crescent without its grid-scale waviness), wall
+    time and integrator steps. Per variant: mean, std, relative change of the mean with its standard error, and the
+    L2 distance between the variant's and the baseline's mean bearing profiles (body frame; the 1440-cell grid is
+    averaged onto 720 cells exactly) relative to the baseline's L2 norm, next to the distance that the replicate
+    scatter alone gives (noise floor: sqrt(sum_k var_v,k / n_v + var_b,k / n_b) / |mean_b|); the same distance and
+    the max, angle and width of the mean profiles after smoothing by `smooth_deg` ("mean_profile_shape_smoothed").
+    """
+    cfg = config_for(-1)
+    model = build_model(cfg)
+    s = base_settings(cfg).model_copy(update={"geometry_mode": "profile"})
+    rtol = s.rtol if s.rtol is not None else cfg.simulation.rtol
+    atol = s.atol if s.atol is not None else cfg.simulation.atol
+    settle0 = s.settle_cycles_initial if s.settle_cycles_initial is not None else cfg.simulation.settle_cycles
+    variants = {
+        "baseline": {},
+        "grid_halved": {"n_grid": 2 * s.n_grid},
+        "block_halved": {"block_cycles": max(1, s.block_cycles // 2)},
+        "tolerance_halved": {"rtol": rtol / 2, "atol": atol / 2},
+        "smoothing_6deg": {"profile_smoothing_deg": 2.0 * s.profile_smoothing_deg},
+        "smoothing_1.5deg": {"profile_smoothing_deg": 0.5 * s.profile_smoothing_deg},
+    }
+    n0 = s.n_grid
+    load0 = os.getloadavg()
+    t_start = time.perf_counter()
+    wear_history(model, s, 2 * s.block_cycles)  # warm-up: compiles the dynamics and the wear kernels
+    runs = {k: [] for k in variants}
+    prof_b = {k: [] for k in variants}
+    prof_j = {k: [] for k in variants}
+    for r in range(replicates):
+        for name, upd in variants.items():
+            v = s.model_copy(update={**upd, "settle_cycles_initial": settle0 + 0.05 * r})
+            res = wear_history(model, v, n_cycles)
+            j = res.joints[0]
+            rec = summary(res, n_cycles)
+            rec["bearing_worn_area_mm2"] = worn_area(j.bearing_wear, j.bearing_radius) * MM**2
+            rec["journal_worn_area_mm2"] = worn_area(j.journal_wear, j.journal_radius) * MM**2
+            rec["smoothed_max_wear_mm"] = float(smooth_periodic(j.bearing_wear, smooth_deg).max() * MM)
+            rec["n_steps"] = res.n_steps
+            runs[name].append(rec)
+            prof_b[name].append(_to_grid(j.bearing_wear, n0) * MM)
+            prof_j[name].append(_to_grid(j.journal_wear, n0) * MM)
+            print(f"profile_convergence {name} replicate {r}: max {rec['max_wear_mm']:.5f} mm at "
+                  f"{rec['max_wear_angle_deg']:.1f} deg, area {rec['bearing_worn_area_mm2']:.4e} mm2, "
+                  f"{rec['wall_seconds']:.1f} s, load {os.getloadavg()[0]:.2f}", file=sys.stderr, flush=True)
+    theta = 2.0 * math.pi * np.arange(n0) / n0
+    psi = float(np.mean([math.radians(x["rod_mean_orientation_deg"]) for x in runs["baseline"]]))
+    ang = report_angle_deg(theta, psi)
+    metrics = ("max_wear_mm", "smoothed_max_wear_mm", "bearing_worn_area_mm2", "journal_max_wear_mm",
+               "journal_worn_area_mm2")
+    base = {m: np.array([x[m] for x in runs["baseline"]]) for m in metrics}
+    Pb = {"bearing": np.array(prof_b["baseline"]), "journal": np.array(prof_j["baseline"])}
+    out = {}
+    for name, upd in variants.items():
+        rs = runs[name]
+        rec = {"settings_changed": upd}
+        for m in metrics:
+            vals = np.array([x[m] for x in rs])
+            chg, se = _rel_change(vals, base[m])
+            rec[m] = {"runs": vals.tolist(), "mean": float(vals.mean()),
+                      "std": float(vals.std(ddof=1)) if vals.size > 1 else 0.0,
+                      "scatter_rel": float(vals.std(ddof=1) / vals.mean()) if vals.size > 1 else 0.0,
+                      "rel_change_of_mean": chg, "rel_change_standard_error": se}
+        rec["max_wear_angle_deg_runs"] = [x["max_wear_angle_deg"] for x in rs]
+        rec["peaks_runs"] = [x["peaks"][:3] for x in rs]
+        for body, profs in (("bearing", prof_b), ("journal", prof_j)):
+            P = np.array(profs[name])
+            mean_v, mean_b = P.mean(axis=0), Pb[body].mean(axis=0)
+            nb = float(np.linalg.norm(mean_b))
+            floor2 = float(np.sum(P.var(axis=0, ddof=1) / P.shape[0]
+                                  + Pb[body].var(axis=0, ddof=1) / Pb[body].shape[0]))
+            d = float(np.linalg.norm(mean_v - mean_b))
+            rec[f"{body}_profile_l2"] = {
+                "rel_distance_of_means": d / nb,
+                "rel_noise_floor": math.sqrt(floor2) / nb,
+                # d^2 - floor^2 estimates the squared systematic distance (0 when the noise explains it all)
+                "rel_systematic_estimate": math.sqrt(max(0.0, d * d - floor2)) / nb,
+                "single_run_rel_scatter": float(np.mean([np.linalg.norm(p - mean_v) for p in P]) / nb),
+            }
+        mean_v = np.array(prof_b[name]).mean(axis=0)
+        pk = find_peaks_periodic(mean_v, s.peak_prominence, s.peak_separation_deg)
+        rec["mean_profile_peaks"] = [{"angle_deg": round(float(ang[k]), 2), "depth_mm": float(mean_v[k])}
+                                     for k in pk[:4]]
+        rec["mean_profile_max_mm"] = float(mean_v.max())
+        rec["mean_profile_max_angle_deg"] = float(ang[int(np.argmax(mean_v))])
+        rec["mean_profile_min_mm"] = float(mean_v.min())
+        # the mean bearing profile (mm) averaged over groups of cells 2 deg long, body frame (first group: the
+        # cells centred at 0 .. 2 deg - one cell), for plots
+        if n0 % 180 == 0:
+            rec["mean_bearing_profile_mm_2deg_body_frame"] = [round(float(x), 7)
+                                                              for x in mean_v.reshape(180, -1).mean(axis=1)]
+        rec["wall_seconds_runs"] = [x["wall_seconds"] for x in rs]
+        rec["wall_seconds_mean"] = float(np.mean(rec["wall_seconds_runs"]))
+        rec["n_steps_runs"] = [x["n_steps"] for x in rs]
+        rec["n_blocks"] = rs[0]["n_blocks"]
+        out[name] = rec
+    out["replicates"] = replicates
+    out["cycles"] = n_cycles
+    out["smoothed_max_sigma_deg"] = smooth_deg
+    out["branch"] = -1
+    out["baseline_settings"] = s.model_dump(mode="json")
+    out["integrator_baseline"] = {"rtol": rtol, "atol": atol}
+    out["reported_angles_at_rod_mean_orientation_deg"] = math.degrees(psi)
+    out["machine"] = {"python": sys.version.split()[0], "platform": platform.platform(), "cpus": os.cpu_count(),
+                      "load_average_at_start": load0, "load_average_at_end": os.getloadavg()}
+    out["date_utc"] = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
+    out["section_wall_seconds"] = time.perf_counter() - t_start
+    out["mean_profile_shape_smoothed"] = _smoothed_shape(out, smooth_deg)
+    return out
+
+
 def bench_reproduction(profile_cycles: int = 20_000) -> dict:
     """Both branches, uniform mode to 400k cycles; profile mode only to `profile_cycles` (see docs/wear.md: the
     dynamics' profile contact needs 10^5-10^6 steps per cycle once the profile is non-uniform)."""
@@ -232,10 +395,12 @@ def main(argv=None) -> int:
     a = ap.parse_args(argv)
     out_path = Path(a.out)
     data = json.loads(out_path.read_text()) if out_path.exists() else {}
-    data["machine"] = {"python": sys.version.split()[0], "platform": platform.platform(), "cpus": os.cpu_count(),
-                       "load_average_at_start": os.getloadavg()}
-    data["date_utc"] = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
-    for sec in a.only.split(","):
+    sections = a.only.split(",")
+    if any(sec != "profile_convergence" for sec in sections):  # profile_convergence records its own machine/date
+        data["machine"] = {"python": sys.version.split()[0], "platform": platform.platform(),
+                           "cpus": os.cpu_count(), "load_average_at_start": os.getloadavg()}
+        data["date_utc"] = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
+    for sec in sections:
         t0 = time.perf_counter()
         if sec == "timing":
             data["timing"] = bench_timing(a.repeats)
@@ -245,6 +410,8 @@ def main(argv=None) -> int:
             data["convergence"] = bench_convergence()
         elif sec == "reproduction":
             data["reproduction"] = bench_reproduction()
+        elif sec == "profile_convergence":
+            data["profile_convergence"] = bench_profile_convergence()
         else:
             raise SystemExit(f"unknown section {sec!r}")
         print(f"{sec}: {time.perf_counter() - t0:.1f} s", file=sys.stderr)
