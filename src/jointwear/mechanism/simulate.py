@@ -10,7 +10,7 @@ import numpy as np
 
 from jointwear.contact.geometry import ClearanceGeometry
 from jointwear.mechanism import kernel as K
-from jointwear.mechanism.fast import natural_angles
+from jointwear.mechanism.fast import natural_angles, to_cartesian_point
 from jointwear.mechanism.model import MechanismModel
 
 TWO_PI = 2.0 * math.pi
@@ -49,7 +49,7 @@ class ContactTrace:
     penetration: np.ndarray
     penetration_rate: np.ndarray
     in_contact: np.ndarray
-    eccentricity: np.ndarray  # (steps, 2), bearing frame
+    eccentricity_global: np.ndarray  # (steps, 2): e = journal centre - bearing centre, global frame
     bearing_body_angle: np.ndarray
     journal_body_angle: np.ndarray
     stiffness: np.ndarray  # K used at each sample (N/m^1.5)
@@ -67,6 +67,13 @@ class ContactTrace:
     k_journal: float
     H_journal: float
     bearing_outer_radius: float | None = None
+
+    @property
+    def eccentricity(self) -> np.ndarray:
+        """(steps, 2): e in the bearing body's frame (computed on access: two trigonometric calls per step)."""
+        cb, sb = np.cos(self.bearing_body_angle), np.sin(self.bearing_body_angle)
+        ex, ey = self.eccentricity_global[:, 0], self.eccentricity_global[:, 1]
+        return np.column_stack([cb * ex + sb * ey, -sb * ex + cb * ey])
 
     @property
     def duration(self) -> float:
@@ -427,8 +434,12 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
 
         def cart():
             return Y[:, :nq], Y[:, nq:], Ydd
-    qe, qde, _ = run.to_cartesian(y[None, :], None, {n: float(free_phi[n][-1]) for n in free_names})
-    state_end = SimulationState(t, np.concatenate([qe[0], qde[0]]), run.a["cstate"].copy(), h)
+    phi_end = {n: float(free_phi[n][-1]) for n in free_names}
+    if run.mode == 1:
+        qe, qde = to_cartesian_point(model, run.lay, y, phi_end)
+    else:
+        qe, qde = y[:run.ny // 2].copy(), y[run.ny // 2:].copy()
+    state_end = SimulationState(t, np.concatenate([qe, qde]), run.a["cstate"].copy(), h)
     res = _package(model, geometry, cat, free_phi, cart, state_end, counters, n_cycles, settle, period,
                    time.perf_counter() - wall0)
     res.extra["kernel"] = "natural_fourbar" if run.mode == 1 else "cartesian"
@@ -449,6 +460,16 @@ def _fill_fast_angles(model, run, cat, phi_rod):
 
 def _status_text(code: int, t: float) -> str:
     return {2: f"step budget exhausted at t = {t:.6g} s", 3: f"step size underflow at t = {t:.6g} s"}[int(code)]
+
+
+def wrap_2pi(x: np.ndarray) -> np.ndarray:
+    """x modulo 2 pi in [0, 2 pi) by floor division: 5-8x faster than np.mod (fmod-based), equal to it within
+    rounding (an ulp of x)."""
+    two_pi = 2 * math.pi
+    r = x - two_pi * np.floor(x / two_pi)
+    r[r < 0.0] += two_pi  # rounding next to a multiple of 2 pi: back into [0, 2 pi)
+    r[r >= two_pi] -= two_pi
+    return r
 
 
 def _trapezoid_weights(t: np.ndarray) -> np.ndarray:
@@ -472,7 +493,7 @@ def _package(model, geometry, cat, free_phi, cart, state_end, counters, n_cycles
             angles[:, i] = free_phi[b.name]
         else:
             angles[:, i] = b.driver.angle0 + b.driver.speed * t
-    crank_angle = np.mod(crank.driver.angle0 + crank.driver.speed * t, 2 * math.pi) if crank else np.zeros_like(t)
+    crank_angle = wrap_2pi(crank.driver.angle0 + crank.driver.speed * t) if crank else np.zeros_like(t)
     w = _trapezoid_weights(t)
     traces = []
     for k, (cj, g) in enumerate(zip(model.clearance_joints, geometry)):
@@ -480,16 +501,14 @@ def _package(model, geometry, cat, free_phi, cart, state_end, counters, n_cycles
         nx, ny = c[:, K.O_NX], c[:, K.O_NY]
         ang = np.arctan2(ny, nx)
         phib, phij = c[:, K.O_PHIB], c[:, K.O_PHIJ]
-        cb, sb = np.cos(phib), np.sin(phib)
-        ex, ey = c[:, K.O_EX], c[:, K.O_EY]
-        ecc = np.column_stack([cb * ex + sb * ey, -sb * ex + cb * ey])
         bm, jm = cj.bearing_material, cj.journal_material
         traces.append(ContactTrace(
             name=cj.name, bearing_body=cj.bearing_body, journal_body=cj.journal_body, t=t, dt_weight=w,
-            theta_bearing=np.mod(ang - phib, 2 * math.pi), theta_journal=np.mod(ang - phij, 2 * math.pi),
+            theta_bearing=wrap_2pi(ang - phib), theta_journal=wrap_2pi(ang - phij),
             force_normal=c[:, K.O_FN].copy(), force_tangential=c[:, K.O_FT].copy(), slip_speed=c[:, K.O_VT].copy(),
             penetration=c[:, K.O_DELTA].copy(), penetration_rate=c[:, K.O_VN].copy(),
-            in_contact=c[:, K.O_DELTA] > 0.0, eccentricity=ecc, bearing_body_angle=phib.copy(),
+            in_contact=c[:, K.O_DELTA] > 0.0, eccentricity_global=c[:, K.O_EX:K.O_EY + 1].copy(),
+            bearing_body_angle=phib.copy(),
             journal_body_angle=phij.copy(), stiffness=c[:, K.O_K].copy(), normal_tilt=c[:, K.O_TILT].copy(),
             bearing_radius=g.bearing_radius, journal_radius=g.journal_radius, clearance_used=g.clearance,
             width=cj.width, E_bearing=bm.youngs_modulus, nu_bearing=bm.poissons_ratio, k_bearing=bm.wear_coefficient,
