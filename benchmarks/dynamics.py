@@ -43,12 +43,29 @@ def main() -> None:
     first_call = time.perf_counter() - t0
     settled = simulate(model, 0.0, settle_cycles=model.settings.settle_cycles)
     state = settled.state_end
-    walls, cpus, steps, rejected = [], [], [], []
+    # reference in the same process (this VM's speed drifts by ~1.4x between runs): the same step loop compiled
+    # with numba's reference counting, as before session 3 (kernel.STEP_LOOP_NRT)
+    from numba import njit
+
+    refcounted = njit(nogil=True, error_model="numpy", fastmath=K.FASTMATH)(K.integrate.py_func)
+    fast_loop = K.integrate
+    K.integrate = refcounted
+    simulate(model, 0.01, settle_cycles=0, state0=state)  # compile
+    K.integrate = fast_loop
+    ref_walls = []
+    walls, cpus, steps, rejected, before_packaging = [], [], [], [], []
     for _ in range(args.repeats):
+        K.integrate = refcounted
+        w0 = time.perf_counter()
+        simulate(model, 1, settle_cycles=0, state0=state)
+        ref_walls.append(time.perf_counter() - w0)
+        K.integrate = fast_loop
         c0 = time.process_time()
+        w0 = time.perf_counter()
         r = simulate(model, 1, settle_cycles=0, state0=state)
+        walls.append(time.perf_counter() - w0)  # the whole call, result object included
         cpus.append(time.process_time() - c0)
-        walls.append(r.wall_seconds)
+        before_packaging.append(r.wall_seconds)  # simulate's own clock stops before the result is packaged
         steps.append(r.n_recorded_steps)
         rejected.append(r.n_rejected)
     tr = r.joints[0]
@@ -60,9 +77,12 @@ def main() -> None:
         "first_call_seconds_incl_compile_or_cache_load": first_call,
         "wall_seconds_per_cycle_median": statistics.median(walls),
         "wall_seconds_per_cycle_all": walls,
+        "wall_seconds_per_cycle_before_packaging_median": statistics.median(before_packaging),
         "cpu_seconds_per_cycle_median": statistics.median(cpus),
-        "note": "wall time is inflated when other work loads the machine (see loadavg_1min); CPU time is the "
-                "process's own time",
+        "note": "wall time of the whole simulate() call; inflated when other work loads the machine (see "
+                "loadavg_1min; this VM's speed also drifts by ~1.4x between runs); CPU time is the process's own",
+        "reference_refcounted_loop_wall_seconds_per_cycle_median": statistics.median(ref_walls),
+        "ratio_to_refcounted_loop_same_process": statistics.median(walls) / statistics.median(ref_walls),
         "steps_per_cycle": statistics.median(steps),
         "rejected_steps_per_cycle": statistics.median(rejected),
         "microseconds_per_step": statistics.median(walls) / statistics.median(steps) * 1e6,
@@ -78,8 +98,9 @@ def main() -> None:
     simulate(rad, 0.05, settle_cycles=0, state0=state, rtol=1e-5, atol=1e-8)  # compile
     rwalls, rsteps = [], []
     for _ in range(max(1, args.repeats // 2)):
+        w0 = time.perf_counter()
         rr = simulate(rad, 1, settle_cycles=0, state0=state, rtol=1e-5, atol=1e-8)
-        rwalls.append(rr.wall_seconds)
+        rwalls.append(time.perf_counter() - w0)
         rsteps.append(rr.n_recorded_steps)
     rtr = rr.joints[0]
     out["radau5_rtol_1e-5"] = {"wall_seconds_per_cycle_median": statistics.median(rwalls),
@@ -125,7 +146,8 @@ def main() -> None:
         import jointwear.contact.laws as L
 
         names = ["fill_kinematics", "eval_constraints", "eval_contacts", "_row", "_interp_periodic",
-                 "normal_force", "friction_coefficient", "contact_stiffness", "rhs", "rhs_fourbar"]
+                 "normal_force", "friction_coefficient", "contact_stiffness", "rhs", "rhs_fourbar", "rhs_fourbar_cs",
+                 "contact_gradient"]
         saved = {n: getattr(K, n) for n in names}
         saved_h = L.hysteresis_factor
         glob = saved["normal_force"].py_func.__globals__
