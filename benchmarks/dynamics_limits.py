@@ -4,7 +4,9 @@ Writes benchmarks/results/dynamics_limits.json. Run: python benchmarks/dynamics_
 The companion of benchmarks/dynamics.py (which times the integrator); docs/dynamics.md "Integrator" reads both.
 
 Sections (one settled cycle of the nominal jin2025_flapping_wing preset, natural-coordinate kernel):
-- rhs: cost of one right-hand side evaluation in a compiled loop (ns, median of 5 x 500k calls);
+- rhs: cost of one right-hand side evaluation in compiled loops (ns, median of 5 x 300k calls): throughput
+  and latency, with and without the crank angle's sin/cos, and with numba's reference counting (as before
+  session 3);
 - reference: Dormand-Prince at rtol 1e-8, the contact force's pulses per cycle (peaks of prominence >= 10 mN);
 - modes: eigenvalues of the Jacobian along the cycle (central differences with increments far below the
   penetration: 1e-12 m, 1e-9 m/s); the stiff pair is the contact's normal mode, the slow pair the journal
@@ -13,7 +15,7 @@ Sections (one settled cycle of the nominal jin2025_flapping_wing preset, natural
   Rosenbrock-W method (ROS34PW2, Rang & Angermann 2005) whose W is the exact Jacobian of the clearance
   joint's coordinates (the stiff part; a W-method keeps its order with any W) and the exact df/dt,
   with the physics each keeps (mean force, the wear integrand F_N |v_t|, impacts).
-The lower bound printed at the end is evaluations x ns per evaluation, without any loop overhead.
+The lower bound printed at the end is evaluations x latency of an evaluation, without any loop overhead.
 """
 
 from __future__ import annotations
@@ -73,25 +75,53 @@ def main() -> None:
     period = model.period
     out: dict = {"preset": "jin2025_flapping_wing", "kernel": "natural_fourbar" if run.mode == 1 else "cartesian"}
 
-    # ---- cost of one right-hand side
-    @njit(fastmath=K.FASTMATH)
-    def rhs_loop(n, t0, Y, dy, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout):
-        s = 0.0
-        for i in range(n):
-            Y[0, 0] += 1e-15  # a new state every call
-            K.rhs_fourbar(t0 + i * 1e-9, Y, 0, dy, 0, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
-            s += dy[0, 5]
-        return s
+    # ---- cost of one right-hand side: throughput (independent calls) and latency (each call waits for the
+    # previous one, as the stages of a step do), with the crank angle's sin/cos (rhs_fourbar) and without
+    # (rhs_fourbar_cs, as in the step loop), and with numba's reference counting as before session 3
+    def make_loops(nrt):
+        @njit(fastmath=K.FASTMATH, _nrt=nrt)
+        def throughput(n, t0, Y, dy, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout):
+            s = 0.0
+            for i in range(n):
+                Y[0, 0] += 1e-15  # a new state every call
+                K.rhs_fourbar(t0 + i * 1e-9, Y, 0, dy, 0, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam,
+                              cout)
+                s += dy[0, 5]
+            return s
+
+        @njit(fastmath=K.FASTMATH, _nrt=nrt)
+        def latency_no_trig(n, t0, Y, dy, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout):
+            for i in range(n):
+                K.rhs_fourbar_cs(0.6, 0.8, Y, 0, dy, 0, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
+                Y[0, 0] += 1e-30 * dy[0, 5]  # the next call depends on this one's result
+                Y[0, 6] += 1e-30 * dy[0, 4]
+            return Y[0, 0]
+
+        @njit(fastmath=K.FASTMATH, _nrt=nrt)
+        def throughput_no_trig(n, t0, Y, dy, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout):
+            s = 0.0
+            for i in range(n):
+                Y[0, 0] += 1e-15
+                K.rhs_fourbar_cs(0.6, 0.8, Y, 0, dy, 0, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
+                s += dy[0, 5]
+            return s
+
+        return {"throughput": throughput, "throughput_no_trig": throughput_no_trig,
+                "latency_no_trig": latency_no_trig}
 
     dyw = np.zeros((7, run.ny))
-    rhs_loop(10, st.t, y0[None, :].copy(), dyw, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
-    ns = []
-    for _ in range(5):
-        Y = y0[None, :].copy()
-        t0 = time.perf_counter()
-        rhs_loop(500_000, st.t, Y, dyw, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
-        ns.append((time.perf_counter() - t0) / 500_000 * 1e9)
-    out["rhs_ns_median"] = statistics.median(ns)
+    loops = {f"{name}{'' if nrt == K.STEP_LOOP_NRT else '_refcounted'}": fn
+             for nrt in (K.STEP_LOOP_NRT, True) for name, fn in make_loops(nrt).items()}
+    ns = {name: [] for name in loops}
+    for fn in loops.values():
+        fn(10, st.t, y0[None, :].copy(), dyw, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
+    for _ in range(5):  # alternate the variants (this VM's speed drifts)
+        for name, fn in loops.items():
+            Y = y0[None, :].copy()
+            t0 = time.perf_counter()
+            fn(300_000, st.t, Y, dyw, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
+            ns[name].append((time.perf_counter() - t0) / 300_000 * 1e9)
+    out["rhs_ns_median"] = {name: statistics.median(v) for name, v in ns.items()}
     out["rhs_ns_all"] = ns
 
     # ---- tight reference and its force pulses
@@ -162,11 +192,13 @@ def main() -> None:
         out[f"rosenbrock_w_stiff_jacobian_rtol_{rt:g}"] = rosenbrock_w(f, st, y0, period, rt, run.atolv * rt / 1e-6,
                                                                        cstate, cpar, cout, K)
 
+    # a step's stages are sequential: its evaluations cost their latency
+    lat = out["rhs_ns_median"]["latency_no_trig"]
     ev = out["dopri5_rtol_1e-6"]["evaluations"]
-    out["lower_bound_ms_per_cycle_dopri5_evaluations_only"] = ev * out["rhs_ns_median"] * 1e-6
+    out["lower_bound_ms_per_cycle_dopri5_evaluations_only"] = ev * lat * 1e-6
     rw = out["rosenbrock_w_stiff_jacobian_rtol_1e-05"]["evaluations_with_analytic_w"]
-    out["lower_bound_ms_per_cycle_rosenbrock_w_1e-5_evaluations_only"] = rw * out["rhs_ns_median"] * 1e-6
-    out["evaluations_per_cycle_for_4_ms"] = 4e-3 / (out["rhs_ns_median"] * 1e-9)
+    out["lower_bound_ms_per_cycle_rosenbrock_w_1e-5_evaluations_only"] = rw * lat * 1e-6
+    out["evaluations_per_cycle_for_4_ms"] = 4e-3 / (lat * 1e-9)
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     Path(args.out).write_text(json.dumps(out, indent=2) + "\n")
     print(json.dumps(out, indent=2))

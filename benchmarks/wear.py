@@ -371,8 +371,8 @@ def bench_profile_convergence(replicates: int = 3, n_cycles: int = 400_000, smoo
 
 
 def bench_reproduction(profile_cycles: int = 20_000) -> dict:
-    """Both branches, uniform mode to 400k cycles; profile mode only to `profile_cycles` (see docs/wear.md: the
-    dynamics' profile contact needs 10^5-10^6 steps per cycle once the profile is non-uniform)."""
+    """Both branches, uniform mode to 400k cycles; profile mode to `profile_cycles` (a short check of the two modes
+    side by side; profile mode's own convergence study is bench_profile_convergence)."""
     out = {}
     for branch in (1, -1):
         cfg = config_for(branch)

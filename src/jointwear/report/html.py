@@ -605,6 +605,11 @@ def paper_checks(data: Mapping[str, Mapping]) -> list[Check]:
         note = "" if v is not None or not curve else "outside the computed curve"
         if v is not None:
             note = f"absolute difference {v - pv:+.3f}"
+            err = curve.get("pf_error_estimate")
+            if err is not None and curve.get("cycles") is not None:
+                # the surrogate's estimated error of Pf (= of R) at this N: a pass or fail closer to the band
+                # edge than this is not resolved by the study
+                note += f"; surrogate error estimate {_interp_at(curve['cycles'], err, n):.3f}"
         checks.append(Check(f"reliability R(N) at {n:,} cycles", pv, v, "-", band, st, note, digits=3))
 
     life = None
