@@ -183,7 +183,6 @@ def main(argv=None):
     ap.add_argument("--append", action="store_true", help="merge with the runs already in OUT (other problems)")
     args = ap.parse_args(argv)
 
-    from jointwear.reliability import problems as P
 
     n_mc = {"four_branch_k6": 1_000_000, "four_branch_k7": 1_000_000, "oscillator": 70_000, "rastrigin": 60_000}
     if args.quick:

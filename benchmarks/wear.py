@@ -139,7 +139,12 @@ def bench_timing(repeats: int = 5, replicates: int = 4) -> dict:
 
 def bench_literal(n_measure: int = 6) -> dict:
     """Paper Section 3 Step 5: one simulated cycle per wear cycle, geometry updated after every cycle."""
-    from jointwear.wear.history import JointMaterials, _growth, _update_geometry, cycle_wear
+    from jointwear.wear.history import (
+        JointMaterials,
+        _growth,
+        _update_geometry,
+        cycle_wear,
+    )
 
     cfg = config_for(-1)
     model = build_model(cfg)

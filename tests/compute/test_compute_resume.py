@@ -198,7 +198,12 @@ def test_kill9_resume_equals_uninterrupted(tmp_path):
 
 
 def test_resume_with_changed_config_is_refused(tmp_path):
-    from jointwear.compute import ConfigChangedError, EvaluationStore, StoreExistsError, config_hash
+    from jointwear.compute import (
+        ConfigChangedError,
+        EvaluationStore,
+        StoreExistsError,
+        config_hash,
+    )
 
     with EvaluationStore.open(tmp_path, config_hash({"seed": 1})):
         pass

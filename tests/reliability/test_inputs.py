@@ -6,7 +6,13 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from jointwear.reliability import Evaluator, akmcs, monte_carlo, problems, subset_simulation
+from jointwear.reliability import (
+    Evaluator,
+    akmcs,
+    monte_carlo,
+    problems,
+    subset_simulation,
+)
 
 NORM2 = [stats.norm(), stats.norm()]
 

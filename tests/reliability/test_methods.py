@@ -4,7 +4,14 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from jointwear.reliability import form, importance_sampling, monte_carlo, problems, sorm, subset_simulation
+from jointwear.reliability import (
+    form,
+    importance_sampling,
+    monte_carlo,
+    problems,
+    sorm,
+    subset_simulation,
+)
 
 
 def _accept(pf, cov, ref):

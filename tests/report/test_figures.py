@@ -9,7 +9,14 @@ import pytest
 from matplotlib.projections.polar import PolarAxes
 
 from jointwear.report import figures as F
-from jointwear.report.style import COLORS, DPI, figure, savefig, scale_to_unit, to_data_uri
+from jointwear.report.style import (
+    COLORS,
+    DPI,
+    figure,
+    savefig,
+    scale_to_unit,
+    to_data_uri,
+)
 
 ANG = np.linspace(0, 359, 360)
 DEPTH = 0.0249 * np.exp(-0.5 * ((ANG - 110) / 14) ** 2) + 0.0087 * np.exp(-0.5 * ((ANG - 310) / 11) ** 2)

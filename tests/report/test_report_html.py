@@ -9,10 +9,10 @@ import shutil
 from pathlib import Path
 
 import pytest
+from report_fixtures import make_fixture_dir
 
 from jointwear.report import build_report
 from jointwear.report.html import FAIL, NA, PASS, paper_checks, read_inputs
-from report_fixtures import make_fixture_dir
 
 SECTIONS = ("summary", "comparison", "study", "dynamics", "wear", "reliability", "sensitivity", "files")
 

@@ -6,8 +6,12 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from jointwear.sensitivity import (mean_shift_table, reliability_derivatives, shifted_marginal,
-                                   sobol_indices)
+from jointwear.sensitivity import (
+    mean_shift_table,
+    reliability_derivatives,
+    shifted_marginal,
+    sobol_indices,
+)
 
 
 def ishigami(x, a=7.0, b=0.1):

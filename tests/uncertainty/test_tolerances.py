@@ -4,8 +4,16 @@ import math
 
 import pytest
 
-from jointwear.uncertainty.tolerances import clearance_from_fit, it_tolerance, length_sigma
-from jointwear.uncertainty.variables import ClearanceSpec, RandomVariableSpec, UncertaintySettings
+from jointwear.uncertainty.tolerances import (
+    clearance_from_fit,
+    it_tolerance,
+    length_sigma,
+)
+from jointwear.uncertainty.variables import (
+    ClearanceSpec,
+    RandomVariableSpec,
+    UncertaintySettings,
+)
 
 
 def test_it_grades_at_2_mm_follow_iso_286_1():

@@ -4,12 +4,11 @@ import math
 
 import numpy as np
 import pytest
+from wear_synthetic import FakeModel, fake_simulate
 
 from jointwear.wear import WearSettings, wear_history
-from jointwear.wear.history import conservation_error, find_peaks_periodic
 from jointwear.wear.angles import body_angle_from_report, report_angle_deg
-
-from wear_synthetic import FakeModel, fake_simulate
+from jointwear.wear.history import conservation_error, find_peaks_periodic
 
 CONS_TOL = 1e-6  # issue 3 acceptance: worn area x width = Archard volume, rel. error < 1e-6
 

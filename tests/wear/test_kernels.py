@@ -4,12 +4,16 @@ import math
 
 import numpy as np
 import pytest
-
-from jointwear.wear.kernels import TWO_PI, accumulate_wear, periodic_interp, spread_patch, worn_area
-from jointwear.wear.history import JointMaterials, cycle_wear
-from jointwear.wear.settings import WearSettings
-
 from wear_synthetic import make_trace
+
+from jointwear.wear.history import JointMaterials, cycle_wear
+from jointwear.wear.kernels import (
+    TWO_PI,
+    periodic_interp,
+    spread_patch,
+    worn_area,
+)
+from jointwear.wear.settings import WearSettings
 
 # Conservation tolerance 1e-6: issue 3 acceptance ("relative error < 1e-6"); the spreading is exact up to rounding.
 CONS_TOL = 1e-6

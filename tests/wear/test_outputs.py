@@ -3,11 +3,10 @@
 import json
 
 import pytest
+from wear_synthetic import FakeModel, fake_simulate
 
 from jointwear.wear import WearSettings, wear_history
 from jointwear.wear.cli import write_outputs
-
-from wear_synthetic import FakeModel, fake_simulate
 
 
 def test_write_outputs(tmp_path):

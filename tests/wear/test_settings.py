@@ -1,15 +1,12 @@
 """Bad input at the wear API boundary: clear errors naming the field."""
 
-import math
 
-import numpy as np
 import pytest
 from pydantic import ValidationError
+from wear_synthetic import FakeModel, fake_simulate
 
 from jointwear.wear import WearSettings, wear_history
 from jointwear.wear.settings import check_cycles
-
-from wear_synthetic import FakeModel, fake_simulate
 
 
 @pytest.mark.parametrize("bad", [0, -5, float("nan"), float("inf"), "abc", 2.5, None, True])

@@ -35,7 +35,6 @@ from scipy.integrate._ivp.radau import P as _P
 from scipy.integrate._ivp.radau import T as _T
 
 from jointwear.mechanism.kernel import (
-    STEP_LOOP_NRT,
     C_V0MIN,
     NCOUT,
     O_CLOC,
@@ -44,6 +43,7 @@ from jointwear.mechanism.kernel import (
     O_VREL,
     S_INC,
     S_V0,
+    STEP_LOOP_NRT,
     rhs,
     rhs_fourbar,
 )

@@ -4,6 +4,7 @@ Failure is g(X) < 0; inputs are independent, given as frozen ``scipy.stats`` mar
 ``docs/reliability.md`` for the methods, choices, NaN rule and benchmark numbers.
 """
 
+from . import problems
 from ._core import (
     Evaluator,
     IsoTransform,
@@ -16,7 +17,6 @@ from .akis import akis
 from .akmcs import akmcs, akmcs_multi, esc_error
 from .kriging import KrigingSurrogate, blas_threads
 from .methods import form, importance_sampling, monte_carlo, sorm, subset_simulation
-from . import problems
 
 __all__ = [
     "akis",

@@ -11,9 +11,8 @@ considered broken and ``ValueError`` is raised with the first reason.
 
 from __future__ import annotations
 
-import math
 import time
-from collections.abc import Callable, Mapping, MutableMapping, Sequence
+from collections.abc import Callable, MutableMapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 

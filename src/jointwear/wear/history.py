@@ -21,14 +21,21 @@ import os
 import time
 from collections import deque
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, Callable
 
 import numpy as np
 
 from .angles import circular_mean, report_angle_deg
-from .kernels import (TWO_PI, accumulate_wear, contact_envelope, map_touch_angles, periodic_interp, smooth_periodic,
-                      worn_area)
+from .kernels import (
+    TWO_PI,
+    accumulate_wear,
+    contact_envelope,
+    map_touch_angles,
+    periodic_interp,
+    smooth_periodic,
+    worn_area,
+)
 from .settings import WearSettings, check_cycles, check_material
 
 

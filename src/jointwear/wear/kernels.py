@@ -107,7 +107,6 @@ def accumulate_wear(
     Returns (archard volume bearing, archard volume journal, sliding distance, max half-width) in SI.
     """
     n_b = wear_b.shape[0]
-    n_j = wear_j.shape[0]
     delta_b = TWO_PI / n_b
     vol_b = 0.0
     vol_j = 0.0
