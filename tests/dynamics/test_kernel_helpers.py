@@ -65,3 +65,24 @@ def test_step_loops_compile_without_reference_counting():
     assert K.STEP_LOOP_NRT is False
     for fn in (K.integrate, K.rhs, K.rhs_fourbar_cs, radau.integrate_radau):
         assert fn.targetoptions.get("_nrt") is False, fn
+
+
+def test_dormand_prince_tableau_satisfies_the_order_conditions():
+    """Row sums equal c; b of order 5 and the embedded b - e of order 4 (the 17 rooted-tree conditions up to order 5,
+    Hairer, Norsett & Wanner I, Table II.2.2); exact rational conditions, so rounding level (1e-14)."""
+    a, c, e = K.DP_A, K.DP_C, K.DP_E
+    assert np.max(np.abs(a.sum(axis=1) - c)) < 1e-14
+    assert c[5] == c[6] == 1.0  # the step loop evaluates stages 5 and 6 at t + h
+
+    def conditions(b):
+        ac = a @ c
+        return [b.sum() - 1, b @ c - 1 / 2, b @ c**2 - 1 / 3, b @ ac - 1 / 6, b @ c**3 - 1 / 4, b @ (c * ac) - 1 / 8,
+                b @ (a @ c**2) - 1 / 12, b @ (a @ ac) - 1 / 24, b @ c**4 - 1 / 5, b @ (c**2 * ac) - 1 / 10,
+                b @ ac**2 - 1 / 20, b @ (c * (a @ c**2)) - 1 / 15, b @ (a @ c**3) - 1 / 20, b @ (c * (a @ ac)) - 1 / 30,
+                b @ (a @ (c * ac)) - 1 / 40, b @ (a @ (a @ c**2)) - 1 / 60, b @ (a @ (a @ ac)) - 1 / 120]
+
+    b = a[6]  # FSAL: the last row holds the weights
+    assert max(abs(x) for x in conditions(b)) < 1e-14
+    low = conditions(b - e)
+    assert max(abs(x) for x in low[:8]) < 1e-14
+    assert max(abs(x) for x in low[8:]) > 1e-6  # the embedded formula is of order 4, not 5
