@@ -441,6 +441,7 @@ def integrate(mode, t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_steps, t_
               rec_t, rec_h, rec_y, rec_acc, rec_lam, rec_c, counters):
     """Dormand-Prince 5(4) with error control from t to t_end (in place on y).
 
+    rec_c is (n_joints, NCOUT, capacity): each output recorded contiguously over the steps.
     ks: (7, ny) stage derivatives; ks[0] must hold f(t, y) on entry (and holds f at the final
     point on exit).  Records every accepted step with t >= t_record into the rec_* buffers
     (starting at counters[0]); stops early when the buffers are full.  counters: [n_recorded,
@@ -546,7 +547,7 @@ def integrate(mode, t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_steps, t_
                     rec_lam[nrec, i] = lam[i]
                 for k in range(ncj):
                     for m in range(NCOUT):
-                        rec_c[nrec, k, m] = cout[k, m]
+                        rec_c[k, m, nrec] = cout[k, m]
                 nrec += 1
             fac = 0.9 * (err if err > 1e-10 else 1e-10) ** (-0.2)
             if fac > 5.0:

@@ -380,7 +380,7 @@ def integrate_radau(mode, t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_ste
                 rec_lam[nrec, i] = lam[i]
             for k in range(ncj):
                 for m in range(NCOUT):
-                    rec_c[nrec, k, m] = cout[k, m]
+                    rec_c[k, m, nrec] = cout[k, m]
             nrec += 1
         recompute = n_iter > 2 and rate > 1e-3
         mult = 1.0
