@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import math
+import sys
+import threading
 import time
 from dataclasses import dataclass, field
 
@@ -264,6 +266,39 @@ def _interp_periodic_py(prof: np.ndarray, ang: float) -> float:
     return float(prof[i0] * (1 - fr) + prof[(i0 + 1) % n] * fr)
 
 
+# Record buffers are reused between calls once nothing refers to them any more. A fresh buffer costs its first
+# touch: the allocator maps new zeroed pages for every large array, ~1 ms per simulated cycle against ~0.1 ms to
+# rewrite warm memory (benchmarks/dynamics.py), a sixth of a flapping-wing cycle. A pooled set is free when only
+# the pool refers to its dict and arrays: results keep views of them (numpy views refer to their base array), so a
+# kept result is never overwritten. The lock makes the check-and-take atomic for the wear stage's lane threads.
+_POOL_MIN_CAP = 1000  # rows; smaller sets are cheap to allocate
+_POOL_MAX_CAP = 100_000  # rows (~25 MB per set for the flapping wing): longer records are not kept
+_POOL_MAX_SETS = 8
+_record_pool: list[dict[str, np.ndarray]] = []
+_record_pool_lock = threading.Lock()
+
+
+def _free_array(a: np.ndarray, shape) -> bool:
+    return a.shape == shape and sys.getrefcount(a) == 3  # the dict, the parameter `a`, getrefcount's argument
+
+
+def _record_buffers(shapes) -> dict[str, np.ndarray]:
+    if not _POOL_MIN_CAP <= shapes[0][1][0] <= _POOL_MAX_CAP:
+        return {name: np.empty(shape) for name, shape in shapes}
+    with _record_pool_lock:
+        for i in range(len(_record_pool)):
+            buf = _record_pool[i]
+            # references to the dict: the pool, `buf` and getrefcount's argument (3); to an array: the dict and the
+            # argument (2). Any other holder or view adds one.
+            if sys.getrefcount(buf) == 3 and all(_free_array(buf[name], shape) for name, shape in shapes):
+                return buf
+        buf = {name: np.empty(shape) for name, shape in shapes}
+        if len(_record_pool) >= _POOL_MAX_SETS:
+            _record_pool.pop(0)
+        _record_pool.append(buf)
+        return buf
+
+
 class _Runner:
     """Kernel arrays, work arrays and the coordinate set (mode 0: Cartesian, 1: natural four-bar)."""
 
@@ -323,11 +358,9 @@ class _Runner:
     def buffers(self, cap: int) -> dict[str, np.ndarray]:
         ncj = self.a["cint"].shape[0]
         nc = self.w["lam"].shape[0]
-        return {
-            "rec_t": np.empty(cap), "rec_h": np.empty(cap), "rec_y": np.empty((cap, self.ny)),
-            "rec_acc": np.empty((cap, self.ny // 2)), "rec_lam": np.empty((cap, nc)),
-            "rec_c": np.empty((ncj, K.NCOUT, cap)),  # outputs x steps: each series contiguous
-        }
+        shapes = (("rec_t", (cap,)), ("rec_h", (cap,)), ("rec_y", (cap, self.ny)), ("rec_acc", (cap, self.ny // 2)),
+                  ("rec_lam", (cap, nc)), ("rec_c", (ncj, K.NCOUT, cap)))  # rec_c: outputs x steps, series contiguous
+        return _record_buffers(shapes)
 
     def run(self, t, y, t_end, h, hmax, t_record, rec, max_steps, counters):
         s = self.model.settings
