@@ -13,11 +13,9 @@ every rejection of this contact problem a Newton failure: 2,900 per cycle at rto
 error estimate (I - h gamma0 J)^-1 (f0 + Z^T E / h) (re-estimated once after a rejection), Gustafsson's
 predictive step control, and the step size kept (LU reused) when it would grow by less than 20 %.
 
-Same arguments, recording and contact bookkeeping as ``kernel.integrate`` plus the work arrays of
-``work_arrays``; selected by ``simulation.method = "radau5"``. The step limit and the accepted-step bookkeeping
-(impact speed, record) are written out here as in ``kernel.integrate`` and must stay in step with it: moving them
-into a shared compiled helper made the Dormand-Prince loop 9-18 % slower per step (same-process A/B; numba passes
-each array argument of a call as a struct with reference counting), so the hot loop keeps them inline.
+Same arguments as ``kernel.integrate`` plus the work arrays of ``work_arrays``; selected by
+``simulation.method = "radau5"``. The step limit and the accepted-step bookkeeping (impact speed, record) are
+``kernel.step_limit`` and ``kernel.accept_point``, shared with the Dormand-Prince loop.
 """
 
 from __future__ import annotations
@@ -35,17 +33,11 @@ from scipy.integrate._ivp.radau import P as _P
 from scipy.integrate._ivp.radau import T as _T
 
 from jointwear.mechanism.kernel import (
-    C_V0MIN,
-    NCOUT,
-    O_CLOC,
-    O_DELTA,
-    O_VN,
-    O_VREL,
-    S_INC,
-    S_V0,
     STEP_LOOP_NRT,
+    accept_point,
     rhs,
     rhs_fourbar,
+    step_limit,
 )
 
 RC = np.array(_C, dtype=float)
@@ -147,23 +139,13 @@ def integrate_radau(mode, t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_ste
 
     ks[0] must hold f(t, y) on entry and holds f at the final point on exit (ytmp6 is unused here)."""
     ny = y.shape[0]
-    nq = ny // 2
-    nc = lam.shape[0]
-    ncj = cint.shape[0]
     cap = rec_t.shape[0]
     nrec = counters[0]
     nsteps = 0
     counters[3] = 0
     hmin = 1e-15 * max(abs(t), abs(t_end), 1.0)
     newton_tol = max(10.0 * 2.220446049250313e-16 / rtol, min(0.03, math.sqrt(rtol)))
-    hlim = hmax
-    for k in range(ncj):
-        vrel = cout[k, O_VREL]
-        cl = cout[k, O_CLOC]
-        if vrel > 0.0 and cl > 0.0:
-            hh = clear_frac * cl / vrel
-            if hh < hlim:
-                hlim = hh
+    hlim = step_limit(cout, clear_frac, hmax)
     for i in range(ny):
         f0[i] = ks[0, i]
     need_jac = True
@@ -354,34 +336,9 @@ def integrate_radau(mode, t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_ste
         for i in range(ny):
             f0[i] = ks[0, i]
         counters[1] += 1
-        hlim = hmax
-        for k in range(ncj):
-            if cout[k, O_DELTA] > 0.0:
-                if cstate[k, S_INC] < 0.5:
-                    vn = cout[k, O_VN]
-                    cstate[k, S_V0] = vn if vn > cpar[k, C_V0MIN] else cpar[k, C_V0MIN]
-                    cstate[k, S_INC] = 1.0
-            else:
-                cstate[k, S_INC] = 0.0
-            vrel = cout[k, O_VREL]
-            cl = cout[k, O_CLOC]
-            if vrel > 0.0 and cl > 0.0:
-                hh = clear_frac * cl / vrel
-                if hh < hlim:
-                    hlim = hh
-        if t >= t_record:
-            rec_t[nrec] = t
-            rec_h[nrec] = h
-            for i in range(ny):
-                rec_y[nrec, i] = y[i]
-            for i in range(nq):
-                rec_acc[nrec, i] = ks[0, nq + i]
-            for i in range(nc):
-                rec_lam[nrec, i] = lam[i]
-            for k in range(ncj):
-                for m in range(NCOUT):
-                    rec_c[k, m, nrec] = cout[k, m]
-            nrec += 1
+        nrec = accept_point(t, h, y, ks, lam, cout, cstate, cpar, t_record, nrec, rec_t, rec_h, rec_y, rec_acc,
+                            rec_lam, rec_c)
+        hlim = step_limit(cout, clear_frac, hmax)
         recompute = n_iter > 2 and rate > 1e-3
         mult = 1.0
         if h_old > 0.0 and err_old > 0.0 and err > 0.0:
