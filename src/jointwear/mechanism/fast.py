@@ -151,7 +151,6 @@ def to_cartesian(model: MechanismModel, lay: FastLayout, Y: np.ndarray, Ydd: np.
     return q, qd, qdd
 
 
-
 def to_cartesian_point(model: MechanismModel, lay: FastLayout, y: np.ndarray, phi_ref: dict[str, float]
                        ) -> tuple[np.ndarray, np.ndarray]:
     """One natural state (A, B, Adot, Bdot) -> q, qd (model order), angles on the branch of phi_ref; the scalar
@@ -173,6 +172,7 @@ def to_cartesian_point(model: MechanismModel, lay: FastLayout, y: np.ndarray, ph
     q = np.array([v for n in names for v in out[n][0]])
     qd = np.array([v for n in names for v in out[n][1]])
     return q, qd
+
 
 @njit(cache=True, nogil=True)
 def _unwrapped_direction(Y, from_a, cx, cy, out):

@@ -37,8 +37,8 @@ FASTMATH = {"nsz", "arcp", "contract", "reassoc"}
 # The step loops compile without numba's reference counting (NRT): they allocate nothing, and with NRT every
 # inlined right-hand side increfs and decrefs each of its ~12 array arguments (an atomic operation through a
 # function pointer, ~24 per evaluation) that LLVM's refcount pruning does not remove. That was ~70 % of an
-# evaluation: 195-260 ns with NRT, 63 ns without, the same instructions otherwise (bit-identical results;
-# benchmarks/dynamics_limits.py). `_nrt` is numba's flag for this (numba.core.options); such a kernel may not
+# evaluation: 270-285 ns with NRT, 68-99 ns without, the same instructions otherwise (bit-identical results;
+# benchmarks/dynamics_limits.py `rhs_ns_median`). `_nrt` is numba's flag for this (numba.core.options); such a kernel may not
 # create or return arrays.
 STEP_LOOP_NRT = False
 
@@ -418,8 +418,6 @@ DP_E = np.array([71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 /
                  -1.0 / 40.0])
 
 
-
-
 @njit(cache=True, inline="always", error_model="numpy", _nrt=STEP_LOOP_NRT)
 def step_limit(cout, clear_frac, hmax):
     """Largest next step: hmax and, per clearance joint, clear_frac * local clearance / |relative velocity of the
@@ -467,6 +465,7 @@ def accept_point(t, h, y, ks, lam, cout, cstate, cpar, t_record, nrec, rec_t, re
         nrec += 1
     return nrec
 
+
 @njit(cache=True, inline="always", error_model="numpy", fastmath=FASTMATH, _nrt=STEP_LOOP_NRT)
 def crank_rotation(c0, s0, d):
     """cos and sin of (theta0 + d) from c0 = cos theta0, s0 = sin theta0 by the addition theorem; for |d| <= 0.05
@@ -481,6 +480,7 @@ def crank_rotation(c0, s0, d):
         cd = 1.0 - d2 * (0.5 - d2 * (1.0 / 24.0 - d2 * (1.0 / 720.0 - d2 * (1.0 / 40320.0))))
         sd = d * (1.0 - d2 * (1.0 / 6.0 - d2 * (1.0 / 120.0 - d2 * (1.0 / 5040.0 - d2 * (1.0 / 362880.0)))))
     return c0 * cd - s0 * sd, s0 * cd + c0 * sd
+
 
 @njit(cache=True, nogil=True, error_model="numpy", fastmath=FASTMATH, _nrt=STEP_LOOP_NRT)
 def integrate(mode, t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_steps, t_record,

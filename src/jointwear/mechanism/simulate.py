@@ -13,7 +13,7 @@ from numba import njit
 
 from jointwear.contact.geometry import ClearanceGeometry
 from jointwear.mechanism import kernel as K
-from jointwear.mechanism.fast import natural_angles, to_cartesian_point
+from jointwear.mechanism.fast import natural_angles
 from jointwear.mechanism.model import MechanismModel
 
 TWO_PI = 2.0 * math.pi
@@ -268,7 +268,7 @@ def _interp_periodic_py(prof: np.ndarray, ang: float) -> float:
 
 # Record buffers are reused between calls once nothing refers to them any more. A fresh buffer costs its first
 # touch: the allocator maps new zeroed pages for every large array, ~1 ms per simulated cycle against ~0.1 ms to
-# rewrite warm memory (benchmarks/dynamics.py), a sixth of a flapping-wing cycle. A pooled set is free when only
+# rewrite warm memory, a sixth of a flapping-wing cycle (same-process A/B of simulate(): 0.88x with the pool). A pooled set is free when only
 # the pool refers to its dict and arrays: results keep views of them (numpy views refer to their base array), so a
 # kept result is never overwritten. The lock makes the check-and-take atomic for the wear stage's lane threads.
 _POOL_MIN_CAP = 1000  # rows; smaller sets are cheap to allocate
@@ -345,6 +345,14 @@ class _Runner:
 
         return to_cartesian(self.model, self.lay, Y, Ydd, phi_ref)
 
+    def to_cartesian_state(self, y: np.ndarray, phi_ref: dict[str, float]) -> np.ndarray:
+        """One internal state -> the Cartesian (q, qd), angles on the branch of phi_ref."""
+        if self.mode == 0:
+            return np.array(y, dtype=float)
+        from jointwear.mechanism.fast import to_cartesian_point
+
+        return np.concatenate(to_cartesian_point(self.model, self.lay, y, phi_ref))
+
     def _args(self):
         a, w = self.a, self.w
         return (a["nb"], a["winv"], a["fext"].ravel(), a["dpar"], a["jint"], a["jpar"], a["cint"], a["cpar"],
@@ -367,7 +375,7 @@ class _Runner:
         args = (self.mode, t, y, t_end, h, self.rtol, self.atolv, hmax, s.clearance_step_fraction, max_steps,
                 t_record, *self._args(), self.ks, self.ytmp, rec["rec_t"], rec["rec_h"], rec["rec_y"],
                 rec["rec_acc"], rec["rec_lam"], rec["rec_c"], counters)
-        if getattr(s, "method", "dopri5") == "radau5":
+        if s.method == "radau5":
             from jointwear.mechanism import radau
 
             if self._radau_work is None:
@@ -470,12 +478,8 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
 
         def cart():
             return Y[:, :nq], Y[:, nq:], Ydd
-    phi_end = {n: float(free_phi[n][-1]) for n in free_names}
-    if run.mode == 1:
-        qe, qde = to_cartesian_point(model, run.lay, y, phi_end)
-    else:
-        qe, qde = y[:run.ny // 2].copy(), y[run.ny // 2:].copy()
-    state_end = SimulationState(t, np.concatenate([qe, qde]), run.a["cstate"].copy(), h)
+    y_end = run.to_cartesian_state(y, {n: float(free_phi[n][-1]) for n in free_names})
+    state_end = SimulationState(t, y_end, run.a["cstate"].copy(), h)
     res = _package(model, geometry, cat, free_phi, joint_angles, cart, state_end, counters, n_cycles, settle, period,
                    time.perf_counter() - wall0)
     res.extra["kernel"] = "natural_fourbar" if run.mode == 1 else "cartesian"
@@ -506,13 +510,12 @@ def wrap_2pi(x: np.ndarray) -> np.ndarray:
 
 @njit(cache=True, nogil=True)
 def _wrap_2pi(x, out):
-    two_pi = 2.0 * math.pi
     for i in range(x.shape[0]):
-        r = x[i] - two_pi * math.floor(x[i] / two_pi)
+        r = x[i] - TWO_PI * math.floor(x[i] / TWO_PI)
         if r < 0.0:  # rounding next to a multiple of 2 pi: back into [0, 2 pi)
-            r += two_pi
-        if r >= two_pi:
-            r -= two_pi
+            r += TWO_PI
+        if r >= TWO_PI:
+            r -= TWO_PI
         out[i] = r
 
 
