@@ -41,7 +41,7 @@ from ._core import (
     make_evaluator,
     pf_to_beta,
 )
-from .akmcs import _select_batch
+from .akmcs import _needs_optimisation, _select_batch, _u_function
 from .kriging import KrigingSurrogate
 from .methods import form, is_estimate, is_weights
 
@@ -159,15 +159,13 @@ def akis(
         if int(ok.sum()) < 2:
             raise ValueError("fewer than 2 finite g values in the design; cannot fit Kriging")
         n_ok = int(ok.sum())
-        optimize = force_opt or n_at_opt == 0 or n_ok <= 30 or n_ok >= 1.1 * n_at_opt
+        optimize = _needs_optimisation(force_opt, n_at_opt, n_ok, 0.1)
         surrogate.fit(design_u[ok], design_g[ok], optimize=optimize)
         if optimize:
             n_at_opt = n_ok
         force_opt = False
         mu, var = surrogate.predict(u_pop)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            U = np.abs(mu) / np.sqrt(var)
-        U[~np.isfinite(U)] = np.inf
+        U = _u_function(mu, np.sqrt(var))
         fail = mu < 0
         U[known] = np.inf
         fail[known] = ~(known_g[known] >= 0)  # NaN -> failure (conservative)

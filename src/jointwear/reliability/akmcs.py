@@ -75,6 +75,20 @@ def esc_error(u: np.ndarray, fail: np.ndarray, known: np.ndarray | None = None, 
     return max(n_fs / (n_f - n_fs), n_sf / (n_f + n_sf))
 
 
+def _needs_optimisation(forced: bool, n_at_opt: int, n_ok: int, growth: float) -> bool:
+    """Re-optimise the Kriging hyperparameters (rather than re-condition with the previous ones) when asked to, on
+    the first fit, while the design is small (<= 30 points), or once it has grown by the fraction ``growth``."""
+    return bool(forced or n_at_opt == 0 or n_ok <= 30 or n_ok >= (1.0 + growth) * n_at_opt)
+
+
+def _u_function(mu: np.ndarray, sd: np.ndarray) -> np.ndarray:
+    """Echard's learning function U = |mu| / sigma; infinite where sigma = 0 (the sign is certain)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u = np.abs(mu) / sd
+    u[~np.isfinite(u)] = np.inf
+    return u
+
+
 def _select_batch(score: np.ndarray, u_pop: np.ndarray, k: int, threshold: float, rng: np.random.Generator,
                   exclude: np.ndarray) -> np.ndarray:
     """Indices of k candidates to evaluate: lowest score; for k > 1 spread by k-means."""
@@ -209,8 +223,7 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
             n_ok = int(ok.sum())
             if n_ok < 2:
                 raise ValueError(f"column {j}: fewer than 2 finite g values in the design; cannot fit Kriging")
-            optimize = (force_opt[j] or n_at_opt[j] == 0 or n_ok <= 30
-                        or n_ok >= (1.0 + refit_growth) * n_at_opt[j])
+            optimize = _needs_optimisation(force_opt[j], n_at_opt[j], n_ok, refit_growth)
             surrogates[j].fit(design_u[ok], design_g[ok, j], optimize=optimize)
             if optimize:
                 n_at_opt[j] = n_ok
@@ -239,9 +252,7 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
                 mu0, var = surrogates[j].predict(u_pop[idx])
                 sd = np.sqrt(var)
             mu = mu0 - offsets[j]
-            with np.errstate(divide="ignore", invalid="ignore"):
-                Uj = np.abs(mu) / sd
-            Uj[~np.isfinite(Uj)] = np.inf  # zero variance: the sign is certain
+            Uj = _u_function(mu, sd)
             U[idx, j] = Uj
             fail[idx, j] = mu < 0
             if kidx.size:
