@@ -533,7 +533,7 @@ class SimulationConfig(SIModel):
         "dopri5",
         description="Integrator: 'dopri5' (explicit Dormand-Prince 5(4), the default, validated by every test and "
         "convergence study) or 'radau5' (implicit Radau IIA order 5, experimental: damps the contact ringing, so at "
-        "rtol 1e-5 it takes 2,600 steps per cycle and matches dopri5 at 1e-6 within 1 %, but is about 2x slower per "
+        "rtol 1e-5 it takes 2,600 steps per cycle and matches dopri5 at 1e-6 within 1 %, but is 2-3x slower per "
         "cycle so far; docs/dynamics.md).",
     )
 

@@ -320,17 +320,15 @@ def lane_threads(lanes: int) -> int:
     """Threads that run the lanes: min(lanes, cores this process may use), or the environment variable
     JOINTWEAR_LANE_THREADS (set by jointwear.compute's worker processes to cores // workers, so that a pool of
     workers does not oversubscribe the machine). The result never depends on it (see WearSettings.lanes)."""
+    from jointwear.compute.executors import available_cores
+
     env = os.environ.get("JOINTWEAR_LANE_THREADS")
     if env:
         try:
             return max(1, min(lanes, int(env)))
         except ValueError:
             pass
-    try:
-        cores = len(os.sched_getaffinity(0))
-    except (AttributeError, OSError):  # pragma: no cover - not Linux
-        cores = os.cpu_count() or 1
-    return max(1, min(lanes, cores))
+    return max(1, min(lanes, available_cores()))
 
 
 def wear_history(
