@@ -233,6 +233,75 @@ def contact_gradient(profiled, emag, hbp, hjp, nx, ny):
     return 1.0, nx, ny, -ny, nx, 0.0  # round surfaces: the gradient is n
 
 
+@njit(cache=True, inline="always", error_model="numpy", _nrt=STEP_LOOP_NRT)
+def clearance_contact(k, cint, cpar, prof, ngrid, cstate, ex, ey, emag, nx, ny, rvx, rvy, wb, wj, ang_b, ang_j, cout):
+    """The contact of clearance joint k, shared by the general and the four-bar kernel (inlined into each, so it
+    compiles with the caller's flags). Inputs: the eccentricity e = (ex, ey) (bearing centre -> journal centre),
+    its length emag and direction n; the relative velocity rv of the journal centre; the angular velocities wb,
+    wj of bearing and journal; the angles ang_b, ang_j of n in the bearing and journal frames (read only for
+    worn profiles). Writes cout[k] (all but O_PHIB, O_PHIJ) and returns (delta, fs, ft, fx, fy, hbp, hjp, rbl,
+    rjl): fx, fy is the force on the journal centre; the caller adds the torques -fs h_j' + R_j ft on the
+    journal and -fs h_b' - R_b ft (plus the moment of -f) on the bearing.
+
+    delta(e, phi_b, phi_j) = |e| - c_loc(theta): the normal force derives from the potential
+    V = K delta^(n+1)/(n+1) (damping along the same direction): -fs grad_e(delta) on the journal centre, the
+    opposite on the bearing centre, torques -fs h' on bodies with worn profiles (zero for circular surfaces);
+    grad_e(delta) = n + gt t, gt = -(h_b' + h_j') / |e| (contact_gradient). Friction acts at the surface points
+    (torques R ft about the centres)."""
+    grow = cpar[k, C_GROW]
+    rbl = cpar[k, C_RB] + 0.5 * grow
+    rjl = cpar[k, C_RJ] - 0.5 * grow
+    kstiff = cpar[k, C_K0]
+    if cint[k, CI_PROF] != 0:
+        hb = _interp_periodic(prof, k, 0, ngrid[k, 0], ang_b)
+        hj = _interp_periodic(prof, k, 1, ngrid[k, 1], ang_j)
+        hbp = _slope_periodic(prof, k, 0, ngrid[k, 0], ang_b)
+        hjp = _slope_periodic(prof, k, 1, ngrid[k, 1], ang_j)
+        rbl += hb
+        rjl -= hj
+        kstiff = contact_stiffness(cpar[k, C_HSUM], rbl, rjl)
+    else:
+        hbp = 0.0
+        hjp = 0.0
+        if grow != 0.0:
+            kstiff = contact_stiffness(cpar[k, C_HSUM], rbl, rjl)
+    cloc = rbl - rjl
+    delta = emag - cloc
+    gn, gx, gy, tx, ty, tilt = contact_gradient(cint[k, CI_PROF] != 0, emag, hbp, hjp, nx, ny)
+    vn = rvx * gx + rvy * gy + hbp * wb + hjp * wj  # d(delta)/dt
+    vt = rvx * tx + rvy * ty + wj * rjl - wb * rbl
+    fs = 0.0
+    fn = 0.0
+    ft = 0.0
+    fx = 0.0
+    fy = 0.0
+    if delta > 0.0:
+        if cstate[k, S_INC] > 0.5:
+            v0 = cstate[k, S_V0]
+        else:
+            v0 = vn if vn > cpar[k, C_V0MIN] else cpar[k, C_V0MIN]
+        fs = normal_force(cint[k, CI_LAW], kstiff, cpar[k, C_NEXP], delta, vn, cpar[k, C_CR], v0)
+        fn = fs * gn  # magnitude of the normal force
+        if cint[k, CI_FRIC] != 0 and fn > 0.0:
+            ft = -friction_coefficient(vt, cpar[k, C_MUD], cpar[k, C_MUS], cpar[k, C_VS], cpar[k, C_VD]) * fn
+        fx = -fs * gx + ft * tx
+        fy = -fs * gy + ft * ty
+    cout[k, O_FN] = fn
+    cout[k, O_FT] = ft
+    cout[k, O_VT] = vt
+    cout[k, O_DELTA] = delta
+    cout[k, O_VN] = vn
+    cout[k, O_NX] = nx
+    cout[k, O_NY] = ny
+    cout[k, O_EX] = ex
+    cout[k, O_EY] = ey
+    cout[k, O_CLOC] = cloc
+    cout[k, O_VREL] = math.sqrt(rvx * rvx + rvy * rvy)
+    cout[k, O_K] = kstiff
+    cout[k, O_TILT] = tilt
+    return delta, fs, ft, fx, fy, hbp, hjp, rbl, rjl
+
+
 @njit(cache=True, error_model="numpy", _nrt=STEP_LOOP_NRT)
 def eval_contacts(nb, nd, cint, cpar, prof, ngrid, cstate, kin, f, cout):
     """Clearance-joint contact forces, added to the generalized forces f of free bodies."""
@@ -268,47 +337,15 @@ def eval_contacts(nb, nd, cint, cpar, prof, ngrid, cstate, kin, f, cout):
         else:
             nx = 1.0
             ny = 0.0
-        grow = cpar[k, C_GROW]
-        rbl = cpar[k, C_RB] + 0.5 * grow
-        rjl = cpar[k, C_RJ] - 0.5 * grow
-        kstiff = cpar[k, C_K0]
         if cint[k, CI_PROF] != 0:
             ang = math.atan2(ny, nx)
-            hb = _interp_periodic(prof, k, 0, ngrid[k, 0], ang - kin[rb, K_PHI])
-            hj = _interp_periodic(prof, k, 1, ngrid[k, 1], ang - kin[rj, K_PHI])
-            hbp = _slope_periodic(prof, k, 0, ngrid[k, 0], ang - kin[rb, K_PHI])
-            hjp = _slope_periodic(prof, k, 1, ngrid[k, 1], ang - kin[rj, K_PHI])
-            rbl += hb
-            rjl -= hj
-            kstiff = contact_stiffness(cpar[k, C_HSUM], rbl, rjl)
+            ang_b = ang - kin[rb, K_PHI]
+            ang_j = ang - kin[rj, K_PHI]
         else:
-            hbp = 0.0
-            hjp = 0.0
-            if grow != 0.0:
-                kstiff = contact_stiffness(cpar[k, C_HSUM], rbl, rjl)
-        cloc = rbl - rjl
-        # delta(e, phi_b, phi_j) = |e| - c_loc(theta): the normal force derives from the potential
-        # V = K delta^(n+1)/(n+1) (damping along the same direction): -fs grad_e(delta) on the journal
-        # centre, the opposite on the bearing centre, torques -fs h' on bodies with worn profiles (zero
-        # for circular surfaces). grad_e(delta) = n + gt t, gt = -(h_b' + h_j') / |e|.
-        delta = emag - cloc
-        gn, gx, gy, tx, ty, tilt = contact_gradient(cint[k, CI_PROF] != 0, emag, hbp, hjp, nx, ny)
-        vn = rvx * gx + rvy * gy + hbp * wb + hjp * wj  # d(delta)/dt
-        vt = rvx * tx + rvy * ty + wj * rjl - wb * rbl
-        fn = 0.0
-        ft = 0.0
+            ang_b = ang_j = 0.0
+        delta, fs, ft, fx, fy, hbp, hjp, rbl, rjl = clearance_contact(
+            k, cint, cpar, prof, ngrid, cstate, ex, ey, emag, nx, ny, rvx, rvy, wb, wj, ang_b, ang_j, cout)
         if delta > 0.0:
-            if cstate[k, S_INC] > 0.5:
-                v0 = cstate[k, S_V0]
-            else:
-                v0 = vn if vn > cpar[k, C_V0MIN] else cpar[k, C_V0MIN]
-            fs = normal_force(cint[k, CI_LAW], kstiff, cpar[k, C_NEXP], delta, vn, cpar[k, C_CR], v0)
-            fn = fs * gn  # magnitude of the normal force
-            if cint[k, CI_FRIC] != 0 and fn > 0.0:
-                ft = -friction_coefficient(vt, cpar[k, C_MUD], cpar[k, C_MUS], cpar[k, C_VS], cpar[k, C_VD]) * fn
-            # on the journal centre; friction acts at the surface points (torques R ft about the centres)
-            fx = -fs * gx + ft * tx
-            fy = -fs * gy + ft * ty
             if 0 <= bj < nb:
                 f[3 * bj] += fx
                 f[3 * bj + 1] += fy
@@ -317,21 +354,8 @@ def eval_contacts(nb, nd, cint, cpar, prof, ngrid, cstate, kin, f, cout):
                 f[3 * bb] -= fx
                 f[3 * bb + 1] -= fy
                 f[3 * bb + 2] += -(abx * fy - aby * fx) - fs * hbp - rbl * ft
-        cout[k, O_FN] = fn
-        cout[k, O_FT] = ft
-        cout[k, O_VT] = vt
-        cout[k, O_DELTA] = delta
-        cout[k, O_VN] = vn
-        cout[k, O_NX] = nx
-        cout[k, O_NY] = ny
-        cout[k, O_EX] = ex
-        cout[k, O_EY] = ey
-        cout[k, O_CLOC] = cloc
-        cout[k, O_VREL] = math.sqrt(rvx * rvx + rvy * rvy)
         cout[k, O_PHIB] = kin[rb, K_PHI]
         cout[k, O_PHIJ] = kin[rj, K_PHI]
-        cout[k, O_K] = kstiff
-        cout[k, O_TILT] = tilt
 
 
 @njit(cache=True, error_model="numpy", _nrt=STEP_LOOP_NRT)
@@ -434,6 +458,26 @@ def step_limit(cout, clear_frac, hmax):
 
 
 @njit(cache=True, inline="always", error_model="numpy", _nrt=STEP_LOOP_NRT)
+def next_step(t, h, hlim, t_end, hmin, nrec, cap, nsteps, max_steps):
+    """The next attempt of a step loop (shared by the explicit and the implicit one): h clipped to hlim and to
+    land exactly on t_end, the new time tn, and a stop code for counters[3] (0 = go on, 1 = record buffer full,
+    2 = max_steps, 3 = step underflow below hmin)."""
+    if nrec >= cap:
+        return h, t, 1
+    if nsteps >= max_steps:
+        return h, t, 2
+    if h > hlim:
+        h = hlim
+    tn = t + h
+    if tn >= t_end - 1e-14 * abs(t_end):
+        h = t_end - t
+        tn = t_end
+    if h < hmin:
+        return h, tn, 3
+    return h, tn, 0
+
+
+@njit(cache=True, inline="always", error_model="numpy", _nrt=STEP_LOOP_NRT)
 def accept_point(t, h, y, ks, lam, cout, cstate, cpar, t_record, nrec, rec_t, rec_h, rec_y, rec_acc, rec_lam, rec_c):
     """Bookkeeping of an accepted step, shared by the explicit and the implicit loop: the contact memory (impact
     speed v0 at the start of each contact, for the damping term of the normal force) and, from t_record on, the
@@ -507,20 +551,9 @@ def integrate(mode, t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_steps, t_
     c0 = s0 = cs = ss = 0.0  # crank angle cos/sin (four-bar kernel)
     hlim = step_limit(cout, clear_frac, hmax)
     while t < t_end:
-        if nrec >= cap:
-            counters[3] = 1
-            break
-        if nsteps >= max_steps:
-            counters[3] = 2
-            break
-        if h > hlim:
-            h = hlim
-        tn = t + h
-        if tn >= t_end - 1e-14 * abs(t_end):
-            h = t_end - t
-            tn = t_end
-        if h < hmin:
-            counters[3] = 3
+        h, tn, stop = next_step(t, h, hlim, t_end, hmin, nrec, cap, nsteps, max_steps)
+        if stop:
+            counters[3] = stop
             break
         for st in range(1, 7):
             for i in range(ny):
@@ -693,10 +726,6 @@ def rhs_fourbar_cs(c, sn, Y, yrow, dy, row, dpar, fp, cint, cpar, prof, ngrid, c
     else:
         nx = 1.0
         ny = 0.0
-    grow = cpar[k, C_GROW]
-    rbl = cpar[k, C_RB] + 0.5 * grow
-    rjl = cpar[k, C_RJ] - 0.5 * grow
-    kstiff = cpar[k, C_K0]
     if cint[k, CI_PROF] != 0:
         # angles of n relative to the body x axes (rod: along A->B; crank: at angle th)
         dl = math.sqrt(d2)
@@ -710,37 +739,11 @@ def rhs_fourbar_cs(c, sn, Y, yrow, dy, row, dpar, fp, cint, cpar, prof, ngrid, c
         else:
             ab = ang_crk
             aj = ang_rod
-        hb = _interp_periodic(prof, k, 0, ngrid[k, 0], ab)
-        hj = _interp_periodic(prof, k, 1, ngrid[k, 1], aj)
-        hbp = _slope_periodic(prof, k, 0, ngrid[k, 0], ab)
-        hjp = _slope_periodic(prof, k, 1, ngrid[k, 1], aj)
-        rbl += hb
-        rjl -= hj
-        kstiff = contact_stiffness(cpar[k, C_HSUM], rbl, rjl)
     else:
-        hbp = 0.0
-        hjp = 0.0
-        if grow != 0.0:
-            kstiff = contact_stiffness(cpar[k, C_HSUM], rbl, rjl)
-    cloc = rbl - rjl
-    # same potential-consistent normal force as eval_contacts (see there)
-    delta = emag - cloc
-    gn, gx, gy, tx, ty, tilt = contact_gradient(cint[k, CI_PROF] != 0, emag, hbp, hjp, nx, ny)
-    vn = rvx * gx + rvy * gy + hbp * wb + hjp * wj
-    vt = rvx * tx + rvy * ty + wj * rjl - wb * rbl
-    fn = 0.0
-    ft = 0.0
+        ab = aj = 0.0
+    delta, fs, ft, fjx, fjy, hbp, hjp, rbl, rjl = clearance_contact(
+        k, cint, cpar, prof, ngrid, cstate, ex, ey, emag, nx, ny, rvx, rvy, wb, wj, ab, aj, cout)
     if delta > 0.0:
-        if cstate[k, S_INC] > 0.5:
-            v0 = cstate[k, S_V0]
-        else:
-            v0 = vn if vn > cpar[k, C_V0MIN] else cpar[k, C_V0MIN]
-        fs = normal_force(cint[k, CI_LAW], kstiff, cpar[k, C_NEXP], delta, vn, cpar[k, C_CR], v0)
-        fn = fs * gn
-        if cint[k, CI_FRIC] != 0 and fn > 0.0:
-            ft = -friction_coefficient(vt, cpar[k, C_MUD], cpar[k, C_MUS], cpar[k, C_VS], cpar[k, C_VD]) * fn
-        fjx = -fs * gx + ft * tx
-        fjy = -fs * gy + ft * ty
         if sig > 0.0:  # rod carries the bearing: -Fj at A, torque -fs h_b' - R_b ft
             qax -= fjx
             qay -= fjy
@@ -749,21 +752,8 @@ def rhs_fourbar_cs(c, sn, Y, yrow, dy, row, dpar, fp, cint, cpar, prof, ngrid, c
             qax += fjx
             qay += fjy
             tq += -fs * hjp + rjl * ft
-    cout[k, O_FN] = fn
-    cout[k, O_FT] = ft
-    cout[k, O_VT] = vt
-    cout[k, O_DELTA] = delta
-    cout[k, O_VN] = vn
-    cout[k, O_NX] = nx
-    cout[k, O_NY] = ny
-    cout[k, O_EX] = ex
-    cout[k, O_EY] = ey
-    cout[k, O_CLOC] = cloc
-    cout[k, O_VREL] = math.sqrt(rvx * rvx + rvy * rvy)
     cout[k, O_PHIB] = 0.0
     cout[k, O_PHIJ] = 0.0
-    cout[k, O_K] = kstiff
-    cout[k, O_TILT] = tilt
     # torque on the rod -> couple on (A, B)
     if tq != 0.0:
         cx = tq * dyy * id2

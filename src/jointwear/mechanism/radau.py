@@ -14,8 +14,8 @@ error estimate (I - h gamma0 J)^-1 (f0 + Z^T E / h) (re-estimated once after a r
 predictive step control, and the step size kept (LU reused) when it would grow by less than 20 %.
 
 Same arguments as ``kernel.integrate`` plus the work arrays of ``work_arrays``; selected by
-``simulation.method = "radau5"``. The step limit and the accepted-step bookkeeping (impact speed, record) are
-``kernel.step_limit`` and ``kernel.accept_point``, shared with the Dormand-Prince loop.
+``simulation.method = "radau5"``. The step start (``kernel.next_step``), the step limit (``kernel.step_limit``) and the
+accepted-step bookkeeping (impact speed, record; ``kernel.accept_point``) are shared with the Dormand-Prince loop.
 """
 
 from __future__ import annotations
@@ -35,6 +35,7 @@ from scipy.integrate._ivp.radau import T as _T
 from jointwear.mechanism.kernel import (
     STEP_LOOP_NRT,
     accept_point,
+    next_step,
     rhs,
     rhs_fourbar,
     step_limit,
@@ -157,20 +158,9 @@ def integrate_radau(mode, t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_ste
     rejected = False
     h_acc = -1.0  # length of the last accepted step (for the extrapolated Newton start)
     while t < t_end:
-        if nrec >= cap:
-            counters[3] = 1
-            break
-        if nsteps >= max_steps:
-            counters[3] = 2
-            break
-        if h > hlim:
-            h = hlim
-        tn = t + h
-        if tn >= t_end - 1e-14 * abs(t_end):
-            h = t_end - t
-            tn = t_end
-        if h < hmin:
-            counters[3] = 3
+        h, tn, stop = next_step(t, h, hlim, t_end, hmin, nrec, cap, nsteps, max_steps)
+        if stop:
+            counters[3] = stop
             break
         nsteps += 1
         if need_jac:  # forward differences around (t, y); f0 = f(t, y)
