@@ -13,6 +13,7 @@ Writes benchmarks/results/dynamics.json. Run: python benchmarks/dynamics.py [--r
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import os
 import platform
@@ -22,6 +23,23 @@ import time
 from pathlib import Path
 
 import numpy as np
+
+
+@contextlib.contextmanager
+def numba_bypassed():
+    """Within the block every compiled function of the kernel and of the contact laws is its Python source
+    (``py_func``): the pure-Python right-hand side of the scipy comparison. Restored on exit."""
+    import jointwear.contact.laws as L
+    from jointwear.mechanism import kernel as K
+
+    saved = [(mod, name, obj) for mod in (K, L) for name, obj in vars(mod).items() if hasattr(obj, "py_func")]
+    try:
+        for mod, name, obj in saved:
+            setattr(mod, name, obj.py_func)
+        yield
+    finally:
+        for mod, name, obj in saved:
+            setattr(mod, name, obj)
 
 
 def main() -> None:
@@ -143,26 +161,11 @@ def main() -> None:
                                           "steps": int(sol.t.size - 1),
                                           "nfev": int(sol.nfev), "status": int(sol.status)}
         # pure Python right-hand side: the kernel's own Python source with numba bypassed
-        import jointwear.contact.laws as L
-
-        names = ["fill_kinematics", "eval_constraints", "eval_contacts", "_row", "_interp_periodic",
-                 "normal_force", "friction_coefficient", "contact_stiffness", "rhs", "rhs_fourbar", "rhs_fourbar_cs",
-                 "contact_gradient"]
-        saved = {n: getattr(K, n) for n in names}
-        saved_h = L.hysteresis_factor
-        glob = saved["normal_force"].py_func.__globals__
-        try:
-            for n in names:
-                setattr(K, n, saved[n].py_func)
-            glob["hysteresis_factor"] = saved_h.py_func
+        with numba_bypassed():
             tt, cc = time.perf_counter(), time.process_time()
             sol = solve_ivp(make_f(getattr(K, rhs_name), mode == 1), (state.t, state.t + period), y0,
                             method="RK45", rtol=model.settings.rtol, atol=atolv, max_step=period / 200)
             w_p, c_p = time.perf_counter() - tt, time.process_time() - cc
-        finally:
-            for n in names:
-                setattr(K, n, saved[n])
-            glob["hysteresis_factor"] = saved_h
         out["scipy_rk45_python_rhs"] = {"wall_seconds_per_cycle": w_p, "cpu_seconds_per_cycle": c_p,
                                         "steps": int(sol.t.size - 1),
                                         "nfev": int(sol.nfev), "status": int(sol.status)}

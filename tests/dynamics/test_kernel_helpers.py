@@ -86,3 +86,62 @@ def test_dormand_prince_tableau_satisfies_the_order_conditions():
     low = conditions(b - e)
     assert max(abs(x) for x in low[:8]) < 1e-14
     assert max(abs(x) for x in low[8:]) > 1e-6  # the embedded formula is of order 4, not 5
+
+
+def _benchmark_module():
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[2] / "benchmarks" / "dynamics.py"
+    spec = importlib.util.spec_from_file_location("benchmark_dynamics", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+@pytest.mark.parametrize("preset,worn", [("jin2025_flapping_wing", False), ("jin2025_flapping_wing", True),
+                                         ("watt_six_bar_two_clearances", True)])
+def test_python_source_of_the_kernels_equals_the_compiled_kernels(preset, worn):
+    """benchmarks/dynamics.py compares with scipy on the kernels' own Python source (numba bypassed); that source
+    must run and give the compiled kernel's derivatives (and would catch a compiled function the bypass misses:
+    numba refuses a Python function as an argument). States along a trajectory, in contact, worn profiles or not.
+    Tolerance: the compiled four-bar kernel reassociates and contracts to FMA (kernel.FASTMATH), i.e. a few ulp per
+    operation, which the 2x2 constraint solve and the contact stiffness amplify; 1e-9 of the largest derivative
+    component leaves a margin of >1e3 over what was measured (<1e-12)."""
+    import dataclasses
+
+    bench = _benchmark_module()
+    model = build_model(load_config(preset))
+    geom = model.initial_geometry()
+    if worn:
+        n = geom[0].bearing_wear.size
+        th = 2 * np.pi * np.arange(n) / n
+        geom = [dataclasses.replace(g, bearing_wear=2e-6 * np.maximum(0, np.cos(th - 2.2)) ** 2,
+                                    journal_wear=1e-6 * np.maximum(0, np.cos(th + 1.0)) ** 2, use_profile=True)
+                for g in geom]
+    res = simulate(model, 0.05, geometry=geom, settle_cycles=0)
+    run = _Runner(model, geom, 1e-6, 1e-9)
+    a = run._args()
+    states = [run.to_internal(np.concatenate([res.q[i], res.qd[i]])) for i in range(0, res.t.size, res.t.size // 7)]
+    assert np.any(res.joints[0].in_contact)
+    for t, y in zip(res.t[::res.t.size // 7], states):
+        out = []
+        for bypass in (False, True):
+            dy = np.zeros((7, run.ny))
+            with bench.numba_bypassed() if bypass else _nothing():
+                assert hasattr(K.clearance_contact, "py_func") is not bypass  # compiled, or its Python source
+                if run.mode == 1:
+                    K.rhs_fourbar(t, y[None, :], 0, dy, 0, a[3], a[5], *a[6:12], a[18], a[20])
+                else:
+                    K.rhs(t, y, dy, 0, *a)
+            out.append(dy[0])
+        assert hasattr(K.rhs, "py_func") and hasattr(K.rhs_fourbar, "py_func")  # restored on exit
+        np.testing.assert_allclose(out[1], out[0], rtol=0, atol=1e-9 * np.max(np.abs(out[0])))
+
+
+class _nothing:
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
