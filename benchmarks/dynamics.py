@@ -7,7 +7,10 @@ Writes benchmarks/results/dynamics.json. Run: python benchmarks/dynamics.py [--r
 - scipy: the same cycle (same state, tolerances and equations) by scipy.integrate.solve_ivp(RK45)
   with (a) the compiled right-hand side called from Python, (b) a pure-Python right-hand side
   (the kernel's Python source, numba bypassed).  The contact memory (impact speed v0) is frozen at
-  its settled value in the scipy runs (no per-step bookkeeping hook in solve_ivp).
+  its settled value in the scipy runs (no per-step bookkeeping hook in solve_ivp);
+- cartesian_kernel (skip with --no-cartesian): the general Cartesian kernel (kernel.rhs), which runs every
+  mechanism but the flapping wing: the six-bar preset watt_six_bar_two_clearances (one cycle from a settled
+  state) and the flapping wing forced onto it (fast=False), medians over the repeats.
 """
 
 from __future__ import annotations
@@ -46,6 +49,7 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--no-scipy", action="store_true")
+    ap.add_argument("--no-cartesian", action="store_true", help="skip the Cartesian-kernel timings")
     ap.add_argument("--out", default=str(Path(__file__).parent / "results" / "dynamics.json"))
     args = ap.parse_args()
 
@@ -90,6 +94,7 @@ def main() -> None:
     out = {
         "preset": "jin2025_flapping_wing",
         "machine": {"cpus": os.cpu_count(), "python": sys.version.split()[0], "platform": platform.platform(),
+                    "llvm_host_cpu": _host_cpu(),
                     "loadavg_1min": os.getloadavg()[0] if hasattr(os, "getloadavg") else None},
         "rtol": model.settings.rtol, "atol_m": model.settings.atol,
         "first_call_seconds_incl_compile_or_cache_load": first_call,
@@ -109,6 +114,8 @@ def main() -> None:
         "contact_fraction": tr.contact_fraction,
         "impacts_per_cycle": tr.n_impacts,
     }
+    if not args.no_cartesian:
+        out["cartesian_kernel"] = _cartesian_kernel(model, state, statistics.median(walls), args.repeats)
     # the experimental implicit option (simulation.method = "radau5") on the same cycle, rtol 1e-5
     import dataclasses
 
@@ -176,6 +183,48 @@ def main() -> None:
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     Path(args.out).write_text(json.dumps(out, indent=2) + "\n")
     print(json.dumps(out, indent=2))
+
+
+def _host_cpu() -> str:
+    """The CPU numba compiles for (the kernels' instructions, hence their speed and rounding, depend on it)."""
+    import llvmlite.binding as llvm
+
+    return str(llvm.get_host_cpu_name())
+
+
+def _cartesian_kernel(fw_model, fw_state, fw_fast_wall: float, repeats: int) -> dict:
+    """The general Cartesian kernel (kernel.rhs, mode 0 of kernel.integrate): wall time per crank cycle of the
+    six-bar preset (two clearance joints, 4 free bodies) from a settled state, and of the flapping wing forced onto
+    it (fast=False) from the fast path's settled state; medians over the repeats, the two alternated."""
+    from jointwear.config import load_config
+    from jointwear.mechanism import build_model, simulate
+
+    six = build_model(load_config("watt_six_bar_two_clearances"))
+    six_state = simulate(six, 0.0, settle_cycles=six.settings.settle_cycles).state_end
+    cases = {"six_bar": (six, six_state, None), "flapping_wing_fast_false": (fw_model, fw_state, False)}
+    presets = {"six_bar": "watt_six_bar_two_clearances", "flapping_wing_fast_false": "jin2025_flapping_wing"}
+    for m, st, fast in cases.values():  # compile / load from numba's cache and fill the record pool, untimed
+        simulate(m, 1, settle_cycles=0, state0=st, fast=fast)
+    walls = {k: [] for k in cases}
+    last = {}
+    for _ in range(repeats):
+        for name, (m, st, fast) in cases.items():
+            w0 = time.perf_counter()
+            last[name] = simulate(m, 1, settle_cycles=0, state0=st, fast=fast)
+            walls[name].append(time.perf_counter() - w0)
+    out = {}
+    for name in cases:
+        r = last[name]
+        med = statistics.median(walls[name])
+        out[name] = {"preset": presets[name],
+                     "wall_seconds_per_cycle_median": med, "wall_seconds_per_cycle_all": walls[name],
+                     "steps_per_cycle": r.n_recorded_steps, "rejected_steps_per_cycle": r.n_rejected,
+                     "microseconds_per_step": med / r.n_recorded_steps * 1e6,
+                     "contact_force_mean_N": [tr.mean_force for tr in r.joints],
+                     "impacts_per_cycle": [tr.n_impacts for tr in r.joints]}
+    out["flapping_wing_fast_false"]["ratio_to_fast_kernel"] = (
+        out["flapping_wing_fast_false"]["wall_seconds_per_cycle_median"] / fw_fast_wall)
+    return out
 
 
 if __name__ == "__main__":
