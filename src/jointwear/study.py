@@ -450,11 +450,12 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityStudyResult) -> d
       delta_0) over the nominal population. A shifted mechanism that cannot run (e.g. a rod too short to
       close the loop) has reliability 0, with its reason reported.
     """
-    from jointwear.reliability import IsoTransform
+    from jointwear.reliability import IsoTransform, esc_absolute_error
     from jointwear.sensitivity import (
         mean_shift_table,
         reliability_derivatives,
         sobol_indices,
+        unresolved_pairs,
     )
 
     sens = ctx.config.sensitivity
@@ -469,11 +470,14 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityStudyResult) -> d
     iso = IsoTransform(ctx.marginals)
 
     def log_life_margin(x):
-        """ln N_f(x) - ln N_s from the learned life surrogate (failure where < 0)."""
-        return engine.surrogates[col].predict(iso.to_u(x), return_variance=False)[0]
+        """ln N_f(x) - ln N_s from the learned life surrogate (failure where < 0) and its Kriging standard
+        deviation."""
+        mu, var = engine.surrogates[col].predict(iso.to_u(x))
+        return mu, np.sqrt(np.maximum(var, 0.0))
 
-    margin_nominal_pop = log_life_margin(pop)
+    margin_nominal_pop, margin_sd_nominal_pop = log_life_margin(pop)
     r_nominal = float(np.mean(margin_nominal_pop > 0))
+    r_nominal_error = esc_absolute_error(margin_nominal_pop, margin_sd_nominal_pop)
     wear_col = reliability.wear_surrogates.cycles.index(sens.cycles)
 
     n_model = len(ctx.targets)
@@ -497,9 +501,10 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityStudyResult) -> d
         if abs(shift) <= sens.surrogate_shift_limit * sigma:
             shifted_pop = pop.copy()
             shifted_pop[:, i] = population([marginals[i]], n_pop, rel.seed + 3 + i)[:, 0]
-            r = float(np.mean(log_life_margin(shifted_pop) > 0))
+            mu, sd = log_life_margin(shifted_pop)
+            r = float(np.mean(mu > 0))
             rules.append({"variable": ctx.names[i], "factor": marginals[i].mean() / ctx.marginals[i].mean(),
-                          "rule": "surrogate", "reliability": r})
+                          "rule": "surrogate", "reliability": r, "error_estimate": esc_absolute_error(mu, sd)})
             return r, 0
         before = ctx.n_evaluated
         base_wear = true_wear(means)
@@ -514,8 +519,10 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityStudyResult) -> d
             return 0.0, ctx.n_evaluated - before
         rho = shifted_wear / base_wear
         # wear x rho <=> life / rho (the wear grows linearly in N): failure where ln N_f - ln rho < ln N_s
-        r = float(np.mean(margin_nominal_pop - math.log(rho) > 0))
-        entry.update(reliability=r, wear_ratio=rho)
+        mu = margin_nominal_pop - math.log(rho)
+        r = float(np.mean(mu > 0))
+        # the surrogate's error only (rho comes from two true-model calls)
+        entry.update(reliability=r, wear_ratio=rho, error_estimate=esc_absolute_error(mu, margin_sd_nominal_pop))
         rules.append(entry)
         return r, ctx.n_evaluated - before
 
@@ -530,19 +537,33 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityStudyResult) -> d
         groups.setdefault(spec.group, []).append(spec.name)
     ranking = table.ranking()
     ranking_by_group = {g: [n for n in ranking if n in members] for g, members in groups.items()}
+    # error estimate of each shifted reliability (0 where the shifted mechanism could not run: R = 0 is exact)
+    shift_error = {(e["variable"], round(e["factor"], 9)): e.get("error_estimate", 0.0) for e in rules}
+    errors_low, errors_high, swing_error = [], [], {}
+    for k, name in enumerate(ctx.names):
+        lo_err = shift_error.get((name, round(sens.factors[0], 9)), 0.0)
+        hi_err = shift_error.get((name, round(sens.factors[1], 9)), 0.0)
+        errors_low.append(lo_err)
+        errors_high.append(hi_err)
+        lo, hi = table.reliability_low[k], table.reliability_high[k]
+        swing_error[name] = lo_err if abs(lo - r_nominal) >= abs(hi - r_nominal) else hi_err
+    unresolved = unresolved_pairs(ranking, dict(zip(ctx.names, table.swings())), swing_error, groups)
     variables = []
     for k, name in enumerate(ctx.names):
         variables.append({
             "name": name, "label": ctx.labels[k],
             "group": specs[k].group if k < len(specs) else "other",
             "reliability_low": table.reliability_low[k], "reliability_high": table.reliability_high[k],
+            "reliability_low_error": errors_low[k], "reliability_high_error": errors_high[k],
             "dR_dmean": float(-deriv.dpf_dmean[k]), "dR_dstd": float(-deriv.dpf_dstd[k]),
             "elasticity_mean": float(-deriv.elasticity_mean[k]) if deriv.pf > 0 else 0.0,
             "S1": float(sobol.S1[k]), "ST": float(sobol.ST[k]),
         })
     return {
         "cycles": sens.cycles, "factors": list(sens.factors), "reliability_nominal": r_nominal,
+        "reliability_nominal_error": r_nominal_error,
         "variables": variables, "ranking": ranking, "ranking_by_group": ranking_by_group,
+        "unresolved_pairs": unresolved,
         "paper_ranking_by_group": PAPER_RANKINGS, "rules": rules,
         "extra_model_calls": ctx.n_evaluated - known_before,
         "sobol": sobol.as_dict(), "derivatives": deriv.as_dict(), "n_population": n_pop,

@@ -162,3 +162,20 @@ def test_comparison_markdown(study_dir: Path):
     assert "| life at R = 0.9 | 371,640 cycles |" in md
     assert md.count("**pass**") >= 12
     assert main(["/does/not/exist"]) == 2
+
+
+def test_ranking_marks_neighbours_the_surrogate_does_not_separate(tmp_path: Path):
+    """sensitivity.json's unresolved_pairs: the ranking joins them with \u2248 and the comparison says so."""
+    d = make_fixture_dir(tmp_path, which=("sensitivity",))
+    sens = json.loads((d / "sensitivity.json").read_text())
+    # fixture bearing group: HB_b (swing 0.568) > k_b (0.168) > E_b > nu_b; declare E_b / nu_b unresolved
+    sens["unresolved_pairs"] = [{"group": "bearing_material", "first": "E_b", "second": "nu_b",
+                                 "swing_difference": 0.014, "error_sum": 0.02}]
+    (d / "sensitivity.json").write_text(json.dumps(sens))
+    checks = {c.quantity: c for c in paper_checks(read_inputs(d).data)}
+    note = checks["sensitivity ranking, bearing material"].note
+    assert "not resolved within the surrogate's error: Young's modulus \u2248 Poisson's ratio" in note
+    assert "not resolved" not in checks["sensitivity ranking, tolerances"].note
+    page = build_report(d).read_text(encoding="utf-8")
+    assert ("bearing Brinell hardness &gt; bearing wear coefficient &gt; bearing Young&#x27;s modulus \u2248 "
+            "bearing Poisson&#x27;s ratio") in page

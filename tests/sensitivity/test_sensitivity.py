@@ -6,11 +6,13 @@ import numpy as np
 import pytest
 from scipy import stats
 
+from jointwear.reliability import esc_absolute_error, esc_error
 from jointwear.sensitivity import (
     mean_shift_table,
     reliability_derivatives,
     shifted_marginal,
     sobol_indices,
+    unresolved_pairs,
 )
 
 
@@ -86,3 +88,41 @@ def test_mean_shift_table_ranks_the_variable_that_matters():
     res = mean_shift_table(reliability_of, marg, ["x1", "x2"], factors=(0.8, 1.2))
     assert res.ranking() == ["x1", "x2"]
     assert res.reliability_high[0] < res.reliability_nominal < res.reliability_low[0]
+
+
+def test_unresolved_pairs_are_neighbours_within_the_summed_errors():
+    swing = {"a": 0.41, "b": 0.39, "c": 0.10, "d": 0.05, "e": 0.30}
+    groups = {"g1": ["a", "b", "c"], "g2": ["d", "e"]}
+    ranking = ["a", "b", "e", "c", "d"]
+    loose = {"a": 0.015, "b": 0.01, "c": 0.01, "d": 0.01, "e": 0.01}
+    out = unresolved_pairs(ranking, swing, loose, groups)
+    assert [(p["group"], p["first"], p["second"]) for p in out] == [("g1", "a", "b")]  # 0.02 < 0.025
+    assert out[0]["swing_difference"] == pytest.approx(0.02) and out[0]["error_sum"] == pytest.approx(0.025)
+    tight = dict.fromkeys(swing, 0.005)
+    assert unresolved_pairs(ranking, swing, tight, groups) == []  # 0.02 > 0.01: resolved
+
+
+def test_esc_absolute_error_bounds_the_misclassification_of_a_known_gaussian_surrogate():
+    """A surrogate whose error is exactly N(0, sd) at each point: the true Pf is drawn by sampling the true values.
+    The bound is the larger of two one-sided 95 % bounds on the misclassified counts, so |Pf_true - Pf_hat| stays
+    under it in >= 95 % of the replicates (the binomial 95 % band of 400 replicates is >= 93 %). It is
+    conservative (misclassifications both ways partly cancel in Pf: measured 100 %, and 97.5 % for half the
+    bound), so this only catches a bound far too small; its value is pinned by the exact forms: esc_error x
+    Pf_hat (the R(N) curve's estimate) with predicted failures, 0 without surrogate variance, and the
+    predicted-safe bound over n when nothing is predicted to fail."""
+    rng = np.random.default_rng(3)
+    n = 20_000
+    mu = rng.normal(1.5, 1.0, n)
+    sd = np.full(n, 0.2)
+    pf_hat = np.mean(mu <= 0)
+    bound = esc_absolute_error(mu, sd)
+    u = np.abs(mu) / sd
+    assert bound == pytest.approx(esc_error(u, mu <= 0) * pf_hat, rel=1e-12)
+    inside = [abs(np.mean(mu + sd * rng.standard_normal(n) <= 0) - pf_hat) <= bound for _ in range(400)]
+    assert np.mean(inside) >= 0.93
+    assert esc_absolute_error(mu, np.zeros(n)) == 0.0
+    # nothing predicted to fail: the one-sided 95 % bound on the predicted-safe points that fail, over n
+    safe = np.abs(mu) + 0.1
+    p = stats.norm.cdf(-safe / sd)
+    expected = (p.sum() + 1.959963984540054 * math.sqrt(float((p * (1 - p)).sum()))) / n
+    assert esc_absolute_error(safe, sd) == pytest.approx(expected, rel=1e-9)

@@ -14,7 +14,7 @@ from ._core import (
     check_marginals,
 )
 from .akis import akis
-from .akmcs import akmcs, akmcs_multi, esc_error
+from .akmcs import akmcs, akmcs_multi, esc_absolute_error, esc_error
 from .kriging import KrigingSurrogate, blas_threads
 from .methods import form, importance_sampling, monte_carlo, sorm, subset_simulation
 
@@ -22,6 +22,7 @@ __all__ = [
     "akis",
     "akmcs",
     "akmcs_multi",
+    "esc_absolute_error",
     "esc_error",
     "monte_carlo",
     "form",

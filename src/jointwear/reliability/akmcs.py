@@ -50,7 +50,7 @@ from ._core import (
 )
 from .kriging import KrigingSurrogate
 
-__all__ = ["akmcs", "akmcs_multi", "esc_error"]
+__all__ = ["akmcs", "akmcs_multi", "esc_absolute_error", "esc_error"]
 
 _Z95 = 1.959963984540054
 
@@ -61,6 +61,28 @@ def esc_error(u: np.ndarray, fail: np.ndarray, known: np.ndarray | None = None, 
     ``u``: U values of the candidates; ``fail``: predicted failure flags; ``known``: candidates whose sign
     is known exactly (evaluated). Returns +inf when no candidate is predicted to fail.
     """
+    n_f, n_fs, n_sf = _esc_counts(u, fail, known, z)
+    if n_f - n_fs <= 0:
+        return math.inf
+    return max(n_fs / (n_f - n_fs), n_sf / (n_f + n_sf))
+
+
+def esc_absolute_error(mu: np.ndarray, sd: np.ndarray, z: float = _Z95) -> float:
+    """Estimated maximum absolute error of Pf = P[mu <= 0] (and so of R) over a population from the surrogate's
+    mean ``mu`` and standard deviation ``sd``: ``esc_error`` x Pf, the form of the R(N) curve's error estimate;
+    when no candidate is predicted to fail (or the relative bound is unbounded), the larger of the two
+    misclassification bounds over the population size."""
+    fail = mu <= 0.0
+    n_f, n_fs, n_sf = _esc_counts(_u_function(mu, sd), fail, None, z)
+    n = max(int(fail.size), 1)
+    if n_f - n_fs > 0:
+        return max(n_fs / (n_f - n_fs), n_sf / (n_f + n_sf)) * n_f / n
+    return max(n_fs, n_sf) / n
+
+
+def _esc_counts(u: np.ndarray, fail: np.ndarray, known: np.ndarray | None, z: float) -> tuple[float, float, float]:
+    """(predicted failures, 95 % bound on those that are safe, 95 % bound on predicted-safe that fail): the
+    Poisson-binomial counts of the ESC criterion (Wang & Shafieezadeh 2019)."""
     relevant = u < 8.0  # Phi(-8) = 6e-16: candidates beyond contribute nothing
     if known is not None:
         relevant &= ~known
@@ -70,9 +92,7 @@ def esc_error(u: np.ndarray, fail: np.ndarray, known: np.ndarray | None = None, 
     pf_, ps_ = p[f], p[~f]
     n_fs = float(pf_.sum() + z * math.sqrt(float((pf_ * (1 - pf_)).sum())))
     n_sf = float(ps_.sum() + z * math.sqrt(float((ps_ * (1 - ps_)).sum())))
-    if n_f - n_fs <= 0:
-        return math.inf
-    return max(n_fs / (n_f - n_fs), n_sf / (n_f + n_sf))
+    return n_f, n_fs, n_sf
 
 
 def _needs_optimisation(forced: bool, n_at_opt: int, n_ok: int, growth: float) -> bool:

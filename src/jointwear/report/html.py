@@ -40,8 +40,9 @@ instead be in a CSV with an ``angle_deg`` column.
 ``mean_max_wear_mm`` {``cycles``, ``mean``}, ``limit_mm``, and any other scalar (listed as is).
 
 ``sensitivity.json``: ``variables`` [{``name``, ``label``, ``reliability_low``, ``reliability_high``[,
-``group``]}], ``reliability_nominal``, ``cycles``, optionally ``sobol`` {``names``, ``S1``, ``ST``[,
-``S1_conf``, ``ST_conf``, ``output``]}.
+``group``, ``reliability_low_error``, ``reliability_high_error``]}], ``reliability_nominal``, ``cycles``,
+optionally ``unresolved_pairs`` [{``first``, ``second``, ...}] (neighbours of a ranking within the surrogate's
+error, shown as ≈) and ``sobol`` {``names``, ``S1``, ``ST``[, ``S1_conf``, ``ST_conf``, ``output``]}.
 
 Any ``*.png`` in ``out_dir`` is embedded where the report has no data to draw that figure itself (matched by
 name: orbit, force, polar/profile, fig17/panels, history, reliability, histogram, convergence, tornado, sobol)
@@ -528,8 +529,8 @@ def _spread(var: Mapping, nominal: float) -> float:
     return max([abs(v - nominal) for v in vals if v is not None] or [0.0])
 
 
-def _rankings(sens: Mapping) -> dict[str, list[tuple[str, str | None, float]]]:
-    """Per group, the variables by decreasing effect on R: (display label, paper quantity, spread)."""
+def _rankings(sens: Mapping) -> dict[str, list[tuple[str, str | None, float, str]]]:
+    """Per group, the variables by decreasing effect on R: (display label, paper quantity, spread, name)."""
     nominal = _float(sens.get("reliability_nominal"))
     out: dict[str, list] = {}
     if nominal is None:
@@ -539,10 +540,26 @@ def _rankings(sens: Mapping) -> dict[str, list[tuple[str, str | None, float]]]:
             continue
         group, qty = _classify(var)
         out.setdefault(group or "variables", []).append(
-            (str(var.get("label") or var.get("name")), qty, _spread(var, nominal)))
+            (str(var.get("label") or var.get("name")), qty, _spread(var, nominal), str(var.get("name"))))
     for g in out:
         out[g].sort(key=lambda t: -t[2])
     return out
+
+
+def _unresolved(sens: Mapping) -> set[tuple[str, str]]:
+    """(first, second) names of ranking neighbours the study's surrogate error does not separate."""
+    pairs = sens.get("unresolved_pairs") or []
+    return {(str(p.get("first")), str(p.get("second"))) for p in pairs if isinstance(p, Mapping)}
+
+
+def _ranking_text(items: Sequence[tuple], unresolved: set[tuple[str, str]], field: int = 0) -> str:
+    """'a > b ≈ c': ≈ between neighbours whose order is within the surrogate's error."""
+    text = ""
+    for k, item in enumerate(items):
+        if k:
+            text += " ≈ " if (items[k - 1][3], item[3]) in unresolved else " > "
+        text += str(item[field])
+    return text
 
 
 def paper_checks(data: Mapping[str, Mapping]) -> list[Check]:
@@ -644,18 +661,22 @@ def paper_checks(data: Mapping[str, Mapping]) -> list[Check]:
                         "the paper's count is for one N", digits=4))
     # sensitivity rankings
     ranks = _rankings(sens) if sens else {}
+    unresolved = _unresolved(sens) if sens else set()
     for group, paper_rank in PAPER["ranking"].items():
-        ours_rank = [q for _, q, _s in ranks.get(group, []) if q is not None]
+        ours_rank = [q for _, q, _s, _n in ranks.get(group, []) if q is not None]
         if not ours_rank:
             checks.append(Check(f"sensitivity ranking, {group}", None, None, "", "reported", NA,
                                 " > ".join(paper_rank)))
             continue
         same = ours_rank == paper_rank[: len(ours_rank)]
         top = ours_rank[0] == paper_rank[0]
+        tied = [f"{a[1]} ≈ {b[1]}" for a, b in zip(ranks.get(group, []), ranks.get(group, [])[1:])
+                if (a[3], b[3]) in unresolved and a[1] and b[1]]
         checks.append(Check(f"sensitivity ranking, {group}", None, None, "", "same order as the paper",
                             PASS if same else INFO,
                             f"ours: {' > '.join(ours_rank)} | paper: {' > '.join(paper_rank)}"
-                            + ("" if same else (" (same most influential)" if top else " (differs)"))))
+                            + ("" if same else (" (same most influential)" if top else " (differs)"))
+                            + (f"; not resolved within the surrogate's error: {', '.join(tied)}" if tied else "")))
     return checks
 
 
@@ -1001,23 +1022,29 @@ def _sensitivity_section(inp: Inputs, figs: _Figures) -> str:
         rows = []
         optional = [("elasticity_mean", "elasticity of R to the mean"), ("S1", "Sobol' S1"), ("ST", "Sobol' ST")]
         extra_cols = [(k, h) for k, h in optional if any(_float(v.get(k)) is not None for v in variables)]
+        has_err = any(_float(v.get("reliability_low_error")) is not None for v in variables)
         for v in variables:
             lo, hi = _float(v.get("reliability_low")), _float(v.get("reliability_high"))
+            err = ((_num(_float(v.get("reliability_low_error")), 3) + " / "
+                    + _num(_float(v.get("reliability_high_error")), 3),) if has_err else ())
             rows.append((str(v.get("label") or v.get("name")), str(v.get("name")), _classify(v)[0] or "",
-                         _num(lo, 3), _num(hi, 3), _num(_spread(v, nominal), 3))
+                         _num(lo, 3), _num(hi, 3), _num(_spread(v, nominal), 3)) + err
                         + tuple(_num(_float(v.get(k)), 3) for k, _h in extra_cols))
         rows.sort(key=lambda r: (r[2], -float(r[5]) if r[5] not in ("\u2014",) else 0))
         parts.append('<details><summary>Sensitivity as numbers</summary>')
         parts.append(_table(["variable", "name", "group", f"R at mean \u00d7 {lo_f:g}", f"R at mean \u00d7 {hi_f:g}",
-                             "largest change of R"] + [h for _k, h in extra_cols], rows, cls="num"))
+                             "largest change of R"] + (["surrogate error of R (low / high)"] if has_err else [])
+                            + [h for _k, h in extra_cols], rows, cls="num"))
         parts.append("</details>")
         ranks = _rankings(sens)
+        unresolved = _unresolved(sens)
         rrows = []
         for g, items in ranks.items():
             paper = PAPER["ranking"].get(g)
-            rrows.append((g, " > ".join(lbl for lbl, _q, _s in items), " > ".join(paper) if paper else "\u2014"))
+            rrows.append((g, _ranking_text(items, unresolved), " > ".join(paper) if paper else "\u2014"))
         parts.append("<h3>Ranking beside the paper's</h3>")
-        parts.append(_table(["group", "this study (largest change of R first)", "paper"], rrows, cls="kv"))
+        parts.append(_table(["group", "this study (largest change of R first; \u2248: the difference is within the "
+                             "surrogate's error estimate of the two reliabilities)", "paper"], rrows, cls="kv"))
     else:
         parts.append(figs.draw(None, "Tornado", png_keys=("tornado",),
                                missing="Tornado: no per-variable reliabilities (sensitivity.json 'variables', "

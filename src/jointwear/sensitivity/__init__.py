@@ -5,7 +5,8 @@
 * :func:`reliability_derivatives` - derivatives of Pf with respect to the mean and the standard deviation of
   each normal input, from one Monte Carlo population (score-function / likelihood-ratio estimator).
 * :func:`mean_shift_table` - the paper's one-at-a-time mean shifts (80 % / 120 %), given any function that
-  returns the reliability for a list of marginals.
+  returns the reliability for a list of marginals; :func:`unresolved_pairs` - neighbours of a ranking that the
+  surrogate's error does not separate.
 """
 
 from jointwear.sensitivity.derivatives import (
@@ -16,6 +17,7 @@ from jointwear.sensitivity.mean_shift import (
     MeanShiftResult,
     mean_shift_table,
     shifted_marginal,
+    unresolved_pairs,
 )
 from jointwear.sensitivity.sobol import SobolResult, sobol_indices
 
@@ -27,4 +29,5 @@ __all__ = [
     "reliability_derivatives",
     "shifted_marginal",
     "sobol_indices",
+    "unresolved_pairs",
 ]

@@ -36,11 +36,32 @@ class MeanShiftResult:
     reliability_high: list[float]
     extra_calls: list[int] = field(default_factory=list)
 
+    def swings(self) -> list[float]:
+        """Per variable, the largest absolute change of reliability of its two shifts."""
+        return [max(abs(lo - self.reliability_nominal), abs(hi - self.reliability_nominal))
+                for lo, hi in zip(self.reliability_low, self.reliability_high)]
+
     def ranking(self) -> list[str]:
         """Variables ordered by the largest absolute change of reliability."""
-        swing = [max(abs(lo - self.reliability_nominal), abs(hi - self.reliability_nominal))
-                 for lo, hi in zip(self.reliability_low, self.reliability_high)]
-        return [n for _, n in sorted(zip(swing, self.names), key=lambda t: -t[0])]
+        return [n for _, n in sorted(zip(self.swings(), self.names), key=lambda t: -t[0])]
+
+
+def unresolved_pairs(ranking: Sequence[str], swing: dict[str, float], error: dict[str, float],
+                     groups: dict[str, Sequence[str]]) -> list[dict]:
+    """Neighbours in a group's ranking whose order the study does not resolve: the difference of their swings is
+    smaller than the sum of the error estimates of the two reliabilities that set those swings (each the
+    surrogate's 95 % bound, ``jointwear.reliability.esc_absolute_error``). ``ranking``: all variables, largest
+    swing first; ``groups``: group -> member names."""
+    out = []
+    for group, members in groups.items():
+        ordered = [n for n in ranking if n in set(members)]
+        for a, b in zip(ordered, ordered[1:]):
+            diff = swing[a] - swing[b]
+            bound = error[a] + error[b]
+            if diff < bound:
+                out.append({"group": group, "first": a, "second": b, "swing_difference": float(diff),
+                            "error_sum": float(bound)})
+    return out
 
 
 def mean_shift_table(reliability_of: Callable[[list], tuple[float, int]], marginals: Sequence,
