@@ -358,6 +358,174 @@ def eval_contacts(nb, nd, cint, cpar, prof, ngrid, cstate, kin, f, cout):
         cout[k, O_PHIJ] = kin[rj, K_PHI]
 
 
+@njit(cache=True, inline="always", error_model="numpy", _nrt=STEP_LOOP_NRT)
+def schur_blocks(nb, jint, jac, winv, f, rest, phid, phi_, alpha2, beta2, smat, lam):
+    """The Schur complement S = J W J^T (lower triangle, into smat) and the right-hand side
+    lam = J W f + rest + 2 alpha Phidot + beta^2 Phi (W = M^-1, diagonal), by 2x2 blocks of joint pairs: the rows of a
+    joint are nonzero only in the columns of its (at most two) free bodies, so a block sums over the bodies the two
+    joints share (the sums over all columns without their zero terms), and joints that share no free body give a
+    zero block."""
+    nj = jint.shape[0]
+    for ka in range(nj):
+        a = 2 * ka
+        b0 = jint[ka, 1]
+        b1 = jint[ka, 2]
+        lo = b0 if b0 < b1 else b1
+        hi = b1 if b0 < b1 else b0
+        clo = 3 * lo if 0 <= lo < nb else -1
+        chi = 3 * hi if 0 <= hi < nb and hi != lo else -1
+        acc0 = 0.0
+        acc1 = 0.0
+        for blk in range(2):
+            c0 = clo if blk == 0 else chi
+            if c0 >= 0:
+                for c in range(c0, c0 + 3):
+                    fw = f[c]
+                    w = winv[c]
+                    acc0 += jac[a, c] * fw * w
+                    acc1 += jac[a + 1, c] * fw * w
+        lam[a] = acc0 + rest[a] + alpha2 * phid[a] + beta2 * phi_[a]
+        lam[a + 1] = acc1 + rest[a + 1] + alpha2 * phid[a + 1] + beta2 * phi_[a + 1]
+        for kb in range(ka + 1):
+            b = 2 * kb
+            cb0 = 3 * jint[kb, 1]
+            cb1 = 3 * jint[kb, 2]
+            s00 = 0.0
+            s01 = 0.0
+            s10 = 0.0
+            s11 = 0.0
+            for blk in range(2):
+                c0 = clo if blk == 0 else chi
+                if c0 >= 0 and (c0 == cb0 or c0 == cb1):
+                    for c in range(c0, c0 + 3):
+                        w = winv[c]
+                        ja0 = jac[a, c]
+                        ja1 = jac[a + 1, c]
+                        jb0 = jac[b, c]
+                        jb1 = jac[b + 1, c]
+                        s00 += ja0 * jb0 * w
+                        s01 += ja0 * jb1 * w
+                        s10 += ja1 * jb0 * w
+                        s11 += ja1 * jb1 * w
+            smat[a, b] = s00
+            smat[a + 1, b] = s10
+            smat[a + 1, b + 1] = s11
+            if kb < ka:
+                smat[a, b + 1] = s01
+
+
+@njit(cache=True, inline="always", error_model="numpy", _nrt=STEP_LOOP_NRT)
+def block_ldlt(nj, smat):
+    """S = L D L^T by 2x2 blocks (one per joint) in place, from the lower triangle of smat: L_IJ (unit block-lower)
+    below the diagonal blocks, D_J^-1 on them, W_IJ = L_IJ D_J mirrored above them (smat[2J + q, 2I + p] =
+    W_IJ[p, q]). The stages of a step wait for each evaluation, and a factorisation is a chain of pivots: one
+    division per joint (the determinant of D_J) instead of a square root and a division per row halves it, and the
+    solves only multiply (same-process A/B per cycle, six-bar / flapping wing on this kernel: 0.89x / 0.91x against
+    a scalar L D L^T, 0.75x / 0.81x against the Cholesky with a division per entry). A singular block (det <= 0: a
+    joint without free bodies, redundant constraints) gets det = 1e-300, as the Cholesky's pivot did."""
+    for jb in range(nj):
+        j = 2 * jb
+        d00 = smat[j, j]
+        d10 = smat[j + 1, j]
+        d11 = smat[j + 1, j + 1]
+        for kb in range(jb):
+            k = 2 * kb
+            # D_J -= L_JK W_JK^T
+            l00 = smat[j, k]
+            l01 = smat[j, k + 1]
+            l10 = smat[j + 1, k]
+            l11 = smat[j + 1, k + 1]
+            w00 = smat[k, j]
+            w01 = smat[k + 1, j]
+            w10 = smat[k, j + 1]
+            w11 = smat[k + 1, j + 1]
+            d00 -= l00 * w00 + l01 * w01
+            d10 -= l10 * w00 + l11 * w01
+            d11 -= l10 * w10 + l11 * w11
+        det = d00 * d11 - d10 * d10
+        if not det > 0.0:
+            det = 1e-300
+        rdet = 1.0 / det
+        i00 = d11 * rdet
+        i10 = -d10 * rdet
+        i11 = d00 * rdet
+        smat[j, j] = i00
+        smat[j + 1, j] = i10
+        smat[j, j + 1] = i10
+        smat[j + 1, j + 1] = i11
+        for ib in range(jb + 1, nj):
+            i = 2 * ib
+            # W_IJ = S_IJ - sum_K L_IK W_JK^T
+            s00 = smat[i, j]
+            s01 = smat[i, j + 1]
+            s10 = smat[i + 1, j]
+            s11 = smat[i + 1, j + 1]
+            for kb in range(jb):
+                k = 2 * kb
+                l00 = smat[i, k]
+                l01 = smat[i, k + 1]
+                l10 = smat[i + 1, k]
+                l11 = smat[i + 1, k + 1]
+                w00 = smat[k, j]
+                w01 = smat[k + 1, j]
+                w10 = smat[k, j + 1]
+                w11 = smat[k + 1, j + 1]
+                s00 -= l00 * w00 + l01 * w01
+                s01 -= l00 * w10 + l01 * w11
+                s10 -= l10 * w00 + l11 * w01
+                s11 -= l10 * w10 + l11 * w11
+            smat[j, i] = s00
+            smat[j + 1, i] = s01
+            smat[j, i + 1] = s10
+            smat[j + 1, i + 1] = s11
+            # L_IJ = W_IJ D_J^-1
+            smat[i, j] = s00 * i00 + s01 * i10
+            smat[i, j + 1] = s00 * i10 + s01 * i11
+            smat[i + 1, j] = s10 * i00 + s11 * i10
+            smat[i + 1, j + 1] = s10 * i10 + s11 * i11
+
+
+@njit(cache=True, inline="always", error_model="numpy", _nrt=STEP_LOOP_NRT)
+def block_solve_and_apply(nb, jint, jac, smat, lam, f):
+    """lam = S^-1 lam from the factors of block_ldlt (L z = b, x = D^-1 z - L^T x, by blocks), then f -= J^T lam
+    over each joint's free-body columns."""
+    nj = jint.shape[0]
+    for ib in range(nj):
+        i = 2 * ib
+        z0 = lam[i]
+        z1 = lam[i + 1]
+        for kb in range(ib):
+            k = 2 * kb
+            z0 -= smat[i, k] * lam[k] + smat[i, k + 1] * lam[k + 1]
+            z1 -= smat[i + 1, k] * lam[k] + smat[i + 1, k + 1] * lam[k + 1]
+        lam[i] = z0
+        lam[i + 1] = z1
+    for ib in range(nj - 1, -1, -1):
+        i = 2 * ib
+        z0 = lam[i]
+        z1 = lam[i + 1]
+        x0 = smat[i, i] * z0 + smat[i + 1, i] * z1
+        x1 = smat[i + 1, i] * z0 + smat[i + 1, i + 1] * z1
+        for kb in range(ib + 1, nj):
+            k = 2 * kb
+            x0 -= smat[k, i] * lam[k] + smat[k + 1, i] * lam[k + 1]
+            x1 -= smat[k, i + 1] * lam[k] + smat[k + 1, i + 1] * lam[k + 1]
+        lam[i] = x0
+        lam[i + 1] = x1
+    # f -= J^T lam over each joint's free-body columns
+    for ka in range(nj):
+        a = 2 * ka
+        l0 = lam[a]
+        l1 = lam[a + 1]
+        b0 = jint[ka, 1]
+        b1 = jint[ka, 2]
+        for blk in range(2):
+            bb = b0 if blk == 0 else b1
+            if 0 <= bb < nb and (blk == 0 or b1 != b0):
+                for c in range(3 * bb, 3 * bb + 3):
+                    f[c] = f[c] - jac[a, c] * l0 - jac[a + 1, c] * l1
+
+
 @njit(cache=True, error_model="numpy", fastmath=False, _nrt=STEP_LOOP_NRT)
 def rhs(t, y, dy, row, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
         kin, phi_, phid, rest, jac, smat, lam, f, cout):
@@ -384,158 +552,9 @@ def rhs(t, y, dy, row, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid
         eval_constraints(nb, nd, jint, jpar, kin, phi_, phid, rest, jac)
         alpha2 = 2.0 * baum[0]
         beta2 = baum[1] * baum[1]
-        # S = J W J^T (lower triangle), rhs = J W f + rest + 2 alpha Phidot + beta^2 Phi, by 2x2 blocks of joint
-        # pairs: the rows of a joint are nonzero only in the columns of its (at most two) free bodies, so a block
-        # sums over the bodies the two joints share (the sums over all columns without their zero terms), and
-        # joints that share no free body give a zero block.
-        for ka in range(nj):
-            a = 2 * ka
-            b0 = jint[ka, 1]
-            b1 = jint[ka, 2]
-            lo = b0 if b0 < b1 else b1
-            hi = b1 if b0 < b1 else b0
-            clo = 3 * lo if 0 <= lo < nb else -1
-            chi = 3 * hi if 0 <= hi < nb and hi != lo else -1
-            acc0 = 0.0
-            acc1 = 0.0
-            for blk in range(2):
-                c0 = clo if blk == 0 else chi
-                if c0 >= 0:
-                    for c in range(c0, c0 + 3):
-                        fw = f[c]
-                        w = winv[c]
-                        acc0 += jac[a, c] * fw * w
-                        acc1 += jac[a + 1, c] * fw * w
-            lam[a] = acc0 + rest[a] + alpha2 * phid[a] + beta2 * phi_[a]
-            lam[a + 1] = acc1 + rest[a + 1] + alpha2 * phid[a + 1] + beta2 * phi_[a + 1]
-            for kb in range(ka + 1):
-                b = 2 * kb
-                cb0 = 3 * jint[kb, 1]
-                cb1 = 3 * jint[kb, 2]
-                s00 = 0.0
-                s01 = 0.0
-                s10 = 0.0
-                s11 = 0.0
-                for blk in range(2):
-                    c0 = clo if blk == 0 else chi
-                    if c0 >= 0 and (c0 == cb0 or c0 == cb1):
-                        for c in range(c0, c0 + 3):
-                            w = winv[c]
-                            ja0 = jac[a, c]
-                            ja1 = jac[a + 1, c]
-                            jb0 = jac[b, c]
-                            jb1 = jac[b + 1, c]
-                            s00 += ja0 * jb0 * w
-                            s01 += ja0 * jb1 * w
-                            s10 += ja1 * jb0 * w
-                            s11 += ja1 * jb1 * w
-                smat[a, b] = s00
-                smat[a + 1, b] = s10
-                smat[a + 1, b + 1] = s11
-                if kb < ka:
-                    smat[a, b + 1] = s01
-        # S = L D L^T by 2x2 blocks (one per joint) in place: L_IJ (unit block-lower) below the diagonal blocks,
-        # D_J^-1 on them, W_IJ = L_IJ D_J mirrored above them (smat[2J + q, 2I + p] = W_IJ[p, q]). The stages of a
-        # step wait for each evaluation, and a factorisation is a chain of pivots: one division per joint (the
-        # determinant of D_J) instead of a square root and a division per row halves it, and the solves only
-        # multiply (same-process A/B per cycle, six-bar / flapping wing on this kernel: 0.89x / 0.91x against a
-        # scalar L D L^T, 0.75x / 0.81x against the Cholesky with a division per entry). A singular block (det <= 0:
-        # a joint without free bodies, redundant constraints) gets det = 1e-300, as the Cholesky's pivot did.
-        for jb in range(nj):
-            j = 2 * jb
-            d00 = smat[j, j]
-            d10 = smat[j + 1, j]
-            d11 = smat[j + 1, j + 1]
-            for kb in range(jb):
-                k = 2 * kb
-                # D_J -= L_JK W_JK^T
-                l00 = smat[j, k]
-                l01 = smat[j, k + 1]
-                l10 = smat[j + 1, k]
-                l11 = smat[j + 1, k + 1]
-                w00 = smat[k, j]
-                w01 = smat[k + 1, j]
-                w10 = smat[k, j + 1]
-                w11 = smat[k + 1, j + 1]
-                d00 -= l00 * w00 + l01 * w01
-                d10 -= l10 * w00 + l11 * w01
-                d11 -= l10 * w10 + l11 * w11
-            det = d00 * d11 - d10 * d10
-            if not det > 0.0:
-                det = 1e-300
-            rdet = 1.0 / det
-            i00 = d11 * rdet
-            i10 = -d10 * rdet
-            i11 = d00 * rdet
-            smat[j, j] = i00
-            smat[j + 1, j] = i10
-            smat[j, j + 1] = i10
-            smat[j + 1, j + 1] = i11
-            for ib in range(jb + 1, nj):
-                i = 2 * ib
-                # W_IJ = S_IJ - sum_K L_IK W_JK^T
-                s00 = smat[i, j]
-                s01 = smat[i, j + 1]
-                s10 = smat[i + 1, j]
-                s11 = smat[i + 1, j + 1]
-                for kb in range(jb):
-                    k = 2 * kb
-                    l00 = smat[i, k]
-                    l01 = smat[i, k + 1]
-                    l10 = smat[i + 1, k]
-                    l11 = smat[i + 1, k + 1]
-                    w00 = smat[k, j]
-                    w01 = smat[k + 1, j]
-                    w10 = smat[k, j + 1]
-                    w11 = smat[k + 1, j + 1]
-                    s00 -= l00 * w00 + l01 * w01
-                    s01 -= l00 * w10 + l01 * w11
-                    s10 -= l10 * w00 + l11 * w01
-                    s11 -= l10 * w10 + l11 * w11
-                smat[j, i] = s00
-                smat[j + 1, i] = s01
-                smat[j, i + 1] = s10
-                smat[j + 1, i + 1] = s11
-                # L_IJ = W_IJ D_J^-1
-                smat[i, j] = s00 * i00 + s01 * i10
-                smat[i, j + 1] = s00 * i10 + s01 * i11
-                smat[i + 1, j] = s10 * i00 + s11 * i10
-                smat[i + 1, j + 1] = s10 * i10 + s11 * i11
-        # L z = b, x = D^-1 z - L^T x, by blocks
-        for ib in range(nj):
-            i = 2 * ib
-            z0 = lam[i]
-            z1 = lam[i + 1]
-            for kb in range(ib):
-                k = 2 * kb
-                z0 -= smat[i, k] * lam[k] + smat[i, k + 1] * lam[k + 1]
-                z1 -= smat[i + 1, k] * lam[k] + smat[i + 1, k + 1] * lam[k + 1]
-            lam[i] = z0
-            lam[i + 1] = z1
-        for ib in range(nj - 1, -1, -1):
-            i = 2 * ib
-            z0 = lam[i]
-            z1 = lam[i + 1]
-            x0 = smat[i, i] * z0 + smat[i + 1, i] * z1
-            x1 = smat[i + 1, i] * z0 + smat[i + 1, i + 1] * z1
-            for kb in range(ib + 1, nj):
-                k = 2 * kb
-                x0 -= smat[k, i] * lam[k] + smat[k + 1, i] * lam[k + 1]
-                x1 -= smat[k, i + 1] * lam[k] + smat[k + 1, i + 1] * lam[k + 1]
-            lam[i] = x0
-            lam[i + 1] = x1
-        # f -= J^T lam over each joint's free-body columns
-        for ka in range(nj):
-            a = 2 * ka
-            l0 = lam[a]
-            l1 = lam[a + 1]
-            b0 = jint[ka, 1]
-            b1 = jint[ka, 2]
-            for blk in range(2):
-                bb = b0 if blk == 0 else b1
-                if 0 <= bb < nb and (blk == 0 or b1 != b0):
-                    for c in range(3 * bb, 3 * bb + 3):
-                        f[c] = f[c] - jac[a, c] * l0 - jac[a + 1, c] * l1
+        schur_blocks(nb, jint, jac, winv, f, rest, phid, phi_, alpha2, beta2, smat, lam)
+        block_ldlt(nj, smat)
+        block_solve_and_apply(nb, jint, jac, smat, lam, f)
     for i in range(nq):
         dy[row, i] = y[nq + i]
         dy[row, nq + i] = f[i] * winv[i]
