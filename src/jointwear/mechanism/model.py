@@ -297,31 +297,16 @@ class MechanismModel:
         if ideal.n_dof > 0:
             return ideal._kinematics_free(t, self.guess if q_guess is None else None, q_guess, tol)
         arrays = ideal.kernel_arrays()
-        if q_guess is None:
-            if self.guess is None:
-                raise ValueError("no assembly guess available")
-            q_guess = ideal.state_from_poses(self.guess(t))
-        q = np.array(q_guess, dtype=float)
-        zero = np.zeros_like(q)
-        for _ in range(50):
-            phi, _, _, jac = ideal._constraint_eval(t, q, zero, arrays)
-            dq = np.linalg.solve(jac, -phi)
-            q += dq
-            if np.max(np.abs(dq)) < tol * max(1.0, self.length_ref):
-                break
-        else:
-            raise ValueError(f"assembly did not converge at t = {t:g} s")
-        phi, phid0, _, jac = ideal._constraint_eval(t, q, zero, arrays)
-        if np.max(np.abs(phi)) > 1e-10 * self.length_ref:
-            raise ValueError(f"mechanism cannot be assembled at t = {t:g} s (residual {np.max(np.abs(phi)):.3g})")
+        q, phid0, jac = ideal._assemble(t, self.guess, q_guess, tol, arrays, np.linalg.solve)
         qd = np.linalg.solve(jac, -phid0)
         _, _, rest, _ = ideal._constraint_eval(t, q, qd, arrays)
         qdd = np.linalg.solve(jac, -rest)
         return q, qd, qdd
 
-    def _kinematics_free(self, t: float, guess, q_guess, tol: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """kinematics() of an ideal mechanism with degrees of freedom left (see there)."""
-        arrays = self.kernel_arrays()
+    def _assemble(self, t: float, guess, q_guess, tol: float, arrays, step) -> tuple[np.ndarray, ...]:
+        """Positions satisfying the constraints at t by Newton iteration from q_guess (or the branch guess), each
+        correction ``step(J, -Phi)`` (a solve, or minimum-norm least squares with degrees of freedom left);
+        returns (q, Phi_t, J). Raises ValueError when it does not converge or leaves a residual."""
         if q_guess is None:
             if guess is None:
                 raise ValueError("no assembly guess available")
@@ -330,7 +315,7 @@ class MechanismModel:
         zero = np.zeros_like(q)
         for _ in range(50):
             phi, _, _, jac = self._constraint_eval(t, q, zero, arrays)
-            dq = np.linalg.lstsq(jac, -phi, rcond=None)[0]
+            dq = step(jac, -phi)
             q += dq
             if np.max(np.abs(dq)) < tol * max(1.0, self.length_ref):
                 break
@@ -339,6 +324,13 @@ class MechanismModel:
         phi, phid0, _, jac = self._constraint_eval(t, q, zero, arrays)
         if np.max(np.abs(phi)) > 1e-10 * self.length_ref:
             raise ValueError(f"mechanism cannot be assembled at t = {t:g} s (residual {np.max(np.abs(phi)):.3g})")
+        return q, phid0, jac
+
+    def _kinematics_free(self, t: float, guess, q_guess, tol: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """kinematics() of an ideal mechanism with degrees of freedom left (see there)."""
+        arrays = self.kernel_arrays()
+        q, phid0, jac = self._assemble(t, guess, q_guess, tol, arrays,
+                                       lambda a, b: np.linalg.lstsq(a, b, rcond=None)[0])  # minimum-norm steps
         winv, f = arrays["winv"], arrays["fext"].ravel()
         jw = jac * winv[None, :]
         schur = jw @ jac.T
