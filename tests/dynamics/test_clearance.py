@@ -48,14 +48,14 @@ def test_clearance_to_zero_matches_ideal_reaction():
 
 
 def test_flapping_wing_nominal(fw_result):
-    """Preset: near-continuous contact, mean force close to the ideal mean reaction (~32 mN here;
-    the project's quick check model gave ~29 mN with the same reading)."""
+    """Preset: near-continuous contact, mean force close to the ideal mean reaction (29.0 mN here against an
+    ideal 28.1 mN; the issue's quick check model gave ~29 mN with the same reading)."""
     model, res = fw_result
     tr = res.joints[0]
     assert tr.contact_fraction > 0.9
     ideal = _ideal_mean_reaction(model, "A")
     assert 0.02 < tr.mean_force < 0.05
-    assert tr.mean_force == pytest.approx(ideal, rel=0.05)  # 5 %: impacts near force reversals add ~1-2 %
+    assert tr.mean_force == pytest.approx(ideal, rel=0.05)  # 5 %: the contact vibration adds ~3 % (session 4)
     assert tr.contact_force.max() > tr.mean_force
     assert res.steps_per_cycle > 1000
 
