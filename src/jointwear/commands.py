@@ -132,9 +132,22 @@ def do_sensitivity(cfg, out: Path, ctx, res) -> dict:
     s = sens["sobol"]
     savefig(figures.sobol_figure(s["names"], s["S1"], s["ST"], S1_conf=s["S1_conf"], ST_conf=s["ST_conf"],
                                  output=f"max wear at {sens['cycles']:,} cycles"), out / "sensitivity_sobol.png")
-    _say(f"sensitivity: ranking {', '.join(sens['ranking'])}; {sens['extra_model_calls']} extra model calls "
+    _say(f"sensitivity: ranking {_ranking_line(sens)}; {sens['extra_model_calls']} extra model calls "
          f"-> {out / 'sensitivity.json'}")
     return sens
+
+
+def _ranking_line(sens: dict) -> str:
+    """Per group, the variables by their effect on R, '~' between neighbours the surrogate's error does not
+    separate: 'tolerance: l2 ~ lBC > l1 | bearing_material: k_b ~ HB_b > ...'."""
+    ties = {(p["first"], p["second"]) for p in sens.get("unresolved_pairs", [])}
+    parts = []
+    for group, names in sens["ranking_by_group"].items():
+        text = names[0] if names else ""
+        for a, b in zip(names, names[1:]):
+            text += (" ~ " if (a, b) in ties else " > ") + b
+        parts.append(f"{group}: {text}")
+    return " | ".join(parts)
 
 
 def do_wear(cfg, cycles, out: Path) -> dict:

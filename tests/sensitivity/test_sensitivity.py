@@ -126,3 +126,12 @@ def test_esc_absolute_error_bounds_the_misclassification_of_a_known_gaussian_sur
     p = stats.norm.cdf(-safe / sd)
     expected = (p.sum() + 1.959963984540054 * math.sqrt(float((p * (1 - p)).sum()))) / n
     assert esc_absolute_error(safe, sd) == pytest.approx(expected, rel=1e-9)
+
+
+def test_command_line_ranking_shows_groups_and_unresolved_neighbours():
+    from jointwear.commands import _ranking_line
+
+    sens = {"ranking_by_group": {"tolerance": ["l2", "lBC", "l1"], "bearing_material": ["k_b", "HB_b", "E_b"]},
+            "unresolved_pairs": [{"group": "bearing_material", "first": "k_b", "second": "HB_b"}]}
+    assert _ranking_line(sens) == "tolerance: l2 > lBC > l1 | bearing_material: k_b ~ HB_b > E_b"
+    assert _ranking_line({"ranking_by_group": {"tolerance": ["c"]}}) == "tolerance: c"  # older sensitivity.json
