@@ -168,7 +168,7 @@ def test_sensitivity_mean_shifts_against_brute_force():
     cfg.sensitivity.sobol_base_samples = 256
     ctx, res, model = _analytic_study(cfg)
     sens = run_sensitivity(ctx, res)
-    by_name = {v["name"]: v for v in sens["variables"]}
+    by_name = {v["name"]: v for v in sens.variables}
     i = ctx.names.index("k_b")
     for factor, key in ((0.8, "reliability_low"), (1.2, "reliability_high")):
         marg = list(ctx.marginals)
@@ -178,8 +178,8 @@ def test_sensitivity_mean_shifts_against_brute_force():
         # 0.02: the learning's absolute error tolerance (0.002) on the nominal population, plus the surrogate's
         # extrapolation toward the 2-sigma-shifted tail and Monte Carlo error (~0.001)
         assert abs(by_name["k_b"][key] - exact) < 0.02, (factor, by_name["k_b"][key], exact)
-    rules = {(r["variable"], round(r["factor"], 3)): r for r in sens["rules"]}
+    rules = {(r["variable"], round(r["factor"], 3)): r for r in sens.rules}
     assert rules[("l2", 0.8)]["rule"] == "separable_scaling"
     assert rules[("k_b", 1.2)]["rule"] == "surrogate"
-    assert by_name["l2"]["reliability_high"] == pytest.approx(sens["reliability_nominal"], abs=1e-12)
-    assert sens["ranking"][0] in ("k_b", "HB_b")  # the only variables with a 10 % scatter in the model
+    assert by_name["l2"]["reliability_high"] == pytest.approx(sens.reliability_nominal, abs=1e-12)
+    assert sens.ranking[0] in ("k_b", "HB_b")  # the only variables with a 10 % scatter in the model
