@@ -15,6 +15,7 @@ from pathlib import Path
 
 import jointwear
 from jointwear.config import config_from_dict, load_config
+from jointwear.study.facade import life_text
 
 
 def main() -> None:
@@ -30,8 +31,7 @@ def main() -> None:
     for n, r in zip(rel.cycles, rel.reliability):
         print(f"R({n:,.0f} cycles) = {r:.3f}")
     for row in rel.life_table:
-        life = "beyond the curve" if row["cycles"] is None else f"{row['cycles']:,.0f} cycles = {row['hours']:.1f} h"
-        print(f"life at R = {row['target']}: {life}")
+        print(f"life at R = {row['target']}: {life_text(row)}")
     print("most influential variable:", results.sensitivity.ranking[0])
 
     # 3. a variation: a tighter hardness specification ----------------------------------------------------------

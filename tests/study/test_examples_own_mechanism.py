@@ -17,7 +17,7 @@ EXAMPLES = ROOT / "examples"
 
 SMALL = {
     "[wear]": "[wear]\ncycles = 300000\nblock_cycles = 150000\n",
-    "[reliability]": ("[reliability]\nallowance_mm = 0.0015\ncycles_start = 100000\ncycles_stop = 300000\n"
+    "[reliability]": ("[reliability]\nallowance_mm = 0.003\ncycles_start = 100000\ncycles_stop = 300000\n"
                       "cycles_step = 100000\ntarget_reliability = [0.9, 0.99]\nn_mc = 20000\nn_initial = 6\n"
                       "max_calls = 8\n"),
     "[sensitivity]": "[sensitivity]\nsobol_base_samples = 64\n",

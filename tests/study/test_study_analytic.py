@@ -79,7 +79,8 @@ def test_life_and_histograms_are_consistent(study):
 
 def test_life_at_interpolates():
     assert life_at([1, 2, 3], [1.0, 0.95, 0.85], 0.9) == pytest.approx(2.5)  # exact linear interpolation
-    assert life_at([1, 2], [1.0, 0.95], 0.9) is None
+    assert life_at([1, 2], [1.0, 0.95], 0.9) is None  # beyond the curve
+    assert life_at([1, 2], [0.85, 0.5], 0.9) is None  # before the curve
 
 
 def _analytic_study(cfg, executor=None):

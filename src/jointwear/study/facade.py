@@ -86,10 +86,10 @@ class Study:
         self._reliability: ReliabilityResult | None = None
 
     # ----------------------------------------------------------------------------------------- checking
-    def check(self, stages=STAGES) -> None:
+    def check(self, stages=None) -> None:
         """Check the whole config for ``stages`` (every problem listed in one :class:`ConfigError`) and that
-        the nominal mechanism assembles and runs. Writes nothing."""
-        stages = set(stages)
+        the nominal mechanism assembles and runs (default: every stage the config can run). Writes nothing."""
+        stages = set(self.stages if stages is None else stages)
         if stages <= self._checked:
             return
         problems = config_problems(self.config, stages | self._checked)
@@ -103,9 +103,16 @@ class Study:
             raise ConfigError.from_problems(problems, "config")
         self._checked |= stages
 
+    @property
+    def stages(self) -> tuple[str, ...]:
+        """The stages this config can run: all of them when it has random variables."""
+        unc = self.config.uncertainty
+        return STAGES if unc is not None and unc.all_specs() else ("simulate", "wear")
+
     def _prepare(self, stages) -> None:
-        """Check, then make sure the output folder can be written, then record the resolved config."""
-        self.check(stages)
+        """Check the whole config (every rule of every stage it declares, so that a bad config is refused by
+        any command), make sure the output folder can be written, then record the resolved config."""
+        self.check(set(stages) | set(self.stages))
         try:
             self.out.mkdir(parents=True, exist_ok=True)
             probe = self.out / ".jointwear-write-test"
@@ -170,8 +177,7 @@ class Study:
             res = run_reliability(ctx, progress=self._progress_callback)
         self._reliability = res
         res.save(self.out)
-        life = ("not reached in the curve" if res.life_cycles is None
-                else f"{res.life_cycles:,.0f} cycles = {res.life_hours:.2f} h")
+        life = life_text(res.life_table[0])
         governing = f", governed by joint {res.governing_joint}" if len(res.joints) > 1 else ""
         self.echo(f"reliability: {res.model_calls} model calls, n_mc = {res.n_mc:,}, life at R = {res.target}: "
                   f"{life}{governing} -> {self.out / res.FILE}")
@@ -212,9 +218,8 @@ class Study:
         """Every stage end to end, as ``jointwear run``: simulate, wear, reliability and sensitivity (when the
         config has random variables), report. Returns the typed results."""
         t0 = time.perf_counter()
-        stochastic = self.config.uncertainty is not None and bool(self.config.uncertainty.all_specs())
-        stages = STAGES if stochastic else ("simulate", "wear")
-        self.check(stages)
+        stochastic = self.stages == STAGES
+        self.check(self.stages)
         self.simulate()
         self.wear()
         if stochastic:
@@ -285,6 +290,14 @@ def _empty_store(out: Path) -> bool:
             return int(con.execute("select count(*) from calls").fetchone()[0]) == 0
     except sqlite3.Error:
         return False
+
+
+def life_text(row: dict) -> str:
+    """'377,433 cycles = 13.11 h', or where the life lies when it is outside the curve."""
+    if row["cycles"] is not None:
+        return f"{row['cycles']:,.0f} cycles = {row['hours']:.2f} h"
+    return {"beyond_curve": "beyond the curve's last level (extend cycles_stop)",
+            "before_curve": "before the curve's first level (lower cycles_start)"}.get(row.get("status"), "not reached")
 
 
 def ranking_line(sens: SensitivityResult) -> str:

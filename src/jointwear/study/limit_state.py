@@ -134,15 +134,26 @@ def life_from_history(cycles, wear, allowance) -> np.ndarray:
 
 
 def life_at(cycles, reliability, target: float) -> float | None:
-    """First cycle count where R(N) falls to ``target``, by linear interpolation of R(N); None when the curve
-    stays above it; the first level when it starts at or below it."""
+    """First cycle count where R(N) falls to ``target``, by linear interpolation of R(N); None when that
+    crossing is not inside the curve (see :func:`life_status`)."""
     r = np.asarray(reliability, dtype=float)
     n = np.asarray(cycles, dtype=float)
     below = np.nonzero(r <= target)[0]
     if below.size == 0 or below[0] == 0:
-        return None if below.size == 0 else float(n[0])
+        return None
     i = below[0]
     r0, r1 = r[i - 1], r[i]
     if r0 == r1:
         return float(n[i])
     return float(n[i - 1] + (r0 - target) * (n[i] - n[i - 1]) / (r0 - r1))
+
+
+def life_status(reliability, target: float) -> str:
+    """Where the life at ``target`` lies: 'in_curve', 'beyond_curve' (R stays above the target to the last
+    level: the life is longer than the curve) or 'before_curve' (R is already at or below the target at the
+    first level: the life is shorter than the curve's start)."""
+    r = np.asarray(reliability, dtype=float)
+    below = np.nonzero(r <= target)[0]
+    if below.size == 0:
+        return "beyond_curve"
+    return "before_curve" if below[0] == 0 else "in_curve"

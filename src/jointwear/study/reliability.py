@@ -21,7 +21,7 @@ import numpy as np
 
 from jointwear.config import StudyConfig
 from jointwear.schema import ConfigError
-from jointwear.study.limit_state import LimitState, life_at, limit_state_from_config
+from jointwear.study.limit_state import LimitState, life_at, life_status, limit_state_from_config
 from jointwear.study.model_call import WearModelCall
 from jointwear.study.results import ReliabilityResult
 
@@ -202,8 +202,8 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     reliability = 1.0 - pf
     targets = rel.targets
     lives = [life_at(cycles, reliability, t) for t in targets]
-    life_table = [{"target": t, "cycles": n, "hours": None if n is None else cycles_to_hours(n, ctx.config)}
-                  for t, n in zip(targets, lives)]
+    life_table = [{"target": t, "cycles": n, "hours": None if n is None else cycles_to_hours(n, ctx.config),
+                   "status": life_status(reliability, t)} for t, n in zip(targets, lives)]
 
     # Wear distributions over the random inputs (paper Fig. 20) from wear surrogates fitted on the design.
     hist_levels = rel.histogram_levels()
@@ -238,7 +238,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     return ReliabilityResult(
         cycles=cycles, reliability=reliability, pf=pf, pf_cov=pf_cov,
         below_floor=pf < rel.pf_floor, target=targets[0],
-        pf_error=np.asarray(engine.error_estimate, dtype=float) * pf,
+        pf_error=_absolute_error(engine.error_estimate, pf),
         life_cycles=lives[0], life_hours=life_table[0]["hours"], life_table=life_table,
         model_calls=int(engine.n_calls), failed_calls=int(engine.n_failed_calls), n_mc=n_mc,
         converged=bool(engine.converged), wall_seconds=time.perf_counter() - t0, names=ctx.names,
@@ -317,6 +317,11 @@ def _meet_cov_target(ctx: StudyContext, engine, pf, pf_cov, n_mc):
     with np.errstate(divide="ignore", invalid="ignore"):
         cov_new = np.where(pf_new > 0, np.sqrt((1.0 - pf_new) / ((n - 1) * pf_new)), np.inf)
     return pf_new, cov_new, n
+
+
+def _absolute_error(relative, pf: np.ndarray) -> np.ndarray:
+    """The surrogate's absolute Pf error estimate; NaN where Pf = 0 (its relative error is undefined there)."""
+    return np.multiply(np.asarray(relative, dtype=float), pf, out=np.full_like(pf, np.nan), where=pf > 0)
 
 
 def _at(value, index: int) -> float:

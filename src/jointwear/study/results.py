@@ -299,7 +299,8 @@ class ReliabilityResult(StageResult):
     Arrays over the curve's ``cycles``: ``reliability``, ``pf``, ``pf_cov`` (coefficient of variation of the
     Monte Carlo estimate of Pf on the surrogate), ``pf_error`` (the surrogate's own absolute error estimate),
     ``below_floor`` (levels whose COV need not meet the target). ``life_table``: [{``target``, ``cycles``,
-    ``hours``}] (None where R(N) stays above the target in the curve). ``joints``: each judged joint's
+    ``hours``, ``status``}]: the life is None where it lies outside the curve, and ``status`` says on which side
+    ('in_curve', 'beyond_curve': longer than the curve, 'before_curve': shorter than its first level). ``joints``: each judged joint's
     allowance and, with several, its own R(N) and its share of the system's failures (``governing_share``).
     """
 
@@ -414,7 +415,8 @@ class ReliabilityResult(StageResult):
         write_csv(folder / "life_table.csv", {
             "target_reliability": [r["target"] for r in self.life_table],
             "life_cycles": [r["cycles"] for r in self.life_table],
-            "life_hours": [r["hours"] for r in self.life_table]})
+            "life_hours": [r["hours"] for r in self.life_table],
+            "status": [r.get("status", "") for r in self.life_table]})
         x = np.atleast_2d(np.asarray(self.design_x, dtype=float))
         if x.size:
             cols: dict[str, Any] = {name: x[:, k] for k, name in enumerate(self.names[:x.shape[1]])}
