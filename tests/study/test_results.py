@@ -70,7 +70,7 @@ def test_reliability_result_round_trip_and_tables(tmp_path):
     assert back.life_table == res.life_table and back.governing_joint == "A"
     curve = (tmp_path / "reliability_curve.csv").read_text().splitlines()
     assert curve[0].split(",")[:3] == ["cycles", "reliability", "pf"] and len(curve) == 4
-    assert (tmp_path / "life_table.csv").read_text().splitlines()[0] == "target_reliability,life_cycles,life_hours"
+    assert (tmp_path / "life_table.csv").read_text().splitlines()[0] == "target_reliability,life_cycles,life_hours,status"
     assert (tmp_path / "design_points.csv").read_text().splitlines()[0] == "a,b,life_cycles"
 
 
