@@ -140,6 +140,20 @@ def sensitivity(config, workers, scheduler, resume, overwrite, out):
 
 
 @main.command()
+@config_argument
+@click.option("--samples", type=click.IntRange(min=1), default=2000, show_default=True,
+              help="Fresh random samples, one true-model call each.")
+@compute_options
+@out_option
+def validate(config, samples, workers, scheduler, resume, overwrite, out):
+    """Check the R(N) curve against the true wear model sampled directly; write validation.json.
+
+    Re-uses the evaluations of a reliability study in the same --out folder.
+    """
+    open_study(config, out, workers, scheduler, resume, overwrite).validate(n_samples=samples)
+
+
+@main.command()
 @click.argument("directory", type=click.Path(file_okay=False, path_type=Path))
 def report(directory):
     """Build DIRECTORY/report.html from the results of a study."""

@@ -95,12 +95,35 @@ def _run_and_kill(cmd: list[str], out: Path, after_calls: int, limit_s: float = 
 
 
 @pytest.fixture(scope="module")
-def expected(quick_config, tmp_path_factory) -> dict:
+def reference_dir(quick_config, tmp_path_factory) -> Path:
     """The uninterrupted study (2 local workers): the reference of every interrupted run below."""
     reference = tmp_path_factory.mktemp("reference")
     done = subprocess.run(_cmd(quick_config, reference), env=_env(), capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr[-2000:]
-    return json.loads((reference / "reliability.json").read_text())
+    return reference
+
+
+@pytest.fixture(scope="module")
+def expected(reference_dir) -> dict:
+    return json.loads((reference_dir / "reliability.json").read_text())
+
+
+def test_validate_reuses_the_study_and_adds_only_its_samples(quick_config, reference_dir, expected, tmp_path):
+    import shutil
+
+    out = tmp_path / "validate"
+    shutil.copytree(reference_dir, out)
+    cmd = [sys.executable, "-m", "jointwear", "validate", str(quick_config), "--samples", "10", "--out", str(out),
+           "--workers", "2"]
+    done = subprocess.run(cmd, env=_env(), capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-2000:]
+    val = json.loads((out / "validation.json").read_text())
+    for key in ("cycles", "reliability_mc", "ci_low", "ci_high", "reliability_surrogate", "surrogate_error",
+                "n_samples", "model_calls", "wall_seconds", "cross_validation"):
+        assert key in val
+    assert val["n_samples"] == 10 and val["model_calls"] == 10
+    assert val["reliability_surrogate"] == expected["curve"]["reliability"]  # read back, not re-learned
+    assert (out / "validation.csv").is_file() and (out / "cross_validation.csv").is_file()
 
 
 def test_killed_and_resumed_study_equals_uninterrupted(quick_config, expected, tmp_path):

@@ -17,6 +17,7 @@ from jointwear.study.results import (
     SensitivityResult,
     SimulationSummary,
     StudyResults,
+    ValidationResult,
     WearSummary,
     load_results,
 )
@@ -24,7 +25,7 @@ from jointwear.study.sensitivity import run_sensitivity
 
 __all__ = [
     "WEAR_MODEL_TAG", "LimitState", "ReliabilityResult", "SensitivityResult", "SimulationSummary", "Study",
-    "StudyContext", "StudyResults", "WearModelCall", "WearSummary", "WearSurrogates", "apply_sample",
+    "StudyContext", "StudyResults", "ValidationResult", "WearModelCall", "WearSummary", "WearSurrogates", "apply_sample",
     "cycles_to_hours", "life_at", "life_from_history", "limit_state_from_config", "load_results", "population",
     "run_reliability", "run_sensitivity", "study_context",
 ]

@@ -9,9 +9,11 @@ layer over this class, so a study started from one is continued by the other wit
 from __future__ import annotations
 
 import contextlib
+import functools
 import logging
 import sqlite3
 import time
+import warnings
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
@@ -24,6 +26,7 @@ from jointwear.study.results import (
     SensitivityResult,
     SimulationSummary,
     StudyResults,
+    ValidationResult,
     WearSummary,
     load_results,
 )
@@ -33,6 +36,23 @@ WEAR_MODEL_TAG = "wear_model"
 STAGES = ("simulate", "wear", "reliability", "sensitivity")
 
 logger = logging.getLogger("jointwear")
+LOG_FILE = "jointwear.log"
+
+
+def _quiet(stage):
+    """Run a stage with warnings kept off the user's screen: every warning left after the numerics handled
+    theirs goes to ``out/jointwear.log`` (with where it came from) and to the ``jointwear`` logger at DEBUG."""
+
+    @functools.wraps(stage)
+    def wrapper(self, *args, **kwargs):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("default")
+            try:
+                return stage(self, *args, **kwargs)
+            finally:
+                self._log_warnings(stage.__name__, caught)
+
+    return wrapper
 
 
 class Study:
@@ -126,6 +146,16 @@ class Study:
         write_settings(self.out, self.config, preset=self.config.name if is_preset else None,
                        source="preset" if is_preset else str(self.source))
 
+    def _log_warnings(self, stage: str, caught) -> None:
+        if not caught:
+            return
+        lines = [f"{stage}: {w.category.__name__}: {w.message} ({w.filename}:{w.lineno})" for w in caught]
+        for line in lines:
+            logger.debug(line)
+        if self.out.is_dir():
+            with open(self.out / LOG_FILE, "a", encoding="utf-8") as fh:
+                fh.write("\n".join(lines) + "\n")
+
     def _allowances(self) -> dict[str, float]:
         if limit_state_problems(self.config):
             return {cj.name: 0.02 * cj.bearing_outer_radius for cj in self.config.clearance_joints
@@ -134,6 +164,7 @@ class Study:
         return dict(zip(limit.names, limit.allowances))
 
     # ------------------------------------------------------------------------------------------- stages
+    @_quiet
     def simulate(self, cycles: int | None = None, settle: int | None = None) -> SimulationSummary:
         """Dynamics of the nominal mechanism (``cycles`` crank cycles, default ``simulation.cycles``)."""
         from jointwear.mechanism import build_model
@@ -152,6 +183,7 @@ class Study:
                   f" -> {self.out / result.FILE}")
         return result
 
+    @_quiet
     def wear(self, cycles: int | None = None, *, progress: Callable | None = None) -> WearSummary:
         """Wear history of the nominal mechanism (``cycles``, default ``wear.cycles``)."""
         from jointwear.mechanism import build_model
@@ -168,6 +200,7 @@ class Study:
                   f"after {result.cycles} cycles ({time.perf_counter() - t0:.1f} s) -> {self.out / result.FILE}")
         return result
 
+    @_quiet
     def reliability(self) -> ReliabilityResult:
         """The R(N) curve and the life at each target reliability (AK-MCS on the true wear model)."""
         from jointwear.study.reliability import run_reliability
@@ -183,6 +216,7 @@ class Study:
                   f"{life}{governing} -> {self.out / res.FILE}")
         return res
 
+    @_quiet
     def sensitivity(self) -> SensitivityResult:
         """Mean-shift sensitivity, Sobol' indices and derivatives of the reliability; runs (or reads back from
         the evaluation store) the reliability stage first."""
@@ -201,6 +235,31 @@ class Study:
         self.echo(f"sensitivity: ranking {ranking_line(sens)}; {sens.extra_model_calls} extra model calls "
                   f"-> {self.out / sens.FILE}")
         return sens
+
+    @_quiet
+    def validate(self, n_samples: int = 2000) -> ValidationResult:
+        """Check the R(N) curve against the true wear model on ``n_samples`` fresh random samples (one model
+        call each, through the executor and the evaluation store, so an interrupted validation resumes), and
+        cross-validate the surrogate. Runs (or reads back from the store) the reliability stage first."""
+        from jointwear.study.reliability import run_reliability
+        from jointwear.study.validation import run_validation
+
+        if isinstance(n_samples, bool) or not isinstance(n_samples, int) or n_samples < 1:
+            raise ConfigError(f"samples: must be a whole number >= 1 (got {n_samples!r})")
+        self._prepare({"reliability"})
+        with self._session(reuse=True) as ctx:
+            rel = self._reliability
+            if rel is None:
+                rel = run_reliability(ctx, progress=self._progress_callback)
+                self._reliability = rel
+                rel.save(self.out)
+            result = run_validation(ctx, rel, n_samples)
+        result.save(self.out)
+        agree = sum(result.agreement)
+        self.echo(f"validate: {result.n_samples:,} true-model samples ({result.model_calls:,} new calls), "
+                  f"agreement at {agree} of {len(result.agreement)} levels, cross-validation Q2 = "
+                  f"{result.cross_validation.get('q2', float('nan')):.3f} -> {self.out / result.FILE}")
+        return result
 
     def report(self) -> Path:
         """Build ``out/report.html`` from the results in the output folder; returns its path."""

@@ -490,6 +490,65 @@ class SensitivityResult(StageResult):
         return path
 
 
+# ------------------------------------------------------------------------------------------------- validation
+@dataclass
+class ValidationResult(StageResult):
+    """The surrogate's R(N) against the true model sampled directly (``jointwear validate``).
+
+    At every level of the curve: ``reliability_mc`` from ``n_samples`` true-model calls on fresh samples, its
+    exact binomial 95 % interval [``ci_low``, ``ci_high``], the surrogate's ``reliability_surrogate`` with its
+    error estimate (``surrogate_error``, absolute) and COV, and whether the two agree within their combined
+    95 % half-widths (``agreement``). ``cross_validation``: leave-one-out predictions of the design points'
+    log life against their true values, with Q^2.
+    """
+
+    FILE: ClassVar[str] = "validation.json"
+
+    cycles: list[int]
+    reliability_mc: list[float]
+    ci_low: list[float]
+    ci_high: list[float]
+    reliability_surrogate: list[float]
+    surrogate_error: list[float]
+    n_samples: int
+    model_calls: int
+    wall_seconds: float
+    agreement: list[bool] = field(default_factory=list)
+    surrogate_cov: list[float] = field(default_factory=list)
+    failed_calls: int = 0
+    seed: int | None = None
+    cross_validation: dict = field(default_factory=dict)
+    provenance: dict = field(default_factory=dict)
+
+    @property
+    def all_agree(self) -> bool:
+        return all(self.agreement)
+
+    def save(self, folder: Path | str, *, figures: bool = True) -> Path:
+        """Write ``validation.json``, ``validation.csv``, ``cross_validation.csv`` and the figures."""
+        folder = Path(folder)
+        write_csv(folder / "validation.csv", {
+            "cycles": self.cycles, "reliability_mc": self.reliability_mc, "ci_low": self.ci_low,
+            "ci_high": self.ci_high, "reliability_surrogate": self.reliability_surrogate,
+            "surrogate_error": self.surrogate_error, "agreement": self.agreement})
+        cv = self.cross_validation
+        if cv.get("log_life_true"):
+            write_csv(folder / "cross_validation.csv", {
+                "log_life_true": cv["log_life_true"], "log_life_loo": cv["log_life_loo"],
+                "log_life_loo_sd": cv["log_life_loo_sd"]})
+        path = self.write(folder)
+        if figures:
+            from jointwear.report import figures as F
+
+            _savefig(F.validation_figure(self.cycles, self.reliability_mc, self.ci_low, self.ci_high,
+                                         self.reliability_surrogate, self.surrogate_error,
+                                         n_samples=self.n_samples), folder / "validation.png")
+            if cv.get("log_life_true"):
+                _savefig(F.cross_validation_figure(cv["log_life_true"], cv["log_life_loo"], cv["log_life_loo_sd"],
+                                                   q2=cv.get("q2")), folder / "cross_validation.png")
+        return path
+
+
 # ---------------------------------------------------------------------------------------------------- loading
 @dataclass
 class StudyResults:
@@ -501,16 +560,19 @@ class StudyResults:
     wear: WearSummary | None = None
     reliability: ReliabilityResult | None = None
     sensitivity: SensitivityResult | None = None
+    validation: ValidationResult | None = None
     errors: dict[str, str] = field(default_factory=dict)
 
     @property
     def stages(self) -> list[str]:
         """The stages with a result in the folder."""
-        return [s for s in ("simulate", "wear", "reliability", "sensitivity") if getattr(self, s) is not None]
+        return [s for s in ("simulate", "wear", "reliability", "sensitivity", "validation")
+                if getattr(self, s) is not None]
 
 
 STAGE_TYPES: dict[str, type] = {"simulate": SimulationSummary, "wear": WearSummary,
-                                "reliability": ReliabilityResult, "sensitivity": SensitivityResult}
+                                "reliability": ReliabilityResult, "sensitivity": SensitivityResult,
+                                "validation": ValidationResult}
 
 
 def load_results(folder: Path | str) -> StudyResults:
