@@ -180,14 +180,20 @@ def run(config, workers, scheduler, resume, overwrite, out):
 @main.command()
 @click.argument("config", required=True)
 def check(config):
-    """Check CONFIG whole (every section and cross-section rule, the nominal mechanism runs) and print it
-    resolved, in SI units."""
+    """Check CONFIG whole (every section and cross-section rule, the nominal mechanism runs) and print every
+    setting resolved, with its unit and where its value comes from."""
+    from jointwear.report.settings import settings_records
     from jointwear.study import Study
 
     study = Study(config, out=Path("."))
     study.check()
-    click.echo(study.config.model_dump_json(indent=1, exclude_none=False))
-    say(f"check: {config} is a valid study config")
+    for rec in settings_records(study.config):
+        unit = f" {rec['unit']}" if rec["unit"] else ""
+        source = " ".join(str(rec["source"]).split())
+        value = rec["value"]
+        shown = f"{value:.6g}" if isinstance(value, float) else repr(value)
+        click.echo(f"{rec['name']} = {shown}{unit}" + (f"    # {source}" if source else ""))
+    say(f"check: {config} is a valid study config for the stages {', '.join(study.stages)}")
 
 
 @main.command()
