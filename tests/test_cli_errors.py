@@ -149,7 +149,7 @@ def test_report_of_a_folder_without_results_exits_2(tmp_path, capsys):
 def test_check_and_presets_and_version(tmp_path, capsys):
     assert main_entry(["check", "jin2025_flapping_wing"]) == 0
     captured = capsys.readouterr()
-    assert "mechanism.crank_speed = 480.0" in captured.out and "rpm" in captured.out and "valid" in captured.err
+    assert "mechanism.crank_speed = 480 rpm" in captured.out and "rpm" in captured.out and "valid" in captured.err
     assert main_entry(["presets"]) == 0
     out = capsys.readouterr().out
     assert "jin2025_flapping_wing" in out and "Drones" in out
