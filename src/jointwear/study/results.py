@@ -462,6 +462,7 @@ class SensitivityResult(StageResult):
     reliability_nominal_error: float | None = None
     unresolved_pairs: list[dict] = field(default_factory=list)
     rules: list[dict] = field(default_factory=list)
+    archard_checks: list[dict] = field(default_factory=list)
     extra_model_calls: int = 0
     derivatives: dict = field(default_factory=dict)
     n_population: int = 0

@@ -21,6 +21,53 @@ def sensitivity_level(ctx: StudyContext, reliability: ReliabilityResult) -> int:
     return int(ctx.cycles[int(np.argmin(np.abs(r - reliability.target)))])
 
 
+def physical_marginal(ctx: StudyContext, i: int, marginal):
+    """A shifted clearance keeps its physical floor: the normal with the shifted mean truncated at the
+    configured minimum (shifting the truncated law as a whole would move the truncation point with it, below the
+    floor, to negative clearances, and read the surrogate far outside its design)."""
+    clearance = ctx.config.uncertainty.clearance
+    if clearance is None or ctx.names[i] != "c" or "loc" not in marginal.kwds:
+        return marginal
+    return clearance.model_copy(update={"mean": float(marginal.kwds["loc"])}).feasible()
+
+
+def archard_exponent(ctx: StudyContext, i: int) -> int | None:
+    """+1 when the judged wear quantity is proportional to variable i under Archard's law (the wear coefficient
+    of the judged body of the single judged joint), -1 when inversely proportional (its hardness), else None."""
+    limit = ctx.limit_state
+    body = {"bearing_max_depth": "bearing_material", "journal_max_depth": "journal_material"}.get(limit.quantity)
+    if body is None or len(limit.joints) != 1 or i >= len(ctx.targets):
+        return None
+    parts = ctx.targets[i].split(".")
+    if len(parts) != 4 or parts[0] != "clearance_joints" or parts[2] != body:
+        return None
+    names = [cj.name for cj in ctx.config.clearance_joints]
+    joint = int(parts[1]) if parts[1].isdigit() else (names.index(parts[1]) if parts[1] in names else -1)
+    if joint != limit.joints[0]:
+        return None
+    return {"wear_coefficient": 1, "hardness": -1}.get(parts[3])
+
+
+def archard_check(ctx: StudyContext, i: int, shifted, exponent: int, pop: np.ndarray, margin: np.ndarray,
+                  factor: float, r_surrogate: float, error: float) -> dict:
+    """The shifted reliability by Archard's law, against the surrogate's.
+
+    The judged depth is proportional to (k / H) of its body, so a sample whose variable i moves from x_i to
+    x_i' (paired by quantile) has its life divided by (x_i' / x_i)^exponent; the life itself comes from the
+    surrogate inside its design (the nominal population). Exact up to the feedback of the wear on the dynamics
+    (the clearance growth), which the surrogate-based rule includes. They agree when they differ by less than
+    the surrogate's error estimate plus the Monte Carlo noise of two populations of the same size.
+    """
+    x = pop[:, i]
+    x_shifted = shifted.ppf(np.clip(ctx.marginals[i].cdf(x), 1e-15, 1 - 1e-15))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r_exact = float(np.mean(margin - exponent * np.log(x_shifted / x) > 0))
+    noise = 1.96 * math.sqrt(2.0 * max(r_exact * (1.0 - r_exact), 1e-12) / pop.shape[0])
+    return {"variable": ctx.names[i], "factor": factor, "reliability_surrogate": r_surrogate,
+            "reliability_archard": r_exact, "difference": r_surrogate - r_exact, "tolerance": error + noise,
+            "consistent": bool(abs(r_surrogate - r_exact) <= error + noise)}
+
+
 def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> SensitivityResult:
     """Mean shifts (paper Figs. 22-24), Sobol' indices and reliability derivatives at one cycle count.
 
@@ -78,21 +125,29 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
         return float(ctx.wear(x_point[None, :])[0, hist_col])
 
     rules: list[dict] = []
+    archard_checks: list[dict] = []
+    exponents = [archard_exponent(ctx, i) for i in range(len(ctx.names))]
 
     def reliability_of(marginals):
         changed = [i for i, (a, b) in enumerate(zip(marginals, ctx.marginals)) if a is not b]
         if not changed:
             return r_nominal, 0
         i = changed[0]
-        shift = marginals[i].mean() - ctx.marginals[i].mean()
+        factor = marginals[i].mean() / ctx.marginals[i].mean()
+        shifted = physical_marginal(ctx, i, marginals[i])
+        shift = shifted.mean() - ctx.marginals[i].mean()
         sigma = ctx.marginals[i].std()
         if abs(shift) <= sens.surrogate_shift_limit * sigma:
             shifted_pop = pop.copy()
-            shifted_pop[:, i] = population([marginals[i]], n_pop, rel.seed + 3 + i)[:, 0]
+            shifted_pop[:, i] = population([shifted], n_pop, rel.seed + 3 + i)[:, 0]
             mu, sd = log_life_margin(shifted_pop)
             r = float(np.mean(mu > 0))
-            rules.append({"variable": ctx.names[i], "factor": marginals[i].mean() / ctx.marginals[i].mean(),
-                          "rule": "surrogate", "reliability": r, "error_estimate": esc_absolute_error(mu, sd)})
+            error = esc_absolute_error(mu, sd)
+            rules.append({"variable": ctx.names[i], "factor": factor, "rule": "surrogate", "reliability": r,
+                          "error_estimate": error})
+            if exponents[i] is not None:
+                archard_checks.append(archard_check(ctx, i, shifted, exponents[i], pop, margin_nominal_pop,
+                                                    factor, r, error))
             return r, 0
         before = ctx.n_evaluated
         base_wear = true_wear(means)
@@ -152,7 +207,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
         "reliability_nominal_error": r_nominal_error,
         "variables": variables, "ranking": ranking, "ranking_by_group": ranking_by_group,
         "unresolved_pairs": unresolved,
-        "rules": rules,
+        "rules": rules, "archard_checks": archard_checks,
         "extra_model_calls": ctx.n_evaluated - known_before,
         "sobol": sobol.as_dict(), "derivatives": deriv.as_dict(), "n_population": n_pop,
         "wall_seconds": time.perf_counter() - t0,
