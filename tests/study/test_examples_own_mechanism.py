@@ -72,3 +72,8 @@ def test_python_example_runs_and_scripts_a_variation(tmp_path):
     assert proc.returncode == 0, proc.stderr[-3000:]
     assert "life at R = 0.9" in proc.stdout and "tight hardness" in proc.stdout
     assert (out / "baseline" / "report.html").is_file() and (out / "tight_hardness" / "reliability.json").is_file()
+    # a quiet terminal: numerical warnings are handled where they arise, none reaches the screen or the log
+    assert "Warning" not in proc.stderr, proc.stderr[-3000:]
+    for folder in ("baseline", "tight_hardness"):
+        log = out / folder / "jointwear.log"
+        assert not log.exists() or "RuntimeWarning" not in log.read_text(), log.read_text()
