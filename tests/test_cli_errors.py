@@ -159,3 +159,20 @@ def test_check_and_presets_and_version(tmp_path, capsys):
         main(["--version"])
     assert exc.value.code == 0
     assert "jointwear" in capsys.readouterr().out
+
+
+def test_a_config_extends_a_preset(tmp_path, capsys):
+    from jointwear.config import load_config
+
+    p = tmp_path / "variant.toml"
+    p.write_text('extends = "jin2025_flapping_wing"\nname = "variant"\n[reliability]\ncycles_stop = 520000\n'
+                 '[mechanism.rod]\nlength_mm = 38.5\n', encoding="utf-8")
+    cfg, base = load_config(p), load_config()
+    assert cfg.name == "variant" and cfg.reliability.cycles_stop == 520_000
+    assert cfg.reliability.cycles_start == base.reliability.cycles_start  # merged, not replaced
+    assert cfg.mechanism.rod.length == 0.0385 and cfg.mechanism.rod.mass == base.mechanism.rod.mass
+    assert cfg.uncertainty == base.uncertainty
+    loop = tmp_path / "loop.toml"
+    loop.write_text('extends = "loop.toml"\n', encoding="utf-8")
+    code, err = _run(capsys, ["check", str(loop)])
+    assert code == 2 and "circular" in err

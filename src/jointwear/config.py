@@ -669,12 +669,8 @@ def _parse_toml(text: str, source: str) -> dict[str, Any]:
         raise ConfigError(f"{source}: malformed TOML: {exc}") from None
 
 
-def load_config(source: str | Path | None = None) -> StudyConfig:
-    """Load a StudyConfig from a TOML file, a preset name, or None (default preset)."""
-    if source is None:
-        source = DEFAULT_PRESET
-    if isinstance(source, StudyConfig):
-        return source
+def _read_source(source: str | Path) -> tuple[dict[str, Any], str, Path | None]:
+    """The parsed TOML of a preset name or a file, its name for messages and its folder (None for a preset)."""
     text_source = str(source)
     path = Path(text_source)
     is_pathlike = isinstance(source, Path) or text_source.endswith(".toml") or "/" in text_source or "\\" in text_source
@@ -685,7 +681,7 @@ def load_config(source: str | Path | None = None) -> StudyConfig:
                 f"config: unknown preset '{text_source}' and no such file (available presets: {', '.join(names)})"
             )
         text = (resources.files("jointwear.presets") / f"{text_source}.toml").read_text(encoding="utf-8")
-        return config_from_dict(_parse_toml(text, f"preset {text_source}"), f"preset {text_source}")
+        return _parse_toml(text, f"preset {text_source}"), f"preset {text_source}", None
     try:
         raw = path.read_bytes()
     except OSError as exc:
@@ -694,7 +690,50 @@ def load_config(source: str | Path | None = None) -> StudyConfig:
         text = raw.decode("utf-8")
     except UnicodeDecodeError:
         raise ConfigError(f"config: file '{path}' is not UTF-8 text (expected TOML)") from None
-    return config_from_dict(_parse_toml(text, str(path)), str(path))
+    return _parse_toml(text, str(path)), str(path), path.parent
+
+
+def merge_tables(base: dict[str, Any], override: dict[str, Any]) -> dict[str, Any]:
+    """``override`` laid over ``base``: tables merge key by key, anything else (numbers, strings, arrays and
+    arrays of tables) replaces the base's value."""
+    out = dict(base)
+    for key, value in override.items():
+        if isinstance(value, dict) and isinstance(out.get(key), dict):
+            out[key] = merge_tables(out[key], value)
+        else:
+            out[key] = value
+    return out
+
+
+def _resolve(source: str | Path, chain: tuple[str, ...] = ()) -> tuple[dict[str, Any], str]:
+    """The TOML data of ``source`` with its ``extends`` chain resolved (a preset name, or a path relative to the
+    extending file)."""
+    data, name, folder = _read_source(source)
+    if name in chain:
+        raise ConfigError(f"{name}: extends: circular ({' -> '.join(chain + (name,))})")
+    base = data.pop("extends", None)
+    if base is None:
+        return data, name
+    if not isinstance(base, str):
+        raise ConfigError(f"{name}: extends: expected a preset name or a TOML path (got {base!r})")
+    if folder is not None and (base.endswith(".toml") or "/" in base) and not Path(base).is_absolute():
+        base = str(folder / base)
+    base_data, _ = _resolve(base, chain + (name,))
+    return merge_tables(base_data, data), name
+
+
+def load_config(source: str | Path | None = None) -> StudyConfig:
+    """Load a StudyConfig from a TOML file, a preset name, or None (default preset).
+
+    A file may start from another config with ``extends = "<preset name or TOML path>"``: its tables are laid
+    over the base's key by key (arrays, including arrays of tables, replace the base's).
+    """
+    if source is None:
+        source = DEFAULT_PRESET
+    if isinstance(source, StudyConfig):
+        return source
+    data, name = _resolve(source)
+    return config_from_dict(data, name)
 
 
 # ---------------------------------------------------------------------------------------------
