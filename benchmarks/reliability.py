@@ -32,6 +32,8 @@ import numpy as np
 MODES = {
     # the engine's defaults, nothing overridden (the population is set to Echard's for the same MC accuracy)
     "default": dict(),
+    # literally akmcs(g, marginals, seed=s): the engine's own population too (1e5, grown to a 5 % COV)
+    "default_own_population": dict(n_mc=None),
     # the paper's algorithm: one point per iteration, stop when min U >= 2
     "paper_u": dict(stopping="u", batch_size=1),
     # ESC-type stop on the estimated relative error of Pf (tolerance 1 %)
@@ -55,7 +57,11 @@ def run_one(task):
 
     p = _problem(name)
     t0 = time.perf_counter()
-    r = akmcs(p.g, p.marginals, n_mc=n_mc, seed=seed, max_calls=1500, keep_population=True, **MODES[mode])
+    kw = {"n_mc": n_mc, "max_calls": 1500, **MODES[mode]}
+    if kw["n_mc"] is None:
+        del kw["n_mc"], kw["max_calls"]
+        n_mc = "default"
+    r = akmcs(p.g, p.marginals, seed=seed, keep_population=True, **kw)
     wall = time.perf_counter() - t0
     u = r.details["population_u"]
     true_fail = p.g(IsoTransform(p.marginals).to_x(u)) < 0
