@@ -167,6 +167,8 @@ def summarise(runs, echard):
         summary.setdefault(key[0], {})[key[1]] = {
             "seeds": len(rs), "n_mc_initial": sorted({r.get("n_mc_initial") for r in rs}, key=str),
             "n_calls_median": float(np.median(calls)), "n_calls_p90": float(np.percentile(calls, 90)),
+            "n_calls_min": float(calls.min()), "n_calls_max": float(calls.max()),
+            "rel_err_ref_max": float(np.max(e_ref)), "rel_err_pop_max": float(np.nanmax(e_pop)),
             "rel_err_ref_median": float(np.median(e_ref)), "rel_err_ref_p90": float(np.percentile(e_ref, 90)),
             "rel_err_pop_median": float(np.nanmedian(e_pop)), "rel_err_pop_p90": float(np.nanpercentile(e_pop, 90)),
             "pf_median": float(np.median([r["pf"] for r in rs])),
