@@ -30,6 +30,10 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 
 MODES = {
+    # the engine's defaults, nothing overridden (the population is set to Echard's for the same MC accuracy)
+    "default": dict(),
+    # literally akmcs(g, marginals, seed=s): the engine's own population too (1e5, grown to a 5 % COV)
+    "default_own_population": dict(n_mc=None),
     # the paper's algorithm: one point per iteration, stop when min U >= 2
     "paper_u": dict(stopping="u", batch_size=1),
     # ESC-type stop on the estimated relative error of Pf (tolerance 1 %)
@@ -53,7 +57,11 @@ def run_one(task):
 
     p = _problem(name)
     t0 = time.perf_counter()
-    r = akmcs(p.g, p.marginals, n_mc=n_mc, seed=seed, max_calls=1500, keep_population=True, **MODES[mode])
+    kw = {"n_mc": n_mc, "max_calls": 1500, **MODES[mode]}
+    if kw["n_mc"] is None:
+        del kw["n_mc"], kw["max_calls"]
+        n_mc = "default"
+    r = akmcs(p.g, p.marginals, seed=seed, keep_population=True, **kw)
     wall = time.perf_counter() - t0
     u = r.details["population_u"]
     true_fail = p.g(IsoTransform(p.marginals).to_x(u)) < 0
@@ -63,7 +71,7 @@ def run_one(task):
         "pf_population_mc": pf_pop, "rel_err_ref": abs(r.pf / p.pf_ref - 1.0),
         "rel_err_pop": abs(r.pf / pf_pop - 1.0) if pf_pop > 0 else None,
         "misclassified": int(np.count_nonzero(r.details["population_fail"][:, 0] != true_fail)),
-        "n_mc": r.n_mc, "converged": r.converged, "iterations": len(r.history), "wall_seconds": wall,
+        "n_mc_initial": n_mc, "n_mc": r.n_mc, "converged": r.converged, "iterations": len(r.history), "wall_seconds": wall,
     }
 
 
@@ -157,8 +165,10 @@ def summarise(runs, echard):
         e_ref = np.array([r["rel_err_ref"] for r in rs])
         e_pop = np.array([r["rel_err_pop"] if r["rel_err_pop"] is not None else np.nan for r in rs])
         summary.setdefault(key[0], {})[key[1]] = {
-            "seeds": len(rs),
+            "seeds": len(rs), "n_mc_initial": sorted({r.get("n_mc_initial") for r in rs}, key=str),
             "n_calls_median": float(np.median(calls)), "n_calls_p90": float(np.percentile(calls, 90)),
+            "n_calls_min": float(calls.min()), "n_calls_max": float(calls.max()),
+            "rel_err_ref_max": float(np.max(e_ref)), "rel_err_pop_max": float(np.nanmax(e_pop)),
             "rel_err_ref_median": float(np.median(e_ref)), "rel_err_ref_p90": float(np.percentile(e_ref, 90)),
             "rel_err_pop_median": float(np.nanmedian(e_pop)), "rel_err_pop_p90": float(np.nanpercentile(e_pop, 90)),
             "pf_median": float(np.median([r["pf"] for r in rs])),
@@ -180,7 +190,7 @@ def main(argv=None):
                     help="four-branch population 2e5 instead of Echard's 1e6 (cheaper sweeps; COV 3.3 %%)")
     ap.add_argument("--kriging-libs", action="store_true", help="also compare Kriging libraries")
     ap.add_argument("--no-speed", action="store_true")
-    ap.add_argument("--append", action="store_true", help="merge with the runs already in OUT (other problems)")
+    ap.add_argument("--append", action="store_true", help="merge with the runs already in OUT (other problems or modes)")
     args = ap.parse_args(argv)
 
 
@@ -208,7 +218,7 @@ def main(argv=None):
     if args.append and os.path.exists(args.out):
         with open(args.out) as fh:
             old = json.load(fh)
-        keep = [r for r in old["runs"] if r["problem"] not in args.problems]
+        keep = [r for r in old["runs"] if r["problem"] not in args.problems or r["mode"] not in args.modes]
         runs = keep + runs
         for key in ("n_mc", "seeds", "quick"):
             settings[key] = {**old["settings"].get(key, {}), **settings[key]}

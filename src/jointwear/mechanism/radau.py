@@ -5,7 +5,7 @@ its own local errors (docs/dynamics.md, "Integrator"); an L-stable collocation m
 physics of the rtol 1e-6 explicit solution at rtol 1e-4 (scipy's Radau: 2,421 steps per cycle instead of 8,900).
 
 Algorithm: Hairer & Wanner, Solving ODEs II, Section IV.8 (RADAU5), as implemented by
-``scipy.integrate.Radau`` (whose constants are imported): simplified Newton iterations on the transformed
+``scipy.integrate.Radau`` (whose constants are copied below): simplified Newton iterations on the transformed
 collocation system with one real and one complex LU of the iteration matrices, a finite-difference Jacobian
 refreshed when the Newton iterations converge slowly (rate > 1e-3 after more than 2 iterations), up to 10 Newton
 iterations given up only when the contraction rate exceeds 0.9 (scipy's predictive give-up after at most 6 made
@@ -24,13 +24,6 @@ import math
 
 import numpy as np
 from numba import njit
-from scipy.integrate._ivp.radau import MU_COMPLEX as _MU_COMPLEX
-from scipy.integrate._ivp.radau import MU_REAL as _MU_REAL
-from scipy.integrate._ivp.radau import TI as _TI
-from scipy.integrate._ivp.radau import C as _C
-from scipy.integrate._ivp.radau import E as _E
-from scipy.integrate._ivp.radau import P as _P
-from scipy.integrate._ivp.radau import T as _T
 
 from jointwear.mechanism.kernel import (
     STEP_LOOP_NRT,
@@ -40,6 +33,28 @@ from jointwear.mechanism.kernel import (
     rhs_fourbar,
     step_limit,
 )
+
+# Radau IIA (order 5) constants, copied from scipy/integrate/_ivp/radau.py (scipy 1.17.1, BSD-3-Clause;
+# Hairer & Wanner's RADAU5): collocation nodes C, error-estimate weights E, the eigenvalues of A^-1
+# (MU_REAL, MU_COMPLEX) and its eigenvector matrices T, TI, and the dense-output coefficients P.
+_S6 = 6 ** 0.5
+_C = np.array([(4 - _S6) / 10, (4 + _S6) / 10, 1])
+_E = np.array([-13 - 7 * _S6, -13 + 7 * _S6, -1]) / 3
+_MU_REAL = 3 + 3 ** (2 / 3) - 3 ** (1 / 3)
+_MU_COMPLEX = (3 + 0.5 * (3 ** (1 / 3) - 3 ** (2 / 3))
+               - 0.5j * (3 ** (5 / 6) + 3 ** (7 / 6)))
+_T = np.array([
+    [0.09443876248897524, -0.14125529502095421, 0.03002919410514742],
+    [0.25021312296533332, 0.20412935229379994, -0.38294211275726192],
+    [1, 1, 0]])
+_TI = np.array([
+    [4.17871859155190428, 0.32768282076106237, 0.52337644549944951],
+    [-4.17871859155190428, -0.32768282076106237, 0.47662355450055044],
+    [0.50287263494578682, -2.57192694985560522, 0.59603920482822492]])
+_P = np.array([
+    [13 / 3 + 7 * _S6 / 3, -23 / 3 - 22 * _S6 / 3, 10 / 3 + 5 * _S6],
+    [13 / 3 - 7 * _S6 / 3, -23 / 3 + 22 * _S6 / 3, 10 / 3 - 5 * _S6],
+    [1 / 3, -8 / 3, 10 / 3]])
 
 RC = np.array(_C, dtype=float)
 RE = np.array(_E, dtype=float)

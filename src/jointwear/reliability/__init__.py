@@ -1,7 +1,8 @@
 """jointwear.reliability: a reliability engine for any vectorised limit state (it knows nothing about wear).
 
-Failure is g(X) < 0; inputs are independent, given as frozen ``scipy.stats`` marginals. See
-``docs/reliability.md`` for the methods, choices, NaN rule and benchmark numbers.
+Failure is g(X) < 0; inputs are given as marginals (frozen ``scipy.stats``, scipy's new distribution objects or
+OpenTURNS distributions) and, for dependent inputs, an OpenTURNS copula or a correlation matrix
+(:mod:`.inputs`). See ``docs/reliability.md`` for the methods, choices, NaN rule and benchmark numbers.
 """
 
 from . import problems
@@ -14,6 +15,7 @@ from ._core import (
     check_marginals,
 )
 from .akis import akis
+from .inputs import Marginal, as_marginal, check_copula, sample
 from .akmcs import akmcs, akmcs_multi, esc_absolute_error, esc_error
 from .kriging import KrigingSurrogate, blas_threads
 from .methods import form, importance_sampling, monte_carlo, sorm, subset_simulation
@@ -38,4 +40,8 @@ __all__ = [
     "ReliabilityResult",
     "MultiReliabilityResult",
     "check_marginals",
+    "check_copula",
+    "Marginal",
+    "as_marginal",
+    "sample",
 ]

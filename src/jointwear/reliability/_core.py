@@ -1,4 +1,4 @@
-"""Shared pieces of the reliability engine: input validation, the iso-probabilistic transform, the model
+"""Shared pieces of the reliability engine: option validation, the model
 evaluator (executor, cache, callbacks, failed calls) and the result dataclasses.
 
 NaN rule (every method): a model call that returns NaN (or raises, when it runs through an executor or
@@ -12,13 +12,14 @@ considered broken and ``ValueError`` is raised with the first reason.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, MutableMapping, Sequence
+from collections.abc import Callable, MutableMapping
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
 import numpy as np
-from scipy import stats
-from scipy.special import ndtr, ndtri
+from scipy.special import ndtri
+
+from .inputs import IsoTransform, check_copula, check_marginals
 
 __all__ = [
     "IsoTransform",
@@ -27,49 +28,11 @@ __all__ = [
     "ReliabilityResult",
     "MultiReliabilityResult",
     "check_marginals",
+    "check_copula",
 ]
 
 
 # ----------------------------------------------------------------------------- validation
-def _is_frozen(m: Any) -> bool:
-    frozen_types = tuple(
-        t
-        for t in (
-            getattr(stats._distn_infrastructure, "rv_frozen", None),
-            getattr(stats._distn_infrastructure, "rv_continuous_frozen", None),
-        )
-        if t is not None
-    )
-    return isinstance(m, frozen_types)
-
-
-def check_marginals(marginals: Any) -> list:
-    """Validate a sequence of independent frozen continuous ``scipy.stats`` marginals."""
-    if _is_frozen(marginals) or not isinstance(marginals, Sequence) or isinstance(marginals, (str, bytes)):
-        raise ValueError(
-            "marginals must be a sequence (list or tuple) of frozen scipy.stats distributions, one per input "
-            f"variable; got {type(marginals).__name__}"
-        )
-    if len(marginals) == 0:
-        raise ValueError("marginals is empty: give one frozen scipy.stats distribution per input variable")
-    out = []
-    for i, m in enumerate(marginals):
-        if isinstance(m, (stats.rv_continuous, stats.rv_discrete)):
-            raise ValueError(
-                f"marginals[{i}] is the unfrozen distribution scipy.stats.{m.name}; freeze it with its "
-                f"parameters, e.g. scipy.stats.{m.name}(loc=..., scale=...)"
-            )
-        if not _is_frozen(m):
-            raise ValueError(f"marginals[{i}] is a {type(m).__name__}, not a frozen scipy.stats distribution")
-        if isinstance(m.dist, stats.rv_discrete):
-            raise ValueError(f"marginals[{i}] ({m.dist.name}) is discrete; only continuous marginals are supported")
-        sd = float(m.std())
-        if not (np.isfinite(sd) and sd > 0):
-            raise ValueError(f"marginals[{i}] ({m.dist.name}) has standard deviation {sd}; it must be finite and > 0")
-        out.append(m)
-    return out
-
-
 def check_positive_int(name: str, value: Any, minimum: int = 1) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
         raise ValueError(f"{name} must be an integer >= {minimum}; got {value!r}")
@@ -81,56 +44,6 @@ def check_positive(name: str, value: Any) -> float:
     if not (np.isfinite(v) and v > 0):
         raise ValueError(f"{name} must be a finite number > 0; got {value!r}")
     return v
-
-
-# ----------------------------------------------------------------------------- transform
-class IsoTransform:
-    """Independent marginals <-> standard-normal space: x_i = F_i^-1(Phi(u_i)).
-
-    Tails use the survival functions (``isf``/``sf``) for u > 0, so u = +/-8 maps without round-off; normal
-    marginals are mapped exactly by loc + scale * u.
-    """
-
-    def __init__(self, marginals: Sequence):
-        self.marginals = list(marginals)
-        self.dim = len(self.marginals)
-        self._affine = []
-        for m in self.marginals:
-            if m.dist.name == "norm":
-                self._affine.append((float(m.mean()), float(m.std())))
-            else:
-                self._affine.append(None)
-
-    def to_x(self, u: np.ndarray) -> np.ndarray:
-        u = np.atleast_2d(np.asarray(u, dtype=float))
-        x = np.empty_like(u)
-        for i, m in enumerate(self.marginals):
-            ui = u[:, i]
-            if self._affine[i] is not None:
-                mu, sd = self._affine[i]
-                x[:, i] = mu + sd * ui
-            else:
-                lo = ui < 0
-                xi = np.empty_like(ui)
-                if lo.any():
-                    xi[lo] = m.ppf(ndtr(ui[lo]))
-                if (~lo).any():
-                    xi[~lo] = m.isf(ndtr(-ui[~lo]))
-                x[:, i] = xi
-        return x
-
-    def to_u(self, x: np.ndarray) -> np.ndarray:
-        x = np.atleast_2d(np.asarray(x, dtype=float))
-        u = np.empty_like(x)
-        for i, m in enumerate(self.marginals):
-            xi = x[:, i]
-            if self._affine[i] is not None:
-                mu, sd = self._affine[i]
-                u[:, i] = (xi - mu) / sd
-            else:
-                p = m.cdf(xi)
-                u[:, i] = np.where(p < 0.5, ndtri(np.clip(p, 1e-300, 1.0)), -ndtri(np.clip(m.sf(xi), 1e-300, 1.0)))
-        return u
 
 
 # ----------------------------------------------------------------------------- evaluation

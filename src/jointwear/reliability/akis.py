@@ -61,6 +61,7 @@ def akis(
     g: Callable[[np.ndarray], np.ndarray],
     marginals: Sequence,
     *,
+    copula=None,
     n_is: int = 10_000,
     n_is_max: int = 2_000_000,
     form_result: ReliabilityResult | None = None,
@@ -117,9 +118,9 @@ def akis(
 
     ev = make_evaluator(g, d, evaluator=evaluator, executor=executor, cache=cache, on_evaluate=on_evaluate,
                         nan_policy=nan_policy)
-    transform = IsoTransform(marginals)
+    transform = IsoTransform(marginals, copula)
     if form_result is None:
-        form_result = form(g, marginals, evaluator=ev, **{"tol": 1e-2, **(form_kwargs or {})})
+        form_result = form(g, marginals, copula=copula, evaluator=ev, **{"tol": 1e-2, **(form_kwargs or {})})
     ustar = np.asarray(form_result.design_point_u, dtype=float).ravel()
     if ustar.size != d:
         raise ValueError(f"form_result has a {ustar.size}-dimensional design point but there are {d} marginals")

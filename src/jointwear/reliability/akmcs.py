@@ -162,7 +162,7 @@ class _Shifted:
 def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch_size, u_threshold, cov_target,
          stopping, error_tol, max_calls, seed, executor, evaluator, cache, on_evaluate, progress, nan_policy,
          pf_floor, kriging, refit_growth, full_sweep_every=10, keep_population=False, levels=None,
-         error_abs_tol=None):
+         error_abs_tol=None, copula=None):
     t_start = time.perf_counter()
     marginals = check_marginals(marginals)
     d = len(marginals)
@@ -181,7 +181,7 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
         raise ValueError(f"pf_floor must be in [0, 1); got {pf_floor!r}")
 
     rng = np.random.default_rng(seed)
-    transform = IsoTransform(marginals)
+    transform = IsoTransform(marginals, copula)
     if levels is not None:
         levels = np.asarray(levels, dtype=float).reshape(-1)
         if levels.size < 1 or not np.all(np.isfinite(levels)):
@@ -384,6 +384,7 @@ def akmcs(
     g: Callable[[np.ndarray], np.ndarray],
     marginals: Sequence,
     *,
+    copula=None,
     n_mc: int = 100_000,
     n_mc_max: int = 5_000_000,
     n_initial: int | None = None,
@@ -391,7 +392,7 @@ def akmcs(
     batch_size: int = 1,
     u_threshold: float = 2.0,
     cov_target: float = 0.05,
-    stopping: str = "u",
+    stopping: str = "error",
     error_tol: float = 0.01,
     max_calls: int = 1000,
     seed: int | None = 0,
@@ -405,14 +406,19 @@ def akmcs(
     refit_growth: float = 0.1,
     keep_population: bool = False,
 ) -> ReliabilityResult:
-    """AK-MCS estimate of Pf = P[g(X) < 0] for independent inputs X_i ~ ``marginals[i]``.
+    """AK-MCS estimate of Pf = P[g(X) < 0] for inputs X_i ~ ``marginals[i]`` joined by ``copula``.
 
     Parameters
     ----------
     g:
         Vectorised limit state: X of shape (n, d) (physical units) -> array of shape (n,); failure where g < 0.
     marginals:
-        Sequence of d frozen ``scipy.stats`` continuous distributions (independent inputs).
+        Sequence of d continuous distributions: frozen ``scipy.stats``, scipy's new distribution objects
+        (``scipy.stats.Normal(...)``) or OpenTURNS (``ot.Gumbel(...)``); see :mod:`jointwear.reliability.inputs`.
+    copula:
+        None (independent inputs), an OpenTURNS copula of dimension d (``ot.NormalCopula(R)``...) or a
+        correlation matrix (the normal copula's correlation). The learning happens in the independent
+        standard-normal space of OpenTURNS' iso-probabilistic transform.
     n_mc, n_mc_max:
         Initial and maximum Monte Carlo population (candidates). The population grows until
         COV(Pf) < ``cov_target``. Default 1e5 (COV 5 % down to Pf ~ 4e-3) and 5e6 (Pf ~ 8e-5).
@@ -423,8 +429,10 @@ def akmcs(
     batch_size:
         Points added per iteration (k-means spread; evaluated together, in parallel with an executor).
     u_threshold, stopping, error_tol:
-        Learning stop, see the module docstring: ``"u"`` min U >= u_threshold (paper),
-        ``"error"`` ESC estimated relative error <= error_tol (or min U >= u_threshold, whichever first).
+        Learning stop, see the module docstring: ``"error"`` (default) ESC estimated relative error of Pf
+        <= error_tol (or min U >= u_threshold, whichever first); ``"u"`` min U >= u_threshold (the paper's
+        rule, which resolves every candidate's sign and costs 30-50 % more calls for the same Pf accuracy,
+        ``docs/reliability.md``).
     cov_target:
         Required coefficient of variation of the Monte Carlo estimate.
     max_calls:
@@ -451,13 +459,14 @@ def akmcs(
                 stopping=stopping, error_tol=error_tol, max_calls=max_calls, seed=seed, executor=executor,
                 evaluator=evaluator, cache=cache, on_evaluate=on_evaluate, progress=progress,
                 nan_policy=nan_policy, pf_floor=0.0, kriging=kriging, refit_growth=refit_growth,
-                keep_population=keep_population)
+                keep_population=keep_population, copula=copula)
 
 
 def akmcs_multi(
     g: Callable[[np.ndarray], np.ndarray],
     marginals: Sequence,
     *,
+    copula=None,
     n_mc: int = 100_000,
     n_mc_max: int = 5_000_000,
     n_initial: int | None = None,
@@ -465,7 +474,7 @@ def akmcs_multi(
     batch_size: int = 1,
     u_threshold: float = 2.0,
     cov_target: float = 0.05,
-    stopping: str = "u",
+    stopping: str = "error",
     error_tol: float = 0.01,
     pf_floor: float = 1e-3,
     max_calls: int = 2000,
@@ -503,4 +512,4 @@ def akmcs_multi(
                 stopping=stopping, error_tol=error_tol, max_calls=max_calls, seed=seed, executor=executor,
                 evaluator=evaluator, cache=cache, on_evaluate=on_evaluate, progress=progress,
                 nan_policy=nan_policy, pf_floor=pf_floor, kriging=kriging, refit_growth=refit_growth, levels=levels,
-                error_abs_tol=error_abs_tol)
+                error_abs_tol=error_abs_tol, copula=copula)

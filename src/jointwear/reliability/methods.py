@@ -28,9 +28,9 @@ from ._core import (
 __all__ = ["monte_carlo", "form", "sorm", "subset_simulation", "importance_sampling"]
 
 
-def _setup(g, marginals, *, evaluator, executor, cache, on_evaluate, nan_policy, keep=True):
+def _setup(g, marginals, *, evaluator, executor, cache, on_evaluate, nan_policy, keep=True, copula=None):
     marginals = check_marginals(marginals)
-    transform = IsoTransform(marginals)
+    transform = IsoTransform(marginals, copula)
     ev = make_evaluator(g, len(marginals), evaluator=evaluator, executor=executor, cache=cache,
                         on_evaluate=on_evaluate, nan_policy=nan_policy, keep=keep)
     return marginals, transform, ev
@@ -81,6 +81,7 @@ def monte_carlo(
     marginals: Sequence,
     n: int = 100_000,
     *,
+    copula=None,
     batch: int = 100_000,
     cov_target: float | None = None,
     n_max: int = 10_000_000,
@@ -99,7 +100,7 @@ def monte_carlo(
     n = check_positive_int("n", n, 2)
     batch = check_positive_int("batch", batch)
     marginals, transform, ev = _setup(g, marginals, evaluator=evaluator, executor=executor, cache=cache,
-                                      on_evaluate=on_evaluate, nan_policy=nan_policy, keep=keep_design)
+                                      on_evaluate=on_evaluate, nan_policy=nan_policy, keep=keep_design, copula=copula)
     rng = np.random.default_rng(seed)
     d = len(marginals)
     n_done = n_fail = 0
@@ -139,6 +140,7 @@ def form(
     g: Callable[[np.ndarray], np.ndarray],
     marginals: Sequence,
     *,
+    copula=None,
     u0: np.ndarray | None = None,
     tol: float = 1e-6,
     max_iter: int = 100,
@@ -161,7 +163,7 @@ def form(
     max_iter = check_positive_int("max_iter", max_iter)
     fd_step = check_positive("fd_step", fd_step)
     marginals, transform, ev = _setup(g, marginals, evaluator=evaluator, executor=executor, cache=cache,
-                                      on_evaluate=on_evaluate, nan_policy=nan_policy)
+                                      on_evaluate=on_evaluate, nan_policy=nan_policy, copula=copula)
     d = len(marginals)
     u = np.zeros(d) if u0 is None else np.asarray(u0, dtype=float).ravel()
     if u.size != d:
@@ -221,6 +223,7 @@ def sorm(
     g: Callable[[np.ndarray], np.ndarray],
     marginals: Sequence,
     *,
+    copula=None,
     form_result: ReliabilityResult | None = None,
     fd_step: float = 1e-3,
     executor=None,
@@ -237,10 +240,10 @@ def sorm(
     t0 = time.perf_counter()
     marginals = check_marginals(marginals)
     if form_result is None:
-        form_result = form(g, marginals, executor=executor, evaluator=evaluator, cache=cache,
+        form_result = form(g, marginals, copula=copula, executor=executor, evaluator=evaluator, cache=cache,
                            on_evaluate=on_evaluate, nan_policy=nan_policy, **form_kwargs)
     _, transform, ev = _setup(g, marginals, evaluator=evaluator, executor=executor, cache=cache,
-                              on_evaluate=on_evaluate, nan_policy=nan_policy)
+                              on_evaluate=on_evaluate, nan_policy=nan_policy, copula=copula)
     d = len(marginals)
     u = form_result.design_point_u
     beta = form_result.beta
@@ -297,6 +300,7 @@ def subset_simulation(
     g: Callable[[np.ndarray], np.ndarray],
     marginals: Sequence,
     *,
+    copula=None,
     n_per_level: int = 2000,
     p0: float = 0.1,
     max_levels: int = 20,
@@ -325,7 +329,7 @@ def subset_simulation(
     if n_chains * chain_len != n:
         raise ValueError(f"n_per_level * p0 and 1 / p0 must be integers (n_per_level={n}, p0={p0})")
     marginals, transform, ev = _setup(g, marginals, evaluator=evaluator, executor=executor, cache=cache,
-                                      on_evaluate=on_evaluate, nan_policy=nan_policy)
+                                      on_evaluate=on_evaluate, nan_policy=nan_policy, copula=copula)
     d = len(marginals)
     rng = np.random.default_rng(seed)
     u = rng.standard_normal((n, d))
@@ -408,6 +412,7 @@ def importance_sampling(
     g: Callable[[np.ndarray], np.ndarray],
     marginals: Sequence,
     *,
+    copula=None,
     n: int = 10_000,
     form_result: ReliabilityResult | None = None,
     seed: int | None = 0,
@@ -424,10 +429,10 @@ def importance_sampling(
     n = check_positive_int("n", n, 2)
     marginals = check_marginals(marginals)
     if form_result is None:
-        form_result = form(g, marginals, executor=executor, evaluator=evaluator, cache=cache,
+        form_result = form(g, marginals, copula=copula, executor=executor, evaluator=evaluator, cache=cache,
                            on_evaluate=on_evaluate, **form_kwargs)
     _, transform, ev = _setup(g, marginals, evaluator=evaluator, executor=executor, cache=cache,
-                              on_evaluate=on_evaluate, nan_policy=nan_policy)
+                              on_evaluate=on_evaluate, nan_policy=nan_policy, copula=copula)
     d = len(marginals)
     rng = np.random.default_rng(seed)
     ustar = form_result.design_point_u

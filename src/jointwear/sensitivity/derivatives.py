@@ -20,6 +20,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from jointwear.reliability.inputs import as_marginal
+
 
 @dataclass
 class ReliabilityDerivatives:
@@ -44,8 +46,8 @@ def reliability_derivatives(x: np.ndarray, failed: np.ndarray, marginals: Sequen
     if x.ndim != 2 or x.shape[0] != ind.shape[0] or x.shape[1] != len(marginals):
         raise ValueError("x must be (n, d) with one failure flag per row and d marginals")
     n = x.shape[0]
-    mu = np.array([m.mean() for m in marginals])
-    sd = np.array([m.std() for m in marginals])
+    mu = np.array([as_marginal(m).mean() for m in marginals])
+    sd = np.array([as_marginal(m).std() for m in marginals])
     u = (x - mu) / sd
     pf = float(ind.mean())
     t_mean = ind[:, None] * u / sd

@@ -12,6 +12,19 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 
+def _shape_loc_scale(marginal) -> tuple[tuple, float, float]:
+    """(shapes, loc, scale) of a frozen scipy.stats distribution from its public ``args``/``kwds`` and the
+    shape names in ``dist.shapes`` (the order scipy's own argument parsing uses: shapes, loc, scale)."""
+    dist = marginal.dist
+    names = [n.strip() for n in dist.shapes.split(",")] if dist.shapes else []
+    args, kwds = list(marginal.args), dict(marginal.kwds)
+    shapes = tuple(args[i] if i < len(args) else kwds[n] for i, n in enumerate(names))
+    rest = args[len(names):]
+    loc = rest[0] if len(rest) > 0 else kwds.get("loc", 0.0)
+    scale = rest[1] if len(rest) > 1 else kwds.get("scale", 1.0)
+    return shapes, loc, scale
+
+
 def shifted_marginal(marginal, factor: float):
     """The marginal with its mean multiplied by ``factor`` and its shape kept.
 
@@ -19,7 +32,7 @@ def shifted_marginal(marginal, factor: float):
     truncated normal's truncation bound moves with it.
     """
     dist = marginal.dist
-    shapes, loc, scale = dist._parse_args(*marginal.args, **marginal.kwds)
+    shapes, loc, scale = _shape_loc_scale(marginal)
     if dist.name == "lognorm":
         # scale multiplies the mean of a lognormal at fixed s; this keeps the COV.
         return dist(*shapes, loc=loc * factor, scale=scale * factor)

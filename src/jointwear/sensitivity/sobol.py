@@ -1,7 +1,8 @@
 """Sobol' indices of a vectorised function of independent inputs, with SALib.
 
 Samples are drawn by SALib's Saltelli scheme on the unit hypercube and mapped to each input through its
-inverse CDF, so any frozen ``scipy.stats`` marginal works (normal, truncated normal, lognormal, ...).
+inverse CDF, so any marginal the reliability engine accepts works (frozen ``scipy.stats``, scipy's new
+distributions, OpenTURNS; :func:`jointwear.reliability.as_marginal`).
 """
 
 from __future__ import annotations
@@ -12,6 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 from SALib.analyze import sobol as sobol_analyze
 from SALib.sample import sobol as sobol_sample
+
+from jointwear.reliability.inputs import as_marginal
 
 
 @dataclass
@@ -46,7 +49,7 @@ def sobol_indices(f: Callable[[np.ndarray], np.ndarray], marginals: Sequence, na
     unit = sobol_sample.sample(problem, n_base, calc_second_order=False, seed=seed)
     # Keep the unit-hypercube samples strictly inside (0, 1) so the inverse CDFs stay finite.
     unit = np.clip(unit, 1e-12, 1.0 - 1e-12)
-    x = np.column_stack([m.ppf(unit[:, j]) for j, m in enumerate(marginals)])
+    x = np.column_stack([as_marginal(m).ppf(unit[:, j]) for j, m in enumerate(marginals)])
     y = np.asarray(f(x), dtype=float).reshape(-1)
     if y.shape[0] != x.shape[0] or not np.all(np.isfinite(y)):
         raise ValueError("the function must return one finite value per row")

@@ -2,36 +2,63 @@
 
 A variable names a target field of the study config (a dotted path into the SI config, see
 ``jointwear.study.apply_sample``) and a distribution given by its mean and standard deviation
-(SI). The clearance is special: its standard deviation comes either from the paper's Table 5 as
-printed (1 nm, very likely a units slip) or from an ISO 286-2 fit, Eq. (40) (0.97 um for IT7/IT6
-at 2 mm), and samples at or below a minimum clearance are handled by a named rule.
+(SI), plus bounds where the distribution needs them. The clearance is special: its standard deviation comes
+either from the paper's Table 5 as printed (1 nm, very likely a units slip) or from an ISO 286-2 fit, Eq. (40)
+(0.97 um for IT7/IT6 at 2 mm), and samples at or below a minimum clearance are handled by a named rule.
+Dependence between variables: ``correlation`` (a normal copula, :mod:`jointwear.uncertainty.copulas`).
 """
 
 from __future__ import annotations
 
 import math
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 from pydantic import Field, field_validator, model_validator
-from scipy import stats
+from scipy import optimize, special, stats
 
 from jointwear.schema import SIModel
+from jointwear.uncertainty.copulas import check_correlation, normal_copula
 from jointwear.uncertainty.tolerances import clearance_from_fit
 
-DistributionName = Literal["normal", "lognormal", "uniform"]
+DistributionName = Literal["normal", "lognormal", "uniform", "truncated_normal", "weibull", "gumbel", "gamma", "beta"]
+
+# which of the bound fields each distribution uses ("bounds": at least one of lower/upper; "both": both)
+_BOUNDS = {"truncated_normal": "bounds", "beta": "both"}
+
+
+def weibull_shape(cov: float) -> float:
+    """Shape k of a two-parameter Weibull with coefficient of variation ``cov``:
+    cov^2 = Gamma(1 + 2/k) / Gamma(1 + 1/k)^2 - 1, decreasing in k (solved by Brent's method on ln k)."""
+    def excess(log_k: float) -> float:
+        k = math.exp(log_k)
+        return math.log(math.expm1(special.gammaln(1 + 2 / k) - 2 * special.gammaln(1 + 1 / k))) - 2 * math.log(cov)
+
+    lo, hi = math.log(0.05), math.log(1e4)  # cov from ~1e5 down to ~1.3e-4
+    if not (excess(lo) > 0 > excess(hi)):
+        raise ValueError(f"a Weibull variable's std / mean must be in [1.3e-4, 1e5]; got {cov:g}")
+    return math.exp(optimize.brentq(excess, lo, hi, xtol=1e-14, rtol=1e-14))
 
 
 class RandomVariableSpec(SIModel):
-    """One independent random input."""
+    """One random input, given by its mean and standard deviation (SI units) and, where needed, bounds."""
 
     name: str = Field(description="Short identifier, e.g. 'l2'.")
     label: str = Field("", description="Readable name for reports, e.g. 'rod length'.")
     target: str = Field(description="Dotted path of the SI config field this variable sets.")
     group: Literal["tolerance", "bearing_material", "journal_material", "other"] = "other"
-    distribution: DistributionName = Field("normal", description="All 13 paper variables are normal (Section 4).")
-    mean: float = Field(description="Mean, SI units.")
-    std: float = Field(description="Standard deviation, SI units (> 0).")
+    distribution: DistributionName = Field(
+        "normal",
+        description="'normal', 'lognormal' (mean > 0), 'uniform' (mean +/- sqrt(3) std), 'truncated_normal' "
+        "(the normal N(mean, std) truncated to [lower, upper]; at least one bound), 'weibull' (two-parameter, "
+        "mean > 0; shape from std / mean), 'gumbel' (of maxima, right-skewed), 'gamma' (mean > 0), 'beta' "
+        "(on [lower, upper], both needed; shapes from mean and std). All 13 paper variables are normal "
+        "(Section 4).")
+    mean: float = Field(description="Mean, SI units (for 'truncated_normal': of the normal before truncation).")
+    std: float = Field(description="Standard deviation, SI units, > 0 (for 'truncated_normal': of the normal "
+                                   "before truncation).")
+    lower: float | None = Field(None, description="Lower bound, SI units: 'truncated_normal' and 'beta' only.")
+    upper: float | None = Field(None, description="Upper bound, SI units: 'truncated_normal' and 'beta' only.")
     unit: str = Field("", description="Display unit for reports (SI value x scale).")
     scale: float = Field(1.0, description="Multiply the SI value by this for display (e.g. 1e3 for mm).")
 
@@ -43,22 +70,71 @@ class RandomVariableSpec(SIModel):
         return value
 
     @model_validator(mode="after")
-    def _positive_std(self) -> RandomVariableSpec:
+    def _parameters(self) -> RandomVariableSpec:
+        name, dist = self.name, self.distribution
         if self.std <= 0:
-            raise ValueError(f"std of variable {self.name!r} must be > 0 (got {self.std:g})")
-        if self.distribution == "lognormal" and self.mean <= 0:
-            raise ValueError(f"lognormal variable {self.name!r} needs a positive mean")
+            raise ValueError(f"std of variable {name!r} must be > 0 (got {self.std:g})")
+        if dist in ("lognormal", "weibull", "gamma") and self.mean <= 0:
+            raise ValueError(f"{dist} variable {name!r} needs a positive mean (got {self.mean:g})")
+        needs = _BOUNDS.get(dist)
+        for field in ("lower", "upper"):
+            if needs is None and getattr(self, field) is not None:
+                raise ValueError(f"{field} of variable {name!r}: not used by the {dist!r} distribution "
+                                 "(only 'truncated_normal' and 'beta' take bounds)")
+        if needs == "both" and (self.lower is None or self.upper is None):
+            missing = "lower" if self.lower is None else "upper"
+            raise ValueError(f"{missing} of variable {name!r}: a {dist!r} variable needs both lower and upper")
+        if needs == "bounds" and self.lower is None and self.upper is None:
+            raise ValueError(f"lower/upper of variable {name!r}: a {dist!r} variable needs at least one bound")
+        if self.lower is not None and self.upper is not None and not self.lower < self.upper:
+            raise ValueError(f"lower of variable {name!r} must be < upper (got {self.lower:g} >= {self.upper:g})")
+        if dist == "truncated_normal":
+            lo = -math.inf if self.lower is None else self.lower
+            hi = math.inf if self.upper is None else self.upper
+            if stats.norm.cdf((hi - self.mean) / self.std) - stats.norm.cdf((lo - self.mean) / self.std) < 1e-12:
+                raise ValueError(f"lower/upper of variable {name!r}: [{lo:g}, {hi:g}] holds no probability of "
+                                 f"N({self.mean:g}, {self.std:g})")
+        if dist == "beta":
+            if not self.lower < self.mean < self.upper:
+                raise ValueError(f"mean of variable {name!r} must lie between lower and upper "
+                                 f"({self.lower:g} < {self.mean:g} < {self.upper:g})")
+            if self.std**2 >= (self.mean - self.lower) * (self.upper - self.mean):
+                raise ValueError(f"std of beta variable {name!r} must be < sqrt((mean - lower) (upper - mean)) = "
+                                 f"{math.sqrt((self.mean - self.lower) * (self.upper - self.mean)):g}")
+        if dist == "weibull":
+            weibull_shape(self.std / self.mean)
         return self
 
     def frozen(self):
-        """The scipy.stats frozen distribution of this variable."""
-        if self.distribution == "normal":
-            return stats.norm(loc=self.mean, scale=self.std)
-        if self.distribution == "lognormal":
-            s2 = math.log1p((self.std / self.mean) ** 2)
-            return stats.lognorm(s=math.sqrt(s2), scale=self.mean / math.sqrt(1.0 + (self.std / self.mean) ** 2))
-        half = math.sqrt(3.0) * self.std
-        return stats.uniform(loc=self.mean - half, scale=2.0 * half)
+        """The scipy.stats frozen distribution of this variable (its mean and std are ``mean`` and ``std``,
+        except for 'truncated_normal', whose parent normal has them)."""
+        mean, std = self.mean, self.std
+        dist = self.distribution
+        if dist == "normal":
+            return stats.norm(loc=mean, scale=std)
+        if dist == "lognormal":
+            s2 = math.log1p((std / mean) ** 2)
+            return stats.lognorm(s=math.sqrt(s2), scale=mean / math.sqrt(1.0 + (std / mean) ** 2))
+        if dist == "uniform":
+            half = math.sqrt(3.0) * std
+            return stats.uniform(loc=mean - half, scale=2.0 * half)
+        if dist == "truncated_normal":
+            a = -np.inf if self.lower is None else (self.lower - mean) / std
+            b = np.inf if self.upper is None else (self.upper - mean) / std
+            return stats.truncnorm(a=a, b=b, loc=mean, scale=std)
+        if dist == "weibull":
+            k = weibull_shape(std / mean)
+            return stats.weibull_min(c=k, scale=mean / math.exp(special.gammaln(1.0 + 1.0 / k)))
+        if dist == "gumbel":
+            beta = std * math.sqrt(6.0) / math.pi  # var = pi^2 beta^2 / 6
+            return stats.gumbel_r(loc=mean - np.euler_gamma * beta, scale=beta)  # mean = loc + gamma_E beta
+        if dist == "gamma":
+            return stats.gamma(a=(mean / std) ** 2, scale=std * std / mean)
+        # beta on [lower, upper] by the method of moments
+        width = self.upper - self.lower
+        m, v = (mean - self.lower) / width, (std / width) ** 2
+        common = m * (1.0 - m) / v - 1.0
+        return stats.beta(a=m * common, b=(1.0 - m) * common, loc=self.lower, scale=width)
 
 
 class ClearanceSpec(SIModel):
@@ -105,11 +181,83 @@ class ClearanceSpec(SIModel):
         return float(stats.norm.cdf((self.minimum - self.mean) / self.std))
 
 
+class CorrelationSpec(SIModel):
+    """Correlation between random variables, as a normal (Gaussian) copula.
+
+    Give either ``variables`` and ``matrix`` (the full matrix in that order) or ``pairs`` (only the
+    non-zero correlations); variables not named are independent of the others."""
+
+    variables: list[str] = Field(default_factory=list,
+                                 description="Names of the correlated variables, in the order of `matrix`.")
+    matrix: list[list[float]] | None = Field(
+        None, description="Correlation matrix (symmetric, ones on the diagonal, positive definite) of "
+        "`variables`, read as `measure`.")
+    pairs: list[tuple[str, str, float]] | None = Field(
+        None, description="Instead of variables/matrix: [name_a, name_b, correlation] triples.")
+    measure: Literal["pearson", "spearman"] = Field(
+        "pearson",
+        description="'pearson': the normal copula's correlation (Pearson correlation of the normal scores; "
+        "of the variables themselves when they are normal); 'spearman': rank correlation, exact for any "
+        "marginals (converted by OpenTURNS).")
+
+    @model_validator(mode="after")
+    def _shape(self) -> CorrelationSpec:
+        if self.pairs is not None:
+            if self.matrix is not None or self.variables:
+                raise ValueError("give either pairs or variables + matrix, not both")
+            seen = set()
+            for k, (a, b, r) in enumerate(self.pairs):
+                if a == b:
+                    raise ValueError(f"pairs[{k}]: a variable paired with itself ({a!r})")
+                if frozenset((a, b)) in seen:
+                    raise ValueError(f"pairs[{k}]: the pair ({a!r}, {b!r}) is given twice")
+                seen.add(frozenset((a, b)))
+                if not (math.isfinite(r) and -1.0 < r < 1.0):
+                    raise ValueError(f"pairs[{k}]: the correlation must be in (-1, 1); got {r!r}")
+            return self
+        if self.matrix is None:
+            raise ValueError("give variables + matrix, or pairs")
+        if len(set(self.variables)) != len(self.variables):
+            raise ValueError(f"variables: a name is repeated in {self.variables}")
+        if len(self.matrix) != len(self.variables) or any(len(row) != len(self.variables) for row in self.matrix):
+            raise ValueError(f"matrix must be {len(self.variables)} x {len(self.variables)}, one row "
+                             "and column per name in `variables`")
+        check_correlation(self.matrix, "matrix")
+        return self
+
+    def names(self) -> list[str]:
+        if self.pairs is not None:
+            out: list[str] = []
+            for a, b, _ in self.pairs:
+                out += [n for n in (a, b) if n not in out]
+            return out
+        return list(self.variables)
+
+    def full_matrix(self, names: list[str]) -> np.ndarray:
+        """The correlation matrix over ``names`` (identity for names not correlated here)."""
+        pos = {n: i for i, n in enumerate(names)}
+        r = np.eye(len(names))
+        if self.pairs is not None:
+            entries = [(a, b, v) for a, b, v in self.pairs]
+        else:
+            entries = [(a, b, self.matrix[i][j]) for i, a in enumerate(self.variables)
+                       for j, b in enumerate(self.variables) if i != j]
+        for a, b, v in entries:
+            if a in pos and b in pos:
+                r[pos[a], pos[b]] = r[pos[b], pos[a]] = v
+        return r
+
+
 class UncertaintySettings(SIModel):
     """The random inputs of a study (paper Tables 5-6, with the label fix of paper-notes.md)."""
 
     clearance: ClearanceSpec | None = None
     variables: list[RandomVariableSpec] = Field(default_factory=list)
+    correlation: CorrelationSpec | None = Field(
+        None,
+        description="Correlated variables (a normal copula; independent when absent), e.g. "
+        "{ variables = ['l1', 'l2'], matrix = [[1, 0.5], [0.5, 1]] } or { pairs = [['l1', 'l2', 0.5]] }; "
+        "'c' is the clearance.")
 
     @model_validator(mode="after")
     def _unique_names(self) -> UncertaintySettings:
@@ -117,6 +265,15 @@ class UncertaintySettings(SIModel):
         duplicates = {n for n in names if names.count(n) > 1}
         if duplicates:
             raise ValueError(f"duplicate random variable names: {sorted(duplicates)}")
+        if self.correlation is not None:
+            where = "correlation.pairs" if self.correlation.pairs is not None else "correlation.variables"
+            unknown = [n for n in self.correlation.names() if n not in names]
+            if unknown:
+                raise ValueError(f"{where}: unknown variable(s) {unknown}; known: {names}")
+            full = self.correlation.full_matrix(self.names())
+            check_correlation(full, "correlation")
+            if self.correlation.measure == "spearman":
+                normal_copula(full, "spearman", "correlation")
         return self
 
     def names(self) -> list[str]:
@@ -142,3 +299,19 @@ class UncertaintySettings(SIModel):
             else:
                 out.append(spec.frozen())
         return out
+
+    def correlation_matrix(self, names: list[str] | None = None) -> np.ndarray | None:
+        """The correlation matrix (as given, in its ``measure``) over ``names`` (default ``names()``; names that
+        are not variables, e.g. an extra study input, are independent), or None without correlation."""
+        if self.correlation is None:
+            return None
+        return self.correlation.full_matrix(self.names() if names is None else list(names))
+
+    def copula(self, names: list[str] | None = None) -> Any:
+        """The inputs' copula over ``names`` (default ``names()``) as an ``openturns.NormalCopula``, or None for
+        independent inputs: pass it as ``copula=`` to the reliability methods and to
+        :func:`jointwear.reliability.sample`."""
+        r = self.correlation_matrix(names)
+        if r is None or np.array_equal(r, np.eye(r.shape[0])):
+            return None
+        return normal_copula(r, self.correlation.measure, "correlation")
