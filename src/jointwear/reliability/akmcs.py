@@ -55,6 +55,15 @@ __all__ = ["akmcs", "akmcs_multi", "esc_absolute_error", "esc_error"]
 _Z95 = 1.959963984540054
 
 
+def absolute_error(relative, pf) -> np.ndarray:
+    """Absolute Pf error from a relative one; infinite where Pf = 0 and the relative error is infinite (no
+    estimate), instead of the NaN of inf * 0."""
+    relative = np.asarray(relative, dtype=float)
+    pf = np.asarray(pf, dtype=float)
+    out = np.full(np.broadcast(relative, pf).shape, np.inf)
+    return np.multiply(relative, pf, out=out, where=~(np.isinf(relative) & (pf == 0)))
+
+
 def esc_error(u: np.ndarray, fail: np.ndarray, known: np.ndarray | None = None, z: float = _Z95) -> float:
     """Estimated maximum relative error of Pf from the surrogate's sign uncertainty (ESC criterion).
 
@@ -307,7 +316,7 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
         if stopping == "error":
             learned |= err <= error_tol
             if error_abs_tol is not None:
-                learned |= err * pf <= error_abs_tol
+                learned |= absolute_error(err, pf) <= error_abs_tol
         if learned.all():
             # the last fit may have reused hyperparameters: re-optimise once before accepting
             stale = np.array([n_at_opt[j] != int(np.isfinite(design_g[:, j]).sum()) for j in range(n_fit)])
@@ -365,7 +374,8 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
         common_pop = {}
     if multi:
         below = pf_col < pf_floor
-        err_ok = (err <= error_tol) | ((err * pf_col <= error_abs_tol) if error_abs_tol is not None else False)
+        err_ok = (err <= error_tol) | ((absolute_error(err, pf_col) <= error_abs_tol) if error_abs_tol is not None
+                                      else False)
         col_ok = (min_u >= u_threshold) | (err_ok if stopping == "error" else False)
         col_ok = col_ok & (below | (cov_col < cov_target))
         return MultiReliabilityResult(pf=pf_col, cov=cov_col, beta=np.atleast_1d(pf_to_beta(pf_col)),

@@ -46,7 +46,18 @@ class StudyContext:
     evaluator: Any
     random_allowance: bool
     limit_state: LimitState
+    copula: Any = None
     wear_cache: dict = field(default_factory=dict, repr=False)
+
+    def sample(self, n: int, seed: int) -> np.ndarray:
+        """A Monte Carlo population of the study's inputs (their copula honoured)."""
+        return population(self.marginals, n, seed, self.copula)
+
+    def iso(self):
+        """The iso-probabilistic transform of the study's inputs (marginals and copula)."""
+        from jointwear.reliability import IsoTransform
+
+        return IsoTransform(self.marginals, self.copula)
 
     @property
     def allowance(self) -> float:
@@ -135,11 +146,15 @@ def study_context(config: StudyConfig, evaluator_factory: Callable[[WearModelCal
         labels.append("wear allowance")
         marginals.append(stats.norm(limit.reference_allowance, rel.allowance_std))
     return StudyContext(config, names, labels, marginals, [s.target for s in specs], cycles, history,
-                        evaluator_factory(call), random_allowance, limit)
+                        evaluator_factory(call), random_allowance, limit, copula=unc.copula(names))
 
 
-def population(marginals: Sequence, n: int, seed: int) -> np.ndarray:
-    """A Monte Carlo population of the inputs (physical space)."""
+def population(marginals: Sequence, n: int, seed: int, copula: Any = None) -> np.ndarray:
+    """A Monte Carlo population of the inputs (physical space), joined by ``copula`` when given."""
+    if copula is not None:
+        from jointwear.reliability import sample
+
+        return sample(marginals, n, seed, copula)
     rng = np.random.default_rng(seed)
     return np.column_stack([m.rvs(size=n, random_state=rng) for m in marginals])
 
@@ -156,7 +171,7 @@ class WearSurrogates:
         from jointwear.reliability import IsoTransform, KrigingSurrogate
 
         self.cycles = list(cycles)
-        self.iso = IsoTransform(ctx.marginals)
+        self.iso = ctx.iso()
         x_model, _ = ctx.split(design_x)
         wear = ctx.wear(x_model)
         cols = [ctx.history_cycles.index(c) for c in self.cycles]
@@ -183,7 +198,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     engine = akmcs_multi(
         ctx.log_life, ctx.marginals, levels=ctx.log_levels(), n_mc=rel.n_mc, n_mc_max=rel.n_mc_max,
         n_initial=rel.n_initial, batch_size=rel.batch_size, u_threshold=rel.u_threshold,
-        cov_target=rel.cov_target, pf_floor=rel.pf_floor, max_calls=rel.max_calls, seed=rel.seed,
+        cov_target=rel.cov_target, pf_floor=rel.pf_floor, max_calls=rel.max_calls, seed=rel.seed, copula=ctx.copula,
         progress=progress, stopping=rel.stopping, error_tol=rel.error_tol, error_abs_tol=rel.error_abs_tol,
         kriging={"estimate_nugget": rel.noise == "estimate"})
     cycles = np.asarray(ctx.cycles, dtype=float)
@@ -208,7 +223,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     # Wear distributions over the random inputs (paper Fig. 20) from wear surrogates fitted on the design.
     hist_levels = rel.histogram_levels()
     n_hist = min(engine.n_mc, 100_000)
-    pop = population(ctx.marginals, n_hist, rel.seed + 1)
+    pop = ctx.sample(n_hist, rel.seed + 1)
     wear_levels = sorted(set(hist_levels) | set(ctx.cycles))
     wear_model = WearSurrogates(ctx, np.asarray(engine.design_x), wear_levels, seed=rel.seed)
     wear_all = wear_model.predict(pop)
@@ -261,7 +276,7 @@ def _joint_breakdown(ctx: StudyContext, engine, design_x: np.ndarray, pop: np.nd
         return rows
     from jointwear.reliability import IsoTransform, KrigingSurrogate
 
-    iso = IsoTransform(ctx.marginals)
+    iso = ctx.iso()
     u_design = iso.to_u(design_x)
     u_pop = iso.to_u(pop)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -300,7 +315,7 @@ def _meet_cov_target(ctx: StudyContext, engine, pf, pf_cov, n_mc):
     n = int(min(rel.n_mc_max, 1.1 * ((1.0 - p) / (rel.cov_target**2 * p) + 1.0)))
     if n <= n_mc:
         return pf, pf_cov, n_mc
-    iso = IsoTransform(ctx.marginals)
+    iso = ctx.iso()
     # the study learns one response for every level (akmcs_multi(levels=...)): level j is level 0 minus a constant
     offsets = np.array([engine.surrogates[j].offset for j in range(len(ctx.cycles))])
     fails = np.zeros(len(ctx.cycles))
@@ -309,7 +324,7 @@ def _meet_cov_target(ctx: StudyContext, engine, pf, pf_cov, n_mc):
     chunk = 200_000
     while done < n:
         m = min(chunk, n - done)
-        u = iso.to_u(population(ctx.marginals, m, rng_seed + done))
+        u = iso.to_u(ctx.sample(m, rng_seed + done))
         mu0, _ = engine.surrogates[0].predict(u, return_variance=False)
         fails += np.count_nonzero(mu0[:, None] - (offsets[None, :] - offsets[0]) < 0, axis=0)
         done += m

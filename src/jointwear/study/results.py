@@ -463,6 +463,7 @@ class SensitivityResult(StageResult):
     unresolved_pairs: list[dict] = field(default_factory=list)
     rules: list[dict] = field(default_factory=list)
     archard_checks: list[dict] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
     extra_model_calls: int = 0
     derivatives: dict = field(default_factory=dict)
     n_population: int = 0

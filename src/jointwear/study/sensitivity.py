@@ -81,7 +81,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
       delta_0) over the nominal population. A shifted mechanism that cannot run (e.g. a rod too short to
       close the loop) has reliability 0, with its reason reported.
     """
-    from jointwear.reliability import IsoTransform, esc_absolute_error
+    from jointwear.reliability import esc_absolute_error
     from jointwear.sensitivity import (
         mean_shift_table,
         reliability_derivatives,
@@ -96,9 +96,9 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
     col = ctx.cycles.index(sens_cycles)
     engine = reliability.engine
     n_pop = min(max(engine.n_mc, 100_000), 400_000)
-    pop = population(ctx.marginals, n_pop, rel.seed + 2)
+    pop = ctx.sample(n_pop, rel.seed + 2)
 
-    iso = IsoTransform(ctx.marginals)
+    iso = ctx.iso()
 
     def log_life_margin(x):
         """ln N_f(x) - ln N_s from the learned life surrogate (failure where < 0) and its Kriging standard
@@ -139,7 +139,11 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
         sigma = ctx.marginals[i].std()
         if abs(shift) <= sens.surrogate_shift_limit * sigma:
             shifted_pop = pop.copy()
-            shifted_pop[:, i] = population([shifted], n_pop, rel.seed + 3 + i)[:, 0]
+            if ctx.copula is None:
+                shifted_pop[:, i] = population([shifted], n_pop, rel.seed + 3 + i)[:, 0]
+            else:  # dependent inputs: move the column by quantile so the copula is kept
+                q = np.clip(ctx.marginals[i].cdf(pop[:, i]), 1e-15, 1 - 1e-15)
+                shifted_pop[:, i] = shifted.ppf(q)
             mu, sd = log_life_margin(shifted_pop)
             r = float(np.mean(mu > 0))
             error = esc_absolute_error(mu, sd)
@@ -208,6 +212,9 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
         "variables": variables, "ranking": ranking, "ranking_by_group": ranking_by_group,
         "unresolved_pairs": unresolved,
         "rules": rules, "archard_checks": archard_checks,
+        "notes": [] if ctx.copula is None else [
+            "Sobol' indices and reliability derivatives assume independent inputs: they are computed on the "
+            "marginals without the copula; the mean shifts keep it."],
         "extra_model_calls": ctx.n_evaluated - known_before,
         "sobol": sobol.as_dict(), "derivatives": deriv.as_dict(), "n_population": n_pop,
         "wall_seconds": time.perf_counter() - t0,

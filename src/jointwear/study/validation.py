@@ -16,7 +16,7 @@ import time
 import numpy as np
 from scipy import stats
 
-from jointwear.study.reliability import StudyContext, population
+from jointwear.study.reliability import StudyContext
 from jointwear.study.results import ReliabilityResult, ValidationResult
 
 #: Offset of the validation samples' seed from the study's seed (the study's own draws use seed + 0..7).
@@ -32,9 +32,9 @@ def clopper_pearson(k: int, n: int, level: float = 0.95) -> tuple[float, float]:
 def leave_one_out(ctx: StudyContext, design_x: np.ndarray, seed: int) -> dict:
     """Leave-one-out predictions of ln N_f at the design points (hyperparameters of the full fit kept, so each
     refit is the Kriging predictor without that point)."""
-    from jointwear.reliability import IsoTransform, KrigingSurrogate
+    from jointwear.reliability import KrigingSurrogate
 
-    u = IsoTransform(ctx.marginals).to_u(design_x)
+    u = ctx.iso().to_u(design_x)
     with np.errstate(divide="ignore", invalid="ignore"):
         y = np.log(ctx.life(design_x))
     ok = np.isfinite(y)
@@ -61,7 +61,7 @@ def run_validation(ctx: StudyContext, reliability: ReliabilityResult, n_samples:
     t0 = time.perf_counter()
     rel = ctx.config.reliability
     before = ctx.n_evaluated
-    x = population(ctx.marginals, n_samples, rel.seed + SEED_OFFSET)
+    x = ctx.sample(n_samples, rel.seed + SEED_OFFSET)
     life = ctx.life(x)
     calls = ctx.n_evaluated - before
     failed = np.isnan(life)
