@@ -739,11 +739,6 @@ def load_config(source: str | Path | None = None) -> StudyConfig:
 # ---------------------------------------------------------------------------------------------
 # reference documentation
 # ---------------------------------------------------------------------------------------------
-def _type_name(ann: Any) -> str:
-    s = getattr(ann, "__name__", None) or str(ann)
-    return s.replace("typing.", "").replace("jointwear.config.", "")
-
-
 def config_reference_markdown() -> str:
     """Markdown reference of every config section and field, generated from the pydantic models."""
     lines = [
