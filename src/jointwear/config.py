@@ -37,7 +37,12 @@ from jointwear.study_settings import (
     SensitivitySettings,
 )
 from jointwear.uncertainty.targets import target_error
-from jointwear.uncertainty.variables import UncertaintySettings
+from jointwear.uncertainty.variables import (
+    ClearanceSpec,
+    CorrelationSpec,
+    RandomVariableSpec,
+    UncertaintySettings,
+)
 from jointwear.units import fmt_mm
 from jointwear.wear.settings import WearSettings
 
@@ -762,6 +767,14 @@ def config_reference_markdown() -> str:
         ("clearance_joints.bearing_material / journal_material", MaterialConfig),
         ("clearance_joints.friction", FrictionConfig),
         ("simulation", SimulationConfig),
+        ("wear", WearSettings),
+        ("uncertainty", UncertaintySettings),
+        ("uncertainty.clearance", ClearanceSpec),
+        ("[[uncertainty.variables]]", RandomVariableSpec),
+        ("uncertainty.correlation", CorrelationSpec),
+        ("reliability", ReliabilitySettings),
+        ("sensitivity", SensitivitySettings),
+        ("compute", ComputeSettings),
     ]
     for title, model in sections:
         lines += [f"## {title}", "", (model.__doc__ or "").strip().splitlines()[0], "",

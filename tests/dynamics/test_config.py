@@ -59,3 +59,14 @@ def test_config_reference_markdown():
     md = config_reference_markdown()
     for key in ("assembly_branch", "v0_min", "baumgarte_alpha", "jin2025_flapping_wing", "hardness"):
         assert key in md
+    for section in ("## wear", "## uncertainty", "## reliability", "## sensitivity", "## compute"):
+        assert section in md
+
+
+def test_docs_config_md_is_the_generated_reference():
+    from pathlib import Path
+
+    doc = Path(__file__).resolve().parents[2] / "docs" / "config.md"
+    assert doc.read_text(encoding="utf-8") == config_reference_markdown(), (
+        "docs/config.md is out of date: python -c 'import jointwear.config as c; "
+        "print(c.config_reference_markdown(), end=\"\")' > docs/config.md")
