@@ -11,7 +11,7 @@ Algorithm (standard-normal space u, x = T(u)):
    mu < 0 (evaluated candidates use their true value; a failed call counts as failure).
 5. Learning stop (``stopping``):
    * ``"u"`` (paper): min U >= ``u_threshold`` (2: probability of a wrong sign <= Phi(-2) = 2.3 % everywhere).
-   * ``"error"``: the estimated relative error of Pf caused by candidates whose sign may be wrong is below
+   * ``"error"`` (default): the estimated relative error of Pf caused by candidates whose sign may be wrong is below
      ``error_tol`` (ESC of Wang & Shafieezadeh 2019: the numbers of wrongly-safe and wrongly-failed candidates
      are Poisson-binomial with probabilities Phi(-U); their 95 % upper bounds N_sf, N_fs give
      eps = max(N_fs / (N_f - N_fs), N_sf / (N_f + N_sf))). It stops long before min U >= 2 once the remaining
