@@ -75,6 +75,12 @@ def test_life_and_histograms_are_consistent(study):
     # 1 % : the surrogate's error on a smooth 3-variable product over the population, well above MC noise
     np.testing.assert_allclose(res.mean_max_wear["mean"], exact, rtol=1e-2)
     assert res.histograms["cycles"] == [380_000, 420_000]
+    # one model for both: P(wear > allowance) of the histograms is 1 - R(N) up to the Monte Carlo noise of two
+    # populations (4 standard errors of their difference)
+    n_h, n_mc = res.histograms["n_population"], res.n_mc
+    for p_hist, p_curve in zip(res.histograms["exceedance"], res.histograms["one_minus_reliability"]):
+        se = np.sqrt(p_curve * (1 - p_curve) * (1 / n_h + 1 / n_mc))
+        assert abs(p_hist - p_curve) <= 4 * se + 1e-12, (p_hist, p_curve)
 
 
 def test_life_at_interpolates():

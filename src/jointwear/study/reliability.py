@@ -220,20 +220,25 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     life_table = [{"target": t, "cycles": n, "hours": None if n is None else cycles_to_hours(n, ctx.config),
                    "status": life_status(reliability, t)} for t, n in zip(targets, lives)]
 
-    # Wear distributions over the random inputs (paper Fig. 20) from wear surrogates fitted on the design.
+    # Wear distributions over the random inputs (paper Fig. 20), from the same life model as R(N), so that
+    # P(wear > allowance at N) = 1 - R(N) up to Monte Carlo noise.
     hist_levels = rel.histogram_levels()
     n_hist = min(engine.n_mc, 100_000)
     pop = ctx.sample(n_hist, rel.seed + 1)
     wear_levels = sorted(set(hist_levels) | set(ctx.cycles))
-    wear_model = WearSurrogates(ctx, np.asarray(engine.design_x), wear_levels, seed=rel.seed)
-    wear_all = wear_model.predict(pop)
+    wear_all = implied_wear(ctx, engine, pop, wear_levels)
     hist_cols = [wear_levels.index(c) for c in hist_levels]
+    a0 = ctx.limit_state.reference_allowance
     histograms = {"cycles": list(hist_levels),
                   "max_wear_mm": [(wear_all[:2000, j] * 1e3).tolist() for j in hist_cols],
                   "n_samples_shown": 2000, "n_population": int(n_hist),
-                  "joint": ctx.limit_state.names[0], "quantity": ctx.limit_state.quantity}
+                  "joint": ctx.limit_state.names[0], "quantity": ctx.limit_state.quantity,
+                  "model": "the life surrogate of R(N): wear(x, N) = allowance x N / N_f(x) (linear growth)",
+                  "exceedance": [float(np.mean(wear_all[:, j] > a0)) for j in hist_cols],
+                  "one_minus_reliability": [float(pf[ctx.cycles.index(c)]) for c in hist_levels]}
     mean_max = {"cycles": wear_levels, "mean": (wear_all.mean(axis=0) * 1e3).tolist(),
                 "std": (wear_all.std(axis=0) * 1e3).tolist()}
+    wear_model = WearSurrogates(ctx, np.asarray(engine.design_x), wear_levels, seed=rel.seed)
     hist = engine.history
     ref = rel.progress_level(ctx.cycles)
     convergence = {"cycles": ctx.cycles[ref], "n_calls": [h.n_calls for h in hist],
@@ -262,6 +267,22 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         quantity=ctx.limit_state.quantity, joints=joints,
         crank_speed_rpm=abs(float(ctx.config.mechanism.crank_speed)) * 60 / (2 * math.pi),
         engine=engine, infeasible=infeasible, wear_surrogates=wear_model)
+
+
+def implied_wear(ctx: StudyContext, engine, pop: np.ndarray, cycles) -> np.ndarray:
+    """The first judged joint's wear (m) at ``cycles`` for each row of ``pop``, implied by the learned life
+    surrogate: a N / N_f(x), with a the allowance (sampled when random) and N_f from the R(N) model.
+
+    Exact at the allowance (wear(x, N) > a exactly when N_f(x) < N, the failure event of R(N)), and the
+    wear's own value elsewhere as far as the history grows linearly in N (docs/wear.md). With several judged
+    joints N_f is the system's life, so this is the wear of the first joint scaled to the system's failure.
+    """
+    u = ctx.iso().to_u(pop)
+    log_life = engine.surrogates[0].predict(u, return_variance=False)[0] + ctx.log_levels()[0]
+    _, draw = ctx.split(pop)
+    a = ctx.limit_state.reference_allowance if draw is None else draw
+    n = np.asarray(cycles, dtype=float)
+    return np.asarray(a, dtype=float).reshape(-1, 1) * n[None, :] * np.exp(-log_life)[:, None]
 
 
 def _joint_breakdown(ctx: StudyContext, engine, design_x: np.ndarray, pop: np.ndarray,
