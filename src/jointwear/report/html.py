@@ -19,6 +19,10 @@ Files and keys read (all optional; units in the key names)
                    "description": "..."}, ...]}
 
   Without a ``settings`` list, a nested config dump is flattened into dotted names (no sources then).
+  ``allowance_mm``: the configured allowable wear (drawn on the wear figures before any stage's own value).
+  ``reference``: the config's cited reference results (``jointwear.reference``, in mm / deg / h; see
+  :mod:`jointwear.report.settings`). The comparison section, the reference's points on the figures and the
+  acceptance bands appear only when it is present; without it the report is about the study alone.
 
 ``simulate.json``: ``contact_force_mean_N``, ``contact_force_max_N``, ``contact_fraction``,
 ``impacts_per_cycle``, ``steps_per_cycle``, ``wall_seconds_per_cycle`` (DESIGN.md) and, for the figures,
