@@ -220,3 +220,15 @@ class ReferenceData(SIModel):
         """Plain data for the settings JSON (key ``reference``): values and bands in report units."""
         return {"citation": self.citation, "label": self.label, "note": self.note,
                 "values": [v.report_dict() for v in self.values]}
+
+    def series(self, quantity: str) -> dict[int, float]:
+        """{cycles: value in report units} of an 'at N cycles' quantity, for the figures' reference points
+        (``reliability``, ``mean_max_wear`` in mm, ``nominal_max_wear`` in mm); empty when not declared."""
+        return {int(v.cycles): v.report_dict()["value"] for v in self.values
+                if v.quantity == quantity and v.cycles is not None}
+
+    def life(self, target_reliability: float) -> float | None:
+        """The reference's life (cycles) at ``target_reliability``, or None."""
+        return next((v.value for v in self.values if v.quantity == "life_cycles"
+                     and v.target_reliability is not None and abs(v.target_reliability - target_reliability) < 1e-12),
+                    None)
