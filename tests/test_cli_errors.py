@@ -104,3 +104,58 @@ def test_console_script_exit_status(tmp_path):
     assert p.returncode == 2
     assert len(p.stderr.strip().splitlines()) == 1 and "Traceback" not in p.stderr
     assert "journal_radius" in p.stderr
+
+
+@pytest.mark.parametrize("command", ["simulate", "wear", "reliability", "sensitivity", "run"])
+def test_bad_config_writes_nothing(tmp_path, capsys, command):
+    """Every problem is found before any stage runs, so the output folder is never created."""
+    path = _variant(tmp_path, "cycles_start = 300000", "cycles_start = 300000\njoints = [\"Z\"]")
+    out = tmp_path / "never"
+    code, err = _run(capsys, [command, path, "--out", str(out)])
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert "reliability.joints" in err
+    assert not out.exists()
+
+
+def test_all_problems_listed_in_one_line(tmp_path, capsys):
+    text = PRESET.replace("mass_kg = 8.71e-4", "mass_kg = -1.0").replace("restitution = 0.9 ", "restitution = 2.0 ")
+    p = tmp_path / "two.toml"
+    p.write_text(text, encoding="utf-8")
+    code, err = _run(capsys, ["check", str(p)])
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert "mechanism.rod.mass" in err and "clearance_joints[0].restitution" in err and "[2 problems]" in err
+
+
+def test_zero_crank_speed_exits_2(tmp_path, capsys):
+    path = _variant(tmp_path, "crank_speed_rpm = 480.0", "crank_speed_rpm = 0.0")
+    code, err = _run(capsys, ["simulate", path, "--out", str(tmp_path / "o")])
+    assert code == 2 and "crank_speed" in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "o").exists()
+
+
+def test_unwritable_out_exits_2(tmp_path, capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    code, err = _run(capsys, ["simulate", "--cycles", "1", "--out", str(blocker / "sub")])
+    assert code == 2 and err.startswith("error: out:") and len(err.strip().splitlines()) == 1
+
+
+def test_report_of_a_folder_without_results_exits_2(tmp_path, capsys):
+    code, err = _run(capsys, ["report", str(tmp_path)])
+    assert code == 2 and "no study results" in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "report.html").exists()
+
+
+def test_check_and_presets_and_version(tmp_path, capsys):
+    assert main_entry(["check", "jin2025_flapping_wing"]) == 0
+    captured = capsys.readouterr()
+    assert "mechanism.crank_speed = 480 rpm" in captured.out and "rpm" in captured.out and "valid" in captured.err
+    assert main_entry(["presets"]) == 0
+    out = capsys.readouterr().out
+    assert "jin2025_flapping_wing" in out and "Drones" in out
+    with pytest.raises(SystemExit) as exc:
+        from jointwear.cli import main
+
+        main(["--version"])
+    assert exc.value.code == 0
+    assert "jointwear" in capsys.readouterr().out

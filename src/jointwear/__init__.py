@@ -1,3 +1,28 @@
-"""jointwear: non-uniform wear of revolute clearance joints and the wear reliability of planar mechanisms."""
+"""jointwear: non-uniform wear of revolute clearance joints and the wear reliability of planar mechanisms.
 
-__version__ = "0.1.0"
+>>> import jointwear
+>>> study = jointwear.Study("jin2025_flapping_wing", out="results")   # doctest: +SKIP
+>>> results = study.run()                                            # doctest: +SKIP
+"""
+
+from importlib.metadata import PackageNotFoundError, version
+
+try:
+    __version__ = version("jointwear")
+except PackageNotFoundError:  # running from a source tree that is not installed
+    __version__ = "0+unknown"
+
+__all__ = ["Study", "load_results", "load_config", "__version__"]
+
+
+def __getattr__(name: str):
+    # the study pulls in numba and the reliability engine: import it on first use, not with the package
+    if name in ("Study", "load_results"):
+        from jointwear import study
+
+        return getattr(study, name)
+    if name == "load_config":
+        from jointwear.config import load_config
+
+        return load_config
+    raise AttributeError(f"module 'jointwear' has no attribute {name!r}")

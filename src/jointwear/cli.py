@@ -1,32 +1,18 @@
-"""Command line: ``jointwear <command> [CONFIG] ... --out DIR``.
+"""Command line: ``jointwear <command> [CONFIG] ... --out DIR``, a thin layer over :class:`jointwear.Study`.
 
-Each command is a small function registered on the ``main`` group; CONFIG is a TOML file or a
-preset name (default ``jin2025_flapping_wing``).  Errors in the config or the arguments end with
-exit status 2 and one plain line on stderr (no traceback).
-
-Adding a command (other stages)::
-
-    @main.command()
-    @config_argument
-    @out_option
-    def wear(config, out):
-        cfg = load_cli_config(config)
-        ...
-        write_json(out, "wear.json", payload)
+CONFIG is a TOML file or a preset name (default ``jin2025_flapping_wing``). Errors in the config or the
+arguments end with exit status 2 and one plain line on stderr (no traceback); nothing is written to
+``--out`` when the config is bad.
 """
 
 from __future__ import annotations
 
-import json
-import math
 import sys
 from pathlib import Path
-from typing import Any
 
 import click
-import numpy as np
 
-from jointwear.config import ConfigError, load_config
+from jointwear.schema import ConfigError
 
 config_argument = click.argument("config", required=False, default=None)
 out_option = click.option(
@@ -35,30 +21,26 @@ out_option = click.option(
 )
 
 
-class CLIError(click.ClickException):
-    """A user-facing error: one line, exit status 2."""
-
-    exit_code = 2
-
-
-def load_cli_config(config: str | None):
-    """Load the config named on the command line (ConfigError propagates to a one-line exit 2)."""
-    return load_config(config)
-
-
-def _json_default(o: Any) -> Any:
-    if isinstance(o, np.generic):
-        return o.item()
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    raise TypeError(type(o).__name__)
+def compute_options(f):
+    """--workers, --scheduler, --resume, --overwrite: where model calls run and what happens to a store."""
+    f = click.option("--workers", type=click.IntRange(min=1), default=None,
+                     help="Local worker processes for model calls (default: compute.workers, else all cores).")(f)
+    f = click.option("--scheduler", default=None, metavar="ADDRESS",
+                     help="Dask scheduler address (tcp://host:8786) to run model calls on a cluster.")(f)
+    f = click.option("--resume", is_flag=True, help="Resume an interrupted study in --out (no call is repeated).")(f)
+    f = click.option("--overwrite", is_flag=True, help="Discard an earlier study's evaluation store in --out.")(f)
+    return f
 
 
-def write_json(out: Path, name: str, payload: dict) -> Path:
-    out.mkdir(parents=True, exist_ok=True)
-    path = out / name
-    path.write_text(json.dumps(payload, indent=2, default=_json_default, allow_nan=True) + "\n", encoding="utf-8")
-    return path
+def say(msg: str) -> None:
+    click.echo(msg, err=True)
+
+
+def open_study(config, out, workers=None, scheduler=None, resume=False, overwrite=False):
+    from jointwear.study import Study
+
+    return Study(config, out=out, workers=workers, scheduler=scheduler, resume=resume, overwrite=overwrite,
+                 echo=say)
 
 
 class JointwearGroup(click.Group):
@@ -75,32 +57,43 @@ class JointwearGroup(click.Group):
         try:
             rv = super().main(args=args, prog_name=prog_name, standalone_mode=False)
         except ConfigError as exc:
-            click.echo(f"error: {_one_line(str(exc))}", err=True)
+            click.echo(f"error: {one_line(str(exc))}", err=True)
             return 2
         except click.exceptions.Abort:
             click.echo("error: aborted", err=True)
             return 1
         except click.UsageError as exc:
-            click.echo(f"error: {_one_line(exc.format_message())}", err=True)
+            click.echo(f"error: {one_line(exc.format_message())}", err=True)
             return 2
         except click.ClickException as exc:
-            click.echo(f"error: {_one_line(exc.format_message())}", err=True)
+            click.echo(f"error: {one_line(exc.format_message())}", err=True)
             return exc.exit_code if exc.exit_code else 2
         except SimulationError as exc:
-            click.echo(f"error: simulation failed: {_one_line(str(exc))}", err=True)
+            click.echo(f"error: simulation failed: {one_line(str(exc))}", err=True)
             return 1
         return rv if isinstance(rv, int) else 0
 
 
-def _one_line(msg: str) -> str:
+def one_line(msg: str) -> str:
     return " ".join(msg.split())
 
 
+def _versions(ctx, _param, value) -> None:
+    if not value or ctx.resilient_parsing:
+        return
+    from jointwear.study.io import provenance
+
+    p = provenance()
+    deps = ", ".join(f"{k} {p[k]}" for k in ("numpy", "scipy", "numba", "openturns") if p.get(k))
+    click.echo(f"jointwear {p['jointwear']} (Python {p['python']}; {deps})")
+    ctx.exit()
+
+
 @click.group(cls=JointwearGroup, context_settings={"help_option_names": ["-h", "--help"]})
-@click.version_option(package_name="jointwear")
+@click.option("--version", is_flag=True, expose_value=False, is_eager=True, callback=_versions,
+              help="Show the versions of jointwear and its numerical dependencies, and exit.")
 def main() -> None:
     """jointwear: non-uniform wear of revolute clearance joints and wear reliability of planar mechanisms."""
-
 
 
 @main.command()
@@ -112,112 +105,107 @@ def main() -> None:
 @out_option
 def simulate(config: str | None, cycles: int | None, settle: int | None, out: Path) -> None:
     """Simulate the mechanism with its clearance joints; write simulate.json, simulate.npz and figures."""
-    from jointwear.mechanism import build_model
-    from jointwear.mechanism import simulate as run_simulation
-
-    cfg = load_cli_config(config)
-    model = build_model(cfg)
-    n = cycles if cycles is not None else cfg.simulation.cycles
-    run_simulation(model, 0.01, settle_cycles=0)  # load/compile the kernels so timings exclude it
-    res = run_simulation(model, n, settle_cycles=settle)
-    payload = simulate_summary(res, cfg.name)
-    write_json(out, "simulate.json", payload)
-    _write_series(out, res)
-    _plot(out, res)
-    j = payload
-    click.echo(
-        f"simulate: {n} cycles, {j['steps_per_cycle']:.0f} steps/cycle, {j['wall_seconds_per_cycle'] * 1e3:.1f} ms/cycle; "
-        f"mean contact force {j.get('contact_force_mean_N', float('nan')):.4g} N -> {out / 'simulate.json'}"
-    )
+    open_study(config, out).simulate(cycles=cycles, settle=settle)
 
 
-def simulate_summary(res, name: str = "") -> dict:
-    """The simulate.json payload (top-level keys for the first clearance joint, plus a `joints` list)."""
-    total_cycles = res.n_cycles + res.settle_cycles
-    joints = []
-    for tr in res.joints:
-        f = tr.contact_force
-        joints.append({
-            "name": tr.name,
-            "bearing_body": tr.bearing_body,
-            "journal_body": tr.journal_body,
-            "contact_force_mean_N": tr.mean_force,
-            "contact_force_max_N": float(f.max()) if f.size else 0.0,
-            "normal_force_mean_N": float(np.sum(tr.dt_weight * tr.force_normal) / tr.duration),
-            "contact_fraction": tr.contact_fraction,
-            "impacts_per_cycle": tr.n_impacts / res.n_cycles,
-            "max_penetration_m": float(tr.penetration.max()),
-            "clearance_m": tr.clearance_used,
-            "stiffness_N_per_m1p5": float(np.median(tr.stiffness)),
-        })
-    payload: dict[str, Any] = {"config": name, "cycles": res.n_cycles, "settle_cycles": res.settle_cycles,
-                               "period_s": res.period}
-    if joints:
-        first = joints[0]
-        for k in ("contact_force_mean_N", "contact_force_max_N", "contact_fraction", "impacts_per_cycle"):
-            payload[k] = first[k]
-    payload["steps_per_cycle"] = res.steps_per_cycle
-    payload["wall_seconds_per_cycle"] = res.wall_seconds / total_cycles if total_cycles else math.nan
-    payload["wall_seconds"] = res.wall_seconds
-    payload["accepted_steps"] = res.n_steps
-    payload["rejected_steps"] = res.n_rejected
-    payload["joints"] = joints
-    payload["kernel"] = res.extra.get("kernel", "")
-    payload["series_file"] = "simulate.npz"
-    return payload
+@main.command()
+@config_argument
+@click.option("--cycles", type=click.IntRange(min=1), default=None,
+              help="Crank cycles of the wear history (default: wear.cycles of the config).")
+@out_option
+def wear(config, cycles, out):
+    """Non-uniform wear of the clearance joints over many cycles; write wear.json, CSV tables and figures."""
+    open_study(config, out).wear(cycles)
 
 
-def _write_series(out: Path, res) -> None:
-    data: dict[str, np.ndarray] = {"t_s": res.t, "crank_angle_rad": res.crank_angle, "body_angles_rad": res.body_angles}
-    for tr in res.joints:
-        p = f"{tr.name}_"
-        data[p + "eccentricity_bearing_frame_m"] = tr.eccentricity
-        data[p + "theta_bearing_rad"] = tr.theta_bearing
-        data[p + "force_normal_N"] = tr.force_normal
-        data[p + "force_tangential_N"] = tr.force_tangential
-        data[p + "slip_speed_m_s"] = tr.slip_speed
-        data[p + "penetration_m"] = tr.penetration
-        data[p + "in_contact"] = tr.in_contact
-    np.savez_compressed(out / "simulate.npz", **data)
+@main.command()
+@config_argument
+@compute_options
+@out_option
+def reliability(config, workers, scheduler, resume, overwrite, out):
+    """Wear reliability R(N) and the life at the target reliability (AK-MCS); write reliability.json."""
+    open_study(config, out, workers, scheduler, resume, overwrite).reliability()
 
 
-def _plot(out: Path, res) -> None:
-    import matplotlib
+@main.command()
+@config_argument
+@compute_options
+@out_option
+def sensitivity(config, workers, scheduler, resume, overwrite, out):
+    """Reliability sensitivity to every variable (mean shifts, Sobol', derivatives); write sensitivity.json.
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    Re-uses the evaluations of a reliability study in the same --out folder.
+    """
+    open_study(config, out, workers, scheduler, resume, overwrite).sensitivity()
 
-    for tr in res.joints:
-        fig, ax = plt.subplots(figsize=(5, 5))
-        c = tr.clearance_used
-        th = np.linspace(0, 2 * np.pi, 361)
-        ax.plot(c * 1e6 * np.cos(th), c * 1e6 * np.sin(th), "k--", lw=0.8, label="clearance circle")
-        ax.plot(tr.eccentricity[:, 0] * 1e6, tr.eccentricity[:, 1] * 1e6, lw=0.8, label="journal centre")
-        ax.set_aspect("equal")
-        ax.set_xlabel("eccentricity along bearing-body x (um)")
-        ax.set_ylabel("eccentricity along bearing-body y (um)")
-        ax.set_title(f"Journal orbit, joint {tr.name} (bearing frame)")
-        ax.legend(loc="upper right", fontsize=8)
-        fig.tight_layout()
-        fig.savefig(out / f"orbit_{tr.name}.png", dpi=120)
-        plt.close(fig)
-        fig, ax = plt.subplots(figsize=(7, 4))
-        ax.plot(np.degrees(res.crank_angle), tr.contact_force * 1e3, ".", ms=1)
-        ax.set_xlabel("crank angle (deg)")
-        ax.set_ylabel("contact force (mN)")
-        ax.set_xlim(0, 360)
-        ax.set_title(f"Contact force vs crank angle, joint {tr.name}")
-        fig.tight_layout()
-        fig.savefig(out / f"force_{tr.name}.png", dpi=120)
-        plt.close(fig)
+
+@main.command()
+@config_argument
+@click.option("--samples", type=click.IntRange(min=1), default=2000, show_default=True,
+              help="Fresh random samples, one true-model call each.")
+@compute_options
+@out_option
+def validate(config, samples, workers, scheduler, resume, overwrite, out):
+    """Check the R(N) curve against the true wear model sampled directly; write validation.json.
+
+    Re-uses the evaluations of a reliability study in the same --out folder.
+    """
+    open_study(config, out, workers, scheduler, resume, overwrite).validate(n_samples=samples)
+
+
+@main.command()
+@click.argument("directory", type=click.Path(file_okay=False, path_type=Path))
+def report(directory):
+    """Build DIRECTORY/report.html from the results of a study."""
+    from jointwear.report.html import build_report
+    from jointwear.study import load_results
+
+    if not directory.is_dir():
+        raise ConfigError(f"report: '{directory}' is not a directory with study results")
+    if not load_results(directory).stages:
+        raise ConfigError(f"report: '{directory}' has no study results (simulate.json, wear.json, "
+                          "reliability.json or sensitivity.json)")
+    say(f"report: {build_report(directory)}")
+
+
+@main.command()
+@config_argument
+@compute_options
+@out_option
+def run(config, workers, scheduler, resume, overwrite, out):
+    """The whole study end to end: simulate, wear, reliability, sensitivity, report."""
+    open_study(config, out, workers, scheduler, resume, overwrite).run()
+
+
+@main.command()
+@click.argument("config", required=True)
+def check(config):
+    """Check CONFIG whole (every section and cross-section rule, the nominal mechanism runs) and print every
+    setting resolved, with its unit and where its value comes from."""
+    from jointwear.report.settings import settings_records
+    from jointwear.study import Study
+
+    study = Study(config, out=Path("."))
+    study.check()
+    for rec in settings_records(study.config):
+        unit = f" {rec['unit']}" if rec["unit"] else ""
+        source = " ".join(str(rec["source"]).split())
+        value = rec["value"]
+        shown = f"{value:.6g}" if isinstance(value, float) else repr(value)
+        click.echo(f"{rec['name']} = {shown}{unit}" + (f"    # {source}" if source else ""))
+    say(f"check: {config} is a valid study config for the stages {', '.join(study.stages)}")
+
+
+@main.command()
+def presets():
+    """List the built-in presets with their citations."""
+    from jointwear.config import available_presets, load_config
+
+    for name in available_presets():
+        cfg = load_config(name)
+        click.echo(f"{name}\n    {cfg.description}\n    source: {cfg.citation}")
 
 
 def main_entry(argv: list[str] | None = None) -> int:
     """Run the CLI in-process and return the exit status (used by tests)."""
     return main.run(argv)
-
-
-# the study commands (wear, reliability, sensitivity, report, run) live in jointwear.commands
-from jointwear.commands import register as _register_study_commands  # noqa: E402
-
-_register_study_commands(main)

@@ -201,6 +201,13 @@ class FourBarConfig(SIModel):
     )
     rod_force: Vec2 = F((0.0, 0.0), unit="N", description="Constant external force on the rod at its centre of mass.")
 
+    @field_validator("crank_speed")
+    @classmethod
+    def _nonzero_speed(cls, v: float) -> float:
+        if v == 0.0:
+            raise ValueError("crank_speed must not be 0 (the crank turns once per cycle)")
+        return v
+
     @model_validator(mode="after")
     def _closure(self) -> FourBarConfig:
         for name in ("crank", "rod", "rocker"):
@@ -238,6 +245,13 @@ class SliderCrankConfig(SIModel):
         1, description="+1: slider on the positive guide direction side of the crank pin; -1: the other side."
     )
     gravity: Vec2 = F((0.0, 0.0), unit="m/s^2", description="Gravity vector (Flores et al. 2006 benchmark: none).")
+
+    @field_validator("crank_speed")
+    @classmethod
+    def _nonzero_speed(cls, v: float) -> float:
+        if v == 0.0:
+            raise ValueError("crank_speed must not be 0 (the crank turns once per cycle)")
+        return v
 
     @model_validator(mode="after")
     def _closure(self) -> SliderCrankConfig:
@@ -615,21 +629,27 @@ def _loc(loc: tuple[Any, ...]) -> str:
     return out or "config"
 
 
-def _one_line(exc: ValidationError) -> str:
-    errors = exc.errors()
-    # an unknown key usually also causes a "missing" error for the key it misspells: report it first
-    err = next((e for e in errors if e.get("type") == "extra_forbidden"), errors[0])
-    where = _loc(tuple(err.get("loc", ())))
-    msg = err.get("msg", "invalid").removeprefix("Value error, ")
-    extra_n = len(exc.errors()) - 1
-    inp = err.get("input")
-    shown = ""
-    if err.get("type") not in ("missing", "extra_forbidden") and isinstance(inp, (int, float, str)) and not isinstance(inp, bool):
-        shown = f" (got {inp!r}{', SI units' if isinstance(inp, float) else ''})"
-    more = f" [+{extra_n} more problem{'s' if extra_n > 1 else ''}]" if extra_n else ""
-    if err.get("type") == "extra_forbidden":
-        msg = "unknown key (not a setting of this section)"
-    return f"{where}: {msg}{shown}{more}".replace("\n", " ")
+def validation_problems(exc: ValidationError) -> list[str]:
+    """Every problem of a pydantic validation error as 'field.path: message (got value)'.
+
+    An unknown key usually also causes a "missing" error for the key it misspells: unknown keys come first.
+    """
+    errors = sorted(exc.errors(), key=lambda e: e.get("type") != "extra_forbidden")
+    out = []
+    for err in errors:
+        where = _loc(tuple(err.get("loc", ())))
+        msg = err.get("msg", "invalid").removeprefix("Value error, ")
+        inp = err.get("input")
+        shown = ""
+        if err.get("type") not in ("missing", "extra_forbidden") and isinstance(inp, (int, float, str)) \
+                and not isinstance(inp, bool):
+            shown = f" (got {inp!r}{', SI units' if isinstance(inp, float) else ''})"
+        if err.get("type") == "extra_forbidden":
+            msg = "unknown key (not a setting of this section)"
+        text = f"{where}: {msg}{shown}".replace("\n", " ")
+        if text not in out:
+            out.append(text)
+    return out
 
 
 def available_presets() -> list[str]:
@@ -643,7 +663,7 @@ def config_from_dict(data: dict[str, Any], source: str = "config") -> StudyConfi
     try:
         return StudyConfig.model_validate(data)
     except ValidationError as exc:
-        raise ConfigError(f"{source}: {_one_line(exc)}") from None
+        raise ConfigError.from_problems(validation_problems(exc), source) from None
 
 
 def _parse_toml(text: str, source: str) -> dict[str, Any]:

@@ -14,7 +14,21 @@ from jointwear.units import UnitError, convert_keys
 
 
 class ConfigError(ValueError):
-    """A configuration problem; ``str(err)`` is one line naming the field and the allowed range."""
+    """A configuration problem; ``str(err)`` is one line naming the field and the allowed range.
+
+    ``problems`` lists every problem found (``str`` joins them with '; ').
+    """
+
+    def __init__(self, message: str, problems: list[str] | None = None):
+        super().__init__(message)
+        self.problems = list(problems) if problems else [message]
+
+    @classmethod
+    def from_problems(cls, problems: list[str], source: str | None = None) -> ConfigError:
+        """One error listing every problem: 'source: p1; p2 [N problems]'."""
+        head = f"{source}: " if source else ""
+        count = f" [{len(problems)} problems]" if len(problems) > 1 else ""
+        return cls(head + "; ".join(problems) + count, problems)
 
 
 def F(default: Any = ..., *, unit: str | None = None, description: str, **kw: Any) -> Any:

@@ -11,23 +11,53 @@ from typing import Literal
 
 from pydantic import Field, field_validator, model_validator
 
-from jointwear.schema import SIModel
+from jointwear.schema import F, SIModel
+
+
+LimitStateQuantity = Literal["bearing_max_depth", "journal_max_depth", "clearance_growth"]
 
 
 class ReliabilitySettings(SIModel):
-    """Wear reliability: limit state G = delta_0 - delta_max(x, N) (paper Section 5)."""
+    """Wear reliability: the limit state G_j = delta_0,j - q_j(x, N) of every judged joint j (paper Section 5).
 
-    allowance: float = Field(
-        3e-5, description="Wear allowance delta_0, m: 0.01 D with D = 3 mm, the bearing's outer diameter "
-        "(Section 6.2).")
-    allowance_std: float = Field(
-        0.0, description="Standard deviation of a random allowance, m (Section 5.1 suggests 0.0002-0.0005 D); "
-        "0 = deterministic, as in the paper's results.")
-    cycles_start: int = Field(300_000, description="First cycle count of the R(N) curve.")
-    cycles_stop: int = Field(560_000, description="Last cycle count of the R(N) curve (paper: up to 520k).")
-    cycles_step: int = Field(20_000, description="Spacing of the R(N) curve; 20k hits 360k/400k/420k/440k/520k.")
-    target_reliability: float = Field(0.9, description="Acceptable reliability for the life (paper: 0.9).")
-    histogram_cycles: list[int] = Field([360_000, 400_000, 440_000], description="Paper Fig. 20.")
+    With several judged joints the mechanism fails when the first of them fails (a series system):
+    N_f(x) = min_j N_f,j(x).
+    """
+
+    quantity: LimitStateQuantity = Field(
+        "bearing_max_depth",
+        description="Wear quantity judged against the allowance: 'bearing_max_depth' (deepest point of the worn "
+        "bore, the paper's Eq. 42), 'journal_max_depth' (deepest point of the worn pin), 'clearance_growth' "
+        "(radial clearance growth: bearing + journal depth).")
+    joints: list[str] | None = Field(
+        None, description="Names of the clearance joints judged (any subset); None = every clearance joint. With "
+        "several, the mechanism fails when the first of them fails (series system).")
+    allowance: float | None = F(
+        None, unit="m", description="Wear allowance delta_0 of every judged joint, m. None = 0.01 D per joint with D the "
+        "bearing's outer diameter (the paper's rule, Section 6.2; needs bearing_outer_radius).")
+    allowances: dict[str, float] = F(
+        default_factory=dict, unit="m",
+        description="Per-joint allowance, m, by clearance-joint name (e.g. allowances_mm = { E = 0.04 }); "
+        "overrides `allowance` for the joints it names.")
+    allowance_std: float = F(
+        0.0, unit="m", description="Standard deviation of a random allowance, m (Section 5.1 suggests 0.0002-0.0005 D); "
+        "0 = deterministic, as in the paper's results. With several joints one random factor scales every "
+        "joint's allowance (delta_0,j x delta_0 / mean).")
+    cycles_start: int | None = Field(
+        None, description="First cycle count of the R(N) curve (required by the reliability stages).")
+    cycles_stop: int | None = Field(
+        None, description="Last cycle count of the R(N) curve (required by the reliability stages).")
+    cycles_step: int | None = Field(
+        None, description="Spacing of the R(N) curve; None = (stop - start) / 10.")
+    target_reliability: float | list[float] = Field(
+        0.9, description="Target reliability, or several (a life table): the life is the first N with "
+        "R(N) <= target. The first target is the headline.")
+    histogram_cycles: list[int] | None = Field(
+        None, description="Cycle counts of the wear distributions (paper Fig. 20); None = three levels inside the "
+        "curve (at a quarter, half and three quarters of it, on its grid).")
+    progress_cycles: int | None = Field(
+        None, description="Curve level followed by the progress line and the convergence record; None = the "
+        "middle level of the curve.")
     n_mc: int = Field(
         200_000, description="Initial Monte Carlo population (paper: 100,000; 200,000 gives COV < 5 % down to Pf = 2e-3).")
     n_mc_max: int = Field(2_000_000, description="Largest population when the COV check grows it.")
@@ -49,14 +79,13 @@ class ReliabilitySettings(SIModel):
     error_tol: float = Field(0.02, description="Relative Pf error tolerance of the 'error' stopping rule (project choice).")
     error_abs_tol: float = Field(
         0.01, description="A level also counts as learned when its estimated absolute Pf error is below this "
-        "(project choice: 0.01 in R, well inside the 0.15 agreement band with the paper).")
+        "(project choice: 0.01 in R).")
     cov_target: float = Field(0.05, description="Required COV of Pf at every N with Pf > pf_floor (paper: 0.05).")
     pf_floor: float = Field(1e-3, description="Levels with Pf below this need not meet the COV target.")
-    max_calls: int = Field(
-        60, description="Budget of true-model calls for the reliability analysis (issue goal: <= 60 for the whole curve).")
+    max_calls: int = Field(60, description="Budget of true-model calls for the reliability analysis.")
     seed: int = Field(2025, description="Seed of every random draw of the study.")
 
-    @field_validator("allowance", "target_reliability", "u_threshold", "cov_target", "pf_floor")
+    @field_validator("u_threshold", "cov_target", "pf_floor")
     @classmethod
     def _positive(cls, value: float, info) -> float:
         if not math.isfinite(value) or value <= 0:
@@ -65,34 +94,95 @@ class ReliabilitySettings(SIModel):
 
     @model_validator(mode="after")
     def _ranges(self) -> ReliabilitySettings:
-        if not 0 < self.target_reliability < 1:
-            raise ValueError("target_reliability must be in (0, 1)")
+        for t in self.targets:
+            if not 0 < t < 1:
+                raise ValueError(f"target_reliability must be in (0, 1) (got {t:g})")
+        if isinstance(self.target_reliability, list) and not self.target_reliability:
+            raise ValueError("target_reliability: give at least one target")
+        if self.allowance is not None and not self.allowance > 0:
+            raise ValueError(f"allowance must be > 0 m (got {self.allowance:g})")
+        for name, a in self.allowances.items():
+            if not (math.isfinite(a) and a > 0):
+                raise ValueError(f"allowances.{name} must be > 0 m (got {a:g})")
         if self.allowance_std < 0 or not math.isfinite(self.allowance_std):
             raise ValueError("allowance_std must be >= 0")
-        if not 0 < self.cycles_start < self.cycles_stop:
-            raise ValueError("need 0 < cycles_start < cycles_stop")
-        if self.cycles_step <= 0:
+        if self.cycles_start is not None and self.cycles_stop is not None:
+            if not 0 < self.cycles_start < self.cycles_stop:
+                raise ValueError(f"need 0 < cycles_start < cycles_stop (got {self.cycles_start}, {self.cycles_stop})")
+        elif self.cycles_start is not None and self.cycles_start <= 0:
+            raise ValueError("cycles_start must be > 0")
+        if self.cycles_step is not None and self.cycles_step <= 0:
             raise ValueError("cycles_step must be > 0")
         for name in ("n_mc", "n_mc_max", "n_initial", "batch_size", "max_calls"):
             if getattr(self, name) <= 0:
                 raise ValueError(f"{name} must be > 0")
         if self.n_mc_max < self.n_mc:
             raise ValueError("n_mc_max must be >= n_mc")
-        if any(c <= 0 for c in self.histogram_cycles):
+        if self.histogram_cycles is not None and any(c <= 0 for c in self.histogram_cycles):
             raise ValueError("histogram_cycles must be positive")
         return self
 
+    @property
+    def targets(self) -> list[float]:
+        """Every target reliability, the headline first."""
+        t = self.target_reliability
+        return list(t) if isinstance(t, list) else [float(t)]
+
+    def curve_problems(self) -> list[str]:
+        """What keeps the R(N) curve from being defined (empty when it is)."""
+        problems = []
+        if self.cycles_start is None:
+            problems.append("reliability.cycles_start: required for the R(N) curve (first cycle count, e.g. 100000)")
+        if self.cycles_stop is None:
+            problems.append("reliability.cycles_stop: required for the R(N) curve (last cycle count, e.g. 300000)")
+        if problems:
+            return problems
+        grid = self.curve_cycles()
+        lo, hi = grid[0], grid[-1]
+        if self.histogram_cycles is not None:
+            outside = [c for c in self.histogram_cycles if not lo <= c <= hi]
+            if outside:
+                problems.append(f"reliability.histogram_cycles: {outside} lie outside the curve [{lo}, {hi}]")
+        if self.progress_cycles is not None and self.progress_cycles not in grid:
+            problems.append(f"reliability.progress_cycles: {self.progress_cycles} is not on the curve grid {grid}")
+        return problems
+
+    def step(self) -> int:
+        """Spacing of the curve (the configured step, else a tenth of its span)."""
+        if self.cycles_step is not None:
+            return self.cycles_step
+        return max(1, (self.cycles_stop - self.cycles_start) // 10)
+
     def curve_cycles(self) -> list[int]:
-        """The cycle counts of the R(N) curve, including every histogram level."""
-        grid = set(range(self.cycles_start, self.cycles_stop + 1, self.cycles_step))
-        grid.update(self.histogram_cycles)
+        """The cycle counts of the R(N) curve (start to stop on its step, stop included) and the histogram levels."""
+        if self.cycles_start is None or self.cycles_stop is None:
+            raise ValueError("reliability.cycles_start and cycles_stop are required for the R(N) curve")
+        grid = set(range(self.cycles_start, self.cycles_stop + 1, self.step()))
+        grid.add(self.cycles_stop)
+        grid.update(c for c in (self.histogram_cycles or []) if self.cycles_start <= c <= self.cycles_stop)
         return sorted(grid)
+
+    def histogram_levels(self) -> list[int]:
+        """The wear-distribution levels: the configured ones, else a quarter, half and three quarters of the curve."""
+        if self.histogram_cycles is not None:
+            return list(self.histogram_cycles)
+        grid = self.curve_cycles()
+        picks = [grid[min(len(grid) - 1, round(f * (len(grid) - 1)))] for f in (0.25, 0.5, 0.75)]
+        return sorted(set(picks))
+
+    def progress_level(self, cycles: list[int]) -> int:
+        """Index of the level followed by the progress line (configured, else the middle of the curve)."""
+        if self.progress_cycles is not None and self.progress_cycles in cycles:
+            return cycles.index(self.progress_cycles)
+        return len(cycles) // 2
 
 
 class SensitivitySettings(SIModel):
     """Sensitivity of the reliability (paper Section 6.2.3) and Sobol' indices of the max wear."""
 
-    cycles: int = Field(360_000, description="Cycle count of the sensitivity study (paper: 360,000).")
+    cycles: int | None = Field(
+        None, description="Cycle count of the sensitivity study, one of the R(N) curve's (paper: 360,000); None = "
+        "the curve level whose reliability is nearest the (first) target reliability.")
     factors: tuple[float, float] = Field((0.8, 1.2), description="Mean shifts (paper: 80 % and 120 %).")
     sobol_base_samples: int = Field(2048, description="Saltelli base sample size on the surrogate (power of 2).")
     surrogate_shift_limit: float = Field(
@@ -102,7 +192,7 @@ class SensitivitySettings(SIModel):
 
     @model_validator(mode="after")
     def _check(self) -> SensitivitySettings:
-        if self.cycles <= 0:
+        if self.cycles is not None and self.cycles <= 0:
             raise ValueError("cycles must be > 0")
         if not all(f > 0 and math.isfinite(f) for f in self.factors):
             raise ValueError("factors must be positive")

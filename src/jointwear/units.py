@@ -96,6 +96,8 @@ def to_si(value: Any, suffix: str) -> Any:
         return float(value) * factor
     if isinstance(value, (list, tuple)):
         return [to_si(v, suffix) for v in value]
+    if isinstance(value, dict):  # a table of named values, e.g. allowances_mm = { A = 0.03 }
+        return {k: to_si(v, suffix) for k, v in value.items()}
     raise UnitError(f"expected a number with unit '{suffix}', got {type(value).__name__}")
 
 

@@ -188,14 +188,14 @@ def test_six_bar_preset_command_line(tmp_path, capsys):
     """`jointwear simulate <preset> --cycles 1` and the wear stage with both clearance joints."""
     import json
 
-    from jointwear.wear.cli import wear_command
+    from jointwear.study import Study
 
     assert main.run(["simulate", SIX, "--cycles", "1", "--settle", "0", "--out", str(tmp_path)]) == 0
     sim = json.loads((tmp_path / "simulate.json").read_text())
     assert [j["name"] for j in sim["joints"]] == ["A", "E"] and sim["contact_force_mean_N"] > 0
-    wear = wear_command(SIX, cycles=20000, out_dir=tmp_path / "wear", figures=False)
-    assert wear["cycles"] == 20000 and len(wear["joints"]) == 2
-    assert all(j["max_wear_mm"] > 0 for j in wear["joints"])
+    wear = Study(SIX, out=tmp_path / "wear").wear(cycles=20000)
+    assert wear.cycles == 20000 and len(wear.joints) == 2
+    assert all(j["max_wear_mm"] > 0 for j in wear.joints)
 
 
 def _central(f, t, h):

@@ -129,9 +129,12 @@ def test_esc_absolute_error_bounds_the_misclassification_of_a_known_gaussian_sur
 
 
 def test_command_line_ranking_shows_groups_and_unresolved_neighbours():
-    from jointwear.commands import _ranking_line
+    from types import SimpleNamespace
 
-    sens = {"ranking_by_group": {"tolerance": ["l2", "lBC", "l1"], "bearing_material": ["k_b", "HB_b", "E_b"]},
-            "unresolved_pairs": [{"group": "bearing_material", "first": "k_b", "second": "HB_b"}]}
-    assert _ranking_line(sens) == "tolerance: l2 > lBC > l1 | bearing_material: k_b ~ HB_b > E_b"
-    assert _ranking_line({"ranking_by_group": {"tolerance": ["c"]}}) == "tolerance: c"  # older sensitivity.json
+    from jointwear.study.facade import ranking_line
+
+    sens = SimpleNamespace(
+        ranking_by_group={"tolerance": ["l2", "lBC", "l1"], "bearing_material": ["k_b", "HB_b", "E_b"]},
+        unresolved_pairs=[{"group": "bearing_material", "first": "k_b", "second": "HB_b"}])
+    assert ranking_line(sens) == "tolerance: l2 > lBC > l1 | bearing_material: k_b ~ HB_b > E_b"
+    assert ranking_line(SimpleNamespace(ranking_by_group={"tolerance": ["c"]}, unresolved_pairs=[])) == "tolerance: c"

@@ -79,7 +79,8 @@ def test_life_and_histograms_are_consistent(study):
 
 def test_life_at_interpolates():
     assert life_at([1, 2, 3], [1.0, 0.95, 0.85], 0.9) == pytest.approx(2.5)  # exact linear interpolation
-    assert life_at([1, 2], [1.0, 0.95], 0.9) is None
+    assert life_at([1, 2], [1.0, 0.95], 0.9) is None  # beyond the curve
+    assert life_at([1, 2], [0.85, 0.5], 0.9) is None  # before the curve
 
 
 def _analytic_study(cfg, executor=None):
@@ -168,7 +169,7 @@ def test_sensitivity_mean_shifts_against_brute_force():
     cfg.sensitivity.sobol_base_samples = 256
     ctx, res, model = _analytic_study(cfg)
     sens = run_sensitivity(ctx, res)
-    by_name = {v["name"]: v for v in sens["variables"]}
+    by_name = {v["name"]: v for v in sens.variables}
     i = ctx.names.index("k_b")
     for factor, key in ((0.8, "reliability_low"), (1.2, "reliability_high")):
         marg = list(ctx.marginals)
@@ -178,8 +179,31 @@ def test_sensitivity_mean_shifts_against_brute_force():
         # 0.02: the learning's absolute error tolerance (0.002) on the nominal population, plus the surrogate's
         # extrapolation toward the 2-sigma-shifted tail and Monte Carlo error (~0.001)
         assert abs(by_name["k_b"][key] - exact) < 0.02, (factor, by_name["k_b"][key], exact)
-    rules = {(r["variable"], round(r["factor"], 3)): r for r in sens["rules"]}
+    rules = {(r["variable"], round(r["factor"], 3)): r for r in sens.rules}
     assert rules[("l2", 0.8)]["rule"] == "separable_scaling"
     assert rules[("k_b", 1.2)]["rule"] == "surrogate"
-    assert by_name["l2"]["reliability_high"] == pytest.approx(sens["reliability_nominal"], abs=1e-12)
-    assert sens["ranking"][0] in ("k_b", "HB_b")  # the only variables with a 10 % scatter in the model
+    assert by_name["l2"]["reliability_high"] == pytest.approx(sens.reliability_nominal, abs=1e-12)
+    assert sens.ranking[0] in ("k_b", "HB_b")  # the only variables with a 10 % scatter in the model
+
+
+def test_archard_shifts_check_the_surrogate_and_the_clearance_keeps_its_floor():
+    # The analytic wear is exactly proportional to k_b / H_b, so Archard's exact shift must agree with the
+    # surrogate-based one within the check's own tolerance (the surrogate's error plus Monte Carlo noise).
+    from jointwear.study import run_sensitivity
+    from jointwear.study.sensitivity import physical_marginal
+    from jointwear.sensitivity import shifted_marginal
+
+    cfg = _small_config()
+    cfg.reliability.noise, cfg.reliability.error_tol, cfg.reliability.error_abs_tol = "none", 0.02, 0.002
+    cfg.sensitivity.cycles = 400_000
+    cfg.sensitivity.sobol_base_samples = 256
+    ctx, res, _ = _analytic_study(cfg)
+    sens = run_sensitivity(ctx, res)
+    checked = {(c["variable"], round(c["factor"], 3)) for c in sens.archard_checks}
+    assert checked == {("k_b", 0.8), ("k_b", 1.2), ("HB_b", 0.8), ("HB_b", 1.2)}
+    assert all(c["consistent"] for c in sens.archard_checks), sens.archard_checks
+    i = ctx.names.index("c")
+    low = physical_marginal(ctx, i, shifted_marginal(ctx.marginals[i], 0.8))
+    # the shifted clearance is still truncated at the configured minimum: no sample below it
+    assert low.ppf(0.0) == pytest.approx(cfg.uncertainty.clearance.minimum, rel=1e-9)
+    assert low.mean() < ctx.marginals[i].mean()

@@ -37,11 +37,25 @@ histogram_cycles = [360000, 400000, 440000]
 """
 
 
+def _without_tables(text: str, names: set[str]) -> str:
+    """The TOML text without the top-level tables ``names`` (so QUICK can replace them)."""
+    out, skip = [], False
+    for line in text.splitlines():
+        stripped = line.strip()
+        if stripped.startswith("[") and not stripped.startswith("[["):
+            skip = stripped.split("]")[0].strip("[ ") in names
+        elif stripped.startswith("[["):
+            skip = False
+        if not skip:
+            out.append(line)
+    return "\n".join(out) + "\n"
+
+
 @pytest.fixture(scope="module")
 def quick_config(tmp_path_factory) -> Path:
     text = (resources.files("jointwear.presets") / "jin2025_flapping_wing.toml").read_text(encoding="utf-8")
     path = tmp_path_factory.mktemp("cfg") / "quick.toml"
-    path.write_text(text + QUICK, encoding="utf-8")
+    path.write_text(_without_tables(text, {"wear", "reliability"}) + QUICK, encoding="utf-8")
     return path
 
 
@@ -81,12 +95,35 @@ def _run_and_kill(cmd: list[str], out: Path, after_calls: int, limit_s: float = 
 
 
 @pytest.fixture(scope="module")
-def expected(quick_config, tmp_path_factory) -> dict:
+def reference_dir(quick_config, tmp_path_factory) -> Path:
     """The uninterrupted study (2 local workers): the reference of every interrupted run below."""
     reference = tmp_path_factory.mktemp("reference")
     done = subprocess.run(_cmd(quick_config, reference), env=_env(), capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr[-2000:]
-    return json.loads((reference / "reliability.json").read_text())
+    return reference
+
+
+@pytest.fixture(scope="module")
+def expected(reference_dir) -> dict:
+    return json.loads((reference_dir / "reliability.json").read_text())
+
+
+def test_validate_reuses_the_study_and_adds_only_its_samples(quick_config, reference_dir, expected, tmp_path):
+    import shutil
+
+    out = tmp_path / "validate"
+    shutil.copytree(reference_dir, out)
+    cmd = [sys.executable, "-m", "jointwear", "validate", str(quick_config), "--samples", "10", "--out", str(out),
+           "--workers", "2"]
+    done = subprocess.run(cmd, env=_env(), capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-2000:]
+    val = json.loads((out / "validation.json").read_text())
+    for key in ("cycles", "reliability_mc", "ci_low", "ci_high", "reliability_surrogate", "surrogate_error",
+                "n_samples", "model_calls", "wall_seconds", "cross_validation"):
+        assert key in val
+    assert val["n_samples"] == 10 and val["model_calls"] == 10
+    assert val["reliability_surrogate"] == expected["curve"]["reliability"]  # read back, not re-learned
+    assert (out / "validation.csv").is_file() and (out / "cross_validation.csv").is_file()
 
 
 def test_killed_and_resumed_study_equals_uninterrupted(quick_config, expected, tmp_path):
@@ -108,6 +145,22 @@ def test_killed_and_resumed_study_equals_uninterrupted(quick_config, expected, t
         stats = store.stats()
     assert stats.n_repeated == 0
     assert stats.n_calls == expected["model_calls"]
+
+
+def test_cli_study_resumed_from_python(quick_config, expected, tmp_path):
+    """A study started with `jointwear reliability --out D` and continued with
+    `jointwear.Study(..., out=D, resume=True).reliability()` repeats no call and gives the same R(N)."""
+    import jointwear
+
+    out = tmp_path / "shared"
+    assert _run_and_kill(_cmd(quick_config, out), out, after_calls=4), "the study finished before it was killed"
+    res = jointwear.Study(quick_config, out=out, workers=2, resume=True).reliability()
+    assert res.reliability.tolist() == expected["curve"]["reliability"]
+    assert res.model_calls == expected["model_calls"]
+    digest = config_hash(load_config(quick_config).model_dump(mode="json"))
+    with EvaluationStore.open(out, digest, resume=True) as store:
+        stats = store.stats()
+    assert stats.n_repeated == 0 and stats.n_calls == expected["model_calls"]
 
 
 def test_resume_with_a_changed_config_is_refused(quick_config, tmp_path):

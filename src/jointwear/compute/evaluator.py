@@ -44,7 +44,7 @@ from typing import Any, Callable, Mapping
 import numpy as np
 
 from .executors import SerialExecutor
-from .store import CallRecord, EvaluationStore, _row_bytes
+from .store import CallRecord, EvaluationStore, row_bytes
 
 __all__ = ["BatchResult", "Evaluator", "run_call"]
 
@@ -380,7 +380,7 @@ class Evaluator:
         first_of: dict[bytes, int] = {}
         owner = np.empty(n, dtype=np.int64)
         for i in range(n):
-            owner[i] = first_of.setdefault(_row_bytes(X[i]), i)
+            owner[i] = first_of.setdefault(row_bytes(X[i]), i)
         uniq = [i for i in range(n) if owner[i] == i]
 
         records: dict[int, CallRecord] = {}

@@ -252,9 +252,9 @@ class DaskExecutor(_ExecutorBase):
     def __init__(self, scheduler: Any, timeout: float = 30.0) -> None:
         try:
             import distributed
-        except ImportError as exc:  # pragma: no cover - declared dependency
+        except ImportError as exc:
             raise ImportError(
-                'a Dask scheduler was given but dask.distributed is not installed: pip install "dask[distributed]"'
+                'a Dask scheduler was given but Dask is not installed: pip install "jointwear[cluster]"'
             ) from exc
         if isinstance(scheduler, distributed.Client):
             self.client = scheduler

@@ -130,13 +130,13 @@ def config_hash(config: Any) -> str:
     return hashlib.sha256(text.encode()).hexdigest()
 
 
-def _row_bytes(x: np.ndarray) -> bytes:
+def row_bytes(x: np.ndarray) -> bytes:
     return np.ascontiguousarray(x, dtype="<f8").tobytes()
 
 
 def row_key(x: np.ndarray) -> str:
     """The store key of one input row: SHA-256 of its exact little-endian float64 bytes and length."""
-    b = _row_bytes(np.asarray(x, dtype=np.float64).ravel())
+    b = row_bytes(np.asarray(x, dtype=np.float64).ravel())
     return hashlib.sha256(len(b).to_bytes(8, "little") + b).hexdigest()
 
 
@@ -203,10 +203,10 @@ def _encode_outputs(outputs) -> tuple[str | None, str | None, bytes | None]:
         for k, v in outputs.items():
             a = np.asarray(v, dtype=np.float64)
             names.append([str(k), list(a.shape)])
-            chunks.append(_row_bytes(a.ravel()))
+            chunks.append(row_bytes(a.ravel()))
         return "dict", json.dumps(names), b"".join(chunks)
     a = np.asarray(outputs, dtype=np.float64)
-    return "array", json.dumps(list(a.shape)), _row_bytes(a.ravel())
+    return "array", json.dumps(list(a.shape)), row_bytes(a.ravel())
 
 
 def _decode_outputs(kind, names, blob):
@@ -395,7 +395,7 @@ class EvaluationStore:
                 tag,
                 row_key(x),
                 int(x.size),
-                _row_bytes(x),
+                row_bytes(x),
                 record.status,
                 record.reason,
                 kind,
@@ -417,7 +417,7 @@ class EvaluationStore:
         out: list[CallRecord | None] = []
         cur = self.conn.cursor()
         for x in rows:
-            xb = _row_bytes(x)
+            xb = row_bytes(x)
             found = None
             for row in cur.execute(
                 "SELECT x, status, reason, out_kind, out_names, y, wall_s, started_at, finished_at,"

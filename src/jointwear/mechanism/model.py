@@ -724,17 +724,17 @@ def _revalidate(config: StudyConfig) -> None:
     a linkage that cannot close or a non-positive clearance becomes a ConfigError naming the field."""
     from pydantic import ValidationError
 
-    from jointwear.config import ClearanceJointConfig, _one_line
+    from jointwear.config import ClearanceJointConfig, validation_problems
 
     try:
         type(config.mechanism).model_validate(config.mechanism.model_dump())
     except ValidationError as exc:
-        raise ConfigError(f"mechanism: {_one_line(exc).removeprefix('config: ')}") from None
+        raise ConfigError(f"mechanism: {'; '.join(validation_problems(exc))}") from None
     for i, cj in enumerate(config.clearance_joints):
         try:
             ClearanceJointConfig.model_validate(cj.model_dump())
         except ValidationError as exc:
-            raise ConfigError(f"clearance_joints[{i}].{_one_line(exc)}") from None
+            raise ConfigError(f"clearance_joints[{i}].{'; '.join(validation_problems(exc))}") from None
 
 
 def build_model(config: StudyConfig) -> MechanismModel:

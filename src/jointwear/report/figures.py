@@ -611,3 +611,62 @@ def sobol_figure(
     ax.legend(loc="lower right")
     ax.set_title(f"Global sensitivity (Sobol') of the {output}")
     return fig
+
+
+def validation_figure(
+    cycles: Array,
+    reliability_mc: Array,
+    ci_low: Array,
+    ci_high: Array,
+    reliability_surrogate: Array,
+    surrogate_error: Array | None = None,
+    *,
+    n_samples: int | None = None,
+) -> Figure:
+    """The surrogate's R(N) with its error estimate against the true model sampled directly (exact binomial
+    95 % interval)."""
+    n = _kilo_cycles(cycles)
+    r_mc, r_sur = _arr(reliability_mc), _arr(reliability_surrogate)
+    fig, ax = figure()
+    if surrogate_error is not None:
+        err = np.nan_to_num(_arr(surrogate_error))
+        ax.fill_between(n, np.clip(r_sur - err, 0, 1), np.clip(r_sur + err, 0, 1), color=COLORS[0], alpha=0.2, lw=0,
+                        label="surrogate error estimate")
+    ax.plot(n, r_sur, color=COLORS[0], marker="o", ms=3, label="surrogate (the study's R(N))")
+    lo, hi = _arr(ci_low), _arr(ci_high)
+    ax.errorbar(n, r_mc, yerr=[np.clip(r_mc - lo, 0, None), np.clip(hi - r_mc, 0, None)], fmt="s", ms=4,
+                color=COLORS[1], capsize=3,
+                label="true model" + (f", {n_samples:,} samples" if n_samples else "") + " (exact 95 % CI)")
+    ax.set_ylim(-0.02, 1.02)
+    ax.set_xlabel(CYCLES_LABEL)
+    ax.set_ylabel(axis_label("reliability R(N)", None))
+    ax.legend(loc="lower left")
+    ax.set_title("R(N): surrogate against direct Monte Carlo of the true model")
+    return fig
+
+
+def cross_validation_figure(
+    true_values: Array,
+    loo_values: Array,
+    loo_sd: Array | None = None,
+    *,
+    q2: float | None = None,
+    quantity: str = "ln N_f (wear life)",
+) -> Figure:
+    """Leave-one-out predictions of the design points against their true values (the 1:1 line is exact)."""
+    y, p = _arr(true_values), _arr(loo_values)
+    fig, ax = figure()
+    lo, hi = (float(np.nanmin(np.r_[y, p])), float(np.nanmax(np.r_[y, p]))) if y.size else (0.0, 1.0)
+    ax.plot([lo, hi], [lo, hi], color="0.5", lw=1, ls="--", label="exact")
+    if loo_sd is not None:
+        ax.errorbar(y, p, yerr=1.96 * _arr(loo_sd), fmt="o", ms=4, color=COLORS[0], alpha=0.8, capsize=2,
+                    label="leave-one-out prediction (95 %)")
+    else:
+        ax.plot(y, p, "o", ms=4, color=COLORS[0], label="leave-one-out prediction")
+    ax.set_xlabel(f"true {quantity}")
+    ax.set_ylabel(f"predicted {quantity}")
+    if q2 is not None:
+        note(ax, f"Q\u00b2 = {q2:.3f}", loc="lower right")
+    ax.legend(loc="upper left")
+    ax.set_title("Surrogate cross-validation")
+    return fig

@@ -646,7 +646,7 @@ def _judge(ours: float | None, ref: float | None, band: Mapping | None, unit: st
 def _life_at_target(rel: Mapping, target: float) -> tuple[float | None, float | None]:
     """(cycles, hours) of the life at ``target`` that reliability.json reports (one record or a list)."""
     lt = rel.get("life_at_target")
-    records = lt if isinstance(lt, list) else [lt]
+    records = (lt if isinstance(lt, list) else [lt]) + list(rel.get("life_table") or [])
     for r in records:
         if isinstance(r, Mapping):
             t = _float(r.get("target"))

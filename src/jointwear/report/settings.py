@@ -181,15 +181,21 @@ def settings_dump(config: Any, *sections: tuple[str, Any], preset: str | None = 
 
 
 def _allowances(config: Any) -> dict:
-    """The limit state's allowable wear in mm (``allowance_mm``) and per-joint overrides (``allowances_mm``)."""
-    rel = getattr(config, "reliability", None)
-    out: dict[str, Any] = {}
-    allowance = getattr(rel, "allowance", None)
-    if isinstance(allowance, (int, float)) and math.isfinite(allowance):
-        out["allowance_mm"] = allowance * 1e3
-    per = getattr(rel, "allowances", None)
-    if isinstance(per, Mapping) and per:
-        out["allowances_mm"] = {str(k): float(v) * 1e3 for k, v in per.items()}
+    """The limit state's allowable wear in mm: ``allowance_mm`` of the first judged joint (the one the report's
+    wear figures show) and ``allowances_mm`` of every judged joint, by name, as the study resolves them."""
+    try:
+        from jointwear.study.limit_state import limit_state_from_config
+
+        limit = limit_state_from_config(config)
+    except Exception:  # not a StudyConfig, or a limit state the study itself will reject with its own message
+        return {}
+    names = list(getattr(limit, "names", []) or [])
+    allowances = [float(f"{float(a) * 1e3:.12g}") for a in getattr(limit, "allowances", ())]
+    if not allowances or not all(math.isfinite(a) for a in allowances):
+        return {}
+    out: dict[str, Any] = {"allowance_mm": allowances[0]}
+    if len(names) == len(allowances):
+        out["allowances_mm"] = dict(zip(names, allowances))
     return out
 
 

@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# The whole study of your own mechanism from its TOML file: dynamics, wear, R(N), life, sensitivity, report.
+#   bash examples/study_from_toml.sh [CONFIG] [OUT]
+# Check the config first (every problem is listed; nothing is written), then run everything.
+set -euo pipefail
+CONFIG="${1:-$(dirname "$0")/my_linkage.toml}"
+OUT="${2:-my_linkage_results}"
+jointwear check "$CONFIG" > /dev/null
+jointwear run "$CONFIG" --out "$OUT"
+echo "open $OUT/report.html"

@@ -1,0 +1,83 @@
+"""The whole config checked before any stage runs: every cross-section rule, every problem listed.
+
+The schema (pydantic) has already checked each section on loading; this adds the rules that join sections
+(the R(N) curve and the stages that read it, the limit state's joints and allowances, the random inputs a
+reliability stage needs, the compute settings) and the one check that needs the model: the nominal
+mechanism assembles and runs.
+"""
+
+from __future__ import annotations
+
+from urllib.parse import urlsplit
+
+from jointwear.config import StudyConfig
+from jointwear.schema import ConfigError
+from jointwear.study.limit_state import limit_state_problems
+
+RELIABILITY_STAGES = frozenset({"reliability", "sensitivity"})
+SCHEDULER_SCHEMES = ("tcp", "tls", "inproc", "ws", "wss", "ucx")
+
+
+def scheduler_problem(address: str | None) -> str | None:
+    """Why a Dask scheduler address cannot be used (None when it parses: scheme://host:port)."""
+    if address is None:
+        return None
+    parts = urlsplit(address)
+    if parts.scheme not in SCHEDULER_SCHEMES:
+        return (f"compute.scheduler: '{address}' is not a Dask scheduler address "
+                f"(expected e.g. tcp://host:8786; schemes {', '.join(SCHEDULER_SCHEMES)})")
+    try:
+        port = parts.port
+    except ValueError:
+        port = None
+    if parts.scheme != "inproc" and (not parts.hostname or port is None):
+        return f"compute.scheduler: '{address}' needs a host and a port (e.g. tcp://host:8786)"
+    return None
+
+
+def config_problems(config: StudyConfig, stages: frozenset[str] | set[str]) -> list[str]:
+    """Every cross-section problem of ``config`` for running ``stages`` (empty when it can run)."""
+    problems: list[str] = []
+    needs_reliability = bool(set(stages) & RELIABILITY_STAGES)
+    if needs_reliability:
+        if config.uncertainty is None or not config.uncertainty.all_specs():
+            problems.append("uncertainty: the reliability stages need random variables (an [uncertainty] section "
+                            "with [[uncertainty.variables]] or [uncertainty.clearance])")
+        curve = config.reliability.curve_problems()
+        problems += curve
+        problems += limit_state_problems(config)
+        if "sensitivity" in stages and not curve:
+            grid = config.reliability.curve_cycles()
+            c = config.sensitivity.cycles
+            if c is not None and c not in grid:
+                problems.append(f"sensitivity.cycles: {c} is not one of the R(N) curve's cycle counts {grid}")
+    elif "wear" in stages and not config.clearance_joints:
+        problems.append("clearance_joints: the wear stage needs at least one clearance joint")
+    problem = scheduler_problem(config.compute.scheduler)
+    if problem:
+        problems.append(problem)
+    return problems
+
+
+def check_runs(config: StudyConfig) -> list[str]:
+    """The nominal mechanism assembles and its dynamics starts (a hundredth of a cycle)."""
+    from jointwear.mechanism import SimulationError, build_model, simulate
+
+    try:
+        model = build_model(config)
+    except ConfigError as exc:
+        return [str(exc)]
+    try:
+        simulate(model, 0.01, settle_cycles=0)
+    except SimulationError as exc:
+        return [f"simulation: the nominal mechanism does not run: {' '.join(str(exc).split())}"]
+    return []
+
+
+def check_config(config: StudyConfig, stages, *, run_model: bool = True) -> None:
+    """Raise one :class:`ConfigError` listing every problem of ``config`` for ``stages``."""
+    problems = config_problems(config, frozenset(stages))
+    if run_model and not problems:
+        problems += check_runs(config)
+    if problems:
+        raise ConfigError.from_problems(problems, "config")

@@ -1,0 +1,372 @@
+"""``jointwear.Study``: one object that runs a whole wear-reliability study of one mechanism.
+
+It owns the config (checked whole before anything runs), the output folder, the executor of model calls,
+the evaluation store that makes the study resumable, and the progress display. Every stage returns a typed
+result (:mod:`jointwear.study.results`) and writes it to the output folder. The command line is a thin
+layer over this class, so a study started from one is continued by the other without repeating a call.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import logging
+import sqlite3
+import time
+import warnings
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+from jointwear.config import StudyConfig, load_config
+from jointwear.schema import ConfigError
+from jointwear.study.checks import check_runs, config_problems, scheduler_problem
+from jointwear.study.limit_state import limit_state_from_config, limit_state_problems
+from jointwear.study.results import (
+    ReliabilityResult,
+    SensitivityResult,
+    SimulationSummary,
+    StudyResults,
+    ValidationResult,
+    WearSummary,
+    load_results,
+)
+
+#: Tag of the true-model calls in the evaluation store (shared by the CLI and the Python API).
+WEAR_MODEL_TAG = "wear_model"
+STAGES = ("simulate", "wear", "reliability", "sensitivity")
+
+logger = logging.getLogger("jointwear")
+LOG_FILE = "jointwear.log"
+
+
+def _quiet(stage):
+    """Run a stage with warnings kept off the user's screen: every warning left after the numerics handled
+    theirs goes to ``out/jointwear.log`` (with where it came from) and to the ``jointwear`` logger at DEBUG."""
+
+    @functools.wraps(stage)
+    def wrapper(self, *args, **kwargs):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("default")
+            try:
+                return stage(self, *args, **kwargs)
+            finally:
+                self._log_warnings(stage.__name__, caught)
+
+    return wrapper
+
+
+class Study:
+    """A wear-reliability study of one mechanism.
+
+    Parameters
+    ----------
+    config : str, Path or StudyConfig
+        A preset name, a TOML file, or a validated :class:`jointwear.config.StudyConfig`.
+    out : str or Path
+        Output folder: every stage writes its JSON, CSV tables and figures there, and the evaluation store
+        of the model calls (``evaluations.sqlite``). Nothing is written before the config is checked.
+    workers : int, optional
+        Local worker processes for model calls (default ``compute.workers`` of the config, else all cores;
+        1 runs in this process).
+    scheduler : str, optional
+        Address of a Dask scheduler (``tcp://host:8786``) to run the model calls on a cluster.
+    resume : bool
+        Continue the study whose evaluation store is in ``out`` (no call is repeated). Without it an
+        existing store with calls in it is an error, unless ``overwrite``.
+    overwrite : bool
+        Discard an earlier study's evaluation store in ``out``.
+    echo : callable, optional
+        Receives a one-line summary of each stage (default: the ``jointwear`` logger at INFO level).
+
+    Examples
+    --------
+    >>> study = jointwear.Study("jin2025_flapping_wing", out="results")   # doctest: +SKIP
+    >>> rel = study.reliability()                                        # doctest: +SKIP
+    >>> rel.life_cycles, rel.reliability                                 # doctest: +SKIP
+    """
+
+    def __init__(self, config: str | Path | StudyConfig | None = None, out: str | Path = "results", *,
+                 workers: int | None = None, scheduler: str | None = None, resume: bool = False,
+                 overwrite: bool = False, echo: Callable[[str], None] | None = None):
+        self.config: StudyConfig = load_config(config)
+        self.source = config if isinstance(config, (str, Path)) else None
+        self.out = Path(out)
+        if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+            raise ConfigError(f"workers: must be a whole number >= 1 (got {workers!r})")
+        self.workers = workers if workers is not None else self.config.compute.workers
+        self.scheduler = scheduler if scheduler is not None else self.config.compute.scheduler
+        if scheduler is not None and workers is not None:
+            raise ConfigError("workers/scheduler: give either local workers or a Dask scheduler, not both")
+        self.resume = resume
+        self.overwrite = overwrite
+        self.echo = echo if echo is not None else logger.info
+        self._checked: set[str] = set()
+        self._store_opened = False
+        self._context = None
+        self._reliability: ReliabilityResult | None = None
+
+    # ----------------------------------------------------------------------------------------- checking
+    def check(self, stages=None) -> None:
+        """Check the whole config for ``stages`` (every problem listed in one :class:`ConfigError`) and that
+        the nominal mechanism assembles and runs (default: every stage the config can run). Writes nothing."""
+        stages = set(self.stages if stages is None else stages)
+        if stages <= self._checked:
+            return
+        problems = config_problems(self.config, stages | self._checked)
+        if self.scheduler != self.config.compute.scheduler:
+            problem = scheduler_problem(self.scheduler)
+            if problem:
+                problems.append(problem.replace("compute.scheduler", "scheduler"))
+        if not problems and not self._checked:
+            problems += check_runs(self.config)
+        if problems:
+            raise ConfigError.from_problems(problems, "config")
+        self._checked |= stages
+
+    @property
+    def stages(self) -> tuple[str, ...]:
+        """The stages this config can run: all of them when it has random variables."""
+        unc = self.config.uncertainty
+        return STAGES if unc is not None and unc.all_specs() else ("simulate", "wear")
+
+    def _prepare(self, stages) -> None:
+        """Check the whole config (every rule of every stage it declares, so that a bad config is refused by
+        any command), make sure the output folder can be written, then record the resolved config."""
+        self.check(set(stages) | set(self.stages))
+        try:
+            self.out.mkdir(parents=True, exist_ok=True)
+            probe = self.out / ".jointwear-write-test"
+            probe.write_text("")
+            probe.unlink()
+        except OSError as exc:
+            raise ConfigError(f"out: cannot write to '{self.out}': {exc.strerror or exc}") from None
+        from jointwear.report.settings import write_settings
+
+        is_preset = self.source is None or not (str(self.source).endswith(".toml") or Path(self.source).exists())
+        write_settings(self.out, self.config, preset=self.config.name if is_preset else None,
+                       source="preset" if is_preset else str(self.source))
+
+    def _log_warnings(self, stage: str, caught) -> None:
+        if not caught:
+            return
+        lines = [f"{stage}: {w.category.__name__}: {w.message} ({w.filename}:{w.lineno})" for w in caught]
+        for line in lines:
+            logger.debug(line)
+        if self.out.is_dir():
+            with open(self.out / LOG_FILE, "a", encoding="utf-8") as fh:
+                fh.write("\n".join(lines) + "\n")
+
+    def _allowances(self) -> dict[str, float]:
+        if limit_state_problems(self.config):
+            return {cj.name: 0.02 * cj.bearing_outer_radius for cj in self.config.clearance_joints
+                    if cj.bearing_outer_radius is not None}
+        limit = limit_state_from_config(self.config)
+        return dict(zip(limit.names, limit.allowances))
+
+    # ------------------------------------------------------------------------------------------- stages
+    @_quiet
+    def simulate(self, cycles: int | None = None, settle: int | None = None) -> SimulationSummary:
+        """Dynamics of the nominal mechanism (``cycles`` crank cycles, default ``simulation.cycles``)."""
+        from jointwear.mechanism import build_model
+        from jointwear.mechanism import simulate as run_simulation
+
+        self._prepare({"simulate"})
+        model = build_model(self.config)
+        n = cycles if cycles is not None else self.config.simulation.cycles
+        run_simulation(model, 0.01, settle_cycles=0)  # compile (or load) the kernels so the timing excludes it
+        res = run_simulation(model, n, settle_cycles=settle)
+        result = SimulationSummary.from_simulation(res, self.config.name)
+        result.save(self.out)
+        self.echo(f"simulate: {n} cycles, {result.steps_per_cycle:.0f} steps/cycle, "
+                  f"{result.wall_seconds_per_cycle * 1e3:.1f} ms/cycle; mean contact force "
+                  f"{result.contact_force_mean_N if result.contact_force_mean_N is not None else float('nan'):.4g} N"
+                  f" -> {self.out / result.FILE}")
+        return result
+
+    @_quiet
+    def wear(self, cycles: int | None = None, *, progress: Callable | None = None) -> WearSummary:
+        """Wear history of the nominal mechanism (``cycles``, default ``wear.cycles``)."""
+        from jointwear.mechanism import build_model
+        from jointwear.wear import wear_history
+        from jointwear.wear.settings import check_cycles
+
+        self._prepare({"wear"})
+        n = check_cycles(cycles if cycles is not None else self.config.wear.cycles, "cycles")
+        t0 = time.perf_counter()
+        res = wear_history(build_model(self.config), self.config.wear, n, progress=progress)
+        result = WearSummary.from_history(res, self.config, self._allowances())
+        result.save(self.out)
+        self.echo(f"wear: max bearing wear {result.max_wear_mm:.4f} mm at {result.max_wear_angle_deg:.0f} deg "
+                  f"after {result.cycles} cycles ({time.perf_counter() - t0:.1f} s) -> {self.out / result.FILE}")
+        return result
+
+    @_quiet
+    def reliability(self) -> ReliabilityResult:
+        """The R(N) curve and the life at each target reliability (AK-MCS on the true wear model)."""
+        from jointwear.study.reliability import run_reliability
+
+        self._prepare({"reliability"})
+        with self._session(reuse=False) as ctx:
+            res = run_reliability(ctx, progress=self._progress_callback)
+        self._reliability = res
+        res.save(self.out)
+        life = life_text(res.life_table[0])
+        governing = f", governed by joint {res.governing_joint}" if len(res.joints) > 1 else ""
+        self.echo(f"reliability: {res.model_calls} model calls, n_mc = {res.n_mc:,}, life at R = {res.target}: "
+                  f"{life}{governing} -> {self.out / res.FILE}")
+        return res
+
+    @_quiet
+    def sensitivity(self) -> SensitivityResult:
+        """Mean-shift sensitivity, Sobol' indices and derivatives of the reliability; runs (or reads back from
+        the evaluation store) the reliability stage first."""
+        from jointwear.study.reliability import run_reliability
+        from jointwear.study.sensitivity import run_sensitivity
+
+        self._prepare({"reliability", "sensitivity"})
+        with self._session(reuse=True) as ctx:
+            rel = self._reliability
+            if rel is None:
+                rel = run_reliability(ctx, progress=self._progress_callback)
+                self._reliability = rel
+                rel.save(self.out)
+            sens = run_sensitivity(ctx, rel)
+        sens.save(self.out)
+        self.echo(f"sensitivity: ranking {ranking_line(sens)}; {sens.extra_model_calls} extra model calls "
+                  f"-> {self.out / sens.FILE}")
+        return sens
+
+    @_quiet
+    def validate(self, n_samples: int = 2000) -> ValidationResult:
+        """Check the R(N) curve against the true wear model on ``n_samples`` fresh random samples (one model
+        call each, through the executor and the evaluation store, so an interrupted validation resumes), and
+        cross-validate the surrogate. Runs (or reads back from the store) the reliability stage first."""
+        from jointwear.study.reliability import run_reliability
+        from jointwear.study.validation import run_validation
+
+        if isinstance(n_samples, bool) or not isinstance(n_samples, int) or n_samples < 1:
+            raise ConfigError(f"samples: must be a whole number >= 1 (got {n_samples!r})")
+        self._prepare({"reliability"})
+        with self._session(reuse=True) as ctx:
+            rel = self._reliability
+            if rel is None:
+                rel = run_reliability(ctx, progress=self._progress_callback)
+                self._reliability = rel
+                rel.save(self.out)
+            result = run_validation(ctx, rel, n_samples)
+        result.save(self.out)
+        agree = sum(result.agreement)
+        self.echo(f"validate: {result.n_samples:,} true-model samples ({result.model_calls:,} new calls), "
+                  f"agreement at {agree} of {len(result.agreement)} levels, cross-validation Q2 = "
+                  f"{result.cross_validation.get('q2', float('nan')):.3f} -> {self.out / result.FILE}")
+        return result
+
+    def report(self) -> Path:
+        """Build ``out/report.html`` from the results in the output folder; returns its path."""
+        from jointwear.report.html import build_report
+
+        results = load_results(self.out)
+        if not results.stages:
+            raise ConfigError(f"report: '{self.out}' has no study results (simulate.json, wear.json, "
+                              "reliability.json or sensitivity.json)")
+        path = build_report(self.out)
+        self.echo(f"report: {path}")
+        return path
+
+    def run(self) -> StudyResults:
+        """Every stage end to end, as ``jointwear run``: simulate, wear, reliability and sensitivity (when the
+        config has random variables), report. Returns the typed results."""
+        t0 = time.perf_counter()
+        stochastic = self.stages == STAGES
+        self.check(self.stages)
+        self.simulate()
+        self.wear()
+        if stochastic:
+            self.reliability()
+            self.sensitivity()
+        else:
+            self.echo("run: no [uncertainty] section: reliability and sensitivity skipped")
+        path = self.report()
+        self.echo(f"run: done in {time.perf_counter() - t0:.0f} s -> {path}")
+        return load_results(self.out)
+
+    # --------------------------------------------------------------------------------------- model calls
+    @contextlib.contextmanager
+    def _session(self, *, reuse: bool) -> Iterator:
+        """The study context with its evaluator: executor, evaluation store and progress display."""
+        from jointwear import compute
+        from jointwear.study.reliability import study_context
+
+        digest = compute.config_hash(self.config.model_dump(mode="json"))
+        fresh = not self._store_opened and (self.overwrite or _empty_store(self.out))
+        resume = self.resume or self._store_opened or reuse
+        try:
+            store = compute.EvaluationStore.open(self.out, digest, resume=resume and not fresh, overwrite=fresh)
+        except compute.StoreError as exc:
+            raise ConfigError(str(exc)) from None
+        self._store_opened = True
+        try:
+            executor = compute.make_executor(workers=self.workers, scheduler=self.scheduler)
+        except Exception as exc:  # noqa: BLE001 - a bad address or an unreachable cluster is a user error
+            store.close()
+            raise ConfigError(f"compute: cannot start the executor: {' '.join(str(exc).split())}") from None
+        progress = compute.Progress(total=None, description="model calls")
+        self._progress = progress
+        try:
+            with executor, progress:
+                ctx = study_context(self.config, lambda call: compute.Evaluator(
+                    call, executor, store, timeout=self.config.compute.call_timeout, tag=WEAR_MODEL_TAG,
+                    n_outputs=call.n_outputs, progress=progress))
+                if self._context is not None:
+                    ctx.wear_cache.update(self._context.wear_cache)
+                self._context = ctx
+                yield ctx
+        finally:
+            store.close()
+
+    def _progress_callback(self, record) -> None:
+        import numpy as np
+
+        cycles = self._context.cycles
+        k = self.config.reliability.progress_level(cycles)
+        pf = np.atleast_1d(record.pf)
+        cov = np.atleast_1d(getattr(record, "cov", np.nan))
+        with np.errstate(invalid="ignore"):
+            min_u = np.atleast_1d(record.min_u).astype(float)
+            min_u = float(np.nanmin(min_u)) if np.isfinite(min_u).any() else float("nan")
+        self._progress.update(**{f"Pf({cycles[k] / 1e3:g}k)": f"{pf[min(k, pf.size - 1)]:.3g}",
+                                 "COV": f"{cov[min(k, cov.size - 1)]:.2g}", "min U": f"{min_u:.2f}"})
+
+
+def _empty_store(out: Path) -> bool:
+    """Whether ``out`` holds an evaluation store with no call in it (a study stopped before its first call:
+    nothing to lose by reopening it)."""
+    db = out / "evaluations.sqlite"
+    if not db.exists():
+        return False
+    try:
+        with contextlib.closing(sqlite3.connect(f"file:{db}?mode=ro", uri=True, timeout=5)) as con:
+            return int(con.execute("select count(*) from calls").fetchone()[0]) == 0
+    except sqlite3.Error:
+        return False
+
+
+def life_text(row: dict) -> str:
+    """'377,433 cycles = 13.11 h', or where the life lies when it is outside the curve."""
+    if row["cycles"] is not None:
+        return f"{row['cycles']:,.0f} cycles = {row['hours']:.2f} h"
+    return {"beyond_curve": "beyond the curve's last level (extend cycles_stop)",
+            "before_curve": "before the curve's first level (lower cycles_start)"}.get(row.get("status"), "not reached")
+
+
+def ranking_line(sens: SensitivityResult) -> str:
+    """Per group, the variables by their effect on R, '~' between neighbours the surrogate's error does not
+    separate: 'tolerance: l2 ~ lBC > l1 | bearing_material: k_b ~ HB_b > ...'."""
+    ties = {(p["first"], p["second"]) for p in sens.unresolved_pairs}
+    parts = []
+    for group, names in sens.ranking_by_group.items():
+        text = names[0] if names else ""
+        for a, b in zip(names, names[1:]):
+            text += (" ~ " if (a, b) in ties else " > ") + b
+        parts.append(f"{group}: {text}")
+    return " | ".join(parts)

@@ -1,0 +1,95 @@
+"""Writing results: strict JSON (no NaN or Infinity: null, with the reason beside it), CSV tables, provenance."""
+
+from __future__ import annotations
+
+import csv
+import datetime as _dt
+import json
+import math
+import platform
+from collections.abc import Mapping, Sequence
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+
+def strict(obj: Any) -> Any:
+    """A JSON-ready copy: numpy to Python, non-finite floats to None (strict parsers refuse NaN/Infinity)."""
+    if isinstance(obj, Mapping):
+        return {str(k): strict(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [strict(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return strict(obj.tolist())
+    if isinstance(obj, np.generic):
+        return strict(obj.item())
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    if isinstance(obj, Path):
+        return str(obj)
+    return obj
+
+
+def write_json(path: Path, payload: Mapping) -> Path:
+    """Write ``payload`` as strict, indented JSON (NaN and infinities become null)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(strict(payload), indent=1, allow_nan=False) + "\n", encoding="utf-8")
+    return path
+
+
+def read_json(path: Path) -> dict:
+    obj = json.loads(Path(path).read_text(encoding="utf-8"))
+    if not isinstance(obj, dict):
+        raise ValueError(f"{path}: expected a JSON object")
+    return obj
+
+
+def write_csv(path: Path, columns: Mapping[str, Sequence]) -> Path:
+    """Write equal-length columns as a CSV table (header = the column names, units in the names)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    names = list(columns)
+    cols = [list(columns[n]) for n in names]
+    with open(path, "w", newline="", encoding="utf-8") as fh:
+        w = csv.writer(fh)
+        w.writerow(names)
+        for row in zip(*cols):
+            w.writerow(["" if v is None else (f"{v:.10g}" if isinstance(v, (float, np.floating)) else v)
+                        for v in row])
+    return path
+
+
+@lru_cache(maxsize=1)
+def _static_provenance() -> dict:
+    from importlib.metadata import PackageNotFoundError, version
+
+    def v(name: str) -> str | None:
+        try:
+            return version(name)
+        except PackageNotFoundError:
+            return None
+
+    try:
+        import llvmlite.binding as llvm
+
+        cpu = llvm.get_host_cpu_name()
+    except Exception:  # noqa: BLE001 - provenance is best effort
+        cpu = None
+    from jointwear import __version__
+
+    return {
+        "jointwear": __version__,
+        "python": platform.python_version(),
+        "numpy": v("numpy"), "scipy": v("scipy"), "numba": v("numba"), "openturns": v("openturns"),
+        "machine": {"platform": platform.platform(), "processor": platform.machine(), "llvm_host_cpu": cpu},
+    }
+
+
+def provenance() -> dict:
+    """The versions of jointwear and its numerical dependencies, the machine, and the time of writing."""
+    out = dict(_static_provenance())
+    out["written_at"] = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+    return out

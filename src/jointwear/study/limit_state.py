@@ -1,0 +1,159 @@
+"""The wear limit state of a study: which quantity of which clearance joints is judged against which allowance.
+
+For a judged joint j the wear life N_f,j(x) is the cycle count at which its wear quantity q_j(x, N) first
+reaches the allowance delta_0,j (paper Eq. 42: G = delta_0 - delta_max). With several judged joints the
+mechanism fails when the first of them fails (a series system): N_f(x) = min_j N_f,j(x).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+QUANTITY_LABELS = {
+    "bearing_max_depth": "max bearing wear depth",
+    "journal_max_depth": "max journal wear depth",
+    "clearance_growth": "radial clearance growth",
+}
+
+
+@dataclass(frozen=True)
+class LimitState:
+    """The judged joints (indices into ``config.clearance_joints`` and names), their allowances (m) and the
+    wear quantity."""
+
+    quantity: str
+    joints: tuple[int, ...]
+    names: tuple[str, ...]
+    allowances: tuple[float, ...]
+
+    @property
+    def reference_allowance(self) -> float:
+        """The allowance a random allowance variable is centred on: that of the first judged joint."""
+        return self.allowances[0]
+
+    @property
+    def label(self) -> str:
+        return QUANTITY_LABELS[self.quantity]
+
+    def joint_lives(self, history_cycles, outputs: np.ndarray, allowance_draw=None) -> np.ndarray:
+        """N_f,j(x) of every judged joint, shape (n, J), from the model outputs (n, J * H).
+
+        ``allowance_draw`` (n,): a sampled allowance of the first joint; every joint's allowance is scaled by
+        the same factor (delta_0,j x draw / delta_0,1).
+        """
+        out = np.atleast_2d(np.asarray(outputs, dtype=float))
+        n_hist = len(history_cycles)
+        lives = np.empty((out.shape[0], len(self.joints)))
+        for k, a in enumerate(self.allowances):
+            block = out[:, k * n_hist:(k + 1) * n_hist]
+            if allowance_draw is None:
+                allowance = a
+            else:
+                allowance = np.asarray(allowance_draw, dtype=float) * (a / self.reference_allowance)
+            lives[:, k] = life_from_history(history_cycles, block, allowance)
+        return lives
+
+    def life(self, history_cycles, outputs: np.ndarray, allowance_draw=None) -> np.ndarray:
+        """N_f(x) = min_j N_f,j(x), shape (n,); NaN where a call failed."""
+        lives = self.joint_lives(history_cycles, outputs, allowance_draw)
+        return lives.min(axis=1) if lives.shape[1] > 1 else lives[:, 0]
+
+
+def limit_state_from_config(config) -> LimitState:
+    """The limit state that ``config.reliability`` describes (the config is assumed checked)."""
+    rel = config.reliability
+    names_all = [cj.name for cj in config.clearance_joints]
+    chosen = list(rel.joints) if rel.joints else names_all
+    idx = tuple(names_all.index(n) for n in chosen)
+    allowances = []
+    for i in idx:
+        cj = config.clearance_joints[i]
+        if cj.name in rel.allowances:
+            allowances.append(float(rel.allowances[cj.name]))
+        elif rel.allowance is not None:
+            allowances.append(float(rel.allowance))
+        else:
+            allowances.append(0.01 * 2.0 * float(cj.bearing_outer_radius))
+    return LimitState(rel.quantity, idx, tuple(chosen), tuple(allowances))
+
+
+def limit_state_problems(config) -> list[str]:
+    """What keeps the configured limit state from being defined (empty when it is)."""
+    rel = config.reliability
+    names_all = [cj.name for cj in config.clearance_joints]
+    problems = []
+    if not names_all:
+        return ["clearance_joints: the wear study needs at least one clearance joint"]
+    chosen = list(rel.joints) if rel.joints else names_all
+    unknown = [n for n in chosen if n not in names_all]
+    if unknown:
+        problems.append(f"reliability.joints: {unknown} are not clearance joints (have: {names_all})")
+    if rel.joints is not None and not rel.joints:
+        problems.append("reliability.joints: give at least one clearance joint (or leave it out for all)")
+    extra = [n for n in rel.allowances if n not in chosen]
+    if extra:
+        problems.append(f"reliability.allowances: {extra} are not judged joints (judged: {chosen})")
+    if rel.allowance is None:
+        for n in chosen:
+            if n in names_all and n not in rel.allowances:
+                cj = config.clearance_joints[names_all.index(n)]
+                if cj.bearing_outer_radius is None:
+                    problems.append(
+                        f"reliability.allowance: required for joint {n} (or give clearance_joints.{n}."
+                        "bearing_outer_radius for the default 0.01 D)")
+    return problems
+
+
+def life_from_history(cycles, wear, allowance) -> np.ndarray:
+    """Cycles N_f at which the wear quantity first reaches the allowance, for each row of ``wear`` (n, H).
+
+    Linear interpolation in the history (which starts at zero wear at N = 0); past the last history point,
+    linear extrapolation with the slope of the last history segment (the wear grows linearly in N, paper
+    Fig. 20). NaN rows (failed calls) give NaN; a history that stops growing gives +inf.
+    """
+    n_h = np.concatenate([[0.0], np.asarray(cycles, dtype=float)])
+    w = np.atleast_2d(np.asarray(wear, dtype=float))
+    w = np.concatenate([np.zeros((w.shape[0], 1)), w], axis=1)
+    a = np.broadcast_to(np.asarray(allowance, dtype=float).reshape(-1), (w.shape[0],))
+    out = np.full(w.shape[0], np.nan)
+    for i in range(w.shape[0]):
+        row = w[i]
+        if not np.all(np.isfinite(row)):
+            continue
+        above = np.nonzero(row >= a[i])[0]
+        if above.size:
+            k = above[0]
+            w0, w1 = row[k - 1], row[k]
+            out[i] = n_h[k - 1] + (a[i] - w0) * (n_h[k] - n_h[k - 1]) / (w1 - w0)
+        else:
+            slope = (row[-1] - row[-2]) / (n_h[-1] - n_h[-2])
+            out[i] = np.inf if slope <= 0 else n_h[-1] + (a[i] - row[-1]) / slope
+    return out
+
+
+def life_at(cycles, reliability, target: float) -> float | None:
+    """First cycle count where R(N) falls to ``target``, by linear interpolation of R(N); None when that
+    crossing is not inside the curve (see :func:`life_status`)."""
+    r = np.asarray(reliability, dtype=float)
+    n = np.asarray(cycles, dtype=float)
+    below = np.nonzero(r <= target)[0]
+    if below.size == 0 or below[0] == 0:
+        return None
+    i = below[0]
+    r0, r1 = r[i - 1], r[i]
+    if r0 == r1:
+        return float(n[i])
+    return float(n[i - 1] + (r0 - target) * (n[i] - n[i - 1]) / (r0 - r1))
+
+
+def life_status(reliability, target: float) -> str:
+    """Where the life at ``target`` lies: 'in_curve', 'beyond_curve' (R stays above the target to the last
+    level: the life is longer than the curve) or 'before_curve' (R is already at or below the target at the
+    first level: the life is shorter than the curve's start)."""
+    r = np.asarray(reliability, dtype=float)
+    below = np.nonzero(r <= target)[0]
+    if below.size == 0:
+        return "beyond_curve"
+    return "before_curve" if below[0] == 0 else "in_curve"

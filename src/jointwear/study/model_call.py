@@ -1,0 +1,88 @@
+"""The true model of a study: a sample of the random inputs -> the wear histories of the judged joints.
+
+A call builds the sampled mechanism, runs its wear history and reads the limit state's wear quantity of
+each judged joint at the history's cycle counts. Samples that cannot be built return NaN with the reason
+(the reliability engine counts them as failures of the mechanism and reports them).
+"""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from jointwear.config import StudyConfig, config_from_dict
+from jointwear.schema import ConfigError
+from jointwear.uncertainty.targets import CLEARANCE_SUFFIX, set_clearance, set_target, target_error
+
+
+def apply_sample(base: StudyConfig | dict, targets: Sequence[str], x: Sequence[float]) -> StudyConfig:
+    """A copy of the config with each target field set to the sample value (SI).
+
+    A target ``clearance_joints.<i>.clearance`` sets the bearing radius to journal radius + c after all
+    other targets (so a sampled journal radius and a sampled clearance combine as R_i = R_j + c).
+    Raises ConfigError when the sample gives an invalid config (e.g. a linkage that cannot assemble).
+    """
+    data = base.model_dump() if isinstance(base, StudyConfig) else copy.deepcopy(base)
+    derived = []
+    for path, value in zip(targets, x):
+        problem = target_error(data, path)
+        if problem:
+            raise ConfigError(f"uncertainty: target {problem}")
+        if path.endswith(CLEARANCE_SUFFIX):
+            derived.append((path, float(value)))
+        else:
+            set_target(data, path, float(value))
+    for path, c in derived:
+        set_clearance(data, path, c)
+    return config_from_dict(data, source="sample")
+
+
+def quantity_history(joint_wear, quantity: str, cycles) -> np.ndarray:
+    """The wear quantity (m) of one joint's history at ``cycles``: linear between history points, linear
+    extrapolation past the end (the wear grows linearly in N)."""
+    if quantity == "bearing_max_depth":
+        return np.asarray(joint_wear.max_wear_at(np.asarray(cycles, dtype=float)), dtype=float)
+    series = {"journal_max_depth": joint_wear.history_max_journal,
+              "clearance_growth": joint_wear.history_max_bearing + joint_wear.history_max_journal}[quantity]
+    x = np.asarray(cycles, dtype=float)
+    c = joint_wear.history_cycles
+    y = np.interp(x, c, series)
+    if c.size >= 2:
+        slope = (series[-1] - series[-2]) / (c[-1] - c[-2])
+        y = np.where(x > c[-1], series[-1] + slope * (x - c[-1]), y)
+    return y
+
+
+@dataclass
+class WearModelCall:
+    """One true-model call: sample x -> the wear quantity (m) of every judged joint at each of ``cycles``,
+    concatenated joint after joint (shape J * H).
+
+    A plain picklable object so that worker processes and Dask workers can run it.
+    """
+
+    base: dict
+    targets: list[str]
+    cycles: list[int]
+    joints: list[int] = field(default_factory=lambda: [0])
+    quantity: str = "bearing_max_depth"
+
+    @property
+    def n_outputs(self) -> int:
+        return len(self.cycles) * len(self.joints)
+
+    def __call__(self, x: np.ndarray):
+        from jointwear.mechanism import build_model
+        from jointwear.wear import wear_history
+
+        try:
+            cfg = apply_sample(self.base, self.targets, x)
+        except ConfigError as exc:
+            return np.full(self.n_outputs, np.nan), f"infeasible sample: {exc}"
+        model = build_model(cfg)
+        res = wear_history(model, cfg.wear, max(self.cycles))
+        return np.concatenate([quantity_history(res.joints[j], self.quantity, self.cycles)
+                               for j in self.joints]), "ok"

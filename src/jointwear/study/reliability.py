@@ -1,0 +1,329 @@
+"""The wear reliability stage: joins the true model, the random variables and the reliability engine.
+
+One true-model call maps a sample x of the random variables to the wear histories of the judged joints,
+read at the cycle counts of the R(N) curve. The limit state of level k is G_k = ln N_f(x) - ln N_k with
+N_f the series-system life (:mod:`jointwear.study.limit_state`); one shared design serves the whole curve
+(:func:`jointwear.reliability.akmcs_multi`). Samples that cannot run are handled by the rule of
+``config.uncertainty.clearance.infeasible_rule`` (truncated clearance by default) and, for anything else
+(a linkage that cannot assemble, an integrator failure), by the reliability engine's NaN rule: a failed
+call counts as a failure of the mechanism, never as safe, and is reported.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from jointwear.config import StudyConfig
+from jointwear.schema import ConfigError
+from jointwear.study.limit_state import LimitState, life_at, life_status, limit_state_from_config
+from jointwear.study.model_call import WearModelCall
+from jointwear.study.results import ReliabilityResult
+
+
+def cycles_to_hours(cycles: float, config: StudyConfig) -> float:
+    """Operating hours of ``cycles`` crank revolutions at the config's crank speed."""
+    return cycles * (2.0 * math.pi / abs(float(config.mechanism.crank_speed))) / 3600.0
+
+
+@dataclass
+class StudyContext:
+    """What a study's stages share: the config, the random inputs, the limit state and the evaluator of
+    true-model calls."""
+
+    config: StudyConfig
+    names: list[str]
+    labels: list[str]
+    marginals: list
+    targets: list[str]
+    cycles: list[int]
+    history_cycles: list[int]
+    evaluator: Any
+    random_allowance: bool
+    limit_state: LimitState
+    wear_cache: dict = field(default_factory=dict, repr=False)
+
+    @property
+    def allowance(self) -> float:
+        """The allowance of the first judged joint, m."""
+        return self.limit_state.reference_allowance
+
+    def outputs(self, X: np.ndarray) -> np.ndarray:
+        """The model outputs (n, J * H): the wear quantity of every judged joint at ``history_cycles``."""
+        X = np.atleast_2d(np.asarray(X, dtype=float))
+        todo = [i for i, row in enumerate(X) if row.tobytes() not in self.wear_cache]
+        if todo:
+            y = np.asarray(self.evaluator(X[todo]), dtype=float).reshape(len(todo), -1)
+            for i, row in zip(todo, y):
+                self.wear_cache[X[i].tobytes()] = row
+        return np.stack([self.wear_cache[row.tobytes()] for row in X])
+
+    def wear(self, X: np.ndarray, joint: int = 0) -> np.ndarray:
+        """The wear quantity (m) of judged joint ``joint`` at ``history_cycles``, shape (n, H)."""
+        h = len(self.history_cycles)
+        return self.outputs(X)[:, joint * h:(joint + 1) * h]
+
+    @property
+    def n_evaluated(self) -> int:
+        """Distinct model inputs evaluated (or read back from the store) through this context."""
+        return len(self.wear_cache)
+
+    def split(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
+        """Model inputs and the sampled allowance (None when the allowance is deterministic)."""
+        X = np.atleast_2d(np.asarray(X, dtype=float))
+        if self.random_allowance:
+            return X[:, :-1], X[:, -1]
+        return X, None
+
+    def joint_lives(self, X: np.ndarray) -> np.ndarray:
+        """N_f,j(x) of every judged joint, shape (n, J)."""
+        x_model, draw = self.split(X)
+        return self.limit_state.joint_lives(self.history_cycles, self.outputs(x_model), draw)
+
+    def life(self, X: np.ndarray) -> np.ndarray:
+        """Wear life N_f(x) of the mechanism: the first judged joint to reach its allowance."""
+        x_model, draw = self.split(X)
+        return self.limit_state.life(self.history_cycles, self.outputs(x_model), draw)
+
+    def log_life(self, X: np.ndarray) -> np.ndarray:
+        """ln N_f(x), shape (n,); NaN for failed calls.
+
+        The limit state of level N_k is G_k = ln N_f(x) - ln N_k (``akmcs_multi(levels=log_levels())``):
+        G_k < 0 exactly when the wear of some judged joint exceeds its allowance at N_k (paper Eq. 42-43),
+        because the wear grows with N. All levels are one function shifted by constants, so one Kriging
+        serves them and R(N) is monotone by construction; the logarithm makes the Archard response (a
+        product of powers of k, H, F, ...) nearly linear in the inputs.
+        """
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.log(self.life(X))
+
+    def log_levels(self) -> np.ndarray:
+        return np.log(np.asarray(self.cycles, dtype=float))
+
+
+def study_context(config: StudyConfig, evaluator_factory: Callable[[WearModelCall], Any]) -> StudyContext:
+    """Random inputs, limit state and true model of the study (the config is checked by the caller)."""
+    unc = config.uncertainty
+    if unc is None or not unc.all_specs():
+        raise ConfigError("uncertainty: the study needs random variables ([uncertainty] section)")
+    if not config.clearance_joints:
+        raise ConfigError("clearance_joints: the wear study needs at least one clearance joint")
+    specs = unc.all_specs()
+    names = [s.name for s in specs]
+    labels = [s.label or s.name for s in specs]
+    # The learning always runs on feasible samples (clearance above its minimum); under the 'fail' rule the
+    # infeasible probability mass is added to Pf afterwards (run_reliability), which is exact because the
+    # truncated distribution is the conditional one given feasibility.
+    marginals = unc.marginals(feasible=True)
+    rel = config.reliability
+    cycles = rel.curve_cycles()
+    step = rel.step()
+    history = sorted(set(range(step, max(cycles) + 1, step)) | set(cycles))
+    limit = limit_state_from_config(config)
+    call = WearModelCall(base=config.model_dump(), targets=[s.target for s in specs], cycles=history,
+                         joints=list(limit.joints), quantity=limit.quantity)
+    random_allowance = rel.allowance_std > 0
+    if random_allowance:
+        from scipy import stats
+
+        names.append("delta_0")
+        labels.append("wear allowance")
+        marginals.append(stats.norm(limit.reference_allowance, rel.allowance_std))
+    return StudyContext(config, names, labels, marginals, [s.target for s in specs], cycles, history,
+                        evaluator_factory(call), random_allowance, limit)
+
+
+def population(marginals: Sequence, n: int, seed: int) -> np.ndarray:
+    """A Monte Carlo population of the inputs (physical space)."""
+    rng = np.random.default_rng(seed)
+    return np.column_stack([m.rvs(size=n, random_state=rng) for m in marginals])
+
+
+class WearSurrogates:
+    """Kriging of ln q(x, N) of the first judged joint at a few cycle counts, fitted once on the final design
+    (no learning).
+
+    The reliability itself comes from the learned life surrogate; these give the wear distributions (paper
+    Fig. 20) and the Sobol' indices of the wear.
+    """
+
+    def __init__(self, ctx: StudyContext, design_x: np.ndarray, cycles: Sequence[int], seed: int = 0):
+        from jointwear.reliability import IsoTransform, KrigingSurrogate
+
+        self.cycles = list(cycles)
+        self.iso = IsoTransform(ctx.marginals)
+        x_model, _ = ctx.split(design_x)
+        wear = ctx.wear(x_model)
+        cols = [ctx.history_cycles.index(c) for c in self.cycles]
+        u = self.iso.to_u(design_x)
+        self.surrogates = []
+        for j in cols:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                y = np.log(wear[:, j])
+            ok = np.isfinite(y)
+            self.surrogates.append(KrigingSurrogate(seed=seed + j).fit(u[ok], y[ok]))
+
+    def predict(self, x: np.ndarray) -> np.ndarray:
+        """Wear (m), shape (n, len(cycles))."""
+        u = self.iso.to_u(x)
+        return np.column_stack([np.exp(s.predict(u, return_variance=False)[0]) for s in self.surrogates])
+
+
+def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> ReliabilityResult:
+    """R(N) over the curve's cycle counts from one shared AK-MCS design (paper Sections 5-6.2)."""
+    from jointwear.reliability import akmcs_multi
+
+    rel = ctx.config.reliability
+    t0 = time.perf_counter()
+    engine = akmcs_multi(
+        ctx.log_life, ctx.marginals, levels=ctx.log_levels(), n_mc=rel.n_mc, n_mc_max=rel.n_mc_max,
+        n_initial=rel.n_initial, batch_size=rel.batch_size, u_threshold=rel.u_threshold,
+        cov_target=rel.cov_target, pf_floor=rel.pf_floor, max_calls=rel.max_calls, seed=rel.seed,
+        progress=progress, stopping=rel.stopping, error_tol=rel.error_tol, error_abs_tol=rel.error_abs_tol,
+        kriging={"estimate_nugget": rel.noise == "estimate"})
+    cycles = np.asarray(ctx.cycles, dtype=float)
+    pf = np.asarray(engine.pf, dtype=float)
+    pf_cov = np.asarray(engine.cov, dtype=float)
+    n_mc = int(engine.n_mc)
+    pf, pf_cov, n_mc = _meet_cov_target(ctx, engine, pf, pf_cov, n_mc)
+    clearance = ctx.config.uncertainty.clearance
+    if clearance is not None and clearance.infeasible_rule == "fail":
+        # 'fail' rule: a sample whose clearance is at or below the minimum is a failure at every N.
+        p_inf = clearance.infeasible_probability()
+        pf_feasible = pf
+        pf = p_inf + (1.0 - p_inf) * pf_feasible
+        with np.errstate(divide="ignore", invalid="ignore"):
+            pf_cov = np.where(pf > 0, pf_cov * (1.0 - p_inf) * pf_feasible / pf, pf_cov)
+    reliability = 1.0 - pf
+    targets = rel.targets
+    lives = [life_at(cycles, reliability, t) for t in targets]
+    life_table = [{"target": t, "cycles": n, "hours": None if n is None else cycles_to_hours(n, ctx.config),
+                   "status": life_status(reliability, t)} for t, n in zip(targets, lives)]
+
+    # Wear distributions over the random inputs (paper Fig. 20) from wear surrogates fitted on the design.
+    hist_levels = rel.histogram_levels()
+    n_hist = min(engine.n_mc, 100_000)
+    pop = population(ctx.marginals, n_hist, rel.seed + 1)
+    wear_levels = sorted(set(hist_levels) | set(ctx.cycles))
+    wear_model = WearSurrogates(ctx, np.asarray(engine.design_x), wear_levels, seed=rel.seed)
+    wear_all = wear_model.predict(pop)
+    hist_cols = [wear_levels.index(c) for c in hist_levels]
+    histograms = {"cycles": list(hist_levels),
+                  "max_wear_mm": [(wear_all[:2000, j] * 1e3).tolist() for j in hist_cols],
+                  "n_samples_shown": 2000, "n_population": int(n_hist),
+                  "joint": ctx.limit_state.names[0], "quantity": ctx.limit_state.quantity}
+    mean_max = {"cycles": wear_levels, "mean": (wear_all.mean(axis=0) * 1e3).tolist(),
+                "std": (wear_all.std(axis=0) * 1e3).tolist()}
+    hist = engine.history
+    ref = rel.progress_level(ctx.cycles)
+    convergence = {"cycles": ctx.cycles[ref], "n_calls": [h.n_calls for h in hist],
+                   "pf": [_at(h.pf, ref) for h in hist], "cov": [_at(h.cov, ref) for h in hist],
+                   "error_estimate": [_at(h.error, ref) for h in hist], "min_u": [_at(h.min_u, ref) for h in hist]}
+    design_x = np.asarray(engine.design_x)
+    design_x_model = ctx.split(design_x)[0]
+    design_wear = ctx.wear(design_x_model)
+    unc = ctx.config.uncertainty
+    infeasible = {}
+    if unc.clearance is not None:
+        infeasible = {"rule": unc.clearance.infeasible_rule, "minimum_clearance_m": unc.clearance.minimum,
+                      "probability_below_minimum": unc.clearance.infeasible_probability()}
+    infeasible["failed_calls"] = int(engine.n_failed_calls)
+    infeasible["failure_reasons"] = {str(k): v for k, v in engine.failure_reasons.items()}
+    joints = _joint_breakdown(ctx, engine, design_x, pop, reliability)
+    return ReliabilityResult(
+        cycles=cycles, reliability=reliability, pf=pf, pf_cov=pf_cov,
+        below_floor=pf < rel.pf_floor, target=targets[0],
+        pf_error=_absolute_error(engine.error_estimate, pf),
+        life_cycles=lives[0], life_hours=life_table[0]["hours"], life_table=life_table,
+        model_calls=int(engine.n_calls), failed_calls=int(engine.n_failed_calls), n_mc=n_mc,
+        converged=bool(engine.converged), wall_seconds=time.perf_counter() - t0, names=ctx.names,
+        histograms=histograms, mean_max_wear=mean_max, convergence=convergence,
+        design_x=design_x, design_wear=design_wear, design_life=ctx.life(design_x),
+        quantity=ctx.limit_state.quantity, joints=joints,
+        crank_speed_rpm=abs(float(ctx.config.mechanism.crank_speed)) * 60 / (2 * math.pi),
+        engine=engine, infeasible=infeasible, wear_surrogates=wear_model)
+
+
+def _joint_breakdown(ctx: StudyContext, engine, design_x: np.ndarray, pop: np.ndarray,
+                     system_reliability: np.ndarray) -> list[dict]:
+    """Each judged joint's allowance and, with several joints, its own R(N) and its share of the system's
+    failures at every level, from a Kriging of its log life fitted on the final design (no learning)."""
+    limit = ctx.limit_state
+    rows = [{"name": n, "allowance_mm": a * 1e3} for n, a in zip(limit.names, limit.allowances)]
+    if len(limit.joints) == 1:
+        rows[0]["reliability"] = [float(r) for r in system_reliability]
+        rows[0]["governing_share"] = [1.0] * len(ctx.cycles)
+        return rows
+    from jointwear.reliability import IsoTransform, KrigingSurrogate
+
+    iso = IsoTransform(ctx.marginals)
+    u_design = iso.to_u(design_x)
+    u_pop = iso.to_u(pop)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        log_lives = np.log(ctx.joint_lives(design_x))
+    predicted = []
+    for k in range(len(limit.joints)):
+        y = log_lives[:, k]
+        ok = np.isfinite(y)
+        sur = KrigingSurrogate(seed=ctx.config.reliability.seed + 100 + k).fit(u_design[ok], y[ok])
+        predicted.append(sur.predict(u_pop, return_variance=False)[0])
+    pred = np.column_stack(predicted)  # (n, J) ln N_f,j
+    governing = np.argmin(pred, axis=1)
+    levels = ctx.log_levels()
+    for k, row in enumerate(rows):
+        fails_k = pred[:, k][:, None] < levels[None, :]
+        row["reliability"] = (1.0 - fails_k.mean(axis=0)).tolist()
+        system_fail = pred.min(axis=1)[:, None] < levels[None, :]
+        n_sys = system_fail.sum(axis=0)
+        share = np.where(n_sys > 0, (system_fail & (governing == k)[:, None]).sum(axis=0) / np.maximum(n_sys, 1),
+                         np.nan)
+        row["governing_share"] = share.tolist()
+    return rows
+
+
+def _meet_cov_target(ctx: StudyContext, engine, pf, pf_cov, n_mc):
+    """Grow the Monte Carlo population on the final surrogate until COV(Pf) < target at every level above
+    the floor (AK-MCS Step 6). The engine does this itself when its learning converges; when the call budget
+    ends the learning first, the population is grown here, on the last surrogate (no model call)."""
+    from jointwear.reliability import IsoTransform
+
+    rel = ctx.config.reliability
+    need = (pf >= rel.pf_floor) & ~(pf_cov < rel.cov_target)
+    if not need.any():
+        return pf, pf_cov, n_mc
+    p = pf[need].min()
+    n = int(min(rel.n_mc_max, 1.1 * ((1.0 - p) / (rel.cov_target**2 * p) + 1.0)))
+    if n <= n_mc:
+        return pf, pf_cov, n_mc
+    iso = IsoTransform(ctx.marginals)
+    # the study learns one response for every level (akmcs_multi(levels=...)): level j is level 0 minus a constant
+    offsets = np.array([engine.surrogates[j].offset for j in range(len(ctx.cycles))])
+    fails = np.zeros(len(ctx.cycles))
+    rng_seed = rel.seed + 7
+    done = 0
+    chunk = 200_000
+    while done < n:
+        m = min(chunk, n - done)
+        u = iso.to_u(population(ctx.marginals, m, rng_seed + done))
+        mu0, _ = engine.surrogates[0].predict(u, return_variance=False)
+        fails += np.count_nonzero(mu0[:, None] - (offsets[None, :] - offsets[0]) < 0, axis=0)
+        done += m
+    pf_new = fails / n
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cov_new = np.where(pf_new > 0, np.sqrt((1.0 - pf_new) / ((n - 1) * pf_new)), np.inf)
+    return pf_new, cov_new, n
+
+
+def _absolute_error(relative, pf: np.ndarray) -> np.ndarray:
+    """The surrogate's absolute Pf error estimate; NaN where Pf = 0 (its relative error is undefined there)."""
+    return np.multiply(np.asarray(relative, dtype=float), pf, out=np.full_like(pf, np.nan), where=pf > 0)
+
+
+def _at(value, index: int) -> float:
+    arr = np.atleast_1d(np.asarray(value, dtype=float))
+    return float(arr[min(index, arr.size - 1)]) if arr.size else float("nan")

@@ -1,0 +1,214 @@
+"""The sensitivity stage: how the reliability moves with each random variable (paper Section 6.2.3)."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from jointwear.study.reliability import StudyContext, population
+from jointwear.study.results import ReliabilityResult, SensitivityResult
+
+
+def sensitivity_level(ctx: StudyContext, reliability: ReliabilityResult) -> int:
+    """The cycle count of the sensitivity study: the configured one, else the curve level whose reliability is
+    nearest the (first) target reliability."""
+    configured = ctx.config.sensitivity.cycles
+    if configured is not None:
+        return int(configured)
+    r = np.asarray(reliability.reliability, dtype=float)
+    return int(ctx.cycles[int(np.argmin(np.abs(r - reliability.target)))])
+
+
+def physical_marginal(ctx: StudyContext, i: int, marginal):
+    """A shifted clearance keeps its physical floor: the normal with the shifted mean truncated at the
+    configured minimum (shifting the truncated law as a whole would move the truncation point with it, below the
+    floor, to negative clearances, and read the surrogate far outside its design)."""
+    clearance = ctx.config.uncertainty.clearance
+    if clearance is None or ctx.names[i] != "c" or "loc" not in marginal.kwds:
+        return marginal
+    return clearance.model_copy(update={"mean": float(marginal.kwds["loc"])}).feasible()
+
+
+def archard_exponent(ctx: StudyContext, i: int) -> int | None:
+    """+1 when the judged wear quantity is proportional to variable i under Archard's law (the wear coefficient
+    of the judged body of the single judged joint), -1 when inversely proportional (its hardness), else None."""
+    limit = ctx.limit_state
+    body = {"bearing_max_depth": "bearing_material", "journal_max_depth": "journal_material"}.get(limit.quantity)
+    if body is None or len(limit.joints) != 1 or i >= len(ctx.targets):
+        return None
+    parts = ctx.targets[i].split(".")
+    if len(parts) != 4 or parts[0] != "clearance_joints" or parts[2] != body:
+        return None
+    names = [cj.name for cj in ctx.config.clearance_joints]
+    joint = int(parts[1]) if parts[1].isdigit() else (names.index(parts[1]) if parts[1] in names else -1)
+    if joint != limit.joints[0]:
+        return None
+    return {"wear_coefficient": 1, "hardness": -1}.get(parts[3])
+
+
+def archard_check(ctx: StudyContext, i: int, shifted, exponent: int, pop: np.ndarray, margin: np.ndarray,
+                  factor: float, r_surrogate: float, error: float) -> dict:
+    """The shifted reliability by Archard's law, against the surrogate's.
+
+    The judged depth is proportional to (k / H) of its body, so a sample whose variable i moves from x_i to
+    x_i' (paired by quantile) has its life divided by (x_i' / x_i)^exponent; the life itself comes from the
+    surrogate inside its design (the nominal population). Exact up to the feedback of the wear on the dynamics
+    (the clearance growth), which the surrogate-based rule includes. They agree when they differ by less than
+    the surrogate's error estimate plus the Monte Carlo noise of two populations of the same size.
+    """
+    x = pop[:, i]
+    x_shifted = shifted.ppf(np.clip(ctx.marginals[i].cdf(x), 1e-15, 1 - 1e-15))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r_exact = float(np.mean(margin - exponent * np.log(x_shifted / x) > 0))
+    noise = 1.96 * math.sqrt(2.0 * max(r_exact * (1.0 - r_exact), 1e-12) / pop.shape[0])
+    return {"variable": ctx.names[i], "factor": factor, "reliability_surrogate": r_surrogate,
+            "reliability_archard": r_exact, "difference": r_surrogate - r_exact, "tolerance": error + noise,
+            "consistent": bool(abs(r_surrogate - r_exact) <= error + noise)}
+
+
+def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> SensitivityResult:
+    """Mean shifts (paper Figs. 22-24), Sobol' indices and reliability derivatives at one cycle count.
+
+    Re-uses the reliability study's surrogate; see docs/sensitivity.md for the two rules:
+
+    * a shift that stays inside the design's region (|shift| <= ``sensitivity.surrogate_shift_limit`` = 4
+      sigma by default; the initial design spans +-5 sigma) is evaluated on the surrogate with a shifted Monte Carlo population (no model call);
+    * a larger shift (the geometric means moved by 20 % are hundreds of standard deviations away) is
+      evaluated by the *separable scaling* rule: one true-model call at the shifted nominal point and one at
+      the nominal point give the ratio rho of the max wear, and the reliability is P(rho * delta_max(x) <
+      delta_0) over the nominal population. A shifted mechanism that cannot run (e.g. a rod too short to
+      close the loop) has reliability 0, with its reason reported.
+    """
+    from jointwear.reliability import IsoTransform, esc_absolute_error
+    from jointwear.sensitivity import (
+        mean_shift_table,
+        reliability_derivatives,
+        sobol_indices,
+        unresolved_pairs,
+    )
+
+    t0 = time.perf_counter()
+    sens = ctx.config.sensitivity
+    rel = ctx.config.reliability
+    sens_cycles = sensitivity_level(ctx, reliability)
+    col = ctx.cycles.index(sens_cycles)
+    engine = reliability.engine
+    n_pop = min(max(engine.n_mc, 100_000), 400_000)
+    pop = population(ctx.marginals, n_pop, rel.seed + 2)
+
+    iso = IsoTransform(ctx.marginals)
+
+    def log_life_margin(x):
+        """ln N_f(x) - ln N_s from the learned life surrogate (failure where < 0) and its Kriging standard
+        deviation."""
+        mu, var = engine.surrogates[col].predict(iso.to_u(x))
+        return mu, np.sqrt(np.maximum(var, 0.0))
+
+    margin_nominal_pop, margin_sd_nominal_pop = log_life_margin(pop)
+    r_nominal = float(np.mean(margin_nominal_pop > 0))
+    r_nominal_error = esc_absolute_error(margin_nominal_pop, margin_sd_nominal_pop)
+    wear_col = reliability.wear_surrogates.cycles.index(sens_cycles)
+
+    n_model = len(ctx.targets)
+    means = np.array([m.mean() for m in ctx.marginals[:n_model]])
+    hist_col = ctx.history_cycles.index(sens_cycles)
+    known_before = ctx.n_evaluated
+
+    def true_wear(x_point: np.ndarray) -> float:
+        """Wear at the sensitivity's cycle count by a true-model call (cached by the study context); with
+        several judged joints, the inverse of the series-system life (the same ratio under linear growth)."""
+        if len(ctx.limit_state.joints) > 1:
+            x_full = x_point if not ctx.random_allowance else np.append(x_point, ctx.allowance)
+            return float(1.0 / ctx.life(x_full[None, :])[0])
+        return float(ctx.wear(x_point[None, :])[0, hist_col])
+
+    rules: list[dict] = []
+    archard_checks: list[dict] = []
+    exponents = [archard_exponent(ctx, i) for i in range(len(ctx.names))]
+
+    def reliability_of(marginals):
+        changed = [i for i, (a, b) in enumerate(zip(marginals, ctx.marginals)) if a is not b]
+        if not changed:
+            return r_nominal, 0
+        i = changed[0]
+        factor = marginals[i].mean() / ctx.marginals[i].mean()
+        shifted = physical_marginal(ctx, i, marginals[i])
+        shift = shifted.mean() - ctx.marginals[i].mean()
+        sigma = ctx.marginals[i].std()
+        if abs(shift) <= sens.surrogate_shift_limit * sigma:
+            shifted_pop = pop.copy()
+            shifted_pop[:, i] = population([shifted], n_pop, rel.seed + 3 + i)[:, 0]
+            mu, sd = log_life_margin(shifted_pop)
+            r = float(np.mean(mu > 0))
+            error = esc_absolute_error(mu, sd)
+            rules.append({"variable": ctx.names[i], "factor": factor, "rule": "surrogate", "reliability": r,
+                          "error_estimate": error})
+            if exponents[i] is not None:
+                archard_checks.append(archard_check(ctx, i, shifted, exponents[i], pop, margin_nominal_pop,
+                                                    factor, r, error))
+            return r, 0
+        before = ctx.n_evaluated
+        base_wear = true_wear(means)
+        x_s = means.copy()
+        x_s[i] = marginals[i].mean()
+        shifted_wear = true_wear(x_s)
+        entry = {"variable": ctx.names[i], "factor": marginals[i].mean() / ctx.marginals[i].mean(),
+                 "rule": "separable_scaling"}
+        if not math.isfinite(shifted_wear):
+            entry.update(reliability=0.0, reason="the shifted mechanism could not run (counted as failure)")
+            rules.append(entry)
+            return 0.0, ctx.n_evaluated - before
+        rho = shifted_wear / base_wear
+        # wear x rho <=> life / rho (the wear grows linearly in N): failure where ln N_f - ln rho < ln N_s
+        mu = margin_nominal_pop - math.log(rho)
+        r = float(np.mean(mu > 0))
+        # the surrogate's error only (rho comes from two true-model calls)
+        entry.update(reliability=r, wear_ratio=rho, error_estimate=esc_absolute_error(mu, margin_sd_nominal_pop))
+        rules.append(entry)
+        return r, ctx.n_evaluated - before
+
+    table = mean_shift_table(reliability_of, ctx.marginals, ctx.names, ctx.labels, factors=tuple(sens.factors),
+                             reliability_nominal=r_nominal)
+    sobol = sobol_indices(lambda x: reliability.wear_surrogates.predict(x)[:, wear_col] * 1e3, ctx.marginals,
+                          ctx.names, n_base=sens.sobol_base_samples, seed=rel.seed)
+    deriv = reliability_derivatives(pop, margin_nominal_pop <= 0, ctx.marginals, ctx.names)
+    groups = {}
+    specs = ctx.config.uncertainty.all_specs()
+    for spec in specs:
+        groups.setdefault(spec.group, []).append(spec.name)
+    ranking = table.ranking()
+    ranking_by_group = {g: [n for n in ranking if n in members] for g, members in groups.items()}
+    # error estimate of each shifted reliability (0 where the shifted mechanism could not run: R = 0 is exact)
+    shift_error = {(e["variable"], round(e["factor"], 9)): e.get("error_estimate", 0.0) for e in rules}
+    errors_low, errors_high, swing_error = [], [], {}
+    for k, name in enumerate(ctx.names):
+        lo_err = shift_error.get((name, round(sens.factors[0], 9)), 0.0)
+        hi_err = shift_error.get((name, round(sens.factors[1], 9)), 0.0)
+        errors_low.append(lo_err)
+        errors_high.append(hi_err)
+        lo, hi = table.reliability_low[k], table.reliability_high[k]
+        swing_error[name] = lo_err if abs(lo - r_nominal) >= abs(hi - r_nominal) else hi_err
+    unresolved = unresolved_pairs(ranking, dict(zip(ctx.names, table.swings())), swing_error, groups)
+    variables = []
+    for k, name in enumerate(ctx.names):
+        variables.append({
+            "name": name, "label": ctx.labels[k],
+            "group": specs[k].group if k < len(specs) else "other",
+            "reliability_low": table.reliability_low[k], "reliability_high": table.reliability_high[k],
+            "reliability_low_error": errors_low[k], "reliability_high_error": errors_high[k],
+            "dR_dmean": float(-deriv.dpf_dmean[k]), "dR_dstd": float(-deriv.dpf_dstd[k]),
+            "elasticity_mean": float(-deriv.elasticity_mean[k]) if deriv.pf > 0 else 0.0,
+            "S1": float(sobol.S1[k]), "ST": float(sobol.ST[k]),
+        })
+    return SensitivityResult(**{
+        "cycles": sens_cycles, "factors": list(sens.factors), "reliability_nominal": r_nominal,
+        "reliability_nominal_error": r_nominal_error,
+        "variables": variables, "ranking": ranking, "ranking_by_group": ranking_by_group,
+        "unresolved_pairs": unresolved,
+        "rules": rules, "archard_checks": archard_checks,
+        "extra_model_calls": ctx.n_evaluated - known_before,
+        "sobol": sobol.as_dict(), "derivatives": deriv.as_dict(), "n_population": n_pop,
+        "wall_seconds": time.perf_counter() - t0,
+    })

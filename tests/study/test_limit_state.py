@@ -1,0 +1,142 @@
+"""The limit state from the config: quantities, judged joints as a series system, allowances, targets.
+
+The series-system study replaces the wear model by an analytic Archard-like law for each of the six-bar's two
+joints, so its exact R(N) is known by brute-force Monte Carlo.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from importlib import resources
+
+import numpy as np
+import pytest
+
+from jointwear import compute
+from jointwear.config import config_from_dict, load_config
+from jointwear.schema import ConfigError
+from jointwear.study import LimitState, limit_state_from_config, population, run_reliability, study_context
+from jointwear.study.checks import config_problems
+from jointwear.study.limit_state import life_from_history, limit_state_problems
+
+SIX = "watt_six_bar_two_clearances"
+
+
+def _six_bar(reliability: dict | None = None) -> dict:
+    data = tomllib.loads((resources.files("jointwear.presets") / f"{SIX}.toml").read_text(encoding="utf-8"))
+    data["uncertainty"] = {"variables": [
+        {"name": "k_A", "target": "clearance_joints.A.bearing_material.wear_coefficient", "mean": 1e-4,
+         "std": 1e-5, "group": "bearing_material"},
+        {"name": "k_E", "target": "clearance_joints.E.bearing_material.wear_coefficient", "mean": 1e-4,
+         "std": 1.5e-5, "group": "bearing_material"},
+    ]}
+    rel = {"allowance_mm": 0.03, "cycles_start": 100_000, "cycles_stop": 300_000, "cycles_step": 50_000,
+           **(reliability or {})}
+    data["reliability"] = {k: v for k, v in rel.items() if v is not None}  # None: leave the key out
+    data.pop("sensitivity", None)
+    return data
+
+
+def test_life_is_the_first_joint_to_fail():
+    ls = LimitState("bearing_max_depth", (0, 1), ("A", "E"), (1.0, 2.0))
+    cycles = [10, 20]
+    # joint A reaches 1.0 at N = 10, joint E reaches 2.0 at N = 20 (exact linear histories)
+    out = np.array([[1.0, 2.0, 1.0, 2.0]])
+    np.testing.assert_allclose(ls.joint_lives(cycles, out), [[10.0, 20.0]])
+    assert ls.life(cycles, out)[0] == 10.0
+    # a sampled allowance scales every joint's allowance by the same factor: 1.5 / 1.0
+    np.testing.assert_allclose(ls.joint_lives(cycles, out, allowance_draw=np.array([1.5])), [[15.0, 30.0]])
+
+
+def test_life_from_history_extrapolates_linearly_and_handles_failed_calls():
+    lives = life_from_history([10, 20], np.array([[1.0, 2.0], [np.nan, 1.0], [1.0, 1.0]]), 3.0)
+    assert lives[0] == pytest.approx(30.0)  # exact: the last segment's slope 0.1 per cycle, from 2.0 at 20
+    assert np.isnan(lives[1]) and np.isinf(lives[2])
+
+
+def test_limit_state_from_config_defaults_and_overrides():
+    cfg = config_from_dict(_six_bar({"allowance_mm": None, "allowances_mm": {"E": 0.05}}))
+    ls = limit_state_from_config(cfg)
+    assert ls.names == ("A", "E") and ls.joints == (0, 1)
+    # A: 0.01 D with D = 2 x 3 mm outer radius (the default rule); E: its own allowance
+    assert ls.allowances == pytest.approx((0.06e-3, 0.05e-3))
+    cfg = config_from_dict(_six_bar({"joints": ["E"], "quantity": "clearance_growth"}))
+    ls = limit_state_from_config(cfg)
+    assert ls.names == ("E",) and ls.joints == (1,) and ls.quantity == "clearance_growth"
+
+
+def test_limit_state_problems_name_the_field():
+    cfg = config_from_dict(_six_bar({"joints": ["A", "Z"], "allowances_mm": {"Q": 0.01}}))
+    problems = limit_state_problems(cfg)
+    assert any(p.startswith("reliability.joints:") and "'Z'" in p for p in problems)
+    assert any(p.startswith("reliability.allowances:") for p in problems)
+
+
+def test_every_problem_is_listed_before_anything_runs():
+    data = _six_bar({"joints": ["Z"], "cycles_start": None, "histogram_cycles": [900_000]})
+    data["sensitivity"] = {"cycles": 123}
+    data["compute"] = {"scheduler": "localhost"}
+    problems = config_problems(config_from_dict(data), {"reliability", "sensitivity"})
+    fields = {p.split(":")[0] for p in problems}
+    assert {"reliability.cycles_start", "reliability.joints", "compute.scheduler"} <= fields, problems
+
+
+def test_curve_and_default_levels_stay_inside_the_users_bounds():
+    rel = config_from_dict(_six_bar()).reliability
+    grid = rel.curve_cycles()
+    assert grid == [100_000, 150_000, 200_000, 250_000, 300_000]
+    assert all(grid[0] <= c <= grid[-1] for c in rel.histogram_levels())
+    assert rel.progress_level(grid) == 2  # the middle level, not the paper's 400k
+
+
+def test_targets_must_be_probabilities():
+    with pytest.raises(ConfigError, match="target_reliability"):
+        config_from_dict(_six_bar({"target_reliability": [0.9, 1.2]}))
+
+
+RATES = {"A": 1.2e-10, "E": 1.0e-10}  # m per cycle at the nominal wear coefficients
+
+
+class TwoJointWear:
+    """q_j(x, N) = RATE_j * N * k_j / k0 for the six-bar's joints A and E (outputs joint after joint)."""
+
+    def __init__(self, cycles):
+        self.cycles = np.asarray(cycles, dtype=float)
+
+    def __call__(self, x):
+        x = np.atleast_1d(x)
+        a = RATES["A"] * self.cycles * x[0] / 1e-4
+        e = RATES["E"] * self.cycles * x[1] / 1e-4
+        return np.concatenate([a, e]), "ok"
+
+
+def test_series_system_reliability_against_brute_force():
+    cfg = config_from_dict(_six_bar({"n_mc": 50_000, "noise": "none", "error_abs_tol": 0.002, "max_calls": 60,
+                                     "target_reliability": [0.9, 0.5]}))
+    ctx = study_context(cfg, lambda call: compute.Evaluator(TwoJointWear(call.cycles), None, None,
+                                                            n_outputs=call.n_outputs))
+    res = run_reliability(ctx)
+    x = population(ctx.marginals, 1_000_000, seed=3)
+    n = res.cycles[None, :]
+    fail = (RATES["A"] * n * x[:, :1] / 1e-4 > 3e-5) | (RATES["E"] * n * x[:, 1:] / 1e-4 > 3e-5)
+    pf_ref = fail.mean(axis=0)
+    for k in range(len(res.cycles)):
+        if pf_ref[k] < 1e-3:
+            continue
+        # the engine's acceptance: 3 % of the reference or 2x the reported COV, plus the learning's absolute
+        # tolerance (0.002) and 3 standard errors of the 1e6-sample reference
+        tol = max(0.03 * pf_ref[k], 2 * res.pf_cov[k] * res.pf[k]) + 0.002 + 3 * np.sqrt(pf_ref[k] / 1e6)
+        assert abs(res.pf[k] - pf_ref[k]) < tol, (res.cycles[k], res.pf[k], pf_ref[k])
+    assert [row["target"] for row in res.life_table] == [0.9, 0.5]
+    # joint A wears faster at the mean point, so it governs most failures at the headline life
+    assert res.governing_joint == "A"
+    assert [j["name"] for j in res.joints] == ["A", "E"]
+    for j in res.joints:  # a joint alone is at least as reliable as the series system (to the surrogate's error)
+        assert np.all(np.asarray(j["reliability"]) >= res.reliability - 0.02)
+
+
+def test_flapping_wing_preset_states_the_papers_curve():
+    rel = load_config().reliability
+    assert rel.curve_cycles()[0] == 300_000 and rel.curve_cycles()[-1] == 560_000
+    assert rel.histogram_levels() == [360_000, 400_000, 440_000]
+    assert limit_state_from_config(load_config()).allowances == (3e-5,)

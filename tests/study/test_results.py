@@ -1,0 +1,81 @@
+"""The stage results: JSON keys of DESIGN.md, CSV tables beside the JSON, figures, strict JSON, and the typed
+results read back by load_results."""
+
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "wear"))
+from wear_synthetic import FakeModel, fake_simulate  # noqa: E402
+
+from jointwear.study import ReliabilityResult, WearSummary, load_results  # noqa: E402
+from jointwear.study.io import strict, write_json  # noqa: E402
+from jointwear.wear import WearSettings, wear_history  # noqa: E402
+
+
+def test_wear_summary_save_and_load(tmp_path):
+    r = wear_history(FakeModel(), WearSettings(n_grid=360), 50_000, simulate=fake_simulate)
+    s = WearSummary.from_history(r, allowances_m={"joint0": 3e-5})
+    s.save(tmp_path)
+    d = json.loads((tmp_path / "wear.json").read_text())
+    for k in ("cycles", "max_wear_mm", "max_wear_angle_deg", "peaks", "profile", "history", "wall_seconds",
+              "provenance"):
+        assert k in d
+    assert d["cycles"] == 50_000
+    assert set(d["profile"]) == {"angle_deg", "depth_mm"} and len(d["profile"]["angle_deg"]) == 360
+    assert set(d["history"]) == {"cycles", "max_wear_mm"} and d["history"]["cycles"][-1] == 50_000
+    assert d["peaks"][0]["depth_mm"] == pytest.approx(d["max_wear_mm"])
+    assert d["max_wear_mm"] == pytest.approx(r.joints[0].max_bearing_wear * 1e3)
+    assert d["limit_mm"] == pytest.approx(0.03)
+    assert {"jointwear", "numpy", "scipy", "numba", "openturns", "machine"} <= set(d["provenance"])
+    for f in ("wear_profile.csv", "wear_history.csv", "wear_journal_profile.csv", "wear_polar.png",
+              "wear_vs_angle.png", "wear_history.png"):
+        assert (tmp_path / f).stat().st_size > 0
+    back = load_results(tmp_path).wear
+    assert isinstance(back, WearSummary) and back.max_wear_mm == s.max_wear_mm and back.history_result is None
+
+
+def test_json_is_strict(tmp_path):
+    path = write_json(tmp_path / "x.json", {"a": math.inf, "b": [1.0, math.nan], "c": np.float64(2.5)})
+    text = path.read_text()
+    assert "Infinity" not in text and "NaN" not in text
+    assert json.loads(text) == {"a": None, "b": [1.0, None], "c": 2.5}
+    assert strict({"n": np.arange(2)}) == {"n": [0, 1]}
+
+
+def _reliability_result():
+    cycles = np.array([1e5, 2e5, 3e5])
+    rel = np.array([0.99, 0.8, 0.3])
+    return ReliabilityResult(
+        cycles=cycles, reliability=rel, pf=1 - rel, pf_cov=np.array([np.inf, 0.02, 0.01]),
+        below_floor=np.array([False, False, False]), pf_error=np.array([0.001, 0.01, 0.01]), target=0.9,
+        life_cycles=1.45e5, life_hours=1.0, model_calls=20, failed_calls=0, n_mc=1000, converged=True,
+        wall_seconds=1.0, names=["a", "b"], histograms={}, mean_max_wear={}, convergence={},
+        design_x=np.ones((3, 2)), design_wear=np.ones((3, 3)), design_life=np.array([1e5, 2e5, np.inf]),
+        life_table=[{"target": 0.9, "cycles": 1.45e5, "hours": 1.0}, {"target": 0.99, "cycles": None,
+                                                                       "hours": None}],
+        joints=[{"name": "A", "allowance_mm": 0.03, "reliability": rel.tolist(), "governing_share": [1.0] * 3}])
+
+
+def test_reliability_result_round_trip_and_tables(tmp_path):
+    res = _reliability_result()
+    res.save(tmp_path, figures=False)
+    back = load_results(tmp_path).reliability
+    np.testing.assert_array_equal(back.reliability, res.reliability)
+    assert back.pf_cov[0] != back.pf_cov[0]  # infinity is written as null (strict JSON) and read back as NaN
+    assert back.life_table == res.life_table and back.governing_joint == "A"
+    curve = (tmp_path / "reliability_curve.csv").read_text().splitlines()
+    assert curve[0].split(",")[:3] == ["cycles", "reliability", "pf"] and len(curve) == 4
+    assert (tmp_path / "life_table.csv").read_text().splitlines()[0] == "target_reliability,life_cycles,life_hours,status"
+    assert (tmp_path / "design_points.csv").read_text().splitlines()[0] == "a,b,life_cycles"
+
+
+def test_load_results_of_an_empty_or_damaged_folder(tmp_path):
+    assert load_results(tmp_path).stages == []
+    (tmp_path / "reliability.json").write_text("{not json")
+    res = load_results(tmp_path)
+    assert res.reliability is None and "reliability" in res.errors

@@ -1,0 +1,44 @@
+"""Direct validation of the R(N) curve: the true model sampled directly against the surrogate.
+
+The wear model is the analytic Archard-like law of test_study_analytic (exact R(N) by brute force), so the
+validation must agree at every level, and the leave-one-out cross-validation of a smooth 3-variable product
+must be nearly exact.
+"""
+
+import numpy as np
+import pytest
+from test_study_analytic import AnalyticWear
+
+from jointwear import compute
+from jointwear.config import load_config
+from jointwear.study import run_reliability, study_context
+from jointwear.study.validation import clopper_pearson, run_validation
+
+
+def test_clopper_pearson_exact_values():
+    # k = 0: the upper bound solves (1 - p)^n = alpha / 2 exactly
+    lo, hi = clopper_pearson(0, 100)
+    assert lo == 0.0 and hi == pytest.approx(1 - 0.025 ** (1 / 100), rel=1e-9)
+    lo, hi = clopper_pearson(100, 100)
+    assert hi == 1.0 and lo == pytest.approx(0.025 ** (1 / 100), rel=1e-9)
+
+
+def test_validation_agrees_with_an_exact_model():
+    cfg = load_config()
+    cfg.reliability.cycles_start, cfg.reliability.cycles_stop, cfg.reliability.cycles_step = 360_000, 440_000, 40_000
+    cfg.reliability.histogram_cycles = [400_000]
+    cfg.reliability.n_mc, cfg.reliability.max_calls = 20_000, 40
+    cfg.reliability.noise, cfg.reliability.error_abs_tol = "none", 0.002
+    ctx = study_context(cfg, lambda call: compute.Evaluator(
+        AnalyticWear([s.name for s in cfg.uncertainty.all_specs()], call.cycles), None, None,
+        n_outputs=call.n_outputs))
+    rel = run_reliability(ctx)
+    val = run_validation(ctx, rel, 3000)
+    assert val.n_samples == 3000 and val.model_calls == 3000 and val.failed_calls == 0
+    assert val.all_agree, list(zip(val.cycles, val.reliability_mc, val.reliability_surrogate))
+    for lo, r, hi in zip(val.ci_low, val.reliability_mc, val.ci_high):
+        assert lo <= r <= hi
+    cv = val.cross_validation
+    # the analytic log life is smooth (a sum of logs): its leave-one-out Q^2 is near 1
+    assert cv["q2"] > 0.95 and cv["n_points"] == len(rel.design_x)
+    assert np.isfinite(cv["log_life_loo"]).all()
