@@ -41,8 +41,6 @@ CASES = {
     "reliability": lambda: F.reliability_curve_figure(CYC, REL, pf_cov=[0.02] * len(CYC), target=0.9,
                                                       life_cycles=371_640, reference={400_000: 0.739},
                                                       reference_life=371_640, reference_label="Author 2030"),
-    "reliability_former_names": lambda: F.reliability_curve_figure(CYC, REL, target=0.9, paper={400_000: 0.739},
-                                                                   paper_life=371_640),
     "histograms": lambda: F.wear_histograms_figure([360_000, 400_000, 440_000],
                                                    [np.random.default_rng(k).normal(0.026 + k * 0.003, 0.002, 500)
                                                     for k in range(3)], limit_mm=0.03,

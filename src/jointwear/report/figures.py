@@ -377,15 +377,10 @@ def wear_history_figure(
     reference_mean: Mapping[float, float] | None = None,
     reference_nominal: tuple[float, float] | None = None,
     reference_label: str = "reference",
-    paper_mean: Mapping[float, float] | None = None,
-    paper_nominal: tuple[float, float] | None = None,
 ) -> Figure:
     """Max bearing wear against cycles: the nominal history, optionally the Monte Carlo mean of the max wear,
     the allowable wear ``limit_mm`` (the study's configured allowance) and a cited reference's values
-    (``reference_mean`` {cycles: mm}, ``reference_nominal`` (cycles, mm)), labelled ``reference_label``.
-    ``paper_mean`` / ``paper_nominal`` are former names of the reference arguments."""
-    reference_mean = reference_mean if reference_mean is not None else paper_mean
-    reference_nominal = reference_nominal if reference_nominal is not None else paper_nominal
+    (``reference_mean`` {cycles: mm}, ``reference_nominal`` (cycles, mm)), labelled ``reference_label``."""
     fig, ax = figure()
     ax.plot(_kilo_cycles(cycles), _arr(max_wear_mm), color=COLORS[0], label="nominal design")
     if mean_cycles is not None and mean_max_wear_mm is not None:
@@ -420,14 +415,10 @@ def reliability_curve_figure(
     reference: Mapping[float, float] | None = None,
     reference_life: float | None = None,
     reference_label: str = "reference",
-    paper: Mapping[float, float] | None = None,
-    paper_life: float | None = None,
 ) -> Figure:
     """R(N) with a 95 % band from the COV of Pf, the target line, the life at the target and, when given, a
     cited reference's points ``reference`` {cycles: R} and life ``reference_life`` (cycles at the target),
-    labelled ``reference_label``. ``paper`` / ``paper_life`` are former names of the reference arguments."""
-    reference = reference if reference is not None else paper
-    reference_life = reference_life if reference_life is not None else paper_life
+    labelled ``reference_label``."""
     n = _kilo_cycles(cycles)
     rel = _arr(reliability)
     fig, ax = figure()
@@ -465,12 +456,9 @@ def wear_histograms_figure(
     limit_mm: float | None = None,
     reference_means: Mapping[float, float] | None = None,
     reference_label: str = "reference",
-    paper_means: Mapping[float, float] | None = None,
 ) -> Figure:
     """Histograms of the max wear over the random inputs at a few cycle counts, and all of them together;
-    ``reference_means`` {cycles: mm} marks a cited reference's means (dotted). ``paper_means`` is the former
-    name of ``reference_means``."""
-    reference_means = reference_means if reference_means is not None else paper_means
+    ``reference_means`` {cycles: mm} marks a cited reference's means (dotted)."""
     sets = [(float(c), _arr(s)[np.isfinite(_arr(s))]) for c, s in zip(cycles, max_wear_mm)]
     npanel = len(sets) + (1 if len(sets) > 1 else 0)
     ncols = 2 if npanel == 4 else min(npanel, 3)

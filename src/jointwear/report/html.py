@@ -73,33 +73,6 @@ from .style import DPI, to_data_uri
 
 __all__ = ["build_report", "Check", "reference_checks", "reference_of", "read_inputs"]
 
-def __getattr__(name: str):
-    """``PAPER``: the flapping-wing paper's values in the old dict form, for callers not yet reading the
-    preset's ``[reference]`` (compatibility only; the numbers live in ``jin2025_flapping_wing.toml``)."""
-    if name == "PAPER":
-        return legacy_paper_dict()
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def legacy_paper_dict() -> dict:
-    """The ``[reference]`` of the ``jin2025_flapping_wing`` preset as the report's former ``PAPER`` dict."""
-    from jointwear.config import load_config
-
-    ref = load_config("jin2025_flapping_wing").reference
-    vals = [v.report_dict() for v in ref.values] if ref is not None else []
-    by = {}
-    for v in vals:
-        by.setdefault(v["quantity"], []).append(v)
-    return {
-        "citation": ref.citation if ref is not None else "",
-        "reliability": {v["cycles"]: v["value"] for v in by.get("reliability", [])},
-        "mean_max_wear_mm": {v["cycles"]: v["value"] for v in by.get("mean_max_wear", [])},
-        "life_cycles": next((v["value"] for v in by.get("life_cycles", [])), None),
-        "nominal_cycles": next((v["cycles"] for v in by.get("nominal_max_wear", [])), None),
-        "nominal_max_wear_mm": next((v["value"] for v in by.get("nominal_max_wear", [])), None),
-    }
-
-
 PASS, FAIL, INFO, NA = "pass", "fail", "info", "n/a"
 
 
