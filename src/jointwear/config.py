@@ -30,6 +30,7 @@ from pydantic import (
     model_validator,
 )
 
+from jointwear.reference import ReferenceData
 from jointwear.schema import ConfigError, F, SIModel
 from jointwear.study_settings import (
     ComputeSettings,
@@ -578,6 +579,9 @@ class StudyConfig(SIModel):
     reliability: ReliabilitySettings = F(default_factory=ReliabilitySettings, description="Wear reliability (Section 5).")
     sensitivity: SensitivitySettings = F(default_factory=SensitivitySettings, description="Sensitivity (Section 6.2.3).")
     compute: ComputeSettings = F(default_factory=ComputeSettings, description="Where model calls run.")
+    reference: ReferenceData | None = F(
+        None, description="Cited results of the publication the study reproduces; the report compares with them "
+        "only when given (jointwear.reference).")
 
     @model_validator(mode="after")
     def _targets_exist(self) -> StudyConfig:

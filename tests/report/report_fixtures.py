@@ -134,11 +134,11 @@ def make_reliability(out: Path, rng: np.random.Generator, *, optional: bool = Tr
 
 SENS_VARS = [
     # name, label, group, (low, high)
-    ("R_j", "journal radius", "tolerance", (0.93, 0.71)),
+    ("Rj", "journal radius", "tolerance", (0.93, 0.71)),
     ("c", "clearance", "tolerance", (0.996, 0.48)),
     ("l1", "crank length", "tolerance", (0.95, 0.99)),
     ("l2", "rod length", "tolerance", (0.0, 0.0)),
-    ("l_BC", "rocker length", "tolerance", (0.975, 0.98)),
+    ("lBC", "rocker length", "tolerance", (0.975, 0.98)),
     ("E_j", "journal Young's modulus", "journal_material", (0.99, 0.95)),
     ("nu_j", "journal Poisson's ratio", "journal_material", (0.979, 0.976)),
     ("k_j", "journal wear coefficient", "journal_material", (0.985, 0.968)),
@@ -166,7 +166,15 @@ def make_sensitivity(out: Path, rng: np.random.Generator, *, sobol: bool = True)
     _dump(out / "sensitivity.json", obj)
 
 
-def make_config(out: Path) -> None:
+def preset_reference(name: str = "jin2025_flapping_wing") -> dict | None:
+    """The preset's [reference] as the settings JSON carries it (report units)."""
+    from jointwear.config import load_config
+
+    ref = load_config(name).reference
+    return None if ref is None else ref.report_dict()
+
+
+def make_config(out: Path, *, reference: bool = True) -> None:
     S = []
 
     def s(name, value, unit, source, open_=False, description=""):
@@ -207,11 +215,16 @@ def make_config(out: Path) -> None:
         "mechanism": {"type": "crank_rocker", "crank_mm": 6.0, "rod_mm": 38.0, "rocker_mm": 12.0,
                       "pivot_mm": [11.5, 38.0], "branch": 1, "clearance_joint": "A"},
         "settings": S,
+        "allowance_mm": 0.03,
+        "reference": preset_reference() if reference else None,
     })
 
 
-def make_fixture_dir(out: Path, which=ALL, *, seed: int = 7, optional: bool = True, csv: bool = True) -> Path:
-    """Write the JSON (and CSV) files of a synthetic study into ``out``; ``which`` picks the stages."""
+def make_fixture_dir(out: Path, which=ALL, *, seed: int = 7, optional: bool = True, csv: bool = True,
+                     reference: bool = True) -> Path:
+    """Write the JSON (and CSV) files of a synthetic study into ``out``; ``which`` picks the stages (a config.json
+    with the flapping-wing preset's [reference] is always written unless ``reference`` is False and "config" is
+    not in ``which``: the comparison needs the reference from the study's settings)."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     rng = np.random.default_rng(seed)
@@ -224,7 +237,9 @@ def make_fixture_dir(out: Path, which=ALL, *, seed: int = 7, optional: bool = Tr
     if "sensitivity" in which:
         make_sensitivity(out, rng, sobol=optional)
     if "config" in which:
-        make_config(out)
+        make_config(out, reference=reference)
+    elif reference:
+        _dump(out / "config.json", {"preset": "jin2025_flapping_wing", "reference": preset_reference()})
     return out
 
 

@@ -36,15 +36,15 @@ CASES = {
                                            contact_area_mm2=DEPTH / 10, cycles=400_000),
     "panels_depth_only": lambda: F.wear_panels_figure(ANG, DEPTH),
     "history": lambda: F.wear_history_figure(CYC, 7e-8 * CYC, limit_mm=0.03, mean_cycles=CYC,
-                                             mean_max_wear_mm=7.1e-8 * CYC, paper_mean={400_000: 0.0285},
-                                             paper_nominal=(400_000, 0.0249)),
+                                             mean_max_wear_mm=7.1e-8 * CYC, reference_mean={400_000: 0.0285},
+                                             reference_nominal=(400_000, 0.0249), reference_label="Author 2030"),
     "reliability": lambda: F.reliability_curve_figure(CYC, REL, pf_cov=[0.02] * len(CYC), target=0.9,
-                                                      life_cycles=371_640, paper={400_000: 0.739},
-                                                      paper_life=371_640),
+                                                      life_cycles=371_640, reference={400_000: 0.739},
+                                                      reference_life=371_640, reference_label="Author 2030"),
     "histograms": lambda: F.wear_histograms_figure([360_000, 400_000, 440_000],
                                                    [np.random.default_rng(k).normal(0.026 + k * 0.003, 0.002, 500)
                                                     for k in range(3)], limit_mm=0.03,
-                                                   paper_means={360_000: 0.0256}),
+                                                   reference_means={360_000: 0.0256}),
     "one_histogram": lambda: F.wear_histograms_figure([400_000], [np.random.default_rng(1).normal(0.028, 0.002, 300)]),
     "convergence": lambda: F.convergence_figure(np.arange(12, 40), np.geomspace(0.3, 0.001, 28),
                                                 cov=np.full(28, 0.05)),
@@ -94,3 +94,15 @@ def test_style_helpers(tmp_path):
     vals, unit = scale_to_unit([0.029, 0.001], "N")
     assert unit == "mN" and vals[0] == pytest.approx(29.0)
     assert scale_to_unit([2e-6], "m")[1] == "\u00b5m"
+
+
+def test_reference_points_carry_the_reference_label():
+    """A cited reference is named by its label in the legend; without one nothing reference-like is drawn."""
+    def legend(fig):
+        return [t.get_text() for ax in fig.axes if ax.get_legend() for t in ax.get_legend().get_texts()]
+
+    with_ref = legend(CASES["reliability"]())
+    assert "Author 2030" in with_ref and any(t.startswith("Author 2030: life") for t in with_ref)
+    assert any(t.startswith("Author 2030") for t in legend(CASES["history"]()))
+    bare = legend(F.reliability_curve_figure(CYC, REL, target=0.9, life_cycles=371_640))
+    assert bare == ["95 % band (COV of Pf)", "this study"] or bare == ["this study"]

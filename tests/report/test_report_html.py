@@ -1,5 +1,5 @@
-"""The HTML report: self-contained, tolerant of missing and malformed inputs, escaped, and checked against
-the paper's numbers."""
+"""The HTML report: self-contained, tolerant of missing and malformed inputs, escaped, and compared with the
+study's cited reference only when the study declares one."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ import pytest
 from report_fixtures import make_fixture_dir
 
 from jointwear.report import build_report
-from jointwear.report.html import FAIL, NA, PASS, paper_checks, read_inputs
+from jointwear.report.html import FAIL, NA, PASS, reference_checks, read_inputs
 
 SECTIONS = ("summary", "comparison", "study", "dynamics", "wear", "reliability", "sensitivity", "files")
 
@@ -51,13 +51,13 @@ def test_text_is_escaped(full_report: Path):
 
 
 def test_comparison_with_paper_on_fixture(study_dir: Path):
-    checks = paper_checks(read_inputs(study_dir).data)
+    checks = reference_checks(read_inputs(study_dir).data)
     banded = [c for c in checks if c.status in (PASS, FAIL)]
     assert len(banded) >= 12
     assert all(c.status == PASS for c in banded), [(c.quantity, c.ours) for c in banded if c.status != PASS]
     byname = {c.quantity: c for c in checks}
     assert byname["life at R = 0.9"].ours == pytest.approx(381_000, rel=0.01)
-    assert byname["reliability R(N) at 400,000 cycles"].paper == 0.739
+    assert byname["reliability R(N) at 400,000 cycles"].reference == 0.739
     assert byname["sensitivity ranking, tolerances"].status == PASS
 
 
@@ -71,7 +71,7 @@ def test_comparison_flags_out_of_band(tmp_path: Path):
     rel["curve"]["reliability"] = [1.0] * len(rel["curve"]["cycles"])
     del rel["life_at_target"]
     (d / "reliability.json").write_text(json.dumps(rel))
-    byname = {c.quantity: c for c in paper_checks(read_inputs(d).data)}
+    byname = {c.quantity: c for c in reference_checks(read_inputs(d).data)}
     assert byname["nominal max bearing wear after 400,000 cycles"].status == FAIL
     assert byname["angle of the max wear"].status == FAIL
     assert byname["reliability R(N) at 520,000 cycles"].status == FAIL
@@ -117,7 +117,7 @@ def test_optional_keys_absent(tmp_path: Path):
                  "Sobol&#x27; indices: not computed", "no &#x27;mechanism&#x27; geometry"):
         assert what in page, what
     # mean max wear falls back to nothing: its checks say no data, the rest still compare
-    checks = {c.quantity: c for c in paper_checks(read_inputs(d).data)}
+    checks = {c.quantity: c for c in reference_checks(read_inputs(d).data)}
     assert checks["mean of the max wear at 400,000 cycles"].status == NA
     assert checks["reliability R(N) at 400,000 cycles"].status == PASS
 
@@ -158,7 +158,7 @@ def test_comparison_markdown(study_dir: Path):
     from jointwear.report.compare import comparison_markdown, main
 
     md = comparison_markdown(study_dir)
-    assert md.startswith("| quantity | paper | jointwear |")
+    assert md.startswith("| quantity | Jin et al. 2025 | jointwear |")
     assert "| life at R = 0.9 | 371,640 cycles |" in md
     assert md.count("**pass**") >= 12
     assert main(["/does/not/exist"]) == 2
@@ -172,9 +172,10 @@ def test_ranking_marks_neighbours_the_surrogate_does_not_separate(tmp_path: Path
     sens["unresolved_pairs"] = [{"group": "bearing_material", "first": "E_b", "second": "nu_b",
                                  "swing_difference": 0.014, "error_sum": 0.02}]
     (d / "sensitivity.json").write_text(json.dumps(sens))
-    checks = {c.quantity: c for c in paper_checks(read_inputs(d).data)}
+    checks = {c.quantity: c for c in reference_checks(read_inputs(d).data)}
     note = checks["sensitivity ranking, bearing material"].note
-    assert "not resolved within the surrogate's error: Young's modulus \u2248 Poisson's ratio" in note
+    assert ("not resolved within the surrogate's error: bearing Young's modulus \u2248 bearing Poisson's ratio"
+            in note)
     assert "not resolved" not in checks["sensitivity ranking, tolerances"].note
     page = build_report(d).read_text(encoding="utf-8")
     assert ("bearing Brinell hardness &gt; bearing wear coefficient &gt; bearing Young&#x27;s modulus \u2248 "

@@ -38,7 +38,15 @@ def test_dump_of_a_pydantic_config(tmp_path):
     path = write_settings(tmp_path, _Cfg())
     assert json.loads(path.read_text())["settings"]
     page = build_report(tmp_path).read_text()
-    assert "Settings the paper leaves open (2)" in page
+    # no [reference]: the study's own settings, without the reference's open/closed flags
+    assert "Settings of this study (5, 0 given in the config)" in page and "leaves open" not in page
+    assert d["reference"] is None
+
+
+def test_dump_says_which_values_the_config_gives():
+    by = {s["name"]: s for s in settings_dump(_Cfg(mu=0.2, inner=_Inner(length=0.01)))["settings"]}
+    assert by["mu"]["explicit"] and by["inner.length"]["explicit"]
+    assert not by["speed"]["explicit"] and not by["inner.modulus"]["explicit"]
 
 
 def test_paper_open_heuristic():
@@ -49,14 +57,22 @@ def test_paper_open_heuristic():
 
 
 def test_dump_of_the_default_preset():
-    config = pytest.importorskip("jointwear.config")
-    try:
-        cfg = config.load_config("jin2025_flapping_wing")
-    except Exception as exc:  # the config stage is another engineer's; report what is missing
-        pytest.skip(f"jointwear.config.load_config is not usable yet: {exc}")
+    from jointwear import config
+
+    cfg = config.load_config("jin2025_flapping_wing")
     d = settings_dump(cfg)
     assert d["mechanism"]["crank_mm"] == pytest.approx(6.0)
     assert d["mechanism"]["pivot_mm"] == pytest.approx([11.5, 38.0])
     names = [s["name"] for s in d["settings"]]
     assert any("friction.mu_d" in n for n in names)
     assert any(s["paper_open"] for s in d["settings"])
+    # the preset's cited results travel with the settings, in report units, and are not listed as settings
+    ref = d["reference"]
+    assert ref["label"] == "Jin et al. 2025" and not any(n.startswith("reference") for n in names)
+    rel = {v["cycles"]: v for v in ref["values"] if v["quantity"] == "reliability"}
+    assert rel[400_000]["value"] == 0.739 and rel[400_000]["band"]["absolute"] == 0.15
+    assert rel[420_000]["band"] is None  # reported, not banded
+    assert all(v["source"] for v in ref["values"])
+    wear = next(v for v in ref["values"] if v["quantity"] == "nominal_max_wear")
+    assert (wear["unit"], wear["value"], wear["band"]["lower"], wear["band"]["upper"]) == ("mm", 0.0249, 0.021, 0.029)
+    assert d["allowance_mm"] == pytest.approx(cfg.reliability.allowance * 1e3)

@@ -1,9 +1,12 @@
-"""The comparison with the paper as a Markdown table, for docs/paper-comparison.md.
+"""The comparison with the study's cited reference as a Markdown table (for docs such as
+docs/paper-comparison.md).
 
     python -m jointwear.report.compare results        # prints the table of the study in results/
 
-Same numbers, bands and statuses as the report's "Comparison with the paper" section
-(:func:`jointwear.report.html.paper_checks`).
+The reference is the one in the folder's settings JSON (``config.json``, key ``reference``: the config's
+``[reference]``). Same numbers, bands and statuses as the report's comparison section
+(:func:`jointwear.report.html.reference_checks`). A study without a reference has nothing to compare: the
+command says so and exits with status 1.
 """
 
 from __future__ import annotations
@@ -11,22 +14,28 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from .html import FAIL, NA, PASS, _num, paper_checks, read_inputs
+from .html import FAIL, NA, PASS, format_number, read_inputs, reference_checks, reference_label, reference_of
 
 
 def comparison_markdown(out_dir: Path | str) -> str:
-    """A Markdown table: quantity | paper | this study | relative difference | band | status | note."""
-    checks = paper_checks(read_inputs(Path(out_dir)).data)
-    rows = ["| quantity | paper | jointwear | relative difference | band | status | note |",
-            "|---|---|---|---|---|---|---|"]
-    for c in checks:
+    """A Markdown table: quantity | reference | jointwear | relative difference | band | status | note | source.
+
+    Raises ``LookupError`` when the study in ``out_dir`` declares no reference.
+    """
+    data = read_inputs(Path(out_dir)).data
+    ref = reference_of(data)
+    if ref is None:
+        raise LookupError(f"{out_dir}: the study's settings (config.json) declare no [reference]; nothing to compare")
+    rows = [f"| quantity | {reference_label(ref)} | jointwear | relative difference | band | status | note | source |",
+            "|---|---|---|---|---|---|---|---|"]
+    for c in reference_checks(data, ref):
         unit = "" if c.unit in ("-", "") else f" {c.unit}"
-        paper = "-" if c.paper is None else _num(c.paper, c.digits) + unit
-        ours = "-" if c.ours is None else _num(c.ours, c.digits) + unit
+        theirs = "-" if c.reference is None else format_number(c.reference, c.digits) + unit
+        ours = "-" if c.ours is None else format_number(c.ours, c.digits) + unit
         rd = "-" if c.rel_diff is None else f"{c.rel_diff * 100:+.1f} %"
         status = {PASS: "**pass**", FAIL: "**FAIL**", NA: "no data"}.get(c.status, c.status)
-        rows.append(f"| {c.quantity} | {paper} | {ours} | {rd} | {c.band} | {status} | "
-                    f"{c.note.replace('|', '/')} |")
+        rows.append(f"| {c.quantity} | {theirs} | {ours} | {rd} | {c.band} | {status} | "
+                    f"{c.note.replace('|', '/')} | {c.source.replace('|', '/')} |")
     return "\n".join(rows) + "\n"
 
 
@@ -35,7 +44,11 @@ def main(argv: list[str] | None = None) -> int:
     if len(args) != 1 or not Path(args[0]).is_dir():
         print("usage: python -m jointwear.report.compare RESULTS_DIR", file=sys.stderr)
         return 2
-    sys.stdout.write(comparison_markdown(args[0]))
+    try:
+        sys.stdout.write(comparison_markdown(args[0]))
+    except LookupError as exc:
+        print(str(exc), file=sys.stderr)
+        return 1
     return 0
 
 

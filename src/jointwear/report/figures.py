@@ -374,24 +374,25 @@ def wear_history_figure(
     limit_mm: float | None = None,
     mean_cycles: Array | None = None,
     mean_max_wear_mm: Array | None = None,
-    paper_mean: Mapping[float, float] | None = None,
-    paper_nominal: tuple[float, float] | None = None,
+    reference_mean: Mapping[float, float] | None = None,
+    reference_nominal: tuple[float, float] | None = None,
+    reference_label: str = "reference",
 ) -> Figure:
     """Max bearing wear against cycles: the nominal history, optionally the Monte Carlo mean of the max wear,
-    the allowable wear ``limit_mm`` and the paper's values (``paper_mean`` {cycles: mm},
-    ``paper_nominal`` (cycles, mm))."""
+    the allowable wear ``limit_mm`` (the study's configured allowance) and a cited reference's values
+    (``reference_mean`` {cycles: mm}, ``reference_nominal`` (cycles, mm)), labelled ``reference_label``."""
     fig, ax = figure()
     ax.plot(_kilo_cycles(cycles), _arr(max_wear_mm), color=COLORS[0], label="nominal design")
     if mean_cycles is not None and mean_max_wear_mm is not None:
         ax.plot(_kilo_cycles(mean_cycles), _arr(mean_max_wear_mm), color=COLORS[2], ls="-", marker="o", ms=3.5,
                 label="mean over the random inputs")
-    if paper_mean:
-        ks = sorted(paper_mean)
-        ax.plot(np.array(ks) / 1e3, [paper_mean[k] for k in ks], "x", color=PAPER_COLOR, ms=7, mew=1.8,
-                label="paper, mean (Fig. 20)")
-    if paper_nominal:
-        ax.plot(paper_nominal[0] / 1e3, paper_nominal[1], "s", mfc="none", color=PAPER_COLOR, ms=7,
-                label="paper, nominal")
+    if reference_mean:
+        ks = sorted(reference_mean)
+        ax.plot(np.array(ks) / 1e3, [reference_mean[k] for k in ks], "x", color=PAPER_COLOR, ms=7, mew=1.8,
+                label=f"{reference_label}, mean")
+    if reference_nominal:
+        ax.plot(reference_nominal[0] / 1e3, reference_nominal[1], "s", mfc="none", color=PAPER_COLOR, ms=7,
+                label=f"{reference_label}, nominal")
     if limit_mm is not None:
         hline(ax, limit_mm, f"allowable wear \u03b4\u2080 = {limit_mm:g} mm")
     ax.set_xlim(left=0)
@@ -411,10 +412,13 @@ def reliability_curve_figure(
     pf_cov: Array | None = None,
     target: float | None = None,
     life_cycles: float | None = None,
-    paper: Mapping[float, float] | None = None,
-    paper_life: float | None = None,
+    reference: Mapping[float, float] | None = None,
+    reference_life: float | None = None,
+    reference_label: str = "reference",
 ) -> Figure:
-    """R(N) with a 95 % band from the COV of Pf, the target line, the life at the target and the paper's points."""
+    """R(N) with a 95 % band from the COV of Pf, the target line, the life at the target and, when given, a
+    cited reference's points ``reference`` {cycles: R} and life ``reference_life`` (cycles at the target),
+    labelled ``reference_label``."""
     n = _kilo_cycles(cycles)
     rel = _arr(reliability)
     fig, ax = figure()
@@ -424,19 +428,19 @@ def reliability_curve_figure(
         ax.fill_between(n, np.clip(rel - half, 0, 1), np.clip(rel + half, 0, 1), color=COLORS[0], alpha=0.2,
                         lw=0, label="95 % band (COV of Pf)")
     ax.plot(n, rel, color=COLORS[0], marker="o", ms=3, label="this study")
-    if paper:
-        ks = sorted(paper)
-        ax.plot(np.array(ks) / 1e3, [paper[k] for k in ks], "x", color=PAPER_COLOR, ms=7, mew=1.8,
-                label="paper (Fig. 21)")
+    if reference:
+        ks = sorted(reference)
+        ax.plot(np.array(ks) / 1e3, [reference[k] for k in ks], "x", color=PAPER_COLOR, ms=7, mew=1.8,
+                label=reference_label)
     if target is not None:
         hline(ax, target, f"target R = {target:g}", color=TARGET_COLOR)
     if life_cycles is not None and np.isfinite(life_cycles):
         vline(ax, life_cycles / 1e3, f"life {life_cycles:,.0f} cycles", color=TARGET_COLOR)
         if target is not None:
             ax.plot(life_cycles / 1e3, target, "D", color=TARGET_COLOR, ms=6, zorder=5)
-    if paper_life is not None:
-        ax.plot(paper_life / 1e3, target if target is not None else 0.9, "D", mfc="none", color=PAPER_COLOR, ms=7,
-                label=f"paper life {paper_life:,.0f} cycles")
+    if reference_life is not None and target is not None:
+        ax.plot(reference_life / 1e3, target, "D", mfc="none", color=PAPER_COLOR, ms=7,
+                label=f"{reference_label}: life {reference_life:,.0f} cycles")
     ax.set_ylim(-0.02, 1.02)
     ax.set_xlabel(CYCLES_LABEL)
     ax.set_ylabel(axis_label("reliability R(N)", None))
@@ -450,10 +454,11 @@ def wear_histograms_figure(
     max_wear_mm: Sequence[Array],
     *,
     limit_mm: float | None = None,
-    paper_means: Mapping[float, float] | None = None,
+    reference_means: Mapping[float, float] | None = None,
+    reference_label: str = "reference",
 ) -> Figure:
-    """Histograms of the max wear over the random inputs at a few cycle counts, and all of them together
-    (the paper's Fig. 20: 360k, 400k, 440k cycles)."""
+    """Histograms of the max wear over the random inputs at a few cycle counts, and all of them together;
+    ``reference_means`` {cycles: mm} marks a cited reference's means (dotted)."""
     sets = [(float(c), _arr(s)[np.isfinite(_arr(s))]) for c, s in zip(cycles, max_wear_mm)]
     npanel = len(sets) + (1 if len(sets) > 1 else 0)
     ncols = 2 if npanel == 4 else min(npanel, 3)
@@ -469,13 +474,13 @@ def wear_histograms_figure(
         ax.hist(s, bins=bins, density=True, color=color, alpha=0.75, edgecolor="white")
         m = float(np.mean(s)) if s.size else np.nan
         vline(ax, m, None, color=PAPER_COLOR, ls="-")
-        if paper_means and c in paper_means:
-            vline(ax, paper_means[c], None, color=PAPER_COLOR, ls=":")
+        if reference_means and c in reference_means:
+            vline(ax, reference_means[c], None, color=PAPER_COLOR, ls=":")
         if limit_mm is not None:
             vline(ax, limit_mm, None, color=LIMIT_COLOR, ls="--")
         txt = f"n = {s.size:,}\nmean = {m:.4f} mm\nstd = {np.std(s):.4f} mm"
-        if paper_means and c in paper_means:
-            txt += f"\npaper mean = {paper_means[c]:.4f} mm"
+        if reference_means and c in reference_means:
+            txt += f"\n{reference_label} mean = {reference_means[c]:.4f} mm"
         if limit_mm is not None and s.size:
             txt += f"\nP(> {limit_mm:g} mm) = {np.mean(s > limit_mm):.3f}"
         centre = 0.5 * (bins[0] + bins[-1]) if not isinstance(bins, int) else m

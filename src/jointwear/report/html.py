@@ -19,6 +19,10 @@ Files and keys read (all optional; units in the key names)
                    "description": "..."}, ...]}
 
   Without a ``settings`` list, a nested config dump is flattened into dotted names (no sources then).
+  ``allowance_mm``: the configured allowable wear (drawn on the wear figures before any stage's own value).
+  ``reference``: the config's cited reference results (``jointwear.reference``, in mm / deg / h; see
+  :mod:`jointwear.report.settings`). The comparison section, the reference's points on the figures and the
+  acceptance bands appear only when it is present; without it the report is about the study alone.
 
 ``simulate.json``: ``contact_force_mean_N``, ``contact_force_max_N``, ``contact_fraction``,
 ``impacts_per_cycle``, ``steps_per_cycle``, ``wall_seconds_per_cycle`` (DESIGN.md) and, for the figures,
@@ -67,31 +71,8 @@ import numpy as np
 from . import figures as F
 from .style import DPI, to_data_uri
 
-__all__ = ["build_report", "PAPER", "Check", "paper_checks"]
+__all__ = ["build_report", "Check", "reference_checks", "reference_of", "read_inputs"]
 
-# ------------------------------------------------------------------------------------------------ the paper
-#: What the reference paper reports (paper-notes.md, "What the paper reports").
-PAPER = {
-    "citation": ("Jin, Y.; Chen, X.; Wang, K.; Jiang, D.; Liu, J.; Pang, H. Uncertainty Control Method for "
-                 "Non-Uniform Wear of the Driving Mechanism of Flapping Wing Aircraft. Drones 2025, 9(4), 282."),
-    "nominal_max_wear_mm": 0.0249,
-    "nominal_cycles": 400_000,
-    "nominal_peak_angle_deg": 110.0,
-    "second_peak_mm": 0.0087,
-    "second_peak_angle_deg": 310.0,
-    "mean_max_wear_mm": {360_000: 0.0256, 400_000: 0.0285, 440_000: 0.0313},
-    "reliability": {360_000: 0.978, 400_000: 0.739, 420_000: 0.538, 520_000: 0.006},
-    "life_cycles": 371_640.0,
-    "life_hours": 12.90,
-    "model_calls": 20,
-    "ranking": {
-        "tolerances": ["rod length", "clearance", "journal radius", "crank length", "rocker length"],
-        "journal material": ["Brinell hardness", "Young's modulus", "wear coefficient", "Poisson's ratio"],
-        "bearing material": ["Brinell hardness", "wear coefficient", "Young's modulus", "Poisson's ratio"],
-    },
-}
-
-RELIABILITY_BANDED = (360_000, 400_000, 520_000)  # +-0.15 absolute
 PASS, FAIL, INFO, NA = "pass", "fail", "info", "n/a"
 
 
@@ -121,6 +102,11 @@ def _num(v, digits: int = 4) -> str:
             return f"[{', '.join(_num(x, digits) for x in v[:6])}, \u2026 ({len(v)} values)]"
         return "[" + ", ".join(_num(x, digits) for x in v) + "]"
     return str(v)
+
+
+def format_number(v, digits: int = 4) -> str:
+    """A number as the report shows it (thousands separators, ``digits`` significant digits, em dash for None)."""
+    return _num(v, digits)
 
 
 def _float(v) -> float | None:
@@ -381,22 +367,24 @@ class _Figures:
 # ------------------------------------------------------------------------------------------------ checks
 @dataclass
 class Check:
-    """One reproduced number against the paper's."""
+    """One number of the study beside the reference's, with its acceptance band and status."""
 
     quantity: str
-    paper: float | None
+    reference: float | None
     ours: float | None
     unit: str
     band: str
     status: str
     note: str = ""
     digits: int = 4
+    source: str = ""
+    justification: str = ""
 
     @property
     def rel_diff(self) -> float | None:
-        if self.paper in (None, 0) or self.ours is None:
+        if self.reference in (None, 0) or self.ours is None:
             return None
-        return (self.ours - self.paper) / abs(self.paper)
+        return (self.ours - self.reference) / abs(self.reference)
 
 
 def _circ_diff(a: float, b: float) -> float:
@@ -440,9 +428,10 @@ def _geometry_mode(wear: Mapping) -> str | None:
 
 
 def _limit_mm(*sources: Mapping) -> float | None:
-    """The allowable wear delta_0 (mm): ``limit_mm`` or ``allowance_mm`` of any stage."""
+    """The allowable wear delta_0 (mm): ``allowance_mm`` or ``limit_mm`` of the first source that has one
+    (callers put the study's settings first, so the configured allowance wins over a stage's own line)."""
     for src in sources:
-        for key in ("limit_mm", "allowance_mm"):
+        for key in ("allowance_mm", "limit_mm"):
             v = _float(src.get(key)) if isinstance(src, Mapping) else None
             if v is not None:
                 return v
@@ -476,11 +465,12 @@ def _second_peak(wear: Mapping) -> tuple[float, float] | None:
     return None
 
 
-def _mean_max_wear(rel: Mapping) -> dict[float, float]:
+def _mean_max_wear(rel: Mapping, levels) -> dict[float, float]:
+    """The study's mean of the max wear (mm) at each of ``levels`` (cycles) where it has one."""
     out: dict[float, float] = {}
     m = rel.get("mean_max_wear_mm")
     if isinstance(m, Mapping) and m.get("cycles") is not None and m.get("mean") is not None:
-        for n in PAPER["mean_max_wear_mm"]:
+        for n in levels:
             v = _interp_at(m["cycles"], m["mean"], n)
             if v is not None:
                 out[n] = v
@@ -488,7 +478,7 @@ def _mean_max_wear(rel: Mapping) -> dict[float, float]:
     if isinstance(h, Mapping) and h.get("cycles") is not None and h.get("max_wear_mm") is not None:
         for c, s in zip(h["cycles"], h["max_wear_mm"]):
             c = _float(c)
-            if c in PAPER["mean_max_wear_mm"] and c not in out:
+            if c in levels and c not in out:
                 arr = np.asarray([np.nan if v is None else v for v in s], dtype=float)
                 if np.isfinite(arr).any():
                     out[c] = float(np.nanmean(arr))
@@ -562,80 +552,89 @@ def _ranking_text(items: Sequence[tuple], unresolved: set[tuple[str, str]], fiel
     return text
 
 
-def paper_checks(data: Mapping[str, Mapping]) -> list[Check]:
-    """Every reproduced number against the paper's, with the acceptance bands of the project."""
-    checks: list[Check] = []
-    wear = data.get("wear") or {}
-    rel = data.get("reliability") or {}
-    sens = data.get("sensitivity") or {}
+def reference_of(data: Mapping[str, Mapping]) -> dict | None:
+    """The cited reference results of the study (``reference`` in the settings JSON), or None."""
+    cfg = data.get("config")
+    ref = cfg.get("reference") if isinstance(cfg, Mapping) else None
+    if isinstance(ref, Mapping) and isinstance(ref.get("values"), list) and ref["values"]:
+        return dict(ref)
+    return None
 
-    # nominal max wear at 400k
-    n0 = PAPER["nominal_cycles"]
-    ours = None
-    note = ""
-    if wear:
-        wc = _float(wear.get("cycles"))
-        if wc == n0:
-            ours = _float(wear.get("max_wear_mm"))
-        else:
-            h = wear.get("history") or {}
-            if h.get("cycles") is not None and h.get("max_wear_mm") is not None:
-                ours = _interp_at(h["cycles"], h["max_wear_mm"], n0)
-                note = "read from the wear history" if ours is not None else ""
-            if ours is None:
-                note = f"the wear run stopped at {_num(wc)} cycles" if wc else "no wear result"
-        mode = _geometry_mode(wear)
-        if mode:
-            note = (note + "; " if note else "") + f"geometry mode: {mode}"
-    checks.append(Check("nominal max bearing wear after 400,000 cycles", PAPER["nominal_max_wear_mm"], ours, "mm",
-                        "0.021-0.029 mm", NA if ours is None else (PASS if 0.021 <= ours <= 0.029 else FAIL), note))
-    ang = _float(wear.get("max_wear_angle_deg")) if wear else None
-    d = None if ang is None else _circ_diff(ang, PAPER["nominal_peak_angle_deg"])
-    checks.append(Check("angle of the max wear", PAPER["nominal_peak_angle_deg"], ang, "deg", "within 20 deg",
-                        NA if ang is None else (PASS if d <= 20 else FAIL),
-                        "" if d is None else f"{d:.1f} deg from the paper's", digits=4))
-    sp = _second_peak(wear) if wear else None
-    checks.append(Check("second wear peak, depth", PAPER["second_peak_mm"], None if sp is None else sp[1], "mm",
-                        "reported (no band)", NA if sp is None else INFO,
-                        "largest wear more than 90 deg from the main peak" if sp else ""))
-    d2 = None if sp is None else _circ_diff(sp[0], PAPER["second_peak_angle_deg"])
-    checks.append(Check("second wear peak, angle", PAPER["second_peak_angle_deg"], None if sp is None else sp[0],
-                        "deg", "within 20 deg", NA if sp is None else (PASS if d2 <= 20 else FAIL),
-                        "" if d2 is None else f"{d2:.1f} deg from the paper's"))
 
-    means = _mean_max_wear(rel) if rel else {}
-    for n, pv in PAPER["mean_max_wear_mm"].items():
-        v = means.get(n)
-        st = NA if v is None else (PASS if abs(v - pv) <= 0.15 * pv else FAIL)
-        checks.append(Check(f"mean of the max wear at {n:,} cycles", pv, v, "mm", "within 15 %", st))
+def reference_values(ref: Mapping | None, quantity: str) -> list[Mapping]:
+    """The reference's values of one quantity, in the order the config gives them."""
+    if not ref:
+        return []
+    return [v for v in ref.get("values") or [] if isinstance(v, Mapping) and v.get("quantity") == quantity]
 
+
+def reference_label(ref: Mapping | None) -> str:
+    """Short name of the reference for figures and tables ('reference' when it has none)."""
+    return str((ref or {}).get("label") or "reference")
+
+
+def _group_key(group: object) -> str:
+    """'tolerances' / 'tolerance' / 'bearing material' -> one key."""
+    g = str(group or "").strip().lower().replace(" ", "_")
+    return g[:-1] if g.endswith("s") else g
+
+
+_GROUP_TITLES = {"tolerance": "tolerances"}
+
+
+def _band_text(band: Mapping | None, unit: str) -> str:
+    if not isinstance(band, Mapping):
+        return "reported (no band)"
+    kind = band.get("kind")
+    u = "" if unit in ("", "-") else f" {unit}"
+    if kind == "absolute":
+        a = _float(band.get("absolute"))
+        return f"within {a:g}{u}" if unit == "deg" else (f"\u00b1{a:g} absolute" if not u else f"\u00b1{a:g}{u}")
+    if kind == "relative":
+        return f"within {100 * _float(band.get('relative')):g} %"
+    if kind == "same_order":
+        return "same order as the reference"
+    lo, hi = _float(band.get("lower")), _float(band.get("upper"))
+    if lo is not None and hi is not None:
+        return f"{lo:g}-{hi:g}{u}"
+    return f"\u2264 {hi:g}{u}" if hi is not None else f"\u2265 {lo:g}{u}"
+
+
+def _judge(ours: float | None, ref: float | None, band: Mapping | None, unit: str) -> str:
+    """PASS / FAIL inside or outside the band, INFO without a band, NA without our number."""
+    if ours is None:
+        return NA
+    if not isinstance(band, Mapping) or ref is None and band.get("kind") in ("absolute", "relative"):
+        return INFO
+    kind = band.get("kind")
+    if kind == "absolute":
+        d = _circ_diff(ours, ref) if unit == "deg" else abs(ours - ref)
+        return PASS if d <= float(band["absolute"]) else FAIL
+    if kind == "relative":
+        return PASS if abs(ours - ref) <= float(band["relative"]) * abs(ref) else FAIL
+    lo, hi = _float(band.get("lower")), _float(band.get("upper"))
+    return PASS if (lo is None or ours >= lo) and (hi is None or ours <= hi) else FAIL
+
+
+def _life_at_target(rel: Mapping, target: float) -> tuple[float | None, float | None]:
+    """(cycles, hours) of the life at ``target`` that reliability.json reports (one record or a list)."""
+    lt = rel.get("life_at_target")
+    records = (lt if isinstance(lt, list) else [lt]) + list(rel.get("life_table") or [])
+    for r in records:
+        if isinstance(r, Mapping):
+            t = _float(r.get("target"))
+            if t is None or abs(t - target) < 1e-12:
+                return _float(r.get("cycles")), _float(r.get("hours"))
+    return None, None
+
+
+def _our_life(rel: Mapping, target: float) -> tuple[float | None, str]:
+    """The study's life at ``target`` (cycles) and a note on how it was read."""
     curve = rel.get("curve") if isinstance(rel.get("curve"), Mapping) else {}
-    for n, pv in PAPER["reliability"].items():
-        v = None
-        if curve.get("cycles") is not None and curve.get("reliability") is not None:
-            v = _interp_at(curve["cycles"], curve["reliability"], n)
-        if n in RELIABILITY_BANDED:
-            st = NA if v is None else (PASS if abs(v - pv) <= 0.15 else FAIL)
-            band = "\u00b10.15 absolute"
-        else:
-            st, band = (NA if v is None else INFO), "reported (no band)"
-        note = "" if v is not None or not curve else "outside the computed curve"
-        if v is not None:
-            note = f"absolute difference {v - pv:+.3f}"
-            err = curve.get("pf_error_estimate")
-            if err is not None and curve.get("cycles") is not None:
-                # the surrogate's estimated error of Pf (= of R) at this N: a pass or fail closer to the band
-                # edge than this is not resolved by the study
-                note += f"; surrogate error estimate {_interp_at(curve['cycles'], err, n):.3f}"
-        checks.append(Check(f"reliability R(N) at {n:,} cycles", pv, v, "-", band, st, note, digits=3))
-
-    life = None
+    life, _h = _life_at_target(rel, target)
     note = ""
-    lt = rel.get("life_at_target") if isinstance(rel.get("life_at_target"), Mapping) else {}
-    if lt and _float(lt.get("target")) in (None, 0.9):
-        life = _float(lt.get("cycles"))
     if life is None and curve.get("cycles") is not None and curve.get("reliability") is not None:
-        life = _life_from_curve(curve["cycles"], curve["reliability"], 0.9)
+        life = _life_from_curve(curve["cycles"], curve["reliability"], target)
         note = "interpolated on the R(N) curve" if life is not None else ""
     if life is not None and curve.get("cycles") is not None and curve.get("reliability") is not None:
         try:
@@ -644,39 +643,139 @@ def paper_checks(data: Mapping[str, Mapping]) -> list[Check]:
             n_first = _float(curve["cycles"][first])
         except (TypeError, ValueError, IndexError):
             r_first = n_first = None
-        if r_first is not None and n_first is not None and r_first < 0.9 and life <= n_first:
-            note = (f"R = {r_first:.3f} < 0.9 already at the first cycle count of the curve "
+        if r_first is not None and n_first is not None and r_first < target and life <= n_first:
+            note = (f"R = {r_first:.3f} < {target:g} already at the first cycle count of the curve "
                     f"({n_first:,.0f}): the life is at most this")
-    checks.append(Check("life at R = 0.9", PAPER["life_cycles"], life, "cycles", "within 15 %",
-                        NA if life is None else (PASS if abs(life - PAPER["life_cycles"]) <= 0.15 *
-                                                 PAPER["life_cycles"] else FAIL), note))
-    hours = _float(lt.get("hours")) if lt else None
-    if hours is None and life is not None:
-        hours = life / (480 * 60)
-    checks.append(Check("life at R = 0.9, hours at 480 rpm", PAPER["life_hours"], hours, "h", "follows the cycles",
-                        NA if hours is None else INFO))
-    calls = _float(rel.get("model_calls")) if rel else None
-    checks.append(Check("true-model calls (whole curve)", PAPER["model_calls"], calls, "calls",
-                        "project goal \u2264 60", NA if calls is None else (PASS if calls <= 60 else FAIL),
-                        "the paper's count is for one N", digits=4))
-    # sensitivity rankings
-    ranks = _rankings(sens) if sens else {}
-    unresolved = _unresolved(sens) if sens else set()
-    for group, paper_rank in PAPER["ranking"].items():
-        ours_rank = [q for _, q, _s, _n in ranks.get(group, []) if q is not None]
-        if not ours_rank:
-            checks.append(Check(f"sensitivity ranking, {group}", None, None, "", "reported", NA,
-                                " > ".join(paper_rank)))
+    return life, note
+
+
+def _ranking_check(sens: Mapping, v: Mapping) -> Check:
+    group = str(v.get("group") or "")
+    title = f"sensitivity ranking, {_GROUP_TITLES.get(_group_key(group), group.replace('_', ' '))}"
+    ref_rank = [str(x) for x in v.get("ranking") or []]
+    band = v.get("band") if isinstance(v.get("band"), Mapping) else None
+    nominal = _float(sens.get("reliability_nominal")) if sens else None
+    variables = [x for x in (sens.get("variables") or []) if isinstance(x, Mapping)] if sens else []
+    labels = {str(x.get("name")): str(x.get("label") or x.get("name")) for x in variables}
+    members = [x for x in variables if _group_key(x.get("group") or _classify(x)[0]) == _group_key(group)]
+    src, just = str(v.get("source") or ""), str((band or {}).get("justification") or "")
+    if nominal is None or not members:
+        return Check(title, None, None, "", _band_text(band, ""), NA, " > ".join(labels.get(n, n) for n in ref_rank),
+                     source=src, justification=just)
+    members.sort(key=lambda x: -_spread(x, nominal))
+    names = [str(x.get("name")) for x in members]
+    ours_rank = [n for n in names if n in ref_rank]
+    ref_shown = [n for n in ref_rank if n in names]
+    same = bool(ours_rank) and ours_rank == ref_shown
+    top = bool(ours_rank) and bool(ref_shown) and ours_rank[0] == ref_shown[0]
+    unresolved = _unresolved(sens)
+    tied = [f"{labels[a]} \u2248 {labels[b]}" for a, b in zip(names, names[1:])
+            if (a, b) in unresolved and a in ref_rank and b in ref_rank]
+    missing = [n for n in ref_rank if n not in names]
+    note = (f"ours: {' > '.join(labels[n] for n in ours_rank)} | reference: "
+            f"{' > '.join(labels.get(n, n) for n in ref_rank)}"
+            + ("" if same else (" (same most influential)" if top else " (differs)"))
+            + (f"; not resolved within the surrogate's error: {', '.join(tied)}" if tied else "")
+            + (f"; not in this study: {', '.join(missing)}" if missing else ""))
+    status = (PASS if same else INFO) if band is not None else INFO
+    return Check(title, None, None, "", _band_text(band, ""), status, note, source=src, justification=just)
+
+
+def reference_checks(data: Mapping[str, Mapping], reference: Mapping | None = None) -> list[Check]:
+    """Every number the reference reports beside the study's, in the order the reference lists them.
+
+    ``reference`` (the ``reference`` of the settings JSON: values in report units) defaults to the one in
+    ``data["config"]``; without a reference there is nothing to compare and the list is empty.
+    """
+    ref = reference if reference is not None else reference_of(data)
+    if not ref:
+        return []
+    wear = data.get("wear") if isinstance(data.get("wear"), Mapping) else {}
+    rel = data.get("reliability") if isinstance(data.get("reliability"), Mapping) else {}
+    sens = data.get("sensitivity") if isinstance(data.get("sensitivity"), Mapping) else {}
+    curve = rel.get("curve") if isinstance(rel.get("curve"), Mapping) else {}
+    means = _mean_max_wear(rel, [_float(v.get("cycles")) for v in reference_values(ref, "mean_max_wear")])
+    sp = _second_peak(wear) if wear else None
+    checks: list[Check] = []
+    for v in ref.get("values") or []:
+        if not isinstance(v, Mapping):
             continue
-        same = ours_rank == paper_rank[: len(ours_rank)]
-        top = ours_rank[0] == paper_rank[0]
-        tied = [f"{a[1]} ≈ {b[1]}" for a, b in zip(ranks.get(group, []), ranks.get(group, [])[1:])
-                if (a[3], b[3]) in unresolved and a[1] and b[1]]
-        checks.append(Check(f"sensitivity ranking, {group}", None, None, "", "same order as the paper",
-                            PASS if same else INFO,
-                            f"ours: {' > '.join(ours_rank)} | paper: {' > '.join(paper_rank)}"
-                            + ("" if same else (" (same most influential)" if top else " (differs)"))
-                            + (f"; not resolved within the surrogate's error: {', '.join(tied)}" if tied else "")))
+        q = v.get("quantity")
+        if q == "sensitivity_ranking":
+            checks.append(_ranking_check(sens, v))
+            continue
+        pv = _float(v.get("value"))
+        n = _float(v.get("cycles"))
+        t = _float(v.get("target_reliability"))
+        band = v.get("band") if isinstance(v.get("band"), Mapping) else None
+        ours, note, digits = None, "", 4
+        if q == "nominal_max_wear" and n is not None:
+            title, unit = f"nominal max bearing wear after {n:,.0f} cycles", "mm"
+            if wear:
+                wc = _float(wear.get("cycles"))
+                if wc == n:
+                    ours = _float(wear.get("max_wear_mm"))
+                else:
+                    h = wear.get("history") or {}
+                    if h.get("cycles") is not None and h.get("max_wear_mm") is not None:
+                        ours = _interp_at(h["cycles"], h["max_wear_mm"], n)
+                        note = "read from the wear history" if ours is not None else ""
+                    if ours is None:
+                        note = f"the wear run stopped at {_num(wc)} cycles" if wc else "no wear result"
+                mode = _geometry_mode(wear)
+                if mode:
+                    note = (note + "; " if note else "") + f"geometry mode: {mode}"
+        elif q == "nominal_max_wear_angle":
+            title, unit = "angle of the max wear", "deg"
+            ours = _float(wear.get("max_wear_angle_deg")) if wear else None
+            if ours is not None and pv is not None:
+                note = f"{_circ_diff(ours, pv):.1f} deg from the reference's"
+        elif q == "second_peak_depth":
+            title, unit = "second wear peak, depth", "mm"
+            ours = None if sp is None else sp[1]
+            note = "largest wear more than 90 deg from the main peak" if sp else ""
+        elif q == "second_peak_angle":
+            title, unit = "second wear peak, angle", "deg"
+            ours = None if sp is None else sp[0]
+            if ours is not None and pv is not None:
+                note = f"{_circ_diff(ours, pv):.1f} deg from the reference's"
+        elif q == "mean_max_wear" and n is not None:
+            title, unit = f"mean of the max wear at {n:,.0f} cycles", "mm"
+            ours = means.get(n)
+        elif q == "reliability" and n is not None:
+            title, unit, digits = f"reliability R(N) at {n:,.0f} cycles", "-", 3
+            if curve.get("cycles") is not None and curve.get("reliability") is not None:
+                ours = _interp_at(curve["cycles"], curve["reliability"], n)
+            note = "" if ours is not None or not curve else "outside the computed curve"
+            if ours is not None and pv is not None:
+                note = f"absolute difference {ours - pv:+.3f}"
+                err = curve.get("pf_error_estimate")
+                e_n = _interp_at(curve["cycles"], err, n) if err is not None else None
+                if e_n is not None:
+                    # the surrogate's estimated error of Pf (= of R) at this N: a pass or fail closer to the
+                    # band edge than this is not resolved by the study
+                    note += f"; surrogate error estimate {e_n:.3f}"
+        elif q == "life_cycles" and t is not None:
+            title, unit = f"life at R = {t:g}", "cycles"
+            ours, note = _our_life(rel, t) if rel else (None, "")
+        elif q == "life_hours" and t is not None:
+            rpm = _float(rel.get("crank_speed_rpm")) if rel else None
+            title, unit = f"life at R = {t:g}, " + (f"hours at {rpm:g} rpm" if rpm else "in hours"), "h"
+            _c, ours = _life_at_target(rel, t) if rel else (None, None)
+            if ours is None and rpm:
+                life, _n = _our_life(rel, t)
+                ours = None if life is None else life / (rpm * 60.0)
+        elif q == "model_calls":
+            title, unit = "true-model calls (whole curve)", "calls"
+            ours = _float(rel.get("model_calls")) if rel else None
+        else:  # a quantity this report does not know (a newer config): listed, not compared
+            title, unit = str(q), str(v.get("unit") or "")
+        extra = str(v.get("note") or "")
+        note = "; ".join(x for x in (note, extra) if x)
+        checks.append(Check(title, pv, ours, unit, _band_text(band, str(v.get("unit") or "")),
+                            _judge(ours, pv, band, str(v.get("unit") or "")), note, digits,
+                            source=str(v.get("source") or ""),
+                            justification=str((band or {}).get("justification") or "")))
     return checks
 
 
@@ -734,29 +833,44 @@ def _settings_section(inp: Inputs, figs: _Figures) -> str:
                                missing="Mechanism sketch: no 'mechanism' geometry in the config dump."))
     parts.append("</div>")
     settings = cfg.get("settings")
-    if isinstance(settings, list):
+    ref = reference_of(inp.data)
+    if isinstance(settings, list) and ref:
         recs = [x for x in settings if isinstance(x, Mapping)]
+        label = reference_label(ref)
 
         def row(x: Mapping) -> tuple:
             open_ = bool(x.get("paper_open"))
-            flag = '<span class="pill open">paper open</span>' if open_ else ""
+            flag = '<span class="pill open">open</span>' if open_ else ""
             src = e(x.get("source") or "\u2014")
             if x.get("description") and x.get("description") != x.get("source"):
                 src += f'<div class="desc">{e(x["description"])}</div>'
             return (e(x.get("name")), e(_num(x.get("value"))), e(x.get("unit") or ""), flag, src)
 
         open_recs = [x for x in recs if x.get("paper_open")]
-        parts.append(f"<h3>Settings the paper leaves open ({len(open_recs)})</h3>")
-        parts.append("<p>Each value below is this project's baseline reading of the paper (see the user guide), "
-                     "not a number printed in the paper; the source says where it comes from.</p>")
+        parts.append(f"<h3>Settings the reference ({e(label)}) leaves open ({len(open_recs)})</h3>")
+        parts.append("<p>Each value below is this project's baseline reading of the reference (see the user guide), "
+                     "not a number printed in it; the source says where it comes from.</p>")
         if open_recs:
             parts.append(_table(["setting", "value", "unit", "", "source"], [row(x) for x in open_recs],
                                 cls="settings", raw_cols=(0, 1, 2, 3, 4), row_cls=["open"] * len(open_recs)))
         else:
-            parts.append(_missing("No setting is marked paper_open in the config dump."))
+            parts.append(_missing("No setting is marked as left open by the reference in the config dump."))
         parts.append(f"<details><summary>All {len(recs)} settings of this study</summary>")
         parts.append(_table(["setting", "value", "unit", "", "source"], [row(x) for x in recs], cls="settings",
                             raw_cols=(0, 1, 2, 3, 4), row_cls=["open" if x.get("paper_open") else "" for x in recs]))
+        parts.append("</details>")
+    elif isinstance(settings, list):
+        # no reference: the study's own values; where a default comes from is documented in docs/config.md
+        recs = [x for x in settings if isinstance(x, Mapping)]
+        given = {True: "the config", False: "jointwear default", None: "\u2014"}
+        rows = [(str(x.get("name")), _num(x.get("value")), str(x.get("unit") or ""),
+                 given[x.get("explicit") if isinstance(x.get("explicit"), bool) else None]) for x in recs]
+        n_set = sum(x.get("explicit") is True for x in recs)
+        parts.append(f"<h3>Settings of this study ({len(recs)}, {n_set} given in the config)</h3>")
+        parts.append("<p>Values not given in the config are jointwear's defaults; <code>jointwear check CONFIG</code> "
+                     "prints them and docs/config.md says where each comes from.</p>")
+        parts.append(f"<details open><summary>All {len(recs)} settings of this study</summary>")
+        parts.append(_table(["setting", "value", "unit", "from"], rows, cls="settings"))
         parts.append("</details>")
     else:
         flat = [(k, v) for k, v in _flatten({k: v for k, v in cfg.items() if k not in ("citation",)})]
@@ -856,21 +970,27 @@ def _wear_section(inp: Inputs, figs: _Figures) -> str:
     parts.append(figs.draw(
         None if ang is None else (lambda: F.wear_polar_figure(ang, depth, radius_mm=radius, peaks=wear.get("peaks"),
                                                               cycles=cycles)),
-        "Bearing wear profile over the initial circle (as the paper's Fig. 18); the radial exaggeration factor "
+        "Bearing wear profile over the initial circle; the radial exaggeration factor "
         "is written on the figure.", png_keys=("polar",),
         missing="Polar wear profile: no profile (wear.json 'profile')."))
     h = wear.get("history") if isinstance(wear.get("history"), Mapping) else {}
     rel = inp.data.get("reliability") or {}
     mm = rel.get("mean_max_wear_mm") if isinstance(rel.get("mean_max_wear_mm"), Mapping) else {}
-    limit = _limit_mm(wear, rel)
+    limit = _limit_mm(inp.data.get("config") or {}, rel, wear)
+    ref = reference_of(inp.data)
+    label = reference_label(ref)
+    ref_mean = {_float(v.get("cycles")): _float(v.get("value")) for v in reference_values(ref, "mean_max_wear")}
+    nominal = next(((_float(v.get("cycles")), _float(v.get("value")))
+                    for v in reference_values(ref, "nominal_max_wear")), None)
     hc, hw = h.get("cycles"), h.get("max_wear_mm")
     parts.append(figs.draw(
         None if hc is None or hw is None else (lambda: F.wear_history_figure(
             hc, hw, limit_mm=limit, mean_cycles=mm.get("cycles"), mean_max_wear_mm=mm.get("mean"),
-            paper_mean=PAPER["mean_max_wear_mm"], paper_nominal=(PAPER["nominal_cycles"],
-                                                                 PAPER["nominal_max_wear_mm"]))),
-        "Max bearing wear against cycles: the nominal design, the Monte Carlo mean (if computed) and the "
-        "paper's values.", png_keys=("history",), missing="Wear history: no history (wear.json 'history')."))
+            reference_mean=ref_mean or None, reference_nominal=nominal, reference_label=label)),
+        "Max bearing wear against cycles: the nominal design, the Monte Carlo mean (if computed)"
+        + (f", the values of the reference ({label})" if ref_mean or nominal else "")
+        + (f" and the configured allowance ({limit:g} mm, dashed)." if limit is not None else "."),
+        png_keys=("history",), missing="Wear history: no history (wear.json 'history')."))
     parts.append("</div>")
     # Fig. 17 panels: JSON profile columns first, then CSV columns on an angle grid
     series = {}
@@ -892,10 +1012,10 @@ def _wear_section(inp: Inputs, figs: _Figures) -> str:
             contact_area_mm2=series.get("contact_area_mm2", (None, None))[1],
             area_angle_deg=series.get("contact_area_mm2", (None, None))[0]),
             "Relative slip distance, contact force, contact area and bearing wear depth against the angle on the "
-            "bearing (as the paper's Fig. 17).", png_keys=("fig17", "panels", "vs_angle"), wide=True))
+            "bearing.", png_keys=("fig17", "panels", "vs_angle"), wide=True))
     else:
-        parts.append(figs.draw(None, "Fig. 17 panels", png_keys=("fig17", "panels", "vs_angle"),
-                               missing="Fig. 17 panels: no wear profile."))
+        parts.append(figs.draw(None, "Wear panels", png_keys=("fig17", "panels", "vs_angle"),
+                               missing="Wear against the angle (slip, force, area, depth): no wear profile."))
     peaks = [p for p in wear.get("peaks") or [] if isinstance(p, Mapping)]
     if peaks:
         parts.append("<h3>Wear peaks</h3>")
@@ -914,7 +1034,9 @@ def _reliability_section(inp: Inputs, figs: _Figures) -> str:
         return _missing(inp.errors.get("reliability") or "No reliability.json in this folder: the reliability study "
                                                          "has not been run (jointwear reliability).")
     parts: list[str] = []
-    lt = rel.get("life_at_target") if isinstance(rel.get("life_at_target"), Mapping) else {}
+    lt = rel.get("life_at_target")
+    lt = next((x for x in lt if isinstance(x, Mapping)), {}) if isinstance(lt, list) else lt
+    lt = lt if isinstance(lt, Mapping) else {}
     curve = rel.get("curve") if isinstance(rel.get("curve"), Mapping) else {}
     target = _float(lt.get("target"))
     life = _float(lt.get("cycles"))
@@ -943,13 +1065,19 @@ def _reliability_section(inp: Inputs, figs: _Figures) -> str:
     ]
     parts.append(_cards(cards))
     cyc, r = curve.get("cycles"), curve.get("reliability")
+    ref = reference_of(inp.data)
+    label = reference_label(ref)
+    ref_r = {_float(v.get("cycles")): _float(v.get("value")) for v in reference_values(ref, "reliability")}
+    ref_life = next((_float(v.get("value")) for v in reference_values(ref, "life_cycles")
+                     if target is not None and _float(v.get("target_reliability")) == target), None)
     parts.append('<div class="grid">')
     parts.append(figs.draw(
         None if cyc is None or r is None else (lambda: F.reliability_curve_figure(
-            cyc, r, pf_cov=curve.get("pf_cov"), target=target, life_cycles=life, paper=PAPER["reliability"],
-            paper_life=PAPER["life_cycles"])),
-        "Reliability R(N) with a 95 % band from the COV of Pf, the target and the life; crosses: the paper's "
-        "values (Fig. 21).", png_keys=("reliability", "r_n", "rn_curve"),
+            cyc, r, pf_cov=curve.get("pf_cov"), target=target, life_cycles=life, reference=ref_r or None,
+            reference_life=ref_life, reference_label=label)),
+        "Reliability R(N) with a 95 % band from the COV of Pf, the target and the life"
+        + (f"; crosses: the values of the reference ({label})." if ref_r else "."),
+        png_keys=("reliability", "r_n", "rn_curve"),
         missing="R(N): no curve (reliability.json 'curve')."))
     conv = rel.get("convergence") if isinstance(rel.get("convergence"), Mapping) else {}
     cn, cp = conv.get("n_calls"), conv.get("pf")
@@ -961,12 +1089,15 @@ def _reliability_section(inp: Inputs, figs: _Figures) -> str:
         missing="Convergence of Pf: not recorded (reliability.json 'convergence')."))
     parts.append("</div>")
     hist = rel.get("histograms") if isinstance(rel.get("histograms"), Mapping) else {}
-    limit = _limit_mm(inp.data.get("wear") or {}, rel)
+    limit = _limit_mm(inp.data.get("config") or {}, rel, inp.data.get("wear") or {})
+    ref_mean = {_float(v.get("cycles")): _float(v.get("value")) for v in reference_values(ref, "mean_max_wear")}
     parts.append(figs.draw(
         None if not hist.get("cycles") or not hist.get("max_wear_mm") else (lambda: F.wear_histograms_figure(
-            hist["cycles"], hist["max_wear_mm"], limit_mm=limit, paper_means=PAPER["mean_max_wear_mm"])),
-        "Distribution of the max wear over the random inputs (as the paper's Fig. 20); solid line: mean, dotted: "
-        "the paper's mean, dashed: the allowable wear.", png_keys=("histogram",), wide=True,
+            hist["cycles"], hist["max_wear_mm"], limit_mm=limit, reference_means=ref_mean or None,
+            reference_label=label)),
+        "Distribution of the max wear over the random inputs; solid line: mean"
+        + (f", dotted: the mean the reference reports ({label})" if ref_mean else "")
+        + ", dashed: the allowable wear.", png_keys=("histogram",), wide=True,
         missing="Max wear histograms: not recorded (reliability.json 'histograms')."))
     if cyc is not None and r is not None:
         rows = []
@@ -1001,8 +1132,8 @@ def _sensitivity_section(inp: Inputs, figs: _Figures) -> str:
     hi_f = 1.2 if hi_f is None else hi_f
     lead = (f"Reliability at {cyc:,.0f} cycles" if cyc else "Reliability") + (
         f" (nominal {nominal:.3f})" if nominal is not None else "") + \
-        f" when the mean of each variable is moved to {lo_f * 100:g} % and to {hi_f * 100:g} % of its value, the others fixed " \
-        "(the paper's Figs. 22-24)."
+        f" when the mean of each variable is moved to {lo_f * 100:g} % and to {hi_f * 100:g} % of its value, the others " \
+        "fixed."
     parts.append(f"<p>{e(lead)}</p>")
     if variables and nominal is not None:
         groups: dict[str, list[Mapping]] = {}
@@ -1038,13 +1169,25 @@ def _sensitivity_section(inp: Inputs, figs: _Figures) -> str:
         parts.append("</details>")
         ranks = _rankings(sens)
         unresolved = _unresolved(sens)
+        ref = reference_of(inp.data)
+        labels = {str(v.get("name")): str(v.get("label") or v.get("name")) for v in variables}
+        ref_ranks = {_group_key(v.get("group")): [labels.get(str(n), str(n)) for n in v.get("ranking") or []]
+                     for v in reference_values(ref, "sensitivity_ranking")}
         rrows = []
         for g, items in ranks.items():
-            paper = PAPER["ranking"].get(g)
-            rrows.append((g, _ranking_text(items, unresolved), " > ".join(paper) if paper else "\u2014"))
-        parts.append("<h3>Ranking beside the paper's</h3>")
-        parts.append(_table(["group", "this study (largest change of R first; \u2248: the difference is within the "
-                             "surrogate's error estimate of the two reliabilities)", "paper"], rrows, cls="kv"))
+            row = (g, _ranking_text(items, unresolved))
+            if ref:
+                theirs = ref_ranks.get(_group_key(g))
+                row += (" > ".join(theirs) if theirs else "\u2014",)
+            rrows.append(row)
+        head = ["group", "this study (largest change of R first; \u2248: the difference is within the surrogate's "
+                "error estimate of the two reliabilities)"]
+        if ref:
+            parts.append(f"<h3>Ranking beside the reference's ({e(reference_label(ref))})</h3>")
+            parts.append(_table(head + [reference_label(ref)], rrows, cls="kv"))
+        else:
+            parts.append("<h3>Ranking</h3>")
+            parts.append(_table(head, rrows, cls="kv"))
     else:
         parts.append(figs.draw(None, "Tornado", png_keys=("tornado",),
                                missing="Tornado: no per-variable reliabilities (sensitivity.json 'variables', "
@@ -1064,24 +1207,68 @@ def _sensitivity_section(inp: Inputs, figs: _Figures) -> str:
     return "".join(parts)
 
 
-def _comparison_section(checks: Sequence[Check]) -> str:
+def _comparison_section(checks: Sequence[Check], ref: Mapping) -> str:
+    label = reference_label(ref)
     rows, classes = [], []
     for c in checks:
         rd = c.rel_diff
         unit = "" if c.unit in ("-", "") else f" {c.unit}"
-        rows.append((e(c.quantity), e("\u2014" if c.paper is None else _num(c.paper, c.digits) + unit),
+        band = e(c.band) + (f'<div class="desc">{e(c.justification)}</div>' if c.justification else "")
+        rows.append((e(c.quantity), e("\u2014" if c.reference is None else _num(c.reference, c.digits) + unit),
                      e("\u2014" if c.ours is None else _num(c.ours, c.digits) + unit),
-                     e("\u2014" if rd is None else f"{rd * 100:+.1f} %"), e(c.band), _pill(c.status), e(c.note)))
+                     e("\u2014" if rd is None else f"{rd * 100:+.1f} %"), band, _pill(c.status), e(c.note),
+                     e(c.source)))
         classes.append(c.status.replace("/", ""))
     n_pass = sum(c.status == PASS for c in checks)
     n_fail = sum(c.status == FAIL for c in checks)
     n_na = sum(c.status == NA for c in checks)
-    head = (f"<p><b>{n_pass}</b> within their band, <b>{n_fail}</b> outside, <b>{n_na}</b> without data. Bands: "
-            "the project's acceptance criteria (R(N) \u00b10.15 absolute; life and mean max wear \u00b115 %; nominal "
-            "max wear 0.021-0.029 mm; peak angles within 20 deg). Paper values: Jin et al. 2025, Section 6 "
-            "(\"36,000\" cycles in its text read as 360,000).</p>")
-    return head + _table(["quantity", "paper", "this study", "relative difference", "band", "status", "note"],
-                         rows, cls="compare", raw_cols=(0, 1, 2, 3, 4, 5, 6), row_cls=classes)
+    head = (f"<p><b>{n_pass}</b> within their band, <b>{n_fail}</b> outside, <b>{n_na}</b> without data. "
+            f"Reference values: {e(ref.get('citation') or label)}; each row names the table, figure or section it "
+            "comes from, and each band says why it is that wide (the config's <code>[reference]</code>).")
+    if ref.get("note"):
+        head += f" {e(ref['note'])}"
+    head += "</p>"
+    return head + _table(["quantity", label, "this study", "relative difference", "band", "status", "note",
+                          "source"], rows, cls="compare", raw_cols=(0, 1, 2, 3, 4, 5, 6, 7), row_cls=classes)
+
+
+def _summary_cards(inp: Inputs, checks: Sequence[Check], ref: Mapping | None) -> str:
+    """Key numbers of the study; with a reference, how many of its numbers are within their bands."""
+    wear = inp.data.get("wear") if isinstance(inp.data.get("wear"), Mapping) else {}
+    rel = inp.data.get("reliability") if isinstance(inp.data.get("reliability"), Mapping) else {}
+    cards: list[tuple[str, str, str | None]] = []
+    if ref:
+        n_pass = sum(c.status == PASS for c in checks)
+        n_fail = sum(c.status == FAIL for c in checks)
+        n_banded = sum(c.status in (PASS, FAIL) for c in checks)
+        cards.append((f"checks against {reference_label(ref)}", f"{n_pass} / {n_banded}" if n_banded else "\u2014",
+                      f"{n_fail} outside the band" if n_banded else "no results yet"))
+
+    def ref_note(quantity: str, **match) -> str | None:
+        for v in reference_values(ref, quantity):
+            if all(_float(v.get(k)) == x for k, x in match.items()) and _float(v.get("value")) is not None:
+                unit = "" if not v.get("unit") else f" {v['unit']}"
+                return f"{reference_label(ref)}: {_num(_float(v['value']))}{unit}"
+        return None
+
+    wc = _float(wear.get("cycles")) if wear else None
+    wmax = _float(wear.get("max_wear_mm")) if wear else None
+    cards.append((f"nominal max wear, {wc:,.0f} cycles" if wc else "nominal max wear",
+                  "\u2014" if wmax is None else f"{wmax:.4g} mm",
+                  ref_note("nominal_max_wear", cycles=wc) if wc else None))
+    lt = rel.get("life_at_target") if rel else None
+    lt = next((x for x in lt if isinstance(x, Mapping)), None) if isinstance(lt, list) else lt
+    if isinstance(lt, Mapping) and _float(lt.get("target")) is not None:
+        t = _float(lt["target"])
+        life, note = _our_life(rel, t)
+        cards.append((f"life at R = {t:g}", "\u2014" if life is None else
+                      ("\u2264 " if "at most" in note else "") + f"{life:,.0f} cycles",
+                      ref_note("life_cycles", target_reliability=t)))
+    else:
+        cards.append(("life at the target R", "\u2014", "no reliability result"))
+    cards.append(("true-model calls", _num(rel.get("model_calls")) if rel else "\u2014",
+                  ref_note("model_calls") or "reliability analysis"))
+    return _cards(cards).replace('class="cards"', 'class="cards summary"', 1)
 
 
 def _files_section(inp: Inputs) -> str:
@@ -1166,16 +1353,19 @@ def build_report(out_dir: Path | str, *, output: Path | str | None = None, title
     inp = read_inputs(out_dir)
     figs = _Figures(inp)
     cfg = inp.data.get("config") or {}
-    checks = paper_checks(inp.data)
+    ref = reference_of(inp.data)
+    checks = reference_checks(inp.data, ref) if ref else []
+    label = reference_label(ref)
 
     sections = [
-        ("comparison", "Comparison with the paper", lambda: _comparison_section(checks),
-         "Every reproduced number beside the reference paper's."),
+        *([("comparison", f"Comparison with {label}", lambda: _comparison_section(checks, ref),
+            f"Every number the reference reports beside this study's ({label}).")] if ref else []),
         ("study", "Study and settings", lambda: _settings_section(inp, figs),
-         "The mechanism and every setting of this study; settings the paper leaves open are flagged with the "
-         "source of the value chosen."),
+         "The mechanism and every setting of this study" + (
+             f"; settings the reference ({label}) leaves open are flagged with the source of the value chosen."
+             if ref else ".")),
         ("dynamics", "Dynamics of the clearance joint", lambda: _dynamics_section(inp, figs),
-         "Journal motion and contact force in the revolute clearance joint (crank pin in the rod eye)."),
+         "Journal motion and contact force in the revolute clearance joint."),
         ("wear", "Wear of the joint", lambda: _wear_section(inp, figs),
          "Archard wear on the bearing; angles in the bearing frame, 0 deg at the leftmost point, clockwise."),
         ("reliability", "Wear reliability", lambda: _reliability_section(inp, figs),
@@ -1201,21 +1391,7 @@ def build_report(out_dir: Path | str, *, output: Path | str | None = None, title
                                '<div class="grid">' + "".join(extra) + "</div>",
                                "PNG files found in the output folder that the sections above do not show."))
 
-    n_pass = sum(c.status == PASS for c in checks)
-    n_fail = sum(c.status == FAIL for c in checks)
-    n_banded = sum(c.status in (PASS, FAIL) for c in checks)
-    life = next((c for c in checks if c.quantity == "life at R = 0.9"), None)
-    r400 = next((c for c in checks if c.quantity.startswith("reliability R(N) at 400,000")), None)
-    wmax = checks[0]
-    summary = _cards([
-        ("checks against the paper", f"{n_pass} / {n_banded}" if n_banded else "\u2014",
-         f"{n_fail} outside the band" if n_banded else "no results yet"),
-        ("nominal max wear, 400k", "\u2014" if wmax.ours is None else f"{wmax.ours:.4f} mm", "paper 0.0249 mm"),
-        ("R at 400k cycles", "\u2014" if r400 is None or r400.ours is None else f"{r400.ours:.3f}", "paper 0.739"),
-        ("life at R = 0.9", "\u2014" if life is None or life.ours is None else
-         ("\u2264 " if "at most" in life.note else "") + f"{life.ours:,.0f} cycles",
-         "paper 371,640 cycles"),
-    ]).replace('class="cards"', 'class="cards summary"', 1)
+    summary = _summary_cards(inp, checks, ref)
 
     preset = cfg.get("preset")
     source = cfg.get("source")
@@ -1225,6 +1401,11 @@ def build_report(out_dir: Path | str, *, output: Path | str | None = None, title
         "generated " + _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
     ] if x)
     page_title = title or "jointwear study report"
+    cited = cfg.get("citation")
+    summary_lead = "".join([
+        f'<p class="lead">Source of the study\'s data: {e(cited)}</p>' if cited else "",
+        f'<p class="lead">Compared with: {e(ref.get("citation") or label)}</p>' if ref else
+        '<p class="lead">The study declares no reference results ([reference]); nothing is compared.</p>'])
     nav = "".join(f'<a href="#{e(sid)}">{e(t)}</a>' for sid, t, _b, _l in bodies)
     main = "".join(_section(sid, t, b, lead=lead) for sid, t, b, lead in bodies)
     try:
@@ -1247,7 +1428,7 @@ def build_report(out_dir: Path | str, *, output: Path | str | None = None, title
 <nav><div class="wrap">{nav}</div></nav>
 <main><div class="wrap">
 <section id="summary"><h2>Summary</h2>{summary}
-<p class="lead">Reference: {e(PAPER['citation'])}</p></section>
+{summary_lead}</section>
 {main}
 </div></main>
 <footer>jointwear {e(version)} \u00b7 {figs.count} figures embedded \u00b7 self-contained page: no scripts, no external

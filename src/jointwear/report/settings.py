@@ -10,7 +10,19 @@ Contract (every key optional; the report lists whatever is there)::
                    "pivot_mm": [11.5, 38.0], "branch": 1, "clearance_joint": "A"},
      "settings": [{"name": "clearance_joints[0].friction.mu_d", "value": 0.1, "unit": null,
                    "source": "<the field's docstring: where the value comes from>",
-                   "paper_open": true, "description": "..."}, ...]}
+                   "paper_open": true, "description": "...",
+                   "explicit": false}, ...],           # given in the config (true) or a default (false)
+     "allowance_mm": 0.03,                           # the limit state's allowable wear (every joint) and
+     "allowances_mm": {"E": 0.04},                   # per-joint overrides, from [reliability]
+     "reference": null | {"citation": "...", "label": "Jin et al. 2025", "note": "...",
+                          "values": [{"quantity": "reliability", "value": 0.739, "unit": "", "cycles": 400000,
+                                      "target_reliability": null, "group": null, "ranking": null,
+                                      "source": "Section 6.2.2 and Fig. 21", "note": "",
+                                      "band": {"kind": "absolute", "absolute": 0.15, "relative": null,
+                                               "lower": null, "upper": null, "justification": "..."}}, ...]}}
+
+``reference`` is the config's ``[reference]`` (:class:`jointwear.reference.ReferenceData`) in report units (mm,
+deg, h); the report compares with it, and only with it: without one there is no comparison.
 
 :func:`settings_dump` builds it from the validated pydantic config (and any stage settings models), so each
 setting carries the description its field already has; :func:`write_settings` writes it. A field is marked
@@ -81,21 +93,24 @@ def _plain(v: Any) -> Any:
         return str(v)
 
 
-def settings_records(model: Any, prefix: str = "") -> list[dict]:
-    """Flatten a pydantic model into ``{"name", "value", "unit", "source", "paper_open", "description"}``."""
+def settings_records(model: Any, prefix: str = "", *, explicit: bool = True) -> list[dict]:
+    """Flatten a pydantic model into ``{"name", "value", "unit", "source", "paper_open", "description",
+    "explicit"}``; ``explicit`` is whether the config gave the value (False: a default)."""
     from pydantic import BaseModel
 
     out: list[dict] = []
     fields = type(model).model_fields
+    given = getattr(model, "model_fields_set", set())
     for name, info in fields.items():
         value = getattr(model, name)
         full = f"{prefix}.{name}" if prefix else name
+        here = explicit and name in given
         if isinstance(value, BaseModel):
-            out += settings_records(value, full)
+            out += settings_records(value, full, explicit=here)
             continue
         if isinstance(value, (list, tuple)) and value and all(isinstance(v, BaseModel) for v in value):
             for i, v in enumerate(value):
-                out += settings_records(v, f"{full}[{i}]")
+                out += settings_records(v, f"{full}[{i}]", explicit=here)
             continue
         extra = info.json_schema_extra if isinstance(info.json_schema_extra, Mapping) else {}
         unit = extra.get("unit")
@@ -108,6 +123,7 @@ def settings_records(model: Any, prefix: str = "") -> list[dict]:
             "source": extra.get("source") or desc,
             "paper_open": is_paper_open(desc, extra),
             "description": desc if extra.get("source") else "",
+            "explicit": here,
         })
     return out
 
@@ -142,7 +158,8 @@ def settings_dump(config: Any, *sections: tuple[str, Any], preset: str | None = 
     from jointwear import __version__
 
     name = getattr(config, "name", None)
-    settings = [r for r in settings_records(config) if r["name"] not in ("name", "citation", "description")]
+    settings = [r for r in settings_records(config) if r["name"] not in ("name", "citation", "description")
+                and not r["name"].startswith("reference")]
     for sec_name, model in sections:
         if model is not None:
             settings += settings_records(model, sec_name)
@@ -156,7 +173,29 @@ def settings_dump(config: Any, *sections: tuple[str, Any], preset: str | None = 
     mech = _mechanism(config)
     if mech:
         out["mechanism"] = mech
+    out.update(_allowances(config))
     out["settings"] = settings
+    ref = getattr(config, "reference", None)
+    out["reference"] = ref.report_dict() if hasattr(ref, "report_dict") else None
+    return out
+
+
+def _allowances(config: Any) -> dict:
+    """The limit state's allowable wear in mm: ``allowance_mm`` of the first judged joint (the one the report's
+    wear figures show) and ``allowances_mm`` of every judged joint, by name, as the study resolves them."""
+    try:
+        from jointwear.study.limit_state import limit_state_from_config
+
+        limit = limit_state_from_config(config)
+    except Exception:  # not a StudyConfig, or a limit state the study itself will reject with its own message
+        return {}
+    names = list(getattr(limit, "names", []) or [])
+    allowances = [float(f"{float(a) * 1e3:.12g}") for a in getattr(limit, "allowances", ())]
+    if not allowances or not all(math.isfinite(a) for a in allowances):
+        return {}
+    out: dict[str, Any] = {"allowance_mm": allowances[0]}
+    if len(names) == len(allowances):
+        out["allowances_mm"] = dict(zip(names, allowances))
     return out
 
 

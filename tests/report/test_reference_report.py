@@ -1,0 +1,155 @@
+"""The report is about the user's study: a comparison, reference points and bands only when the config
+declares a [reference] (the six-bar has none; the flapping-wing preset cites Jin et al. 2025)."""
+
+from __future__ import annotations
+
+import html
+import json
+import re
+from pathlib import Path
+
+import pytest
+from report_fixtures import make_fixture_dir
+
+from jointwear.config import load_config
+from jointwear.report import build_report
+from jointwear.report import figures as F
+from jointwear.report.compare import comparison_markdown, main
+from jointwear.report.html import FAIL, INFO, NA, PASS, read_inputs, reference_checks
+from jointwear.report.settings import write_settings
+
+STAGES = ("simulate", "wear", "reliability", "sensitivity")
+
+
+def _text(page: str) -> str:
+    """The page without its embedded PNGs (base64 text can spell any short word by chance)."""
+    return re.sub(r'src="data:image/png;base64,[^"]*"', 'src=""', page)
+
+
+class _Spy:
+    """Records the keyword arguments of the figure functions the report calls."""
+
+    def __init__(self, monkeypatch):
+        self.calls: dict[str, dict] = {}
+        for name in ("reliability_curve_figure", "wear_history_figure", "wear_histograms_figure"):
+            original = getattr(F, name)
+
+            def spy(*args, _name=name, _original=original, **kw):
+                self.calls[_name] = kw
+                return _original(*args, **kw)
+
+            monkeypatch.setattr(F, name, spy)
+
+
+def _study(tmp_path: Path, preset: str) -> Path:
+    """Synthetic stage outputs with the settings JSON the `run` command writes for ``preset``."""
+    d = make_fixture_dir(tmp_path / preset, which=STAGES, reference=False)
+    write_settings(d, load_config(preset), preset=preset, source="preset")
+    return d
+
+
+def test_six_bar_report_has_no_reference(tmp_path, monkeypatch):
+    d = _study(tmp_path, "watt_six_bar_two_clearances")
+    settings = json.loads((d / "config.json").read_text())
+    assert settings["reference"] is None
+    assert settings["allowance_mm"] == pytest.approx(0.02)  # the preset's [reliability] allowance_mm
+    spy = _Spy(monkeypatch)
+    page = _text(build_report(d).read_text(encoding="utf-8"))
+    assert 'id="comparison"' not in page
+    assert not re.search(r"\bJin\b", page) and "paper" not in page.lower() and "Drones" not in page
+    assert "declares no reference results" in page
+    assert spy.calls["reliability_curve_figure"]["reference"] is None
+    assert spy.calls["reliability_curve_figure"]["reference_life"] is None
+    history = spy.calls["wear_history_figure"]
+    assert history["reference_mean"] is None and history["reference_nominal"] is None
+    assert history["limit_mm"] == pytest.approx(0.02)  # the configured allowance, not 0.01 D = 0.06 mm
+    assert spy.calls["wear_histograms_figure"]["reference_means"] is None
+    assert reference_checks(read_inputs(d).data) == []
+    assert main([str(d)]) == 1  # nothing to compare
+    with pytest.raises(LookupError):
+        comparison_markdown(d)
+
+
+def test_flapping_wing_report_compares_with_its_reference(tmp_path, monkeypatch):
+    d = _study(tmp_path, "jin2025_flapping_wing")
+    ref = load_config("jin2025_flapping_wing").reference
+    spy = _Spy(monkeypatch)
+    page = build_report(d).read_text(encoding="utf-8")
+    assert 'id="comparison"' in page and "Comparison with Jin et al. 2025" in page
+    rn = spy.calls["reliability_curve_figure"]
+    assert rn["reference"] == {v.cycles: v.value for v in ref.values if v.quantity == "reliability"}
+    assert rn["reference_life"] == 371_640 and rn["reference_label"] == "Jin et al. 2025"
+    assert spy.calls["wear_history_figure"]["reference_nominal"] == (400_000, pytest.approx(0.0249))
+    assert spy.calls["wear_histograms_figure"]["reference_means"] == {
+        360_000: pytest.approx(0.0256), 400_000: pytest.approx(0.0285), 440_000: pytest.approx(0.0313)}
+    assert spy.calls["wear_history_figure"]["limit_mm"] == pytest.approx(0.03)
+    # every row names where its number comes from
+    for c in reference_checks(read_inputs(d).data):
+        assert c.source and html.escape(c.source) in page
+
+
+# Statuses of the synthetic flapping-wing fixture under the report's former hard-coded PAPER dict and
+# paper_checks (recorded from that code on the same fixture): the preset's [reference] must give the same.
+FORMER_STATUSES = [
+    ("nominal max bearing wear after 400,000 cycles", PASS), ("angle of the max wear", PASS),
+    ("second wear peak, depth", INFO), ("second wear peak, angle", PASS),
+    ("mean of the max wear at 360,000 cycles", PASS), ("mean of the max wear at 400,000 cycles", PASS),
+    ("mean of the max wear at 440,000 cycles", PASS), ("reliability R(N) at 360,000 cycles", PASS),
+    ("reliability R(N) at 400,000 cycles", PASS), ("reliability R(N) at 420,000 cycles", INFO),
+    ("reliability R(N) at 520,000 cycles", PASS), ("life at R = 0.9", PASS),
+    ("life at R = 0.9, in hours", INFO), ("true-model calls (whole curve)", PASS),
+    ("sensitivity ranking, tolerances", PASS), ("sensitivity ranking, journal material", PASS),
+    ("sensitivity ranking, bearing material", PASS),
+]
+
+
+def test_flapping_wing_checks_as_before(study_dir):
+    checks = reference_checks(read_inputs(study_dir).data)
+    assert [(c.quantity, c.status) for c in checks] == FORMER_STATUSES
+    assert {c.band for c in checks} >= {"0.021-0.029 mm", "within 20 deg", "within 15 %", "\u00b10.15 absolute",
+                                        "reported (no band)", "\u2264 60", "same order as the reference"}
+
+
+def test_bands_decide_the_status(tmp_path):
+    """Each kind of band, at and beyond its edge (the edges are the preset's: 0.021-0.029 mm, 20 deg, 15 %)."""
+    d = make_fixture_dir(tmp_path, which=("wear", "reliability"))
+    data = read_inputs(d).data
+
+    def status(quantity_prefix: str, **wear_or_rel) -> str:
+        for key, value in wear_or_rel.items():
+            stage, field = key.split("__")
+            data[stage][field] = value
+        return next(c.status for c in reference_checks(data) if c.quantity.startswith(quantity_prefix))
+
+    assert status("nominal max", wear__max_wear_mm=0.029) == PASS
+    assert status("nominal max", wear__max_wear_mm=0.0291) == FAIL
+    assert status("angle of the max wear", wear__max_wear_angle_deg=90.0) == PASS  # 20 deg exactly
+    assert status("angle of the max wear", wear__max_wear_angle_deg=89.0) == FAIL
+    assert status("angle of the max wear", wear__max_wear_angle_deg=-250.0) == PASS  # = 110 deg round the circle
+    assert status("true-model calls", reliability__model_calls=60) == PASS
+    assert status("true-model calls", reliability__model_calls=61) == FAIL
+    data["reliability"].pop("model_calls")
+    assert status("true-model calls") == NA
+
+
+def test_reference_declared_in_a_users_config(tmp_path):
+    """A user's own [reference]: its label heads the comparison, its values and bands decide."""
+    from jointwear.reference import ReferenceData
+
+    ref = ReferenceData.model_validate({
+        "citation": "A. Author, Some Journal 2030, Table 3", "label": "Author 2030",
+        "values": [{"quantity": "reliability", "cycles": 400_000, "value": 0.5, "source": "Table 3",
+                    "band": {"relative": 0.1, "justification": "test"}},
+                   {"quantity": "nominal_max_wear", "cycles": 400_000, "value_um": 25.0, "source": "Fig. 2"}]})
+    d = make_fixture_dir(tmp_path, which=STAGES, reference=False)
+    cfg = json.loads(json.dumps({"preset": None, "reference": ref.report_dict()}))
+    (d / "config.json").write_text(json.dumps(cfg))
+    checks = reference_checks(read_inputs(d).data)
+    assert [c.quantity for c in checks] == ["reliability R(N) at 400,000 cycles",
+                                            "nominal max bearing wear after 400,000 cycles"]
+    assert checks[0].status == FAIL  # the fixture's R(400k) is 0.742, 48 % above 0.5
+    assert checks[1].reference == pytest.approx(0.025) and checks[1].status == INFO  # um -> mm, no band
+    md = comparison_markdown(d)
+    assert md.startswith("| quantity | Author 2030 | jointwear |") and "| Table 3 |" in md
+    page = _text(build_report(d).read_text(encoding="utf-8"))
+    assert "Comparison with Author 2030" in page and "Jin" not in page
