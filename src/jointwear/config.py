@@ -30,7 +30,7 @@ from pydantic import (
     model_validator,
 )
 
-from jointwear.reference import ReferenceData
+from jointwear.reference import AcceptanceBand, ReferenceData, ReferenceValue
 from jointwear.schema import ConfigError, F, SIModel
 from jointwear.study_settings import (
     ComputeSettings,
@@ -779,6 +779,9 @@ def config_reference_markdown() -> str:
         ("reliability", ReliabilitySettings),
         ("sensitivity", SensitivitySettings),
         ("compute", ComputeSettings),
+        ("reference", ReferenceData),
+        ("[[reference.values]]", ReferenceValue),
+        ("reference.values.band", AcceptanceBand),
     ]
     for title, model in sections:
         lines += [f"## {title}", "", (model.__doc__ or "").strip().splitlines()[0], "",
