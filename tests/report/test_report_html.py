@@ -180,3 +180,21 @@ def test_ranking_marks_neighbours_the_surrogate_does_not_separate(tmp_path: Path
     page = build_report(d).read_text(encoding="utf-8")
     assert ("bearing Brinell hardness &gt; bearing wear coefficient &gt; bearing Young&#x27;s modulus \u2248 "
             "bearing Poisson&#x27;s ratio") in page
+
+
+def test_report_shows_the_validation_from_its_typed_result(tmp_path):
+    """A validation.json written by the stage's typed result appears as its own section with both figures."""
+    from report_fixtures import make_fixture_dir
+
+    from jointwear.report.html import build_report
+    from jointwear.study.results import ValidationResult
+
+    d = make_fixture_dir(tmp_path / "v", which=("reliability",), reference=False)
+    ValidationResult(cycles=[360_000, 400_000], reliability_mc=[0.95, 0.8], ci_low=[0.94, 0.78],
+                     ci_high=[0.96, 0.82], reliability_surrogate=[0.948, 0.812], surrogate_error=[0.005, 0.01],
+                     n_samples=2000, model_calls=2000, wall_seconds=1.0, agreement=[True, False],
+                     cross_validation={"log_life_true": [12.8, 12.9, 13.0], "log_life_loo": [12.81, 12.9, 12.98],
+                                       "log_life_loo_sd": [0.01, 0.01, 0.01], "q2": 0.97, "n_points": 3}).save(d)
+    page = build_report(d).read_text(encoding="utf-8")
+    assert 'id="validation"' in page and "1 of 2" in page and "0.970" in page
+    assert page.count("data:image/png;base64") >= 2

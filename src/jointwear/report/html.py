@@ -127,6 +127,7 @@ class Inputs:
     csv_tables: list[tuple[str, dict[str, np.ndarray]]] = field(default_factory=list)
     pngs: dict[str, Path] = field(default_factory=dict)  # stem -> path
     used_pngs: set[str] = field(default_factory=set)
+    results: object = None  # jointwear.study.StudyResults
 
 
 def _read_json(path: Path):
@@ -161,20 +162,22 @@ def _read_csv(path: Path) -> dict[str, np.ndarray]:
 
 
 def read_inputs(out_dir: Path) -> Inputs:
+    """The study's results through :func:`jointwear.load_results` (typed, checked), their canonical JSON for
+    the sections, and the folder's CSV tables and PNG files."""
+    from jointwear.study import load_results
+    from jointwear.study.io import strict
+
     inp = Inputs(Path(out_dir))
-    names = {"simulate": ["simulate.json"], "wear": ["wear.json"], "reliability": ["reliability.json"],
-             "sensitivity": ["sensitivity.json"], "config": ["config.json", "settings.json"]}
-    for stage, candidates in names.items():
-        for name in candidates:
-            p = inp.out_dir / name
-            if p.is_file():
-                inp.files.append(p)
-                try:
-                    inp.data[stage] = _read_json(p)
-                    inp.errors.pop(stage, None)
-                    break
-                except Exception as exc:  # malformed file: its section says so
-                    inp.errors[stage] = f"{name} could not be read: {exc}"
+    results = load_results(inp.out_dir)
+    inp.results = results
+    inp.errors.update(results.errors)
+    if results.config is not None:
+        inp.data["config"] = results.config
+        inp.files.append(inp.out_dir / "config.json")
+    for stage in results.stages:
+        result = getattr(results, stage)
+        inp.data[stage] = json.loads(json.dumps(strict(result.to_json())))
+        inp.files.append(inp.out_dir / result.FILE)
     for folder in (inp.out_dir, inp.out_dir / "data"):
         if not folder.is_dir():
             continue
@@ -1207,6 +1210,41 @@ def _sensitivity_section(inp: Inputs, figs: _Figures) -> str:
     return "".join(parts)
 
 
+def _validation_section(inp: Inputs, figs: _Figures) -> str:
+    """The surrogate's R(N) against the true model sampled directly, and its cross-validation."""
+    val = getattr(inp.results, "validation", None)
+    if val is None:
+        return _missing("validation.json: run `jointwear validate` to check R(N) against the true model.")
+    agree = sum(bool(a) for a in val.agreement)
+    cv = val.cross_validation or {}
+    q2 = cv.get("q2")
+    cards = _cards([
+        ("true-model samples", f"{val.n_samples:,}", f"{val.model_calls:,} new model calls"),
+        ("levels in agreement", f"{agree} of {len(val.agreement)}",
+         "within the combined 95 % half-widths"),
+        ("cross-validation Q\u00b2", "-" if q2 is None else f"{q2:.3f}",
+         f"leave-one-out over {cv.get('n_points', 0)} design points"),
+    ])
+    rows = [[f"{c:,}", _num(r), f"[{_num(lo)}, {_num(hi)}]", _num(rs), _num(err), "yes" if a else "NO"]
+            for c, r, lo, hi, rs, err, a in zip(val.cycles, val.reliability_mc, val.ci_low, val.ci_high,
+                                                val.reliability_surrogate, val.surrogate_error, val.agreement)]
+    table = _table(["cycles", "R, true model", "exact 95 % CI", "R, surrogate", "surrogate error", "agree"], rows)
+    fig1 = figs.draw(lambda: F.validation_figure(val.cycles, val.reliability_mc, val.ci_low, val.ci_high,
+                                                 val.reliability_surrogate, val.surrogate_error,
+                                                 n_samples=val.n_samples),
+                     "R(N): the surrogate against the true model sampled directly", png_keys=("validation",))
+    fig2 = ""
+    if cv.get("log_life_true"):
+        fig2 = figs.draw(lambda: F.cross_validation_figure(cv["log_life_true"], cv["log_life_loo"],
+                                                           cv.get("log_life_loo_sd"), q2=q2),
+                         "Leave-one-out cross-validation of the life surrogate", png_keys=("cross_validation",))
+    lead = ("<p>Each sample is one run of the true wear model; its reliability at a level is the share of samples "
+            "whose wear life is longer, with an exact (Clopper-Pearson) 95 % interval. A level agrees when the "
+            "two estimates differ by less than the sum of their 95 % half-widths (the surrogate's: its Monte "
+            "Carlo interval plus its own error estimate).</p>")
+    return cards + lead + table + f'<div class="grid">{fig1}{fig2}</div>'
+
+
 def _comparison_section(checks: Sequence[Check], ref: Mapping) -> str:
     label = reference_label(ref)
     rows, classes = [], []
@@ -1370,6 +1408,9 @@ def build_report(out_dir: Path | str, *, output: Path | str | None = None, title
          "Archard wear on the bearing; angles in the bearing frame, 0 deg at the leftmost point, clockwise."),
         ("reliability", "Wear reliability", lambda: _reliability_section(inp, figs),
          "Limit state G = \u03b4\u2080 \u2212 \u03b4max(x, N): failure when the max wear exceeds the allowable wear."),
+        *([("validation", "Validation against the true model", lambda: _validation_section(inp, figs),
+            "The R(N) curve checked against direct Monte Carlo of the true wear model.")]
+          if getattr(inp.results, "validation", None) is not None else []),
         ("sensitivity", "Sensitivity", lambda: _sensitivity_section(inp, figs), ""),
         ("files", "Files of this study", lambda: _files_section(inp), ""),
     ]

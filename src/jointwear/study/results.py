@@ -24,18 +24,25 @@ class StageResult:
     FILE: ClassVar[str] = ""
 
     def to_json(self) -> dict:
-        return {f.name: getattr(self, f.name) for f in fields(self) if f.metadata.get("json", True)}
+        out = {f.name: getattr(self, f.name) for f in fields(self) if f.metadata.get("json", True)}
+        for key, value in getattr(self, "extra", {}).items():
+            out.setdefault(key, value)
+        return out
 
     @classmethod
     def from_json(cls, data: dict):
-        kwargs = {}
+        """The result from its JSON; keys this version does not know are kept in ``extra`` (and written back)."""
+        kwargs, known = {}, set()
         for f in fields(cls):
+            known.add(f.name)
             if not f.metadata.get("json", True):
                 continue
             if f.name in data:
                 kwargs[f.name] = data[f.name]
             elif f.default is MISSING and f.default_factory is MISSING:
                 raise ValueError(f"{cls.FILE}: missing key '{f.name}'")
+        if "extra" in known:
+            kwargs["extra"] = {k: v for k, v in data.items() if k not in known}
         return cls(**kwargs)
 
     @classmethod
@@ -68,23 +75,24 @@ class SimulationSummary(StageResult):
 
     FILE: ClassVar[str] = "simulate.json"
 
-    config: str
     cycles: int
-    settle_cycles: float
-    period_s: float
-    steps_per_cycle: float
-    wall_seconds_per_cycle: float
-    wall_seconds: float
-    accepted_steps: int
-    rejected_steps: int
-    kernel: str
-    joints: list[dict]
+    config: str = ""
+    settle_cycles: float | None = None
+    period_s: float | None = None
+    steps_per_cycle: float | None = None
+    wall_seconds_per_cycle: float | None = None
+    wall_seconds: float | None = None
+    accepted_steps: int | None = None
+    rejected_steps: int | None = None
+    kernel: str = ""
+    joints: list[dict] = field(default_factory=list)
     contact_force_mean_N: float | None = None
     contact_force_max_N: float | None = None
     contact_fraction: float | None = None
     impacts_per_cycle: float | None = None
     series_file: str = "simulate.npz"
     provenance: dict = field(default_factory=dict)
+    extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
     trace: Any = field(default=None, repr=False, metadata={"json": False})
 
     @classmethod
@@ -166,13 +174,13 @@ class WearSummary(StageResult):
 
     cycles: int
     max_wear_mm: float
-    max_wear_angle_deg: float
-    peaks: list[dict]
-    profile: dict
-    history: dict
-    journal: dict
-    wall_seconds: float
-    joints: list[dict]
+    max_wear_angle_deg: float | None = None
+    peaks: list[dict] = field(default_factory=list)
+    profile: dict = field(default_factory=dict)
+    history: dict = field(default_factory=dict)
+    journal: dict = field(default_factory=dict)
+    wall_seconds: float | None = None
+    joints: list[dict] = field(default_factory=list)
     simulation_seconds: float = 0.0
     n_simulated_cycles: float = 0.0
     n_blocks: int = 0
@@ -184,6 +192,7 @@ class WearSummary(StageResult):
     limit_mm: float | None = None
     files: list[str] = field(default_factory=list)
     provenance: dict = field(default_factory=dict)
+    extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
     history_result: Any = field(default=None, repr=False, metadata={"json": False})
 
     @classmethod
@@ -333,6 +342,7 @@ class ReliabilityResult(StageResult):
     crank_speed_rpm: float | None = None
     infeasible: dict = field(default_factory=dict)
     provenance: dict = field(default_factory=dict)
+    extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
     engine: Any = field(repr=False, default=None, metadata={"json": False})
     wear_surrogates: Any = field(repr=False, default=None, metadata={"json": False})
 
@@ -360,7 +370,7 @@ class ReliabilityResult(StageResult):
             "quantity": self.quantity,
             "joints": self.joints,
             "governing_joint": self.governing_joint,
-            "allowance_mm": self.joints[0]["allowance_mm"] if self.joints else None,
+            "allowance_mm": self.joints[0]["allowance_mm"] if self.joints else self.extra.get("allowance_mm"),
             "crank_speed_rpm": self.crank_speed_rpm,
             "model_calls": self.model_calls,
             "failed_calls": self.failed_calls,
@@ -375,6 +385,7 @@ class ReliabilityResult(StageResult):
                        "life_cycles": None if self.design_life is None else np.asarray(self.design_life).tolist()},
             "infeasible": self.infeasible,
             "provenance": self.provenance or provenance(),
+            **{k: v for k, v in self.extra.items() if k not in _RELIABILITY_KEYS},
         }
 
     @classmethod
@@ -387,7 +398,9 @@ class ReliabilityResult(StageResult):
             return np.asarray([np.nan if x is None else x for x in v], dtype=float)
 
         return cls(
-            cycles=arr(c["cycles"]), reliability=arr(c["reliability"]), pf=arr(c["pf"]), pf_cov=arr(c["pf_cov"]),
+            cycles=arr(c["cycles"]), reliability=arr(c["reliability"]),
+            pf=arr(c["pf"]) if "pf" in c else 1.0 - arr(c["reliability"]),
+            pf_cov=arr(c.get("pf_cov", [None] * len(c["cycles"]))),
             below_floor=np.asarray(c.get("cov_waived_below_pf_floor", [False] * len(c["cycles"])), dtype=bool),
             pf_error=arr(c.get("pf_error_estimate", [np.nan] * len(c["cycles"]))),
             target=life.get("target"), life_cycles=life.get("cycles"), life_hours=life.get("hours"),
@@ -401,7 +414,8 @@ class ReliabilityResult(StageResult):
             design_life=None if design.get("life_cycles") is None else arr(design["life_cycles"]),
             life_table=data.get("life_table", []), quantity=data.get("quantity", "bearing_max_depth"),
             joints=data.get("joints", []), crank_speed_rpm=data.get("crank_speed_rpm"),
-            infeasible=data.get("infeasible", {}), provenance=data.get("provenance", {}))
+            infeasible=data.get("infeasible", {}), provenance=data.get("provenance", {}),
+            extra={k: v for k, v in data.items() if k not in _RELIABILITY_KEYS})
 
     def save(self, folder: Path | str, *, figures: bool = True) -> Path:
         """Write ``reliability.json``, the CSV tables (curve, life table, design points) and the figures."""
@@ -442,6 +456,12 @@ class ReliabilityResult(StageResult):
         return path
 
 
+_RELIABILITY_KEYS = frozenset({
+    "curve", "life_at_target", "life_table", "quantity", "joints", "governing_joint", "allowance_mm",
+    "crank_speed_rpm", "model_calls", "failed_calls", "n_mc", "converged", "wall_seconds", "variables",
+    "histograms", "mean_max_wear_mm", "convergence", "design", "infeasible", "provenance"})
+
+
 # ------------------------------------------------------------------------------------------------ sensitivity
 @dataclass
 class SensitivityResult(StageResult):
@@ -469,6 +489,20 @@ class SensitivityResult(StageResult):
     n_population: int = 0
     wall_seconds: float | None = None
     provenance: dict = field(default_factory=dict)
+    extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
+
+    @classmethod
+    def from_json(cls, data: dict) -> SensitivityResult:
+        data = dict(data)
+        if "ranking" not in data and "variables" in data and "reliability_nominal" in data:
+            r0 = data["reliability_nominal"]
+            swing = {v["name"]: max(abs(v["reliability_low"] - r0), abs(v["reliability_high"] - r0))
+                     for v in data["variables"]}
+            data["ranking"] = sorted(swing, key=lambda n: -swing[n])
+        data.setdefault("ranking_by_group", {})
+        data.setdefault("sobol", {})
+        data.setdefault("factors", [0.8, 1.2])
+        return super().from_json(data)
 
     def save(self, folder: Path | str, *, figures: bool = True) -> Path:
         """Write ``sensitivity.json``, ``sensitivity.csv`` (one row per variable) and the figures."""
@@ -521,6 +555,7 @@ class ValidationResult(StageResult):
     seed: int | None = None
     cross_validation: dict = field(default_factory=dict)
     provenance: dict = field(default_factory=dict)
+    extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
 
     @property
     def all_agree(self) -> bool:
