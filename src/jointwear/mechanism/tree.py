@@ -124,7 +124,7 @@ def _tree_to_cartesian(t, Y, Ydd, nb, dpar, jint, jpar, q, qd, qdd):
     sb = np.zeros(n + nd)
     for i in range(Y.shape[0]):
         y = Y[i]
-        K.tree_base(t[i], y, jint, dpar, cb, sb)
+        K.tree_base(t[i], y, jint, dpar, kin, cb, sb)
         K.tree_kinematics(t[i], 0.0, y, y, cb, sb, nb, dpar, jint, jpar, kin, cacc, jt)
         for b in range(nb):
             q[i, 3 * b] = kin[b, K.K_X]
