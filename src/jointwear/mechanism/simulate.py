@@ -352,11 +352,15 @@ class _Runner:
 
         return to_natural(self.model, self.lay, y_cart)
 
-    def to_cartesian(self, Y: np.ndarray, Ydd: np.ndarray | None, phi_ref=None):
-        """Recorded internal states -> Cartesian q, qd, qdd."""
+    def to_cartesian(self, Y: np.ndarray, Ydd: np.ndarray | None, phi_ref=None, t: np.ndarray | None = None):
+        """Recorded internal states (at times t: needed by the tree kernel's driven parents) -> Cartesian q, qd, qdd."""
         if self.mode == 0:
             nq = Y.shape[1] // 2
             return Y[:, :nq], Y[:, nq:], Ydd
+        if self.mode == 2:
+            from jointwear.mechanism.tree import to_cartesian as tree_to_cartesian
+
+            return tree_to_cartesian(self.tree, self.a["dpar"], t, Y, Ydd)
         from jointwear.mechanism.fast import to_cartesian
 
         return to_cartesian(self.model, self.lay, Y, Ydd, phi_ref)
@@ -487,8 +491,6 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
     ref = phi_ref if settle == 0 else None
     Y, Ydd = cat["rec_y"], cat["rec_acc"]
     if run.mode == 2:
-        from jointwear.mechanism.tree import to_cartesian as tree_to_cartesian
-
         cart_index = run.tree.cart_index
         free_phi = {n: Y[:, int(np.flatnonzero(cart_index == 3 * i + 2)[0])] for i, n in enumerate(free_names)}
         joint_angles = {}
@@ -496,7 +498,7 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
         rec_t = cat["rec_t"]
 
         def cart():
-            return tree_to_cartesian(run.tree, run.a["dpar"], rec_t, Y, Ydd)
+            return run.to_cartesian(Y, Ydd, t=rec_t)
     elif run.mode == 1:
         angles = natural_angles(run.lay, Y, ref)
         joint_angles = {0: _fast_joint_angles(model, run, cat["rec_t"], angles[run.lay.rod])}
