@@ -13,6 +13,8 @@ Writes benchmarks/results/dynamics.json. Run: python benchmarks/dynamics.py [--r
   Cartesian kernel (kernel.rhs, fast=False), and the flapping wing forced onto the Cartesian kernel; medians over the
   repeats, alternated with the fast path in the same process. Per step: the whole simulate() call and the
   integration loop alone (kernel.integrate), against the fast path's loop (goal: six-bar <= 2.5x per step);
+- rhs_ns_per_evaluation: ns per right-hand side, each evaluation waiting for the previous one, for the fast path,
+  the six-bar's tree kernel and its Cartesian kernel, alternated in the same process;
 - six_bar_steps: what sets the six-bar's steps per cycle: steps against rtol, the clearance step limiter, the
   stiffest eigenvalues of the Jacobian along the cycle times the step size (Dormand-Prince is stable for
   |h lambda| up to ~3.3 on the negative real axis);
@@ -26,6 +28,7 @@ Writes benchmarks/results/dynamics.json. Run: python benchmarks/dynamics.py [--r
 from __future__ import annotations
 
 import argparse
+import math
 import contextlib
 import json
 import os
@@ -128,6 +131,7 @@ def main() -> None:
     }
     if not args.no_cartesian:
         out["cartesian_kernel"] = _cartesian_kernel(model, state, statistics.median(walls), args.repeats)
+        out["rhs_ns_per_evaluation"] = _rhs_ns(model, state, args.repeats)
         out["six_bar_steps"] = _six_bar_steps()
         out["six_bar_accuracy"] = _six_bar_accuracy()
     if not args.no_wear:
@@ -283,6 +287,90 @@ def _cartesian_kernel(fw_model, fw_state, fw_fast_wall: float, repeats: int) -> 
     out["six_bar_tree"]["ratio_per_cycle_to_cartesian"] = (
         out["six_bar_tree"]["wall_seconds_per_cycle_median"] / out["six_bar"]["wall_seconds_per_cycle_median"])
     out["goal"] = "six-bar loop ns per step <= 2.5 x the fast path's (six_bar_tree.loop_ratio_per_step_to_fast_path)"
+    return out
+
+
+def _rhs_ns(fw_model, fw_state, repeats: int) -> dict:
+    """ns per right-hand-side evaluation, each waiting for the previous one (as the stages of a step do): the fast
+    path's rhs_fourbar_cs on the flapping wing, the six-bar's tree kernel (rhs_tree) and Cartesian kernel (rhs), at
+    settled states, alternated in the same process; medians over the repeats."""
+    from numba import njit
+
+    from jointwear.config import load_config
+    from jointwear.mechanism import build_model, simulate
+    from jointwear.mechanism import kernel as K
+    from jointwear.mechanism.simulate import _Runner
+
+    @njit(error_model="numpy", fastmath=K.FASTMATH, _nrt=False)
+    def chain_fast(n, t, Y, dy, dpar, fp, cint, cpar, prof, ngrid, cstate, baum, lam, cout):
+        acc = 0.0
+        y0 = Y[0, 0]
+        th = dpar[0, 4] + dpar[0, 5] * t
+        c, sn = math.cos(th), math.sin(th)
+        for _ in range(n):
+            Y[0, 0] = y0 + 1e-30 * acc  # the next input depends on this output
+            K.rhs_fourbar_cs(c, sn, Y, 0, dy, 0, dpar, fp, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
+            acc = dy[0, 4]
+        Y[0, 0] = y0
+        return acc
+
+    @njit(error_model="numpy", fastmath=K.FASTMATH, _nrt=False)
+    def chain_tree(n, t, y, yb, dy, nb, mass, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate,
+                   kin, cb, sb, cacc, jt, mm, gq, f, cout):
+        acc = 0.0
+        y0 = y[0]
+        K.tree_base(t, yb, jint, dpar, kin, cb, sb)
+        for _ in range(n):
+            y[0] = y0 + 1e-30 * acc
+            K.rhs_tree(t, 0.0, y, yb, dy, 0, nb, mass, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate,
+                       kin, cb, sb, cacc, jt, mm, gq, f, cout)
+            acc = dy[0, y.shape[0] // 2]
+        y[0] = y0
+        return acc
+
+    @njit(error_model="numpy", _nrt=False)
+    def chain_cart(n, t, y, dy, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+                   kin, phi_, phid, rest, jac, smat, lam, f, cout):
+        acc = 0.0
+        y0 = y[0]
+        for _ in range(n):
+            y[0] = y0 + 1e-30 * acc
+            K.rhs(t, y, dy, 0, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+                  kin, phi_, phid, rest, jac, smat, lam, f, cout)
+            acc = dy[0, y.shape[0] // 2]
+        y[0] = y0
+        return acc
+
+    six = build_model(load_config("watt_six_bar_two_clearances"))
+    st = simulate(six, 0.0).state_end
+    fw = _Runner(fw_model, None, 1e-6, 1e-9)
+    fw.a["cstate"][:] = fw_state.cstate
+    af = fw._args()
+    yf = fw.to_internal(fw_state.y)[None, :].copy()
+    tr = _Runner(six, None, 1e-6, 1e-9)
+    tr.a["cstate"][:] = st.cstate
+    yt = tr.to_internal(st.y)
+    ca = _Runner(six, None, 1e-6, 1e-9, fast=False)
+    ca.a["cstate"][:] = st.cstate
+    yc = np.array(st.y)
+    at, ac = tr._args(), ca._args()
+    cases = {
+        "fast_path": lambda n: chain_fast(n, fw_state.t, yf, np.zeros((1, 8)), af[3], af[5], *af[6:12], af[18], af[20]),
+        "six_bar_tree": lambda n: chain_tree(n, st.t, yt.copy(), yt, np.zeros((1, yt.size)), *at[0:11], *at[12:21]),
+        "six_bar_cartesian": lambda n: chain_cart(n, st.t, yc.copy(), np.zeros((1, yc.size)), *ac),
+    }
+    for f in cases.values():
+        f(10)  # compile
+    n = 100_000
+    ns = {k: [] for k in cases}
+    for _ in range(repeats):
+        for k, f in cases.items():
+            w0 = time.perf_counter()
+            f(n)
+            ns[k].append((time.perf_counter() - w0) / n * 1e9)
+    out = {k: statistics.median(v) for k, v in ns.items()}
+    out["six_bar_tree_ratio_to_fast_path"] = out["six_bar_tree"] / out["fast_path"]
+    out["six_bar_cartesian_ratio_to_fast_path"] = out["six_bar_cartesian"] / out["fast_path"]
     return out
 
 
