@@ -8,14 +8,27 @@ Writes benchmarks/results/dynamics.json. Run: python benchmarks/dynamics.py [--r
   with (a) the compiled right-hand side called from Python, (b) a pure-Python right-hand side
   (the kernel's Python source, numba bypassed).  The contact memory (impact speed v0) is frozen at
   its settled value in the scipy runs (no per-step bookkeeping hook in solve_ivp);
-- cartesian_kernel (skip with --no-cartesian): the general Cartesian kernel (kernel.rhs), which runs every
-  mechanism but the flapping wing: the six-bar preset watt_six_bar_two_clearances (one cycle from a settled
-  state) and the flapping wing forced onto it (fast=False), medians over the repeats.
+- cartesian_kernel (skip with --no-cartesian): the general kernels on the six-bar preset watt_six_bar_two_clearances
+  (one cycle from a settled state): the tree kernel (joint coordinates, kernel.rhs_tree, the default for it) and the
+  Cartesian kernel (kernel.rhs, fast=False), and the flapping wing forced onto the Cartesian kernel; medians over the
+  repeats, alternated with the fast path in the same process. Per step: the whole simulate() call and the
+  integration loop alone (kernel.integrate), against the fast path's loop (goal: six-bar <= 2.5x per step);
+- rhs_ns_per_evaluation: ns per right-hand side, each evaluation waiting for the previous one, for the fast path,
+  the six-bar's tree kernel and its Cartesian kernel, alternated in the same process;
+- six_bar_steps: what sets the six-bar's steps per cycle: steps against rtol, the clearance step limiter, the
+  stiffest eigenvalues of the Jacobian along the cycle times the step size (Dormand-Prince is stable for
+  |h lambda| up to ~3.3 on the negative real axis);
+- six_bar_accuracy: cycle statistics per joint at the default tolerance, after a 1-ulp nudge of an angle of the start
+  state, and at rtol 1e-9 on both kernels;
+- six_bar_wear_call (skip with --no-wear): one wear-history model call of the six-bar study, wear_history(
+  build_model(cfg), cfg.wear, 300_000) with the preset's wear settings: wall and CPU seconds, on the tree kernel and
+  (--wear-cartesian) on the Cartesian kernel; 60 such calls on 2 workers extrapolated from the CPU seconds.
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import contextlib
 import json
 import os
@@ -49,7 +62,9 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--no-scipy", action="store_true")
-    ap.add_argument("--no-cartesian", action="store_true", help="skip the Cartesian-kernel timings")
+    ap.add_argument("--no-cartesian", action="store_true", help="skip the general-kernel (six-bar) measurements")
+    ap.add_argument("--no-wear", action="store_true", help="skip the six-bar wear-history call")
+    ap.add_argument("--wear-cartesian", action="store_true", help="also time the wear call on the Cartesian kernel")
     ap.add_argument("--out", default=str(Path(__file__).parent / "results" / "dynamics.json"))
     args = ap.parse_args()
 
@@ -116,6 +131,11 @@ def main() -> None:
     }
     if not args.no_cartesian:
         out["cartesian_kernel"] = _cartesian_kernel(model, state, statistics.median(walls), args.repeats)
+        out["rhs_ns_per_evaluation"] = _rhs_ns(model, state, args.repeats)
+        out["six_bar_steps"] = _six_bar_steps()
+        out["six_bar_accuracy"] = _six_bar_accuracy()
+    if not args.no_wear:
+        out["six_bar_wear_call"] = _six_bar_wear_call(args.wear_cartesian)
     # the experimental implicit option (simulation.method = "radau5") on the same cycle, rtol 1e-5
     import dataclasses
 
@@ -192,38 +212,277 @@ def _host_cpu() -> str:
     return str(llvm.get_host_cpu_name())
 
 
+def _loop_timer(model, state, fast):
+    """A function timing one cycle of the integration loop alone (kernel.integrate, nothing recorded) from `state` on
+    the kernel that simulate(fast=fast) picks: returns (seconds, accepted steps, rejected steps)."""
+    import math
+
+    from jointwear.mechanism.simulate import _Runner
+
+    run = _Runner(model, None, model.settings.rtol, model.settings.atol, fast)
+    y0 = run.to_internal(state.y)
+    hmax = model.settings.max_step or model.period / 200.0
+    buf = run.buffers(1)
+
+    def once():
+        run.a["cstate"][:] = state.cstate
+        y = y0.copy()
+        run.eval(state.t, y)
+        counters = np.zeros(4, dtype=np.int64)
+        w0 = time.perf_counter()
+        run.run(state.t, y, state.t + model.period, state.h, hmax, math.inf, buf, 10**9, counters)
+        return time.perf_counter() - w0, int(counters[1]), int(counters[2])
+
+    return once
+
+
 def _cartesian_kernel(fw_model, fw_state, fw_fast_wall: float, repeats: int) -> dict:
-    """The general Cartesian kernel (kernel.rhs, mode 0 of kernel.integrate): wall time per crank cycle of the
-    six-bar preset (two clearance joints, 4 free bodies) from a settled state, and of the flapping wing forced onto
-    it (fast=False) from the fast path's settled state; medians over the repeats, the two alternated."""
+    """The general kernels on the six-bar preset (two clearance joints, 4 free bodies) from a settled state: the tree
+    kernel (its default) and the Cartesian kernel (fast=False), and the flapping wing forced onto the Cartesian kernel
+    from the fast path's settled state; the whole simulate() call and the integration loop alone, alternated with the
+    fast path's loop in the same process; medians over the repeats."""
     from jointwear.config import load_config
     from jointwear.mechanism import build_model, simulate
 
     six = build_model(load_config("watt_six_bar_two_clearances"))
     six_state = simulate(six, 0.0, settle_cycles=six.settings.settle_cycles).state_end
-    cases = {"six_bar": (six, six_state, None), "flapping_wing_fast_false": (fw_model, fw_state, False)}
-    presets = {"six_bar": "watt_six_bar_two_clearances", "flapping_wing_fast_false": "jin2025_flapping_wing"}
+    cases = {"six_bar_tree": (six, six_state, None), "six_bar": (six, six_state, False),
+             "flapping_wing_fast_false": (fw_model, fw_state, False)}
+    presets = {"six_bar_tree": "watt_six_bar_two_clearances", "six_bar": "watt_six_bar_two_clearances",
+               "flapping_wing_fast_false": "jin2025_flapping_wing"}
+    loops = {name: _loop_timer(m, st, fast) for name, (m, st, fast) in cases.items()}
+    loops["fast_path"] = _loop_timer(fw_model, fw_state, None)
     for m, st, fast in cases.values():  # compile / load from numba's cache and fill the record pool, untimed
         simulate(m, 1, settle_cycles=0, state0=st, fast=fast)
+    for f in loops.values():
+        f()
     walls = {k: [] for k in cases}
+    loop_runs = {k: [] for k in loops}
     last = {}
     for _ in range(repeats):
         for name, (m, st, fast) in cases.items():
             w0 = time.perf_counter()
             last[name] = simulate(m, 1, settle_cycles=0, state0=st, fast=fast)
             walls[name].append(time.perf_counter() - w0)
-    out = {}
+        for name, f in loops.items():
+            loop_runs[name].append(f())
+    loop_ns = {k: statistics.median(w / n for w, n, _ in v) * 1e9 for k, v in loop_runs.items()}
+    out = {"fast_path_loop_ns_per_step": loop_ns["fast_path"],
+           "fast_path_loop_steps_per_cycle": loop_runs["fast_path"][0][1]}
     for name in cases:
         r = last[name]
         med = statistics.median(walls[name])
-        out[name] = {"preset": presets[name],
+        out[name] = {"preset": presets[name], "kernel": r.extra["kernel"],
                      "wall_seconds_per_cycle_median": med, "wall_seconds_per_cycle_all": walls[name],
                      "steps_per_cycle": r.n_recorded_steps, "rejected_steps_per_cycle": r.n_rejected,
                      "microseconds_per_step": med / r.n_recorded_steps * 1e6,
+                     "loop_ns_per_step": loop_ns[name],
+                     "loop_seconds_per_cycle_median": statistics.median(w for w, _, _ in loop_runs[name]),
+                     "loop_ratio_per_step_to_fast_path": loop_ns[name] / loop_ns["fast_path"],
                      "contact_force_mean_N": [tr.mean_force for tr in r.joints],
-                     "impacts_per_cycle": [tr.n_impacts for tr in r.joints]}
+                     "impacts_per_cycle": [tr.n_impacts for tr in r.joints],
+                     "max_penetration_m": [float(tr.penetration.max()) for tr in r.joints]}
     out["flapping_wing_fast_false"]["ratio_to_fast_kernel"] = (
         out["flapping_wing_fast_false"]["wall_seconds_per_cycle_median"] / fw_fast_wall)
+    out["six_bar_tree"]["ratio_per_cycle_to_cartesian"] = (
+        out["six_bar_tree"]["wall_seconds_per_cycle_median"] / out["six_bar"]["wall_seconds_per_cycle_median"])
+    out["goal"] = "six-bar loop ns per step <= 2.5 x the fast path's (six_bar_tree.loop_ratio_per_step_to_fast_path)"
+    return out
+
+
+def _rhs_ns(fw_model, fw_state, repeats: int) -> dict:
+    """ns per right-hand-side evaluation, each waiting for the previous one (as the stages of a step do): the fast
+    path's rhs_fourbar_cs on the flapping wing, the six-bar's tree kernel (rhs_tree) and Cartesian kernel (rhs), at
+    settled states, alternated in the same process; medians over the repeats."""
+    from numba import njit
+
+    from jointwear.config import load_config
+    from jointwear.mechanism import build_model, simulate
+    from jointwear.mechanism import kernel as K
+    from jointwear.mechanism.simulate import _Runner
+
+    @njit(error_model="numpy", fastmath=K.FASTMATH, _nrt=False)
+    def chain_fast(n, t, Y, dy, dpar, fp, cint, cpar, prof, ngrid, cstate, baum, lam, cout):
+        acc = 0.0
+        y0 = Y[0, 0]
+        th = dpar[0, 4] + dpar[0, 5] * t
+        c, sn = math.cos(th), math.sin(th)
+        for _ in range(n):
+            Y[0, 0] = y0 + 1e-30 * acc  # the next input depends on this output
+            K.rhs_fourbar_cs(c, sn, Y, 0, dy, 0, dpar, fp, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
+            acc = dy[0, 4]
+        Y[0, 0] = y0
+        return acc
+
+    @njit(error_model="numpy", fastmath=K.FASTMATH, _nrt=False)
+    def chain_tree(n, t, y, yb, dy, nb, mass, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate,
+                   kin, cb, sb, cacc, jt, mm, gq, f, cout):
+        acc = 0.0
+        y0 = y[0]
+        K.tree_base(t, yb, jint, dpar, kin, cb, sb)
+        for _ in range(n):
+            y[0] = y0 + 1e-30 * acc
+            K.rhs_tree(t, 0.0, y, yb, dy, 0, nb, mass, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate,
+                       kin, cb, sb, cacc, jt, mm, gq, f, cout)
+            acc = dy[0, y.shape[0] // 2]
+        y[0] = y0
+        return acc
+
+    @njit(error_model="numpy", _nrt=False)
+    def chain_cart(n, t, y, dy, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+                   kin, phi_, phid, rest, jac, smat, lam, f, cout):
+        acc = 0.0
+        y0 = y[0]
+        for _ in range(n):
+            y[0] = y0 + 1e-30 * acc
+            K.rhs(t, y, dy, 0, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+                  kin, phi_, phid, rest, jac, smat, lam, f, cout)
+            acc = dy[0, y.shape[0] // 2]
+        y[0] = y0
+        return acc
+
+    six = build_model(load_config("watt_six_bar_two_clearances"))
+    st = simulate(six, 0.0).state_end
+    fw = _Runner(fw_model, None, 1e-6, 1e-9)
+    fw.a["cstate"][:] = fw_state.cstate
+    af = fw._args()
+    yf = fw.to_internal(fw_state.y)[None, :].copy()
+    tr = _Runner(six, None, 1e-6, 1e-9)
+    tr.a["cstate"][:] = st.cstate
+    yt = tr.to_internal(st.y)
+    ca = _Runner(six, None, 1e-6, 1e-9, fast=False)
+    ca.a["cstate"][:] = st.cstate
+    yc = np.array(st.y)
+    at, ac = tr._args(), ca._args()
+    cases = {
+        "fast_path": lambda n: chain_fast(n, fw_state.t, yf, np.zeros((1, 8)), af[3], af[5], *af[6:12], af[18], af[20]),
+        "six_bar_tree": lambda n: chain_tree(n, st.t, yt.copy(), yt, np.zeros((1, yt.size)), *at[0:11], *at[12:21]),
+        "six_bar_cartesian": lambda n: chain_cart(n, st.t, yc.copy(), np.zeros((1, yc.size)), *ac),
+    }
+    for f in cases.values():
+        f(10)  # compile
+    n = 100_000
+    ns = {k: [] for k in cases}
+    for _ in range(repeats):
+        for k, f in cases.items():
+            w0 = time.perf_counter()
+            f(n)
+            ns[k].append((time.perf_counter() - w0) / n * 1e9)
+    out = {k: statistics.median(v) for k, v in ns.items()}
+    out["six_bar_tree_ratio_to_fast_path"] = out["six_bar_tree"] / out["fast_path"]
+    out["six_bar_cartesian_ratio_to_fast_path"] = out["six_bar_cartesian"] / out["fast_path"]
+    return out
+
+
+def _six_bar_steps() -> dict:
+    """What sets the six-bar's steps per cycle (tree kernel, one cycle from a settled state)."""
+    import dataclasses
+
+    from jointwear.config import load_config
+    from jointwear.mechanism import build_model, simulate
+    from jointwear.mechanism.simulate import _Runner
+
+    six = build_model(load_config("watt_six_bar_two_clearances"))
+    st = simulate(six, 0.0).state_end
+    s = six.settings
+    out: dict = {"steps_vs_rtol": []}
+    for rtol in (1e-4, 1e-5, 1e-6, 1e-7, 1e-8):
+        r = simulate(six, 1, settle_cycles=0, state0=st, rtol=rtol, atol=s.atol * rtol / s.rtol)
+        out["steps_vs_rtol"].append({"rtol": rtol, "steps": r.n_recorded_steps, "rejected": r.n_rejected,
+                                     "contact_force_mean_N": [tr.mean_force for tr in r.joints]})
+    base = simulate(six, 1, settle_cycles=0, state0=st)
+    out["clearance_step_fraction"] = []
+    for cf in (0.05, s.clearance_step_fraction, 1.0):
+        m = dataclasses.replace(six, settings=dataclasses.replace(s, clearance_step_fraction=cf))
+        r = simulate(m, 1, settle_cycles=0, state0=st)
+        out["clearance_step_fraction"].append({"value": cf, "steps": r.n_recorded_steps})
+    # stiffest eigenvalues of the Jacobian of the Cartesian right-hand side (central differences) along the cycle
+    run = _Runner(six, None, s.rtol, s.atol, fast=False)
+    run.a["cstate"][:] = base.state_end.cstate
+    Y = np.column_stack([base.q, base.qd])
+    h = np.diff(base.t)
+    modes = []
+    for i in np.linspace(0, base.t.size - 2, 9).astype(int)[1:-1]:
+        y0, t0 = Y[i], base.t[i]
+        n = y0.size
+        jm = np.zeros((n, n))
+        for j in range(n):
+            d = 1e-7 * max(abs(y0[j]), 1e-3 if j < n // 2 else 1e-2)
+            yp, ym = y0.copy(), y0.copy()
+            yp[j] += d
+            ym[j] -= d
+            run.eval(t0, yp)
+            fp = run.ks[0].copy()
+            run.eval(t0, ym)
+            jm[:, j] = (fp - run.ks[0]) / (2 * d)
+        ev = np.linalg.eigvals(jm)
+        ev = ev[np.argsort(-np.abs(ev))][:4]
+        hloc = float(np.median(h[max(i - 50, 0): i + 50]))
+        modes.append({"t": float(t0), "h_median_local": hloc, "eigenvalues_re_im": [[z.real, z.imag] for z in ev],
+                      "h_times_abs_lambda_max": hloc * float(np.abs(ev[0]))})
+    out["stiffest_modes"] = modes
+    out["note"] = ("Dormand-Prince's stability boundary is |h lambda| ~ 3.3 on the negative real axis and less along "
+                   "the lightly damped directions: the step follows the contact modes (h |lambda| 1.5-3.4), not the "
+                   "tolerance (100x looser rtol: 1.4x fewer steps); the clearance step limiter never binds")
+    return out
+
+
+def _six_bar_accuracy() -> dict:
+    """Cycle statistics per joint, two cycles from a settled state: the tree kernel at the default tolerance, after a
+    1-ulp nudge of the first tree coordinate (an angle), and the tree and Cartesian kernels at rtol 1e-9."""
+    from jointwear.config import load_config
+    from jointwear.mechanism import build_model, simulate
+    from jointwear.mechanism.simulate import SimulationState
+
+    six = build_model(load_config("watt_six_bar_two_clearances"))
+    st = simulate(six, 0.0).state_end
+    y = st.y.copy()
+    y[2] = np.nextafter(y[2], np.inf)  # the coupler's angle
+    nudged = SimulationState(st.t, y, st.cstate.copy(), st.h)
+    runs = {"tree_default": dict(state0=st), "tree_default_nudged_1ulp": dict(state0=nudged),
+            "cartesian_default": dict(state0=st, fast=False),
+            "cartesian_default_nudged_1ulp": dict(state0=nudged, fast=False),
+            "tree_rtol_1e-9": dict(state0=st, rtol=1e-9, atol=1e-12),
+            "cartesian_rtol_1e-9": dict(state0=st, rtol=1e-9, atol=1e-12, fast=False)}
+    out = {}
+    for name, kw in runs.items():
+        r = simulate(six, 2, settle_cycles=0, **kw)
+        out[name] = {"kernel": r.extra["kernel"], "steps_per_cycle": r.steps_per_cycle,
+                     "contact_force_mean_N": [tr.mean_force for tr in r.joints],
+                     "impacts": [tr.n_impacts for tr in r.joints],
+                     "max_penetration_m": [float(tr.penetration.max()) for tr in r.joints]}
+    ref = out["cartesian_rtol_1e-9"]
+    for name in runs:
+        out[name]["mean_force_rel_to_cartesian_rtol_1e-9"] = [
+            a / b - 1 for a, b in zip(out[name]["contact_force_mean_N"], ref["contact_force_mean_N"])]
+        out[name]["max_penetration_rel_to_cartesian_rtol_1e-9"] = [
+            a / b - 1 for a, b in zip(out[name]["max_penetration_m"], ref["max_penetration_m"])]
+    return out
+
+
+def _six_bar_wear_call(cartesian: bool) -> dict:
+    """One model call of the six-bar wear study: the wear history to 300,000 cycles with the preset's wear settings
+    (its lanes run as threads, so CPU seconds can exceed wall seconds on an idle machine)."""
+    import functools
+
+    from jointwear.config import load_config
+    from jointwear.mechanism import build_model, simulate
+    from jointwear.wear import wear_history
+
+    cfg = load_config("watt_six_bar_two_clearances")
+    kernels = {"tree": simulate} | ({"cartesian": functools.partial(simulate, fast=False)} if cartesian else {})
+    out: dict = {"cycles": 300_000, "wear_settings": {"lanes": cfg.wear.lanes, "block_cycles": cfg.wear.block_cycles,
+                                                       "rtol": cfg.wear.rtol, "atol": cfg.wear.atol}}
+    for name, sim in kernels.items():
+        sim(build_model(cfg), 0.01, settle_cycles=0)  # compile / load from numba's cache, untimed
+        load0 = os.getloadavg()[0]
+        w0, c0 = time.perf_counter(), time.process_time()
+        res = wear_history(build_model(cfg), cfg.wear, 300_000, simulate=sim)
+        wall, cpu = time.perf_counter() - w0, time.process_time() - c0
+        out[name] = {"wall_seconds": wall, "cpu_seconds": cpu, "simulated_cycles": res.n_simulated_cycles,
+                     "steps": res.n_steps, "loadavg_1min_before": load0, "loadavg_1min_after": os.getloadavg()[0],
+                     "sixty_calls_on_2_workers_minutes_from_cpu": 60 * cpu / 2 / 60}
+    out["goal"] = "60 calls within 8 minutes on 2 cores: one call <= 16 CPU seconds"
     return out
 
 

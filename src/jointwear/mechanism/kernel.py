@@ -560,6 +560,199 @@ def rhs(t, y, dy, row, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid
         dy[row, nq + i] = f[i] * winv[i]
 
 
+# ---------------------------------------------------------------------------------------------
+# Tree kernel (joint coordinates): a mechanism whose ideal joints, once the clearance joints are cut, form a forest of
+# revolute joints hanging from the ground or from driven bodies (the six-bar with clearance at A and E: the rocker
+# on C carrying the coupler on B and the link on D; the output on F). Its free bodies then have exactly one degree of
+# freedom each (the body's absolute angle) or three (a body held by clearance joints only: x, y, phi), the ideal joints
+# hold exactly, and there are no multipliers, no Baumgarte terms and no Schur complement: the equations of motion are
+# M(q) qdd = J^T (f - M_c c), with J the Jacobian of the bodies' Cartesian velocities and c their accelerations at
+# qdd = 0, over 1 coordinate per body instead of 3. Absolute angles (not relative ones) keep the coordinates those of
+# the Cartesian state (same values, same error scales, no growth with a driven parent's turns).
+# Tables (built by jointwear.mechanism.tree, one row per free body, parents first), passed in the slots of the
+# Cartesian kernel's tables: jint row (kind, body, parent code, first coordinate, length L of the path, the path: the
+# coordinates the body's velocity depends on, ancestors' first and its own angle last, ascending), jpar row
+# (parent-frame point of the joint, body-frame point of the joint); winv holds the masses M_c (not M^-1). The
+# Jacobian is stored by path (jt[3 b + c, i] = d v_bc / d qdot_path[i]), so that M and J^T f sum over the L^2 pairs
+# of each body's path instead of n^2 x 3 nb dense products (the six-bar: 8 pairs instead of 160).
+TREE_REVOLUTE = 0
+TREE_FLOATING = 1
+(T_KIND, T_BODY, T_PARENT, T_DOF, T_LEN, T_PATH) = range(6)
+
+
+@njit(cache=True, inline="always", error_model="numpy", _nrt=STEP_LOOP_NRT)
+def tree_base(t, y, jint, dpar, kin, cb, sb):
+    """cos and sin of every body angle at the base point (t, y) of a step: coordinates' into cb[:n], sb[:n], the
+    drivers' into cb[n + d], sb[n + d] (the stages rotate them instead of calling sin/cos), and the ground's row of kin."""
+    n = y.shape[0] // 2
+    g = kin.shape[0] - 1  # the ground's row is constant: set here, once per step
+    for k in range(NKIN):
+        kin[g, k] = 0.0
+    kin[g, K_C] = 1.0
+    for r in range(jint.shape[0]):
+        d = jint[r, T_DOF] + (2 if jint[r, T_KIND] == TREE_FLOATING else 0)
+        cb[d] = math.cos(y[d])
+        sb[d] = math.sin(y[d])
+    for dd in range(dpar.shape[0]):
+        phi = dpar[dd, 4] + dpar[dd, 5] * t
+        cb[n + dd] = math.cos(phi)
+        sb[n + dd] = math.sin(phi)
+
+
+@njit(cache=True, inline="always", error_model="numpy", fastmath=FASTMATH, _nrt=STEP_LOOP_NRT)
+def small_rotation(c0, s0, d):
+    """cos and sin of (theta0 + d) as crank_rotation, with cos d and sin d to d^4 and d^5 for |d| <= 5e-3
+    (truncation < 2e-17 and 2e-20 |d|, below rounding): a body turns by ~1e-4 rad in a contact-limited step, and the
+    shorter polynomials shorten the chain every stage waits for."""
+    if d > 5e-3 or d < -5e-3:
+        return crank_rotation(c0, s0, d)
+    d2 = d * d
+    cd = 1.0 - d2 * (0.5 - d2 * (1.0 / 24.0))
+    sd = d * (1.0 - d2 * (1.0 / 6.0 - d2 * (1.0 / 120.0)))
+    return c0 * cd - s0 * sd, s0 * cd + c0 * sd
+
+
+@njit(cache=True, inline="always", error_model="numpy", fastmath=FASTMATH, _nrt=STEP_LOOP_NRT)
+def tree_kinematics(t, dt, y, yb, cb, sb, nb, dpar, jint, jpar, kin, cacc, jt):
+    """Poses and velocities of all bodies into kin (free bodies by the tree recursion from y; driven bodies in closed
+    form at t; ground), the free bodies' accelerations at qdd = 0 into cacc (3 per body) and the Jacobian of their
+    Cartesian velocities with respect to the coordinate rates into jt (3 nb, n). Angles are rotated from the base
+    point's cos/sin (tree_base at yb, t - dt) by the increments y - yb and w dt."""
+    n = y.shape[0] // 2
+    nd = dpar.shape[0]
+    for dd in range(nd):
+        r = nb + dd
+        px, py, sx, sy, w = dpar[dd, 0], dpar[dd, 1], dpar[dd, 2], dpar[dd, 3], dpar[dd, 5]
+        c, s = small_rotation(cb[n + dd], sb[n + dd], w * dt)
+        relx = -(c * sx - s * sy)
+        rely = -(s * sx + c * sy)
+        kin[r, K_X] = px + relx
+        kin[r, K_Y] = py + rely
+        kin[r, K_PHI] = dpar[dd, 4] + w * t
+        kin[r, K_C] = c
+        kin[r, K_S] = s
+        kin[r, K_VX] = -w * rely
+        kin[r, K_VY] = w * relx
+        kin[r, K_W] = w
+        kin[r, K_AX] = -w * w * relx
+        kin[r, K_AY] = -w * w * rely
+        kin[r, K_AL] = 0.0
+    for r in range(jint.shape[0]):
+        b = jint[r, T_BODY]
+        d = jint[r, T_DOF]
+        if jint[r, T_KIND] == TREE_FLOATING:
+            c, s = small_rotation(cb[d + 2], sb[d + 2], y[d + 2] - yb[d + 2])
+            kin[b, K_X] = y[d]
+            kin[b, K_Y] = y[d + 1]
+            kin[b, K_PHI] = y[d + 2]
+            kin[b, K_C] = c
+            kin[b, K_S] = s
+            kin[b, K_VX] = y[n + d]
+            kin[b, K_VY] = y[n + d + 1]
+            kin[b, K_W] = y[n + d + 2]
+            cacc[3 * b] = 0.0
+            cacc[3 * b + 1] = 0.0
+            cacc[3 * b + 2] = 0.0
+            for i in range(3):
+                jt[3 * b, i] = 1.0 if i == 0 else 0.0
+                jt[3 * b + 1, i] = 1.0 if i == 1 else 0.0
+                jt[3 * b + 2, i] = 1.0 if i == 2 else 0.0
+        else:
+            p = jint[r, T_PARENT]
+            pr = _row(p, nb, nd)
+            c, s = small_rotation(cb[d], sb[d], y[d] - yb[d])
+            cp, sp = kin[pr, K_C], kin[pr, K_S]
+            wp = kin[pr, K_W]
+            w = y[n + d]
+            # parent's centre of mass -> joint point (ap), body's centre of mass -> joint point (ab)
+            apx = cp * jpar[r, 0] - sp * jpar[r, 1]
+            apy = sp * jpar[r, 0] + cp * jpar[r, 1]
+            abx = c * jpar[r, 2] - s * jpar[r, 3]
+            aby = s * jpar[r, 2] + c * jpar[r, 3]
+            kin[b, K_X] = kin[pr, K_X] + apx - abx
+            kin[b, K_Y] = kin[pr, K_Y] + apy - aby
+            kin[b, K_PHI] = y[d]
+            kin[b, K_C] = c
+            kin[b, K_S] = s
+            kin[b, K_VX] = kin[pr, K_VX] - wp * apy + w * aby
+            kin[b, K_VY] = kin[pr, K_VY] + wp * apx - w * abx
+            kin[b, K_W] = w
+            last = jint[r, T_LEN] - 1  # the body's own angle closes its path; the parent's path precedes it
+            if 0 <= p < nb:
+                pax, pay, pal = cacc[3 * p], cacc[3 * p + 1], cacc[3 * p + 2]
+                for i in range(last):
+                    jt[3 * b, i] = jt[3 * p, i]
+                    jt[3 * b + 1, i] = jt[3 * p + 1, i]
+                    jt[3 * b + 2, i] = 0.0
+                jt[3 * b, last - 1] -= apy  # the parent's angle (last on its path) moves the joint point
+                jt[3 * b + 1, last - 1] += apx
+            else:
+                pax, pay, pal = kin[pr, K_AX], kin[pr, K_AY], kin[pr, K_AL]
+            cacc[3 * b] = pax - pal * apy - wp * wp * apx + w * w * abx
+            cacc[3 * b + 1] = pay + pal * apx - wp * wp * apy + w * w * aby
+            cacc[3 * b + 2] = 0.0
+            jt[3 * b, last] = aby
+            jt[3 * b + 1, last] = -abx
+            jt[3 * b + 2, last] = 1.0
+
+
+@njit(cache=True, inline="always", error_model="numpy", fastmath=FASTMATH, _nrt=STEP_LOOP_NRT)
+def rhs_tree(t, dt, y, yb, dy, row, nb, mass, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate,
+             kin, cb, sb, cacc, jt, mm, gq, f, cout):
+    """dy[row] = (qd, qdd) of the tree kernel at (t, y), the stage of a step from the base point (t - dt, yb) whose
+    cos/sin are in cb, sb (tree_base). M(q) = J^T M_c J and the generalized forces J^T (f - M_c c) over the
+    coordinates, then M qdd = g by a dense L D L^T (one division per coordinate). Also fills cout."""
+    n = y.shape[0] // 2
+    nd = dpar.shape[0]
+    nq = 3 * nb
+    tree_kinematics(t, dt, y, yb, cb, sb, nb, dpar, jint, jpar, kin, cacc, jt)
+    for i in range(nq):
+        f[i] = fext[i]
+    eval_contacts(nb, nd, cint, cpar, prof, ngrid, cstate, kin, f, cout)
+    for d1 in range(n):
+        gq[d1] = 0.0
+        for d2 in range(d1 + 1):
+            mm[d1, d2] = 0.0
+    for r in range(jint.shape[0]):
+        b = jint[r, T_BODY]
+        m0, m1, m2 = mass[3 * b], mass[3 * b + 1], mass[3 * b + 2]
+        f0 = f[3 * b] - m0 * cacc[3 * b]
+        f1 = f[3 * b + 1] - m1 * cacc[3 * b + 1]
+        f2 = f[3 * b + 2] - m2 * cacc[3 * b + 2]
+        for i in range(jint[r, T_LEN]):
+            di = jint[r, T_PATH + i]
+            jx, jy, jw = jt[3 * b, i], jt[3 * b + 1, i], jt[3 * b + 2, i]
+            gq[di] += jx * f0 + jy * f1 + jw * f2
+            ux, uy, uw = m0 * jx, m1 * jy, m2 * jw
+            for k in range(i + 1):
+                mm[di, jint[r, T_PATH + k]] += ux * jt[3 * b, k] + uy * jt[3 * b + 1, k] + uw * jt[3 * b + 2, k]
+    # L D L^T in place: U_ij = L_ij D_j below the diagonal and 1 / D_j on it, so that only the pivots divide
+    for j in range(n):
+        dj = mm[j, j]
+        for k in range(j):
+            dj -= mm[j, k] * mm[j, k] * mm[k, k]
+        for i in range(j + 1, n):
+            acc = mm[i, j]
+            for k in range(j):
+                acc -= mm[i, k] * mm[j, k] * mm[k, k]
+            mm[i, j] = acc
+        mm[j, j] = 1.0 / dj
+    # L z = g, then x = D^-1 z - L^T x (L_ik = U_ik / D_k)
+    for i in range(n):
+        acc = gq[i]
+        for k in range(i):
+            acc -= mm[i, k] * mm[k, k] * gq[k]
+        gq[i] = acc
+    for i in range(n - 1, -1, -1):
+        acc = gq[i] * mm[i, i]
+        for k in range(i + 1, n):
+            acc -= mm[k, i] * mm[i, i] * gq[k]
+        gq[i] = acc
+    for i in range(n):
+        dy[row, i] = y[n + i]
+        dy[row, n + i] = gq[i]
+
+
 # Dormand-Prince 5(4) tableau (Dormand & Prince 1980; Hairer, Norsett & Wanner I, Table II.5.2).
 # Row 6 of DP_A equals the 5th-order weights (FSAL): stage 6 is evaluated at the new point.
 DP_C = np.array([0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0])
@@ -700,6 +893,11 @@ def integrate(mode, t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_steps, t_
             if mode == 0:
                 rhs(ts, ytmp[st - 1], ks, st, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate,
                     baum, kin, phi_, phid, rest, jac, smat, lam, f, cout)
+            elif mode == 2:  # tree kernel: the work slots phi_, phid, rest, jac, smat, lam hold cb, sb, cacc, jt, mm, gq
+                if st == 1:
+                    tree_base(t, y, jint, dpar, kin, phi_, phid)
+                rhs_tree(ts, ts - t, ytmp[st - 1], y, ks, st, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof,
+                         ngrid, cstate, kin, phi_, phid, rest, jac, smat, lam, f, cout)
             else:
                 if st == 1:  # crank angle at t once per attempt; the stages rotate it (crank_rotation)
                     th0 = dpar[0, 4] + dpar[0, 5] * t
@@ -755,6 +953,10 @@ def accelerations(mode, t, y, dy, nb, winv, fext, dpar, jint, jpar, cint, cpar, 
     if mode == 0:
         rhs(t, y, dy, 0, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
             kin, phi_, phid, rest, jac, smat, lam, f, cout)
+    elif mode == 2:
+        tree_base(t, y, jint, dpar, kin, phi_, phid)
+        rhs_tree(t, 0.0, y, y, dy, 0, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate,
+                 kin, phi_, phid, rest, jac, smat, lam, f, cout)
     else:
         Y = np.empty((1, y.shape[0]))
         Y[0, :] = y

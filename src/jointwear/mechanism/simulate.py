@@ -304,6 +304,9 @@ class _Runner:
 
     def __init__(self, model: MechanismModel, geometry, rtol, atol, fast: bool | None = None):
         from jointwear.mechanism.fast import fast_layout
+        from jointwear.mechanism.tree import atol_vector as tree_atol_vector
+        from jointwear.mechanism.tree import tree_layout
+        from jointwear.mechanism.tree import work_arrays as tree_work_arrays
 
         self.model = model
         self.a = model.kernel_arrays(geometry)
@@ -312,8 +315,17 @@ class _Runner:
         self.lay = fast_layout(model) if fast in (None, True) else None
         if fast is True and self.lay is None:
             raise ValueError("fast=True but the model does not qualify for the natural-coordinate kernel")
-        self.mode = 0 if self.lay is None else 1
-        if self.mode == 1:
+        # the tree kernel (joint coordinates) for a linkage whose ideal joints form a forest, on Dormand-Prince
+        self.tree = (tree_layout(a) if fast is None and self.lay is None and model.settings.method == "dopri5"
+                     else None)
+        self.mode = 1 if self.lay is not None else 2 if self.tree is not None else 0
+        if self.mode == 2:
+            a["jint"], a["jpar"], a["winv"] = self.tree.jint, self.tree.jpar, self.tree.mass
+            self.w = tree_work_arrays(self.tree, a["dpar"].shape[0], a["cint"].shape[0])
+            self.ny = 2 * self.tree.n
+            per = model.period
+            self.atolv = tree_atol_vector(self.tree, atol, model.length_ref, TWO_PI / per if per else 1.0)
+        elif self.mode == 1:
             a["jpar"] = self.lay.fp
             self.w = K.empty_work(nb, a["dpar"].shape[0], 1, a["cint"].shape[0])
             self.ny = 8
@@ -332,23 +344,36 @@ class _Runner:
     def to_internal(self, y_cart: np.ndarray) -> np.ndarray:
         if self.mode == 0:
             return np.array(y_cart, dtype=float)
+        if self.mode == 2:
+            from jointwear.mechanism.tree import to_tree
+
+            return to_tree(self.tree, np.asarray(y_cart, dtype=float))
         from jointwear.mechanism.fast import to_natural
 
         return to_natural(self.model, self.lay, y_cart)
 
-    def to_cartesian(self, Y: np.ndarray, Ydd: np.ndarray | None, phi_ref=None):
-        """Recorded internal states -> Cartesian q, qd, qdd."""
+    def to_cartesian(self, Y: np.ndarray, Ydd: np.ndarray | None, phi_ref=None, t: np.ndarray | None = None):
+        """Recorded internal states (at times t: needed by the tree kernel's driven parents) -> Cartesian q, qd, qdd."""
         if self.mode == 0:
             nq = Y.shape[1] // 2
             return Y[:, :nq], Y[:, nq:], Ydd
+        if self.mode == 2:
+            from jointwear.mechanism.tree import to_cartesian as tree_to_cartesian
+
+            return tree_to_cartesian(self.tree, self.a["dpar"], t, Y, Ydd)
         from jointwear.mechanism.fast import to_cartesian
 
         return to_cartesian(self.model, self.lay, Y, Ydd, phi_ref)
 
-    def to_cartesian_state(self, y: np.ndarray, phi_ref: dict[str, float]) -> np.ndarray:
-        """One internal state -> the Cartesian (q, qd), angles on the branch of phi_ref."""
+    def to_cartesian_state(self, t: float, y: np.ndarray, phi_ref: dict[str, float]) -> np.ndarray:
+        """One internal state at t -> the Cartesian (q, qd), angles on the branch of phi_ref."""
         if self.mode == 0:
             return np.array(y, dtype=float)
+        if self.mode == 2:
+            from jointwear.mechanism.tree import to_cartesian as tree_to_cartesian
+
+            q, qd, _ = tree_to_cartesian(self.tree, self.a["dpar"], np.array([t]), y[None, :])
+            return np.concatenate([q[0], qd[0]])
         from jointwear.mechanism.fast import to_cartesian_point
 
         return np.concatenate(to_cartesian_point(self.model, self.lay, y, phi_ref))
@@ -394,7 +419,9 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
     previous result's ``state_end`` (default: ideal kinematics at t = 0, journals preloaded).
     The cycle length is the driver's period (or model.period_override).
     fast: None (default) uses the natural-coordinate four-bar kernel when the model qualifies
-    (jointwear.mechanism.fast), True requires it, False forces the general Cartesian kernel.
+    (jointwear.mechanism.fast), else the joint-coordinate tree kernel when the ideal joints form a forest
+    (jointwear.mechanism.tree; Dormand-Prince only), else the general Cartesian kernel; True requires the
+    four-bar kernel, False forces the Cartesian kernel.
     """
     wall0 = time.perf_counter()
     if not (np.isfinite(n_cycles) and n_cycles >= 0):
@@ -463,7 +490,16 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
         k: np.concatenate([c[k] for c in chunks], axis=-1 if k == "rec_c" else 0) for k in chunks[0]}
     ref = phi_ref if settle == 0 else None
     Y, Ydd = cat["rec_y"], cat["rec_acc"]
-    if run.mode == 1:
+    if run.mode == 2:
+        cart_index = run.tree.cart_index
+        free_phi = {n: Y[:, int(np.flatnonzero(cart_index == 3 * i + 2)[0])] for i, n in enumerate(free_names)}
+        joint_angles = {}
+        cat["rec_lam"] = np.full((Y.shape[0], 2 * len(model.joints)), np.nan)
+        rec_t = cat["rec_t"]
+
+        def cart():
+            return run.to_cartesian(Y, Ydd, t=rec_t)
+    elif run.mode == 1:
         angles = natural_angles(run.lay, Y, ref)
         joint_angles = {0: _fast_joint_angles(model, run, cat["rec_t"], angles[run.lay.rod])}
         cat["rec_lam"] = np.full((Y.shape[0], 2 * len(model.joints)), np.nan)
@@ -478,11 +514,11 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
 
         def cart():
             return Y[:, :nq], Y[:, nq:], Ydd
-    y_end = run.to_cartesian_state(y, {n: float(free_phi[n][-1]) for n in free_names})
+    y_end = run.to_cartesian_state(t, y, {n: float(free_phi[n][-1]) for n in free_names})
     state_end = SimulationState(t, y_end, run.a["cstate"].copy(), h)
     res = _package(model, geometry, cat, free_phi, joint_angles, cart, state_end, counters, n_cycles, settle, period,
                    time.perf_counter() - wall0)
-    res.extra["kernel"] = "natural_fourbar" if run.mode == 1 else "cartesian"
+    res.extra["kernel"] = ("cartesian", "natural_fourbar", "tree")[run.mode]
     return res
 
 
