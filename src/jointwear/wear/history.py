@@ -29,6 +29,7 @@ import numpy as np
 from .angles import circular_mean, report_angle_deg
 from .kernels import (
     TWO_PI,
+    accumulate_conformal,
     accumulate_wear,
     contact_envelope,
     map_touch_angles,
@@ -36,6 +37,9 @@ from .kernels import (
     smooth_periodic,
     worn_area,
 )
+from jointwear.contact.envelope import rounded_envelope
+from jointwear.contact.geometry import PROFILE_ROUNDING
+
 from .settings import WearSettings, check_cycles, check_material
 
 
@@ -114,6 +118,7 @@ def cycle_wear(
     journal_profile: np.ndarray | None = None,
     bearing_touch: np.ndarray | None = None,
     journal_touch: np.ndarray | None = None,
+    bearing_bore: np.ndarray | None = None,
 ) -> CycleWear:
     """Archard wear per cycle of one ContactTrace-like record that spans `n_cycles` cycles.
 
@@ -121,7 +126,9 @@ def cycle_wear(
     (paper Eqs. 36-37); profile mode (when profiles are given) the local radii R_b0 + h_b(theta_b) and
     R_j0 - h_j(theta_j), with the profiles exactly as given to the contact search. bearing_touch / journal_touch
     (profile mode, 'envelope' contact): grid index of the bore point that touches for each centre-line direction
-    (kernels.contact_envelope); the wear is laid there.
+    (kernels.contact_envelope); the wear is laid there. bearing_bore (profile mode, `profile_deposit =
+    "distributed"`): the bore's contact profile (smoothed wear, m); each step's bearing wear is shared over the
+    cells the journal touches (kernels.accumulate_conformal) instead.
     """
     mat = materials or JointMaterials.from_trace(trace)
     n = settings.n_grid
@@ -151,10 +158,19 @@ def cycle_wear(
     wj = np.zeros(n)
     diag = np.zeros((4, n))
     vb, vj, s, bmax = accumulate_wear(
-        tb_w, tj_w, F, v, dt, r_b, r_j, mat.r_b0, mat.r_j0, mat.h_b, mat.h_j, mat.kH_b, mat.kH_j, mat.width,
+        tb_w, tj_w, F, v, dt, r_b, r_j, mat.r_b0, mat.r_j0, mat.h_b, mat.h_j,
+        mat.kH_b if bearing_bore is None else 0.0, mat.kH_j, mat.width,
         settings.half_width_factor, settings.pressure == "hertz", settings.track_journal, wb, wj, diag,
         math.radians(settings.profile_smoothing_deg) * math.sqrt(3.0) if bearing_profile is not None else 0.0,
     )
+    if bearing_bore is not None:
+        c0 = mat.r_b0 - mat.r_j0
+        ecc = np.asarray(trace.eccentricity_global, dtype=float)
+        vb = accumulate_conformal(
+            tb, np.ascontiguousarray(trace.normal_tilt, dtype=float), np.ascontiguousarray(np.hypot(ecc[:, 0], ecc[:, 1])),
+            np.ascontiguousarray(trace.penetration, dtype=float), F, v, dt, r_b, r_j,
+            np.ascontiguousarray(c0 + bearing_bore, dtype=float), mat.r_b0, mat.h_b + mat.h_j, mat.kH_b, mat.width,
+            settings.half_width_factor, wb)
     inv = 1.0 / n_cycles
     with np.errstate(invalid="ignore", divide="ignore"):
         fmean = np.where(diag[0] > 0, diag[1] / diag[0], np.nan)
@@ -287,9 +303,7 @@ class WearResult:
 # --------------------------------------------------------------------------------------------------- the loop
 def contact_profiles(c0: float, wb: np.ndarray, wj: np.ndarray, settings: WearSettings):
     """Profiles given to the contact search in profile mode and the touching-point maps (None for 'radial')."""
-    if settings.profile_smoothing_deg > 0.0:
-        wb = np.maximum(smooth_periodic(wb, settings.profile_smoothing_deg), 0.0)
-        wj = np.maximum(smooth_periodic(wj, settings.profile_smoothing_deg), 0.0)
+    wb, wj = smoothed_profiles(wb, wj, settings)
     if settings.profile_contact == "radial":
         return wb.copy(), wj.copy(), None, None
     out = []
@@ -298,16 +312,33 @@ def contact_profiles(c0: float, wb: np.ndarray, wj: np.ndarray, settings: WearSe
         idx = np.empty(w.shape[0], dtype=np.int64)
         contact_envelope(c0 + w, ce, idx)
         out.append((np.maximum(ce - c0, 0.0), idx))
+    # the bearing: the admissible set with its corners rounded (contact.envelope), so that a journal resting in a
+    # pocket worn to its own shape meets a smooth contact normal
+    rb = np.empty_like(wb)
+    rounded_envelope(c0 + wb, PROFILE_ROUNDING * c0, rb)
+    out[0] = (np.maximum(rb - c0, 0.0), out[0][1])
     return out[0][0], out[1][0], out[0][1], out[1][1]
 
 
+def smoothed_profiles(wb: np.ndarray, wj: np.ndarray, settings: WearSettings):
+    """The worn profiles as the contact sees them: smoothed over the running-in length, never negative."""
+    if settings.profile_smoothing_deg > 0.0:
+        wb = np.maximum(smooth_periodic(wb, settings.profile_smoothing_deg), 0.0)
+        wj = np.maximum(smooth_periodic(wj, settings.profile_smoothing_deg), 0.0)
+    return wb, wj
+
+
 def _update_geometry(g0, settings: WearSettings, wb: np.ndarray, wj: np.ndarray, growth: float):
-    """(geometry for the dynamics, bearing touch map, journal touch map)."""
+    """(geometry for the dynamics, bearing touch map, journal touch map, bore contact profile or None)."""
     if settings.geometry_mode == "profile":
         c0 = float(g0.bearing_radius - g0.journal_radius + (getattr(g0, "clearance_growth", 0.0) or 0.0))
         hb, hj, ib, ij = contact_profiles(c0, wb, wj, settings)
-        return dataclasses.replace(g0, use_profile=True, bearing_wear=hb, journal_wear=hj), ib, ij
-    return dataclasses.replace(g0, use_profile=False, clearance_growth=float(growth)), None, None
+        bore = None
+        if settings.profile_deposit == "distributed":
+            bore = smoothed_profiles(wb, wj, settings)[0]
+            ib = None
+        return dataclasses.replace(g0, use_profile=True, bearing_wear=hb, journal_wear=hj), ib, ij, bore
+    return dataclasses.replace(g0, use_profile=False, clearance_growth=float(growth)), None, None, None
 
 
 def _growth(settings: WearSettings, wb: np.ndarray, wj: np.ndarray) -> float:
@@ -440,7 +471,7 @@ def wear_history(
                 cw = cycle_wear(tr, settings, rec, mats[i], growth=growth_used[i],
                                 bearing_profile=geoms[i].bearing_wear if prof else None,
                                 journal_profile=geoms[i].journal_wear if prof else None,
-                                bearing_touch=upd[i][1], journal_touch=upd[i][2])
+                                bearing_touch=upd[i][1], journal_touch=upd[i][2], bearing_bore=upd[i][3])
                 if first[i] is None:
                     first[i] = cw
                 last[i] = cw
