@@ -220,12 +220,14 @@ def smooth_periodic(profile: np.ndarray, sigma_deg: float) -> np.ndarray:
     return np.fft.irfft(np.fft.rfft(p) * np.exp(-0.5 * (k * sig) ** 2), n)
 
 
+CHUNK_STEPS = 64
+
+
 @njit(cache=True, nogil=True)
 def accumulate_conformal(
     theta_b: np.ndarray,
     tilt: np.ndarray,
     emag: np.ndarray,
-    pen: np.ndarray,
     force: np.ndarray,
     slip: np.ndarray,
     dt: np.ndarray,
@@ -238,22 +240,26 @@ def accumulate_conformal(
     width: float,
     c_half: float,
     wear_b: np.ndarray,
-) -> float:
+) -> tuple:
     """Archard wear of the bearing in profile mode, each step's load shared by the bore cells the journal touches.
 
     The contact of a worn bore is not a point: a journal resting in a pocket worn to its own shape touches the whole
-    worn arc. Each step's normal force is shared over the cells k of the bore c_bore (c0 + contact profile, (n,),
-    cells at 2 pi k / n) in proportion to the rigid overlap of the journal with them (an elastic foundation,
-    Johnson, Contact Mechanics, Sec. 5.8), w_k = max(e'.u_k - c_k, 0), where e' is the journal centre moved back
-    along the contact normal m (angle theta_b + tilt) until its penetration is delta_H = b^2 / (2 R*): the overlap
-    at which a foundation reproduces Johnson's half-width b on a round bore. On a round bore the load then spreads
-    over |s| <= b (a parabolic pressure); in a pocket worn to the journal's shape w_k ~ cos(theta_k - theta_m) over
-    the whole worn arc, the pressure of a conformal journal bearing (Kauzlarich and Williams 2001). The shares
-    N_k = F w_k / sum_j w_j (u_j . m) balance the force F along m; the Archard volume of the step is
-    (k/H) sum_k N_k ds >= (k/H) F ds (several contact normals carry the load).
+    worn arc. The normal force is shared over the cells k of the bore c_bore (c0 + contact profile, (n,), cells at
+    2 pi k / n) in proportion to the rigid overlap of the journal with them (an elastic foundation, Johnson, Contact
+    Mechanics, Sec. 5.8), w_k = max(e'.u_k - c_k, 0), where e' is the journal centre moved along the contact normal
+    m (angle theta_b + tilt) until its deepest overlap is delta_H = b^2 / (2 R*): the overlap at which a foundation
+    reproduces Johnson's half-width b on a round bore (the dynamics' penetration is a Hertzian approach on a bore
+    with rounded corners, so the journal centre itself is not used as is). On a round bore the load spreads over
+    |s| <= b (a parabolic pressure); in a pocket worn to the journal's shape w_k ~ cos(theta_k - theta_m) over the
+    whole worn arc, the pressure of a conformal journal bearing. The shares N_k = F w_k / sum_j w_j (u_j . m)
+    balance the force F along m; the Archard volume is (k/H) sum_k N_k ds >= (k/H) F ds.
 
-    emag: |e| per step (m); pen: penetration delta of the dynamics (m). Other arguments as accumulate_wear.
-    Returns the Archard volume (m^3).
+    Consecutive steps whose centre line stays in one grid cell are laid together (at most CHUNK_STEPS, their
+    Archard-weighted mean position and normal): the deposit is linear in the position within a cell.
+
+    Returns (Archard volume (m^3), levelling rate g (1/s of the record): the largest sum over steps of
+    dv / (w-projection sum) / (L R Delta), i.e. d(cell depth rate)/d(cell overlap); a cell standing out by eps
+    is worn faster by g eps, which an explicit update over a time T overshoots unless g T < 2).
     """
     n = wear_b.shape[0]
     delta = TWO_PI / n
@@ -264,45 +270,91 @@ def accumulate_conformal(
         cs[k] = math.cos(k * delta)
         sn[k] = math.sin(k * delta)
     w = np.empty(2 * q + 1)
+    idx = np.empty(2 * q + 1, dtype=np.int64)
+    proj = np.empty(2 * q + 1)
+    over = np.empty(2 * q + 1)
+    gcell = np.zeros(n)
     vol = 0.0
-    for i in range(force.shape[0]):
+    ns = force.shape[0]
+    acc_v = 0.0
+    acc_x = acc_y = acc_mx = acc_my = acc_dh = 0.0
+    cnt = 0
+    cur = -1
+    for i in range(ns + 1):
+        flush = i == ns
+        if not flush:
+            f = force[i]
+            if f > 0.0:
+                i0 = int(math.floor((theta_b[i] % TWO_PI) / delta + 0.5)) % n
+                if cnt > 0 and (i0 != cur or cnt >= CHUNK_STEPS):
+                    flush = True
+        if flush and cnt > 0 and acc_v > 0.0:
+            inv = 1.0 / acc_v
+            ex = acc_x * inv
+            ey = acc_y * inv
+            cm = acc_mx
+            sm = acc_my
+            nm = math.sqrt(cm * cm + sm * sm)
+            cm /= nm
+            sm /= nm
+            dh = acc_dh * inv
+            m_ = 0
+            for d in range(-q, q + 1):
+                k = cur + d
+                if k < 0:
+                    k += n
+                elif k >= n:
+                    k -= n
+                idx[m_] = k
+                proj[m_] = cs[k] * cm + sn[k] * sm
+                over[m_] = ex * cs[k] + ey * sn[k] - c_bore[k]
+                m_ += 1
+            # the shift s along m that leaves the deepest overlap at dh: max_k (o_k - dh) / a_k over cells facing m
+            shift = -1e300
+            for j in range(m_):
+                if proj[j] > 0.1:
+                    v = (over[j] - dh) / proj[j]
+                    if v > shift:
+                        shift = v
+            wproj = 0.0
+            for j in range(m_):
+                o = over[j] - shift * proj[j]
+                if o > 0.0:
+                    w[j] = o
+                    wproj += o * proj[j]
+                else:
+                    w[j] = 0.0
+            scale = acc_v / wproj
+            for j in range(m_):
+                if w[j] > 0.0:
+                    dv = scale * w[j]
+                    wear_b[idx[j]] += dv / (width * r_b0 * delta)
+                    gcell[idx[j]] += scale / (width * r_b0 * delta)
+                    vol += dv
+        if flush:
+            acc_v = acc_x = acc_y = acc_mx = acc_my = acc_dh = 0.0
+            cnt = 0
+        if i == ns:
+            break
         f = force[i]
         if not (f > 0.0):
             continue
         ds = abs(slip[i]) * dt[i]
+        dv = kH_b * f * ds
+        if not (dv > 0.0):
+            continue
         rb = r_b[i]
         rj = r_j[i]
         rstar = rb * rj / (rb - rj)
         b = c_half * math.sqrt(f * rstar * hsum / width)
-        dh = b * b / (2.0 * rstar)
         tb = theta_b[i]
         mu = tb + tilt[i]
-        cm = math.cos(mu)
-        sm = math.sin(mu)
-        shift = pen[i] - dh if pen[i] > dh else 0.0
-        ex = emag[i] * math.cos(tb) - shift * cm
-        ey = emag[i] * math.sin(tb) - shift * sm
-        i0 = int(math.floor((tb % TWO_PI) / delta + 0.5))
-        wsum = 0.0
-        wproj = 0.0
-        for d in range(-q, q + 1):
-            k = (i0 + d) % n
-            o = ex * cs[k] + ey * sn[k] - c_bore[k]
-            if o > 0.0:
-                w[d + q] = o
-                wsum += o
-                wproj += o * (cs[k] * cm + sn[k] * sm)
-            else:
-                w[d + q] = 0.0
-        dv_unit = kH_b * f * ds  # Archard volume of the step for a unit ratio sum N_k / F
-        if not (wproj > 0.0):  # no overlap on the grid (a contact between cells): the point of the centre line
-            wear_b[i0 % n] += dv_unit / (width * r_b0 * delta)
-            vol += dv_unit
-            continue
-        scale = dv_unit / wproj
-        for d in range(-q, q + 1):
-            if w[d + q] > 0.0:
-                dv = scale * w[d + q]
-                wear_b[(i0 + d) % n] += dv / (width * r_b0 * delta)
-                vol += dv
-    return vol
+        cur = int(math.floor((tb % TWO_PI) / delta + 0.5)) % n
+        acc_v += dv
+        acc_x += dv * emag[i] * math.cos(tb)
+        acc_y += dv * emag[i] * math.sin(tb)
+        acc_mx += dv * math.cos(mu)
+        acc_my += dv * math.sin(mu)
+        acc_dh += dv * b * b / (2.0 * rstar)
+        cnt += 1
+    return vol, gcell.max()
