@@ -233,6 +233,27 @@ class JointWear:
     peaks: list[dict]  # [{"angle_deg", "depth"}] deepest first (depth m)
     diagnostics: CycleWear  # per-cycle quantities of the last block (Fig. 17)
     first_rate: CycleWear  # per-cycle quantities of the first block (unworn geometry)
+    contact_half_width: float = math.nan  # m, Johnson's b at the mean contact force of the first block
+
+    @property
+    def conformal_arc(self) -> float:
+        """Worn arc (rad) of a bore worn to the journal's shape as deep as this one: a journal that has sunk by the
+        max bearing depth h into a bore of radial clearance c0 touches it over 2 acos(c0 / (c0 + h))."""
+        c0 = self.bearing_radius - self.journal_radius
+        return 2.0 * math.acos(c0 / (c0 + self.max_bearing_wear))
+
+    @property
+    def conformity(self) -> float:
+        """Half the conformal arc over the contact's half-angle b / R_b on the unworn bore (docs/wear.md "When uniform
+        mode is fair"). Below 1 the worn pocket is narrower than the contact patch and uniform mode's round-bore
+        contact is a fair model; above 1 the journal fits into its own wear and only profile mode is."""
+        half = self.contact_half_width / self.bearing_radius
+        return 0.5 * self.conformal_arc / half if half > 0.0 else math.inf
+
+    @property
+    def uniform_mode_valid(self) -> bool:
+        """conformity <= 1: the range in which uniform mode (the paper's Eqs. 36-37) is a fair approximation."""
+        return self.conformity <= 1.0
 
     @property
     def angle_deg(self) -> np.ndarray:
@@ -308,6 +329,15 @@ class WearResult:
     @property
     def peaks(self) -> list[dict]:
         return self.joints[0].peaks
+
+    @property
+    def conformity(self) -> float:
+        """Joint 0's conformity (JointWear.conformity): above 1, uniform mode is outside its range."""
+        return self.joints[0].conformity
+
+    @property
+    def uniform_mode_valid(self) -> bool:
+        return self.joints[0].uniform_mode_valid
 
 
 # --------------------------------------------------------------------------------------------------- the loop
@@ -561,6 +591,7 @@ def wear_history(
             history_max_journal=np.asarray(hist_j[i]), history_clearance_growth=np.asarray(hist_g[i]),
             volume_bearing=vol_b[i], volume_journal=vol_j[i], bearing_radius=mats[i].r_b0,
             journal_radius=mats[i].r_j0, width=mats[i].width, peaks=[], diagnostics=last[i], first_rate=first[i],
+            contact_half_width=_mean_half_width(first[i], mats[i], settings),
         )
         ang = jw.angle_deg
         jw.peaks = [{"angle_deg": float(ang[k]), "depth": float(wb[i][k])}
@@ -568,6 +599,16 @@ def wear_history(
         joints.append(jw)
     return WearResult(joints, settings, n_cycles, blocks, time.perf_counter() - t_wall, sim_seconds, sim_cycles,
                       n_steps)
+
+
+def _mean_half_width(cw: CycleWear, mat: JointMaterials, settings: WearSettings) -> float:
+    """Johnson's half-width (m) at the time-mean normal force while in contact, on the unworn radii."""
+    ct = cw.contact_time
+    if not np.any(ct > 0):
+        return math.nan
+    force = float(np.nansum(np.where(ct > 0, cw.force_mean, 0.0) * ct) / ct.sum())
+    rstar = mat.r_b0 * mat.r_j0 / (mat.r_b0 - mat.r_j0)
+    return settings.half_width_factor * math.sqrt(force * rstar * (mat.h_b + mat.h_j) / mat.width)
 
 
 def _default_settle(model) -> float:
