@@ -107,7 +107,7 @@ class CycleWear:
     max_half_width: float  # m
     mean_orientation: float  # rod (bearing body) mean orientation over the cycles (rad, global)
     levelling_rate: float = 0.0  # profile mode, distributed deposit: 1/cycle (kernels.accumulate_conformal)
-    relay: Callable[[np.ndarray], tuple[np.ndarray, float]] | None = dataclasses.field(default=None, repr=False)
+    distributed: bool = False  # the bearing wear was shared over the bore (profile mode, distributed deposit)
 
 
 def cycle_wear(
@@ -165,22 +165,16 @@ def cycle_wear(
         settings.half_width_factor, settings.pressure == "hertz", settings.track_journal, wb, wj, diag,
         math.radians(settings.profile_smoothing_deg) * math.sqrt(3.0) if bearing_profile is not None else 0.0,
     )
-    relay = None
     g_level = 0.0
     if bearing_bore is not None:
         c0 = mat.r_b0 - mat.r_j0
         ecc = np.asarray(trace.eccentricity_global, dtype=float)
-        args = (tb, np.ascontiguousarray(trace.normal_tilt, dtype=float),
-                np.ascontiguousarray(np.hypot(ecc[:, 0], ecc[:, 1])), F, v, dt, r_b, r_j)
-        consts = (mat.r_b0, mat.h_b + mat.h_j, mat.kH_b, mat.width, settings.half_width_factor)
-        vb, g_level = accumulate_conformal(*args, np.ascontiguousarray(c0 + bearing_bore, dtype=float), *consts, wb)
+        vb, g_level = accumulate_conformal(
+            tb, np.ascontiguousarray(trace.normal_tilt, dtype=float),
+            np.ascontiguousarray(np.hypot(ecc[:, 0], ecc[:, 1])), F, v, dt, r_b, r_j,
+            np.ascontiguousarray(c0 + bearing_bore, dtype=float), mat.r_b0, mat.h_b + mat.h_j, mat.kH_b, mat.width,
+            settings.half_width_factor, wb)
         g_level /= n_cycles
-
-        def relay(bore: np.ndarray) -> tuple[np.ndarray, float]:
-            """Bearing wear per cycle of the same record on another bore profile (sub-steps of a block)."""
-            out = np.zeros(n)
-            vol, _ = accumulate_conformal(*args, np.ascontiguousarray(c0 + bore, dtype=float), *consts, out)
-            return out / n_cycles, vol / n_cycles
     inv = 1.0 / n_cycles
     with np.errstate(invalid="ignore", divide="ignore"):
         fmean = np.where(diag[0] > 0, diag[1] / diag[0], np.nan)
@@ -188,7 +182,7 @@ def cycle_wear(
     psi = _attr(trace, "bearing_body_angle")
     mean_or = circular_mean(psi, dt) if psi is not None and np.size(psi) == dt.size else 0.0
     return CycleWear(wb * inv, wj * inv, vb * inv, vj * inv, s * inv, diag[0] * inv, fmean, diag[2] * inv, amean,
-                     bmax, mean_or, g_level, relay)
+                     bmax, mean_or, g_level, bearing_bore is not None)
 
 
 # --------------------------------------------------------------------------------------------------- results
@@ -381,33 +375,16 @@ def _update_geometry(g0, settings: WearSettings, wb: np.ndarray, wj: np.ndarray,
     return dataclasses.replace(g0, use_profile=False, clearance_growth=float(growth)), None, None, None
 
 
-#: sub-steps of the bearing deposit span at most this many levelling times 1/g. g is the raw cell's rate; the
-#: bore is shared after smoothing (profile_smoothing_deg), which hides the fastest modes: on the pendulum rig
-#: (docs/verification.md) updates of g dn <= 6 stayed smooth and g dn = 13 grew a ripple of a few degrees.
-LEVELLING_STEP = 4.0
-MAX_SUBSTEPS = 64
-
-
-def _substep_bearing(cw: CycleWear, wb: np.ndarray, wj: np.ndarray, dn: int, settings: WearSettings):
-    """Lay a block's bearing wear in sub-steps, re-sharing the same recorded steps over the bore as it wears.
-
-    A bore cell standing out by eps is loaded more and worn faster by g eps (cw.levelling_rate, per cycle): the
-    levelling that keeps a conformal contact conformal. One explicit update over the whole block overshoots it when
-    g dn > 2 (a block of 250 revolutions on a 100 N pin, g ~ 1/100: the profile grows a ripple of a few degrees
-    that doubles each block). The dynamics changes slowly and is not re-run; only the sharing of its loads is
-    updated, every LEVELLING_STEP / g cycles. Returns (new profile, Archard volume of the block)."""
-    m = int(min(MAX_SUBSTEPS, max(1, math.ceil(cw.levelling_rate * dn / LEVELLING_STEP))))
-    wb = wb.copy()
-    vol = 0.0
-    for j in range(m):
-        step = dn / m
-        if j == 0:
-            rate, vrate = cw.bearing, cw.volume_bearing
-        else:
-            rate, vrate = cw.relay(smoothed_profiles(wb, wj, settings)[0])
-        wb += rate * step
-        vol += vrate * step
-    return wb, vol
+def _lay_bearing(cw: CycleWear, wb: np.ndarray, dn: int, settings: WearSettings):
+    """Profile mode, distributed deposit: lay a block's bearing wear over the running-in length, as the contact sees
+    the bore. The shares of the load respond to the bore as it is seen (smoothed); a ripple shorter than the
+    running-in length is invisible to them and would grow unchecked from their grid-scale noise, which laying
+    the increments smoothed prevents. The final profile is the sum of the increments, so this smooths it once
+    (not once per block), and it conserves the worn area. Returns (new profile, Archard volume of the block)."""
+    rate = cw.bearing
+    if settings.profile_smoothing_deg > 0.0:
+        rate = np.maximum(smooth_periodic(rate, settings.profile_smoothing_deg), 0.0)
+    return wb + rate * dn, cw.volume_bearing * dn
 
 
 def _growth(settings: WearSettings, wb: np.ndarray, wj: np.ndarray) -> float:
@@ -558,8 +535,8 @@ def wear_history(
             prev_vrate = vrate
             dn = min(block, n_cycles - done)
             for i, cw in enumerate(rates):
-                if cw.relay is not None:
-                    wb[i], vb_add = _substep_bearing(cw, wb[i], wj[i], dn, settings)
+                if cw.distributed:
+                    wb[i], vb_add = _lay_bearing(cw, wb[i], dn, settings)
                 else:
                     wb[i] += cw.bearing * dn
                     vb_add = cw.volume_bearing * dn

@@ -259,7 +259,7 @@ def accumulate_conformal(
 
     Returns (Archard volume (m^3), levelling rate g (1/s of the record): the largest sum over steps of
     dv / (w-projection sum) / (L R Delta), i.e. d(cell depth rate)/d(cell overlap); a cell standing out by eps
-    is worn faster by g eps, which an explicit update over a time T overshoots unless g T < 2).
+    is worn faster by g eps: the levelling that keeps a conformal contact conformal; a diagnostic).
     """
     n = wear_b.shape[0]
     delta = TWO_PI / n
@@ -319,12 +319,17 @@ def accumulate_conformal(
             wproj = 0.0
             for j in range(m_):
                 o = over[j] - shift * proj[j]
-                if o > 0.0:
+                if o > 0.0 and proj[j] > 0.1:  # only bore cells that face the contact normal can carry its load
                     w[j] = o
                     wproj += o * proj[j]
                 else:
                     w[j] = 0.0
-            scale = acc_v / wproj
+            if not (wproj > 0.0):  # nothing on the grid faces the normal: the centre line's cell takes it
+                wear_b[cur] += acc_v / (width * r_b0 * delta)
+                vol += acc_v
+                m_ = 0
+            else:
+                scale = acc_v / wproj
             for j in range(m_):
                 if w[j] > 0.0:
                     dv = scale * w[j]
