@@ -37,7 +37,7 @@ from .kernels import (
     smooth_periodic,
     worn_area,
 )
-from jointwear.contact.envelope import rounded_envelope
+from jointwear.contact.envelope import admissible_radius, rounded_envelope
 from jointwear.contact.geometry import PROFILE_ROUNDING
 
 from .settings import WearSettings, check_cycles, check_material
@@ -169,11 +169,13 @@ def cycle_wear(
     if bearing_bore is not None:
         c0 = mat.r_b0 - mat.r_j0
         ecc = np.asarray(trace.eccentricity_global, dtype=float)
+        c_bore = np.ascontiguousarray(c0 + bearing_bore, dtype=float)
+        r_adm = np.empty_like(c_bore)
+        admissible_radius(c_bore, r_adm)
         vb, g_level = accumulate_conformal(
             tb, np.ascontiguousarray(trace.normal_tilt, dtype=float),
             np.ascontiguousarray(np.hypot(ecc[:, 0], ecc[:, 1])), F, v, dt, r_b, r_j,
-            np.ascontiguousarray(c0 + bearing_bore, dtype=float), mat.r_b0, mat.h_b + mat.h_j, mat.kH_b, mat.width,
-            settings.half_width_factor, wb)
+            c_bore, r_adm, mat.r_b0, mat.h_b + mat.h_j, mat.kH_b, mat.width, settings.half_width_factor, wb)
         g_level /= n_cycles
     inv = 1.0 / n_cycles
     with np.errstate(invalid="ignore", divide="ignore"):

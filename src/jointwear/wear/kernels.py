@@ -234,6 +234,7 @@ def accumulate_conformal(
     r_b: np.ndarray,
     r_j: np.ndarray,
     c_bore: np.ndarray,
+    r_adm: np.ndarray,
     r_b0: float,
     hsum: float,
     kH_b: float,
@@ -246,10 +247,11 @@ def accumulate_conformal(
     The contact of a worn bore is not a point: a journal resting in a pocket worn to its own shape touches the whole
     worn arc. The normal force is shared over the cells k of the bore c_bore (c0 + contact profile, (n,), cells at
     2 pi k / n) in proportion to the rigid overlap of the journal with them (an elastic foundation, Johnson, Contact
-    Mechanics, Sec. 5.8), w_k = max(e'.u_k - c_k, 0), where e' is the journal centre moved along the contact normal
-    m (angle theta_b + tilt) until its deepest overlap is delta_H = b^2 / (2 R*): the overlap at which a foundation
-    reproduces Johnson's half-width b on a round bore (the dynamics' penetration is a Hertzian approach on a bore
-    with rounded corners, so the journal centre itself is not used as is). On a round bore the load spreads over
+    Mechanics, Sec. 5.8), w_k = max(e'.u_k - c_k, 0), where e' is the rigid journal's position: the point of the
+    admissible set of journal centres farthest along the contact normal m (angle theta_b + tilt; r_adm is the set's
+    radial function, contact.envelope.admissible_radius of c_bore), pressed in by delta_H = b^2 / (2 R*) along m,
+    the overlap at which a foundation reproduces Johnson's half-width b on a round bore. (The dynamics' penetration
+    is a Hertzian approach on a bore with rounded corners; only its force direction is used.) On a round bore the load spreads over
     |s| <= b (a parabolic pressure); in a pocket worn to the journal's shape w_k ~ cos(theta_k - theta_m) over the
     whole worn arc, the pressure of a conformal journal bearing. The shares N_k = F w_k / sum_j w_j (u_j . m)
     balance the force F along m; the Archard volume is (k/H) sum_k N_k ds >= (k/H) F ds.
@@ -298,6 +300,25 @@ def accumulate_conformal(
             cm /= nm
             sm /= nm
             dh = acc_dh * inv
+            # the journal's rigid position: the support point of the admissible set in the direction m (the vertex
+            # of r_adm farthest along m), pressed in by dh along m; the dynamics' own centre position is a surrogate
+            # that depends on how the contact search rounds corners, so only its force direction is used
+            cm_cell = int(math.floor((math.atan2(sm, cm) % TWO_PI) / delta + 0.5)) % n
+            best = -1e300
+            kbest = cm_cell
+            for d in range(-q, q + 1):
+                k = cm_cell + d
+                if k < 0:
+                    k += n
+                elif k >= n:
+                    k -= n
+                v = r_adm[k] * (cs[k] * cm + sn[k] * sm)
+                if v > best:
+                    best = v
+                    kbest = k
+            ex = r_adm[kbest] * cs[kbest] + dh * cm
+            ey = r_adm[kbest] * sn[kbest] + dh * sm
+            cur = kbest
             m_ = 0
             for d in range(-q, q + 1):
                 k = cur + d
@@ -309,13 +330,7 @@ def accumulate_conformal(
                 proj[m_] = cs[k] * cm + sn[k] * sm
                 over[m_] = ex * cs[k] + ey * sn[k] - c_bore[k]
                 m_ += 1
-            # the shift s along m that leaves the deepest overlap at dh: max_k (o_k - dh) / a_k over cells facing m
-            shift = -1e300
-            for j in range(m_):
-                if proj[j] > 0.1:
-                    v = (over[j] - dh) / proj[j]
-                    if v > shift:
-                        shift = v
+            shift = 0.0
             wproj = 0.0
             for j in range(m_):
                 o = over[j] - shift * proj[j]
