@@ -29,7 +29,8 @@ import numpy as np
 from .angles import circular_mean, report_angle_deg
 from .kernels import (
     TWO_PI,
-    accumulate_conformal,
+    gather_directions,
+    share_load,
     accumulate_wear,
     contact_envelope,
     map_touch_angles,
@@ -106,8 +107,28 @@ class CycleWear:
     area_mean: np.ndarray  # (n_grid,) time-mean contact area (m^2); nan where never
     max_half_width: float  # m
     mean_orientation: float  # rod (bearing body) mean orientation over the cycles (rad, global)
-    levelling_rate: float = 0.0  # profile mode, distributed deposit: 1/cycle (kernels.accumulate_conformal)
-    distributed: bool = False  # the bearing wear was shared over the bore (profile mode, distributed deposit)
+    levelling_rate: float = 0.0  # profile mode, distributed deposit: 1/cycle (kernels.share_load)
+    share: "ConformalShare | None" = dataclasses.field(default=None, repr=False)  # distributed deposit only
+
+
+@dataclass
+class ConformalShare:
+    """The recorded loads of a block gathered by contact direction (per cycle), shared over any bore profile
+    (profile mode, distributed deposit; kernels.gather_directions / share_load)."""
+
+    bins: np.ndarray  # (4, n_grid) per cycle
+    c0: float
+    r_b0: float
+    width: float
+
+    def __call__(self, bore: np.ndarray) -> tuple[np.ndarray, float, float]:
+        """(bearing depth per cycle, Archard volume per cycle, levelling rate per cycle) on the bore profile."""
+        c_bore = np.ascontiguousarray(self.c0 + bore, dtype=float)
+        r_adm = np.empty_like(c_bore)
+        admissible_radius(c_bore, r_adm)
+        out = np.zeros(c_bore.shape[0])
+        vol, g = share_load(self.bins, c_bore, r_adm, self.r_b0, self.width, out)
+        return out, vol, g
 
 
 def cycle_wear(
@@ -130,7 +151,7 @@ def cycle_wear(
     (profile mode, 'envelope' contact): grid index of the bore point that touches for each centre-line direction
     (kernels.contact_envelope); the wear is laid there. bearing_bore (profile mode, `profile_deposit =
     "distributed"`): the bore's contact profile (smoothed wear, m); each step's bearing wear is shared over the
-    cells the journal touches (kernels.accumulate_conformal) instead.
+    cells the journal touches (kernels.gather_directions, share_load) instead.
     """
     mat = materials or JointMaterials.from_trace(trace)
     n = settings.n_grid
@@ -166,17 +187,15 @@ def cycle_wear(
         math.radians(settings.profile_smoothing_deg) * math.sqrt(3.0) if bearing_profile is not None else 0.0,
     )
     g_level = 0.0
+    share = None
     if bearing_bore is not None:
-        c0 = mat.r_b0 - mat.r_j0
-        ecc = np.asarray(trace.eccentricity_global, dtype=float)
-        c_bore = np.ascontiguousarray(c0 + bearing_bore, dtype=float)
-        r_adm = np.empty_like(c_bore)
-        admissible_radius(c_bore, r_adm)
-        vb, g_level = accumulate_conformal(
-            tb, np.ascontiguousarray(trace.normal_tilt, dtype=float),
-            np.ascontiguousarray(np.hypot(ecc[:, 0], ecc[:, 1])), F, v, dt, r_b, r_j,
-            c_bore, r_adm, mat.r_b0, mat.h_b + mat.h_j, mat.kH_b, mat.width, settings.half_width_factor, wb)
-        g_level /= n_cycles
+        bins = np.zeros((4, n))
+        gather_directions(tb, np.ascontiguousarray(trace.normal_tilt, dtype=float), F, v, dt, r_b, r_j,
+                          mat.h_b + mat.h_j, mat.kH_b, mat.width, settings.half_width_factor, bins)
+        share = ConformalShare(bins / n_cycles, mat.r_b0 - mat.r_j0, mat.r_b0, mat.width)
+        rate_b, vrate_b, g_level = share(bearing_bore)
+        wb += rate_b * n_cycles
+        vb = vrate_b * n_cycles
     inv = 1.0 / n_cycles
     with np.errstate(invalid="ignore", divide="ignore"):
         fmean = np.where(diag[0] > 0, diag[1] / diag[0], np.nan)
@@ -184,7 +203,7 @@ def cycle_wear(
     psi = _attr(trace, "bearing_body_angle")
     mean_or = circular_mean(psi, dt) if psi is not None and np.size(psi) == dt.size else 0.0
     return CycleWear(wb * inv, wj * inv, vb * inv, vj * inv, s * inv, diag[0] * inv, fmean, diag[2] * inv, amean,
-                     bmax, mean_or, g_level, bearing_bore is not None)
+                     bmax, mean_or, g_level, share)
 
 
 # --------------------------------------------------------------------------------------------------- results
@@ -377,16 +396,33 @@ def _update_geometry(g0, settings: WearSettings, wb: np.ndarray, wj: np.ndarray,
     return dataclasses.replace(g0, use_profile=False, clearance_growth=float(growth)), None, None, None
 
 
-def _lay_bearing(cw: CycleWear, wb: np.ndarray, dn: int, settings: WearSettings):
-    """Profile mode, distributed deposit: lay a block's bearing wear over the running-in length, as the contact sees
-    the bore. The shares of the load respond to the bore as it is seen (smoothed); a ripple shorter than the
-    running-in length is invisible to them and would grow unchecked from their grid-scale noise, which laying
-    the increments smoothed prevents. The final profile is the sum of the increments, so this smooths it once
-    (not once per block), and it conserves the worn area. Returns (new profile, Archard volume of the block)."""
-    rate = cw.bearing
-    if settings.profile_smoothing_deg > 0.0:
-        rate = np.maximum(smooth_periodic(rate, settings.profile_smoothing_deg), 0.0)
-    return wb + rate * dn, cw.volume_bearing * dn
+#: The shares of the load level a bore cell that stands out by eps at a rate g eps (CycleWear.levelling_rate); an
+#: explicit update over dn cycles overshoots that when g dn is large, and a ripple of some degrees grows from block to
+#: block. A block's wear is therefore laid in sub-steps of at most LEVELLING_STEP / g cycles, re-sharing the same
+#: recorded loads over the bore as it wears (the dynamics changes slowly and is not re-run), at most MAX_SUBSTEPS.
+LEVELLING_STEP = 2.0
+MAX_SUBSTEPS = 16
+
+
+def _lay_bearing(cw: CycleWear, wb: np.ndarray, wj: np.ndarray, dn: int, settings: WearSettings):
+    """Profile mode, distributed deposit: lay a block's bearing wear in sub-steps (see LEVELLING_STEP), each
+    increment smoothed over the running-in length as the contact sees the bore (a ripple shorter than it is
+    invisible to the shares and would otherwise grow from their grid-scale noise; the profile is the sum of the
+    increments, so this smooths it once, not once per block, and conserves the worn area).
+    Returns (new profile, Archard volume of the block)."""
+    m = int(min(MAX_SUBSTEPS, max(1, math.ceil(cw.levelling_rate * dn / LEVELLING_STEP))))
+    wb = wb.copy()
+    vol = 0.0
+    for j in range(m):
+        if j == 0:
+            rate, vrate = cw.bearing, cw.volume_bearing
+        else:
+            rate, vrate, _ = cw.share(smoothed_profiles(wb, wj, settings)[0])
+        if settings.profile_smoothing_deg > 0.0:
+            rate = np.maximum(smooth_periodic(rate, settings.profile_smoothing_deg), 0.0)
+        wb += rate * (dn / m)
+        vol += vrate * (dn / m)
+    return wb, vol
 
 
 def _growth(settings: WearSettings, wb: np.ndarray, wj: np.ndarray) -> float:
@@ -537,8 +573,8 @@ def wear_history(
             prev_vrate = vrate
             dn = min(block, n_cycles - done)
             for i, cw in enumerate(rates):
-                if cw.distributed:
-                    wb[i], vb_add = _lay_bearing(cw, wb[i], dn, settings)
+                if cw.share is not None:
+                    wb[i], vb_add = _lay_bearing(cw, wb[i], wj[i], dn, settings)
                 else:
                     wb[i] += cw.bearing * dn
                     vb_add = cw.volume_bearing * dn

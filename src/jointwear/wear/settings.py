@@ -54,7 +54,7 @@ class WearSettings(SIModel):
         description=(
             "Profile mode only: where each step's bearing wear is laid. 'distributed' (default): shared over the bore "
             "cells the journal touches, in proportion to their rigid overlap with it (an elastic foundation whose "
-            "patch on a round bore is Johnson's half-width; kernels.accumulate_conformal): a journal resting in a "
+            "patch on a round bore is Johnson's half-width; kernels.share_load): a journal resting in a "
             "pocket worn to its own shape loads the whole worn arc with a cos-shaped pressure, the conformal wear of "
             "Kauzlarich and Williams (2001) that docs/verification.md checks. 'touch': at the single bore point that "
             "touches (contact_envelope's map), spread over the patch and the running-in length (the earlier rule)."
