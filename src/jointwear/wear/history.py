@@ -362,7 +362,10 @@ def contact_profiles(c0: float, wb: np.ndarray, wj: np.ndarray, settings: WearSe
     if settings.profile_contact == "radial":
         return wb.copy(), wj.copy(), None, None
     out = []
-    for w in (wb, wj):
+    for side, w in enumerate((wb, wj)):
+        if side == 0 and settings.profile_deposit == "distributed":  # the bearing's touch map is not used
+            out.append((None, None))
+            continue
         ce = np.empty_like(w)
         idx = np.empty(w.shape[0], dtype=np.int64)
         contact_envelope(c0 + w, ce, idx)

@@ -178,15 +178,23 @@ def contact_envelope(c: np.ndarray, out_c: np.ndarray, out_idx: np.ndarray) -> N
     n = c.shape[0]
     delta = TWO_PI / n
     q = int(math.floor((0.5 * math.pi - 1e-9) / delta))
-    inv = np.empty(2 * q + 1)
-    for d in range(-q, q + 1):
-        inv[d + q] = 1.0 / math.cos(d * delta)
+    inv = np.empty(q + 1)
+    for d in range(q + 1):
+        inv[d] = 1.0 / math.cos(d * delta)
+    cmin = c.min()
     for i in range(n):
         best = c[i]
         arg = i
-        for d in range(-q, q + 1):
+        for d in range(1, q + 1):  # outward, until min(c) / cos cannot beat the best (round bore: one cell)
+            if cmin * inv[d] >= best:
+                break
             k = (i + d) % n
-            v = c[k] * inv[d + q]
+            v = c[k] * inv[d]
+            if v < best:
+                best = v
+                arg = k
+            k = (i - d) % n
+            v = c[k] * inv[d]
             if v < best:
                 best = v
                 arg = k
