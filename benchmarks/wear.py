@@ -15,6 +15,12 @@ Sections
   instead of two (the lanes' lag of the geometry update).
 - reproduction: both assembly branches x both geometry modes at 400k cycles (paper: 0.0249 mm at 110 deg, second
   peak 0.0087 mm at 310 deg).
+- profile_cost (only with --only; issue 14): uniform vs profile mode, one model call each in the same process: the
+  pendulum rig (tests/wear/rigs/pendulum.toml) to 100k revolutions and the flapping wing to 520k cycles; cost per
+  simulated cycle, integrator steps, peak memory, the conformity indicator.
+- profile_rig_convergence / profile_wing_convergence (only with --only): profile mode's max depth with each setting
+  halved (grid spacing, smoothing, block, corner rounding), on the rig at 1e4/1e5 revolutions (beside the closed
+  form of docs/verification.md) and on the flapping wing at 520k cycles.
 - profile_convergence (only with --only, long: about 10 minutes on 2 cores): profile mode (geometry_mode = "profile")
   at 400k cycles, baseline vs n_grid doubled, block halved, rtol/atol halved, profile_smoothing_deg 6 and 1.5; each
   the mean of a few replicates. Besides the max it reports the worn area (the Archard volume / width, smooth), the
@@ -392,6 +398,146 @@ def bench_reproduction(profile_cycles: int = 20_000) -> dict:
     return out
 
 
+RIG = Path(__file__).resolve().parents[1] / "tests" / "wear" / "rigs" / "pendulum.toml"
+
+
+def _peak_rss_gb() -> float:
+    import resource
+
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6  # Linux: kB
+
+
+def _mode_run(model, settings, n_cycles: int, repeats: int) -> dict:
+    """One model call per repeat; wall/CPU medians, integrator steps and the growth of the peak RSS."""
+    walls, cpus, rss = [], [], []
+    res = None
+    for _ in range(repeats):
+        r0 = _peak_rss_gb()
+        t0, c0 = time.perf_counter(), time.process_time()
+        res = wear_history(model, settings, n_cycles)
+        walls.append(time.perf_counter() - t0)
+        cpus.append(time.process_time() - c0)
+        rss.append(_peak_rss_gb() - r0)
+    j = res.joints[0]
+    return {
+        "wall_seconds_median": statistics.median(walls), "wall_seconds_all": walls,
+        "cpu_seconds_median": statistics.median(cpus),
+        "simulation_seconds": res.sim_seconds, "n_simulated_cycles": res.n_simulated_cycles, "n_steps": res.n_steps,
+        "steps_per_simulated_cycle": res.n_steps / res.n_simulated_cycles,
+        "wall_seconds_per_simulated_cycle": statistics.median(walls) / res.n_simulated_cycles,
+        "peak_rss_growth_gb": max(rss), "peak_rss_gb": _peak_rss_gb(),
+        "max_wear_mm": j.max_bearing_wear * MM, "conformity": j.conformity,
+        "uniform_mode_valid": j.uniform_mode_valid,
+        "history": {"cycles": j.history_cycles[:: max(1, len(j.history_cycles) // 20)].tolist(),
+                    "max_wear_mm": (j.history_max_bearing[:: max(1, len(j.history_cycles) // 20)] * MM).tolist()},
+    }
+
+
+def bench_profile_cost(repeats: int = 1) -> dict:
+    """Issue 14: profile mode against uniform mode, same process, same settings otherwise: the pendulum rig
+    (tests/wear/rigs/pendulum.toml, blocks of 250, one lane) to 100,000 revolutions and the flapping wing
+    (default settings) to 520,000 cycles. Cost per simulated cycle, integrator steps, peak memory."""
+    out = {}
+    for name, path, n in (("pendulum_rig", str(RIG), 100_000), ("flapping_wing", None, 520_000)):
+        cfg = load_config(path)
+        model = build_model(cfg)
+        s = base_settings(cfg)
+        wear_history(model, s.model_copy(update={"geometry_mode": "profile"}), 2 * s.block_cycles)  # compile
+        rec = {"cycles": n}
+        for mode in ("uniform", "profile"):
+            rec[mode] = _mode_run(model, s.model_copy(update={"geometry_mode": mode}), n, repeats)
+        rec["ratio_wall_per_simulated_cycle_profile_to_uniform"] = (
+            rec["profile"]["wall_seconds_per_simulated_cycle"] / rec["uniform"]["wall_seconds_per_simulated_cycle"])
+        rec["ratio_wall_profile_to_uniform"] = (rec["profile"]["wall_seconds_median"]
+                                                / rec["uniform"]["wall_seconds_median"])
+        out[name] = rec
+        print(name, {m: rec[m]["wall_seconds_median"] for m in ("uniform", "profile")}, file=sys.stderr)
+    return out
+
+
+def bench_profile_rig_convergence(n_values=(10_000, 100_000)) -> dict:
+    """Issue 14 item 3 on the pendulum rig: profile mode's max depth, baseline vs each setting halved (angular grid
+    spacing, running-in smoothing, block size, the corner rounding of the admissible set), at 1e4 and 1e5
+    revolutions, beside the closed-form conformal wear (docs/verification.md). The rig's load is steady, so one
+    run per variant (no chaotic scatter to average)."""
+    import jointwear.wear.history as hist
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+    from verification.closed_form import Rig, conformal_wear, friction_circle
+
+    cfg = load_config(str(RIG))
+    model = build_model(cfg)
+    rig = Rig.from_config(cfg)
+    s = base_settings(cfg).model_copy(update={"geometry_mode": "profile"})
+    variants = {"baseline": {}, "grid_halved": {"n_grid": 2 * s.n_grid},
+                "smoothing_halved": {"profile_smoothing_deg": s.profile_smoothing_deg / 2},
+                "block_halved": {"block_cycles": s.block_cycles // 2}, "rounding_halved": "rounding"}
+    rounding0 = hist.PROFILE_ROUNDING
+    out = {"settings": {"n_grid": s.n_grid, "profile_smoothing_deg": s.profile_smoothing_deg,
+                        "block_cycles": s.block_cycles, "profile_rounding": rounding0}}
+    for n in n_values:
+        cf = conformal_wear(rig, friction_circle(rig)[1], n)
+        rec = {"closed_form": {"depth_mm": cf["depth"] * MM, "arc_deg": math.degrees(cf["arc"]),
+                               "area_mm2": cf["area"] * 1e6}}
+        for name, upd in variants.items():
+            try:
+                if upd == "rounding":
+                    hist.PROFILE_ROUNDING = rounding0 / 2
+                    v = s
+                else:
+                    v = s.model_copy(update=upd)
+                res = wear_history(model, v, n)
+            finally:
+                hist.PROFILE_ROUNDING = rounding0
+            h = res.joints[0].bearing_wear
+            arc = np.count_nonzero(h > 0.01 * h.max()) * 360.0 / h.size
+            rec[name] = {"max_depth_mm": float(h.max() * MM), "worn_area_mm2": worn_area(h, rig.r_b) * 1e6,
+                         "arc_deg_above_1pct": arc, "wall_seconds": res.wall_seconds}
+        for name in variants:
+            if name != "baseline":
+                rec[name]["change_of_max_depth"] = rec[name]["max_depth_mm"] / rec["baseline"]["max_depth_mm"] - 1
+        rec["baseline"]["error_vs_closed_form"] = rec["baseline"]["max_depth_mm"] / rec["closed_form"]["depth_mm"] - 1
+        rec["all_changes_below_2pct"] = all(abs(rec[k]["change_of_max_depth"]) < 0.02 for k in variants
+                                            if k != "baseline")
+        out[str(n)] = rec
+        print(n, {k: rec[k].get("change_of_max_depth") for k in variants}, file=sys.stderr)
+    return out
+
+
+def bench_profile_wing_convergence(n_cycles: int = 520_000) -> dict:
+    """Issue 14 item 3 on the flapping wing: profile mode's max depth at 520k cycles, baseline vs each setting
+    halved, one run each (single runs scatter by a few % on this chaotic mechanism: see "Sampling scatter")."""
+    import jointwear.wear.history as hist
+
+    cfg = config_for(-1)
+    model = build_model(cfg)
+    s = base_settings(cfg).model_copy(update={"geometry_mode": "profile"})
+    variants = {"baseline": {}, "grid_halved": {"n_grid": 2 * s.n_grid},
+                "smoothing_halved": {"profile_smoothing_deg": s.profile_smoothing_deg / 2},
+                "block_halved": {"block_cycles": s.block_cycles // 2}, "rounding_halved": "rounding"}
+    rounding0 = hist.PROFILE_ROUNDING
+    out = {"cycles": n_cycles}
+    for name, upd in variants.items():
+        try:
+            if upd == "rounding":
+                hist.PROFILE_ROUNDING = rounding0 / 2
+                v = s
+            else:
+                v = s.model_copy(update=upd)
+            res = wear_history(model, v, n_cycles)
+        finally:
+            hist.PROFILE_ROUNDING = rounding0
+        h = res.joints[0].bearing_wear
+        out[name] = {"max_depth_mm": float(h.max() * MM),
+                     "smoothed_max_mm": float(smooth_periodic(h, 5.0).max() * MM),
+                     "worn_area_mm2": worn_area(h, res.joints[0].bearing_radius) * 1e6,
+                     "wall_seconds": res.wall_seconds}
+    for name in variants:
+        if name != "baseline":
+            out[name]["change_of_max_depth"] = out[name]["max_depth_mm"] / out["baseline"]["max_depth_mm"] - 1
+    return out
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--only", default="timing,literal,convergence,reproduction")
@@ -401,7 +547,7 @@ def main(argv=None) -> int:
     out_path = Path(a.out)
     data = json.loads(out_path.read_text()) if out_path.exists() else {}
     sections = a.only.split(",")
-    if any(sec != "profile_convergence" for sec in sections):  # profile_convergence records its own machine/date
+    if any(not sec.startswith("profile_") for sec in sections):  # the profile sections record their own machine/date
         data["machine"] = {"python": sys.version.split()[0], "platform": platform.platform(),
                            "cpus": os.cpu_count(), "load_average_at_start": os.getloadavg()}
         data["date_utc"] = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
@@ -417,8 +563,18 @@ def main(argv=None) -> int:
             data["reproduction"] = bench_reproduction()
         elif sec == "profile_convergence":
             data["profile_convergence"] = bench_profile_convergence()
+        elif sec == "profile_cost":
+            data["profile_cost"] = bench_profile_cost()
+        elif sec == "profile_rig_convergence":
+            data["profile_rig_convergence"] = bench_profile_rig_convergence()
+        elif sec == "profile_wing_convergence":
+            data["profile_wing_convergence"] = bench_profile_wing_convergence()
         else:
             raise SystemExit(f"unknown section {sec!r}")
+        if sec.startswith("profile_") and sec != "profile_convergence":
+            data[sec]["machine"] = {"python": sys.version.split()[0], "platform": platform.platform(),
+                                    "cpus": os.cpu_count(), "load_average_at_start": os.getloadavg()}
+            data[sec]["date_utc"] = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
         print(f"{sec}: {time.perf_counter() - t0:.1f} s", file=sys.stderr)
     if "timing" in data and "literal" in data:
         for name in ("default", "fast"):

@@ -229,9 +229,11 @@ def test_energy_conserved_with_worn_profile(amp):
     tr = res.joints[0]
     ke = 0.5e-3 * (res.qd[:, 0] ** 2 + res.qd[:, 1] ** 2) + 0.5e-8 * res.qd[:, 2] ** 2
     assert tr.n_impacts > 100
-    # kinetic energy after 2 s of impacts: 1e-4 (the stiffness K follows the local radii, which the
-    # potential ignores: measured 2e-6 at 2 um, 3e-5 at 20 um of profile amplitude)
-    assert abs(ke[-1] - ke[0]) / ke[0] < 1e-4
+    # kinetic energy after 2 s of impacts: 3e-4 (the stiffness K follows the local radii, which the
+    # potential ignores, so each impact gains or loses up to dK/K ~ 10 % of its small elastic share; the sum
+    # depends on where the >100 impacts land: measured 2e-6 at 2 um, and at 20 um of profile amplitude 3e-5 with
+    # linear and 1.4e-4 with the C1 (Catmull-Rom) interpolation of the profile)
+    assert abs(ke[-1] - ke[0]) / ke[0] < 3e-4
 
 
 def test_model_and_result_pickle():

@@ -37,6 +37,8 @@ class FakeTrace:
     penetration: np.ndarray
     in_contact: np.ndarray
     bearing_body_angle: np.ndarray
+    eccentricity_global: np.ndarray | None = None  # (m, 2): journal centre from the bearing centre, global frame
+    normal_tilt: np.ndarray | None = None
     bearing_radius: float = 1.002e-3
     journal_radius: float = 1.0e-3
     clearance_used: float = 2e-6
@@ -67,9 +69,12 @@ def make_trace(n_cycles=2, steps_per_cycle=3000, f0=0.05, rate_scale=1.0, seed=0
     F = np.where(inc, F, 0.0)
     th_j = th_b - ph  # the journal turns a revolution per cycle against the bearing
     slip = 50.0 * 1e-3 * (1 + 0.2 * np.cos(ph))
+    pen = np.where(inc, 1e-8, 0.0)
+    psi = -0.3 + 0.05 * np.sin(ph)
+    ecc = (2e-6 + pen)[:, None] * np.column_stack([np.cos(th_b + psi), np.sin(th_b + psi)])
     tr = FakeTrace(t=t, dt_weight=dt, theta_bearing=th_b, theta_journal=th_j, force_normal=F,
-                   force_tangential=0.1 * F, slip_speed=slip, penetration=np.where(inc, 1e-8, 0.0),
-                   in_contact=inc, bearing_body_angle=-0.3 + 0.05 * np.sin(ph))
+                   force_tangential=0.1 * F, slip_speed=slip, penetration=pen, in_contact=inc,
+                   bearing_body_angle=psi, eccentricity_global=ecc, normal_tilt=np.zeros(m))
     return dataclasses.replace(tr, **over)
 
 

@@ -6,6 +6,12 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+#: Profile mode: radius (fraction of the nominal radial clearance) with which the corners of the admissible set of
+#: journal-centre positions are rounded (jointwear.contact.envelope). A journal resting in a pocket worn to its own
+#: shape then rocks in the rounded corner with a tangential stiffness about F / rho instead of chattering across a
+#: cusp; 0.2 keeps the steps per cycle as on a round bore (docs/wear.md "Profile mode: cost").
+PROFILE_ROUNDING = 0.2
+
 #: default number of points of the angular wear grids
 DEFAULT_N_GRID = 360
 

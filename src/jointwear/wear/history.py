@@ -29,6 +29,8 @@ import numpy as np
 from .angles import circular_mean, report_angle_deg
 from .kernels import (
     TWO_PI,
+    gather_directions,
+    share_load,
     accumulate_wear,
     contact_envelope,
     map_touch_angles,
@@ -36,6 +38,9 @@ from .kernels import (
     smooth_periodic,
     worn_area,
 )
+from jointwear.contact.envelope import admissible_radius, rounded_envelope
+from jointwear.contact.geometry import PROFILE_ROUNDING
+
 from .settings import WearSettings, check_cycles, check_material
 
 
@@ -102,6 +107,28 @@ class CycleWear:
     area_mean: np.ndarray  # (n_grid,) time-mean contact area (m^2); nan where never
     max_half_width: float  # m
     mean_orientation: float  # rod (bearing body) mean orientation over the cycles (rad, global)
+    levelling_rate: float = 0.0  # profile mode, distributed deposit: 1/cycle (kernels.share_load)
+    share: "ConformalShare | None" = dataclasses.field(default=None, repr=False)  # distributed deposit only
+
+
+@dataclass
+class ConformalShare:
+    """The recorded loads of a block gathered by contact direction (per cycle), shared over any bore profile
+    (profile mode, distributed deposit; kernels.gather_directions / share_load)."""
+
+    bins: np.ndarray  # (4, n_grid) per cycle
+    c0: float
+    r_b0: float
+    width: float
+
+    def __call__(self, bore: np.ndarray) -> tuple[np.ndarray, float, float]:
+        """(bearing depth per cycle, Archard volume per cycle, levelling rate per cycle) on the bore profile."""
+        c_bore = np.ascontiguousarray(self.c0 + bore, dtype=float)
+        r_adm = np.empty_like(c_bore)
+        admissible_radius(c_bore, r_adm)
+        out = np.zeros(c_bore.shape[0])
+        vol, g = share_load(self.bins, c_bore, r_adm, self.r_b0, self.width, out)
+        return out, vol, g
 
 
 def cycle_wear(
@@ -114,6 +141,7 @@ def cycle_wear(
     journal_profile: np.ndarray | None = None,
     bearing_touch: np.ndarray | None = None,
     journal_touch: np.ndarray | None = None,
+    bearing_bore: np.ndarray | None = None,
 ) -> CycleWear:
     """Archard wear per cycle of one ContactTrace-like record that spans `n_cycles` cycles.
 
@@ -121,7 +149,9 @@ def cycle_wear(
     (paper Eqs. 36-37); profile mode (when profiles are given) the local radii R_b0 + h_b(theta_b) and
     R_j0 - h_j(theta_j), with the profiles exactly as given to the contact search. bearing_touch / journal_touch
     (profile mode, 'envelope' contact): grid index of the bore point that touches for each centre-line direction
-    (kernels.contact_envelope); the wear is laid there.
+    (kernels.contact_envelope); the wear is laid there. bearing_bore (profile mode, `profile_deposit =
+    "distributed"`): the bore's contact profile (smoothed wear, m); each step's bearing wear is shared over the
+    cells the journal touches (kernels.gather_directions, share_load) instead.
     """
     mat = materials or JointMaterials.from_trace(trace)
     n = settings.n_grid
@@ -151,10 +181,21 @@ def cycle_wear(
     wj = np.zeros(n)
     diag = np.zeros((4, n))
     vb, vj, s, bmax = accumulate_wear(
-        tb_w, tj_w, F, v, dt, r_b, r_j, mat.r_b0, mat.r_j0, mat.h_b, mat.h_j, mat.kH_b, mat.kH_j, mat.width,
+        tb_w, tj_w, F, v, dt, r_b, r_j, mat.r_b0, mat.r_j0, mat.h_b, mat.h_j,
+        mat.kH_b if bearing_bore is None else 0.0, mat.kH_j, mat.width,
         settings.half_width_factor, settings.pressure == "hertz", settings.track_journal, wb, wj, diag,
         math.radians(settings.profile_smoothing_deg) * math.sqrt(3.0) if bearing_profile is not None else 0.0,
     )
+    g_level = 0.0
+    share = None
+    if bearing_bore is not None:
+        bins = np.zeros((4, n))
+        gather_directions(tb, np.ascontiguousarray(trace.normal_tilt, dtype=float), F, v, dt, r_b, r_j,
+                          mat.h_b + mat.h_j, mat.kH_b, mat.width, settings.half_width_factor, bins)
+        share = ConformalShare(bins / n_cycles, mat.r_b0 - mat.r_j0, mat.r_b0, mat.width)
+        rate_b, vrate_b, g_level = share(bearing_bore)
+        wb += rate_b * n_cycles
+        vb = vrate_b * n_cycles
     inv = 1.0 / n_cycles
     with np.errstate(invalid="ignore", divide="ignore"):
         fmean = np.where(diag[0] > 0, diag[1] / diag[0], np.nan)
@@ -162,7 +203,7 @@ def cycle_wear(
     psi = _attr(trace, "bearing_body_angle")
     mean_or = circular_mean(psi, dt) if psi is not None and np.size(psi) == dt.size else 0.0
     return CycleWear(wb * inv, wj * inv, vb * inv, vj * inv, s * inv, diag[0] * inv, fmean, diag[2] * inv, amean,
-                     bmax, mean_or)
+                     bmax, mean_or, g_level, share)
 
 
 # --------------------------------------------------------------------------------------------------- results
@@ -207,6 +248,27 @@ class JointWear:
     peaks: list[dict]  # [{"angle_deg", "depth"}] deepest first (depth m)
     diagnostics: CycleWear  # per-cycle quantities of the last block (Fig. 17)
     first_rate: CycleWear  # per-cycle quantities of the first block (unworn geometry)
+    contact_half_width: float = math.nan  # m, Johnson's b at the mean contact force of the first block
+
+    @property
+    def conformal_arc(self) -> float:
+        """Worn arc (rad) of a bore worn to the journal's shape as deep as this one: a journal that has sunk by the
+        max bearing depth h into a bore of radial clearance c0 touches it over 2 acos(c0 / (c0 + h))."""
+        c0 = self.bearing_radius - self.journal_radius
+        return 2.0 * math.acos(c0 / (c0 + self.max_bearing_wear))
+
+    @property
+    def conformity(self) -> float:
+        """Half the conformal arc over the contact's half-angle b / R_b on the unworn bore (docs/wear.md "When uniform
+        mode is fair"). Below 1 the worn pocket is narrower than the contact patch and uniform mode's round-bore
+        contact is a fair model; above 1 the journal fits into its own wear and only profile mode is."""
+        half = self.contact_half_width / self.bearing_radius
+        return 0.5 * self.conformal_arc / half if half > 0.0 else math.inf
+
+    @property
+    def uniform_mode_valid(self) -> bool:
+        """conformity <= 1: the range in which uniform mode (the paper's Eqs. 36-37) is a fair approximation."""
+        return self.conformity <= 1.0
 
     @property
     def angle_deg(self) -> np.ndarray:
@@ -283,31 +345,87 @@ class WearResult:
     def peaks(self) -> list[dict]:
         return self.joints[0].peaks
 
+    @property
+    def conformity(self) -> float:
+        """Joint 0's conformity (JointWear.conformity): above 1, uniform mode is outside its range."""
+        return self.joints[0].conformity
+
+    @property
+    def uniform_mode_valid(self) -> bool:
+        return self.joints[0].uniform_mode_valid
+
 
 # --------------------------------------------------------------------------------------------------- the loop
 def contact_profiles(c0: float, wb: np.ndarray, wj: np.ndarray, settings: WearSettings):
     """Profiles given to the contact search in profile mode and the touching-point maps (None for 'radial')."""
-    if settings.profile_smoothing_deg > 0.0:
-        wb = np.maximum(smooth_periodic(wb, settings.profile_smoothing_deg), 0.0)
-        wj = np.maximum(smooth_periodic(wj, settings.profile_smoothing_deg), 0.0)
+    wb, wj = smoothed_profiles(wb, wj, settings)
     if settings.profile_contact == "radial":
         return wb.copy(), wj.copy(), None, None
     out = []
-    for w in (wb, wj):
+    for side, w in enumerate((wb, wj)):
+        if side == 0 and settings.profile_deposit == "distributed":  # the bearing's touch map is not used
+            out.append((None, None))
+            continue
         ce = np.empty_like(w)
         idx = np.empty(w.shape[0], dtype=np.int64)
         contact_envelope(c0 + w, ce, idx)
         out.append((np.maximum(ce - c0, 0.0), idx))
+    # the bearing: the admissible set with its corners rounded (contact.envelope), so that a journal resting in a
+    # pocket worn to its own shape meets a smooth contact normal
+    rb = np.empty_like(wb)
+    rounded_envelope(c0 + wb, PROFILE_ROUNDING * c0, rb)
+    out[0] = (np.maximum(rb - c0, 0.0), out[0][1])
     return out[0][0], out[1][0], out[0][1], out[1][1]
 
 
+def smoothed_profiles(wb: np.ndarray, wj: np.ndarray, settings: WearSettings):
+    """The worn profiles as the contact sees them: smoothed over the running-in length, never negative."""
+    if settings.profile_smoothing_deg > 0.0:
+        wb = np.maximum(smooth_periodic(wb, settings.profile_smoothing_deg), 0.0)
+        wj = np.maximum(smooth_periodic(wj, settings.profile_smoothing_deg), 0.0)
+    return wb, wj
+
+
 def _update_geometry(g0, settings: WearSettings, wb: np.ndarray, wj: np.ndarray, growth: float):
-    """(geometry for the dynamics, bearing touch map, journal touch map)."""
+    """(geometry for the dynamics, bearing touch map, journal touch map, bore contact profile or None)."""
     if settings.geometry_mode == "profile":
         c0 = float(g0.bearing_radius - g0.journal_radius + (getattr(g0, "clearance_growth", 0.0) or 0.0))
         hb, hj, ib, ij = contact_profiles(c0, wb, wj, settings)
-        return dataclasses.replace(g0, use_profile=True, bearing_wear=hb, journal_wear=hj), ib, ij
-    return dataclasses.replace(g0, use_profile=False, clearance_growth=float(growth)), None, None
+        bore = None
+        if settings.profile_deposit == "distributed":
+            bore = smoothed_profiles(wb, wj, settings)[0]
+            ib = None
+        return dataclasses.replace(g0, use_profile=True, bearing_wear=hb, journal_wear=hj), ib, ij, bore
+    return dataclasses.replace(g0, use_profile=False, clearance_growth=float(growth)), None, None, None
+
+
+#: The shares of the load level a bore cell that stands out by eps at a rate g eps (CycleWear.levelling_rate); an
+#: explicit update over dn cycles overshoots that when g dn is large, and a ripple of some degrees grows from block to
+#: block. A block's wear is therefore laid in sub-steps of at most LEVELLING_STEP / g cycles, re-sharing the same
+#: recorded loads over the bore as it wears (the dynamics changes slowly and is not re-run), at most MAX_SUBSTEPS.
+LEVELLING_STEP = 2.0
+MAX_SUBSTEPS = 16
+
+
+def _lay_bearing(cw: CycleWear, wb: np.ndarray, wj: np.ndarray, dn: int, settings: WearSettings):
+    """Profile mode, distributed deposit: lay a block's bearing wear in sub-steps (see LEVELLING_STEP), each
+    increment smoothed over the running-in length as the contact sees the bore (a ripple shorter than it is
+    invisible to the shares and would otherwise grow from their grid-scale noise; the profile is the sum of the
+    increments, so this smooths it once, not once per block, and conserves the worn area).
+    Returns (new profile, Archard volume of the block)."""
+    m = int(min(MAX_SUBSTEPS, max(1, math.ceil(cw.levelling_rate * dn / LEVELLING_STEP))))
+    wb = wb.copy()
+    vol = 0.0
+    for j in range(m):
+        if j == 0:
+            rate, vrate = cw.bearing, cw.volume_bearing
+        else:
+            rate, vrate, _ = cw.share(smoothed_profiles(wb, wj, settings)[0])
+        if settings.profile_smoothing_deg > 0.0:
+            rate = np.maximum(smooth_periodic(rate, settings.profile_smoothing_deg), 0.0)
+        wb += rate * (dn / m)
+        vol += vrate * (dn / m)
+    return wb, vol
 
 
 def _growth(settings: WearSettings, wb: np.ndarray, wj: np.ndarray) -> float:
@@ -440,7 +558,7 @@ def wear_history(
                 cw = cycle_wear(tr, settings, rec, mats[i], growth=growth_used[i],
                                 bearing_profile=geoms[i].bearing_wear if prof else None,
                                 journal_profile=geoms[i].journal_wear if prof else None,
-                                bearing_touch=upd[i][1], journal_touch=upd[i][2])
+                                bearing_touch=upd[i][1], journal_touch=upd[i][2], bearing_bore=upd[i][3])
                 if first[i] is None:
                     first[i] = cw
                 last[i] = cw
@@ -458,9 +576,13 @@ def wear_history(
             prev_vrate = vrate
             dn = min(block, n_cycles - done)
             for i, cw in enumerate(rates):
-                wb[i] += cw.bearing * dn
+                if cw.share is not None:
+                    wb[i], vb_add = _lay_bearing(cw, wb[i], wj[i], dn, settings)
+                else:
+                    wb[i] += cw.bearing * dn
+                    vb_add = cw.volume_bearing * dn
                 wj[i] += cw.journal * dn
-                vol_b[i] += cw.volume_bearing * dn
+                vol_b[i] += vb_add
                 vol_j[i] += cw.volume_journal * dn
                 if settings.geometry_mode == "uniform":
                     growth[i] = growth0[i] + _growth(settings, wb[i], wj[i])
@@ -487,6 +609,7 @@ def wear_history(
             history_max_journal=np.asarray(hist_j[i]), history_clearance_growth=np.asarray(hist_g[i]),
             volume_bearing=vol_b[i], volume_journal=vol_j[i], bearing_radius=mats[i].r_b0,
             journal_radius=mats[i].r_j0, width=mats[i].width, peaks=[], diagnostics=last[i], first_rate=first[i],
+            contact_half_width=_mean_half_width(first[i], mats[i], settings),
         )
         ang = jw.angle_deg
         jw.peaks = [{"angle_deg": float(ang[k]), "depth": float(wb[i][k])}
@@ -494,6 +617,16 @@ def wear_history(
         joints.append(jw)
     return WearResult(joints, settings, n_cycles, blocks, time.perf_counter() - t_wall, sim_seconds, sim_cycles,
                       n_steps)
+
+
+def _mean_half_width(cw: CycleWear, mat: JointMaterials, settings: WearSettings) -> float:
+    """Johnson's half-width (m) at the time-mean normal force while in contact, on the unworn radii."""
+    ct = cw.contact_time
+    if not np.any(ct > 0):
+        return math.nan
+    force = float(np.nansum(np.where(ct > 0, cw.force_mean, 0.0) * ct) / ct.sum())
+    rstar = mat.r_b0 * mat.r_j0 / (mat.r_b0 - mat.r_j0)
+    return settings.half_width_factor * math.sqrt(force * rstar * (mat.h_b + mat.h_j) / mat.width)
 
 
 def _default_settle(model) -> float:

@@ -178,15 +178,23 @@ def contact_envelope(c: np.ndarray, out_c: np.ndarray, out_idx: np.ndarray) -> N
     n = c.shape[0]
     delta = TWO_PI / n
     q = int(math.floor((0.5 * math.pi - 1e-9) / delta))
-    inv = np.empty(2 * q + 1)
-    for d in range(-q, q + 1):
-        inv[d + q] = 1.0 / math.cos(d * delta)
+    inv = np.empty(q + 1)
+    for d in range(q + 1):
+        inv[d] = 1.0 / math.cos(d * delta)
+    cmin = c.min()
     for i in range(n):
         best = c[i]
         arg = i
-        for d in range(-q, q + 1):
+        for d in range(1, q + 1):  # outward, until min(c) / cos cannot beat the best (round bore: one cell)
+            if cmin * inv[d] >= best:
+                break
             k = (i + d) % n
-            v = c[k] * inv[d + q]
+            v = c[k] * inv[d]
+            if v < best:
+                best = v
+                arg = k
+            k = (i - d) % n
+            v = c[k] * inv[d]
             if v < best:
                 best = v
                 arg = k
@@ -218,3 +226,125 @@ def smooth_periodic(profile: np.ndarray, sigma_deg: float) -> np.ndarray:
     k = np.fft.rfftfreq(n, d=1.0 / n)  # cycles per revolution
     sig = math.radians(sigma_deg)
     return np.fft.irfft(np.fft.rfft(p) * np.exp(-0.5 * (k * sig) ** 2), n)
+
+
+@njit(cache=True, nogil=True)
+def gather_directions(theta_b, tilt, force, slip, dt, r_b, r_j, hsum, kH_b, width, c_half, bins):
+    """Gather the recorded steps by the grid cell of their contact normal m (angle theta_b + tilt): bins (4, n)
+    receives per cell the Archard volume (k/H) F ds, its weighted sums of cos m and sin m, and of
+    delta_H = b^2 / (2 R*) (see share_load)."""
+    n = bins.shape[1]
+    delta = TWO_PI / n
+    for i in range(force.shape[0]):
+        f = force[i]
+        if not (f > 0.0):
+            continue
+        dv = kH_b * f * abs(slip[i]) * dt[i]
+        if not (dv > 0.0):
+            continue
+        rb = r_b[i]
+        rj = r_j[i]
+        rstar = rb * rj / (rb - rj)
+        b = c_half * math.sqrt(f * rstar * hsum / width)
+        mu = theta_b[i] + tilt[i]
+        k = int(math.floor((mu % TWO_PI) / delta + 0.5)) % n
+        bins[0, k] += dv
+        bins[1, k] += dv * math.cos(mu)
+        bins[2, k] += dv * math.sin(mu)
+        bins[3, k] += dv * b * b / (2.0 * rstar)
+
+
+@njit(cache=True, nogil=True)
+def share_load(bins, c_bore, r_adm, r_b0, width, wear_b):
+    """Archard wear of the bearing in profile mode, each step's load shared by the bore cells the journal touches.
+
+    The contact of a worn bore is not a point: a journal resting in a pocket worn to its own shape touches the whole
+    worn arc. The normal force is shared over the cells k of the bore c_bore (c0 + contact profile, (n,), cells at
+    2 pi k / n) in proportion to the rigid overlap of the journal with them (an elastic foundation, Johnson, Contact
+    Mechanics, Sec. 5.8), w_k = max(e'.u_k - c_k, 0) over the cells facing the contact normal m (angle theta_b +
+    tilt). e' is the rigid journal's position: the point of the admissible set of journal centres farthest along m
+    (r_adm is the set's radial function, contact.envelope.admissible_radius of c_bore), pressed in by
+    delta_H = b^2 / (2 R*) along m, the overlap at which a foundation reproduces Johnson's half-width b on a round
+    bore. (The dynamics' penetration is a Hertzian approach on a bore with rounded corners; only its force
+    direction is used.) On a round bore the load spreads over |s| <= b (a parabolic pressure); in a pocket worn to
+    the journal's shape w_k ~ cos(theta_k - theta_m) over the whole worn arc, the pressure of a conformal journal
+    bearing. The shares N_k = F w_k / sum_j w_j (u_j . m) balance the force F along m; the Archard volume is
+    (k/H) sum_k N_k ds >= (k/H) F ds.
+
+    The steps come gathered by the grid cell of m (gather_directions: their Archard-weighted mean direction and
+    delta_H), and each cell's total is shared once: the sharing is smooth in m within a cell.
+
+    Returns (Archard volume (m^3), levelling rate g (1/s of the record): the largest sum over directions of
+    dv / (w-projection sum) / (L R Delta), i.e. d(cell depth rate)/d(cell overlap); a cell standing out by eps is
+    worn faster by g eps: the levelling that keeps a conformal contact conformal; a diagnostic).
+    """
+    n = wear_b.shape[0]
+    delta = TWO_PI / n
+    q = n // 4
+    bv = bins[0]
+    bmx = bins[1]
+    bmy = bins[2]
+    bdh = bins[3]
+    cs = np.empty(n)
+    sn = np.empty(n)
+    for k in range(n):
+        cs[k] = math.cos(k * delta)
+        sn[k] = math.sin(k * delta)
+    w = np.empty(2 * q + 1)
+    idx = np.empty(2 * q + 1, dtype=np.int64)
+    proj = np.empty(2 * q + 1)
+    gcell = np.zeros(n)
+    vol = 0.0
+    for c in range(n):
+        acc_v = bv[c]
+        if not (acc_v > 0.0):
+            continue
+        cm = bmx[c]
+        sm = bmy[c]
+        nm = math.sqrt(cm * cm + sm * sm)
+        cm /= nm
+        sm /= nm
+        dh = bdh[c] / acc_v
+        # the support point of the admissible set along m (the farthest vertex; a full scan: near a conformal
+        # corner m . V_k is flat to rounding and a local climb can stop short)
+        kbest = c
+        best = -1e300
+        for d in range(-q, q + 1):
+            k = c + d
+            if k < 0:
+                k += n
+            elif k >= n:
+                k -= n
+            v = r_adm[k] * (cs[k] * cm + sn[k] * sm)
+            if v > best:
+                best = v
+                kbest = k
+        ex = r_adm[kbest] * cs[kbest] + dh * cm
+        ey = r_adm[kbest] * sn[kbest] + dh * sm
+        m_ = 0
+        wproj = 0.0
+        for d in range(-q, q + 1):
+            k = kbest + d
+            if k < 0:
+                k += n
+            elif k >= n:
+                k -= n
+            a = cs[k] * cm + sn[k] * sm
+            o = ex * cs[k] + ey * sn[k] - c_bore[k]
+            if o > 0.0 and a > 0.1:  # only bore cells that face the contact normal can carry its load
+                idx[m_] = k
+                w[m_] = o
+                proj[m_] = a
+                wproj += o * a
+                m_ += 1
+        if not (wproj > 0.0):  # nothing on the grid faces the normal: the normal's cell takes it
+            wear_b[c] += acc_v / (width * r_b0 * delta)
+            vol += acc_v
+            continue
+        scale = acc_v / wproj
+        for j in range(m_):
+            dvj = scale * w[j]
+            wear_b[idx[j]] += dvj / (width * r_b0 * delta)
+            gcell[idx[j]] += scale / (width * r_b0 * delta)
+            vol += dvj
+    return vol, gcell.max()

@@ -1,0 +1,134 @@
+"""Where a rigid round journal can go in a worn bore: the admissible set of journal-centre positions, its corners
+rounded (profile mode's contact geometry; compiled helpers called once per geometry update).
+
+A bore cell k at angle theta_k with local clearance c_k admits the journal centres e with e . u_k <= c_k; the
+admissible set S is the intersection of these half-planes (convex). A journal resting in a pocket it has worn to
+its own shape sits at a corner of S (it touches the whole worn arc at once). The contact search of the dynamics
+measures the penetration along the centre line against the radial function of S; at a corner that function has a
+cusp, the contact normal flips from one flank to the other, and the integrator chatters with ever smaller steps.
+The dynamics is therefore given the radial function of S rounded with a radius rho: S' = (S eroded by rho) dilated
+by rho, which equals S wherever S is smoother than rho (a round bore is unchanged) and replaces each corner by a
+circular arc of radius rho.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+TWO_PI = 2.0 * math.pi
+
+
+@njit(cache=True)
+def _edge_distance(r, i, px, py):
+    """Distance from (px, py) to edge i of the polygon through r[j] (cos, sin)(2 pi j / n)."""
+    n = r.shape[0]
+    d = TWO_PI / n
+    a0 = i * d
+    j0 = i % n
+    j1 = (i + 1) % n
+    ax = r[j0] * math.cos(a0)
+    ay = r[j0] * math.sin(a0)
+    bx = r[j1] * math.cos(a0 + d) - ax
+    by = r[j1] * math.sin(a0 + d) - ay
+    qx = px - ax
+    qy = py - ay
+    u = (qx * bx + qy * by) / (bx * bx + by * by)
+    u = min(1.0, max(0.0, u))
+    dx = qx - u * bx
+    dy = qy - u * by
+    return math.sqrt(dx * dx + dy * dy)
+
+
+@njit(cache=True)
+def polygon_distance(r, px, py):
+    """Distance from an outside point to the convex polygon through r[j] u_j (walks from the point's own edge while
+    the distance decreases: along the visible chain of a convex polygon it is unimodal)."""
+    n = r.shape[0]
+    ang = math.atan2(py, px) % TWO_PI
+    i0 = int(ang / (TWO_PI / n)) % n
+    best = _edge_distance(r, i0, px, py)
+    for step in (1, -1):
+        i = i0
+        for _ in range(n // 2):
+            d = _edge_distance(r, i + step, px, py)
+            if d < best:
+                best = d
+                i += step
+            else:
+                break
+    return best
+
+
+@njit(cache=True)
+def admissible_radius(c, out):
+    """Radial function of S = {e : e . u_k <= c_k} at the grid angles: min_k c_k / cos(theta_k - theta_i) over
+    |theta_k - theta_i| < 90 deg (first order in clearance / radius, as kernels.contact_envelope). The scan goes
+    outward from theta_i and stops once min(c) / cos(theta_k - theta_i) cannot beat the best so far (on a round
+    bore after one cell)."""
+    n = c.shape[0]
+    delta = TWO_PI / n
+    q = int(math.floor((0.5 * math.pi - 1e-9) / delta))
+    inv = np.empty(q + 1)
+    for d in range(q + 1):
+        inv[d] = 1.0 / math.cos(d * delta)
+    cmin = c.min()
+    for i in range(n):
+        best = c[i]
+        for d in range(1, q + 1):
+            if cmin * inv[d] >= best:
+                break
+            v = c[(i + d) % n] * inv[d]
+            if v < best:
+                best = v
+            v = c[(i - d) % n] * inv[d]
+            if v < best:
+                best = v
+        out[i] = best
+
+
+@njit(cache=True)
+def rounded_envelope(c, rho, out):
+    """Radial function (at the grid angles) of S' = (S eroded by rho) dilated by rho, S the admissible set of the
+    local clearances c (n,): the largest t with dist(t u_i, S_rho) <= rho, S_rho the set of the clearances c - rho.
+    Found by false position (Illinois) to 1e-6 of rho; where S_rho is locally round, t = r_rho + rho at once.
+    rho must be < min(c)."""
+    n = c.shape[0]
+    r_in = np.empty(n)
+    admissible_radius(c - rho, r_in)
+    delta = TWO_PI / n
+    tol = 1e-6 * rho
+    for i in range(n):
+        cx = math.cos(i * delta)
+        sy = math.sin(i * delta)
+        t = r_in[i] + rho
+        f = polygon_distance(r_in, t * cx, t * sy) - rho
+        if abs(f) <= tol:
+            out[i] = t
+            continue
+        lo, flo = r_in[i], -rho
+        hi, fhi = t, f
+        while fhi < 0.0:
+            lo, flo = hi, fhi
+            hi = hi + rho
+            fhi = polygon_distance(r_in, hi * cx, hi * sy) - rho
+        side = 0
+        mid = hi
+        for _ in range(100):
+            mid = (lo * fhi - hi * flo) / (fhi - flo)
+            fm = polygon_distance(r_in, mid * cx, mid * sy) - rho
+            if abs(fm) <= tol or hi - lo <= tol:
+                break
+            if fm < 0.0:
+                lo, flo = mid, fm
+                if side == -1:
+                    fhi *= 0.5
+                side = -1
+            else:
+                hi, fhi = mid, fm
+                if side == 1:
+                    flo *= 0.5
+                side = 1
+        out[i] = mid

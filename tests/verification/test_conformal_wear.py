@@ -1,0 +1,35 @@
+"""Profile mode against the conformal wear of a radially loaded journal bearing (docs/verification.md, case 5)."""
+
+import math
+
+import pytest
+
+from jointwear.wear import wear_history
+from jointwear.wear.kernels import worn_area
+
+from .closed_form import conformal_wear, friction_circle
+
+
+def _check(rig_model, rig_config, rig, n):
+    settings = rig_config.wear.model_copy(update={"geometry_mode": "profile"})
+    h = wear_history(rig_model, settings, n).joints[0].bearing_wear
+    cf = conformal_wear(rig, friction_circle(rig)[1], n)
+    # 2 % for depth and area: the thin-layer geometry is first order in c0 / R (0.5 %), the block's explicit step
+    # lags the rate (which falls as n^(-1/3)) by dn / (6 n) (0.4 % at 1e4), and the contact sees the profile
+    # smoothed over sigma = 3 deg, which lowers the cap's top by d sigma^2 / 2 (0.6 % at 1e4)
+    assert h.max() == pytest.approx(cf["depth"], rel=0.02)
+    assert worn_area(h, rig.r_b) == pytest.approx(cf["area"], rel=0.02)
+    # the arc: the smoothing blurs each edge of the worn arc by about sigma, so 2 sigma in all
+    n_grid = h.size
+    arc = sum(1 for x in h if x > 0.01 * h.max()) * 2 * math.pi / n_grid
+    sigma = math.radians(settings.profile_smoothing_deg)
+    assert arc == pytest.approx(cf["arc"], abs=2 * sigma)
+
+
+def test_profile_mode_wears_the_journal_shape_into_the_bore_1e4(rig_model, rig_config, rig):
+    _check(rig_model, rig_config, rig, 10_000)
+
+
+@pytest.mark.slow
+def test_profile_mode_wears_the_journal_shape_into_the_bore_1e5(rig_model, rig_config, rig):
+    _check(rig_model, rig_config, rig, 100_000)

@@ -1,0 +1,42 @@
+"""Johnson's half-width and the Archard deposit of one revolution on the unworn bore (docs/verification.md, case 2)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from jointwear.mechanism import simulate
+from jointwear.wear import WearSettings
+from jointwear.wear.history import JointMaterials, cycle_wear
+from jointwear.wear.kernels import worn_area
+
+from .closed_form import deposit_per_rev, half_width
+
+
+@pytest.fixture(scope="module")
+def one_rev(still_model):
+    return simulate(still_model, 1, settle_cycles=3, rtol=5e-7, atol=5e-10)
+
+
+@pytest.mark.parametrize("pressure", ["uniform", "hertz"])
+def test_one_revolution_lays_the_closed_form_patch(one_rev, rig, pressure):
+    tr = one_rev.joints[0]
+    settings = WearSettings(pressure=pressure, n_grid=1440)
+    cw = cycle_wear(tr, settings, 1.0, JointMaterials.from_trace(tr))
+    n_force = rig.weight  # no friction: the contact is on the load line
+    b = half_width(n_force, rig.r_b, rig.r_j, rig.hsum, rig.width)
+    # the largest half-width of the revolution; b ~ sqrt(F), and the load is steady to the contact's ringing
+    assert cw.max_half_width == pytest.approx(b, rel=0.015)
+    peak = deposit_per_rev(rig.kH_b, n_force, rig.slide_per_rev, b, rig.width, pressure)
+    # 0.5 %: the deposit is the time integral of the load, nonlinear in it only through b ~ sqrt(F) (second order
+    # in the ringing); 0.25 deg cells average a Hertz peak down by (0.0044 / 0.067)^2 / 24 = 0.02 %
+    assert cw.bearing.max() == pytest.approx(peak, rel=5e-3)
+    # width: the uniform patch is 2b wide at half its height (a symmetric wobble of the contact angle leaves the
+    # half-height points in place); to one cell (the count of cells above half height) and the 1 % of b above
+    if pressure == "uniform":
+        delta = 2 * math.pi / settings.n_grid
+        fwhm = np.count_nonzero(cw.bearing > 0.5 * cw.bearing.max()) * delta * rig.r_b
+        assert fwhm == pytest.approx(2 * b, abs=delta * rig.r_b + 0.01 * b)
+    # Archard volume of the revolution, (k/H) N s: 0.2 % for the load's mean over the ringing
+    assert worn_area(cw.bearing, rig.r_b) * rig.width == pytest.approx(rig.kH_b * n_force * rig.slide_per_rev,
+                                                                       rel=2e-3)
