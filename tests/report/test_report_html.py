@@ -198,3 +198,20 @@ def test_report_shows_the_validation_from_its_typed_result(tmp_path):
     page = build_report(d).read_text(encoding="utf-8")
     assert 'id="validation"' in page and "1 of 2" in page and "0.970" in page
     assert page.count("data:image/png;base64") >= 2
+
+
+def test_report_warns_when_uniform_mode_is_outside_its_range(tmp_path):
+    import json
+
+    from report_fixtures import make_fixture_dir
+
+    from jointwear.report.html import build_report
+
+    d = make_fixture_dir(tmp_path / "w", which=("wear",), reference=False)
+    data = json.loads((d / "wear.json").read_text())
+    (d / "wear.json").write_text(json.dumps({**data, "geometry_mode": "uniform", "conformity": 2.4,
+                                             "uniform_mode_valid": False}))
+    assert "Uniform mode is outside its range" in build_report(d).read_text(encoding="utf-8")
+    (d / "wear.json").write_text(json.dumps({**data, "geometry_mode": "uniform", "conformity": 0.4,
+                                             "uniform_mode_valid": True}))
+    assert "Uniform mode is outside its range" not in build_report(d).read_text(encoding="utf-8")

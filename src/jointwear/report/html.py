@@ -945,6 +945,12 @@ def _wear_section(inp: Inputs, figs: _Figures) -> str:
         return _missing(inp.errors.get("wear") or "No wear.json in this folder: the wear stage has not been run "
                                                   "(jointwear wear).")
     parts: list[str] = []
+    if wear.get("geometry_mode", "uniform") == "uniform" and wear.get("uniform_mode_valid") is False:
+        parts.append(
+            '<p class="warn"><strong>Uniform mode is outside its range here.</strong> The worn pocket is wider than '
+            f'the contact patch (conformity {_num(wear.get("conformity"), 3)} &gt; 1): the journal fits into its own '
+            'wear, the pressure spreads and the depth grows more slowly than uniform mode assumes. Run the study with '
+            '<code>wear.geometry_mode = "profile"</code> and trust that answer (docs/wear.md).</p>')
     cycles = _float(wear.get("cycles"))
     sp = _second_peak(wear)
     cards = [
@@ -1325,6 +1331,7 @@ def _files_section(inp: Inputs) -> str:
 
 
 CSS = """
+.warn{background:#fff4e5;border-left:4px solid #e08a00;padding:.6em .9em}
 :root{--ink:#1d2733;--muted:#5b6673;--line:#dde3ea;--bg:#f6f8fa;--accent:#4477AA;--pass:#1e7b34;--fail:#b42318;
 --open:#8a5a00}
 *{box-sizing:border-box}

@@ -167,6 +167,9 @@ class WearSummary(StageResult):
     ``max_wear_angle_deg``, ``peaks`` [{``angle_deg``, ``depth_mm``}], ``profile`` {``angle_deg``,
     ``depth_mm``}, ``history`` {``cycles``, ``max_wear_mm``}; ``joints`` has the same for every joint plus the
     journal's wear, the clearance growth, the Archard volumes and the wear-rate diagnostics.
+    ``conformity`` (joint 0) is the half worn arc of a bore worn to the journal's shape over the contact's
+    half-angle on the unworn bore; ``uniform_mode_valid`` is False when it exceeds 1 for any joint, where only
+    ``geometry_mode = "profile"`` describes the contact (docs/wear.md).
     ``history_result`` (not saved) is the full :class:`jointwear.wear.WearResult`.
     """
 
@@ -190,6 +193,8 @@ class WearSummary(StageResult):
     settings: dict = field(default_factory=dict)
     geometry_mode: str = "uniform"
     limit_mm: float | None = None
+    conformity: float | None = None
+    uniform_mode_valid: bool | None = None
     files: list[str] = field(default_factory=list)
     provenance: dict = field(default_factory=dict)
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
@@ -234,6 +239,8 @@ class WearSummary(StageResult):
                 "wear_rate_initial_mm_per_cycle": float(jw.first_rate.bearing.max() * 1e3),
                 "wear_rate_final_mm_per_cycle": float(jw.diagnostics.bearing.max() * 1e3),
                 "max_half_width_um": jw.diagnostics.max_half_width * 1e6,
+                "conformity": jw.conformity,
+                "uniform_mode_valid": jw.uniform_mode_valid,
             })
         j0 = joints[0]
         return cls(
@@ -246,7 +253,9 @@ class WearSummary(StageResult):
             blocks=[{"start": b.start, "size": b.size, "peak_rate_mm_per_cycle": b.peak_rate * 1e3,
                      "rate_change": None if math.isnan(b.rate_change) else b.rate_change} for b in res.blocks],
             settings=res.settings.model_dump(mode="json"), geometry_mode=res.settings.geometry_mode,
-            limit_mm=j0["allowance_mm"], provenance=provenance(), history_result=res)
+            limit_mm=j0["allowance_mm"], conformity=j0["conformity"],
+            uniform_mode_valid=all(j["uniform_mode_valid"] for j in joints), provenance=provenance(),
+            history_result=res)
 
     def save(self, folder: Path | str, *, figures: bool = True) -> Path:
         """Write ``wear.json``, the profile and history CSV tables of every joint and the figures."""
