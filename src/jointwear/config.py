@@ -168,6 +168,12 @@ def _com(link: LinkConfig) -> float:
     return link.length / 2 if link.com_offset is None else link.com_offset
 
 
+def _nonzero_crank_speed(v: float) -> float:
+    if v == 0.0:
+        raise ValueError("crank_speed must not be 0 (the crank turns once per cycle)")
+    return v
+
+
 def _positive_length(link: LinkConfig, where: str) -> None:
     if not link.length > 0:
         raise ValueError(f"{where}.length must be > 0 (got {fmt_mm(link.length)})")
@@ -206,12 +212,7 @@ class FourBarConfig(SIModel):
     )
     rod_force: Vec2 = F((0.0, 0.0), unit="N", description="Constant external force on the rod at its centre of mass.")
 
-    @field_validator("crank_speed")
-    @classmethod
-    def _nonzero_speed(cls, v: float) -> float:
-        if v == 0.0:
-            raise ValueError("crank_speed must not be 0 (the crank turns once per cycle)")
-        return v
+    _nonzero_speed = field_validator("crank_speed")(classmethod(lambda cls, v: _nonzero_crank_speed(v)))
 
     @model_validator(mode="after")
     def _closure(self) -> FourBarConfig:
@@ -251,12 +252,7 @@ class SliderCrankConfig(SIModel):
     )
     gravity: Vec2 = F((0.0, 0.0), unit="m/s^2", description="Gravity vector (Flores et al. 2006 benchmark: none).")
 
-    @field_validator("crank_speed")
-    @classmethod
-    def _nonzero_speed(cls, v: float) -> float:
-        if v == 0.0:
-            raise ValueError("crank_speed must not be 0 (the crank turns once per cycle)")
-        return v
+    _nonzero_speed = field_validator("crank_speed")(classmethod(lambda cls, v: _nonzero_crank_speed(v)))
 
     @model_validator(mode="after")
     def _closure(self) -> SliderCrankConfig:

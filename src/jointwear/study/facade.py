@@ -220,17 +220,11 @@ class Study:
     def sensitivity(self) -> SensitivityResult:
         """Mean-shift sensitivity, Sobol' indices and derivatives of the reliability; runs (or reads back from
         the evaluation store) the reliability stage first."""
-        from jointwear.study.reliability import run_reliability
         from jointwear.study.sensitivity import run_sensitivity
 
         self._prepare({"reliability", "sensitivity"})
         with self._session(reuse=True) as ctx:
-            rel = self._reliability
-            if rel is None:
-                rel = run_reliability(ctx, progress=self._progress_callback)
-                self._reliability = rel
-                rel.save(self.out)
-            sens = run_sensitivity(ctx, rel)
+            sens = run_sensitivity(ctx, self._learned(ctx))
         sens.save(self.out)
         self.echo(f"sensitivity: ranking {ranking_line(sens)}; {sens.extra_model_calls} extra model calls "
                   f"-> {self.out / sens.FILE}")
@@ -241,19 +235,13 @@ class Study:
         """Check the R(N) curve against the true wear model on ``n_samples`` fresh random samples (one model
         call each, through the executor and the evaluation store, so an interrupted validation resumes), and
         cross-validate the surrogate. Runs (or reads back from the store) the reliability stage first."""
-        from jointwear.study.reliability import run_reliability
         from jointwear.study.validation import run_validation
 
         if isinstance(n_samples, bool) or not isinstance(n_samples, int) or n_samples < 1:
             raise ConfigError(f"samples: must be a whole number >= 1 (got {n_samples!r})")
         self._prepare({"reliability"})
         with self._session(reuse=True) as ctx:
-            rel = self._reliability
-            if rel is None:
-                rel = run_reliability(ctx, progress=self._progress_callback)
-                self._reliability = rel
-                rel.save(self.out)
-            result = run_validation(ctx, rel, n_samples)
+            result = run_validation(ctx, self._learned(ctx), n_samples)
         result.save(self.out)
         agree = sum(result.agreement)
         self.echo(f"validate: {result.n_samples:,} true-model samples ({result.model_calls:,} new calls), "
@@ -289,6 +277,16 @@ class Study:
         path = self.report()
         self.echo(f"run: done in {time.perf_counter() - t0:.0f} s -> {path}")
         return load_results(self.out)
+
+    def _learned(self, ctx) -> ReliabilityResult:
+        """The reliability result of this study: the one in memory, else learned again from the evaluation store
+        (the learning is deterministic, so the stored calls are replayed and no call is repeated)."""
+        from jointwear.study.reliability import run_reliability
+
+        if self._reliability is None:
+            self._reliability = run_reliability(ctx, progress=self._progress_callback)
+            self._reliability.save(self.out)
+        return self._reliability
 
     # --------------------------------------------------------------------------------------- model calls
     @contextlib.contextmanager
