@@ -423,7 +423,8 @@ def reliability_curve_figure(
     rel = _arr(reliability)
     fig, ax = figure()
     if pf_cov is not None:
-        cov = np.nan_to_num(_arr(pf_cov))
+        cov = _arr(pf_cov)
+        cov = np.where(np.isfinite(cov), cov, 0.0)  # no COV where Pf = 0: a band of zero width
         half = 1.96 * cov * (1.0 - rel)
         ax.fill_between(n, np.clip(rel - half, 0, 1), np.clip(rel + half, 0, 1), color=COLORS[0], alpha=0.2,
                         lw=0, label="95 % band (COV of Pf)")
