@@ -520,7 +520,8 @@ def convergence_figure(
     p = _arr(pf)
     fig, ax = figure()
     if cov is not None:
-        half = 1.96 * np.nan_to_num(_arr(cov)) * p
+        c = _arr(cov)
+        half = 1.96 * np.where(np.isfinite(c), c, 0.0) * p  # no band where the COV is undefined (Pf = 0)
         ax.fill_between(calls, np.clip(p - half, 0, 1), np.clip(p + half, 0, 1), color=COLORS[0], alpha=0.2, lw=0,
                         label="95 % band (COV of Pf)")
     ax.plot(calls, p, color=COLORS[0], marker="o", ms=3.5, label=label or "Pf estimate")
