@@ -30,6 +30,7 @@ from pydantic import (
     model_validator,
 )
 
+from jointwear.design.settings import DesignSettings
 from jointwear.schema import ConfigError, F, SIModel
 from jointwear.study_settings import (
     ComputeSettings,
@@ -573,6 +574,7 @@ class StudyConfig(SIModel):
     reliability: ReliabilitySettings = F(default_factory=ReliabilitySettings, description="Wear reliability (Section 5).")
     sensitivity: SensitivitySettings = F(default_factory=SensitivitySettings, description="Sensitivity (Section 6.2.3).")
     compute: ComputeSettings = F(default_factory=ComputeSettings, description="Where model calls run.")
+    design: DesignSettings | None = F(None, description="Uncertainty control: controls, costs and targets (docs/design.md).")
 
     @model_validator(mode="after")
     def _targets_exist(self) -> StudyConfig:
