@@ -227,7 +227,8 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
                 if candidates[i].cost(controls) > chosen_cost:
                     break
                 e = est[(i, k)]
-                if abs(e.reliability - t["reliability"]) <= e.surrogate_error:
+                # the population's mass outside the design region may be misclassified wholesale
+                if abs(e.reliability - t["reliability"]) <= e.surrogate_error + e.outside_fraction:
                     out.append((i, k))
         return out
 
@@ -240,37 +241,53 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
         return [i for i in order if candidates[i].cost(controls) <= limit]
 
     est = evaluate_all(range(len(candidates)))
-    refine_calls, iterations = 0, 0
-    while refine_calls < settings.refine_max_calls:
-        todo = undecided(est)
-        if not todo:
-            break
-        picks = []
-        seen = set()
-        for i, k in todo:
-            if i in seen:
-                continue
-            seen.add(i)
-            picks.append(_refine_point(space, sur, candidates[i], targets[k]["log_life"]))
-            if len(picks) >= min(settings.batch_size, settings.refine_max_calls - refine_calls):
+    refine_calls, iterations, verification_calls = 0, 0, 0
+    verifications: list[dict] = []
+    verified: dict[int, dict] = {}
+    while True:
+        while refine_calls < settings.refine_max_calls:
+            todo = undecided(est)
+            if not todo:
                 break
-        before = ctx.n_evaluated
-        x_new = np.vstack(picks)
-        ctx.log_life(x_new)  # true-model calls (through the evaluator and the evaluation store)
-        refine_calls += max(ctx.n_evaluated - before, 0)
-        sur.add(x_new)
-        iterations += 1
-        est.update(evaluate_all(_relevant(est) if len(candidates) > 2000 else range(len(candidates))))
-        say(f"design: refinement {iterations}: {len(todo)} undecided, {refine_calls} calls")
-    if len(candidates) > 2000:
+            picks, seen = [], set()
+            for i, k in todo:
+                if i in seen:
+                    continue
+                seen.add(i)
+                picks.append(_refine_point(space, sur, candidates[i], targets[k]["log_life"]))
+                if len(picks) >= min(settings.batch_size, settings.refine_max_calls - refine_calls):
+                    break
+            before = ctx.n_evaluated
+            x_new = np.vstack(picks)
+            ctx.log_life(x_new)  # true-model calls (through the evaluator and the evaluation store)
+            refine_calls += max(ctx.n_evaluated - before, 0)
+            sur.add(x_new)
+            iterations += 1
+            est.update(evaluate_all(_relevant(est) if len(candidates) > 2000 else range(len(candidates))))
+            say(f"design: refinement {iterations}: {len(todo)} undecided, {refine_calls} calls")
+        if len(candidates) > 2000:
+            est = evaluate_all(range(len(candidates)))
+        head_i = _cheapest_meeting(est, order, 0, targets[0]["reliability"])
+        budget = settings.verification_max_calls - verification_calls
+        if not settings.verify or head_i is None or head_i in verified or budget <= 0:
+            break
+        say(f"design: verifying {candidates[head_i].choices(controls)} with its own reliability study")
+        ver, x_ver = verify(ctx, candidates[head_i], controls, space, targets[0], budget, settings.seed)
+        verification_calls += ver["new_model_calls"]
+        ver["choices"] = candidates[head_i].choices(controls)
+        verified[head_i] = ver
+        verifications.append(ver)
+        if ver["confirmed"]:
+            break
+        # Not confirmed: the verification's true calls enter the life surrogate and the search runs again.
+        sur.add(x_ver)
         est = evaluate_all(range(len(candidates)))
     left = undecided(est)
 
     per_target = []
     for k, t in enumerate(targets):
         rows = [_row(candidates[i], controls, est[(i, k)]) for i in range(len(candidates))]
-        feasible = [i for i in order if est[(i, k)].reliability >= t["reliability"]]
-        chosen_i = feasible[0] if feasible else None
+        chosen_i = _cheapest_meeting(est, order, k, t["reliability"])
         chosen = None
         if chosen_i is not None:
             chosen = _row(candidates[chosen_i], controls, est[(chosen_i, k)])
@@ -281,11 +298,13 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
                            "undecided": sum(1 for _, kk in left if kk == k)})
 
     head = per_target[0]
-    verification = None
-    if settings.verify and head["chosen_index"] is not None:
-        say("design: verifying the chosen design with its own reliability study")
-        verification = verify(ctx, candidates[head["chosen_index"]], controls, space, targets[0],
-                              settings.verification_max_calls, settings.seed)
+    verification = verified.get(head["chosen_index"]) if head["chosen_index"] is not None else None
+    if verification is not None:
+        verification = dict(verification, model_calls=verification_calls, rounds=verifications)
+    elif verifications:  # the budget ended before the latest choice could be verified
+        verification = {"reliability_at_target_life": None, "error": None, "model_calls": verification_calls,
+                        "confirmed": False, "rounds": verifications,
+                        "note": "verification budget spent before the final choice was verified"}
     total_calls = ctx.n_evaluated
     return DesignResult(
         target_life_cycles=head["target_life_cycles"], target_reliability=head["target_reliability"],
@@ -295,25 +314,36 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
         baseline_life_cycles=head["baseline_life_cycles"], life_factor=head["life_factor"],
         targets=[{k: v for k, v in row.items() if k not in ("rows", "chosen_index")} for row in per_target],
         controls=[c.to_json() for c in controls], candidates=head["rows"],
-        calls={"study": study_points, "refinement": int(refine_calls),
-               "verification": None if verification is None else verification["model_calls"],
+        calls={"study": study_points, "refinement": int(refine_calls), "verification": int(verification_calls),
                "new_in_this_stage": int(total_calls - calls_before)},
         refinement={"iterations": iterations, "model_calls": int(refine_calls),
                     "undecided_left": len(left), "design_points": int(sur.x.shape[0])},
         n_population=settings.n_population, n_candidates=len(candidates))
 
 
+def _cheapest_meeting(est: dict, order: list[int], k: int, reliability: float) -> int | None:
+    """The cheapest candidate whose R(N*) on the surrogate meets target ``k``."""
+    return next((i for i in order if est[(i, k)].reliability >= reliability), None)
+
+
 def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: CandidateSpace, target: dict,
-           max_calls: int, seed: int) -> dict:
+           max_calls: int, seed: int) -> tuple[dict, np.ndarray]:
     """The chosen design's own reliability study at N*: AK-MCS on the true model (through the study's evaluator
-    and store) with the candidate's input distributions and the study's reliability settings."""
+    and store) with the candidate's input distributions and the study's reliability settings. Returns the
+    verdict and the study's design points (true-model inputs).
+
+    Its initial design has at least 2 d + 2 points (the engine's default, Echard et al. 2011) even where the
+    study's own is smaller: with fewer points than about twice the dimension, the Kriging variance after a
+    maximum-likelihood fit can be too small for the error bound to be trusted.
+    """
     rel = ctx.config.reliability
     marginals = cand.marginals(controls, ctx.names, ctx.marginals)
     before = ctx.n_evaluated
+    n_initial = min(max(rel.n_initial, 2 * len(marginals) + 2), max_calls)
     eng = akmcs_multi(
         ctx.log_life, marginals, levels=np.array([target["log_life"]]), n_mc=rel.n_mc, n_mc_max=rel.n_mc_max,
-        n_initial=rel.n_initial, batch_size=rel.batch_size, u_threshold=rel.u_threshold,
-        cov_target=rel.cov_target, pf_floor=rel.pf_floor, max_calls=max(max_calls, rel.n_initial),
+        n_initial=n_initial, batch_size=rel.batch_size, u_threshold=rel.u_threshold,
+        cov_target=rel.cov_target, pf_floor=rel.pf_floor, max_calls=max_calls,
         seed=rel.seed + 17 + seed, stopping=rel.stopping, error_tol=rel.error_tol,
         error_abs_tol=rel.error_abs_tol, kriging={"estimate_nugget": rel.noise == "estimate"})
     p_inf = space.infeasible_probability(cand)
@@ -335,7 +365,7 @@ def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: C
             "confirmed": bool(reliability + error >= target["reliability"]),
             "meets_target_without_error": bool(reliability >= target["reliability"]),
             "pf_cov": cov, "surrogate_error": sur_err, "n_mc": int(eng.n_mc), "converged": bool(eng.converged),
-            "failed_calls": int(eng.n_failed_calls)}
+            "failed_calls": int(eng.n_failed_calls)}, np.asarray(eng.design_x, dtype=float)
 
 
 __all__ = ["run_design", "verify", "estimate", "LifeSurrogate", "CandidateSpace", "Estimate"]
