@@ -107,3 +107,16 @@ def test_design_json_has_the_contract_keys_and_loads_back(design, tmp_path):
     assert (tmp_path / "design_pareto.csv").read_text().count("\n") == len(data["pareto"]) + 1
     back = DesignResult.load(tmp_path)
     assert back.chosen["choices"] == design.chosen["choices"] and back.target_life_cycles == design.target_life_cycles
+
+
+def test_report_section_shows_the_front_the_choice_and_the_verified_reliability(design, tmp_path):
+    from jointwear.report.design_section import design_section
+
+    assert design_section(tmp_path) is None  # no design.json: no section
+    design.save(tmp_path)
+    html = design_section(tmp_path)
+    assert (tmp_path / "design_pareto.png").read_bytes().startswith(b"\x89PNG")
+    assert "data:image/png;base64," in html
+    for option in design.chosen["choices"].values():
+        assert option in html
+    assert f"{design.verification['reliability_at_target_life']:.4f}" in html and "confirms" in html

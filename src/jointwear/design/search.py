@@ -272,7 +272,8 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
         if not settings.verify or head_i is None or head_i in verified or budget <= 0:
             break
         say(f"design: verifying {candidates[head_i].choices(controls)} with its own reliability study")
-        ver, x_ver = verify(ctx, candidates[head_i], controls, space, targets[0], budget, settings.seed)
+        ver, x_ver = verify(ctx, candidates[head_i], controls, space, targets[0], budget, settings.seed,
+                            settings.verification_stopping)
         verification_calls += ver["new_model_calls"]
         ver["choices"] = candidates[head_i].choices(controls)
         verified[head_i] = ver
@@ -327,7 +328,7 @@ def _cheapest_meeting(est: dict, order: list[int], k: int, reliability: float) -
 
 
 def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: CandidateSpace, target: dict,
-           max_calls: int, seed: int) -> tuple[dict, np.ndarray]:
+           max_calls: int, seed: int, stopping: str = "u") -> tuple[dict, np.ndarray]:
     """The chosen design's own reliability study at N*: AK-MCS on the true model (through the study's evaluator
     and store) with the candidate's input distributions and the study's reliability settings. Returns the
     verdict and the study's design points (true-model inputs).
@@ -344,7 +345,7 @@ def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: C
         ctx.log_life, marginals, levels=np.array([target["log_life"]]), n_mc=rel.n_mc, n_mc_max=rel.n_mc_max,
         n_initial=n_initial, batch_size=rel.batch_size, u_threshold=rel.u_threshold,
         cov_target=rel.cov_target, pf_floor=rel.pf_floor, max_calls=max_calls,
-        seed=rel.seed + 17 + seed, stopping=rel.stopping, error_tol=rel.error_tol,
+        seed=rel.seed + 17 + seed, stopping=stopping, error_tol=rel.error_tol,
         error_abs_tol=rel.error_abs_tol, kriging={"estimate_nugget": rel.noise == "estimate"})
     p_inf = space.infeasible_probability(cand)
     pf_feasible = float(np.asarray(eng.pf)[0])

@@ -242,6 +242,10 @@ class DesignSettings(SIModel):
     batch_size: int = Field(2, description="Refinement points per iteration (run in parallel).")
     verify: bool = Field(True, description="Verify the chosen design with its own reliability study.")
     verification_max_calls: int = Field(80, description="Budget of true-model calls of the verification study.")
+    verification_stopping: Literal["u", "error"] = Field(
+        "u", description="Learning stop of the verification study: 'u' (the paper's rule, min U >= 2, else the "
+        "budget) keeps learning near the limit state at N*; 'error' stops once the ESC error bound is below the "
+        "study's tolerance, which a Kriging fitted on its initial design alone can meet too early (project choice).")
     seed: int = Field(0, description="Seed of the candidates' population and the refinement.")
 
     @field_validator("targets")
