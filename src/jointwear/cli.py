@@ -206,6 +206,18 @@ def presets():
         click.echo(f"{name}\n    {cfg.description}\n    source: {cfg.citation}")
 
 
+@main.command()
+@config_argument
+@compute_options
+@out_option
+def design(config, workers, scheduler, resume, overwrite, out):
+    """The cheapest controls (grades, fit, material specifications) that reach the [design] target life at the
+    target reliability, the Pareto front of cost vs life, and the choice verified; write design.json.
+
+    Re-uses the evaluations of a reliability study in the same --out folder.
+    """
+    open_study(config, out, workers, scheduler, resume, overwrite).design()
+
 def main_entry(argv: list[str] | None = None) -> int:
     """Run the CLI in-process and return the exit status (used by tests)."""
     return main.run(argv)

@@ -31,6 +31,7 @@ from pydantic import (
 )
 
 from jointwear.reference import AcceptanceBand, ReferenceData, ReferenceValue
+from jointwear.design.settings import DesignSettings
 from jointwear.schema import ConfigError, F, SIModel
 from jointwear.study_settings import (
     ComputeSettings,
@@ -578,6 +579,7 @@ class StudyConfig(SIModel):
     reference: ReferenceData | None = F(
         None, description="Cited results of the publication the study reproduces; the report compares with them "
         "only when given (jointwear.reference).")
+    design: DesignSettings | None = F(None, description="Uncertainty control: controls, costs and targets (docs/design.md).")
 
     @model_validator(mode="after")
     def _targets_exist(self) -> StudyConfig:
@@ -778,6 +780,7 @@ def config_reference_markdown() -> str:
         ("reference", ReferenceData),
         ("[[reference.values]]", ReferenceValue),
         ("reference.values.band", AcceptanceBand),
+        ("design", DesignSettings),
     ]
     for title, model in sections:
         lines += [f"## {title}", "", (model.__doc__ or "").strip().splitlines()[0], "",

@@ -69,6 +69,7 @@ from pathlib import Path
 import numpy as np
 
 from . import figures as F
+from .design_section import design_section
 from .style import DPI, to_data_uri
 
 __all__ = ["build_report", "Check", "reference_checks", "reference_of", "read_inputs"]
@@ -1419,6 +1420,10 @@ def build_report(out_dir: Path | str, *, output: Path | str | None = None, title
             "The R(N) curve checked against direct Monte Carlo of the true wear model.")]
           if getattr(inp.results, "validation", None) is not None else []),
         ("sensitivity", "Sensitivity", lambda: _sensitivity_section(inp, figs), ""),
+        *([("design", "Uncertainty control: the cheapest controls", lambda: design_section(out_dir),
+            "The tolerance grades, fit and material specifications that reach the target life at the target "
+            "reliability at the least cost (docs/design.md).")]
+          if (out_dir / "design.json").is_file() else []),
         ("files", "Files of this study", lambda: _files_section(inp), ""),
     ]
     bodies = [(sid, t, _safe(b, t.lower()), lead) for sid, t, b, lead in sections]

@@ -336,6 +336,43 @@ class Study:
                                  "COV": f"{cov[min(k, cov.size - 1)]:.2g}", "min U": f"{min_u:.2f}"})
 
 
+    # ------------------------------------------------------------------------------------------- design
+    @_quiet
+    def design(self):
+        """Uncertainty control (``[design]``): the cheapest tolerance grades, fit and material specifications
+        that reach the target life at the target reliability, the Pareto front of cost against the life at R*,
+        and the choice verified by its own reliability study. Runs (or reads back from the evaluation store)
+        the reliability stage first; returns a :class:`jointwear.design.DesignResult` (``design.json``)."""
+        from jointwear.design import design_problems, run_design
+        from jointwear.study.reliability import run_reliability
+
+        problems = design_problems(self.config)
+        if problems:
+            raise ConfigError.from_problems(problems, "config")
+        self._prepare({"reliability"})
+        with self._session(reuse=True) as ctx:
+            rel = self._reliability
+            if rel is None:
+                rel = run_reliability(ctx, progress=self._progress_callback)
+                self._reliability = rel
+                rel.save(self.out)
+            result = run_design(ctx, rel, echo=self.echo)
+        result.save(self.out)
+        chosen = result.chosen
+        if chosen is None:
+            self.echo(f"design: no candidate reaches {result.target_life_cycles:,.0f} cycles at "
+                      f"R = {result.target_reliability:g}; {result.model_calls} model calls -> {self.out / result.FILE}")
+            return result
+        ver = result.verification
+        verified = "" if ver is None else (
+            f"; verified R = {ver['reliability_at_target_life']:.4f} +/- {ver['error']:.4f}"
+            + ("" if ver["confirmed"] else " (NOT confirmed)"))
+        picks = ", ".join(f"{k} {v}" for k, v in chosen["choices"].items())
+        self.echo(f"design: {picks} (cost {chosen['cost']:.3g}) reaches {result.target_life_cycles:,.0f} cycles at "
+                  f"R = {result.target_reliability:g}{verified}; {result.model_calls} model calls "
+                  f"-> {self.out / result.FILE}")
+        return result
+
 def _empty_store(out: Path) -> bool:
     """Whether ``out`` holds an evaluation store with no call in it (a study stopped before its first call:
     nothing to lose by reopening it)."""

@@ -1,0 +1,159 @@
+"""Candidate designs: every control's options as changes of input distributions, and their combinations.
+
+A control's option changes the distributions of one or more random variables and nothing else: the wear
+model depends on the sampled values, not on the distributions, so every candidate is the same true model under
+other input distributions. The rules:
+
+* a length at grade IT g: normal with the same mean and sigma = IT(g, nominal) / 6 (ISO 286-1 tolerance read
+  as 6 sigma, Eq. 41 of Jin et al. 2025; :func:`jointwear.uncertainty.tolerances.length_sigma`);
+* a fit: the clearance's sigma = sqrt(T_D^2 + T_d^2) / 12 from the bore and pin grades (Eq. 40,
+  :func:`jointwear.uncertainty.tolerances.clearance_from_fit`), truncated at the minimum clearance as in the
+  study;
+* a property class: the given mean and standard deviation (the study's where not given); acceptance limits
+  truncate the normal distribution (parts outside the limits are rejected at inspection).
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+
+from scipy import stats
+
+from jointwear.config import StudyConfig
+from jointwear.design.cost import grade_costs
+from jointwear.design.settings import DesignSettings, PropertySpec
+from jointwear.uncertainty.tolerances import it_tolerance, length_sigma
+from jointwear.uncertainty.variables import ClearanceSpec, RandomVariableSpec
+
+
+@dataclass
+class Option:
+    """One option of a control: its label, cost and the distributions it sets (by variable name)."""
+
+    name: str
+    cost: float
+    marginals: dict
+    described: dict = field(default_factory=dict)  # per variable: mean, std, lower, upper (SI)
+    infeasible_probability: float | None = None  # the clearance's mass below its minimum (fits only)
+
+
+@dataclass
+class Control:
+    """A decision (``kind``: 'tolerance', 'fit', 'property' or 'material') and its options."""
+
+    name: str
+    kind: str
+    options: list[Option]
+
+    def to_json(self) -> dict:
+        return {"name": self.name, "kind": self.kind,
+                "options": [{"name": o.name, "cost": o.cost, "distributions": o.described} for o in self.options]}
+
+
+def spec_marginal(spec: RandomVariableSpec, change: PropertySpec | None = None):
+    """The frozen distribution of ``spec`` with ``change``'s mean/std and acceptance limits applied."""
+    if change is not None and (change.mean is not None or change.std is not None):
+        spec = spec.model_copy(update={k: v for k, v in (("mean", change.mean), ("std", change.std)) if v is not None})
+    if change is None or (change.lower is None and change.upper is None):
+        return spec.frozen()
+    lo = -float("inf") if change.lower is None else (change.lower - spec.mean) / spec.std
+    hi = float("inf") if change.upper is None else (change.upper - spec.mean) / spec.std
+    return stats.truncnorm(a=lo, b=hi, loc=spec.mean, scale=spec.std)
+
+
+def _described(spec: RandomVariableSpec, change: PropertySpec | None = None) -> dict:
+    mean = spec.mean if change is None or change.mean is None else change.mean
+    std = spec.std if change is None or change.std is None else change.std
+    return {"mean": mean, "std": std, "lower": None if change is None else change.lower,
+            "upper": None if change is None else change.upper}
+
+
+def fit_clearance(clearance: ClearanceSpec, hole_grade: str, shaft_grade: str, mean: float | None) -> ClearanceSpec:
+    """The study's clearance under another fit (ISO 286-2 sigma from the two grades, Eq. 40)."""
+    update = {"source": "iso286", "hole_grade": hole_grade, "shaft_grade": shaft_grade}
+    if mean is not None:
+        update["mean"] = mean
+    return clearance.model_copy(update=update)
+
+
+def build_controls(config: StudyConfig, settings: DesignSettings | None = None) -> list[Control]:
+    """The controls of ``settings`` (default ``config.design``) as options over the study's random variables
+    (the config is assumed checked by :func:`jointwear.design.checks.design_problems`)."""
+    settings = settings if settings is not None else config.design
+    unc = config.uncertainty
+    specs = {s.name: s for s in unc.all_specs()}
+    controls: list[Control] = []
+    for t in settings.tolerances:
+        spec = specs[t.variable]
+        nominal = t.nominal if t.nominal is not None else abs(spec.mean)
+        costs = grade_costs(t, nominal, settings.cost_model)
+        options = []
+        for grade, cost in zip(t.grades, costs):
+            sigma = length_sigma(it_tolerance(grade, nominal))
+            changed = spec.model_copy(update={"std": sigma})
+            options.append(Option(grade, cost, {t.variable: changed.frozen()},
+                                  {t.variable: _described(changed)}))
+        controls.append(Control(t.variable, "tolerance", options))
+    if settings.fit is not None:
+        options = []
+        for f in settings.fit.options:
+            c = fit_clearance(unc.clearance, f.hole_grade, f.shaft_grade, f.mean)
+            p_inf = c.infeasible_probability() if c.infeasible_rule == "fail" else 0.0
+            options.append(Option(f.name, f.cost, {"c": c.feasible()},
+                                  {"c": {"mean": c.mean, "std": c.std, "lower": c.minimum, "upper": None,
+                                         "hole_grade": f.hole_grade, "shaft_grade": f.shaft_grade}},
+                                  infeasible_probability=p_inf))
+        controls.append(Control("fit", "fit", options))
+    for p in settings.properties:
+        spec = specs[p.variable]
+        options = [Option(k.name, k.cost, {p.variable: spec_marginal(spec, k)}, {p.variable: _described(spec, k)})
+                   for k in p.classes]
+        controls.append(Control(p.variable, "property", options))
+    for m in settings.materials:
+        options = [Option(o.name, o.cost, {v: spec_marginal(specs[v], ch) for v, ch in o.variables.items()},
+                          {v: _described(specs[v], ch) for v, ch in o.variables.items()}) for o in m.options]
+        controls.append(Control(m.name, "material", options))
+    return controls
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """One combination: the index of the chosen option of every control."""
+
+    picks: tuple[int, ...]
+
+    def choices(self, controls: list[Control]) -> dict[str, str]:
+        return {c.name: c.options[i].name for c, i in zip(controls, self.picks)}
+
+    def cost(self, controls: list[Control]) -> float:
+        return float(sum(c.options[i].cost for c, i in zip(controls, self.picks)))
+
+    def options(self, controls: list[Control]) -> list[Option]:
+        return [c.options[i] for c, i in zip(controls, self.picks)]
+
+    def marginals(self, controls: list[Control], names: list[str], base: list) -> list:
+        """The candidate's input distributions in the study's variable order (the study's where no control
+        sets them)."""
+        out = list(base)
+        for option in self.options(controls):
+            for var, dist in option.marginals.items():
+                out[names.index(var)] = dist
+        return out
+
+    def infeasible_probability(self, controls: list[Control]) -> float:
+        """Probability of a clearance at or below its minimum under the 'fail' rule (0 otherwise)."""
+        return max([o.infeasible_probability or 0.0 for o in self.options(controls)] + [0.0])
+
+    def distributions(self, controls: list[Control]) -> dict:
+        out: dict = {}
+        for option in self.options(controls):
+            out.update(option.described)
+        return out
+
+
+def enumerate_candidates(controls: list[Control]) -> Iterator[Candidate]:
+    """Every combination of one option per control."""
+    for picks in itertools.product(*[range(len(c.options)) for c in controls]):
+        yield Candidate(tuple(picks))

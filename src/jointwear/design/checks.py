@@ -1,0 +1,92 @@
+"""Checks of the ``[design]`` section against the rest of the config (one message per problem, naming the field)."""
+
+from __future__ import annotations
+
+from jointwear.config import StudyConfig
+from jointwear.uncertainty.tolerances import it_tolerance
+
+
+def design_problems(config: StudyConfig) -> list[str]:
+    """What keeps ``config.design`` from running (empty when it can)."""
+    d = config.design
+    if d is None:
+        return ["design: the design stage needs a [design] section (targets and controls)"]
+    unc = config.uncertainty
+    if unc is None or not unc.all_specs():
+        return ["design: the design stage needs random variables ([uncertainty] section)"]
+    specs = {s.name: s for s in unc.all_specs()}
+    problems = []
+    controlled: dict[str, str] = {}
+
+    def claim(var: str, where: str) -> None:
+        if var in controlled:
+            problems.append(f"{where}: variable '{var}' is already set by {controlled[var]}")
+        else:
+            controlled[var] = where
+
+    def known(var: str, where: str) -> bool:
+        if var not in specs:
+            problems.append(f"{where}: '{var}' is not a random variable of [uncertainty] "
+                            f"(known: {', '.join(specs)})")
+            return False
+        return True
+
+    for i, t in enumerate(d.tolerances):
+        where = f"design.tolerances[{i}].variable"
+        if not known(t.variable, where):
+            continue
+        if t.variable == "c":
+            problems.append(f"{where}: the clearance is set by a fit ([design.fit]), not by a length grade")
+            continue
+        claim(t.variable, f"design.tolerances[{i}]")
+        nominal = t.nominal if t.nominal is not None else abs(specs[t.variable].mean)
+        try:
+            it_tolerance(t.grades[0], nominal)
+        except ValueError as exc:
+            problems.append(f"design.tolerances[{i}].nominal: {exc}")
+    if d.fit is not None:
+        if unc.clearance is None:
+            problems.append("design.fit: the fit needs a random clearance ([uncertainty.clearance])")
+        else:
+            claim("c", "design.fit")
+            for j, f in enumerate(d.fit.options):
+                try:
+                    it_tolerance(f.hole_grade, unc.clearance.nominal_diameter)
+                except ValueError as exc:
+                    problems.append(f"design.fit.options[{j}]: {exc}")
+    for i, p in enumerate(d.properties):
+        where = f"design.properties[{i}].variable"
+        if not known(p.variable, where):
+            continue
+        claim(p.variable, f"design.properties[{i}]")
+        for j, k in enumerate(p.classes):
+            problems += _spec_problems(specs[p.variable], k, f"design.properties[{i}].classes[{j}]")
+    for i, m in enumerate(d.materials):
+        for var in sorted({v for o in m.options for v in o.variables} & set(specs)):
+            claim(var, f"design.materials[{i}]")
+        for j, o in enumerate(m.options):
+            for var, ch in o.variables.items():
+                where = f"design.materials[{i}].options[{j}].variables.{var}"
+                if var == "c":
+                    problems.append(f"{where}: the clearance is set by a fit ([design.fit])")
+                elif known(var, where):
+                    problems += _spec_problems(specs[var], ch, where)
+    names = ([t.variable for t in d.tolerances] + (["fit"] if d.fit else []) + [p.variable for p in d.properties]
+             + [m.name for m in d.materials])
+    dup = sorted({n for n in names if names.count(n) > 1})
+    if dup:
+        problems.append(f"design: control names given twice: {dup} (a material's name must differ from the "
+                        "controlled variables and from 'fit')")
+    return problems
+
+
+def _spec_problems(spec, change, where: str) -> list[str]:
+    out = []
+    truncated = change.lower is not None or change.upper is not None
+    if truncated and spec.distribution != "normal":
+        out.append(f"{where}: acceptance limits need a normal variable ('{spec.name}' is {spec.distribution})")
+    if truncated:
+        mean = spec.mean if change.mean is None else change.mean
+        if (change.lower is not None and change.lower >= mean) or (change.upper is not None and change.upper <= mean):
+            out.append(f"{where}: the acceptance limits must enclose the mean ({mean:g})")
+    return out

@@ -1,0 +1,372 @@
+"""Uncertainty control: the cheapest combination of controls that reaches a target life at a target reliability.
+
+Method (docs/design.md):
+
+1. The study's reliability stage has learned the log wear life ln N_f(x) on a design of true-model calls.
+   A Kriging of ln N_f is fitted on that design in the study's standard-normal space u.
+2. Every candidate (one option per control) is the same model under other input distributions. Its
+   population is drawn with common random numbers (the same standard-normal draws z for every candidate,
+   x = T_cand^-1(z)) and mapped to the study's u, where the surrogate predicts ln N_f with its variance.
+   R(N*) is the share of the population with ln N_f > ln N*; the life at R* is the (1 - R*) quantile of the
+   predicted life. The surrogate's error on R(N*) is the ESC bound (Wang & Shafieezadeh 2019) over the
+   candidate's population; points outside the study design's region show up there as large Kriging variance.
+3. Refinement: a candidate decides the answer when it is no dearer than the current choice and its R(N*) is
+   within its error of R*. For such candidates, the population point with the lowest U = |mu - ln N*| / sigma
+   (Echard et al. 2011) is run with the true model and the Kriging refitted, until no candidate is undecided
+   or the budget ends.
+4. The Pareto front is the set of candidates that no cheaper candidate matches in life at R*; the choice is
+   the cheapest candidate with R(N*) >= R*. It is verified by its own AK-MCS study on the true model at N*.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from jointwear.design.candidates import Candidate, Control, build_controls, enumerate_candidates
+from jointwear.design.results import DesignResult
+from jointwear.design.settings import DesignSettings
+from jointwear.reliability import IsoTransform, KrigingSurrogate, akmcs_multi, esc_absolute_error
+from jointwear.study.limit_state import life_at
+from jointwear.study.reliability import StudyContext
+
+_Z95 = 1.959963984540054
+
+
+@dataclass
+class Estimate:
+    """A candidate's reliability at N* and life at R* on the surrogate."""
+
+    reliability: float
+    error: float  # surrogate (ESC) bound + Monte Carlo 95 % half-width, absolute, on R(N*)
+    surrogate_error: float
+    life_cycles: float | None
+    outside_fraction: float
+
+
+class LifeSurrogate:
+    """Kriging of ln N_f(x) on the true-model design, in the study's standard-normal space."""
+
+    def __init__(self, ctx: StudyContext, design_x: np.ndarray, seed: int):
+        self.ctx = ctx
+        self.iso = IsoTransform(ctx.marginals)
+        self.seed = seed
+        self.estimate_nugget = ctx.config.reliability.noise == "estimate"
+        self.x = np.atleast_2d(np.asarray(design_x, dtype=float))
+        self.fit()
+
+    def fit(self) -> None:
+        u = self.iso.to_u(self.x)
+        y = self.ctx.log_life(self.x)
+        ok = np.isfinite(y) & np.all(np.isfinite(u), axis=1)
+        self.u_design = u[ok]
+        self.lo, self.hi = self.u_design.min(axis=0), self.u_design.max(axis=0)
+        self.model = KrigingSurrogate(seed=self.seed, estimate_nugget=self.estimate_nugget).fit(u[ok], y[ok])
+
+    def add(self, x_new: np.ndarray) -> None:
+        self.x = np.vstack([self.x, np.atleast_2d(x_new)])
+        self.fit()
+
+    def predict(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        mu, var = self.model.predict(u)
+        return mu, np.sqrt(np.maximum(var, 0.0))
+
+    def outside(self, u: np.ndarray) -> np.ndarray:
+        """Rows outside the box spanned by the design (the surrogate extrapolates there)."""
+        return np.any((u < self.lo) | (u > self.hi), axis=1)
+
+
+class CandidateSpace:
+    """Candidates' populations in the study's u space, built column by column (each option sets its own
+    variables' columns, so a column is computed once per option, not once per candidate)."""
+
+    def __init__(self, ctx: StudyContext, controls: list[Control], n: int, seed: int, p_inf_default: float):
+        self.ctx, self.controls = ctx, controls
+        self.names = list(ctx.names)
+        self.z = np.random.default_rng(seed).standard_normal((n, len(self.names)))
+        self.base_iso = IsoTransform(ctx.marginals)
+        self.base_x = self.base_iso.to_x(self.z)
+        self.base_u = self.z
+        self.p_inf_default = p_inf_default
+        self._cols: dict = {}
+
+    def _column(self, k: int, j: int, var: str):
+        key = (k, j, var)
+        if key not in self._cols:
+            i = self.names.index(var)
+            dist = self.controls[k].options[j].marginals[var]
+            x = IsoTransform([dist]).to_x(self.z[:, i:i + 1])
+            u = IsoTransform([self.ctx.marginals[i]]).to_u(x)
+            self._cols[key] = (i, x[:, 0], u[:, 0])
+        return self._cols[key]
+
+    def population(self, cand: Candidate) -> tuple[np.ndarray, np.ndarray]:
+        """(x, u): the candidate's population in physical space and in the study's u space."""
+        x, u = self.base_x.copy(), self.base_u.copy()
+        for k, j in enumerate(cand.picks):
+            for var in self.controls[k].options[j].marginals:
+                i, xc, uc = self._column(k, j, var)
+                x[:, i], u[:, i] = xc, uc
+        return x, u
+
+    def infeasible_probability(self, cand: Candidate) -> float:
+        fits = [c for c in self.controls if c.kind == "fit"]
+        return cand.infeasible_probability(self.controls) if fits else self.p_inf_default
+
+
+def estimate(space: CandidateSpace, sur: LifeSurrogate, cand: Candidate, log_target: float,
+             reliability_target: float) -> Estimate:
+    """R(N*) with its error bound, and the life at R*, of one candidate on the surrogate."""
+    _, u = space.population(cand)
+    mu, sd = sur.predict(u)
+    p_inf = space.infeasible_probability(cand)
+    n = mu.size
+    g = mu - log_target
+    r_feasible = float(np.mean(g > 0))
+    # 'fail' rule: an infeasible clearance is a failure at every N (the learning runs on the feasible part)
+    reliability = (1.0 - p_inf) * r_feasible
+    sur_err = (1.0 - p_inf) * esc_absolute_error(g, sd)  # Pf = P[g <= 0]: the same absolute error as R
+    mc_err = _Z95 * math.sqrt(max(reliability * (1.0 - reliability), 0.0) / n)
+    level = 1.0 - reliability_target / (1.0 - p_inf)
+    life = float(np.exp(np.quantile(mu, level))) if 0.0 < level < 1.0 else None
+    return Estimate(reliability, sur_err + mc_err, sur_err, life, float(np.mean(sur.outside(u))))
+
+
+def _refine_point(space: CandidateSpace, sur: LifeSurrogate, cand: Candidate, log_target: float) -> np.ndarray:
+    """The population point of ``cand`` whose sign of ln N_f - ln N* is least certain (lowest U)."""
+    x, u = space.population(cand)
+    mu, sd = sur.predict(u)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        score = np.abs(mu - log_target) / sd
+    score[~np.isfinite(score)] = np.inf
+    return x[int(np.argmin(score))]
+
+
+def _pareto(rows: list[dict]) -> list[dict]:
+    """Candidates that no cheaper (or equally cheap) candidate matches in life at R*, cheapest first."""
+    front, best = [], -math.inf
+    for row in sorted(rows, key=lambda r: (r["cost"], -(r["life_at_target_cycles"] or 0.0))):
+        life = row["life_at_target_cycles"] or 0.0
+        if life > best:
+            front.append(row)
+            best = life
+    return front
+
+
+def _row(cand: Candidate, controls: list[Control], est: Estimate) -> dict:
+    return {"choices": cand.choices(controls), "cost": cand.cost(controls),
+            "life_at_target_cycles": est.life_cycles, "reliability_at_target_life": est.reliability,
+            "reliability_error": est.error, "surrogate_error": est.surrogate_error,
+            "outside_design_fraction": est.outside_fraction}
+
+
+def baseline_life(ctx: StudyContext, reliability_result, target: float, space: CandidateSpace,
+                  sur: LifeSurrogate) -> float | None:
+    """Today's life at R*: the study's R(N) curve where it reaches R*, else the surrogate's quantile."""
+    life = life_at(np.asarray(reliability_result.cycles, dtype=float),
+                   np.asarray(reliability_result.reliability, dtype=float), target)
+    if life is not None:
+        return float(life)
+    mu, _ = sur.predict(space.base_u)
+    level = 1.0 - target / (1.0 - space.p_inf_default)
+    return float(np.exp(np.quantile(mu, level))) if 0.0 < level < 1.0 else None
+
+
+def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings | None = None, *,
+               echo: Callable[[str], None] | None = None) -> DesignResult:
+    """The cheapest controls meeting every target, the Pareto front of cost vs life at R*, and the verification
+    of the headline target's choice (see the module docstring)."""
+    t0 = time.perf_counter()
+    settings = settings if settings is not None else ctx.config.design
+    say = echo if echo is not None else (lambda _m: None)
+    calls_before = ctx.n_evaluated
+    controls = build_controls(ctx.config, settings)
+    clearance = ctx.config.uncertainty.clearance
+    p_inf = clearance.infeasible_probability() if clearance is not None and clearance.infeasible_rule == "fail" else 0.0
+    space = CandidateSpace(ctx, controls, settings.n_population, settings.seed, p_inf)
+    sur = LifeSurrogate(ctx, np.asarray(reliability_result.design_x, dtype=float), seed=settings.seed)
+    study_points = int(sur.x.shape[0])
+
+    targets = []
+    for t in settings.targets:
+        base = baseline_life(ctx, reliability_result, t.reliability, space, sur)
+        if t.life_cycles is not None:
+            life = float(t.life_cycles)
+        elif base is None:
+            from jointwear.schema import ConfigError
+
+            raise ConfigError(f"design.targets: life_factor needs the study's life at R = {t.reliability:g}, "
+                              "which the R(N) curve does not reach (give life_cycles instead)")
+        else:
+            life = t.life_factor * base
+        targets.append({"reliability": float(t.reliability), "life_cycles": life, "log_life": math.log(life),
+                        "life_factor": t.life_factor, "baseline_life_cycles": base})
+
+    candidates = list(enumerate_candidates(controls))
+    order = sorted(range(len(candidates)), key=lambda i: candidates[i].cost(controls))
+
+    def evaluate_all(indices) -> dict:
+        return {(i, k): estimate(space, sur, candidates[i], t["log_life"], t["reliability"])
+                for i in indices for k, t in enumerate(targets)}
+
+    def undecided(est: dict) -> list[tuple[int, int]]:
+        """(candidate, target) pairs no dearer than the target's current choice whose R(N*) is within the
+        surrogate's error of R* (the Monte Carlo part of the error is not reduced by model calls)."""
+        out = []
+        for k, t in enumerate(targets):
+            chosen_cost = math.inf
+            for i in order:
+                if est[(i, k)].reliability >= t["reliability"]:
+                    chosen_cost = candidates[i].cost(controls)
+                    break
+            for i in order:
+                if candidates[i].cost(controls) > chosen_cost:
+                    break
+                e = est[(i, k)]
+                # the population's mass outside the design region may be misclassified wholesale
+                if abs(e.reliability - t["reliability"]) <= e.surrogate_error + e.outside_fraction:
+                    out.append((i, k))
+        return out
+
+    def _relevant(est: dict) -> list[int]:
+        """Candidates no dearer than the dearest current choice (the only ones a refinement can change)."""
+        limit = 0.0
+        for k, t in enumerate(targets):
+            costs = [candidates[i].cost(controls) for i in order if est[(i, k)].reliability >= t["reliability"]]
+            limit = max(limit, costs[0] if costs else math.inf)
+        return [i for i in order if candidates[i].cost(controls) <= limit]
+
+    est = evaluate_all(range(len(candidates)))
+    refine_calls, iterations, verification_calls = 0, 0, 0
+    verifications: list[dict] = []
+    verified: dict[int, dict] = {}
+    while True:
+        while refine_calls < settings.refine_max_calls:
+            todo = undecided(est)
+            if not todo:
+                break
+            picks, seen = [], set()
+            for i, k in todo:
+                if i in seen:
+                    continue
+                seen.add(i)
+                picks.append(_refine_point(space, sur, candidates[i], targets[k]["log_life"]))
+                if len(picks) >= min(settings.batch_size, settings.refine_max_calls - refine_calls):
+                    break
+            before = ctx.n_evaluated
+            x_new = np.vstack(picks)
+            ctx.log_life(x_new)  # true-model calls (through the evaluator and the evaluation store)
+            refine_calls += max(ctx.n_evaluated - before, 0)
+            sur.add(x_new)
+            iterations += 1
+            est.update(evaluate_all(_relevant(est) if len(candidates) > 2000 else range(len(candidates))))
+            say(f"design: refinement {iterations}: {len(todo)} undecided, {refine_calls} calls")
+        if len(candidates) > 2000:
+            est = evaluate_all(range(len(candidates)))
+        head_i = _cheapest_meeting(est, order, 0, targets[0]["reliability"])
+        budget = settings.verification_max_calls - verification_calls
+        if not settings.verify or head_i is None or head_i in verified or budget <= 0:
+            break
+        say(f"design: verifying {candidates[head_i].choices(controls)} with its own reliability study")
+        ver, x_ver = verify(ctx, candidates[head_i], controls, space, targets[0], budget, settings.seed,
+                            settings.verification_stopping)
+        verification_calls += ver["new_model_calls"]
+        ver["choices"] = candidates[head_i].choices(controls)
+        verified[head_i] = ver
+        verifications.append(ver)
+        if ver["confirmed"]:
+            break
+        # Not confirmed: the verification's true calls enter the life surrogate and the search runs again.
+        sur.add(x_ver)
+        est = evaluate_all(range(len(candidates)))
+    left = undecided(est)
+
+    per_target = []
+    for k, t in enumerate(targets):
+        rows = [_row(candidates[i], controls, est[(i, k)]) for i in range(len(candidates))]
+        chosen_i = _cheapest_meeting(est, order, k, t["reliability"])
+        chosen = None
+        if chosen_i is not None:
+            chosen = _row(candidates[chosen_i], controls, est[(chosen_i, k)])
+            chosen["distributions"] = candidates[chosen_i].distributions(controls)
+        per_target.append({"target_life_cycles": t["life_cycles"], "target_reliability": t["reliability"],
+                           "life_factor": t["life_factor"], "baseline_life_cycles": t["baseline_life_cycles"],
+                           "chosen": chosen, "chosen_index": chosen_i, "pareto": _pareto(rows), "rows": rows,
+                           "undecided": sum(1 for _, kk in left if kk == k)})
+
+    head = per_target[0]
+    verification = verified.get(head["chosen_index"]) if head["chosen_index"] is not None else None
+    if verification is not None:
+        verification = dict(verification, model_calls=verification_calls, rounds=verifications)
+    elif verifications:  # the budget ended before the latest choice could be verified
+        verification = {"reliability_at_target_life": None, "error": None, "model_calls": verification_calls,
+                        "confirmed": False, "rounds": verifications,
+                        "note": "verification budget spent before the final choice was verified"}
+    total_calls = ctx.n_evaluated
+    return DesignResult(
+        target_life_cycles=head["target_life_cycles"], target_reliability=head["target_reliability"],
+        chosen=head["chosen"], pareto=head["pareto"], verification=verification,
+        model_calls=int(total_calls),
+        wall_seconds=time.perf_counter() - t0,
+        baseline_life_cycles=head["baseline_life_cycles"], life_factor=head["life_factor"],
+        targets=[{k: v for k, v in row.items() if k not in ("rows", "chosen_index")} for row in per_target],
+        controls=[c.to_json() for c in controls], candidates=head["rows"],
+        calls={"study": study_points, "refinement": int(refine_calls), "verification": int(verification_calls),
+               "new_in_this_stage": int(total_calls - calls_before)},
+        refinement={"iterations": iterations, "model_calls": int(refine_calls),
+                    "undecided_left": len(left), "design_points": int(sur.x.shape[0])},
+        n_population=settings.n_population, n_candidates=len(candidates))
+
+
+def _cheapest_meeting(est: dict, order: list[int], k: int, reliability: float) -> int | None:
+    """The cheapest candidate whose R(N*) on the surrogate meets target ``k``."""
+    return next((i for i in order if est[(i, k)].reliability >= reliability), None)
+
+
+def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: CandidateSpace, target: dict,
+           max_calls: int, seed: int, stopping: str = "u") -> tuple[dict, np.ndarray]:
+    """The chosen design's own reliability study at N*: AK-MCS on the true model (through the study's evaluator
+    and store) with the candidate's input distributions and the study's reliability settings. Returns the
+    verdict and the study's design points (true-model inputs).
+
+    Its initial design has at least 2 d + 2 points (the engine's default, Echard et al. 2011) even where the
+    study's own is smaller: with fewer points than about twice the dimension, the Kriging variance after a
+    maximum-likelihood fit can be too small for the error bound to be trusted.
+    """
+    rel = ctx.config.reliability
+    marginals = cand.marginals(controls, ctx.names, ctx.marginals)
+    before = ctx.n_evaluated
+    n_initial = min(max(rel.n_initial, 2 * len(marginals) + 2), max_calls)
+    eng = akmcs_multi(
+        ctx.log_life, marginals, levels=np.array([target["log_life"]]), n_mc=rel.n_mc, n_mc_max=rel.n_mc_max,
+        n_initial=n_initial, batch_size=rel.batch_size, u_threshold=rel.u_threshold,
+        cov_target=rel.cov_target, pf_floor=rel.pf_floor, max_calls=max_calls,
+        seed=rel.seed + 17 + seed, stopping=stopping, error_tol=rel.error_tol,
+        error_abs_tol=rel.error_abs_tol, kriging={"estimate_nugget": rel.noise == "estimate"})
+    p_inf = space.infeasible_probability(cand)
+    pf_feasible = float(np.asarray(eng.pf)[0])
+    cov = float(np.asarray(eng.cov)[0])
+    rel_err = float(np.asarray(eng.error_estimate)[0])
+    pf = p_inf + (1.0 - p_inf) * pf_feasible
+    # the bound: the surrogate's own (ESC) error plus the 95 % Monte Carlo half-width
+    if math.isfinite(rel_err):
+        sur_err = (1.0 - p_inf) * rel_err * pf_feasible
+    else:  # no predicted failure: the absolute ESC bound of the final surrogate over a population
+        mu, var = eng.surrogates[0].predict(space.z)  # the verification learns in the candidate's own u space
+        sur_err = (1.0 - p_inf) * esc_absolute_error(mu, np.sqrt(np.maximum(var, 0.0)))
+    mc_err = _Z95 * (1.0 - p_inf) * (cov * pf_feasible if math.isfinite(cov) else 0.0)
+    reliability = 1.0 - pf
+    error = sur_err + mc_err
+    return {"reliability_at_target_life": reliability, "error": error,
+            "model_calls": int(eng.n_calls), "new_model_calls": int(ctx.n_evaluated - before),
+            "confirmed": bool(reliability + error >= target["reliability"]),
+            "meets_target_without_error": bool(reliability >= target["reliability"]),
+            "pf_cov": cov, "surrogate_error": sur_err, "n_mc": int(eng.n_mc), "converged": bool(eng.converged),
+            "failed_calls": int(eng.n_failed_calls)}, np.asarray(eng.design_x, dtype=float)
+
+
+__all__ = ["run_design", "verify", "estimate", "LifeSurrogate", "CandidateSpace", "Estimate"]

@@ -1,0 +1,284 @@
+"""The ``[design]`` config section: the controls a designer can buy, what they cost, and the target.
+
+A control is one decision with a few options: the ISO 286 grade of a toleranced length, the fit of a clearance
+joint, the specification class of a material property (its mean and spread, or acceptance limits that truncate
+its distribution), or a whole candidate material (a set of property classes bought together). One option of
+every control makes a candidate design; the design stage finds the cheapest candidate whose life at the target
+reliability reaches the target life (:mod:`jointwear.design.search`).
+
+Cross-references to the ``[uncertainty]`` section (a control's variable must be a random variable there) are
+checked by :func:`jointwear.design.checks.design_problems`, which needs the whole config.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field, field_validator, model_validator
+
+from jointwear.schema import F, SIModel
+from jointwear.uncertainty.tolerances import it_tolerance
+
+
+def _grade_name(grade: str) -> str:
+    """Normalised ISO 286 grade name ('it7' -> 'IT7'); raises ValueError naming the known grades."""
+    key = str(grade).upper().replace(" ", "")
+    it_tolerance(key, 1e-3)  # raises for an unknown grade
+    return key
+
+
+class CostModel(SIModel):
+    """Relative manufacturing cost of a tolerance T (a grade's ISO 286-1 tolerance at the nominal size).
+
+    ``reciprocal_power``: C(T) = a + b (T / T_ref)^-k, the reciprocal-power tolerance-cost model (Sutherland &
+    Roth 1975; one of the models compared by Chase & Greenwood 1988, Manufacturing Review 1(1):50-59; k = 1 is
+    the plain reciprocal model). ``exponential``: C(T) = a + b exp(-k (T / T_ref - 1)), the exponential model of
+    Speckhart 1972 (J. Eng. Ind. 94(2):447-453) written relative to T_ref. T_ref is the tolerance of the loosest
+    grade a control lists, so that grade costs a + b. The coefficients depend on the process; the defaults
+    (a = 0, b = 1, k = 1) give costs relative to the loosest grade, to be replaced by a shop's own fit.
+    """
+
+    model: Literal["reciprocal_power", "exponential"] = Field(
+        "reciprocal_power", description="Tolerance-cost relation (Chase & Greenwood 1988 compare both).")
+    a: float = Field(0.0, description="Fixed cost per dimension (set-up), relative units (>= 0).")
+    b: float = Field(1.0, description="Cost scale at the reference tolerance, relative units (> 0).")
+    k: float = Field(1.0, description="Exponent (reciprocal power) or rate (exponential), > 0.")
+
+    @model_validator(mode="after")
+    def _ranges(self) -> CostModel:
+        if self.a < 0:
+            raise ValueError(f"a must be >= 0 (got {self.a:g})")
+        if self.b <= 0:
+            raise ValueError(f"b must be > 0 (got {self.b:g})")
+        if self.k <= 0:
+            raise ValueError(f"k must be > 0 (got {self.k:g})")
+        return self
+
+
+class ToleranceControl(SIModel):
+    """The ISO 286 grade of one toleranced length (a random variable of ``[uncertainty]``): sigma = IT / 6."""
+
+    variable: str = Field(description="Name of the random variable (a length, e.g. 'l2').")
+    grades: list[str] = Field(description="Candidate ISO 286-1 grades, e.g. ['IT9', 'IT10', 'IT11'].")
+    nominal: float | None = F(None, unit="m", description="Nominal size for the IT table, m; None = the "
+                              "variable's mean.")
+    costs: list[float] | None = Field(
+        None, description="Relative cost of each grade (same order); None = the [design.cost_model] relation.")
+
+    @field_validator("grades")
+    @classmethod
+    def _grades(cls, grades: list[str]) -> list[str]:
+        if not grades:
+            raise ValueError("give at least one grade")
+        names = [_grade_name(g) for g in grades]
+        if len(set(names)) != len(names):
+            raise ValueError(f"grades given twice: {names}")
+        return names
+
+    @model_validator(mode="after")
+    def _costs(self) -> ToleranceControl:
+        if self.costs is not None:
+            if len(self.costs) != len(self.grades):
+                raise ValueError(f"costs: {len(self.costs)} costs for {len(self.grades)} grades")
+            if any(c < 0 for c in self.costs):
+                raise ValueError("costs must be >= 0")
+        if self.nominal is not None and not self.nominal > 0:
+            raise ValueError(f"nominal must be > 0 m (got {self.nominal:g})")
+        return self
+
+
+class FitOption(SIModel):
+    """One fit of the clearance joint: the bore and pin grades (sigma_c from ISO 286-2, Eq. 40) and its cost."""
+
+    name: str = Field(description="Label, e.g. 'H7/g6'.")
+    hole_grade: str = Field(description="Bore grade, e.g. 'IT7'.")
+    shaft_grade: str = Field(description="Pin grade, e.g. 'IT6'.")
+    mean: float | None = F(None, unit="m", description="Designed mean radial clearance, m; None = the study's.")
+    cost: float = Field(description="Relative cost (user-given; >= 0).")
+
+    @field_validator("hole_grade", "shaft_grade")
+    @classmethod
+    def _grade(cls, grade: str) -> str:
+        return _grade_name(grade)
+
+    @model_validator(mode="after")
+    def _check(self) -> FitOption:
+        if self.cost < 0:
+            raise ValueError(f"cost must be >= 0 (got {self.cost:g})")
+        if self.mean is not None and not self.mean > 0:
+            raise ValueError(f"mean must be > 0 m (got {self.mean:g})")
+        return self
+
+
+class FitControl(SIModel):
+    """The fit of the study's clearance (the ``[uncertainty.clearance]`` variable 'c')."""
+
+    options: list[FitOption] = Field(description="Candidate fits.")
+
+    @field_validator("options")
+    @classmethod
+    def _some(cls, options: list[FitOption]) -> list[FitOption]:
+        if not options:
+            raise ValueError("give at least one fit")
+        _unique([o.name for o in options])
+        return options
+
+
+class PropertySpec(SIModel):
+    """A specification of one random material property: its mean and standard deviation (None = the study's)
+    and optional acceptance limits that truncate the (normal) distribution (parts outside are rejected)."""
+
+    mean: float | None = Field(None, description="Mean, SI (unit suffixes allowed: mean_HB, mean_GPa).")
+    std: float | None = Field(None, description="Standard deviation, SI (> 0).")
+    lower: float | None = Field(None, description="Lower acceptance limit, SI (truncates the distribution).")
+    upper: float | None = Field(None, description="Upper acceptance limit, SI (truncates the distribution).")
+
+    @model_validator(mode="after")
+    def _check(self) -> PropertySpec:
+        if self.std is not None and not self.std > 0:
+            raise ValueError(f"std must be > 0 (got {self.std:g})")
+        if self.lower is not None and self.upper is not None and not self.lower < self.upper:
+            raise ValueError(f"need lower < upper (got {self.lower:g}, {self.upper:g})")
+        return self
+
+
+class PropertyClass(PropertySpec):
+    """One specification class of a property, with its relative cost."""
+
+    name: str = Field(description="Label, e.g. 'standard', 'screened'.")
+    cost: float = Field(description="Relative cost (user-given; >= 0).")
+
+    @field_validator("cost")
+    @classmethod
+    def _cost(cls, cost: float) -> float:
+        if cost < 0:
+            raise ValueError(f"cost must be >= 0 (got {cost:g})")
+        return cost
+
+
+class PropertyControl(SIModel):
+    """The specification class of one material property (a random variable, e.g. 'HB_b' or 'k_b')."""
+
+    variable: str = Field(description="Name of the random variable.")
+    classes: list[PropertyClass] = Field(description="Candidate specification classes.")
+
+    @field_validator("classes")
+    @classmethod
+    def _some(cls, classes: list[PropertyClass]) -> list[PropertyClass]:
+        if not classes:
+            raise ValueError("give at least one class")
+        _unique([c.name for c in classes])
+        return classes
+
+
+class MaterialOption(SIModel):
+    """A candidate material: the specifications of several properties bought together, with its cost."""
+
+    name: str = Field(description="Label, e.g. 'Ti-6Al-4V'.")
+    cost: float = Field(description="Relative cost (user-given; >= 0).")
+    variables: dict[str, PropertySpec] = Field(
+        description="Property specifications by random-variable name, e.g. { HB_b = { mean_HB = 380, std_HB = 20 } }.")
+
+    @model_validator(mode="after")
+    def _check(self) -> MaterialOption:
+        if self.cost < 0:
+            raise ValueError(f"cost must be >= 0 (got {self.cost:g})")
+        if not self.variables:
+            raise ValueError("variables: give at least one property")
+        return self
+
+
+class MaterialControl(SIModel):
+    """A choice between candidate materials of one part."""
+
+    name: str = Field(description="The part, e.g. 'bearing'.")
+    options: list[MaterialOption] = Field(description="Candidate materials.")
+
+    @field_validator("options")
+    @classmethod
+    def _some(cls, options: list[MaterialOption]) -> list[MaterialOption]:
+        if not options:
+            raise ValueError("give at least one material")
+        _unique([o.name for o in options])
+        return options
+
+
+class DesignTarget(SIModel):
+    """A target: the life N* to reach at reliability R* (absolute, or a factor of the study's life at R*)."""
+
+    reliability: float = Field(description="Target reliability R*, in (0, 1).")
+    life_cycles: float | None = Field(None, description="Target life N*, cycles.")
+    life_factor: float | None = Field(
+        None, description="Target life as a multiple of the study's life at R* (e.g. 1.2: 20 % above today's).")
+
+    @model_validator(mode="after")
+    def _check(self) -> DesignTarget:
+        if not 0 < self.reliability < 1:
+            raise ValueError(f"reliability must be in (0, 1) (got {self.reliability:g})")
+        if (self.life_cycles is None) == (self.life_factor is None):
+            raise ValueError("give exactly one of life_cycles and life_factor")
+        for name in ("life_cycles", "life_factor"):
+            v = getattr(self, name)
+            if v is not None and not v > 0:
+                raise ValueError(f"{name} must be > 0 (got {v:g})")
+        return self
+
+
+class DesignSettings(SIModel):
+    """Uncertainty control: the cheapest controls that reach a target life at a target reliability."""
+
+    targets: list[DesignTarget] = Field(description="Targets (the first is the headline; several allowed).")
+    tolerances: list[ToleranceControl] = Field(default_factory=list, description="Grades of toleranced lengths.")
+    fit: FitControl | None = Field(None, description="Fits of the clearance joint.")
+    properties: list[PropertyControl] = Field(default_factory=list, description="Material property classes.")
+    materials: list[MaterialControl] = Field(default_factory=list, description="Candidate materials.")
+    cost_model: CostModel = Field(default_factory=CostModel, description="Tolerance-cost relation for grades.")
+    n_population: int = Field(
+        50_000, description="Monte Carlo population per candidate on the surrogate (common random numbers: the "
+        "same standard-normal draws for every candidate, so candidates differ only by their distributions).")
+    max_candidates: int = Field(100_000, description="Largest number of combinations enumerated.")
+    refine_max_calls: int = Field(
+        40, description="Budget of true-model calls added where the surrogate must be refined for a candidate.")
+    batch_size: int = Field(2, description="Refinement points per iteration (run in parallel).")
+    verify: bool = Field(True, description="Verify the chosen design with its own reliability study.")
+    verification_max_calls: int = Field(80, description="Budget of true-model calls of the verification study.")
+    verification_stopping: Literal["u", "error"] = Field(
+        "u", description="Learning stop of the verification study: 'u' (the paper's rule, min U >= 2, else the "
+        "budget) keeps learning near the limit state at N*; 'error' stops once the ESC error bound is below the "
+        "study's tolerance, which a Kriging fitted on its initial design alone can meet too early (project choice).")
+    seed: int = Field(0, description="Seed of the candidates' population and the refinement.")
+
+    @field_validator("targets")
+    @classmethod
+    def _targets(cls, targets: list[DesignTarget]) -> list[DesignTarget]:
+        if not targets:
+            raise ValueError("give at least one target")
+        return targets
+
+    @model_validator(mode="after")
+    def _check(self) -> DesignSettings:
+        for name in ("n_population", "max_candidates", "batch_size"):
+            if getattr(self, name) < 1:
+                raise ValueError(f"{name} must be >= 1")
+        for name in ("refine_max_calls", "verification_max_calls"):
+            if getattr(self, name) < 0:
+                raise ValueError(f"{name} must be >= 0")
+        if not (self.tolerances or self.fit or self.properties or self.materials):
+            raise ValueError("name at least one control (tolerances, fit, properties or materials)")
+        n = 1
+        for size in self.option_counts():
+            n *= size
+        if n > self.max_candidates:
+            raise ValueError(f"{n} combinations exceed max_candidates = {self.max_candidates}")
+        return self
+
+    def option_counts(self) -> list[int]:
+        """Number of options of every control, in the order of the candidate enumeration."""
+        return ([len(t.grades) for t in self.tolerances] + ([len(self.fit.options)] if self.fit else [])
+                + [len(p.classes) for p in self.properties] + [len(m.options) for m in self.materials])
+
+
+def _unique(names: list[str]) -> None:
+    dup = sorted({n for n in names if names.count(n) > 1})
+    if dup:
+        raise ValueError(f"names given twice: {dup}")

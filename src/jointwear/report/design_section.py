@@ -1,0 +1,88 @@
+"""The report's design section: the Pareto front of cost against the life at R*, the chosen controls, their cost
+and the verified R(N*) (read from ``design.json``)."""
+
+from __future__ import annotations
+
+import html
+import json
+from collections.abc import Mapping
+from pathlib import Path
+
+from jointwear.report.style import TARGET_COLOR, figure, label_axes, to_data_uri
+
+
+def _get(result, key: str, default=None):
+    return result.get(key, default) if isinstance(result, Mapping) else getattr(result, key, default)
+
+
+def design_pareto_figure(result):
+    """Cost against the life at R* of every candidate (grey), the Pareto front (line), the target life and the
+    chosen design. ``result``: a :class:`jointwear.design.DesignResult` or the dict of ``design.json``."""
+    fig, ax = figure()
+    candidates = _get(result, "candidates") or []
+    pts = [(r["cost"], r["life_at_target_cycles"]) for r in candidates if r.get("life_at_target_cycles")]
+    if pts:
+        ax.scatter([p[0] for p in pts], [p[1] / 1e3 for p in pts], s=8, color="#BBBBBB", label="candidates")
+    front = [r for r in _get(result, "pareto") or [] if r.get("life_at_target_cycles")]
+    if front:
+        ax.plot([r["cost"] for r in front], [r["life_at_target_cycles"] / 1e3 for r in front], "o-", ms=4,
+                label="Pareto front")
+    target = _get(result, "target_life_cycles")
+    if target:
+        ax.axhline(target / 1e3, color=TARGET_COLOR, ls="--", lw=1, label="target life")
+    chosen = _get(result, "chosen")
+    if chosen and chosen.get("life_at_target_cycles"):
+        ax.plot([chosen["cost"]], [chosen["life_at_target_cycles"] / 1e3], "*", ms=14, color=TARGET_COLOR,
+                label="chosen")
+    r_star = _get(result, "target_reliability")
+    label_axes(ax, "relative cost", None, f"life at R = {r_star:g}" if r_star else "life", "10^3 cycles")
+    ax.legend(loc="lower right")
+    return fig
+
+
+def _fmt(v, spec: str = ".4g") -> str:
+    return "-" if v is None else format(v, spec)
+
+
+def design_section(out_dir: Path | str) -> str | None:
+    """HTML of the design section from ``out_dir/design.json``; None when there is no design result."""
+    path = Path(out_dir) / "design.json"
+    if not path.is_file():
+        return None
+    d = json.loads(path.read_text(encoding="utf-8"))
+    e = html.escape
+    parts = []
+    r_star, n_star = d.get("target_reliability"), d.get("target_life_cycles")
+    head = f"Target: {_fmt(n_star, ',.0f')} cycles at R = {_fmt(r_star, 'g')}"
+    if d.get("life_factor") and d.get("baseline_life_cycles"):
+        head += (f" ({d['life_factor']:g} x today's life at that reliability, "
+                 f"{d['baseline_life_cycles']:,.0f} cycles)")
+    parts.append(f"<p>{e(head)}; {d.get('n_candidates', 0)} candidate designs, "
+                 f"{d.get('model_calls', 0)} true-model calls in all.</p>")
+    chosen, ver = d.get("chosen"), d.get("verification")
+    if chosen is None:
+        parts.append('<p class="missing">No candidate reaches the target on the surrogate.</p>')
+    else:
+        rows = "".join(f"<tr><td>{e(str(k))}</td><td>{e(str(v))}</td></tr>" for k, v in chosen["choices"].items())
+        parts.append(f"<table><thead><tr><th>control</th><th>chosen option</th></tr></thead><tbody>{rows}"
+                     "</tbody></table>")
+        text = (f"Cost {chosen['cost']:.4g}; on the study's surrogate R(N*) = "
+                f"{chosen['reliability_at_target_life']:.4f} +/- {chosen.get('reliability_error', 0):.4f} and a life "
+                f"of {_fmt(chosen.get('life_at_target_cycles'), ',.0f')} cycles at R*.")
+        if ver:
+            verdict = "confirms" if ver.get("confirmed") else "does not confirm"
+            text += (f" Its own reliability study ({ver['model_calls']} true-model calls) gives R(N*) = "
+                     f"{ver['reliability_at_target_life']:.4f} +/- {ver['error']:.4f}: it {verdict} R(N*) >= R*.")
+        parts.append(f"<p>{e(text)}</p>")
+    if d.get("pareto"):
+        uri = to_data_uri(design_pareto_figure(d))
+        caption = "Cost of every candidate design against its life at the target reliability; the front and the choice."
+        parts.append(f'<figure class="fig"><img src="{uri}" alt="{e(caption)}"><figcaption>{e(caption)}'
+                     "</figcaption></figure>")
+        names = list(d["pareto"][0]["choices"])
+        header = "".join(f"<th>{e(n)}</th>" for n in names) + "<th>cost</th><th>life at R* (cycles)</th><th>R(N*)</th>"
+        body = "".join("<tr>" + "".join(f"<td>{e(str(r['choices'][n]))}</td>" for n in names)
+                       + f"<td>{r['cost']:.4g}</td><td>{_fmt(r.get('life_at_target_cycles'), ',.0f')}</td>"
+                       f"<td>{r['reliability_at_target_life']:.4f}</td></tr>" for r in d["pareto"])
+        parts.append(f"<table><thead><tr>{header}</tr></thead><tbody>{body}</tbody></table>")
+    return "".join(parts)

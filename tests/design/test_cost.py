@@ -1,0 +1,45 @@
+"""The tolerance-cost relations against their published forms, and the grade costs built from them."""
+
+import math
+
+import pytest
+
+from jointwear.design.cost import grade_costs, tolerance_cost
+from jointwear.design.settings import CostModel, ToleranceControl
+from jointwear.uncertainty.tolerances import it_tolerance
+
+
+@pytest.mark.parametrize("a,b,k", [(0.0, 1.0, 1.0), (0.3, 2.0, 1.5), (1.0, 0.5, 0.7)])
+def test_reciprocal_power_is_a_plus_b_over_t_to_the_k(a, b, k):
+    # Published form (Sutherland & Roth 1975; Chase & Greenwood 1988): C(T) = A + B T^-k, with T in units of T_ref
+    model = CostModel(model="reciprocal_power", a=a, b=b, k=k)
+    for t, ref in ((10e-6, 40e-6), (25e-6, 25e-6), (160e-6, 100e-6)):
+        assert tolerance_cost(t, ref, model) == pytest.approx(a + b * (t / ref) ** (-k), rel=1e-14)
+
+
+def test_exponential_is_a_plus_b_exp():
+    # Published form (Speckhart 1972): C(T) = A e^{-B T}; here a + b exp(-k (T / T_ref - 1)), equal at T = T_ref
+    model = CostModel(model="exponential", a=0.2, b=1.0, k=2.0)
+    assert tolerance_cost(50e-6, 50e-6, model) == pytest.approx(1.2, rel=1e-14)
+    assert tolerance_cost(25e-6, 50e-6, model) == pytest.approx(0.2 + math.exp(1.0), rel=1e-14)
+
+
+def test_grade_costs_use_the_loosest_grade_as_reference_and_grow_when_tighter():
+    control = ToleranceControl(variable="l2", grades=["IT9", "IT10", "IT11"])
+    costs = grade_costs(control, 38e-3, CostModel())
+    # ISO 286-1 at 38 mm (30-50 mm row): IT9 62 um, IT10 100 um, IT11 160 um; reciprocal model, k = 1
+    assert costs == pytest.approx([160 / 62, 160 / 100, 1.0], rel=1e-12)
+    assert costs[0] > costs[1] > costs[2]
+
+
+def test_user_costs_override_the_model():
+    control = ToleranceControl(variable="l2", grades=["IT9", "IT11"], costs=[3.0, 1.0])
+    assert grade_costs(control, 38e-3, CostModel()) == [3.0, 1.0]
+
+
+def test_bad_cost_model_is_refused():
+    with pytest.raises(ValueError, match="k must be > 0"):
+        CostModel(k=0.0)
+    with pytest.raises(ValueError, match="costs"):
+        ToleranceControl(variable="l2", grades=["IT9", "IT11"], costs=[1.0])
+    assert it_tolerance("IT9", 38e-3) == pytest.approx(62e-6)

@@ -1,0 +1,122 @@
+"""The design stage finds the true cheapest feasible design of an analytic wear model.
+
+The wear law has Archard's structure (analytic.py), so the exact R(N*) of every candidate is known by brute-force
+Monte Carlo with 10^6 samples; the design stage sees the model only through true-model calls.
+"""
+
+import copy
+import json
+
+import numpy as np
+import pytest
+
+from jointwear.design import DesignResult, build_controls, enumerate_candidates, run_design
+from jointwear.study import run_reliability
+
+from design_fixtures import DESIGN, analytic_config, analytic_context, exact_reliabilities
+
+N_STAR = DESIGN["targets"][0]["life_cycles"]
+R_STAR = DESIGN["targets"][0]["reliability"]
+
+
+@pytest.fixture(scope="module")
+def setup():
+    cfg = analytic_config()
+    ctx, model = analytic_context(cfg)
+    rel = run_reliability(ctx)
+    controls = build_controls(cfg)
+    cands = list(enumerate_candidates(controls))
+    exact = exact_reliabilities(ctx, model, controls, cands, N_STAR)
+    return cfg, ctx, model, rel, controls, cands, exact
+
+
+@pytest.fixture(scope="module")
+def design(setup):
+    cfg, ctx, model, rel, *_ = setup
+    return run_design(ctx, rel)
+
+
+def _brute_force(controls, cands, exact):
+    feasible = [i for i in range(len(cands)) if exact[i] >= R_STAR]
+    return min(feasible, key=lambda i: cands[i].cost(controls))
+
+
+def test_chosen_is_the_true_cheapest_feasible_design(setup, design):
+    cfg, ctx, model, rel, controls, cands, exact = setup
+    best = _brute_force(controls, cands, exact)
+    # the problem separates: every cheaper candidate misses R* by more than 0.01 and the best clears it by more
+    # (so Monte Carlo noise of 3e-4 in the exact values cannot change the answer)
+    cheaper = [i for i in range(len(cands)) if cands[i].cost(controls) < cands[best].cost(controls)]
+    assert max(exact[i] for i in cheaper) < R_STAR - 0.01 and exact[best] > R_STAR + 0.01
+    assert design.chosen["choices"] == cands[best].choices(controls)
+    assert design.chosen["cost"] == pytest.approx(cands[best].cost(controls))
+
+
+def test_estimates_agree_with_the_exact_reliabilities_within_their_error(setup, design):
+    cfg, ctx, model, rel, controls, cands, exact = setup
+    by_choice = {tuple(c.choices(controls).values()): e for c, e in zip(cands, exact)}
+    for row in design.pareto + [design.chosen]:
+        e = by_choice[tuple(row["choices"].values())]
+        # the reported 95 % bound (surrogate ESC + population Monte Carlo) plus 3 s.e. of the 1e6-sample reference
+        tol = row["reliability_error"] + 3 * np.sqrt(e * (1 - e) / 1e6)
+        assert abs(row["reliability_at_target_life"] - e) <= tol, (row["choices"], row["reliability_at_target_life"], e)
+
+
+def test_pareto_front_is_non_dominated(design):
+    costs = [r["cost"] for r in design.pareto]
+    lives = [r["life_at_target_cycles"] for r in design.pareto]
+    assert costs == sorted(costs) and all(b > a for a, b in zip(lives, lives[1:]))
+    for row in design.candidates:  # nothing off the front is cheaper and longer-lived than a front point
+        assert not any(row["cost"] < f["cost"] and row["life_at_target_cycles"] > f["life_at_target_cycles"]
+                       for f in design.pareto)
+
+
+def test_verification_confirms_and_matches_the_exact_value(setup, design):
+    cfg, ctx, model, rel, controls, cands, exact = setup
+    ver = design.verification
+    best = _brute_force(controls, cands, exact)
+    assert ver["confirmed"] and ver["reliability_at_target_life"] >= R_STAR
+    # its own error bound plus 3 s.e. of the reference
+    assert abs(ver["reliability_at_target_life"] - exact[best]) <= ver["error"] + 3 * np.sqrt(exact[best] * (1 - exact[best]) / 1e6)
+    assert design.model_calls == ctx.n_evaluated
+    assert design.calls["verification"] <= cfg.design.verification_max_calls
+
+
+def test_a_wrong_choice_from_a_coarse_surrogate_is_caught_and_corrected(setup):
+    # only the 12 Latin-hypercube points of the study: the surrogate misjudges the cheapest feasible design; the
+    # verification rejects it, its calls enter the surrogate and the search picks the true answer
+    cfg, ctx, model, rel, controls, cands, exact = setup
+    coarse = copy.copy(rel)
+    coarse.design_x = np.asarray(rel.design_x)[:cfg.reliability.n_initial]
+    res = run_design(ctx, coarse)
+    best = _brute_force(controls, cands, exact)
+    assert res.chosen["choices"] == cands[best].choices(controls)
+    assert res.verification["confirmed"]
+
+
+def test_design_json_has_the_contract_keys_and_loads_back(design, tmp_path):
+    design.save(tmp_path, figures=False)
+    data = json.loads((tmp_path / "design.json").read_text())
+    for key in ("target_life_cycles", "target_reliability", "chosen", "pareto", "verification", "model_calls",
+                "wall_seconds"):
+        assert key in data
+    for key in ("choices", "cost", "life_at_target_cycles", "reliability_at_target_life"):
+        assert key in data["chosen"] and all(key in row for row in data["pareto"])
+    for key in ("reliability_at_target_life", "error", "model_calls"):
+        assert key in data["verification"]
+    assert (tmp_path / "design_pareto.csv").read_text().count("\n") == len(data["pareto"]) + 1
+    back = DesignResult.load(tmp_path)
+    assert back.chosen["choices"] == design.chosen["choices"] and back.target_life_cycles == design.target_life_cycles
+
+
+def test_report_section_shows_the_front_the_choice_and_the_verified_reliability(design, tmp_path):
+    from jointwear.report.design_section import design_section
+
+    assert design_section(tmp_path) is None  # no design.json: no section
+    design.save(tmp_path)
+    html = design_section(tmp_path)
+    assert (tmp_path / "design_pareto.png").read_bytes().startswith(b"\x89PNG")
+    assert "data:image/png;base64," in html
+    for option in design.chosen["choices"].values():
+        assert option in html
+    assert f"{design.verification['reliability_at_target_life']:.4f}" in html and "confirms" in html

@@ -1,0 +1,40 @@
+"""A bad [design] section ends `jointwear design` with exit status 2 and one line naming the field."""
+
+from importlib import resources
+
+import pytest
+
+from jointwear.cli import main_entry
+
+
+def _preset_text() -> str:
+    return (resources.files("jointwear") / "presets" / "jin2025_flapping_wing.toml").read_text(encoding="utf-8")
+
+
+@pytest.mark.parametrize("extra,words", [
+    ('\n[[design.targets]]\nreliability = 1.5\nlife_factor = 1.2\n', ["design.targets", "reliability"]),
+    ('\n[[design.tolerances]]\nvariable = "l1"\ngrades = ["IT42"]\n', ["design.tolerances", "IT42"]),
+    ('\n[[design.properties]]\nvariable = "nope"\nclasses = [{ name = "a", cost = 1.0 }]\n',
+     ["design.properties[2].variable", "nope"]),
+    ('\n[[design.properties]]\nvariable = "l1"\nclasses = [{ name = "a", cost = 1.0 }]\n'
+     '\n[[design.tolerances]]\nvariable = "l1"\ngrades = ["IT8"]\n', ["l1", "already set"]),
+])
+def test_bad_design_section_exits_2_with_one_line(tmp_path, capsys, extra, words):
+    cfg = tmp_path / "bad.toml"
+    cfg.write_text(_preset_text() + extra, encoding="utf-8")
+    out = tmp_path / "out"
+    code = main_entry(["design", str(cfg), "--out", str(out)])
+    err = capsys.readouterr().err.strip()
+    assert code == 2
+    assert len(err.splitlines()) == 1 and err.startswith("error:") and "Traceback" not in err
+    for w in words:
+        assert w in err, err
+    assert not (out / "design.json").exists()
+
+
+def test_design_without_a_design_section_exits_2(tmp_path, capsys):
+    text = _preset_text()
+    cfg = tmp_path / "nodesign.toml"
+    cfg.write_text(text[:text.index("\n[design]")], encoding="utf-8")
+    assert main_entry(["design", str(cfg), "--out", str(tmp_path / "out")]) == 2
+    assert "[design]" in capsys.readouterr().err
