@@ -5,7 +5,7 @@ import numpy as np
 from jointwear import compute
 from jointwear.config import load_config
 from jointwear.design.settings import DesignSettings
-from jointwear.study import population, study_context
+from jointwear.study import study_context
 
 RATE = 7.1e-11  # m per cycle at the nominal point (the paper's mean slope, paper-notes)
 ALLOWANCE = 3e-5  # the preset's allowance, m
@@ -85,4 +85,4 @@ def exact_reliabilities(ctx, model, controls, candidates, life, n=1_000_000, see
     return np.array(out)
 
 
-__all__ = ["AnalyticWear", "analytic_config", "analytic_context", "exact_reliabilities", "population"]
+__all__ = ["AnalyticWear", "analytic_config", "analytic_context", "exact_reliabilities"]
