@@ -106,3 +106,17 @@ def test_reference_points_carry_the_reference_label():
     assert any(t.startswith("Author 2030") for t in legend(CASES["history"]()))
     bare = legend(F.reliability_curve_figure(CYC, REL, target=0.9, life_cycles=371_640))
     assert bare == ["95 % band (COV of Pf)", "this study"] or bare == ["this study"]
+
+
+def test_figures_leave_the_users_matplotlib_settings_alone():
+    import matplotlib as mpl
+
+    from jointwear.report import figures as F
+    from jointwear.report.style import RC, to_png_bytes
+
+    before = dict(mpl.rcParams)
+    png = to_png_bytes(F.reliability_curve_figure([1, 2, 3], [0.99, 0.9, 0.5], target=0.9))
+    assert png.startswith(b"\x89PNG")
+    assert dict(mpl.rcParams) == before
+    # the house style did apply inside the drawing: a key it sets differs from matplotlib's default somewhere
+    assert any(mpl.rcParamsDefault[k] != v for k, v in RC.items() if k in mpl.rcParamsDefault)

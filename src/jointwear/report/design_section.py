@@ -8,13 +8,14 @@ import json
 from collections.abc import Mapping
 from pathlib import Path
 
-from jointwear.report.style import TARGET_COLOR, figure, label_axes, to_data_uri
+from jointwear.report.style import TARGET_COLOR, figure, label_axes, styled, to_data_uri
 
 
 def _get(result, key: str, default=None):
     return result.get(key, default) if isinstance(result, Mapping) else getattr(result, key, default)
 
 
+@styled
 def design_pareto_figure(result):
     """Cost against the life at R* of every candidate (grey), the Pareto front (line), the target life and the
     chosen design. ``result``: a :class:`jointwear.design.DesignResult` or the dict of ``design.json``."""

@@ -17,6 +17,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from .style import (
+    styled,
     COLORS,
     LIMIT_COLOR,
     PAPER_COLOR,
@@ -660,3 +661,9 @@ def cross_validation_figure(
     ax.legend(loc="upper left")
     ax.set_title("Surrogate cross-validation")
     return fig
+
+
+# every figure is drawn in the house style without touching the user's rcParams
+for _name in ['mechanism_figure', 'orbit_figure', 'contact_force_figure', 'wear_polar_figure', 'wear_panels_figure', 'wear_history_figure', 'reliability_curve_figure', 'wear_histograms_figure', 'convergence_figure', 'tornado_figure', 'sobol_figure', 'validation_figure', 'cross_validation_figure']:
+    globals()[_name] = styled(globals()[_name])
+del _name

@@ -14,8 +14,9 @@ Figures are built as :class:`matplotlib.figure.Figure` objects attached to an Ag
 global state and there is nothing to leak if a figure is not closed. (If a figure was made with pyplot after all,
 :func:`savefig` closes it.)
 
-The style itself is plain ``rcParams`` (:data:`RC`); :func:`apply_style` installs it and :func:`figure` calls
-:func:`apply_style`, so text added after :func:`figure` returns is styled too.
+The style itself is plain ``rcParams`` (:data:`RC`); every figure function is wrapped in :func:`styled`, which
+applies it through ``matplotlib.rc_context`` for the drawing only (a notebook user's own figures keep their
+style); :func:`apply_style` installs it globally for those who want it.
 """
 
 from __future__ import annotations
@@ -42,6 +43,7 @@ __all__ = [
     "SIZES",
     "RC",
     "apply_style",
+    "styled",
     "figure",
     "savefig",
     "to_png_bytes",
@@ -122,8 +124,22 @@ RC: dict[str, object] = {
 
 
 def apply_style() -> None:
-    """Install the house style into matplotlib's ``rcParams`` (idempotent, cheap)."""
+    """Install the house style into matplotlib's global ``rcParams`` (for your own figures; jointwear's own
+    figures use :func:`styled` and leave the global settings alone)."""
     matplotlib.rcParams.update(RC)
+
+
+def styled(draw):
+    """Run a figure-drawing function inside ``matplotlib.rc_context(RC)``: the house style for the figures it
+    draws, and the user's own ``rcParams`` untouched."""
+    import functools
+
+    @functools.wraps(draw)
+    def wrapper(*args, **kwargs):
+        with matplotlib.rc_context(RC):
+            return draw(*args, **kwargs)
+
+    return wrapper
 
 
 def figure(
@@ -141,7 +157,6 @@ def figure(
     Axes when ``nrows == ncols == 1`` and ``squeeze`` is true, otherwise an array of Axes, as
     :func:`matplotlib.pyplot.subplots`.
     """
-    apply_style()
     figsize = SIZES[size] if isinstance(size, str) else tuple(size)
     fig = Figure(figsize=figsize, layout="constrained")
     FigureCanvasAgg(fig)
@@ -170,7 +185,8 @@ def savefig(fig: Figure, path: str | Path, *, dpi: int = DPI, close: bool = True
     path.parent.mkdir(parents=True, exist_ok=True)
     if fig.canvas is None or not isinstance(fig.canvas, FigureCanvasAgg):
         FigureCanvasAgg(fig)
-    fig.savefig(path, dpi=dpi, format="png", metadata={"Software": "jointwear"})
+    with matplotlib.rc_context(RC):
+        fig.savefig(path, dpi=dpi, format="png", metadata={"Software": "jointwear"})
     if close:
         _close(fig)
     return path
@@ -181,7 +197,8 @@ def to_png_bytes(fig: Figure, *, dpi: int = DPI, close: bool = True) -> bytes:
     buf = io.BytesIO()
     if not isinstance(fig.canvas, FigureCanvasAgg):
         FigureCanvasAgg(fig)
-    fig.savefig(buf, dpi=dpi, format="png", metadata={"Software": "jointwear"})
+    with matplotlib.rc_context(RC):
+        fig.savefig(buf, dpi=dpi, format="png", metadata={"Software": "jointwear"})
     if close:
         _close(fig)
     return buf.getvalue()
