@@ -158,11 +158,12 @@ def figure(
     :func:`matplotlib.pyplot.subplots`.
     """
     figsize = SIZES[size] if isinstance(size, str) else tuple(size)
-    fig = Figure(figsize=figsize, layout="constrained")
-    FigureCanvasAgg(fig)
-    if polar:
-        subplot_kw = {**subplot_kw, "projection": "polar"}
-    axes = fig.subplots(nrows, ncols, squeeze=squeeze, subplot_kw=subplot_kw or None)
+    with matplotlib.rc_context(RC):  # the axes keep the style's colour cycle, ticks and spines
+        fig = Figure(figsize=figsize, layout="constrained")
+        FigureCanvasAgg(fig)
+        if polar:
+            subplot_kw = {**subplot_kw, "projection": "polar"}
+        axes = fig.subplots(nrows, ncols, squeeze=squeeze, subplot_kw=subplot_kw or None)
     return fig, axes
 
 
