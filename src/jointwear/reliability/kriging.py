@@ -40,30 +40,6 @@ from scipy.linalg import cho_solve, solve_triangular
 __all__ = ["KrigingSurrogate", "KrigingHyperparameters", "blas_threads"]
 
 
-def _openblas_setter():
-    """(get, set) functions of the OpenBLAS bundled with numpy, or None (best effort, via ctypes)."""
-    import ctypes
-    import glob
-
-    libdir = os.path.join(os.path.dirname(os.path.dirname(np.__file__)), "numpy.libs")
-    for path in glob.glob(os.path.join(libdir, "*openblas*.so*")):
-        try:
-            lib = ctypes.CDLL(path)
-        except OSError:
-            continue
-        for suffix in ("64_", "_64_", ""):
-            get = getattr(lib, f"scipy_openblas_get_num_threads{suffix}", None)
-            put = getattr(lib, f"scipy_openblas_set_num_threads{suffix}", None)
-            if get is not None and put is not None:
-                get.restype = ctypes.c_int
-                put.argtypes = [ctypes.c_int]
-                return get, put
-    return None
-
-
-_BLAS = None
-
-
 def _optimizer():
     """Likelihood optimiser: NLopt BOBYQA when OpenTURNS has NLopt, else Cobyla with a larger budget.
 
@@ -82,30 +58,28 @@ def _optimizer():
 
 
 class blas_threads:
-    """Context manager limiting numpy's OpenBLAS to ``n`` threads (no-op if that BLAS is not found).
+    """Context manager limiting the BLAS libraries numpy and scipy use to ``n`` threads (threadpoolctl: OpenBLAS,
+    MKL, BLIS alike); ``n=None`` leaves them alone.
 
     Prediction runs single-threaded BLAS inside its own chunk threads: multi-threaded OpenBLAS spin-waits and
-    was 5-15x *slower* on this 2-core machine when other processes were busy (docs/reliability.md).
+    was 5-15x *slower* on a 2-core machine when other processes were busy (docs/reliability.md).
     """
 
     def __init__(self, n: int | None):
         self.n = n
-        self.old = None
+        self._limits = None
 
     def __enter__(self):
-        global _BLAS
-        if self.n is None:
-            return self
-        if _BLAS is None:
-            _BLAS = _openblas_setter() or False
-        if _BLAS:
-            self.old = _BLAS[0]()
-            _BLAS[1](int(self.n))
+        if self.n is not None:
+            from threadpoolctl import threadpool_limits
+
+            self._limits = threadpool_limits(limits=int(self.n), user_api="blas")
         return self
 
     def __exit__(self, *exc):
-        if self.old is not None and _BLAS:
-            _BLAS[1](self.old)
+        if self._limits is not None:
+            self._limits.restore_original_limits()
+            self._limits = None
         return False
 
 
