@@ -41,7 +41,7 @@ from ._core import (
     make_evaluator,
     pf_to_beta,
 )
-from .akmcs import _needs_optimisation, _select_batch, _u_function
+from .akmcs import needs_optimisation, select_batch, u_function
 from .kriging import KrigingSurrogate
 from .methods import form, is_estimate, is_weights
 
@@ -160,13 +160,13 @@ def akis(
         if int(ok.sum()) < 2:
             raise ValueError("fewer than 2 finite g values in the design; cannot fit Kriging")
         n_ok = int(ok.sum())
-        optimize = _needs_optimisation(force_opt, n_at_opt, n_ok, 0.1)
+        optimize = needs_optimisation(force_opt, n_at_opt, n_ok, 0.1)
         surrogate.fit(design_u[ok], design_g[ok], optimize=optimize)
         if optimize:
             n_at_opt = n_ok
         force_opt = False
         mu, var = surrogate.predict(u_pop)
-        U = _u_function(mu, np.sqrt(var))
+        U = u_function(mu, np.sqrt(var))
         fail = mu < 0
         U[known] = np.inf
         fail[known] = ~(known_g[known] >= 0)  # NaN -> failure (conservative)
@@ -202,7 +202,7 @@ def akis(
             message = f"max_calls={max_calls} reached before the learning criterion was met"
             break
         k = min(batch_size, max_calls - n_form - n_own)
-        sel = _select_batch(U, u_pop, k, u_threshold, rng, known)
+        sel = select_batch(U, u_pop, k, u_threshold, rng, known)
         if sel.size == 0:
             message = "no candidate left to evaluate"
             break

@@ -82,7 +82,7 @@ def esc_absolute_error(mu: np.ndarray, sd: np.ndarray, z: float = _Z95) -> float
     when no candidate is predicted to fail (or the relative bound is unbounded), the larger of the two
     misclassification bounds over the population size."""
     fail = mu <= 0.0
-    n_f, n_fs, n_sf = _esc_counts(_u_function(mu, sd), fail, None, z)
+    n_f, n_fs, n_sf = _esc_counts(u_function(mu, sd), fail, None, z)
     n = max(int(fail.size), 1)
     if n_f - n_fs > 0:
         return max(n_fs / (n_f - n_fs), n_sf / (n_f + n_sf)) * n_f / n
@@ -104,13 +104,13 @@ def _esc_counts(u: np.ndarray, fail: np.ndarray, known: np.ndarray | None, z: fl
     return n_f, n_fs, n_sf
 
 
-def _needs_optimisation(forced: bool, n_at_opt: int, n_ok: int, growth: float) -> bool:
+def needs_optimisation(forced: bool, n_at_opt: int, n_ok: int, growth: float) -> bool:
     """Re-optimise the Kriging hyperparameters (rather than re-condition with the previous ones) when asked to, on
     the first fit, while the design is small (<= 30 points), or once it has grown by the fraction ``growth``."""
     return bool(forced or n_at_opt == 0 or n_ok <= 30 or n_ok >= (1.0 + growth) * n_at_opt)
 
 
-def _u_function(mu: np.ndarray, sd: np.ndarray) -> np.ndarray:
+def u_function(mu: np.ndarray, sd: np.ndarray) -> np.ndarray:
     """Echard's learning function U = |mu| / sigma; infinite where sigma = 0 (the sign is certain)."""
     with np.errstate(divide="ignore", invalid="ignore"):
         u = np.abs(mu) / sd
@@ -118,7 +118,7 @@ def _u_function(mu: np.ndarray, sd: np.ndarray) -> np.ndarray:
     return u
 
 
-def _select_batch(score: np.ndarray, u_pop: np.ndarray, k: int, threshold: float, rng: np.random.Generator,
+def select_batch(score: np.ndarray, u_pop: np.ndarray, k: int, threshold: float, rng: np.random.Generator,
                   exclude: np.ndarray) -> np.ndarray:
     """Indices of k candidates to evaluate: lowest score; for k > 1 spread by k-means."""
     score = np.where(exclude, np.inf, score)
@@ -252,7 +252,7 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
             n_ok = int(ok.sum())
             if n_ok < 2:
                 raise ValueError(f"column {j}: fewer than 2 finite g values in the design; cannot fit Kriging")
-            optimize = _needs_optimisation(force_opt[j], n_at_opt[j], n_ok, refit_growth)
+            optimize = needs_optimisation(force_opt[j], n_at_opt[j], n_ok, refit_growth)
             surrogates[j].fit(design_u[ok], design_g[ok, j], optimize=optimize)
             if optimize:
                 n_at_opt[j] = n_ok
@@ -281,7 +281,7 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
                 mu0, var = surrogates[j].predict(u_pop[idx])
                 sd = np.sqrt(var)
             mu = mu0 - offsets[j]
-            Uj = _u_function(mu, sd)
+            Uj = u_function(mu, sd)
             U[idx, j] = Uj
             fail[idx, j] = mu < 0
             if kidx.size:
@@ -347,7 +347,7 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
         active = ~learned
         score = U[:, active].min(axis=1)
         k = min(batch_size, max_calls - design_u.shape[0])
-        sel = _select_batch(score, u_pop, k, u_threshold, rng, known)
+        sel = select_batch(score, u_pop, k, u_threshold, rng, known)
         if sel.size == 0:
             message = "no candidate left to evaluate"
             break
