@@ -116,3 +116,19 @@ def test_toml_config_with_new_distributions_and_correlation():
     r = np.asarray(cfg.uncertainty.copula().getShapeMatrix())
     assert r[names.index("l1"), names.index("l2")] == pytest.approx(0.5)
     assert r.shape == (len(names), len(names))
+
+
+def test_std_scale_reads_a_tables_spreads_another_way():
+    from jointwear.config import load_config
+    from jointwear.schema import ConfigError
+
+    base, alt = load_config(), load_config("jin2025_flapping_wing_two_sigma")
+    for a, b in zip(base.uncertainty.all_specs(), alt.uncertainty.all_specs()):
+        factor = 0.5 if a.group in ("bearing_material", "journal_material") else 1.0
+        assert b.std == a.std * factor and b.mean == a.mean, a.name  # exact: a product by 0.5 or 1
+    data = base.model_dump()
+    data["uncertainty"]["std_scale"] = {"no_such_group": 0.5}
+    from jointwear.config import config_from_dict
+
+    with pytest.raises(ConfigError, match="std_scale.no_such_group"):
+        config_from_dict(data)

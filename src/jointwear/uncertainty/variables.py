@@ -258,6 +258,28 @@ class UncertaintySettings(SIModel):
         description="Correlated variables (a normal copula; independent when absent), e.g. "
         "{ variables = ['l1', 'l2'], matrix = [[1, 0.5], [0.5, 1]] } or { pairs = [['l1', 'l2', 0.5]] }; "
         "'c' is the clearance.")
+    std_scale: dict[str, float] = Field(
+        default_factory=dict,
+        description="Factors on the standard deviations, by variable group (tolerance, bearing_material, "
+        "journal_material, other) or by variable name (a name wins over its group); e.g. "
+        "{ bearing_material = 0.5 } reads a table's spreads as two standard deviations. Alternative readings of "
+        "a source's scatter, without restating its variables. The clearance's spread comes from its fit grades "
+        "and is not scaled.")
+
+    @model_validator(mode="after")
+    def _std_scale(self) -> UncertaintySettings:
+        groups = {"tolerance", "bearing_material", "journal_material", "other"}
+        names = {v.name for v in self.variables}
+        for key, factor in self.std_scale.items():
+            if key not in groups and key not in names:
+                raise ValueError(f"std_scale.{key}: not a variable group ({', '.join(sorted(groups))}) nor a "
+                                 f"variable ({', '.join(sorted(names))})")
+            if not (math.isfinite(factor) and factor > 0):
+                raise ValueError(f"std_scale.{key}: must be a positive number (got {factor!r})")
+        return self
+
+    def _scale(self, spec: RandomVariableSpec) -> float:
+        return float(self.std_scale.get(spec.name, self.std_scale.get(spec.group, 1.0)))
 
     @model_validator(mode="after")
     def _unique_names(self) -> UncertaintySettings:
@@ -280,8 +302,10 @@ class UncertaintySettings(SIModel):
         return [v.name for v in self.all_specs()]
 
     def all_specs(self) -> list[RandomVariableSpec]:
-        """Every variable as a spec, the clearance (if any) second as in Table 5."""
-        specs = list(self.variables)
+        """Every variable as a spec (standard deviations scaled by ``std_scale``; not the clearance's), the
+        clearance (if any) second as in Table 5."""
+        specs = [v if self._scale(v) == 1.0 else v.model_copy(update={"std": v.std * self._scale(v)})
+                 for v in self.variables]
         if self.clearance is not None:
             c = self.clearance
             specs.insert(min(1, len(specs)), RandomVariableSpec(
