@@ -56,7 +56,7 @@ def config_problems(config: StudyConfig, stages: frozenset[str] | set[str]) -> l
     problem = scheduler_problem(config.compute.scheduler)
     if problem:
         problems.append(problem)
-    if getattr(config, "design", None) is not None and needs_reliability:
+    if "design" in stages:
         from jointwear.design.checks import design_problems
 
         problems += design_problems(config)
