@@ -61,6 +61,8 @@ def is_paper_open(description: str | None, extra: Mapping | None = None) -> bool
 def _display(value: Any, unit: str | None) -> tuple[Any, str | None]:
     """SI value -> report units (mm, GPa/MPa, rpm)."""
     def conv(v, f):
+        if isinstance(v, dict):  # a table of named values, e.g. the points of a body
+            return {k: conv(x, f) for k, x in v.items()}
         if isinstance(v, (list, tuple)):
             return [conv(x, f) for x in v]
         if isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v):
