@@ -87,6 +87,8 @@ def _plain(v: Any) -> Any:
         return v
     if isinstance(v, (list, tuple)):
         return [_plain(x) for x in v]
+    if isinstance(v, dict):
+        return {str(k): _plain(x) for k, x in v.items()}
     if isinstance(v, Path):
         return str(v)
     try:  # numpy scalars
