@@ -215,3 +215,21 @@ def test_report_warns_when_uniform_mode_is_outside_its_range(tmp_path):
     (d / "wear.json").write_text(json.dumps({**data, "geometry_mode": "uniform", "conformity": 0.4,
                                              "uniform_mode_valid": True}))
     assert "Uniform mode is outside its range" not in build_report(d).read_text(encoding="utf-8")
+
+
+def test_report_has_a_design_section_when_the_folder_has_a_design(tmp_path):
+    import json
+
+    from report_fixtures import make_fixture_dir
+
+    from jointwear.report.html import build_report
+
+    d = make_fixture_dir(tmp_path / "d", which=("reliability",), reference=False)
+    point = {"choices": {"l2": "IT11", "fit": "IT8/IT7", "k_b": "coated"}, "cost": 4.0,
+             "life_at_target_cycles": 482_188.0, "reliability_at_target_life": 0.961}
+    (d / "design.json").write_text(json.dumps({
+        "target_life_cycles": 452_920.0, "target_reliability": 0.9, "chosen": point, "pareto": [point],
+        "verification": {"reliability_at_target_life": 0.958, "error": 0.0035, "model_calls": 80, "confirmed": True},
+        "model_calls": 140, "wall_seconds": 223.0, "n_candidates": 243}))
+    page = build_report(d).read_text(encoding="utf-8")
+    assert 'id="design"' in page and "IT8/IT7" in page and "coated" in page
