@@ -103,14 +103,14 @@ def test_periodic_interp():
 def test_contact_envelope_shifted_circle():
     """A bore worn into a circle shifted by d (support function c0 + d cos theta) admits exactly the disk of radius
     c0 centred at d: the envelope must be its radial function d cos t + sqrt(c0^2 - d^2 sin^2 t)."""
-    from jointwear.wear.kernels import contact_envelope
+    from jointwear.contact.envelope import admissible_set
 
     n = 1440
     th = TWO_PI * np.arange(n) / n
     c0, d = 2e-6, 1.2e-6
     c = c0 + d * np.cos(th)
     out, idx = np.empty(n), np.empty(n, dtype=np.int64)
-    contact_envelope(c, out, idx)
+    admissible_set(c, out, idx)
     exact = d * np.cos(th) + np.sqrt(c0**2 - (d * np.sin(th)) ** 2)
     # 1e-3: the minimum is taken over grid directions only (0.25 deg): error O(delta^2) relative
     np.testing.assert_allclose(out, exact, rtol=1e-3)
@@ -118,14 +118,15 @@ def test_contact_envelope_shifted_circle():
 
 
 def test_contact_envelope_narrow_pocket_bridged():
-    from jointwear.wear.kernels import contact_envelope, map_touch_angles
+    from jointwear.contact.envelope import admissible_set
+    from jointwear.wear.kernels import map_touch_angles
 
     n = 720
     th = TWO_PI * np.arange(n) / n
     c0 = 2e-6
     c = c0 + 25e-6 * np.exp(-0.5 * (np.angle(np.exp(1j * (th - 1.0))) / 0.3) ** 2)
     out, idx = np.empty(n), np.empty(n, dtype=np.int64)
-    contact_envelope(c, out, idx)
+    admissible_set(c, out, idx)
     k = int(np.argmax(c))
     assert out[k] < 0.25 * c[k]  # the journal cannot reach the bottom of a pocket narrower than itself
     assert idx[k] != k  # it touches a flank
@@ -133,7 +134,7 @@ def test_contact_envelope_narrow_pocket_bridged():
     map_touch_angles(np.array([th[k]]), idx, touch)
     assert abs(touch[0] - th[idx[k]]) < 1e-12
     const = np.full(n, c0)
-    contact_envelope(const, out, idx)
+    admissible_set(const, out, idx)
     np.testing.assert_allclose(out, c0)
     assert np.all(idx == np.arange(n))
 

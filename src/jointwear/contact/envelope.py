@@ -63,11 +63,17 @@ def polygon_distance(r, px, py):
 
 
 @njit(cache=True)
-def admissible_radius(c, out):
-    """Radial function of S = {e : e . u_k <= c_k} at the grid angles: min_k c_k / cos(theta_k - theta_i) over
-    |theta_k - theta_i| < 90 deg (first order in clearance / radius, as kernels.contact_envelope). The scan goes
-    outward from theta_i and stops once min(c) / cos(theta_k - theta_i) cannot beat the best so far (on a round
-    bore after one cell)."""
+def admissible_set(c, out_c, out_idx):
+    """Radial function of the admissible journal-centre set S = {e : e . u_k <= c_k} at the grid angles,
+    out_c[i] = min_k c_k / cos(theta_k - theta_i) over |theta_k - theta_i| < 90 deg (first order in clearance /
+    radius), and out_idx[i] the k that attains it (the bore point that touches). The scan goes outward from
+    theta_i and stops once min(c) / cos(theta_k - theta_i) cannot beat the best so far (on a round bore after one
+    cell).
+
+    c (n,) is the local clearance c0 + h(theta_k): a journal whose centre is displaced by e along theta_i closes the
+    gap c_k - e cos(theta_k - theta_i) first at that k. S is convex, so a wear pocket narrower than the journal is
+    bridged at its flanks instead of being entered radially.
+    """
     n = c.shape[0]
     delta = TWO_PI / n
     q = int(math.floor((0.5 * math.pi - 1e-9) / delta))
@@ -77,16 +83,28 @@ def admissible_radius(c, out):
     cmin = c.min()
     for i in range(n):
         best = c[i]
-        for d in range(1, q + 1):
+        arg = i
+        for d in range(1, q + 1):  # outward, until min(c) / cos cannot beat the best (round bore: one cell)
             if cmin * inv[d] >= best:
                 break
-            v = c[(i + d) % n] * inv[d]
+            k = (i + d) % n
+            v = c[k] * inv[d]
             if v < best:
                 best = v
-            v = c[(i - d) % n] * inv[d]
+                arg = k
+            k = (i - d) % n
+            v = c[k] * inv[d]
             if v < best:
                 best = v
-        out[i] = best
+                arg = k
+        out_c[i] = best
+        out_idx[i] = arg
+
+
+@njit(cache=True)
+def admissible_radius(c, out):
+    """The radial function of :func:`admissible_set` alone."""
+    admissible_set(c, out, np.empty(c.shape[0], dtype=np.int64))
 
 
 @njit(cache=True)

@@ -32,13 +32,12 @@ from .kernels import (
     gather_directions,
     share_load,
     accumulate_wear,
-    contact_envelope,
     map_touch_angles,
     periodic_interp,
     smooth_periodic,
     worn_area,
 )
-from jointwear.contact.envelope import admissible_radius, rounded_envelope
+from jointwear.contact.envelope import admissible_radius, admissible_set, rounded_envelope
 from jointwear.contact.geometry import PROFILE_ROUNDING
 
 from .settings import WearSettings, check_cycles, check_material
@@ -149,7 +148,7 @@ def cycle_wear(
     (paper Eqs. 36-37); profile mode (when profiles are given) the local radii R_b0 + h_b(theta_b) and
     R_j0 - h_j(theta_j), with the profiles exactly as given to the contact search. bearing_touch / journal_touch
     (profile mode, 'envelope' contact): grid index of the bore point that touches for each centre-line direction
-    (kernels.contact_envelope); the wear is laid there. bearing_bore (profile mode, `profile_deposit =
+    (contact.envelope.admissible_set); the wear is laid there. bearing_bore (profile mode, `profile_deposit =
     "distributed"`): the bore's contact profile (smoothed wear, m); each step's bearing wear is shared over the
     cells the journal touches (kernels.gather_directions, share_load) instead.
     """
@@ -368,7 +367,7 @@ def contact_profiles(c0: float, wb: np.ndarray, wj: np.ndarray, settings: WearSe
             continue
         ce = np.empty_like(w)
         idx = np.empty(w.shape[0], dtype=np.int64)
-        contact_envelope(c0 + w, ce, idx)
+        admissible_set(c0 + w, ce, idx)
         out.append((np.maximum(ce - c0, 0.0), idx))
     # the bearing: the admissible set with its corners rounded (contact.envelope), so that a journal resting in a
     # pocket worn to its own shape meets a smooth contact normal

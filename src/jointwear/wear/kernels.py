@@ -163,48 +163,8 @@ def periodic_interp(profile: np.ndarray, theta: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True)
-def contact_envelope(c: np.ndarray, out_c: np.ndarray, out_idx: np.ndarray) -> None:
-    """Clearance that a rigid round journal can actually use in each direction of a worn bore (profile mode).
-
-    c (n,) is the local clearance c0 + h(theta_k) on the grid. A journal whose centre is displaced by e along
-    theta_i closes the gap c_k - e cos(theta_k - theta_i) first at the k that minimises c_k / cos(theta_k -
-    theta_i) over |theta_k - theta_i| < 90 deg (first order in clearance / radius). So
-
-        out_c[i] = min_k c_k / cos(theta_k - theta_i),    out_idx[i] = that k (the touching point).
-
-    The admissible journal-centre set {e : e . u_k <= c_k} is convex, and out_c is its radial function: a wear
-    pocket narrower than the journal is bridged at its flanks instead of being entered radially.
-    """
-    n = c.shape[0]
-    delta = TWO_PI / n
-    q = int(math.floor((0.5 * math.pi - 1e-9) / delta))
-    inv = np.empty(q + 1)
-    for d in range(q + 1):
-        inv[d] = 1.0 / math.cos(d * delta)
-    cmin = c.min()
-    for i in range(n):
-        best = c[i]
-        arg = i
-        for d in range(1, q + 1):  # outward, until min(c) / cos cannot beat the best (round bore: one cell)
-            if cmin * inv[d] >= best:
-                break
-            k = (i + d) % n
-            v = c[k] * inv[d]
-            if v < best:
-                best = v
-                arg = k
-            k = (i - d) % n
-            v = c[k] * inv[d]
-            if v < best:
-                best = v
-                arg = k
-        out_c[i] = best
-        out_idx[i] = arg
-
-
-@njit(cache=True)
 def map_touch_angles(theta: np.ndarray, idx: np.ndarray, out: np.ndarray) -> None:
-    """Centre-line directions theta (rad) -> angle of the bore point that actually touches (see contact_envelope).
+    """Centre-line directions theta (rad) -> angle of the bore point that actually touches (see contact.envelope.admissible_set).
 
     Where the direction's own cell is the active constraint the angle is unchanged; where a flank is active the
     contact sits at the flank's grid angle.

@@ -41,7 +41,7 @@ class WearSettings(SIModel):
         "envelope",
         description=(
             "Profile mode only: what the contact search is given. 'envelope' (default): the clearance a rigid round "
-            "journal can use in each direction, min_k (c0 + h_k) / cos(theta_k - theta) (kernels.contact_envelope), "
+            "journal can use in each direction, min_k (c0 + h_k) / cos(theta_k - theta) (contact.envelope.admissible_set), "
             "and the wear of each step is laid at the bore point that actually touches (a flank of a pocket narrower "
             "than the journal). 'radial': the raw profiles, c_loc = c0 + h(theta) along the centre line (the "
             "contract's literal reading); a pocket narrower than the journal is then entered radially, which is "
@@ -57,7 +57,7 @@ class WearSettings(SIModel):
             "patch on a round bore is Johnson's half-width; kernels.share_load): a journal resting in a "
             "pocket worn to its own shape loads the whole worn arc with a cos-shaped pressure, the conformal wear of "
             "Kauzlarich and Williams (2001) that docs/verification.md checks. 'touch': at the single bore point that "
-            "touches (contact_envelope's map), spread over the patch and the running-in length (the earlier rule)."
+            "touches (admissible_set's map), spread over the patch and the running-in length (the earlier rule)."
         ),
     )
     profile_smoothing_deg: float = Field(
