@@ -110,13 +110,9 @@ class TwoJointWear:
         return np.concatenate([a, e]), "ok"
 
 
-def test_series_system_reliability_against_brute_force():
-    cfg = config_from_dict(_six_bar({"n_mc": 50_000, "noise": "none", "error_abs_tol": 0.002, "max_calls": 60,
-                                     "target_reliability": [0.9, 0.5]}))
-    ctx = study_context(cfg, lambda call: compute.Evaluator(TwoJointWear(call.cycles), None, None,
-                                                            n_outputs=call.n_outputs))
-    res = run_reliability(ctx)
-    x = population(ctx.marginals, 1_000_000, seed=3)
+def assert_series_pf_matches_brute_force(res, x):
+    """The study's Pf at every level with Pf > 1e-3 against the exact series-system Pf of TwoJointWear over the
+    population ``x`` (1e6 samples)."""
     n = res.cycles[None, :]
     fail = (RATES["A"] * n * x[:, :1] / 1e-4 > 3e-5) | (RATES["E"] * n * x[:, 1:] / 1e-4 > 3e-5)
     pf_ref = fail.mean(axis=0)
@@ -127,6 +123,15 @@ def test_series_system_reliability_against_brute_force():
         # tolerance (0.002) and 3 standard errors of the 1e6-sample reference
         tol = max(0.03 * pf_ref[k], 2 * res.pf_cov[k] * res.pf[k]) + 0.002 + 3 * np.sqrt(pf_ref[k] / 1e6)
         assert abs(res.pf[k] - pf_ref[k]) < tol, (res.cycles[k], res.pf[k], pf_ref[k])
+
+
+def test_series_system_reliability_against_brute_force():
+    cfg = config_from_dict(_six_bar({"n_mc": 50_000, "noise": "none", "error_abs_tol": 0.002, "max_calls": 60,
+                                     "target_reliability": [0.9, 0.5]}))
+    ctx = study_context(cfg, lambda call: compute.Evaluator(TwoJointWear(call.cycles), None, None,
+                                                            n_outputs=call.n_outputs))
+    res = run_reliability(ctx)
+    assert_series_pf_matches_brute_force(res, population(ctx.marginals, 1_000_000, seed=3))
     assert [row["target"] for row in res.life_table] == [0.9, 0.5]
     # joint A wears faster at the mean point, so it governs most failures at the headline life
     assert res.governing_joint == "A"
@@ -155,12 +160,4 @@ def test_correlated_inputs_reach_the_study_population_and_the_learning():
     # Pearson correlation of the normal scores is the copula's 0.8 (Monte Carlo s.e. ~ (1 - 0.64) / sqrt(2e5))
     assert np.corrcoef(x[:, 0], x[:, 1])[0, 1] == pytest.approx(0.8, abs=0.01)
     res = run_reliability(ctx)
-    x = ctx.sample(1_000_000, seed=5)
-    n = res.cycles[None, :]
-    fail = (RATES["A"] * n * x[:, :1] / 1e-4 > 3e-5) | (RATES["E"] * n * x[:, 1:] / 1e-4 > 3e-5)
-    pf_ref = fail.mean(axis=0)
-    for k in range(len(res.cycles)):
-        if pf_ref[k] < 1e-3:
-            continue
-        tol = max(0.03 * pf_ref[k], 2 * res.pf_cov[k] * res.pf[k]) + 0.002 + 3 * np.sqrt(pf_ref[k] / 1e6)
-        assert abs(res.pf[k] - pf_ref[k]) < tol, (res.cycles[k], res.pf[k], pf_ref[k])
+    assert_series_pf_matches_brute_force(res, ctx.sample(1_000_000, seed=5))

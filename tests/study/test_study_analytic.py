@@ -6,27 +6,11 @@ to k / H and to the number of cycles), so the exact R(N) is known by brute-force
 
 import numpy as np
 import pytest
+from analytic_wear import RATE, AnalyticWear
 
 from jointwear import compute
 from jointwear.config import load_config
 from jointwear.study import life_at, population, run_reliability, study_context
-
-RATE = 7.1e-11  # m per cycle at the nominal point: the paper's mean slope (paper-notes: 7.1e-8 mm/cycle)
-
-
-class AnalyticWear:
-    """delta_max(x, N) = RATE * N * (k_b / k_b0) * (H_b0 / H_b) * (1 + 0.05 (c - c0) / 1 um)."""
-
-    def __init__(self, names, cycles):
-        self.i_k, self.i_h, self.i_c = names.index("k_b"), names.index("HB_b"), names.index("c")
-        self.cycles = np.asarray(cycles, dtype=float)
-
-    def scale(self, x):
-        x = np.atleast_2d(x)
-        return (x[:, self.i_k] / 1.2e-3) * (350 * 9.807e6 / x[:, self.i_h]) * (1 + 0.05 * (x[:, self.i_c] - 2e-6) / 1e-6)
-
-    def __call__(self, x):
-        return RATE * self.cycles * self.scale(x)[0], "ok"
 
 
 @pytest.fixture(scope="module")

@@ -1,13 +1,13 @@
 """Direct validation of the R(N) curve: the true model sampled directly against the surrogate.
 
-The wear model is the analytic Archard-like law of test_study_analytic (exact R(N) by brute force), so the
+The wear model is the analytic Archard-like law of tests/analytic_wear.py (exact R(N) by brute force), so the
 validation must agree at every level, and the leave-one-out cross-validation of a smooth 3-variable product
 must be nearly exact.
 """
 
 import numpy as np
 import pytest
-from test_study_analytic import AnalyticWear
+from analytic_wear import AnalyticWear
 
 from jointwear import compute
 from jointwear.config import load_config
