@@ -20,7 +20,7 @@ from pathlib import Path
 from jointwear.config import StudyConfig, load_config
 from jointwear.schema import ConfigError
 from jointwear.study.checks import check_runs, config_problems, scheduler_problem
-from jointwear.study.limit_state import limit_state_from_config, limit_state_problems
+from jointwear.study.limit_state import joint_allowance, limit_state_from_config, limit_state_problems
 from jointwear.study.results import (
     ReliabilityResult,
     SensitivityResult,
@@ -157,11 +157,13 @@ class Study:
                 fh.write("\n".join(lines) + "\n")
 
     def _allowances(self) -> dict[str, float]:
-        if limit_state_problems(self.config):
-            return {cj.name: 0.02 * cj.bearing_outer_radius for cj in self.config.clearance_joints
-                    if cj.bearing_outer_radius is not None}
-        limit = limit_state_from_config(self.config)
-        return dict(zip(limit.names, limit.allowances))
+        """The allowance of each judged joint (of every joint whose allowance is known, when the limit state is
+        not defined), for the wear figures."""
+        if not limit_state_problems(self.config):
+            limit = limit_state_from_config(self.config)
+            return dict(zip(limit.names, limit.allowances))
+        rel = self.config.reliability
+        return {cj.name: a for cj in self.config.clearance_joints if (a := joint_allowance(rel, cj)) is not None}
 
     # ------------------------------------------------------------------------------------------- stages
     @_quiet

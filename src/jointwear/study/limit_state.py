@@ -67,16 +67,20 @@ def limit_state_from_config(config) -> LimitState:
     names_all = [cj.name for cj in config.clearance_joints]
     chosen = list(rel.joints) if rel.joints else names_all
     idx = tuple(names_all.index(n) for n in chosen)
-    allowances = []
-    for i in idx:
-        cj = config.clearance_joints[i]
-        if cj.name in rel.allowances:
-            allowances.append(float(rel.allowances[cj.name]))
-        elif rel.allowance is not None:
-            allowances.append(float(rel.allowance))
-        else:
-            allowances.append(0.01 * 2.0 * float(cj.bearing_outer_radius))
-    return LimitState(rel.quantity, idx, tuple(chosen), tuple(allowances))
+    allowances = tuple(joint_allowance(rel, config.clearance_joints[i]) for i in idx)
+    return LimitState(rel.quantity, idx, tuple(chosen), allowances)
+
+
+def joint_allowance(rel, joint) -> float | None:
+    """The allowance of one clearance joint, m: its entry in ``allowances``, else ``allowance``, else 0.01 D with D
+    its bearing's outer diameter (the paper's rule); None when none of them is given."""
+    if joint.name in rel.allowances:
+        return float(rel.allowances[joint.name])
+    if rel.allowance is not None:
+        return float(rel.allowance)
+    if joint.bearing_outer_radius is not None:
+        return 0.01 * 2.0 * float(joint.bearing_outer_radius)
+    return None
 
 
 def limit_state_problems(config) -> list[str]:
@@ -95,14 +99,10 @@ def limit_state_problems(config) -> list[str]:
     extra = [n for n in rel.allowances if n not in chosen]
     if extra:
         problems.append(f"reliability.allowances: {extra} are not judged joints (judged: {chosen})")
-    if rel.allowance is None:
-        for n in chosen:
-            if n in names_all and n not in rel.allowances:
-                cj = config.clearance_joints[names_all.index(n)]
-                if cj.bearing_outer_radius is None:
-                    problems.append(
-                        f"reliability.allowance: required for joint {n} (or give clearance_joints.{n}."
-                        "bearing_outer_radius for the default 0.01 D)")
+    for n in chosen:
+        if n in names_all and joint_allowance(rel, config.clearance_joints[names_all.index(n)]) is None:
+            problems.append(f"reliability.allowance: required for joint {n} (or give clearance_joints.{n}."
+                            "bearing_outer_radius for the default 0.01 D)")
     return problems
 
 
