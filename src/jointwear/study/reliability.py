@@ -161,14 +161,12 @@ def population(marginals: Sequence, n: int, seed: int, copula: Any = None) -> np
 
 class WearSurrogates:
     """Kriging of ln q(x, N) of the first judged joint at a few cycle counts, fitted once on the final design
-    (no learning).
-
-    The reliability itself comes from the learned life surrogate; these give the wear distributions (paper
-    Fig. 20) and the Sobol' indices of the wear.
+    (no learning): the Sobol' indices of the wear. The reliability and the wear distributions come from the
+    learned life surrogate.
     """
 
     def __init__(self, ctx: StudyContext, design_x: np.ndarray, cycles: Sequence[int], seed: int = 0):
-        from jointwear.reliability import IsoTransform, KrigingSurrogate
+        from jointwear.reliability import KrigingSurrogate
 
         self.cycles = list(cycles)
         self.iso = ctx.iso()
@@ -238,7 +236,6 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
                   "one_minus_reliability": [float(pf[ctx.cycles.index(c)]) for c in hist_levels]}
     mean_max = {"cycles": wear_levels, "mean": (wear_all.mean(axis=0) * 1e3).tolist(),
                 "std": (wear_all.std(axis=0) * 1e3).tolist()}
-    wear_model = WearSurrogates(ctx, np.asarray(engine.design_x), wear_levels, seed=rel.seed)
     hist = engine.history
     ref = rel.progress_level(ctx.cycles)
     convergence = {"cycles": ctx.cycles[ref], "n_calls": [h.n_calls for h in hist],
@@ -266,7 +263,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         design_x=design_x, design_wear=design_wear, design_life=ctx.life(design_x),
         quantity=ctx.limit_state.quantity, joints=joints,
         crank_speed_rpm=abs(float(ctx.config.mechanism.crank_speed)) * 60 / (2 * math.pi),
-        engine=engine, infeasible=infeasible, wear_surrogates=wear_model)
+        engine=engine, infeasible=infeasible)
 
 
 def implied_wear(ctx: StudyContext, engine, pop: np.ndarray, cycles) -> np.ndarray:
@@ -295,7 +292,7 @@ def _joint_breakdown(ctx: StudyContext, engine, design_x: np.ndarray, pop: np.nd
         rows[0]["reliability"] = [float(r) for r in system_reliability]
         rows[0]["governing_share"] = [1.0] * len(ctx.cycles)
         return rows
-    from jointwear.reliability import IsoTransform, KrigingSurrogate
+    from jointwear.reliability import KrigingSurrogate
 
     iso = ctx.iso()
     u_design = iso.to_u(design_x)
@@ -326,7 +323,6 @@ def _meet_cov_target(ctx: StudyContext, engine, pf, pf_cov, n_mc):
     """Grow the Monte Carlo population on the final surrogate until COV(Pf) < target at every level above
     the floor (AK-MCS Step 6). The engine does this itself when its learning converges; when the call budget
     ends the learning first, the population is grown here, on the last surrogate (no model call)."""
-    from jointwear.reliability import IsoTransform
 
     rel = ctx.config.reliability
     need = (pf >= rel.pf_floor) & ~(pf_cov < rel.cov_target)

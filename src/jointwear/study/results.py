@@ -353,7 +353,6 @@ class ReliabilityResult(StageResult):
     provenance: dict = field(default_factory=dict)
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
     engine: Any = field(repr=False, default=None, metadata={"json": False})
-    wear_surrogates: Any = field(repr=False, default=None, metadata={"json": False})
 
     @property
     def governing_joint(self) -> str | None:

@@ -7,7 +7,7 @@ import time
 
 import numpy as np
 
-from jointwear.study.reliability import StudyContext, population
+from jointwear.study.reliability import StudyContext, WearSurrogates, population
 from jointwear.study.results import ReliabilityResult, SensitivityResult
 
 
@@ -109,7 +109,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
     margin_nominal_pop, margin_sd_nominal_pop = log_life_margin(pop)
     r_nominal = float(np.mean(margin_nominal_pop > 0))
     r_nominal_error = esc_absolute_error(margin_nominal_pop, margin_sd_nominal_pop)
-    wear_col = reliability.wear_surrogates.cycles.index(sens_cycles)
+    wear_model = WearSurrogates(ctx, np.asarray(reliability.design_x), [sens_cycles], seed=rel.seed)
 
     n_model = len(ctx.targets)
     means = np.array([m.mean() for m in ctx.marginals[:n_model]])
@@ -175,7 +175,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
 
     table = mean_shift_table(reliability_of, ctx.marginals, ctx.names, ctx.labels, factors=tuple(sens.factors),
                              reliability_nominal=r_nominal)
-    sobol = sobol_indices(lambda x: reliability.wear_surrogates.predict(x)[:, wear_col] * 1e3, ctx.marginals,
+    sobol = sobol_indices(lambda x: wear_model.predict(x)[:, 0] * 1e3, ctx.marginals,
                           ctx.names, n_base=sens.sobol_base_samples, seed=rel.seed)
     deriv = reliability_derivatives(pop, margin_nominal_pop <= 0, ctx.marginals, ctx.names)
     groups = {}
