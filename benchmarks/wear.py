@@ -469,72 +469,68 @@ def bench_profile_rig_convergence(n_values=(10_000, 100_000)) -> dict:
     model = build_model(cfg)
     rig = Rig.from_config(cfg)
     s = base_settings(cfg).model_copy(update={"geometry_mode": "profile"})
-    variants = {"baseline": {}, "grid_halved": {"n_grid": 2 * s.n_grid},
-                "smoothing_halved": {"profile_smoothing_deg": s.profile_smoothing_deg / 2},
-                "block_halved": {"block_cycles": s.block_cycles // 2}, "rounding_halved": "rounding"}
-    rounding0 = hist.PROFILE_ROUNDING
     out = {"settings": {"n_grid": s.n_grid, "profile_smoothing_deg": s.profile_smoothing_deg,
-                        "block_cycles": s.block_cycles, "profile_rounding": rounding0}}
+                        "block_cycles": s.block_cycles, "profile_rounding": hist.PROFILE_ROUNDING}}
     for n in n_values:
         cf = conformal_wear(rig, friction_circle(rig)[1], n)
         rec = {"closed_form": {"depth_mm": cf["depth"] * MM, "arc_deg": math.degrees(cf["arc"]),
                                "area_mm2": cf["area"] * 1e6}}
-        for name, upd in variants.items():
-            try:
-                if upd == "rounding":
-                    hist.PROFILE_ROUNDING = rounding0 / 2
-                    v = s
-                else:
-                    v = s.model_copy(update=upd)
-                res = wear_history(model, v, n)
-            finally:
-                hist.PROFILE_ROUNDING = rounding0
+
+        def record(res):
             h = res.joints[0].bearing_wear
-            arc = np.count_nonzero(h > 0.01 * h.max()) * 360.0 / h.size
-            rec[name] = {"max_depth_mm": float(h.max() * MM), "worn_area_mm2": worn_area(h, rig.r_b) * 1e6,
-                         "arc_deg_above_1pct": arc, "wall_seconds": res.wall_seconds}
-        for name in variants:
-            if name != "baseline":
-                rec[name]["change_of_max_depth"] = rec[name]["max_depth_mm"] / rec["baseline"]["max_depth_mm"] - 1
+            return {"max_depth_mm": float(h.max() * MM), "worn_area_mm2": worn_area(h, rig.r_b) * 1e6,
+                    "arc_deg_above_1pct": np.count_nonzero(h > 0.01 * h.max()) * 360.0 / h.size,
+                    "wall_seconds": res.wall_seconds}
+
+        rec.update(halved_settings_runs(model, s, n, record))
         rec["baseline"]["error_vs_closed_form"] = rec["baseline"]["max_depth_mm"] / rec["closed_form"]["depth_mm"] - 1
-        rec["all_changes_below_2pct"] = all(abs(rec[k]["change_of_max_depth"]) < 0.02 for k in variants
-                                            if k != "baseline")
+        rec["all_changes_below_2pct"] = all(abs(v["change_of_max_depth"]) < 0.02 for k, v in rec.items()
+                                            if k in HALVED and k != "baseline")
         out[str(n)] = rec
-        print(n, {k: rec[k].get("change_of_max_depth") for k in variants}, file=sys.stderr)
+        print(n, {k: rec[k].get("change_of_max_depth") for k in HALVED}, file=sys.stderr)
+    return out
+
+
+HALVED = ("baseline", "grid_halved", "smoothing_halved", "block_halved", "rounding_halved")
+
+
+def halved_settings_runs(model, s, n_cycles: int, record) -> dict:
+    """Profile mode's convergence study: the wear history at settings ``s`` and with each of the angular grid
+    spacing, the running-in smoothing, the block size and the admissible set's corner rounding halved;
+    ``record(result) -> dict`` of each run, with the change of the max depth against the baseline."""
+    import jointwear.wear.history as hist
+
+    updates = {"baseline": {}, "grid_halved": {"n_grid": 2 * s.n_grid},
+               "smoothing_halved": {"profile_smoothing_deg": s.profile_smoothing_deg / 2},
+               "block_halved": {"block_cycles": s.block_cycles // 2}, "rounding_halved": {}}
+    rounding0 = hist.PROFILE_ROUNDING
+    out = {}
+    for name in HALVED:
+        try:
+            if name == "rounding_halved":
+                hist.PROFILE_ROUNDING = rounding0 / 2
+            out[name] = record(wear_history(model, s.model_copy(update=updates[name]), n_cycles))
+        finally:
+            hist.PROFILE_ROUNDING = rounding0
+    for name in HALVED[1:]:
+        out[name]["change_of_max_depth"] = out[name]["max_depth_mm"] / out["baseline"]["max_depth_mm"] - 1
     return out
 
 
 def bench_profile_wing_convergence(n_cycles: int = 520_000) -> dict:
     """Issue 14 item 3 on the flapping wing: profile mode's max depth at 520k cycles, baseline vs each setting
     halved, one run each (single runs scatter by a few % on this chaotic mechanism: see "Sampling scatter")."""
-    import jointwear.wear.history as hist
-
     cfg = config_for(-1)
     model = build_model(cfg)
     s = base_settings(cfg).model_copy(update={"geometry_mode": "profile"})
-    variants = {"baseline": {}, "grid_halved": {"n_grid": 2 * s.n_grid},
-                "smoothing_halved": {"profile_smoothing_deg": s.profile_smoothing_deg / 2},
-                "block_halved": {"block_cycles": s.block_cycles // 2}, "rounding_halved": "rounding"}
-    rounding0 = hist.PROFILE_ROUNDING
     out = {"cycles": n_cycles}
-    for name, upd in variants.items():
-        try:
-            if upd == "rounding":
-                hist.PROFILE_ROUNDING = rounding0 / 2
-                v = s
-            else:
-                v = s.model_copy(update=upd)
-            res = wear_history(model, v, n_cycles)
-        finally:
-            hist.PROFILE_ROUNDING = rounding0
+
+    def record(res):
         h = res.joints[0].bearing_wear
-        out[name] = {"max_depth_mm": float(h.max() * MM),
-                     "smoothed_max_mm": float(smooth_periodic(h, 5.0).max() * MM),
-                     "worn_area_mm2": worn_area(h, res.joints[0].bearing_radius) * 1e6,
-                     "wall_seconds": res.wall_seconds}
-    for name in variants:
-        if name != "baseline":
-            out[name]["change_of_max_depth"] = out[name]["max_depth_mm"] / out["baseline"]["max_depth_mm"] - 1
+        return {"max_depth_mm": float(h.max() * MM), "smoothed_max_mm": float(smooth_periodic(h, 5.0).max() * MM),
+                "worn_area_mm2": worn_area(h, res.joints[0].bearing_radius) * 1e6, "wall_seconds": res.wall_seconds}
+
+    out.update(halved_settings_runs(model, s, n_cycles, record))
     return out
 
 
