@@ -1,6 +1,5 @@
 """Journal wear: k N / (H L) per revolution, the same all round the pin (docs/verification.md, case 4)."""
 
-import numpy as np
 import pytest
 
 from jointwear.mechanism import build_model, simulate

@@ -1,7 +1,6 @@
 """Uniform mode against the exact growth law of that mode (docs/verification.md, case 3)."""
 
 import numpy as np
-import pytest
 
 from jointwear.wear import wear_history
 

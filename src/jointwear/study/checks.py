@@ -76,12 +76,3 @@ def check_runs(config: StudyConfig) -> list[str]:
     except SimulationError as exc:
         return [f"simulation: the nominal mechanism does not run: {' '.join(str(exc).split())}"]
     return []
-
-
-def check_config(config: StudyConfig, stages, *, run_model: bool = True) -> None:
-    """Raise one :class:`ConfigError` listing every problem of ``config`` for ``stages``."""
-    problems = config_problems(config, frozenset(stages))
-    if run_model and not problems:
-        problems += check_runs(config)
-    if problems:
-        raise ConfigError.from_problems(problems, "config")
