@@ -159,6 +159,19 @@ class SimulationSummary(StageResult):
 
 
 # ------------------------------------------------------------------------------------------------------- wear
+#: per-cell columns of a joint's wear profile besides the depth (wear.json ``profile`` and wear_profile.csv)
+_PANEL_KEYS = ("contact_force_mean_N", "sliding_mm_per_deg_per_cycle", "contact_area_mean_mm2")
+
+
+def _profile_panels(jw, order) -> dict[str, list[float]]:
+    """Mean contact force, sliding distance per degree of bearing and mean contact area of each bearing cell
+    over the last simulated cycles, in the profile's angle order."""
+    d = jw.diagnostics
+    cell_deg = 360.0 / jw.theta.size
+    return {"contact_force_mean_N": d.force_mean[order].tolist(),
+            "sliding_mm_per_deg_per_cycle": (d.slip_distance[order] * 1e3 / cell_deg).tolist(),
+            "contact_area_mean_mm2": (d.area_mean[order] * 1e6).tolist()}
+
 @dataclass
 class WearSummary(StageResult):
     """The wear history of the nominal mechanism (``jointwear wear``).
@@ -221,7 +234,8 @@ class WearSummary(StageResult):
                 "max_wear_mm": jw.max_bearing_wear * 1e3,
                 "max_wear_angle_deg": jw.max_wear_angle_deg,
                 "peaks": [{"angle_deg": p["angle_deg"], "depth_mm": p["depth"] * 1e3} for p in jw.peaks],
-                "profile": {"angle_deg": ang[o].tolist(), "depth_mm": (jw.bearing_wear[o] * 1e3).tolist()},
+                "profile": {"angle_deg": ang[o].tolist(), "depth_mm": (jw.bearing_wear[o] * 1e3).tolist(),
+                            **_profile_panels(jw, o)},
                 "history": {"cycles": jw.history_cycles.astype(int).tolist(),
                             "max_wear_mm": (jw.history_max_bearing * 1e3).tolist(),
                             "max_journal_wear_mm": (jw.history_max_journal * 1e3).tolist(),
@@ -272,34 +286,30 @@ class WearSummary(StageResult):
             jp = joint["journal"]["profile"]
             files.append(write_csv(folder / f"wear_journal_profile{sfx}.csv",
                                    {"angle_deg": jp["angle_deg"], "journal_depth_mm": jp["depth_mm"]}).name)
-            cols = {"angle_deg": joint["profile"]["angle_deg"], "bearing_depth_mm": joint["profile"]["depth_mm"]}
-            panels = {}
+            prof = joint["profile"]
+            cols = {"angle_deg": prof["angle_deg"], "bearing_depth_mm": prof["depth_mm"],
+                    **{key: prof[key] for key in _PANEL_KEYS if key in prof}}
             if res is not None:
                 jw = res.joints[k]
-                d = jw.diagnostics
                 o = np.argsort(jw.angle_deg)
-                cell = 360.0 / jw.theta.size
-                panels = {"contact_force_N": d.force_mean[o], "slip_mm": d.slip_distance[o] * 1e3 / cell,
-                          "contact_area_mm2": d.area_mean[o] * 1e6}
-                cols.update({"body_angle_deg": np.degrees(jw.theta[o]), "contact_force_mean_N": d.force_mean[o],
-                             "sliding_mm_per_deg_per_cycle": panels["slip_mm"],
-                             "contact_area_mean_mm2": panels["contact_area_mm2"],
-                             "contact_time_s_per_cycle": d.contact_time[o],
-                             "depth_rate_mm_per_cycle": d.bearing[o] * 1e3})
+                cols.update({"body_angle_deg": np.degrees(jw.theta[o]),
+                             "contact_time_s_per_cycle": jw.diagnostics.contact_time[o],
+                             "depth_rate_mm_per_cycle": jw.diagnostics.bearing[o] * 1e3})
             files.append(write_csv(folder / f"wear_profile{sfx}.csv", cols).name)
             if figures:
                 from jointwear.report import figures as F
 
-                prof = joint["profile"]
                 _savefig(F.wear_polar_figure(prof["angle_deg"], prof["depth_mm"],
                                              radius_mm=joint.get("bearing_radius_mm"), peaks=joint["peaks"],
                                              cycles=self.cycles, title=f"Worn bearing, joint {joint['name']}"),
                          folder / f"wear_polar{sfx}.png")
+                panels = "contact_force_mean_N" in prof
                 if panels:
-                    _savefig(F.wear_panels_figure(prof["angle_deg"], prof["depth_mm"], slip_mm=panels["slip_mm"],
-                                                  contact_force_N=panels["contact_force_N"],
-                                                  contact_area_mm2=panels["contact_area_mm2"], cycles=self.cycles,
-                                                  slip_unit="mm/deg per cycle"),
+                    _savefig(F.wear_panels_figure(prof["angle_deg"], prof["depth_mm"],
+                                                  slip_mm=prof["sliding_mm_per_deg_per_cycle"],
+                                                  contact_force_N=prof["contact_force_mean_N"],
+                                                  contact_area_mm2=prof["contact_area_mean_mm2"], cycles=self.cycles,
+                                                  slip_unit="mm/deg per cycle", slip_quantity="sliding distance"),
                              folder / f"wear_vs_angle{sfx}.png")
                 _savefig(F.wear_history_figure(h["cycles"], h["max_wear_mm"], limit_mm=joint.get("allowance_mm")),
                          folder / f"wear_history{sfx}.png")
@@ -529,8 +539,10 @@ class SensitivityResult(StageResult):
                                       cycles=self.cycles, low_label=f"mean \u00d7 {lo:g}",
                                       high_label=f"mean \u00d7 {hi:g}"), folder / "sensitivity_tornado.png")
             s = self.sobol
-            _savefig(F.sobol_figure(s["names"], s["S1"], s["ST"], S1_conf=s.get("S1_conf"), ST_conf=s.get("ST_conf"),
-                                    output=f"wear at {self.cycles:,} cycles"), folder / "sensitivity_sobol.png")
+            if s.get("names"):
+                _savefig(F.sobol_figure(s["names"], s["S1"], s["ST"], S1_conf=s.get("S1_conf"),
+                                        ST_conf=s.get("ST_conf"), output=f"wear at {self.cycles:,} cycles"),
+                         folder / "sensitivity_sobol.png")
         return path
 
 
