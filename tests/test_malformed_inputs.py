@@ -7,8 +7,8 @@ in-process (``jointwear.cli.main.run``), exactly as the console script does, min
 from __future__ import annotations
 
 import re
-from pathlib import Path
 from importlib import resources
+from pathlib import Path
 
 import pytest
 

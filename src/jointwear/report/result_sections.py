@@ -13,7 +13,7 @@ from .checks import (FAIL, INFO, NA, PASS, Check, checks_summary, group_key, lif
                      reference_label, reference_of, reference_values, unresolved_pairs)
 from .markup import Figures, cards, e, format_number, missing, table
 from .read import StudyOutputs
-from .study_sections import allowance_mm
+from .study_sections import allowance_mm, not_run
 
 __all__ = ["reliability_section", "sensitivity_section", "validation_section", "comparison_section",
            "summary_cards", "files_section"]
@@ -31,8 +31,7 @@ def _life_text(life: float | None, note: str) -> str:
 def reliability_section(out: StudyOutputs, figs: Figures) -> str:
     rel = out.results.reliability
     if rel is None:
-        return missing(out.errors.get("reliability") or "No reliability.json in this folder: the reliability study "
-                                                         "has not been run (jointwear reliability).")
+        return not_run(out, "reliability", "the reliability study")
     life, note = life_with_note(rel, rel.target)
     covs = rel.pf_cov[np.isfinite(rel.pf_cov)]
     parts = [cards([
@@ -94,8 +93,7 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
 def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
     sens = out.results.sensitivity
     if sens is None:
-        return missing(out.errors.get("sensitivity") or "No sensitivity.json in this folder: the sensitivity study "
-                                                         "has not been run (jointwear sensitivity).")
+        return not_run(out, "sensitivity", "the sensitivity study")
     nominal = sens.reliability_nominal
     lo_f, hi_f = sens.factors
     parts = [f"<p>{e(f'Reliability at {sens.cycles:,.0f} cycles (nominal {nominal:.3f}) when the mean of each variable is moved to {lo_f * 100:g} % and to {hi_f * 100:g} % of its value, the others fixed.')}</p>"]

@@ -9,7 +9,13 @@ from .checks import reference_label, reference_of, reference_values, second_peak
 from .markup import Figures, cards, e, format_number, missing, table
 from .read import StudyOutputs, joint_series
 
-__all__ = ["settings_section", "dynamics_section", "wear_section", "allowance_mm"]
+__all__ = ["settings_section", "dynamics_section", "wear_section", "allowance_mm", "not_run"]
+
+
+def not_run(out: StudyOutputs, stage: str, what: str) -> str:
+    """The notice of a section whose stage has no result: why it could not be read, or that it has not run."""
+    return missing(out.errors.get(stage) or f"No {stage}.json in this folder: {what} has not been run "
+                                            f"(jointwear {stage}).")
 
 
 def allowance_mm(out: StudyOutputs) -> float | None:
@@ -91,8 +97,7 @@ def settings_section(out: StudyOutputs, figs: Figures) -> str:
 def dynamics_section(out: StudyOutputs, figs: Figures) -> str:
     sim = out.results.simulate
     if sim is None:
-        return missing(out.errors.get("simulate") or "No simulate.json in this folder: the dynamics stage has not "
-                                                      "been run (jointwear simulate).")
+        return not_run(out, "simulate", "the dynamics stage")
 
     def mN(v):
         return "\u2014" if v is None else f"{v * 1e3:.4g} mN"
@@ -142,8 +147,7 @@ _UNIFORM_WARNING = (
 def wear_section(out: StudyOutputs, figs: Figures) -> str:
     wear = out.results.wear
     if wear is None:
-        return missing(out.errors.get("wear") or "No wear.json in this folder: the wear stage has not been run "
-                                                  "(jointwear wear).")
+        return not_run(out, "wear", "the wear stage")
     parts: list[str] = []
     if wear.geometry_mode == "uniform" and wear.uniform_mode_valid is False:
         parts.append(_UNIFORM_WARNING.format(conformity=e(format_number(wear.conformity, 3))))
