@@ -128,7 +128,8 @@ def test_every_command_is_covered():
 
 @pytest.mark.parametrize("command", CONFIG_COMMANDS)
 @pytest.mark.parametrize("section, case, text, needle", SECTION_CASES, ids=[c[1] for c in SECTION_CASES])
-def test_malformed_config_section(command, section, case, text, needle, tmp_path, capsys):
+def test_malformed_config_section(command, section, case, text, needle, tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # so that anything written to the working directory is seen too
     path = tmp_path / f"{case}.toml"
     path.write_text(text, encoding="utf-8")
     out = tmp_path / "out"
@@ -160,7 +161,8 @@ ARGUMENT_CASES = [
 
 @pytest.mark.parametrize("command, args, needle", ARGUMENT_CASES,
                          ids=[f"{c}-{'-'.join(a) or 'none'}".replace("{tmp}/", "") for c, a, _ in ARGUMENT_CASES])
-def test_malformed_argument(command, args, needle, tmp_path, capsys):
+def test_malformed_argument(command, args, needle, tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
     out = tmp_path / "out"
     argv = [command, *(a.replace("{tmp}", str(tmp_path)) for a in args)]
     if command in CONFIG_COMMANDS and command != "check":
