@@ -730,10 +730,26 @@ def _resolve(source: str | Path, chain: tuple[str, ...] = ()) -> tuple[dict[str,
 
 
 def load_config(source: str | Path | None = None) -> StudyConfig:
-    """Load a StudyConfig from a TOML file, a preset name, or None (default preset).
+    """Load and validate a study config.
 
     A file may start from another config with ``extends = "<preset name or TOML path>"``: its tables are laid
     over the base's key by key (arrays, including arrays of tables, replace the base's).
+
+    Parameters
+    ----------
+    source : str, Path, StudyConfig or None
+        A TOML file, a preset name (:func:`available_presets`), a config already validated (returned as is),
+        or None for the default preset ``jin2025_flapping_wing``.
+
+    Returns
+    -------
+    StudyConfig
+        The whole config in SI units.
+
+    Raises
+    ------
+    jointwear.schema.ConfigError
+        The file cannot be read or is not valid; the message names every field at fault.
     """
     if source is None:
         source = DEFAULT_PRESET

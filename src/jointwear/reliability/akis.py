@@ -101,6 +101,9 @@ def akis(
         Half-width (in standard deviations) of that Latin hypercube around u*.
     min_distance:
         FORM points closer than this (in u) to an earlier one are not used for the Kriging.
+
+    Notes
+    -----
     Other parameters as :func:`akmcs`. ``n_calls`` counts the FORM calls; ``details["form"]`` is the FORM result.
     """
     t_start = time.perf_counter()

@@ -107,8 +107,18 @@ class Study:
 
     # ----------------------------------------------------------------------------------------- checking
     def check(self, stages=None) -> None:
-        """Check the whole config for ``stages`` (every problem listed in one :class:`ConfigError`) and that
-        the nominal mechanism assembles and runs (default: every stage the config can run). Writes nothing."""
+        """Check the whole config and that the nominal mechanism assembles and runs. Writes nothing.
+
+        Parameters
+        ----------
+        stages : iterable of str, optional
+            The stages whose settings are checked (default: every stage the config can run, :attr:`stages`).
+
+        Raises
+        ------
+        jointwear.schema.ConfigError
+            Every problem found, listed in one message that names each field.
+        """
         stages = set(self.stages if stages is None else stages)
         if stages <= self._checked:
             return
@@ -168,7 +178,20 @@ class Study:
     # ------------------------------------------------------------------------------------------- stages
     @_quiet
     def simulate(self, cycles: int | None = None, settle: int | None = None) -> SimulationSummary:
-        """Dynamics of the nominal mechanism (``cycles`` crank cycles, default ``simulation.cycles``)."""
+        """Dynamics of the nominal mechanism with its clearance joints.
+
+        Parameters
+        ----------
+        cycles : int, optional
+            Crank cycles to record (default ``simulation.cycles`` of the config).
+        settle : int, optional
+            Cycles simulated and discarded first (default ``simulation.settle_cycles``).
+
+        Returns
+        -------
+        SimulationSummary
+            Contact forces, impacts and orbits per clearance joint; also written to ``simulate.json``.
+        """
         from jointwear.mechanism import build_model
         from jointwear.mechanism import simulate as run_simulation
 
@@ -187,7 +210,21 @@ class Study:
 
     @_quiet
     def wear(self, cycles: int | None = None, *, progress: Callable | None = None) -> WearSummary:
-        """Wear history of the nominal mechanism (``cycles``, default ``wear.cycles``)."""
+        """Non-uniform wear history of the nominal mechanism.
+
+        Parameters
+        ----------
+        cycles : int, optional
+            Crank cycles of the history (default ``wear.cycles`` of the config).
+        progress : callable, optional
+            Called with the progress of the history (for a progress bar).
+
+        Returns
+        -------
+        WearSummary
+            Wear profiles of bearing and journal and the growth of the deepest wear; also written to
+            ``wear.json``.
+        """
         from jointwear.mechanism import build_model
         from jointwear.wear import wear_history
         from jointwear.wear.settings import check_cycles
@@ -204,7 +241,13 @@ class Study:
 
     @_quiet
     def reliability(self) -> ReliabilityResult:
-        """The R(N) curve and the life at each target reliability (AK-MCS on the true wear model)."""
+        """The reliability curve R(N) and the life at each target reliability (AK-MCS on the true wear model).
+
+        Returns
+        -------
+        ReliabilityResult
+            The curve, the life table and the model calls spent; also written to ``reliability.json``.
+        """
         from jointwear.study.reliability import run_reliability
 
         self._prepare({"reliability"})
@@ -220,8 +263,15 @@ class Study:
 
     @_quiet
     def sensitivity(self) -> SensitivityResult:
-        """Mean-shift sensitivity, Sobol' indices and derivatives of the reliability; runs (or reads back from
-        the evaluation store) the reliability stage first."""
+        """Sensitivity of the reliability to every variable: mean shifts, Sobol' indices and derivatives.
+
+        Runs (or reads back from the evaluation store) the reliability stage first.
+
+        Returns
+        -------
+        SensitivityResult
+            Also written to ``sensitivity.json``.
+        """
         from jointwear.study.sensitivity import run_sensitivity
 
         self._prepare({"reliability", "sensitivity"})
@@ -234,9 +284,21 @@ class Study:
 
     @_quiet
     def validate(self, n_samples: int = 2000) -> ValidationResult:
-        """Check the R(N) curve against the true wear model on ``n_samples`` fresh random samples (one model
-        call each, through the executor and the evaluation store, so an interrupted validation resumes), and
-        cross-validate the surrogate. Runs (or reads back from the store) the reliability stage first."""
+        """Check the R(N) curve against the true wear model sampled directly, and cross-validate the surrogate.
+
+        Runs (or reads back from the store) the reliability stage first. The samples go through the executor
+        and the evaluation store, so an interrupted validation resumes.
+
+        Parameters
+        ----------
+        n_samples : int
+            Fresh random samples, one true-model call each.
+
+        Returns
+        -------
+        ValidationResult
+            Also written to ``validation.json``.
+        """
         from jointwear.study.validation import run_validation
 
         if isinstance(n_samples, bool) or not isinstance(n_samples, int) or n_samples < 1:
@@ -264,8 +326,15 @@ class Study:
         return path
 
     def run(self) -> StudyResults:
-        """Every stage end to end, as ``jointwear run``: simulate, wear, reliability and sensitivity (when the
-        config has random variables), report. Returns the typed results."""
+        """Every stage end to end, as ``jointwear run``.
+
+        Simulate, wear, then reliability and sensitivity when the config has random variables, then the report.
+
+        Returns
+        -------
+        StudyResults
+            The typed result of every stage that ran.
+        """
         t0 = time.perf_counter()
         stochastic = self.stages == STAGES
         self.check(self.stages)
@@ -341,10 +410,17 @@ class Study:
     # ------------------------------------------------------------------------------------------- design
     @_quiet
     def design(self):
-        """Uncertainty control (``[design]``): the cheapest tolerance grades, fit and material specifications
-        that reach the target life at the target reliability, the Pareto front of cost against the life at R*,
-        and the choice verified by its own reliability study. Runs (or reads back from the evaluation store)
-        the reliability stage first; returns a :class:`jointwear.design.DesignResult` (``design.json``)."""
+        """Uncertainty control (``[design]``): the cheapest controls that reach the target life.
+
+        Finds the cheapest tolerance grades, fit and material specifications that reach the target life at the
+        target reliability, the Pareto front of cost against the life at R*, and verifies the choice by its own
+        reliability study. Runs (or reads back from the evaluation store) the reliability stage first.
+
+        Returns
+        -------
+        jointwear.design.DesignResult
+            Also written to ``design.json``.
+        """
         from jointwear.design import design_problems, run_design
         from jointwear.study.reliability import run_reliability
 

@@ -308,8 +308,19 @@ STAGE_TYPES: dict[str, type] = {"simulate": SimulationSummary, "wear": WearSumma
 
 
 def load_results(folder: Path | str) -> StudyResults:
-    """The typed results of the study in ``folder``; a stage whose file is missing is None, one whose file
-    cannot be read is None with the reason in ``errors``."""
+    """Read the typed results of a study back from its output folder.
+
+    Parameters
+    ----------
+    folder : str or Path
+        The ``--out`` folder of a study.
+
+    Returns
+    -------
+    StudyResults
+        One typed result per stage; a stage whose file is missing is None, one whose file cannot be read is
+        None with the reason in ``errors``.
+    """
     folder = Path(folder)
     out = StudyResults(folder)
     cfg = folder / "config.json"

@@ -19,7 +19,7 @@ from scipy import optimize, special, stats
 
 from jointwear.schema import SIModel
 from jointwear.uncertainty.copulas import check_correlation, normal_copula
-from jointwear.uncertainty.tolerances import clearance_from_fit
+from jointwear.uncertainty.tolerances import clearance_from_fit, it_tolerance
 
 DistributionName = Literal["normal", "lognormal", "uniform", "truncated_normal", "weibull", "gumbel", "gamma", "beta"]
 
@@ -158,6 +158,12 @@ class ClearanceSpec(SIModel):
         "truncate",
         description="'truncate': the clearance distribution is truncated at `minimum` (parts that would "
         "interfere are rejected at assembly); 'fail': such samples are kept and counted as failures.")
+
+    @field_validator("hole_grade", "shaft_grade")
+    @classmethod
+    def _known_grade(cls, grade: str) -> str:
+        it_tolerance(grade, 1e-3)  # an unknown grade is refused here, where the message can name the field
+        return grade
 
     @property
     def std(self) -> float:
