@@ -189,7 +189,7 @@ class WearSurrogates:
 
 def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> ReliabilityResult:
     """R(N) over the curve's cycle counts from one shared AK-MCS design (paper Sections 5-6.2)."""
-    from jointwear.reliability import akmcs_multi
+    from jointwear.reliability import Evaluation, akmcs_multi
 
     rel = ctx.config.reliability
     t0 = time.perf_counter()
@@ -197,7 +197,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         ctx.log_life, ctx.marginals, levels=ctx.log_levels(), n_mc=rel.n_mc, n_mc_max=rel.n_mc_max,
         n_initial=rel.n_initial, batch_size=rel.batch_size, u_threshold=rel.u_threshold,
         cov_target=rel.cov_target, pf_floor=rel.pf_floor, max_calls=rel.max_calls, seed=rel.seed, copula=ctx.copula,
-        progress=progress, stopping=rel.stopping, error_tol=rel.error_tol, error_abs_tol=rel.error_abs_tol,
+        evaluation=Evaluation(progress=progress), stopping=rel.stopping, error_tol=rel.error_tol, error_abs_tol=rel.error_abs_tol,
         kriging={"estimate_nugget": rel.noise == "estimate"})
     cycles = np.asarray(ctx.cycles, dtype=float)
     pf = np.asarray(engine.pf, dtype=float)
@@ -274,8 +274,7 @@ def implied_wear(ctx: StudyContext, engine, pop: np.ndarray, cycles) -> np.ndarr
     wear's own value elsewhere as far as the history grows linearly in N (docs/wear.md). With several judged
     joints N_f is the system's life, so this is the wear of the first joint scaled to the system's failure.
     """
-    u = ctx.iso().to_u(pop)
-    log_life = engine.surrogates[0].predict(u, return_variance=False)[0] + ctx.log_levels()[0]
+    log_life = engine.response(ctx.iso().to_u(pop))
     _, draw = ctx.split(pop)
     a = ctx.limit_state.reference_allowance if draw is None else draw
     n = np.asarray(cycles, dtype=float)
@@ -323,31 +322,18 @@ def _meet_cov_target(ctx: StudyContext, engine, pf, pf_cov, n_mc):
     """Grow the Monte Carlo population on the final surrogate until COV(Pf) < target at every level above
     the floor (AK-MCS Step 6). The engine does this itself when its learning converges; when the call budget
     ends the learning first, the population is grown here, on the last surrogate (no model call)."""
+    from jointwear.reliability import population_size
 
     rel = ctx.config.reliability
     need = (pf >= rel.pf_floor) & ~(pf_cov < rel.cov_target)
     if not need.any():
         return pf, pf_cov, n_mc
-    p = pf[need].min()
-    n = int(min(rel.n_mc_max, 1.1 * ((1.0 - p) / (rel.cov_target**2 * p) + 1.0)))
+    n = population_size(pf[need].min(), rel.cov_target, rel.n_mc_max)
     if n <= n_mc:
         return pf, pf_cov, n_mc
     iso = ctx.iso()
-    # the study learns one response for every level (akmcs_multi(levels=...)): level j is level 0 minus a constant
-    offsets = np.array([engine.surrogates[j].offset for j in range(len(ctx.cycles))])
-    fails = np.zeros(len(ctx.cycles))
-    rng_seed = rel.seed + 7
-    done = 0
-    chunk = 200_000
-    while done < n:
-        m = min(chunk, n - done)
-        u = iso.to_u(ctx.sample(m, rng_seed + done))
-        mu0, _ = engine.surrogates[0].predict(u, return_variance=False)
-        fails += np.count_nonzero(mu0[:, None] - (offsets[None, :] - offsets[0]) < 0, axis=0)
-        done += m
-    pf_new = fails / n
-    with np.errstate(divide="ignore", invalid="ignore"):
-        cov_new = np.where(pf_new > 0, np.sqrt((1.0 - pf_new) / ((n - 1) * pf_new)), np.inf)
+    seed = rel.seed + 7
+    pf_new, cov_new = engine.estimate_on(lambda m, start: iso.to_u(ctx.sample(m, seed + start)), n)
     return pf_new, cov_new, n
 
 
