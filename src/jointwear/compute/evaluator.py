@@ -21,6 +21,10 @@ A failed call is stored like a good one (with its reason and wall time) and its 
 :attr:`BatchResult.Y`. What a study does with failed calls is the study's rule; the evaluator only
 records them. Calls already in the store (same tag, bit-identical input row) are served from it and
 never run again; failed calls too, unless ``retry_failed=True``.
+
+The evaluator is the one cache of model calls: it keeps every outcome it has run or read in memory (so a
+row asked for again is served without a store look-up and without counting again in the progress), in
+front of the persistent store (so a resumed study is served what an earlier process computed).
 """
 
 from __future__ import annotations
@@ -274,7 +278,8 @@ class Evaluator:
     model : ``f(x: 1-D float64 array) -> (outputs, status)``; see the module docstring.
     executor : from :func:`make_executor`; None runs in this process, serially. Not closed by the
         evaluator.
-    store : an open :class:`EvaluationStore`, or None (no persistence, no reuse across batches).
+    store : an open :class:`EvaluationStore`, or None (no persistence: outcomes are reused within this
+        evaluator only).
     timeout : seconds per call, or None.
     tag : name of this model inside the store (a study with several models uses several tags).
     retry_failed : run stored failed/timed-out calls again instead of reusing their outcome.
@@ -320,6 +325,23 @@ class Evaluator:
         #: model calls made by this evaluator / served from the store, over all batches
         self.n_model_calls = 0
         self.n_reused = 0
+        self._known: dict[bytes, CallRecord] = {}  # outcomes run or read by this evaluator, by row bytes
+
+    @property
+    def n_known(self) -> int:
+        """Distinct input rows whose outcome this evaluator holds (run, or read back from the store)."""
+        return len(self._known)
+
+    def adopt(self, other: "Evaluator") -> None:
+        """Take over the outcomes another evaluator of the same model holds (a later session of one study):
+        rows it knows are served from memory and do not count again."""
+        if other.tag != self.tag:
+            raise ValueError(f"cannot adopt the outcomes of model {other.tag!r} for model {self.tag!r}")
+        for key, rec in other._known.items():
+            self._known.setdefault(key, rec)
+
+    def _reusable(self, rec: CallRecord | None) -> bool:
+        return rec is not None and (rec.status == OK or not self.retry_failed)
 
     # -- helpers ------------------------------------------------------------------------------------
     def _model_blob(self) -> bytes:
@@ -376,26 +398,33 @@ class Evaluator:
             raise ValueError(f"X must have shape (n, d), got {X.shape}")
         n = X.shape[0]
 
-        # unique rows, by exact bytes
+        # unique rows, by exact bytes; rows this evaluator already holds are served from memory
         first_of: dict[bytes, int] = {}
+        keys = [row_bytes(X[i]) for i in range(n)]
         owner = np.empty(n, dtype=np.int64)
         for i in range(n):
-            owner[i] = first_of.setdefault(row_bytes(X[i]), i)
-        uniq = [i for i in range(n) if owner[i] == i]
-
+            owner[i] = first_of.setdefault(keys[i], i)
         records: dict[int, CallRecord] = {}
+        for i in first_of.values():
+            if self._reusable(self._known.get(keys[i])):
+                records[i] = self._known[keys[i]]
+        held = set(records)
+        uniq = [i for i in range(n) if owner[i] == i and i not in held]
+
         if self.store is not None and uniq:
             for i, rec in zip(uniq, self.store.get_many(self.tag, [X[i] for i in uniq])):
-                if rec is not None and (rec.status == OK or not self.retry_failed):
+                if self._reusable(rec):
                     records[i] = rec
         todo = [i for i in uniq if i not in records]
         reused = np.array([owner[i] != i or i in records for i in range(n)], dtype=bool)
         n_cached = int(reused.sum())
         self.n_reused += n_cached
-        if self.progress is not None:
-            self.progress.expect(n)
-            if n_cached:
-                self.progress.advance(n_cached)
+        # rows held from an earlier batch were counted then; the rest count now
+        n_new = n - sum(1 for i in range(n) if owner[i] in held)
+        if self.progress is not None and n_new:
+            self.progress.expect(n_new)
+            if n_cached - (n - n_new):
+                self.progress.advance(n_cached - (n - n_new))
 
         if todo:
             if getattr(self.executor, "in_process", False):
@@ -406,6 +435,9 @@ class Evaluator:
             else:
                 self._run_pool(X, todo, records)
 
+        for i in first_of.values():
+            if i not in held:
+                self._known[keys[i]] = records[i]
         out = [records[owner[i]] for i in range(n)]
         names = None
         for r in out:

@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -34,7 +34,8 @@ def cycles_to_hours(cycles: float, config: StudyConfig) -> float:
 @dataclass
 class StudyContext:
     """What a study's stages share: the config, the random inputs, the limit state and the evaluator of
-    true-model calls."""
+    true-model calls (a :class:`jointwear.compute.Evaluator`: it serves every input row it has run or read
+    again without a new call, so the stages ask it for what they need)."""
 
     config: StudyConfig
     names: list[str]
@@ -47,7 +48,6 @@ class StudyContext:
     random_allowance: bool
     limit_state: LimitState
     copula: Any = None
-    wear_cache: dict = field(default_factory=dict, repr=False)
 
     def sample(self, n: int, seed: int) -> np.ndarray:
         """A Monte Carlo population of the study's inputs (their copula honoured)."""
@@ -67,12 +67,7 @@ class StudyContext:
     def outputs(self, X: np.ndarray) -> np.ndarray:
         """The model outputs (n, J * H): the wear quantity of every judged joint at ``history_cycles``."""
         X = np.atleast_2d(np.asarray(X, dtype=float))
-        todo = [i for i, row in enumerate(X) if row.tobytes() not in self.wear_cache]
-        if todo:
-            y = np.asarray(self.evaluator(X[todo]), dtype=float).reshape(len(todo), -1)
-            for i, row in zip(todo, y):
-                self.wear_cache[X[i].tobytes()] = row
-        return np.stack([self.wear_cache[row.tobytes()] for row in X])
+        return np.asarray(self.evaluator(X), dtype=float).reshape(X.shape[0], -1)
 
     def wear(self, X: np.ndarray, joint: int = 0) -> np.ndarray:
         """The wear quantity (m) of judged joint ``joint`` at ``history_cycles``, shape (n, H)."""
@@ -82,7 +77,7 @@ class StudyContext:
     @property
     def n_evaluated(self) -> int:
         """Distinct model inputs evaluated (or read back from the store) through this context."""
-        return len(self.wear_cache)
+        return self.evaluator.n_known
 
     def split(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
         """Model inputs and the sampled allowance (None when the allowance is deterministic)."""
