@@ -1,4 +1,4 @@
-"""Bad input, the NaN rule, determinism, executors and the evaluation cache."""
+"""Bad input, the NaN rule, determinism, executors and the evaluation store."""
 
 from concurrent.futures import ThreadPoolExecutor
 
@@ -101,20 +101,28 @@ def test_determinism():
     assert s1.pf == s2.pf
 
 
-def test_executor_cache_and_caller_give_same_result():
+def test_executor_store_and_caller_give_same_result(tmp_path):
+    from jointwear.compute import EvaluationStore, Evaluator
+
     p = problems.linear(2.0, 2)
     base = akmcs(p.g, p.marginals, n_mc=20_000, seed=4)
-    cache = {}
     seen = []
     with ThreadPoolExecutor(2) as pool:
-        ctx = Evaluation(executor=pool, cache=cache, on_evaluate=lambda x, g, why: seen.append(len(x)))
-        r = akmcs(p.g, p.marginals, n_mc=20_000, seed=4, evaluation=ctx)
-    assert r.pf == base.pf and r.n_calls == base.n_calls
-    assert len(cache) == r.n_calls and sum(seen) == r.n_calls
-    # a rerun with the filled cache calls the model zero times and reproduces the run (resumability)
-    ev = LimitStateCaller(p.g, 2, cache=cache)
-    r2 = akmcs(p.g, p.marginals, n_mc=20_000, seed=4, evaluation=Evaluation(caller=ev))
-    assert ev.n_model_calls == 0 and r2.pf == base.pf
+        r = akmcs(p.g, p.marginals, n_mc=20_000, seed=4,
+                  evaluation=Evaluation(executor=pool, on_evaluate=lambda x, g, why: seen.append(len(x))))
+    assert r.pf == base.pf and r.n_calls == base.n_calls and sum(seen) == r.n_calls
+    # the cache of model calls is compute's evaluator: g through it is stored, and a rerun on the filled
+    # store calls the model zero times and reproduces the run (resumability)
+    row_model = lambda x: p.g(x[None, :])
+    with EvaluationStore.open(tmp_path, "linear") as store:
+        first = Evaluator(row_model, store=store)
+        r1 = akmcs(first, p.marginals, n_mc=20_000, seed=4)
+        assert first.n_model_calls == r1.n_calls
+    with EvaluationStore.open(tmp_path, "linear", resume=True) as store:
+        again = Evaluator(row_model, store=store)
+        shared = LimitStateCaller(again, 2)
+        r2 = akmcs(again, p.marginals, n_mc=20_000, seed=4, evaluation=Evaluation(caller=shared))
+    assert again.n_model_calls == 0 and shared.n_calls == r2.n_calls and r1.pf == r2.pf == base.pf
     np.testing.assert_array_equal(r2.design_x, base.design_x)
 
 

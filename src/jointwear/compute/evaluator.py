@@ -29,159 +29,31 @@ front of the persistent store (so a resumed study is served what an earlier proc
 
 from __future__ import annotations
 
-import datetime as _dt
-import functools
 import math
-import os
-import pickle
-import signal
-import socket
-import threading
 import time
-import traceback
 from collections import deque
+from collections.abc import Callable
 from concurrent.futures import FIRST_COMPLETED, CancelledError, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
-from typing import Any, Callable, Mapping
+from typing import Any
 
 import numpy as np
 
+from .call import (
+    FAILED,
+    OK,
+    TIMEOUT,
+    describe_error,
+    dumps_model,
+    now_iso,
+    run_call,
+    run_pickled,
+)
 from .executors import SerialExecutor
 from .store import CallRecord, EvaluationStore, row_bytes
 
 __all__ = ["BatchResult", "Evaluator", "run_call"]
-
-OK, FAILED, TIMEOUT = "ok", "failed", "timeout"
-
-
-def _now() -> str:
-    return _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="microseconds")
-
-
-# ----------------------------------------------------------------------------------------------------
-# one call, on the worker
-
-
-class CallTimeout(BaseException):
-    """Raised inside a model call that ran past its time-out (a BaseException, so that a model's own
-    ``except Exception`` does not swallow it)."""
-
-
-def _call_with_alarm(model: Callable, x: np.ndarray, timeout: float):
-    def _on_alarm(signum, frame):
-        raise CallTimeout()
-
-    old = signal.signal(signal.SIGALRM, _on_alarm)
-    signal.setitimer(signal.ITIMER_REAL, timeout)
-    try:
-        return model(x)
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0.0)
-        signal.signal(signal.SIGALRM, old)
-
-
-def _call_in_thread(model: Callable, x: np.ndarray, timeout: float):
-    box: dict[str, Any] = {}
-
-    def target():
-        try:
-            box["value"] = model(x)
-        except BaseException as exc:  # noqa: BLE001 - re-raised in the caller
-            box["error"] = exc
-
-    t = threading.Thread(target=target, name="jointwear-model-call", daemon=True)
-    t.start()
-    t.join(timeout)
-    if t.is_alive():  # cannot be stopped: it finishes in the background and its result is dropped
-        raise CallTimeout()
-    if "error" in box:
-        raise box["error"]
-    return box["value"]
-
-
-def _split_result(res: Any) -> tuple[Any, str]:
-    if isinstance(res, tuple) and len(res) == 2 and isinstance(res[1], str):
-        return res[0], res[1]
-    return res, OK
-
-
-def _as_outputs(outputs: Any) -> np.ndarray | dict[str, np.ndarray]:
-    if isinstance(outputs, Mapping):
-        return {str(k): np.array(v, dtype=np.float64) for k, v in outputs.items()}
-    return np.atleast_1d(np.array(outputs, dtype=np.float64))
-
-
-def _all_finite(outputs) -> bool:
-    if isinstance(outputs, dict):
-        return all(np.all(np.isfinite(v)) for v in outputs.values())
-    return bool(np.all(np.isfinite(outputs)))
-
-
-def _reason(exc: BaseException) -> str:
-    tb = traceback.extract_tb(exc.__traceback__)
-    where = f" (at {os.path.basename(tb[-1].filename)}:{tb[-1].lineno} in {tb[-1].name})" if tb else ""
-    msg = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
-    return f"{type(exc).__name__}: {msg}{where}" if msg else f"{type(exc).__name__}{where}"
-
-
-def run_call(model: Callable, x: np.ndarray, timeout: float | None = None) -> dict:
-    """Run ``model(x)`` once and return its outcome as a plain dict (``status``, ``reason``,
-    ``outputs``, ``wall_s``, ``started_at``, ``finished_at``, ``worker``). Never raises for a model
-    error. The time-out uses SIGALRM when the call runs on a process's main thread (it interrupts
-    Python code; compiled code is interrupted when it returns to Python), otherwise a watcher thread
-    (the call is abandoned, not stopped)."""
-    x = np.array(x, dtype=np.float64)  # a private copy: the model may not change the caller's row
-    started = _now()
-    t0 = time.perf_counter()
-    status, reason, outputs = OK, None, None
-    try:
-        if timeout is None:
-            res = model(x)
-        elif hasattr(signal, "SIGALRM") and threading.current_thread() is threading.main_thread():
-            res = _call_with_alarm(model, x, timeout)
-        else:
-            res = _call_in_thread(model, x, timeout)
-        out, st = _split_result(res)
-        if st != OK:
-            status, reason = FAILED, f"model: {st}"
-        else:
-            outputs = _as_outputs(out)
-            if not _all_finite(outputs):
-                status, reason, outputs = FAILED, "model returned non-finite outputs", None
-    except CallTimeout:
-        status, reason, outputs = TIMEOUT, f"time-out after {timeout:g} s", None
-    except (Exception, SystemExit) as exc:
-        status, reason, outputs = FAILED, _reason(exc), None
-    wall = time.perf_counter() - t0
-    return {
-        "status": status,
-        "reason": reason,
-        "outputs": outputs,
-        "wall_s": wall,
-        "started_at": started,
-        "finished_at": _now(),
-        "worker": f"{socket.gethostname()}:{os.getpid()}",
-    }
-
-
-@functools.lru_cache(maxsize=8)
-def _load_model(blob: bytes) -> Callable:
-    return pickle.loads(blob)
-
-
-def _run_pickled(blob: bytes, x: np.ndarray, timeout: float | None) -> dict:
-    """Worker entry point: the model travels as cloudpickle bytes (unpickled once per worker)."""
-    return run_call(_load_model(blob), x, timeout)
-
-
-def _dumps_model(model: Callable) -> bytes:
-    try:
-        import cloudpickle
-
-        return cloudpickle.dumps(model)
-    except ImportError:  # pragma: no cover - cloudpickle comes with dask
-        return pickle.dumps(model)
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -332,7 +204,7 @@ class Evaluator:
         """Distinct input rows whose outcome this evaluator holds (run, or read back from the store)."""
         return len(self._known)
 
-    def adopt(self, other: "Evaluator") -> None:
+    def adopt(self, other: Evaluator) -> None:
         """Take over the outcomes another evaluator of the same model holds (a later session of one study):
         rows it knows are served from memory and do not count again."""
         if other.tag != self.tag:
@@ -347,10 +219,10 @@ class Evaluator:
     def _model_blob(self) -> bytes:
         if self._blob is None:
             try:
-                self._blob = _dumps_model(self.model)
+                self._blob = dumps_model(self.model)
             except Exception as exc:
                 raise TypeError(
-                    f"the model cannot be sent to worker processes ({_reason(exc)}); make it a "
+                    f"the model cannot be sent to worker processes ({describe_error(exc)}); make it a "
                     "module-level function or an object without open files/locks, or use workers=1"
                 ) from exc
         return self._blob
@@ -473,7 +345,7 @@ class Evaluator:
         def submit(i: int) -> Any:
             while True:
                 try:
-                    return self.executor.submit(_run_pickled, blob, X[i], self.timeout)
+                    return self.executor.submit(run_pickled, blob, X[i], self.timeout)
                 except BrokenProcessPool:
                     self.executor.restart()
 
@@ -506,11 +378,11 @@ class Evaluator:
                             suspects.appendleft(i)
                             continue
                         rec = self._infra_failure(
-                            X[i], f"the worker process died running this call ({deaths[i]} times): {_reason(exc)}"
+                            X[i], f"the worker process died running this call ({deaths[i]} times): {describe_error(exc)}"
                         )
                     except Exception as exc:  # noqa: BLE001
                         # e.g. distributed's KilledWorker: the scheduler already re-ran the task
-                        rec = self._infra_failure(X[i], f"worker error: {_reason(exc)}")
+                        rec = self._infra_failure(X[i], f"worker error: {describe_error(exc)}")
                     records[i] = self._completed(X[i], rec)
                 submit_next()
         except BaseException:
@@ -519,7 +391,7 @@ class Evaluator:
             raise
 
     def _infra_failure(self, x: np.ndarray, reason: str) -> CallRecord:
-        now = _now()
+        now = now_iso()
         return CallRecord(
             x=x, status=FAILED, reason=reason, outputs=None, wall_s=math.nan, started_at=now, finished_at=now, worker=None
         )

@@ -11,39 +11,51 @@ from .akis import akis
 from .akmcs import akmcs, akmcs_multi
 from .checks import check_positive, check_positive_int
 from .evaluation import Evaluation, LimitStateCaller
-from .inputs import IsoTransform, Marginal, as_marginal, check_copula, check_marginals, sample
+from .inputs import (
+    IsoTransform,
+    Marginal,
+    as_marginal,
+    check_copula,
+    check_marginals,
+    sample,
+)
 from .kriging import KrigingSurrogate, ShiftedSurrogate, blas_threads
 from .learning import esc_absolute_error, esc_error
 from .methods import form, importance_sampling, monte_carlo, sorm, subset_simulation
-from .results import IterationRecord, MultiReliabilityResult, ReliabilityResult, population_size
+from .results import (
+    IterationRecord,
+    MultiReliabilityResult,
+    ReliabilityResult,
+    population_size,
+)
 
 __all__ = [
+    "Evaluation",
+    "IsoTransform",
+    "IterationRecord",
+    "KrigingSurrogate",
+    "LimitStateCaller",
+    "Marginal",
+    "MultiReliabilityResult",
+    "ReliabilityResult",
+    "ShiftedSurrogate",
     "akis",
     "akmcs",
     "akmcs_multi",
-    "esc_absolute_error",
-    "esc_error",
-    "monte_carlo",
-    "form",
-    "sorm",
-    "subset_simulation",
-    "importance_sampling",
-    "problems",
+    "as_marginal",
     "blas_threads",
-    "KrigingSurrogate",
-    "ShiftedSurrogate",
-    "Evaluation",
-    "LimitStateCaller",
-    "IsoTransform",
-    "IterationRecord",
-    "ReliabilityResult",
-    "MultiReliabilityResult",
-    "population_size",
-    "check_marginals",
     "check_copula",
+    "check_marginals",
     "check_positive",
     "check_positive_int",
-    "Marginal",
-    "as_marginal",
+    "esc_absolute_error",
+    "esc_error",
+    "form",
+    "importance_sampling",
+    "monte_carlo",
+    "population_size",
+    "problems",
     "sample",
+    "sorm",
+    "subset_simulation",
 ]

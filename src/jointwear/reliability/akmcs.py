@@ -36,8 +36,21 @@ from .checks import check_positive, check_positive_int
 from .evaluation import Evaluation, evaluation_or_default
 from .inputs import IsoTransform, check_marginals
 from .kriging import KrigingSurrogate, ShiftedSurrogate
-from .learning import absolute_error, esc_error, needs_optimisation, select_batch, u_function
-from .results import IterationRecord, MultiReliabilityResult, ReliabilityResult, mc_cov, pf_to_beta, population_size
+from .learning import (
+    absolute_error,
+    esc_error,
+    needs_optimisation,
+    select_batch,
+    u_function,
+)
+from .results import (
+    IterationRecord,
+    MultiReliabilityResult,
+    ReliabilityResult,
+    mc_cov,
+    pf_to_beta,
+    population_size,
+)
 
 __all__ = ["akmcs", "akmcs_multi"]
 

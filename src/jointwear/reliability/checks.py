@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["check_positive_int", "check_positive"]
+__all__ = ["check_positive", "check_positive_int"]
 
 
 def check_positive_int(name: str, value: Any, minimum: int = 1) -> int:

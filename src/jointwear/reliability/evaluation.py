@@ -1,5 +1,5 @@
-"""How the reliability methods call the limit state: one :class:`Evaluation` context (executor, cache,
-callbacks, NaN policy) that every method takes, and the :class:`LimitStateCaller` it builds.
+"""How the reliability methods call the limit state: one :class:`Evaluation` context (executor, callbacks,
+NaN policy) that every method takes, and the :class:`LimitStateCaller` it builds.
 
 NaN rule (every method): a model call that returns NaN (or raises, when it runs through an executor or
 row by row) is a *failed call*. It is counted in ``n_failed_calls``, its reason is kept in
@@ -12,7 +12,7 @@ considered broken and ``ValueError`` is raised with the first reason.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, MutableMapping
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Protocol
 
@@ -54,10 +54,6 @@ class LimitStateCaller:
         None (call g directly on the whole batch) or any object with a ``concurrent.futures.Executor``-style
         ``map`` (``ProcessPoolExecutor``, ``dask.distributed.Client.get_executor()``...). With an executor the
         batch is split into blocks of ``rows_per_task`` rows, one task each.
-    cache:
-        Optional mutable mapping from an input row (``tuple`` of floats, physical space) to its g value(s).
-        Rows found there are not recomputed; new rows are stored. A dict makes repeated runs free; a
-        persistent mapping makes a study resumable.
     on_evaluate:
         Optional callback ``on_evaluate(X, G, reasons)`` after every batch (for logging/persisting).
     nan_policy:
@@ -74,7 +70,6 @@ class LimitStateCaller:
         n_outputs: int | None | str = None,
         executor: ExecutorLike | None = None,
         rows_per_task: int = 1,
-        cache: MutableMapping | None = None,
         on_evaluate: Callable | None = None,
         nan_policy: str = "failure",
         keep: bool = True,
@@ -90,14 +85,12 @@ class LimitStateCaller:
         self.n_outputs = n_outputs
         self.executor = executor
         self.rows_per_task = check_positive_int("rows_per_task", rows_per_task)
-        self.cache = cache
         self.on_evaluate = on_evaluate
         self.nan_policy = nan_policy
         self.keep = keep
         self._x: list[np.ndarray] = []
         self._g: list[np.ndarray] = []
-        self.n_calls = 0  # points evaluated (cache hits included: they are part of the design)
-        self.n_model_calls = 0  # points actually sent to the model
+        self.n_calls = 0  # points evaluated (the design)
         self.n_failed_calls = 0
         self.failure_reasons: dict[int, str] = {}
         self.wall_seconds = 0.0
@@ -175,32 +168,7 @@ class LimitStateCaller:
         n = X.shape[0]
         if X.shape[1] != self.dim:
             raise ValueError(f"points have {X.shape[1]} columns but there are {self.dim} marginals")
-        keys = [tuple(map(float, row)) for row in X] if self.cache is not None else None
-        todo = list(range(n))
-        cached: dict[int, np.ndarray] = {}
-        if self.cache is not None:
-            todo = []
-            for i, k in enumerate(keys):
-                if k in self.cache:
-                    cached[i] = np.asarray(self.cache[k], dtype=float)
-                else:
-                    todo.append(i)
-        reasons: dict[int, str] = {}
-        if todo:
-            Gt, r = self._run(X[todo])
-            self.n_model_calls += len(todo)
-            for j, why in r.items():
-                reasons[todo[j]] = why
-        width = self.n_outputs
-        rows: list[np.ndarray | None] = [None] * n
-        for j, i in enumerate(todo):
-            rows[i] = Gt[j]
-        for i, v in cached.items():
-            rows[i] = np.asarray(v, dtype=float).reshape(() if width is None else (-1,))
-        G = self._shape_output(np.stack(rows, axis=0) if n else np.empty((0,)), n)
-        if self.cache is not None:
-            for j, i in enumerate(todo):
-                self.cache[keys[i]] = G[i].tolist() if G.ndim == 2 else float(G[i])
+        G, reasons = self._run(X) if n else (self._shape_output(np.empty((0,)), 0), {})
         bad = ~np.isfinite(G) if G.ndim == 1 else ~np.all(np.isfinite(G), axis=1)
         for i in np.flatnonzero(bad):
             reasons.setdefault(int(i), "g returned a non-finite value")
@@ -237,6 +205,10 @@ class LimitStateCaller:
 class Evaluation:
     """How a reliability method calls the limit state; every method takes one (``evaluation=``).
 
+    Calls are not cached here: to reuse or persist them (a resumable run), make ``g`` a
+    :class:`jointwear.compute.Evaluator` with an evaluation store, the one cache of model calls (its
+    ``__call__(X)`` is a vectorised limit state).
+
     Parameters
     ----------
     executor:
@@ -245,9 +217,6 @@ class Evaluation:
         split into blocks of ``rows_per_task`` rows, one task each.
     rows_per_task:
         Rows per executor task.
-    cache:
-        Optional mutable mapping from an input row (``tuple`` of floats, physical space) to its g value(s):
-        rows found there are not recomputed, new rows are stored (a dict makes repeated runs free).
     on_evaluate:
         Optional callback ``on_evaluate(X, G, reasons)`` after every batch (for logging or persisting).
     progress:
@@ -264,7 +233,6 @@ class Evaluation:
 
     executor: ExecutorLike | None = None
     rows_per_task: int = 1
-    cache: MutableMapping | None = None
     on_evaluate: Callable | None = None
     progress: Callable | None = None
     nan_policy: str | None = None
@@ -286,12 +254,12 @@ class Evaluation:
         if self.caller is not None:
             return self.caller
         return LimitStateCaller(g, dim, n_outputs=n_outputs, executor=self.executor,
-                                rows_per_task=self.rows_per_task, cache=self.cache, on_evaluate=self.on_evaluate,
+                                rows_per_task=self.rows_per_task, on_evaluate=self.on_evaluate,
                                 nan_policy=self.nan_policy or nan_policy, keep=keep)
 
 
 def evaluation_or_default(evaluation: Evaluation | None) -> Evaluation:
-    """``evaluation``, or the default context (g called directly, no cache, no callbacks)."""
+    """``evaluation``, or the default context (g called directly, no callbacks)."""
     if evaluation is None:
         return Evaluation()
     if not isinstance(evaluation, Evaluation):

@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.linalg import cho_solve, solve_triangular
 
-__all__ = ["KrigingSurrogate", "KrigingHyperparameters", "ShiftedSurrogate", "blas_threads"]
+__all__ = ["KrigingHyperparameters", "KrigingSurrogate", "ShiftedSurrogate", "blas_threads"]
 
 
 def _optimizer():
@@ -189,7 +189,7 @@ class KrigingSurrogate:
     def n_train(self) -> int:
         return 0 if self._x is None else self._x.shape[0]
 
-    def fit(self, x: np.ndarray, y: np.ndarray, *, optimize: bool = True) -> "KrigingSurrogate":
+    def fit(self, x: np.ndarray, y: np.ndarray, *, optimize: bool = True) -> KrigingSurrogate:
         """Fit to training data; ``optimize=False`` keeps the correlation lengths (cheap update)."""
         x = np.ascontiguousarray(x, dtype=float)
         y = np.asarray(y, dtype=float).ravel()

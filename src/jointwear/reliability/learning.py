@@ -11,8 +11,14 @@ import numpy as np
 from scipy.cluster.vq import kmeans2
 from scipy.special import ndtr
 
-__all__ = ["u_function", "esc_error", "esc_absolute_error", "absolute_error", "select_batch",
-           "needs_optimisation"]
+__all__ = [
+    "absolute_error",
+    "esc_absolute_error",
+    "esc_error",
+    "needs_optimisation",
+    "select_batch",
+    "u_function",
+]
 
 _Z95 = 1.959963984540054
 

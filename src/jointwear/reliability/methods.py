@@ -21,7 +21,7 @@ from .evaluation import Evaluation, evaluation_or_default
 from .inputs import IsoTransform, check_marginals
 from .results import ReliabilityResult, mc_cov, pf_to_beta
 
-__all__ = ["monte_carlo", "form", "sorm", "subset_simulation", "importance_sampling"]
+__all__ = ["form", "importance_sampling", "monte_carlo", "sorm", "subset_simulation"]
 
 
 def _setup(g, marginals, evaluation, *, nan_policy="failure", keep=True, copula=None):
@@ -173,7 +173,7 @@ def form(
         u_new = (grad @ u - gu) / gn**2 * grad
         direction = u_new - u
         c = 2.0 * max(np.linalg.norm(u) / gn, 1.0) * 1.0
-        merit = lambda uu, gg: 0.5 * uu @ uu + c * abs(gg) / 1.0  # noqa: E731
+        merit = lambda uu, gg: 0.5 * uu @ uu + c * abs(gg) / 1.0
         m0 = merit(u, gu)
         step = 1.0
         while True:

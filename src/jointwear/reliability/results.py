@@ -10,8 +10,14 @@ from typing import Any
 import numpy as np
 from scipy.special import ndtri
 
-__all__ = ["IterationRecord", "ReliabilityResult", "MultiReliabilityResult", "pf_to_beta", "mc_cov",
-           "population_size"]
+__all__ = [
+    "IterationRecord",
+    "MultiReliabilityResult",
+    "ReliabilityResult",
+    "mc_cov",
+    "pf_to_beta",
+    "population_size",
+]
 
 
 def pf_to_beta(pf: float | np.ndarray) -> float | np.ndarray:
