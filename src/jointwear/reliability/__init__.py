@@ -9,7 +9,6 @@ every method takes. See ``docs/reliability.md`` for the methods, choices, NaN ru
 from . import problems
 from .akis import akis
 from .akmcs import akmcs, akmcs_multi
-from .checks import check_positive, check_positive_int
 from .evaluation import Evaluation, LimitStateCaller
 from .inputs import (
     IsoTransform,
@@ -46,8 +45,6 @@ __all__ = [
     "blas_threads",
     "check_copula",
     "check_marginals",
-    "check_positive",
-    "check_positive_int",
     "esc_absolute_error",
     "esc_error",
     "form",
