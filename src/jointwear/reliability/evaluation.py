@@ -227,8 +227,9 @@ class Evaluation:
         method's default (``"failure"``; ``"raise"`` for FORM and SORM, whose gradients a NaN makes
         meaningless).
     caller:
-        An object with ``evaluate(X) -> G`` that replaces the :class:`LimitStateCaller` entirely (the other
-        fields are then unused); e.g. to share one design and one call count between methods.
+        An object with ``evaluate(X) -> G`` that replaces the :class:`LimitStateCaller` (``executor``,
+        ``rows_per_task``, ``on_evaluate`` and ``nan_policy`` are then its business); e.g. to share one design
+        and one call count between methods.
     """
 
     executor: ExecutorLike | None = None
