@@ -53,7 +53,7 @@ def _problem(name):
 def run_one(task):
     name, mode, seed, n_mc = task
     from jointwear.reliability import akmcs
-    from jointwear.reliability._core import IsoTransform
+    from jointwear.reliability import IsoTransform
 
     p = _problem(name)
     t0 = time.perf_counter()

@@ -148,6 +148,32 @@ def test_store_serves_completed_calls_and_duplicates(tmp_path):
         assert stats.n_calls == 4 and stats.n_repeated == 1
 
 
+def test_outcomes_held_in_memory_without_a_store():
+    # the evaluator is the one cache of model calls: a row asked for again is neither run nor counted again
+    calls = []
+
+    def counted(x):
+        calls.append(x.copy())
+        return (np.array([np.nan]), "ok") if x[0] < 0 else (np.array([x.sum()]), "ok")
+
+    X = np.array([[1.0, 2.0], [-1.0, 0.0], [0.5, 0.5]])
+    with Progress(description="calls") as progress:
+        ev = Evaluator(counted, progress=progress)
+        first = ev.evaluate(X)
+        again = ev.evaluate(np.vstack([X[::-1], [[3.0, 3.0]]]))
+    assert len(calls) == 4 and again.n_evaluated == 1 and list(again.reused) == [True, True, True, False]
+    np.testing.assert_array_equal(again.Y[:3], first.Y[::-1])
+    assert ev.n_known == 4 and (progress.completed, progress.total) == (4, 4)
+    later = Evaluator(counted)
+    later.adopt(ev)  # a later session of the same study
+    assert later.evaluate(X).n_evaluated == 0 and later.n_known == 4 and len(calls) == 4
+    retry = Evaluator(counted, retry_failed=True)
+    retry.adopt(ev)
+    assert retry.evaluate(X).n_evaluated == 1 and len(calls) == 5  # only the failed row runs again
+    with pytest.raises(ValueError, match="adopt"):
+        Evaluator(counted, tag="other").adopt(ev)
+
+
 def test_store_lookup_is_bit_exact(tmp_path):
     x = np.array([0.1, 0.2])
     with EvaluationStore.open(tmp_path / "s.sqlite", "h") as store:

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from jointwear.reliability import akmcs, akmcs_multi, problems
+from jointwear.reliability import Evaluation, akmcs, akmcs_multi, problems
 
 
 def _accept(pf, cov, ref):
@@ -74,7 +74,8 @@ def test_multi_levels_share_one_design():
 
     marg = [stats.norm(), stats.norm()]
     seen = []
-    r = akmcs_multi(g, marg, seed=0, stopping="error", progress=lambda rec: seen.append(rec), pf_floor=1e-3)
+    r = akmcs_multi(g, marg, seed=0, stopping="error", evaluation=Evaluation(progress=seen.append),
+                    pf_floor=1e-3)
     assert r.converged, r.message
     assert r.pf.shape == (3,) and r.cov.shape == (3,)
     ref = stats.norm.sf(shifts)
@@ -92,7 +93,7 @@ def test_multi_levels_share_one_design():
 def test_progress_callback_and_history():
     p = problems.linear(2.0, 2)
     recs = []
-    r = akmcs(p.g, p.marginals, seed=0, n_mc=20_000, progress=recs.append)
+    r = akmcs(p.g, p.marginals, seed=0, n_mc=20_000, evaluation=Evaluation(progress=recs.append))
     assert recs == r.history
     assert [h.n_calls for h in r.history] == sorted(h.n_calls for h in r.history)
     assert all(np.isfinite(h.pf) for h in r.history)

@@ -1,4 +1,4 @@
-"""Bad input, the NaN rule, determinism, executors and the evaluation cache."""
+"""Bad input, the NaN rule, determinism, executors and the evaluation store."""
 
 from concurrent.futures import ThreadPoolExecutor
 
@@ -7,7 +7,8 @@ import pytest
 from scipy import stats
 
 from jointwear.reliability import (
-    Evaluator,
+    Evaluation,
+    LimitStateCaller,
     akmcs,
     monte_carlo,
     problems,
@@ -56,7 +57,7 @@ def test_all_nan_raises_and_nan_policy_raise():
     with pytest.raises(ValueError, match="NaN"):
         akmcs(lambda x: np.full(len(x), np.nan), NORM2)
     with pytest.raises(ValueError, match="nan_policy='raise'"):
-        akmcs(lambda x: np.where(x[:, 0] > 1, np.nan, _lin(x)), NORM2, nan_policy="raise")
+        akmcs(lambda x: np.where(x[:, 0] > 1, np.nan, _lin(x)), NORM2, evaluation=Evaluation(nan_policy="raise"))
 
 
 def test_nan_counts_as_failure_never_safe():
@@ -100,20 +101,28 @@ def test_determinism():
     assert s1.pf == s2.pf
 
 
-def test_executor_cache_and_evaluator_give_same_result():
+def test_executor_store_and_caller_give_same_result(tmp_path):
+    from jointwear.compute import EvaluationStore, Evaluator
+
     p = problems.linear(2.0, 2)
     base = akmcs(p.g, p.marginals, n_mc=20_000, seed=4)
-    cache = {}
     seen = []
     with ThreadPoolExecutor(2) as pool:
-        r = akmcs(p.g, p.marginals, n_mc=20_000, seed=4, executor=pool, cache=cache,
-                  on_evaluate=lambda x, g, why: seen.append(len(x)))
-    assert r.pf == base.pf and r.n_calls == base.n_calls
-    assert len(cache) == r.n_calls and sum(seen) == r.n_calls
-    # a rerun with the filled cache calls the model zero times and reproduces the run (resumability)
-    ev = Evaluator(p.g, 2, cache=cache)
-    r2 = akmcs(p.g, p.marginals, n_mc=20_000, seed=4, evaluator=ev)
-    assert ev.n_model_calls == 0 and r2.pf == base.pf
+        r = akmcs(p.g, p.marginals, n_mc=20_000, seed=4,
+                  evaluation=Evaluation(executor=pool, on_evaluate=lambda x, g, why: seen.append(len(x))))
+    assert r.pf == base.pf and r.n_calls == base.n_calls and sum(seen) == r.n_calls
+    # the cache of model calls is compute's evaluator: g through it is stored, and a rerun on the filled
+    # store calls the model zero times and reproduces the run (resumability)
+    row_model = lambda x: p.g(x[None, :])
+    with EvaluationStore.open(tmp_path, "linear") as store:
+        first = Evaluator(row_model, store=store)
+        r1 = akmcs(first, p.marginals, n_mc=20_000, seed=4)
+        assert first.n_model_calls == r1.n_calls
+    with EvaluationStore.open(tmp_path, "linear", resume=True) as store:
+        again = Evaluator(row_model, store=store)
+        shared = LimitStateCaller(again, 2)
+        r2 = akmcs(again, p.marginals, n_mc=20_000, seed=4, evaluation=Evaluation(caller=shared))
+    assert again.n_model_calls == 0 and shared.n_calls == r2.n_calls and r1.pf == r2.pf == base.pf
     np.testing.assert_array_equal(r2.design_x, base.design_x)
 
 
@@ -123,7 +132,11 @@ def test_bad_options():
     with pytest.raises(ValueError, match="batch_size"):
         akmcs(_lin, NORM2, batch_size=0)
     with pytest.raises(ValueError, match="executor"):
-        akmcs(_lin, NORM2, executor=object())
+        akmcs(_lin, NORM2, evaluation=Evaluation(executor=object()))
+    with pytest.raises(ValueError, match="nan_policy"):
+        Evaluation(nan_policy="ignore")
+    with pytest.raises(ValueError, match="evaluation"):
+        akmcs(_lin, NORM2, evaluation={"executor": None})
 
 
 def test_process_pool_executor_batch():
@@ -132,6 +145,7 @@ def test_process_pool_executor_batch():
 
     p = problems.four_branch(6)
     with ProcessPoolExecutor(2) as pool:
-        r = akmcs(p.g, p.marginals, n_mc=20_000, seed=2, batch_size=3, stopping="error", executor=pool)
+        r = akmcs(p.g, p.marginals, n_mc=20_000, seed=2, batch_size=3, stopping="error",
+                  evaluation=Evaluation(executor=pool))
     base = akmcs(p.g, p.marginals, n_mc=20_000, seed=2, batch_size=3, stopping="error")
     assert r.pf == base.pf and r.n_calls == base.n_calls  # same algorithm, different place of the calls

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from jointwear.reliability import akmcs_multi
+from jointwear.reliability import akmcs_multi, population_size
+from jointwear.reliability.results import mc_cov
 
 
 def test_levels_match_the_exact_probabilities_and_are_monotone():
@@ -25,6 +26,27 @@ def test_levels_match_the_exact_probabilities_and_are_monotone():
     m0 = res.surrogates[0].predict(u, return_variance=False)[0]
     m3 = res.surrogates[3].predict(u, return_variance=False)[0]
     assert m0 - m3 == pytest.approx(levels[3] - levels[0], abs=1e-12)
+
+
+def test_result_hooks_continue_from_the_learned_surrogate():
+    # y = x1 + x2: the learned response is nearly exact, so a fresh population classified by the hooks
+    # agrees with the exact Pf within the Monte Carlo noise of that population
+    levels = np.array([-2.0, 0.0])
+    res = akmcs_multi(lambda x: x[:, 0] + x[:, 1], [stats.norm(), stats.norm()], levels=levels,
+                      n_mc=20_000, seed=1, pf_floor=1e-3)
+    u = np.random.default_rng(5).standard_normal((1000, 2))
+    mu = res.predict(u)
+    for k in range(2):  # one shared prediction equals each level's own surrogate
+        np.testing.assert_allclose(mu[:, k], res.surrogates[k].predict(u, return_variance=False)[0], atol=1e-12)
+        # and the response minus the level (rounding of two subtractions of levels of order 1)
+        np.testing.assert_allclose(res.response(u) - levels[k], mu[:, k], atol=1e-12)
+    n = population_size(float(res.pf[0]), 0.05, 10**7)
+    assert mc_cov(res.pf[0], n) < 0.05 <= mc_cov(res.pf[0], int(n / 1.1) - 1)  # 10 % over the COV formula
+    rng = np.random.default_rng(9)
+    pf, cov = res.estimate_on(lambda m, start: rng.standard_normal((m, 2)), n, chunk=7_000)
+    exact = stats.norm.cdf(levels / np.sqrt(2.0))
+    assert np.all(np.abs(pf - exact) <= 3 * cov * exact)  # 3 sigma of the new population's estimate
+    assert cov[0] < 0.05 and population_size(0.0, 0.05, 10**6) == 10**6
 
 
 def test_levels_must_be_finite():

@@ -21,163 +21,39 @@ A failed call is stored like a good one (with its reason and wall time) and its 
 :attr:`BatchResult.Y`. What a study does with failed calls is the study's rule; the evaluator only
 records them. Calls already in the store (same tag, bit-identical input row) are served from it and
 never run again; failed calls too, unless ``retry_failed=True``.
+
+The evaluator is the one cache of model calls: it keeps every outcome it has run or read in memory (so a
+row asked for again is served without a store look-up and without counting again in the progress), in
+front of the persistent store (so a resumed study is served what an earlier process computed).
 """
 
 from __future__ import annotations
 
-import datetime as _dt
-import functools
 import math
-import os
-import pickle
-import signal
-import socket
-import threading
 import time
-import traceback
 from collections import deque
+from collections.abc import Callable
 from concurrent.futures import FIRST_COMPLETED, CancelledError, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
-from typing import Any, Callable, Mapping
+from typing import Any
 
 import numpy as np
 
+from .call import (
+    FAILED,
+    OK,
+    TIMEOUT,
+    describe_error,
+    dumps_model,
+    now_iso,
+    run_call,
+    run_pickled,
+)
 from .executors import SerialExecutor
 from .store import CallRecord, EvaluationStore, row_bytes
 
 __all__ = ["BatchResult", "Evaluator", "run_call"]
-
-OK, FAILED, TIMEOUT = "ok", "failed", "timeout"
-
-
-def _now() -> str:
-    return _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="microseconds")
-
-
-# ----------------------------------------------------------------------------------------------------
-# one call, on the worker
-
-
-class CallTimeout(BaseException):
-    """Raised inside a model call that ran past its time-out (a BaseException, so that a model's own
-    ``except Exception`` does not swallow it)."""
-
-
-def _call_with_alarm(model: Callable, x: np.ndarray, timeout: float):
-    def _on_alarm(signum, frame):
-        raise CallTimeout()
-
-    old = signal.signal(signal.SIGALRM, _on_alarm)
-    signal.setitimer(signal.ITIMER_REAL, timeout)
-    try:
-        return model(x)
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0.0)
-        signal.signal(signal.SIGALRM, old)
-
-
-def _call_in_thread(model: Callable, x: np.ndarray, timeout: float):
-    box: dict[str, Any] = {}
-
-    def target():
-        try:
-            box["value"] = model(x)
-        except BaseException as exc:  # noqa: BLE001 - re-raised in the caller
-            box["error"] = exc
-
-    t = threading.Thread(target=target, name="jointwear-model-call", daemon=True)
-    t.start()
-    t.join(timeout)
-    if t.is_alive():  # cannot be stopped: it finishes in the background and its result is dropped
-        raise CallTimeout()
-    if "error" in box:
-        raise box["error"]
-    return box["value"]
-
-
-def _split_result(res: Any) -> tuple[Any, str]:
-    if isinstance(res, tuple) and len(res) == 2 and isinstance(res[1], str):
-        return res[0], res[1]
-    return res, OK
-
-
-def _as_outputs(outputs: Any) -> np.ndarray | dict[str, np.ndarray]:
-    if isinstance(outputs, Mapping):
-        return {str(k): np.array(v, dtype=np.float64) for k, v in outputs.items()}
-    return np.atleast_1d(np.array(outputs, dtype=np.float64))
-
-
-def _all_finite(outputs) -> bool:
-    if isinstance(outputs, dict):
-        return all(np.all(np.isfinite(v)) for v in outputs.values())
-    return bool(np.all(np.isfinite(outputs)))
-
-
-def _reason(exc: BaseException) -> str:
-    tb = traceback.extract_tb(exc.__traceback__)
-    where = f" (at {os.path.basename(tb[-1].filename)}:{tb[-1].lineno} in {tb[-1].name})" if tb else ""
-    msg = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
-    return f"{type(exc).__name__}: {msg}{where}" if msg else f"{type(exc).__name__}{where}"
-
-
-def run_call(model: Callable, x: np.ndarray, timeout: float | None = None) -> dict:
-    """Run ``model(x)`` once and return its outcome as a plain dict (``status``, ``reason``,
-    ``outputs``, ``wall_s``, ``started_at``, ``finished_at``, ``worker``). Never raises for a model
-    error. The time-out uses SIGALRM when the call runs on a process's main thread (it interrupts
-    Python code; compiled code is interrupted when it returns to Python), otherwise a watcher thread
-    (the call is abandoned, not stopped)."""
-    x = np.array(x, dtype=np.float64)  # a private copy: the model may not change the caller's row
-    started = _now()
-    t0 = time.perf_counter()
-    status, reason, outputs = OK, None, None
-    try:
-        if timeout is None:
-            res = model(x)
-        elif hasattr(signal, "SIGALRM") and threading.current_thread() is threading.main_thread():
-            res = _call_with_alarm(model, x, timeout)
-        else:
-            res = _call_in_thread(model, x, timeout)
-        out, st = _split_result(res)
-        if st != OK:
-            status, reason = FAILED, f"model: {st}"
-        else:
-            outputs = _as_outputs(out)
-            if not _all_finite(outputs):
-                status, reason, outputs = FAILED, "model returned non-finite outputs", None
-    except CallTimeout:
-        status, reason, outputs = TIMEOUT, f"time-out after {timeout:g} s", None
-    except (Exception, SystemExit) as exc:
-        status, reason, outputs = FAILED, _reason(exc), None
-    wall = time.perf_counter() - t0
-    return {
-        "status": status,
-        "reason": reason,
-        "outputs": outputs,
-        "wall_s": wall,
-        "started_at": started,
-        "finished_at": _now(),
-        "worker": f"{socket.gethostname()}:{os.getpid()}",
-    }
-
-
-@functools.lru_cache(maxsize=8)
-def _load_model(blob: bytes) -> Callable:
-    return pickle.loads(blob)
-
-
-def _run_pickled(blob: bytes, x: np.ndarray, timeout: float | None) -> dict:
-    """Worker entry point: the model travels as cloudpickle bytes (unpickled once per worker)."""
-    return run_call(_load_model(blob), x, timeout)
-
-
-def _dumps_model(model: Callable) -> bytes:
-    try:
-        import cloudpickle
-
-        return cloudpickle.dumps(model)
-    except ImportError:  # pragma: no cover - cloudpickle comes with dask
-        return pickle.dumps(model)
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -274,7 +150,8 @@ class Evaluator:
     model : ``f(x: 1-D float64 array) -> (outputs, status)``; see the module docstring.
     executor : from :func:`make_executor`; None runs in this process, serially. Not closed by the
         evaluator.
-    store : an open :class:`EvaluationStore`, or None (no persistence, no reuse across batches).
+    store : an open :class:`EvaluationStore`, or None (no persistence: outcomes are reused within this
+        evaluator only).
     timeout : seconds per call, or None.
     tag : name of this model inside the store (a study with several models uses several tags).
     retry_failed : run stored failed/timed-out calls again instead of reusing their outcome.
@@ -320,15 +197,32 @@ class Evaluator:
         #: model calls made by this evaluator / served from the store, over all batches
         self.n_model_calls = 0
         self.n_reused = 0
+        self._known: dict[bytes, CallRecord] = {}  # outcomes run or read by this evaluator, by row bytes
+
+    @property
+    def n_known(self) -> int:
+        """Distinct input rows whose outcome this evaluator holds (run, or read back from the store)."""
+        return len(self._known)
+
+    def adopt(self, other: Evaluator) -> None:
+        """Take over the outcomes another evaluator of the same model holds (a later session of one study):
+        rows it knows are served from memory and do not count again."""
+        if other.tag != self.tag:
+            raise ValueError(f"cannot adopt the outcomes of model {other.tag!r} for model {self.tag!r}")
+        for key, rec in other._known.items():
+            self._known.setdefault(key, rec)
+
+    def _reusable(self, rec: CallRecord | None) -> bool:
+        return rec is not None and (rec.status == OK or not self.retry_failed)
 
     # -- helpers ------------------------------------------------------------------------------------
     def _model_blob(self) -> bytes:
         if self._blob is None:
             try:
-                self._blob = _dumps_model(self.model)
+                self._blob = dumps_model(self.model)
             except Exception as exc:
                 raise TypeError(
-                    f"the model cannot be sent to worker processes ({_reason(exc)}); make it a "
+                    f"the model cannot be sent to worker processes ({describe_error(exc)}); make it a "
                     "module-level function or an object without open files/locks, or use workers=1"
                 ) from exc
         return self._blob
@@ -376,26 +270,33 @@ class Evaluator:
             raise ValueError(f"X must have shape (n, d), got {X.shape}")
         n = X.shape[0]
 
-        # unique rows, by exact bytes
+        # unique rows, by exact bytes; rows this evaluator already holds are served from memory
         first_of: dict[bytes, int] = {}
+        keys = [row_bytes(X[i]) for i in range(n)]
         owner = np.empty(n, dtype=np.int64)
         for i in range(n):
-            owner[i] = first_of.setdefault(row_bytes(X[i]), i)
-        uniq = [i for i in range(n) if owner[i] == i]
-
+            owner[i] = first_of.setdefault(keys[i], i)
         records: dict[int, CallRecord] = {}
+        for i in first_of.values():
+            if self._reusable(self._known.get(keys[i])):
+                records[i] = self._known[keys[i]]
+        held = set(records)
+        uniq = [i for i in range(n) if owner[i] == i and i not in held]
+
         if self.store is not None and uniq:
             for i, rec in zip(uniq, self.store.get_many(self.tag, [X[i] for i in uniq])):
-                if rec is not None and (rec.status == OK or not self.retry_failed):
+                if self._reusable(rec):
                     records[i] = rec
         todo = [i for i in uniq if i not in records]
         reused = np.array([owner[i] != i or i in records for i in range(n)], dtype=bool)
         n_cached = int(reused.sum())
         self.n_reused += n_cached
-        if self.progress is not None:
-            self.progress.expect(n)
-            if n_cached:
-                self.progress.advance(n_cached)
+        # rows held from an earlier batch were counted then; the rest count now
+        n_new = n - sum(1 for i in range(n) if owner[i] in held)
+        if self.progress is not None and n_new:
+            self.progress.expect(n_new)
+            if n_cached - (n - n_new):
+                self.progress.advance(n_cached - (n - n_new))
 
         if todo:
             if getattr(self.executor, "in_process", False):
@@ -406,6 +307,9 @@ class Evaluator:
             else:
                 self._run_pool(X, todo, records)
 
+        for i in first_of.values():
+            if i not in held:
+                self._known[keys[i]] = records[i]
         out = [records[owner[i]] for i in range(n)]
         names = None
         for r in out:
@@ -441,7 +345,7 @@ class Evaluator:
         def submit(i: int) -> Any:
             while True:
                 try:
-                    return self.executor.submit(_run_pickled, blob, X[i], self.timeout)
+                    return self.executor.submit(run_pickled, blob, X[i], self.timeout)
                 except BrokenProcessPool:
                     self.executor.restart()
 
@@ -474,11 +378,11 @@ class Evaluator:
                             suspects.appendleft(i)
                             continue
                         rec = self._infra_failure(
-                            X[i], f"the worker process died running this call ({deaths[i]} times): {_reason(exc)}"
+                            X[i], f"the worker process died running this call ({deaths[i]} times): {describe_error(exc)}"
                         )
                     except Exception as exc:  # noqa: BLE001
                         # e.g. distributed's KilledWorker: the scheduler already re-ran the task
-                        rec = self._infra_failure(X[i], f"worker error: {_reason(exc)}")
+                        rec = self._infra_failure(X[i], f"worker error: {describe_error(exc)}")
                     records[i] = self._completed(X[i], rec)
                 submit_next()
         except BaseException:
@@ -487,7 +391,7 @@ class Evaluator:
             raise
 
     def _infra_failure(self, x: np.ndarray, reason: str) -> CallRecord:
-        now = _now()
+        now = now_iso()
         return CallRecord(
             x=x, status=FAILED, reason=reason, outputs=None, wall_s=math.nan, started_at=now, finished_at=now, worker=None
         )

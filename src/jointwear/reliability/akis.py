@@ -26,24 +26,19 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable, MutableMapping, Sequence
+from collections.abc import Callable, Sequence
+from dataclasses import replace
 
 import numpy as np
 from scipy.stats import qmc
 
-from ._core import (
-    IsoTransform,
-    IterationRecord,
-    ReliabilityResult,
-    check_marginals,
-    check_positive,
-    check_positive_int,
-    make_evaluator,
-    pf_to_beta,
-)
-from .akmcs import needs_optimisation, select_batch, u_function
+from .checks import check_positive, check_positive_int
+from .evaluation import Evaluation, evaluation_or_default
+from .inputs import IsoTransform, check_marginals
 from .kriging import KrigingSurrogate
+from .learning import needs_optimisation, select_batch, u_function
 from .methods import form, is_estimate, is_weights
+from .results import IterationRecord, ReliabilityResult, pf_to_beta
 
 __all__ = ["akis"]
 
@@ -73,12 +68,7 @@ def akis(
     cov_target: float = 0.05,
     max_calls: int = 500,
     seed: int | None = 0,
-    executor=None,
-    evaluator=None,
-    cache: MutableMapping | None = None,
-    on_evaluate: Callable | None = None,
-    progress: Callable[[IterationRecord], None] | None = None,
-    nan_policy: str = "failure",
+    evaluation: Evaluation | None = None,
     kriging: dict | None = None,
     form_kwargs: dict | None = None,
 ) -> ReliabilityResult:
@@ -90,7 +80,7 @@ def akis(
         Initial and largest importance-sampling population (candidates).
     form_result:
         A FORM result to start from (its design point and, when it kept them, its evaluated points);
-        default: run :func:`form` with ``form_kwargs`` on the same evaluator. Its default tolerance here is
+        default: run :func:`form` with ``form_kwargs`` through the same caller. Its default tolerance here is
         1e-2, not 1e-6: the estimator is unbiased for any centre, a rough design point only costs a little
         efficiency, and HL-RF converges slowly on curved limit states (cubic_parabolic: 21 calls at 1e-2,
         202 at 1e-6 for a design point 0.02 sigma away).
@@ -119,11 +109,13 @@ def akis(
     min_distance = check_positive("min_distance", min_distance)
     max_calls = check_positive_int("max_calls", max_calls, 2)
 
-    ev = make_evaluator(g, d, evaluator=evaluator, executor=executor, cache=cache, on_evaluate=on_evaluate,
-                        nan_policy=nan_policy)
+    evaluation = evaluation_or_default(evaluation)
+    progress = evaluation.progress
+    ev = evaluation.caller_for(g, d)
     transform = IsoTransform(marginals, copula)
-    if form_result is None:
-        form_result = form(g, marginals, copula=copula, evaluator=ev, **{"tol": 1e-2, **(form_kwargs or {})})
+    if form_result is None:  # FORM calls g through the same caller: one design, one call count
+        form_result = form(g, marginals, copula=copula, evaluation=replace(evaluation, caller=ev),
+                           **{"tol": 1e-2, **(form_kwargs or {})})
     ustar = np.asarray(form_result.design_point_u, dtype=float).ravel()
     if ustar.size != d:
         raise ValueError(f"form_result has a {ustar.size}-dimensional design point but there are {d} marginals")

@@ -26,152 +26,38 @@ Algorithm (standard-normal space u, x = T(u)):
 
 from __future__ import annotations
 
-import math
 import time
-import warnings
-from collections.abc import Callable, MutableMapping, Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
-from scipy.cluster.vq import kmeans2
-from scipy.special import ndtr
 from scipy.stats import qmc
 
-from ._core import (
-    IsoTransform,
+from .checks import check_positive, check_positive_int
+from .evaluation import Evaluation, evaluation_or_default
+from .inputs import IsoTransform, check_marginals
+from .kriging import KrigingSurrogate, ShiftedSurrogate
+from .learning import (
+    absolute_error,
+    esc_error,
+    needs_optimisation,
+    select_batch,
+    u_function,
+)
+from .results import (
     IterationRecord,
     MultiReliabilityResult,
     ReliabilityResult,
-    check_marginals,
-    check_positive,
-    check_positive_int,
-    make_evaluator,
     mc_cov,
     pf_to_beta,
+    population_size,
 )
-from .kriging import KrigingSurrogate
 
-__all__ = ["akmcs", "akmcs_multi", "esc_absolute_error", "esc_error"]
-
-_Z95 = 1.959963984540054
-
-
-def absolute_error(relative, pf) -> np.ndarray:
-    """Absolute Pf error from a relative one; infinite where Pf = 0 and the relative error is infinite (no
-    estimate), instead of the NaN of inf * 0."""
-    relative = np.asarray(relative, dtype=float)
-    pf = np.asarray(pf, dtype=float)
-    out = np.full(np.broadcast(relative, pf).shape, np.inf)
-    return np.multiply(relative, pf, out=out, where=~(np.isinf(relative) & (pf == 0)))
-
-
-def esc_error(u: np.ndarray, fail: np.ndarray, known: np.ndarray | None = None, z: float = _Z95) -> float:
-    """Estimated maximum relative error of Pf from the surrogate's sign uncertainty (ESC criterion).
-
-    ``u``: U values of the candidates; ``fail``: predicted failure flags; ``known``: candidates whose sign
-    is known exactly (evaluated). Returns +inf when no candidate is predicted to fail.
-    """
-    n_f, n_fs, n_sf = _esc_counts(u, fail, known, z)
-    if n_f - n_fs <= 0:
-        return math.inf
-    return max(n_fs / (n_f - n_fs), n_sf / (n_f + n_sf))
-
-
-def esc_absolute_error(mu: np.ndarray, sd: np.ndarray, z: float = _Z95) -> float:
-    """Estimated maximum absolute error of Pf = P[mu <= 0] (and so of R) over a population from the surrogate's
-    mean ``mu`` and standard deviation ``sd``: ``esc_error`` x Pf, the form of the R(N) curve's error estimate;
-    when no candidate is predicted to fail (or the relative bound is unbounded), the larger of the two
-    misclassification bounds over the population size."""
-    fail = mu <= 0.0
-    n_f, n_fs, n_sf = _esc_counts(u_function(mu, sd), fail, None, z)
-    n = max(int(fail.size), 1)
-    if n_f - n_fs > 0:
-        return max(n_fs / (n_f - n_fs), n_sf / (n_f + n_sf)) * n_f / n
-    return max(n_fs, n_sf) / n
-
-
-def _esc_counts(u: np.ndarray, fail: np.ndarray, known: np.ndarray | None, z: float) -> tuple[float, float, float]:
-    """(predicted failures, 95 % bound on those that are safe, 95 % bound on predicted-safe that fail): the
-    Poisson-binomial counts of the ESC criterion (Wang & Shafieezadeh 2019)."""
-    relevant = u < 8.0  # Phi(-8) = 6e-16: candidates beyond contribute nothing
-    if known is not None:
-        relevant &= ~known
-    p = ndtr(-u[relevant])
-    f = fail[relevant]
-    n_f = float(np.count_nonzero(fail))
-    pf_, ps_ = p[f], p[~f]
-    n_fs = float(pf_.sum() + z * math.sqrt(float((pf_ * (1 - pf_)).sum())))
-    n_sf = float(ps_.sum() + z * math.sqrt(float((ps_ * (1 - ps_)).sum())))
-    return n_f, n_fs, n_sf
-
-
-def needs_optimisation(forced: bool, n_at_opt: int, n_ok: int, growth: float) -> bool:
-    """Re-optimise the Kriging hyperparameters (rather than re-condition with the previous ones) when asked to, on
-    the first fit, while the design is small (<= 30 points), or once it has grown by the fraction ``growth``."""
-    return bool(forced or n_at_opt == 0 or n_ok <= 30 or n_ok >= (1.0 + growth) * n_at_opt)
-
-
-def u_function(mu: np.ndarray, sd: np.ndarray) -> np.ndarray:
-    """Echard's learning function U = |mu| / sigma; infinite where sigma = 0 (the sign is certain)."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        u = np.abs(mu) / sd
-    u[~np.isfinite(u)] = np.inf
-    return u
-
-
-def select_batch(score: np.ndarray, u_pop: np.ndarray, k: int, threshold: float, rng: np.random.Generator,
-                  exclude: np.ndarray) -> np.ndarray:
-    """Indices of k candidates to evaluate: lowest score; for k > 1 spread by k-means."""
-    score = np.where(exclude, np.inf, score)
-    if k == 1:
-        return np.array([int(np.argmin(score))])
-    pool = np.flatnonzero(score < threshold)
-    cap = max(50 * k, 2000)
-    if pool.size > cap:  # the most uncertain candidates are enough to find k regions
-        pool = pool[np.argpartition(score[pool], cap)[:cap]]
-    if pool.size <= k:
-        order = np.argsort(score)
-        return order[: k][np.isfinite(score[order[:k]])]
-    seed = int(rng.integers(2**31 - 1))
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # empty-cluster warnings: handled below
-        _, labels = kmeans2(u_pop[pool], k, minit="++", seed=seed)
-    chosen = []
-    for c in range(k):
-        members = pool[labels == c]
-        if members.size:
-            chosen.append(int(members[np.argmin(score[members])]))
-    if len(chosen) < k:  # empty clusters: fill with the next lowest scores
-        rest = pool[np.argsort(score[pool])]
-        for i in rest:
-            if len(chosen) == k:
-                break
-            if i not in chosen:
-                chosen.append(int(i))
-    return np.array(chosen)
-
-
-class _Shifted:
-    """A Kriging surrogate minus a constant (one level of a shared-response ``akmcs_multi``)."""
-
-    def __init__(self, surrogate, offset: float):
-        self.surrogate, self.offset = surrogate, float(offset)
-
-    @property
-    def hyperparameters(self):
-        return self.surrogate.hyperparameters
-
-    def predict(self, u, *, return_variance: bool = True):
-        mu, var = self.surrogate.predict(u, return_variance=return_variance)
-        return mu - self.offset, var
-
-    def __call__(self, u):
-        return self.predict(u, return_variance=False)[0]
+__all__ = ["akmcs", "akmcs_multi"]
 
 
 def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch_size, u_threshold, cov_target,
-         stopping, error_tol, max_calls, seed, executor, evaluator, cache, on_evaluate, progress, nan_policy,
-         pf_floor, kriging, refit_growth, full_sweep_every=10, keep_population=False, levels=None,
-         error_abs_tol=None, copula=None):
+         stopping, error_tol, max_calls, seed, evaluation, pf_floor, kriging, refit_growth, full_sweep_every=10,
+         keep_population=False, levels=None, error_abs_tol=None, copula=None):
     t_start = time.perf_counter()
     marginals = check_marginals(marginals)
     d = len(marginals)
@@ -195,8 +81,9 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
         levels = np.asarray(levels, dtype=float).reshape(-1)
         if levels.size < 1 or not np.all(np.isfinite(levels)):
             raise ValueError("levels must be a non-empty sequence of finite numbers")
-    ev = make_evaluator(g, d, evaluator=evaluator, executor=executor, cache=cache, on_evaluate=on_evaluate,
-                        nan_policy=nan_policy, n_outputs=None if (levels is not None or not multi) else "auto")
+    evaluation = evaluation_or_default(evaluation)
+    progress = evaluation.progress
+    ev = evaluation.caller_for(g, d, n_outputs=None if (levels is not None or not multi) else "auto")
     shift = (lambda y: y[:, :1] - levels[None, :]) if levels is not None else (lambda y: y)
 
     u_pop = rng.standard_normal((n_mc, d))
@@ -334,9 +221,7 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
                 message = (f"COV target {cov_target} not met with the maximum population n_mc_max={n_mc_max} "
                            f"(pf={pf[need].min():.3g}); use subset_simulation for small pf or raise n_mc_max")
                 break
-            with np.errstate(divide="ignore"):
-                target = np.where(pf[need] > 0, (1.0 - pf[need]) / (cov_target**2 * pf[need]) + 1.0, 2.0 * n_pop)
-            new_n = int(min(n_mc_max, max(1.1 * target.max(), 1.2 * n_pop)))
+            new_n = max(population_size(p, cov_target, n_mc_max, grow_from=n_pop) for p in pf[need])
             u_pop = np.vstack([u_pop, rng.standard_normal((new_n - n_pop, d))])
             need_full = True
             continue
@@ -381,9 +266,8 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
         return MultiReliabilityResult(pf=pf_col, cov=cov_col, beta=np.atleast_1d(pf_to_beta(pf_col)),
                                       converged=converged, column_converged=col_ok, below_floor=below,
                                       design_g=design_g, surrogates=surrogates if levels is None
-                                      else [_Shifted(surrogates[0], o) for o in offsets],
-                                      min_u=min_u, error_estimate=err,
-                                      **common)
+                                      else [ShiftedSurrogate(surrogates[0], o) for o in offsets],
+                                      min_u=min_u, error_estimate=err, levels=levels, **common)
     return ReliabilityResult(method="akmcs", pf=float(pf_col[0]), cov=float(cov_col[0]), beta=pf_to_beta(pf_col[0]),
                              converged=converged, design_g=design_g[:, 0], surrogate=surrogates[0],
                              error_estimate=float(err[0]), details={"min_u": float(min_u[0]), "n_full_sweeps": n_sweeps,
@@ -406,12 +290,7 @@ def akmcs(
     error_tol: float = 0.01,
     max_calls: int = 1000,
     seed: int | None = 0,
-    executor=None,
-    evaluator=None,
-    cache: MutableMapping | None = None,
-    on_evaluate: Callable | None = None,
-    progress: Callable[[IterationRecord], None] | None = None,
-    nan_policy: str = "failure",
+    evaluation: Evaluation | None = None,
     kriging: dict | None = None,
     refit_growth: float = 0.1,
     keep_population: bool = False,
@@ -449,11 +328,9 @@ def akmcs(
         Budget of model calls (initial design included).
     seed:
         Seed of every random choice (population, design, k-means, multistart); same seed, same result.
-    executor, evaluator, cache, on_evaluate, nan_policy:
-        How the model is called; see :class:`jointwear.reliability.Evaluator`. ``evaluator`` (any object with
-        ``evaluate(X) -> G``) replaces the default one entirely.
-    progress:
-        Called with an :class:`IterationRecord` (pf, cov, min_u, error, n_calls) after every iteration.
+    evaluation:
+        How g is called (executor, cache, callbacks, NaN policy; :class:`Evaluation`); its ``progress`` is
+        called with an :class:`IterationRecord` (pf, cov, min_u, error, n_calls) after every iteration.
     kriging:
         Keyword arguments for :class:`KrigingSurrogate` (nugget, scale_bounds, n_starts, chunk_size).
     keep_population:
@@ -466,9 +343,8 @@ def akmcs(
     """
     return _run(g, marginals, multi=False, n_mc=n_mc, n_mc_max=n_mc_max, n_initial=n_initial,
                 initial_bound=initial_bound, batch_size=batch_size, u_threshold=u_threshold, cov_target=cov_target,
-                stopping=stopping, error_tol=error_tol, max_calls=max_calls, seed=seed, executor=executor,
-                evaluator=evaluator, cache=cache, on_evaluate=on_evaluate, progress=progress,
-                nan_policy=nan_policy, pf_floor=0.0, kriging=kriging, refit_growth=refit_growth,
+                stopping=stopping, error_tol=error_tol, max_calls=max_calls, seed=seed, evaluation=evaluation,
+                pf_floor=0.0, kriging=kriging, refit_growth=refit_growth,
                 keep_population=keep_population, copula=copula)
 
 
@@ -489,12 +365,7 @@ def akmcs_multi(
     pf_floor: float = 1e-3,
     max_calls: int = 2000,
     seed: int | None = 0,
-    executor=None,
-    evaluator=None,
-    cache: MutableMapping | None = None,
-    on_evaluate: Callable | None = None,
-    progress: Callable[[IterationRecord], None] | None = None,
-    nan_policy: str = "failure",
+    evaluation: Evaluation | None = None,
     kriging: dict | None = None,
     refit_growth: float = 0.1,
     levels=None,
@@ -519,7 +390,6 @@ def akmcs_multi(
     """
     return _run(g, marginals, multi=True, n_mc=n_mc, n_mc_max=n_mc_max, n_initial=n_initial,
                 initial_bound=initial_bound, batch_size=batch_size, u_threshold=u_threshold, cov_target=cov_target,
-                stopping=stopping, error_tol=error_tol, max_calls=max_calls, seed=seed, executor=executor,
-                evaluator=evaluator, cache=cache, on_evaluate=on_evaluate, progress=progress,
-                nan_policy=nan_policy, pf_floor=pf_floor, kriging=kriging, refit_growth=refit_growth, levels=levels,
+                stopping=stopping, error_tol=error_tol, max_calls=max_calls, seed=seed, evaluation=evaluation,
+                pf_floor=pf_floor, kriging=kriging, refit_growth=refit_growth, levels=levels,
                 error_abs_tol=error_abs_tol, copula=copula)

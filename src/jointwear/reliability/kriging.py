@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.linalg import cho_solve, solve_triangular
 
-__all__ = ["KrigingSurrogate", "KrigingHyperparameters", "blas_threads"]
+__all__ = ["KrigingHyperparameters", "KrigingSurrogate", "ShiftedSurrogate", "blas_threads"]
 
 
 def _optimizer():
@@ -189,7 +189,7 @@ class KrigingSurrogate:
     def n_train(self) -> int:
         return 0 if self._x is None else self._x.shape[0]
 
-    def fit(self, x: np.ndarray, y: np.ndarray, *, optimize: bool = True) -> "KrigingSurrogate":
+    def fit(self, x: np.ndarray, y: np.ndarray, *, optimize: bool = True) -> KrigingSurrogate:
         """Fit to training data; ``optimize=False`` keeps the correlation lengths (cheap update)."""
         x = np.ascontiguousarray(x, dtype=float)
         y = np.asarray(y, dtype=float).ravel()
@@ -391,3 +391,23 @@ class KrigingSurrogate:
         mean = np.array(res.getMetaModel()(s), dtype=float).ravel()
         var = np.array(ot.GaussianProcessConditionalCovariance(res).getConditionalMarginalVariance(s)).ravel()
         return mean * self._ystd + self._ymean, var * self._ystd**2
+
+
+class ShiftedSurrogate:
+    """A surrogate minus a constant ``offset``: one level of ``akmcs_multi(levels=...)``, whose levels all
+    share one Kriging of the response (ordinary Kriging is shift-equivariant)."""
+
+    def __init__(self, surrogate, offset: float):
+        self.surrogate, self.offset = surrogate, float(offset)
+
+    @property
+    def hyperparameters(self) -> KrigingHyperparameters:
+        return self.surrogate.hyperparameters
+
+    def predict(self, u: np.ndarray, *, return_variance: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
+        """Mean minus the offset and the (unchanged) variance at ``u``."""
+        mu, var = self.surrogate.predict(u, return_variance=return_variance)
+        return mu - self.offset, var
+
+    def __call__(self, u: np.ndarray) -> np.ndarray:
+        return self.predict(u, return_variance=False)[0]

@@ -2,37 +2,32 @@
 finite-difference gradients), SORM (Breitung / Hohenbichler-Rackwitz with finite-difference curvatures),
 subset simulation (modified Metropolis, Au & Beck 2001) and importance sampling around the FORM design
 point. All work in standard-normal space u; failure is g < 0; the NaN rule is the one of
-:mod:`jointwear.reliability._core` (a failed call counts as failure).
+:mod:`jointwear.reliability.evaluation` (a failed call counts as failure). Every method takes how g is called
+as one :class:`~jointwear.reliability.Evaluation` (``evaluation=``; default: g called directly).
 """
 
 from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable, MutableMapping, Sequence
+from collections.abc import Callable, Sequence
+from dataclasses import replace
 
 import numpy as np
 from scipy.special import ndtr
 
-from ._core import (
-    IsoTransform,
-    ReliabilityResult,
-    check_marginals,
-    check_positive,
-    check_positive_int,
-    make_evaluator,
-    mc_cov,
-    pf_to_beta,
-)
+from .checks import check_positive, check_positive_int
+from .evaluation import Evaluation, evaluation_or_default
+from .inputs import IsoTransform, check_marginals
+from .results import ReliabilityResult, mc_cov, pf_to_beta
 
-__all__ = ["monte_carlo", "form", "sorm", "subset_simulation", "importance_sampling"]
+__all__ = ["form", "importance_sampling", "monte_carlo", "sorm", "subset_simulation"]
 
 
-def _setup(g, marginals, *, evaluator, executor, cache, on_evaluate, nan_policy, keep=True, copula=None):
+def _setup(g, marginals, evaluation, *, nan_policy="failure", keep=True, copula=None):
     marginals = check_marginals(marginals)
     transform = IsoTransform(marginals, copula)
-    ev = make_evaluator(g, len(marginals), evaluator=evaluator, executor=executor, cache=cache,
-                        on_evaluate=on_evaluate, nan_policy=nan_policy, keep=keep)
+    ev = evaluation.caller_for(g, len(marginals), nan_policy=nan_policy, keep=keep)
     return marginals, transform, ev
 
 
@@ -87,20 +82,16 @@ def monte_carlo(
     n_max: int = 10_000_000,
     seed: int | None = 0,
     keep_design: bool = False,
-    executor=None,
-    evaluator=None,
-    cache: MutableMapping | None = None,
-    on_evaluate: Callable | None = None,
-    progress: Callable | None = None,
-    nan_policy: str = "failure",
+    evaluation: Evaluation | None = None,
 ) -> ReliabilityResult:
     """Crude Monte Carlo: ``n`` samples in batches of ``batch``; with ``cov_target`` keep sampling (up to
     ``n_max``) until COV(Pf) < cov_target. ``keep_design`` stores every sample (memory!)."""
     t0 = time.perf_counter()
     n = check_positive_int("n", n, 2)
     batch = check_positive_int("batch", batch)
-    marginals, transform, ev = _setup(g, marginals, evaluator=evaluator, executor=executor, cache=cache,
-                                      on_evaluate=on_evaluate, nan_policy=nan_policy, keep=keep_design, copula=copula)
+    evaluation = evaluation_or_default(evaluation)
+    progress = evaluation.progress
+    marginals, transform, ev = _setup(g, marginals, evaluation, keep=keep_design, copula=copula)
     rng = np.random.default_rng(seed)
     d = len(marginals)
     n_done = n_fail = 0
@@ -145,25 +136,21 @@ def form(
     tol: float = 1e-6,
     max_iter: int = 100,
     fd_step: float = 1e-5,
-    executor=None,
-    evaluator=None,
-    cache: MutableMapping | None = None,
-    on_evaluate: Callable | None = None,
-    nan_policy: str = "raise",
+    evaluation: Evaluation | None = None,
 ) -> ReliabilityResult:
     """FORM by the improved HL-RF algorithm (Zhang & Der Kiureghian 1995: HL-RF direction, Armijo step on the
     merit 0.5|u|^2 + c|g|), forward finite-difference gradients in u (``fd_step``: standard deviations).
 
     ``pf = Phi(-beta)``, ``beta = sign(g(0)) |u*|``; ``design_point_u``/``_x`` and ``alpha = u*/beta`` (the
     unit vector towards failure) are returned; ``cov`` is NaN. A NaN during the search raises (gradients of
-    a failed point mean nothing), unless ``nan_policy="failure"`` - then the step is halved.
+    a failed point mean nothing), unless ``Evaluation(nan_policy="failure")`` - then the step is halved.
     """
     t0 = time.perf_counter()
     tol = check_positive("tol", tol)
     max_iter = check_positive_int("max_iter", max_iter)
     fd_step = check_positive("fd_step", fd_step)
-    marginals, transform, ev = _setup(g, marginals, evaluator=evaluator, executor=executor, cache=cache,
-                                      on_evaluate=on_evaluate, nan_policy=nan_policy, copula=copula)
+    marginals, transform, ev = _setup(g, marginals, evaluation_or_default(evaluation), nan_policy="raise",
+                                      copula=copula)
     d = len(marginals)
     u = np.zeros(d) if u0 is None else np.asarray(u0, dtype=float).ravel()
     if u.size != d:
@@ -186,7 +173,7 @@ def form(
         u_new = (grad @ u - gu) / gn**2 * grad
         direction = u_new - u
         c = 2.0 * max(np.linalg.norm(u) / gn, 1.0) * 1.0
-        merit = lambda uu, gg: 0.5 * uu @ uu + c * abs(gg) / 1.0  # noqa: E731
+        merit = lambda uu, gg: 0.5 * uu @ uu + c * abs(gg) / 1.0
         m0 = merit(u, gu)
         step = 1.0
         while True:
@@ -226,11 +213,7 @@ def sorm(
     copula=None,
     form_result: ReliabilityResult | None = None,
     fd_step: float = 1e-3,
-    executor=None,
-    evaluator=None,
-    cache: MutableMapping | None = None,
-    on_evaluate: Callable | None = None,
-    nan_policy: str = "raise",
+    evaluation: Evaluation | None = None,
     **form_kwargs,
 ) -> ReliabilityResult:
     """SORM at the FORM design point: principal curvatures from a central finite-difference Hessian in u
@@ -239,11 +222,10 @@ def sorm(
     are in ``details``. Curvatures are positive when the failure domain bends away from the origin."""
     t0 = time.perf_counter()
     marginals = check_marginals(marginals)
+    evaluation = evaluation_or_default(evaluation)
     if form_result is None:
-        form_result = form(g, marginals, copula=copula, executor=executor, evaluator=evaluator, cache=cache,
-                           on_evaluate=on_evaluate, nan_policy=nan_policy, **form_kwargs)
-    _, transform, ev = _setup(g, marginals, evaluator=evaluator, executor=executor, cache=cache,
-                              on_evaluate=on_evaluate, nan_policy=nan_policy, copula=copula)
+        form_result = form(g, marginals, copula=copula, evaluation=evaluation, **form_kwargs)
+    _, transform, ev = _setup(g, marginals, evaluation, nan_policy="raise", copula=copula)
     d = len(marginals)
     u = form_result.design_point_u
     beta = form_result.beta
@@ -306,12 +288,7 @@ def subset_simulation(
     max_levels: int = 20,
     proposal_scale: float = 1.0,
     seed: int | None = 0,
-    executor=None,
-    evaluator=None,
-    cache: MutableMapping | None = None,
-    on_evaluate: Callable | None = None,
-    progress: Callable | None = None,
-    nan_policy: str = "failure",
+    evaluation: Evaluation | None = None,
 ) -> ReliabilityResult:
     """Subset simulation (Au & Beck 2001) with the component-wise modified Metropolis sampler.
 
@@ -328,8 +305,9 @@ def subset_simulation(
     chain_len = int(round(1 / p0))
     if n_chains * chain_len != n:
         raise ValueError(f"n_per_level * p0 and 1 / p0 must be integers (n_per_level={n}, p0={p0})")
-    marginals, transform, ev = _setup(g, marginals, evaluator=evaluator, executor=executor, cache=cache,
-                                      on_evaluate=on_evaluate, nan_policy=nan_policy, copula=copula)
+    evaluation = evaluation_or_default(evaluation)
+    progress = evaluation.progress
+    marginals, transform, ev = _setup(g, marginals, evaluation, copula=copula)
     d = len(marginals)
     rng = np.random.default_rng(seed)
     u = rng.standard_normal((n, d))
@@ -416,11 +394,7 @@ def importance_sampling(
     n: int = 10_000,
     form_result: ReliabilityResult | None = None,
     seed: int | None = 0,
-    executor=None,
-    evaluator=None,
-    cache: MutableMapping | None = None,
-    on_evaluate: Callable | None = None,
-    nan_policy: str = "failure",
+    evaluation: Evaluation | None = None,
     **form_kwargs,
 ) -> ReliabilityResult:
     """Importance sampling with a unit normal density centred at the FORM design point u*:
@@ -428,11 +402,11 @@ def importance_sampling(
     t0 = time.perf_counter()
     n = check_positive_int("n", n, 2)
     marginals = check_marginals(marginals)
-    if form_result is None:
-        form_result = form(g, marginals, copula=copula, executor=executor, evaluator=evaluator, cache=cache,
-                           on_evaluate=on_evaluate, **form_kwargs)
-    _, transform, ev = _setup(g, marginals, evaluator=evaluator, executor=executor, cache=cache,
-                              on_evaluate=on_evaluate, nan_policy=nan_policy, copula=copula)
+    evaluation = evaluation_or_default(evaluation)
+    if form_result is None:  # the search keeps FORM's own NaN policy (a NaN gradient means nothing)
+        form_result = form(g, marginals, copula=copula, evaluation=replace(evaluation, nan_policy=None),
+                           **form_kwargs)
+    _, transform, ev = _setup(g, marginals, evaluation, copula=copula)
     d = len(marginals)
     rng = np.random.default_rng(seed)
     ustar = form_result.design_point_u

@@ -387,7 +387,7 @@ class Study:
                     call, executor, store, timeout=self.config.compute.call_timeout, tag=WEAR_MODEL_TAG,
                     n_outputs=call.n_outputs, progress=progress))
                 if self._context is not None:
-                    ctx.wear_cache.update(self._context.wear_cache)
+                    ctx.evaluator.adopt(self._context.evaluator)
                 self._context = ctx
                 yield ctx
         finally:

@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -34,7 +34,8 @@ def cycles_to_hours(cycles: float, config: StudyConfig) -> float:
 @dataclass
 class StudyContext:
     """What a study's stages share: the config, the random inputs, the limit state and the evaluator of
-    true-model calls."""
+    true-model calls (a :class:`jointwear.compute.Evaluator`: it serves every input row it has run or read
+    again without a new call, so the stages ask it for what they need)."""
 
     config: StudyConfig
     names: list[str]
@@ -47,7 +48,6 @@ class StudyContext:
     random_allowance: bool
     limit_state: LimitState
     copula: Any = None
-    wear_cache: dict = field(default_factory=dict, repr=False)
 
     def sample(self, n: int, seed: int) -> np.ndarray:
         """A Monte Carlo population of the study's inputs (their copula honoured)."""
@@ -67,12 +67,7 @@ class StudyContext:
     def outputs(self, X: np.ndarray) -> np.ndarray:
         """The model outputs (n, J * H): the wear quantity of every judged joint at ``history_cycles``."""
         X = np.atleast_2d(np.asarray(X, dtype=float))
-        todo = [i for i, row in enumerate(X) if row.tobytes() not in self.wear_cache]
-        if todo:
-            y = np.asarray(self.evaluator(X[todo]), dtype=float).reshape(len(todo), -1)
-            for i, row in zip(todo, y):
-                self.wear_cache[X[i].tobytes()] = row
-        return np.stack([self.wear_cache[row.tobytes()] for row in X])
+        return np.asarray(self.evaluator(X), dtype=float).reshape(X.shape[0], -1)
 
     def wear(self, X: np.ndarray, joint: int = 0) -> np.ndarray:
         """The wear quantity (m) of judged joint ``joint`` at ``history_cycles``, shape (n, H)."""
@@ -82,7 +77,7 @@ class StudyContext:
     @property
     def n_evaluated(self) -> int:
         """Distinct model inputs evaluated (or read back from the store) through this context."""
-        return len(self.wear_cache)
+        return self.evaluator.n_known
 
     def split(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
         """Model inputs and the sampled allowance (None when the allowance is deterministic)."""
@@ -189,7 +184,7 @@ class WearSurrogates:
 
 def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> ReliabilityResult:
     """R(N) over the curve's cycle counts from one shared AK-MCS design (paper Sections 5-6.2)."""
-    from jointwear.reliability import akmcs_multi
+    from jointwear.reliability import Evaluation, akmcs_multi
 
     rel = ctx.config.reliability
     t0 = time.perf_counter()
@@ -197,7 +192,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         ctx.log_life, ctx.marginals, levels=ctx.log_levels(), n_mc=rel.n_mc, n_mc_max=rel.n_mc_max,
         n_initial=rel.n_initial, batch_size=rel.batch_size, u_threshold=rel.u_threshold,
         cov_target=rel.cov_target, pf_floor=rel.pf_floor, max_calls=rel.max_calls, seed=rel.seed, copula=ctx.copula,
-        progress=progress, stopping=rel.stopping, error_tol=rel.error_tol, error_abs_tol=rel.error_abs_tol,
+        evaluation=Evaluation(progress=progress), stopping=rel.stopping, error_tol=rel.error_tol, error_abs_tol=rel.error_abs_tol,
         kriging={"estimate_nugget": rel.noise == "estimate"})
     cycles = np.asarray(ctx.cycles, dtype=float)
     pf = np.asarray(engine.pf, dtype=float)
@@ -274,8 +269,7 @@ def implied_wear(ctx: StudyContext, engine, pop: np.ndarray, cycles) -> np.ndarr
     wear's own value elsewhere as far as the history grows linearly in N (docs/wear.md). With several judged
     joints N_f is the system's life, so this is the wear of the first joint scaled to the system's failure.
     """
-    u = ctx.iso().to_u(pop)
-    log_life = engine.surrogates[0].predict(u, return_variance=False)[0] + ctx.log_levels()[0]
+    log_life = engine.response(ctx.iso().to_u(pop))
     _, draw = ctx.split(pop)
     a = ctx.limit_state.reference_allowance if draw is None else draw
     n = np.asarray(cycles, dtype=float)
@@ -323,31 +317,18 @@ def _meet_cov_target(ctx: StudyContext, engine, pf, pf_cov, n_mc):
     """Grow the Monte Carlo population on the final surrogate until COV(Pf) < target at every level above
     the floor (AK-MCS Step 6). The engine does this itself when its learning converges; when the call budget
     ends the learning first, the population is grown here, on the last surrogate (no model call)."""
+    from jointwear.reliability import population_size
 
     rel = ctx.config.reliability
     need = (pf >= rel.pf_floor) & ~(pf_cov < rel.cov_target)
     if not need.any():
         return pf, pf_cov, n_mc
-    p = pf[need].min()
-    n = int(min(rel.n_mc_max, 1.1 * ((1.0 - p) / (rel.cov_target**2 * p) + 1.0)))
+    n = population_size(pf[need].min(), rel.cov_target, rel.n_mc_max)
     if n <= n_mc:
         return pf, pf_cov, n_mc
     iso = ctx.iso()
-    # the study learns one response for every level (akmcs_multi(levels=...)): level j is level 0 minus a constant
-    offsets = np.array([engine.surrogates[j].offset for j in range(len(ctx.cycles))])
-    fails = np.zeros(len(ctx.cycles))
-    rng_seed = rel.seed + 7
-    done = 0
-    chunk = 200_000
-    while done < n:
-        m = min(chunk, n - done)
-        u = iso.to_u(ctx.sample(m, rng_seed + done))
-        mu0, _ = engine.surrogates[0].predict(u, return_variance=False)
-        fails += np.count_nonzero(mu0[:, None] - (offsets[None, :] - offsets[0]) < 0, axis=0)
-        done += m
-    pf_new = fails / n
-    with np.errstate(divide="ignore", invalid="ignore"):
-        cov_new = np.where(pf_new > 0, np.sqrt((1.0 - pf_new) / ((n - 1) * pf_new)), np.inf)
+    seed = rel.seed + 7
+    pf_new, cov_new = engine.estimate_on(lambda m, start: iso.to_u(ctx.sample(m, seed + start)), n)
     return pf_new, cov_new, n
 
 

@@ -1,5 +1,5 @@
-"""Shared pieces of the reliability engine: option validation, the model
-evaluator (executor, cache, callbacks, failed calls) and the result dataclasses.
+"""How the reliability methods call the limit state: one :class:`Evaluation` context (executor, callbacks,
+NaN policy) that every method takes, and the :class:`LimitStateCaller` it builds.
 
 NaN rule (every method): a model call that returns NaN (or raises, when it runs through an executor or
 row by row) is a *failed call*. It is counted in ``n_failed_calls``, its reason is kept in
@@ -12,41 +12,19 @@ considered broken and ``ValueError`` is raised with the first reason.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, MutableMapping
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any, Protocol
 
 import numpy as np
-from scipy.special import ndtri
 
-from .inputs import IsoTransform, check_copula, check_marginals
+from .checks import check_positive_int
 
-__all__ = [
-    "IsoTransform",
-    "Evaluator",
-    "IterationRecord",
-    "ReliabilityResult",
-    "MultiReliabilityResult",
-    "check_marginals",
-    "check_copula",
-]
+__all__ = ["Evaluation", "LimitStateCaller"]
+
+NAN_POLICIES = ("failure", "raise")
 
 
-# ----------------------------------------------------------------------------- validation
-def check_positive_int(name: str, value: Any, minimum: int = 1) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}; got {value!r}")
-    return int(value)
-
-
-def check_positive(name: str, value: Any) -> float:
-    v = float(value)
-    if not (np.isfinite(v) and v > 0):
-        raise ValueError(f"{name} must be a finite number > 0; got {value!r}")
-    return v
-
-
-# ----------------------------------------------------------------------------- evaluation
 class ExecutorLike(Protocol):
     def map(self, fn: Callable, *iterables: Any) -> Any: ...
 
@@ -59,8 +37,11 @@ def _call_rows(g: Callable, x: np.ndarray) -> tuple[np.ndarray | None, str | Non
         return None, f"{type(exc).__name__}: {exc}"
 
 
-class Evaluator:
-    """Calls the limit state, keeps every evaluated point, handles failures.
+class LimitStateCaller:
+    """Calls the vectorised limit state g, keeps every evaluated point, handles failures (the NaN rule).
+
+    Not to be confused with :class:`jointwear.compute.Evaluator`, which runs a one-row model through worker
+    processes with an evaluation store; a study hands the reliability methods ``g`` built on one of those.
 
     Parameters
     ----------
@@ -73,14 +54,12 @@ class Evaluator:
         None (call g directly on the whole batch) or any object with a ``concurrent.futures.Executor``-style
         ``map`` (``ProcessPoolExecutor``, ``dask.distributed.Client.get_executor()``...). With an executor the
         batch is split into blocks of ``rows_per_task`` rows, one task each.
-    cache:
-        Optional mutable mapping from an input row (``tuple`` of floats, physical space) to its g value(s).
-        Rows found there are not recomputed; new rows are stored. A dict makes repeated runs free; a
-        persistent mapping makes a study resumable.
     on_evaluate:
         Optional callback ``on_evaluate(X, G, reasons)`` after every batch (for logging/persisting).
     nan_policy:
         ``"failure"`` (default; NaN counts as failure, see module docstring) or ``"raise"``.
+    keep:
+        Keep every evaluated point (``design_x``, ``design_g``); crude Monte Carlo turns it off.
     """
 
     def __init__(
@@ -91,14 +70,13 @@ class Evaluator:
         n_outputs: int | None | str = None,
         executor: ExecutorLike | None = None,
         rows_per_task: int = 1,
-        cache: MutableMapping | None = None,
         on_evaluate: Callable | None = None,
         nan_policy: str = "failure",
         keep: bool = True,
     ):
         if not callable(g):
             raise ValueError(f"g must be a callable g(X) -> array; got {type(g).__name__}")
-        if nan_policy not in ("failure", "raise"):
+        if nan_policy not in NAN_POLICIES:
             raise ValueError(f"nan_policy must be 'failure' or 'raise'; got {nan_policy!r}")
         if executor is not None and not callable(getattr(executor, "map", None)):
             raise ValueError("executor must have a concurrent.futures-style map(fn, *iterables) method, or be None")
@@ -107,14 +85,12 @@ class Evaluator:
         self.n_outputs = n_outputs
         self.executor = executor
         self.rows_per_task = check_positive_int("rows_per_task", rows_per_task)
-        self.cache = cache
         self.on_evaluate = on_evaluate
         self.nan_policy = nan_policy
         self.keep = keep
         self._x: list[np.ndarray] = []
         self._g: list[np.ndarray] = []
-        self.n_calls = 0  # points evaluated (cache hits included: they are part of the design)
-        self.n_model_calls = 0  # points actually sent to the model
+        self.n_calls = 0  # points evaluated (the design)
         self.n_failed_calls = 0
         self.failure_reasons: dict[int, str] = {}
         self.wall_seconds = 0.0
@@ -192,32 +168,7 @@ class Evaluator:
         n = X.shape[0]
         if X.shape[1] != self.dim:
             raise ValueError(f"points have {X.shape[1]} columns but there are {self.dim} marginals")
-        keys = [tuple(map(float, row)) for row in X] if self.cache is not None else None
-        todo = list(range(n))
-        cached: dict[int, np.ndarray] = {}
-        if self.cache is not None:
-            todo = []
-            for i, k in enumerate(keys):
-                if k in self.cache:
-                    cached[i] = np.asarray(self.cache[k], dtype=float)
-                else:
-                    todo.append(i)
-        reasons: dict[int, str] = {}
-        if todo:
-            Gt, r = self._run(X[todo])
-            self.n_model_calls += len(todo)
-            for j, why in r.items():
-                reasons[todo[j]] = why
-        width = self.n_outputs
-        rows: list[np.ndarray | None] = [None] * n
-        for j, i in enumerate(todo):
-            rows[i] = Gt[j]
-        for i, v in cached.items():
-            rows[i] = np.asarray(v, dtype=float).reshape(() if width is None else (-1,))
-        G = self._shape_output(np.stack(rows, axis=0) if n else np.empty((0,)), n)
-        if self.cache is not None:
-            for j, i in enumerate(todo):
-                self.cache[keys[i]] = G[i].tolist() if G.ndim == 2 else float(G[i])
+        G, reasons = self._run(X) if n else (self._shape_output(np.empty((0,)), 0), {})
         bad = ~np.isfinite(G) if G.ndim == 1 else ~np.all(np.isfinite(G), axis=1)
         for i in np.flatnonzero(bad):
             reasons.setdefault(int(i), "g returned a non-finite value")
@@ -250,112 +201,69 @@ class Evaluator:
         return np.concatenate(self._g, axis=0)
 
 
-def make_evaluator(g, dim, *, evaluator=None, executor=None, cache=None, on_evaluate=None, nan_policy="failure",
-                   n_outputs=None, keep=True, rows_per_task=1) -> Evaluator:
-    if evaluator is not None:
-        if not callable(getattr(evaluator, "evaluate", None)):
-            raise ValueError("evaluator must have an evaluate(X) -> G method")
-        return evaluator
-    return Evaluator(g, dim, n_outputs=n_outputs, executor=executor, cache=cache, on_evaluate=on_evaluate,
-                     nan_policy=nan_policy, keep=keep, rows_per_task=rows_per_task)
+@dataclass(frozen=True)
+class Evaluation:
+    """How a reliability method calls the limit state; every method takes one (``evaluation=``).
 
+    Calls are not cached here: to reuse or persist them (a resumable run), make ``g`` a
+    :class:`jointwear.compute.Evaluator` with an evaluation store, the one cache of model calls (its
+    ``__call__(X)`` is a vectorised limit state).
 
-# ----------------------------------------------------------------------------- results
-def pf_to_beta(pf: float | np.ndarray) -> float | np.ndarray:
-    """Generalised reliability index beta = -Phi^-1(pf) (+inf for pf = 0)."""
-    with np.errstate(divide="ignore"):
-        b = -ndtri(np.asarray(pf, dtype=float))
-    return float(b) if np.ndim(b) == 0 else b
-
-
-def mc_cov(pf: float | np.ndarray, n: int) -> float | np.ndarray:
-    """Coefficient of variation of a crude Monte Carlo estimate: sqrt((1 - pf) / ((n - 1) pf))."""
-    pf = np.asarray(pf, dtype=float)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        c = np.where(pf > 0, np.sqrt((1.0 - pf) / (max(n - 1, 1) * pf)), np.inf)
-    return float(c) if c.ndim == 0 else c
-
-
-@dataclass
-class IterationRecord:
-    """One AK-MCS iteration (arrays of one value per column in ``akmcs_multi``)."""
-
-    iteration: int
-    n_calls: int
-    n_mc: int
-    pf: Any
-    cov: Any
-    min_u: Any
-    error: Any  # estimated relative error of pf from the surrogate's sign uncertainty (ESC)
-    wall_seconds: float
-
-
-@dataclass
-class ReliabilityResult:
-    """Result of every reliability method (fields not used by a method are None/NaN).
-
-    ``pf``: failure probability P[g(X) < 0]; ``cov``: its coefficient of variation (sampling methods; NaN for
-    FORM/SORM); ``beta``: generalised reliability index -Phi^-1(pf); ``n_calls``: points evaluated (the length
-    of ``design_x``); ``n_failed_calls``: calls that returned NaN/raised (counted as failures, see the NaN rule).
+    Parameters
+    ----------
+    executor:
+        None (call g on the whole batch in this process) or any object with a ``concurrent.futures``-style
+        ``map`` (``ProcessPoolExecutor``, ``dask.distributed.Client.get_executor()``...): the batch is then
+        split into blocks of ``rows_per_task`` rows, one task each.
+    rows_per_task:
+        Rows per executor task.
+    on_evaluate:
+        Optional callback ``on_evaluate(X, G, reasons)`` after every batch (for logging or persisting).
+    progress:
+        Optional callback after every iteration of the iterative methods (an :class:`IterationRecord` for
+        AK-MCS and AK-IS, a dict for crude Monte Carlo and subset simulation).
+    nan_policy:
+        ``"failure"`` (a failed call counts as failure, the module's NaN rule) or ``"raise"``; None takes the
+        method's default (``"failure"``; ``"raise"`` for FORM and SORM, whose gradients a NaN makes
+        meaningless).
+    caller:
+        An object with ``evaluate(X) -> G`` that replaces the :class:`LimitStateCaller` (``executor``,
+        ``rows_per_task``, ``on_evaluate`` and ``nan_policy`` are then its business); e.g. to share one design
+        and one call count between methods.
     """
 
-    method: str
-    pf: float
-    cov: float
-    beta: float
-    n_calls: int
-    converged: bool
-    design_x: np.ndarray | None = None
-    design_g: np.ndarray | None = None
-    design_u: np.ndarray | None = None
-    n_failed_calls: int = 0
-    failure_reasons: dict[int, str] = field(default_factory=dict)
-    history: list[IterationRecord] = field(default_factory=list)
-    surrogate: Any = None
-    n_mc: int = 0
-    error_estimate: float = float("nan")
-    design_point_u: np.ndarray | None = None
-    design_point_x: np.ndarray | None = None
-    alpha: np.ndarray | None = None
-    curvatures: np.ndarray | None = None
-    details: dict[str, Any] = field(default_factory=dict)
-    message: str = ""
-    wall_seconds: float = 0.0
+    executor: ExecutorLike | None = None
+    rows_per_task: int = 1
+    on_evaluate: Callable | None = None
+    progress: Callable | None = None
+    nan_policy: str | None = None
+    caller: Any = None
 
-    def __repr__(self) -> str:  # short: the design can be large
-        return (
-            f"ReliabilityResult(method={self.method!r}, pf={self.pf:.4g}, cov={self.cov:.3g}, beta={self.beta:.4g}, "
-            f"n_calls={self.n_calls}, converged={self.converged}, n_failed_calls={self.n_failed_calls})"
-        )
+    def __post_init__(self) -> None:
+        if self.nan_policy is not None and self.nan_policy not in NAN_POLICIES:
+            raise ValueError(f"nan_policy must be 'failure', 'raise' or None; got {self.nan_policy!r}")
+        if self.executor is not None and not callable(getattr(self.executor, "map", None)):
+            raise ValueError("executor must have a concurrent.futures-style map(fn, *iterables) method, or be None")
+        if self.caller is not None and not callable(getattr(self.caller, "evaluate", None)):
+            raise ValueError("caller must have an evaluate(X) -> G method")
+        check_positive_int("rows_per_task", self.rows_per_task)
+
+    def caller_for(self, g: Callable[[np.ndarray], np.ndarray], dim: int, *, nan_policy: str = "failure",
+                   n_outputs: int | None | str = None, keep: bool = True):
+        """The object that evaluates ``g`` for a method: ``caller`` when given, else a new
+        :class:`LimitStateCaller`; ``nan_policy`` is the method's default, used when this context has none."""
+        if self.caller is not None:
+            return self.caller
+        return LimitStateCaller(g, dim, n_outputs=n_outputs, executor=self.executor,
+                                rows_per_task=self.rows_per_task, on_evaluate=self.on_evaluate,
+                                nan_policy=self.nan_policy or nan_policy, keep=keep)
 
 
-@dataclass
-class MultiReliabilityResult:
-    """Result of :func:`akmcs_multi`: one pf/cov/beta per column (limit-state level) from one shared design."""
-
-    pf: np.ndarray
-    cov: np.ndarray
-    beta: np.ndarray
-    n_calls: int
-    converged: bool
-    column_converged: np.ndarray
-    below_floor: np.ndarray  # columns with pf < pf_floor: U criterion met, COV criterion waived
-    design_x: np.ndarray
-    design_g: np.ndarray
-    design_u: np.ndarray
-    n_failed_calls: int
-    failure_reasons: dict[int, str]
-    history: list[IterationRecord]
-    surrogates: list
-    min_u: np.ndarray
-    error_estimate: np.ndarray
-    n_mc: int
-    message: str = ""
-    wall_seconds: float = 0.0
-    method: str = "akmcs_multi"
-
-    def __repr__(self) -> str:
-        return (
-            f"MultiReliabilityResult(pf={np.array2string(self.pf, precision=4)}, n_calls={self.n_calls}, "
-            f"converged={self.converged}, n_failed_calls={self.n_failed_calls})"
-        )
+def evaluation_or_default(evaluation: Evaluation | None) -> Evaluation:
+    """``evaluation``, or the default context (g called directly, no callbacks)."""
+    if evaluation is None:
+        return Evaluation()
+    if not isinstance(evaluation, Evaluation):
+        raise ValueError(f"evaluation must be a jointwear.reliability.Evaluation or None; got "
+                         f"{type(evaluation).__name__}")
+    return evaluation

@@ -1,0 +1,118 @@
+"""The active-learning pieces that AK-MCS and AK-IS share: Echard's learning function U, the ESC error
+estimate of Pf (Wang & Shafieezadeh 2019), the choice of the next batch of points and when to re-optimise
+the Kriging hyperparameters."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+from scipy.cluster.vq import kmeans2
+from scipy.special import ndtr
+
+__all__ = [
+    "absolute_error",
+    "esc_absolute_error",
+    "esc_error",
+    "needs_optimisation",
+    "select_batch",
+    "u_function",
+]
+
+_Z95 = 1.959963984540054
+
+
+def absolute_error(relative, pf) -> np.ndarray:
+    """Absolute Pf error from a relative one; infinite where Pf = 0 and the relative error is infinite (no
+    estimate), instead of the NaN of inf * 0."""
+    relative = np.asarray(relative, dtype=float)
+    pf = np.asarray(pf, dtype=float)
+    out = np.full(np.broadcast(relative, pf).shape, np.inf)
+    return np.multiply(relative, pf, out=out, where=~(np.isinf(relative) & (pf == 0)))
+
+
+def esc_error(u: np.ndarray, fail: np.ndarray, known: np.ndarray | None = None, z: float = _Z95) -> float:
+    """Estimated maximum relative error of Pf from the surrogate's sign uncertainty (ESC criterion).
+
+    ``u``: U values of the candidates; ``fail``: predicted failure flags; ``known``: candidates whose sign
+    is known exactly (evaluated). Returns +inf when no candidate is predicted to fail.
+    """
+    n_f, n_fs, n_sf = esc_counts(u, fail, known, z)
+    if n_f - n_fs <= 0:
+        return math.inf
+    return max(n_fs / (n_f - n_fs), n_sf / (n_f + n_sf))
+
+
+def esc_absolute_error(mu: np.ndarray, sd: np.ndarray, z: float = _Z95) -> float:
+    """Estimated maximum absolute error of Pf = P[mu <= 0] (and so of R) over a population from the surrogate's
+    mean ``mu`` and standard deviation ``sd``: ``esc_error`` x Pf, the form of the R(N) curve's error estimate;
+    when no candidate is predicted to fail (or the relative bound is unbounded), the larger of the two
+    misclassification bounds over the population size."""
+    fail = mu <= 0.0
+    n_f, n_fs, n_sf = esc_counts(u_function(mu, sd), fail, None, z)
+    n = max(int(fail.size), 1)
+    if n_f - n_fs > 0:
+        return max(n_fs / (n_f - n_fs), n_sf / (n_f + n_sf)) * n_f / n
+    return max(n_fs, n_sf) / n
+
+
+def esc_counts(u: np.ndarray, fail: np.ndarray, known: np.ndarray | None, z: float) -> tuple[float, float, float]:
+    """(predicted failures, 95 % bound on those that are safe, 95 % bound on predicted-safe that fail): the
+    Poisson-binomial counts of the ESC criterion (Wang & Shafieezadeh 2019)."""
+    relevant = u < 8.0  # Phi(-8) = 6e-16: candidates beyond contribute nothing
+    if known is not None:
+        relevant &= ~known
+    p = ndtr(-u[relevant])
+    f = fail[relevant]
+    n_f = float(np.count_nonzero(fail))
+    pf_, ps_ = p[f], p[~f]
+    n_fs = float(pf_.sum() + z * math.sqrt(float((pf_ * (1 - pf_)).sum())))
+    n_sf = float(ps_.sum() + z * math.sqrt(float((ps_ * (1 - ps_)).sum())))
+    return n_f, n_fs, n_sf
+
+
+def needs_optimisation(forced: bool, n_at_opt: int, n_ok: int, growth: float) -> bool:
+    """Re-optimise the Kriging hyperparameters (rather than re-condition with the previous ones) when asked to, on
+    the first fit, while the design is small (<= 30 points), or once it has grown by the fraction ``growth``."""
+    return bool(forced or n_at_opt == 0 or n_ok <= 30 or n_ok >= (1.0 + growth) * n_at_opt)
+
+
+def u_function(mu: np.ndarray, sd: np.ndarray) -> np.ndarray:
+    """Echard's learning function U = |mu| / sigma; infinite where sigma = 0 (the sign is certain)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u = np.abs(mu) / sd
+    u[~np.isfinite(u)] = np.inf
+    return u
+
+
+def select_batch(score: np.ndarray, u_pop: np.ndarray, k: int, threshold: float, rng: np.random.Generator,
+                  exclude: np.ndarray) -> np.ndarray:
+    """Indices of k candidates to evaluate: lowest score; for k > 1 spread by k-means."""
+    score = np.where(exclude, np.inf, score)
+    if k == 1:
+        return np.array([int(np.argmin(score))])
+    pool = np.flatnonzero(score < threshold)
+    cap = max(50 * k, 2000)
+    if pool.size > cap:  # the most uncertain candidates are enough to find k regions
+        pool = pool[np.argpartition(score[pool], cap)[:cap]]
+    if pool.size <= k:
+        order = np.argsort(score)
+        return order[: k][np.isfinite(score[order[:k]])]
+    seed = int(rng.integers(2**31 - 1))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # empty-cluster warnings: handled below
+        _, labels = kmeans2(u_pop[pool], k, minit="++", seed=seed)
+    chosen = []
+    for c in range(k):
+        members = pool[labels == c]
+        if members.size:
+            chosen.append(int(members[np.argmin(score[members])]))
+    if len(chosen) < k:  # empty clusters: fill with the next lowest scores
+        rest = pool[np.argsort(score[pool])]
+        for i in rest:
+            if len(chosen) == k:
+                break
+            if i not in chosen:
+                chosen.append(int(i))
+    return np.array(chosen)

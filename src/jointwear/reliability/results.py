@@ -1,0 +1,163 @@
+"""The reliability methods' results: one dataclass for every single-limit-state method, one for the levels of
+``akmcs_multi``, the record of an active-learning iteration, and the estimators they share."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from scipy.special import ndtri
+
+__all__ = [
+    "IterationRecord",
+    "MultiReliabilityResult",
+    "ReliabilityResult",
+    "mc_cov",
+    "pf_to_beta",
+    "population_size",
+]
+
+
+def pf_to_beta(pf: float | np.ndarray) -> float | np.ndarray:
+    """Generalised reliability index beta = -Phi^-1(pf) (+inf for pf = 0)."""
+    with np.errstate(divide="ignore"):
+        b = -ndtri(np.asarray(pf, dtype=float))
+    return float(b) if np.ndim(b) == 0 else b
+
+
+def mc_cov(pf: float | np.ndarray, n: int) -> float | np.ndarray:
+    """Coefficient of variation of a crude Monte Carlo estimate: sqrt((1 - pf) / ((n - 1) pf))."""
+    pf = np.asarray(pf, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        c = np.where(pf > 0, np.sqrt((1.0 - pf) / (max(n - 1, 1) * pf)), np.inf)
+    return float(c) if c.ndim == 0 else c
+
+
+def population_size(pf: float, cov_target: float, n_max: int, *, grow_from: int = 0) -> int:
+    """Monte Carlo population that brings COV(Pf) below ``cov_target`` at ``pf``: 10 % over the size the COV
+    formula asks for, at least 20 % more than ``grow_from`` (the current population), at most ``n_max``. At
+    pf = 0 (no failure seen, the COV is infinite) it doubles ``grow_from``, or takes ``n_max`` from nothing."""
+    if pf > 0:
+        target = (1.0 - pf) / (cov_target**2 * pf) + 1.0
+    else:
+        target = 2.0 * grow_from if grow_from else np.inf
+    return int(min(n_max, max(1.1 * target, 1.2 * grow_from)))
+
+
+@dataclass
+class IterationRecord:
+    """One AK-MCS iteration (arrays of one value per column in ``akmcs_multi``)."""
+
+    iteration: int
+    n_calls: int
+    n_mc: int
+    pf: Any
+    cov: Any
+    min_u: Any
+    error: Any  # estimated relative error of pf from the surrogate's sign uncertainty (ESC)
+    wall_seconds: float
+
+
+@dataclass
+class ReliabilityResult:
+    """Result of every reliability method (fields not used by a method are None/NaN).
+
+    ``pf``: failure probability P[g(X) < 0]; ``cov``: its coefficient of variation (sampling methods; NaN for
+    FORM/SORM); ``beta``: generalised reliability index -Phi^-1(pf); ``n_calls``: points evaluated (the length
+    of ``design_x``); ``n_failed_calls``: calls that returned NaN/raised (counted as failures, see the NaN rule).
+    """
+
+    method: str
+    pf: float
+    cov: float
+    beta: float
+    n_calls: int
+    converged: bool
+    design_x: np.ndarray | None = None
+    design_g: np.ndarray | None = None
+    design_u: np.ndarray | None = None
+    n_failed_calls: int = 0
+    failure_reasons: dict[int, str] = field(default_factory=dict)
+    history: list[IterationRecord] = field(default_factory=list)
+    surrogate: Any = None
+    n_mc: int = 0
+    error_estimate: float = float("nan")
+    design_point_u: np.ndarray | None = None
+    design_point_x: np.ndarray | None = None
+    alpha: np.ndarray | None = None
+    curvatures: np.ndarray | None = None
+    details: dict[str, Any] = field(default_factory=dict)
+    message: str = ""
+    wall_seconds: float = 0.0
+
+    def __repr__(self) -> str:  # short: the design can be large
+        return (
+            f"ReliabilityResult(method={self.method!r}, pf={self.pf:.4g}, cov={self.cov:.3g}, beta={self.beta:.4g}, "
+            f"n_calls={self.n_calls}, converged={self.converged}, n_failed_calls={self.n_failed_calls})"
+        )
+
+
+@dataclass
+class MultiReliabilityResult:
+    """Result of :func:`akmcs_multi`: one pf/cov/beta per column (limit-state level) from one shared design."""
+
+    pf: np.ndarray
+    cov: np.ndarray
+    beta: np.ndarray
+    n_calls: int
+    converged: bool
+    column_converged: np.ndarray
+    below_floor: np.ndarray  # columns with pf < pf_floor: U criterion met, COV criterion waived
+    design_x: np.ndarray
+    design_g: np.ndarray
+    design_u: np.ndarray
+    n_failed_calls: int
+    failure_reasons: dict[int, str]
+    history: list[IterationRecord]
+    surrogates: list
+    min_u: np.ndarray
+    error_estimate: np.ndarray
+    n_mc: int
+    message: str = ""
+    wall_seconds: float = 0.0
+    method: str = "akmcs_multi"
+    #: the thresholds of ``akmcs_multi(levels=...)`` (column k is y - levels[k]); None for separate limit states
+    levels: np.ndarray | None = None
+
+    def predict(self, u: np.ndarray) -> np.ndarray:
+        """The surrogates' mean of every column at standard-normal points ``u``, shape (n, m)."""
+        if self.levels is None:
+            return np.column_stack([s.predict(u, return_variance=False)[0] for s in self.surrogates])
+        # one response shifted per level: a single Kriging prediction serves every column
+        offsets = np.array([s.offset for s in self.surrogates])
+        mu0 = self.surrogates[0].predict(u, return_variance=False)[0]
+        return mu0[:, None] - (offsets[None, :] - offsets[0])
+
+    def response(self, u: np.ndarray) -> np.ndarray:
+        """The learned response y(u) of ``akmcs_multi(levels=...)`` (the value every level is compared with)."""
+        if self.levels is None:
+            raise ValueError("response() needs a result of akmcs_multi(levels=...)")
+        return self.surrogates[0].predict(u, return_variance=False)[0] + self.levels[0]
+
+    def estimate_on(self, draw_u: Callable[[int, int], np.ndarray], n: int,
+                    chunk: int = 200_000) -> tuple[np.ndarray, np.ndarray]:
+        """Pf and its Monte Carlo COV of every column on a new population of ``n`` points, classified by the
+        final surrogates (no model call): AK-MCS's population growth, for a caller whose learning ended on
+        its call budget. ``draw_u(m, start)`` returns rows ``start .. start + m`` of the population (u space),
+        drawn ``chunk`` rows at a time to bound the memory."""
+        fails = np.zeros(len(self.surrogates))
+        done = 0
+        while done < n:
+            m = min(chunk, n - done)
+            fails += np.count_nonzero(self.predict(draw_u(m, done)) < 0, axis=0)
+            done += m
+        pf = fails / n
+        return pf, np.atleast_1d(mc_cov(pf, n))
+
+    def __repr__(self) -> str:
+        return (
+            f"MultiReliabilityResult(pf={np.array2string(self.pf, precision=4)}, n_calls={self.n_calls}, "
+            f"converged={self.converged}, n_failed_calls={self.n_failed_calls})"
+        )
