@@ -319,7 +319,12 @@ class _Runner:
         self.tree = (tree_layout(a) if fast is None and self.lay is None and model.settings.method == "dopri5"
                      else None)
         self.mode = 1 if self.lay is not None else 2 if self.tree is not None else 0
+        self.integrate = K.integrate
         if self.mode == 2:
+            from jointwear.mechanism.tree_codegen import specialised_module
+
+            # the Dormand-Prince loop compiled for this linkage shape (generated, cached per shape)
+            self.integrate = specialised_module(self.tree, a["dpar"].shape[0], a["cint"]).integrate
             a["jint"], a["jpar"], a["winv"] = self.tree.jint, self.tree.jpar, self.tree.mass
             self.w = tree_work_arrays(self.tree, a["dpar"].shape[0], a["cint"].shape[0])
             self.ny = 2 * self.tree.n
@@ -406,7 +411,7 @@ class _Runner:
             if self._radau_work is None:
                 self._radau_work = radau.work_arrays(self.ny)
             return radau.integrate_radau(*args, *self._radau_work)
-        return K.integrate(*args)
+        return self.integrate(*args)
 
 
 def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeometry] | None = None,
