@@ -35,6 +35,7 @@ from __future__ import annotations
 import argparse
 import math
 import contextlib
+import datetime
 import json
 import os
 import platform
@@ -113,6 +114,7 @@ def main() -> None:
     tr = r.joints[0]
     out = {
         "preset": "jin2025_flapping_wing",
+        "date_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
         "machine": {"cpus": os.cpu_count(), "python": sys.version.split()[0], "platform": platform.platform(),
                     "llvm_host_cpu": _host_cpu(),
                     "loadavg_1min": os.getloadavg()[0] if hasattr(os, "getloadavg") else None},
