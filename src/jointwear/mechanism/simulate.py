@@ -315,7 +315,7 @@ class _Runner:
         self.lay = fast_layout(model) if fast in (None, True) else None
         if fast is True and self.lay is None:
             raise ValueError("fast=True but the model does not qualify for the natural-coordinate kernel")
-        # the tree kernel (joint coordinates) for a linkage whose ideal joints form a forest, on Dormand-Prince
+        # the tree kernel (joint coordinates) for a linkage whose ideal joints form a forest
         self.tree = tree_layout(a) if fast is None and self.lay is None else None
         self.mode = 1 if self.lay is not None else 2 if self.tree is not None else 0
         self.integrate = K.integrate
@@ -424,7 +424,7 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
     The cycle length is the driver's period (or model.period_override).
     fast: None (default) uses the natural-coordinate four-bar kernel when the model qualifies
     (jointwear.mechanism.fast), else the joint-coordinate tree kernel when the ideal joints form a forest
-    (jointwear.mechanism.tree; Dormand-Prince only), else the general Cartesian kernel; True requires the
+    (jointwear.mechanism.tree), else the general Cartesian kernel; True requires the
     four-bar kernel, False forces the Cartesian kernel.
     """
     wall0 = time.perf_counter()
