@@ -15,8 +15,8 @@ Body codes in the joint tables: -1 ground, 0..nb-1 free bodies, nb..nb+nd-1 driv
 
 All arrays are preallocated by the caller; nothing is allocated in the step loop.
 Kernels compile with numba's error_model="numpy": a division by zero gives inf/NaN, which the step
-control rejects, instead of a zero test and a Python exception path on every division. `integrate` releases the GIL, so independent simulations run in threads
-(the wear history's lanes, jointwear.wear.history).
+control rejects, instead of a zero test and a Python exception path on every division. `integrate` releases
+the GIL, so independent simulations run in threads (the wear history's lanes, jointwear.wear.history).
 """
 
 from __future__ import annotations
@@ -550,7 +550,8 @@ def rhs(t, y, dy, row, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid
     flags, so the copy compiled for `integrate` ran with FASTMATH and the one for `accelerations` without it, and the
     helpers (compiled once, for whichever caller came first) without. Explicit, the helpers inlined here keep the
     arithmetic they had as separate functions (the contact block's bit for bit), at no cost in speed. The helpers are
-    inlined (inline="always"; without reference counting an inlined call costs nothing, and the calls' overhead goes)."""
+    inlined (inline="always"; without reference counting an inlined call costs nothing, and the calls' overhead
+    goes)."""
     nd = dpar.shape[0]
     nq = 3 * nb
     nj = jint.shape[0]

@@ -11,10 +11,10 @@ compiled in; dimensions, masses, contact parameters and laws stay in the arrays,
 dimensions and materials) share one compiled kernel.
 
 The generated module holds the right-hand side (``rhs_spec``, the contract of kernel.rhs_tree) and a copy of the
-Dormand-Prince loop (kernel.integrate's source, its tree call redirected to ``rhs_spec``, for mode 2 only). It is written to a cache
-directory under a name hashed from the generated source and the sources of the kernel and the contact laws (a change
-to either gives a new file, so numba's per-file cache never serves stale machine code), and imported from there
-(numba caches per file, next to it).
+Dormand-Prince loop (kernel.integrate's source, its tree call redirected to ``rhs_spec``, for mode 2 only). It is
+written to a cache directory under a name hashed from the generated source and the sources of the kernel and the
+contact laws (a change to either gives a new file, so numba's per-file cache never serves stale machine code), and
+imported from there (numba caches per file, next to it).
 """
 
 from __future__ import annotations
