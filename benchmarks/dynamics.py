@@ -9,12 +9,17 @@ Writes benchmarks/results/dynamics.json. Run: python benchmarks/dynamics.py [--r
   (the kernel's Python source, numba bypassed).  The contact memory (impact speed v0) is frozen at
   its settled value in the scipy runs (no per-step bookkeeping hook in solve_ivp);
 - cartesian_kernel (skip with --no-cartesian): the general kernels on the six-bar preset watt_six_bar_two_clearances
-  (one cycle from a settled state): the tree kernel (joint coordinates, kernel.rhs_tree, the default for it) and the
+  (one cycle from a settled state): the tree kernel specialised to the six-bar's shape (jointwear.mechanism.
+  tree_codegen, the default for it), the general tree kernel (kernel.integrate with kernel.rhs_tree) and the
   Cartesian kernel (kernel.rhs, fast=False), and the flapping wing forced onto the Cartesian kernel; medians over the
   repeats, alternated with the fast path in the same process. Per step: the whole simulate() call and the
-  integration loop alone (kernel.integrate), against the fast path's loop (goal: six-bar <= 2.5x per step);
+  integration loop alone, against the fast path's loop (goal: six-bar <= 2.5x per step);
 - rhs_ns_per_evaluation: ns per right-hand side, each evaluation waiting for the previous one, for the fast path,
-  the six-bar's tree kernel and its Cartesian kernel, alternated in the same process;
+  the six-bar's specialised and general tree kernels and its Cartesian kernel, alternated in the same process;
+- six_bar_specialised: two cycles from a settled state on the specialised and the general tree kernel, and the
+  specialised one after a 1-ulp nudge of an angle: mean and peak force and one cycle's wear per joint;
+- six_bar_l_stable: the steps an L-stable method needs for the same accuracy (Radau IIA, simulation.method =
+  "radau5", on the tree kernel) and what a cycle costs with it, against the default;
 - six_bar_steps: what sets the six-bar's steps per cycle: steps against rtol, the clearance step limiter, the
   stiffest eigenvalues of the Jacobian along the cycle times the step size (Dormand-Prince is stable for
   |h lambda| up to ~3.3 on the negative real axis);
@@ -30,6 +35,7 @@ from __future__ import annotations
 import argparse
 import math
 import contextlib
+import datetime
 import json
 import os
 import platform
@@ -108,6 +114,7 @@ def main() -> None:
     tr = r.joints[0]
     out = {
         "preset": "jin2025_flapping_wing",
+        "date_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
         "machine": {"cpus": os.cpu_count(), "python": sys.version.split()[0], "platform": platform.platform(),
                     "llvm_host_cpu": _host_cpu(),
                     "loadavg_1min": os.getloadavg()[0] if hasattr(os, "getloadavg") else None},
@@ -134,6 +141,8 @@ def main() -> None:
         out["rhs_ns_per_evaluation"] = _rhs_ns(model, state, args.repeats)
         out["six_bar_steps"] = _six_bar_steps()
         out["six_bar_accuracy"] = _six_bar_accuracy()
+        out["six_bar_specialised"] = _six_bar_specialised()
+        out["six_bar_l_stable"] = _six_bar_l_stable()
     if not args.no_wear:
         out["six_bar_wear_call"] = _six_bar_wear_call(args.wear_cartesian)
     # the experimental implicit option (simulation.method = "radau5") on the same cycle, rtol 1e-5
@@ -212,14 +221,18 @@ def _host_cpu() -> str:
     return str(llvm.get_host_cpu_name())
 
 
-def _loop_timer(model, state, fast):
-    """A function timing one cycle of the integration loop alone (kernel.integrate, nothing recorded) from `state` on
-    the kernel that simulate(fast=fast) picks: returns (seconds, accepted steps, rejected steps)."""
+def _loop_timer(model, state, fast, general_tree: bool = False):
+    """A function timing one cycle of the integration loop alone (nothing recorded) from `state` on the kernel that
+    simulate(fast=fast) picks (general_tree: the general tree loop kernel.integrate instead of the one specialised to
+    the shape): returns (seconds, accepted steps, rejected steps)."""
     import math
 
+    from jointwear.mechanism import kernel as K
     from jointwear.mechanism.simulate import _Runner
 
     run = _Runner(model, None, model.settings.rtol, model.settings.atol, fast)
+    if general_tree:
+        run.integrate = K.integrate
     y0 = run.to_internal(state.y)
     hmax = model.settings.max_step or model.period / 200.0
     buf = run.buffers(1)
@@ -251,6 +264,7 @@ def _cartesian_kernel(fw_model, fw_state, fw_fast_wall: float, repeats: int) -> 
     presets = {"six_bar_tree": "watt_six_bar_two_clearances", "six_bar": "watt_six_bar_two_clearances",
                "flapping_wing_fast_false": "jin2025_flapping_wing"}
     loops = {name: _loop_timer(m, st, fast) for name, (m, st, fast) in cases.items()}
+    loops["six_bar_tree_general"] = _loop_timer(six, six_state, None, general_tree=True)
     loops["fast_path"] = _loop_timer(fw_model, fw_state, None)
     for m, st, fast in cases.values():  # compile / load from numba's cache and fill the record pool, untimed
         simulate(m, 1, settle_cycles=0, state0=st, fast=fast)
@@ -286,6 +300,12 @@ def _cartesian_kernel(fw_model, fw_state, fw_fast_wall: float, repeats: int) -> 
         out["flapping_wing_fast_false"]["wall_seconds_per_cycle_median"] / fw_fast_wall)
     out["six_bar_tree"]["ratio_per_cycle_to_cartesian"] = (
         out["six_bar_tree"]["wall_seconds_per_cycle_median"] / out["six_bar"]["wall_seconds_per_cycle_median"])
+    out["six_bar_tree_general"] = {
+        "kernel": "tree, general loop (kernel.integrate, kernel.rhs_tree)",
+        "steps_per_cycle": loop_runs["six_bar_tree_general"][0][1],
+        "loop_ns_per_step": loop_ns["six_bar_tree_general"],
+        "loop_ratio_per_step_to_fast_path": loop_ns["six_bar_tree_general"] / loop_ns["fast_path"],
+        "loop_ratio_specialised_to_general": loop_ns["six_bar_tree"] / loop_ns["six_bar_tree_general"]}
     out["goal"] = "six-bar loop ns per step <= 2.5 x the fast path's (six_bar_tree.loop_ratio_per_step_to_fast_path)"
     return out
 
@@ -341,6 +361,22 @@ def _rhs_ns(fw_model, fw_state, repeats: int) -> dict:
         y[0] = y0
         return acc
 
+    @njit(error_model="numpy", fastmath=K.FASTMATH, _nrt=False)
+    def chain_spec(n, rhs_spec, t, y, yb, dy, nb, mass, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate,
+                   kin, cb, sb, cacc, jt, mm, gq, f, cout):
+        acc = 0.0
+        y0 = y[0]
+        K.tree_base(t, yb, jint, dpar, kin, cb, sb)
+        for _ in range(n):
+            y[0] = y0 + 1e-30 * acc
+            rhs_spec(t, 0.0, y, yb, dy, 0, nb, mass, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate,
+                     kin, cb, sb, cacc, jt, mm, gq, f, cout)
+            acc = dy[0, y.shape[0] // 2]
+        y[0] = y0
+        return acc
+
+    from jointwear.mechanism.tree_codegen import specialised_module
+
     six = build_model(load_config("watt_six_bar_two_clearances"))
     st = simulate(six, 0.0).state_end
     fw = _Runner(fw_model, None, 1e-6, 1e-9)
@@ -354,9 +390,13 @@ def _rhs_ns(fw_model, fw_state, repeats: int) -> dict:
     ca.a["cstate"][:] = st.cstate
     yc = np.array(st.y)
     at, ac = tr._args(), ca._args()
+    spec = specialised_module(tr.tree, tr.a["dpar"].shape[0], tr.a["cint"]).rhs_spec
     cases = {
         "fast_path": lambda n: chain_fast(n, fw_state.t, yf, np.zeros((1, 8)), af[3], af[5], *af[6:12], af[18], af[20]),
-        "six_bar_tree": lambda n: chain_tree(n, st.t, yt.copy(), yt, np.zeros((1, yt.size)), *at[0:11], *at[12:21]),
+        "six_bar_tree": lambda n: chain_spec(n, spec, st.t, yt.copy(), yt, np.zeros((1, yt.size)), *at[0:11],
+                                             *at[12:21]),
+        "six_bar_tree_general": lambda n: chain_tree(n, st.t, yt.copy(), yt, np.zeros((1, yt.size)), *at[0:11],
+                                                     *at[12:21]),
         "six_bar_cartesian": lambda n: chain_cart(n, st.t, yc.copy(), np.zeros((1, yc.size)), *ac),
     }
     for f in cases.values():
@@ -370,6 +410,7 @@ def _rhs_ns(fw_model, fw_state, repeats: int) -> dict:
             ns[k].append((time.perf_counter() - w0) / n * 1e9)
     out = {k: statistics.median(v) for k, v in ns.items()}
     out["six_bar_tree_ratio_to_fast_path"] = out["six_bar_tree"] / out["fast_path"]
+    out["six_bar_tree_general_ratio_to_fast_path"] = out["six_bar_tree_general"] / out["fast_path"]
     out["six_bar_cartesian_ratio_to_fast_path"] = out["six_bar_cartesian"] / out["fast_path"]
     return out
 
@@ -457,6 +498,97 @@ def _six_bar_accuracy() -> dict:
             a / b - 1 for a, b in zip(out[name]["contact_force_mean_N"], ref["contact_force_mean_N"])]
         out[name]["max_penetration_rel_to_cartesian_rtol_1e-9"] = [
             a / b - 1 for a, b in zip(out[name]["max_penetration_m"], ref["max_penetration_m"])]
+    return out
+
+
+def _six_bar_specialised() -> dict:
+    """Two cycles from a settled state on the specialised tree kernel (simulate's default), on the general tree loop
+    (kernel.integrate, kernel.rhs_tree), and on the specialised one after a 1-ulp nudge of the coupler's angle: mean
+    and peak normal force and one cycle's wear (the preset's wear settings, uniform mode) per joint, relative to the
+    general loop."""
+    from jointwear.config import load_config
+    from jointwear.mechanism import build_model, simulate
+    from jointwear.mechanism import kernel as K
+    from jointwear.mechanism.simulate import SimulationState, _Runner
+    from jointwear.wear.history import cycle_wear
+
+    cfg = load_config("watt_six_bar_two_clearances")
+    six = build_model(cfg)
+    st = simulate(six, 0.0).state_end
+    y = st.y.copy()
+    y[2] = np.nextafter(y[2], np.inf)
+    nudged = SimulationState(st.t, y, st.cstate.copy(), st.h)
+    orig = _Runner.__init__
+
+    def general_init(self, *a, **kw):
+        orig(self, *a, **kw)
+        self.integrate = K.integrate
+
+    runs = {}
+    for name, state0, general in (("general", st, True), ("specialised", st, False),
+                                  ("specialised_nudged_1ulp", nudged, False)):
+        _Runner.__init__ = general_init if general else orig
+        try:
+            r = simulate(six, 2, settle_cycles=0, state0=state0)
+        finally:
+            _Runner.__init__ = orig
+        cws = [cycle_wear(tr, cfg.wear, r.n_cycles) for tr in r.joints]
+        runs[name] = {"steps_per_cycle": r.steps_per_cycle,
+                      "contact_force_mean_N": [tr.mean_force for tr in r.joints],
+                      "contact_force_max_N": [float(tr.force_normal.max()) for tr in r.joints],
+                      "bearing_wear_depth_max_m_per_cycle": [float(cw.bearing.max()) for cw in cws],
+                      "bearing_wear_volume_m3_per_cycle": [cw.volume_bearing for cw in cws]}
+    ref = runs["general"]
+    for name in ("specialised", "specialised_nudged_1ulp"):
+        runs[name]["rel_to_general"] = {k: [a / b - 1 for a, b in zip(runs[name][k], ref[k])]
+                                        for k in ref if k != "steps_per_cycle"}
+    runs["note"] = ("the specialised kernel changes results at the level of rounding (another order of the mass "
+                    "matrix's factorisation and of sums), which the step control amplifies as a 1-ulp change of the "
+                    "start state does")
+    return runs
+
+
+def _six_bar_l_stable() -> dict:
+    """How many steps the six-bar's accuracy needs: Radau IIA (L-stable, no stability limit on the contact modes;
+    simulation.method = "radau5", on the general tree kernel) at rtol 1e-4 .. 1e-6 against the default
+    (Dormand-Prince on the specialised tree kernel, rtol 1e-6): steps per cycle, wall seconds per cycle (alternated,
+    medians of 3), mean and peak force per joint."""
+    import dataclasses
+
+    from jointwear.config import load_config
+    from jointwear.mechanism import build_model, simulate
+
+    six = build_model(load_config("watt_six_bar_two_clearances"))
+    st = simulate(six, 0.0).state_end
+    rad = dataclasses.replace(six, settings=dataclasses.replace(six.settings, method="radau5"))
+    s = six.settings
+    cases = {"dopri5_rtol_1e-06": (six, s.rtol)}
+    cases |= {f"radau5_rtol_{r:.0e}": (rad, r) for r in (1e-4, 1e-5, 1e-6)}
+    walls: dict = {k: [] for k in cases}
+    last = {}
+    for m, r in cases.values():
+        simulate(m, 0.01, settle_cycles=0, state0=st, rtol=r, atol=s.atol * r / s.rtol)  # compile
+    for _ in range(3):
+        for k, (m, r) in cases.items():
+            w0 = time.perf_counter()
+            last[k] = simulate(m, 1, settle_cycles=0, state0=st, rtol=r, atol=s.atol * r / s.rtol)
+            walls[k].append(time.perf_counter() - w0)
+    out = {}
+    ref = last["dopri5_rtol_1e-06"]
+    for k, r in last.items():
+        out[k] = {"kernel": r.extra["kernel"], "steps_per_cycle": r.n_recorded_steps,
+                  "rejected_steps_per_cycle": r.n_rejected,
+                  "wall_seconds_per_cycle_median": statistics.median(walls[k]),
+                  "wall_ratio_to_default": statistics.median(walls[k]) / statistics.median(walls["dopri5_rtol_1e-06"]),
+                  "contact_force_mean_N": [tr.mean_force for tr in r.joints],
+                  "contact_force_max_N": [float(tr.force_normal.max()) for tr in r.joints],
+                  "mean_force_rel_to_default": [a.mean_force / b.mean_force - 1 for a, b in zip(r.joints, ref.joints)],
+                  "max_force_rel_to_default": [float(a.force_normal.max() / b.force_normal.max() - 1)
+                                               for a, b in zip(r.joints, ref.joints)]}
+    out["note"] = ("an L-stable method follows the accuracy, not the contact modes' stability, and needs a tenth to a "
+                   "third of the default's steps; each of its steps (Newton iterations on three stages, "
+                   "finite-difference Jacobians, a real and a complex LU) costs more than the Dormand-Prince steps "
+                   "it saves: see wall_ratio_to_default")
     return out
 
 

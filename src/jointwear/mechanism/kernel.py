@@ -15,9 +15,8 @@ Body codes in the joint tables: -1 ground, 0..nb-1 free bodies, nb..nb+nd-1 driv
 
 All arrays are preallocated by the caller; nothing is allocated in the step loop.
 Kernels compile with numba's error_model="numpy": a division by zero gives inf/NaN, which the step
-control rejects, instead of a zero test and a Python exception path on every division (about 10 %
-of the time per step). `integrate` releases the GIL, so independent simulations run in threads
-(the wear history's lanes, jointwear.wear.history).
+control rejects, instead of a zero test and a Python exception path on every division. `integrate` releases
+the GIL, so independent simulations run in threads (the wear history's lanes, jointwear.wear.history).
 """
 
 from __future__ import annotations
@@ -31,15 +30,14 @@ from jointwear.contact.laws import contact_stiffness, friction_coefficient, norm
 
 # LLVM fast-math flags of the step loop and the four-bar right-hand side: reassociation, contraction (FMA),
 # reciprocals, no signed zeros; NOT no-NaN/no-inf, which the step control relies on (a NaN stage rejects the
-# step). About 5 % per cycle (same-process A/B); results change only at rounding level.
+# step). Results change only at rounding level.
 FASTMATH = {"nsz", "arcp", "contract", "reassoc"}
 
 # The step loops compile without numba's reference counting (NRT): they allocate nothing, and with NRT every
 # inlined right-hand side increfs and decrefs each of its ~12 array arguments (an atomic operation through a
-# function pointer, ~24 per evaluation) that LLVM's refcount pruning does not remove. That was ~70 % of an
-# evaluation: 270-285 ns with NRT, 68-99 ns without, the same instructions otherwise (bit-identical results;
-# benchmarks/dynamics_limits.py `rhs_ns_median`). `_nrt` is numba's flag for this (numba.core.options); such a kernel may not
-# create or return arrays.
+# function pointer, ~24 per evaluation) that LLVM's refcount pruning does not remove: most of an evaluation's
+# time, the same instructions otherwise (bit-identical results). `_nrt` is numba's flag for this
+# (numba.core.options); such a kernel may not create or return arrays.
 STEP_LOOP_NRT = False
 
 # joint types
@@ -435,8 +433,7 @@ def block_ldlt(nj, smat):
     below the diagonal blocks, D_J^-1 on them, W_IJ = L_IJ D_J mirrored above them (smat[2J + q, 2I + p] =
     W_IJ[p, q]). The stages of a step wait for each evaluation, and a factorisation is a chain of pivots: one
     division per joint (the determinant of D_J) instead of a square root and a division per row halves it, and the
-    solves only multiply (same-process A/B per cycle, six-bar / flapping wing on this kernel: 0.89x / 0.91x against
-    a scalar L D L^T, 0.75x / 0.81x against the Cholesky with a division per entry). A singular block (det <= 0: a
+    solves only multiply. A singular block (det <= 0: a
     joint without free bodies, redundant constraints) gets det = 1e-300, as the Cholesky's pivot did."""
     for jb in range(nj):
         j = 2 * jb
@@ -552,9 +549,9 @@ def rhs(t, y, dy, row, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid
     Compiled with fastmath=False on purpose: without an explicit value numba lets a function inherit its caller's
     flags, so the copy compiled for `integrate` ran with FASTMATH and the one for `accelerations` without it, and the
     helpers (compiled once, for whichever caller came first) without. Explicit, the helpers inlined here keep the
-    arithmetic they had as separate functions (the contact block's bit for bit), and it is no slower: same-process A/B
-    of the loop 0.97-1.0x against the inherited fast-math flags. The helpers are inlined (inline="always"; no reference
-    counting, so an inlined call costs nothing): 0.87-0.94x per cycle (same-process A/Bs)."""
+    arithmetic they had as separate functions (the contact block's bit for bit), at no cost in speed. The helpers are
+    inlined (inline="always"; without reference counting an inlined call costs nothing, and the calls' overhead
+    goes)."""
     nd = dpar.shape[0]
     nq = 3 * nb
     nj = jint.shape[0]
@@ -590,6 +587,9 @@ def rhs(t, y, dy, row, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid
 # (parent-frame point of the joint, body-frame point of the joint); winv holds the masses M_c (not M^-1). The
 # Jacobian is stored by path (jt[3 b + c, i] = d v_bc / d qdot_path[i]), so that M and J^T f sum over the L^2 pairs
 # of each body's path instead of n^2 x 3 nb dense products (the six-bar: 8 pairs instead of 160).
+# simulate runs these equations through jointwear.mechanism.tree_codegen, which generates them for one linkage shape
+# (literal indices, locals, the mass matrix factorised leaves first); rhs_tree below is the general form, the
+# reference of that generated code and the entry of kernel.accelerations.
 TREE_REVOLUTE = 0
 TREE_FLOATING = 1
 (T_KIND, T_BODY, T_PARENT, T_DOF, T_LEN, T_PATH) = range(6)
@@ -825,8 +825,7 @@ def accept_point(t, h, y, ks, lam, cout, cstate, cpar, t_record, nrec, rec_t, re
     """Bookkeeping of an accepted step, shared by the explicit and the implicit loop: the contact memory (impact
     speed v0 at the start of each contact, for the damping term of the normal force) and, from t_record on, the
     record of the new point (state, accelerations ks[0, nq:], multipliers, contact outputs). Returns the new
-    record count. The loops compile without reference counting, so passing the arrays costs nothing extra
-    (a same-process A/B of the Dormand-Prince loop: bit-identical, same time per cycle)."""
+    record count. The loops compile without reference counting, so passing the arrays costs nothing extra."""
     for k in range(cout.shape[0]):
         if cout[k, O_DELTA] > 0.0:
             if cstate[k, S_INC] < 0.5:

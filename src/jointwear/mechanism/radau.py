@@ -1,17 +1,17 @@
 """Implicit alternative to the Dormand-Prince loop: Radau IIA of order 5 (3 stages, L-stable), compiled.
 
-Why: in near-continuous contact the Dormand-Prince step is set by the contact mode's ringing at the level of
-its own local errors (docs/dynamics.md, "Integrator"); an L-stable collocation method damps it and keeps the
-physics of the rtol 1e-6 explicit solution at rtol 1e-4 (scipy's Radau: 2,421 steps per cycle instead of 8,900).
+Why: in near-continuous contact the Dormand-Prince step is set by the contact modes' stability, not by the
+tolerance (docs/dynamics.md, "Integrator"); an L-stable collocation method damps those modes and follows the
+accuracy alone, with far fewer steps per cycle (each one dearer: benchmarks/results/dynamics.json, six_bar_l_stable).
 
 Algorithm: Hairer & Wanner, Solving ODEs II, Section IV.8 (RADAU5), as implemented by
 ``scipy.integrate.Radau`` (whose constants are copied below): simplified Newton iterations on the transformed
 collocation system with one real and one complex LU of the iteration matrices, a finite-difference Jacobian
 refreshed when the Newton iterations converge slowly (rate > 1e-3 after more than 2 iterations), up to 10 Newton
-iterations given up only when the contraction rate exceeds 0.9 (scipy's predictive give-up after at most 6 made
-every rejection of this contact problem a Newton failure: 2,900 per cycle at rtol 1e-4, against 1,055), the embedded
-error estimate (I - h gamma0 J)^-1 (f0 + Z^T E / h) (re-estimated once after a rejection), Gustafsson's
-predictive step control, and the step size kept (LU reused) when it would grow by less than 20 %.
+iterations given up only when the contraction rate exceeds 0.9 (scipy's predictive give-up after at most 6 turned
+most rejections of the contact problem into Newton failures), the embedded error estimate
+(I - h gamma0 J)^-1 (f0 + Z^T E / h) (re-estimated once after a rejection), Gustafsson's predictive step control,
+and the step size kept (LU reused) when it would grow by less than 20 %.
 
 Same arguments as ``kernel.integrate`` plus the work arrays of ``work_arrays``; selected by
 ``simulation.method = "radau5"``. The step start (``kernel.next_step``), the step limit (``kernel.step_limit``) and the
@@ -31,7 +31,9 @@ from jointwear.mechanism.kernel import (
     next_step,
     rhs,
     rhs_fourbar,
+    rhs_tree,
     step_limit,
+    tree_base,
 )
 
 # Radau IIA (order 5) constants, copied from scipy/integrate/_ivp/radau.py (scipy 1.17.1, BSD-3-Clause;
@@ -81,6 +83,10 @@ def _f(mode, ts, Y, yrow, dst, drow, nb, winv, fext, dpar, jint, jpar, cint, cpa
     if mode == 0:
         rhs(ts, Y[yrow], dst, drow, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate,
             baum, kin, phi_, phid, rest, jac, smat, lam, f, cout)
+    elif mode == 2:  # tree kernel: every evaluation is its own base point (the stages are not rotations of one)
+        tree_base(ts, Y[yrow], jint, dpar, kin, phi_, phid)
+        rhs_tree(ts, 0.0, Y[yrow], Y[yrow], dst, drow, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid,
+                 cstate, kin, phi_, phid, rest, jac, smat, lam, f, cout)
     else:
         rhs_fourbar(ts, Y, yrow, dst, drow, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
 

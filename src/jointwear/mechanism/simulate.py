@@ -315,11 +315,15 @@ class _Runner:
         self.lay = fast_layout(model) if fast in (None, True) else None
         if fast is True and self.lay is None:
             raise ValueError("fast=True but the model does not qualify for the natural-coordinate kernel")
-        # the tree kernel (joint coordinates) for a linkage whose ideal joints form a forest, on Dormand-Prince
-        self.tree = (tree_layout(a) if fast is None and self.lay is None and model.settings.method == "dopri5"
-                     else None)
+        # the tree kernel (joint coordinates) for a linkage whose ideal joints form a forest
+        self.tree = tree_layout(a) if fast is None and self.lay is None else None
         self.mode = 1 if self.lay is not None else 2 if self.tree is not None else 0
+        self.integrate = K.integrate
         if self.mode == 2:
+            from jointwear.mechanism.tree_codegen import specialised_module
+
+            # the Dormand-Prince loop compiled for this linkage shape (generated, cached per shape)
+            self.integrate = specialised_module(self.tree, a["dpar"].shape[0], a["cint"]).integrate
             a["jint"], a["jpar"], a["winv"] = self.tree.jint, self.tree.jpar, self.tree.mass
             self.w = tree_work_arrays(self.tree, a["dpar"].shape[0], a["cint"].shape[0])
             self.ny = 2 * self.tree.n
@@ -406,7 +410,7 @@ class _Runner:
             if self._radau_work is None:
                 self._radau_work = radau.work_arrays(self.ny)
             return radau.integrate_radau(*args, *self._radau_work)
-        return K.integrate(*args)
+        return self.integrate(*args)
 
 
 def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeometry] | None = None,
@@ -420,7 +424,7 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
     The cycle length is the driver's period (or model.period_override).
     fast: None (default) uses the natural-coordinate four-bar kernel when the model qualifies
     (jointwear.mechanism.fast), else the joint-coordinate tree kernel when the ideal joints form a forest
-    (jointwear.mechanism.tree; Dormand-Prince only), else the general Cartesian kernel; True requires the
+    (jointwear.mechanism.tree), else the general Cartesian kernel; True requires the
     four-bar kernel, False forces the Cartesian kernel.
     """
     wall0 = time.perf_counter()
