@@ -7,6 +7,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from jointwear.config import SimulationConfig
+
 # Flapping-wing joint A materials (paper Table 2; k dimensionless, H = HB x 9.807e6 Pa per paper-notes.md).
 MAT = dict(
     E_bearing=1.2e11, nu_bearing=0.32, k_bearing=1.2e-3, H_bearing=350 * 9.807e6,
@@ -83,14 +85,17 @@ class FakeResult:
     joints: list
     state_end: object
     n_steps: int
+    n_cycles: float
+    settle_cycles: float
     wall_seconds: float = 0.0
 
 
 class FakeModel:
     """Stands in for MechanismModel: the force grows mildly with the clearance, so the wear rate drifts."""
 
-    def __init__(self, n_joints=1, steps_per_cycle=800, **trace_over):
+    def __init__(self, n_joints=1, steps_per_cycle=800, settle_cycles=3, **trace_over):
         self.n_joints = n_joints
+        self.settings = SimulationConfig(settle_cycles=settle_cycles)  # the dynamics' settle from rest
         self.steps_per_cycle = steps_per_cycle
         self.trace_over = trace_over
         self.calls = []
@@ -108,4 +113,5 @@ def fake_simulate(model, n_cycles, geometry=None, settle_cycles=None, rtol=None,
         scale = 1.0 + extra / 1e-3  # rate up by 2 % per 20 um of wear (flapping preset: a few % over the history)
         joints.append(make_trace(n_cycles, model.steps_per_cycle, rate_scale=scale, **model.trace_over))
     # the end state counts the blocks of this chain (deterministic when blocks run in threads)
-    return FakeResult(joints, state_end=(state0 or 0) + 1, n_steps=n_cycles * model.steps_per_cycle)
+    return FakeResult(joints, state_end=(state0 or 0) + 1, n_steps=n_cycles * model.steps_per_cycle, n_cycles=n_cycles,
+                      settle_cycles=model.settings.settle_cycles if settle_cycles is None else settle_cycles)

@@ -316,7 +316,7 @@ class Study:
             with executor, progress:
                 ctx = study_context(self.config, lambda call: compute.Evaluator(
                     call, executor, store, timeout=self.config.compute.call_timeout, tag=WEAR_MODEL_TAG,
-                    n_outputs=call.n_outputs, progress=progress))
+                    n_outputs=call.n_outputs, progress=progress), threads=executor.threads_per_call)
                 if self._context is not None:
                     ctx.wear_cache.update(self._context.wear_cache)
                 self._context = ctx

@@ -61,7 +61,8 @@ class WearModelCall:
     """One true-model call: sample x -> the wear quantity (m) of every judged joint at each of ``cycles``,
     concatenated joint after joint (shape J * H).
 
-    A plain picklable object so that worker processes and Dask workers can run it.
+    A plain picklable object so that worker processes and Dask workers can run it. ``threads``: most threads
+    of one wear history (its lanes; None: the cores of the process that runs it); the result does not depend on it.
     """
 
     base: dict
@@ -69,6 +70,7 @@ class WearModelCall:
     cycles: list[int]
     joints: list[int] = field(default_factory=lambda: [0])
     quantity: str = "bearing_max_depth"
+    threads: int | None = None
 
     @property
     def n_outputs(self) -> int:
@@ -83,6 +85,6 @@ class WearModelCall:
         except ConfigError as exc:
             return np.full(self.n_outputs, np.nan), f"infeasible sample: {exc}"
         model = build_model(cfg)
-        res = wear_history(model, cfg.wear, max(self.cycles))
+        res = wear_history(model, cfg.wear, max(self.cycles), threads=self.threads)
         return np.concatenate([quantity_history(res.joints[j], self.quantity, self.cycles)
                                for j in self.joints]), "ok"
