@@ -71,7 +71,7 @@ def main() -> None:
     from jointwear.config import load_config
     from jointwear.mechanism import build_model, simulate
     from jointwear.mechanism import kernel as K
-    from jointwear.mechanism.simulate import _Runner
+    from jointwear.mechanism.simulate import Runner
 
     cfg = load_config("jin2025_flapping_wing")
     model = build_model(cfg)
@@ -155,7 +155,7 @@ def main() -> None:
     if not args.no_scipy:
         from scipy.integrate import solve_ivp
 
-        run = _Runner(model, None, model.settings.rtol, model.settings.atol)
+        run = Runner(model, None, model.settings.rtol, model.settings.atol)
         run.a["cstate"][:] = state.cstate
         a = run._args()
         y0 = run.to_internal(state.y)
@@ -217,9 +217,9 @@ def _loop_timer(model, state, fast):
     the kernel that simulate(fast=fast) picks: returns (seconds, accepted steps, rejected steps)."""
     import math
 
-    from jointwear.mechanism.simulate import _Runner
+    from jointwear.mechanism.simulate import Runner
 
-    run = _Runner(model, None, model.settings.rtol, model.settings.atol, fast)
+    run = Runner(model, None, model.settings.rtol, model.settings.atol, fast)
     y0 = run.to_internal(state.y)
     hmax = model.settings.max_step or model.period / 200.0
     buf = run.buffers(1)
@@ -299,7 +299,7 @@ def _rhs_ns(fw_model, fw_state, repeats: int) -> dict:
     from jointwear.config import load_config
     from jointwear.mechanism import build_model, simulate
     from jointwear.mechanism import kernel as K
-    from jointwear.mechanism.simulate import _Runner
+    from jointwear.mechanism.simulate import Runner
 
     @njit(error_model="numpy", fastmath=K.FASTMATH, _nrt=False)
     def chain_fast(n, t, Y, dy, dpar, fp, cint, cpar, prof, ngrid, cstate, baum, lam, cout):
@@ -343,14 +343,14 @@ def _rhs_ns(fw_model, fw_state, repeats: int) -> dict:
 
     six = build_model(load_config("watt_six_bar_two_clearances"))
     st = simulate(six, 0.0).state_end
-    fw = _Runner(fw_model, None, 1e-6, 1e-9)
+    fw = Runner(fw_model, None, 1e-6, 1e-9)
     fw.a["cstate"][:] = fw_state.cstate
     af = fw._args()
     yf = fw.to_internal(fw_state.y)[None, :].copy()
-    tr = _Runner(six, None, 1e-6, 1e-9)
+    tr = Runner(six, None, 1e-6, 1e-9)
     tr.a["cstate"][:] = st.cstate
     yt = tr.to_internal(st.y)
-    ca = _Runner(six, None, 1e-6, 1e-9, fast=False)
+    ca = Runner(six, None, 1e-6, 1e-9, fast=False)
     ca.a["cstate"][:] = st.cstate
     yc = np.array(st.y)
     at, ac = tr._args(), ca._args()
@@ -380,7 +380,7 @@ def _six_bar_steps() -> dict:
 
     from jointwear.config import load_config
     from jointwear.mechanism import build_model, simulate
-    from jointwear.mechanism.simulate import _Runner
+    from jointwear.mechanism.simulate import Runner
 
     six = build_model(load_config("watt_six_bar_two_clearances"))
     st = simulate(six, 0.0).state_end
@@ -397,7 +397,7 @@ def _six_bar_steps() -> dict:
         r = simulate(m, 1, settle_cycles=0, state0=st)
         out["clearance_step_fraction"].append({"value": cf, "steps": r.n_recorded_steps})
     # stiffest eigenvalues of the Jacobian of the Cartesian right-hand side (central differences) along the cycle
-    run = _Runner(six, None, s.rtol, s.atol, fast=False)
+    run = Runner(six, None, s.rtol, s.atol, fast=False)
     run.a["cstate"][:] = base.state_end.cstate
     Y = np.column_stack([base.q, base.qd])
     h = np.diff(base.t)

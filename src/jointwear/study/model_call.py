@@ -23,7 +23,8 @@ def apply_sample(base: StudyConfig | dict, targets: Sequence[str], x: Sequence[f
 
     A target ``clearance_joints.<i>.clearance`` sets the bearing radius to journal radius + c after all
     other targets (so a sampled journal radius and a sampled clearance combine as R_i = R_j + c).
-    Raises ConfigError when the sample gives an invalid config (e.g. a linkage that cannot assemble).
+    Raises ConfigError when the sample gives an invalid config (whether a general linkage assembles is checked
+    when the model is built).
     """
     data = base.model_dump() if isinstance(base, StudyConfig) else copy.deepcopy(base)
     derived = []
@@ -82,9 +83,9 @@ class WearModelCall:
 
         try:
             cfg = apply_sample(self.base, self.targets, x)
+            model = build_model(cfg)  # the assembly check of a general linkage
         except ConfigError as exc:
             return np.full(self.n_outputs, np.nan), f"infeasible sample: {exc}"
-        model = build_model(cfg)
         res = wear_history(model, cfg.wear, max(self.cycles), threads=self.threads)
         return np.concatenate([quantity_history(res.joints[j], self.quantity, self.cycles)
                                for j in self.joints]), "ok"

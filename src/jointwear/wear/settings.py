@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from typing import Literal
 
-from pydantic import ConfigDict, Field, field_validator, model_validator
+from pydantic import Field, field_validator, model_validator
 
 from jointwear.schema import SIModel
 
@@ -24,8 +24,6 @@ class WearSettings(SIModel):
 
     An :class:`jointwear.config.SIModel`: unknown keys, NaN and inf are rejected with the field named.
     """
-
-    model_config = ConfigDict(validate_assignment=True)
 
     geometry_mode: Literal["uniform", "profile"] = Field(
         "uniform",
