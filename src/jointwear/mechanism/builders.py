@@ -131,7 +131,6 @@ def _slider_crank(cfg) -> tuple[list[Body], list[Joint], dict, Callable]:
     return [crank, rod, slider], joints, {"O": O, "P0": P0}, guess
 
 
-
 def build_model(config: StudyConfig) -> MechanismModel:
     """MechanismModel from a validated StudyConfig (clearance joints replace their ideal revolutes).
 
