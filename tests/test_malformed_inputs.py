@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import re
 from importlib import resources
+from pathlib import Path
 
 import pytest
 
@@ -56,8 +57,8 @@ CONFIG_CASES = [
     ("zero-std", edit("std_mm = 2.4e-2", "std_mm = 0.0"), [], "std"),
     ("bad-target", edit('target = "mechanism.rod.length"', 'target = "mechanism.rod.colour"'), [], "target"),
     ("bad-grade", edit('hole_grade = "IT7"', 'hole_grade = "IT99"'), [], "grade"),
-    ("wear-grid-too-small", PRESET + "\n[wear]\nn_grid = 3\n", [], "n_grid"),
-    ("wear-mode", PRESET + '\n[wear]\ngeometry_mode = "banana"\n', [], "geometry_mode"),
+    ("wear-grid-too-small", edit("[wear]\n", "[wear]\nn_grid = 3\n"), [], "n_grid"),
+    ("wear-mode", edit("[wear]\n", '[wear]\ngeometry_mode = "banana"\n'), [], "geometry_mode"),
     ("target-reliability", edit("target_reliability = 0.9", "target_reliability = 1.5"), [], "target_reliability"),
     ("cycle-range", edit("cycles_start = 300000", "cycles_start = 600000"), [], "cycles_start"),
     ("sobol-not-power-of-2", edit("[sensitivity]", "[sensitivity]\nsobol_base_samples = 1000"), [],
@@ -123,3 +124,15 @@ def test_malformed_arguments_exit_2_with_one_line(case, args, needle, tmp_path, 
 
 def test_there_are_at_least_thirty_cases():
     assert len(CONFIG_CASES) + len(CLI_CASES) >= 30
+
+
+def test_wear_without_cycles_or_curve_names_the_field(tmp_path, capsys):
+    """No paper default for the wear history: a config with neither [wear] cycles nor an R(N) curve is refused."""
+    text = (Path(__file__).resolve().parents[1] / "examples" / "my_linkage.toml").read_text()
+    text = text.split("[uncertainty.clearance]")[0].replace("cycles = 600000", "")
+    cfg = tmp_path / "no_cycles.toml"
+    cfg.write_text(text)
+    out = tmp_path / "out"
+    code, err = run_cli(["wear", str(cfg), "--out", str(out)], capsys)
+    assert code == 2 and "wear.cycles" in err and len(err.strip().splitlines()) == 1, err
+    assert not out.exists()

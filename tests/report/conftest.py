@@ -1,4 +1,4 @@
-"""Fixtures of the report tests: a folder of realistic synthetic study outputs (see report_fixtures.py)."""
+"""Fixtures of the report tests: study folders written by the stages' own writers (see report_fixtures.py)."""
 
 from __future__ import annotations
 
@@ -11,13 +11,20 @@ HERE = Path(__file__).resolve().parent
 if str(HERE) not in sys.path:  # report_fixtures is a plain module next to the tests (any import mode)
     sys.path.insert(0, str(HERE))
 
-from report_fixtures import make_fixture_dir  # noqa: E402
+from report_fixtures import make_fixture_dir, nominal_run  # noqa: E402
+
+
+@pytest.fixture(scope="session")
+def nominal(tmp_path_factory) -> Path:
+    """The real dynamics and wear of the flapping-wing preset's nominal mechanism (run once per session)."""
+    return nominal_run(tmp_path_factory.mktemp("nominal"))
 
 
 @pytest.fixture(scope="module")
-def study_dir(tmp_path_factory) -> Path:
-    """Every stage's output, with all optional keys, the Fig. 17 columns in a CSV."""
-    return make_fixture_dir(tmp_path_factory.mktemp("study"))
+def study_dir(tmp_path_factory, nominal) -> Path:
+    """Every stage's output and the settings JSON, with a citation that must be escaped."""
+    return make_fixture_dir(tmp_path_factory.mktemp("study"), nominal,
+                            citation="Jin et al. Drones 2025, 9, 282. <script>alert('escaped')</script>")
 
 
 @pytest.fixture(scope="module")

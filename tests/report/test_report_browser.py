@@ -131,11 +131,11 @@ def test_probe_detects_a_broken_figure(chromium, tmp_path: Path):
     assert result["errors"], "the failed image load should be recorded as an error"
 
 
-def test_report_of_a_partial_study_loads(chromium, tmp_path: Path):
+def test_report_of_a_partial_study_loads(chromium, tmp_path: Path, nominal: Path):
     """A folder with only the wear stage: the page still loads cleanly and its figures display."""
     from report_fixtures import make_fixture_dir
 
-    d = make_fixture_dir(tmp_path / "study", which=("wear",))
+    d = make_fixture_dir(tmp_path / "study", nominal, which=("wear",))
     page = build_report(d)
     result = _probe(chromium, page, tmp_path)
     assert result["n"] == 3 and result["bad"] == [] and result["errors"] == []

@@ -8,11 +8,14 @@ import re
 import shutil
 from pathlib import Path
 
+import numpy as np
 import pytest
 from report_fixtures import make_fixture_dir
 
+from jointwear import load_results
 from jointwear.report import build_report
-from jointwear.report.html import FAIL, NA, PASS, reference_checks, read_inputs
+from jointwear.report.checks import FAIL, NA, PASS, reference_checks
+from jointwear.study.results import ReliabilityResult, SensitivityResult, WearSummary
 
 SECTIONS = ("summary", "comparison", "study", "dynamics", "wear", "reliability", "sensitivity", "files")
 
@@ -51,7 +54,7 @@ def test_text_is_escaped(full_report: Path):
 
 
 def test_comparison_with_paper_on_fixture(study_dir: Path):
-    checks = reference_checks(read_inputs(study_dir).data)
+    checks = reference_checks(load_results(study_dir))
     banded = [c for c in checks if c.status in (PASS, FAIL)]
     assert len(banded) >= 12
     assert all(c.status == PASS for c in banded), [(c.quantity, c.ours) for c in banded if c.status != PASS]
@@ -61,17 +64,16 @@ def test_comparison_with_paper_on_fixture(study_dir: Path):
     assert byname["sensitivity ranking, tolerances"].status == PASS
 
 
-def test_comparison_flags_out_of_band(tmp_path: Path):
-    d = make_fixture_dir(tmp_path, which=("wear", "reliability"))
-    wear = json.loads((d / "wear.json").read_text())
-    wear["max_wear_mm"] = 0.05
-    wear["max_wear_angle_deg"] = 200.0
-    (d / "wear.json").write_text(json.dumps(wear))
-    rel = json.loads((d / "reliability.json").read_text())
-    rel["curve"]["reliability"] = [1.0] * len(rel["curve"]["cycles"])
-    del rel["life_at_target"]
-    (d / "reliability.json").write_text(json.dumps(rel))
-    byname = {c.quantity: c for c in reference_checks(read_inputs(d).data)}
+def test_comparison_flags_out_of_band(tmp_path: Path, nominal: Path):
+    d = make_fixture_dir(tmp_path, nominal, which=("wear", "reliability", "config"))
+    wear = WearSummary.load(d)
+    wear.max_wear_mm, wear.max_wear_angle_deg = 0.05, 200.0
+    wear.write(d)
+    rel = ReliabilityResult.load(d)
+    rel.reliability = np.ones_like(rel.reliability)
+    rel.life_table, rel.life_cycles = [], None
+    rel.write(d)
+    byname = {c.quantity: c for c in reference_checks(load_results(d))}
     assert byname["nominal max bearing wear after 400,000 cycles"].status == FAIL
     assert byname["angle of the max wear"].status == FAIL
     assert byname["reliability R(N) at 520,000 cycles"].status == FAIL
@@ -88,62 +90,52 @@ def test_empty_folder_says_what_is_missing(tmp_path: Path):
     assert _imgs(page) == []
 
 
-def test_malformed_and_odd_inputs_spoil_only_their_section(tmp_path: Path):
-    d = make_fixture_dir(tmp_path, which=("wear", "reliability", "sensitivity", "config"))
+def test_malformed_and_odd_inputs_spoil_only_their_section(tmp_path: Path, nominal: Path):
+    d = make_fixture_dir(tmp_path, nominal, which=("wear", "reliability", "sensitivity", "config"))
     (d / "simulate.json").write_text("{not json")
     rel = json.loads((d / "reliability.json").read_text())
     rel["curve"]["reliability"] = "oops"  # wrong type
-    rel["histograms"] = {"cycles": [360000], "max_wear_mm": [[None, 0.02, 0.03]]}
     (d / "reliability.json").write_text(json.dumps(rel))
     (d / "sensitivity.json").write_text(json.dumps([1, 2, 3]))  # not an object
     page = build_report(d).read_text()
-    assert "simulate.json could not be read" in page
-    assert "sensitivity.json could not be read" in page
+    for stage in ("simulate", "reliability", "sensitivity"):
+        assert f"{stage}.json could not be read" in page, stage
     assert 'id="wear"' in page and len(_imgs(page)) >= 4
 
 
-def test_optional_keys_absent(tmp_path: Path):
-    d = make_fixture_dir(tmp_path, optional=False, csv=False)
-    sim = json.loads((d / "simulate.json").read_text())
-    for k in ("orbit", "contact_force", "clearance_mm"):
-        sim.pop(k)
-    (d / "simulate.json").write_text(json.dumps(sim))
+def test_optional_results_absent(tmp_path: Path, nominal: Path):
+    d = make_fixture_dir(tmp_path, nominal, optional=False)
+    for name in ("simulate.npz", "orbit_A.png", "force_A.png", "convergence.png", "wear_histograms.png"):
+        (d / name).unlink(missing_ok=True)
     cfg = json.loads((d / "config.json").read_text())
     cfg.pop("mechanism")
     (d / "config.json").write_text(json.dumps(cfg))
     page = build_report(d).read_text()
-    for what in ("Journal orbit: no orbit series", "Contact force: no series", "not recorded (reliability.json "
-                 "&#x27;convergence&#x27;)", "not recorded (reliability.json &#x27;histograms&#x27;)",
-                 "Sobol&#x27; indices: not computed", "no &#x27;mechanism&#x27; geometry"):
+    for what in ("Journal orbit: no series file (simulate.npz)", "Contact force: no series file",
+                 "Convergence of Pf: not recorded", "Max wear histograms: none requested",
+                 "Sobol&#x27; indices: not computed", "Mechanism sketch: drawn for four-bar linkages only"):
         assert what in page, what
-    # mean max wear falls back to nothing: its checks say no data, the rest still compare
-    checks = {c.quantity: c for c in reference_checks(read_inputs(d).data)}
+    # no mean max wear: its checks say no data, the rest still compare
+    checks = {c.quantity: c for c in reference_checks(load_results(d))}
     assert checks["mean of the max wear at 400,000 cycles"].status == NA
     assert checks["reliability R(N) at 400,000 cycles"].status == PASS
 
 
-def test_csv_series_and_stage_png_fallback(tmp_path: Path, study_dir: Path):
-    d = make_fixture_dir(tmp_path, which=("simulate", "wear"))
-    sim = json.loads((d / "simulate.json").read_text())
-    orbit = sim.pop("orbit")
-    (d / "simulate.json").write_text(json.dumps(sim))
-    # orbit only as a CSV in micrometres
-    rows = ["time_s,x_um,y_um"] + [f"{i},{x * 1e3},{y * 1e3}" for i, (x, y) in enumerate(zip(orbit["x_mm"],
-                                                                                          orbit["y_mm"]))]
-    (d / "data").mkdir()
-    (d / "data" / "orbit.csv").write_text("\n".join(rows))
-    # a stage figure the report cannot draw itself, and one it can
+def test_series_from_the_stage_and_png_fallback(tmp_path: Path, nominal: Path):
+    d = make_fixture_dir(tmp_path, nominal, which=("simulate", "wear"))
+    page = build_report(d).read_text()
+    assert "figure file orbit_A.png" not in page  # drawn from simulate.npz, the stage's file superseded
+    (d / "simulate.npz").unlink()
+    # a stage figure the report cannot draw itself, and a file that is not a PNG
     shutil.copy(Path(__file__).with_name("report_fixtures.py"), d / "not-a-figure.png")
     from jointwear.report.figures import sobol_figure
     from jointwear.report.style import savefig
 
     savefig(sobol_figure(["a", "b"], [0.2, 0.5], [0.3, 0.6]), d / "sobol_indices.png")
-    inp = read_inputs(d)
-    assert any(name == "orbit.csv" for name, _ in inp.csv_tables)
     page = build_report(d).read_text()
-    assert "Journal orbit: no orbit series" not in page
+    assert "figure file orbit_A.png" in page  # no series: the stage's own figure fills the slot
     assert "figure file sobol_indices.png" not in page  # no sensitivity.json: Sobol' slot not drawn
-    assert "sobol_indices.png" in page  # but the stage's own figure is embedded (appendix or slot)
+    assert "sobol_indices.png" in page  # but the stage's own figure is embedded in the appendix
     assert "not-a-figure.png" not in page.split('id="files"')[0]  # not a PNG: never embedded
 
 
@@ -164,15 +156,15 @@ def test_comparison_markdown(study_dir: Path):
     assert main(["/does/not/exist"]) == 2
 
 
-def test_ranking_marks_neighbours_the_surrogate_does_not_separate(tmp_path: Path):
+def test_ranking_marks_neighbours_the_surrogate_does_not_separate(tmp_path: Path, nominal: Path):
     """sensitivity.json's unresolved_pairs: the ranking joins them with \u2248 and the comparison says so."""
-    d = make_fixture_dir(tmp_path, which=("sensitivity",))
-    sens = json.loads((d / "sensitivity.json").read_text())
+    d = make_fixture_dir(tmp_path, nominal, which=("sensitivity", "config"))
+    sens = SensitivityResult.load(d)
     # fixture bearing group: HB_b (swing 0.568) > k_b (0.168) > E_b > nu_b; declare E_b / nu_b unresolved
-    sens["unresolved_pairs"] = [{"group": "bearing_material", "first": "E_b", "second": "nu_b",
-                                 "swing_difference": 0.014, "error_sum": 0.02}]
-    (d / "sensitivity.json").write_text(json.dumps(sens))
-    checks = {c.quantity: c for c in reference_checks(read_inputs(d).data)}
+    sens.unresolved_pairs = [{"group": "bearing_material", "first": "E_b", "second": "nu_b",
+                              "swing_difference": 0.014, "error_sum": 0.02}]
+    sens.write(d)
+    checks = {c.quantity: c for c in reference_checks(load_results(d))}
     note = checks["sensitivity ranking, bearing material"].note
     assert ("not resolved within the surrogate's error: bearing Young's modulus \u2248 bearing Poisson's ratio"
             in note)
@@ -182,14 +174,11 @@ def test_ranking_marks_neighbours_the_surrogate_does_not_separate(tmp_path: Path
             "bearing Poisson&#x27;s ratio") in page
 
 
-def test_report_shows_the_validation_from_its_typed_result(tmp_path):
+def test_report_shows_the_validation_from_its_typed_result(tmp_path, nominal):
     """A validation.json written by the stage's typed result appears as its own section with both figures."""
-    from report_fixtures import make_fixture_dir
-
-    from jointwear.report.html import build_report
     from jointwear.study.results import ValidationResult
 
-    d = make_fixture_dir(tmp_path / "v", which=("reliability",), reference=False)
+    d = make_fixture_dir(tmp_path / "v", nominal, which=("reliability",))
     ValidationResult(cycles=[360_000, 400_000], reliability_mc=[0.95, 0.8], ci_low=[0.94, 0.78],
                      ci_high=[0.96, 0.82], reliability_surrogate=[0.948, 0.812], surrogate_error=[0.005, 0.01],
                      n_samples=2000, model_calls=2000, wall_seconds=1.0, agreement=[True, False],
@@ -200,31 +189,22 @@ def test_report_shows_the_validation_from_its_typed_result(tmp_path):
     assert page.count("data:image/png;base64") >= 2
 
 
-def test_report_warns_when_uniform_mode_is_outside_its_range(tmp_path):
-    import json
-
-    from report_fixtures import make_fixture_dir
-
-    from jointwear.report.html import build_report
-
-    d = make_fixture_dir(tmp_path / "w", which=("wear",), reference=False)
-    data = json.loads((d / "wear.json").read_text())
-    (d / "wear.json").write_text(json.dumps({**data, "geometry_mode": "uniform", "conformity": 2.4,
-                                             "uniform_mode_valid": False}))
+def test_report_warns_when_uniform_mode_is_outside_its_range(tmp_path, nominal):
+    d = make_fixture_dir(tmp_path / "w", nominal, which=("wear",))
+    wear = WearSummary.load(d)
+    wear.geometry_mode, wear.conformity, wear.uniform_mode_valid = "uniform", 2.4, False
+    wear.write(d)
     assert "Uniform mode is outside its range" in build_report(d).read_text(encoding="utf-8")
-    (d / "wear.json").write_text(json.dumps({**data, "geometry_mode": "uniform", "conformity": 0.4,
-                                             "uniform_mode_valid": True}))
+    wear.conformity, wear.uniform_mode_valid = 0.4, True
+    wear.write(d)
     assert "Uniform mode is outside its range" not in build_report(d).read_text(encoding="utf-8")
 
 
-def test_report_has_a_design_section_when_the_folder_has_a_design(tmp_path):
+def test_report_has_a_design_section_when_the_folder_has_a_design(tmp_path, nominal):
     import json
 
-    from report_fixtures import make_fixture_dir
 
-    from jointwear.report.html import build_report
-
-    d = make_fixture_dir(tmp_path / "d", which=("reliability",), reference=False)
+    d = make_fixture_dir(tmp_path / "d", nominal, which=("reliability",))
     point = {"choices": {"l2": "IT11", "fit": "IT8/IT7", "k_b": "coated"}, "cost": 4.0,
              "life_at_target_cycles": 482_188.0, "reliability_at_target_life": 0.961}
     (d / "design.json").write_text(json.dumps({

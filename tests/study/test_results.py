@@ -26,7 +26,9 @@ def test_wear_summary_save_and_load(tmp_path):
               "provenance"):
         assert k in d
     assert d["cycles"] == 50_000
-    assert set(d["profile"]) == {"angle_deg", "depth_mm"} and len(d["profile"]["angle_deg"]) == 360
+    assert set(d["profile"]) == {"angle_deg", "depth_mm", "contact_force_mean_N", "sliding_mm_per_deg_per_cycle",
+                                 "contact_area_mean_mm2"}
+    assert all(len(v) == 360 for v in d["profile"].values())
     assert set(d["history"]) == {"cycles", "max_wear_mm"} and d["history"]["cycles"][-1] == 50_000
     assert d["peaks"][0]["depth_mm"] == pytest.approx(d["max_wear_mm"])
     assert d["max_wear_mm"] == pytest.approx(r.joints[0].max_bearing_wear * 1e3)

@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import ClassVar
 
 from jointwear.study.io import write_csv
-from jointwear.study.results import StageResult
+from jointwear.study.stage_result import StageResult
 
 
 @dataclass

@@ -5,7 +5,7 @@ docs/paper-comparison.md).
 
 The reference is the one in the folder's settings JSON (``config.json``, key ``reference``: the config's
 ``[reference]``). Same numbers, bands and statuses as the report's comparison section
-(:func:`jointwear.report.html.reference_checks`). A study without a reference has nothing to compare: the
+(:func:`jointwear.report.checks.reference_checks`). A study without a reference has nothing to compare: the
 command says so and exits with status 1.
 """
 
@@ -14,7 +14,10 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from .html import FAIL, NA, PASS, format_number, read_inputs, reference_checks, reference_label, reference_of
+from jointwear.study.results import load_results
+
+from .checks import FAIL, NA, PASS, reference_checks, reference_label, reference_of
+from .markup import format_number
 
 
 def comparison_markdown(out_dir: Path | str) -> str:
@@ -22,13 +25,13 @@ def comparison_markdown(out_dir: Path | str) -> str:
 
     Raises ``LookupError`` when the study in ``out_dir`` declares no reference.
     """
-    data = read_inputs(Path(out_dir)).data
-    ref = reference_of(data)
+    results = load_results(Path(out_dir))
+    ref = reference_of(results.config)
     if ref is None:
         raise LookupError(f"{out_dir}: the study's settings (config.json) declare no [reference]; nothing to compare")
     rows = [f"| quantity | {reference_label(ref)} | jointwear | relative difference | band | status | note | source |",
             "|---|---|---|---|---|---|---|---|"]
-    for c in reference_checks(data, ref):
+    for c in reference_checks(results, ref):
         unit = "" if c.unit in ("-", "") else f" {c.unit}"
         theirs = "-" if c.reference is None else format_number(c.reference, c.digits) + unit
         ours = "-" if c.ours is None else format_number(c.ours, c.digits) + unit

@@ -4,7 +4,6 @@ and the verified R(N*) (read from ``design.json``)."""
 from __future__ import annotations
 
 import html
-import json
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -47,20 +46,21 @@ def _fmt(v, spec: str = ".4g") -> str:
 
 def design_section(out_dir: Path | str) -> str | None:
     """HTML of the design section from ``out_dir/design.json``; None when there is no design result."""
-    path = Path(out_dir) / "design.json"
-    if not path.is_file():
+    from jointwear.design.results import DesignResult
+
+    if not (Path(out_dir) / DesignResult.FILE).is_file():
         return None
-    d = json.loads(path.read_text(encoding="utf-8"))
+    d = DesignResult.load(out_dir)
     e = html.escape
     parts = []
-    r_star, n_star = d.get("target_reliability"), d.get("target_life_cycles")
+    r_star, n_star = _get(d, "target_reliability"), _get(d, "target_life_cycles")
     head = f"Target: {_fmt(n_star, ',.0f')} cycles at R = {_fmt(r_star, 'g')}"
-    if d.get("life_factor") and d.get("baseline_life_cycles"):
-        head += (f" ({d['life_factor']:g} x today's life at that reliability, "
-                 f"{d['baseline_life_cycles']:,.0f} cycles)")
-    parts.append(f"<p>{e(head)}; {d.get('n_candidates', 0)} candidate designs, "
-                 f"{d.get('model_calls', 0)} true-model calls in all.</p>")
-    chosen, ver = d.get("chosen"), d.get("verification")
+    if _get(d, "life_factor") and _get(d, "baseline_life_cycles"):
+        head += (f" ({_get(d, 'life_factor'):g} x today's life at that reliability, "
+                 f"{_get(d, 'baseline_life_cycles'):,.0f} cycles)")
+    parts.append(f"<p>{e(head)}; {_get(d, 'n_candidates', 0)} candidate designs, "
+                 f"{_get(d, 'model_calls', 0)} true-model calls in all.</p>")
+    chosen, ver = _get(d, "chosen"), _get(d, "verification")
     if chosen is None:
         parts.append('<p class="missing">No candidate reaches the target on the surrogate.</p>')
     else:
@@ -75,15 +75,15 @@ def design_section(out_dir: Path | str) -> str | None:
             text += (f" Its own reliability study ({ver['model_calls']} true-model calls) gives R(N*) = "
                      f"{ver['reliability_at_target_life']:.4f} +/- {ver['error']:.4f}: it {verdict} R(N*) >= R*.")
         parts.append(f"<p>{e(text)}</p>")
-    if d.get("pareto"):
+    if _get(d, "pareto"):
         uri = to_data_uri(design_pareto_figure(d))
         caption = "Cost of every candidate design against its life at the target reliability; the front and the choice."
         parts.append(f'<figure class="fig"><img src="{uri}" alt="{e(caption)}"><figcaption>{e(caption)}'
                      "</figcaption></figure>")
-        names = list(d["pareto"][0]["choices"])
+        names = list(_get(d, "pareto")[0]["choices"])
         header = "".join(f"<th>{e(n)}</th>" for n in names) + "<th>cost</th><th>life at R* (cycles)</th><th>R(N*)</th>"
         body = "".join("<tr>" + "".join(f"<td>{e(str(r['choices'][n]))}</td>" for n in names)
                        + f"<td>{r['cost']:.4g}</td><td>{_fmt(r.get('life_at_target_cycles'), ',.0f')}</td>"
-                       f"<td>{r['reliability_at_target_life']:.4f}</td></tr>" for r in d["pareto"])
+                       f"<td>{r['reliability_at_target_life']:.4f}</td></tr>" for r in _get(d, "pareto"))
         parts.append(f"<table><thead><tr>{header}</tr></thead><tbody>{body}</tbody></table>")
     return "".join(parts)

@@ -6,7 +6,8 @@ newtons, cycles) and returns a figure in the house style of :mod:`jointwear.repo
 reads files, so the stages and the HTML report draw the same figure from the same numbers.
 
 Angles on the bearing follow the paper (Section 6.1.3, Figs. 17-18): the bearing's (rod's) frame, 0 deg at the
-leftmost point, growing clockwise.
+leftmost point, growing clockwise. The reliability figures live in :mod:`jointwear.report.reliability_figures`
+and are re-exported here.
 """
 
 from __future__ import annotations
@@ -16,24 +17,32 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from matplotlib.figure import Figure
 
+from .reliability_figures import (
+    convergence_figure,
+    cross_validation_figure,
+    reliability_curve_figure,
+    sobol_figure,
+    tornado_figure,
+    validation_figure,
+    wear_histograms_figure,
+)
 from .style import (
+    CYCLES_LABEL,
+    kilo_cycles,
+    require_array,
     styled,
     COLORS,
     LIMIT_COLOR,
     PAPER_COLOR,
-    TARGET_COLOR,
     angle_axis,
-    as_array,
     axis_label,
     figure,
     hline,
     label_axes,
     nice_number,
     no_data,
-    note,
     panel_letter,
     scale_to_unit,
-    vline,
 )
 
 __all__ = [
@@ -48,16 +57,11 @@ __all__ = [
     "convergence_figure",
     "tornado_figure",
     "sobol_figure",
+    "validation_figure",
+    "cross_validation_figure",
 ]
 
 Array = Sequence[float] | np.ndarray
-
-
-def _arr(values) -> np.ndarray:
-    out = as_array(values)
-    if out is None:
-        raise ValueError("missing data for a figure")
-    return out
 
 
 def _break_wraps(angle_deg: np.ndarray, *ys: np.ndarray):
@@ -68,13 +72,6 @@ def _break_wraps(angle_deg: np.ndarray, *ys: np.ndarray):
         return (a, *ys)
     a = np.insert(a, jumps, np.nan)
     return (a, *(np.insert(y, jumps, np.nan) for y in ys))
-
-
-def _kilo_cycles(cycles) -> np.ndarray:
-    return _arr(cycles) / 1e3
-
-
-CYCLES_LABEL = axis_label("crank cycles N", "\u00d710\u00b3")
 
 
 # --------------------------------------------------------------------------------------------- mechanism
@@ -162,8 +159,8 @@ def orbit_figure(
     Plotted in micrometres. With ``angle_labels`` (only when x, y are already laid as in the paper: x to the
     right, y up), the paper's bearing angles (0 deg at the leftmost point, clockwise) are marked on the circle.
     """
-    x = _arr(x_mm) * 1e3
-    y = _arr(y_mm) * 1e3
+    x = require_array(x_mm) * 1e3
+    y = require_array(y_mm) * 1e3
     fig, ax = figure(size="square")
     ax.plot(x, y, color=COLORS[0], lw=0.9, label="journal centre")
     if x.size:
@@ -199,15 +196,15 @@ def contact_force_figure(
 
     ``ideal_N`` (same length) draws the reaction of the ideal joint for comparison.
     """
-    force, unit = scale_to_unit(_arr(force_N), "N")
-    factor = (float(np.nanmax(np.abs(_arr(force_N)))) / float(np.nanmax(np.abs(force)))) if np.nanmax(
+    force, unit = scale_to_unit(require_array(force_N), "N")
+    factor = (float(np.nanmax(np.abs(require_array(force_N)))) / float(np.nanmax(np.abs(force)))) if np.nanmax(
         np.abs(force)) > 0 else 1.0
-    ang = _arr(crank_angle_deg)
+    ang = require_array(crank_angle_deg)
     a, f = _break_wraps(ang, force)
     fig, ax = figure()
     ax.plot(a, f, color=COLORS[0], lw=1.0, label="clearance joint")
     if ideal_N is not None:
-        a2, f2 = _break_wraps(ang, _arr(ideal_N) / factor)
+        a2, f2 = _break_wraps(ang, require_array(ideal_N) / factor)
         ax.plot(a2, f2, color=PAPER_COLOR, lw=1.0, ls="--", label="ideal joint")
     if mean_N is not None:
         hline(ax, mean_N / factor, f"mean {mean_N / factor:.3g} {unit}", color=COLORS[1])
@@ -249,8 +246,8 @@ def wear_polar_figure(
     multiplied by ``exaggeration`` (chosen so the largest wear shows as about 30 % of the radius when not given);
     the factor is written on the figure. ``radius_mm`` is the initial bearing radius (1 when unknown).
     """
-    ang = _arr(angle_deg)
-    depth = np.nan_to_num(_arr(depth_mm))
+    ang = require_array(angle_deg)
+    depth = np.nan_to_num(require_array(depth_mm))
     order = np.argsort(np.mod(ang, 360))
     ang, depth = np.mod(ang, 360)[order], depth[order]
     r0 = float(radius_mm) if radius_mm else 1.0
@@ -310,10 +307,10 @@ def wear_panels_figure(
     depth against the angle on the bearing. Panels without data say so. Each quantity may have its own angle
     grid (``*_angle_deg``); by default all share ``angle_deg``."""
     fig, axes = figure(2, 2, size="panels")
-    ang = _arr(angle_deg)
+    ang = require_array(angle_deg)
 
     def series(ax, a, y, color):
-        a = np.mod(ang if a is None else _arr(a), 360)
+        a = np.mod(ang if a is None else require_array(a), 360)
         order = np.argsort(a)
         ax.plot(a[order], y[order], color=color, lw=1.3)
 
@@ -321,9 +318,9 @@ def wear_panels_figure(
     panel_letter(ax, "a")
     if slip_mm is not None:
         if slip_unit is None:  # a distance in mm: shown with a readable prefix
-            s, unit = scale_to_unit(_arr(slip_mm) * 1e-3, "m")
+            s, unit = scale_to_unit(require_array(slip_mm) * 1e-3, "m")
         else:  # a distribution (for example mm per degree of bearing per cycle): as given
-            s, unit = _arr(slip_mm), slip_unit
+            s, unit = require_array(slip_mm), slip_unit
         series(ax, slip_angle_deg, s, COLORS[0])
         ax.set_ylabel(axis_label(slip_quantity, unit))
         angle_axis(ax, "x")
@@ -334,7 +331,7 @@ def wear_panels_figure(
     ax = axes[0, 1]
     panel_letter(ax, "b")
     if contact_force_N is not None:
-        f, unit = scale_to_unit(_arr(contact_force_N), "N")
+        f, unit = scale_to_unit(require_array(contact_force_N), "N")
         series(ax, force_angle_deg, f, COLORS[2])
         ax.set_ylabel(axis_label("contact force", unit))
         angle_axis(ax, "x")
@@ -345,7 +342,7 @@ def wear_panels_figure(
     ax = axes[1, 0]
     panel_letter(ax, "c")
     if contact_area_mm2 is not None:
-        area = _arr(contact_area_mm2)
+        area = require_array(contact_area_mm2)
         unit = "mm2"
         if np.nanmax(np.abs(area)) < 0.1:
             area, unit = area * 1e6, "um2"
@@ -358,7 +355,7 @@ def wear_panels_figure(
 
     ax = axes[1, 1]
     panel_letter(ax, "d")
-    series(ax, None, np.nan_to_num(_arr(depth_mm)), COLORS[1])
+    series(ax, None, np.nan_to_num(require_array(depth_mm)), COLORS[1])
     ax.set_ylabel(axis_label("bearing wear depth", "mm"))
     angle_axis(ax, "x")
     ax.set_ylim(bottom=0)
@@ -383,9 +380,9 @@ def wear_history_figure(
     the allowable wear ``limit_mm`` (the study's configured allowance) and a cited reference's values
     (``reference_mean`` {cycles: mm}, ``reference_nominal`` (cycles, mm)), labelled ``reference_label``."""
     fig, ax = figure()
-    ax.plot(_kilo_cycles(cycles), _arr(max_wear_mm), color=COLORS[0], label="nominal design")
+    ax.plot(kilo_cycles(cycles), require_array(max_wear_mm), color=COLORS[0], label="nominal design")
     if mean_cycles is not None and mean_max_wear_mm is not None:
-        ax.plot(_kilo_cycles(mean_cycles), _arr(mean_max_wear_mm), color=COLORS[2], ls="-", marker="o", ms=3.5,
+        ax.plot(kilo_cycles(mean_cycles), require_array(mean_max_wear_mm), color=COLORS[2], ls="-", marker="o", ms=3.5,
                 label="mean over the random inputs")
     if reference_mean:
         ks = sorted(reference_mean)
@@ -405,265 +402,9 @@ def wear_history_figure(
     return fig
 
 
-# --------------------------------------------------------------------------------------------- reliability
-def reliability_curve_figure(
-    cycles: Array,
-    reliability: Array,
-    *,
-    pf_cov: Array | None = None,
-    target: float | None = None,
-    life_cycles: float | None = None,
-    reference: Mapping[float, float] | None = None,
-    reference_life: float | None = None,
-    reference_label: str = "reference",
-) -> Figure:
-    """R(N) with a 95 % band from the COV of Pf, the target line, the life at the target and, when given, a
-    cited reference's points ``reference`` {cycles: R} and life ``reference_life`` (cycles at the target),
-    labelled ``reference_label``."""
-    n = _kilo_cycles(cycles)
-    rel = _arr(reliability)
-    fig, ax = figure()
-    if pf_cov is not None:
-        cov = _arr(pf_cov)
-        cov = np.where(np.isfinite(cov), cov, 0.0)  # no COV where Pf = 0: a band of zero width
-        half = 1.96 * cov * (1.0 - rel)
-        ax.fill_between(n, np.clip(rel - half, 0, 1), np.clip(rel + half, 0, 1), color=COLORS[0], alpha=0.2,
-                        lw=0, label="95 % band (COV of Pf)")
-    ax.plot(n, rel, color=COLORS[0], marker="o", ms=3, label="this study")
-    if reference:
-        ks = sorted(reference)
-        ax.plot(np.array(ks) / 1e3, [reference[k] for k in ks], "x", color=PAPER_COLOR, ms=7, mew=1.8,
-                label=reference_label)
-    if target is not None:
-        hline(ax, target, f"target R = {target:g}", color=TARGET_COLOR)
-    if life_cycles is not None and np.isfinite(life_cycles):
-        vline(ax, life_cycles / 1e3, f"life {life_cycles:,.0f} cycles", color=TARGET_COLOR)
-        if target is not None:
-            ax.plot(life_cycles / 1e3, target, "D", color=TARGET_COLOR, ms=6, zorder=5)
-    if reference_life is not None and target is not None:
-        ax.plot(reference_life / 1e3, target, "D", mfc="none", color=PAPER_COLOR, ms=7,
-                label=f"{reference_label}: life {reference_life:,.0f} cycles")
-    ax.set_ylim(-0.02, 1.02)
-    ax.set_xlabel(CYCLES_LABEL)
-    ax.set_ylabel(axis_label("reliability R(N)", None))
-    ax.legend(loc="lower left")
-    ax.set_title("Reliability against cycles")
-    return fig
-
-
-def wear_histograms_figure(
-    cycles: Sequence[float],
-    max_wear_mm: Sequence[Array],
-    *,
-    limit_mm: float | None = None,
-    reference_means: Mapping[float, float] | None = None,
-    reference_label: str = "reference",
-) -> Figure:
-    """Histograms of the max wear over the random inputs at a few cycle counts, and all of them together;
-    ``reference_means`` {cycles: mm} marks a cited reference's means (dotted)."""
-    sets = [(float(c), _arr(s)[np.isfinite(_arr(s))]) for c, s in zip(cycles, max_wear_mm)]
-    npanel = len(sets) + (1 if len(sets) > 1 else 0)
-    ncols = 2 if npanel == 4 else min(npanel, 3)
-    nrows = int(np.ceil(npanel / ncols))
-    fig, axes = figure(nrows, ncols, size=(9.6, 3.4 * nrows), squeeze=False)
-    axes = axes.ravel()
-    allvals = np.concatenate([s for _, s in sets]) if sets else np.array([])
-    bins = np.histogram_bin_edges(allvals, bins=40) if allvals.size else 10
-    letters = "abcdefghij"
-    for k, (c, s) in enumerate(sets):
-        ax = axes[k]
-        color = COLORS[k % len(COLORS)]
-        ax.hist(s, bins=bins, density=True, color=color, alpha=0.75, edgecolor="white")
-        m = float(np.mean(s)) if s.size else np.nan
-        vline(ax, m, None, color=PAPER_COLOR, ls="-")
-        if reference_means and c in reference_means:
-            vline(ax, reference_means[c], None, color=PAPER_COLOR, ls=":")
-        if limit_mm is not None:
-            vline(ax, limit_mm, None, color=LIMIT_COLOR, ls="--")
-        txt = f"n = {s.size:,}\nmean = {m:.4f} mm\nstd = {np.std(s):.4f} mm"
-        if reference_means and c in reference_means:
-            txt += f"\n{reference_label} mean = {reference_means[c]:.4f} mm"
-        if limit_mm is not None and s.size:
-            txt += f"\nP(> {limit_mm:g} mm) = {np.mean(s > limit_mm):.3f}"
-        centre = 0.5 * (bins[0] + bins[-1]) if not isinstance(bins, int) else m
-        note(ax, txt, loc="upper left" if m > centre else "upper right")
-        ax.set_xlabel(axis_label("max wear", "mm"))
-        ax.set_ylabel(axis_label("probability density", "1/mm"))
-        panel_letter(ax, letters[k])
-        ax.set_title(f"{c:,.0f} cycles", loc="center", fontweight="normal")
-    if len(sets) > 1:
-        ax = axes[len(sets)]
-        for k, (c, s) in enumerate(sets):
-            ax.hist(s, bins=bins, density=True, histtype="step", lw=1.6, color=COLORS[k % len(COLORS)],
-                    label=f"{c:,.0f} cycles")
-        if limit_mm is not None:
-            vline(ax, limit_mm, f"\u03b4\u2080 = {limit_mm:g} mm", color=LIMIT_COLOR, ls="--")
-        ax.set_xlabel(axis_label("max wear", "mm"))
-        ax.set_ylabel(axis_label("probability density", "1/mm"))
-        ax.legend(loc="upper right")
-        panel_letter(ax, letters[len(sets)])
-        ax.set_title("together", loc="center", fontweight="normal")
-    for ax in axes[npanel:]:
-        ax.set_visible(False)
-    fig.suptitle("Distribution of the max wear of the joint")
-    return fig
-
-
-def convergence_figure(
-    n_calls: Array,
-    pf: Array,
-    *,
-    cov: Array | None = None,
-    label: str | None = None,
-) -> Figure:
-    """The failure probability estimate against the number of true-model calls during active learning."""
-    calls = _arr(n_calls)
-    p = _arr(pf)
-    fig, ax = figure()
-    if cov is not None:
-        c = _arr(cov)
-        half = 1.96 * np.where(np.isfinite(c), c, 0.0) * p  # no band where the COV is undefined (Pf = 0)
-        ax.fill_between(calls, np.clip(p - half, 0, 1), np.clip(p + half, 0, 1), color=COLORS[0], alpha=0.2, lw=0,
-                        label="95 % band (COV of Pf)")
-    ax.plot(calls, p, color=COLORS[0], marker="o", ms=3.5, label=label or "Pf estimate")
-    if p.size:
-        hline(ax, float(p[-1]), f"final Pf = {p[-1]:.4g}", color=COLORS[1], ls=":")
-    pos = p[p > 0]
-    if pos.size and pos.max() / pos.min() > 50:
-        ax.set_yscale("log")
-    ax.set_xlabel(axis_label("true-model calls", "count"))
-    ax.set_ylabel(axis_label("failure probability Pf", None))
-    ax.legend(loc="best")
-    ax.set_title("Convergence of Pf against model calls")
-    return fig
-
-
-# --------------------------------------------------------------------------------------------- sensitivity
-def tornado_figure(
-    labels: Sequence[str],
-    reliability_low: Array,
-    reliability_high: Array,
-    reliability_nominal: float,
-    *,
-    cycles: float | None = None,
-    low_label: str = "mean \u00d7 0.8",
-    high_label: str = "mean \u00d7 1.2",
-    title: str | None = None,
-) -> Figure:
-    """Tornado of the reliability when each variable's mean is moved to 80 % and 120 % (Figs. 22-24).
-
-    Bars start at the nominal reliability; the most influential variable is on top.
-    """
-    lo = _arr(reliability_low)
-    hi = _arr(reliability_high)
-    nom = float(reliability_nominal)
-    spread = np.nanmax(np.abs(np.c_[lo - nom, hi - nom]), axis=1) if lo.size else np.array([])
-    order = np.argsort(-np.nan_to_num(spread, nan=-1.0), kind="stable")[::-1]
-    fig, ax = figure(size=(6.4, max(2.4, 0.45 * len(labels) + 1.4)))
-    y = np.arange(len(labels))
-    ax.barh(y, lo[order] - nom, left=nom, height=0.38, align="edge", color=COLORS[0], label=low_label)
-    ax.barh(y - 0.38, hi[order] - nom, left=nom, height=0.38, align="edge", color=COLORS[1], label=high_label)
-    ax.axvline(nom, color=PAPER_COLOR, lw=1.0)
-    ax.set_yticks(y)
-    ax.set_yticklabels([labels[i] for i in order])
-    ax.set_xlim(-0.02, 1.02)
-    ax.set_xlabel(axis_label("reliability R" + (f" at {cycles:,.0f} cycles" if cycles else ""), None))
-    ax.grid(axis="y", visible=False)
-    ax.legend(loc="lower left", bbox_to_anchor=(0, 1.0), ncols=2, fontsize=8.5)
-    ax.set_title(title or f"Sensitivity: nominal R = {nom:.3f}", pad=22)
-    return fig
-
-
-def sobol_figure(
-    names: Sequence[str],
-    S1: Array,
-    ST: Array,
-    *,
-    S1_conf: Array | None = None,
-    ST_conf: Array | None = None,
-    output: str = "max wear",
-) -> Figure:
-    """First-order and total Sobol' indices (sorted by the total index), with confidence intervals if given."""
-    s1 = _arr(S1)
-    st = _arr(ST)
-    order = np.argsort(np.nan_to_num(st), kind="stable")  # largest total index on top
-    fig, ax = figure(size=(7.2, max(2.6, 0.42 * len(names) + 1.3)))
-    y = np.arange(len(names))
-    h = 0.38
-    ax.barh(y + h / 2, s1[order], h, color=COLORS[0], label="first order S1",
-            xerr=None if S1_conf is None else _arr(S1_conf)[order], capsize=2)
-    ax.barh(y - h / 2, st[order], h, color=COLORS[1], label="total ST",
-            xerr=None if ST_conf is None else _arr(ST_conf)[order], capsize=2)
-    ax.set_yticks(y)
-    ax.set_yticklabels([names[i] for i in order])
-    ax.set_xlim(left=min(0.0, float(np.nanmin(np.r_[s1, st, 0.0])) * 1.1))
-    ax.set_xlabel(axis_label(f"Sobol' index of the {output}", None))
-    ax.grid(axis="y", visible=False)
-    ax.legend(loc="lower right")
-    ax.set_title(f"Global sensitivity (Sobol') of the {output}")
-    return fig
-
-
-def validation_figure(
-    cycles: Array,
-    reliability_mc: Array,
-    ci_low: Array,
-    ci_high: Array,
-    reliability_surrogate: Array,
-    surrogate_error: Array | None = None,
-    *,
-    n_samples: int | None = None,
-) -> Figure:
-    """The surrogate's R(N) with its error estimate against the true model sampled directly (exact binomial
-    95 % interval)."""
-    n = _kilo_cycles(cycles)
-    r_mc, r_sur = _arr(reliability_mc), _arr(reliability_surrogate)
-    fig, ax = figure()
-    if surrogate_error is not None:
-        err = np.nan_to_num(_arr(surrogate_error))
-        ax.fill_between(n, np.clip(r_sur - err, 0, 1), np.clip(r_sur + err, 0, 1), color=COLORS[0], alpha=0.2, lw=0,
-                        label="surrogate error estimate")
-    ax.plot(n, r_sur, color=COLORS[0], marker="o", ms=3, label="surrogate (the study's R(N))")
-    lo, hi = _arr(ci_low), _arr(ci_high)
-    ax.errorbar(n, r_mc, yerr=[np.clip(r_mc - lo, 0, None), np.clip(hi - r_mc, 0, None)], fmt="s", ms=4,
-                color=COLORS[1], capsize=3,
-                label="true model" + (f", {n_samples:,} samples" if n_samples else "") + " (exact 95 % CI)")
-    ax.set_ylim(-0.02, 1.02)
-    ax.set_xlabel(CYCLES_LABEL)
-    ax.set_ylabel(axis_label("reliability R(N)", None))
-    ax.legend(loc="lower left")
-    ax.set_title("R(N): surrogate against direct Monte Carlo of the true model")
-    return fig
-
-
-def cross_validation_figure(
-    true_values: Array,
-    loo_values: Array,
-    loo_sd: Array | None = None,
-    *,
-    q2: float | None = None,
-    quantity: str = "ln N_f (wear life)",
-) -> Figure:
-    """Leave-one-out predictions of the design points against their true values (the 1:1 line is exact)."""
-    y, p = _arr(true_values), _arr(loo_values)
-    fig, ax = figure()
-    lo, hi = (float(np.nanmin(np.r_[y, p])), float(np.nanmax(np.r_[y, p]))) if y.size else (0.0, 1.0)
-    ax.plot([lo, hi], [lo, hi], color="0.5", lw=1, ls="--", label="exact")
-    if loo_sd is not None:
-        ax.errorbar(y, p, yerr=1.96 * _arr(loo_sd), fmt="o", ms=4, color=COLORS[0], alpha=0.8, capsize=2,
-                    label="leave-one-out prediction (95 %)")
-    else:
-        ax.plot(y, p, "o", ms=4, color=COLORS[0], label="leave-one-out prediction")
-    ax.set_xlabel(f"true {quantity}")
-    ax.set_ylabel(f"predicted {quantity}")
-    if q2 is not None:
-        note(ax, f"Q\u00b2 = {q2:.3f}", loc="lower right")
-    ax.legend(loc="upper left")
-    ax.set_title("Surrogate cross-validation")
-    return fig
-
-
-# every figure is drawn in the house style without touching the user's rcParams
-for _name in ['mechanism_figure', 'orbit_figure', 'contact_force_figure', 'wear_polar_figure', 'wear_panels_figure', 'wear_history_figure', 'reliability_curve_figure', 'wear_histograms_figure', 'convergence_figure', 'tornado_figure', 'sobol_figure', 'validation_figure', 'cross_validation_figure']:
+# every figure is drawn in the house style without touching the user's rcParams (the reliability figures are
+# styled in their own module)
+for _name in ("mechanism_figure", "orbit_figure", "contact_force_figure", "wear_polar_figure", "wear_panels_figure",
+              "wear_history_figure"):
     globals()[_name] = styled(globals()[_name])
 del _name

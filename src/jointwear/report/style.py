@@ -317,3 +317,19 @@ def as_array(values: Sequence[float] | np.ndarray | None) -> np.ndarray | None:
     if values is None:
         return None
     return np.array([np.nan if v is None else v for v in np.ravel(np.asarray(values, dtype=object))], dtype=float)
+
+
+def require_array(values) -> np.ndarray:
+    """:func:`as_array` for data a figure cannot do without (ValueError when it is missing)."""
+    out = as_array(values)
+    if out is None:
+        raise ValueError("missing data for a figure")
+    return out
+
+
+def kilo_cycles(cycles) -> np.ndarray:
+    """Cycles in thousands, the unit of every cycles axis."""
+    return require_array(cycles) / 1e3
+
+
+CYCLES_LABEL = axis_label("crank cycles N", "\u00d710\u00b3")

@@ -35,6 +35,13 @@ def scheduler_problem(address: str | None) -> str | None:
     return None
 
 
+def nominal_wear_cycles(config: StudyConfig) -> int | None:
+    """Cycles of the nominal wear history: ``wear.cycles``, else the end of the R(N) curve, else None."""
+    if config.wear.cycles is not None:
+        return config.wear.cycles
+    return config.reliability.cycles_stop
+
+
 def config_problems(config: StudyConfig, stages: frozenset[str] | set[str]) -> list[str]:
     """Every cross-section problem of ``config`` for running ``stages`` (empty when it can run)."""
     problems: list[str] = []
@@ -53,6 +60,9 @@ def config_problems(config: StudyConfig, stages: frozenset[str] | set[str]) -> l
                 problems.append(f"sensitivity.cycles: {c} is not one of the R(N) curve's cycle counts {grid}")
     elif "wear" in stages and not config.clearance_joints:
         problems.append("clearance_joints: the wear stage needs at least one clearance joint")
+    if "wear" in stages and nominal_wear_cycles(config) is None:
+        problems.append("wear.cycles: give the number of cycles of the nominal wear history ([wear] cycles) or an "
+                        "R(N) curve ([reliability] cycles_stop) whose end it defaults to")
     problem = scheduler_problem(config.compute.scheduler)
     if problem:
         problems.append(problem)

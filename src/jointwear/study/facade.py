@@ -19,7 +19,7 @@ from pathlib import Path
 
 from jointwear.config import StudyConfig, load_config
 from jointwear.schema import ConfigError
-from jointwear.study.checks import check_runs, config_problems, scheduler_problem
+from jointwear.study.checks import check_runs, config_problems, nominal_wear_cycles, scheduler_problem
 from jointwear.study.limit_state import joint_allowance, limit_state_from_config, limit_state_problems
 from jointwear.study.results import (
     ReliabilityResult,
@@ -193,7 +193,7 @@ class Study:
         from jointwear.wear.settings import check_cycles
 
         self._prepare({"wear"})
-        n = check_cycles(cycles if cycles is not None else self.config.wear.cycles, "cycles")
+        n = check_cycles(cycles if cycles is not None else nominal_wear_cycles(self.config), "cycles")
         t0 = time.perf_counter()
         res = wear_history(build_model(self.config), self.config.wear, n, progress=progress)
         result = WearSummary.from_history(res, self.config, self._allowances())

@@ -3,63 +3,25 @@
 Like SciPy's ``OdeResult``: documented fields, units in the names of dimensional quantities. The JSON files
 are the contract of DESIGN.md (``simulate.json``, ``wear.json``, ``reliability.json``,
 ``sensitivity.json``); :func:`load_results` reads a study folder back into these types, which is how the
-report and notebooks read results.
+report and notebooks read results. The reliability stages' results live in
+:mod:`jointwear.study.reliability_results` and are re-exported here.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import MISSING, dataclass, field, fields
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, ClassVar
 
 import numpy as np
 
-from jointwear.study.io import provenance, read_json, write_csv, write_json
+from jointwear.study.io import provenance, read_json, write_csv
+from jointwear.study.reliability_results import ReliabilityResult, SensitivityResult, ValidationResult
+from jointwear.study.stage_result import StageResult, save_figure
 
-
-class StageResult:
-    """Shared save/load of the stage results: the JSON holds every field not marked ``json=False``."""
-
-    FILE: ClassVar[str] = ""
-
-    def to_json(self) -> dict:
-        out = {f.name: getattr(self, f.name) for f in fields(self) if f.metadata.get("json", True)}
-        for key, value in getattr(self, "extra", {}).items():
-            out.setdefault(key, value)
-        return out
-
-    @classmethod
-    def from_json(cls, data: dict):
-        """The result from its JSON; keys this version does not know are kept in ``extra`` (and written back)."""
-        kwargs, known = {}, set()
-        for f in fields(cls):
-            known.add(f.name)
-            if not f.metadata.get("json", True):
-                continue
-            if f.name in data:
-                kwargs[f.name] = data[f.name]
-            elif f.default is MISSING and f.default_factory is MISSING:
-                raise ValueError(f"{cls.FILE}: missing key '{f.name}'")
-        if "extra" in known:
-            kwargs["extra"] = {k: v for k, v in data.items() if k not in known}
-        return cls(**kwargs)
-
-    @classmethod
-    def load(cls, folder: Path | str):
-        """Read the result back from ``folder / FILE``."""
-        return cls.from_json(read_json(Path(folder) / cls.FILE))
-
-    def write(self, folder: Path | str) -> Path:
-        payload = self.to_json()
-        payload.setdefault("provenance", provenance())
-        return write_json(Path(folder) / self.FILE, payload)
-
-
-def _savefig(fig, path: Path) -> None:
-    from jointwear.report.style import savefig
-
-    savefig(fig, path)
+__all__ = ["StageResult", "SimulationSummary", "WearSummary", "ReliabilityResult", "SensitivityResult",
+           "ValidationResult", "StudyResults", "STAGE_TYPES", "load_results"]
 
 
 # --------------------------------------------------------------------------------------------------- simulate
@@ -149,16 +111,29 @@ class SimulationSummary(StageResult):
             from jointwear.report import figures as F
 
             for tr in res.joints:
-                _savefig(F.orbit_figure(tr.eccentricity[:, 0] * 1e3, tr.eccentricity[:, 1] * 1e3,
+                save_figure(F.orbit_figure(tr.eccentricity[:, 0] * 1e3, tr.eccentricity[:, 1] * 1e3,
                                         tr.clearance_used * 1e3, title=f"Journal centre orbit, joint {tr.name}"),
                          folder / f"orbit_{tr.name}.png")
-                _savefig(F.contact_force_figure(np.degrees(res.crank_angle), tr.contact_force,
+                save_figure(F.contact_force_figure(np.degrees(res.crank_angle), tr.contact_force,
                                                 mean_N=tr.mean_force, title=f"Contact force, joint {tr.name}"),
                          folder / f"force_{tr.name}.png")
         return path
 
 
 # ------------------------------------------------------------------------------------------------------- wear
+#: per-cell columns of a joint's wear profile besides the depth (wear.json ``profile`` and wear_profile.csv)
+_PANEL_KEYS = ("contact_force_mean_N", "sliding_mm_per_deg_per_cycle", "contact_area_mean_mm2")
+
+
+def _profile_panels(jw, order) -> dict[str, list[float]]:
+    """Mean contact force, sliding distance per degree of bearing and mean contact area of each bearing cell
+    over the last simulated cycles, in the profile's angle order."""
+    d = jw.diagnostics
+    cell_deg = 360.0 / jw.theta.size
+    return {"contact_force_mean_N": d.force_mean[order].tolist(),
+            "sliding_mm_per_deg_per_cycle": (d.slip_distance[order] * 1e3 / cell_deg).tolist(),
+            "contact_area_mean_mm2": (d.area_mean[order] * 1e6).tolist()}
+
 @dataclass
 class WearSummary(StageResult):
     """The wear history of the nominal mechanism (``jointwear wear``).
@@ -221,7 +196,8 @@ class WearSummary(StageResult):
                 "max_wear_mm": jw.max_bearing_wear * 1e3,
                 "max_wear_angle_deg": jw.max_wear_angle_deg,
                 "peaks": [{"angle_deg": p["angle_deg"], "depth_mm": p["depth"] * 1e3} for p in jw.peaks],
-                "profile": {"angle_deg": ang[o].tolist(), "depth_mm": (jw.bearing_wear[o] * 1e3).tolist()},
+                "profile": {"angle_deg": ang[o].tolist(), "depth_mm": (jw.bearing_wear[o] * 1e3).tolist(),
+                            **_profile_panels(jw, o)},
                 "history": {"cycles": jw.history_cycles.astype(int).tolist(),
                             "max_wear_mm": (jw.history_max_bearing * 1e3).tolist(),
                             "max_journal_wear_mm": (jw.history_max_journal * 1e3).tolist(),
@@ -272,326 +248,37 @@ class WearSummary(StageResult):
             jp = joint["journal"]["profile"]
             files.append(write_csv(folder / f"wear_journal_profile{sfx}.csv",
                                    {"angle_deg": jp["angle_deg"], "journal_depth_mm": jp["depth_mm"]}).name)
-            cols = {"angle_deg": joint["profile"]["angle_deg"], "bearing_depth_mm": joint["profile"]["depth_mm"]}
-            panels = {}
+            prof = joint["profile"]
+            cols = {"angle_deg": prof["angle_deg"], "bearing_depth_mm": prof["depth_mm"],
+                    **{key: prof[key] for key in _PANEL_KEYS if key in prof}}
             if res is not None:
                 jw = res.joints[k]
-                d = jw.diagnostics
                 o = np.argsort(jw.angle_deg)
-                cell = 360.0 / jw.theta.size
-                panels = {"contact_force_N": d.force_mean[o], "slip_mm": d.slip_distance[o] * 1e3 / cell,
-                          "contact_area_mm2": d.area_mean[o] * 1e6}
-                cols.update({"body_angle_deg": np.degrees(jw.theta[o]), "contact_force_mean_N": d.force_mean[o],
-                             "sliding_mm_per_deg_per_cycle": panels["slip_mm"],
-                             "contact_area_mean_mm2": panels["contact_area_mm2"],
-                             "contact_time_s_per_cycle": d.contact_time[o],
-                             "depth_rate_mm_per_cycle": d.bearing[o] * 1e3})
+                cols.update({"body_angle_deg": np.degrees(jw.theta[o]),
+                             "contact_time_s_per_cycle": jw.diagnostics.contact_time[o],
+                             "depth_rate_mm_per_cycle": jw.diagnostics.bearing[o] * 1e3})
             files.append(write_csv(folder / f"wear_profile{sfx}.csv", cols).name)
             if figures:
                 from jointwear.report import figures as F
 
-                prof = joint["profile"]
-                _savefig(F.wear_polar_figure(prof["angle_deg"], prof["depth_mm"],
+                save_figure(F.wear_polar_figure(prof["angle_deg"], prof["depth_mm"],
                                              radius_mm=joint.get("bearing_radius_mm"), peaks=joint["peaks"],
                                              cycles=self.cycles, title=f"Worn bearing, joint {joint['name']}"),
                          folder / f"wear_polar{sfx}.png")
+                panels = "contact_force_mean_N" in prof
                 if panels:
-                    _savefig(F.wear_panels_figure(prof["angle_deg"], prof["depth_mm"], slip_mm=panels["slip_mm"],
-                                                  contact_force_N=panels["contact_force_N"],
-                                                  contact_area_mm2=panels["contact_area_mm2"], cycles=self.cycles,
-                                                  slip_unit="mm/deg per cycle"),
+                    save_figure(F.wear_panels_figure(prof["angle_deg"], prof["depth_mm"],
+                                                  slip_mm=prof["sliding_mm_per_deg_per_cycle"],
+                                                  contact_force_N=prof["contact_force_mean_N"],
+                                                  contact_area_mm2=prof["contact_area_mean_mm2"], cycles=self.cycles,
+                                                  slip_unit="mm/deg per cycle", slip_quantity="sliding distance"),
                              folder / f"wear_vs_angle{sfx}.png")
-                _savefig(F.wear_history_figure(h["cycles"], h["max_wear_mm"], limit_mm=joint.get("allowance_mm")),
+                save_figure(F.wear_history_figure(h["cycles"], h["max_wear_mm"], limit_mm=joint.get("allowance_mm")),
                          folder / f"wear_history{sfx}.png")
                 files += [f"wear_polar{sfx}.png", f"wear_history{sfx}.png"] + (
                     [f"wear_vs_angle{sfx}.png"] if panels else [])
         self.files = files
         return self.write(folder)
-
-
-# ------------------------------------------------------------------------------------------------ reliability
-@dataclass
-class ReliabilityResult(StageResult):
-    """The R(N) curve, the life at each target reliability and the wear distributions of a study.
-
-    Arrays over the curve's ``cycles``: ``reliability``, ``pf``, ``pf_cov`` (coefficient of variation of the
-    Monte Carlo estimate of Pf on the surrogate), ``pf_error`` (the surrogate's own absolute error estimate),
-    ``below_floor`` (levels whose COV need not meet the target). ``life_table``: [{``target``, ``cycles``,
-    ``hours``, ``status``}]: the life is None where it lies outside the curve, and ``status`` says on which side
-    ('in_curve', 'beyond_curve': longer than the curve, 'before_curve': shorter than its first level). ``joints``: each judged joint's
-    allowance and, with several, its own R(N) and its share of the system's failures (``governing_share``).
-    """
-
-    FILE: ClassVar[str] = "reliability.json"
-
-    cycles: np.ndarray
-    reliability: np.ndarray
-    pf: np.ndarray
-    pf_cov: np.ndarray
-    below_floor: np.ndarray
-    pf_error: np.ndarray
-    target: float
-    life_cycles: float | None
-    life_hours: float | None
-    model_calls: int
-    failed_calls: int
-    n_mc: int
-    converged: bool
-    wall_seconds: float
-    names: list[str]
-    histograms: dict
-    mean_max_wear: dict
-    convergence: dict
-    design_x: np.ndarray
-    design_wear: np.ndarray
-    life_table: list[dict] = field(default_factory=list)
-    design_life: np.ndarray | None = None
-    quantity: str = "bearing_max_depth"
-    joints: list[dict] = field(default_factory=list)
-    crank_speed_rpm: float | None = None
-    infeasible: dict = field(default_factory=dict)
-    provenance: dict = field(default_factory=dict)
-    extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
-    engine: Any = field(repr=False, default=None, metadata={"json": False})
-
-    @property
-    def governing_joint(self) -> str | None:
-        """The judged joint with the largest share of the system's failures at the headline life (or at the
-        end of the curve when the target is not reached)."""
-        if not self.joints:
-            return None
-        if len(self.joints) == 1:
-            return self.joints[0]["name"]
-        n = self.life_cycles if self.life_cycles is not None else float(self.cycles[-1])
-        k = int(np.argmin(np.abs(np.asarray(self.cycles, dtype=float) - n)))
-        shares = [np.nan_to_num(np.asarray(j["governing_share"], dtype=float))[k] for j in self.joints]
-        return self.joints[int(np.argmax(shares))]["name"]
-
-    def to_json(self) -> dict:
-        return {
-            "curve": {"cycles": np.asarray(self.cycles).tolist(), "reliability": np.asarray(self.reliability).tolist(),
-                      "pf": np.asarray(self.pf).tolist(), "pf_cov": np.asarray(self.pf_cov).tolist(),
-                      "pf_error_estimate": np.asarray(self.pf_error).tolist(),
-                      "cov_waived_below_pf_floor": np.asarray(self.below_floor).tolist()},
-            "life_at_target": {"target": self.target, "cycles": self.life_cycles, "hours": self.life_hours},
-            "life_table": self.life_table,
-            "quantity": self.quantity,
-            "joints": self.joints,
-            "governing_joint": self.governing_joint,
-            "allowance_mm": self.joints[0]["allowance_mm"] if self.joints else self.extra.get("allowance_mm"),
-            "crank_speed_rpm": self.crank_speed_rpm,
-            "model_calls": self.model_calls,
-            "failed_calls": self.failed_calls,
-            "n_mc": self.n_mc,
-            "converged": self.converged,
-            "wall_seconds": self.wall_seconds,
-            "variables": self.names,
-            "histograms": self.histograms,
-            "mean_max_wear_mm": self.mean_max_wear,
-            "convergence": self.convergence,
-            "design": {"x": np.asarray(self.design_x).tolist(), "wear_m": np.asarray(self.design_wear).tolist(),
-                       "life_cycles": None if self.design_life is None else np.asarray(self.design_life).tolist()},
-            "infeasible": self.infeasible,
-            "provenance": self.provenance or provenance(),
-            **{k: v for k, v in self.extra.items() if k not in _RELIABILITY_KEYS},
-        }
-
-    @classmethod
-    def from_json(cls, data: dict) -> ReliabilityResult:
-        c = data["curve"]
-        life = data.get("life_at_target", {})
-        design = data.get("design", {})
-
-        def arr(v):
-            return np.asarray([np.nan if x is None else x for x in v], dtype=float)
-
-        return cls(
-            cycles=arr(c["cycles"]), reliability=arr(c["reliability"]),
-            pf=arr(c["pf"]) if "pf" in c else 1.0 - arr(c["reliability"]),
-            pf_cov=arr(c.get("pf_cov", [None] * len(c["cycles"]))),
-            below_floor=np.asarray(c.get("cov_waived_below_pf_floor", [False] * len(c["cycles"])), dtype=bool),
-            pf_error=arr(c.get("pf_error_estimate", [np.nan] * len(c["cycles"]))),
-            target=life.get("target"), life_cycles=life.get("cycles"), life_hours=life.get("hours"),
-            model_calls=data.get("model_calls", 0), failed_calls=data.get("failed_calls", 0),
-            n_mc=data.get("n_mc", 0), converged=data.get("converged", False),
-            wall_seconds=data.get("wall_seconds", math.nan), names=data.get("variables", []),
-            histograms=data.get("histograms", {}), mean_max_wear=data.get("mean_max_wear_mm", {}),
-            convergence=data.get("convergence", {}),
-            design_x=np.asarray(design.get("x", []), dtype=float),
-            design_wear=np.asarray(design.get("wear_m", []), dtype=float),
-            design_life=None if design.get("life_cycles") is None else arr(design["life_cycles"]),
-            life_table=data.get("life_table", []), quantity=data.get("quantity", "bearing_max_depth"),
-            joints=data.get("joints", []), crank_speed_rpm=data.get("crank_speed_rpm"),
-            infeasible=data.get("infeasible", {}), provenance=data.get("provenance", {}),
-            extra={k: v for k, v in data.items() if k not in _RELIABILITY_KEYS})
-
-    def save(self, folder: Path | str, *, figures: bool = True) -> Path:
-        """Write ``reliability.json``, the CSV tables (curve, life table, design points) and the figures."""
-        folder = Path(folder)
-        curve = {"cycles": np.asarray(self.cycles, dtype=float), "reliability": self.reliability, "pf": self.pf,
-                 "pf_cov": self.pf_cov, "pf_error_estimate": self.pf_error}
-        for j in self.joints if len(self.joints) > 1 else []:
-            curve[f"reliability_{j['name']}"] = j["reliability"]
-            curve[f"governing_share_{j['name']}"] = j["governing_share"]
-        write_csv(folder / "reliability_curve.csv", curve)
-        write_csv(folder / "life_table.csv", {
-            "target_reliability": [r["target"] for r in self.life_table],
-            "life_cycles": [r["cycles"] for r in self.life_table],
-            "life_hours": [r["hours"] for r in self.life_table],
-            "status": [r.get("status", "") for r in self.life_table]})
-        x = np.atleast_2d(np.asarray(self.design_x, dtype=float))
-        if x.size:
-            cols: dict[str, Any] = {name: x[:, k] for k, name in enumerate(self.names[:x.shape[1]])}
-            if self.design_life is not None:
-                cols["life_cycles"] = self.design_life
-            write_csv(folder / "design_points.csv", cols)
-        path = self.write(folder)
-        if figures:
-            from jointwear.report import figures as F
-
-            _savefig(F.reliability_curve_figure(self.cycles, self.reliability, pf_cov=self.pf_cov, target=self.target,
-                                                life_cycles=self.life_cycles), folder / "reliability_curve.png")
-            h = self.histograms
-            if h.get("cycles"):
-                limit = self.joints[0]["allowance_mm"] if self.joints else None
-                _savefig(F.wear_histograms_figure(h["cycles"], h["max_wear_mm"], limit_mm=limit),
-                         folder / "wear_histograms.png")
-            conv = self.convergence
-            if conv.get("n_calls"):
-                _savefig(F.convergence_figure(conv["n_calls"], conv["pf"], cov=conv.get("cov"),
-                                              label=f"Pf at {conv.get('cycles'):,} cycles"),
-                         folder / "convergence.png")
-        return path
-
-
-_RELIABILITY_KEYS = frozenset({
-    "curve", "life_at_target", "life_table", "quantity", "joints", "governing_joint", "allowance_mm",
-    "crank_speed_rpm", "model_calls", "failed_calls", "n_mc", "converged", "wall_seconds", "variables",
-    "histograms", "mean_max_wear_mm", "convergence", "design", "infeasible", "provenance"})
-
-
-# ------------------------------------------------------------------------------------------------ sensitivity
-@dataclass
-class SensitivityResult(StageResult):
-    """How the reliability at ``cycles`` moves with each variable: mean shifts (``variables`` rows with
-    ``reliability_low``/``reliability_high`` and their error estimates), the ranking overall and per group
-    (``unresolved_pairs``: neighbours the surrogate's error does not separate), Sobol' indices of the wear
-    and reliability derivatives."""
-
-    FILE: ClassVar[str] = "sensitivity.json"
-
-    cycles: int
-    factors: list[float]
-    reliability_nominal: float
-    variables: list[dict]
-    ranking: list[str]
-    ranking_by_group: dict
-    sobol: dict
-    reliability_nominal_error: float | None = None
-    unresolved_pairs: list[dict] = field(default_factory=list)
-    rules: list[dict] = field(default_factory=list)
-    archard_checks: list[dict] = field(default_factory=list)
-    notes: list[str] = field(default_factory=list)
-    extra_model_calls: int = 0
-    derivatives: dict = field(default_factory=dict)
-    n_population: int = 0
-    wall_seconds: float | None = None
-    provenance: dict = field(default_factory=dict)
-    extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
-
-    @classmethod
-    def from_json(cls, data: dict) -> SensitivityResult:
-        data = dict(data)
-        if "ranking" not in data and "variables" in data and "reliability_nominal" in data:
-            r0 = data["reliability_nominal"]
-            swing = {v["name"]: max(abs(v["reliability_low"] - r0), abs(v["reliability_high"] - r0))
-                     for v in data["variables"]}
-            data["ranking"] = sorted(swing, key=lambda n: -swing[n])
-        data.setdefault("ranking_by_group", {})
-        data.setdefault("sobol", {})
-        data.setdefault("factors", [0.8, 1.2])
-        return super().from_json(data)
-
-    def save(self, folder: Path | str, *, figures: bool = True) -> Path:
-        """Write ``sensitivity.json``, ``sensitivity.csv`` (one row per variable) and the figures."""
-        folder = Path(folder)
-        keys = ["name", "label", "group", "reliability_low", "reliability_high", "reliability_low_error",
-                "reliability_high_error", "dR_dmean", "dR_dstd", "elasticity_mean", "S1", "ST"]
-        write_csv(folder / "sensitivity.csv", {k: [v.get(k) for v in self.variables] for k in keys})
-        path = self.write(folder)
-        if figures:
-            from jointwear.report import figures as F
-
-            v = self.variables
-            lo, hi = self.factors
-            _savefig(F.tornado_figure([x["label"] for x in v], [x["reliability_low"] for x in v],
-                                      [x["reliability_high"] for x in v], self.reliability_nominal,
-                                      cycles=self.cycles, low_label=f"mean \u00d7 {lo:g}",
-                                      high_label=f"mean \u00d7 {hi:g}"), folder / "sensitivity_tornado.png")
-            s = self.sobol
-            _savefig(F.sobol_figure(s["names"], s["S1"], s["ST"], S1_conf=s.get("S1_conf"), ST_conf=s.get("ST_conf"),
-                                    output=f"wear at {self.cycles:,} cycles"), folder / "sensitivity_sobol.png")
-        return path
-
-
-# ------------------------------------------------------------------------------------------------- validation
-@dataclass
-class ValidationResult(StageResult):
-    """The surrogate's R(N) against the true model sampled directly (``jointwear validate``).
-
-    At every level of the curve: ``reliability_mc`` from ``n_samples`` true-model calls on fresh samples, its
-    exact binomial 95 % interval [``ci_low``, ``ci_high``], the surrogate's ``reliability_surrogate`` with its
-    error estimate (``surrogate_error``, absolute) and COV, and whether the two agree within their combined
-    95 % half-widths (``agreement``). ``cross_validation``: leave-one-out predictions of the design points'
-    log life against their true values, with Q^2.
-    """
-
-    FILE: ClassVar[str] = "validation.json"
-
-    cycles: list[int]
-    reliability_mc: list[float]
-    ci_low: list[float]
-    ci_high: list[float]
-    reliability_surrogate: list[float]
-    surrogate_error: list[float]
-    n_samples: int
-    model_calls: int
-    wall_seconds: float
-    agreement: list[bool] = field(default_factory=list)
-    surrogate_cov: list[float] = field(default_factory=list)
-    failed_calls: int = 0
-    seed: int | None = None
-    cross_validation: dict = field(default_factory=dict)
-    provenance: dict = field(default_factory=dict)
-    extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
-
-    @property
-    def all_agree(self) -> bool:
-        return all(self.agreement)
-
-    def save(self, folder: Path | str, *, figures: bool = True) -> Path:
-        """Write ``validation.json``, ``validation.csv``, ``cross_validation.csv`` and the figures."""
-        folder = Path(folder)
-        write_csv(folder / "validation.csv", {
-            "cycles": self.cycles, "reliability_mc": self.reliability_mc, "ci_low": self.ci_low,
-            "ci_high": self.ci_high, "reliability_surrogate": self.reliability_surrogate,
-            "surrogate_error": self.surrogate_error, "agreement": self.agreement})
-        cv = self.cross_validation
-        if cv.get("log_life_true"):
-            write_csv(folder / "cross_validation.csv", {
-                "log_life_true": cv["log_life_true"], "log_life_loo": cv["log_life_loo"],
-                "log_life_loo_sd": cv["log_life_loo_sd"]})
-        path = self.write(folder)
-        if figures:
-            from jointwear.report import figures as F
-
-            _savefig(F.validation_figure(self.cycles, self.reliability_mc, self.ci_low, self.ci_high,
-                                         self.reliability_surrogate, self.surrogate_error,
-                                         n_samples=self.n_samples), folder / "validation.png")
-            if cv.get("log_life_true"):
-                _savefig(F.cross_validation_figure(cv["log_life_true"], cv["log_life_loo"], cv["log_life_loo_sd"],
-                                                   q2=cv.get("q2")), folder / "cross_validation.png")
-        return path
 
 
 # ---------------------------------------------------------------------------------------------------- loading

@@ -92,10 +92,11 @@ class WearSettings(SIModel):
         ),
     )
     cycles: int | None = Field(
-        400_000,
+        None,
         description=(
-            "Number of crank cycles of the wear history when the caller does not give one. Default 400,000: the "
-            "paper's nominal case (Section 6.1.3)."
+            "Number of crank cycles of the nominal wear history (`jointwear wear`, `run`) when the caller does not "
+            "give one. Default: the end of the R(N) curve (`reliability.cycles_stop`); a config with neither must "
+            "give it."
         ),
     )
     block_rule: Literal["fixed", "adaptive"] = Field(

@@ -1,0 +1,336 @@
+"""The study's numbers beside its cited reference results (the config's ``[reference]``, see
+:mod:`jointwear.reference`): one :class:`Check` per reference value, with its acceptance band and status.
+
+Shared by the report's comparison section and :mod:`jointwear.report.compare` (Markdown for the docs).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from jointwear.study.limit_state import life_at
+from jointwear.study.results import ReliabilityResult, SensitivityResult, StudyResults, WearSummary
+
+from .markup import format_number
+
+__all__ = ["Check", "PASS", "FAIL", "INFO", "NA", "reference_checks", "reference_of", "reference_values",
+           "reference_label", "group_key", "second_peak", "life_with_note", "circular_difference", "ranking_rows"]
+
+PASS, FAIL, INFO, NA = "pass", "fail", "info", "n/a"
+
+#: how dimensionless reference quantities are labelled in the comparison ("-": a plain number)
+_COUNT_UNITS = {"life_cycles": "cycles", "model_calls": "calls", "reliability": "-"}
+
+
+@dataclass
+class Check:
+    """One number of the study beside the reference's, with its acceptance band and status."""
+
+    quantity: str
+    reference: float | None
+    ours: float | None
+    unit: str
+    band: str
+    status: str
+    note: str = ""
+    digits: int = 4
+    source: str = ""
+    justification: str = ""
+
+    @property
+    def rel_diff(self) -> float | None:
+        if self.reference in (None, 0) or self.ours is None:
+            return None
+        return (self.ours - self.reference) / abs(self.reference)
+
+
+def _float(v) -> float | None:
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        return None
+    return f if math.isfinite(f) else None
+
+
+def circular_difference(a: float, b: float) -> float:
+    """Smallest angle between two angles, deg."""
+    d = abs((a - b) % 360.0)
+    return min(d, 360.0 - d)
+
+
+def _interp_at(xs, ys, x: float) -> float | None:
+    """Linear interpolation of (xs, ys) at x; None outside the data."""
+    xs = np.asarray(xs, dtype=float)
+    ys = np.asarray([np.nan if v is None else v for v in ys], dtype=float)
+    ok = np.isfinite(xs) & np.isfinite(ys)
+    xs, ys = xs[ok], ys[ok]
+    if xs.size == 0 or x < xs.min() - 1e-9 or x > xs.max() + 1e-9:
+        return None
+    order = np.argsort(xs)
+    return float(np.interp(x, xs[order], ys[order]))
+
+
+# ------------------------------------------------------------------------------------------- the reference
+def reference_of(config: Mapping | None) -> dict | None:
+    """The cited reference results of the study (``reference`` of its ``config.json``), or None."""
+    ref = (config or {}).get("reference")
+    if isinstance(ref, Mapping) and ref.get("values"):
+        return dict(ref)
+    return None
+
+
+def reference_values(ref: Mapping | None, quantity: str) -> list[Mapping]:
+    """The reference's values of one quantity, in the order the config gives them."""
+    return [v for v in (ref or {}).get("values") or [] if v.get("quantity") == quantity]
+
+
+def reference_label(ref: Mapping | None) -> str:
+    """Short name of the reference for figures and tables ('reference' when it has none)."""
+    return str((ref or {}).get("label") or "reference")
+
+
+def group_key(group: object) -> str:
+    """'tolerances' / 'tolerance' / 'bearing material' / 'bearing_material' -> one key."""
+    g = str(group or "").strip().lower().replace(" ", "_")
+    return g[:-1] if g.endswith("s") else g
+
+
+def _band_text(band: Mapping | None, unit: str) -> str:
+    if band is None:
+        return "reported (no band)"
+    kind = band.get("kind")
+    u = "" if unit in ("", "-") else f" {unit}"
+    if kind == "absolute":
+        a = float(band["absolute"])
+        return f"within {a:g}{u}" if unit == "deg" else (f"\u00b1{a:g} absolute" if not u else f"\u00b1{a:g}{u}")
+    if kind == "relative":
+        return f"within {100 * float(band['relative']):g} %"
+    if kind == "same_order":
+        return "same order as the reference"
+    lo, hi = _float(band.get("lower")), _float(band.get("upper"))
+    if lo is not None and hi is not None:
+        return f"{lo:g}-{hi:g}{u}"
+    return f"\u2264 {hi:g}{u}" if hi is not None else f"\u2265 {lo:g}{u}"
+
+
+def _judge(ours: float | None, ref: float | None, band: Mapping | None, unit: str) -> str:
+    """PASS / FAIL inside or outside the band, INFO without a band, NA without our number."""
+    if ours is None:
+        return NA
+    if band is None or ref is None and band.get("kind") in ("absolute", "relative"):
+        return INFO
+    kind = band.get("kind")
+    if kind == "absolute":
+        d = circular_difference(ours, ref) if unit == "deg" else abs(ours - ref)
+        return PASS if d <= float(band["absolute"]) else FAIL
+    if kind == "relative":
+        return PASS if abs(ours - ref) <= float(band["relative"]) * abs(ref) else FAIL
+    lo, hi = _float(band.get("lower")), _float(band.get("upper"))
+    return PASS if (lo is None or ours >= lo) and (hi is None or ours <= hi) else FAIL
+
+
+# ------------------------------------------------------------------------------------------- the study's side
+def second_peak(wear: WearSummary) -> tuple[float, float] | None:
+    """(angle deg, depth mm) of the largest wear more than 90 deg from the main peak."""
+    main = wear.max_wear_angle_deg
+    far = [(p["angle_deg"], p["depth_mm"]) for p in wear.peaks
+           if main is not None and circular_difference(p["angle_deg"], main) > 90.0]
+    if far:
+        return max(far, key=lambda p: p[1])
+    ang = np.asarray(wear.profile.get("angle_deg", []), dtype=float)
+    dep = np.asarray(wear.profile.get("depth_mm", []), dtype=float)
+    if main is None or ang.size == 0:
+        return None
+    mask = np.array([circular_difference(a, main) > 90.0 for a in ang])
+    if not mask.any():
+        return None
+    i = int(np.argmax(np.where(mask, dep, -np.inf)))
+    return float(ang[i]), float(dep[i])
+
+
+def _mean_max_wear(rel: ReliabilityResult, levels) -> dict[float, float]:
+    """The study's mean of the max wear (mm) at each of ``levels`` (cycles) where it has one."""
+    m = rel.mean_max_wear
+    out: dict[float, float] = {}
+    for n in levels:
+        v = _interp_at(m["cycles"], m["mean"], n) if m.get("cycles") else None
+        if v is not None:
+            out[n] = v
+    return out
+
+
+def life_with_note(rel: ReliabilityResult, target: float) -> tuple[float | None, str]:
+    """The study's life at ``target`` (cycles) and a note on how it was read: from the life table, else
+    interpolated on the curve; 'at most' when R is below the target at the curve's first level."""
+    row = next((r for r in rel.life_table if abs(float(r["target"]) - target) < 1e-12), None)
+    life = None if row is None else row.get("cycles")
+    note = ""
+    if life is None and row is None:
+        life = life_at(rel.cycles, rel.reliability, target)
+        note = "interpolated on the R(N) curve" if life is not None else ""
+    status = None if row is None else row.get("status")
+    if status == "before_curve" or (rel.cycles.size and rel.reliability[0] < target and life is not None
+                                    and life <= rel.cycles[0]):
+        life = float(rel.cycles[0])
+        note = (f"R = {rel.reliability[0]:.3f} < {target:g} already at the first cycle count of the curve "
+                f"({rel.cycles[0]:,.0f}): the life is at most this")
+    return life, note
+
+
+def _life_hours(rel: ReliabilityResult, target: float) -> float | None:
+    row = next((r for r in rel.life_table if abs(float(r["target"]) - target) < 1e-12), None)
+    if row is not None and row.get("hours") is not None:
+        return float(row["hours"])
+    life, _note = life_with_note(rel, target)
+    return None if life is None or not rel.crank_speed_rpm else life / (rel.crank_speed_rpm * 60.0)
+
+
+def _swing(var: Mapping, nominal: float) -> float:
+    return max(abs(var["reliability_low"] - nominal), abs(var["reliability_high"] - nominal))
+
+
+def ranking_rows(sens: SensitivityResult) -> dict[str, list[tuple[str, str]]]:
+    """Per group, (name, label) of its variables by decreasing effect on R."""
+    out: dict[str, list] = {}
+    for v in sorted(sens.variables, key=lambda v: -_swing(v, sens.reliability_nominal)):
+        out.setdefault(str(v.get("group") or "variables"), []).append((str(v["name"]), str(v.get("label") or v["name"])))
+    return out
+
+
+def ranking_text(items: Sequence[tuple[str, str]], unresolved: set[tuple[str, str]]) -> str:
+    """'a > b ≈ c': ≈ between neighbours whose order is within the surrogate's error."""
+    text = ""
+    for k, (name, label) in enumerate(items):
+        if k:
+            text += " \u2248 " if (items[k - 1][0], name) in unresolved else " > "
+        text += label
+    return text
+
+
+def unresolved_pairs(sens: SensitivityResult) -> set[tuple[str, str]]:
+    """(first, second) names of ranking neighbours the study's surrogate error does not separate."""
+    return {(str(p["first"]), str(p["second"])) for p in sens.unresolved_pairs}
+
+
+def _ranking_check(sens: SensitivityResult | None, v: Mapping) -> Check:
+    group = str(v.get("group") or "")
+    title = f"sensitivity ranking, {'tolerances' if group_key(group) == 'tolerance' else group.replace('_', ' ')}"
+    ref_rank = [str(x) for x in v.get("ranking") or []]
+    band = v.get("band")
+    src, just = str(v.get("source") or ""), str((band or {}).get("justification") or "")
+    rows = {} if sens is None else {group_key(g): items for g, items in ranking_rows(sens).items()}
+    members = rows.get(group_key(group), [])
+    labels = {n: lab for n, lab in members}
+    if not members:
+        return Check(title, None, None, "", _band_text(band, ""), NA, " > ".join(ref_rank), source=src,
+                     justification=just)
+    names = [n for n, _lab in members]
+    ours_rank = [n for n in names if n in ref_rank]
+    ref_shown = [n for n in ref_rank if n in names]
+    same = bool(ours_rank) and ours_rank == ref_shown
+    top = bool(ours_rank) and ours_rank[0] == ref_shown[0]
+    unresolved = unresolved_pairs(sens)
+    tied = [f"{labels[a]} \u2248 {labels[b]}" for a, b in zip(names, names[1:])
+            if (a, b) in unresolved and a in ref_rank and b in ref_rank]
+    not_here = [n for n in ref_rank if n not in names]
+    note = (f"ours: {' > '.join(labels[n] for n in ours_rank)} | reference: "
+            f"{' > '.join(labels.get(n, n) for n in ref_rank)}"
+            + ("" if same else (" (same most influential)" if top else " (differs)"))
+            + (f"; not resolved within the surrogate's error: {', '.join(tied)}" if tied else "")
+            + (f"; not in this study: {', '.join(not_here)}" if not_here else ""))
+    status = PASS if same and band is not None else INFO
+    return Check(title, None, None, "", _band_text(band, ""), status, note, source=src, justification=just)
+
+
+def _nominal_wear(wear: WearSummary | None, n: float) -> tuple[float | None, str]:
+    if wear is None:
+        return None, "no wear result"
+    if wear.cycles == n:
+        ours, note = wear.max_wear_mm, ""
+    else:
+        ours = _interp_at(wear.history["cycles"], wear.history["max_wear_mm"], n)
+        note = "read from the wear history" if ours is not None else f"the wear run stopped at {wear.cycles:,} cycles"
+    return ours, (note + "; " if note else "") + f"geometry mode: {wear.geometry_mode}"
+
+
+def reference_checks(results: StudyResults, reference: Mapping | None = None) -> list[Check]:
+    """Every number the reference reports beside the study's, in the order the reference lists them.
+
+    ``reference`` (report units) defaults to the one in the study's ``config.json``; without a reference there
+    is nothing to compare and the list is empty.
+    """
+    ref = reference if reference is not None else reference_of(results.config)
+    if not ref:
+        return []
+    wear, rel, sens = results.wear, results.reliability, results.sensitivity
+    means = {} if rel is None else _mean_max_wear(
+        rel, [float(v["cycles"]) for v in reference_values(ref, "mean_max_wear")])
+    sp = None if wear is None else second_peak(wear)
+    checks: list[Check] = []
+    for v in ref["values"]:
+        q = v.get("quantity")
+        if q == "sensitivity_ranking":
+            checks.append(_ranking_check(sens, v))
+            continue
+        pv, n, t = _float(v.get("value")), _float(v.get("cycles")), _float(v.get("target_reliability"))
+        unit = str(v.get("unit") or "")
+        shown_unit = _COUNT_UNITS.get(q, unit)
+        ours, note, digits = None, "", 4
+        if q == "nominal_max_wear":
+            title = f"nominal max bearing wear after {n:,.0f} cycles"
+            ours, note = _nominal_wear(wear, n)
+        elif q == "nominal_max_wear_angle":
+            title = "angle of the max wear"
+            ours = None if wear is None else wear.max_wear_angle_deg
+        elif q == "second_peak_depth":
+            title = "second wear peak, depth"
+            ours = None if sp is None else sp[1]
+            note = "largest wear more than 90 deg from the main peak" if sp else ""
+        elif q == "second_peak_angle":
+            title = "second wear peak, angle"
+            ours = None if sp is None else sp[0]
+        elif q == "mean_max_wear":
+            title = f"mean of the max wear at {n:,.0f} cycles"
+            ours = means.get(n)
+        elif q == "reliability":
+            title, digits = f"reliability R(N) at {n:,.0f} cycles", 3
+            ours = None if rel is None else _interp_at(rel.cycles, rel.reliability, n)
+            note = "outside the computed curve" if rel is not None and ours is None else ""
+            if ours is not None and pv is not None:
+                note = f"absolute difference {ours - pv:+.3f}"
+                e_n = _interp_at(rel.cycles, rel.pf_error, n)
+                if e_n is not None:
+                    # the surrogate's own error estimate of Pf (= of R) here: a pass or fail closer to the band
+                    # edge than this is not resolved by the study
+                    note += f"; surrogate error estimate {e_n:.3f}"
+        elif q == "life_cycles":
+            title = f"life at R = {t:g}"
+            ours, note = (None, "") if rel is None else life_with_note(rel, t)
+        elif q == "life_hours":
+            rpm = None if rel is None else rel.crank_speed_rpm
+            title = f"life at R = {t:g}, " + (f"hours at {rpm:g} rpm" if rpm else "in hours")
+            ours = None if rel is None else _life_hours(rel, t)
+        elif q == "model_calls":
+            title = "true-model calls (whole curve)"
+            ours = None if rel is None else float(rel.model_calls)
+        else:  # a quantity this version does not compare: listed, not judged
+            title = str(q)
+        if q in ("nominal_max_wear_angle", "second_peak_angle") and ours is not None and pv is not None:
+            note = f"{circular_difference(ours, pv):.1f} deg from the reference's"
+        note = "; ".join(x for x in (note, str(v.get("note") or "")) if x)
+        band = v.get("band")
+        checks.append(Check(title, pv, ours, shown_unit, _band_text(band, unit), _judge(ours, pv, band, unit), note,
+                            digits, source=str(v.get("source") or ""),
+                            justification=str((band or {}).get("justification") or "")))
+    return checks
+
+
+def checks_summary(checks: Sequence[Check]) -> str:
+    """'n within their band, m outside, k without data'."""
+    n = {s: sum(c.status == s for c in checks) for s in (PASS, FAIL, NA)}
+    return (f"{format_number(n[PASS])} within their band, {format_number(n[FAIL])} outside, "
+            f"{format_number(n[NA])} without data")

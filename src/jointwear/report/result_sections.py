@@ -1,0 +1,262 @@
+"""The report's sections about the study's answers: the wear reliability, its validation against the true model,
+the sensitivity, the comparison with a cited reference, the summary cards and the list of files."""
+
+from __future__ import annotations
+
+import datetime as _dt
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from . import figures as F
+from .checks import (FAIL, INFO, NA, PASS, Check, checks_summary, group_key, life_with_note, ranking_rows, ranking_text,
+                     reference_label, reference_of, reference_values, unresolved_pairs)
+from .markup import Figures, cards, e, format_number, missing, table
+from .read import StudyOutputs
+from .study_sections import allowance_mm, not_run
+
+__all__ = ["reliability_section", "sensitivity_section", "validation_section", "comparison_section",
+           "summary_cards", "files_section"]
+
+
+def _pill(status: str) -> str:
+    text = {PASS: "PASS", FAIL: "FAIL", INFO: "info", NA: "no data"}.get(status, status)
+    return f'<span class="pill {e(status.replace("/", ""))}">{e(text)}</span>'
+
+
+def _life_text(life: float | None, note: str) -> str:
+    return "\u2014" if life is None else ("\u2264 " if "at most" in note else "") + f"{life:,.0f} cycles"
+
+
+def reliability_section(out: StudyOutputs, figs: Figures) -> str:
+    rel = out.results.reliability
+    if rel is None:
+        return not_run(out, "reliability", "the reliability study")
+    life, note = life_with_note(rel, rel.target)
+    covs = rel.pf_cov[np.isfinite(rel.pf_cov)]
+    parts = [cards([
+        (f"life at R = {rel.target:g}", _life_text(life, note),
+         None if rel.life_hours is None else f"{rel.life_hours:.3g} h"),
+        ("true-model calls", format_number(rel.model_calls), "for the whole curve"),
+        ("Monte Carlo population", format_number(rel.n_mc), "n_mc"),
+        ("learning converged", "yes" if rel.converged else "NO",
+         None if rel.converged else "stopped by the budget of model calls"),
+        ("max COV of Pf", "\u2014" if covs.size == 0 else f"{covs.max():.3g}", "over the curve"),
+        ("wall time", f"{rel.wall_seconds:.4g} s", None),
+    ])]
+    if len(rel.life_table) > 1:
+        parts.append(table(["target R", "life (cycles)", "life (h)", "where"], [
+            (format_number(r["target"]), format_number(r["cycles"]), format_number(r["hours"], 3),
+             str(r.get("status", "")).replace("_", " ")) for r in rel.life_table], cls="kv"))
+    if len(rel.joints) > 1:
+        parts.append(f"<p>Series system of {len(rel.joints)} joints; the joint that governs: "
+                     f"<b>{e(rel.governing_joint)}</b>.</p>")
+    ref = reference_of(out.config)
+    label = reference_label(ref)
+    ref_r = {float(v["cycles"]): float(v["value"]) for v in reference_values(ref, "reliability")}
+    ref_life = next((float(v["value"]) for v in reference_values(ref, "life_cycles")
+                     if v.get("target_reliability") == rel.target), None)
+    parts.append('<div class="grid">')
+    parts.append(figs.draw(
+        lambda: F.reliability_curve_figure(rel.cycles, rel.reliability, pf_cov=rel.pf_cov, target=rel.target,
+                                           life_cycles=life, reference=ref_r or None, reference_life=ref_life,
+                                           reference_label=label),
+        "Reliability R(N) with a 95 % band from the COV of Pf, the target and the life"
+        + (f"; crosses: the values of the reference ({label})." if ref_r else "."),
+        png_keys=("reliability_curve",)))
+    conv = rel.convergence
+    at = f" at {conv['cycles']:,.0f} cycles" if conv.get("cycles") else ""
+    parts.append(figs.draw(
+        (lambda: F.convergence_figure(conv["n_calls"], conv["pf"], cov=conv.get("cov"))) if conv.get("n_calls")
+        else None,
+        f"Convergence of the failure probability{at} against the number of true-model calls.",
+        png_keys=("convergence",), missing_text="Convergence of Pf: not recorded in this result."))
+    parts.append("</div>")
+    hist = rel.histograms
+    ref_mean = {float(v["cycles"]): float(v["value"]) for v in reference_values(ref, "mean_max_wear")}
+    parts.append(figs.draw(
+        (lambda: F.wear_histograms_figure(hist["cycles"], hist["max_wear_mm"], limit_mm=allowance_mm(out),
+                                          reference_means=ref_mean or None, reference_label=label))
+        if hist.get("cycles") else None,
+        "Distribution of the max wear over the random inputs; solid line: mean"
+        + (f", dotted: the mean the reference reports ({label})" if ref_mean else "")
+        + ", dashed: the allowable wear.", png_keys=("histogram",), wide=True,
+        missing_text="Max wear histograms: none requested ([reliability] histogram levels)."))
+    rows = [(format_number(float(c)), format_number(float(r), 4), format_number(float(p)),
+             format_number(float(cv), 3)) for c, r, p, cv in zip(rel.cycles, rel.reliability, rel.pf, rel.pf_cov)]
+    parts.append("<details><summary>R(N) as numbers</summary>")
+    parts.append(table(["cycles", "R(N)", "Pf", "COV of Pf"], rows, cls="num"))
+    parts.append("</details>")
+    return "".join(parts)
+
+
+def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
+    sens = out.results.sensitivity
+    if sens is None:
+        return not_run(out, "sensitivity", "the sensitivity study")
+    nominal = sens.reliability_nominal
+    lo_f, hi_f = sens.factors
+    parts = [f"<p>{e(f'Reliability at {sens.cycles:,.0f} cycles (nominal {nominal:.3f}) when the mean of each variable is moved to {lo_f * 100:g} % and to {hi_f * 100:g} % of its value, the others fixed.')}</p>"]
+    groups: dict[str, list[Mapping]] = {}
+    for v in sens.variables:
+        groups.setdefault(str(v.get("group") or "variables"), []).append(v)
+    parts.append('<div class="grid">')
+    for g, vs in groups.items():
+        title = g.replace("_", " ")
+        parts.append(figs.draw(lambda vs=vs, title=title: F.tornado_figure(
+            [str(v.get("label") or v["name"]) for v in vs], [v["reliability_low"] for v in vs],
+            [v["reliability_high"] for v in vs], nominal, cycles=sens.cycles, title=title[:1].upper() + title[1:],
+            low_label=f"mean \u00d7 {lo_f:g}", high_label=f"mean \u00d7 {hi_f:g}"),
+            f"Sensitivity of the reliability: {title}.", png_keys=("tornado",)))
+    parts.append("</div>")
+    optional = [("elasticity_mean", "elasticity of R to the mean"), ("S1", "Sobol' S1"), ("ST", "Sobol' ST")]
+    extra_cols = [(k, h) for k, h in optional if any(v.get(k) is not None for v in sens.variables)]
+    has_err = any(v.get("reliability_low_error") is not None for v in sens.variables)
+    rows = []
+    for v in sorted(sens.variables, key=lambda v: (str(v.get("group")), -max(
+            abs(v["reliability_low"] - nominal), abs(v["reliability_high"] - nominal)))):
+        swing = max(abs(v["reliability_low"] - nominal), abs(v["reliability_high"] - nominal))
+        err = ((format_number(v.get("reliability_low_error"), 3) + " / "
+                + format_number(v.get("reliability_high_error"), 3),) if has_err else ())
+        rows.append((str(v.get("label") or v["name"]), str(v["name"]), str(v.get("group") or "").replace("_", " "),
+                     format_number(v["reliability_low"], 3), format_number(v["reliability_high"], 3),
+                     format_number(swing, 3)) + err + tuple(format_number(v.get(k), 3) for k, _h in extra_cols))
+    parts.append("<details><summary>Sensitivity as numbers</summary>")
+    parts.append(table(["variable", "name", "group", f"R at mean \u00d7 {lo_f:g}", f"R at mean \u00d7 {hi_f:g}",
+                        "largest change of R"] + (["surrogate error of R (low / high)"] if has_err else [])
+                       + [h for _k, h in extra_cols], rows, cls="num"))
+    parts.append("</details>")
+    ref = reference_of(out.config)
+    labels = {str(v["name"]): str(v.get("label") or v["name"]) for v in sens.variables}
+    ref_ranks = {group_key(v.get("group")): [labels.get(str(n), str(n)) for n in v.get("ranking") or []]
+                 for v in reference_values(ref, "sensitivity_ranking")}
+    unresolved = unresolved_pairs(sens)
+    rrows = []
+    for g, items in ranking_rows(sens).items():
+        row = (g.replace("_", " "), ranking_text(items, unresolved))
+        if ref:
+            theirs = ref_ranks.get(group_key(g))
+            row += (" > ".join(theirs) if theirs else "\u2014",)
+        rrows.append(row)
+    head = ["group", "this study (largest change of R first; \u2248: the difference is within the surrogate's "
+            "error estimate of the two reliabilities)"]
+    if ref:
+        parts.append(f"<h3>Ranking beside the reference's ({e(reference_label(ref))})</h3>")
+        parts.append(table(head + [reference_label(ref)], rrows, cls="kv"))
+    else:
+        parts.append("<h3>Ranking</h3>")
+        parts.append(table(head, rrows, cls="kv"))
+    sob = sens.sobol
+    if sob.get("names"):
+        output = str(sob.get("output") or "max wear")
+        names = [f"{labels[str(n)]} ({n})" if str(n) in labels else str(n) for n in sob["names"]]
+        parts.append(figs.draw(lambda: F.sobol_figure(names, sob["S1"], sob["ST"], S1_conf=sob.get("S1_conf"),
+                                                      ST_conf=sob.get("ST_conf"), output=output),
+                               f"First-order and total Sobol' indices of the {output}, on the surrogate.",
+                               png_keys=("sobol",), wide=True))
+    else:
+        parts.append(figs.draw(None, "Sobol' indices", png_keys=("sobol",),
+                               missing_text="Sobol' indices: not computed in this result."))
+    return "".join(parts)
+
+
+def validation_section(out: StudyOutputs, figs: Figures) -> str:
+    """The surrogate's R(N) against the true model sampled directly, and its cross-validation."""
+    val = out.results.validation
+    agree = sum(bool(a) for a in val.agreement)
+    cv = val.cross_validation
+    q2 = cv.get("q2")
+    head = cards([
+        ("true-model samples", f"{val.n_samples:,}", f"{val.model_calls:,} new model calls"),
+        ("levels in agreement", f"{agree} of {len(val.agreement)}", "within the combined 95 % half-widths"),
+        ("cross-validation Q\u00b2", "-" if q2 is None else f"{q2:.3f}",
+         f"leave-one-out over {cv.get('n_points', 0)} design points"),
+    ])
+    rows = [[f"{c:,}", format_number(r), f"[{format_number(lo)}, {format_number(hi)}]", format_number(rs),
+             format_number(err), "yes" if a else "NO"]
+            for c, r, lo, hi, rs, err, a in zip(val.cycles, val.reliability_mc, val.ci_low, val.ci_high,
+                                                val.reliability_surrogate, val.surrogate_error, val.agreement)]
+    body = table(["cycles", "R, true model", "exact 95 % CI", "R, surrogate", "surrogate error", "agree"], rows)
+    fig1 = figs.draw(lambda: F.validation_figure(val.cycles, val.reliability_mc, val.ci_low, val.ci_high,
+                                                 val.reliability_surrogate, val.surrogate_error,
+                                                 n_samples=val.n_samples),
+                     "R(N): the surrogate against the true model sampled directly", png_keys=("validation",))
+    fig2 = ""
+    if cv.get("log_life_true"):
+        fig2 = figs.draw(lambda: F.cross_validation_figure(cv["log_life_true"], cv["log_life_loo"],
+                                                           cv.get("log_life_loo_sd"), q2=q2),
+                         "Leave-one-out cross-validation of the life surrogate", png_keys=("cross_validation",))
+    lead = ("<p>Each sample is one run of the true wear model; its reliability at a level is the share of samples "
+            "whose wear life is longer, with an exact (Clopper-Pearson) 95 % interval. A level agrees when the "
+            "two estimates differ by less than the sum of their 95 % half-widths (the surrogate's: its Monte "
+            "Carlo interval plus its own error estimate).</p>")
+    return head + lead + body + f'<div class="grid">{fig1}{fig2}</div>'
+
+
+def comparison_section(checks: Sequence[Check], ref: Mapping) -> str:
+    label = reference_label(ref)
+    rows, classes = [], []
+    for c in checks:
+        rd = c.rel_diff
+        unit = "" if c.unit in ("-", "") else f" {c.unit}"
+        band = e(c.band) + (f'<div class="desc">{e(c.justification)}</div>' if c.justification else "")
+        rows.append((e(c.quantity), e("\u2014" if c.reference is None else format_number(c.reference, c.digits) + unit),
+                     e("\u2014" if c.ours is None else format_number(c.ours, c.digits) + unit),
+                     e("\u2014" if rd is None else f"{rd * 100:+.1f} %"), band, _pill(c.status), e(c.note),
+                     e(c.source)))
+        classes.append(c.status.replace("/", ""))
+    head = (f"<p>{e(checks_summary(checks))}. Reference values: {e(ref.get('citation') or label)}; each row names "
+            "the table, figure or section it comes from, and each band says why it is that wide (the config's "
+            "<code>[reference]</code>).")
+    if ref.get("note"):
+        head += f" {e(ref['note'])}"
+    head += "</p>"
+    return head + table(["quantity", label, "this study", "relative difference", "band", "status", "note", "source"],
+                        rows, cls="compare", raw_cols=(0, 1, 2, 3, 4, 5, 6, 7), row_cls=classes)
+
+
+def summary_cards(out: StudyOutputs, checks: Sequence[Check], ref: Mapping | None) -> str:
+    """Key numbers of the study; with a reference, how many of its numbers are within their bands."""
+    wear, rel = out.results.wear, out.results.reliability
+    items: list[tuple[str, str, str | None]] = []
+    if ref:
+        n_pass = sum(c.status == PASS for c in checks)
+        n_fail = sum(c.status == FAIL for c in checks)
+        n_banded = sum(c.status in (PASS, FAIL) for c in checks)
+        items.append((f"checks against {reference_label(ref)}", f"{n_pass} / {n_banded}" if n_banded else "\u2014",
+                      f"{n_fail} outside the band" if n_banded else "no results yet"))
+
+    def ref_note(quantity: str, **match) -> str | None:
+        for v in reference_values(ref, quantity):
+            if all(v.get(k) == x for k, x in match.items()) and v.get("value") is not None:
+                unit = f" {v['unit']}" if v.get("unit") else ""
+                return f"{reference_label(ref)}: {format_number(float(v['value']))}{unit}"
+        return None
+
+    if wear is not None:
+        items.append((f"nominal max wear, {wear.cycles:,.0f} cycles", f"{wear.max_wear_mm:.4g} mm",
+                      ref_note("nominal_max_wear", cycles=wear.cycles)))
+    else:
+        items.append(("nominal max wear", "\u2014", "no wear result"))
+    if rel is not None:
+        life, note = life_with_note(rel, rel.target)
+        items.append((f"life at R = {rel.target:g}", _life_text(life, note),
+                      ref_note("life_cycles", target_reliability=rel.target)))
+        items.append(("true-model calls", format_number(rel.model_calls), ref_note("model_calls") or
+                      "reliability analysis"))
+    else:
+        items.append(("life at the target R", "\u2014", "no reliability result"))
+    return cards(items, cls="cards summary")
+
+
+def files_section(out: StudyOutputs) -> str:
+    rows = []
+    for p in out.files:
+        try:
+            st = p.stat()
+        except OSError:
+            continue
+        mtime = _dt.datetime.fromtimestamp(st.st_mtime, _dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+        rows.append((str(p.relative_to(out.out_dir)), f"{st.st_size:,} bytes", mtime))
+    html = table(["file", "size", "modified"], rows, cls="kv") if rows else missing("No study files were found.")
+    return html + "".join(missing(msg) for msg in out.errors.values())

@@ -1,0 +1,208 @@
+"""The report's sections about the nominal mechanism: its settings, its dynamics and its wear."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import figures as F
+from .checks import reference_label, reference_of, reference_values, second_peak
+from .markup import Figures, cards, e, format_number, missing, table
+from .read import StudyOutputs, joint_series
+
+__all__ = ["settings_section", "dynamics_section", "wear_section", "allowance_mm", "not_run"]
+
+
+def not_run(out: StudyOutputs, stage: str, what: str) -> str:
+    """The notice of a section whose stage has no result: why it could not be read, or that it has not run."""
+    return missing(out.errors.get(stage) or f"No {stage}.json in this folder: {what} has not been run "
+                                            f"(jointwear {stage}).")
+
+
+def allowance_mm(out: StudyOutputs) -> float | None:
+    """The allowable wear of the first judged joint (mm): the study's settings first, then the stages' own."""
+    for value in (out.config.get("allowance_mm"),
+                  out.results.wear.limit_mm if out.results.wear is not None else None):
+        if value is not None:
+            return float(value)
+    return None
+
+
+def _settings_row(x: dict) -> tuple:
+    flag = '<span class="pill open">open</span>' if x.get("paper_open") else ""
+    src = e(x.get("source") or "\u2014")
+    if x.get("description") and x.get("description") != x.get("source"):
+        src += f'<div class="desc">{e(x["description"])}</div>'
+    return (e(x.get("name")), e(format_number(x.get("value"))), e(x.get("unit") or ""), flag, src)
+
+
+def settings_section(out: StudyOutputs, figs: Figures) -> str:
+    cfg = out.results.config
+    if cfg is None:
+        return missing(out.errors.get("config") or "No config.json in this folder: the settings of the study are "
+                                                    "not known to the report.")
+    parts: list[str] = []
+    if cfg.get("citation"):
+        parts.append(f'<p class="citation"><b>Source of the preset:</b> {e(cfg["citation"])}</p>')
+    meta = [(k, format_number(v)) for k, v in cfg.items()
+            if k not in ("settings", "mechanism", "citation", "reference") and not isinstance(v, (dict, list))]
+    parts.append('<div class="grid"><div>')
+    if meta:
+        parts.append(table(["item", "value"], meta, cls="kv"))
+    mech = cfg.get("mechanism")
+    if mech:
+        parts.append(table(["mechanism", "value"], [(k, format_number(v)) for k, v in mech.items()], cls="kv"))
+    parts.append("</div>")
+    if mech and all(mech.get(k) is not None for k in ("crank_mm", "rod_mm", "rocker_mm", "pivot_mm")):
+        parts.append(figs.draw(lambda: F.mechanism_figure(
+            float(mech["crank_mm"]), float(mech["rod_mm"]), float(mech["rocker_mm"]), mech["pivot_mm"],
+            branch=int(mech.get("branch", 1) or 1), clearance_joint=str(mech.get("clearance_joint", "A"))),
+            "The mechanism at a crank angle of 45 deg, with ghosts over one crank turn; the clearance joint is ringed.",
+            png_keys=("mechanism",)))
+    else:
+        parts.append(figs.draw(None, "Mechanism sketch", png_keys=("mechanism",),
+                               missing_text="Mechanism sketch: drawn for four-bar linkages only."))
+    parts.append("</div>")
+    recs = list(cfg.get("settings") or [])
+    ref = reference_of(cfg)
+    if ref:
+        open_recs = [x for x in recs if x.get("paper_open")]
+        parts.append(f"<h3>Settings the reference ({e(reference_label(ref))}) leaves open ({len(open_recs)})</h3>")
+        parts.append("<p>Each value below is this project's baseline reading of the reference (see the user guide), "
+                     "not a number printed in it; the source says where it comes from.</p>")
+        if open_recs:
+            parts.append(table(["setting", "value", "unit", "", "source"], [_settings_row(x) for x in open_recs],
+                               cls="settings", raw_cols=(0, 1, 2, 3, 4), row_cls=["open"] * len(open_recs)))
+        else:
+            parts.append(missing("No setting is marked as left open by the reference."))
+        parts.append(f"<details><summary>All {len(recs)} settings of this study</summary>")
+        parts.append(table(["setting", "value", "unit", "", "source"], [_settings_row(x) for x in recs],
+                           cls="settings", raw_cols=(0, 1, 2, 3, 4),
+                           row_cls=["open" if x.get("paper_open") else "" for x in recs]))
+        parts.append("</details>")
+    else:
+        # no reference: the study's own values; where a default comes from is documented in docs/config.md
+        given = {True: "the config", False: "jointwear default"}
+        rows = [(str(x.get("name")), format_number(x.get("value")), str(x.get("unit") or ""),
+                 given.get(x.get("explicit"), "\u2014")) for x in recs]
+        n_set = sum(x.get("explicit") is True for x in recs)
+        parts.append(f"<h3>Settings of this study ({len(recs)}, {n_set} given in the config)</h3>")
+        parts.append("<p>Values not given in the config are jointwear's defaults; <code>jointwear check CONFIG</code> "
+                     "prints them and docs/config.md says where each comes from.</p>")
+        parts.append(f"<details open><summary>All {len(recs)} settings of this study</summary>")
+        parts.append(table(["setting", "value", "unit", "from"], rows, cls="settings"))
+        parts.append("</details>")
+    return "".join(parts)
+
+
+def dynamics_section(out: StudyOutputs, figs: Figures) -> str:
+    sim = out.results.simulate
+    if sim is None:
+        return not_run(out, "simulate", "the dynamics stage")
+
+    def mN(v):
+        return "\u2014" if v is None else f"{v * 1e3:.4g} mN"
+
+    parts = [cards([
+        ("mean contact force", mN(sim.contact_force_mean_N), None),
+        ("peak contact force", mN(sim.contact_force_max_N), None),
+        ("contact fraction", format_number(sim.contact_fraction, 3), "share of the cycle in contact"),
+        ("impacts per cycle", format_number(sim.impacts_per_cycle, 3), None),
+        ("steps per cycle", format_number(sim.steps_per_cycle), None),
+        ("wall time per cycle", "\u2014" if sim.wall_seconds_per_cycle is None
+         else f"{sim.wall_seconds_per_cycle * 1e3:.3g} ms", None),
+    ])]
+    parts.append(table(["other result", "value"], [
+        ("kernel", sim.kernel or "\u2014"), ("cycles simulated", format_number(sim.cycles)),
+        ("settling cycles", format_number(sim.settle_cycles)), ("crank period (s)", format_number(sim.period_s)),
+        ("accepted / rejected steps", f"{format_number(sim.accepted_steps)} / {format_number(sim.rejected_steps)}"),
+        ("clearance joints", ", ".join(str(j["name"]) for j in sim.joints) or "\u2014")], cls="kv"))
+    series = joint_series(out.out_dir, sim)
+    name = series.name if series is not None else ""
+    clearance = sim.joints[0]["clearance_m"] * 1e3 if sim.joints else None
+    parts.append('<div class="grid">')
+    parts.append(figs.draw(
+        None if series is None else (lambda: F.orbit_figure(series.eccentricity_bearing_frame_m[:, 0] * 1e3,
+                                                            series.eccentricity_bearing_frame_m[:, 1] * 1e3,
+                                                            clearance)),
+        f"Journal centre orbit of joint {name} relative to the bearing centre, in the bearing (rod) frame; "
+        "dashed: the clearance circle.", png_keys=("orbit",),
+        missing_text=f"Journal orbit: no series file ({sim.series_file})."))
+    parts.append(figs.draw(
+        None if series is None else (lambda: F.contact_force_figure(np.degrees(series.crank_angle_rad),
+                                                                    series.force_normal_N,
+                                                                    mean_N=sim.contact_force_mean_N)),
+        f"Normal contact force in clearance joint {name} against the crank angle.",
+        png_keys=("contact_force", "force"), missing_text=f"Contact force: no series file ({sim.series_file})."))
+    parts.append("</div>")
+    return "".join(parts)
+
+
+_UNIFORM_WARNING = (
+    '<p class="warn"><strong>Uniform mode is outside its range here.</strong> The worn pocket is wider than the '
+    "contact patch (conformity {conformity} &gt; 1): the journal fits into its own wear, the pressure spreads and "
+    "the depth grows more slowly than uniform mode assumes. Run the study with "
+    '<code>wear.geometry_mode = "profile"</code> and trust that answer (docs/wear.md).</p>')
+
+
+def wear_section(out: StudyOutputs, figs: Figures) -> str:
+    wear = out.results.wear
+    if wear is None:
+        return not_run(out, "wear", "the wear stage")
+    parts: list[str] = []
+    if wear.geometry_mode == "uniform" and wear.uniform_mode_valid is False:
+        parts.append(_UNIFORM_WARNING.format(conformity=e(format_number(wear.conformity, 3))))
+    sp = second_peak(wear)
+    items = [
+        ("cycles simulated", format_number(wear.cycles), None),
+        ("max bearing wear", f"{format_number(wear.max_wear_mm)} mm", None),
+        ("at angle", f"{format_number(wear.max_wear_angle_deg, 4)} deg", "0 deg = leftmost, clockwise"),
+        ("second peak", "\u2014" if sp is None else f"{sp[1]:.4g} mm", None if sp is None else f"at {sp[0]:.0f} deg"),
+        ("wall time", "\u2014" if wear.wall_seconds is None else f"{wear.wall_seconds:.3g} s", None),
+        ("geometry mode", wear.geometry_mode, None),
+    ]
+    if wear.journal.get("max_wear_mm") is not None:
+        items.append(("journal max wear", f"{wear.journal['max_wear_mm']:.4g} mm", "over the pin's circumference"))
+    parts.append(cards(items))
+    prof = wear.profile
+    ang, depth = np.asarray(prof["angle_deg"], dtype=float), np.asarray(prof["depth_mm"], dtype=float)
+    radius = wear.joints[0].get("bearing_radius_mm") if wear.joints else None
+    parts.append('<div class="grid">')
+    parts.append(figs.draw(
+        None if ang.size == 0 else (lambda: F.wear_polar_figure(ang, depth, radius_mm=radius, peaks=wear.peaks,
+                                                                cycles=wear.cycles)),
+        "Bearing wear profile over the initial circle; the radial exaggeration factor is written on the figure.",
+        png_keys=("polar",), missing_text="Polar wear profile: the wear result has no profile."))
+    rel = out.results.reliability
+    mean = rel.mean_max_wear if rel is not None else {}
+    limit = allowance_mm(out)
+    ref = reference_of(out.config)
+    label = reference_label(ref)
+    ref_mean = {float(v["cycles"]): float(v["value"]) for v in reference_values(ref, "mean_max_wear")}
+    nominal = next(((float(v["cycles"]), float(v["value"])) for v in reference_values(ref, "nominal_max_wear")), None)
+    parts.append(figs.draw(
+        lambda: F.wear_history_figure(wear.history["cycles"], wear.history["max_wear_mm"], limit_mm=limit,
+                                      mean_cycles=mean.get("cycles"), mean_max_wear_mm=mean.get("mean"),
+                                      reference_mean=ref_mean or None, reference_nominal=nominal,
+                                      reference_label=label),
+        "Max bearing wear against cycles: the nominal design, the Monte Carlo mean (if computed)"
+        + (f", the values of the reference ({label})" if ref_mean or nominal else "")
+        + (f" and the configured allowance ({limit:g} mm, dashed)." if limit is not None else "."),
+        png_keys=("history",)))
+    parts.append("</div>")
+    if "contact_force_mean_N" in prof:
+        parts.append(figs.draw(lambda: F.wear_panels_figure(
+            ang, depth, cycles=wear.cycles, slip_mm=prof["sliding_mm_per_deg_per_cycle"],
+            slip_unit="mm/deg per cycle", slip_quantity="sliding distance",
+            contact_force_N=prof["contact_force_mean_N"], contact_area_mm2=prof["contact_area_mean_mm2"]),
+            "Sliding distance, mean contact force, mean contact area and bearing wear depth against the angle on "
+            "the bearing.", png_keys=("fig17", "panels", "vs_angle"), wide=True))
+    else:
+        parts.append(figs.draw(None, "Wear against the angle", png_keys=("fig17", "panels", "vs_angle"),
+                               missing_text="Wear against the angle (sliding, force, area): not in this wear "
+                                            "result."))
+    if wear.peaks:
+        parts.append("<h3>Wear peaks</h3>")
+        parts.append(table(["angle (deg)", "depth (mm)"], [(format_number(p["angle_deg"], 4),
+                                                            format_number(p["depth_mm"])) for p in wear.peaks],
+                           cls="kv"))
+    return "".join(parts)
