@@ -45,8 +45,8 @@ from jointwear.config import load_config
 from jointwear.mechanism import build_model, simulate
 from jointwear.wear import WearSettings, wear_history
 from jointwear.wear.angles import report_angle_deg
-from jointwear.wear.results import find_peaks_periodic
 from jointwear.wear.kernels import smooth_periodic, worn_area
+from jointwear.wear.results import find_peaks_periodic
 
 OUT = Path(__file__).resolve().parent / "results" / "wear.json"
 MM = 1e3

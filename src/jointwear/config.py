@@ -28,7 +28,11 @@ from typing import Any
 
 from pydantic import BaseModel, ValidationError, model_validator
 
-from jointwear.contact.settings import ClearanceJointConfig, FrictionConfig, MaterialConfig
+from jointwear.contact.settings import (
+    ClearanceJointConfig,
+    FrictionConfig,
+    MaterialConfig,
+)
 from jointwear.design.settings import DesignSettings
 from jointwear.mechanism.settings import (
     DriverConfig,
@@ -179,10 +183,28 @@ def config_from_dict(data: dict[str, Any], source: str = "config") -> StudyConfi
 
 
 def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "config") -> StudyConfig:
-    """A copy of ``config`` with the fields at dotted paths set, validated again (ConfigError naming the field).
+    """A copy of ``config`` with some fields changed, validated again (configs are immutable).
 
-    Paths index lists by number, e.g. ``updated(cfg, {"reliability.n_mc": 50_000,
-    "clearance_joints.0.friction.law": "none"})``; a value may be a config section (an SIModel).
+    Parameters
+    ----------
+    config : StudyConfig
+        The validated config to start from (unchanged).
+    changes : mapping of str to value
+        Dotted paths (lists indexed by number) and their new SI values, e.g.
+        ``{"reliability.n_mc": 50_000, "clearance_joints.0.friction.law": "none"}``; a value may be a section
+        (an SIModel).
+    source : str
+        Name of the config in messages.
+
+    Returns
+    -------
+    StudyConfig
+        The changed config, checked by the schema like a loaded one.
+
+    Raises
+    ------
+    ConfigError
+        A path that does not exist, or a changed config that the schema rejects (the message names the field).
     """
     data = config.model_dump()
     for path, value in changes.items():

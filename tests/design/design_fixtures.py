@@ -8,7 +8,6 @@ from jointwear.config import load_config, updated
 from jointwear.design.settings import DesignSettings
 from jointwear.study import study_context
 
-
 DESIGN = {
     "targets": [{"reliability": 0.9, "life_cycles": 400_000}],
     "tolerances": [{"variable": "l2", "grades": ["IT9", "IT10", "IT11"]}],

@@ -6,9 +6,8 @@ import numpy as np
 import pytest
 
 from jointwear.config import load_config
-from jointwear.mechanism import build_model, simulate
+from jointwear.mechanism import build_model, radau, simulate
 from jointwear.mechanism import kernel as K
-from jointwear.mechanism import radau
 from jointwear.mechanism.fast import to_cartesian, to_cartesian_point
 from jointwear.mechanism.simulate import Runner, wrap_2pi
 

@@ -6,7 +6,6 @@ validated objects as they are (jointwear.mechanism.model.ClearanceJoint).
 
 from __future__ import annotations
 
-import math
 from typing import Any, Literal
 
 from pydantic import field_validator, model_validator

@@ -8,8 +8,20 @@
 from jointwear.mechanism.assembly import AssemblyError, check_assembly
 from jointwear.mechanism.builders import build_model
 from jointwear.mechanism.initial import initial_state
-from jointwear.mechanism.model import GROUND, Body, ClearanceJoint, Driver, Joint, MechanismModel
-from jointwear.mechanism.results import ContactTrace, SimulationError, SimulationResult, SimulationState
+from jointwear.mechanism.model import (
+    GROUND,
+    Body,
+    ClearanceJoint,
+    Driver,
+    Joint,
+    MechanismModel,
+)
+from jointwear.mechanism.results import (
+    ContactTrace,
+    SimulationError,
+    SimulationResult,
+    SimulationState,
+)
 from jointwear.mechanism.simulate import simulate
 
 __all__ = [

@@ -240,8 +240,19 @@ def _general_parts(m) -> GeneralParts:
 
 
 def check_assembly(config) -> None:
-    """The config-level assembly check that follows the schema: a general linkage must assemble over its whole
-    cycle (ConfigError naming the field otherwise); the four-bar and slider-crank closure is a schema rule."""
+    """The numerical assembly check that follows the schema.
+
+    Parameters
+    ----------
+    config : StudyConfig
+        A config validated by the schema. A general linkage must assemble over its whole cycle; the closure of
+        the four-bar and the slider-crank is a schema rule (nothing to do here).
+
+    Raises
+    ------
+    ConfigError
+        'mechanism: cannot assemble ...', naming the links.
+    """
     if config.mechanism.type == "general":
         general_parts(config.mechanism)
 

@@ -14,7 +14,14 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from jointwear.mechanism.assembly import general_parts
-from jointwear.mechanism.model import GROUND, Body, ClearanceJoint, Driver, Joint, MechanismModel
+from jointwear.mechanism.model import (
+    GROUND,
+    Body,
+    ClearanceJoint,
+    Driver,
+    Joint,
+    MechanismModel,
+)
 
 if TYPE_CHECKING:
     from jointwear.config import StudyConfig

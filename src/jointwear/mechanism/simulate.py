@@ -15,7 +15,12 @@ from jointwear.mechanism import kernel as K
 from jointwear.mechanism.fast import natural_angles
 from jointwear.mechanism.initial import initial_state
 from jointwear.mechanism.model import MechanismModel
-from jointwear.mechanism.results import ContactTrace, SimulationError, SimulationResult, SimulationState
+from jointwear.mechanism.results import (
+    ContactTrace,
+    SimulationError,
+    SimulationResult,
+    SimulationState,
+)
 
 TWO_PI = 2.0 * math.pi
 

@@ -66,7 +66,9 @@ def config_problems(config: StudyConfig, stages: frozenset[str] | set[str]) -> l
     problem = scheduler_problem(config.compute.scheduler)
     if problem:
         problems.append(problem)
-    from jointwear.mechanism import check_assembly  # the numerical check that follows the schema
+    from jointwear.mechanism import (
+        check_assembly,  # the numerical check that follows the schema
+    )
 
     try:
         check_assembly(config)

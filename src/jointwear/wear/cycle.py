@@ -15,7 +15,13 @@ import numpy as np
 from jointwear.contact.envelope import admissible_radius
 
 from .angles import circular_mean
-from .kernels import accumulate_wear, gather_directions, map_touch_angles, periodic_interp, share_load
+from .kernels import (
+    accumulate_wear,
+    gather_directions,
+    map_touch_angles,
+    periodic_interp,
+    share_load,
+)
 from .settings import WearSettings, check_material
 
 
