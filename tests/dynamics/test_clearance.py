@@ -76,7 +76,8 @@ def test_trace_conventions(fw_result):
     i = res.body_names.index("rod")
     np.testing.assert_allclose(tr.bearing_body_angle, res.body_angles[:, i])
     assert res.crank_angle.min() >= 0 and res.crank_angle.max() < 2 * np.pi
-    assert tr.E_bearing == 120e9 and tr.H_journal == pytest.approx(207 * 9.807e6)
+    assert tr.joint.bearing_material.youngs_modulus == 120e9
+    assert tr.joint.journal_material.hardness == pytest.approx(207 * 9.807e6)
 
 
 def test_continue_from_state_end(fw_result):

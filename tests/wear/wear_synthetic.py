@@ -7,13 +7,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from jointwear.config import SimulationConfig
+from jointwear.config import ClearanceJointConfig, SimulationConfig, load_config
 
-# Flapping-wing joint A materials (paper Table 2; k dimensionless, H = HB x 9.807e6 Pa per paper-notes.md).
-MAT = dict(
-    E_bearing=1.2e11, nu_bearing=0.32, k_bearing=1.2e-3, H_bearing=350 * 9.807e6,
-    E_journal=2.11e11, nu_journal=0.277, k_journal=2.1e-3, H_journal=207 * 9.807e6,
-)
+# Flapping-wing joint A (paper Tables 2 and 4 as the preset reads them: radii, width, materials).
+JOINT = load_config("jin2025_flapping_wing").clearance_joints[0]
 PERIOD = 0.125  # s, 480 rpm
 
 
@@ -44,15 +41,7 @@ class FakeTrace:
     bearing_radius: float = 1.002e-3
     journal_radius: float = 1.0e-3
     clearance_used: float = 2e-6
-    width: float = 1e-3
-    E_bearing: float = MAT["E_bearing"]
-    nu_bearing: float = MAT["nu_bearing"]
-    k_bearing: float = MAT["k_bearing"]
-    H_bearing: float = MAT["H_bearing"]
-    E_journal: float = MAT["E_journal"]
-    nu_journal: float = MAT["nu_journal"]
-    k_journal: float = MAT["k_journal"]
-    H_journal: float = MAT["H_journal"]
+    joint: ClearanceJointConfig = JOINT
 
 
 def make_trace(n_cycles=2, steps_per_cycle=3000, f0=0.05, rate_scale=1.0, seed=0, **over) -> FakeTrace:

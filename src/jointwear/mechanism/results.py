@@ -7,6 +7,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from jointwear.contact.settings import ClearanceJointConfig
+
 
 @dataclass
 class SimulationState:
@@ -49,16 +51,7 @@ class ContactTrace:
     bearing_radius: float
     journal_radius: float
     clearance_used: float
-    width: float
-    E_bearing: float
-    nu_bearing: float
-    k_bearing: float
-    H_bearing: float
-    E_journal: float
-    nu_journal: float
-    k_journal: float
-    H_journal: float
-    bearing_outer_radius: float | None = None
+    joint: ClearanceJointConfig  # the joint's validated settings: radii, width, materials, contact and friction laws
 
     @property
     def eccentricity(self) -> np.ndarray:

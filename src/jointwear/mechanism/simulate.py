@@ -353,8 +353,6 @@ def _package(model, geometry, cat, free_phi, joint_angles, cart, state_end, coun
         c = cat["rec_c"][k]  # (NCOUT, steps): the trace's series are its rows (views, each contiguous)
         ang = np.arctan2(c[K.O_NY], c[K.O_NX])
         phib, phij = joint_angles.get(k, (c[K.O_PHIB], c[K.O_PHIJ]))
-        spec = cj.spec
-        bm, jm = spec.bearing_material, spec.journal_material
         traces.append(ContactTrace(
             name=cj.name, bearing_body=cj.bearing_body, journal_body=cj.journal_body, t=t, dt_weight=w,
             theta_bearing=wrap_2pi(ang - phib), theta_journal=wrap_2pi(ang - phij),
@@ -363,9 +361,7 @@ def _package(model, geometry, cat, free_phi, joint_angles, cart, state_end, coun
             in_contact=c[K.O_DELTA] > 0.0, eccentricity_global=c[K.O_EX:K.O_EY + 1].T,
             bearing_body_angle=phib, journal_body_angle=phij, stiffness=c[K.O_K], normal_tilt=c[K.O_TILT],
             bearing_radius=g.bearing_radius, journal_radius=g.journal_radius, clearance_used=g.clearance,
-            width=spec.width, E_bearing=bm.youngs_modulus, nu_bearing=bm.poissons_ratio, k_bearing=bm.wear_coefficient,
-            H_bearing=bm.hardness, E_journal=jm.youngs_modulus, nu_journal=jm.poissons_ratio,
-            k_journal=jm.wear_coefficient, H_journal=jm.hardness, bearing_outer_radius=spec.bearing_outer_radius,
+            joint=cj.spec,
         ))
     return SimulationResult(
         t=t, crank_angle=crank_angle, body_angles=angles, body_names=names, free_body_names=free,

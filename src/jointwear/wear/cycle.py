@@ -22,7 +22,7 @@ from .kernels import (
     periodic_interp,
     share_load,
 )
-from .settings import WearSettings, check_material
+from .settings import WearSettings
 
 
 @dataclass(frozen=True)
@@ -39,23 +39,15 @@ class JointMaterials:
 
     @classmethod
     def from_trace(cls, trace, geom=None) -> "JointMaterials":
-        """The constants of a ContactTrace (materials, width) with the unworn radii of ``geom`` (default: the
-        trace's); raises ValueError naming the property when one is out of range."""
+        """The constants of a ContactTrace's joint (its validated settings: materials, width) with the unworn radii
+        of ``geom`` (default: the trace's)."""
         vals = {}
-        for body in ("bearing", "journal"):
-            E, nu = float(getattr(trace, f"E_{body}")), float(getattr(trace, f"nu_{body}"))
-            k, H = float(getattr(trace, f"k_{body}")), float(getattr(trace, f"H_{body}"))
-            check_material(k, H, body)
-            if not (math.isfinite(E) and E > 0.0):
-                raise ValueError(f"{body}.youngs_modulus must be a finite number > 0 Pa, got {E!r}")
-            if not (math.isfinite(nu) and -1.0 < nu < 0.5):
-                raise ValueError(f"{body}.poisson_ratio must lie in (-1, 0.5), got {nu!r}")
-            vals[body] = ((1.0 - nu * nu) / E, k / H)
+        for mat in (trace.joint.bearing_material, trace.joint.journal_material):
+            nu = mat.poissons_ratio
+            vals[len(vals)] = ((1.0 - nu * nu) / mat.youngs_modulus, mat.wear_coefficient / mat.hardness)
         src = geom if geom is not None else trace
-        r_b0, r_j0, width = float(src.bearing_radius), float(src.journal_radius), float(trace.width)
-        if not (width > 0.0):
-            raise ValueError(f"joint width must be > 0 m, got {width!r}")
-        return cls(r_b0, r_j0, width, vals["bearing"][0], vals["journal"][0], vals["bearing"][1], vals["journal"][1])
+        return cls(float(src.bearing_radius), float(src.journal_radius), float(trace.joint.width),
+                   vals[0][0], vals[1][0], vals[0][1], vals[1][1])
 
 
 @dataclass

@@ -279,10 +279,3 @@ def check_cycles(value, field: str | None = "cycles") -> int:
         raise ValueError(f"{field}{' ' if field else ''}must be a whole number of cycles, got {value!r}")
     return int(x)
 
-
-def check_material(k: float, H: float, body: str) -> None:
-    """Raise ValueError naming the field if a wear coefficient is negative/non-finite or a hardness is not > 0."""
-    if not (math.isfinite(k) and k >= 0.0):
-        raise ValueError(f"{body}.wear_coefficient must be a finite number >= 0 (dimensionless), got {k!r}")
-    if not (math.isfinite(H) and H > 0.0):
-        raise ValueError(f"{body}.hardness must be a finite number > 0 Pa, got {H!r}")
