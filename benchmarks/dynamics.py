@@ -77,7 +77,7 @@ def main() -> None:
     from jointwear.config import load_config
     from jointwear.mechanism import build_model, simulate
     from jointwear.mechanism import kernel as K
-    from jointwear.mechanism.simulate import _Runner
+    from jointwear.mechanism.simulate import Runner
 
     cfg = load_config("jin2025_flapping_wing")
     model = build_model(cfg)
@@ -164,7 +164,7 @@ def main() -> None:
     if not args.no_scipy:
         from scipy.integrate import solve_ivp
 
-        run = _Runner(model, None, model.settings.rtol, model.settings.atol)
+        run = Runner(model, None, model.settings.rtol, model.settings.atol)
         run.a["cstate"][:] = state.cstate
         a = run._args()
         y0 = run.to_internal(state.y)
@@ -228,9 +228,9 @@ def _loop_timer(model, state, fast, general_tree: bool = False):
     import math
 
     from jointwear.mechanism import kernel as K
-    from jointwear.mechanism.simulate import _Runner
+    from jointwear.mechanism.simulate import Runner
 
-    run = _Runner(model, None, model.settings.rtol, model.settings.atol, fast)
+    run = Runner(model, None, model.settings.rtol, model.settings.atol, fast)
     if general_tree:
         run.integrate = K.integrate
     y0 = run.to_internal(state.y)
@@ -319,7 +319,7 @@ def _rhs_ns(fw_model, fw_state, repeats: int) -> dict:
     from jointwear.config import load_config
     from jointwear.mechanism import build_model, simulate
     from jointwear.mechanism import kernel as K
-    from jointwear.mechanism.simulate import _Runner
+    from jointwear.mechanism.simulate import Runner
 
     @njit(error_model="numpy", fastmath=K.FASTMATH, _nrt=False)
     def chain_fast(n, t, Y, dy, dpar, fp, cint, cpar, prof, ngrid, cstate, baum, lam, cout):
@@ -379,14 +379,14 @@ def _rhs_ns(fw_model, fw_state, repeats: int) -> dict:
 
     six = build_model(load_config("watt_six_bar_two_clearances"))
     st = simulate(six, 0.0).state_end
-    fw = _Runner(fw_model, None, 1e-6, 1e-9)
+    fw = Runner(fw_model, None, 1e-6, 1e-9)
     fw.a["cstate"][:] = fw_state.cstate
     af = fw._args()
     yf = fw.to_internal(fw_state.y)[None, :].copy()
-    tr = _Runner(six, None, 1e-6, 1e-9)
+    tr = Runner(six, None, 1e-6, 1e-9)
     tr.a["cstate"][:] = st.cstate
     yt = tr.to_internal(st.y)
-    ca = _Runner(six, None, 1e-6, 1e-9, fast=False)
+    ca = Runner(six, None, 1e-6, 1e-9, fast=False)
     ca.a["cstate"][:] = st.cstate
     yc = np.array(st.y)
     at, ac = tr._args(), ca._args()
@@ -421,7 +421,7 @@ def _six_bar_steps() -> dict:
 
     from jointwear.config import load_config
     from jointwear.mechanism import build_model, simulate
-    from jointwear.mechanism.simulate import _Runner
+    from jointwear.mechanism.simulate import Runner
 
     six = build_model(load_config("watt_six_bar_two_clearances"))
     st = simulate(six, 0.0).state_end
@@ -438,7 +438,7 @@ def _six_bar_steps() -> dict:
         r = simulate(m, 1, settle_cycles=0, state0=st)
         out["clearance_step_fraction"].append({"value": cf, "steps": r.n_recorded_steps})
     # stiffest eigenvalues of the Jacobian of the Cartesian right-hand side (central differences) along the cycle
-    run = _Runner(six, None, s.rtol, s.atol, fast=False)
+    run = Runner(six, None, s.rtol, s.atol, fast=False)
     run.a["cstate"][:] = base.state_end.cstate
     Y = np.column_stack([base.q, base.qd])
     h = np.diff(base.t)
@@ -509,7 +509,7 @@ def _six_bar_specialised() -> dict:
     from jointwear.config import load_config
     from jointwear.mechanism import build_model, simulate
     from jointwear.mechanism import kernel as K
-    from jointwear.mechanism.simulate import SimulationState, _Runner
+    from jointwear.mechanism.simulate import Runner, SimulationState
     from jointwear.wear.history import cycle_wear
 
     cfg = load_config("watt_six_bar_two_clearances")
@@ -518,7 +518,7 @@ def _six_bar_specialised() -> dict:
     y = st.y.copy()
     y[2] = np.nextafter(y[2], np.inf)
     nudged = SimulationState(st.t, y, st.cstate.copy(), st.h)
-    orig = _Runner.__init__
+    orig = Runner.__init__
 
     def general_init(self, *a, **kw):
         orig(self, *a, **kw)
@@ -527,11 +527,11 @@ def _six_bar_specialised() -> dict:
     runs = {}
     for name, state0, general in (("general", st, True), ("specialised", st, False),
                                   ("specialised_nudged_1ulp", nudged, False)):
-        _Runner.__init__ = general_init if general else orig
+        Runner.__init__ = general_init if general else orig
         try:
             r = simulate(six, 2, settle_cycles=0, state0=state0)
         finally:
-            _Runner.__init__ = orig
+            Runner.__init__ = orig
         cws = [cycle_wear(tr, cfg.wear, r.n_cycles) for tr in r.joints]
         runs[name] = {"steps_per_cycle": r.steps_per_cycle,
                       "contact_force_mean_N": [tr.mean_force for tr in r.joints],

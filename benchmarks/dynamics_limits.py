@@ -62,11 +62,11 @@ def main() -> None:
     from jointwear.config import load_config
     from jointwear.mechanism import build_model, simulate
     from jointwear.mechanism import kernel as K
-    from jointwear.mechanism.simulate import _Runner
+    from jointwear.mechanism.simulate import Runner
 
     model = build_model(load_config("jin2025_flapping_wing"))
     st = simulate(model, 0.0, settle_cycles=3).state_end
-    run = _Runner(model, None, model.settings.rtol, model.settings.atol)
+    run = Runner(model, None, model.settings.rtol, model.settings.atol)
     a = run._args()
     _, _, _, dpar, _, jpar, cint, cpar, prof, ngrid, cstate, baum = a[:12]
     lam, cout = a[18], a[20]

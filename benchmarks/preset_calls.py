@@ -21,7 +21,7 @@ import time
 from pathlib import Path
 
 from jointwear.config import available_presets, load_config
-from jointwear.mechanism.model import build_model
+from jointwear.mechanism import build_model
 from jointwear.wear import wear_history
 
 REFERENCE = "jin2025_flapping_wing"

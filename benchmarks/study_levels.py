@@ -37,7 +37,7 @@ def main() -> None:
         for n in args.cycles:
             holder = {}
             ctx = study_context(cfg, lambda call: holder.setdefault(
-                "ev", compute.Evaluator(call, ex, None, n_outputs=len(call.cycles))))
+                "ev", compute.Evaluator(call, ex, None, n_outputs=len(call.cycles))), threads=ex.threads_per_call)
             log_n = float(np.log(n))
 
             def g(x, ctx=ctx, log_n=log_n):

@@ -45,8 +45,8 @@ from jointwear.config import load_config
 from jointwear.mechanism import build_model, simulate
 from jointwear.wear import WearSettings, wear_history
 from jointwear.wear.angles import report_angle_deg
-from jointwear.wear.history import find_peaks_periodic
 from jointwear.wear.kernels import smooth_periodic, worn_area
+from jointwear.wear.results import find_peaks_periodic
 
 OUT = Path(__file__).resolve().parent / "results" / "wear.json"
 MM = 1e3
@@ -145,12 +145,8 @@ def bench_timing(repeats: int = 5, replicates: int = 4) -> dict:
 
 def bench_literal(n_measure: int = 6) -> dict:
     """Paper Section 3 Step 5: one simulated cycle per wear cycle, geometry updated after every cycle."""
-    from jointwear.wear.history import (
-        JointMaterials,
-        _growth,
-        _update_geometry,
-        cycle_wear,
-    )
+    from jointwear.wear.cycle import JointMaterials, cycle_wear
+    from jointwear.wear.history import growth_depth, update_geometry
 
     cfg = config_for(-1)
     model = build_model(cfg)
@@ -164,13 +160,13 @@ def bench_literal(n_measure: int = 6) -> dict:
     growth = 0.0
     t0, c0 = time.perf_counter(), time.process_time()
     for _ in range(n_measure):
-        geoms = [_update_geometry(geoms0[0], s, wb, wj, growth)[0]] + geoms0[1:]
+        geoms = [update_geometry(geoms0[0], s, wb, wj, growth)[0]] + geoms0[1:]
         res = simulate(model, 1, geometry=geoms, settle_cycles=0, state0=state)
         state = res.state_end
         cw = cycle_wear(res.joints[0], s, 1, mat, growth=growth)
         wb += cw.bearing
         wj += cw.journal
-        growth = _growth(s, wb, wj)
+        growth = growth_depth(s, wb, wj)
     per = (time.perf_counter() - t0) / n_measure
     per_cpu = (time.process_time() - c0) / n_measure
     return {"cycles_measured": n_measure, "seconds_per_cycle": per, "extrapolated_seconds_520k": per * 520_000,

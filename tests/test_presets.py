@@ -44,7 +44,7 @@ def test_slider_crank_reaches_its_allowance_inside_the_curve():
     """The nominal wear crosses the allowance between the first and last level, so R(N) goes from ~1 to ~0 in
     the curve (a 0.4 s wear history; the margins are 30 % of the nominal life, about twice the 14 % spread of
     the wear that the 10 % scatter of k and H gives)."""
-    from jointwear.mechanism.model import build_model
+    from jointwear.mechanism import build_model
     from jointwear.wear import wear_history
 
     cfg = load_config("flores_slider_crank")

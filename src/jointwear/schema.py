@@ -38,9 +38,10 @@ def F(default: Any = ..., *, unit: str | None = None, description: str, **kw: An
 
 
 class SIModel(BaseModel):
-    """Base of every config section: unknown keys rejected, NaN/inf rejected, unit suffixes to SI."""
+    """Base of every config section: unknown keys rejected, NaN/inf rejected, unit suffixes to SI, immutable once
+    validated (a changed config is a new, validated one: jointwear.config.updated)."""
 
-    model_config = ConfigDict(extra="forbid", allow_inf_nan=False, validate_default=True)
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False, validate_default=True, frozen=True)
 
     @model_validator(mode="before")
     @classmethod

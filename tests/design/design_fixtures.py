@@ -4,10 +4,9 @@ import numpy as np
 from analytic_wear import AnalyticWear
 
 from jointwear import compute
-from jointwear.config import load_config
+from jointwear.config import load_config, updated
 from jointwear.design.settings import DesignSettings
 from jointwear.study import study_context
-
 
 DESIGN = {
     "targets": [{"reliability": 0.9, "life_cycles": 400_000}],
@@ -31,15 +30,12 @@ DESIGN = {
 
 
 def analytic_config(design=None):
-    cfg = load_config()
-    rel = cfg.reliability
-    rel.cycles_start, rel.cycles_stop, rel.cycles_step = 340_000, 480_000, 20_000
-    rel.histogram_cycles = [380_000, 420_000]
-    rel.n_mc, rel.max_calls = 50_000, 80
     # a deterministic model: the engine's own accuracy settings (relative ESC error 2 %, absolute 0.2 %)
-    rel.noise, rel.error_tol, rel.error_abs_tol = "none", 0.02, 0.002
-    cfg.design = DesignSettings.model_validate(design if design is not None else DESIGN)
-    return cfg
+    return updated(load_config(), {
+        "reliability.cycles_start": 340_000, "reliability.cycles_stop": 480_000, "reliability.cycles_step": 20_000,
+        "reliability.histogram_cycles": [380_000, 420_000], "reliability.n_mc": 50_000, "reliability.max_calls": 80,
+        "reliability.noise": "none", "reliability.error_tol": 0.02, "reliability.error_abs_tol": 0.002,
+        "design": DesignSettings.model_validate(design if design is not None else DESIGN)})
 
 
 def analytic_context(cfg):

@@ -6,15 +6,14 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from jointwear.config import load_config
+from jointwear.config import load_config, updated
 from jointwear.design import build_controls, enumerate_candidates
 from jointwear.design.settings import DesignSettings
 from jointwear.units import PA_PER_HB  # the unit table the config converts with
 
 
 def _config():
-    cfg = load_config()
-    cfg.design = DesignSettings.model_validate({
+    return updated(load_config(), {"design": DesignSettings.model_validate({
         "targets": [{"reliability": 0.9, "life_factor": 1.2}],
         "tolerances": [{"variable": "l2", "grades": ["IT9", "IT11"]}],
         "fit": {"options": [{"name": "a", "hole_grade": "IT8", "shaft_grade": "IT7", "cost": 0.0},
@@ -26,8 +25,7 @@ def _config():
             {"name": "40Cr", "cost": 0.0, "variables": {"HB_j": {}}},
             {"name": "hard", "cost": 2.0, "variables": {"HB_j": {"mean_HB": 250.0, "std_HB": 10.0},
                                                          "k_j": {"mean": 1.5e-3}}}]}],
-    })
-    return cfg
+    })})
 
 
 def test_grade_sets_sigma_to_the_it_band_over_six():

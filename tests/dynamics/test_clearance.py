@@ -4,24 +4,23 @@
 import numpy as np
 import pytest
 
-from jointwear.config import load_config
+from jointwear.config import ClearanceJointConfig, load_config, updated
 from jointwear.contact import ClearanceGeometry
 from jointwear.contact.laws import friction_coefficient, hysteresis_factor
 from jointwear.mechanism import (
     Body,
     ClearanceJoint,
-    Material,
     MechanismModel,
     SimulationState,
     build_model,
     simulate,
 )
-from jointwear.mechanism.simulate import _trapezoid_weights
+from jointwear.mechanism.simulate import trapezoid_weights
 
 
 def _ideal_mean_reaction(model, joint):
     ri = simulate(model.ideal(), 1, settle_cycles=0, rtol=1e-10, atol=1e-13)
-    w = _trapezoid_weights(ri.t)
+    w = trapezoid_weights(ri.t)
     return float(np.sum(w * np.hypot(*ri.reaction(joint).T)) / w.sum())
 
 
@@ -36,8 +35,8 @@ def test_clearance_to_zero_matches_ideal_reaction():
     the wall and the joint behaves as an ideal pin; frictionless so that the ideal joint is the limit."""
     cfg = load_config("jin2025_flapping_wing")
     cj = cfg.clearance_joints[0]
-    cj.bearing_radius = cj.journal_radius + 1e-9
-    cj.friction.law = "none"
+    cfg = updated(cfg, {"clearance_joints.0.bearing_radius": cj.journal_radius + 1e-9,
+                        "clearance_joints.0.friction.law": "none"})
     model = build_model(cfg)
     res = simulate(model, 1, settle_cycles=1)
     tr = res.joints[0]
@@ -77,7 +76,8 @@ def test_trace_conventions(fw_result):
     i = res.body_names.index("rod")
     np.testing.assert_allclose(tr.bearing_body_angle, res.body_angles[:, i])
     assert res.crank_angle.min() >= 0 and res.crank_angle.max() < 2 * np.pi
-    assert tr.E_bearing == 120e9 and tr.H_journal == pytest.approx(207 * 9.807e6)
+    assert tr.joint.bearing_material.youngs_modulus == 120e9
+    assert tr.joint.journal_material.hardness == pytest.approx(207 * 9.807e6)
 
 
 def test_continue_from_state_end(fw_result):
@@ -116,11 +116,14 @@ def test_worn_profile_moves_contact():
 
 
 def _free_journal_model(restitution=1.0, law="lankarani_nikravesh"):
-    steel = Material("steel", 207e9, 0.3, 200 * 9.807e6, 1e-4)
+    steel = dict(name="steel", youngs_modulus=207e9, poissons_ratio=0.3, hardness=200 * 9.807e6,
+                 wear_coefficient=1e-4)
     ball = Body("journal", 1e-3, 1e-8, {"O": (0.0, 0.0)})
-    cj = ClearanceJoint("J", "ground", "O", "journal", "O", bearing_radius=1.1e-3, journal_radius=1.0e-3,
-                        width=1e-3, bearing_material=steel, journal_material=steel, contact_law=law,
-                        restitution=restitution, friction_law="none")
+    spec = ClearanceJointConfig(name="J", joint="J", bearing_body="ground", journal_body="journal",
+                                bearing_radius=1.1e-3, journal_radius=1.0e-3, width=1e-3, bearing_material=steel,
+                                journal_material=steel, contact_law=law, restitution=restitution,
+                                friction={"law": "none"})
+    cj = ClearanceJoint(spec, bearing_point="O", journal_point="O")
     model = MechanismModel(bodies=[ball], joints=[], clearance_joints=[cj], ground_points={"O": (0.0, 0.0)},
                            gravity=(0.0, 0.0), period_override=1.0, length_ref=1e-3)
     return model
@@ -184,8 +187,7 @@ def test_contact_law_switch():
     assert hysteresis_factor(0, 0.9, 1.0) == pytest.approx(3 * (1 - 0.81) / 4)
     assert hysteresis_factor(1, 0.9, 1.0) == pytest.approx(8 * 0.1 / (5 * 0.9))
     assert hysteresis_factor(2, 0.9, 1.0) == pytest.approx(3 * 0.1 / 2)
-    cfg = load_config("jin2025_flapping_wing")
-    cfg.clearance_joints[0].contact_law = "flores"
+    cfg = updated(load_config("jin2025_flapping_wing"), {"clearance_joints.0.contact_law": "flores"})
     res = simulate(build_model(cfg), 1, settle_cycles=1)
     # same mean load path: the law changes only the damping (chi 0.178/v0 vs 0.1425/v0 at cr = 0.9)
     assert 0.028 < res.joints[0].mean_force < 0.036
@@ -204,17 +206,21 @@ def test_friction_law_shape():
     np.testing.assert_allclose(mu, -mu[::-1], atol=1e-15)  # odd
 
 
-def test_build_model_revalidates_copied_configs():
-    """Configs changed with model_copy skip validation; build_model re-checks closure and clearance."""
+def test_configs_are_frozen_and_updated_revalidates():
+    """A validated config cannot be changed in place; a changed copy (config.updated) is validated again."""
+    from pydantic import ValidationError
+
     from jointwear.config import ConfigError
 
     cfg = load_config("jin2025_flapping_wing")
-    bad = cfg.model_copy(update={"mechanism": cfg.mechanism.model_copy(update={"rocker_pivot": (0.0115, 0.08)})})
+    with pytest.raises(ValidationError, match="frozen"):
+        cfg.clearance_joints[0].journal_radius = 1.003e-3
     with pytest.raises(ConfigError, match="rod .* and rocker .* cannot close the loop"):
-        build_model(bad)
-    cj = cfg.clearance_joints[0].model_copy(update={"journal_radius": 1.003e-3})
+        updated(cfg, {"mechanism.rocker_pivot": (0.0115, 0.08)})
     with pytest.raises(ConfigError, match=r"clearance_joints\[0\].journal_radius"):
-        build_model(cfg.model_copy(update={"clearance_joints": [cj]}))
+        updated(cfg, {"clearance_joints.0.journal_radius": 1.003e-3})
+    with pytest.raises(ConfigError, match="no such setting"):
+        updated(cfg, {"clearance_joints.3.journal_radius": 1e-3})
 
 
 @pytest.mark.parametrize("amp", [0.0, 2e-6, 2e-5])

@@ -12,15 +12,16 @@
 from __future__ import annotations
 
 import math
+import tomllib
 from importlib import resources
 
 import numpy as np
 import pytest
 
 from jointwear.cli import main
-from jointwear.config import ConfigError, config_from_dict, load_config
-from jointwear.mechanism import build_model, simulate
-from jointwear.mechanism.model import _FourBarGuess, _SliderCrankGuess
+from jointwear.config import ConfigError, config_from_dict, load_config, updated
+from jointwear.mechanism import build_model, check_assembly, simulate
+from jointwear.mechanism.builders import FourBarGuess, SliderCrankGuess
 
 SIX = "watt_six_bar_two_clearances"
 SIX_TEXT = (resources.files("jointwear.presets") / f"{SIX}.toml").read_text(encoding="utf-8")
@@ -37,7 +38,7 @@ def general_four_bar(cfg):
     """The four_bar config as a general config (drawing = the preset's assembly at t = 0)."""
     m = cfg.mechanism
     l1, l2, l3 = m.crank.length, m.rod.length, m.rocker.length
-    pose = _FourBarGuess(tuple(m.crank_pivot), tuple(m.rocker_pivot), l1, l2, l3, _com(m.crank), _com(m.rod),
+    pose = FourBarGuess(tuple(m.crank_pivot), tuple(m.rocker_pivot), l1, l2, l3, _com(m.crank), _com(m.rod),
                          _com(m.rocker), m.crank_angle0, m.crank_speed, m.assembly_branch)(0.0)
     O, C = list(m.crank_pivot), list(m.rocker_pivot)
     A = [O[0] + l1 * math.cos(m.crank_angle0), O[1] + l1 * math.sin(m.crank_angle0)]
@@ -73,7 +74,7 @@ def general_slider_crank(cfg):
     assert m.guide_angle == 0.0 and m.offset == 0.0  # the preset's; keeps the drawing simple
     l1, l2 = m.crank.length, m.rod.length
     O = list(m.crank_pivot)
-    pose = _SliderCrankGuess(tuple(O), tuple(O), (1.0, 0.0), (0.0, 1.0), l1, l2, _com(m.crank), _com(m.rod), 0.0,
+    pose = SliderCrankGuess(tuple(O), tuple(O), (1.0, 0.0), (0.0, 1.0), l1, l2, _com(m.crank), _com(m.rod), 0.0,
                              m.crank_angle0, m.crank_speed, m.assembly_branch)(0.0)
     A = [O[0] + l1 * math.cos(m.crank_angle0), O[1] + l1 * math.sin(m.crank_angle0)]
     B = list(pose["slider"][:2])
@@ -350,8 +351,16 @@ def test_malformed_general_config_exits_2_with_one_line(case, text, needle, tmp_
     assert "mechanism" in lines[0] or "clearance_joints" in lines[0], lines[0]
 
 
-def test_build_model_revalidates_a_copied_general_config():
-    cfg = load_config(SIX)
-    mech = cfg.mechanism.model_copy(update={"drivers": []})
+def test_updated_general_config_is_revalidated():
     with pytest.raises(ConfigError, match="drivers"):
-        build_model(cfg.model_copy(update={"mechanism": mech}))
+        updated(load_config(SIX), {"mechanism.drivers": []})
+
+
+def test_assembly_is_checked_after_the_schema():
+    """The schema accepts a linkage that cannot assemble (crank 25 mm); the assembly check and build_model do not."""
+    text = next(t for case, t, _ in BAD if case == "cannot-assemble")
+    cfg = config_from_dict(tomllib.loads(text))
+    with pytest.raises(ConfigError, match="mechanism: cannot assemble"):
+        check_assembly(cfg)
+    with pytest.raises(ConfigError, match="mechanism: cannot assemble"):
+        build_model(cfg)

@@ -9,7 +9,7 @@ from closed_form import (
     slider_crank_reactions,
 )
 
-from jointwear.config import load_config
+from jointwear.config import load_config, updated
 from jointwear.mechanism import build_model, simulate
 
 TIMES = np.linspace(0.0, 0.125, 17)[:-1] + 0.0031
@@ -36,8 +36,7 @@ def sc():
 
 @pytest.mark.parametrize("branch", [1, -1])
 def test_four_bar_kinematics_closed_form(branch):
-    cfg = load_config("jin2025_flapping_wing")
-    cfg.mechanism.assembly_branch = branch
+    cfg = updated(load_config("jin2025_flapping_wing"), {"mechanism.assembly_branch": branch})
     model = build_model(cfg).ideal()
     for t in TIMES:
         q, qd, qdd = model.kinematics(t)
@@ -113,8 +112,7 @@ def test_slider_crank_forward_dynamics_and_reactions(sc):
 @pytest.mark.parametrize("branch", [1, -1])
 def test_assembly_branch_meaning(branch):
     """+1: B lies to the left of the directed line from crank pin A to rocker pivot C; -1: right."""
-    cfg = load_config("jin2025_flapping_wing")
-    cfg.mechanism.assembly_branch = branch
+    cfg = updated(load_config("jin2025_flapping_wing"), {"mechanism.assembly_branch": branch})
     model = build_model(cfg).ideal()
     for t in TIMES:
         ref = four_bar(t, cfg.mechanism)

@@ -6,11 +6,10 @@ import numpy as np
 import pytest
 
 from jointwear.config import load_config
-from jointwear.mechanism import build_model, simulate
+from jointwear.mechanism import build_model, radau, simulate
 from jointwear.mechanism import kernel as K
-from jointwear.mechanism import radau
 from jointwear.mechanism.fast import to_cartesian, to_cartesian_point
-from jointwear.mechanism.simulate import _Runner, wrap_2pi
+from jointwear.mechanism.simulate import Runner, wrap_2pi
 
 
 @pytest.mark.parametrize("th0", [0.0, 1.0, -2.5, 3.14159, 1234.5678])
@@ -40,7 +39,7 @@ def test_wrap_2pi_range_and_agreement_with_mod():
 def test_end_state_point_conversion_equals_array_form():
     model = build_model(load_config("jin2025_flapping_wing"))
     res = simulate(model, 0.3, settle_cycles=0)
-    run = _Runner(model, None, 1e-6, 1e-9)
+    run = Runner(model, None, 1e-6, 1e-9)
     y = run.to_internal(res.state_end.y)
     ref = {b.name: float(res.state_end.y[3 * i + 2]) + 2 * math.pi for i, b in enumerate(model.free_bodies)}
     q1, qd1, _ = to_cartesian(model, run.lay, y[None, :], None, ref)
@@ -121,7 +120,7 @@ def test_python_source_of_the_kernels_equals_the_compiled_kernels(preset, worn, 
                                     journal_wear=1e-6 * np.maximum(0, np.cos(th + 1.0)) ** 2, use_profile=True)
                 for g in geom]
     res = simulate(model, 0.05, geometry=geom, settle_cycles=0, fast=fast)
-    run = _Runner(model, geom, 1e-6, 1e-9, fast)
+    run = Runner(model, geom, 1e-6, 1e-9, fast)
     assert run.mode == {("jin2025_flapping_wing", None): 1, ("watt_six_bar_two_clearances", None): 2}.get((preset, fast), 0)
     a = run._args()
     states = [run.to_internal(np.concatenate([res.q[i], res.qd[i]])) for i in range(0, res.t.size, res.t.size // 7)]

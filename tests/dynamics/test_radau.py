@@ -20,7 +20,7 @@ def test_radau5_reproduces_the_dopri5_physics():
     model = build_model(load_config("jin2025_flapping_wing"))
     st = simulate(model, 0.0, settle_cycles=3).state_end
     ref = simulate(model, 2, settle_cycles=0, state0=st)
-    rad_model = dataclasses.replace(model, settings=dataclasses.replace(model.settings, method="radau5"))
+    rad_model = dataclasses.replace(model, settings=model.settings.model_copy(update={"method": "radau5"}))
     rad = simulate(rad_model, 2, settle_cycles=0, state0=st, rtol=1e-5, atol=1e-8)
     f_ref, w_ref, c_ref = _stats(ref)
     f_rad, w_rad, c_rad = _stats(rad)

@@ -11,7 +11,7 @@ from jointwear.config import config_from_dict, load_config
 from jointwear.mechanism import build_model, simulate
 from jointwear.mechanism import kernel as K
 from jointwear.mechanism import tree_codegen as G
-from jointwear.mechanism.simulate import _Runner
+from jointwear.mechanism.simulate import Runner
 from jointwear.mechanism.tree import tree_layout
 from jointwear.wear import WearSettings
 from jointwear.wear.history import cycle_wear
@@ -62,7 +62,7 @@ def test_specialised_rhs_equals_general(six, which):
     scaled by the ~50 mm links): 1e-11 of the largest component; measured ~1e-16."""
     model = six if which == "six_bar" else six_bar_three_clearances()
     res = simulate(model, 0.01, settle_cycles=0)
-    run = _Runner(model, None, 1e-6, 1e-9)
+    run = Runner(model, None, 1e-6, 1e-9)
     assert res.extra["kernel"] == "tree" and run.mode == 2
     a = run.a
     mod = G.specialised_module(run.tree, a["dpar"].shape[0], a["cint"])
@@ -103,17 +103,17 @@ def test_specialised_loop_cycle_matches_general(six):
     spec = simulate(six, 1, settle_cycles=0, state0=st)
     assert spec.extra["kernel"] == "tree"
 
-    orig = _Runner.__init__
+    orig = Runner.__init__
 
     def general_init(self, *args, **kw):
         orig(self, *args, **kw)
         self.integrate = K.integrate
 
-    _Runner.__init__ = general_init
+    Runner.__init__ = general_init
     try:
         gen = simulate(six, 1, settle_cycles=0, state0=st)
     finally:
-        _Runner.__init__ = orig
+        Runner.__init__ = orig
     ws = WearSettings()
     for tg, ts in zip(gen.joints, spec.joints):
         assert ts.mean_force == pytest.approx(tg.mean_force, rel=5e-4)

@@ -8,7 +8,7 @@ import pytest
 from jointwear.config import config_from_dict, load_config
 from jointwear.mechanism import build_model, simulate
 from jointwear.mechanism import kernel as K
-from jointwear.mechanism.simulate import _Runner
+from jointwear.mechanism.simulate import Runner
 from jointwear.mechanism.tree import to_cartesian, tree_layout
 
 SIX = "watt_six_bar_two_clearances"
@@ -50,8 +50,8 @@ def test_tree_accelerations_equal_cartesian_at_the_same_states(six, which):
     model = six if which == "six_bar" else six_bar_three_clearances()
     res = simulate(model, 0.01, settle_cycles=0)
     assert res.extra["kernel"] == "tree"
-    cart = _Runner(model, None, 1e-6, 1e-9, fast=False)
-    tree = _Runner(model, None, 1e-6, 1e-9)
+    cart = Runner(model, None, 1e-6, 1e-9, fast=False)
+    tree = Runner(model, None, 1e-6, 1e-9)
     cart.a["cstate"][:] = res.state_end.cstate
     tree.a["cstate"][:] = res.state_end.cstate
     nq = res.q.shape[1]
@@ -72,7 +72,7 @@ def test_tree_state_round_trip(six):
     ulp; the preloaded start satisfies the ideal joints to the assembly's Newton tolerance 1e-10 L_ref, which the tree
     enforces exactly: 1e-12 m; measured 0 for both)."""
     res = simulate(six, 0.0, settle_cycles=0)
-    run = _Runner(six, None, 1e-6, 1e-9)
+    run = Runner(six, None, 1e-6, 1e-9)
     y = res.state_end.y
     q, qd, _ = to_cartesian(run.tree, run.a["dpar"], np.array([res.state_end.t]), run.to_internal(y)[None, :])
     nq = y.size // 2

@@ -9,19 +9,17 @@ import pytest
 from analytic_wear import RATE, AnalyticWear
 
 from jointwear import compute
-from jointwear.config import load_config
+from jointwear.config import load_config, updated
 from jointwear.study import life_at, population, run_reliability, study_context
 
 
 @pytest.fixture(scope="module")
 def study():
-    cfg = load_config()
-    cfg.reliability.cycles_start, cfg.reliability.cycles_stop, cfg.reliability.cycles_step = 340_000, 480_000, 40_000
-    cfg.reliability.histogram_cycles = [380_000, 420_000]
-    cfg.reliability.n_mc = 50_000
     # a deterministic model: the engine's own accuracy settings (relative ESC error 2 %, absolute 0.2 %)
-    cfg.reliability.noise, cfg.reliability.error_tol, cfg.reliability.error_abs_tol = "none", 0.02, 0.002
-    cfg.reliability.max_calls = 120
+    cfg = updated(load_config(), {
+        "reliability.cycles_start": 340_000, "reliability.cycles_stop": 480_000, "reliability.cycles_step": 40_000,
+        "reliability.histogram_cycles": [380_000, 420_000], "reliability.n_mc": 50_000,
+        "reliability.noise": "none", "reliability.error_tol": 0.02, "reliability.error_abs_tol": 0.002, "reliability.max_calls": 120})
     holder = {}
 
     def factory(call):
@@ -85,18 +83,14 @@ def _analytic_study(cfg, executor=None):
 
 
 def _small_config():
-    cfg = load_config()
-    cfg.reliability.cycles_start, cfg.reliability.cycles_stop, cfg.reliability.cycles_step = 360_000, 440_000, 40_000
-    cfg.reliability.histogram_cycles = [400_000]
-    cfg.reliability.n_mc, cfg.reliability.max_calls = 20_000, 30
-    return cfg
+    return updated(load_config(), {
+        "reliability.cycles_start": 360_000, "reliability.cycles_stop": 440_000, "reliability.cycles_step": 40_000,
+        "reliability.histogram_cycles": [400_000], "reliability.n_mc": 20_000, "reliability.max_calls": 30})
 
 
 def test_random_allowance_enters_as_a_variable():
     # Section 5.1: delta_0 ~ N(0.01 D, 0.0005 D). Exact R(N) by brute force with the allowance sampled too.
-    cfg = _small_config()
-    cfg.reliability.allowance_std = 0.0005 * 3e-3
-    cfg.reliability.noise, cfg.reliability.error_tol, cfg.reliability.error_abs_tol = "none", 0.02, 0.002
+    cfg = updated(_small_config(), {"reliability.allowance_std": 0.0005 * 3e-3, "reliability.noise": "none", "reliability.error_tol": 0.02, "reliability.error_abs_tol": 0.002})
     ctx, res, model = _analytic_study(cfg)
     assert ctx.names[-1] == "delta_0" and len(ctx.marginals) == 14
     x = population(ctx.marginals, 1_000_000, seed=11)
@@ -139,7 +133,7 @@ def test_fail_rule_adds_the_infeasible_probability():
     # learning always runs on the feasible samples), so the relation holds to rounding.
     cfg = _small_config()
     _, truncated, _ = _analytic_study(cfg)
-    cfg.uncertainty.clearance.infeasible_rule = "fail"
+    cfg = updated(cfg, {"uncertainty.clearance.infeasible_rule": "fail"})
     _, failing, _ = _analytic_study(cfg)
     p_inf = cfg.uncertainty.clearance.infeasible_probability()
     np.testing.assert_allclose(failing.pf, p_inf + (1 - p_inf) * truncated.pf, rtol=1e-12, atol=1e-15)
@@ -153,10 +147,8 @@ def test_sensitivity_mean_shifts_against_brute_force():
     from jointwear.sensitivity import shifted_marginal
     from jointwear.study import run_sensitivity
 
-    cfg = _small_config()
-    cfg.reliability.noise, cfg.reliability.error_tol, cfg.reliability.error_abs_tol = "none", 0.02, 0.002
-    cfg.sensitivity.cycles = 400_000
-    cfg.sensitivity.sobol_base_samples = 256
+    cfg = updated(_small_config(), {"reliability.noise": "none", "reliability.error_tol": 0.02, "reliability.error_abs_tol": 0.002, "sensitivity.cycles": 400_000,
+                                    "sensitivity.sobol_base_samples": 256})
     ctx, res, model = _analytic_study(cfg)
     sens = run_sensitivity(ctx, res)
     by_name = {v["name"]: v for v in sens.variables}
@@ -183,10 +175,8 @@ def test_archard_shifts_check_the_surrogate_and_the_clearance_keeps_its_floor():
     from jointwear.study.sensitivity import physical_marginal
     from jointwear.sensitivity import shifted_marginal
 
-    cfg = _small_config()
-    cfg.reliability.noise, cfg.reliability.error_tol, cfg.reliability.error_abs_tol = "none", 0.02, 0.002
-    cfg.sensitivity.cycles = 400_000
-    cfg.sensitivity.sobol_base_samples = 256
+    cfg = updated(_small_config(), {"reliability.noise": "none", "reliability.error_tol": 0.02, "reliability.error_abs_tol": 0.002, "sensitivity.cycles": 400_000,
+                                    "sensitivity.sobol_base_samples": 256})
     ctx, res, _ = _analytic_study(cfg)
     sens = run_sensitivity(ctx, res)
     checked = {(c["variable"], round(c["factor"], 3)) for c in sens.archard_checks}

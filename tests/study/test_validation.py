@@ -10,7 +10,7 @@ import pytest
 from analytic_wear import AnalyticWear
 
 from jointwear import compute
-from jointwear.config import load_config
+from jointwear.config import load_config, updated
 from jointwear.study import run_reliability, study_context
 from jointwear.study.validation import clopper_pearson, run_validation
 
@@ -24,11 +24,10 @@ def test_clopper_pearson_exact_values():
 
 
 def test_validation_agrees_with_an_exact_model():
-    cfg = load_config()
-    cfg.reliability.cycles_start, cfg.reliability.cycles_stop, cfg.reliability.cycles_step = 360_000, 440_000, 40_000
-    cfg.reliability.histogram_cycles = [400_000]
-    cfg.reliability.n_mc, cfg.reliability.max_calls = 20_000, 40
-    cfg.reliability.noise, cfg.reliability.error_abs_tol = "none", 0.002
+    cfg = updated(load_config(), {
+        "reliability.cycles_start": 360_000, "reliability.cycles_stop": 440_000, "reliability.cycles_step": 40_000,
+        "reliability.histogram_cycles": [400_000], "reliability.n_mc": 20_000, "reliability.max_calls": 40,
+        "reliability.noise": "none", "reliability.error_abs_tol": 0.002})
     ctx = study_context(cfg, lambda call: compute.Evaluator(
         AnalyticWear([s.name for s in cfg.uncertainty.all_specs()], call.cycles), None, None,
         n_outputs=call.n_outputs))

@@ -4,7 +4,7 @@ import pytest
 
 from jointwear.mechanism import build_model, simulate
 from jointwear.wear import WearSettings
-from jointwear.wear.history import JointMaterials, cycle_wear
+from jointwear.wear.cycle import JointMaterials, cycle_wear
 
 from .conftest import still_config
 

@@ -7,7 +7,7 @@ import pytest
 
 from jointwear.mechanism import simulate
 from jointwear.wear import WearSettings
-from jointwear.wear.history import JointMaterials, cycle_wear
+from jointwear.wear.cycle import JointMaterials, cycle_wear
 from jointwear.wear.kernels import worn_area
 
 from .closed_form import deposit_per_rev, half_width

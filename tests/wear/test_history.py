@@ -8,7 +8,7 @@ from wear_synthetic import FakeModel, fake_simulate
 
 from jointwear.wear import WearSettings, wear_history
 from jointwear.wear.angles import body_angle_from_report, report_angle_deg
-from jointwear.wear.history import conservation_error, find_peaks_periodic
+from jointwear.wear.results import conservation_error, find_peaks_periodic
 
 CONS_TOL = 1e-6  # issue 3 acceptance: worn area x width = Archard volume, rel. error < 1e-6
 
@@ -30,13 +30,13 @@ def test_history_runs_and_conserves(mode):
         assert not any(last["use_profile"])
     else:
         assert all(last["use_profile"]) and last["growth"][0] == 0.0
-    # first block from rest (dynamics default settle), later blocks continue from the end state
-    assert m.calls[0]["state0"] is None and m.calls[0]["settle"] is None
+    # first block from rest (the mechanism's settle), later blocks continue from the end state
+    assert m.calls[0]["state0"] is None and m.calls[0]["settle"] == m.settings.settle_cycles
     assert m.calls[1]["state0"] == 1 and m.calls[1]["settle"] == s.settle_cycles
 
 
 @pytest.mark.parametrize("mode", ["uniform", "profile"])
-def test_lanes_schedule_and_thread_independence(mode, monkeypatch):
+def test_lanes_schedule_and_thread_independence(mode):
     """lanes = 2: block k continues lane k % 2 and sees the wear of blocks 0 .. k - 2; lane 1 starts half a cycle
     later; the numbers are the same whether the lanes run in two threads or one after the other."""
     import jointwear.wear.history as H
@@ -44,10 +44,9 @@ def test_lanes_schedule_and_thread_independence(mode, monkeypatch):
     s = WearSettings(geometry_mode=mode, n_grid=360, lanes=2, settle_cycles_initial=3.0)
     m = FakeModel(n_joints=2)
     r = wear_history(m, s, 400_000, simulate=fake_simulate)
-    monkeypatch.setenv("JOINTWEAR_LANE_THREADS", "1")  # no pool: the lanes run in turn
-    assert H.lane_threads(2) == 1
+    assert H.lane_threads(2, threads=1) == 1  # no pool: the lanes run in turn
     m1 = FakeModel(n_joints=2)
-    r1 = wear_history(m1, s, 400_000, simulate=fake_simulate)
+    r1 = wear_history(m1, s, 400_000, simulate=fake_simulate, threads=1)
     for a, b in zip(r.joints, r1.joints):
         np.testing.assert_array_equal(a.bearing_wear, b.bearing_wear)
         np.testing.assert_array_equal(a.history_max_bearing, b.history_max_bearing)
@@ -63,6 +62,16 @@ def test_lanes_schedule_and_thread_independence(mode, monkeypatch):
         g = r1.joints[0].history_clearance_growth  # g[i]: growth after i blocks
         seen = [c["growth"][0] for c in calls]
         np.testing.assert_array_equal(seen, [g[max(k - 1, 0)] for k in range(K)])  # lag of one block
+
+
+@pytest.mark.parametrize("settle", [0, 1, 3])
+def test_every_lane_settles_from_the_mechanisms_settle_cycles(settle):
+    """Without settle_cycles_initial, lane 0's first block settles the mechanism's simulation.settle_cycles and
+    lane j's j / lanes cycle longer, whatever that number is (exact: the schedule is arithmetic on the settings)."""
+    m = FakeModel(n_joints=1, settle_cycles=settle)
+    wear_history(m, WearSettings(n_grid=360, lanes=2), 40_000, simulate=fake_simulate)
+    assert m.calls[1]["settle"] == settle + 0.5
+    assert m.calls[0]["settle"] == settle
 
 
 def test_lanes_lag_changes_the_wear_by_one_block_of_rate_drift():

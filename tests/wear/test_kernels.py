@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from wear_synthetic import make_trace
 
-from jointwear.wear.history import JointMaterials, cycle_wear
+from jointwear.wear.cycle import JointMaterials, cycle_wear
 from jointwear.wear.kernels import (
     TWO_PI,
     periodic_interp,

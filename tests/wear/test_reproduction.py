@@ -15,7 +15,7 @@ mechanism = pytest.importorskip("jointwear.mechanism")
 
 from jointwear.config import load_config  # noqa: E402
 from jointwear.wear import WearSettings, wear_history  # noqa: E402
-from jointwear.wear.history import conservation_error  # noqa: E402
+from jointwear.wear.results import conservation_error  # noqa: E402
 
 CONS_TOL = 1e-6  # issue 3 acceptance
 

@@ -36,11 +36,3 @@ def test_block_order():
     with pytest.raises(ValidationError, match="initial_block"):
         WearSettings(initial_block=100, min_block=1000)
 
-
-@pytest.mark.parametrize("over,msg", [(dict(k_bearing=-1e-3), "bearing.wear_coefficient"),
-                                      (dict(H_journal=0.0), "journal.hardness"),
-                                      (dict(k_journal=float("nan")), "journal.wear_coefficient"),
-                                      (dict(H_bearing=-3.0), "bearing.hardness")])
-def test_bad_material_reaching_wear(over, msg):
-    with pytest.raises(ValueError, match=msg):
-        wear_history(FakeModel(**over), WearSettings(n_grid=64), 1000, simulate=fake_simulate)

@@ -7,11 +7,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-# Flapping-wing joint A materials (paper Table 2; k dimensionless, H = HB x 9.807e6 Pa per paper-notes.md).
-MAT = dict(
-    E_bearing=1.2e11, nu_bearing=0.32, k_bearing=1.2e-3, H_bearing=350 * 9.807e6,
-    E_journal=2.11e11, nu_journal=0.277, k_journal=2.1e-3, H_journal=207 * 9.807e6,
-)
+from jointwear.config import ClearanceJointConfig, SimulationConfig, load_config
+
+# Flapping-wing joint A (paper Tables 2 and 4 as the preset reads them: radii, width, materials).
+JOINT = load_config("jin2025_flapping_wing").clearance_joints[0]
 PERIOD = 0.125  # s, 480 rpm
 
 
@@ -42,15 +41,7 @@ class FakeTrace:
     bearing_radius: float = 1.002e-3
     journal_radius: float = 1.0e-3
     clearance_used: float = 2e-6
-    width: float = 1e-3
-    E_bearing: float = MAT["E_bearing"]
-    nu_bearing: float = MAT["nu_bearing"]
-    k_bearing: float = MAT["k_bearing"]
-    H_bearing: float = MAT["H_bearing"]
-    E_journal: float = MAT["E_journal"]
-    nu_journal: float = MAT["nu_journal"]
-    k_journal: float = MAT["k_journal"]
-    H_journal: float = MAT["H_journal"]
+    joint: ClearanceJointConfig = JOINT
 
 
 def make_trace(n_cycles=2, steps_per_cycle=3000, f0=0.05, rate_scale=1.0, seed=0, **over) -> FakeTrace:
@@ -83,14 +74,17 @@ class FakeResult:
     joints: list
     state_end: object
     n_steps: int
+    n_cycles: float
+    settle_cycles: float
     wall_seconds: float = 0.0
 
 
 class FakeModel:
     """Stands in for MechanismModel: the force grows mildly with the clearance, so the wear rate drifts."""
 
-    def __init__(self, n_joints=1, steps_per_cycle=800, **trace_over):
+    def __init__(self, n_joints=1, steps_per_cycle=800, settle_cycles=3, **trace_over):
         self.n_joints = n_joints
+        self.settings = SimulationConfig(settle_cycles=settle_cycles)  # the dynamics' settle from rest
         self.steps_per_cycle = steps_per_cycle
         self.trace_over = trace_over
         self.calls = []
@@ -108,4 +102,5 @@ def fake_simulate(model, n_cycles, geometry=None, settle_cycles=None, rtol=None,
         scale = 1.0 + extra / 1e-3  # rate up by 2 % per 20 um of wear (flapping preset: a few % over the history)
         joints.append(make_trace(n_cycles, model.steps_per_cycle, rate_scale=scale, **model.trace_over))
     # the end state counts the blocks of this chain (deterministic when blocks run in threads)
-    return FakeResult(joints, state_end=(state0 or 0) + 1, n_steps=n_cycles * model.steps_per_cycle)
+    return FakeResult(joints, state_end=(state0 or 0) + 1, n_steps=n_cycles * model.steps_per_cycle, n_cycles=n_cycles,
+                      settle_cycles=model.settings.settle_cycles if settle_cycles is None else settle_cycles)

@@ -49,6 +49,12 @@ class _ExecutorBase(cf.Executor):
     def n_workers(self) -> int:  # pragma: no cover - overridden
         return 1
 
+    @property
+    def threads_per_call(self) -> int | None:
+        """Threads one call may use so that the workers do not oversubscribe this machine (None: the cores of
+        the process that runs the call)."""
+        return None
+
     def __exit__(self, exc_type, exc, tb):
         # On an error or Ctrl-C, do not wait for the queued calls.
         self.shutdown(wait=exc_type is None, cancel_futures=exc_type is not None)
@@ -122,7 +128,7 @@ def _exit_when_gone(main_pid: int) -> None:
     os._exit(1)
 
 
-def _worker_init(main_pid: int, lane_threads: int = 0) -> None:
+def _worker_init(main_pid: int) -> None:
     """Runs once in each local worker process.
 
     A study killed with ``kill -9`` must not leave its workers computing in the background. A worker
@@ -147,8 +153,6 @@ def _worker_init(main_pid: int, lane_threads: int = 0) -> None:
         os._exit(1)
     # Ctrl-C goes to the study, which cancels the batch; workers are ended by the pool's shutdown.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    if lane_threads > 0:  # threads per wear history (jointwear.wear.history.lane_threads): cores / workers
-        os.environ["JOINTWEAR_LANE_THREADS"] = str(lane_threads)
 
 
 def _pid_alive(pid: int) -> bool:
@@ -193,12 +197,17 @@ class LocalExecutor(_ExecutorBase):
             max_workers=self._workers,
             mp_context=ctx,
             initializer=_worker_init,
-            initargs=(os.getpid(), max(1, available_cores() // self._workers)),
+            initargs=(os.getpid(),),
         )
 
     @property
     def n_workers(self) -> int:
         return self._workers
+
+    @property
+    def threads_per_call(self) -> int:
+        """cores // workers: the workers share this machine's cores."""
+        return max(1, available_cores() // self._workers)
 
     def submit(self, fn: Callable, /, *args: Any, **kwargs: Any) -> cf.Future:
         return self._pool.submit(fn, *args, **kwargs)

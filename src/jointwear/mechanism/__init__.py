@@ -5,40 +5,39 @@
     res = simulate(model, n_cycles=2)
 """
 
+from jointwear.mechanism.assembly import AssemblyError, check_assembly
+from jointwear.mechanism.builders import build_model
+from jointwear.mechanism.initial import initial_state
 from jointwear.mechanism.model import (
     GROUND,
     Body,
     ClearanceJoint,
     Driver,
-    IntegratorSettings,
     Joint,
-    Material,
     MechanismModel,
-    build_model,
 )
-from jointwear.mechanism.simulate import (
+from jointwear.mechanism.results import (
     ContactTrace,
     SimulationError,
     SimulationResult,
     SimulationState,
-    initial_state,
-    simulate,
 )
+from jointwear.mechanism.simulate import simulate
 
 __all__ = [
     "GROUND",
+    "AssemblyError",
     "Body",
     "ClearanceJoint",
     "ContactTrace",
     "Driver",
-    "IntegratorSettings",
     "Joint",
-    "Material",
     "MechanismModel",
     "SimulationError",
     "SimulationResult",
     "SimulationState",
     "build_model",
+    "check_assembly",
     "initial_state",
     "simulate",
 ]

@@ -6,7 +6,6 @@ import math
 import sys
 import threading
 import time
-from dataclasses import dataclass, field
 
 import numpy as np
 from numba import njit
@@ -14,166 +13,16 @@ from numba import njit
 from jointwear.contact.geometry import ClearanceGeometry
 from jointwear.mechanism import kernel as K
 from jointwear.mechanism.fast import natural_angles
+from jointwear.mechanism.initial import initial_state
 from jointwear.mechanism.model import MechanismModel
+from jointwear.mechanism.results import (
+    ContactTrace,
+    SimulationError,
+    SimulationResult,
+    SimulationState,
+)
 
 TWO_PI = 2.0 * math.pi
-
-
-@dataclass
-class SimulationState:
-    """Everything needed to continue a simulation: time, free-body state, contact memory, step size."""
-
-    t: float
-    y: np.ndarray
-    cstate: np.ndarray
-    h: float
-
-
-@dataclass
-class ContactTrace:
-    """One clearance joint over the recorded accepted steps (after the settling cycles).
-
-    Angles: theta_bearing / theta_journal are the directions of n (bearing centre -> journal
-    centre) in the bearing / journal body frames, CCW from the body x axis, in [0, 2 pi).
-    force_tangential is the friction force on the journal along t = k x n (signed);
-    slip_speed the relative tangential velocity of the journal's contact point w.r.t. the bearing's.
-    """
-
-    name: str
-    bearing_body: str
-    journal_body: str
-    t: np.ndarray
-    dt_weight: np.ndarray
-    theta_bearing: np.ndarray
-    theta_journal: np.ndarray
-    force_normal: np.ndarray
-    force_tangential: np.ndarray
-    slip_speed: np.ndarray
-    penetration: np.ndarray
-    penetration_rate: np.ndarray
-    in_contact: np.ndarray
-    eccentricity_global: np.ndarray  # (steps, 2): e = journal centre - bearing centre, global frame
-    bearing_body_angle: np.ndarray
-    journal_body_angle: np.ndarray
-    stiffness: np.ndarray  # K used at each sample (N/m^1.5)
-    normal_tilt: np.ndarray  # angle from n to the contact normal (rad); 0 unless a worn profile is used
-    bearing_radius: float
-    journal_radius: float
-    clearance_used: float
-    width: float
-    E_bearing: float
-    nu_bearing: float
-    k_bearing: float
-    H_bearing: float
-    E_journal: float
-    nu_journal: float
-    k_journal: float
-    H_journal: float
-    bearing_outer_radius: float | None = None
-
-    @property
-    def eccentricity(self) -> np.ndarray:
-        """(steps, 2): e in the bearing body's frame (computed on access: two trigonometric calls per step)."""
-        cb, sb = np.cos(self.bearing_body_angle), np.sin(self.bearing_body_angle)
-        ex, ey = self.eccentricity_global[:, 0], self.eccentricity_global[:, 1]
-        return np.column_stack([cb * ex + sb * ey, -sb * ex + cb * ey])
-
-    @property
-    def duration(self) -> float:
-        return float(self.dt_weight.sum())
-
-    @property
-    def contact_force(self) -> np.ndarray:
-        """Magnitude of the contact force (normal and friction), N."""
-        return np.hypot(self.force_normal, self.force_tangential)
-
-    @property
-    def n_impacts(self) -> int:
-        """Number of transitions from free flight to contact."""
-        c = self.in_contact.astype(np.int8)
-        return int(np.count_nonzero(np.diff(c) == 1))
-
-    @property
-    def contact_fraction(self) -> float:
-        return float(np.sum(self.dt_weight * self.in_contact) / self.duration)
-
-    @property
-    def mean_force(self) -> float:
-        """Time-average of the contact force magnitude, N."""
-        return float(np.sum(self.dt_weight * self.contact_force) / self.duration)
-
-
-@dataclass
-class SimulationResult:
-    """Recorded steps of a forward simulation (like scipy's OdeResult)."""
-
-    t: np.ndarray
-    crank_angle: np.ndarray  # driver angle wrapped to [0, 2 pi)
-    body_angles: np.ndarray  # (steps, n_bodies), all bodies in model order (unwrapped)
-    body_names: list[str]
-    free_body_names: list[str]
-    multipliers: np.ndarray  # (steps, n_constraints): lam of the ideal joints (M qdd + J^T lam = f)
-    joint_names: list[str]
-    joints: list[ContactTrace]
-    state_end: SimulationState
-    n_steps: int  # accepted steps over the whole call (settling included)
-    n_rejected: int
-    n_recorded_steps: int
-    n_cycles: float
-    settle_cycles: float
-    period: float
-    wall_seconds: float
-    status: str = "ok"
-    extra: dict = field(default_factory=dict)
-    _cart_fn: object = field(default=None, repr=False)  # () -> (q, qd, qdd), evaluated on first access
-    _cart: tuple | None = field(default=None, repr=False)
-
-    def _cartesian(self) -> tuple:
-        if self._cart is None:
-            self._cart = self._cart_fn()
-        return self._cart
-
-    def __getstate__(self) -> dict:
-        """Picklable (for process pools): the lazy Cartesian arrays are materialised."""
-        state = dict(self.__dict__)
-        state["_cart"] = self._cartesian()
-        state["_cart_fn"] = None
-        return state
-
-    @property
-    def q(self) -> np.ndarray:
-        """(steps, 3 n_free): x, y, phi of the free bodies (centre of mass, global frame)."""
-        return self._cartesian()[0]
-
-    @property
-    def qd(self) -> np.ndarray:
-        return self._cartesian()[1]
-
-    @property
-    def qdd(self) -> np.ndarray:
-        return self._cartesian()[2]
-
-    def body_pose(self, name: str) -> np.ndarray:
-        """(steps, 3) x, y, phi of a free body."""
-        i = self.free_body_names.index(name)
-        return self.q[:, 3 * i: 3 * i + 3]
-
-    def body_acceleration(self, name: str) -> np.ndarray:
-        i = self.free_body_names.index(name)
-        return self.qdd[:, 3 * i: 3 * i + 3]
-
-    def reaction(self, joint: str) -> np.ndarray:
-        """(steps, 2) multipliers of an ideal joint: force on body_j by body_i (revolute)."""
-        k = self.joint_names.index(joint)
-        return self.multipliers[:, 2 * k: 2 * k + 2]
-
-    @property
-    def steps_per_cycle(self) -> float:
-        return self.n_recorded_steps / self.n_cycles if self.n_cycles else float("nan")
-
-
-class SimulationError(RuntimeError):
-    """The integrator could not proceed (step-size underflow or step budget exhausted)."""
 
 
 def _atol_vector(model: MechanismModel, atol: float) -> np.ndarray:
@@ -184,86 +33,6 @@ def _atol_vector(model: MechanismModel, atol: float) -> np.ndarray:
     pos = np.tile([atol, atol, atol / lref], nb)
     vel = np.tile([atol * wref, atol * wref, atol * wref / lref], nb)
     return np.concatenate([pos, vel])
-
-
-def initial_state(model: MechanismModel, t0: float = 0.0, preload: bool = True,
-                  geometry: list[ClearanceGeometry] | None = None) -> SimulationState:
-    """Start state at t0 from the ideal kinematics.
-
-    preload=True (default): every journal starts in contact, pushed against its bearing along the
-    ideal joint reaction with the static penetration (|R| / K)^(1/n), and the contact is marked as
-    established (v0 = max(v0_min, clearance x driver speed)); this removes most of the start-up transient.
-    preload=False: journals centred in their bearings. geometry: the (worn) clearance geometry whose
-    local clearance in the preload direction is used (default: nominal).
-    """
-    q, qd, qdd = model.kinematics(t0)
-    ncj = len(model.clearance_joints)
-    cstate = np.zeros((ncj, 2))
-    if preload and ncj:
-        import copy
-
-        ideal = copy.deepcopy(model.ideal())
-        reac = model.inverse_dynamics(t0, q, qd, qdd)
-        free = [b.name for b in model.free_bodies]
-        for k, cj in enumerate(model.clearance_joints):
-            r = np.asarray(reac[cj.name], dtype=float)  # force on the journal body by the bearing body
-            fmag = float(np.hypot(*r))
-            if fmag <= 0.0:
-                continue
-            n = -r / fmag
-
-            def body_angle(name):
-                if name == "ground":
-                    return 0.0
-                if name in free:
-                    return q[3 * free.index(name) + 2]
-                b = model.body(name)
-                return b.driver.angle0 + b.driver.speed * t0
-
-            phib = body_angle(cj.bearing_body)
-            clear = cj.clearance
-            kst = cj.stiffness
-            if geometry is not None:
-                g = geometry[k]
-                clear = g.clearance
-                rb, rj = g.bearing_radius + g.clearance_growth / 2, g.journal_radius - g.clearance_growth / 2
-                if g.use_profile:
-                    ang = np.arctan2(n[1], n[0])
-                    hb = _interp_periodic_py(g.bearing_wear, ang - phib)
-                    hj = _interp_periodic_py(g.journal_wear, ang - body_angle(cj.journal_body))
-                    clear += hb + hj
-                    rb, rj = rb + hb, rj - hj
-                kst = 4.0 / (3.0 * cj.hsum) * np.sqrt(rb * rj / (rb - rj))
-            delta = (fmag / kst) ** (1.0 / cj.exponent)
-            e = (clear + delta) * n
-            c, s = np.cos(phib), np.sin(phib)
-            local = (c * e[0] + s * e[1], -s * e[0] + c * e[1])
-            joint = next(j for j in ideal.joints if j.name == cj.name)
-            if joint.body_i == "ground":
-                p = ideal.ground_points[joint.point_i]
-                ideal.ground_points[joint.point_i] = (p[0] + local[0], p[1] + local[1])
-            else:
-                body = ideal.body(joint.body_i)
-                p = body.points[joint.point_i]
-                body.points = {**body.points, joint.point_i: (p[0] + local[0], p[1] + local[1])}
-            # contact memory: established, with the impact speed scale clearance x driver speed
-            # (floored by v0_min): flapping wing 2 um x 50 rad/s = 1e-4 m/s; slider-crank 0.26 m/s.
-            # v0_min alone would make the damping of a fast mechanism absurdly stiff until the first
-            # separation.
-            per = model.period
-            wdrv = TWO_PI / per if per else 0.0
-            cstate[k] = (max(cj.v0_min, clear * wdrv), 1.0)
-        ideal.guess = None
-        q, qd, _ = ideal.kinematics(t0, q_guess=q)
-    return SimulationState(t0, np.concatenate([q, qd]), cstate, 0.0)
-
-
-def _interp_periodic_py(prof: np.ndarray, ang: float) -> float:
-    n = prof.size
-    x = (ang / TWO_PI) % 1.0 * n
-    i0 = int(x) % n
-    fr = x - int(x)
-    return float(prof[i0] * (1 - fr) + prof[(i0 + 1) % n] * fr)
 
 
 # Record buffers are reused between calls once nothing refers to them any more. A fresh buffer costs its first
@@ -299,7 +68,7 @@ def _record_buffers(shapes) -> dict[str, np.ndarray]:
         return buf
 
 
-class _Runner:
+class Runner:
     """Kernel arrays, work arrays and the coordinate set (mode 0: Cartesian, 1: natural four-bar)."""
 
     def __init__(self, model: MechanismModel, geometry, rtol, atol, fast: bool | None = None):
@@ -444,7 +213,7 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
     atol = s.atol if atol is None else atol
     if geometry is None:
         geometry = model.initial_geometry()
-    run = _Runner(model, geometry, rtol, atol, fast)
+    run = Runner(model, geometry, rtol, atol, fast)
     st = initial_state(model, geometry=geometry) if state0 is None else state0
     y = run.to_internal(st.y)
     free_names = [b.name for b in model.free_bodies]
@@ -559,7 +328,8 @@ def _wrap_2pi(x, out):
         out[i] = r
 
 
-def _trapezoid_weights(t: np.ndarray) -> np.ndarray:
+def trapezoid_weights(t: np.ndarray) -> np.ndarray:
+    """Trapezoid-rule weights of the samples at times t (they sum to t[-1] - t[0])."""
     w = np.zeros_like(t)
     if t.size > 1:
         d = np.diff(t)
@@ -581,13 +351,12 @@ def _package(model, geometry, cat, free_phi, joint_angles, cart, state_end, coun
         else:
             angles[:, i] = b.driver.angle0 + b.driver.speed * t
     crank_angle = wrap_2pi(crank.driver.angle0 + crank.driver.speed * t) if crank else np.zeros_like(t)
-    w = _trapezoid_weights(t)
+    w = trapezoid_weights(t)
     traces = []
     for k, (cj, g) in enumerate(zip(model.clearance_joints, geometry)):
         c = cat["rec_c"][k]  # (NCOUT, steps): the trace's series are its rows (views, each contiguous)
         ang = np.arctan2(c[K.O_NY], c[K.O_NX])
         phib, phij = joint_angles.get(k, (c[K.O_PHIB], c[K.O_PHIJ]))
-        bm, jm = cj.bearing_material, cj.journal_material
         traces.append(ContactTrace(
             name=cj.name, bearing_body=cj.bearing_body, journal_body=cj.journal_body, t=t, dt_weight=w,
             theta_bearing=wrap_2pi(ang - phib), theta_journal=wrap_2pi(ang - phij),
@@ -596,9 +365,7 @@ def _package(model, geometry, cat, free_phi, joint_angles, cart, state_end, coun
             in_contact=c[K.O_DELTA] > 0.0, eccentricity_global=c[K.O_EX:K.O_EY + 1].T,
             bearing_body_angle=phib, journal_body_angle=phij, stiffness=c[K.O_K], normal_tilt=c[K.O_TILT],
             bearing_radius=g.bearing_radius, journal_radius=g.journal_radius, clearance_used=g.clearance,
-            width=cj.width, E_bearing=bm.youngs_modulus, nu_bearing=bm.poissons_ratio, k_bearing=bm.wear_coefficient,
-            H_bearing=bm.hardness, E_journal=jm.youngs_modulus, nu_journal=jm.poissons_ratio,
-            k_journal=jm.wear_coefficient, H_journal=jm.hardness, bearing_outer_radius=cj.bearing_outer_radius,
+            joint=cj.spec,
         ))
     return SimulationResult(
         t=t, crank_angle=crank_angle, body_angles=angles, body_names=names, free_body_names=free,

@@ -2,8 +2,8 @@
 
 The schema (pydantic) has already checked each section on loading; this adds the rules that join sections
 (the R(N) curve and the stages that read it, the limit state's joints and allowances, the random inputs a
-reliability stage needs, the compute settings) and the one check that needs the model: the nominal
-mechanism assembles and runs.
+reliability stage needs, the compute settings), the assembly of a general linkage over its cycle, and the one
+check that needs the model: the nominal mechanism runs.
 """
 
 from __future__ import annotations
@@ -66,6 +66,14 @@ def config_problems(config: StudyConfig, stages: frozenset[str] | set[str]) -> l
     problem = scheduler_problem(config.compute.scheduler)
     if problem:
         problems.append(problem)
+    from jointwear.mechanism import (
+        check_assembly,  # the numerical check that follows the schema
+    )
+
+    try:
+        check_assembly(config)
+    except ConfigError as exc:
+        problems += exc.problems
     if "design" in stages:
         from jointwear.design.checks import design_problems
 

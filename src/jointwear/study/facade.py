@@ -385,7 +385,7 @@ class Study:
             with executor, progress:
                 ctx = study_context(self.config, lambda call: compute.Evaluator(
                     call, executor, store, timeout=self.config.compute.call_timeout, tag=WEAR_MODEL_TAG,
-                    n_outputs=call.n_outputs, progress=progress))
+                    n_outputs=call.n_outputs, progress=progress), threads=executor.threads_per_call)
                 if self._context is not None:
                     ctx.evaluator.adopt(self._context.evaluator)
                 self._context = ctx

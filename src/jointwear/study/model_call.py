@@ -23,7 +23,8 @@ def apply_sample(base: StudyConfig | dict, targets: Sequence[str], x: Sequence[f
 
     A target ``clearance_joints.<i>.clearance`` sets the bearing radius to journal radius + c after all
     other targets (so a sampled journal radius and a sampled clearance combine as R_i = R_j + c).
-    Raises ConfigError when the sample gives an invalid config (e.g. a linkage that cannot assemble).
+    Raises ConfigError when the sample gives an invalid config (whether a general linkage assembles is checked
+    when the model is built).
     """
     data = base.model_dump() if isinstance(base, StudyConfig) else copy.deepcopy(base)
     derived = []
@@ -61,7 +62,8 @@ class WearModelCall:
     """One true-model call: sample x -> the wear quantity (m) of every judged joint at each of ``cycles``,
     concatenated joint after joint (shape J * H).
 
-    A plain picklable object so that worker processes and Dask workers can run it.
+    A plain picklable object so that worker processes and Dask workers can run it. ``threads``: most threads
+    of one wear history (its lanes; None: the cores of the process that runs it); the result does not depend on it.
     """
 
     base: dict
@@ -69,6 +71,7 @@ class WearModelCall:
     cycles: list[int]
     joints: list[int] = field(default_factory=lambda: [0])
     quantity: str = "bearing_max_depth"
+    threads: int | None = None
 
     @property
     def n_outputs(self) -> int:
@@ -80,9 +83,9 @@ class WearModelCall:
 
         try:
             cfg = apply_sample(self.base, self.targets, x)
+            model = build_model(cfg)  # the assembly check of a general linkage
         except ConfigError as exc:
             return np.full(self.n_outputs, np.nan), f"infeasible sample: {exc}"
-        model = build_model(cfg)
-        res = wear_history(model, cfg.wear, max(self.cycles))
+        res = wear_history(model, cfg.wear, max(self.cycles), threads=self.threads)
         return np.concatenate([quantity_history(res.joints[j], self.quantity, self.cycles)
                                for j in self.joints]), "ok"

@@ -112,8 +112,10 @@ class StudyContext:
         return np.log(np.asarray(self.cycles, dtype=float))
 
 
-def study_context(config: StudyConfig, evaluator_factory: Callable[[WearModelCall], Any]) -> StudyContext:
-    """Random inputs, limit state and true model of the study (the config is checked by the caller)."""
+def study_context(config: StudyConfig, evaluator_factory: Callable[[WearModelCall], Any],
+                  threads: int | None = None) -> StudyContext:
+    """Random inputs, limit state and true model of the study (the config is checked by the caller); ``threads``:
+    most threads of one model call (WearModelCall.threads)."""
     unc = config.uncertainty
     if unc is None or not unc.all_specs():
         raise ConfigError("uncertainty: the study needs random variables ([uncertainty] section)")
@@ -132,7 +134,7 @@ def study_context(config: StudyConfig, evaluator_factory: Callable[[WearModelCal
     history = sorted(set(range(step, max(cycles) + 1, step)) | set(cycles))
     limit = limit_state_from_config(config)
     call = WearModelCall(base=config.model_dump(), targets=[s.target for s in specs], cycles=history,
-                         joints=list(limit.joints), quantity=limit.quantity)
+                         joints=list(limit.joints), quantity=limit.quantity, threads=threads)
     random_allowance = rel.allowance_std > 0
     if random_allowance:
         from scipy import stats

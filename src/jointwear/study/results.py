@@ -179,7 +179,7 @@ class WearSummary(StageResult):
     def from_history(cls, res, config=None, allowances_m: dict[str, float] | None = None) -> WearSummary:
         """Summarise a :class:`jointwear.wear.WearResult` of ``config`` (allowances by joint name, m)."""
         from jointwear.wear.angles import report_angle_deg
-        from jointwear.wear.history import conservation_error
+        from jointwear.wear.results import conservation_error
 
         allowances_m = allowances_m or {}
         joints = []

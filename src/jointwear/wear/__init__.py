@@ -8,7 +8,9 @@ Public API::
 """
 
 from .angles import report_angle_deg
-from .history import CycleWear, JointWear, WearResult, cycle_wear, wear_history
+from .cycle import CycleWear, cycle_wear
+from .history import wear_history
+from .results import JointWear, WearResult
 from .settings import WearSettings
 
 __all__ = ["WearSettings", "wear_history", "WearResult", "JointWear", "CycleWear", "cycle_wear", "report_angle_deg"]

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from typing import Literal
 
-from pydantic import ConfigDict, Field, field_validator, model_validator
+from pydantic import Field, field_validator, model_validator
 
 from jointwear.schema import SIModel
 
@@ -24,8 +24,6 @@ class WearSettings(SIModel):
 
     An :class:`jointwear.config.SIModel`: unknown keys, NaN and inf are rejected with the field named.
     """
-
-    model_config = ConfigDict(validate_assignment=True)
 
     geometry_mode: Literal["uniform", "profile"] = Field(
         "uniform",
@@ -281,10 +279,3 @@ def check_cycles(value, field: str | None = "cycles") -> int:
         raise ValueError(f"{field}{' ' if field else ''}must be a whole number of cycles, got {value!r}")
     return int(x)
 
-
-def check_material(k: float, H: float, body: str) -> None:
-    """Raise ValueError naming the field if a wear coefficient is negative/non-finite or a hardness is not > 0."""
-    if not (math.isfinite(k) and k >= 0.0):
-        raise ValueError(f"{body}.wear_coefficient must be a finite number >= 0 (dimensionless), got {k!r}")
-    if not (math.isfinite(H) and H > 0.0):
-        raise ValueError(f"{body}.hardness must be a finite number > 0 Pa, got {H!r}")

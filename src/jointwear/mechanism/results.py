@@ -1,0 +1,159 @@
+"""Typed results of a forward simulation: the state to continue from, the contact trace of every clearance joint
+and the recorded steps (like SciPy's OdeResult)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from jointwear.contact.settings import ClearanceJointConfig
+
+
+@dataclass
+class SimulationState:
+    """Everything needed to continue a simulation: time, free-body state, contact memory, step size."""
+
+    t: float
+    y: np.ndarray
+    cstate: np.ndarray
+    h: float
+
+
+@dataclass
+class ContactTrace:
+    """One clearance joint over the recorded accepted steps (after the settling cycles).
+
+    Angles: theta_bearing / theta_journal are the directions of n (bearing centre -> journal
+    centre) in the bearing / journal body frames, CCW from the body x axis, in [0, 2 pi).
+    force_tangential is the friction force on the journal along t = k x n (signed);
+    slip_speed the relative tangential velocity of the journal's contact point w.r.t. the bearing's.
+    """
+
+    name: str
+    bearing_body: str
+    journal_body: str
+    t: np.ndarray
+    dt_weight: np.ndarray
+    theta_bearing: np.ndarray
+    theta_journal: np.ndarray
+    force_normal: np.ndarray
+    force_tangential: np.ndarray
+    slip_speed: np.ndarray
+    penetration: np.ndarray
+    penetration_rate: np.ndarray
+    in_contact: np.ndarray
+    eccentricity_global: np.ndarray  # (steps, 2): e = journal centre - bearing centre, global frame
+    bearing_body_angle: np.ndarray
+    journal_body_angle: np.ndarray
+    stiffness: np.ndarray  # K used at each sample (N/m^1.5)
+    normal_tilt: np.ndarray  # angle from n to the contact normal (rad); 0 unless a worn profile is used
+    bearing_radius: float
+    journal_radius: float
+    clearance_used: float
+    joint: ClearanceJointConfig  # the joint's validated settings: radii, width, materials, contact and friction laws
+
+    @property
+    def eccentricity(self) -> np.ndarray:
+        """(steps, 2): e in the bearing body's frame (computed on access: two trigonometric calls per step)."""
+        cb, sb = np.cos(self.bearing_body_angle), np.sin(self.bearing_body_angle)
+        ex, ey = self.eccentricity_global[:, 0], self.eccentricity_global[:, 1]
+        return np.column_stack([cb * ex + sb * ey, -sb * ex + cb * ey])
+
+    @property
+    def duration(self) -> float:
+        return float(self.dt_weight.sum())
+
+    @property
+    def contact_force(self) -> np.ndarray:
+        """Magnitude of the contact force (normal and friction), N."""
+        return np.hypot(self.force_normal, self.force_tangential)
+
+    @property
+    def n_impacts(self) -> int:
+        """Number of transitions from free flight to contact."""
+        c = self.in_contact.astype(np.int8)
+        return int(np.count_nonzero(np.diff(c) == 1))
+
+    @property
+    def contact_fraction(self) -> float:
+        return float(np.sum(self.dt_weight * self.in_contact) / self.duration)
+
+    @property
+    def mean_force(self) -> float:
+        """Time-average of the contact force magnitude, N."""
+        return float(np.sum(self.dt_weight * self.contact_force) / self.duration)
+
+
+@dataclass
+class SimulationResult:
+    """Recorded steps of a forward simulation (like scipy's OdeResult)."""
+
+    t: np.ndarray
+    crank_angle: np.ndarray  # driver angle wrapped to [0, 2 pi)
+    body_angles: np.ndarray  # (steps, n_bodies), all bodies in model order (unwrapped)
+    body_names: list[str]
+    free_body_names: list[str]
+    multipliers: np.ndarray  # (steps, n_constraints): lam of the ideal joints (M qdd + J^T lam = f)
+    joint_names: list[str]
+    joints: list[ContactTrace]
+    state_end: SimulationState
+    n_steps: int  # accepted steps over the whole call (settling included)
+    n_rejected: int
+    n_recorded_steps: int
+    n_cycles: float
+    settle_cycles: float
+    period: float
+    wall_seconds: float
+    status: str = "ok"
+    extra: dict = field(default_factory=dict)
+    _cart_fn: object = field(default=None, repr=False)  # () -> (q, qd, qdd), evaluated on first access
+    _cart: tuple | None = field(default=None, repr=False)
+
+    def _cartesian(self) -> tuple:
+        if self._cart is None:
+            self._cart = self._cart_fn()
+        return self._cart
+
+    def __getstate__(self) -> dict:
+        """Picklable (for process pools): the lazy Cartesian arrays are materialised."""
+        state = dict(self.__dict__)
+        state["_cart"] = self._cartesian()
+        state["_cart_fn"] = None
+        return state
+
+    @property
+    def q(self) -> np.ndarray:
+        """(steps, 3 n_free): x, y, phi of the free bodies (centre of mass, global frame)."""
+        return self._cartesian()[0]
+
+    @property
+    def qd(self) -> np.ndarray:
+        return self._cartesian()[1]
+
+    @property
+    def qdd(self) -> np.ndarray:
+        return self._cartesian()[2]
+
+    def body_pose(self, name: str) -> np.ndarray:
+        """(steps, 3) x, y, phi of a free body."""
+        i = self.free_body_names.index(name)
+        return self.q[:, 3 * i: 3 * i + 3]
+
+    def body_acceleration(self, name: str) -> np.ndarray:
+        i = self.free_body_names.index(name)
+        return self.qdd[:, 3 * i: 3 * i + 3]
+
+    def reaction(self, joint: str) -> np.ndarray:
+        """(steps, 2) multipliers of an ideal joint: force on body_j by body_i (revolute)."""
+        k = self.joint_names.index(joint)
+        return self.multipliers[:, 2 * k: 2 * k + 2]
+
+    @property
+    def steps_per_cycle(self) -> float:
+        return self.n_recorded_steps / self.n_cycles if self.n_cycles else float("nan")
+
+
+class SimulationError(RuntimeError):
+    """The integrator could not proceed (step-size underflow or step budget exhausted)."""
+

@@ -1,0 +1,171 @@
+"""Archard wear per cycle of one clearance joint from one set of recorded steady cycles (paper Eqs. 29-34).
+
+The dynamics records the contact of a few cycles (a ContactTrace); :func:`cycle_wear` integrates the Archard
+wear of every recorded step on the bearing's and the journal's angular grids and divides by the cycles recorded.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from jointwear.contact.envelope import admissible_radius
+
+from .angles import circular_mean
+from .kernels import (
+    accumulate_wear,
+    gather_directions,
+    map_touch_angles,
+    periodic_interp,
+    share_load,
+)
+from .settings import WearSettings
+
+
+@dataclass(frozen=True)
+class JointMaterials:
+    """Contact constants of one joint as seen by the wear model (SI)."""
+
+    r_b0: float
+    r_j0: float
+    width: float
+    h_b: float  # (1 - nu^2) / E
+    h_j: float
+    kH_b: float  # k / H (1/Pa)
+    kH_j: float
+
+    @classmethod
+    def from_trace(cls, trace, geom=None) -> "JointMaterials":
+        """The constants of a ContactTrace's joint (its validated settings: materials, width) with the unworn radii
+        of ``geom`` (default: the trace's)."""
+        vals = {}
+        for mat in (trace.joint.bearing_material, trace.joint.journal_material):
+            nu = mat.poissons_ratio
+            vals[len(vals)] = ((1.0 - nu * nu) / mat.youngs_modulus, mat.wear_coefficient / mat.hardness)
+        src = geom if geom is not None else trace
+        return cls(float(src.bearing_radius), float(src.journal_radius), float(trace.joint.width),
+                   vals[0][0], vals[1][0], vals[0][1], vals[1][1])
+
+
+@dataclass
+class CycleWear:
+    """Wear of one joint per cycle from one set of recorded steady cycles (SI)."""
+
+    bearing: np.ndarray  # (n_grid,) depth per cycle (m / cycle), bearing frame
+    journal: np.ndarray  # (n_grid,) depth per cycle, journal frame
+    volume_bearing: float  # Archard volume per cycle (m^3 / cycle)
+    volume_journal: float
+    sliding_distance: float  # m / cycle
+    contact_time: np.ndarray  # (n_grid,) s / cycle with the contact normal in the cell (bearing frame)
+    force_mean: np.ndarray  # (n_grid,) time-mean normal force while in the cell (N); nan where never
+    slip_distance: np.ndarray  # (n_grid,) sliding distance per cycle in the cell (m / cycle)
+    area_mean: np.ndarray  # (n_grid,) time-mean contact area (m^2); nan where never
+    max_half_width: float  # m
+    mean_orientation: float  # rod (bearing body) mean orientation over the cycles (rad, global)
+    levelling_rate: float = 0.0  # profile mode, distributed deposit: 1/cycle (kernels.share_load)
+    share: "ConformalShare | None" = dataclasses.field(default=None, repr=False)  # distributed deposit only
+
+
+@dataclass
+class ConformalShare:
+    """The recorded loads of a block gathered by contact direction (per cycle), shared over any bore profile
+    (profile mode, distributed deposit; kernels.gather_directions / share_load)."""
+
+    bins: np.ndarray  # (4, n_grid) per cycle
+    c0: float
+    r_b0: float
+    width: float
+
+    def __call__(self, bore: np.ndarray) -> tuple[np.ndarray, float, float]:
+        """(bearing depth per cycle, Archard volume per cycle, levelling rate per cycle) on the bore profile."""
+        c_bore = np.ascontiguousarray(self.c0 + bore, dtype=float)
+        r_adm = np.empty_like(c_bore)
+        admissible_radius(c_bore, r_adm)
+        out = np.zeros(c_bore.shape[0])
+        vol, g = share_load(self.bins, c_bore, r_adm, self.r_b0, self.width, out)
+        return out, vol, g
+
+
+def cycle_wear(
+    trace,
+    settings: WearSettings,
+    n_cycles: float,
+    materials: JointMaterials | None = None,
+    growth: float = 0.0,
+    bearing_profile: np.ndarray | None = None,
+    journal_profile: np.ndarray | None = None,
+    bearing_touch: np.ndarray | None = None,
+    journal_touch: np.ndarray | None = None,
+    bearing_bore: np.ndarray | None = None,
+) -> CycleWear:
+    """Archard wear per cycle of one ContactTrace-like record that spans `n_cycles` cycles.
+
+    The radii used for R* are those the contact search used: uniform mode R_b0 + growth/2 and R_j0 - growth/2
+    (paper Eqs. 36-37); profile mode (when profiles are given) the local radii R_b0 + h_b(theta_b) and
+    R_j0 - h_j(theta_j), with the profiles exactly as given to the contact search. bearing_touch / journal_touch
+    (profile mode, 'envelope' contact): grid index of the bore point that touches for each centre-line direction
+    (contact.envelope.admissible_set); the wear is laid there. bearing_bore (profile mode, `profile_deposit =
+    "distributed"`): the bore's contact profile (smoothed wear, m); each step's bearing wear is shared over the
+    cells the journal touches (kernels.gather_directions, share_load) instead.
+    """
+    mat = materials or JointMaterials.from_trace(trace)
+    n = settings.n_grid
+    F = np.ascontiguousarray(trace.force_normal, dtype=float)
+    F = np.where(np.asarray(trace.in_contact, dtype=bool), F, 0.0)
+    tb = np.ascontiguousarray(trace.theta_bearing, dtype=float)
+    tj = np.ascontiguousarray(trace.theta_journal, dtype=float)
+    v = np.ascontiguousarray(trace.slip_speed, dtype=float)
+    dt = np.ascontiguousarray(trace.dt_weight, dtype=float)
+    if bearing_profile is not None:
+        r_b = mat.r_b0 + periodic_interp(bearing_profile, tb)
+        r_j = mat.r_j0 - (periodic_interp(journal_profile, tj) if journal_profile is not None else 0.0)
+        r_j = np.broadcast_to(r_j, r_b.shape).copy()
+    else:
+        r_b = np.full(F.shape, mat.r_b0 + 0.5 * growth)
+        r_j = np.full(F.shape, mat.r_j0 - 0.5 * growth)
+    tb_w, tj_w = tb, tj
+    if bearing_touch is not None:
+        tb_w = np.empty_like(tb)
+        map_touch_angles(tb, bearing_touch, tb_w)
+    if journal_touch is not None:
+        tj_w = np.empty_like(tj)
+        map_touch_angles(tj, journal_touch, tj_w)
+    wb = np.zeros(n)
+    wj = np.zeros(n)
+    diag = np.zeros((4, n))
+    vb, vj, s, bmax = accumulate_wear(
+        tb_w, tj_w, F, v, dt, r_b, r_j, mat.r_b0, mat.r_j0, mat.h_b, mat.h_j,
+        mat.kH_b if bearing_bore is None else 0.0, mat.kH_j, mat.width,
+        settings.half_width_factor, settings.pressure == "hertz", settings.track_journal, wb, wj, diag,
+        math.radians(settings.profile_smoothing_deg) * math.sqrt(3.0) if bearing_profile is not None else 0.0,
+    )
+    g_level = 0.0
+    share = None
+    if bearing_bore is not None:
+        bins = np.zeros((4, n))
+        gather_directions(tb, np.ascontiguousarray(trace.normal_tilt, dtype=float), F, v, dt, r_b, r_j,
+                          mat.h_b + mat.h_j, mat.kH_b, mat.width, settings.half_width_factor, bins)
+        share = ConformalShare(bins / n_cycles, mat.r_b0 - mat.r_j0, mat.r_b0, mat.width)
+        rate_b, vrate_b, g_level = share(bearing_bore)
+        wb += rate_b * n_cycles
+        vb = vrate_b * n_cycles
+    inv = 1.0 / n_cycles
+    with np.errstate(invalid="ignore", divide="ignore"):
+        fmean = np.where(diag[0] > 0, diag[1] / diag[0], np.nan)
+        amean = np.where(diag[0] > 0, diag[3] / diag[0], np.nan)
+    mean_or = circular_mean(trace.bearing_body_angle, dt)
+    return CycleWear(wb * inv, wj * inv, vb * inv, vj * inv, s * inv, diag[0] * inv, fmean, diag[2] * inv, amean,
+                     bmax, mean_or, g_level, share)
+
+
+def mean_half_width(cw: CycleWear, mat: JointMaterials, settings: WearSettings) -> float:
+    """Johnson's half-width (m) at the time-mean normal force while in contact, on the unworn radii."""
+    ct = cw.contact_time
+    if not np.any(ct > 0):
+        return math.nan
+    force = float(np.nansum(np.where(ct > 0, cw.force_mean, 0.0) * ct) / ct.sum())
+    rstar = mat.r_b0 * mat.r_j0 / (mat.r_b0 - mat.r_j0)
+    return settings.half_width_factor * math.sqrt(force * rstar * (mat.h_b + mat.h_j) / mat.width)

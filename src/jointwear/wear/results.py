@@ -1,0 +1,164 @@
+"""Results of the wear history: per-joint profiles and histories, peaks, the block log (typed, SI)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .angles import report_angle_deg
+from .cycle import CycleWear
+from .kernels import worn_area
+from .settings import WearSettings
+
+
+def find_peaks_periodic(profile: np.ndarray, prominence_fraction: float = 0.05,
+                        separation_deg: float = 30.0) -> list[int]:
+    """Indices of the peaks of a periodic profile, deepest first (prominence >= fraction of the max, peaks at
+    least `separation_deg` apart; of closer ones the deeper is kept)."""
+    from scipy.signal import find_peaks
+
+    p = np.asarray(profile, dtype=float)
+    n = p.size
+    top = float(p.max()) if n else 0.0
+    if n == 0 or top <= 0.0:
+        return []
+    ext = np.concatenate([p, p, p])
+    dist = max(1, int(round(separation_deg / 360.0 * n)))
+    idx, _ = find_peaks(ext, prominence=prominence_fraction * top, distance=dist)
+    idx = sorted({int(i) % n for i in idx if n <= i < 2 * n})
+    if not idx:  # a plateau or a single flat-topped hump
+        idx = [int(np.argmax(p))]
+    return sorted(idx, key=lambda i: -p[i])
+
+
+@dataclass
+class JointWear:
+    """Wear of one clearance joint after the history (SI: m, rad, cycles)."""
+
+    index: int
+    theta: np.ndarray  # (n_grid,) grid angles in the body frames (rad), 2 pi k / n
+    bearing_wear: np.ndarray  # (n_grid,) final bearing depth (m), bearing frame
+    journal_wear: np.ndarray  # (n_grid,) final journal depth (m), journal frame
+    mean_orientation: float  # rod mean orientation used for reporting (rad)
+    history_cycles: np.ndarray
+    history_max_bearing: np.ndarray  # m
+    history_max_journal: np.ndarray  # m
+    history_clearance_growth: np.ndarray  # m (uniform mode: the growth passed to the dynamics)
+    volume_bearing: float  # accumulated Archard volume (m^3)
+    volume_journal: float
+    bearing_radius: float
+    journal_radius: float
+    width: float
+    peaks: list[dict]  # [{"angle_deg", "depth"}] deepest first (depth m)
+    diagnostics: CycleWear  # per-cycle quantities of the last block (Fig. 17)
+    first_rate: CycleWear  # per-cycle quantities of the first block (unworn geometry)
+    contact_half_width: float = math.nan  # m, Johnson's b at the mean contact force of the first block
+
+    @property
+    def conformal_arc(self) -> float:
+        """Worn arc (rad) of a bore worn to the journal's shape as deep as this one: a journal that has sunk by the
+        max bearing depth h into a bore of radial clearance c0 touches it over 2 acos(c0 / (c0 + h))."""
+        c0 = self.bearing_radius - self.journal_radius
+        return 2.0 * math.acos(c0 / (c0 + self.max_bearing_wear))
+
+    @property
+    def conformity(self) -> float:
+        """Half the conformal arc over the contact's half-angle b / R_b on the unworn bore (docs/wear.md "When uniform
+        mode is fair"). Below 1 the worn pocket is narrower than the contact patch and uniform mode's round-bore
+        contact is a fair model; above 1 the journal fits into its own wear and only profile mode is."""
+        half = self.contact_half_width / self.bearing_radius
+        return 0.5 * self.conformal_arc / half if half > 0.0 else math.inf
+
+    @property
+    def uniform_mode_valid(self) -> bool:
+        """conformity <= 1: the range in which uniform mode (the paper's Eqs. 36-37) is a fair approximation."""
+        return self.conformity <= 1.0
+
+    @property
+    def angle_deg(self) -> np.ndarray:
+        """Report angle (deg, 0 at the leftmost point, clockwise) of every bearing grid point."""
+        return report_angle_deg(self.theta, self.mean_orientation)
+
+    @property
+    def max_bearing_wear(self) -> float:
+        return float(self.bearing_wear.max())
+
+    @property
+    def max_wear_angle_deg(self) -> float:
+        return float(self.angle_deg[int(np.argmax(self.bearing_wear))])
+
+    def max_wear_at(self, n_cycles):
+        """Max bearing depth (m) at any cycle count(s), linear between history points, linear extrapolation past the end."""
+        x = np.asarray(n_cycles, dtype=float)
+        c, h = self.history_cycles, self.history_max_bearing
+        y = np.interp(x, c, h)
+        if c.size >= 2:
+            slope = (h[-1] - h[-2]) / (c[-1] - c[-2])
+            y = np.where(x > c[-1], h[-1] + slope * (x - c[-1]), y)
+        return float(y) if y.ndim == 0 else y
+
+
+@dataclass
+class BlockRecord:
+    start: int
+    size: int
+    peak_rate: float  # max bearing depth rate of joint 0 (m / cycle)
+    rate_change: float  # relative change of joint 0's bearing volume rate vs the previous block (nan for the first)
+    sim_seconds: float
+    n_steps: int
+
+
+@dataclass
+class WearResult:
+    """Result of `wear_history` (like SciPy's OdeResult): per-joint wear, history, timings. Joint 0 is the default."""
+
+    joints: list[JointWear]
+    settings: WearSettings
+    n_cycles: int
+    blocks: list[BlockRecord]
+    wall_seconds: float
+    sim_seconds: float
+    n_simulated_cycles: float
+    n_steps: int
+
+    @property
+    def cycles(self) -> np.ndarray:
+        return self.joints[0].history_cycles
+
+    @property
+    def max_bearing_wear(self) -> np.ndarray:
+        """Max bearing depth (m) at every history point of joint 0."""
+        return self.joints[0].history_max_bearing
+
+    def max_wear_at(self, n_cycles, joint: int = 0):
+        return self.joints[joint].max_wear_at(n_cycles)
+
+    @property
+    def bearing_profile(self) -> np.ndarray:
+        return self.joints[0].bearing_wear
+
+    @property
+    def journal_profile(self) -> np.ndarray:
+        return self.joints[0].journal_wear
+
+    @property
+    def peaks(self) -> list[dict]:
+        return self.joints[0].peaks
+
+    @property
+    def conformity(self) -> float:
+        """Joint 0's conformity (JointWear.conformity): above 1, uniform mode is outside its range."""
+        return self.joints[0].conformity
+
+    @property
+    def uniform_mode_valid(self) -> bool:
+        return self.joints[0].uniform_mode_valid
+
+
+def conservation_error(joint: JointWear) -> tuple[float, float]:
+    """Relative error |worn area x width - Archard volume| / volume for the bearing and the journal."""
+    eb = abs(worn_area(joint.bearing_wear, joint.bearing_radius) * joint.width - joint.volume_bearing)
+    ej = abs(worn_area(joint.journal_wear, joint.journal_radius) * joint.width - joint.volume_journal)
+    return eb / max(joint.volume_bearing, 1e-300), ej / max(joint.volume_journal, 1e-300)
