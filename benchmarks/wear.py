@@ -584,7 +584,7 @@ def bench_profile_study(repeats: int = 1) -> dict:
             with tempfile.TemporaryDirectory() as tmp:
                 runs[mode].append(one_run(preset, Path(tmp), None))
             print(mode, f"{runs[mode][-1]['wall_seconds']:.1f} s", file=sys.stderr)
-    out = {"presets": names, "machine": {"cpus": os.cpu_count(), **provenance()}}
+    out = {"presets": names, "provenance": provenance()}  # versions and the host CPU numba compiles for
     for mode in names:
         r = runs[mode]
         out[mode] = {"median_wall_seconds": statistics.median(x["wall_seconds"] for x in r), "runs": r}

@@ -291,7 +291,7 @@ def share_load(bins, c_bore, r_adm, r_b0, width, wear_b):
                 kbest = k
         ex = r_adm[kbest] * cs[kbest] + dh * cm
         ey = r_adm[kbest] * sn[kbest] + dh * sm
-        # o_k > 0 needs |e'| cos(theta_k - theta_e') > c_k >= min(c): only cells that near e''s direction (one
+        # o_k > 0 needs |e'| cos(theta_k - theta_e') > c_k >= min(c): only the cells near e''s direction (one
         # cell of margin) are visited, in the same order, so the shares and their sums are unchanged
         emag = math.sqrt(ex * ex + ey * ey)
         d_lo = -q
