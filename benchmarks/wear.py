@@ -21,6 +21,13 @@ Sections
 - profile_rig_convergence / profile_wing_convergence (only with --only): profile mode's max depth with each setting
   halved (grid spacing, smoothing, block, corner rounding), on the rig at 1e4/1e5 revolutions (beside the closed
   form of docs/verification.md) and on the flapping wing at 520k cycles.
+- profile_wing_blocks (only with --only, a few minutes): profile mode on the flapping wing to 1.5M cycles with
+  blocks of 40k, 20k and 10k cycles (two runs each): how the block size moves the max depth over the profile
+  preset's curve.
+- profile_study (only with --only, about 5-10 minutes; issue 14 item 5): `jointwear run` end to end in fresh
+  processes for the uniform preset (jin2025_flapping_wing) and the profile one (jin2025_flapping_wing_profile),
+  one after the other in the same benchmark run: wall times, their ratio (goal <= 2), model calls, R(N), the life
+  at the target, the nominal wear, the host CPU and the date.
 - profile_convergence (only with --only, long: about 10 minutes on 2 cores): profile mode (geometry_mode = "profile")
   at 400k cycles, baseline vs n_grid doubled, block halved, rtol/atol halved, profile_smoothing_deg 6 and 1.5; each
   the mean of a few replicates. Besides the max it reports the worn area (the Archard volume / width, smooth), the
@@ -530,6 +537,59 @@ def bench_profile_wing_convergence(n_cycles: int = 520_000) -> dict:
     return out
 
 
+def bench_profile_wing_blocks(levels=(520_000, 900_000, 1_000_000, 1_300_000, 1_500_000), replicates: int = 2) -> dict:
+    """Profile mode on the flapping wing to 1.5M cycles (the range of preset jin2025_flapping_wing_profile) with
+    blocks of 40k, 20k and 10k cycles, `replicates` runs each (start phase +0.05 cycle): the max depth at `levels`
+    and the wall time; how the block size of a model call moves the life."""
+    cfg = load_config("jin2025_flapping_wing_profile")
+    model = build_model(cfg)
+    s = base_settings(cfg)
+    settle0 = s.settle_cycles_initial if s.settle_cycles_initial is not None else cfg.simulation.settle_cycles
+    out = {"levels": list(levels)}
+    for block in (40_000, 20_000, 10_000):
+        runs, walls = [], []
+        for r in range(replicates):
+            v = s.model_copy(update={"block_cycles": block, "settle_cycles_initial": settle0 + 0.05 * r})
+            res = wear_history(model, v, max(levels))
+            runs.append([float(res.max_wear_at(n) * MM) for n in levels])
+            walls.append(res.wall_seconds)
+        mean = np.mean(runs, axis=0)
+        out[str(block)] = {"max_depth_mm_runs": runs, "max_depth_mm_mean": mean.tolist(), "wall_seconds_runs": walls}
+        print(block, mean.round(5).tolist(), file=sys.stderr)
+    for block in ("40000", "20000"):
+        finer = str(int(block) // 2)
+        out[block]["change_when_halved"] = (np.array(out[finer]["max_depth_mm_mean"])
+                                            / np.array(out[block]["max_depth_mm_mean"]) - 1).tolist()
+    return out
+
+
+def bench_profile_study(repeats: int = 1) -> dict:
+    """Issue 14 item 5: the whole study (`jointwear run`, fresh process, benchmarks/study.py's runner) with the
+    uniform preset and with the profile preset, alternating when repeated; the ratio of the median wall times."""
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    import tempfile
+
+    from study import one_run
+
+    from jointwear.study.io import provenance
+
+    names = {"uniform": "jin2025_flapping_wing", "profile": "jin2025_flapping_wing_profile"}
+    runs = {k: [] for k in names}
+    for _ in range(repeats):
+        for mode, preset in names.items():
+            with tempfile.TemporaryDirectory() as tmp:
+                runs[mode].append(one_run(preset, Path(tmp), None))
+            print(mode, f"{runs[mode][-1]['wall_seconds']:.1f} s", file=sys.stderr)
+    out = {"presets": names, "provenance": provenance()}  # versions and the host CPU numba compiles for
+    for mode in names:
+        r = runs[mode]
+        out[mode] = {"median_wall_seconds": statistics.median(x["wall_seconds"] for x in r), "runs": r}
+    out["ratio_wall_profile_to_uniform"] = out["profile"]["median_wall_seconds"] / out["uniform"]["median_wall_seconds"]
+    out["goal_ratio"] = 2.0
+    out["goal_met"] = out["ratio_wall_profile_to_uniform"] <= 2.0
+    return out
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--only", default="timing,literal,convergence,reproduction")
@@ -559,6 +619,10 @@ def main(argv=None) -> int:
             data["profile_cost"] = bench_profile_cost()
         elif sec == "profile_rig_convergence":
             data["profile_rig_convergence"] = bench_profile_rig_convergence()
+        elif sec == "profile_wing_blocks":
+            data["profile_wing_blocks"] = bench_profile_wing_blocks()
+        elif sec == "profile_study":
+            data["profile_study"] = bench_profile_study()
         elif sec == "profile_wing_convergence":
             data["profile_wing_convergence"] = bench_profile_wing_convergence()
         else:

@@ -66,39 +66,72 @@ def polygon_distance(r, px, py):
 def admissible_set(c, out_c, out_idx):
     """Radial function of the admissible journal-centre set S = {e : e . u_k <= c_k} at the grid angles,
     out_c[i] = min_k c_k / cos(theta_k - theta_i) over |theta_k - theta_i| < 90 deg (first order in clearance /
-    radius), and out_idx[i] the k that attains it (the bore point that touches). The scan goes outward from
-    theta_i and stops once min(c) / cos(theta_k - theta_i) cannot beat the best so far (on a round bore after one
-    cell).
+    radius), and out_idx[i] the k that attains it (the bore point that touches).
 
     c (n,) is the local clearance c0 + h(theta_k): a journal whose centre is displaced by e along theta_i closes the
     gap c_k - e cos(theta_k - theta_i) first at that k. S is convex, so a wear pocket narrower than the journal is
     bridged at its flanks instead of being entered radially.
+
+    The minimum is 1 / max_k (p_k . u_i) with p_k = u_k / c_k (the polar dual of S): the k that attains it is a
+    vertex of the convex hull of the p_k, found for all n directions in O(n) (the p_k come in angular order round
+    the origin, which lies inside, so a Graham scan gives the hull; the supporting vertex turns with the direction,
+    so one pointer walks the hull once). A direct scan over the half circle costs O(n^2) on a deep pocket.
     """
     n = c.shape[0]
     delta = TWO_PI / n
-    q = int(math.floor((0.5 * math.pi - 1e-9) / delta))
-    inv = np.empty(q + 1)
-    for d in range(q + 1):
-        inv[d] = 1.0 / math.cos(d * delta)
-    cmin = c.min()
-    for i in range(n):
-        best = c[i]
-        arg = i
-        for d in range(1, q + 1):  # outward, until min(c) / cos cannot beat the best (round bore: one cell)
-            if cmin * inv[d] >= best:
+    px = np.empty(n)
+    py = np.empty(n)
+    for k in range(n):
+        px[k] = math.cos(k * delta) / c[k]
+        py[k] = math.sin(k * delta) / c[k]
+    k0 = int(np.argmin(c))  # the p_k farthest from the origin: a hull vertex
+    hull = np.empty(n + 1, dtype=np.int64)
+    m = 0
+    for j in range(n + 1):
+        k = (k0 + j) % n
+        while m >= 2:
+            a = hull[m - 2]
+            b = hull[m - 1]
+            cr = (px[b] - px[a]) * (py[k] - py[a]) - (py[b] - py[a]) * (px[k] - px[a])
+            if cr > 0.0:  # a left turn: b stays on the hull
                 break
-            k = (i + d) % n
-            v = c[k] * inv[d]
-            if v < best:
-                best = v
-                arg = k
-            k = (i - d) % n
-            v = c[k] * inv[d]
-            if v < best:
-                best = v
-                arg = k
-        out_c[i] = best
-        out_idx[i] = arg
+            m -= 1
+        hull[m] = k
+        m += 1
+    nh = m - 1  # hull[nh] is k0 again
+    # the supporting vertex of direction 0: a scan of the hull once, then a pointer that only moves forward
+    j = 0
+    best = -1e300
+    for t in range(nh):
+        v = px[hull[t]]
+        if v > best:
+            best = v
+            j = t
+    for i in range(n):
+        ci = math.cos(i * delta)
+        si = math.sin(i * delta)
+        cur = px[hull[j]] * ci + py[hull[j]] * si
+        for _ in range(nh):
+            jn = j + 1 if j + 1 < nh else 0
+            nxt = px[hull[jn]] * ci + py[hull[jn]] * si
+            if nxt > cur:
+                j = jn
+                cur = nxt
+            else:
+                break
+        k = hull[j]
+        d = k - i
+        if d < 0:
+            d = -d
+        if d > n - d:
+            d = n - d
+        v = c[k] * (1.0 / math.cos(d * delta))
+        if v < c[i]:
+            out_c[i] = v
+            out_idx[i] = k
+        else:  # the direction's own cell (also on a tie, as a scan that starts there)
+            out_c[i] = c[i]
+            out_idx[i] = i
 
 
 @njit(cache=True)

@@ -187,9 +187,10 @@ def eval_constraints(nb, nd, jint, jpar, kin, phi_, phid, rest, jac):
                 jac[r + 1, 3 * bj + 2] += nx * (-ajy) + ny * ajx
 
 
-@njit(cache=True, error_model="numpy", _nrt=STEP_LOOP_NRT)
-def _interp_periodic(prof, k, side, n, ang):
-    """Periodic Catmull-Rom (C1 cubic Hermite) interpolation of prof[k, side, 0:n] given at angles 2 pi k / n.
+@njit(cache=True, inline="always", error_model="numpy", _nrt=STEP_LOOP_NRT)
+def profile_at(prof, k, side, n, ang):
+    """Value and slope d/d(angle) (per radian) of the periodic Catmull-Rom (C1 cubic Hermite) interpolation of
+    prof[k, side, 0:n] given at angles 2 pi k / n, from one stencil lookup.
 
     C1 so that the contact normal, which follows the profile's slope, does not jump at the grid points (with linear
     interpolation it did, and a journal resting where the slope changes sign chattered with ever smaller steps).
@@ -208,28 +209,12 @@ def _interp_periodic(prof, k, side, n, ang):
     p1 = prof[k, side, i1]
     p2 = prof[k, side, i2]
     p3 = prof[k, side, i3]
-    return p1 + 0.5 * t * (p2 - p0 + t * (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3 + t * (3.0 * (p1 - p2) + p3 - p0)))
-
-
-@njit(cache=True, error_model="numpy", _nrt=STEP_LOOP_NRT)
-def _slope_periodic(prof, k, side, n, ang):
-    """d/d(angle) of _interp_periodic (per radian)."""
-    u = ang / (2.0 * math.pi)
-    u = u - math.floor(u)
-    x = u * n
-    i1 = int(x)
-    if i1 >= n:
-        i1 = n - 1
-    t = x - i1
-    i0 = i1 - 1 if i1 > 0 else n - 1
-    i2 = i1 + 1 if i1 + 1 < n else 0
-    i3 = i2 + 1 if i2 + 1 < n else 0
-    p0 = prof[k, side, i0]
-    p1 = prof[k, side, i1]
-    p2 = prof[k, side, i2]
-    p3 = prof[k, side, i3]
-    d = 0.5 * (p2 - p0 + t * (2.0 * (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) + 3.0 * t * (3.0 * (p1 - p2) + p3 - p0)))
-    return d * n / (2.0 * math.pi)
+    a1 = p2 - p0
+    a2 = 2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3
+    a3 = 3.0 * (p1 - p2) + p3 - p0
+    value = p1 + 0.5 * t * (a1 + t * (a2 + t * a3))
+    slope = 0.5 * (a1 + t * (2.0 * a2 + 3.0 * t * a3)) * (n / (2.0 * math.pi))
+    return value, slope
 
 
 @njit(cache=True, inline="always", error_model="numpy", fastmath=FASTMATH, _nrt=STEP_LOOP_NRT)
@@ -266,10 +251,8 @@ def clearance_contact(k, cint, cpar, prof, ngrid, cstate, ex, ey, emag, nx, ny, 
     rjl = cpar[k, C_RJ] - 0.5 * grow
     kstiff = cpar[k, C_K0]
     if cint[k, CI_PROF] != 0:
-        hb = _interp_periodic(prof, k, 0, ngrid[k, 0], ang_b)
-        hj = _interp_periodic(prof, k, 1, ngrid[k, 1], ang_j)
-        hbp = _slope_periodic(prof, k, 0, ngrid[k, 0], ang_b)
-        hjp = _slope_periodic(prof, k, 1, ngrid[k, 1], ang_j)
+        hb, hbp = profile_at(prof, k, 0, ngrid[k, 0], ang_b)
+        hj, hjp = profile_at(prof, k, 1, ngrid[k, 1], ang_j)
         rbl += hb
         rjl -= hj
         kstiff = contact_stiffness(cpar[k, C_HSUM], rbl, rjl)

@@ -252,7 +252,10 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
             counters[0] = 1
             first = False
         if t < t_end:
-            t, h = run.run(t, y, t_end, h, hmax, -math.inf if record else math.inf, rec, max_steps, counters)
+            # the step budget is per call, not per record chunk (each chunk's loop counts from zero): a collapsing
+            # step size stops at max_steps instead of growing the record without bound
+            budget = max(1, max_steps - int(counters[1] + counters[2]))
+            t, h = run.run(t, y, t_end, h, hmax, -math.inf if record else math.inf, rec, budget, counters)
             if counters[3] in (2, 3):
                 raise SimulationError(_status_text(counters[3], t))
         n = int(counters[0])

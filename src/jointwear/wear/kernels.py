@@ -255,6 +255,8 @@ def share_load(bins, c_bore, r_adm, r_b0, width, wear_b):
     proj = np.empty(2 * q + 1)
     gcell = np.zeros(n)
     vol = 0.0
+    r_max = r_adm.max()
+    c_min = c_bore.min()
     for c in range(n):
         acc_v = bv[c]
         if not (acc_v > 0.0):
@@ -266,10 +268,18 @@ def share_load(bins, c_bore, r_adm, r_b0, width, wear_b):
         sm /= nm
         dh = bdh[c] / acc_v
         # the support point of the admissible set along m (the farthest vertex; a full scan: near a conformal
-        # corner m . V_k is flat to rounding and a local climb can stop short)
+        # corner m . V_k is flat to rounding and a local climb can stop short). Only cells with
+        # r_max cos(theta_k - theta_m) >= the value at m's own cell can attain the max: the scan is limited to
+        # them (one cell of margin for m's offset within its cell), which finds the same vertex.
+        v_own = r_adm[c] * (cs[c] * cm + sn[c] * sm)
+        wd = q
+        if v_own > 0.0 and v_own < r_max:
+            wd = min(q, int(math.acos(v_own / r_max) / delta) + 2)
+        elif v_own >= r_max:
+            wd = 2
         kbest = c
         best = -1e300
-        for d in range(-q, q + 1):
+        for d in range(-wd, wd + 1):
             k = c + d
             if k < 0:
                 k += n
@@ -281,9 +291,21 @@ def share_load(bins, c_bore, r_adm, r_b0, width, wear_b):
                 kbest = k
         ex = r_adm[kbest] * cs[kbest] + dh * cm
         ey = r_adm[kbest] * sn[kbest] + dh * sm
+        # o_k > 0 needs |e'| cos(theta_k - theta_e') > c_k >= min(c): only the cells near e''s direction (one
+        # cell of margin) are visited, in the same order, so the shares and their sums are unchanged
+        emag = math.sqrt(ex * ex + ey * ey)
+        d_lo = -q
+        d_hi = q
+        if emag > c_min:
+            half = math.acos(c_min / emag)
+            off = math.atan2(ey * cs[kbest] - ex * sn[kbest], ex * cs[kbest] + ey * sn[kbest])
+            d_lo = max(-q, int(math.floor((off - half) / delta)) - 1)
+            d_hi = min(q, int(math.ceil((off + half) / delta)) + 1)
+        else:
+            d_hi = d_lo - 1  # no cell overlaps
         m_ = 0
         wproj = 0.0
-        for d in range(-q, q + 1):
+        for d in range(d_lo, d_hi + 1):
             k = kbest + d
             if k < 0:
                 k += n
