@@ -129,7 +129,7 @@ def test_radau5_runs_on_the_tree_kernel(six):
     import dataclasses
 
     st = simulate(six, 0.0).state_end
-    rad = dataclasses.replace(six, settings=dataclasses.replace(six.settings, method="radau5"))
+    rad = dataclasses.replace(six, settings=six.settings.model_copy(update={"method": "radau5"}))
     r = simulate(rad, 1, settle_cycles=0, state0=st)
     ref = simulate(six, 1, settle_cycles=0, state0=st)
     assert r.extra["kernel"] == "tree"
