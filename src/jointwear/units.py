@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-#: Pa per Brinell hardness number (kgf/mm^2 -> Pa); paper-notes.md.
+#: Pa per Brinell hardness number (kgf/mm^2 -> Pa); baseline reading, user guide.
 PA_PER_HB = 9.807e6
 
 #: suffix -> (multiplier to SI, SI unit name). Matching is case-sensitive

@@ -14,7 +14,7 @@ code   name                    chi                                     source
 v0 is the normal approach speed at the start of the contact, floored by v0_min.  The force is
 clipped at zero (no adhesion during restitution).
 
-Stiffness (paper Eq. 17 as corrected in paper-notes):
+Stiffness (paper Eq. 17 as corrected in the user guide's baseline reading):
 K = 4 / (3 (h_i + h_j)) * sqrt(R_i R_j / (R_i - R_j)), h_k = (1 - nu_k^2) / E_k.
 
 Friction (paper Section 2.4.2, Eq. 19; Ambrosio 2003 modified Coulomb law in the continuous

@@ -23,10 +23,10 @@ class MaterialConfig(SIModel):
     poissons_ratio: float = F(gt=-1.0, lt=0.5, description="Poisson's ratio nu, in (-1, 0.5).")
     hardness: float = F(
         unit="Pa", gt=0,
-        description="Hardness H used by Archard's law (key hardness_HB: Brinell number x 9.807e6 Pa; paper-notes).",
+        description="Hardness H used by Archard's law (key hardness_HB: Brinell number x 9.807e6 Pa; baseline reading).",
     )
     wear_coefficient: float = F(
-        ge=0, description="Dimensionless Archard wear coefficient k (paper Eq. 29; paper-notes reading of Table 2).",
+        ge=0, description="Dimensionless Archard wear coefficient k (paper Eq. 29; baseline reading of Table 2).",
     )
 
     @property
@@ -39,10 +39,10 @@ class FrictionConfig(SIModel):
     """Modified Coulomb friction of Ambrosio (2003) in the continuous cubic-blend form (docs/dynamics.md)."""
 
     law: Literal["ambrosio", "none"] = F("ambrosio", description="'ambrosio' (modified Coulomb) or 'none' (frictionless).")
-    mu_d: float = F(0.1, ge=0, description="Dynamic (sliding) friction coefficient; paper gives none, paper-notes baseline 0.1.")
-    mu_s: float = F(0.15, ge=0, description="Static friction coefficient; paper-notes baseline 0.15.")
-    v_s: float = F(1e-4, unit="m/s", gt=0, description="Static-friction critical slip speed; paper-notes baseline 1e-4 m/s.")
-    v_d: float = F(1e-3, unit="m/s", gt=0, description="Speed above which friction is purely dynamic; paper-notes baseline 1e-3 m/s.")
+    mu_d: float = F(0.1, ge=0, description="Dynamic (sliding) friction coefficient; paper gives none, baseline reading 0.1.")
+    mu_s: float = F(0.15, ge=0, description="Static friction coefficient; baseline reading 0.15.")
+    v_s: float = F(1e-4, unit="m/s", gt=0, description="Static-friction critical slip speed; baseline reading 1e-4 m/s.")
+    v_d: float = F(1e-3, unit="m/s", gt=0, description="Speed above which friction is purely dynamic; baseline reading 1e-3 m/s.")
 
     @model_validator(mode="after")
     def _speeds(self) -> FrictionConfig:
@@ -80,7 +80,7 @@ class ClearanceJointConfig(SIModel):
     restitution: float = F(0.9, gt=0, le=1, description="Coefficient of restitution cr (Table 4: 0.9).")
     v0_min: float = F(
         1e-4, unit="m/s", gt=0,
-        description="Floor on the impact speed v0 in the damping term; paper silent, paper-notes suggests 1e-4 m/s.",
+        description="Floor on the impact speed v0 in the damping term; paper silent, baseline reading 1e-4 m/s.",
     )
     friction: FrictionConfig = F(default_factory=FrictionConfig, description="Friction law parameters.")
 

@@ -63,7 +63,7 @@ class FourBarConfig(SIModel):
     crank: LinkConfig = F(description="Crank OA (Table 3). Its mass does not matter while its speed is imposed.")
     rod: LinkConfig = F(description="Connecting rod AB (Table 3).")
     rocker: LinkConfig = F(
-        description="Rocker CB: length = l_BC (Table 4); com_offset from C (paper-notes baseline: uniform 27 mm bar, "
+        description="Rocker CB: length = l_BC (Table 4); com_offset from C (baseline reading: uniform 27 mm bar, "
         "C at one end, com 13.5 mm from C)."
     )
     crank_speed: float = F(
@@ -73,10 +73,10 @@ class FourBarConfig(SIModel):
     assembly_branch: Literal[1, -1] = F(
         1,
         description="+1: joint B lies to the left of the directed line from crank pin A to rocker pivot C "
-        "((C-A) x (B-A) > 0); -1: to the right. The paper does not fix it (paper-notes).",
+        "((C-A) x (B-A) > 0); -1: to the right. The paper does not fix it (baseline reading).",
     )
     gravity: Vec2 = F(
-        (0.0, -9.80665), unit="m/s^2", description="Gravity vector; paper silent, paper-notes baseline (0, -g)."
+        (0.0, -9.80665), unit="m/s^2", description="Gravity vector; paper silent, baseline reading (0, -g)."
     )
     rocker_torque: float = F(
         0.0, unit="N m", description="Constant external torque on the rocker (CCW positive); paper gives no load."

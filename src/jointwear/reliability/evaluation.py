@@ -33,7 +33,7 @@ def _call_rows(g: Callable, x: np.ndarray) -> tuple[np.ndarray | None, str | Non
     """Run g on a block of rows in a worker; never raises (the reason is returned instead)."""
     try:
         return np.asarray(g(x), dtype=float), None
-    except Exception as exc:  # a failing model call is data, not a crash (DESIGN.md)
+    except Exception as exc:  # a failing model call is data, not a crash
         return None, f"{type(exc).__name__}: {exc}"
 
 

@@ -1,7 +1,7 @@
 """Typed results of the study stages, each with ``save(folder)`` (JSON, CSV tables, figures) and ``load(folder)``.
 
 Like SciPy's ``OdeResult``: documented fields, units in the names of dimensional quantities. The JSON files
-are the contract of DESIGN.md (``simulate.json``, ``wear.json``, ``reliability.json``,
+are the contract of docs/user-guide.md, "Commands and outputs" (``simulate.json``, ``wear.json``, ``reliability.json``,
 ``sensitivity.json``); :func:`load_results` reads a study folder back into these types, which is how the
 report and notebooks read results. The reliability stages' results live in
 :mod:`jointwear.study.reliability_results` and are re-exported here.
@@ -138,7 +138,7 @@ def _profile_panels(jw, order) -> dict[str, list[float]]:
 class WearSummary(StageResult):
     """The wear history of the nominal mechanism (``jointwear wear``).
 
-    Top-level keys are those of the first clearance joint (DESIGN.md): ``max_wear_mm``,
+    Top-level keys are those of the first clearance joint (the JSON contract): ``max_wear_mm``,
     ``max_wear_angle_deg``, ``peaks`` [{``angle_deg``, ``depth_mm``}], ``profile`` {``angle_deg``,
     ``depth_mm``}, ``history`` {``cycles``, ``max_wear_mm``}; ``joints`` has the same for every joint plus the
     journal's wear, the clearance growth, the Archard volumes and the wear-rate diagnostics.

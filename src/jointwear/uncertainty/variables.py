@@ -255,7 +255,7 @@ class CorrelationSpec(SIModel):
 
 
 class UncertaintySettings(SIModel):
-    """The random inputs of a study (paper Tables 5-6, with the label fix of paper-notes.md)."""
+    """The random inputs of a study (paper Tables 5-6, with the label fix of the user guide's baseline reading)."""
 
     clearance: ClearanceSpec | None = None
     variables: list[RandomVariableSpec] = Field(default_factory=list)

@@ -1,4 +1,4 @@
-"""The one angle convention of every wear report (paper Section 6.1.3, paper-notes.md "Mechanism").
+"""The one angle convention of every wear report (paper Section 6.1.3, the user guide's baseline reading).
 
 Inside the code a profile lives on a grid fixed in its body: theta (rad) counter-clockwise from the body's x axis.
 Reports use the paper's convention: the bearing (rod eye) is laid onto global directions at the rod's mean

@@ -1,6 +1,6 @@
 """The long run: wear of the clearance joints over hundreds of thousands of cycles.
 
-Simulating every cycle (the paper's Step 5) costs hours per model call. Instead (paper-notes.md, "Wear"):
+Simulating every cycle (the paper's Step 5) costs hours per model call. Instead (the user guide's baseline reading, "Wear"):
 
 1. simulate a few steady cycles on the current geometry (settle, then record `record_cycles` cycles),
 2. integrate the Archard wear of the recorded steps on the bearing and journal grids -> wear per cycle,

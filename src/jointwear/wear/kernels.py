@@ -1,6 +1,6 @@
 """Archard wear kernels: plain functions over arrays, compiled with numba.
 
-Physics (paper Section 3 with the corrections of paper-notes.md, "Wear"):
+Physics (paper Section 3 with the corrections of the user guide's baseline reading, "Wear"):
 
 * sliding distance of a step: ds = |v_t| dt, v_t the relative tangential velocity of the contact points
   (not the paper's Eq. 30, which uses link lengths times angular speeds);

@@ -1,7 +1,7 @@
 """Settings of the wear model (``config.wear``).
 
 Every choice that the reference paper (Jin et al., Drones 2025, 9, 282, Section 3) leaves open, or states in a
-form that cannot be used literally (see ``shared/reference/paper-notes.md``, "Wear"), is a named field here with
+form that cannot be used literally (see the user guide, "The baseline reading of the paper"), is a named field here with
 a default and a docstring that says where the default comes from. Units are SI; cycles are crank revolutions.
 """
 
@@ -123,7 +123,7 @@ class WearSettings(SIModel):
     initial_block: int = Field(
         10_000,
         ge=1,
-        description="Adaptive rule: first block (cycles). Default 10,000, the update interval quoted in DESIGN.md.",
+        description="Adaptive rule: first block (cycles). Default 10,000.",
     )
     max_block: int = Field(
         80_000,
