@@ -19,7 +19,7 @@ Writes benchmarks/results/dynamics.json. Run: python benchmarks/dynamics.py [--r
 - six_bar_specialised: two cycles from a settled state on the specialised and the general tree kernel, and the
   specialised one after a 1-ulp nudge of an angle: mean and peak force and one cycle's wear per joint;
 - six_bar_l_stable: the steps an L-stable method needs for the same accuracy (Radau IIA, simulation.method =
-  "radau5", on the tree kernel) and what a cycle costs with it, against the default;
+  "radau5"; a tree linkage now runs it on the Cartesian kernel) and what a cycle costs with it, against the default;
 - six_bar_steps: what sets the six-bar's steps per cycle: steps against rtol, the clearance step limiter, the
   stiffest eigenvalues of the Jacobian along the cycle times the step size (Dormand-Prince is stable for
   |h lambda| up to ~3.3 on the negative real axis);
@@ -550,7 +550,8 @@ def _six_bar_specialised() -> dict:
 
 def _six_bar_l_stable() -> dict:
     """How many steps the six-bar's accuracy needs: Radau IIA (L-stable, no stability limit on the contact modes;
-    simulation.method = "radau5", on the general tree kernel) at rtol 1e-4 .. 1e-6 against the default
+    simulation.method = "radau5"; recorded on the tree kernel, which now runs Dormand-Prince only, so a rerun measures
+    Radau on the Cartesian kernel) at rtol 1e-4 .. 1e-6 against the default
     (Dormand-Prince on the specialised tree kernel, rtol 1e-6): steps per cycle, wall seconds per cycle (alternated,
     medians of 3), mean and peak force per joint."""
     import dataclasses

@@ -31,9 +31,7 @@ from jointwear.mechanism.kernel import (
     next_step,
     rhs,
     rhs_fourbar,
-    rhs_tree,
     step_limit,
-    tree_base,
 )
 
 # Radau IIA (order 5) constants, copied from scipy/integrate/_ivp/radau.py (scipy 1.17.1, BSD-3-Clause;
@@ -83,10 +81,6 @@ def _f(mode, ts, Y, yrow, dst, drow, nb, winv, fext, dpar, jint, jpar, cint, cpa
     if mode == 0:
         rhs(ts, Y[yrow], dst, drow, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate,
             baum, kin, phi_, phid, rest, jac, smat, lam, f, cout)
-    elif mode == 2:  # tree kernel: every evaluation is its own base point (the stages are not rotations of one)
-        tree_base(ts, Y[yrow], jint, dpar, kin, phi_, phid)
-        rhs_tree(ts, 0.0, Y[yrow], Y[yrow], dst, drow, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid,
-                 cstate, kin, phi_, phid, rest, jac, smat, lam, f, cout)
     else:
         rhs_fourbar(ts, Y, yrow, dst, drow, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
 

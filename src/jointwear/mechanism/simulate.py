@@ -85,7 +85,9 @@ class Runner:
         if fast is True and self.lay is None:
             raise ValueError("fast=True but the model does not qualify for the natural-coordinate kernel")
         # the tree kernel (joint coordinates) for a linkage whose ideal joints form a forest
-        self.tree = tree_layout(a) if fast is None and self.lay is None else None
+        # (not under Radau: its Newton loop inlining the tree right-hand side costs minutes of compilation)
+        self.tree = (tree_layout(a) if fast is None and self.lay is None and model.settings.method == "dopri5"
+                     else None)
         self.mode = 1 if self.lay is not None else 2 if self.tree is not None else 0
         self.integrate = K.integrate
         if self.mode == 2:
