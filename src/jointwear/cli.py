@@ -111,7 +111,8 @@ def simulate(config: str | None, cycles: int | None, settle: int | None, out: Pa
 @main.command()
 @config_argument
 @click.option("--cycles", type=click.IntRange(min=1), default=None,
-              help="Crank cycles of the wear history (default: wear.cycles of the config).")
+              help="Crank cycles of the wear history (default: wear.cycles of the config, else the end of its "
+                   "R(N) curve).")
 @out_option
 def wear(config, cycles, out):
     """Non-uniform wear of the clearance joints over many cycles; write wear.json, CSV tables and figures."""
