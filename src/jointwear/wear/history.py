@@ -64,6 +64,13 @@ def smoothed_profiles(wb: np.ndarray, wj: np.ndarray, settings: WearSettings):
     return wb, wj
 
 
+def bore_profile(wb: np.ndarray, settings: WearSettings) -> np.ndarray:
+    """The bearing's worn profile as the contact sees it (smoothed_profiles' bearing half)."""
+    if settings.profile_smoothing_deg > 0.0:
+        return np.maximum(smooth_periodic(wb, settings.profile_smoothing_deg), 0.0)
+    return wb
+
+
 def update_geometry(g0, settings: WearSettings, wb: np.ndarray, wj: np.ndarray, growth: float):
     """The unworn ClearanceGeometry ``g0`` worn by the profiles wb, wj (profile mode) or the clearance growth
     (uniform mode): (geometry for the dynamics, bearing touch map, journal touch map, bore contact profile or None)."""
@@ -72,7 +79,7 @@ def update_geometry(g0, settings: WearSettings, wb: np.ndarray, wj: np.ndarray, 
         hb, hj, ib, ij = contact_profiles(c0, wb, wj, settings)
         bore = None
         if settings.profile_deposit == "distributed":
-            bore = smoothed_profiles(wb, wj, settings)[0]
+            bore = bore_profile(wb, settings)
             ib = None
         return dataclasses.replace(g0, use_profile=True, bearing_wear=hb, journal_wear=hj), ib, ij, bore
     return dataclasses.replace(g0, use_profile=False, clearance_growth=float(growth)), None, None, None
@@ -81,9 +88,9 @@ def update_geometry(g0, settings: WearSettings, wb: np.ndarray, wj: np.ndarray, 
 #: The shares of the load level a bore cell that stands out by eps at a rate g eps (CycleWear.levelling_rate); an
 #: explicit update over dn cycles overshoots that when g dn is large, and a ripple of some degrees grows from block to
 #: block. A block's wear is therefore laid in sub-steps of at most LEVELLING_STEP / g cycles, re-sharing the same
-#: recorded loads over the bore as it wears (the dynamics changes slowly and is not re-run), at most MAX_SUBSTEPS.
+#: recorded loads over the bore as it wears (the dynamics changes slowly and is not re-run), at most
+#: WearSettings.profile_substeps of them.
 LEVELLING_STEP = 2.0
-MAX_SUBSTEPS = 16
 
 
 def lay_bearing(cw: CycleWear, wb: np.ndarray, wj: np.ndarray, dn: int, settings: WearSettings):
@@ -92,14 +99,14 @@ def lay_bearing(cw: CycleWear, wb: np.ndarray, wj: np.ndarray, dn: int, settings
     invisible to the shares and would otherwise grow from their grid-scale noise; the profile is the sum of the
     increments, so this smooths it once, not once per block, and conserves the worn area).
     Returns (new profile, Archard volume of the block)."""
-    m = int(min(MAX_SUBSTEPS, max(1, math.ceil(cw.levelling_rate * dn / LEVELLING_STEP))))
+    m = int(min(settings.profile_substeps, max(1, math.ceil(cw.levelling_rate * dn / LEVELLING_STEP))))
     wb = wb.copy()
     vol = 0.0
     for j in range(m):
         if j == 0:
             rate, vrate = cw.bearing, cw.volume_bearing
         else:
-            rate, vrate, _ = cw.share(smoothed_profiles(wb, wj, settings)[0])
+            rate, vrate, _ = cw.share(bore_profile(wb, settings))
         if settings.profile_smoothing_deg > 0.0:
             rate = np.maximum(smooth_periodic(rate, settings.profile_smoothing_deg), 0.0)
         wb += rate * (dn / m)

@@ -214,6 +214,20 @@ def gather_directions(theta_b, tilt, force, slip, dt, r_b, r_j, hsum, kH_b, widt
         bins[3, k] += dv * b * b / (2.0 * rstar)
 
 
+#: Cells per run of the bounded scans in share_load.
+SCAN_BLOCK = 16
+
+
+@njit(cache=True, inline="always")
+def run_max_cos(k: int, run: int, cs: np.ndarray, sn: np.ndarray, ux: float, uy: float) -> float:
+    """Largest u . u_i over the cells i = k .. k + run - 1 (unit vectors cs, sn; the run spans less than pi):
+    1 when u points into the run, else the nearer end's value."""
+    ke = k + run - 1
+    if cs[k] * uy - sn[k] * ux >= 0.0 and ux * sn[ke] - uy * cs[ke] >= 0.0:
+        return 1.0
+    return max(cs[k] * ux + sn[k] * uy, cs[ke] * ux + sn[ke] * uy)
+
+
 @njit(cache=True, nogil=True)
 def share_load(bins, c_bore, r_adm, r_b0, width, wear_b):
     """Archard wear of the bearing in profile mode, each step's load shared by the bore cells the journal touches.
@@ -250,6 +264,18 @@ def share_load(bins, c_bore, r_adm, r_b0, width, wear_b):
     for k in range(n):
         cs[k] = math.cos(k * delta)
         sn[k] = math.sin(k * delta)
+    # bounds over runs of SCAN_BLOCK cells let both scans skip runs that cannot hold the support point or an
+    # overlap; the cells visited, and their order, are those of a full scan, so the result is the same to the bit
+    nblk = (n + SCAN_BLOCK - 1) // SCAN_BLOCK
+    c_lo = np.empty(nblk)
+    r_hi = np.empty(nblk)
+    r_lo = np.empty(nblk)
+    for j in range(nblk):
+        k0 = j * SCAN_BLOCK
+        k1 = min(n, k0 + SCAN_BLOCK)
+        c_lo[j] = c_bore[k0:k1].min()
+        r_hi[j] = r_adm[k0:k1].max()
+        r_lo[j] = r_adm[k0:k1].min()
     w = np.empty(2 * q + 1)
     idx = np.empty(2 * q + 1, dtype=np.int64)
     proj = np.empty(2 * q + 1)
@@ -257,6 +283,7 @@ def share_load(bins, c_bore, r_adm, r_b0, width, wear_b):
     vol = 0.0
     r_max = r_adm.max()
     c_min = c_bore.min()
+    k_prev = -1
     for c in range(n):
         acc_v = bv[c]
         if not (acc_v > 0.0):
@@ -277,18 +304,41 @@ def share_load(bins, c_bore, r_adm, r_b0, width, wear_b):
             wd = min(q, int(math.acos(v_own / r_max) / delta) + 2)
         elif v_own >= r_max:
             wd = 2
+        # a value the max attains at least (the previous direction's vertex, if in the window): runs whose bound
+        # is below it are skipped; the first max in scan order is unchanged
+        floor_v = -1e300
+        if k_prev >= 0:
+            dd = k_prev - c
+            if dd > n // 2:
+                dd -= n
+            elif dd < -(n // 2):
+                dd += n
+            if -wd <= dd <= wd:
+                floor_v = r_adm[k_prev] * (cs[k_prev] * cm + sn[k_prev] * sm)
         kbest = c
         best = -1e300
-        for d in range(-wd, wd + 1):
+        d = -wd
+        while d <= wd:
             k = c + d
             if k < 0:
                 k += n
             elif k >= n:
                 k -= n
-            v = r_adm[k] * (cs[k] * cm + sn[k] * sm)
-            if v > best:
-                best = v
-                kbest = k
+            j = k // SCAN_BLOCK
+            run = min(wd - d + 1, min(n, (j + 1) * SCAN_BLOCK) - k)
+            mc = run_max_cos(k, run, cs, sn, cm, sm)
+            bound = r_hi[j] * mc if mc >= 0.0 else r_lo[j] * mc
+            if bound + 1e-12 * abs(bound) < max(best, floor_v):
+                d += run
+                continue
+            for _ in range(run):
+                v = r_adm[k] * (cs[k] * cm + sn[k] * sm)
+                if v > best:
+                    best = v
+                    kbest = k
+                k += 1
+            d += run
+        k_prev = kbest
         ex = r_adm[kbest] * cs[kbest] + dh * cm
         ey = r_adm[kbest] * sn[kbest] + dh * sm
         # o_k > 0 needs |e'| cos(theta_k - theta_e') > c_k >= min(c): only the cells near e''s direction (one
@@ -303,22 +353,33 @@ def share_load(bins, c_bore, r_adm, r_b0, width, wear_b):
             d_hi = min(q, int(math.ceil((off + half) / delta)) + 1)
         else:
             d_hi = d_lo - 1  # no cell overlaps
+        eux = ex / emag if emag > 0.0 else 1.0
+        euy = ey / emag if emag > 0.0 else 0.0
         m_ = 0
         wproj = 0.0
-        for d in range(d_lo, d_hi + 1):
+        d = d_lo
+        while d <= d_hi:
             k = kbest + d
             if k < 0:
                 k += n
             elif k >= n:
                 k -= n
-            a = cs[k] * cm + sn[k] * sm
-            o = ex * cs[k] + ey * sn[k] - c_bore[k]
-            if o > 0.0 and a > 0.1:  # only bore cells that face the contact normal can carry its load
-                idx[m_] = k
-                w[m_] = o
-                proj[m_] = a
-                wproj += o * a
-                m_ += 1
+            j = k // SCAN_BLOCK
+            run = min(d_hi - d + 1, min(n, (j + 1) * SCAN_BLOCK) - k)
+            if emag * run_max_cos(k, run, cs, sn, eux, euy) * (1.0 + 1e-12) < c_lo[j]:
+                d += run
+                continue
+            for _ in range(run):
+                a = cs[k] * cm + sn[k] * sm
+                o = ex * cs[k] + ey * sn[k] - c_bore[k]
+                if o > 0.0 and a > 0.1:  # only bore cells that face the contact normal can carry its load
+                    idx[m_] = k
+                    w[m_] = o
+                    proj[m_] = a
+                    wproj += o * a
+                    m_ += 1
+                k += 1
+            d += run
         if not (wproj > 0.0):  # nothing on the grid faces the normal: the normal's cell takes it
             wear_b[c] += acc_v / (width * r_b0 * delta)
             vol += acc_v
