@@ -21,9 +21,9 @@ Sections
 - profile_rig_convergence / profile_wing_convergence (only with --only): profile mode's max depth with each setting
   halved (grid spacing, smoothing, block, corner rounding), on the rig at 1e4/1e5 revolutions (beside the closed
   form of docs/verification.md) and on the flapping wing at 520k cycles.
-- profile_wing_blocks (only with --only, a few minutes): profile mode on the flapping wing to 1.5M cycles with
-  blocks of 40k, 20k and 10k cycles (two runs each): how the block size moves the max depth over the profile
-  preset's curve.
+- profile_wing_blocks (only with --only, a few minutes): profile mode on the flapping wing to 1.5M cycles, the
+  profile preset's settings against the block halved, the deposit's sub-step halved and quartered, and the former
+  16 sub-steps per block (two runs each): how they move the max depth over the profile preset's curve.
 - profile_study (only with --only, about 5-10 minutes; issue 14 item 5): `jointwear run` end to end in fresh
   processes for the uniform preset (jin2025_flapping_wing) and the profile one (jin2025_flapping_wing_profile),
   one after the other in the same benchmark run: wall times, their ratio (goal <= 2), model calls, R(N), the life
@@ -494,27 +494,33 @@ def bench_profile_rig_convergence(n_values=(10_000, 100_000)) -> dict:
     return out
 
 
-HALVED = ("baseline", "grid_halved", "smoothing_halved", "block_halved", "rounding_halved")
+HALVED = ("baseline", "grid_halved", "smoothing_halved", "block_halved", "rounding_halved", "substep_halved")
 
 
 def halved_settings_runs(model, s, n_cycles: int, record) -> dict:
     """Profile mode's convergence study: the wear history at settings ``s`` and with each of the angular grid
-    spacing, the running-in smoothing, the block size and the admissible set's corner rounding halved;
+    spacing, the running-in smoothing, the block size, the admissible set's corner rounding and the deposit's
+    sub-step (both its bounds: LEVELLING_STEP and profile_substep_cycles) halved;
     ``record(result) -> dict`` of each run, with the change of the max depth against the baseline."""
     import jointwear.wear.history as hist
 
     updates = {"baseline": {}, "grid_halved": {"n_grid": 2 * s.n_grid},
                "smoothing_halved": {"profile_smoothing_deg": s.profile_smoothing_deg / 2},
-               "block_halved": {"block_cycles": s.block_cycles // 2}, "rounding_halved": {}}
+               "block_halved": {"block_cycles": s.block_cycles // 2}, "rounding_halved": {},
+               "substep_halved": {"profile_substep_cycles": s.profile_substep_cycles / 2}}
     rounding0 = hist.PROFILE_ROUNDING
+    step0 = hist.LEVELLING_STEP
     out = {}
     for name in HALVED:
         try:
             if name == "rounding_halved":
                 hist.PROFILE_ROUNDING = rounding0 / 2
+            if name == "substep_halved":
+                hist.LEVELLING_STEP = step0 / 2
             out[name] = record(wear_history(model, s.model_copy(update=updates[name]), n_cycles))
         finally:
             hist.PROFILE_ROUNDING = rounding0
+            hist.LEVELLING_STEP = step0
     for name in HALVED[1:]:
         out[name]["change_of_max_depth"] = out[name]["max_depth_mm"] / out["baseline"]["max_depth_mm"] - 1
     return out
@@ -538,28 +544,40 @@ def bench_profile_wing_convergence(n_cycles: int = 520_000) -> dict:
 
 
 def bench_profile_wing_blocks(levels=(520_000, 900_000, 1_000_000, 1_300_000, 1_500_000), replicates: int = 2) -> dict:
-    """Profile mode on the flapping wing to 1.5M cycles (the range of preset jin2025_flapping_wing_profile) with
-    blocks of 40k, 20k and 10k cycles, `replicates` runs each (start phase +0.05 cycle): the max depth at `levels`
-    and the wall time; how the block size of a model call moves the life."""
+    """Profile mode on the flapping wing to 1.5M cycles (the range of preset jin2025_flapping_wing_profile),
+    `replicates` runs each (start phase +0.05 cycle): the preset's settings (20k blocks, sub-steps of at most
+    `profile_substep_cycles`), the block halved, the sub-step halved, a sub-step of a quarter (the reference) and
+    the former cap of 16 sub-steps per block (1,250-cycle sub-steps): the max depth at `levels` and the wall time;
+    how the block and the deposit's sub-step move the life."""
     cfg = load_config("jin2025_flapping_wing_profile")
     model = build_model(cfg)
     s = base_settings(cfg)
     settle0 = s.settle_cycles_initial if s.settle_cycles_initial is not None else cfg.simulation.settle_cycles
-    out = {"levels": list(levels)}
-    for block in (40_000, 20_000, 10_000):
+    sub = s.profile_substep_cycles
+    variants = {
+        "baseline": {},
+        "block_halved": {"block_cycles": s.block_cycles // 2},
+        "substep_halved": {"profile_substep_cycles": sub / 2},
+        "substep_quartered": {"profile_substep_cycles": sub / 4},
+        "former_16_per_block": {"profile_substep_cycles": s.block_cycles / 16},
+    }
+    out = {"levels": list(levels), "block_cycles": s.block_cycles, "profile_substep_cycles": sub}
+    for name, upd in variants.items():
         runs, walls = [], []
         for r in range(replicates):
-            v = s.model_copy(update={"block_cycles": block, "settle_cycles_initial": settle0 + 0.05 * r})
+            v = s.model_copy(update={**upd, "settle_cycles_initial": settle0 + 0.05 * r})
             res = wear_history(model, v, max(levels))
             runs.append([float(res.max_wear_at(n) * MM) for n in levels])
             walls.append(res.wall_seconds)
         mean = np.mean(runs, axis=0)
-        out[str(block)] = {"max_depth_mm_runs": runs, "max_depth_mm_mean": mean.tolist(), "wall_seconds_runs": walls}
-        print(block, mean.round(5).tolist(), file=sys.stderr)
-    for block in ("40000", "20000"):
-        finer = str(int(block) // 2)
-        out[block]["change_when_halved"] = (np.array(out[finer]["max_depth_mm_mean"])
-                                            / np.array(out[block]["max_depth_mm_mean"]) - 1).tolist()
+        out[name] = {"settings": upd, "max_depth_mm_runs": runs, "max_depth_mm_mean": mean.tolist(),
+                     "wall_seconds_runs": walls}
+        print(name, mean.round(5).tolist(), file=sys.stderr)
+    base = np.array(out["baseline"]["max_depth_mm_mean"])
+    for name in variants:
+        out[name]["change_vs_baseline"] = (np.array(out[name]["max_depth_mm_mean"]) / base - 1).tolist()
+    out["halved_changes_below_2pct"] = all(abs(x) < 0.02 for name in ("block_halved", "substep_halved")
+                                           for x in out[name]["change_vs_baseline"])
     return out
 
 

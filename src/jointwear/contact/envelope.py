@@ -63,6 +63,34 @@ def polygon_distance(r, px, py):
 
 
 @njit(cache=True)
+def polar_hull(c, px, py, hull):
+    """The cells whose half-planes e . u_k <= c_k bound the admissible set S (its edges), in angular order: the
+    vertices of the convex hull of the polar dual points p_k = u_k / c_k (written to px, py), found by a Graham scan
+    (the p_k come in angular order round the origin, which lies inside). Returns nh; hull[0 .. nh - 1] are the cells,
+    hull[nh] = hull[0]. The corner of S between edges hull[t] and hull[t + 1] supports S along every direction between
+    their normals."""
+    n = c.shape[0]
+    delta = TWO_PI / n
+    for k in range(n):
+        px[k] = math.cos(k * delta) / c[k]
+        py[k] = math.sin(k * delta) / c[k]
+    k0 = int(np.argmin(c))  # the p_k farthest from the origin: a hull vertex
+    m = 0
+    for j in range(n + 1):
+        k = (k0 + j) % n
+        while m >= 2:
+            a = hull[m - 2]
+            b = hull[m - 1]
+            cr = (px[b] - px[a]) * (py[k] - py[a]) - (py[b] - py[a]) * (px[k] - px[a])
+            if cr > 0.0:  # a left turn: b stays on the hull
+                break
+            m -= 1
+        hull[m] = k
+        m += 1
+    return m - 1  # hull[m - 1] is k0 again
+
+
+@njit(cache=True)
 def admissible_set(c, out_c, out_idx):
     """Radial function of the admissible journal-centre set S = {e : e . u_k <= c_k} at the grid angles,
     out_c[i] = min_k c_k / cos(theta_k - theta_i) over |theta_k - theta_i| < 90 deg (first order in clearance /
@@ -81,24 +109,8 @@ def admissible_set(c, out_c, out_idx):
     delta = TWO_PI / n
     px = np.empty(n)
     py = np.empty(n)
-    for k in range(n):
-        px[k] = math.cos(k * delta) / c[k]
-        py[k] = math.sin(k * delta) / c[k]
-    k0 = int(np.argmin(c))  # the p_k farthest from the origin: a hull vertex
     hull = np.empty(n + 1, dtype=np.int64)
-    m = 0
-    for j in range(n + 1):
-        k = (k0 + j) % n
-        while m >= 2:
-            a = hull[m - 2]
-            b = hull[m - 1]
-            cr = (px[b] - px[a]) * (py[k] - py[a]) - (py[b] - py[a]) * (px[k] - px[a])
-            if cr > 0.0:  # a left turn: b stays on the hull
-                break
-            m -= 1
-        hull[m] = k
-        m += 1
-    nh = m - 1  # hull[nh] is k0 again
+    nh = polar_hull(c, px, py, hull)
     # the supporting vertex of direction 0: a scan of the hull once, then a pointer that only moves forward
     j = 0
     best = -1e300

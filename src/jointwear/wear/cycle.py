@@ -12,12 +12,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from jointwear.contact.envelope import admissible_radius
+from jointwear.contact.envelope import admissible_set
 
 from .angles import circular_mean
 from .kernels import (
     accumulate_wear,
     gather_directions,
+    grid_directions,
     map_touch_angles,
     periodic_interp,
     share_load,
@@ -78,14 +79,21 @@ class ConformalShare:
     c0: float
     r_b0: float
     width: float
+    directions: tuple[np.ndarray, np.ndarray] = dataclasses.field(init=False, repr=False)
+
+    def __post_init__(self):
+        n = self.bins.shape[1]
+        self.directions = (np.empty(n), np.empty(n))
+        grid_directions(*self.directions)
 
     def __call__(self, bore: np.ndarray) -> tuple[np.ndarray, float, float]:
         """(bearing depth per cycle, Archard volume per cycle, levelling rate per cycle) on the bore profile."""
         c_bore = np.ascontiguousarray(self.c0 + bore, dtype=float)
         r_adm = np.empty_like(c_bore)
-        admissible_radius(c_bore, r_adm)
+        r_idx = np.empty(c_bore.shape[0], dtype=np.int64)
+        admissible_set(c_bore, r_adm, r_idx)
         out = np.zeros(c_bore.shape[0])
-        vol, g = share_load(self.bins, c_bore, r_adm, self.r_b0, self.width, out)
+        vol, g = share_load(self.bins, c_bore, r_adm, r_idx, *self.directions, self.r_b0, self.width, out)
         return out, vol, g
 
 

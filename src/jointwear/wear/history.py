@@ -87,10 +87,13 @@ def update_geometry(g0, settings: WearSettings, wb: np.ndarray, wj: np.ndarray, 
 
 #: The shares of the load level a bore cell that stands out by eps at a rate g eps (CycleWear.levelling_rate); an
 #: explicit update over dn cycles overshoots that when g dn is large, and a ripple of some degrees grows from block to
-#: block. A block's wear is therefore laid in sub-steps of at most LEVELLING_STEP / g cycles, re-sharing the same
-#: recorded loads over the bore as it wears (the dynamics changes slowly and is not re-run), at most
-#: WearSettings.profile_substeps of them.
+#: block. A block's wear is therefore laid in sub-steps that re-share the same recorded loads over the bore as it
+#: wears (the dynamics changes slowly and is not re-run): of LEVELLING_STEP / g cycles, up to MAX_LEVELLING_SUBSTEPS
+#: of them (this resolves a steady conformal load, the rig of docs/verification.md), and never longer than
+#: WearSettings.profile_substep_cycles (a rotating load levels faster than any affordable step; there the running-in
+#: smoothing keeps the sub-steps smooth and their length sets the accuracy).
 LEVELLING_STEP = 2.0
+MAX_LEVELLING_SUBSTEPS = 16
 
 
 def lay_bearing(cw: CycleWear, wb: np.ndarray, wj: np.ndarray, dn: int, settings: WearSettings):
@@ -99,7 +102,8 @@ def lay_bearing(cw: CycleWear, wb: np.ndarray, wj: np.ndarray, dn: int, settings
     invisible to the shares and would otherwise grow from their grid-scale noise; the profile is the sum of the
     increments, so this smooths it once, not once per block, and conserves the worn area).
     Returns (new profile, Archard volume of the block)."""
-    m = int(min(settings.profile_substeps, max(1, math.ceil(cw.levelling_rate * dn / LEVELLING_STEP))))
+    m = max(1, min(MAX_LEVELLING_SUBSTEPS, math.ceil(cw.levelling_rate * dn / LEVELLING_STEP)),
+            math.ceil(dn / settings.profile_substep_cycles))
     wb = wb.copy()
     vol = 0.0
     for j in range(m):

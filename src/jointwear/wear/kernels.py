@@ -15,10 +15,13 @@ Physics (paper Section 3 with the corrections of the user guide's baseline readi
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
 from numba import njit
+
+from jointwear.contact.envelope import polar_hull
 
 TWO_PI = 2.0 * math.pi
 
@@ -126,11 +129,13 @@ def accumulate_wear(
             b_max = b
         # Archard volume of the step on each body: (k/H) p ds * (2 b L) = (k/H) F ds.
         dvb = kH_b * f * ds
-        spread_patch(wear_b, theta_b[i], max(b / r_b0, min_half_angle), dvb / (width * r_b0), hertz)
+        if dvb != 0.0:  # 0 where the bearing's wear is laid elsewhere (profile mode's distributed deposit)
+            spread_patch(wear_b, theta_b[i], max(b / r_b0, min_half_angle), dvb / (width * r_b0), hertz)
         vol_b += dvb
         if track_journal:
             dvj = kH_j * f * ds
-            spread_patch(wear_j, theta_j[i], max(b / r_j0, min_half_angle), dvj / (width * r_j0), hertz)
+            if dvj != 0.0:
+                spread_patch(wear_j, theta_j[i], max(b / r_j0, min_half_angle), dvj / (width * r_j0), hertz)
             vol_j += dvj
         s_tot += ds
         k = int(math.floor((theta_b[i] % TWO_PI) / delta_b + 0.5)) % n_b
@@ -183,9 +188,17 @@ def smooth_periodic(profile: np.ndarray, sigma_deg: float) -> np.ndarray:
     if sigma_deg <= 0.0:
         return p.copy()
     n = p.shape[0]
+    return np.fft.irfft(np.fft.rfft(p) * gaussian_multiplier(n, float(sigma_deg)), n)
+
+
+@functools.lru_cache(maxsize=16)
+def gaussian_multiplier(n: int, sigma_deg: float) -> np.ndarray:
+    """The Fourier multiplier of smooth_periodic (read-only; cached: the deposit's sub-steps smooth thousands of
+    times per history)."""
     k = np.fft.rfftfreq(n, d=1.0 / n)  # cycles per revolution
-    sig = math.radians(sigma_deg)
-    return np.fft.irfft(np.fft.rfft(p) * np.exp(-0.5 * (k * sig) ** 2), n)
+    g = np.exp(-0.5 * (k * math.radians(sigma_deg)) ** 2)
+    g.flags.writeable = False
+    return g
 
 
 @njit(cache=True, nogil=True)
@@ -228,8 +241,41 @@ def run_max_cos(k: int, run: int, cs: np.ndarray, sn: np.ndarray, ux: float, uy:
     return max(cs[k] * ux + sn[k] * uy, cs[ke] * ux + sn[ke] * uy)
 
 
+@njit(cache=True, inline="always")
+def overlap_window(ex, ey, v1x, v1y, v2x, v2y, ref, delta, margin):
+    """Cells (offsets from the angle ref, `margin` cells wider) whose directions u satisfy (e - V) . u > 0 for both
+    points V = v1, v2: the intersection of two half circles. Returns (ok, lo, hi); not ok when e is too close to a
+    point for its direction to be trusted or the window crosses the far side."""
+    w1x = ex - v1x
+    w1y = ey - v1y
+    w2x = ex - v2x
+    w2y = ey - v2y
+    tiny = 1e-6 * math.sqrt(ex * ex + ey * ey)
+    if not (math.sqrt(w1x * w1x + w1y * w1y) > tiny and math.sqrt(w2x * w2x + w2y * w2y) > tiny):
+        return False, 0, 0
+    a1 = math.atan2(w1y, w1x)
+    dlt = math.atan2(w1x * w2y - w1y * w2x, w1x * w2x + w1y * w2y)  # angle from w1 to w2
+    half_arc = 0.5 * (math.pi - abs(dlt))
+    mid = (a1 + 0.5 * dlt - ref) % TWO_PI
+    if mid > math.pi:
+        mid -= TWO_PI
+    if abs(mid) + half_arc >= math.pi:
+        return False, 0, 0
+    return True, int(math.floor((mid - half_arc) / delta)) - margin, int(math.ceil((mid + half_arc) / delta)) + margin
+
+
+@njit(cache=True)
+def grid_directions(cs, sn):
+    """The unit vectors (cos, sin) of the cells of an (n,) angular grid, cells at 2 pi k / n (share_load's table)."""
+    n = cs.shape[0]
+    delta = TWO_PI / n
+    for k in range(n):
+        cs[k] = math.cos(k * delta)
+        sn[k] = math.sin(k * delta)
+
+
 @njit(cache=True, nogil=True)
-def share_load(bins, c_bore, r_adm, r_b0, width, wear_b):
+def share_load(bins, c_bore, r_adm, r_idx, cs, sn, r_b0, width, wear_b):
     """Archard wear of the bearing in profile mode, each step's load shared by the bore cells the journal touches.
 
     The contact of a worn bore is not a point: a journal resting in a pocket worn to its own shape touches the whole
@@ -259,11 +305,6 @@ def share_load(bins, c_bore, r_adm, r_b0, width, wear_b):
     bmx = bins[1]
     bmy = bins[2]
     bdh = bins[3]
-    cs = np.empty(n)
-    sn = np.empty(n)
-    for k in range(n):
-        cs[k] = math.cos(k * delta)
-        sn[k] = math.sin(k * delta)
     # bounds over runs of SCAN_BLOCK cells let both scans skip runs that cannot hold the support point or an
     # overlap; the cells visited, and their order, are those of a full scan, so the result is the same to the bit
     nblk = (n + SCAN_BLOCK - 1) // SCAN_BLOCK
@@ -276,6 +317,13 @@ def share_load(bins, c_bore, r_adm, r_b0, width, wear_b):
         c_lo[j] = c_bore[k0:k1].min()
         r_hi[j] = r_adm[k0:k1].max()
         r_lo[j] = r_adm[k0:k1].min()
+    px = np.empty(n)
+    py = np.empty(n)
+    hull = np.empty(n + 1, dtype=np.int64)
+    nh = polar_hull(c_bore, px, py, hull)
+    hull_pos = np.full(n, -1, dtype=np.int64)
+    for t in range(nh):
+        hull_pos[hull[t]] = t
     w = np.empty(2 * q + 1)
     idx = np.empty(2 * q + 1, dtype=np.int64)
     proj = np.empty(2 * q + 1)
@@ -307,6 +355,7 @@ def share_load(bins, c_bore, r_adm, r_b0, width, wear_b):
         # a value the max attains at least (the previous direction's vertex, if in the window): runs whose bound
         # is below it are skipped; the first max in scan order is unchanged
         floor_v = -1e300
+        dd = 0
         if k_prev >= 0:
             dd = k_prev - c
             if dd > n // 2:
@@ -315,17 +364,37 @@ def share_load(bins, c_bore, r_adm, r_b0, width, wear_b):
                 dd += n
             if -wd <= dd <= wd:
                 floor_v = r_adm[k_prev] * (cs[k_prev] * cm + sn[k_prev] * sm)
+                if floor_v > v_own and floor_v > 0.0:  # the window of the cells that can reach it
+                    wd = min(wd, int(math.acos(min(1.0, floor_v / r_max)) / delta) + 2)
+        # S is convex, so m . V_k is unimodal along its boundary: the cells that reach floor_v (less a margin far
+        # above rounding) are a contiguous run about the previous vertex, found by walking out of it
+        d_first = -wd
+        d_last = wd
+        if floor_v > -1e300 and -wd <= dd <= wd:
+            thr = floor_v - 1e-12 * r_max
+            d_first = dd
+            while d_first > -wd:
+                k = (c + d_first - 1) % n
+                if r_adm[k] * (cs[k] * cm + sn[k] * sm) < thr:
+                    break
+                d_first -= 1
+            d_last = dd
+            while d_last < wd:
+                k = (c + d_last + 1) % n
+                if r_adm[k] * (cs[k] * cm + sn[k] * sm) < thr:
+                    break
+                d_last += 1
         kbest = c
         best = -1e300
-        d = -wd
-        while d <= wd:
+        d = d_first
+        while d <= d_last:
             k = c + d
             if k < 0:
                 k += n
             elif k >= n:
                 k -= n
             j = k // SCAN_BLOCK
-            run = min(wd - d + 1, min(n, (j + 1) * SCAN_BLOCK) - k)
+            run = min(d_last - d + 1, min(n, (j + 1) * SCAN_BLOCK) - k)
             mc = run_max_cos(k, run, cs, sn, cm, sm)
             bound = r_hi[j] * mc if mc >= 0.0 else r_lo[j] * mc
             if bound + 1e-12 * abs(bound) < max(best, floor_v):
@@ -341,18 +410,44 @@ def share_load(bins, c_bore, r_adm, r_b0, width, wear_b):
         k_prev = kbest
         ex = r_adm[kbest] * cs[kbest] + dh * cm
         ey = r_adm[kbest] * sn[kbest] + dh * sm
-        # o_k > 0 needs |e'| cos(theta_k - theta_e') > c_k >= min(c): only the cells near e''s direction (one
-        # cell of margin) are visited, in the same order, so the shares and their sums are unchanged
+        # which cells can overlap the journal: each window below holds all of them (the cells visited, and their
+        # order, are those of the half circle about the support point, so the shares and their sums are unchanged);
+        # the narrowest one that applies is used. Points V of the admissible set have V . u_k <= c_k, so o_k > 0
+        # needs (e' - V) . u_k > 0: u_k within a half circle about e' - V. First V = the corners of the set's edge
+        # the support point lies on (a narrow window about that edge's normal), else its grid neighbours, else
+        # |e'| cos(theta_k - theta_e') > c_k >= min(c)
         emag = math.sqrt(ex * ex + ey * ey)
         d_lo = -q
         d_hi = q
-        if emag > c_min:
-            half = math.acos(c_min / emag)
-            off = math.atan2(ey * cs[kbest] - ex * sn[kbest], ex * cs[kbest] + ey * sn[kbest])
-            d_lo = max(-q, int(math.floor((off - half) / delta)) - 1)
-            d_hi = min(q, int(math.ceil((off + half) / delta)) + 1)
-        else:
+        if not (emag > c_min):
             d_hi = d_lo - 1  # no cell overlaps
+        else:
+            ok = False
+            a = r_idx[kbest]
+            t = hull_pos[a]
+            if t >= 0 and nh >= 3:
+                ap = hull[t - 1] if t > 0 else hull[nh - 1]
+                an = hull[t + 1]
+                det_p = cs[ap] * sn[a] - sn[ap] * cs[a]
+                det_n = cs[a] * sn[an] - sn[a] * cs[an]
+                if det_p > 1e-12 and det_n > 1e-12:
+                    x1 = (c_bore[ap] * sn[a] - c_bore[a] * sn[ap]) / det_p
+                    y1 = (cs[ap] * c_bore[a] - cs[a] * c_bore[ap]) / det_p
+                    x2 = (c_bore[a] * sn[an] - c_bore[an] * sn[a]) / det_n
+                    y2 = (cs[a] * c_bore[an] - cs[an] * c_bore[a]) / det_n
+                    ok, lo, hi = overlap_window(ex, ey, x1, y1, x2, y2, kbest * delta, delta, 2)
+            if not ok:
+                kp = kbest + 1 if kbest + 1 < n else 0
+                km = kbest - 1 if kbest > 0 else n - 1
+                ok, lo, hi = overlap_window(ex, ey, r_adm[kp] * cs[kp], r_adm[kp] * sn[kp], r_adm[km] * cs[km],
+                                            r_adm[km] * sn[km], kbest * delta, delta, 1)
+            if not ok:
+                half = math.acos(c_min / emag)
+                off = math.atan2(ey * cs[kbest] - ex * sn[kbest], ex * cs[kbest] + ey * sn[kbest])
+                lo = int(math.floor((off - half) / delta)) - 1
+                hi = int(math.ceil((off + half) / delta)) + 1
+            d_lo = max(d_lo, lo)
+            d_hi = min(d_hi, hi)
         eux = ex / emag if emag > 0.0 else 1.0
         euy = ey / emag if emag > 0.0 else 0.0
         m_ = 0

@@ -71,18 +71,20 @@ class WearSettings(SIModel):
             "point contacts on the grid, a spiky profile."
         ),
     )
-    profile_substeps: int = Field(
-        64,
-        ge=1,
-        le=4096,
+    profile_substep_cycles: float = Field(
+        300.0,
+        gt=0.0,
         description=(
-            "Profile mode, distributed deposit only: most sub-steps in which a block's bearing wear is laid, each "
-            "re-sharing the block's recorded loads over the bore as it wears (the shares level the bore at a rate g "
-            "per cycle; a block takes min(this, ceil(g x block / 2)) sub-steps). The sub-step, not the block, sets "
-            "the accuracy of the laid profile: on the flapping wing 16 sub-steps of a 20,000-cycle block left the "
-            "max depth 4 % low past 900k cycles; with 64, halving the sub-step or the block changes it by < 2 % "
-            "(docs/wear.md 'Profile mode on the flapping wing: block size over a whole curve'). Each sub-step costs "
-            "one sharing (about 0.5-0.7 ms on a 720-cell grid)."
+            "Profile mode, distributed deposit only: most cycles per sub-step in which a block's bearing wear is laid; "
+            "each sub-step re-shares the block's recorded loads over the bore as it wears. A block of n cycles takes "
+            "max(min(ceil(g n / 2), 16), ceil(n / this)) sub-steps, g the levelling rate of the shares (1/cycle): "
+            "the first term resolves a steady conformal load (the rig of docs/verification.md), the second bounds "
+            "the sub-step where the levelling is faster than any affordable step (a rotating load). There the "
+            "sub-step, not the block, sets how accurately the profile is laid: on the flapping wing 1,250-cycle "
+            "sub-steps left the max depth 3-4 % low past 900k cycles; at 300, halving it or the block changes it by "
+            "< 2 % (docs/wear.md 'Profile mode on the flapping wing: block size over a whole curve'). Each sub-step "
+            "costs one sharing (about 0.3-0.5 ms "
+            "on a 720-cell grid)."
         ),
     )
     uniform_growth: Literal["max_sum", "bearing_max"] = Field(
