@@ -8,6 +8,8 @@ from wear_synthetic import FakeModel, fake_simulate
 
 from jointwear.wear import WearSettings, wear_history
 from jointwear.wear.angles import body_angle_from_report, report_angle_deg
+from jointwear.wear.cycle import CycleWear
+from jointwear.wear.history import lay_bearing
 from jointwear.wear.results import conservation_error, find_peaks_periodic
 
 CONS_TOL = 1e-6  # issue 3 acceptance: worn area x width = Archard volume, rel. error < 1e-6
@@ -138,3 +140,36 @@ def test_peaks_periodic():
     # a peak straddling 0 / 360 is found once
     q = np.roll(p, -10)
     assert len(find_peaks_periodic(q, 0.05)) == 2
+
+
+@pytest.mark.parametrize(
+    ("g", "dn", "sub", "expected"),
+    [
+        (0.01, 250, 300.0, 2),  # slow levelling: 2 / g = 200 cycles per sub-step
+        (0.1, 250, 300.0, 13),  # a steady conformal load (the rig): ceil(g dn / 2)
+        (5.0, 250, 300.0, 16),  # ... at most MAX_LEVELLING_SUBSTEPS of them
+        (5.0, 20_000, 300.0, 67),  # a rotating load: sub-steps of at most 300 cycles
+        (5.0, 20_000, 150.0, 134),
+    ],
+)
+def test_deposit_substeps(g, dn, sub, expected):
+    """lay_bearing's sub-steps: max(min(ceil(g dn / 2), 16), ceil(dn / profile_substep_cycles)) (the rule its
+    docstring and WearSettings.profile_substep_cycles state), each re-sharing the loads on the bore laid so far."""
+    n = 72
+    calls = []
+
+    def share(bore):
+        calls.append(bore.copy())
+        return np.full(n, 1e-9), 1e-12, g
+
+    cw = CycleWear(np.full(n, 1e-9), np.zeros(n), 1e-12, 0.0, 0.0, np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n),
+                   0.0, 0.0, levelling_rate=g, share=share)
+    settings = WearSettings(geometry_mode="profile", profile_substep_cycles=sub, n_grid=n)
+    wb, vol = lay_bearing(cw, np.zeros(n), np.zeros(n), dn, settings)
+    assert len(calls) == expected - 1  # the first sub-step uses the block's own sharing
+    # a uniform rate stays uniform under the smoothing: the block lays rate x dn, and its volume
+    np.testing.assert_allclose(wb, 1e-9 * dn, rtol=1e-12)
+    assert vol == pytest.approx(1e-12 * dn, rel=1e-12)
+    # each sub-step sees the bore laid so far
+    np.testing.assert_allclose([c.max() for c in calls], [1e-9 * dn * (j + 1) / expected for j in range(expected - 1)],
+                               rtol=1e-9)
