@@ -81,9 +81,9 @@ class WearSettings(SIModel):
             "the first term resolves a steady conformal load (the rig of docs/verification.md), the second bounds "
             "the sub-step where the levelling is faster than any affordable step (a rotating load). There the "
             "sub-step, not the block, sets how accurately the profile is laid: on the flapping wing 1,250-cycle "
-            "sub-steps left the max depth 3-4 % low past 900k cycles; at 300, halving it or the block changes it by "
-            "< 2 % (docs/wear.md 'Profile mode on the flapping wing: block size over a whole curve'). Each sub-step "
-            "costs one sharing (about 0.3-0.5 ms "
+            "sub-steps left the max depth 2-4 % low; at 300, halving it or the block changes it by "
+            "< 1 % (docs/wear.md 'Profile mode on the flapping wing: block size and the deposit's sub-step'). Each sub-step "
+            "costs one sharing (about 0.25 ms "
             "on a 720-cell grid)."
         ),
     )
