@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from jointwear.contact.geometry import ClearanceGeometry
+from jointwear.mechanism.kernel import profile_at
 from jointwear.mechanism.model import MechanismModel
 from jointwear.mechanism.results import SimulationState
 
@@ -56,8 +57,8 @@ def initial_state(model: MechanismModel, t0: float = 0.0, preload: bool = True,
                 rb, rj = g.bearing_radius + g.clearance_growth / 2, g.journal_radius - g.clearance_growth / 2
                 if g.use_profile:
                     ang = np.arctan2(n[1], n[0])
-                    hb = _interp_periodic_py(g.bearing_wear, ang - phib)
-                    hj = _interp_periodic_py(g.journal_wear, ang - body_angle(cj.journal_body))
+                    hb = profile_value(g.bearing_wear, ang - phib)
+                    hj = profile_value(g.journal_wear, ang - body_angle(cj.journal_body))
                     clear += hb + hj
                     rb, rj = rb + hb, rj - hj
                 kst = 4.0 / (3.0 * spec.hsum) * np.sqrt(rb * rj / (rb - rj))
@@ -85,10 +86,8 @@ def initial_state(model: MechanismModel, t0: float = 0.0, preload: bool = True,
     return SimulationState(t0, np.concatenate([q, qd]), cstate, 0.0)
 
 
-def _interp_periodic_py(prof: np.ndarray, ang: float) -> float:
-    n = prof.size
-    x = (ang / TWO_PI) % 1.0 * n
-    i0 = int(x) % n
-    fr = x - int(x)
-    return float(prof[i0] * (1 - fr) + prof[(i0 + 1) % n] * fr)
-
+def profile_value(prof: np.ndarray, ang: float) -> float:
+    """A worn profile at angle ``ang`` as the dynamics reads it (kernel.profile_at: periodic Catmull-Rom), so that the
+    preload places the journal where the kernel finds it in contact."""
+    p = np.ascontiguousarray(prof, dtype=float).reshape(1, 1, -1)
+    return float(profile_at(p, 0, 0, p.shape[2], float(ang))[0])
