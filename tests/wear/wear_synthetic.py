@@ -1,50 +1,22 @@
-"""Synthetic ContactTrace-like data and a fake dynamics for unit tests of the wear stage (duck typing)."""
+"""Synthetic ContactTrace data and a fake dynamics for unit tests of the wear stage."""
 
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
-from jointwear.config import ClearanceJointConfig, SimulationConfig, load_config
+from jointwear.config import SimulationConfig, load_config
+from jointwear.contact.geometry import ClearanceGeometry
+from jointwear.mechanism.results import ContactTrace
 
 # Flapping-wing joint A (paper Tables 2 and 4 as the preset reads them: radii, width, materials).
 JOINT = load_config("jin2025_flapping_wing").clearance_joints[0]
 PERIOD = 0.125  # s, 480 rpm
 
 
-@dataclass
-class FakeGeometry:
-    bearing_radius: float = 1.002e-3
-    journal_radius: float = 1.0e-3
-    clearance_growth: float = 0.0
-    bearing_wear: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    journal_wear: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    use_profile: bool = False
-
-
-@dataclass
-class FakeTrace:
-    t: np.ndarray
-    dt_weight: np.ndarray
-    theta_bearing: np.ndarray
-    theta_journal: np.ndarray
-    force_normal: np.ndarray
-    force_tangential: np.ndarray
-    slip_speed: np.ndarray
-    penetration: np.ndarray
-    in_contact: np.ndarray
-    bearing_body_angle: np.ndarray
-    eccentricity_global: np.ndarray | None = None  # (m, 2): journal centre from the bearing centre, global frame
-    normal_tilt: np.ndarray | None = None
-    bearing_radius: float = 1.002e-3
-    journal_radius: float = 1.0e-3
-    clearance_used: float = 2e-6
-    joint: ClearanceJointConfig = JOINT
-
-
-def make_trace(n_cycles=2, steps_per_cycle=3000, f0=0.05, rate_scale=1.0, seed=0, **over) -> FakeTrace:
+def make_trace(n_cycles=2, steps_per_cycle=3000, f0=0.05, rate_scale=1.0, seed=0, **over) -> ContactTrace:
     """A rod-like joint: the normal flips between two near-opposite directions of the bearing frame (a two-force
     member), with a force that varies over the cycle, and the journal turning once per cycle against the rod."""
     rng = np.random.default_rng(seed)
@@ -63,9 +35,11 @@ def make_trace(n_cycles=2, steps_per_cycle=3000, f0=0.05, rate_scale=1.0, seed=0
     pen = np.where(inc, 1e-8, 0.0)
     psi = -0.3 + 0.05 * np.sin(ph)
     ecc = (2e-6 + pen)[:, None] * np.column_stack([np.cos(th_b + psi), np.sin(th_b + psi)])
-    tr = FakeTrace(t=t, dt_weight=dt, theta_bearing=th_b, theta_journal=th_j, force_normal=F,
-                   force_tangential=0.1 * F, slip_speed=slip, penetration=pen, in_contact=inc,
-                   bearing_body_angle=psi, eccentricity_global=ecc, normal_tilt=np.zeros(m))
+    tr = ContactTrace(name="A", bearing_body="rod", journal_body="crank", t=t, dt_weight=dt, theta_bearing=th_b,
+                      theta_journal=th_j, force_normal=F, force_tangential=0.1 * F, slip_speed=slip, penetration=pen,
+                      penetration_rate=np.zeros(m), in_contact=inc, eccentricity_global=ecc, bearing_body_angle=psi,
+                      journal_body_angle=psi - th_j + th_b, stiffness=np.full(m, 1e10), normal_tilt=np.zeros(m),
+                      bearing_radius=1.002e-3, journal_radius=1.0e-3, clearance_used=2e-6, joint=JOINT)
     return dataclasses.replace(tr, **over)
 
 
@@ -90,7 +64,7 @@ class FakeModel:
         self.calls = []
 
     def initial_geometry(self):
-        return [FakeGeometry() for _ in range(self.n_joints)]
+        return [ClearanceGeometry(1.002e-3, 1.0e-3) for _ in range(self.n_joints)]
 
 
 def fake_simulate(model, n_cycles, geometry=None, settle_cycles=None, rtol=None, atol=None, state0=None):
