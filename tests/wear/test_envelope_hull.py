@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from jointwear.contact.envelope import admissible_set
+from jointwear.contact.envelope import admissible_radius, admissible_set, rounded_envelope
 
 TWO_PI = 2.0 * math.pi
 
@@ -54,3 +54,32 @@ def test_admissible_set_is_the_minimum_over_the_half_circle(n):
         # rounding the other may be picked, with a value equal to a few ulps
         np.testing.assert_allclose(out, ref, rtol=4e-16, atol=0)
         assert np.mean(idx == ref_idx) > 0.99
+
+
+def polygon_distance_brute(r, px, py):
+    """Distance from (px, py) to the polygon through r[j] (cos, sin)(2 pi j / n), over every edge."""
+    n = r.size
+    th = TWO_PI * np.arange(n) / n
+    ax, ay = r * np.cos(th), r * np.sin(th)
+    bx, by = np.roll(ax, -1) - ax, np.roll(ay, -1) - ay
+    u = np.clip(((px - ax) * bx + (py - ay) * by) / (bx * bx + by * by), 0.0, 1.0)
+    return float(np.min(np.hypot(px - ax - u * bx, py - ay - u * by)))
+
+
+@pytest.mark.parametrize("n", [180, 720])
+def test_rounded_envelope_keeps_rho_from_the_eroded_set(n):
+    """rounded_envelope's t_i: the point t_i u_i lies at distance rho from S_rho (the admissible set of c - rho),
+    to the 1e-6 rho its false position stops at; a round bore is unchanged."""
+    for c in bores(n):
+        rho = 0.2 * c.min()
+        out = np.empty(n)
+        rounded_envelope(c, rho, out)
+        r_in = np.empty(n)
+        admissible_radius(c - rho, r_in)
+        th = TWO_PI * np.arange(n) / n
+        dist = np.array([polygon_distance_brute(r_in, t * math.cos(a), t * math.sin(a)) for t, a in zip(out, th)])
+        # the walk's answer against every edge; 1e-6 rho is the stopping tolerance, doubled for the last
+        # false-position step
+        np.testing.assert_allclose(dist, rho, rtol=0, atol=2e-6 * rho)
+        if np.ptp(c) == 0.0:
+            np.testing.assert_allclose(out, c, rtol=1e-12)

@@ -22,17 +22,31 @@ TWO_PI = 2.0 * math.pi
 
 
 @njit(cache=True)
-def _edge_distance(r, i, px, py):
-    """Distance from (px, py) to edge i of the polygon through r[j] (cos, sin)(2 pi j / n)."""
-    n = r.shape[0]
+def edge_table(n):
+    """cos and sin of the ends of the polygon edges i = -n .. 2n - 1 of an n-cell grid (rows: cos a, sin a,
+    cos(a + d), sin(a + d) with a = i d, d = 2 pi / n, column i + n), computed once per polygon instead of per
+    distance evaluation."""
     d = TWO_PI / n
-    a0 = i * d
+    tab = np.empty((4, 3 * n))
+    for c in range(3 * n):
+        a0 = (c - n) * d
+        tab[0, c] = math.cos(a0)
+        tab[1, c] = math.sin(a0)
+        tab[2, c] = math.cos(a0 + d)
+        tab[3, c] = math.sin(a0 + d)
+    return tab
+
+
+@njit(cache=True)
+def _edge_distance(r, tab, i, px, py):
+    """Distance from (px, py) to edge i of the polygon through r[j] (cos, sin)(2 pi j / n) (tab: edge_table(n))."""
+    n = r.shape[0]
     j0 = i % n
     j1 = (i + 1) % n
-    ax = r[j0] * math.cos(a0)
-    ay = r[j0] * math.sin(a0)
-    bx = r[j1] * math.cos(a0 + d) - ax
-    by = r[j1] * math.sin(a0 + d) - ay
+    ax = r[j0] * tab[0, i + n]
+    ay = r[j0] * tab[1, i + n]
+    bx = r[j1] * tab[2, i + n] - ax
+    by = r[j1] * tab[3, i + n] - ay
     qx = px - ax
     qy = py - ay
     u = (qx * bx + qy * by) / (bx * bx + by * by)
@@ -43,17 +57,17 @@ def _edge_distance(r, i, px, py):
 
 
 @njit(cache=True)
-def polygon_distance(r, px, py):
+def polygon_distance(r, tab, px, py):
     """Distance from an outside point to the convex polygon through r[j] u_j (walks from the point's own edge while
-    the distance decreases: along the visible chain of a convex polygon it is unimodal)."""
+    the distance decreases: along the visible chain of a convex polygon it is unimodal). tab: edge_table(n)."""
     n = r.shape[0]
     ang = math.atan2(py, px) % TWO_PI
     i0 = int(ang / (TWO_PI / n)) % n
-    best = _edge_distance(r, i0, px, py)
+    best = _edge_distance(r, tab, i0, px, py)
     for step in (1, -1):
         i = i0
         for _ in range(n // 2):
-            d = _edge_distance(r, i + step, px, py)
+            d = _edge_distance(r, tab, i + step, px, py)
             if d < best:
                 best = d
                 i += step
@@ -161,13 +175,14 @@ def rounded_envelope(c, rho, out):
     n = c.shape[0]
     r_in = np.empty(n)
     admissible_radius(c - rho, r_in)
+    tab = edge_table(n)
     delta = TWO_PI / n
     tol = 1e-6 * rho
     for i in range(n):
         cx = math.cos(i * delta)
         sy = math.sin(i * delta)
         t = r_in[i] + rho
-        f = polygon_distance(r_in, t * cx, t * sy) - rho
+        f = polygon_distance(r_in, tab, t * cx, t * sy) - rho
         if abs(f) <= tol:
             out[i] = t
             continue
@@ -176,12 +191,12 @@ def rounded_envelope(c, rho, out):
         while fhi < 0.0:
             lo, flo = hi, fhi
             hi = hi + rho
-            fhi = polygon_distance(r_in, hi * cx, hi * sy) - rho
+            fhi = polygon_distance(r_in, tab, hi * cx, hi * sy) - rho
         side = 0
         mid = hi
         for _ in range(100):
             mid = (lo * fhi - hi * flo) / (fhi - flo)
-            fm = polygon_distance(r_in, mid * cx, mid * sy) - rho
+            fm = polygon_distance(r_in, tab, mid * cx, mid * sy) - rho
             if abs(fm) <= tol or hi - lo <= tol:
                 break
             if fm < 0.0:
