@@ -12,7 +12,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from jointwear.contact.envelope import admissible_set
 
 from .angles import circular_mean
 from .kernels import (
@@ -89,11 +88,8 @@ class ConformalShare:
     def __call__(self, bore: np.ndarray) -> tuple[np.ndarray, float, float]:
         """(bearing depth per cycle, Archard volume per cycle, levelling rate per cycle) on the bore profile."""
         c_bore = np.ascontiguousarray(self.c0 + bore, dtype=float)
-        r_adm = np.empty_like(c_bore)
-        r_idx = np.empty(c_bore.shape[0], dtype=np.int64)
-        admissible_set(c_bore, r_adm, r_idx)
         out = np.zeros(c_bore.shape[0])
-        vol, g = share_load(self.bins, c_bore, r_adm, r_idx, *self.directions, self.r_b0, self.width, out)
+        vol, g = share_load(self.bins, c_bore, *self.directions, self.r_b0, self.width, out)
         return out, vol, g
 
 

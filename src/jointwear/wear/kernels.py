@@ -227,18 +227,11 @@ def gather_directions(theta_b, tilt, force, slip, dt, r_b, r_j, hsum, kH_b, widt
         bins[3, k] += dv * b * b / (2.0 * rstar)
 
 
-#: Cells per run of the bounded scans in share_load.
-SCAN_BLOCK = 16
-
-
 @njit(cache=True, inline="always")
-def run_max_cos(k: int, run: int, cs: np.ndarray, sn: np.ndarray, ux: float, uy: float) -> float:
-    """Largest u . u_i over the cells i = k .. k + run - 1 (unit vectors cs, sn; the run spans less than pi):
-    1 when u points into the run, else the nearer end's value."""
-    ke = k + run - 1
-    if cs[k] * uy - sn[k] * ux >= 0.0 and ux * sn[ke] - uy * cs[ke] >= 0.0:
-        return 1.0
-    return max(cs[k] * ux + sn[k] * uy, cs[ke] * ux + sn[ke] * uy)
+def edge_corner(c, cs, sn, a, b):
+    """The corner where the edges e . u_a = c_a and e . u_b = c_b of the admissible set meet."""
+    det = cs[a] * sn[b] - sn[a] * cs[b]
+    return (c[a] * sn[b] - c[b] * sn[a]) / det, (cs[a] * c[b] - cs[b] * c[a]) / det
 
 
 @njit(cache=True, inline="always")
@@ -275,21 +268,24 @@ def grid_directions(cs, sn):
 
 
 @njit(cache=True, nogil=True)
-def share_load(bins, c_bore, r_adm, r_idx, cs, sn, r_b0, width, wear_b):
+def share_load(bins, c_bore, cs, sn, r_b0, width, wear_b):
     """Archard wear of the bearing in profile mode, each step's load shared by the bore cells the journal touches.
 
     The contact of a worn bore is not a point: a journal resting in a pocket worn to its own shape touches the whole
     worn arc. The normal force is shared over the cells k of the bore c_bore (c0 + contact profile, (n,), cells at
-    2 pi k / n) in proportion to the rigid overlap of the journal with them (an elastic foundation, Johnson, Contact
-    Mechanics, Sec. 5.8), w_k = max(e'.u_k - c_k, 0) over the cells facing the contact normal m (angle theta_b +
-    tilt). e' is the rigid journal's position: the point of the admissible set of journal centres farthest along m
-    (r_adm is the set's radial function, contact.envelope.admissible_radius of c_bore), pressed in by
-    delta_H = b^2 / (2 R*) along m, the overlap at which a foundation reproduces Johnson's half-width b on a round
-    bore. (The dynamics' penetration is a Hertzian approach on a bore with rounded corners; only its force
-    direction is used.) On a round bore the load spreads over |s| <= b (a parabolic pressure); in a pocket worn to
-    the journal's shape w_k ~ cos(theta_k - theta_m) over the whole worn arc, the pressure of a conformal journal
-    bearing. The shares N_k = F w_k / sum_j w_j (u_j . m) balance the force F along m; the Archard volume is
-    (k/H) sum_k N_k ds >= (k/H) F ds.
+    2 pi k / n, unit vectors cs, sn: grid_directions) in proportion to the rigid overlap of the journal with them (an
+    elastic foundation, Johnson, Contact Mechanics, Sec. 5.8), w_k = max(e'.u_k - c_k, 0) over the cells facing the
+    contact normal m (angle theta_b + tilt; u_k . m > 0.1). e' is the rigid journal's position: the point of the
+    admissible set S = {e : e . u_k <= c_k} farthest along m, pressed in by delta_H = b^2 / (2 R*) along m, the
+    overlap at which a foundation reproduces Johnson's half-width b on a round bore. That point is the corner of S
+    between the two edges whose normals bracket m (contact.envelope.polar_hull), found exactly: in a pocket worn to
+    the journal's shape all the pocket's edges meet near one corner, and a point of S sampled on the grid rays would
+    miss it by far more than delta_H, making the shares depend on the grid. (The dynamics' penetration is a
+    Hertzian approach on a bore with rounded corners; only its force direction is used.) On a round bore the load
+    spreads over |s| <= b (a parabolic pressure); in a pocket worn to the journal's shape w_k ~ cos(theta_k -
+    theta_m) over the whole worn arc, the pressure of a conformal journal bearing. The shares
+    N_k = F w_k / sum_j w_j (u_j . m) balance the force F along m; the Archard volume is (k/H) sum_k N_k ds >=
+    (k/H) F ds.
 
     The steps come gathered by the grid cell of m (gather_directions: their Archard-weighted mean direction and
     delta_H), and each cell's total is shared once: the sharing is smooth in m within a cell.
@@ -305,33 +301,16 @@ def share_load(bins, c_bore, r_adm, r_idx, cs, sn, r_b0, width, wear_b):
     bmx = bins[1]
     bmy = bins[2]
     bdh = bins[3]
-    # bounds over runs of SCAN_BLOCK cells let both scans skip runs that cannot hold the support point or an
-    # overlap; the cells visited, and their order, are those of a full scan, so the result is the same to the bit
-    nblk = (n + SCAN_BLOCK - 1) // SCAN_BLOCK
-    c_lo = np.empty(nblk)
-    r_hi = np.empty(nblk)
-    r_lo = np.empty(nblk)
-    for j in range(nblk):
-        k0 = j * SCAN_BLOCK
-        k1 = min(n, k0 + SCAN_BLOCK)
-        c_lo[j] = c_bore[k0:k1].min()
-        r_hi[j] = r_adm[k0:k1].max()
-        r_lo[j] = r_adm[k0:k1].min()
     px = np.empty(n)
     py = np.empty(n)
     hull = np.empty(n + 1, dtype=np.int64)
     nh = polar_hull(c_bore, px, py, hull)
-    hull_pos = np.full(n, -1, dtype=np.int64)
-    for t in range(nh):
-        hull_pos[hull[t]] = t
     w = np.empty(2 * q + 1)
     idx = np.empty(2 * q + 1, dtype=np.int64)
-    proj = np.empty(2 * q + 1)
     gcell = np.zeros(n)
     vol = 0.0
-    r_max = r_adm.max()
     c_min = c_bore.min()
-    k_prev = -1
+    t = -1
     for c in range(n):
         acc_v = bv[c]
         if not (acc_v > 0.0):
@@ -342,139 +321,60 @@ def share_load(bins, c_bore, r_adm, r_idx, cs, sn, r_b0, width, wear_b):
         cm /= nm
         sm /= nm
         dh = bdh[c] / acc_v
-        # the support point of the admissible set along m (the farthest vertex; a full scan: near a conformal
-        # corner m . V_k is flat to rounding and a local climb can stop short). Only cells with
-        # r_max cos(theta_k - theta_m) >= the value at m's own cell can attain the max: the scan is limited to
-        # them (one cell of margin for m's offset within its cell), which finds the same vertex.
-        v_own = r_adm[c] * (cs[c] * cm + sn[c] * sm)
-        wd = q
-        if v_own > 0.0 and v_own < r_max:
-            wd = min(q, int(math.acos(v_own / r_max) / delta) + 2)
-        elif v_own >= r_max:
-            wd = 2
-        # a value the max attains at least (the previous direction's vertex, if in the window): runs whose bound
-        # is below it are skipped; the first max in scan order is unchanged
-        floor_v = -1e300
-        dd = 0
-        if k_prev >= 0:
-            dd = k_prev - c
-            if dd > n // 2:
-                dd -= n
-            elif dd < -(n // 2):
-                dd += n
-            if -wd <= dd <= wd:
-                floor_v = r_adm[k_prev] * (cs[k_prev] * cm + sn[k_prev] * sm)
-                if floor_v > v_own and floor_v > 0.0:  # the window of the cells that can reach it
-                    wd = min(wd, int(math.acos(min(1.0, floor_v / r_max)) / delta) + 2)
-        # S is convex, so m . V_k is unimodal along its boundary: the cells that reach floor_v (less a margin far
-        # above rounding) are a contiguous run about the previous vertex, found by walking out of it
-        d_first = -wd
-        d_last = wd
-        if floor_v > -1e300 and -wd <= dd <= wd:
-            thr = floor_v - 1e-12 * r_max
-            d_first = dd
-            while d_first > -wd:
-                k = (c + d_first - 1) % n
-                if r_adm[k] * (cs[k] * cm + sn[k] * sm) < thr:
-                    break
-                d_first -= 1
-            d_last = dd
-            while d_last < wd:
-                k = (c + d_last + 1) % n
-                if r_adm[k] * (cs[k] * cm + sn[k] * sm) < thr:
-                    break
-                d_last += 1
-        kbest = c
-        best = -1e300
-        d = d_first
-        while d <= d_last:
-            k = c + d
-            if k < 0:
-                k += n
-            elif k >= n:
-                k -= n
-            j = k // SCAN_BLOCK
-            run = min(d_last - d + 1, min(n, (j + 1) * SCAN_BLOCK) - k)
-            mc = run_max_cos(k, run, cs, sn, cm, sm)
-            bound = r_hi[j] * mc if mc >= 0.0 else r_lo[j] * mc
-            if bound + 1e-12 * abs(bound) < max(best, floor_v):
-                d += run
-                continue
-            for _ in range(run):
-                v = r_adm[k] * (cs[k] * cm + sn[k] * sm)
-                if v > best:
-                    best = v
-                    kbest = k
-                k += 1
-            d += run
-        k_prev = kbest
-        ex = r_adm[kbest] * cs[kbest] + dh * cm
-        ey = r_adm[kbest] * sn[kbest] + dh * sm
-        # which cells can overlap the journal: each window below holds all of them (the cells visited, and their
-        # order, are those of the half circle about the support point, so the shares and their sums are unchanged);
-        # the narrowest one that applies is used. Points V of the admissible set have V . u_k <= c_k, so o_k > 0
-        # needs (e' - V) . u_k > 0: u_k within a half circle about e' - V. First V = the corners of the set's edge
-        # the support point lies on (a narrow window about that edge's normal), else its grid neighbours, else
-        # |e'| cos(theta_k - theta_e') > c_k >= min(c)
+        if nh < 3:  # no corner to rest in (a degenerate grid): the normal's cell takes the load
+            wear_b[c] += acc_v / (width * r_b0 * delta)
+            vol += acc_v
+            continue
+        # the hull edge pair (a, b) whose normals bracket m; the directions come in increasing angle, so one
+        # pointer walks the hull once
+        if t < 0:
+            t = 0
+        for _ in range(nh + 1):
+            a = hull[t]
+            b = hull[t + 1]
+            if cs[a] * sm - sn[a] * cm >= 0.0 and cm * sn[b] - sm * cs[b] > 0.0:
+                break
+            t = t + 1 if t + 1 < nh else 0
+        a = hull[t]
+        b = hull[t + 1]
+        xs, ys = edge_corner(c_bore, cs, sn, a, b)
+        ex = xs + dh * cm
+        ey = ys + dh * sm
         emag = math.sqrt(ex * ex + ey * ey)
+        # the cells that can overlap: within the window of the corners next to (xs, ys) (points V of S have
+        # V . u_k <= c_k, so o_k > 0 needs (e' - V) . u_k > 0), else where |e'| cos(theta_k - theta_e') > min(c)
         d_lo = -q
         d_hi = q
         if not (emag > c_min):
             d_hi = d_lo - 1  # no cell overlaps
         else:
-            ok = False
-            a = r_idx[kbest]
-            t = hull_pos[a]
-            if t >= 0 and nh >= 3:
-                ap = hull[t - 1] if t > 0 else hull[nh - 1]
-                an = hull[t + 1]
-                det_p = cs[ap] * sn[a] - sn[ap] * cs[a]
-                det_n = cs[a] * sn[an] - sn[a] * cs[an]
-                if det_p > 1e-12 and det_n > 1e-12:
-                    x1 = (c_bore[ap] * sn[a] - c_bore[a] * sn[ap]) / det_p
-                    y1 = (cs[ap] * c_bore[a] - cs[a] * c_bore[ap]) / det_p
-                    x2 = (c_bore[a] * sn[an] - c_bore[an] * sn[a]) / det_n
-                    y2 = (cs[a] * c_bore[an] - cs[an] * c_bore[a]) / det_n
-                    ok, lo, hi = overlap_window(ex, ey, x1, y1, x2, y2, kbest * delta, delta, 2)
-            if not ok:
-                kp = kbest + 1 if kbest + 1 < n else 0
-                km = kbest - 1 if kbest > 0 else n - 1
-                ok, lo, hi = overlap_window(ex, ey, r_adm[kp] * cs[kp], r_adm[kp] * sn[kp], r_adm[km] * cs[km],
-                                            r_adm[km] * sn[km], kbest * delta, delta, 1)
+            ap = hull[t - 1] if t > 0 else hull[nh - 1]
+            bn = hull[t + 2] if t + 2 <= nh else hull[1]
+            x1, y1 = edge_corner(c_bore, cs, sn, ap, a)
+            x2, y2 = edge_corner(c_bore, cs, sn, b, bn)
+            ok, lo, hi = overlap_window(ex, ey, x1, y1, x2, y2, c * delta, delta, 2)
             if not ok:
                 half = math.acos(c_min / emag)
-                off = math.atan2(ey * cs[kbest] - ex * sn[kbest], ex * cs[kbest] + ey * sn[kbest])
+                off = math.atan2(ey * cs[c] - ex * sn[c], ex * cs[c] + ey * sn[c])
                 lo = int(math.floor((off - half) / delta)) - 1
                 hi = int(math.ceil((off + half) / delta)) + 1
             d_lo = max(d_lo, lo)
             d_hi = min(d_hi, hi)
-        eux = ex / emag if emag > 0.0 else 1.0
-        euy = ey / emag if emag > 0.0 else 0.0
         m_ = 0
         wproj = 0.0
-        d = d_lo
-        while d <= d_hi:
-            k = kbest + d
+        for d in range(d_lo, d_hi + 1):  # about m's own cell: the facing cells are within +-q of it
+            k = c + d
             if k < 0:
                 k += n
             elif k >= n:
                 k -= n
-            j = k // SCAN_BLOCK
-            run = min(d_hi - d + 1, min(n, (j + 1) * SCAN_BLOCK) - k)
-            if emag * run_max_cos(k, run, cs, sn, eux, euy) * (1.0 + 1e-12) < c_lo[j]:
-                d += run
-                continue
-            for _ in range(run):
-                a = cs[k] * cm + sn[k] * sm
-                o = ex * cs[k] + ey * sn[k] - c_bore[k]
-                if o > 0.0 and a > 0.1:  # only bore cells that face the contact normal can carry its load
-                    idx[m_] = k
-                    w[m_] = o
-                    proj[m_] = a
-                    wproj += o * a
-                    m_ += 1
-                k += 1
-            d += run
+            f = cs[k] * cm + sn[k] * sm
+            o = ex * cs[k] + ey * sn[k] - c_bore[k]
+            if o > 0.0 and f > 0.1:  # only bore cells that face the contact normal can carry its load
+                idx[m_] = k
+                w[m_] = o
+                wproj += o * f
+                m_ += 1
         if not (wproj > 0.0):  # nothing on the grid faces the normal: the normal's cell takes it
             wear_b[c] += acc_v / (width * r_b0 * delta)
             vol += acc_v
