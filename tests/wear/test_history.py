@@ -158,9 +158,15 @@ def test_deposit_substeps(g, dn, sub, expected):
     n = 72
     calls = []
 
-    def share(bore):
-        calls.append(bore.copy())
-        return np.full(n, 1e-9), 1e-12, g
+    class Share:  # stands in for ConformalShare: a uniform rate whatever the bore, counting its calls
+        def __call__(self, bore):
+            calls.append(bore.copy())
+            return np.full(n, 1e-9), 1e-12, g
+
+        def merged(self, factor):
+            return self
+
+    share = Share()
 
     cw = CycleWear(np.full(n, 1e-9), np.zeros(n), 1e-12, 0.0, 0.0, np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n),
                    0.0, 0.0, levelling_rate=g, share=share)

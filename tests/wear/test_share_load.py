@@ -125,3 +125,20 @@ def test_share_load_in_a_conformal_pocket_spreads_as_cos():
     expect *= v / np.sum(expect * f) / (1e-2 * 5e-3 * TWO_PI / n)
     # the corner of 160 cells' edges: each cell's overlap dh cos to rounding of the 27 um positions
     np.testing.assert_allclose(out, expect, rtol=1e-5, atol=1e-6 * expect.max())
+
+
+def test_merged_loads_keep_their_sums_and_mean_directions():
+    """ConformalShare.merged: each group of cells keeps its Archard volume, its volume-weighted direction sums and
+    delta_H sum (exact sums), laid at the cell of its mean direction, so the sharing sees the same loads coarser."""
+    from jointwear.wear.cycle import ConformalShare
+
+    n = 720
+    bins = load_bins(n, seed=3)
+    share = ConformalShare(bins, 2e-6, 5e-3, 1e-2)
+    merged = share.merged(4)
+    np.testing.assert_allclose(merged.bins.sum(axis=1), bins.sum(axis=1), rtol=1e-12)
+    cells = np.flatnonzero(merged.bins[0] > 0)
+    assert cells.size == np.count_nonzero(bins[0].reshape(-1, 4).sum(axis=1) > 0)
+    ang = np.arctan2(merged.bins[2, cells], merged.bins[1, cells]) % TWO_PI
+    # each merged load sits in the cell of its own mean direction (half a cell at most)
+    assert np.all(np.abs(np.angle(np.exp(1j * (ang - cells * TWO_PI / n)))) <= 0.5 * TWO_PI / n + 1e-12)

@@ -85,6 +85,18 @@ class ConformalShare:
         self.directions = (np.empty(n), np.empty(n))
         grid_directions(*self.directions)
 
+    def merged(self, factor: int) -> "ConformalShare":
+        """The same loads gathered into direction cells `factor` times wider (sums over each group of cells, laid
+        at the cell of the group's mean direction)."""
+        n = self.bins.shape[1]
+        out = np.zeros_like(self.bins)
+        for k0 in range(0, n, factor):
+            tot = self.bins[:, k0:k0 + factor].sum(axis=1)
+            if tot[0] > 0.0:
+                k = int(np.floor((math.atan2(tot[2], tot[1]) % (2.0 * math.pi)) / (2.0 * math.pi / n) + 0.5)) % n
+                out[:, k] += tot
+        return ConformalShare(out, self.c0, self.r_b0, self.width)
+
     def __call__(self, bore: np.ndarray) -> tuple[np.ndarray, float, float]:
         """(bearing depth per cycle, Archard volume per cycle, levelling rate per cycle) on the bore profile."""
         c_bore = np.ascontiguousarray(self.c0 + bore, dtype=float)

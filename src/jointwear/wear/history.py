@@ -94,6 +94,10 @@ def update_geometry(g0, settings: WearSettings, wb: np.ndarray, wj: np.ndarray, 
 #: smoothing keeps the sub-steps smooth and their length sets the accuracy).
 LEVELLING_STEP = 2.0
 MAX_LEVELLING_SUBSTEPS = 16
+#: The sub-steps after the first share the block's loads gathered into direction cells this many grid cells wide
+#: (ConformalShare.merged): the increments are smoothed over the running-in length (3 deg) anyway; on the wing it
+#: moves the max depth by < 0.5 % and makes a sub-step 3-4x cheaper.
+SUBSTEP_MERGE = 4
 
 
 def lay_bearing(cw: CycleWear, wb: np.ndarray, wj: np.ndarray, dn: int, settings: WearSettings):
@@ -106,11 +110,12 @@ def lay_bearing(cw: CycleWear, wb: np.ndarray, wj: np.ndarray, dn: int, settings
             math.ceil(dn / settings.profile_substep_cycles))
     wb = wb.copy()
     vol = 0.0
+    share = cw.share.merged(SUBSTEP_MERGE) if m > 1 and SUBSTEP_MERGE > 1 else cw.share
     for j in range(m):
         if j == 0:
             rate, vrate = cw.bearing, cw.volume_bearing
         else:
-            rate, vrate, _ = cw.share(bore_profile(wb, settings))
+            rate, vrate, _ = share(bore_profile(wb, settings))
         if settings.profile_smoothing_deg > 0.0:
             rate = np.maximum(smooth_periodic(rate, settings.profile_smoothing_deg), 0.0)
         wb += rate * (dn / m)

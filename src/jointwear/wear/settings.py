@@ -80,11 +80,11 @@ class WearSettings(SIModel):
             "max(min(ceil(g n / 2), 16), ceil(n / this)) sub-steps, g the levelling rate of the shares (1/cycle): "
             "the first term resolves a steady conformal load (the rig of docs/verification.md), the second bounds "
             "the sub-step where the levelling is faster than any affordable step (a rotating load). There the "
-            "sub-step, not the block, sets how accurately the profile is laid: on the flapping wing 1,250-cycle "
-            "sub-steps left the max depth 2-4 % low; at 300, halving it or the block changes it by "
-            "< 1 % (docs/wear.md 'Profile mode on the flapping wing: block size and the deposit's sub-step'). Each sub-step "
-            "costs one sharing (about 0.25 ms "
-            "on a 720-cell grid)."
+            "sub-step, not the block, sets how accurately the profile is laid, and too long a sub-step lays it too "
+            "shallow: on the flapping wing 300 cycles read the max depth 4 % shallow at 1.3M cycles and 75 cycles "
+            "2 %, against sub-steps that resolve the levelling (about 20 cycles; docs/wear.md 'Profile mode on the "
+            "flapping wing'; preset jin2025_flapping_wing_profile uses 75). Each sub-step costs about 0.1 ms on a "
+            "720-cell grid."
         ),
     )
     uniform_growth: Literal["max_sum", "bearing_max"] = Field(
