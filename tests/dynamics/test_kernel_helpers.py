@@ -1,6 +1,7 @@
 """Small pieces of the step loop and of the result packaging, against their direct forms."""
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -10,6 +11,8 @@ from jointwear.mechanism import build_model, radau, simulate
 from jointwear.mechanism import kernel as K
 from jointwear.mechanism.fast import to_cartesian, to_cartesian_point
 from jointwear.mechanism.simulate import Runner, wrap_2pi
+
+RIG = Path(__file__).resolve().parents[1] / "wear" / "rigs" / "pendulum.toml"
 
 
 @pytest.mark.parametrize("th0", [0.0, 1.0, -2.5, 3.14159, 1234.5678])
@@ -154,3 +157,52 @@ class _nothing:
 
     def __exit__(self, *exc):
         return False
+
+
+def test_profile_sides_read_only_worn_sides():
+    """kernel_arrays marks the sides whose profile the contact reads: none on a round joint, the worn ones in profile
+    mode, and the bearing's (zero) profile when nothing is worn yet."""
+    import dataclasses
+
+    from jointwear.mechanism.model import profile_sides
+
+    g = build_model(load_config(str(RIG))).initial_geometry()[0]
+    worn = np.linspace(0.0, 1e-6, g.bearing_wear.size)
+    assert profile_sides(g) == 0
+    assert profile_sides(dataclasses.replace(g, bearing_wear=worn)) == 0  # uniform mode reads no profile
+    cases = {(False, False): K.PROF_BEARING, (True, False): K.PROF_BEARING, (False, True): K.PROF_JOURNAL,
+             (True, True): K.PROF_BEARING | K.PROF_JOURNAL}
+    for (b, j), bits in cases.items():
+        gg = dataclasses.replace(g, use_profile=True, bearing_wear=worn if b else 0 * worn,
+                                 journal_wear=worn if j else 0 * worn)
+        assert profile_sides(gg) == bits, (b, j)
+
+
+def test_skipping_a_round_side_is_exact():
+    """A side whose profile is zero everywhere contributes exactly 0 to the local clearance and to the normal's slope,
+    so reading it or not gives bit-identical derivatives (general kernel, states along a worn-bearing trajectory of
+    the pendulum rig)."""
+    import dataclasses
+
+    from jointwear.mechanism.model import profile_sides
+
+    model = build_model(load_config(str(RIG)))
+    g = model.initial_geometry()[0]
+    n = g.bearing_wear.size
+    th = 2 * np.pi * np.arange(n) / n
+    geom = [dataclasses.replace(g, use_profile=True, bearing_wear=2e-5 * np.maximum(0.0, -np.cos(th)) ** 2)]
+    assert profile_sides(geom[0]) == K.PROF_BEARING
+    res = simulate(model, 0.05, geometry=geom, settle_cycles=0, fast=False)
+    assert np.all(res.joints[0].in_contact)
+    run = Runner(model, geom, 1e-6, 1e-9, False)
+    a = run._args()
+    cint = a[6]
+    for i in range(0, res.t.size, max(1, res.t.size // 5)):
+        y = run.to_internal(np.concatenate([res.q[i], res.qd[i]]))
+        out = []
+        for bits in (K.PROF_BEARING, K.PROF_BEARING | K.PROF_JOURNAL):
+            cint[0, K.CI_PROF] = bits
+            dy = np.zeros((7, run.ny))
+            K.rhs(res.t[i], y, dy, 0, *a)
+            out.append(dy[0].copy())
+        np.testing.assert_array_equal(out[0], out[1])

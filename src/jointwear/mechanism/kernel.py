@@ -54,8 +54,10 @@ NKIN = 11
 NCPAR = 16
 # columns of cint
 CI_BB, CI_BJ, CI_LAW, CI_FRIC, CI_PROF = range(5)
+# bits of cint[k, CI_PROF]: which sides carry a worn profile (a side without one is round and costs no lookup)
+PROF_BEARING, PROF_JOURNAL = 1, 2
 # columns of cout (contact outputs of the latest evaluation)
-(O_FN, O_FT, O_VT, O_DELTA, O_VN, O_NX, O_NY, O_EX, O_EY, O_CLOC, O_VREL, O_PHIB, O_PHIJ, O_K, O_TILT) = range(15)
+(O_FN, O_FT, O_VT, O_DELTA, O_VN, O_NX, O_NY, O_EX, O_EY, O_CLOC, O_VREL, O_PHIB, O_PHIJ, O_K, O_TAN_TILT) = range(15)
 NCOUT = 15
 # columns of cstate
 S_V0, S_INC = 0, 1
@@ -220,14 +222,15 @@ def profile_at(prof, k, side, n, ang):
 @njit(cache=True, inline="always", error_model="numpy", fastmath=FASTMATH, _nrt=STEP_LOOP_NRT)
 def contact_gradient(profiled, emag, hbp, hjp, nx, ny):
     """grad_e(delta) = n + gt t of delta = |e| - c_loc(theta), gt = -(h_b' + h_j') / |e| (worn profiles; 0 for
-    round surfaces): its norm gn, direction (gx, gy), the unit tangent (tx, ty) = k x grad / gn and the tilt
-    atan(gt) of the contact normal from the centre line."""
+    round surfaces): its norm gn, direction (gx, gy), the unit tangent (tx, ty) = k x grad / gn and gt, the tangent
+    of the contact normal's tilt from the centre line (the angle itself is taken when the trace is recorded: an atan
+    per evaluation was a tenth of a profiled contact's cost)."""
     if profiled and emag > 1e-15:
         gt = -(hbp + hjp) / emag
         gn = math.sqrt(1.0 + gt * gt)
         gx = nx - gt * ny
         gy = ny + gt * nx
-        return gn, gx, gy, -gy / gn, gx / gn, math.atan(gt)
+        return gn, gx, gy, -gy / gn, gx / gn, gt
     return 1.0, nx, ny, -ny, nx, 0.0  # round surfaces: the gradient is n
 
 
@@ -250,11 +253,16 @@ def clearance_contact(k, cint, cpar, prof, ngrid, cstate, ex, ey, emag, nx, ny, 
     rbl = cpar[k, C_RB] + 0.5 * grow
     rjl = cpar[k, C_RJ] - 0.5 * grow
     kstiff = cpar[k, C_K0]
-    if cint[k, CI_PROF] != 0:
-        hb, hbp = profile_at(prof, k, 0, ngrid[k, 0], ang_b)
-        hj, hjp = profile_at(prof, k, 1, ngrid[k, 1], ang_j)
-        rbl += hb
-        rjl -= hj
+    sides = cint[k, CI_PROF]
+    if sides != 0:
+        hbp = 0.0
+        hjp = 0.0
+        if sides & PROF_BEARING:
+            hb, hbp = profile_at(prof, k, 0, ngrid[k, 0], ang_b)
+            rbl += hb
+        if sides & PROF_JOURNAL:
+            hj, hjp = profile_at(prof, k, 1, ngrid[k, 1], ang_j)
+            rjl -= hj
         kstiff = contact_stiffness(cpar[k, C_HSUM], rbl, rjl)
     else:
         hbp = 0.0
@@ -263,7 +271,7 @@ def clearance_contact(k, cint, cpar, prof, ngrid, cstate, ex, ey, emag, nx, ny, 
             kstiff = contact_stiffness(cpar[k, C_HSUM], rbl, rjl)
     cloc = rbl - rjl
     delta = emag - cloc
-    gn, gx, gy, tx, ty, tilt = contact_gradient(cint[k, CI_PROF] != 0, emag, hbp, hjp, nx, ny)
+    gn, gx, gy, tx, ty, tan_tilt = contact_gradient(sides != 0, emag, hbp, hjp, nx, ny)
     vn = rvx * gx + rvy * gy + hbp * wb + hjp * wj  # d(delta)/dt
     vt = rvx * tx + rvy * ty + wj * rjl - wb * rbl
     fs = 0.0
@@ -294,7 +302,7 @@ def clearance_contact(k, cint, cpar, prof, ngrid, cstate, ex, ey, emag, nx, ny, 
     cout[k, O_CLOC] = cloc
     cout[k, O_VREL] = math.sqrt(rvx * rvx + rvy * rvy)
     cout[k, O_K] = kstiff
-    cout[k, O_TILT] = tilt
+    cout[k, O_TAN_TILT] = tan_tilt
     return delta, fs, ft, fx, fy, hbp, hjp, rbl, rjl
 
 
@@ -334,7 +342,7 @@ def eval_contacts(nb, nd, cint, cpar, prof, ngrid, cstate, kin, f, cout):
             nx = 1.0
             ny = 0.0
         if cint[k, CI_PROF] != 0:
-            ang = math.atan2(ny, nx)
+            ang = math.atan2(ey, ex)  # not (ny, nx): the lookup need not wait for the division
             ang_b = ang - kin[rb, K_PHI]
             ang_j = ang - kin[rj, K_PHI]
         else:
@@ -1060,13 +1068,19 @@ def rhs_fourbar_cs(c, sn, Y, yrow, dy, row, dpar, fp, cint, cpar, prof, ngrid, c
     else:
         nx = 1.0
         ny = 0.0
-    if cint[k, CI_PROF] != 0:
-        # angles of n relative to the body x axes (rod: along A->B; crank: at angle th)
-        dl = math.sqrt(d2)
-        rdx = dx / dl
-        rdy = dyy / dl
-        ang_rod = math.atan2(rdx * ny - rdy * nx, rdx * nx + rdy * ny)
-        ang_crk = math.atan2(c * ny - sn * nx, c * nx + sn * ny)
+    sides = cint[k, CI_PROF]
+    if sides != 0:
+        # angles of n relative to the body x axes (rod: along A->B; crank: at angle th), of the worn sides only
+        rod_side = PROF_BEARING if sig > 0.0 else PROF_JOURNAL
+        ang_rod = 0.0
+        ang_crk = 0.0
+        if sides & rod_side:
+            dl = math.sqrt(d2)
+            rdx = dx / dl
+            rdy = dyy / dl
+            ang_rod = math.atan2(rdx * ny - rdy * nx, rdx * nx + rdy * ny)
+        if sides & (PROF_BEARING + PROF_JOURNAL - rod_side):
+            ang_crk = math.atan2(c * ny - sn * nx, c * nx + sn * ny)
         if sig > 0.0:
             ab = ang_rod
             aj = ang_crk

@@ -24,6 +24,17 @@ from jointwear.mechanism.settings import SimulationConfig
 GROUND = "ground"
 
 
+def profile_sides(g: ClearanceGeometry) -> int:
+    """The kernel's profile bits (kernel.PROF_BEARING | kernel.PROF_JOURNAL) of a geometry: the sides whose worn
+    profile the contact reads. A side worn nowhere is round, which is exact and spares its lookup; with neither side
+    worn the bearing's (zero) profile is still read, so that profile mode's stiffness is the same expression on
+    every block."""
+    if not g.use_profile:
+        return 0
+    sides = (K.PROF_BEARING if g.bearing_wear.any() else 0) | (K.PROF_JOURNAL if g.journal_wear.any() else 0)
+    return sides or K.PROF_BEARING
+
+
 @dataclass
 class Driver:
     """Constant-speed rotation of a body about a ground pivot: phi(t) = angle0 + speed * t."""
@@ -205,7 +216,7 @@ class MechanismModel:
                 raise ValueError(f"clearance joint {cj.name}: clearance {g.clearance:g} m must be > 0")
             s, fr = cj.spec, cj.spec.friction
             cint[k] = (self.body_code(cj.bearing_body), self.body_code(cj.journal_body), LAW_CODES[s.contact_law],
-                       FRICTION_CODES[fr.law], 1 if g.use_profile else 0)
+                       FRICTION_CODES[fr.law], profile_sides(g))
             rb = g.bearing_radius + 0.5 * g.clearance_growth
             rj = g.journal_radius - 0.5 * g.clearance_growth
             cpar[k] = (*self.point(cj.bearing_body, cj.bearing_point), *self.point(cj.journal_body, cj.journal_point),

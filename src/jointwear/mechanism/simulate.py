@@ -368,7 +368,7 @@ def _package(model, geometry, cat, free_phi, joint_angles, cart, state_end, coun
             force_normal=c[K.O_FN], force_tangential=c[K.O_FT], slip_speed=c[K.O_VT],
             penetration=c[K.O_DELTA], penetration_rate=c[K.O_VN],
             in_contact=c[K.O_DELTA] > 0.0, eccentricity_global=c[K.O_EX:K.O_EY + 1].T,
-            bearing_body_angle=phib, journal_body_angle=phij, stiffness=c[K.O_K], normal_tilt=c[K.O_TILT],
+            bearing_body_angle=phib, journal_body_angle=phij, stiffness=c[K.O_K], normal_tilt=np.arctan(c[K.O_TAN_TILT]),
             bearing_radius=g.bearing_radius, journal_radius=g.journal_radius, clearance_used=g.clearance,
             joint=cj.spec,
         ))

@@ -196,7 +196,7 @@ def rhs_source(key: tuple) -> str:
         e(f"    {p}ny = 0.0")
         phib, phij = qb["phi"] or "0.0", qj["phi"] or "0.0"
         e(f"if cint[{k}, {K.CI_PROF}] != 0:")
-        e(f"    {p}ang = math.atan2({p}ny, {p}nx)")
+        e(f"    {p}ang = math.atan2({p}ey, {p}ex)  # as kernel.eval_contacts")
         e(f"    {p}angb = {p}ang - {phib}")
         e(f"    {p}angj = {p}ang - {phij}")
         e("else:")
