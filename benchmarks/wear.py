@@ -404,6 +404,13 @@ def bench_reproduction(profile_cycles: int = 20_000) -> dict:
 RIG = Path(__file__).resolve().parents[1] / "tests" / "wear" / "rigs" / "pendulum.toml"
 
 
+def _host_cpu() -> str:
+    """The CPU numba compiles for (as benchmarks/dynamics.py records it)."""
+    import llvmlite.binding as llvm
+
+    return str(llvm.get_host_cpu_name())
+
+
 def _peak_rss_gb() -> float:
     import resource
 
@@ -427,6 +434,10 @@ def _mode_run(model, settings, n_cycles: int, repeats: int) -> dict:
         "cpu_seconds_median": statistics.median(cpus),
         "simulation_seconds": res.sim_seconds, "n_simulated_cycles": res.n_simulated_cycles, "n_steps": res.n_steps,
         "steps_per_simulated_cycle": res.n_steps / res.n_simulated_cycles,
+        "simulation_seconds_per_step": res.sim_seconds / res.n_steps,
+        # the deposit and bookkeeping between blocks (with lanes > 1 the dynamics overlaps them: not separable)
+        "other_seconds_per_block": ((statistics.median(walls) - res.sim_seconds) / len(res.blocks)
+                                    if settings.lanes == 1 else None),
         "wall_seconds_per_simulated_cycle": statistics.median(walls) / res.n_simulated_cycles,
         "peak_rss_growth_gb": max(rss), "peak_rss_gb": _peak_rss_gb(),
         "max_wear_mm": j.max_bearing_wear * MM, "conformity": j.conformity,
@@ -453,6 +464,9 @@ def bench_profile_cost(repeats: int = 1) -> dict:
             rec["profile"]["wall_seconds_per_simulated_cycle"] / rec["uniform"]["wall_seconds_per_simulated_cycle"])
         rec["ratio_wall_profile_to_uniform"] = (rec["profile"]["wall_seconds_median"]
                                                 / rec["uniform"]["wall_seconds_median"])
+        # the ratio's factors: integrator steps per cycle (each mode's own geometry) and the cost of a step
+        for key in ("steps_per_simulated_cycle", "simulation_seconds_per_step"):
+            rec[f"ratio_{key}_profile_to_uniform"] = rec["profile"][key] / rec["uniform"][key]
         out[name] = rec
         print(name, {m: rec[m]["wall_seconds_median"] for m in ("uniform", "profile")}, file=sys.stderr)
     return out
@@ -650,7 +664,8 @@ def main(argv=None) -> int:
             raise SystemExit(f"unknown section {sec!r}")
         if sec.startswith("profile_") and sec != "profile_convergence":
             data[sec]["machine"] = {"python": sys.version.split()[0], "platform": platform.platform(),
-                                    "cpus": os.cpu_count(), "load_average_at_start": os.getloadavg()}
+                                    "cpus": os.cpu_count(), "llvm_host_cpu": _host_cpu(),
+                                    "load_average_at_start": os.getloadavg()}
             data[sec]["date_utc"] = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
         print(f"{sec}: {time.perf_counter() - t0:.1f} s", file=sys.stderr)
     if "timing" in data and "literal" in data:
