@@ -26,9 +26,10 @@ class ClearanceGeometry:
         c_loc = (R_b - R_j) + clearance_growth + (h_b(theta_b) + h_j(theta_j) if use_profile else 0)
 
     where theta_b / theta_j are the angles of n in the bearing / journal body frames (CCW from the
-    body's x axis) and h_b, h_j are interpolated linearly and periodically on grids at angles
-    2 pi k / n_grid.  The contact stiffness K is recomputed from the local radii
-    R_i = R_b + h_b + growth/2 and R_j = R_j - h_j - growth/2.
+    body's x axis) and h_b, h_j are interpolated periodically on grids at angles 2 pi k / n_grid by Catmull-Rom
+    cubics (C1, so that the contact normal, which follows the profile's slope, does not jump; kernel.profile_at).
+    The contact stiffness K is recomputed from the local radii R_i = R_b + h_b + growth/2 and
+    R_j = R_j - h_j - growth/2; a side worn nowhere is read as round (model.profile_sides).
     """
 
     bearing_radius: float
