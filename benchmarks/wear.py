@@ -17,7 +17,7 @@ Sections
   peak 0.0087 mm at 310 deg).
 - profile_cost (only with --only; issue 14): uniform vs profile mode, one model call each in the same process: the
   pendulum rig (tests/wear/rigs/pendulum.toml) to 100k revolutions and the flapping wing to 520k cycles; cost per
-  simulated cycle, integrator steps, peak memory, the conformity indicator.
+  simulated cycle and its two factors (steps per cycle, cost per step), peak memory, the conformity indicator.
 - profile_rig_convergence / profile_wing_convergence (only with --only): profile mode's max depth with each setting
   halved (grid spacing, smoothing, block, corner rounding), on the rig at 1e4/1e5 revolutions (beside the closed
   form of docs/verification.md) and on the flapping wing at 520k cycles.
@@ -450,7 +450,8 @@ def _mode_run(model, settings, n_cycles: int, repeats: int) -> dict:
 def bench_profile_cost(repeats: int = 1) -> dict:
     """Issue 14: profile mode against uniform mode, same process, same settings otherwise: the pendulum rig
     (tests/wear/rigs/pendulum.toml, blocks of 250, one lane) to 100,000 revolutions and the flapping wing
-    (default settings) to 520,000 cycles. Cost per simulated cycle, integrator steps, peak memory."""
+    (default settings) to 520,000 cycles. Cost per simulated cycle, integrator steps, peak memory; the ratio's two
+    factors (steps per cycle, each mode on its own geometry, and the dynamics' cost per step)."""
     out = {}
     for name, path, n in (("pendulum_rig", str(RIG), 100_000), ("flapping_wing", None, 520_000)):
         cfg = load_config(path)
