@@ -447,6 +447,34 @@ def _mode_run(model, settings, n_cycles: int, repeats: int) -> dict:
     }
 
 
+def _per_step_at_equal_geometry(model, both_sides: bool, repeats: int = 7) -> dict:
+    """The dynamics' cost per step of the profiled contact against the round one at equal geometry: 3 cycles from the
+    same settled state, once round and once with a profile of 1e-13 m (0.1 pm: the same motion; both sides, or the
+    bearing alone as on the rig, whose journal does not wear), alternated, medians."""
+    import dataclasses
+
+    g0 = model.initial_geometry()
+    n = g0[0].bearing_wear.size
+    bump = 1e-13 * (1.0 + np.cos(2.0 * np.pi * np.arange(n) / n))
+    worn = [dataclasses.replace(g, use_profile=True, bearing_wear=bump,
+                                journal_wear=bump if both_sides else np.zeros(n)) for g in g0]
+    state = simulate(model, 1, geometry=g0, settle_cycles=1).state_end
+    walls = {"round": [], "profile": []}
+    steps = {}
+    for _ in range(repeats):
+        for label, geom in (("round", g0), ("profile", worn)):
+            t0 = time.perf_counter()
+            r = simulate(model, 3, geometry=geom, settle_cycles=0, state0=state)
+            walls[label].append(time.perf_counter() - t0)
+            steps[label] = r.n_steps
+    out = {label: {"steps": steps[label], "seconds_per_step_median": statistics.median(w) / steps[label]}
+           for label, w in walls.items()}
+    out["profiled_sides"] = "bearing and journal" if both_sides else "bearing"
+    out["ratio_seconds_per_step_profile_to_round"] = (out["profile"]["seconds_per_step_median"]
+                                                      / out["round"]["seconds_per_step_median"])
+    return out
+
+
 def bench_profile_cost(repeats: int = 1) -> dict:
     """Issue 14: profile mode against uniform mode, same process, same settings otherwise: the pendulum rig
     (tests/wear/rigs/pendulum.toml, blocks of 250, one lane) to 100,000 revolutions and the flapping wing
@@ -468,6 +496,7 @@ def bench_profile_cost(repeats: int = 1) -> dict:
         # the ratio's factors: integrator steps per cycle (each mode's own geometry) and the cost of a step
         for key in ("steps_per_simulated_cycle", "simulation_seconds_per_step"):
             rec[f"ratio_{key}_profile_to_uniform"] = rec["profile"][key] / rec["uniform"][key]
+        rec["per_step_at_equal_geometry"] = _per_step_at_equal_geometry(model, both_sides=path is None)
         out[name] = rec
         print(name, {m: rec[m]["wall_seconds_median"] for m in ("uniform", "profile")}, file=sys.stderr)
     return out
