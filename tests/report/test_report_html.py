@@ -200,6 +200,24 @@ def test_report_warns_when_uniform_mode_is_outside_its_range(tmp_path, nominal):
     assert "Uniform mode is outside its range" not in build_report(d).read_text(encoding="utf-8")
 
 
+def test_second_peak_only_when_the_far_side_is_a_wear_zone(tmp_path, nominal):
+    """The wear card names a second peak only where the far side (> 90 deg from the main peak) wears at least the
+    peak-detection floor (peak_prominence x the max); a steady load's single zone leaves rounding there."""
+    d = make_fixture_dir(tmp_path / "p", nominal, which=("wear",))
+    wear = WearSummary.load(d)
+    depth = np.asarray(wear.profile["depth_mm"], dtype=float)
+    ang = np.asarray(wear.profile["angle_deg"], dtype=float)
+    far = np.abs((ang - wear.max_wear_angle_deg + 180.0) % 360.0 - 180.0) > 90.0
+    assert far.any() and depth[far].max() >= 0.05 * wear.max_wear_mm  # the wing's far zone: a real second peak
+    page = build_report(d).read_text(encoding="utf-8")
+    assert "a single wear zone" not in page
+    wear.peaks = wear.peaks[:1]
+    wear.profile["depth_mm"] = np.where(far, 1e-18, depth).tolist()
+    wear.write(d)
+    page = build_report(d).read_text(encoding="utf-8")
+    assert "a single wear zone" in page and "1e-18 mm" not in page
+
+
 def test_report_has_a_design_section_when_the_folder_has_a_design(tmp_path, nominal):
     import json
 

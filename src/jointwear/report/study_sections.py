@@ -152,11 +152,16 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
     if wear.geometry_mode == "uniform" and wear.uniform_mode_valid is False:
         parts.append(_UNIFORM_WARNING.format(conformity=e(format_number(wear.conformity, 3))))
     sp = second_peak(wear)
+    floor = float(wear.settings.get("peak_prominence", 0.05)) * (wear.max_wear_mm or 0.0)
+    if sp is not None and not sp[1] >= floor:  # what is left far from the main peak is not a wear zone of its own
+        second = ("none", "a single wear zone")
+    else:
+        second = ("\u2014", None) if sp is None else (f"{sp[1]:.4g} mm", f"at {sp[0]:.0f} deg")
     items = [
         ("cycles simulated", format_number(wear.cycles), None),
         ("max bearing wear", f"{format_number(wear.max_wear_mm)} mm", None),
         ("at angle", f"{format_number(wear.max_wear_angle_deg, 4)} deg", "0 deg = leftmost, clockwise"),
-        ("second peak", "\u2014" if sp is None else f"{sp[1]:.4g} mm", None if sp is None else f"at {sp[0]:.0f} deg"),
+        ("second peak", *second),
         ("wall time", "\u2014" if wear.wall_seconds is None else f"{wear.wall_seconds:.3g} s", None),
         ("geometry mode", wear.geometry_mode, None),
     ]
