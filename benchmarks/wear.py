@@ -15,7 +15,7 @@ Sections
   instead of two (the lanes' lag of the geometry update).
 - reproduction: both assembly branches x both geometry modes at 400k cycles (paper: 0.0249 mm at 110 deg, second
   peak 0.0087 mm at 310 deg).
-- profile_cost (only with --only; issue 14): uniform vs profile mode, one model call each in the same process: the
+- profile_cost (only with --only; issue 14): uniform vs profile mode, --repeats model calls each in the same process: the
   pendulum rig (tests/wear/rigs/pendulum.toml) to 100k revolutions and the flapping wing to 520k cycles; cost per
   simulated cycle and its two factors (steps per cycle, cost per step), peak memory, the conformity indicator.
 - profile_rig_convergence / profile_wing_convergence (only with --only): profile mode's max depth with each setting
@@ -681,7 +681,7 @@ def main(argv=None) -> int:
         elif sec == "profile_convergence":
             data["profile_convergence"] = bench_profile_convergence()
         elif sec == "profile_cost":
-            data["profile_cost"] = bench_profile_cost()
+            data["profile_cost"] = bench_profile_cost(a.repeats)
         elif sec == "profile_rig_convergence":
             data["profile_rig_convergence"] = bench_profile_rig_convergence()
         elif sec == "profile_wing_blocks":

@@ -89,12 +89,14 @@ class ConformalShare:
         """The same loads gathered into direction cells `factor` times wider (sums over each group of cells, laid
         at the cell of the group's mean direction)."""
         n = self.bins.shape[1]
+        m = -(-n // factor)
+        groups = np.zeros((4, m * factor))
+        groups[:, :n] = self.bins
+        tot = groups.reshape(4, m, factor).sum(axis=2)  # each group's additions in cell order
+        tot = tot[:, tot[0] > 0.0]
+        k = np.floor(np.mod(np.arctan2(tot[2], tot[1]), 2.0 * math.pi) / (2.0 * math.pi / n) + 0.5).astype(np.int64) % n
         out = np.zeros_like(self.bins)
-        for k0 in range(0, n, factor):
-            tot = self.bins[:, k0:k0 + factor].sum(axis=1)
-            if tot[0] > 0.0:
-                k = int(np.floor((math.atan2(tot[2], tot[1]) % (2.0 * math.pi)) / (2.0 * math.pi / n) + 0.5)) % n
-                out[:, k] += tot
+        np.add.at(out, (slice(None), k), tot)
         return ConformalShare(out, self.c0, self.r_b0, self.width)
 
     def __call__(self, bore: np.ndarray) -> tuple[np.ndarray, float, float]:
@@ -137,7 +139,8 @@ def cycle_wear(
     dt = np.ascontiguousarray(trace.dt_weight, dtype=float)
     if bearing_profile is not None:
         r_b = mat.r_b0 + periodic_interp(bearing_profile, tb)
-        r_j = mat.r_j0 - (periodic_interp(journal_profile, tj) if journal_profile is not None else 0.0)
+        worn_j = journal_profile is not None and journal_profile.any()  # (zeros would subtract 0.0: the same)
+        r_j = mat.r_j0 - (periodic_interp(journal_profile, tj) if worn_j else 0.0)
         r_j = np.broadcast_to(r_j, r_b.shape).copy()
     else:
         r_b = np.full(F.shape, mat.r_b0 + 0.5 * growth)

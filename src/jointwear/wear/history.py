@@ -44,6 +44,9 @@ def contact_profiles(c0: float, wb: np.ndarray, wj: np.ndarray, settings: WearSe
         if side == 0 and settings.profile_deposit == "distributed":  # the bearing's touch map is not used
             out.append((None, None))
             continue
+        if not w.any():  # a round side touches where its normal points: no map (exactly what the map would do)
+            out.append((w.copy(), None))
+            continue
         ce = np.empty_like(w)
         idx = np.empty(w.shape[0], dtype=np.int64)
         admissible_set(c0 + w, ce, idx)
