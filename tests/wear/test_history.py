@@ -179,3 +179,19 @@ def test_deposit_substeps(g, dn, sub, expected):
     # each sub-step sees the bore laid so far
     np.testing.assert_allclose([c.max() for c in calls], [1e-9 * dn * (j + 1) / expected for j in range(expected - 1)],
                                rtol=1e-9)
+
+
+def test_a_round_side_needs_no_touch_map():
+    """contact_profiles gives a side worn nowhere no touch map: the identity map it would have moves no angle."""
+    from jointwear.wear.history import contact_profiles
+    from jointwear.wear.kernels import map_touch_angles
+
+    s = WearSettings(geometry_mode="profile", profile_deposit="touch", cycles=1000)
+    n = s.n_grid
+    wb = 1e-6 * np.maximum(0.0, np.cos(2 * np.pi * np.arange(n) / n))
+    hb, hj, ib, ij = contact_profiles(2.5e-5, wb, np.zeros(n), s)
+    assert ib is not None and ij is None and not hj.any()
+    theta = np.random.default_rng(2).uniform(-10.0, 10.0, 5000)
+    out = np.empty_like(theta)
+    map_touch_angles(theta, np.arange(n), out)
+    np.testing.assert_array_equal(out, theta)

@@ -142,3 +142,20 @@ def test_merged_loads_keep_their_sums_and_mean_directions():
     ang = np.arctan2(merged.bins[2, cells], merged.bins[1, cells]) % TWO_PI
     # each merged load sits in the cell of its own mean direction (half a cell at most)
     assert np.all(np.abs(np.angle(np.exp(1j * (ang - cells * TWO_PI / n)))) <= 0.5 * TWO_PI / n + 1e-12)
+
+
+def test_merged_loads_on_a_grid_the_factor_does_not_divide():
+    """n = 721 cells in groups of 4: the last group has one cell; every group keeps its sums, and each merged load
+    sits in the cell of its own mean direction, as the direct per-group definition has it."""
+    from jointwear.wear.cycle import ConformalShare
+
+    n, f = 721, 4
+    bins = load_bins(n, seed=5)
+    merged = ConformalShare(bins, 2e-6, 5e-3, 1e-2).merged(f).bins
+    expect = np.zeros_like(bins)
+    for k0 in range(0, n, f):
+        tot = bins[:, k0:k0 + f].sum(axis=1)
+        if tot[0] > 0.0:
+            k = int(np.floor((np.arctan2(tot[2], tot[1]) % TWO_PI) / (TWO_PI / n) + 0.5)) % n
+            expect[:, k] += tot
+    np.testing.assert_array_equal(merged, expect)
