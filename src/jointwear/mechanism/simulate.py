@@ -235,7 +235,7 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
         counters[0] = 0
         t, h = run.run(t, y, t_settle, h, hmax, math.inf, settle_buf, max_steps, counters)
         if counters[3] in (2, 3):
-            raise SimulationError(_status_text(counters[3], t))
+            raise SimulationError(_status_text(counters[3], t, h, run))
     # recording: the first sample is the state at the start of the recorded window
     t_end = t + n_cycles * period
     run.eval(t, y)
@@ -259,7 +259,7 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
             budget = max(1, max_steps - int(counters[1] + counters[2]))
             t, h = run.run(t, y, t_end, h, hmax, -math.inf if record else math.inf, rec, budget, counters)
             if counters[3] in (2, 3):
-                raise SimulationError(_status_text(counters[3], t))
+                raise SimulationError(_status_text(counters[3], t, h, run))
         n = int(counters[0])
         chunks.append({k: (v[..., :n] if k == "rec_c" else v[:n]) for k, v in rec.items()})
         if t >= t_end:
@@ -310,8 +310,21 @@ def _fast_joint_angles(model, run, t, phi_rod) -> tuple[np.ndarray, np.ndarray]:
     return phi_crank, phi_rod
 
 
-def _status_text(code: int, t: float) -> str:
-    return {2: f"step budget exhausted at t = {t:.6g} s", 3: f"step size underflow at t = {t:.6g} s"}[int(code)]
+def _status_text(code: int, t: float, h: float, run) -> str:
+    """Why the integrator stopped, with each clearance joint's state at the last accepted point: a collapsing step
+    is a contact's doing (a jammed linkage, a stuck pin, a deep penetration), and these numbers say which."""
+    what = {2: "step budget exhausted", 3: "step size underflow"}[int(code)]
+    cout, cpar, cint = run.w["cout"], run.a["cpar"], run.a["cint"]
+    joints = []
+    for k, cj in enumerate(run.model.clearance_joints):
+        fn, vt, pen = cout[k, K.O_FN], abs(cout[k, K.O_VT]), cout[k, K.O_DELTA]
+        text = f"joint {cj.name}: normal force {fn:.3g} N, penetration {pen * 1e6:.3g} um, slip speed {vt:.2g} m/s"
+        v_s = cpar[k, K.C_VS]
+        if cint[k, K.CI_FRIC] != 0 and fn > 0.0 and vt < v_s:
+            text += f" (below the friction law's v_s = {v_s:.2g} m/s: sticking)"
+        joints.append(text)
+    return (f"{what} at t = {t:.6g} s, last step {h:.2g} s; " + "; ".join(joints)
+            + " (docs/dynamics.md, 'When the step size collapses')")
 
 
 def wrap_2pi(x: np.ndarray) -> np.ndarray:
