@@ -28,6 +28,8 @@ Sections
   processes for the uniform preset (jin2025_flapping_wing) and the profile one (jin2025_flapping_wing_profile),
   one after the other in the same benchmark run: wall times, their ratio (goal <= 2), model calls, R(N), the life
   at the target, the nominal wear, the host CPU and the date.
+- profile_jammed_shift (only with --only, about a minute): the profile preset's rod length x 1.2 in both geometry modes
+  until the step budget stops it: why the step size collapses there (docs/dynamics.md).
 - profile_convergence (only with --only, long: about 10 minutes on 2 cores): profile mode (geometry_mode = "profile")
   at 400k cycles, baseline vs n_grid doubled, block halved, rtol/atol halved, profile_smoothing_deg 6 and 1.5; each
   the mean of a few replicates. Besides the max it reports the worn area (the Archard volume / width, smooth), the
@@ -628,6 +630,60 @@ def bench_profile_wing_blocks(levels=(520_000, 900_000, 1_000_000, 1_300_000, 1_
     return out
 
 
+def bench_profile_jammed_shift(factor: float = 1.2, n_cycles: int = 400_000) -> dict:
+    """The profile preset's most extreme sensitivity shift, rod length x 1.2 (hundreds of sigma), in each geometry
+    mode until the step budget stops its history: the linkage's Grashof slack, the steps of every call, the stop's
+    message, and for the last call that completed, where along the crank cycle its steps went and the joint's force
+    and slip speed there (docs/dynamics.md, 'When the step size collapses')."""
+    from jointwear.mechanism import SimulationError
+
+    cfg = load_config("jin2025_flapping_wing_profile")
+    m = cfg.mechanism
+    mech = m.model_copy(update={"rod": m.rod.model_copy(update={"length": m.rod.length * factor})})
+    cfg = cfg.model_copy(update={"mechanism": mech})
+    ground = math.hypot(mech.rocker_pivot[0] - mech.crank_pivot[0], mech.rocker_pivot[1] - mech.crank_pivot[1])
+    lengths = sorted([mech.crank.length, mech.rod.length, mech.rocker.length, ground])
+    out = {"rod_factor": factor, "grashof_slack_mm": (lengths[1] + lengths[2] - lengths[0] - lengths[3]) * MM,
+           "max_steps": cfg.simulation.max_steps}
+    model = build_model(cfg)
+    for mode in ("profile", "uniform"):
+        s = cfg.wear.model_copy(update={"lanes": 1, "geometry_mode": mode})
+        calls, last = [], {}
+
+        def spy(model, n, geometry=None, **kw):
+            g = geometry[0]
+            r = simulate(model, n, geometry=geometry, **kw)
+            calls.append({"steps": r.n_steps, "rejected": r.n_rejected, "clearance_um": g.clearance * 1e6,
+                          "bearing_profile_max_um": float(g.bearing_wear.max()) * 1e6 if g.use_profile else 0.0})
+            last["res"] = r
+            return r
+
+        rec = {"calls": calls}
+        try:
+            wear_history(model, s, n_cycles, simulate=spy)
+            rec["stopped"] = None
+        except SimulationError as exc:
+            rec["stopped"] = str(exc)
+        rec["cycles_before_the_stop"] = (len(calls)) * s.block_cycles if rec["stopped"] else n_cycles
+        r = last["res"]
+        j = r.joints[0]
+        deg = np.degrees(r.crank_angle)
+        steps, edges = np.histogram(deg, bins=36, range=(0.0, 360.0))
+        k = int(np.argmax(steps))
+        window = (deg >= edges[max(k - 2, 0)]) & (deg < edges[min(k + 3, 36)])
+        rec["last_completed_call"] = {
+            "steps_per_10_deg": steps.tolist(),
+            "crank_deg_of_most_steps": [float(edges[max(k - 2, 0)]), float(edges[min(k + 3, 36)])],
+            "share_of_steps_there": float(window.mean()),
+            "median_step_there_s": float(np.median(np.diff(r.t)[window[1:]])),
+            "median_normal_force_there_N": float(np.median(j.force_normal[window])),
+            "median_slip_speed_there_m_s": float(np.median(np.abs(j.slip_speed[window]))),
+            "median_normal_force_elsewhere_N": float(np.median(j.force_normal[~window])),
+        }
+        out[mode] = rec
+    return out
+
+
 def bench_profile_study(repeats: int = 1) -> dict:
     """Issue 14 item 5: the whole study (`jointwear run`, fresh process, benchmarks/study.py's runner) with the
     uniform preset and with the profile preset, alternating when repeated; the ratio of the median wall times."""
@@ -688,6 +744,8 @@ def main(argv=None) -> int:
             data["profile_wing_blocks"] = bench_profile_wing_blocks()
         elif sec == "profile_study":
             data["profile_study"] = bench_profile_study()
+        elif sec == "profile_jammed_shift":
+            data["profile_jammed_shift"] = bench_profile_jammed_shift()
         elif sec == "profile_wing_convergence":
             data["profile_wing_convergence"] = bench_profile_wing_convergence()
         else:
