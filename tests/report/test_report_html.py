@@ -14,6 +14,7 @@ from report_fixtures import make_fixture_dir
 
 from jointwear import load_results
 from jointwear.report import build_report
+from jointwear.report.markup import format_number
 from jointwear.report.checks import FAIL, NA, PASS, reference_checks
 from jointwear.study.results import ReliabilityResult, SensitivityResult, WearSummary
 
@@ -217,6 +218,21 @@ def test_second_peak_only_when_the_far_side_is_a_wear_zone(tmp_path, nominal):
     page = build_report(d).read_text(encoding="utf-8")
     assert "a single wear zone" in page and "1e-18 mm" not in page
 
+
+def test_wear_card_shows_the_conformity_in_either_mode(tmp_path, nominal):
+    """The indicator of docs/wear.md ("When uniform mode is fair") is on the wear card whatever the mode; the warning
+    only when uniform mode is outside its range."""
+    d = make_fixture_dir(tmp_path / "c", nominal, which=("wear",))
+    wear = WearSummary.load(d)
+    assert wear.conformity is not None and wear.conformity > 1.0  # the wing's 2 um clearance (docs/wear.md: ~100)
+    shown = format_number(wear.conformity, 3)
+    page = build_report(d).read_text(encoding="utf-8")
+    assert f'<div class="card-value">{shown}</div>' in page and "Uniform mode is outside its range" in page
+    wear.geometry_mode = "profile"
+    wear.write(d)
+    page = build_report(d).read_text(encoding="utf-8")
+    card = f'<div class="card-label">conformity</div><div class="card-value">{shown}</div>'
+    assert card in page and "Uniform mode is outside its range" not in page
 
 def test_report_has_a_design_section_when_the_folder_has_a_design(tmp_path, nominal):
     import json

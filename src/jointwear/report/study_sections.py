@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from . import figures as F
@@ -167,6 +169,9 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
     ]
     if wear.journal.get("max_wear_mm") is not None:
         items.append(("journal max wear", f"{wear.journal['max_wear_mm']:.4g} mm", "over the pin's circumference"))
+    if wear.conformity is not None and math.isfinite(wear.conformity):
+        items.append(("conformity", format_number(wear.conformity, 3),
+                      "worn arc / contact patch; uniform mode is fair up to 1"))
     parts.append(cards(items))
     prof = wear.profile
     ang, depth = np.asarray(prof["angle_deg"], dtype=float), np.asarray(prof["depth_mm"], dtype=float)
