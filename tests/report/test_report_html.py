@@ -114,7 +114,7 @@ def test_optional_results_absent(tmp_path: Path, nominal: Path):
     page = build_report(d).read_text()
     for what in ("Journal orbit: no series file (simulate.npz)", "Contact force: no series file",
                  "Convergence of Pf: not recorded", "Max wear histograms: none requested",
-                 "Sobol&#x27; indices: not computed", "Mechanism sketch: drawn for four-bar linkages only"):
+                 "Sobol&#x27; indices: not computed", "Mechanism sketch: drawn for four-bar and general linkages"):
         assert what in page, what
     # no mean max wear: its checks say no data, the rest still compare
     checks = {c.quantity: c for c in reference_checks(load_results(d))}
@@ -247,3 +247,24 @@ def test_report_has_a_design_section_when_the_folder_has_a_design(tmp_path, nomi
         "model_calls": 140, "wall_seconds": 223.0, "n_candidates": 243}))
     page = build_report(d).read_text(encoding="utf-8")
     assert 'id="design"' in page and "IT8/IT7" in page and "coated" in page
+
+
+def test_a_general_linkage_is_sketched_as_drawn(tmp_path):
+    """A user's own linkage (examples/my_linkage.toml) gets its sketch from the drawing's global coordinates: the
+    config.json summary carries every body's points in mm, and the report draws them instead of saying it cannot."""
+    from jointwear.config import load_config
+    from jointwear.report.settings import settings_dump
+
+    root = Path(__file__).resolve().parents[2]
+    dump = settings_dump(load_config(str(root / "examples" / "my_linkage.toml")))
+    mech = dump["mechanism"]
+    assert mech["type"] == "general" and [b["name"] for b in mech["bodies"]] == ["crank", "coupler", "rocker"]
+    assert mech["bodies"][1]["points_mm"]["B"] == pytest.approx([18.7805, 39.0244])  # the TOML's points_mm
+    assert {j["name"]: j["at_mm"] for j in mech["joints"]}["C"] == pytest.approx([35.0, 20.0])
+    assert mech["clearance_joints"] == ["B"] and mech["driven_joints"] == ["O"]
+    d = tmp_path / "general"
+    d.mkdir()
+    (d / "config.json").write_text(json.dumps(dump))
+    page = build_report(d).read_text(encoding="utf-8")
+    assert "The mechanism as drawn in its config" in page and "Mechanism sketch: drawn for" not in page
+    assert "coupler, rocker" in page  # the bodies in the mechanism table, not a dump of dicts

@@ -47,6 +47,7 @@ from .style import (
 
 __all__ = [
     "mechanism_figure",
+    "linkage_figure",
     "orbit_figure",
     "contact_force_figure",
     "wear_polar_figure",
@@ -134,6 +135,46 @@ def mechanism_figure(
     label_axes(ax, "x", "mm", "y", "mm")
     ax.legend(loc="lower right")
     ax.set_title("Mechanism (crank-rocker)")
+    return fig
+
+
+def linkage_figure(mech: Mapping) -> Figure:
+    """Sketch of a general linkage as drawn (its TOML's global coordinates at t = 0, mm): each body a line through
+    its points (a shaded polygon for three or more) with its centre of mass, ground points as triangles, revolute
+    joints as dots and prismatic ones as squares, the driven joints and the clearance joints ringed."""
+    fig, ax = figure(size="square")
+    for k, body in enumerate(mech.get("bodies", [])):
+        pts = np.array(list(body["points_mm"].values()), dtype=float).reshape(-1, 2)
+        color = COLORS[k % len(COLORS)]
+        if len(pts) >= 3:
+            from matplotlib.patches import Polygon
+
+            ax.add_patch(Polygon(pts, closed=True, fc=color, ec=color, alpha=0.25, lw=2, zorder=2))
+        ax.plot(*pts.T, color=color, lw=3, zorder=3, label=body["name"])
+        ax.plot(*np.asarray(body["com_mm"], dtype=float), marker="+", ms=9, mew=1.5, color=color, zorder=4)
+    for name, p in mech.get("ground_mm", {}).items():
+        ax.plot(*p, marker="^", ms=10, color="#333333", zorder=4)
+    driven = set(mech.get("driven_joints", []))
+    clearance = set(mech.get("clearance_joints", []))
+    for j in mech.get("joints", []):
+        if j.get("at_mm") is None:
+            continue
+        p = np.asarray(j["at_mm"], dtype=float)
+        ax.plot(*p, marker="s" if j.get("type") == "prismatic" else "o", ms=6, color="#333333", zorder=5)
+        ax.annotate(j["name"], p, xytext=(6, 4), textcoords="offset points", fontsize=10, fontweight="bold")
+        if j["name"] in driven:
+            ax.plot(*p, marker="o", ms=13, mfc="none", mec="#333333", mew=1.2, ls="none", zorder=5)
+        if j["name"] in clearance:
+            ax.plot(*p, marker="o", ms=18, mfc="none", mec=LIMIT_COLOR, mew=1.8, ls="none", zorder=6)
+    ax.plot([], [], marker="o", ms=13, mfc="none", mec="#333333", ls="none", label="driven joint")
+    if clearance:
+        ax.plot([], [], marker="o", ms=16, mfc="none", mec=LIMIT_COLOR, mew=1.8, ls="none",
+                label="clearance joint " + ", ".join(sorted(clearance)))
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.margins(0.15)
+    label_axes(ax, "x", "mm", "y", "mm")
+    ax.legend(loc="best")
+    ax.set_title("Mechanism as drawn (t = 0)")
     return fig
 
 

@@ -132,8 +132,30 @@ def settings_records(model: Any, prefix: str = "", *, explicit: bool = True) -> 
     return out
 
 
+def _general_mechanism(mech: Any, joints: list) -> dict:
+    """A general linkage as drawn (global coordinates at t = 0, mm): what the report's sketch needs."""
+
+    def mm(v) -> list[float]:
+        return [float(v[0]) * 1e3, float(v[1]) * 1e3]
+
+    points = {f"ground.{k}": mm(v) for k, v in mech.ground_points.items()}
+    for b in mech.bodies:
+        points.update({f"{b.name}.{k}": mm(v) for k, v in b.points.items()})
+    return {
+        "type": "general",
+        "ground_mm": {k: mm(v) for k, v in mech.ground_points.items()},
+        "bodies": [{"name": b.name, "points_mm": {k: mm(v) for k, v in b.points.items()}, "com_mm": mm(b.com)}
+                   for b in mech.bodies],
+        "joints": [{"name": j.name, "type": j.type, "at_mm": points.get(j.connects[0])} for j in mech.joints],
+        "driven_joints": [d.joint for d in mech.drivers],
+        "clearance_joints": [str(cj.joint) for cj in joints],
+    }
+
+
 def _mechanism(config: Any) -> dict | None:
     mech = getattr(config, "mechanism", None)
+    if mech is not None and getattr(mech, "type", None) == "general":
+        return _general_mechanism(mech, getattr(config, "clearance_joints", []) or [])
     if mech is None or getattr(mech, "type", None) != "four_bar":
         return None
     try:

@@ -51,7 +51,14 @@ def settings_section(out: StudyOutputs, figs: Figures) -> str:
     if meta:
         parts.append(table(["item", "value"], meta, cls="kv"))
     mech = cfg.get("mechanism")
-    if mech:
+    if mech and mech.get("type") == "general":
+        rows = [("type", "general linkage"),
+                ("bodies", ", ".join(b["name"] for b in mech.get("bodies", []))),
+                ("joints", ", ".join(f'{j["name"]} ({j.get("type", "revolute")})' for j in mech.get("joints", []))),
+                ("driven joints", ", ".join(mech.get("driven_joints", [])) or "\u2014"),
+                ("clearance joints", ", ".join(mech.get("clearance_joints", [])) or "\u2014")]
+        parts.append(table(["mechanism", "value"], rows, cls="kv"))
+    elif mech:
         parts.append(table(["mechanism", "value"], [(k, format_number(v)) for k, v in mech.items()], cls="kv"))
     parts.append("</div>")
     if mech and all(mech.get(k) is not None for k in ("crank_mm", "rod_mm", "rocker_mm", "pivot_mm")):
@@ -60,9 +67,14 @@ def settings_section(out: StudyOutputs, figs: Figures) -> str:
             branch=int(mech.get("branch", 1) or 1), clearance_joint=str(mech.get("clearance_joint", "A"))),
             "The mechanism at a crank angle of 45 deg, with ghosts over one crank turn; the clearance joint is ringed.",
             png_keys=("mechanism",)))
+    elif mech and mech.get("type") == "general" and mech.get("bodies"):
+        parts.append(figs.draw(lambda: F.linkage_figure(mech),
+                               "The mechanism as drawn in its config (t = 0): bodies with their centres of mass (+), "
+                               "ground points (triangles), the driven and the clearance joints ringed.",
+                               png_keys=("mechanism",)))
     else:
         parts.append(figs.draw(None, "Mechanism sketch", png_keys=("mechanism",),
-                               missing_text="Mechanism sketch: drawn for four-bar linkages only."))
+                               missing_text="Mechanism sketch: drawn for four-bar and general linkages."))
     parts.append("</div>")
     recs = list(cfg.get("settings") or [])
     ref = reference_of(cfg)
