@@ -268,3 +268,26 @@ def test_a_general_linkage_is_sketched_as_drawn(tmp_path):
     page = build_report(d).read_text(encoding="utf-8")
     assert "The mechanism as drawn in its config" in page and "Mechanism sketch: drawn for" not in page
     assert "coupler, rocker" in page  # the bodies in the mechanism table, not a dump of dicts
+
+
+def test_the_archard_check_is_shown_and_a_disagreement_warned(tmp_path: Path, nominal: Path):
+    """sensitivity.json's archard_checks appear as a table; a disagreement raises a warning with its size, and a
+    check not made says why."""
+    d = make_fixture_dir(tmp_path, nominal, which=("sensitivity", "config"))
+    sens = SensitivityResult.load(d)
+    agree = {"variable": "HB_b", "factor": 0.8, "reliability_surrogate": 0.531, "reliability_archard": 0.514,
+             "difference": 0.017, "tolerance": 0.042, "consistent": True}
+    not_made = {"variable": "k_b", "factor": 0.8, "reliability_surrogate": 0.999, "consistent": None,
+                "note": "not checked: the Archard reading needs the life surrogate at 288,000 cycles"}
+    sens.archard_checks = [agree, not_made]
+    sens.write(d)
+    page = build_report(d).read_text(encoding="utf-8")
+    assert "Check against Archard" in page and "288,000 cycles" in page
+    assert "disagrees with Archard" not in page and "DISAGREE" not in page
+    sens.archard_checks = [agree, not_made, {"variable": "k_b", "factor": 1.2, "reliability_surrogate": 0.552,
+                                             "reliability_archard": 0.637, "difference": -0.0843, "tolerance": 0.041,
+                                             "consistent": False}]
+    sens.write(d)
+    page = build_report(d).read_text(encoding="utf-8")
+    assert "by up to 0.084 in R" in page
+    assert 'class="bad"' in page and "DISAGREE" in page

@@ -212,7 +212,7 @@ table.num td,table.compare td:nth-child(2),table.compare td:nth-child(3),table.c
 font-variant-numeric:tabular-nums;white-space:nowrap}
 table.settings tr.open{background:#fff8e6}
 table.compare td:first-child{min-width:230px}
-table.compare tr.fail{background:#fdf0ef}
+table.compare tr.fail,table.num tr.bad{background:#fdf0ef}
 .desc{color:var(--muted);font-size:12.5px}
 .pill{display:inline-block;padding:1px 8px;border-radius:999px;font-size:12px;font-weight:700;white-space:nowrap}
 .pill.pass{background:#dcf2e1;color:var(--pass)} .pill.fail{background:#fbdcd9;color:var(--fail)}

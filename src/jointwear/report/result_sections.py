@@ -146,6 +146,7 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
     else:
         parts.append("<h3>Ranking</h3>")
         parts.append(table(head, rrows, cls="kv"))
+    parts.append(archard_check_part(sens))
     sob = sens.sobol
     if sob.get("names"):
         output = str(sob.get("output") or "max wear")
@@ -159,6 +160,38 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
                                missing_text="Sobol' indices: not computed in this result."))
     return "".join(parts)
 
+
+def archard_check_part(sens) -> str:
+    """The mean shifts of the judged body's k and H against Archard's exact scaling (SensitivityResult.
+    archard_checks), with a warning when they disagree: then the shifted reliabilities are less certain than their
+    error estimates say."""
+    checks = sens.archard_checks
+    if not checks:
+        return ""
+    rows, classes = [], []
+    for c in checks:
+        made = c.get("consistent") is not None
+        verdict = ("agree" if c["consistent"] else "DISAGREE") if made else str(c.get("note") or "not checked")
+        rows.append((str(c["variable"]), f"\u00d7 {float(c['factor']):g}", format_number(c.get("reliability_surrogate"), 3),
+                     format_number(c.get("reliability_archard"), 3) if made else "\u2014",
+                     format_number(c.get("difference"), 3) if made else "\u2014",
+                     format_number(c.get("tolerance"), 3) if made else "\u2014", verdict))
+        classes.append("bad" if made and not c["consistent"] else "")
+    bad = [c for c in checks if c.get("consistent") is False]
+    parts = ["<h3>Check against Archard's law</h3>",
+             "<p>The judged wear is proportional to the bearing's k / H, so shifting k or H scales every sample's "
+             "life exactly (up to the wear's feedback on the dynamics). Each row compares the surrogate's reliability "
+             "of the shifted population (the value in the table above) with that scaling applied to the nominal "
+             "population; they agree when they differ by less than their combined errors.</p>"]
+    if bad:
+        worst = max(abs(float(c["difference"])) for c in bad)
+        parts.append(f'<p class="warn"><strong>The surrogate disagrees with Archard\'s law by up to '
+                     f"{worst:.3f} in R.</strong> The reliabilities of the shifted means are uncertain by about that "
+                     "much, more than their error estimates say; read a ranking whose reliabilities differ by less "
+                     "as unresolved.</p>")
+    parts.append(table(["variable", "mean", "R, surrogate", "R, Archard scaling", "difference", "tolerance",
+                        "verdict"], rows, cls="num", row_cls=classes))
+    return "".join(parts)
 
 def validation_section(out: StudyOutputs, figs: Figures) -> str:
     """The surrogate's R(N) against the true model sampled directly, and its cross-validation."""
