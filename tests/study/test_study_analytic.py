@@ -188,6 +188,12 @@ def test_archard_shifts_check_the_surrogate_and_the_clearance_keeps_its_floor():
     checked = {(c["variable"], round(c["factor"], 3)) for c in sens.archard_checks}
     assert checked == {("k_b", 0.9), ("k_b", 1.1), ("HB_b", 0.9), ("HB_b", 1.1)}
     assert all(c["consistent"] is True for c in sens.archard_checks), sens.archard_checks
+    # the table reports Archard's scaling for the judged body's k and H, the surrogate's direct reading for the rest
+    rows = {v["name"]: v for v in sens.variables}
+    for c in sens.archard_checks:
+        side = "reliability_low" if c["factor"] < 1.0 else "reliability_high"
+        assert rows[c["variable"]][side] == c["reliability_archard"]
+    assert {r["rule"] for r in sens.rules if r["variable"] in ("k_b", "HB_b")} == {"archard_scaling"}
     i = ctx.names.index("c")
     low = physical_marginal(ctx, i, shifted_marginal(ctx.marginals[i], 0.8))
     # the shifted clearance is still truncated at the configured minimum: no sample below it

@@ -180,15 +180,16 @@ def archard_check_part(sens) -> str:
     bad = [c for c in checks if c.get("consistent") is False]
     parts = ["<h3>Check against Archard's law</h3>",
              "<p>The judged wear is proportional to the bearing's k / H, so shifting k or H scales every sample's "
-             "life exactly (up to the wear's feedback on the dynamics). Each row compares the surrogate's reliability "
-             "of the shifted population (the value in the table above) with that scaling applied to the nominal "
-             "population; they agree when they differ by less than their combined errors.</p>"]
+             "life exactly (up to the wear's feedback on the dynamics). Each row compares the surrogate's direct "
+             "reading of the shifted population with that scaling applied to the nominal population, where the "
+             "surrogate was learned; they agree when they differ by less than their combined errors. Where the "
+             "check can be made, the sensitivity above reports the scaling.</p>"]
     if bad:
         worst = max(abs(float(c["difference"])) for c in bad)
         parts.append(f'<p class="warn"><strong>The surrogate disagrees with Archard\'s law by up to '
-                     f"{worst:.3f} in R.</strong> The reliabilities of the shifted means are uncertain by about that "
-                     "much, more than their error estimates say; read a ranking whose reliabilities differ by less "
-                     "as unresolved.</p>")
+                     f"{worst:.3f} in R.</strong> Its direct readings of shifted means are uncertain by about that "
+                     "much, more than their error estimates say: the other variables' shifted reliabilities, which "
+                     "have no such check, may be too.</p>")
     parts.append(table(["variable", "mean", "R, surrogate", "R, Archard scaling", "difference", "tolerance",
                         "verdict"], rows, cls="num", row_cls=classes))
     return "".join(parts)

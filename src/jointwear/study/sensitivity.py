@@ -172,12 +172,19 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
             mu, sd = log_life_margin(shifted_pop)
             r = float(np.mean(mu > 0))
             error = esc_absolute_error(mu, sd)
+            if exponents[i] is not None:
+                check = archard_check(ctx, i, shifted, exponents[i], pop, margin_nominal_pop, margin_sd_nominal_pop,
+                                      factor, r, error, sens_cycles, (min(ctx.cycles), max(ctx.cycles)))
+                archard_checks.append(check)
+                if check["consistent"] is not None:
+                    # the judged body's k or H: Archard's exact scaling of the nominal population, where the
+                    # surrogate was learned (its direct reading on the shifted population is the check)
+                    rules.append({"variable": ctx.names[i], "factor": factor, "rule": "archard_scaling",
+                                  "reliability": check["reliability_archard"],
+                                  "error_estimate": check["error_archard"], "reliability_surrogate": r})
+                    return check["reliability_archard"], 0
             rules.append({"variable": ctx.names[i], "factor": factor, "rule": "surrogate", "reliability": r,
                           "error_estimate": error})
-            if exponents[i] is not None:
-                archard_checks.append(archard_check(ctx, i, shifted, exponents[i], pop, margin_nominal_pop,
-                                                    margin_sd_nominal_pop, factor, r, error, sens_cycles,
-                                                    (min(ctx.cycles), max(ctx.cycles))))
             return r, 0
         before = ctx.n_evaluated
         base_wear = true_wear(means)
