@@ -172,7 +172,8 @@ def archard_check_part(sens) -> str:
     for c in checks:
         made = c.get("consistent") is not None
         verdict = ("agree" if c["consistent"] else "DISAGREE") if made else str(c.get("note") or "not checked")
-        rows.append((str(c["variable"]), f"\u00d7 {float(c['factor']):g}", format_number(c.get("reliability_surrogate"), 3),
+        rows.append((str(c["variable"]), f"\u00d7 {float(c['factor']):g}",
+                     format_number(c.get("reliability_surrogate"), 3),
                      format_number(c.get("reliability_archard"), 3) if made else "\u2014",
                      format_number(c.get("difference"), 3) if made else "\u2014",
                      format_number(c.get("tolerance"), 3) if made else "\u2014", verdict))
@@ -193,6 +194,7 @@ def archard_check_part(sens) -> str:
     parts.append(table(["variable", "mean", "R, surrogate", "R, Archard scaling", "difference", "tolerance",
                         "verdict"], rows, cls="num", row_cls=classes))
     return "".join(parts)
+
 
 def validation_section(out: StudyOutputs, figs: Figures) -> str:
     """The surrogate's R(N) against the true model sampled directly, and its cross-validation."""

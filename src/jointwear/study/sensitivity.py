@@ -97,10 +97,14 @@ def archard_check(ctx: StudyContext, i: int, shifted, exponent: int, pop: np.nda
 def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> SensitivityResult:
     """Mean shifts (paper Figs. 22-24), Sobol' indices and reliability derivatives at one cycle count.
 
-    Re-uses the reliability study's surrogate; see docs/sensitivity.md for the two rules:
+    Re-uses the reliability study's surrogate; see docs/study.md ("Sensitivity") for the three rules:
 
     * a shift that stays inside the design's region (|shift| <= ``sensitivity.surrogate_shift_limit`` = 4
-      sigma by default; the initial design spans +-5 sigma) is evaluated on the surrogate with a shifted Monte Carlo population (no model call);
+      sigma by default; the initial design spans +-5 sigma) is evaluated on the surrogate with a shifted Monte Carlo
+      population (no model call);
+    * except the judged body's wear coefficient and hardness, read by Archard's exact scaling of the nominal
+      population where the scaled limit state lies inside the curve (archard_check; the surrogate's direct reading
+      is its check);
     * a larger shift (the geometric means moved by 20 % are hundreds of standard deviations away) is
       evaluated by the *separable scaling* rule: one true-model call at the shifted nominal point and one at
       the nominal point give the ratio rho of the max wear, and the reliability is P(rho * delta_max(x) <
