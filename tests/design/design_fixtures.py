@@ -50,13 +50,23 @@ def analytic_context(cfg):
 
 
 def exact_reliabilities(ctx, model, controls, candidates, life, n=1_000_000, seed=7):
-    """R(N*) of every candidate by brute-force Monte Carlo on the analytic model (same draws for all)."""
+    """R(N*) of every candidate by brute-force Monte Carlo on the analytic model (same draws for all). The inputs are
+    independent, so each column is transformed once per distinct marginal and shared by the candidates using it."""
     from jointwear.reliability import IsoTransform
 
     z = np.random.default_rng(seed).standard_normal((n, len(ctx.names)))
+    if ctx.copula is not None:
+        return np.array([float(np.mean(model.life(IsoTransform(c.marginals(controls, ctx.names, ctx.marginals)).to_x(z))
+                                       > life)) for c in candidates])
+    columns: dict = {}  # (column, id of its marginal) -> (marginal, values): the marginal is kept so its id stays its own
     out = []
     for cand in candidates:
-        x = IsoTransform(cand.marginals(controls, ctx.names, ctx.marginals)).to_x(z)
+        x = np.empty_like(z)
+        for i, m in enumerate(cand.marginals(controls, ctx.names, ctx.marginals)):
+            key = (i, id(m))
+            if key not in columns:
+                columns[key] = (m, IsoTransform([m]).to_x(z[:, [i]])[:, 0])
+            x[:, i] = columns[key][1]
         out.append(float(np.mean(model.life(x) > life)))
     return np.array(out)
 
