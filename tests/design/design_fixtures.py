@@ -56,8 +56,8 @@ def exact_reliabilities(ctx, model, controls, candidates, life, n=1_000_000, see
 
     z = np.random.default_rng(seed).standard_normal((n, len(ctx.names)))
     if ctx.copula is not None:
-        return np.array([float(np.mean(model.life(IsoTransform(c.marginals(controls, ctx.names, ctx.marginals)).to_x(z))
-                                       > life)) for c in candidates])
+        iso = [IsoTransform(c.marginals(controls, ctx.names, ctx.marginals)) for c in candidates]
+        return np.array([float(np.mean(model.life(t.to_x(z)) > life)) for t in iso])
     columns: dict = {}  # (column, id of its marginal) -> (marginal, values): the marginal is kept so its id stays its own
     out = []
     for cand in candidates:
