@@ -58,7 +58,7 @@ def exact_reliabilities(ctx, model, controls, candidates, life, n=1_000_000, see
     if ctx.copula is not None:
         iso = [IsoTransform(c.marginals(controls, ctx.names, ctx.marginals)) for c in candidates]
         return np.array([float(np.mean(model.life(t.to_x(z)) > life)) for t in iso])
-    columns: dict = {}  # (column, id of its marginal) -> (marginal, values): the marginal is kept so its id stays its own
+    columns: dict = {}  # (column, id of its marginal) -> (marginal, values); keeping the marginal keeps its id unique
     out = []
     for cand in candidates:
         x = np.empty_like(z)
