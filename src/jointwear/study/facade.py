@@ -237,6 +237,9 @@ class Study:
         result.save(self.out)
         self.echo(f"wear: max bearing wear {result.max_wear_mm:.4f} mm at {result.max_wear_angle_deg:.0f} deg "
                   f"after {result.cycles} cycles ({time.perf_counter() - t0:.1f} s) -> {self.out / result.FILE}")
+        if result.geometry_mode == "uniform" and result.uniform_mode_valid is False:
+            self.echo(f"wear: uniform mode is outside its range here (conformity {result.conformity:.3g} > 1: the "
+                      'journal fits into its own wear); wear.geometry_mode = "profile" follows it (docs/wear.md)')
         return result
 
     @_quiet
