@@ -14,8 +14,8 @@ from report_fixtures import make_fixture_dir
 
 from jointwear import load_results
 from jointwear.report import build_report
-from jointwear.report.markup import format_number
 from jointwear.report.checks import FAIL, NA, PASS, reference_checks
+from jointwear.report.markup import format_number
 from jointwear.study.results import ReliabilityResult, SensitivityResult, WearSummary
 
 SECTIONS = ("summary", "comparison", "study", "dynamics", "wear", "reliability", "sensitivity", "files")
@@ -233,6 +233,7 @@ def test_wear_card_shows_the_conformity_in_either_mode(tmp_path, nominal):
     page = build_report(d).read_text(encoding="utf-8")
     card = f'<div class="card-label">conformity</div><div class="card-value">{shown}</div>'
     assert card in page and "Uniform mode is outside its range" not in page
+
 
 def test_report_has_a_design_section_when_the_folder_has_a_design(tmp_path, nominal):
     import json

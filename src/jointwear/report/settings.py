@@ -138,14 +138,16 @@ def _general_mechanism(mech: Any, joints: list) -> dict:
     def mm(v) -> list[float]:
         return [float(v[0]) * 1e3, float(v[1]) * 1e3]
 
-    points = {f"ground.{k}": mm(v) for k, v in mech.ground_points.items()}
-    for b in mech.bodies:
-        points.update({f"{b.name}.{k}": mm(v) for k, v in b.points.items()})
+    ground = {k: mm(v) for k, v in mech.ground_points.items()}
+    bodies = [{"name": b.name, "points_mm": {k: mm(v) for k, v in b.points.items()}, "com_mm": mm(b.com)}
+              for b in mech.bodies]
+    points = {f"ground.{k}": v for k, v in ground.items()}
+    for b in bodies:
+        points.update({f"{b['name']}.{k}": v for k, v in b["points_mm"].items()})
     return {
         "type": "general",
-        "ground_mm": {k: mm(v) for k, v in mech.ground_points.items()},
-        "bodies": [{"name": b.name, "points_mm": {k: mm(v) for k, v in b.points.items()}, "com_mm": mm(b.com)}
-                   for b in mech.bodies],
+        "ground_mm": ground,
+        "bodies": bodies,
         "joints": [{"name": j.name, "type": j.type, "at_mm": points.get(j.connects[0])} for j in mech.joints],
         "driven_joints": [d.joint for d in mech.drivers],
         "clearance_joints": [str(cj.joint) for cj in joints],
