@@ -15,8 +15,8 @@ Sections
   instead of two (the lanes' lag of the geometry update).
 - reproduction: both assembly branches x both geometry modes at 400k cycles (paper: 0.0249 mm at 110 deg, second
   peak 0.0087 mm at 310 deg).
-- profile_cost (only with --only; issue 14): uniform vs profile mode, --repeats model calls each in the same process: the
-  pendulum rig (tests/wear/rigs/pendulum.toml) to 100k revolutions and the flapping wing to 520k cycles; cost per
+- profile_cost (only with --only; issue 14): uniform vs profile mode, --repeats model calls each in the same process:
+  the pendulum rig (tests/wear/rigs/pendulum.toml) to 100k revolutions and the flapping wing to 520k cycles; cost per
   simulated cycle and its two factors (steps per cycle, cost per step), peak memory, the conformity indicator.
 - profile_rig_convergence / profile_wing_convergence (only with --only): profile mode's max depth with each setting
   halved (grid spacing, smoothing, block, corner rounding), on the rig at 1e4/1e5 revolutions (beside the closed
@@ -28,6 +28,8 @@ Sections
   processes for the uniform preset (jin2025_flapping_wing) and the profile one (jin2025_flapping_wing_profile),
   one after the other in the same benchmark run: wall times, their ratio (goal <= 2), model calls, R(N), the life
   at the target, the nominal wear, the host CPU and the date.
+- profile_rig_rocking (only with --only, about a minute): what sets the integrator's steps on the pendulum rig: the
+  eye's rocking on the pin (docs/verification.md, case 7) on each mode's geometry after 0, 1e4 and 1e5 revolutions.
 - profile_jammed_shift (only with --only, about a minute): the profile preset's rod length x 1.2 in both geometry modes
   until the step budget stops it: why the step size collapses there (docs/dynamics.md).
 - profile_convergence (only with --only, long: about 10 minutes on 2 cores): profile mode (geometry_mode = "profile")
@@ -217,7 +219,8 @@ def bench_convergence(replicates: int = 8) -> dict:
     b = out["baseline"]["mean_mm"]
     for name in variants:
         out[name]["rel_change_of_mean"] = out[name]["mean_mm"] / b - 1.0
-        out[name]["rel_change_first_run"] = out[name]["max_wear_mm_runs"][0] / out["baseline"]["max_wear_mm_runs"][0] - 1
+        first = out["baseline"]["max_wear_mm_runs"][0]
+        out[name]["rel_change_first_run"] = out[name]["max_wear_mm_runs"][0] / first - 1
     out["run_to_run_scatter_rel"] = out["baseline"]["std_mm"] / b
     for name in variants:
         # standard error of the difference of two means of `replicates` runs each (relative to the baseline mean)
@@ -630,6 +633,67 @@ def bench_profile_wing_blocks(levels=(520_000, 900_000, 1_000_000, 1_300_000, 1_
     return out
 
 
+def bench_profile_rig_rocking(n_values=(0, 10_000, 100_000)) -> dict:
+    """Issue 14 item 1: what sets the integrator's steps on the pendulum rig. The pendulum's eye rocks on the pin along
+    the bore at omega^2 = N / (e m_eff) (docs/verification.md, case 7; e the radius of the path of its centre),
+    and the step follows that frequency. Each mode's geometry after n revolutions; 3 cycles after 3 settling
+    cycles on it from rest (and the history's last blocks' steps): steps, rejections, the rocking frequency (the
+    spectral peak of the eye's angle on the pin), the closed form with e = the mean eccentricity (a round bore:
+    exact for uniform mode), and with e = the corner rounding of the admissible set (profile mode's pocket, an
+    estimate: the eye's centre rides that arc). Then the unworn rig without friction (the rocking is free, not
+    self-excited)."""
+    from jointwear.config import updated
+    from jointwear.wear.history import PROFILE_ROUNDING, update_geometry
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+    from verification.closed_form import Rig, spectral_peak
+
+    cfg = load_config(str(RIG))
+    rig = Rig.from_config(cfg)
+    s = base_settings(cfg)  # the wear runs' tolerances, so that the steps are the history's
+    m_eff = 1.0 / (1.0 / rig.mass + rig.arm**2 / rig.inertia)
+
+    def rocking(model, geometry) -> dict:
+        res = simulate(model, 3, geometry=geometry, settle_cycles=3, rtol=s.rtol, atol=s.atol)
+        tr = res.joints[0]
+        e = tr.eccentricity_global
+        f = spectral_peak(tr.t, np.unwrap(np.arctan2(e[:, 1], e[:, 0])), above=10.0)
+        n_force = float(np.sum(tr.dt_weight * tr.force_normal) / np.sum(tr.dt_weight))
+        e_mean = float(np.mean(np.hypot(e[:, 0], e[:, 1])))
+        steps = res.n_steps / (res.n_cycles + res.settle_cycles)
+        return {"steps_per_cycle": steps, "rejected_per_cycle": res.n_rejected / (res.n_cycles + res.settle_cycles),
+                "rocking_hz": f, "steps_per_rocking_period": steps / f, "mean_normal_force_n": n_force,
+                "mean_eccentricity_um": e_mean * 1e6, "normal_force_std_n": float(np.std(tr.force_normal)),
+                "closed_form_round_bore_hz": math.sqrt(n_force / (e_mean * m_eff)) / (2.0 * math.pi)}
+
+    model = build_model(cfg)
+    g0 = model.initial_geometry()
+    out = {"m_eff_kg": m_eff, "profile_rounding_um": PROFILE_ROUNDING * rig.clearance * 1e6}
+    for mode in ("uniform", "profile"):
+        sm = s.model_copy(update={"geometry_mode": mode})
+        rows = {}
+        for n in n_values:
+            geometry = g0
+            if n > 0:
+                hist = wear_history(model, sm, n)
+                j = hist.joints[0]
+                geometry = [update_geometry(g0[0], sm, j.bearing_wear, j.journal_wear,
+                                            j.history_clearance_growth[-1])[0]]
+            rows[str(n)] = rec = rocking(model, geometry)
+            if n > 0:  # the history's own blocks there: they continue from the previous block's state
+                per_block = sm.settle_cycles + sm.record_cycles
+                rec["history_steps_per_cycle_last_5_blocks"] = statistics.median(
+                    b.n_steps / per_block for b in hist.blocks[-5:])
+            if mode == "profile" and n > 0:
+                rec["closed_form_pocket_corner_hz"] = math.sqrt(
+                    rec["mean_normal_force_n"] / (PROFILE_ROUNDING * rig.clearance * m_eff)) / (2.0 * math.pi)
+            print(mode, n, {k: round(v, 1) for k, v in rec.items()}, file=sys.stderr)
+        out[mode] = rows
+    free = build_model(updated(cfg, {"clearance_joints.0.friction.law": "none"}))
+    out["unworn_without_friction"] = rocking(free, free.initial_geometry())
+    return out
+
+
 def bench_profile_jammed_shift(factor: float = 1.2, n_cycles: int = 400_000) -> dict:
     """The profile preset's most extreme sensitivity shift, rod length x 1.2 (hundreds of sigma), in each geometry
     mode until the step budget stops its history: the linkage's Grashof slack, the steps of every call, the stop's
@@ -744,6 +808,8 @@ def main(argv=None) -> int:
             data["profile_wing_blocks"] = bench_profile_wing_blocks()
         elif sec == "profile_study":
             data["profile_study"] = bench_profile_study()
+        elif sec == "profile_rig_rocking":
+            data["profile_rig_rocking"] = bench_profile_rig_rocking()
         elif sec == "profile_jammed_shift":
             data["profile_jammed_shift"] = bench_profile_jammed_shift()
         elif sec == "profile_wing_convergence":

@@ -116,3 +116,32 @@ def conformal_wear(rig: Rig, force: float, n: float) -> dict:
     d = float(sol.y[0, -1])
     t = math.acos(c0 / d)
     return {"depth": d - c0, "arc": 2.0 * t, "area": 2.0 * r * (d * math.sin(t) - c0 * t)}
+
+
+def hertz_approach(force: float, r_b: float, r_j: float, hsum: float) -> float:
+    """The contact law's static penetration delta = (F / K)^(2/3), K = 4 / (3 hsum) sqrt(R_b R_j / (R_b - R_j))."""
+    k = 4.0 / (3.0 * hsum) * math.sqrt(r_b * r_j / (r_b - r_j))
+    return (force / k) ** (2.0 / 3.0)
+
+
+def rocking_frequency(rig: Rig, force: float, growth: float = 0.0) -> float:
+    """Frequency (Hz) of the pendulum's eye rocking on the pin along the bore: the eye's centre rides the circle of
+    radius e = c0 + growth + delta about the pin's centre, so a tangential offset s meets the restoring force N s / e
+    (stiffness N / e, a pendulum of length e in the field N); the mass it moves is the pendulum's at the pin, free
+    to turn about its centre of mass, 1 / m_eff = 1 / m + arm^2 / I. omega^2 = N / (e m_eff)."""
+    rb, rj = rig.r_b + 0.5 * growth, rig.r_j - 0.5 * growth
+    e = rb - rj + hertz_approach(force, rb, rj, rig.hsum)
+    m_eff = 1.0 / (1.0 / rig.mass + rig.arm**2 / rig.inertia)
+    return math.sqrt(force / (e * m_eff)) / (2.0 * math.pi)
+
+
+def spectral_peak(t: np.ndarray, x: np.ndarray, above: float) -> float:
+    """Frequency (Hz) of the largest spectral peak of x(t) above `above` Hz: resampled evenly, a quintic trend (the
+    crank's 1 Hz motion) removed, Hann window, zero-padded 16-fold (bins of 1 / (16 T) for a record of length T)."""
+    tu = np.linspace(t[0], t[-1], 2**16)
+    xu = np.interp(tu, t, x)
+    xu -= np.polyval(np.polyfit(tu, xu, 5), tu)
+    spec = np.abs(np.fft.rfft(xu * np.hanning(xu.size), 2**20))
+    freq = np.fft.rfftfreq(2**20, tu[1] - tu[0])
+    spec[freq < above] = 0.0
+    return float(freq[np.argmax(spec)])

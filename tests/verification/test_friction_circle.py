@@ -26,7 +26,7 @@ def test_contact_sits_atan_mu_from_the_load_line_with_n_equal_w_cos_phi(steady, 
     expected = 180.0 - math.degrees(phi) - math.degrees(psi)
     # 0.05 deg: the pin's centripetal acceleration (1 mm x omega^2 = 0.4 % of g) turns the load line by +-0.23 deg
     # once per cycle, and the pendulum's free swing (undamped while the pin slides: the friction torque is constant)
-    # turns the bearing frame by up to 0.8 deg at a 2.3 s period; neither averages out exactly over the 4 s window
+    # turns the bearing frame by up to 0.8 deg at a 0.73 s period; neither averages out exactly over the 4 s window
     assert theta == pytest.approx(expected, abs=0.05)
     n_mean = float(np.sum(w * tr.force_normal) / np.sum(w))
     # 0.1 %: the same +-0.4 % load wobble, first order zero over whole cycles; the centrifugal part of the swing
