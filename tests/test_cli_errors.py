@@ -133,11 +133,18 @@ def test_zero_crank_speed_exits_2(tmp_path, capsys):
     assert not (tmp_path / "o").exists()
 
 
-def test_unwritable_out_exits_2(tmp_path, capsys):
+def test_unwritable_out_exits_2_before_the_mechanism_runs(tmp_path, capsys, monkeypatch):
+    import jointwear.study.facade
+
+    def must_not_run(config):  # the run check compiles the kernels: a minute on a fresh install
+        raise AssertionError("the mechanism ran before the output folder was checked")
+
+    monkeypatch.setattr(jointwear.study.facade, "check_runs", must_not_run)
     blocker = tmp_path / "file"
     blocker.write_text("not a folder")
     code, err = _run(capsys, ["simulate", "--cycles", "1", "--out", str(blocker / "sub")])
     assert code == 2 and err.startswith("error: out:") and len(err.strip().splitlines()) == 1
+    assert "is a file, not a folder" in err and not (blocker / "sub").exists()
 
 
 def test_report_of_a_folder_without_results_exits_2(tmp_path, capsys):

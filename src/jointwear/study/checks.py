@@ -8,6 +8,8 @@ check that needs the model: the nominal mechanism runs.
 
 from __future__ import annotations
 
+import os
+from pathlib import Path
 from urllib.parse import urlsplit
 
 from jointwear.config import StudyConfig
@@ -79,6 +81,19 @@ def config_problems(config: StudyConfig, stages: frozenset[str] | set[str]) -> l
 
         problems += design_problems(config)
     return problems
+
+
+def out_problem(out: Path) -> str | None:
+    """Why ``out`` cannot become a writable folder, judged without creating anything (None when it looks fine):
+    its nearest existing ancestor must be a folder this process may write to."""
+    existing = Path(out).absolute()
+    while not existing.exists():
+        existing = existing.parent
+    if not existing.is_dir():
+        return f"out: cannot write to '{out}': '{existing}' is a file, not a folder"
+    if not os.access(existing, os.W_OK | os.X_OK):
+        return f"out: cannot write to '{out}': '{existing}' is not writable"
+    return None
 
 
 def check_runs(config: StudyConfig) -> list[str]:

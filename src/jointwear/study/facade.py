@@ -19,7 +19,13 @@ from pathlib import Path
 
 from jointwear.config import StudyConfig, load_config
 from jointwear.schema import ConfigError
-from jointwear.study.checks import check_runs, config_problems, nominal_wear_cycles, scheduler_problem
+from jointwear.study.checks import (
+    check_runs,
+    config_problems,
+    nominal_wear_cycles,
+    out_problem,
+    scheduler_problem,
+)
 from jointwear.study.limit_state import joint_allowance, limit_state_from_config, limit_state_problems
 from jointwear.study.results import (
     ReliabilityResult,
@@ -119,6 +125,11 @@ class Study:
         jointwear.schema.ConfigError
             Every problem found, listed in one message that names each field.
         """
+        self._check(stages)
+
+    def _check(self, stages=None, out: Path | None = None) -> None:
+        """:meth:`check`, and with ``out`` whether that folder can be written, before the check that runs the
+        mechanism (the first run compiles the kernels: about a minute on a fresh install)."""
         stages = set(self.stages if stages is None else stages)
         if stages <= self._checked:
             return
@@ -127,6 +138,10 @@ class Study:
             problem = scheduler_problem(self.scheduler)
             if problem:
                 problems.append(problem.replace("compute.scheduler", "scheduler"))
+        if out is not None and (problem := out_problem(out)):
+            if not problems:
+                raise ConfigError(problem)
+            problems.append(problem)
         if not problems and not self._checked:
             problems += check_runs(self.config)
         if problems:
@@ -142,7 +157,7 @@ class Study:
     def _prepare(self, stages) -> None:
         """Check the whole config (every rule of every stage it declares, so that a bad config is refused by
         any command), make sure the output folder can be written, then record the resolved config."""
-        self.check(set(stages) | set(self.stages))
+        self._check(set(stages) | set(self.stages), out=self.out)
         try:
             self.out.mkdir(parents=True, exist_ok=True)
             probe = self.out / ".jointwear-write-test"
