@@ -27,7 +27,6 @@ def test_eye_rocks_on_the_pin_at_sqrt_n_over_e_m(frictionless_model, rig, growth
     angle = np.unwrap(np.arctan2(e[:, 1], e[:, 0]))  # the eye's position along the bore
     measured = spectral_peak(res.joints[0].t, angle, above=10.0)
     # 0.5 %: the pin's centripetal acceleration (0.4 % of g) modulates N, hence the frequency by +-0.2 %, once per
-    # cycle (zero mean over the 3 whole cycles, which the window weighs nearly evenly; its sidebands lie 1 Hz off);
-    # the path's curvature shifts the frequency by (amplitude)^2 / 16 ~ 1e-4 and the pendulum's own swing (1.37 Hz)
-    # couples in at (1.37 Hz / f)^2 < 3e-4
+    # cycle (sidebands 1 Hz off the peak, not a shift of it); the path's curvature shifts the frequency by
+    # (amplitude)^2 / 16 ~ 1e-4 and the pendulum's own swing (1.37 Hz) couples in at (1.37 Hz / f)^2 < 3e-4
     assert measured == pytest.approx(rocking_frequency(rig, rig.weight, growth), rel=5e-3)
