@@ -257,7 +257,8 @@ def test_a_general_linkage_is_sketched_as_drawn(tmp_path):
     from jointwear.report.settings import settings_dump
 
     root = Path(__file__).resolve().parents[2]
-    dump = settings_dump(load_config(str(root / "examples" / "my_linkage.toml")))
+    toml = root / "examples" / "my_linkage.toml"
+    dump = settings_dump(load_config(str(toml)), source=str(toml))  # as a study from a TOML file writes it
     mech = dump["mechanism"]
     assert mech["type"] == "general" and [b["name"] for b in mech["bodies"]] == ["crank", "coupler", "rocker"]
     assert mech["bodies"][1]["points_mm"]["B"] == pytest.approx([18.7805, 39.0244])  # the TOML's points_mm
@@ -269,6 +270,9 @@ def test_a_general_linkage_is_sketched_as_drawn(tmp_path):
     page = build_report(d).read_text(encoding="utf-8")
     assert "The mechanism as drawn in its config" in page and "Mechanism sketch: drawn for" not in page
     assert "coupler, rocker" in page  # the bodies in the mechanism table, not a dump of dicts
+    # the user's study, not a preset: its name and its file head the page
+    assert f"study {dump['name']} \u00b7 config {toml}" in page and "preset " + dump["name"] not in page
+    assert "Source of the preset" not in page
 
 
 def test_the_archard_check_is_shown_and_a_disagreement_warned(tmp_path: Path, nominal: Path):

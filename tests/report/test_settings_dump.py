@@ -28,7 +28,9 @@ class _Cfg(BaseModel):
 def test_dump_of_a_pydantic_config(tmp_path):
     d = settings_dump(_Cfg(), seed=3)
     by = {s["name"]: s for s in d["settings"]}
-    assert d["preset"] == "toy" and d["citation"].startswith("A. Author") and d["seed"] == 3
+    assert d["name"] == "toy" and d["preset"] is None and d["source"] == "config"  # a config, not a preset
+    assert d["citation"].startswith("A. Author") and d["seed"] == 3
+    assert settings_dump(_Cfg(), preset="toy", source="preset")["preset"] == "toy"
     assert "name" not in by and "citation" not in by
     assert by["inner.length"]["value"] == pytest.approx(6.0) and by["inner.length"]["unit"] == "mm"
     assert by["inner.modulus"]["value"] == pytest.approx(211.0) and by["inner.modulus"]["unit"] == "GPa"

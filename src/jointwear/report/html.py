@@ -70,8 +70,9 @@ def build_report(out_dir: Path | str, *, output: Path | str | None = None, title
                            "PNG files found in the output folder that the sections above do not show."))
     summary = summary_cards(out, checks, ref)
 
-    preset, source = cfg.get("preset"), cfg.get("source")
+    preset, source, name = cfg.get("preset"), cfg.get("source"), cfg.get("name")
     sub = " \u00b7 ".join([
+        *([f"study {name}"] if name and name != preset else []),
         f"preset {preset}" if preset else (f"config {source}" if source else "config unknown"),
         f"folder {out_dir.resolve().name}",
         "generated " + _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),

@@ -2,7 +2,8 @@
 
 Contract (every key optional; the report lists whatever is there)::
 
-    {"preset": "jin2025_flapping_wing" | null,       # preset name, or null for a TOML file
+    {"name": "my_linkage",                           # the study's name (its config's `name`)
+     "preset": "jin2025_flapping_wing" | null,       # preset name, or null for a TOML file
      "source": "preset" | "path/to/study.toml",
      "citation": "...",                              # the preset's citation
      "jointwear_version": "0.1.0", "seed": 2025,     # any other top-level scalars are listed too
@@ -192,8 +193,9 @@ def settings_dump(config: Any, *sections: tuple[str, Any], preset: str | None = 
         if model is not None:
             settings += settings_records(model, sec_name)
     out: dict[str, Any] = {
-        "preset": preset if preset is not None else name,
-        "source": source or ("preset" if preset or name else "config"),
+        "name": name,
+        "preset": preset,
+        "source": source or ("preset" if preset else "config"),
         "citation": getattr(config, "citation", "") or "",
         "jointwear_version": __version__,
     }

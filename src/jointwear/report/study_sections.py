@@ -44,9 +44,11 @@ def settings_section(out: StudyOutputs, figs: Figures) -> str:
                                                     "not known to the report.")
     parts: list[str] = []
     if cfg.get("citation"):
-        parts.append(f'<p class="citation"><b>Source of the preset:</b> {e(cfg["citation"])}</p>')
+        what = "the preset" if cfg.get("preset") else "the study's data"
+        parts.append(f'<p class="citation"><b>Source of {what}:</b> {e(cfg["citation"])}</p>')
     meta = [(k, format_number(v)) for k, v in cfg.items()
-            if k not in ("settings", "mechanism", "citation", "reference") and not isinstance(v, (dict, list))]
+            if k not in ("settings", "mechanism", "citation", "reference") and v is not None
+            and not isinstance(v, (dict, list))]
     parts.append('<div class="grid"><div>')
     if meta:
         parts.append(table(["item", "value"], meta, cls="kv"))
