@@ -275,6 +275,27 @@ def test_a_general_linkage_is_sketched_as_drawn(tmp_path):
     assert "Source of the preset" not in page
 
 
+def test_far_shifts_show_how_they_were_read_and_why_a_shifted_mechanism_failed(tmp_path: Path, nominal: Path):
+    """sensitivity.json's separable-scaling rules appear with their wear ratio; a shifted mechanism that could not
+    run is warned about, with the reason its model call recorded."""
+    d = make_fixture_dir(tmp_path, nominal, which=("sensitivity", "config"))
+    sens = SensitivityResult.load(d)
+    name = sens.variables[0]["name"]
+    sens.rules = [{"variable": name, "factor": 0.8, "rule": "separable_scaling", "reliability": 0.0,
+                   "reason": "the shifted mechanism could not run (counted as failure): joint A's points are 2 mm "
+                             "apart"},
+                  {"variable": name, "factor": 1.2, "rule": "separable_scaling", "reliability": 0.61,
+                   "wear_ratio": 1.1734, "error_estimate": 0.01}]
+    sens.write(d)
+    page = build_report(d).read_text(encoding="utf-8")
+    assert "Shifts outside the learned region" in page and "wear \u00d7 1.17" in page
+    assert "could not be built or run" in page and "joint A&#x27;s points are 2 mm apart" in page
+    sens.rules = [sens.rules[1]]
+    sens.write(d)
+    page = build_report(d).read_text(encoding="utf-8")
+    assert "Shifts outside the learned region" in page and "could not be built or run" not in page
+
+
 def test_the_archard_check_is_shown_and_a_disagreement_warned(tmp_path: Path, nominal: Path):
     """sensitivity.json's archard_checks appear as a table; a disagreement raises a warning with its size, and a
     check not made says why."""

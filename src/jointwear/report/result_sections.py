@@ -146,6 +146,7 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
     else:
         parts.append("<h3>Ranking</h3>")
         parts.append(table(head, rrows, cls="kv"))
+    parts.append(far_shift_part(sens, labels))
     parts.append(archard_check_part(sens))
     sob = sens.sobol
     if sob.get("names"):
@@ -158,6 +159,36 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
     else:
         parts.append(figs.draw(None, "Sobol' indices", png_keys=("sobol",),
                                missing_text="Sobol' indices: not computed in this result."))
+    return "".join(parts)
+
+
+def far_shift_part(sens, labels: Mapping[str, str]) -> str:
+    """The mean shifts too far from the population for the surrogate (SensitivityResult.rules, rule
+    ``separable_scaling``): read from true-model runs of the shifted nominal mechanism, and flagged where that
+    mechanism could not be built or run (R = 0 then measures that, not the wear's sensitivity)."""
+    far = [r for r in sens.rules if r.get("rule") == "separable_scaling"]
+    if not far:
+        return ""
+    rows, classes = [], []
+    for r in far:
+        name = str(r["variable"])
+        failed = r.get("wear_ratio") is None
+        rows.append((f"{labels.get(name, name)} ({name})", f"\u00d7 {float(r['factor']):g}",
+                     format_number(r.get("reliability"), 3),
+                     str(r.get("reason") or "") if failed else f"wear \u00d7 {format_number(r['wear_ratio'], 3)}"))
+        classes.append("bad" if failed else "")
+    parts = ["<h3>Shifts outside the learned region</h3>",
+             "<p>These means moved more standard deviations than the surrogate was learned over "
+             "(<code>sensitivity.surrogate_shift_limit</code>). Each was read from two runs of the true model, the "
+             "nominal mechanism and the shifted one: the population's wear is scaled by their ratio.</p>"]
+    failed = [r for r in far if r.get("wear_ratio") is None]
+    if failed:
+        names = sorted({labels.get(str(r["variable"]), str(r["variable"])) for r in failed})
+        parts.append(f'<p class="warn"><strong>The shifted mechanism could not be built or run for '
+                     f'{e(", ".join(names))}</strong> (the table gives the reason): its reliability is counted as 0. '
+                     "That measures the shifted mechanism's failure to work, not the wear's sensitivity to the "
+                     "variable; read its rank with that in mind.</p>")
+    parts.append(table(["variable", "shift of the mean", "R", "read from"], rows, cls="num", row_cls=classes))
     return "".join(parts)
 
 

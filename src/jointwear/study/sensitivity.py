@@ -94,6 +94,13 @@ def archard_check(ctx: StudyContext, i: int, shifted, exponent: int, pop: np.nda
                   "consistent": bool(abs(r_surrogate - r_exact) <= tolerance)}
 
 
+def failure_reason(ctx: StudyContext, x_point: np.ndarray) -> str:
+    """Why the true model failed at ``x_point``, as its evaluation recorded it (read back, not run again)."""
+    evaluate = getattr(ctx.evaluator, "evaluate", None)  # a compute.Evaluator keeps the reasons; a bare callable not
+    failures = evaluate(np.atleast_2d(x_point)).failures if evaluate is not None else []
+    return " ".join(str(failures[0][2]).split()) if failures and failures[0][2] else "no reason recorded"
+
+
 def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> SensitivityResult:
     """Mean shifts (paper Figs. 22-24), Sobol' indices and reliability derivatives at one cycle count.
 
@@ -198,7 +205,8 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
         entry = {"variable": ctx.names[i], "factor": marginals[i].mean() / ctx.marginals[i].mean(),
                  "rule": "separable_scaling"}
         if not math.isfinite(shifted_wear):
-            entry.update(reliability=0.0, reason="the shifted mechanism could not run (counted as failure)")
+            entry.update(reliability=0.0, reason="the shifted mechanism could not run (counted as failure): "
+                                                 + failure_reason(ctx, x_s))
             rules.append(entry)
             return 0.0, ctx.n_evaluated - before
         rho = shifted_wear / base_wear
