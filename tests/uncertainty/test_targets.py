@@ -60,3 +60,25 @@ def test_a_study_config_with_a_point_variable_validates_and_samples():
     data["uncertainty"]["variables"][0]["target"] = "mechanism.bodies.coupler.points.Q.y"
     with pytest.raises(ConfigError, match="points.Q.y"):
         config_from_dict(data, source="test")
+
+
+def test_a_moved_point_is_reassembled_not_refused_as_a_drawing_gap():
+    # The sensitivity moves the tutorial's crank pin by 20 % (2 mm): more than the drawing's closure tolerance
+    # (5 % of the 25 mm median link), so the shifted drawing used to be refused. The move is the sample's, not a
+    # drawing error: the assembly closes the loop with the other links as drawn, or says why it cannot.
+    from pathlib import Path
+
+    cfg = load_config(str(Path(__file__).resolve().parents[2] / "examples" / "my_linkage.toml"))
+    m0 = build_model(cfg)
+    for length in (0.008, 0.012):
+        m = build_model(apply_sample(cfg, ["mechanism.bodies.crank.points.A.x"], [length]))
+        assert _point_distance(m, "crank", "O", "A") == pytest.approx(length, rel=1e-12)
+        assert _point_distance(m, "coupler", "A", "B") == pytest.approx(_point_distance(m0, "coupler", "A", "B"),
+                                                                        rel=1e-12)
+    with pytest.raises(ConfigError, match="does not close"):  # a 30 mm crank cannot drive this four-bar
+        build_model(apply_sample(cfg, ["mechanism.bodies.crank.points.A.x"], [0.03]))
+    # a sample that moves no point keeps the drawing's own tolerance: a gap drawn by the user is still refused
+    data = cfg.model_dump()
+    data["mechanism"]["bodies"][1]["points"]["A"] = (0.0120, 0.0)  # coupler.A 2 mm from crank.A
+    with pytest.raises(ConfigError, match="draw them at the same place"):
+        build_model(apply_sample(data, ["clearance_joints.B.clearance"], [20e-6]))

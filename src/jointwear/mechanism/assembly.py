@@ -105,13 +105,19 @@ def _general_topology(m) -> tuple[list[Body], list[Joint], dict, dict, float]:
             joints.append(Joint(j.name, "prismatic", bi, pi, bj, pj, normal_i=rotate(-phi0[bi], nrm),
                                 angle0=phi0[bi] - phi0[bj]))
     poses = {n: (cfg_bodies[n].com[0], cfg_bodies[n].com[1], phi0[n]) for n in order if n not in drivers}
+    lref = drawn_link_size([b.points.values() for b in m.bodies])
+    return bodies, joints, {k: tuple(v) for k, v in m.ground_points.items()}, poses, lref
+
+
+def drawn_link_size(points_of_bodies) -> float:
+    """The reference length of a drawn general linkage: the median over its bodies of the largest distance
+    between two points of one body (0.01 m for a linkage of point bodies)."""
     sizes = []
-    for b in m.bodies:
-        pts = list(b.points.values())
+    for points in points_of_bodies:
+        pts = list(points)
         if len(pts) > 1:
             sizes.append(max(math.dist(p, q) for p in pts for q in pts))
-    lref = float(np.median(sizes)) if sizes else 0.01
-    return bodies, joints, {k: tuple(v) for k, v in m.ground_points.items()}, poses, lref
+    return float(np.median(sizes)) if sizes else 0.01
 
 
 def _joint_gap_check(m, lref: float) -> None:

@@ -15,7 +15,7 @@ import numpy as np
 
 from jointwear.config import StudyConfig, config_from_dict
 from jointwear.schema import ConfigError
-from jointwear.uncertainty.targets import CLEARANCE_SUFFIX, set_clearance, set_target, target_error
+from jointwear.uncertainty.targets import CLEARANCE_SUFFIX, point_shift, set_clearance, set_target, target_error
 
 
 def apply_sample(base: StudyConfig | dict, targets: Sequence[str], x: Sequence[float]) -> StudyConfig:
@@ -23,11 +23,19 @@ def apply_sample(base: StudyConfig | dict, targets: Sequence[str], x: Sequence[f
 
     A target ``clearance_joints.<i>.clearance`` sets the bearing radius to journal radius + c after all
     other targets (so a sampled journal radius and a sampled clearance combine as R_i = R_j + c).
+    A target that moves a drawn point of a general linkage moves it away from its joint partner's point: the
+    drawing's closure tolerance admits that move on top of the drawing's own gaps (the drawing was checked on the
+    base config), and the assembly closes the loop with every other link as drawn (or says why it cannot).
     Raises ConfigError when the sample gives an invalid config (whether a general linkage assembles is checked
     when the model is built).
     """
+    from jointwear.mechanism.assembly import drawn_link_size
+
     data = base.model_dump() if isinstance(base, StudyConfig) else copy.deepcopy(base)
+    mech = data.get("mechanism") or {}
+    size = drawn_link_size([b["points"].values() for b in mech["bodies"]]) if mech.get("type") == "general" else None
     derived = []
+    moved = 0.0
     for path, value in zip(targets, x):
         problem = target_error(data, path)
         if problem:
@@ -35,9 +43,12 @@ def apply_sample(base: StudyConfig | dict, targets: Sequence[str], x: Sequence[f
         if path.endswith(CLEARANCE_SUFFIX):
             derived.append((path, float(value)))
         else:
+            moved += point_shift(data, path, float(value))
             set_target(data, path, float(value))
     for path, c in derived:
         set_clearance(data, path, c)
+    if moved > 0.0 and size is not None:
+        mech["closure_tolerance"] += moved / size
     return config_from_dict(data, source="sample")
 
 

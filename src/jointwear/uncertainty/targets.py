@@ -57,6 +57,15 @@ def target_error(data: dict, path: str) -> str | None:
     return None
 
 
+def point_shift(data: dict, path: str, value: float) -> float:
+    """How far setting ``path`` to ``value`` moves a drawn point (0 for a target that is not a point coordinate)."""
+    keys = path.split(".")
+    parent = _walk(data, keys[:-1])
+    if not isinstance(parent, tuple):
+        return 0.0
+    return abs(float(value) - float(parent[_index(parent, keys[-1])]))
+
+
 def set_target(data: dict, path: str, value: float) -> None:
     """Set a plain (non-derived) target in place (a coordinate of a point tuple: the tuple is replaced)."""
     keys = path.split(".")
