@@ -9,7 +9,7 @@ from jointwear.config import config_from_dict, load_config
 from jointwear.mechanism import build_model
 from jointwear.schema import ConfigError
 from jointwear.study import apply_sample
-from jointwear.uncertainty.targets import target_error
+from jointwear.uncertainty.targets import point_shift, target_error
 
 
 def _point_distance(model, body, p, q):
@@ -77,8 +77,11 @@ def test_a_moved_point_is_reassembled_not_refused_as_a_drawing_gap():
                                                                         rel=1e-12)
     with pytest.raises(ConfigError, match="does not close"):  # a 30 mm crank cannot drive this four-bar
         build_model(apply_sample(cfg, ["mechanism.bodies.crank.points.A.x"], [0.03]))
-    # a sample that moves no point keeps the drawing's own tolerance: a gap drawn by the user is still refused
+    # only drawn points count as moves (gravity is a pair of numbers too)
     data = cfg.model_dump()
+    assert point_shift(data, "mechanism.ground_points.O.x", 0.001) == pytest.approx(0.001)
+    assert point_shift(data, "mechanism.gravity.1", -9.0) == 0.0
+    # a sample that moves no point keeps the drawing's own tolerance: a gap drawn by the user is still refused
     data["mechanism"]["bodies"][1]["points"]["A"] = (0.0120, 0.0)  # coupler.A 2 mm from crank.A
     with pytest.raises(ConfigError, match="draw them at the same place"):
         build_model(apply_sample(data, ["clearance_joints.B.clearance"], [20e-6]))

@@ -58,11 +58,13 @@ def target_error(data: dict, path: str) -> str | None:
 
 
 def point_shift(data: dict, path: str, value: float) -> float:
-    """How far setting ``path`` to ``value`` moves a drawn point (0 for a target that is not a point coordinate)."""
+    """How far setting ``path`` to ``value`` moves a drawn point of a general mechanism (a coordinate of
+    ``mechanism.bodies.<b>.points.<p>`` or ``mechanism.ground_points.<p>``; 0 for any other target)."""
     keys = path.split(".")
-    parent = _walk(data, keys[:-1])
-    if not isinstance(parent, tuple):
+    if not (keys[:2] == ["mechanism", "ground_points"] or (keys[:2] == ["mechanism", "bodies"] and len(keys) == 6
+                                                          and keys[3] == "points")):
         return 0.0
+    parent = _walk(data, keys[:-1])
     return abs(float(value) - float(parent[_index(parent, keys[-1])]))
 
 
