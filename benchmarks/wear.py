@@ -646,12 +646,12 @@ def bench_profile_rig_rocking(n_values=(0, 10_000, 100_000)) -> dict:
     from jointwear.wear.history import PROFILE_ROUNDING, update_geometry
 
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-    from verification.closed_form import Rig, spectral_peak
+    from verification.closed_form import Rig, rocking_hz, spectral_peak
 
     cfg = load_config(str(RIG))
     rig = Rig.from_config(cfg)
     s = base_settings(cfg)  # the wear runs' tolerances, so that the steps are the history's
-    m_eff = 1.0 / (1.0 / rig.mass + rig.arm**2 / rig.inertia)
+    m_eff = rig.mass_at_pin
 
     def rocking(model, geometry) -> dict:
         res = simulate(model, 3, geometry=geometry, settle_cycles=3, rtol=s.rtol, atol=s.atol)
@@ -664,7 +664,7 @@ def bench_profile_rig_rocking(n_values=(0, 10_000, 100_000)) -> dict:
         return {"steps_per_cycle": steps, "rejected_per_cycle": res.n_rejected / (res.n_cycles + res.settle_cycles),
                 "rocking_hz": f, "steps_per_rocking_period": steps / f, "mean_normal_force_n": n_force,
                 "mean_eccentricity_um": e_mean * 1e6, "normal_force_std_n": float(np.std(tr.force_normal)),
-                "closed_form_round_bore_hz": math.sqrt(n_force / (e_mean * m_eff)) / (2.0 * math.pi)}
+                "closed_form_round_bore_hz": rocking_hz(n_force, e_mean, m_eff)}
 
     model = build_model(cfg)
     g0 = model.initial_geometry()
@@ -685,8 +685,8 @@ def bench_profile_rig_rocking(n_values=(0, 10_000, 100_000)) -> dict:
                 rec["history_steps_per_cycle_last_5_blocks"] = statistics.median(
                     b.n_steps / per_block for b in hist.blocks[-5:])
             if mode == "profile" and n > 0:
-                rec["closed_form_pocket_corner_hz"] = math.sqrt(
-                    rec["mean_normal_force_n"] / (PROFILE_ROUNDING * rig.clearance * m_eff)) / (2.0 * math.pi)
+                rec["closed_form_pocket_corner_hz"] = rocking_hz(rec["mean_normal_force_n"],
+                                                                 PROFILE_ROUNDING * rig.clearance, m_eff)
             print(mode, n, {k: round(v, 1) for k, v in rec.items()}, file=sys.stderr)
         out[mode] = rows
     free = build_model(updated(cfg, {"clearance_joints.0.friction.law": "none"}))

@@ -9,6 +9,8 @@ from pathlib import Path
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from jointwear.contact.laws import contact_stiffness
+
 RIG = Path(__file__).resolve().parents[1] / "wear" / "rigs" / "pendulum.toml"
 JOHNSON = math.sqrt(4.0 / math.pi)
 
@@ -51,6 +53,12 @@ class Rig:
     @property
     def clearance(self) -> float:
         return self.r_b - self.r_j
+
+    @property
+    def mass_at_pin(self) -> float:
+        """The pendulum's mass for a sideways push at the pin, free to turn about its centre of mass:
+        1 / m_eff = 1 / m + arm^2 / I."""
+        return 1.0 / (1.0 / self.mass + self.arm**2 / self.inertia)
 
     @property
     def slide_per_rev(self) -> float:
@@ -119,20 +127,22 @@ def conformal_wear(rig: Rig, force: float, n: float) -> dict:
 
 
 def hertz_approach(force: float, r_b: float, r_j: float, hsum: float) -> float:
-    """The contact law's static penetration delta = (F / K)^(2/3), K = 4 / (3 hsum) sqrt(R_b R_j / (R_b - R_j))."""
-    k = 4.0 / (3.0 * hsum) * math.sqrt(r_b * r_j / (r_b - r_j))
-    return (force / k) ** (2.0 / 3.0)
+    """The contact law's static penetration delta = (F / K)^(1/n), n = 3/2, K the law's stiffness."""
+    return (force / contact_stiffness(hsum, r_b, r_j)) ** (2.0 / 3.0)
+
+
+def rocking_hz(force: float, radius: float, mass: float) -> float:
+    """Frequency (Hz) of a mass pressed by ``force`` onto a path of ``radius``: omega^2 = N / (radius m), a pendulum
+    of length ``radius`` in the field N (restoring force N s / radius for a tangential offset s)."""
+    return math.sqrt(force / (radius * mass)) / (2.0 * math.pi)
 
 
 def rocking_frequency(rig: Rig, force: float, growth: float = 0.0) -> float:
     """Frequency (Hz) of the pendulum's eye rocking on the pin along the bore: the eye's centre rides the circle of
-    radius e = c0 + growth + delta about the pin's centre, so a tangential offset s meets the restoring force N s / e
-    (stiffness N / e, a pendulum of length e in the field N); the mass it moves is the pendulum's at the pin, free
-    to turn about its centre of mass, 1 / m_eff = 1 / m + arm^2 / I. omega^2 = N / (e m_eff)."""
+    radius e = c0 + growth + delta about the pin's centre with the pendulum's mass at the pin (Rig.mass_at_pin);
+    omega^2 = N / (e m_eff)."""
     rb, rj = rig.r_b + 0.5 * growth, rig.r_j - 0.5 * growth
-    e = rb - rj + hertz_approach(force, rb, rj, rig.hsum)
-    m_eff = 1.0 / (1.0 / rig.mass + rig.arm**2 / rig.inertia)
-    return math.sqrt(force / (e * m_eff)) / (2.0 * math.pi)
+    return rocking_hz(force, rb - rj + hertz_approach(force, rb, rj, rig.hsum), rig.mass_at_pin)
 
 
 def spectral_peak(t: np.ndarray, x: np.ndarray, above: float) -> float:

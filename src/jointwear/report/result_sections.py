@@ -169,19 +169,18 @@ def far_shift_part(sens, labels: Mapping[str, str]) -> str:
     far = [r for r in sens.rules if r.get("rule") == "separable_scaling"]
     if not far:
         return ""
+    failed = [r for r in far if r.get("wear_ratio") is None]  # the shifted mechanism did not run
     rows, classes = [], []
     for r in far:
         name = str(r["variable"])
-        failed = r.get("wear_ratio") is None
         rows.append((f"{labels.get(name, name)} ({name})", f"\u00d7 {float(r['factor']):g}",
                      format_number(r.get("reliability"), 3),
-                     str(r.get("reason") or "") if failed else f"wear \u00d7 {format_number(r['wear_ratio'], 3)}"))
-        classes.append("bad" if failed else "")
+                     str(r.get("reason") or "") if r in failed else f"wear \u00d7 {format_number(r['wear_ratio'], 3)}"))
+        classes.append("bad" if r in failed else "")
     parts = ["<h3>Shifts outside the learned region</h3>",
              "<p>These means moved more standard deviations than the surrogate was learned over "
              "(<code>sensitivity.surrogate_shift_limit</code>). Each was read from two runs of the true model, the "
              "nominal mechanism and the shifted one: the population's wear is scaled by their ratio.</p>"]
-    failed = [r for r in far if r.get("wear_ratio") is None]
     if failed:
         names = sorted({labels.get(str(r["variable"]), str(r["variable"])) for r in failed})
         parts.append(f'<p class="warn"><strong>The shifted mechanism could not be built or run for '
