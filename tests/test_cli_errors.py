@@ -153,6 +153,16 @@ def test_report_of_a_folder_without_results_exits_2(tmp_path, capsys):
     assert not (tmp_path / "report.html").exists()
 
 
+def test_report_takes_its_folder_as_directory_or_as_out_like_every_command(tmp_path, capsys):
+    """`report --out DIR` names the folder as the other commands do; both at once must agree."""
+    code, err = _run(capsys, ["report", "--out", str(tmp_path)])
+    assert code == 2 and "no study results" in err  # read from --out: the same check as the positional folder
+    code, err = _run(capsys, ["report", str(tmp_path), "--out", str(tmp_path / "other")])
+    assert code == 2 and "two results directories" in err and len(err.strip().splitlines()) == 1
+    code, err = _run(capsys, ["report"])
+    assert code == 2 and "DIRECTORY or --out DIR" in err
+
+
 def test_check_and_presets_and_version(tmp_path, capsys):
     assert main_entry(["check", "jin2025_flapping_wing"]) == 0
     captured = capsys.readouterr()

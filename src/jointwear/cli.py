@@ -155,12 +155,19 @@ def validate(config, samples, workers, scheduler, resume, overwrite, out):
 
 
 @main.command()
-@click.argument("directory", type=click.Path(file_okay=False, path_type=Path))
-def report(directory):
-    """Build DIRECTORY/report.html from the results of a study."""
+@click.argument("directory", type=click.Path(file_okay=False, path_type=Path), required=False)
+@click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
+              help="The results folder, as the other commands name it (same as DIRECTORY).")
+def report(directory, out):
+    """Build DIRECTORY/report.html from the results of a study (DIRECTORY or --out DIR)."""
     from jointwear.report.html import build_report
     from jointwear.study import load_results
 
+    if directory is None and out is None:
+        raise ConfigError("report: missing the results directory: give it as DIRECTORY or --out DIR")
+    if directory is not None and out is not None and directory.resolve() != out.resolve():
+        raise ConfigError(f"report: two results directories, '{directory}' and --out '{out}': give one")
+    directory = directory if directory is not None else out
     if not directory.is_dir():
         raise ConfigError(f"report: '{directory}' is not a directory with study results")
     if not load_results(directory).stages:

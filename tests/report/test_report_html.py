@@ -317,3 +317,58 @@ def test_the_archard_check_is_shown_and_a_disagreement_warned(tmp_path: Path, no
     page = build_report(d).read_text(encoding="utf-8")
     assert "by up to 0.084 in R" in page
     assert 'class="bad"' in page and "DISAGREE" in page
+
+
+def test_a_curve_that_misses_the_life_says_where_the_nominal_design_reaches_the_allowance(tmp_path, nominal):
+    """R(N) = 0 from the first level on: the report warns and gives the nominal history's crossing of the
+    allowance, interpolated on the wear history (checked here against the history itself); a curve that holds its
+    life has no warning."""
+    d = make_fixture_dir(tmp_path / "m", nominal, which=("wear", "reliability"))
+    assert "The curve misses the life" not in build_report(d).read_text(encoding="utf-8")
+    wear, rel = WearSummary.load(d), ReliabilityResult.load(d)
+    n, h = (np.asarray(wear.history[k], dtype=float) for k in ("cycles", "max_wear_mm"))
+    allowance = 0.5 * h[-1]  # reached half-way through the history: the crossing is inside it
+    rel.joints = [{"name": wear.joints[0]["name"], "allowance_mm": allowance}]
+    rel.cycles = np.asarray(rel.cycles) + 2 * n[-1]  # the whole curve after the history's end: R = 0 everywhere
+    rel.reliability, rel.pf = np.zeros(rel.cycles.size), np.ones(rel.cycles.size)
+    rel.life_table = [{"target": 0.9, "cycles": None, "hours": None, "status": "before_curve"}]
+    rel.save(d)
+    page = build_report(d).read_text(encoding="utf-8")
+    expected = float(np.interp(allowance, h, n))  # the history grows monotonically
+    assert "The curve misses the life" in page and "Lower <code>reliability.cycles_start</code>" in page
+    assert f"after about {expected:,.0f} cycles" in page
+
+
+def test_sensitivity_at_a_level_where_no_shift_moves_r_says_it_ranks_nothing(tmp_path, nominal):
+    """R = 0 at the sensitivity's level whatever the shift: the report warns, the CLI's ranking line says none."""
+    from jointwear.study.facade import ranking_line
+
+    d = make_fixture_dir(tmp_path / "s", nominal, which=("sensitivity",))
+    sens = SensitivityResult.load(d)
+    assert sens.shifts_move_reliability and not ranking_line(sens).startswith("none")
+    assert "No mean shift changes the reliability here" not in build_report(d).read_text(encoding="utf-8")
+    sens.reliability_nominal = 0.0
+    for v in sens.variables:
+        v["reliability_low"] = v["reliability_high"] = 0.0
+    sens.write(d)
+    assert not SensitivityResult.load(d).shifts_move_reliability
+    assert ranking_line(sens).startswith("none: no mean shift changes R at 360,000 cycles (R = 0.000")
+    assert "No mean shift changes the reliability here" in build_report(d).read_text(encoding="utf-8")
+
+
+def test_force_cards_take_the_prefix_of_the_peak_and_angles_wrap_to_0(tmp_path, nominal):
+    """The wing's contact force reads in mN, a 200 N joint's in N (not "2e+05 mN"); a peak 5e-6 deg short of 360
+    reads 0."""
+    d = make_fixture_dir(tmp_path / "f", nominal, which=("simulate", "wear"))
+    page = build_report(d).read_text(encoding="utf-8")
+    assert re.search(r'mean contact force</div><div class="card-value">[0-9.]+ mN<', page)
+    sim = json.loads((d / "simulate.json").read_text(encoding="utf-8"))
+    sim["contact_force_mean_N"], sim["contact_force_max_N"] = 203.0, 256.0
+    (d / "simulate.json").write_text(json.dumps(sim), encoding="utf-8")
+    wear = WearSummary.load(d)
+    wear.max_wear_angle_deg = 359.99999547857817
+    wear.write(d)
+    page = build_report(d).read_text(encoding="utf-8")
+    assert 'mean contact force</div><div class="card-value">203 N<' in page
+    assert 'peak contact force</div><div class="card-value">256 N<' in page
+    assert 'at angle</div><div class="card-value">0.0 deg<' in page

@@ -100,6 +100,10 @@ def test_unresolved_pairs_are_neighbours_within_the_summed_errors():
     assert out[0]["swing_difference"] == pytest.approx(0.02) and out[0]["error_sum"] == pytest.approx(0.025)
     tight = dict.fromkeys(swing, 0.005)
     assert unresolved_pairs(ranking, swing, tight, groups) == []  # 0.02 > 0.01: resolved
+    # equal swings are no order, even with exact reliabilities (a level where every shift leaves R = 0)
+    zero = dict.fromkeys("abc", 0.0)
+    flat = unresolved_pairs(["a", "b", "c"], zero, zero, {"g": ["a", "b", "c"]})
+    assert [(p["first"], p["second"]) for p in flat] == [("a", "b"), ("b", "c")]
 
 
 def test_esc_absolute_error_bounds_the_misclassification_of_a_known_gaussian_surrogate():
@@ -134,7 +138,9 @@ def test_command_line_ranking_shows_groups_and_unresolved_neighbours():
     from jointwear.study.facade import ranking_line
 
     sens = SimpleNamespace(
+        shifts_move_reliability=True,
         ranking_by_group={"tolerance": ["l2", "lBC", "l1"], "bearing_material": ["k_b", "HB_b", "E_b"]},
         unresolved_pairs=[{"group": "bearing_material", "first": "k_b", "second": "HB_b"}])
     assert ranking_line(sens) == "tolerance: l2 > lBC > l1 | bearing_material: k_b ~ HB_b > E_b"
-    assert ranking_line(SimpleNamespace(ranking_by_group={"tolerance": ["c"]}, unresolved_pairs=[])) == "tolerance: c"
+    assert ranking_line(SimpleNamespace(shifts_move_reliability=True, ranking_by_group={"tolerance": ["c"]},
+                                        unresolved_pairs=[])) == "tolerance: c"

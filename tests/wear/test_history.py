@@ -7,7 +7,7 @@ import pytest
 from wear_synthetic import FakeModel, fake_simulate
 
 from jointwear.wear import WearSettings, wear_history
-from jointwear.wear.angles import body_angle_from_report, report_angle_deg
+from jointwear.wear.angles import angle_text, body_angle_from_report, report_angle_deg
 from jointwear.wear.cycle import CycleWear
 from jointwear.wear.history import lay_bearing
 from jointwear.wear.results import conservation_error, find_peaks_periodic
@@ -130,6 +130,9 @@ def test_angle_convention():
     th = np.linspace(0, 6.2, 50)
     back = body_angle_from_report(report_angle_deg(th, 0.4), 0.4)
     np.testing.assert_allclose(np.angle(np.exp(1j * (back - th))), 0.0, atol=1e-12)
+    # shown rounded and wrapped: the leftmost cell of a rod whose mean orientation is 5e-6 deg reads 0, not 360
+    assert angle_text(report_angle_deg(math.pi, math.radians(5e-6))) == "0"
+    assert angle_text(359.96, 1) == "0.0" and angle_text(359.94, 1) == "359.9" and angle_text(125.25, 0) == "125"
 
 
 def test_peaks_periodic():

@@ -181,6 +181,48 @@ def life_with_note(rel: ReliabilityResult, target: float) -> tuple[float | None,
     return life, note
 
 
+def nominal_life(history: Mapping, allowance_mm: float) -> float | None:
+    """Cycles at which a wear history (``cycles``, ``max_wear_mm``) first reaches ``allowance_mm``, by linear
+    interpolation; None when it stays below."""
+    n = np.asarray(history.get("cycles", []), dtype=float)
+    h = np.asarray(history.get("max_wear_mm", []), dtype=float)
+    above = np.nonzero(h >= allowance_mm)[0]
+    if above.size == 0:
+        return None
+    i = above[0]
+    if i == 0 or h[i] == h[i - 1]:
+        return float(n[i])
+    return float(n[i - 1] + (allowance_mm - h[i - 1]) * (n[i] - n[i - 1]) / (h[i] - h[i - 1]))
+
+
+def curve_misses_life(rel: ReliabilityResult, wear: WearSummary | None) -> str | None:
+    """Why and how to move an R(N) curve that does not contain the life at its headline target (the life table
+    says 'before_curve' or 'beyond_curve'), or None when it does. Where the judged quantity is the bearing's max
+    depth, the nominal design's own crossing of the allowance (its wear history; the first judged joint to cross
+    it) says where to put the curve."""
+    row = next((r for r in rel.life_table if abs(float(r["target"]) - rel.target) < 1e-12), None)
+    status = None if row is None else row.get("status")
+    if status not in ("before_curve", "beyond_curve") or rel.cycles.size == 0:
+        return None
+    if status == "before_curve":
+        text = (f"The life at R = {rel.target:g} lies before this curve: R = {rel.reliability[0]:.3f} already at "
+                f"its first level ({rel.cycles[0]:,.0f} cycles). Lower <code>reliability.cycles_start</code>")
+    else:
+        text = (f"The life at R = {rel.target:g} lies beyond this curve: R = {rel.reliability[-1]:.3f} still at "
+                f"its last level ({rel.cycles[-1]:,.0f} cycles). Raise <code>reliability.cycles_stop</code>")
+    histories = {} if wear is None else {str(j.get("name")): j.get("history") or {} for j in wear.joints}
+    judged = [(histories.get(str(j.get("name"))), j.get("allowance_mm")) for j in rel.joints]
+    if rel.quantity == "bearing_max_depth" and judged and all(h and a is not None for h, a in judged):
+        crossings = [c for c in (nominal_life(h, float(a)) for h, a in judged) if c is not None]
+        if crossings:
+            text += (f"; the nominal design reaches its allowance after about {min(crossings):,.0f} cycles (its wear "
+                     "history), and the curve should hold that count")
+        else:
+            text += (f"; the nominal design stays below its allowance over its whole wear history "
+                     f"({wear.cycles:,.0f} cycles)")
+    return text + "."
+
+
 def _life_hours(rel: ReliabilityResult, target: float) -> float | None:
     row = next((r for r in rel.life_table if abs(float(r["target"]) - target) < 1e-12), None)
     if row is not None and row.get("hours") is not None:

@@ -9,8 +9,8 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from . import figures as F
-from .checks import (FAIL, INFO, NA, PASS, Check, checks_summary, group_key, life_with_note, ranking_rows, ranking_text,
-                     reference_label, reference_of, reference_values, unresolved_pairs)
+from .checks import (FAIL, INFO, NA, PASS, Check, checks_summary, curve_misses_life, group_key, life_with_note,
+                     ranking_rows, ranking_text, reference_label, reference_of, reference_values, unresolved_pairs)
 from .markup import Figures, cards, e, format_number, missing, table
 from .read import StudyOutputs
 from .study_sections import allowance_mm, not_run
@@ -44,6 +44,9 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
         ("max COV of Pf", "\u2014" if covs.size == 0 else f"{covs.max():.3g}", "over the curve"),
         ("wall time", f"{rel.wall_seconds:.4g} s", None),
     ])]
+    missed = curve_misses_life(rel, out.results.wear)
+    if missed:
+        parts.append(f'<p class="warn"><strong>The curve misses the life.</strong> {missed}</p>')
     if len(rel.life_table) > 1:
         parts.append(table(["target R", "life (cycles)", "life (h)", "where"], [
             (format_number(r["target"]), format_number(r["cycles"]), format_number(r["hours"], 3),
@@ -97,6 +100,13 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
     nominal = sens.reliability_nominal
     lo_f, hi_f = sens.factors
     parts = [f"<p>{e(f'Reliability at {sens.cycles:,.0f} cycles (nominal {nominal:.3f}) when the mean of each variable is moved to {lo_f * 100:g} % and to {hi_f * 100:g} % of its value, the others fixed.')}</p>"]
+    if not sens.shifts_move_reliability:
+        parts.append(f'<p class="warn"><strong>No mean shift changes the reliability here.</strong> At '
+                     f"{sens.cycles:,.0f} cycles R = {nominal:.3f} whatever the shift: the level lies outside the "
+                     "scatter of the wear, so the tornado and the ranking below rank nothing. Put the R(N) curve where "
+                     "R passes the target (<code>reliability.cycles_start</code>, <code>cycles_stop</code>) or set "
+                     "<code>sensitivity.cycles</code> to a level inside it; the Sobol' indices of the wear still "
+                     "hold.</p>")
     groups: dict[str, list[Mapping]] = {}
     for v in sens.variables:
         groups.setdefault(str(v.get("group") or "variables"), []).append(v)

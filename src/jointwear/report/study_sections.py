@@ -6,10 +6,13 @@ import math
 
 import numpy as np
 
+from jointwear.wear.angles import angle_text
+
 from . import figures as F
 from .checks import reference_label, reference_of, reference_values, second_peak
 from .markup import Figures, cards, e, format_number, missing, table
 from .read import StudyOutputs, joint_series
+from .style import scale_to_unit
 
 __all__ = ["settings_section", "dynamics_section", "wear_section", "allowance_mm", "not_run"]
 
@@ -115,12 +118,14 @@ def dynamics_section(out: StudyOutputs, figs: Figures) -> str:
     if sim is None:
         return not_run(out, "simulate", "the dynamics stage")
 
-    def mN(v):
-        return "\u2014" if v is None else f"{v * 1e3:.4g} mN"
+    # one prefix for both forces, set by the peak: 29 mN on the flapping wing, 203 N on a pump
+    raw = [sim.contact_force_mean_N, sim.contact_force_max_N]
+    scaled, force_unit = scale_to_unit([math.nan if v is None else v for v in raw], "N")
+    mean_force, peak_force = ("\u2014" if v is None else f"{x:.4g} {force_unit}" for v, x in zip(raw, scaled))
 
     parts = [cards([
-        ("mean contact force", mN(sim.contact_force_mean_N), None),
-        ("peak contact force", mN(sim.contact_force_max_N), None),
+        ("mean contact force", mean_force, None),
+        ("peak contact force", peak_force, None),
         ("contact fraction", format_number(sim.contact_fraction, 3), "share of the cycle in contact"),
         ("impacts per cycle", format_number(sim.impacts_per_cycle, 3), None),
         ("steps per cycle", format_number(sim.steps_per_cycle), None),
@@ -172,11 +177,11 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
     if sp is not None and not sp[1] >= floor:  # what is left far from the main peak is not a wear zone of its own
         second = ("none", "a single wear zone")
     else:
-        second = ("\u2014", None) if sp is None else (f"{sp[1]:.4g} mm", f"at {sp[0]:.0f} deg")
+        second = ("\u2014", None) if sp is None else (f"{sp[1]:.4g} mm", f"at {angle_text(sp[0])} deg")
     items = [
         ("cycles simulated", format_number(wear.cycles), None),
         ("max bearing wear", f"{format_number(wear.max_wear_mm)} mm", None),
-        ("at angle", f"{format_number(wear.max_wear_angle_deg, 4)} deg", "0 deg = leftmost, clockwise"),
+        ("at angle", f"{angle_text(wear.max_wear_angle_deg, 1)} deg", "0 deg = leftmost, clockwise"),
         ("second peak", *second),
         ("wall time", "\u2014" if wear.wall_seconds is None else f"{wear.wall_seconds:.3g} s", None),
         ("geometry mode", wear.geometry_mode, None),
@@ -226,7 +231,7 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
                                             "result."))
     if wear.peaks:
         parts.append("<h3>Wear peaks</h3>")
-        parts.append(table(["angle (deg)", "depth (mm)"], [(format_number(p["angle_deg"], 4),
+        parts.append(table(["angle (deg)", "depth (mm)"], [(angle_text(p["angle_deg"], 1),
                                                             format_number(p["depth_mm"])) for p in wear.peaks],
                            cls="kv"))
     return "".join(parts)

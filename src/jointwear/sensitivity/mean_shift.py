@@ -62,7 +62,7 @@ class MeanShiftResult:
 def unresolved_pairs(ranking: Sequence[str], swing: dict[str, float], error: dict[str, float],
                      groups: dict[str, Sequence[str]]) -> list[dict]:
     """Neighbours in a group's ranking whose order the study does not resolve: the difference of their swings is
-    smaller than the sum of the error estimates of the two reliabilities that set those swings (each the
+    no larger than the sum of the error estimates of the two reliabilities that set those swings (each the
     surrogate's 95 % bound, ``jointwear.reliability.esc_absolute_error``). ``ranking``: all variables, largest
     swing first; ``groups``: group -> member names."""
     out = []
@@ -71,7 +71,7 @@ def unresolved_pairs(ranking: Sequence[str], swing: dict[str, float], error: dic
         for a, b in zip(ordered, ordered[1:]):
             diff = swing[a] - swing[b]
             bound = error[a] + error[b]
-            if diff < bound:
+            if diff <= bound:  # equal swings are no order, even with exact reliabilities
                 out.append({"group": group, "first": a, "second": b, "swing_difference": float(diff),
                             "error_sum": float(bound)})
     return out

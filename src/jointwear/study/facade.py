@@ -36,6 +36,7 @@ from jointwear.study.results import (
     WearSummary,
     load_results,
 )
+from jointwear.wear.angles import angle_text
 
 #: Tag of the true-model calls in the evaluation store (shared by the CLI and the Python API).
 WEAR_MODEL_TAG = "wear_model"
@@ -250,7 +251,7 @@ class Study:
         res = wear_history(build_model(self.config), self.config.wear, n, progress=progress)
         result = WearSummary.from_history(res, self.config, self._allowances())
         result.save(self.out)
-        self.echo(f"wear: max bearing wear {result.max_wear_mm:.4f} mm at {result.max_wear_angle_deg:.0f} deg "
+        self.echo(f"wear: max bearing wear {result.max_wear_mm:.4f} mm at {angle_text(result.max_wear_angle_deg)} deg "
                   f"after {result.cycles} cycles ({time.perf_counter() - t0:.1f} s) -> {self.out / result.FILE}")
         if result.geometry_mode == "uniform" and result.uniform_mode_valid is False:
             self.echo(f"wear: uniform mode is outside its range here (conformity {result.conformity:.3g} > 1: the "
@@ -492,7 +493,10 @@ def life_text(row: dict) -> str:
 
 def ranking_line(sens: SensitivityResult) -> str:
     """Per group, the variables by their effect on R, '~' between neighbours the surrogate's error does not
-    separate: 'tolerance: l2 ~ lBC > l1 | bearing_material: k_b ~ HB_b > ...'."""
+    separate: 'tolerance: l2 ~ lBC > l1 | bearing_material: k_b ~ HB_b > ...'; 'none: ...' where no shift moves R."""
+    if not sens.shifts_move_reliability:
+        return (f"none: no mean shift changes R at {sens.cycles:,} cycles (R = {sens.reliability_nominal:.3f} "
+                "whatever the shift; put the R(N) curve where R passes the target, or set sensitivity.cycles)")
     ties = {(p["first"], p["second"]) for p in sens.unresolved_pairs}
     parts = []
     for group, names in sens.ranking_by_group.items():

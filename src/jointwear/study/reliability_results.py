@@ -206,6 +206,13 @@ class SensitivityResult(StageResult):
     provenance: dict = field(default_factory=dict)
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
 
+    @property
+    def shifts_move_reliability(self) -> bool:
+        """Whether any mean shift changes R at ``cycles``. False where R is 0 or 1 whatever the shift (a level far
+        outside the wear's scatter): the ranking then says nothing, only the Sobol' indices of the wear do."""
+        r0 = self.reliability_nominal
+        return any(abs(v["reliability_low"] - r0) > 0 or abs(v["reliability_high"] - r0) > 0 for v in self.variables)
+
     @classmethod
     def from_json(cls, data: dict) -> SensitivityResult:
         data = dict(data)

@@ -26,6 +26,12 @@ def report_angle_deg(theta_body, mean_orientation: float = 0.0):
     return float(out) if np.ndim(out) == 0 else out
 
 
+def angle_text(phi_deg: float, decimals: int = 0) -> str:
+    """A report angle as shown, rounded and wrapped to [0, 360): 359.99 deg at 0 decimals reads "0", not "360"."""
+    r = round(float(phi_deg), decimals) % 360.0
+    return f"{r + 0.0:.{decimals}f}"  # + 0.0: no "-0"
+
+
 def body_angle_from_report(phi_deg, mean_orientation: float = 0.0):
     """Inverse of `report_angle_deg`: report angle (deg) -> body-frame angle (rad, in [0, 2 pi))."""
     theta = np.mod(math.pi - np.radians(np.asarray(phi_deg, dtype=float)) - mean_orientation, 2.0 * math.pi)
