@@ -14,7 +14,7 @@ import sys
 from pathlib import Path
 
 import jointwear
-from jointwear.config import config_from_dict, load_config
+from jointwear.config import load_config, updated
 from jointwear.study.facade import life_text
 
 
@@ -35,11 +35,7 @@ def main() -> None:
     print("most influential variable:", results.sensitivity.ranking[0])
 
     # 3. a variation: a tighter hardness specification ----------------------------------------------------------
-    data = config.model_dump()
-    for var in data["uncertainty"]["variables"]:
-        if var["name"] == "HB_b":
-            var["std"] = 0.05 * var["mean"]
-    tight = config_from_dict(data, source="tight hardness")
+    tight = updated(config, {"uncertainty.variables.HB_b.std_HB": 6.0}, source="tight hardness")  # 5 % of 120 HB
     rel_tight = jointwear.Study(tight, out=out / "tight_hardness", echo=print).reliability()
     print(f"life at R = {rel.target}: baseline {rel.life_cycles}, tight hardness {rel_tight.life_cycles} cycles")
 

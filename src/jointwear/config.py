@@ -59,6 +59,7 @@ from jointwear.uncertainty.variables import (
     RandomVariableSpec,
     UncertaintySettings,
 )
+from jointwear.units import split_unit_key
 from jointwear.wear.settings import WearSettings
 
 __all__ = [
@@ -190,9 +191,11 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
     config : StudyConfig
         The validated config to start from (unchanged).
     changes : mapping of str to value
-        Dotted paths (lists indexed by number) and their new SI values, e.g.
-        ``{"reliability.n_mc": 50_000, "clearance_joints.0.friction.law": "none"}``; a value may be a section
-        (an SIModel).
+        Dotted paths and their new values, e.g. ``{"reliability.n_mc": 50_000,
+        "clearance_joints.B.friction.law": "none", "uncertainty.variables.HB_b.std_HB": 6.0}``. A list of
+        named tables (bodies, joints, clearance joints, variables) is indexed by an item's name or by number;
+        the last key may carry a unit suffix as in TOML (``allowance_mm``), else the value is in SI; a value may
+        be a section (an SIModel).
     source : str
         Name of the config in messages.
 
@@ -209,17 +212,33 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
     data = config.model_dump()
     for path, value in changes.items():
         *parents, last = path.split(".")
+        value = value.model_dump() if isinstance(value, BaseModel) else value
         node: Any = data
         try:
             for key in parents:
-                node = node[int(key)] if isinstance(node, list) else node[key]
+                node = node[_list_index(node, key)] if isinstance(node, list) else node[key]
             if isinstance(node, list):
-                node[int(last)] = value.model_dump() if isinstance(value, BaseModel) else value
-            else:  # an unknown key is reported by the validation
-                node[last] = value.model_dump() if isinstance(value, BaseModel) else value
+                node[_list_index(node, last)] = value
+                continue
         except (KeyError, IndexError, ValueError, TypeError):
             raise ConfigError(f"{source}: {path}: no such setting") from None
+        if not isinstance(node, dict):
+            raise ConfigError(f"{source}: {path}: no such setting")
+        split = split_unit_key(last, frozenset(node))
+        if split is not None:  # the suffixed key replaces the SI one; the validation converts it
+            node.pop(split[0])
+        node[last] = value  # an unknown key is reported by the validation
     return config_from_dict(data, source)
+
+
+def _list_index(items: list, key: str) -> int:
+    """The position of ``key`` in a list: a number, or the name of one of its tables."""
+    if key.lstrip("-").isdigit():
+        return int(key)
+    names = [item.get("name") if isinstance(item, dict) else None for item in items]
+    if key not in names:
+        raise KeyError(key)
+    return names.index(key)
 
 
 def _parse_toml(text: str, source: str) -> dict[str, Any]:

@@ -1,6 +1,8 @@
 """Clearance joints: limit of zero clearance, energy conservation, regimes, trace conventions."""
 
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -221,6 +223,15 @@ def test_configs_are_frozen_and_updated_revalidates():
         updated(cfg, {"clearance_joints.0.journal_radius": 1.003e-3})
     with pytest.raises(ConfigError, match="no such setting"):
         updated(cfg, {"clearance_joints.3.journal_radius": 1e-3})
+    # named items and TOML's unit suffixes, as in a variable's target; the suffixed key replaces the SI one
+    own = load_config(Path(__file__).parents[2] / "examples" / "my_linkage.toml")
+    changed = updated(own, {"clearance_joints.B.friction.mu_d": 0.2, "reliability.allowance_mm": 0.004,
+                            "uncertainty.variables.HB_b.std_HB": 6.0, "mechanism.bodies.crank.mass_g": 2.0})
+    assert changed.clearance_joints[0].friction.mu_d == 0.2 and changed.reliability.allowance == pytest.approx(4e-6)
+    hb = next(v for v in changed.uncertainty.variables if v.name == "HB_b")
+    assert hb.std == pytest.approx(6.0 * 9.807e6) and changed.mechanism.bodies[0].mass == pytest.approx(2e-3)
+    with pytest.raises(ConfigError, match="clearance_joints.Z.friction.mu_d: no such setting"):
+        updated(own, {"clearance_joints.Z.friction.mu_d": 0.2})
 
 
 @pytest.mark.parametrize("amp", [0.0, 2e-6, 2e-5])
