@@ -16,7 +16,7 @@ def model():
 def test_fast_path_selected(model):
     assert simulate(model, 0.01, settle_cycles=0).extra["kernel"] == "natural_fourbar"
     assert simulate(model, 0.01, settle_cycles=0, fast=False).extra["kernel"] == "cartesian"
-    assert simulate(build_model(load_config("flores_slider_crank")), 0.01, settle_cycles=0).extra["kernel"] == "cartesian"
+    assert simulate(build_model(load_config("flores_slider_crank")), 0.01, settle_cycles=0).extra["kernel"] == "tree"
 
 
 @pytest.mark.parametrize("use_profile", [False, True])

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from kernel_checks import assert_tree_accelerations_match_cartesian
 
 from jointwear.config import config_from_dict, load_config
 from jointwear.mechanism import build_model, simulate
@@ -31,9 +32,15 @@ def six_bar_three_clearances():
 def test_tree_kernel_selected(six):
     assert simulate(six, 0.002, settle_cycles=0).extra["kernel"] == "tree"
     assert simulate(six, 0.002, settle_cycles=0, fast=False).extra["kernel"] == "cartesian"
-    # closed loops of ideal joints and prismatic joints stay on the Cartesian kernel
+    # closed loops of ideal joints, and sliders on a driven body, stay on the Cartesian kernel (tree sliders:
+    # test_tree_slider.py)
     assert tree_layout(six.ideal().kernel_arrays()) is None
-    assert tree_layout(build_model(load_config("flores_slider_crank")).kernel_arrays()) is None
+    assert tree_layout(build_model(load_config("flores_slider_crank")).kernel_arrays()).has_slider
+    on_driven = {"nb": 1, "jint": np.array([[K.PRISMATIC, 1, 0]]), "jpar": np.zeros((1, 7)),
+                 "bpar": np.ones((1, 3)), "dpar": np.zeros((1, 6))}  # body 0 slides on driven body 1
+    assert tree_layout(on_driven) is None
+    on_driven["jint"] = np.array([[K.REVOLUTE, 1, 0]])
+    assert tree_layout(on_driven) is not None
     lay = tree_layout(six_bar_three_clearances().kernel_arrays())
     assert list(lay.jint[:, K.T_KIND]).count(K.TREE_FLOATING) == 1 and lay.n == 3 + 3
 
@@ -50,21 +57,7 @@ def test_tree_accelerations_equal_cartesian_at_the_same_states(six, which):
     model = six if which == "six_bar" else six_bar_three_clearances()
     res = simulate(model, 0.01, settle_cycles=0)
     assert res.extra["kernel"] == "tree"
-    cart = Runner(model, None, 1e-6, 1e-9, fast=False)
-    tree = Runner(model, None, 1e-6, 1e-9)
-    cart.a["cstate"][:] = res.state_end.cstate
-    tree.a["cstate"][:] = res.state_end.cstate
-    nq = res.q.shape[1]
-    for i in np.linspace(0, res.t.size - 1, 6).astype(int):
-        y_tree = tree.to_internal(np.concatenate([res.q[i], res.qd[i]]))
-        tree.eval(res.t[i], y_tree)
-        q, qd, qdd = to_cartesian(tree.tree, tree.a["dpar"], np.array([res.t[i]]), y_tree[None, :],
-                                  tree.ks[0][None, tree.ny // 2:])
-        cart.eval(res.t[i], np.concatenate([q[0], qd[0]]))
-        scale = np.max(np.abs(qdd[0]))
-        assert np.max(np.abs(cart.ks[0][nq:] - qdd[0])) < 1e-9 * scale
-        # the same contact forces
-        np.testing.assert_allclose(tree.w["cout"][:, K.O_FN], cart.w["cout"][:, K.O_FN], rtol=1e-9, atol=1e-12)
+    assert_tree_accelerations_match_cartesian(model, res, 6, force_atol=1e-12)
 
 
 def test_tree_state_round_trip(six):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 
 import numpy as np
@@ -67,13 +68,17 @@ def initial_state(model: MechanismModel, t0: float = 0.0, preload: bool = True,
             c, s = np.cos(phib), np.sin(phib)
             local = (c * e[0] + s * e[1], -s * e[0] + c * e[1])
             joint = next(j for j in ideal.joints if j.name == cj.name)
+            # the shifted bearing point gets a name of its own: another joint at the same point (a slider's pin)
+            # keeps the drawn one
+            moved = f"{joint.point_i} (preload of {cj.name})"
             if joint.body_i == "ground":
                 p = ideal.ground_points[joint.point_i]
-                ideal.ground_points[joint.point_i] = (p[0] + local[0], p[1] + local[1])
+                ideal.ground_points = {**ideal.ground_points, moved: (p[0] + local[0], p[1] + local[1])}
             else:
                 body = ideal.body(joint.body_i)
                 p = body.points[joint.point_i]
-                body.points = {**body.points, joint.point_i: (p[0] + local[0], p[1] + local[1])}
+                body.points = {**body.points, moved: (p[0] + local[0], p[1] + local[1])}
+            ideal.joints = [dataclasses.replace(j, point_i=moved) if j is joint else j for j in ideal.joints]
             # contact memory: established, with the impact speed scale clearance x driver speed
             # (floored by v0_min): flapping wing 2 um x 50 rad/s = 1e-4 m/s; slider-crank 0.26 m/s.
             # v0_min alone would make the damping of a fast mechanism absurdly stiff until the first

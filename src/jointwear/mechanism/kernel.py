@@ -583,6 +583,10 @@ def rhs(t, y, dy, row, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid
 # reference of that generated code and the entry of kernel.accelerations.
 TREE_REVOLUTE = 0
 TREE_FLOATING = 1
+TREE_PRISMATIC = 2
+# a prismatic row's jpar: the line's point (0, 1) and unit direction (4, 5) in the parent's frame, the body's
+# sliding point in its own frame (2, 3), the body's angle over the parent's beta (6) and its cos, sin (7, 8)
+NTPAR = 9
 (T_KIND, T_BODY, T_PARENT, T_DOF, T_LEN, T_PATH) = range(6)
 
 
@@ -596,6 +600,8 @@ def tree_base(t, y, jint, dpar, kin, cb, sb):
         kin[g, k] = 0.0
     kin[g, K_C] = 1.0
     for r in range(jint.shape[0]):
+        if jint[r, T_KIND] == TREE_PRISMATIC:  # its coordinate is a length; its angle is its parent's + beta
+            continue
         d = jint[r, T_DOF] + (2 if jint[r, T_KIND] == TREE_FLOATING else 0)
         cb[d] = math.cos(y[d])
         sb[d] = math.sin(y[d])
@@ -663,6 +669,46 @@ def tree_kinematics(t, dt, y, yb, cb, sb, nb, dpar, jint, jpar, kin, cacc, jt):
                 jt[3 * b, i] = 1.0 if i == 0 else 0.0
                 jt[3 * b + 1, i] = 1.0 if i == 1 else 0.0
                 jt[3 * b + 2, i] = 1.0 if i == 2 else 0.0
+        elif jint[r, T_KIND] == TREE_PRISMATIC:
+            # the body's point slides along a line fixed in the parent, at s = y[d]; it turns with the parent
+            p = jint[r, T_PARENT]
+            pr = _row(p, nb, nd)
+            cp, sp = kin[pr, K_C], kin[pr, K_S]
+            wp = kin[pr, K_W]
+            c = cp * jpar[r, 7] - sp * jpar[r, 8]
+            s = sp * jpar[r, 7] + cp * jpar[r, 8]
+            sv = y[d]
+            sd = y[n + d]
+            ux = cp * jpar[r, 4] - sp * jpar[r, 5]
+            uy = sp * jpar[r, 4] + cp * jpar[r, 5]
+            # parent's centre of mass -> the body's centre of mass: line point + s u - the body's point
+            dx = cp * jpar[r, 0] - sp * jpar[r, 1] + sv * ux - (c * jpar[r, 2] - s * jpar[r, 3])
+            dy = sp * jpar[r, 0] + cp * jpar[r, 1] + sv * uy - (s * jpar[r, 2] + c * jpar[r, 3])
+            kin[b, K_X] = kin[pr, K_X] + dx
+            kin[b, K_Y] = kin[pr, K_Y] + dy
+            kin[b, K_PHI] = kin[pr, K_PHI] + jpar[r, 6]
+            kin[b, K_C] = c
+            kin[b, K_S] = s
+            kin[b, K_VX] = kin[pr, K_VX] - wp * dy + sd * ux
+            kin[b, K_VY] = kin[pr, K_VY] + wp * dx + sd * uy
+            kin[b, K_W] = wp
+            last = jint[r, T_LEN] - 1  # s closes the path; the parent's path precedes it
+            if 0 <= p < nb:
+                pax, pay, pal = cacc[3 * p], cacc[3 * p + 1], cacc[3 * p + 2]
+                for i in range(last):  # rigidly carried by the parent
+                    jw = jt[3 * p + 2, i]
+                    jt[3 * b, i] = jt[3 * p, i] - jw * dy
+                    jt[3 * b + 1, i] = jt[3 * p + 1, i] + jw * dx
+                    jt[3 * b + 2, i] = jw
+            else:
+                pax, pay, pal = kin[pr, K_AX], kin[pr, K_AY], kin[pr, K_AL]
+            # a = a_p + al_p k x d - w_p^2 d + 2 w_p sdot k x u (+ sddot u, through jt)
+            cacc[3 * b] = pax - pal * dy - wp * wp * dx - 2.0 * wp * sd * uy
+            cacc[3 * b + 1] = pay + pal * dx - wp * wp * dy + 2.0 * wp * sd * ux
+            cacc[3 * b + 2] = pal
+            jt[3 * b, last] = ux
+            jt[3 * b + 1, last] = uy
+            jt[3 * b + 2, last] = 0.0
         else:
             p = jint[r, T_PARENT]
             pr = _row(p, nb, nd)
@@ -686,12 +732,11 @@ def tree_kinematics(t, dt, y, yb, cb, sb, nb, dpar, jint, jpar, kin, cacc, jt):
             last = jint[r, T_LEN] - 1  # the body's own angle closes its path; the parent's path precedes it
             if 0 <= p < nb:
                 pax, pay, pal = cacc[3 * p], cacc[3 * p + 1], cacc[3 * p + 2]
-                for i in range(last):
-                    jt[3 * b, i] = jt[3 * p, i]
-                    jt[3 * b + 1, i] = jt[3 * p + 1, i]
+                for i in range(last):  # the joint point is carried by the parent (its angle: 1 on its own
+                    jw = jt[3 * p + 2, i]  # coordinate, 0 elsewhere, unless it slides on a prismatic joint)
+                    jt[3 * b, i] = jt[3 * p, i] - jw * apy
+                    jt[3 * b + 1, i] = jt[3 * p + 1, i] + jw * apx
                     jt[3 * b + 2, i] = 0.0
-                jt[3 * b, last - 1] -= apy  # the parent's angle (last on its path) moves the joint point
-                jt[3 * b + 1, last - 1] += apx
             else:
                 pax, pay, pal = kin[pr, K_AX], kin[pr, K_AY], kin[pr, K_AL]
             cacc[3 * b] = pax - pal * apy - wp * wp * apx + w * w * abx

@@ -93,8 +93,10 @@ class Runner:
         if self.mode == 2:
             from jointwear.mechanism.tree_codegen import specialised_module
 
-            # the Dormand-Prince loop compiled for this linkage shape (generated, cached per shape)
-            self.integrate = specialised_module(self.tree, a["dpar"].shape[0], a["cint"]).integrate
+            # the Dormand-Prince loop compiled for this linkage shape (generated, cached per shape); the generator
+            # knows revolute and free bodies, a tree with a slider runs the general tree loop
+            if not self.tree.has_slider:
+                self.integrate = specialised_module(self.tree, a["dpar"].shape[0], a["cint"]).integrate
             a["jint"], a["jpar"], a["winv"] = self.tree.jint, self.tree.jpar, self.tree.mass
             self.w = tree_work_arrays(self.tree, a["dpar"].shape[0], a["cint"].shape[0])
             self.ny = 2 * self.tree.n
@@ -269,8 +271,10 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
     ref = phi_ref if settle == 0 else None
     Y, Ydd = cat["rec_y"], cat["rec_acc"]
     if run.mode == 2:
-        cart_index = run.tree.cart_index
-        free_phi = {n: Y[:, int(np.flatnonzero(cart_index == 3 * i + 2)[0])] for i, n in enumerate(free_names)}
+        from jointwear.mechanism.tree import body_angles
+
+        tree_angles = body_angles(run.tree, Y)
+        free_phi = {n: tree_angles[:, i] for i, n in enumerate(free_names)}
         joint_angles = {}
         cat["rec_lam"] = np.full((Y.shape[0], 2 * len(model.joints)), np.nan)
         rec_t = cat["rec_t"]

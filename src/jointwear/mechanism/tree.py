@@ -1,10 +1,10 @@
 """Detection, tables and coordinate maps of the tree kernel (kernel.rhs_tree).
 
-A model qualifies when its ideal joints are revolute and, with the clearance joints cut, form a forest: every free
-body hangs by one ideal joint from the ground, a driven body or another free body, or by none (then it moves freely
-between its clearance joints). Its coordinates are then one absolute angle per hanging body and (x, y, phi) per free
-one: the same numbers as in the Cartesian state, so the maps below only select and rebuild. Mechanisms with a
-closed loop of ideal joints or a prismatic joint run on the Cartesian kernel.
+A model qualifies when its ideal joints, with the clearance joints cut, form a forest: every free body hangs by one
+ideal joint from the ground, a driven body or another free body, or by none (then it moves freely between its
+clearance joints). Its coordinates are then one absolute angle per body hung by a revolute joint, one slide s per
+body hung by a prismatic joint (its angle is its parent's plus a constant) and (x, y, phi) per free one. Mechanisms
+with a closed loop of ideal joints, or a slider on a driven body, run on the Cartesian kernel.
 """
 
 from __future__ import annotations
@@ -22,7 +22,8 @@ class TreeLayout:
     """Tables of the tree kernel and the positions of its coordinates in the Cartesian q (3 per free body)."""
 
     jint: np.ndarray  # (nb, K.T_PATH + n): kind, body, parent code, first coordinate, path length, path
-    jpar: np.ndarray  # (nb, 4): joint point in the parent's frame (global for the ground), in the body's frame
+    jpar: np.ndarray  # (nb, kernel.NTPAR): joint point in the parent's frame (global for the ground), in the
+                      # body's frame; a slider's line direction and angle offset (kernel.NTPAR)
     mass: np.ndarray  # (3 nb,): m, m, I per free body
     cart_index: np.ndarray  # (n,): index in q of each coordinate
 
@@ -30,17 +31,22 @@ class TreeLayout:
     def n(self) -> int:
         return int(self.cart_index.size)
 
+    @property
+    def has_slider(self) -> bool:
+        """Whether a body hangs by a prismatic joint."""
+        return bool(np.any(self.jint[:, K.T_KIND] == K.TREE_PRISMATIC))
+
 
 def tree_layout(arrays: dict) -> TreeLayout | None:
     """The tree layout of a model from its kernel tables (MechanismModel.kernel_arrays), or None if its ideal joints
-    do not form a forest of revolute joints."""
+    do not form a forest, or a prismatic joint hangs a body from a driven one."""
     nb = int(arrays["nb"])
     jint, jpar, bpar = arrays["jint"], arrays["jpar"], arrays["bpar"]
-    if nb == 0 or np.any(jint[:, 0] != K.REVOLUTE):
+    if nb == 0:
         return None
     placed = {-1, *range(nb, nb + arrays["dpar"].shape[0])}  # ground and driven bodies are roots
     used = np.zeros(jint.shape[0], dtype=bool)
-    rows = []  # (kind, body, parent, parent point, body point)
+    rows = []  # (kind, body, parent, table row: kernel.NTPAR numbers, see _row_table)
     while len(rows) < nb:
         progress = False
         for k in range(jint.shape[0]):
@@ -50,37 +56,40 @@ def tree_layout(arrays: dict) -> TreeLayout | None:
             if bi in placed and bj in placed:
                 return None  # a closed loop of ideal joints
             if bi in placed or bj in placed:
-                if bi in placed:
-                    rows.append((K.TREE_REVOLUTE, bj, bi, jpar[k, 0:2], jpar[k, 2:4]))
-                    placed.add(bj)
+                parent_is_i = bi in placed
+                parent, body = (bi, bj) if parent_is_i else (bj, bi)
+                if jint[k, 0] == K.PRISMATIC:
+                    if parent >= nb:
+                        return None  # a slider on a driven body: its line moves with time, not with a coordinate
+                    rows.append((K.TREE_PRISMATIC, body, parent, _prismatic_table(jpar[k], parent_is_i)))
                 else:
-                    rows.append((K.TREE_REVOLUTE, bi, bj, jpar[k, 2:4], jpar[k, 0:2]))
-                    placed.add(bi)
+                    pp, bp = (jpar[k, 0:2], jpar[k, 2:4]) if parent_is_i else (jpar[k, 2:4], jpar[k, 0:2])
+                    rows.append((K.TREE_REVOLUTE, body, parent, np.concatenate([pp, bp, np.zeros(K.NTPAR - 4)])))
+                placed.add(body)
                 used[k] = True
                 progress = True
         if not progress:  # the rest hangs from no root: the first unplaced body moves freely
             b = next(b for b in range(nb) if b not in placed)
-            rows.append((K.TREE_FLOATING, b, -1, (0.0, 0.0), (0.0, 0.0)))
+            rows.append((K.TREE_FLOATING, b, -1, np.zeros(K.NTPAR)))
             placed.add(b)
     if not used.all():
         return None
     n = sum(3 if row[0] == K.TREE_FLOATING else 1 for row in rows)
     tint = np.zeros((nb, K.T_PATH + n), dtype=np.int64)
-    tpar = np.zeros((nb, 4))
-    path = {}  # body -> the coordinates its velocity depends on (ancestors' first, its angle last)
+    tpar = np.zeros((nb, K.NTPAR))
+    path = {}  # body -> the coordinates its velocity depends on (ancestors' first, its own last)
     cart = []
-    for r, (kind, b, p, sp, sb) in enumerate(rows):
+    for r, (kind, b, p, table) in enumerate(rows):
         d = len(cart)
         if kind == K.TREE_FLOATING:
             cart += [3 * b, 3 * b + 1, 3 * b + 2]
             path[b] = [d, d + 1, d + 2]
         else:
-            cart.append(3 * b + 2)
+            cart.append(3 * b + 2 if kind == K.TREE_REVOLUTE else -1)  # a slide is no Cartesian coordinate
             path[b] = path.get(p, []) + [d]  # ground and driven parents add nothing
         tint[r, :K.T_PATH] = (kind, b, p, d, len(path[b]))
         tint[r, K.T_PATH:K.T_PATH + len(path[b])] = path[b]
-        tpar[r, 0:2] = sp
-        tpar[r, 2:4] = sb
+        tpar[r] = table
     mass = np.empty(3 * nb)
     mass[0::3] = bpar[:, 0]
     mass[1::3] = bpar[:, 0]
@@ -88,16 +97,68 @@ def tree_layout(arrays: dict) -> TreeLayout | None:
     return TreeLayout(tint, tpar, mass, np.array(cart, dtype=np.int64))
 
 
+def _prismatic_table(jp: np.ndarray, parent_is_i: bool) -> np.ndarray:
+    """A prismatic joint's tree row (kernel.NTPAR numbers) from its Cartesian one (kernel.eval_constraints: points
+    a_i, a_j, the normal n_i of the sliding line in body i's frame, angle0 = phi_i - phi_j). The line through the
+    parent's point with direction u carries the body's point at s u. Either body may own the line: the relative angle
+    is fixed, so the owner's direction k x n_i is carried into the parent's frame."""
+    u_i = np.array([-jp[5], jp[4]])
+    if parent_is_i:
+        parent_point, body_point, beta, u = jp[0:2], jp[2:4], -jp[6], u_i
+    else:
+        parent_point, body_point, beta = jp[2:4], jp[0:2], jp[6]
+        c, s = np.cos(beta), np.sin(beta)
+        u = np.array([c * u_i[0] - s * u_i[1], s * u_i[0] + c * u_i[1]])
+    return np.concatenate([parent_point, body_point, u, [beta, np.cos(beta), np.sin(beta)]])
+
+
 def angle_scales(lay: TreeLayout) -> np.ndarray:
-    """True for the coordinates that are angles (the others are positions of freely moving bodies)."""
-    return lay.cart_index % 3 == 2
+    """True for the coordinates that are angles (the others are positions of freely moving or sliding bodies)."""
+    return (lay.cart_index >= 0) & (lay.cart_index % 3 == 2)
 
 
 def to_tree(lay: TreeLayout, y_cart: np.ndarray) -> np.ndarray:
     """Cartesian state (q, qd) -> tree state: the selected coordinates and their rates (the rest follows from the
-    ideal joints, which the Cartesian state satisfies)."""
+    ideal joints, which the Cartesian state satisfies); a slide s = (p_body - p_line) . u, its rate from the points'
+    velocities (the offset is along u, so the line's turning adds nothing)."""
     nq = y_cart.size // 2
-    return np.concatenate([y_cart[lay.cart_index], y_cart[nq + lay.cart_index]])
+    q, qd = y_cart[:nq], y_cart[nq:]
+    idx = np.maximum(lay.cart_index, 0)
+    out = np.concatenate([q[idx], qd[idx]])
+    for r in range(lay.jint.shape[0]):
+        if lay.jint[r, K.T_KIND] != K.TREE_PRISMATIC:
+            continue
+        b, p, d = (int(v) for v in lay.jint[r, [K.T_BODY, K.T_PARENT, K.T_DOF]])
+        tp = lay.jpar[r]
+        xp, vp, wp = (np.zeros(2), np.zeros(2), 0.0) if p < 0 else (q[3 * p:3 * p + 2], qd[3 * p:3 * p + 2],
+                                                                     qd[3 * p + 2])
+        rp = _rotation(0.0 if p < 0 else q[3 * p + 2])
+        rb = _rotation(q[3 * b + 2])
+        ap, ab, u = rp @ tp[0:2], rb @ tp[2:4], rp @ tp[4:6]
+        gap = q[3 * b:3 * b + 2] + ab - xp - ap
+        rate = qd[3 * b:3 * b + 2] + qd[3 * b + 2] * np.array([-ab[1], ab[0]]) - vp - wp * np.array([-ap[1], ap[0]])
+        out[d] = gap @ u
+        out[lay.n + d] = rate @ u
+    return out
+
+
+def body_angles(lay: TreeLayout, Y: np.ndarray) -> np.ndarray:
+    """(steps, nb) angle of every free body from tree states (steps, 2 n): a coordinate, or a sliding body's
+    parent's angle + beta (prismatic parents are the ground or free bodies)."""
+    Y = np.atleast_2d(Y)
+    out = np.zeros((Y.shape[0], lay.jint.shape[0]))
+    for r in range(lay.jint.shape[0]):  # rows come parents first
+        kind, b, p, d = (int(v) for v in lay.jint[r, [K.T_KIND, K.T_BODY, K.T_PARENT, K.T_DOF]])
+        if kind == K.TREE_PRISMATIC:
+            out[:, b] = (0.0 if p < 0 else out[:, p]) + lay.jpar[r, 6]
+        else:
+            out[:, b] = Y[:, d + 2 if kind == K.TREE_FLOATING else d]
+    return out
+
+
+def _rotation(phi: float) -> np.ndarray:
+    c, s = np.cos(phi), np.sin(phi)
+    return np.array([[c, -s], [s, c]])
 
 
 def to_cartesian(lay: TreeLayout, dpar: np.ndarray, t: np.ndarray, Y: np.ndarray, Ydd: np.ndarray | None = None):
