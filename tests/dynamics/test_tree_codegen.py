@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from numba import njit
+from test_tree_slider import MODELS as SLIDER_MODELS
 
 from jointwear.config import config_from_dict, load_config
 from jointwear.mechanism import build_model, simulate
@@ -52,15 +53,21 @@ def _specialised(rhs_spec):
     return run
 
 
-@pytest.mark.parametrize("which", ["six_bar", "six_bar_three_clearances"])
+SLIDERS = ["flores", "line_owned_by_the_slider", "rod_hangs_from_the_slider", "turning_guide"]  # test_tree_slider
+
+
+@pytest.mark.parametrize("which", ["six_bar", "six_bar_three_clearances", *SLIDERS])
 def test_specialised_rhs_equals_general(six, which):
     """Same accelerations and contact outputs as kernel.rhs_tree at states along a trajectory, at a stage (y != yb,
     dt > 0: the rotated cos/sin) and at the step's base point.
 
     Tolerance: the same equations, the mass matrix factorised in another order (leaves first instead of a dense
     L D L^T) and sums regrouped: rounding (1.1e-16) amplified by the mass matrix's condition (~1e3-1e4, angle rows
-    scaled by the ~50 mm links): 1e-11 of the largest component; measured ~1e-16."""
-    model = six if which == "six_bar" else six_bar_three_clearances()
+    scaled by the ~50 mm links): 1e-11 of the largest component; measured ~1e-16. The slider linkages of
+    test_tree_slider cover the generated slide (its Coriolis term on the turning guide, a revolute body hung from a
+    sliding one)."""
+    models = {"six_bar": lambda: six, "six_bar_three_clearances": six_bar_three_clearances, **SLIDER_MODELS}
+    model = models[which]()
     res = simulate(model, 0.01, settle_cycles=0)
     run = Runner(model, None, 1e-6, 1e-9)
     assert res.extra["kernel"] == "tree" and run.mode == 2

@@ -93,10 +93,8 @@ class Runner:
         if self.mode == 2:
             from jointwear.mechanism.tree_codegen import specialised_module
 
-            # the Dormand-Prince loop compiled for this linkage shape (generated, cached per shape); the generator
-            # knows revolute and free bodies, a tree with a slider runs the general tree loop
-            if not self.tree.has_slider:
-                self.integrate = specialised_module(self.tree, a["dpar"].shape[0], a["cint"]).integrate
+            # the Dormand-Prince loop compiled for this linkage shape (generated, cached per shape)
+            self.integrate = specialised_module(self.tree, a["dpar"].shape[0], a["cint"]).integrate
             a["jint"], a["jpar"], a["winv"] = self.tree.jint, self.tree.jpar, self.tree.mass
             self.w = tree_work_arrays(self.tree, a["dpar"].shape[0], a["cint"].shape[0])
             self.ny = 2 * self.tree.n

@@ -68,6 +68,65 @@ def _mul(a, b):
     return f"{a} * {b}"
 
 
+def _num(v):
+    return "1.0" if v == "1" else v
+
+
+def _carried(e, p, pj: dict, rx: str, ry: str) -> dict:
+    """The Jacobian columns of a point rigidly carried by a body (its columns pj) at (rx, ry) from the body's centre
+    of mass: jx - jw ry, jy + jw rx, jw; named locals where a column turns the body."""
+    out = {}
+    for i, (jx, jy, jw) in pj.items():
+        if jw is None:
+            out[i] = (jx, jy, jw)
+            continue
+        ex, ey = f"{p}jx{i}", f"{p}jy{i}"
+        e(f"{ex} = " + (f"-{_mul(jw, ry)}" if jx is None else f"{_num(jx)} - {_mul(jw, ry)}"))
+        e(f"{ey} = " + (_mul(jw, rx) if jy is None else f"{_num(jy)} + {_mul(jw, rx)}"))
+        out[i] = (ex, ey, jw)
+    return out
+
+
+def _emit_slider(e, body: dict, r: int, b: int, par: int, d: int, n: int, nb: int) -> None:
+    """A body hung by a prismatic joint (kernel.tree_kinematics): it turns with its parent (the ground or a free
+    body) and its point slides along the parent's line at s = y[d]."""
+    p = f"b{b}_"
+    q = body[par] if par >= 0 else {"x": None, "y": None, "phi": None, "c": None, "s": None, "vx": None, "vy": None,
+                                    "w": None, "ax": None, "ay": None, "J": {}}
+
+    def rot(sx, sy, c, s):
+        if c is None:
+            return sx, sy
+        return f"{c} * {sx} - {s} * {sy}", f"{s} * {sx} + {c} * {sy}"
+
+    c, s_ = rot(f"jpar[{r}, 7]", f"jpar[{r}, 8]", q["c"], q["s"])
+    e(f"{p}c = {c}")
+    e(f"{p}s = {s_}")
+    e(f"{p}phi = " + (f"jpar[{r}, 6]" if q["phi"] is None else f"{q['phi']} + jpar[{r}, 6]"))
+    e(f"{p}sv = y[{d}]")
+    e(f"{p}sd = y[{n + d}]")
+    ux, uy = rot(f"jpar[{r}, 4]", f"jpar[{r}, 5]", q["c"], q["s"])
+    e(f"{p}ux = {ux}")
+    e(f"{p}uy = {uy}")
+    lx, ly = rot(f"jpar[{r}, 0]", f"jpar[{r}, 1]", q["c"], q["s"])
+    bx, by = rot(f"jpar[{r}, 2]", f"jpar[{r}, 3]", f"{p}c", f"{p}s")
+    e(f"{p}dx = {lx} + {p}sv * {p}ux - ({bx})")  # parent's centre of mass -> the body's
+    e(f"{p}dy = {ly} + {p}sv * {p}uy - ({by})")
+    w = q["w"]
+    e(f"{p}w = {w or '0.0'}")
+    for k, a, cross, slide, coriolis in (("x", "dx", f"- {w} * {p}dy", f"{p}ux", f"- 2.0 * {w} * {p}sd * {p}uy"),
+                                         ("y", "dy", f"+ {w} * {p}dx", f"{p}uy", f"+ 2.0 * {w} * {p}sd * {p}ux")):
+        e(f"{p}{k} = " + (f"{p}{a}" if q[k] is None else f"{q[k]} + {p}{a}"))
+        rate = f"{q['v' + k] or '0.0'}" + ("" if w is None else f" {cross}") + f" + {p}sd * {slide}"
+        e(f"{p}v{k} = {rate}")
+        acc = f"{q['a' + k] or '0.0'}" + ("" if w is None else f" - {w} * {w} * {p}{a} {coriolis}")
+        e(f"{p}a{k} = {acc}")
+    J = _carried(e, p, q["J"], f"{p}dx", f"{p}dy") if 0 <= par < nb else {}
+    J[d] = (f"{p}ux", f"{p}uy", None)
+    body[b] = {k: p + k for k in ("x", "y", "phi", "c", "s", "vx", "vy", "w", "ax", "ay")}
+    body[b].update(free=True, J=J)
+
+
 def rhs_source(key: tuple) -> str:
     """Source of ``rhs_spec`` for a shape_key."""
     rows, nd, joints = key
@@ -103,6 +162,9 @@ def rhs_source(key: tuple) -> str:
             body[b].update(ax=None, ay=None, free=True,
                            J={d: ("1", None, None), d + 1: (None, "1", None), d + 2: (None, None, "1")})
             continue
+        if kind == K.TREE_PRISMATIC:
+            _emit_slider(e, body, r, b, par, d, n, nb)
+            continue
         e(f"{p}c, {p}s = small_rotation(cb[{d}], sb[{d}], y[{d}] - yb[{d}])")
         e(f"{p}phi = y[{d}]")
         e(f"{p}w = y[{n + d}]")
@@ -134,17 +196,8 @@ def rhs_source(key: tuple) -> str:
             e(f"{p}ax = {pax}- {q['w']} * {q['w']} * {p}apx + {p}w * {p}w * {p}abx")
             e(f"{p}ay = {pay}- {q['w']} * {q['w']} * {p}apy + {p}w * {p}w * {p}aby")
         J = {}
-        if par >= 0 and par < nb:  # the parent's Jacobian; its angle (last on its path) moves the joint point
-            pj = body[par]["J"]
-            plast = max(pj)
-            for i, (jx, jy, _) in pj.items():
-                if i == plast:
-                    ex, ey = f"{p}jx{i}", f"{p}jy{i}"
-                    e(f"{ex} = {'-' + p + 'apy' if jx is None else (jx if jx != '1' else '1.0') + ' - ' + p + 'apy'}")
-                    e(f"{ey} = {p + 'apx' if jy is None else (jy if jy != '1' else '1.0') + ' + ' + p + 'apx'}")
-                    J[i] = (ex, ey, None)
-                else:
-                    J[i] = (jx, jy, None)
+        if par >= 0 and par < nb:  # the parent's Jacobian, carrying the joint point (k x ap per unit of its turning)
+            J = {i: (jx, jy, None) for i, (jx, jy, _) in _carried(e, p, body[par]["J"], f"{p}apx", f"{p}apy").items()}
         e(f"{p}mabx = -{p}abx")
         J[d] = (f"{p}aby", f"{p}mabx", "1")
         body[b] = {k: p + k for k in ("x", "y", "phi", "c", "s", "vx", "vy", "w", "ax", "ay")}
