@@ -309,9 +309,10 @@ def load_config(source: str | Path | None = None) -> StudyConfig:
 
     Parameters
     ----------
-    source : str, Path, StudyConfig or None
-        A TOML file, a preset name (:func:`available_presets`), a config already validated (returned as is),
-        or None for the default preset ``jin2025_flapping_wing``.
+    source : str, Path, StudyConfig, mapping or None
+        A TOML file, a preset name (:func:`available_presets`), a config already validated (returned as is), the
+        tables of a TOML file as a mapping (unit-suffixed keys and ``extends`` as in a file), or None for the default
+        preset ``jin2025_flapping_wing``.
 
     Returns
     -------
@@ -327,6 +328,17 @@ def load_config(source: str | Path | None = None) -> StudyConfig:
         source = DEFAULT_PRESET
     if isinstance(source, StudyConfig):
         return source
+    if isinstance(source, Mapping):  # the tables of a TOML file, e.g. built in a notebook
+        data = dict(source)
+        base = data.pop("extends", None)
+        if base is not None:
+            if not isinstance(base, str):
+                raise ConfigError(f"config: extends: expected a preset name or a TOML path (got {base!r})")
+            data = merge_tables(_resolve(base, ("config",))[0], data)
+        return config_from_dict(data, "config")
+    if not isinstance(source, (str, Path)):
+        raise ConfigError(f"config: expected a preset name, a TOML path, a StudyConfig or a mapping of TOML tables "
+                          f"(got {type(source).__name__})")
     data, name = _resolve(source)
     return config_from_dict(data, name)
 

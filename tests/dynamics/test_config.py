@@ -70,3 +70,20 @@ def test_docs_config_md_is_the_generated_reference():
     assert doc.read_text(encoding="utf-8") == config_reference_markdown(), (
         "docs/config.md is out of date: python -c 'import jointwear.config as c; "
         "print(c.config_reference_markdown(), end=\"\")' > docs/config.md")
+
+
+def test_a_mapping_of_toml_tables_is_a_config_as_its_file_is(tmp_path):
+    """From a notebook: the tables of a TOML file as a dict, unit suffixes and `extends` included, give the config the
+    file gives; anything else is refused naming what is accepted."""
+    import tomllib
+
+    text = 'extends = "jin2025_flapping_wing"\n[reliability]\nallowance_mm = 0.02\n'
+    path = tmp_path / "variant.toml"
+    path.write_text(text, encoding="utf-8")
+    from_file = load_config(path)
+    from_mapping = load_config(tomllib.loads(text))
+    assert from_mapping == from_file and from_mapping.reliability.allowance == pytest.approx(2e-5)
+    with pytest.raises(ConfigError, match="expected a preset name, a TOML path, a StudyConfig or a mapping"):
+        load_config(42)
+    with pytest.raises(ConfigError, match="allowance_furlong: unknown key"):
+        load_config({"extends": "jin2025_flapping_wing", "reliability": {"allowance_furlong": 1}})

@@ -14,7 +14,7 @@ import logging
 import sqlite3
 import time
 import warnings
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
 
 from jointwear.config import StudyConfig, load_config
@@ -67,8 +67,9 @@ class Study:
 
     Parameters
     ----------
-    config : str, Path or StudyConfig
-        A preset name, a TOML file, or a validated :class:`jointwear.config.StudyConfig`.
+    config : str, Path, StudyConfig or mapping
+        A preset name, a TOML file, a validated :class:`jointwear.config.StudyConfig`, or the tables of a TOML file
+        as a mapping (unit-suffixed keys and ``extends`` as in a file).
     out : str or Path
         Output folder: every stage writes its JSON, CSV tables and figures there, and the evaluation store
         of the model calls (``evaluations.sqlite``). Nothing is written before the config is checked.
@@ -92,7 +93,7 @@ class Study:
     >>> rel.life_cycles, rel.reliability                                 # doctest: +SKIP
     """
 
-    def __init__(self, config: str | Path | StudyConfig | None = None, out: str | Path = "results", *,
+    def __init__(self, config: str | Path | StudyConfig | Mapping | None = None, out: str | Path = "results", *,
                  workers: int | None = None, scheduler: str | None = None, resume: bool = False,
                  overwrite: bool = False, echo: Callable[[str], None] | None = None):
         self.config: StudyConfig = load_config(config)
