@@ -81,3 +81,23 @@ def test_load_results_of_an_empty_or_damaged_folder(tmp_path):
     (tmp_path / "reliability.json").write_text("{not json")
     res = load_results(tmp_path)
     assert res.reliability is None and "reliability" in res.errors
+
+
+def test_a_result_prints_short_with_every_field(tmp_path):
+    """A notebook prints a result whole: one line per field, a 360-cell profile as its keys, a short array whole (the
+    repr used to run to 126 kB for one wear result)."""
+    from dataclasses import fields
+
+    r = wear_history(FakeModel(), WearSettings(n_grid=360), 50_000, simulate=fake_simulate)
+    s = WearSummary.from_history(r, allowances_m={"joint0": 3e-5})
+    s.save(tmp_path)
+    rel = _reliability_result()
+    rel.save(tmp_path, figures=False)
+    for res in (s, rel):
+        text = repr(res)
+        assert len(text) < 3000 and text.startswith(type(res).__name__ + "(")
+        assert all(f"\n    {f.name}=" in text for f in fields(res) if f.repr)
+    assert "profile=<dict of 5: angle_deg, depth_mm" in repr(s)
+    assert f"reliability={np.array2string(rel.reliability, precision=4, separator=', ')}" in repr(rel)
+    expected = f"StudyResults(folder={str(tmp_path)!r}, name=None, stages=['wear', 'reliability'])"
+    assert repr(load_results(tmp_path)) == expected

@@ -10,7 +10,7 @@ from jointwear.study.io import write_csv
 from jointwear.study.stage_result import StageResult
 
 
-@dataclass
+@dataclass(repr=False)
 class DesignResult(StageResult):
     """The cheapest controls that reach N* cycles at reliability R*, and the Pareto front of cost vs life at R*.
 

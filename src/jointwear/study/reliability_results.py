@@ -17,7 +17,7 @@ __all__ = ["ReliabilityResult", "SensitivityResult", "ValidationResult"]
 
 
 # ------------------------------------------------------------------------------------------------ reliability
-@dataclass
+@dataclass(repr=False)
 class ReliabilityResult(StageResult):
     """The R(N) curve, the life at each target reliability and the wear distributions of a study.
 
@@ -178,7 +178,7 @@ _RELIABILITY_KEYS = frozenset({
 
 
 # ------------------------------------------------------------------------------------------------ sensitivity
-@dataclass
+@dataclass(repr=False)
 class SensitivityResult(StageResult):
     """How the reliability at ``cycles`` moves with each variable: mean shifts (``variables`` rows with
     ``reliability_low``/``reliability_high`` and their error estimates), the ranking overall and per group
@@ -251,7 +251,7 @@ class SensitivityResult(StageResult):
 
 
 # ------------------------------------------------------------------------------------------------- validation
-@dataclass
+@dataclass(repr=False)
 class ValidationResult(StageResult):
     """The surrogate's R(N) against the true model sampled directly (``jointwear validate``).
 

@@ -25,7 +25,7 @@ __all__ = ["StageResult", "SimulationSummary", "WearSummary", "ReliabilityResult
 
 
 # --------------------------------------------------------------------------------------------------- simulate
-@dataclass
+@dataclass(repr=False)
 class SimulationSummary(StageResult):
     """The dynamics of the nominal mechanism over a few crank cycles (``jointwear simulate``).
 
@@ -134,7 +134,7 @@ def _profile_panels(jw, order) -> dict[str, list[float]]:
             "sliding_mm_per_deg_per_cycle": (d.slip_distance[order] * 1e3 / cell_deg).tolist(),
             "contact_area_mean_mm2": (d.area_mean[order] * 1e6).tolist()}
 
-@dataclass
+@dataclass(repr=False)
 class WearSummary(StageResult):
     """The wear history of the nominal mechanism (``jointwear wear``).
 
@@ -282,7 +282,7 @@ class WearSummary(StageResult):
 
 
 # ---------------------------------------------------------------------------------------------------- loading
-@dataclass
+@dataclass(repr=False)
 class StudyResults:
     """Every stage result found in a study folder (None where a stage has not run) and the resolved config."""
 
@@ -294,6 +294,11 @@ class StudyResults:
     sensitivity: SensitivityResult | None = None
     validation: ValidationResult | None = None
     errors: dict[str, str] = field(default_factory=dict)
+
+    def __repr__(self) -> str:
+        name = (self.config or {}).get("name")
+        return (f"StudyResults(folder={str(self.folder)!r}, name={name!r}, stages={self.stages}"
+                + (f", errors={self.errors}" if self.errors else "") + ")")
 
     @property
     def stages(self) -> list[str]:

@@ -4,17 +4,46 @@ from __future__ import annotations
 
 from dataclasses import MISSING, fields
 from pathlib import Path
-from typing import ClassVar
+from typing import Any, ClassVar
+
+import numpy as np
 
 from jointwear.study.io import provenance, read_json, write_json
 
-__all__ = ["StageResult", "save_figure"]
+__all__ = ["StageResult", "save_figure", "short_repr"]
+
+_SHORT = 100  # characters of a value shown whole in a result's repr
+
+
+def short_repr(value: Any) -> str:
+    """A value as a result's repr shows it: whole when short, else its shape (a wear profile has 720 cells, an R(N)
+    population's design points thousands, and a notebook prints the whole result)."""
+    if isinstance(value, np.ndarray):
+        if value.size <= 12:
+            return np.array2string(value, precision=4, separator=", ", max_line_width=10**6)
+        finite = value[np.isfinite(value)] if value.dtype.kind == "f" else value
+        span = f", {finite.min():.4g} .. {finite.max():.4g}" if finite.size and value.dtype.kind in "fiu" else ""
+        return f"<array {value.shape}{span}>"
+    text = repr(value)
+    if len(text) <= _SHORT:
+        return text
+    if isinstance(value, dict):
+        keys = ", ".join(map(str, list(value)[:8])) + (", ..." if len(value) > 8 else "")
+        return f"<dict of {len(value)}: {keys}>"
+    if isinstance(value, (list, tuple)):
+        return f"<{type(value).__name__} of {len(value)}>"
+    return text[: _SHORT - 3] + "..."
 
 
 class StageResult:
     """Shared save/load of the stage results: the JSON holds every field not marked ``json=False``."""
 
     FILE: ClassVar[str] = ""
+
+    def __repr__(self) -> str:
+        """One line per field, long values summarised (``short_repr``); subclasses are dataclasses with repr=False."""
+        rows = [f"    {f.name}={short_repr(getattr(self, f.name))}," for f in fields(self) if f.repr]
+        return "\n".join([f"{type(self).__name__}(", *rows, ")"])
 
     def to_json(self) -> dict:
         out = {f.name: getattr(self, f.name) for f in fields(self) if f.metadata.get("json", True)}
