@@ -161,3 +161,17 @@ def test_correlated_inputs_reach_the_study_population_and_the_learning():
     assert np.corrcoef(x[:, 0], x[:, 1])[0, 1] == pytest.approx(0.8, abs=0.01)
     res = run_reliability(ctx)
     assert_series_pf_matches_brute_force(res, ctx.sample(1_000_000, seed=5))
+
+
+def test_the_wear_line_names_each_joint_of_a_series_system():
+    """The terminal's wear line: one joint as before; several, each by name (the second joint was not shown)."""
+    from types import SimpleNamespace
+
+    from jointwear.study.facade import wear_line
+
+    one = SimpleNamespace(joints=[{"name": "A"}], max_wear_mm=0.02661, max_wear_angle_deg=359.9999)
+    assert wear_line(one) == "0.0266 mm at 0 deg"
+    two = SimpleNamespace(joints=[{"name": "A", "max_wear_mm": 0.02872, "max_wear_angle_deg": 108.19},
+                                  {"name": "E", "max_wear_mm": 0.003286, "max_wear_angle_deg": 277.25}],
+                          max_wear_mm=0.02872, max_wear_angle_deg=108.19)
+    assert wear_line(two) == "A 0.0287 mm at 108 deg, E 0.0033 mm at 277 deg"

@@ -123,9 +123,10 @@ def dynamics_section(out: StudyOutputs, figs: Figures) -> str:
     scaled, force_unit = scale_to_unit([math.nan if v is None else v for v in raw], "N")
     mean_force, peak_force = ("\u2014" if v is None else f"{x:.4g} {force_unit}" for v, x in zip(raw, scaled))
 
+    first = f" (joint {sim.joints[0]['name']})" if len(sim.joints) > 1 else ""
     parts = [cards([
-        ("mean contact force", mean_force, None),
-        ("peak contact force", peak_force, None),
+        ("mean contact force" + first, mean_force, None),
+        ("peak contact force" + first, peak_force, None),
         ("contact fraction", format_number(sim.contact_fraction, 3), "share of the cycle in contact"),
         ("impacts per cycle", format_number(sim.impacts_per_cycle, 3), None),
         ("steps per cycle", format_number(sim.steps_per_cycle), None),
@@ -137,6 +138,8 @@ def dynamics_section(out: StudyOutputs, figs: Figures) -> str:
         ("settling cycles", format_number(sim.settle_cycles)), ("crank period (s)", format_number(sim.period_s)),
         ("accepted / rejected steps", f"{format_number(sim.accepted_steps)} / {format_number(sim.rejected_steps)}"),
         ("clearance joints", ", ".join(str(j["name"]) for j in sim.joints) or "\u2014")], cls="kv"))
+    if len(sim.joints) > 1:
+        parts.append(joints_dynamics_table(sim.joints))
     series = joint_series(out.out_dir, sim)
     name = series.name if series is not None else ""
     clearance = sim.joints[0]["clearance_m"] * 1e3 if sim.joints else None
@@ -156,6 +159,29 @@ def dynamics_section(out: StudyOutputs, figs: Figures) -> str:
         png_keys=("contact_force", "force"), missing_text=f"Contact force: no series file ({sim.series_file})."))
     parts.append("</div>")
     return "".join(parts)
+
+
+def joints_dynamics_table(joints: list[dict]) -> str:
+    """Every clearance joint's contact over the recorded cycles (a mechanism with several)."""
+    rows = [(str(j["name"]), f"{j.get('bearing_body', '')} / {j.get('journal_body', '')}",
+             format_number(j.get("contact_force_mean_N")), format_number(j.get("contact_force_max_N")),
+             format_number(j.get("contact_fraction"), 3), format_number(j.get("impacts_per_cycle"), 3),
+             format_number(None if j.get("max_penetration_m") is None else j["max_penetration_m"] * 1e6),
+             format_number(None if j.get("clearance_m") is None else j["clearance_m"] * 1e6)) for j in joints]
+    return "<h3>Every clearance joint</h3>" + table(
+        ["joint", "bearing / journal", "mean contact force (N)", "peak contact force (N)", "contact fraction",
+         "impacts per cycle", "max penetration (\u00b5m)", "clearance (\u00b5m)"], rows, cls="num")
+
+
+def joints_wear_table(joints: list[dict]) -> str:
+    """Every clearance joint's wear at the end of the history (a mechanism with several)."""
+    rows = [(str(j["name"]), format_number(j.get("max_wear_mm")),
+             "\u2014" if j.get("max_wear_angle_deg") is None else angle_text(j["max_wear_angle_deg"], 1),
+             format_number((j.get("journal") or {}).get("max_wear_mm")), format_number(j.get("allowance_mm")),
+             format_number(j.get("conformity"), 3)) for j in joints]
+    return "<h3>Every clearance joint</h3>" + table(
+        ["joint", "max bearing wear (mm)", "at angle (deg)", "journal max wear (mm)", "allowance (mm)",
+         "conformity"], rows, cls="num")
 
 
 _UNIFORM_WARNING = (
@@ -178,9 +204,10 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
         second = ("none", "a single wear zone")
     else:
         second = ("\u2014", None) if sp is None else (f"{sp[1]:.4g} mm", f"at {angle_text(sp[0])} deg")
+    first = f" (joint {wear.joints[0]['name']})" if len(wear.joints) > 1 else ""
     items = [
         ("cycles simulated", format_number(wear.cycles), None),
-        ("max bearing wear", f"{format_number(wear.max_wear_mm)} mm", None),
+        ("max bearing wear" + first, f"{format_number(wear.max_wear_mm)} mm", None),
         ("at angle", f"{angle_text(wear.max_wear_angle_deg, 1)} deg", "0 deg = leftmost, clockwise"),
         ("second peak", *second),
         ("wall time", "\u2014" if wear.wall_seconds is None else f"{wear.wall_seconds:.3g} s", None),
@@ -192,6 +219,8 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
         items.append(("conformity", format_number(wear.conformity, 3),
                       "worn arc / contact patch; uniform mode is fair up to 1"))
     parts.append(cards(items))
+    if len(wear.joints) > 1:
+        parts.append(joints_wear_table(wear.joints))
     prof = wear.profile
     ang, depth = np.asarray(prof["angle_deg"], dtype=float), np.asarray(prof["depth_mm"], dtype=float)
     radius = wear.joints[0].get("bearing_radius_mm") if wear.joints else None
@@ -199,8 +228,17 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
     parts.append(figs.draw(
         None if ang.size == 0 else (lambda: F.wear_polar_figure(ang, depth, radius_mm=radius, peaks=wear.peaks,
                                                                 cycles=wear.cycles)),
-        "Bearing wear profile over the initial circle; the radial exaggeration factor is written on the figure.",
+        "Bearing wear profile over the initial circle" + (f" of joint {wear.joints[0]['name']}" if first else "")
+        + "; the radial exaggeration factor is written on the figure.",
         png_keys=("polar",), missing_text="Polar wear profile: the wear result has no profile."))
+    for j in wear.joints[1:]:
+        jp = j.get("profile") or {}
+        jang, jdepth = (np.asarray(jp.get(k, []), dtype=float) for k in ("angle_deg", "depth_mm"))
+        parts.append(figs.draw(
+            None if jang.size == 0 else (lambda j=j, jang=jang, jdepth=jdepth: F.wear_polar_figure(
+                jang, jdepth, radius_mm=j.get("bearing_radius_mm"), peaks=j.get("peaks"), cycles=wear.cycles)),
+            f"Bearing wear profile of joint {j['name']} over the initial circle.",
+            missing_text=f"Polar wear profile of joint {j['name']}: not in this wear result."))
     rel = out.results.reliability
     mean = rel.mean_max_wear if rel is not None else {}
     limit = allowance_mm(out)

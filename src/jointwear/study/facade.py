@@ -252,8 +252,8 @@ class Study:
         res = wear_history(build_model(self.config), self.config.wear, n, progress=progress)
         result = WearSummary.from_history(res, self.config, self._allowances())
         result.save(self.out)
-        self.echo(f"wear: max bearing wear {result.max_wear_mm:.4f} mm at {angle_text(result.max_wear_angle_deg)} deg "
-                  f"after {result.cycles} cycles ({time.perf_counter() - t0:.1f} s) -> {self.out / result.FILE}")
+        self.echo(f"wear: max bearing wear {wear_line(result)} after {result.cycles} cycles "
+                  f"({time.perf_counter() - t0:.1f} s) -> {self.out / result.FILE}")
         if result.geometry_mode == "uniform" and result.uniform_mode_valid is False:
             self.echo(f"wear: uniform mode is outside its range here (conformity {result.conformity:.3g} > 1: the "
                       'journal fits into its own wear); wear.geometry_mode = "profile" follows it (docs/wear.md)')
@@ -482,6 +482,14 @@ def _empty_store(out: Path) -> bool:
             return int(con.execute("select count(*) from calls").fetchone()[0]) == 0
     except sqlite3.Error:
         return False
+
+
+def wear_line(result: WearSummary) -> str:
+    """'0.0266 mm at 125 deg', or each joint's when there are several: 'A 0.0287 mm at 108 deg, E 0.0033 mm ...'."""
+    if len(result.joints) <= 1:
+        return f"{result.max_wear_mm:.4f} mm at {angle_text(result.max_wear_angle_deg)} deg"
+    return ", ".join(f"{j['name']} {j['max_wear_mm']:.4f} mm at {angle_text(j['max_wear_angle_deg'])} deg"
+                     for j in result.joints)
 
 
 def life_text(row: dict) -> str:
