@@ -379,7 +379,7 @@ def test_a_mechanism_with_several_clearance_joints_shows_each(tmp_path, nominal)
     they show, and the second joint's profile gets its own figure; one joint keeps the cards unlabelled."""
     d = make_fixture_dir(tmp_path / "j", nominal, which=("simulate", "wear"))
     page = build_report(d).read_text(encoding="utf-8")
-    assert "Every clearance joint" not in page and "(joint A)" not in page
+    assert "Every clearance joint" not in page and "(joint A)" not in page and "Wear of the joints" not in page
     sim = json.loads((d / "simulate.json").read_text(encoding="utf-8"))
     sim["joints"] = [sim["joints"][0], {**sim["joints"][0], "name": "E", "contact_force_mean_N": 0.1914}]
     (d / "simulate.json").write_text(json.dumps(sim), encoding="utf-8")
@@ -389,7 +389,7 @@ def test_a_mechanism_with_several_clearance_joints_shows_each(tmp_path, nominal)
     wear.write(d)
     n_figures = page.count("data:image/png;base64")
     page = build_report(d).read_text(encoding="utf-8")
-    assert page.count("<h3>Every clearance joint</h3>") == 2
+    assert page.count("<h3>Every clearance joint</h3>") == 2 and "Wear of the joints" in page
     assert "mean contact force (joint A)" in page and "max bearing wear (joint A)" in page
     assert "<td>E</td><td>0.003286</td><td>277.2</td>" in page and "<td>0.1914</td>" in page
     assert "Bearing wear profile of joint E" in page and page.count("data:image/png;base64") == n_figures + 1

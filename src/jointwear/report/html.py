@@ -16,8 +16,14 @@ from .checks import reference_checks, reference_label, reference_of
 from .design_section import design_section
 from .markup import CSS, Figures, e, safe, section
 from .read import read_outputs
-from .result_sections import (comparison_section, files_section, reliability_section, sensitivity_section,
-                              summary_cards, validation_section)
+from .result_sections import (
+    comparison_section,
+    files_section,
+    reliability_section,
+    sensitivity_section,
+    summary_cards,
+    validation_section,
+)
 from .study_sections import dynamics_section, settings_section, wear_section
 
 __all__ = ["build_report"]
@@ -39,6 +45,8 @@ def build_report(out_dir: Path | str, *, output: Path | str | None = None, title
     checks = reference_checks(out.results, ref) if ref else []
     label = reference_label(ref)
 
+    several = any(isinstance(getattr(r, "joints", None), list) and len(r.joints) > 1
+                  for r in (out.results.simulate, out.results.wear))
     sections = [
         *([("comparison", f"Comparison with {label}", lambda: comparison_section(checks, ref),
             f"Every number the reference reports beside this study's ({label}).")] if ref else []),
@@ -46,9 +54,10 @@ def build_report(out_dir: Path | str, *, output: Path | str | None = None, title
          "The mechanism and every setting of this study" + (
              f"; settings the reference ({label}) leaves open are flagged with the source of the value chosen."
              if ref else ".")),
-        ("dynamics", "Dynamics of the clearance joint", lambda: dynamics_section(out, figs),
-         "Journal motion and contact force in the revolute clearance joint."),
-        ("wear", "Wear of the joint", lambda: wear_section(out, figs),
+        ("dynamics", "Dynamics of the clearance joints" if several else "Dynamics of the clearance joint",
+         lambda: dynamics_section(out, figs),
+         f"Journal motion and contact force in the revolute clearance joint{'s' if several else ''}."),
+        ("wear", "Wear of the joints" if several else "Wear of the joint", lambda: wear_section(out, figs),
          "Archard wear on the bearing; angles in the bearing frame, 0 deg at the leftmost point, clockwise."),
         ("reliability", "Wear reliability", lambda: reliability_section(out, figs),
          "Limit state G = \u03b4\u2080 \u2212 \u03b4max(x, N): failure when the max wear exceeds the allowable wear."),
