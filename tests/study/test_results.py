@@ -101,3 +101,12 @@ def test_a_result_prints_short_with_every_field(tmp_path):
     assert f"reliability={np.array2string(rel.reliability, precision=4, separator=', ')}" in repr(rel)
     expected = f"StudyResults(folder={str(tmp_path)!r}, name=None, stages=['wear', 'reliability'])"
     assert repr(load_results(tmp_path)) == expected
+
+
+def test_a_study_prints_its_config_and_folder(tmp_path):
+    import jointwear
+
+    study = jointwear.Study("jin2025_flapping_wing", out=tmp_path / "o", workers=1)
+    out = str(tmp_path / "o")
+    assert repr(study) == f"Study('jin2025_flapping_wing', source='jin2025_flapping_wing', out={out!r}, workers=1)"
+    assert not (tmp_path / "o").exists()  # building a study writes nothing

@@ -113,6 +113,11 @@ class Study:
         self._context = None
         self._reliability: ReliabilityResult | None = None
 
+    def __repr__(self) -> str:
+        source = f", source={str(self.source)!r}" if self.source is not None else ""
+        where = f", scheduler={self.scheduler!r}" if self.scheduler else f", workers={self.workers!r}"
+        return f"Study({self.config.name!r}{source}, out={str(self.out)!r}{where})"
+
     # ----------------------------------------------------------------------------------------- checking
     def check(self, stages=None) -> None:
         """Check the whole config and that the nominal mechanism assembles and runs. Writes nothing.
