@@ -15,6 +15,7 @@ import numpy as np
 from numba import njit
 
 from jointwear.mechanism import kernel as K
+from jointwear.mechanism.assembly import rotate
 
 
 @dataclass
@@ -23,7 +24,7 @@ class TreeLayout:
 
     jint: np.ndarray  # (nb, K.T_PATH + n): kind, body, parent code, first coordinate, path length, path
     jpar: np.ndarray  # (nb, kernel.NTPAR): joint point in the parent's frame (global for the ground), in the
-                      # body's frame; a slider's line direction and angle offset (kernel.NTPAR)
+                      # body's frame; a slider's line direction and angle offset
     mass: np.ndarray  # (3 nb,): m, m, I per free body
     cart_index: np.ndarray  # (n,): index in q of each coordinate
 
@@ -46,7 +47,7 @@ def tree_layout(arrays: dict) -> TreeLayout | None:
         return None
     placed = {-1, *range(nb, nb + arrays["dpar"].shape[0])}  # ground and driven bodies are roots
     used = np.zeros(jint.shape[0], dtype=bool)
-    rows = []  # (kind, body, parent, table row: kernel.NTPAR numbers, see _row_table)
+    rows = []  # (kind, body, parent, its jpar row: kernel.NTPAR numbers)
     while len(rows) < nb:
         progress = False
         for k in range(jint.shape[0]):
@@ -102,13 +103,12 @@ def _prismatic_table(jp: np.ndarray, parent_is_i: bool) -> np.ndarray:
     a_i, a_j, the normal n_i of the sliding line in body i's frame, angle0 = phi_i - phi_j). The line through the
     parent's point with direction u carries the body's point at s u. Either body may own the line: the relative angle
     is fixed, so the owner's direction k x n_i is carried into the parent's frame."""
-    u_i = np.array([-jp[5], jp[4]])
+    u_i = (-jp[5], jp[4])
     if parent_is_i:
         parent_point, body_point, beta, u = jp[0:2], jp[2:4], -jp[6], u_i
     else:
         parent_point, body_point, beta = jp[2:4], jp[0:2], jp[6]
-        c, s = np.cos(beta), np.sin(beta)
-        u = np.array([c * u_i[0] - s * u_i[1], s * u_i[0] + c * u_i[1]])
+        u = rotate(beta, u_i)
     return np.concatenate([parent_point, body_point, u, [beta, np.cos(beta), np.sin(beta)]])
 
 
@@ -130,13 +130,13 @@ def to_tree(lay: TreeLayout, y_cart: np.ndarray) -> np.ndarray:
             continue
         b, p, d = (int(v) for v in lay.jint[r, [K.T_BODY, K.T_PARENT, K.T_DOF]])
         tp = lay.jpar[r]
-        xp, vp, wp = (np.zeros(2), np.zeros(2), 0.0) if p < 0 else (q[3 * p:3 * p + 2], qd[3 * p:3 * p + 2],
-                                                                     qd[3 * p + 2])
-        rp = _rotation(0.0 if p < 0 else q[3 * p + 2])
-        rb = _rotation(q[3 * b + 2])
-        ap, ab, u = rp @ tp[0:2], rb @ tp[2:4], rp @ tp[4:6]
-        gap = q[3 * b:3 * b + 2] + ab - xp - ap
-        rate = qd[3 * b:3 * b + 2] + qd[3 * b + 2] * np.array([-ab[1], ab[0]]) - vp - wp * np.array([-ap[1], ap[0]])
+        parent = np.zeros(3) if p < 0 else q[3 * p:3 * p + 3]  # the ground's pose and rates are zero
+        parent_rate = np.zeros(3) if p < 0 else qd[3 * p:3 * p + 3]
+        ap, u = np.array(rotate(parent[2], tp[0:2])), np.array(rotate(parent[2], tp[4:6]))
+        ab = np.array(rotate(q[3 * b + 2], tp[2:4]))
+        gap = q[3 * b:3 * b + 2] + ab - parent[:2] - ap
+        rate = (qd[3 * b:3 * b + 2] + qd[3 * b + 2] * np.array([-ab[1], ab[0]])
+                - parent_rate[:2] - parent_rate[2] * np.array([-ap[1], ap[0]]))
         out[d] = gap @ u
         out[lay.n + d] = rate @ u
     return out
@@ -154,11 +154,6 @@ def body_angles(lay: TreeLayout, Y: np.ndarray) -> np.ndarray:
         else:
             out[:, b] = Y[:, d + 2 if kind == K.TREE_FLOATING else d]
     return out
-
-
-def _rotation(phi: float) -> np.ndarray:
-    c, s = np.cos(phi), np.sin(phi)
-    return np.array([[c, -s], [s, c]])
 
 
 def to_cartesian(lay: TreeLayout, dpar: np.ndarray, t: np.ndarray, Y: np.ndarray, Ydd: np.ndarray | None = None):
