@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from jointwear.study.limit_state import life_at
+from jointwear.study.limit_state import life_at, life_from_history
 from jointwear.study.results import ReliabilityResult, SensitivityResult, StudyResults, WearSummary
 
 from .markup import format_number
@@ -163,10 +163,15 @@ def _mean_max_wear(rel: ReliabilityResult, levels) -> dict[float, float]:
     return out
 
 
+def _life_row(rel: ReliabilityResult, target: float) -> dict | None:
+    """The life table's row of ``target`` (None when the table has none)."""
+    return next((r for r in rel.life_table if abs(float(r["target"]) - target) < 1e-12), None)
+
+
 def life_with_note(rel: ReliabilityResult, target: float) -> tuple[float | None, str]:
     """The study's life at ``target`` (cycles) and a note on how it was read: from the life table, else
     interpolated on the curve; 'at most' when R is below the target at the curve's first level."""
-    row = next((r for r in rel.life_table if abs(float(r["target"]) - target) < 1e-12), None)
+    row = _life_row(rel, target)
     life = None if row is None else row.get("cycles")
     note = ""
     if life is None and row is None:
@@ -181,26 +186,12 @@ def life_with_note(rel: ReliabilityResult, target: float) -> tuple[float | None,
     return life, note
 
 
-def nominal_life(history: Mapping, allowance_mm: float) -> float | None:
-    """Cycles at which a wear history (``cycles``, ``max_wear_mm``) first reaches ``allowance_mm``, by linear
-    interpolation; None when it stays below."""
-    n = np.asarray(history.get("cycles", []), dtype=float)
-    h = np.asarray(history.get("max_wear_mm", []), dtype=float)
-    above = np.nonzero(h >= allowance_mm)[0]
-    if above.size == 0:
-        return None
-    i = above[0]
-    if i == 0 or h[i] == h[i - 1]:
-        return float(n[i])
-    return float(n[i - 1] + (allowance_mm - h[i - 1]) * (n[i] - n[i - 1]) / (h[i] - h[i - 1]))
-
-
 def curve_misses_life(rel: ReliabilityResult, wear: WearSummary | None) -> str | None:
     """Why and how to move an R(N) curve that does not contain the life at its headline target (the life table
     says 'before_curve' or 'beyond_curve'), or None when it does. Where the judged quantity is the bearing's max
     depth, the nominal design's own crossing of the allowance (its wear history; the first judged joint to cross
     it) says where to put the curve."""
-    row = next((r for r in rel.life_table if abs(float(r["target"]) - rel.target) < 1e-12), None)
+    row = _life_row(rel, rel.target)
     status = None if row is None else row.get("status")
     if status not in ("before_curve", "beyond_curve") or rel.cycles.size == 0:
         return None
@@ -213,7 +204,8 @@ def curve_misses_life(rel: ReliabilityResult, wear: WearSummary | None) -> str |
     histories = {} if wear is None else {str(j.get("name")): j.get("history") or {} for j in wear.joints}
     judged = [(histories.get(str(j.get("name"))), j.get("allowance_mm")) for j in rel.joints]
     if rel.quantity == "bearing_max_depth" and judged and all(h and a is not None for h, a in judged):
-        crossings = [c for c in (nominal_life(h, float(a)) for h, a in judged) if c is not None]
+        crossings = [float(life_from_history(h["cycles"], [h["max_wear_mm"]], float(a))[0]) for h, a in judged
+                     if max(h["max_wear_mm"]) >= float(a)]  # inside the history: no extrapolation
         if crossings:
             text += (f"; the nominal design reaches its allowance after about {min(crossings):,.0f} cycles (its wear "
                      "history), and the curve should hold that count")
@@ -224,7 +216,7 @@ def curve_misses_life(rel: ReliabilityResult, wear: WearSummary | None) -> str |
 
 
 def _life_hours(rel: ReliabilityResult, target: float) -> float | None:
-    row = next((r for r in rel.life_table if abs(float(r["target"]) - target) < 1e-12), None)
+    row = _life_row(rel, target)
     if row is not None and row.get("hours") is not None:
         return float(row["hours"])
     life, _note = life_with_note(rel, target)
