@@ -288,17 +288,22 @@ def _resolve(source: str | Path, chain: tuple[str, ...] = ()) -> tuple[dict[str,
     """The TOML data of ``source`` with its ``extends`` chain resolved (a preset name, or a path relative to the
     extending file)."""
     data, name, folder = _read_source(source)
+    return _extended(data, name, folder, chain), name
+
+
+def _extended(data: dict[str, Any], name: str, folder: Path | None, chain: tuple[str, ...] = ()) -> dict[str, Any]:
+    """``data`` laid over the config its ``extends`` names (a preset name, or a path relative to ``folder``)."""
     if name in chain:
         raise ConfigError(f"{name}: extends: circular ({' -> '.join(chain + (name,))})")
     base = data.pop("extends", None)
     if base is None:
-        return data, name
+        return data
     if not isinstance(base, str):
         raise ConfigError(f"{name}: extends: expected a preset name or a TOML path (got {base!r})")
     if folder is not None and (base.endswith(".toml") or "/" in base) and not Path(base).is_absolute():
         base = str(folder / base)
     base_data, _ = _resolve(base, chain + (name,))
-    return merge_tables(base_data, data), name
+    return merge_tables(base_data, data)
 
 
 def load_config(source: str | Path | None = None) -> StudyConfig:
@@ -329,13 +334,7 @@ def load_config(source: str | Path | None = None) -> StudyConfig:
     if isinstance(source, StudyConfig):
         return source
     if isinstance(source, Mapping):  # the tables of a TOML file, e.g. built in a notebook
-        data = dict(source)
-        base = data.pop("extends", None)
-        if base is not None:
-            if not isinstance(base, str):
-                raise ConfigError(f"config: extends: expected a preset name or a TOML path (got {base!r})")
-            data = merge_tables(_resolve(base, ("config",))[0], data)
-        return config_from_dict(data, "config")
+        return config_from_dict(_extended(dict(source), "config", None), "config")
     if not isinstance(source, (str, Path)):
         raise ConfigError(f"config: expected a preset name, a TOML path, a StudyConfig or a mapping of TOML tables "
                           f"(got {type(source).__name__})")
