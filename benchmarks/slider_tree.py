@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import platform
 import statistics
 import sys
 import time
@@ -29,12 +28,6 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "benchmarks" / "results" / "slider_tree.json"
-
-
-def _host_cpu() -> str:
-    import llvmlite.binding as llvm
-
-    return str(llvm.get_host_cpu_name())
 
 
 def _models() -> dict:
@@ -135,9 +128,10 @@ def main() -> None:
     args = ap.parse_args()
     import os
 
+    from jointwear.study.io import provenance
+
     rec = {"date_utc": datetime.now(timezone.utc).isoformat(timespec="seconds"),
-           "machine": {"cpus": os.cpu_count(), "python": platform.python_version(), "platform": platform.platform(),
-                       "llvm_host_cpu": _host_cpu()},
+           "machine": {"cpus": os.cpu_count(), **provenance()},
            "per_cycle": per_cycle(args.repeats), "wear_call": wear_call(args.repeats), "wear_scatter": wear_scatter()}
     OUT.write_text(json.dumps(rec, indent=1, default=lambda o: float(o) if isinstance(o, np.floating) else str(o)))
     print(OUT)
