@@ -100,7 +100,7 @@ MODELS = {
 
 @pytest.fixture(scope="module", params=sorted(MODELS))
 def model(request):
-    return build_model(load_config(FLORES)) if request.param == "flores" else MODELS[request.param]()
+    return MODELS[request.param]()
 
 
 def test_a_slider_is_a_tree_coordinate_unless_it_rides_a_driven_body(model):
