@@ -20,7 +20,9 @@ owning subpackage, e.g. ``wear: WearConfig = Field(default_factory=WearConfig, d
 
 from __future__ import annotations
 
+import difflib
 import tomllib
+import typing
 from collections.abc import Mapping
 from importlib import resources
 from pathlib import Path
@@ -46,20 +48,20 @@ from jointwear.mechanism.settings import (
     SliderCrankConfig,
 )
 from jointwear.reference import AcceptanceBand, ReferenceData, ReferenceValue
-from jointwear.schema import ConfigError, F, SIModel
+from jointwear.schema import ConfigError, F, SIModel, config_models, field_units, path_unit
 from jointwear.study_settings import (
     ComputeSettings,
     ReliabilitySettings,
     SensitivitySettings,
 )
-from jointwear.uncertainty.targets import target_error
+from jointwear.uncertainty.targets import CLEARANCE_SUFFIX, target_error
 from jointwear.uncertainty.variables import (
     ClearanceSpec,
     CorrelationSpec,
     RandomVariableSpec,
     UncertaintySettings,
 )
-from jointwear.units import split_unit_key
+from jointwear.units import ANY_UNIT, PA_PER_HB, SUFFIXES, split_unit_key, suffix_problem, suffixes_of
 from jointwear.wear.settings import WearSettings
 
 __all__ = [
@@ -98,6 +100,19 @@ class StudyConfig(SIModel):
         "only when given (jointwear.reference).")
     design: DesignSettings | None = F(None, description="Uncertainty control: controls, costs and targets (docs/design.md).")
 
+    @model_validator(mode="before")
+    @classmethod
+    def _variable_units(cls, data: Any) -> Any:
+        """A random variable's mean, std and bounds take suffixes of its target's unit (``mean_HB`` for a
+        hardness, never ``std_mm``), and so do the design's specifications of that variable."""
+        for where, raw, unit in _suffixed_by_target(cls, data):
+            for key in raw:
+                split = split_unit_key(key, frozenset(("mean", "std", "lower", "upper")))
+                problem = split and suffix_problem(key, split[0], split[1], unit)
+                if problem:
+                    raise ValueError(f"{where}.{problem} (the unit of its target)")
+        return data
+
     @model_validator(mode="after")
     def _targets_exist(self) -> StudyConfig:
         if self.uncertainty is None:
@@ -131,6 +146,39 @@ class StudyConfig(SIModel):
         return self
 
 
+def _suffixed_by_target(model: type[BaseModel], data: Any) -> list[tuple[str, dict, str | None]]:
+    """(where, raw table, SI unit of the target) of every table whose numbers take their variable's target's unit:
+    the random variables, and the design's property classes and material options."""
+    if not isinstance(data, Mapping) or not isinstance(data.get("uncertainty"), Mapping):
+        return []
+    unc = data["uncertainty"]
+    units = {}
+    if isinstance(unc.get("clearance"), Mapping):
+        units["c"] = "m"
+    out = []
+    for var in unc.get("variables") or []:
+        if isinstance(var, Mapping) and isinstance(var.get("target"), str):
+            target = var["target"]
+            units[var.get("name")] = "m" if target.endswith(CLEARANCE_SUFFIX) else path_unit(model, target)
+            out.append((f"uncertainty.variables[{var.get('name')}]", var, units[var.get("name")]))
+    design = data.get("design")
+    if isinstance(design, Mapping):
+        for prop in design.get("properties") or []:
+            if isinstance(prop, Mapping) and prop.get("variable") in units:
+                for c in prop.get("classes") or []:
+                    if isinstance(c, Mapping):
+                        out.append((f"design.properties[{prop['variable']}].classes[{c.get('name')}]", c,
+                                    units[prop["variable"]]))
+        for mat in design.get("materials") or []:
+            for opt in (mat.get("options") or []) if isinstance(mat, Mapping) else []:
+                specs = opt.get("variables") if isinstance(opt, Mapping) else None
+                for name, spec in (specs or {}).items() if isinstance(specs, Mapping) else []:
+                    if name in units and isinstance(spec, Mapping):
+                        out.append((f"design.materials[{mat.get('name')}].options[{opt.get('name')}].variables.{name}",
+                                    spec, units[name]))
+    return [(w, raw, u) for w, raw, u in out if u != ANY_UNIT]
+
+
 # ---------------------------------------------------------------------------------------------
 # loading
 # ---------------------------------------------------------------------------------------------
@@ -144,6 +192,43 @@ def _loc(loc: tuple[Any, ...]) -> str:
         else:
             out += ("." if out else "") + str(part)
     return out or "config"
+
+
+def _did_you_mean(loc: tuple[Any, ...]) -> str:
+    """'; did you mean mass_g?' for an unknown key close to a field of its section or to a field with a suffix of
+    its unit; '' when none is close."""
+    candidates: list[type[BaseModel]] = [StudyConfig]
+    items: list[type[BaseModel]] | None = None
+    for part in loc[:-1]:
+        if isinstance(part, int):
+            candidates, items = (items or candidates), None
+            continue
+        tagged = [m for m in candidates if "type" in m.model_fields and part in typing.get_args(
+            m.model_fields["type"].annotation)]
+        if tagged:
+            candidates = tagged
+            continue
+        owner = next((m for m in candidates if part in m.model_fields), None)
+        if owner is None:
+            return ""
+        annotation = owner.model_fields[part].annotation
+        candidates = config_models(annotation)
+        items = [m for a in typing.get_args(annotation) for m in config_models(a)] or None
+        if not candidates and items is None:
+            return ""
+    key = str(loc[-1]) if loc else ""
+    units = {name: unit for model in candidates for name, unit in field_units(model).items()}
+    allowed = {name: list(SUFFIXES) if unit == ANY_UNIT else suffixes_of(unit) for name, unit in units.items() if unit}
+    prefix = max((name for name in allowed if key.startswith(name + "_")), key=len, default=None)
+    if prefix is not None:  # a field with an unknown unit suffix
+        rest = key[len(prefix) + 1:]
+        same = [s for s in allowed[prefix] if s.lower() == rest.lower()]
+        if same:
+            return f" (did you mean {prefix}_{same[0]}? unit suffixes are case-sensitive)"
+        return f" (the unit suffixes of {prefix}: {', '.join('_' + s for s in allowed[prefix])})"
+    words = set(units) | {f"{name}_{s}" for name, suffixes in allowed.items() for s in suffixes}
+    close = difflib.get_close_matches(key, sorted(words), n=1, cutoff=0.75)
+    return f" (did you mean {close[0]}?)" if close else ""
 
 
 def validation_problems(exc: ValidationError) -> list[str]:
@@ -162,7 +247,7 @@ def validation_problems(exc: ValidationError) -> list[str]:
                 and not isinstance(inp, bool):
             shown = f" (got {inp!r}{', SI units' if isinstance(inp, float) else ''})"
         if err.get("type") == "extra_forbidden":
-            msg = "unknown key (not a setting of this section)"
+            msg = "unknown key (not a setting of this section)" + _did_you_mean(tuple(err.get("loc", ())))
         text = f"{where}: {msg}{shown}".replace("\n", " ")
         if text not in out:
             out.append(text)
@@ -352,7 +437,18 @@ def config_reference_markdown() -> str:
         "",
         "Generated by `jointwear.config.config_reference_markdown()`. Values are SI; a TOML key may carry a",
         "unit suffix (`length_mm`, `crank_speed_rpm`, `youngs_modulus_GPa`, `hardness_HB`, `crank_angle0_deg`, ...)",
-        "that is converted to SI on load (table in `jointwear/units.py`). Unknown keys are errors.",
+        "that is converted to SI on load. Unknown keys are errors.",
+        "",
+        "A suffix must convert to its field's unit (the column *unit (SI)* below): `width_deg` is refused, and so is a",
+        "suffix on a plain number. A random variable's `mean`, `std`, `lower` and `upper` take the unit of its",
+        "`target` (`mean_HB` for a hardness, `std_um` for a length), and a reference value that of its quantity.",
+        "Suffixes are case-sensitive.",
+        "",
+        "| SI unit | suffixes |",
+        "|---|---|",
+        *(f"| {u} | {', '.join(f'`_{s}`' for s in suffixes_of(u))} |" for u in dict.fromkeys(u for _, u in SUFFIXES.values())),
+        "",
+        f"`_HB` is Brinell hardness at {PA_PER_HB:g} Pa per HB (1 kgf/mm^2).",
         "",
     ]
     sections: list[tuple[str, type[BaseModel]]] = [
@@ -386,7 +482,7 @@ def config_reference_markdown() -> str:
                   "| key | unit (SI) | default | description |", "|---|---|---|---|"]
         for fname, finfo in model.model_fields.items():
             extra = finfo.json_schema_extra if isinstance(finfo.json_schema_extra, dict) else {}
-            unit = extra.get("unit", "") if extra else ""
+            unit = (extra.get("unit") or (f"of the {extra['unit_of']}" if extra.get("unit_of") else "")) if extra else ""
             if finfo.is_required():
                 default = "required"
             elif finfo.default_factory is not None:

@@ -30,7 +30,7 @@ from typing import Any, Literal
 
 from pydantic import Field, model_validator
 
-from jointwear.schema import SIModel
+from jointwear.schema import F, SIModel
 from jointwear.units import SUFFIXES, UnitError, convert_keys
 
 __all__ = ["QUANTITIES", "AcceptanceBand", "ReferenceValue", "ReferenceData"]
@@ -96,10 +96,11 @@ class AcceptanceBand(SIModel):
     (``absolute_deg``, ``lower_mm``).
     """
 
-    absolute: float | None = Field(None, gt=0, description="Largest absolute difference (SI, or with a unit suffix).")
+    absolute: float | None = F(None, gt=0, unit_of="quantity",
+                               description="Largest absolute difference (SI, or with a unit suffix).")
     relative: float | None = Field(None, gt=0, description="Largest relative difference, a fraction (0.15 = 15 %).")
-    lower: float | None = Field(None, description="Smallest accepted value (SI, or with a unit suffix).")
-    upper: float | None = Field(None, description="Largest accepted value (SI, or with a unit suffix).")
+    lower: float | None = F(None, unit_of="quantity", description="Smallest accepted value (SI, or with a unit suffix).")
+    upper: float | None = F(None, unit_of="quantity", description="Largest accepted value (SI, or with a unit suffix).")
     same_order: bool = Field(False, description="Rankings only: the same order as the reference.")
     justification: str = Field(min_length=1, description="Why this band (required): where the tolerance comes from.")
 
@@ -128,8 +129,8 @@ class ReferenceValue(SIModel):
     """One number (or ranking) that the reference reports, with where it comes from."""
 
     quantity: Quantity = Field(description="What the number is; one of QUANTITIES (the report's vocabulary).")
-    value: float | None = Field(
-        None, description="The reported value, SI or with a unit suffix matching the quantity (value_mm, "
+    value: float | None = F(
+        None, unit_of="quantity", description="The reported value, SI or with a unit suffix matching the quantity (value_mm, "
         "value_deg, value_h; reliability, cycles and calls are plain numbers).")
     ranking: list[str] | None = Field(
         None, description="sensitivity_ranking only: variable names ([[uncertainty.variables]] name, 'c' for the "

@@ -6,11 +6,14 @@ Kept apart from :mod:`jointwear.config` so that each stage can define its own se
 
 from __future__ import annotations
 
+import functools
+import types
+import typing
 from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from jointwear.units import UnitError, convert_keys
+from jointwear.units import ANY_UNIT, UnitError, convert_keys
 
 
 class ConfigError(ValueError):
@@ -31,10 +34,53 @@ class ConfigError(ValueError):
         return cls(head + "; ".join(problems) + count, problems)
 
 
-def F(default: Any = ..., *, unit: str | None = None, description: str, **kw: Any) -> Any:
-    """A pydantic Field with a unit recorded in the JSON schema (used by the config reference)."""
-    extra = {"unit": unit} if unit else None
+def F(default: Any = ..., *, unit: str | None = None, unit_of: str | None = None, description: str, **kw: Any) -> Any:
+    """A pydantic Field with its SI unit recorded in the JSON schema (the config reference and the unit-suffix
+    check read it). ``unit_of``: the field's unit is set by its context (e.g. "the target"), so any suffix is
+    converted and checked there. A field with neither is a plain number and takes no suffix."""
+    extra = {"unit": unit} if unit else ({"unit_of": unit_of} if unit_of else None)
     return Field(default, description=description, json_schema_extra=extra, **kw)
+
+
+@functools.cache
+def field_units(model: type[BaseModel]) -> dict[str, str | None]:
+    """Each field's SI unit as :func:`F` recorded it (``ANY_UNIT`` for a unit set by the context)."""
+    out = {}
+    for name, info in model.model_fields.items():
+        extra = info.json_schema_extra if isinstance(info.json_schema_extra, dict) else {}
+        out[name] = ANY_UNIT if extra.get("unit_of") else extra.get("unit")
+    return out
+
+
+def config_models(annotation: Any) -> list[type[BaseModel]]:
+    """The config models an annotation holds directly or as a union (``A | B | None``)."""
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return [annotation]
+    if typing.get_origin(annotation) in (typing.Union, types.UnionType, typing.Annotated):
+        return [m for a in typing.get_args(annotation) for m in config_models(a)]
+    return []
+
+
+def path_unit(model: type[BaseModel], path: str) -> str | None:
+    """The SI unit of the config field a dotted path (a random variable's ``target``) ends in, from the schema;
+    an item of a table, a list of numbers or a point has its field's unit. ``ANY_UNIT`` where the walk cannot
+    follow the path (the target's own check reports that)."""
+    candidates, unit, item_of = [model], None, None
+    for key in path.split("."):
+        if item_of is not None:  # a list of tables: this key is the item's index or name
+            candidates, item_of = item_of, None
+            continue
+        if not candidates:
+            continue  # inside a table, a list of numbers or a point: the field's unit holds
+        owner = next((m for m in candidates if key in m.model_fields), None)
+        if owner is None:
+            return ANY_UNIT
+        info = owner.model_fields[key]
+        unit = field_units(owner)[key]
+        candidates = config_models(info.annotation)
+        if not candidates and typing.get_origin(info.annotation) is list:
+            item_of = [m for a in typing.get_args(info.annotation) for m in config_models(a)] or None
+    return unit
 
 
 class SIModel(BaseModel):
@@ -48,7 +94,7 @@ class SIModel(BaseModel):
     def _unit_suffixes(cls, data: Any) -> Any:
         if isinstance(data, dict):
             try:
-                return convert_keys(data, frozenset(cls.model_fields))
+                return convert_keys(data, frozenset(cls.model_fields), field_units(cls))
             except UnitError as exc:
                 raise ValueError(str(exc)) from None
         return data

@@ -209,7 +209,7 @@ class ComputeSettings(SIModel):
 
     workers: int | None = Field(None, description="Local worker processes; None = all cores, 1 = in-process.")
     scheduler: str | None = Field(None, description="Dask scheduler address (tcp://host:8786); None = local.")
-    call_timeout: float | None = Field(600.0, description="Seconds before a model call is abandoned as failed.")
+    call_timeout: float | None = F(600.0, unit="s", description="Seconds before a model call is abandoned as failed.")
 
     @field_validator("workers")
     @classmethod

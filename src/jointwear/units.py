@@ -66,8 +66,30 @@ SUFFIXES: dict[str, tuple[float, str]] = {
 }
 
 
+#: the unit of a field whose dimension is set by its context (a random variable's mean takes its target's): any
+#: suffix is converted here and its dimension is checked where the context is known.
+ANY_UNIT = "*"
+
+
 class UnitError(ValueError):
-    """A value that cannot be converted (not a number or a list of numbers)."""
+    """A value that cannot be converted (not a number or a list of numbers), or a suffix of the wrong dimension."""
+
+
+def suffixes_of(unit: str) -> list[str]:
+    """The suffixes that convert to the SI ``unit``, e.g. ``['m', 'mm', 'um', 'nm', 'cm']`` for 'm'."""
+    return [s for s, (_, u) in SUFFIXES.items() if u == unit]
+
+
+def suffix_problem(key: str, field: str, suffix: str, unit: str | None) -> str | None:
+    """Why ``key`` (``<field>_<suffix>``) does not fit a field whose SI unit is ``unit`` (None: a plain number);
+    None when it fits."""
+    got = SUFFIXES[suffix][1]
+    if unit == ANY_UNIT or unit == got:
+        return None
+    if unit is None:
+        return f"{key}: {field} is a plain number, without a unit: write {field} = ..."
+    allowed = ", ".join(f"{field}_{s}" for s in suffixes_of(unit)) or f"{field} (in {unit})"
+    return f"{key}: {field} is in {unit}, and '_{suffix}' is a suffix of {got}: use {allowed}"
 
 
 def split_unit_key(key: str, fields: set[str] | frozenset[str]) -> tuple[str, str] | None:
@@ -101,11 +123,13 @@ def to_si(value: Any, suffix: str) -> Any:
     raise UnitError(f"expected a number with unit '{suffix}', got {type(value).__name__}")
 
 
-def convert_keys(data: dict[str, Any], fields: set[str] | frozenset[str]) -> dict[str, Any]:
+def convert_keys(data: dict[str, Any], fields: set[str] | frozenset[str],
+                 units: dict[str, str | None] | None = None) -> dict[str, Any]:
     """Return a copy of ``data`` with unit-suffixed keys renamed to plain fields, values in SI.
 
-    Raises UnitError if a field is given twice (e.g. ``length`` and ``length_mm``) or a value
-    cannot be converted.
+    ``units``: each field's SI unit (None: a plain number; :data:`ANY_UNIT`: set by its context); when given, a
+    suffix of another dimension is an error (``width_deg`` for a length). Raises UnitError for that, if a field is
+    given twice (e.g. ``length`` and ``length_mm``) or if a value cannot be converted.
     """
     out: dict[str, Any] = {}
     origin: dict[str, str] = {}
@@ -115,6 +139,9 @@ def convert_keys(data: dict[str, Any], fields: set[str] | frozenset[str]) -> dic
             name, val = key, value
         else:
             name, suffix = split
+            problem = None if units is None else suffix_problem(key, name, suffix, units.get(name))
+            if problem:
+                raise UnitError(problem)
             try:
                 val = to_si(value, suffix)
             except UnitError as exc:

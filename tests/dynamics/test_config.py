@@ -55,6 +55,60 @@ def test_duplicate_and_unknown_keys_are_config_errors():
         config_from_dict(cfg)
 
 
+@pytest.mark.parametrize("section, key, value, message", [
+    (("clearance_joints", 0), "width_deg", 8.0, r"width_deg: width is in m, and '_deg' is a suffix of rad: use width_m"),
+    (("mechanism",), "crank_speed_deg", 300.0, r"crank_speed is in rad/s.*crank_speed_rpm"),
+    (("reliability",), "allowance_HB", 0.04, r"allowance is in m, and '_HB' is a suffix of Pa"),
+    (("mechanism",), "rocker_torque_N", -0.2, r"rocker_torque is in N m.*rocker_torque_N_m"),
+    (("clearance_joints", 0, "friction"), "mu_d_deg", 0.1, r"mu_d is a plain number, without a unit"),
+])
+def test_a_unit_suffix_of_another_dimension_is_refused(section, key, value, message):
+    """A suffix converts only to its field's dimension: `width_deg = 8` was read as a 140 mm width."""
+    cfg = load_config().model_dump()
+    node = cfg
+    for part in section:
+        node = node[part]
+    plain = key.rsplit("_", 1)[0]
+    node.pop(plain, None)
+    node[key] = value
+    with pytest.raises(ConfigError, match=message):
+        config_from_dict(cfg)
+
+
+def test_a_random_variable_takes_the_unit_of_its_target():
+    """mean/std/bounds of a variable carry suffixes of its target's dimension: std_mm on a hardness is refused,
+    std_HB and std_MPa are the same number."""
+    def with_std(key, value):
+        cfg = load_config().model_dump()
+        var = next(v for v in cfg["uncertainty"]["variables"] if v["target"].endswith("bearing_material.hardness"))
+        var.pop("std")
+        var[key] = value
+        return config_from_dict(cfg), var["name"]
+
+    (a, name), (b, _) = with_std("std_HB", 10.0), with_std("std_MPa", 10.0 * PA_PER_HB / 1e6)
+    spec = lambda c: next(v for v in c.uncertainty.variables if v.name == name)  # noqa: E731
+    assert spec(a).std == pytest.approx(spec(b).std, rel=1e-12)
+    with pytest.raises(ConfigError, match=rf"variables\[{name}\]\.std_mm: std is in Pa.*std_HB \(the unit of its target\)"):
+        with_std("std_mm", 9.0)
+
+
+@pytest.mark.parametrize("section, key, hint", [
+    (("mechanism", "rod"), "mass_gr", "the unit suffixes of mass: _kg, _g"),
+    (("mechanism",), "crank_speed_RPM", "did you mean crank_speed_rpm? unit suffixes are case-sensitive"),
+    (("clearance_joints", 0), "bearing_raduis_mm", "did you mean bearing_radius_mm?"),
+    ((), "sensitivty", "did you mean sensitivity?"),
+])
+def test_an_unknown_key_names_what_was_meant(section, key, hint):
+    cfg = load_config().model_dump()
+    node = cfg
+    for part in section:
+        node = node[part]
+    node[key] = 1.0
+    with pytest.raises(ConfigError) as err:
+        config_from_dict(cfg)
+    assert f"{key}: unknown key (not a setting of this section) ({hint})" in str(err.value)
+
+
 def test_config_reference_markdown():
     md = config_reference_markdown()
     for key in ("assembly_branch", "v0_min", "baumgarte_alpha", "jin2025_flapping_wing", "hardness"):

@@ -128,10 +128,12 @@ class PropertySpec(SIModel):
     """A specification of one random material property: its mean and standard deviation (None = the study's)
     and optional acceptance limits that truncate the (normal) distribution (parts outside are rejected)."""
 
-    mean: float | None = Field(None, description="Mean, SI (unit suffixes allowed: mean_HB, mean_GPa).")
-    std: float | None = Field(None, description="Standard deviation, SI (> 0).")
-    lower: float | None = Field(None, description="Lower acceptance limit, SI (truncates the distribution).")
-    upper: float | None = Field(None, description="Upper acceptance limit, SI (truncates the distribution).")
+    mean: float | None = F(None, unit_of="variable", description="Mean, SI (unit suffixes allowed: mean_HB, mean_GPa).")
+    std: float | None = F(None, unit_of="variable", description="Standard deviation, SI (> 0).")
+    lower: float | None = F(None, unit_of="variable", description="Lower acceptance limit, SI (truncates the "
+                            "distribution).")
+    upper: float | None = F(None, unit_of="variable", description="Upper acceptance limit, SI (truncates the "
+                            "distribution).")
 
     @model_validator(mode="after")
     def _check(self) -> PropertySpec:

@@ -17,7 +17,7 @@ import numpy as np
 from pydantic import Field, field_validator, model_validator
 from scipy import optimize, special, stats
 
-from jointwear.schema import SIModel
+from jointwear.schema import F, SIModel
 from jointwear.uncertainty.copulas import check_correlation, normal_copula
 from jointwear.uncertainty.tolerances import clearance_from_fit, it_tolerance
 
@@ -54,11 +54,14 @@ class RandomVariableSpec(SIModel):
         "mean > 0; shape from std / mean), 'gumbel' (of maxima, right-skewed), 'gamma' (mean > 0), 'beta' "
         "(on [lower, upper], both needed; shapes from mean and std). All 13 paper variables are normal "
         "(Section 4).")
-    mean: float = Field(description="Mean, SI units (for 'truncated_normal': of the normal before truncation).")
-    std: float = Field(description="Standard deviation, SI units, > 0 (for 'truncated_normal': of the normal "
-                                   "before truncation).")
-    lower: float | None = Field(None, description="Lower bound, SI units: 'truncated_normal' and 'beta' only.")
-    upper: float | None = Field(None, description="Upper bound, SI units: 'truncated_normal' and 'beta' only.")
+    mean: float = F(unit_of="target", description="Mean, SI units (for 'truncated_normal': of the normal before "
+                    "truncation).")
+    std: float = F(unit_of="target", description="Standard deviation, SI units, > 0 (for 'truncated_normal': of the "
+                   "normal before truncation).")
+    lower: float | None = F(None, unit_of="target", description="Lower bound, SI units: 'truncated_normal' and "
+                            "'beta' only.")
+    upper: float | None = F(None, unit_of="target", description="Upper bound, SI units: 'truncated_normal' and "
+                            "'beta' only.")
     unit: str = Field("", description="Display unit for reports (SI value x scale).")
     scale: float = Field(1.0, description="Multiply the SI value by this for display (e.g. 1e3 for mm).")
 
@@ -141,17 +144,17 @@ class ClearanceSpec(SIModel):
     """The radial clearance of the clearance joint as a random variable."""
 
     target: str = Field(description="Dotted path of the clearance in the SI config.")
-    mean: float = Field(2e-6, description="Designed radial clearance, m (Table 2: 1.002 mm - 1 mm).")
+    mean: float = F(2e-6, unit="m", description="Designed radial clearance, m (Table 2: 1.002 mm - 1 mm).")
     source: Literal["iso286", "table5"] = Field(
         "iso286",
         description="'table5': sigma as printed in Table 5 (1e-6 mm = 1 nm, very likely a units slip); "
         "'iso286': sigma_c = sqrt(T_D^2 + T_d^2)/12, Eq. (40), from the grades below.")
-    nominal_diameter: float = Field(2e-3, description="Nominal fit diameter, m (journal diameter 2 mm).")
+    nominal_diameter: float = F(2e-3, unit="m", description="Nominal fit diameter, m (journal diameter 2 mm).")
     hole_grade: str = Field("IT7", description="Bearing bore grade (usual H7 bore; ISO 286-2).")
     shaft_grade: str = Field("IT6", description="Journal grade (usual h6/g6 shaft; ISO 286-2).")
-    table5_std: float = Field(1e-9, description="Table 5 as printed: 1e-6 mm.")
-    minimum: float = Field(
-        1e-7,
+    table5_std: float = F(1e-9, unit="m", description="Table 5 as printed: 1e-6 mm.")
+    minimum: float = F(
+        1e-7, unit="m",
         description="Smallest clearance a sample may have, m. At or below it the fit is an interference or "
         "line-to-line fit that the clearance-joint model does not describe.")
     infeasible_rule: Literal["truncate", "fail"] = Field(

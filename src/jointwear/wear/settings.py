@@ -12,7 +12,7 @@ from typing import Literal
 
 from pydantic import Field, field_validator, model_validator
 
-from jointwear.schema import SIModel
+from jointwear.schema import F, SIModel
 
 #: sqrt(4/pi) = 1.1284: Johnson's line-contact half-width b = sqrt(4 F R* / (pi L E*)) written as
 #: 1.128 sqrt(F R* (h_i + h_j) / L) with 1/E* = h_i + h_j, h = (1 - nu^2) / E (Johnson, Contact Mechanics, Eq. 4.43).
@@ -253,8 +253,8 @@ class WearSettings(SIModel):
             "(benchmarks/wear.py, docs/wear.md)."
         ),
     )
-    atol: float | None = Field(
-        5e-10,
+    atol: float | None = F(
+        5e-10, unit="m",
         gt=0.0,
         description="Integrator absolute tolerance on positions (m); None: the dynamics' default (1e-9 m). Halved "
         "with rtol (see rtol).",
