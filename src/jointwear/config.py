@@ -446,7 +446,8 @@ def config_reference_markdown() -> str:
         "",
         "| SI unit | suffixes |",
         "|---|---|",
-        *(f"| {u} | {', '.join(f'`_{s}`' for s in suffixes_of(u))} |" for u in dict.fromkeys(u for _, u in SUFFIXES.values())),
+        *(f"| {u} | {', '.join(f'`_{s}`' for s in suffixes_of(u))} |"
+          for u in dict.fromkeys(u for _, u in SUFFIXES.values())),
         "",
         f"`_HB` is Brinell hardness at {PA_PER_HB:g} Pa per HB (1 kgf/mm^2).",
         "",
@@ -482,7 +483,8 @@ def config_reference_markdown() -> str:
                   "| key | unit (SI) | default | description |", "|---|---|---|---|"]
         for fname, finfo in model.model_fields.items():
             extra = finfo.json_schema_extra if isinstance(finfo.json_schema_extra, dict) else {}
-            unit = (extra.get("unit") or (f"of the {extra['unit_of']}" if extra.get("unit_of") else "")) if extra else ""
+            extra = extra or {}
+            unit = extra.get("unit") or (f"of the {extra['unit_of']}" if extra.get("unit_of") else "")
             if finfo.is_required():
                 default = "required"
             elif finfo.default_factory is not None:

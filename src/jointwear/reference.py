@@ -99,8 +99,10 @@ class AcceptanceBand(SIModel):
     absolute: float | None = F(None, gt=0, unit_of="quantity",
                                description="Largest absolute difference (SI, or with a unit suffix).")
     relative: float | None = Field(None, gt=0, description="Largest relative difference, a fraction (0.15 = 15 %).")
-    lower: float | None = F(None, unit_of="quantity", description="Smallest accepted value (SI, or with a unit suffix).")
-    upper: float | None = F(None, unit_of="quantity", description="Largest accepted value (SI, or with a unit suffix).")
+    lower: float | None = F(None, unit_of="quantity",
+                            description="Smallest accepted value (SI, or with a unit suffix).")
+    upper: float | None = F(None, unit_of="quantity",
+                            description="Largest accepted value (SI, or with a unit suffix).")
     same_order: bool = Field(False, description="Rankings only: the same order as the reference.")
     justification: str = Field(min_length=1, description="Why this band (required): where the tolerance comes from.")
 
@@ -130,7 +132,8 @@ class ReferenceValue(SIModel):
 
     quantity: Quantity = Field(description="What the number is; one of QUANTITIES (the report's vocabulary).")
     value: float | None = F(
-        None, unit_of="quantity", description="The reported value, SI or with a unit suffix matching the quantity (value_mm, "
+        None, unit_of="quantity",
+        description="The reported value, SI or with a unit suffix matching the quantity (value_mm, "
         "value_deg, value_h; reliability, cycles and calls are plain numbers).")
     ranking: list[str] | None = Field(
         None, description="sensitivity_ranking only: variable names ([[uncertainty.variables]] name, 'c' for the "

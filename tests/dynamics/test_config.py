@@ -56,7 +56,8 @@ def test_duplicate_and_unknown_keys_are_config_errors():
 
 
 @pytest.mark.parametrize("section, key, value, message", [
-    (("clearance_joints", 0), "width_deg", 8.0, r"width_deg: width is in m, and '_deg' is a suffix of rad: use width_m"),
+    (("clearance_joints", 0), "width_deg", 8.0,
+     r"width_deg: width is in m, and '_deg' is a suffix of rad: use width_m"),
     (("mechanism",), "crank_speed_deg", 300.0, r"crank_speed is in rad/s.*crank_speed_rpm"),
     (("reliability",), "allowance_HB", 0.04, r"allowance is in m, and '_HB' is a suffix of Pa"),
     (("mechanism",), "rocker_torque_N", -0.2, r"rocker_torque is in N m.*rocker_torque_N_m"),
@@ -88,7 +89,8 @@ def test_a_random_variable_takes_the_unit_of_its_target():
     (a, name), (b, _) = with_std("std_HB", 10.0), with_std("std_MPa", 10.0 * PA_PER_HB / 1e6)
     spec = lambda c: next(v for v in c.uncertainty.variables if v.name == name)  # noqa: E731
     assert spec(a).std == pytest.approx(spec(b).std, rel=1e-12)
-    with pytest.raises(ConfigError, match=rf"variables\[{name}\]\.std_mm: std is in Pa.*std_HB \(the unit of its target\)"):
+    refused = rf"variables\[{name}\]\.std_mm: std is in Pa.*std_HB \(the unit of its target\)"
+    with pytest.raises(ConfigError, match=refused):
         with_std("std_mm", 9.0)
 
 
