@@ -18,8 +18,9 @@ from pathlib import Path
 
 import pytest
 
-from jointwear.compute import EvaluationStore, config_hash
-from jointwear.config import load_config
+from jointwear.compute import EvaluationStore
+from jointwear.config import load_config, updated
+from jointwear.study.reliability import store_digest
 
 QUICK = """
 [wear]
@@ -140,7 +141,7 @@ def test_killed_and_resumed_study_equals_uninterrupted(quick_config, expected, t
     assert got["curve"]["reliability"] == expected["curve"]["reliability"]  # bit-identical: same seed, same calls
     assert got["model_calls"] == expected["model_calls"]
     assert got["life_at_target"] == expected["life_at_target"]
-    digest = config_hash(load_config(quick_config).model_dump(mode="json"))  # as the CLI computes it
+    digest = store_digest(load_config(quick_config))  # as the CLI computes it
     with EvaluationStore.open(out, digest, resume=True) as store:
         stats = store.stats()
     assert stats.n_repeated == 0
@@ -157,21 +158,39 @@ def test_cli_study_resumed_from_python(quick_config, expected, tmp_path):
     res = jointwear.Study(quick_config, out=out, workers=2, resume=True).reliability()
     assert res.reliability.tolist() == expected["curve"]["reliability"]
     assert res.model_calls == expected["model_calls"]
-    digest = config_hash(load_config(quick_config).model_dump(mode="json"))
+    digest = store_digest(load_config(quick_config))
     with EvaluationStore.open(out, digest, resume=True) as store:
         stats = store.stats()
     assert stats.n_repeated == 0 and stats.n_calls == expected["model_calls"]
 
 
-def test_resume_with_a_changed_config_is_refused(quick_config, tmp_path):
+def test_resume_with_a_changed_model_is_refused(quick_config, tmp_path):
     out = tmp_path / "study"
     assert _run_and_kill(_cmd(quick_config, out), out, after_calls=1) or (out / "reliability.json").exists()
     changed = quick_config.with_name("changed.toml")
-    changed.write_text(quick_config.read_text().replace("max_calls = 14", "max_calls = 15"), encoding="utf-8")
+    changed.write_text(quick_config.read_text().replace("block_cycles = 80000", "block_cycles = 40000"),
+                       encoding="utf-8")
     res = subprocess.run(_cmd(changed, out, "--resume"), env=_env(), capture_output=True, text=True, timeout=300)
     assert res.returncode == 2
-    assert "config changed" in res.stderr
+    assert "holds calls of another wear model" in res.stderr
     assert len([ln for ln in res.stderr.splitlines() if ln.strip()]) == 1
+
+
+def test_a_study_resumed_with_a_larger_budget_reads_back_every_call(quick_config, reference_dir, expected, tmp_path):
+    """The learning stopped on its budget: raising max_calls and resuming replays the stored calls and only adds
+    the new ones (the learning settings are not part of what a call's outputs depend on)."""
+    import shutil
+
+    import jointwear
+
+    out = tmp_path / "larger"
+    shutil.copytree(reference_dir, out)
+    larger = updated(load_config(quick_config), {"reliability.max_calls": expected["model_calls"] + 1})
+    res = jointwear.Study(larger, out=out, workers=2, resume=True).reliability()
+    assert res.model_calls == expected["model_calls"] + 1
+    with EvaluationStore.open(out, store_digest(larger), resume=True) as store:
+        stats = store.stats()
+    assert stats.n_repeated == 0 and stats.n_calls == expected["model_calls"] + 1  # one new call, none repeated
 
 
 @pytest.mark.timeout(600)
@@ -207,7 +226,7 @@ def test_study_on_dask_survives_a_killed_worker(quick_config, expected, tmp_path
     got = json.loads((out / "reliability.json").read_text())
     assert got["curve"]["reliability"] == expected["curve"]["reliability"]  # same calls, same numbers
     assert got["model_calls"] == expected["model_calls"]
-    digest = config_hash(load_config(quick_config).model_dump(mode="json"))
+    digest = store_digest(load_config(quick_config))
     with EvaluationStore.open(out, digest, resume=True) as store:
         stats = store.stats()
     assert stats.n_repeated == 0 and stats.n_failed == 0

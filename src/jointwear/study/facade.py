@@ -27,6 +27,7 @@ from jointwear.study.checks import (
     scheduler_problem,
 )
 from jointwear.study.limit_state import joint_allowance, limit_state_from_config, limit_state_problems
+from jointwear.study.model_call import WearModelCall
 from jointwear.study.results import (
     ReliabilityResult,
     SensitivityResult,
@@ -389,13 +390,19 @@ class Study:
     def _session(self, *, reuse: bool) -> Iterator:
         """The study context with its evaluator: executor, evaluation store and progress display."""
         from jointwear import compute
-        from jointwear.study.reliability import study_context
+        from jointwear.study.reliability import store_digest, study_context
 
-        digest = compute.config_hash(self.config.model_dump(mode="json"))
+        digest = store_digest(self.config)
         fresh = not self._store_opened and (self.overwrite or _empty_store(self.out))
         resume = self.resume or self._store_opened or reuse
         try:
             store = compute.EvaluationStore.open(self.out, digest, resume=resume and not fresh, overwrite=fresh)
+        except compute.ConfigChangedError:
+            raise ConfigError(
+                f"out: the evaluation store in {self.out} holds calls of another wear model: the "
+                f"{', '.join(WearModelCall.MODEL_SECTIONS)} sections, the random variables' targets or the curve's "
+                "cycle counts changed since it was written. Resume with the model it was written for, or use a new "
+                "--out folder (the learning, sensitivity, design and report settings may change on resume)") from None
         except compute.StoreError as exc:
             raise ConfigError(str(exc)) from None
         self._store_opened = True

@@ -10,6 +10,7 @@ from __future__ import annotations
 import copy
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
@@ -77,6 +78,8 @@ class WearModelCall:
     of one wear history (its lanes; None: the cores of the process that runs it); the result does not depend on it.
     """
 
+    MODEL_SECTIONS: ClassVar[tuple[str, ...]] = ("mechanism", "clearance_joints", "simulation", "wear")
+
     base: dict
     targets: list[str]
     cycles: list[int]
@@ -87,6 +90,14 @@ class WearModelCall:
     @property
     def n_outputs(self) -> int:
         return len(self.cycles) * len(self.joints)
+
+    def identity(self) -> dict:
+        """What the outputs of a call depend on besides x: the config's model sections (``MODEL_SECTIONS``), the
+        targets, the cycle counts, the joints and the quantity. Not ``threads``, nor the study's learning,
+        sensitivity, design or report settings: its hash keys the evaluation store, so a study resumed with a
+        larger budget reads back every call it made."""
+        return {"model": {k: self.base[k] for k in self.MODEL_SECTIONS}, "targets": list(self.targets),
+                "cycles": list(self.cycles), "joints": list(self.joints), "quantity": self.quantity}
 
     def __call__(self, x: np.ndarray):
         from jointwear.mechanism import build_model

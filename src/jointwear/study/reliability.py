@@ -129,12 +129,8 @@ def study_context(config: StudyConfig, evaluator_factory: Callable[[WearModelCal
     # truncated distribution is the conditional one given feasibility.
     marginals = unc.marginals(feasible=True)
     rel = config.reliability
-    cycles = rel.curve_cycles()
-    step = rel.step()
-    history = sorted(set(range(step, max(cycles) + 1, step)) | set(cycles))
     limit = limit_state_from_config(config)
-    call = WearModelCall(base=config.model_dump(), targets=[s.target for s in specs], cycles=history,
-                         joints=list(limit.joints), quantity=limit.quantity, threads=threads)
+    call = model_call(config, threads)
     random_allowance = rel.allowance_std > 0
     if random_allowance:
         from scipy import stats
@@ -142,8 +138,29 @@ def study_context(config: StudyConfig, evaluator_factory: Callable[[WearModelCal
         names.append("delta_0")
         labels.append("wear allowance")
         marginals.append(stats.norm(limit.reference_allowance, rel.allowance_std))
-    return StudyContext(config, names, labels, marginals, [s.target for s in specs], cycles, history,
+    return StudyContext(config, names, labels, marginals, [s.target for s in specs], rel.curve_cycles(), call.cycles,
                         evaluator_factory(call), random_allowance, limit, copula=unc.copula(names))
+
+
+def store_digest(config: StudyConfig) -> str:
+    """The key of a study's evaluation store: the hash of what its model calls' outputs depend on
+    (:meth:`WearModelCall.identity`), so a study resumed with other learning or report settings reuses its calls."""
+    from jointwear.compute import config_hash
+
+    return config_hash(model_call(config).identity())
+
+
+def model_call(config: StudyConfig, threads: int | None = None) -> WearModelCall:
+    """The study's true model: a sample of the random variables -> the wear quantity of every judged joint at the
+    history's cycle counts (every curve level, and every ``reliability.step()`` up to the last level)."""
+    rel = config.reliability
+    cycles = rel.curve_cycles()
+    step = rel.step()
+    history = sorted(set(range(step, max(cycles) + 1, step)) | set(cycles))
+    specs = config.uncertainty.all_specs() if config.uncertainty is not None else []
+    limit = limit_state_from_config(config)
+    return WearModelCall(base=config.model_dump(), targets=[s.target for s in specs], cycles=history,
+                         joints=list(limit.joints), quantity=limit.quantity, threads=threads)
 
 
 def population(marginals: Sequence, n: int, seed: int, copula: Any = None) -> np.ndarray:
