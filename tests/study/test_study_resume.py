@@ -170,10 +170,29 @@ def test_resume_with_a_changed_model_is_refused(quick_config, tmp_path):
     changed = quick_config.with_name("changed.toml")
     changed.write_text(quick_config.read_text().replace("block_cycles = 80000", "block_cycles = 40000"),
                        encoding="utf-8")
+    before = (out / "config.json").read_bytes()
     res = subprocess.run(_cmd(changed, out, "--resume"), env=_env(), capture_output=True, text=True, timeout=300)
     assert res.returncode == 2
     assert "holds calls of another wear model" in res.stderr
     assert len([ln for ln in res.stderr.splitlines() if ln.strip()]) == 1
+    assert (out / "config.json").read_bytes() == before  # refused before it wrote anything
+
+
+def test_a_run_on_a_folder_with_a_store_is_refused_before_it_writes(quick_config, reference_dir, tmp_path):
+    """`jointwear run` into a folder that holds another study's store: refused up front, not after simulate and
+    wear have overwritten that study's results."""
+    import shutil
+
+    out = tmp_path / "taken"
+    shutil.copytree(reference_dir, out)
+    def results():  # SQLite's -wal/-shm side files come and go with any reader
+        return {p.name: p.read_bytes() for p in out.iterdir() if p.is_file() and not p.name.endswith(("-wal", "-shm"))}
+
+    files = results()
+    cmd = [sys.executable, "-m", "jointwear", "run", str(quick_config), "--out", str(out), "--workers", "2"]
+    res = subprocess.run(cmd, env=_env(), capture_output=True, text=True, timeout=300)
+    assert res.returncode == 2 and "an evaluation store already exists" in res.stderr
+    assert results() == files
 
 
 def test_a_study_resumed_with_a_larger_budget_reads_back_every_call(quick_config, reference_dir, expected, tmp_path):
@@ -231,3 +250,21 @@ def test_study_on_dask_survives_a_killed_worker(quick_config, expected, tmp_path
         stats = store.stats()
     assert stats.n_repeated == 0 and stats.n_failed == 0
     assert stats.n_calls == expected["model_calls"]
+
+
+def test_a_learning_stopped_by_its_budget_is_told_with_its_error(quick_config, reference_dir, expected):
+    """The quick study stops on its 14-call budget: the result keeps why, and the terminal's line gives the
+    surrogate's largest error estimate of R over the levels whose COV counts, where it is, and what to do."""
+    import numpy as np
+
+    from jointwear.study.facade import learning_stop_line
+    from jointwear.study.results import ReliabilityResult
+
+    assert not expected["converged"] and expected["learning_stop"].startswith("max_calls=14 reached")
+    res = ReliabilityResult.load(reference_dir)
+    err = np.asarray(res.pf_error, dtype=float)
+    counted = np.isfinite(err) & ~np.asarray(res.below_floor)
+    k = np.flatnonzero(counted)[np.argmax(err[counted])]
+    line = learning_stop_line(res, load_config(quick_config).reliability)
+    assert f"reaches {err[k]:.3f} at {res.cycles[k]:,.0f} cycles (tolerance 0.01 in R or 2% of Pf)" in line
+    assert "raise reliability.max_calls and run again with --resume" in line

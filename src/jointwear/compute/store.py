@@ -22,6 +22,7 @@ is a single writer.
 
 from __future__ import annotations
 
+import contextlib
 import datetime as _dt
 import hashlib
 import json
@@ -92,6 +93,24 @@ class StoreExistsError(StoreError):
 
 class ConfigChangedError(StoreError):
     """A study was resumed with a configuration different from the interrupted one."""
+
+
+def _exists_error(db: Path) -> StoreExistsError:
+    return StoreExistsError(f"an evaluation store already exists in {db.parent} from an earlier run; "
+                            "resume it (--resume), overwrite it (--overwrite), or use a new --out folder")
+
+
+def _meta_error(db: Path, meta: dict, config_hash: str) -> StoreError | None:
+    """Why a store with this ``meta`` cannot be resumed with ``config_hash`` (None: it can)."""
+    if meta["config_hash"] != config_hash:
+        return ConfigChangedError(
+            f"the config changed since the interrupted run: the store in {db.parent} was "
+            f"written with config hash {meta['config_hash'][:12]}..., this run has "
+            f"{config_hash[:12]}...; use a new --out folder (or the original config)")
+    if meta.get("format") != FORMAT_VERSION:
+        return StoreError(f"the evaluation store in {db.parent} has format {meta.get('format')!r}, "
+                          f"this version reads format {FORMAT_VERSION!r}; use a new --out folder")
+    return None
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -269,6 +288,23 @@ class EvaluationStore:
         return cls.db_path(path).exists()
 
     @classmethod
+    def refusal(cls, path: str | os.PathLike, config_hash: str, *, resume: bool = False,
+                overwrite: bool = False) -> StoreError | None:
+        """The error :meth:`open` would raise with these arguments, found read-only (nothing is created, changed
+        or recorded), so that a study can refuse before it writes anything; None when it would open."""
+        db = cls.db_path(path)
+        if not db.exists():
+            return None
+        if not resume:
+            return None if overwrite else _exists_error(db)
+        try:
+            with contextlib.closing(sqlite3.connect(f"file:{db}?mode=ro", uri=True, timeout=5)) as con:
+                meta = dict(con.execute("SELECT key, value FROM meta").fetchall())
+        except sqlite3.Error:
+            return None  # not readable as a store yet (killed before its first commit): open() decides
+        return _meta_error(db, meta, config_hash) if "config_hash" in meta else None
+
+    @classmethod
     def open(
         cls,
         path: str | os.PathLike,
@@ -293,10 +329,7 @@ class EvaluationStore:
         version = code_version_ if code_version_ is not None else code_version()
         if db.exists() and not resume:
             if not overwrite:
-                raise StoreExistsError(
-                    f"an evaluation store already exists in {db.parent} from an earlier run; "
-                    "resume it (--resume), overwrite it (--overwrite), or use a new --out folder"
-                )
+                raise _exists_error(db)
             for suffix in ("", "-wal", "-shm", "-journal"):
                 try:
                     os.remove(str(db) + suffix)
@@ -324,17 +357,9 @@ class EvaluationStore:
                 )
             else:
                 mode = "resume"
-                if meta["config_hash"] != config_hash:
-                    raise ConfigChangedError(
-                        f"the config changed since the interrupted run: the store in {db.parent} was "
-                        f"written with config hash {meta['config_hash'][:12]}..., this run has "
-                        f"{config_hash[:12]}...; use a new --out folder (or the original config)"
-                    )
-                if meta.get("format") != FORMAT_VERSION:
-                    raise StoreError(
-                        f"the evaluation store in {db.parent} has format {meta.get('format')!r}, "
-                        f"this version reads format {FORMAT_VERSION!r}; use a new --out folder"
-                    )
+                problem = _meta_error(db, meta, config_hash)
+                if problem is not None:
+                    raise problem
                 if meta.get("code_version") != version:
                     warnings.warn(
                         f"resuming a study written by jointwear {meta.get('code_version')} with "

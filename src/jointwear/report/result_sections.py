@@ -6,11 +6,24 @@ from __future__ import annotations
 import datetime as _dt
 from collections.abc import Mapping, Sequence
 
-import numpy as np
-
 from . import figures as F
-from .checks import (FAIL, INFO, NA, PASS, Check, checks_summary, curve_misses_life, group_key, life_with_note,
-                     ranking_rows, ranking_text, reference_label, reference_of, reference_values, unresolved_pairs)
+from .checks import (
+    FAIL,
+    INFO,
+    NA,
+    PASS,
+    Check,
+    checks_summary,
+    curve_misses_life,
+    group_key,
+    life_with_note,
+    ranking_rows,
+    ranking_text,
+    reference_label,
+    reference_of,
+    reference_values,
+    unresolved_pairs,
+)
 from .markup import Figures, cards, e, format_number, missing, table
 from .read import StudyOutputs
 from .study_sections import allowance_mm, not_run
@@ -33,15 +46,19 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
     if rel is None:
         return not_run(out, "reliability", "the reliability study")
     life, note = life_with_note(rel, rel.target)
-    covs = rel.pf_cov[np.isfinite(rel.pf_cov)]
+    cov = rel.largest_cov()
+    worst = rel.largest_error()
     parts = [cards([
         (f"life at R = {rel.target:g}", _life_text(life, note),
          None if rel.life_hours is None else f"{rel.life_hours:.3g} h"),
         ("true-model calls", format_number(rel.model_calls), "for the whole curve"),
         ("Monte Carlo population", format_number(rel.n_mc), "n_mc"),
-        ("learning converged", "yes" if rel.converged else "NO",
-         None if rel.converged else "stopped by the budget of model calls"),
-        ("max COV of Pf", "\u2014" if covs.size == 0 else f"{covs.max():.3g}", "over the curve"),
+        ("learning converged", "yes" if rel.converged else "NO", None if rel.converged else (
+            "stopped by the budget of model calls" if "max_calls" in rel.learning_stop or not rel.learning_stop
+            else rel.learning_stop)),
+        ("surrogate error of R", "\u2014" if worst is None else f"{worst[0]:.3f}",
+         None if worst is None else f"largest estimate, at {worst[1]:,.0f} cycles"),
+        ("max COV of Pf", "\u2014" if cov is None else f"{cov:.3g}", "over the levels with Pf \u2265 pf_floor"),
         ("wall time", f"{rel.wall_seconds:.4g} s", None),
     ])]
     missed = curve_misses_life(rel, out.results.wear)

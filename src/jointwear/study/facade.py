@@ -162,10 +162,13 @@ class Study:
         unc = self.config.uncertainty
         return STAGES if unc is not None and unc.all_specs() else ("simulate", "wear")
 
-    def _prepare(self, stages) -> None:
+    def _prepare(self, stages, store_reuse: bool | None = None) -> None:
         """Check the whole config (every rule of every stage it declares, so that a bad config is refused by
-        any command), make sure the output folder can be written, then record the resolved config."""
+        any command), make sure the output folder can be written and, for a stage that makes model calls
+        (``store_reuse`` given), that its evaluation store can be opened; then record the resolved config."""
         self._check(set(stages) | set(self.stages), out=self.out)
+        if store_reuse is not None:
+            self._refuse_store(store_reuse)
         try:
             self.out.mkdir(parents=True, exist_ok=True)
             probe = self.out / ".jointwear-write-test"
@@ -276,7 +279,7 @@ class Study:
         """
         from jointwear.study.reliability import run_reliability
 
-        self._prepare({"reliability"})
+        self._prepare({"reliability"}, store_reuse=False)
         with self._session(reuse=False) as ctx:
             res = run_reliability(ctx, progress=self._progress_callback)
         self._reliability = res
@@ -285,6 +288,8 @@ class Study:
         governing = f", governed by joint {res.governing_joint}" if len(res.joints) > 1 else ""
         self.echo(f"reliability: {res.model_calls} model calls, n_mc = {res.n_mc:,}, life at R = {res.target}: "
                   f"{life}{governing} -> {self.out / res.FILE}")
+        if not res.converged:
+            self.echo(f"reliability: {learning_stop_line(res, self.config.reliability)}")
         return res
 
     @_quiet
@@ -300,7 +305,7 @@ class Study:
         """
         from jointwear.study.sensitivity import run_sensitivity
 
-        self._prepare({"reliability", "sensitivity"})
+        self._prepare({"reliability", "sensitivity"}, store_reuse=True)
         with self._session(reuse=True) as ctx:
             sens = run_sensitivity(ctx, self._learned(ctx))
         sens.save(self.out)
@@ -329,7 +334,7 @@ class Study:
 
         if isinstance(n_samples, bool) or not isinstance(n_samples, int) or n_samples < 1:
             raise ConfigError(f"samples: must be a whole number >= 1 (got {n_samples!r})")
-        self._prepare({"reliability"})
+        self._prepare({"reliability"}, store_reuse=True)
         with self._session(reuse=True) as ctx:
             result = run_validation(ctx, self._learned(ctx), n_samples)
         result.save(self.out)
@@ -364,6 +369,8 @@ class Study:
         t0 = time.perf_counter()
         stochastic = self.stages == STAGES
         self.check(self.stages)
+        if stochastic:
+            self._refuse_store(reuse=False)
         self.simulate()
         self.wear()
         if stochastic:
@@ -386,25 +393,43 @@ class Study:
         return self._reliability
 
     # --------------------------------------------------------------------------------------- model calls
+    def _store_mode(self, reuse: bool) -> dict:
+        """How the evaluation store is opened: afresh (``--overwrite``, or a store with no call in it), else resumed
+        when asked, once opened in this session, or by a stage that reuses the study's calls (``reuse``)."""
+        fresh = not self._store_opened and (self.overwrite or _empty_store(self.out))
+        resume = self.resume or self._store_opened or reuse
+        return {"resume": resume and not fresh, "overwrite": fresh}
+
+    def _store_message(self, exc: Exception) -> str:
+        from jointwear import compute
+
+        if isinstance(exc, compute.ConfigChangedError):
+            return (f"out: the evaluation store in {self.out} holds calls of another wear model: the "
+                    f"{', '.join(WearModelCall.MODEL_SECTIONS)} sections, the random variables' targets or the "
+                    "curve's cycle counts changed since it was written. Resume with the model it was written for, "
+                    "or use a new --out folder (the learning, sensitivity, design and report settings may change "
+                    "on resume)")
+        return str(exc)
+
+    def _refuse_store(self, reuse: bool) -> None:
+        """Refuse, before any stage writes to ``out``, a study whose evaluation store would be refused later."""
+        from jointwear import compute
+        from jointwear.study.reliability import store_digest
+
+        problem = compute.EvaluationStore.refusal(self.out, store_digest(self.config), **self._store_mode(reuse))
+        if problem is not None:
+            raise ConfigError(self._store_message(problem))
+
     @contextlib.contextmanager
     def _session(self, *, reuse: bool) -> Iterator:
         """The study context with its evaluator: executor, evaluation store and progress display."""
         from jointwear import compute
         from jointwear.study.reliability import store_digest, study_context
 
-        digest = store_digest(self.config)
-        fresh = not self._store_opened and (self.overwrite or _empty_store(self.out))
-        resume = self.resume or self._store_opened or reuse
         try:
-            store = compute.EvaluationStore.open(self.out, digest, resume=resume and not fresh, overwrite=fresh)
-        except compute.ConfigChangedError:
-            raise ConfigError(
-                f"out: the evaluation store in {self.out} holds calls of another wear model: the "
-                f"{', '.join(WearModelCall.MODEL_SECTIONS)} sections, the random variables' targets or the curve's "
-                "cycle counts changed since it was written. Resume with the model it was written for, or use a new "
-                "--out folder (the learning, sensitivity, design and report settings may change on resume)") from None
+            store = compute.EvaluationStore.open(self.out, store_digest(self.config), **self._store_mode(reuse))
         except compute.StoreError as exc:
-            raise ConfigError(str(exc)) from None
+            raise ConfigError(self._store_message(exc)) from None
         self._store_opened = True
         try:
             executor = compute.make_executor(workers=self.workers, scheduler=self.scheduler)
@@ -459,7 +484,7 @@ class Study:
         problems = design_problems(self.config)
         if problems:
             raise ConfigError.from_problems(problems, "config")
-        self._prepare({"reliability"})
+        self._prepare({"reliability"}, store_reuse=True)
         with self._session(reuse=True) as ctx:
             rel = self._reliability
             if rel is None:
@@ -494,6 +519,24 @@ def _empty_store(out: Path) -> bool:
             return int(con.execute("select count(*) from calls").fetchone()[0]) == 0
     except sqlite3.Error:
         return False
+
+
+def learning_stop_line(res: ReliabilityResult, settings) -> str:
+    """What an unconverged learning means for the curve: why it stopped, the surrogate's largest error estimate of R
+    against the tolerance of the stopping rule, and what to do."""
+    worst = res.largest_error()
+    error = "" if worst is None else (
+        f"; the surrogate's error estimate of R reaches {worst[0]:.3f} at {worst[1]:,.0f} cycles (tolerance "
+        f"{settings.error_abs_tol:g} in R or {settings.error_tol:.0%} of Pf)")
+    reason = res.learning_stop or "not converged"
+    if "max_calls" in reason:
+        advice = ("; raise reliability.max_calls and run again with --resume to continue it (the calls made are "
+                  "read back)")
+    elif "n_mc_max" in reason:
+        advice = "; raise reliability.n_mc_max (a larger population costs no model call)"
+    else:
+        advice = ""
+    return f"the learning stopped before its tolerance ({reason}){error}{advice}"
 
 
 def wear_line(result: WearSummary) -> str:

@@ -277,7 +277,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         design_x=design_x, design_wear=design_wear, design_life=ctx.life(design_x),
         quantity=ctx.limit_state.quantity, joints=joints,
         crank_speed_rpm=abs(float(ctx.config.mechanism.crank_speed)) * 60 / (2 * math.pi),
-        engine=engine, infeasible=infeasible)
+        engine=engine, infeasible=infeasible, learning_stop="" if engine.converged else str(engine.message))
 
 
 def implied_wear(ctx: StudyContext, engine, pop: np.ndarray, cycles) -> np.ndarray:

@@ -57,9 +57,27 @@ class ReliabilityResult(StageResult):
     joints: list[dict] = field(default_factory=list)
     crank_speed_rpm: float | None = None
     infeasible: dict = field(default_factory=dict)
+    learning_stop: str = ""
     provenance: dict = field(default_factory=dict)
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
     engine: Any = field(repr=False, default=None, metadata={"json": False})
+
+    def largest_error(self) -> tuple[float, float] | None:
+        """(error, cycles): the surrogate's largest error estimate of R over the curve's levels whose COV counts
+        (Pf above ``pf_floor``), and where it is; None when no level has an estimate."""
+        err = np.asarray(self.pf_error, dtype=float)
+        counted = np.isfinite(err) & ~np.asarray(self.below_floor, dtype=bool)
+        if not counted.any():
+            return None
+        k = int(np.flatnonzero(counted)[np.argmax(err[counted])])
+        return float(err[k]), float(np.asarray(self.cycles, dtype=float)[k])
+
+    def largest_cov(self) -> float | None:
+        """The largest COV of the Monte Carlo estimate of Pf over the levels whose COV counts (Pf above
+        ``pf_floor``: a Pf of 1e-5 has a large COV that moves R by nothing)."""
+        cov = np.asarray(self.pf_cov, dtype=float)
+        counted = np.isfinite(cov) & ~np.asarray(self.below_floor, dtype=bool)
+        return float(cov[counted].max()) if counted.any() else None
 
     @property
     def governing_joint(self) -> str | None:
@@ -91,6 +109,7 @@ class ReliabilityResult(StageResult):
             "failed_calls": self.failed_calls,
             "n_mc": self.n_mc,
             "converged": self.converged,
+            "learning_stop": self.learning_stop,
             "wall_seconds": self.wall_seconds,
             "variables": self.names,
             "histograms": self.histograms,
@@ -129,7 +148,8 @@ class ReliabilityResult(StageResult):
             design_life=None if design.get("life_cycles") is None else arr(design["life_cycles"]),
             life_table=data.get("life_table", []), quantity=data.get("quantity", "bearing_max_depth"),
             joints=data.get("joints", []), crank_speed_rpm=data.get("crank_speed_rpm"),
-            infeasible=data.get("infeasible", {}), provenance=data.get("provenance", {}),
+            infeasible=data.get("infeasible", {}), learning_stop=data.get("learning_stop", ""),
+            provenance=data.get("provenance", {}),
             extra={k: v for k, v in data.items() if k not in _RELIABILITY_KEYS})
 
     def save(self, folder: Path | str, *, figures: bool = True) -> Path:
@@ -173,8 +193,8 @@ class ReliabilityResult(StageResult):
 
 _RELIABILITY_KEYS = frozenset({
     "curve", "life_at_target", "life_table", "quantity", "joints", "governing_joint", "allowance_mm",
-    "crank_speed_rpm", "model_calls", "failed_calls", "n_mc", "converged", "wall_seconds", "variables",
-    "histograms", "mean_max_wear_mm", "convergence", "design", "infeasible", "provenance"})
+    "crank_speed_rpm", "model_calls", "failed_calls", "n_mc", "converged", "learning_stop", "wall_seconds",
+    "variables", "histograms", "mean_max_wear_mm", "convergence", "design", "infeasible", "provenance"})
 
 
 # ------------------------------------------------------------------------------------------------ sensitivity
