@@ -38,3 +38,13 @@ def test_design_without_a_design_section_exits_2(tmp_path, capsys):
     cfg.write_text(text[:text.index("\n[design]")], encoding="utf-8")
     assert main_entry(["design", str(cfg), "--out", str(tmp_path / "out")]) == 2
     assert "[design]" in capsys.readouterr().err
+
+
+def test_check_checks_the_design_section_too(tmp_path, capsys):
+    """`jointwear check` on a config with a [design] section checks it: a misspelt variable there used to pass
+    `check` and fail only `jointwear design`."""
+    cfg = tmp_path / "bad.toml"
+    extra = '\n[[design.properties]]\nvariable = "nope"\nclasses = [{ name = "a", cost = 1.0 }]\n'
+    cfg.write_text(_preset_text() + extra, encoding="utf-8")
+    assert main_entry(["check", str(cfg)]) == 2
+    assert "design.properties[2].variable" in capsys.readouterr().err

@@ -158,9 +158,12 @@ class Study:
 
     @property
     def stages(self) -> tuple[str, ...]:
-        """The stages this config can run: all of them when it has random variables."""
+        """The stages this config can run: all four when it has random variables, and `design` when it also has a
+        [design] section (so `check` and every command check that section too)."""
         unc = self.config.uncertainty
-        return STAGES if unc is not None and unc.all_specs() else ("simulate", "wear")
+        if unc is None or not unc.all_specs():
+            return ("simulate", "wear")
+        return STAGES + (("design",) if self.config.design is not None else ())
 
     def _prepare(self, stages, store_reuse: bool | None = None) -> None:
         """Check the whole config (every rule of every stage it declares, so that a bad config is refused by
@@ -367,7 +370,7 @@ class Study:
             The typed result of every stage that ran.
         """
         t0 = time.perf_counter()
-        stochastic = self.stages == STAGES
+        stochastic = "reliability" in self.stages
         self.check(self.stages)
         if stochastic:
             self._refuse_store(reuse=False)
