@@ -83,6 +83,38 @@ def config_problems(config: StudyConfig, stages: frozenset[str] | set[str]) -> l
     return problems
 
 
+#: a random variable's mean this many standard deviations from the drawn value is worth a warning
+MEAN_SHIFT_WARNING_SIGMAS = 3.0
+
+
+def config_warnings(config: StudyConfig) -> list[str]:
+    """What is legal but probably not meant: a random variable whose mean lies more than
+    ``MEAN_SHIFT_WARNING_SIGMAS`` standard deviations from the value drawn at its target. The nominal stages
+    (simulate, wear) run the drawn mechanism and the reliability stages sample around the mean, so they would
+    describe two different mechanisms."""
+    from jointwear.schema import path_unit
+    from jointwear.uncertainty.targets import target_error, target_value
+
+    unc = config.uncertainty
+    if unc is None:
+        return []
+    data = config.model_dump()
+    out = []
+    for spec in unc.all_specs():
+        if target_error(data, spec.target):
+            continue
+        drawn = target_value(data, spec.target)
+        shift = (spec.mean - drawn) / spec.std
+        if abs(shift) > MEAN_SHIFT_WARNING_SIGMAS:
+            unit = "m" if spec.target.endswith(".clearance") else path_unit(StudyConfig, spec.target)
+            unit = f" {unit}" if unit and unit != "*" else ""
+            out.append(f"uncertainty: the mean of '{spec.name}' ({spec.mean:.6g}{unit}) is {abs(shift):,.0f} standard "
+                       f"deviations from the value drawn at its target {spec.target} ({drawn:.6g}{unit}): the "
+                       "simulate and wear stages run the drawn mechanism, the reliability stages one around the mean; "
+                       "give both the same value unless the shift is meant")
+    return out
+
+
 def out_problem(out: Path) -> str | None:
     """Why ``out`` cannot become a writable folder, judged without creating anything (None when it looks fine):
     its nearest existing ancestor must be a folder this process may write to."""

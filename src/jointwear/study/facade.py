@@ -22,11 +22,16 @@ from jointwear.schema import ConfigError
 from jointwear.study.checks import (
     check_runs,
     config_problems,
+    config_warnings,
     nominal_wear_cycles,
     out_problem,
     scheduler_problem,
 )
-from jointwear.study.limit_state import joint_allowance, limit_state_from_config, limit_state_problems
+from jointwear.study.limit_state import (
+    joint_allowance,
+    limit_state_from_config,
+    limit_state_problems,
+)
 from jointwear.study.model_call import WearModelCall
 from jointwear.study.results import (
     ReliabilityResult,
@@ -154,6 +159,9 @@ class Study:
             problems += check_runs(self.config)
         if problems:
             raise ConfigError.from_problems(problems, "config")
+        if not self._checked:
+            for warning in config_warnings(self.config):
+                self.echo(f"check: warning: {warning}")
         self._checked |= stages
 
     @property

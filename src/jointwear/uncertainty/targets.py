@@ -57,6 +57,16 @@ def target_error(data: dict, path: str) -> str | None:
     return None
 
 
+def target_value(data: dict, path: str) -> float:
+    """The config's own value at a target (for ``<joint>.clearance``: bearing radius - journal radius)."""
+    if path.endswith(CLEARANCE_SUFFIX):
+        node = _walk(data, path[: -len(CLEARANCE_SUFFIX)].split("."))
+        return float(node["bearing_radius"]) - float(node["journal_radius"])
+    keys = path.split(".")
+    parent = _walk(data, keys[:-1])
+    return float(parent[_index(parent, keys[-1])] if isinstance(parent, (list, tuple)) else parent[keys[-1]])
+
+
 def point_shift(data: dict, path: str, value: float) -> float:
     """How far setting ``path`` to ``value`` moves a drawn point of a general mechanism (a coordinate of
     ``mechanism.bodies.<b>.points.<p>`` or ``mechanism.ground_points.<p>``; 0 for any other target)."""
