@@ -54,7 +54,7 @@ from jointwear.study_settings import (
     ReliabilitySettings,
     SensitivitySettings,
 )
-from jointwear.uncertainty.targets import CLEARANCE_SUFFIX, target_error
+from jointwear.uncertainty.targets import CLEARANCE_SUFFIX, set_clearance, set_target, target_error
 from jointwear.uncertainty.variables import (
     ClearanceSpec,
     CorrelationSpec,
@@ -280,7 +280,9 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
         "clearance_joints.B.friction.law": "none", "uncertainty.variables.HB_b.std_HB": 6.0}``. A list of
         named tables (bodies, joints, clearance joints, variables) is indexed by an item's name or by number;
         the last key may carry a unit suffix as in TOML (``allowance_mm``), else the value is in SI; a value may
-        be a section (an SIModel).
+        be a section (an SIModel). Every path a random variable's ``target`` takes works too: a coordinate of a
+        point (``mechanism.ground_points.C.x``) and a clearance joint's ``clearance`` (the bearing radius becomes
+        the journal radius plus the value).
     source : str
         Name of the config in messages.
 
@@ -298,15 +300,24 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
     for path, value in changes.items():
         *parents, last = path.split(".")
         value = value.model_dump() if isinstance(value, BaseModel) else value
+        if _is_number(value) and target_error(data, path) is None:  # a random variable's kind of path
+            if path.endswith(CLEARANCE_SUFFIX):
+                set_clearance(data, path, float(value))
+            else:
+                set_target(data, path, value)
+            continue
         node: Any = data
+        walked: list[str] = []
         try:
             for key in parents:
                 node = node[_list_index(node, key)] if isinstance(node, list) else node[key]
+                walked.append(key)
             if isinstance(node, list):
                 node[_list_index(node, last)] = value
                 continue
         except (KeyError, IndexError, ValueError, TypeError):
-            raise ConfigError(f"{source}: {path}: no such setting") from None
+            raise ConfigError(f"{source}: {path}: no such setting{_missing(node, parents[len(walked)], walked)}") \
+                from None
         if not isinstance(node, dict):
             raise ConfigError(f"{source}: {path}: no such setting")
         split = split_unit_key(last, frozenset(node))
@@ -314,6 +325,21 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
             node.pop(split[0])
         node[last] = value  # an unknown key is reported by the validation
     return config_from_dict(data, source)
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _missing(node: Any, key: str, walked: list[str]) -> str:
+    """' (clearance_joints has no item 'X'; its items: B)': what a path's missing key could have been."""
+    where = ".".join(walked) or "the config"
+    if isinstance(node, list):
+        names = [str(item.get("name")) for item in node if isinstance(item, dict) and item.get("name") is not None]
+        return f" ({where} has no item '{key}'; its items: {', '.join(names) or f'0 to {len(node) - 1}'})"
+    if isinstance(node, dict):
+        return f" ({where} has no key '{key}'; its keys: {', '.join(map(str, node))})"
+    return ""
 
 
 def _list_index(items: list, key: str) -> int:

@@ -230,8 +230,15 @@ def test_configs_are_frozen_and_updated_revalidates():
     assert changed.clearance_joints[0].friction.mu_d == 0.2 and changed.reliability.allowance == pytest.approx(4e-6)
     hb = next(v for v in changed.uncertainty.variables if v.name == "HB_b")
     assert hb.std == pytest.approx(6.0 * 9.807e6) and changed.mechanism.bodies[0].mass == pytest.approx(2e-3)
-    with pytest.raises(ConfigError, match="clearance_joints.Z.friction.mu_d: no such setting"):
+    with pytest.raises(ConfigError, match=r"clearance_joints.Z.friction.mu_d: no such setting \(clearance_joints has "
+                       r"no item 'Z'; its items: B\)"):
         updated(own, {"clearance_joints.Z.friction.mu_d": 0.2})
+    # every path a target takes: a point's coordinate, a joint's derived clearance
+    moved = updated(own, {"mechanism.bodies.crank.points.A.y": 1e-4, "clearance_joints.B.clearance": 3e-6})
+    assert moved.mechanism.bodies[0].points["A"] == (own.mechanism.bodies[0].points["A"][0], 1e-4)
+    cj = moved.clearance_joints[0]
+    assert cj.journal_radius == own.clearance_joints[0].journal_radius
+    assert cj.bearing_radius - cj.journal_radius == pytest.approx(3e-6, rel=1e-9)
 
 
 @pytest.mark.parametrize("amp", [0.0, 2e-6, 2e-5])
