@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 import tomllib
 from importlib import resources
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -24,6 +25,7 @@ from jointwear.mechanism import build_model, check_assembly, simulate
 from jointwear.mechanism.builders import FourBarGuess, SliderCrankGuess
 
 SIX = "watt_six_bar_two_clearances"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 SIX_TEXT = (resources.files("jointwear.presets") / f"{SIX}.toml").read_text(encoding="utf-8")
 
 
@@ -364,3 +366,25 @@ def test_assembly_is_checked_after_the_schema():
         check_assembly(cfg)
     with pytest.raises(ConfigError, match="mechanism: cannot assemble"):
         build_model(cfg)
+
+
+
+def test_a_sample_that_moves_a_ground_pivot_assembles_as_the_linkage_it_describes():
+    """A variable on a ground pivot moves it away from the rocker's drawn pivot; the assembly closes that gap by
+    moving the rocker. A 20 % shift of the ground link (the sensitivity's mean shift) was refused as a mis-drawing,
+    and the sensitivity then ranked the variable first with R = 0. Assembled, the rocker turns about the moved
+    pivot (to the Newton tolerance, 1e-13 of the link size)."""
+    from jointwear.study.model_call import apply_sample
+
+    base = load_config(EXAMPLES / "my_linkage.toml")
+    x0 = base.mechanism.ground_points["C"][0]
+    for factor in (0.8, 1.2):
+        sample = apply_sample(base, ["mechanism.ground_points.C.x"], [factor * x0])
+        model = build_model(sample)
+        q = model.kinematics(0.0)[0]
+        k = [b.name for b in model.free_bodies].index("rocker")
+        x, y, phi = q[3 * k: 3 * k + 3]
+        local = np.asarray(model.body("rocker").points["C"])
+        pivot = np.array([x, y]) + np.array([[np.cos(phi), -np.sin(phi)], [np.sin(phi), np.cos(phi)]]) @ local
+        np.testing.assert_allclose(pivot, model.ground_points["C"], atol=1e-12)
+        assert model.ground_points["C"][0] == pytest.approx(factor * x0)
