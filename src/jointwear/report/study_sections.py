@@ -148,7 +148,7 @@ def dynamics_section(out: StudyOutputs, figs: Figures) -> str:
         None if series is None else (lambda: F.orbit_figure(series.eccentricity_bearing_frame_m[:, 0] * 1e3,
                                                             series.eccentricity_bearing_frame_m[:, 1] * 1e3,
                                                             clearance)),
-        f"Journal centre orbit of joint {name} relative to the bearing centre, in the bearing (rod) frame; "
+        f"Journal centre orbit of joint {name} relative to the bearing centre, in the frame of the bearing body; "
         "dashed: the clearance circle.", png_keys=("orbit",),
         missing_text=f"Journal orbit: no series file ({sim.series_file})."))
     parts.append(figs.draw(

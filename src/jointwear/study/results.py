@@ -163,7 +163,7 @@ class WearSummary(StageResult):
     n_simulated_cycles: float = 0.0
     n_blocks: int = 0
     blocks: list[dict] = field(default_factory=list)
-    angle_convention: str = ("bearing (rod) frame laid at the rod's mean orientation; 0 deg = leftmost point, "
+    angle_convention: str = ("the bearing body's frame laid at its mean orientation; 0 deg = leftmost point, "
                              "clockwise")
     settings: dict = field(default_factory=dict)
     geometry_mode: str = "uniform"
