@@ -146,6 +146,12 @@ class StudyConfig(SIModel):
         return self
 
 
+def target_unit(path: str) -> str | None:
+    """The SI unit of a random variable's target (None: a plain number; ``ANY_UNIT``: a path the schema does not
+    follow, which the target's own check reports)."""
+    return "m" if path.endswith(CLEARANCE_SUFFIX) else path_unit(StudyConfig, path)
+
+
 def _suffixed_by_target(model: type[BaseModel], data: Any) -> list[tuple[str, dict, str | None]]:
     """(where, raw table, SI unit of the target) of every table whose numbers take their variable's target's unit:
     the random variables, and the design's property classes and material options."""
@@ -159,7 +165,7 @@ def _suffixed_by_target(model: type[BaseModel], data: Any) -> list[tuple[str, di
     for var in unc.get("variables") or []:
         if isinstance(var, Mapping) and isinstance(var.get("target"), str):
             target = var["target"]
-            units[var.get("name")] = "m" if target.endswith(CLEARANCE_SUFFIX) else path_unit(model, target)
+            units[var.get("name")] = target_unit(target)
             out.append((f"uncertainty.variables[{var.get('name')}]", var, units[var.get("name")]))
     design = data.get("design")
     if isinstance(design, Mapping):

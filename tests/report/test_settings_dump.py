@@ -78,3 +78,20 @@ def test_dump_of_the_default_preset():
     wear = next(v for v in ref["values"] if v["quantity"] == "nominal_max_wear")
     assert (wear["unit"], wear["value"], wear["band"]["lower"], wear["band"]["upper"]) == ("mm", 0.0249, 0.021, 0.029)
     assert d["allowance_mm"] == pytest.approx(cfg.reliability.allowance * 1e3)
+
+
+def test_the_random_inputs_are_listed_in_their_targets_units():
+    """Each random variable in report units: its own display unit when it gives one (the preset's HB), else its
+    target's (a bronze hardness in MPa, not 882,630,000); the mean, std and bounds with one prefix."""
+    from jointwear import config
+
+    cfg = config.load_config("jin2025_flapping_wing")
+    rows = {r["name"]: r for r in settings_dump(cfg)["random_variables"]}
+    assert [r for r in rows] == [s.name for s in cfg.uncertainty.all_specs()]
+    assert (rows["l2"]["unit"], rows["l2"]["mean"]) == ("mm", pytest.approx(38.0))
+    spec = next(s for s in cfg.uncertainty.variables if s.name == "HB_b")
+    assert rows["HB_b"]["unit"] == spec.unit and rows["HB_b"]["mean"] == pytest.approx(spec.mean * spec.scale)
+    plain = config.updated(cfg, {"uncertainty.variables.HB_b.unit": "", "uncertainty.variables.HB_b.scale": 1.0})
+    hb = next(r for r in settings_dump(plain)["random_variables"] if r["name"] == "HB_b")
+    assert hb["unit"] == ("GPa" if spec.mean >= 1e9 else "MPa")
+    assert hb["std"] / hb["mean"] == pytest.approx(spec.std / spec.mean) == pytest.approx(hb["cov"])

@@ -42,7 +42,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-__all__ = ["settings_records", "settings_dump", "write_settings", "is_paper_open"]
+__all__ = ["settings_records", "settings_dump", "write_settings", "is_paper_open", "random_variables"]
 
 _OPEN = re.compile(
     r"paper[- ]notes|paper (is )?silent|paper gives no|not (fixed|given|stated) (by|in) the paper|project choice|"
@@ -119,6 +119,11 @@ def settings_records(model: Any, prefix: str = "", *, explicit: bool = True) -> 
             continue
         extra = info.json_schema_extra if isinstance(info.json_schema_extra, Mapping) else {}
         unit = extra.get("unit")
+        if extra.get("unit_of") == "target" and isinstance(getattr(model, "target", None), str):
+            from jointwear.config import target_unit  # a random variable's numbers are in its target's unit
+
+            unit = target_unit(model.target)
+            unit = None if unit == "*" else unit
         shown, shown_unit = _display(_plain(value), unit)
         desc = info.description or ""
         out.append({
@@ -205,9 +210,38 @@ def settings_dump(config: Any, *sections: tuple[str, Any], preset: str | None = 
         out["mechanism"] = mech
     out.update(_allowances(config))
     out["settings"] = settings
+    out["random_variables"] = random_variables(config)
     ref = getattr(config, "reference", None)
     out["reference"] = ref.report_dict() if hasattr(ref, "report_dict") else None
     return out
+
+
+def random_variables(config: Any) -> list[dict]:
+    """The study's random inputs in report units: ``name``, ``label``, ``group``, ``distribution``, ``target``,
+    ``mean``, ``std``, ``cov`` (std / |mean|), ``lower``, ``upper``, ``unit``. The unit is the variable's own display
+    unit (``unit`` and ``scale``) when it gives one, else its target's, shown as the settings are (mm, MPa, ...)."""
+    unc = getattr(config, "uncertainty", None)
+    if unc is None or not hasattr(unc, "all_specs"):
+        return []
+    from jointwear.config import target_unit
+
+    rows = []
+    for spec in unc.all_specs():
+        if spec.unit:
+            factor, unit = spec.scale, spec.unit
+        else:
+            si = target_unit(spec.target)
+            shown, unit = _display(spec.mean, None if si == "*" else si)
+            factor = shown / spec.mean if spec.mean else 1.0  # one prefix for the mean, std and bounds
+
+        def conv(v: float | None) -> float | None:
+            return None if v is None else v * factor
+
+        rows.append({"name": spec.name, "label": spec.label or spec.name, "group": spec.group,
+                     "distribution": spec.distribution, "target": spec.target, "mean": conv(spec.mean),
+                     "std": conv(spec.std), "cov": spec.std / abs(spec.mean) if spec.mean else None,
+                     "lower": conv(spec.lower), "upper": conv(spec.upper), "unit": unit or ""})
+    return rows
 
 
 def _allowances(config: Any) -> dict:

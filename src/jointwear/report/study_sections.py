@@ -81,6 +81,14 @@ def settings_section(out: StudyOutputs, figs: Figures) -> str:
         parts.append(figs.draw(None, "Mechanism sketch", png_keys=("mechanism",),
                                missing_text="Mechanism sketch: drawn for four-bar and general linkages."))
     parts.append("</div>")
+    variables = cfg.get("random_variables") or []
+    if variables:
+        parts.append(f"<h3>Random inputs ({len(variables)})</h3>")
+        parts.append(table(
+            ["variable", "name", "group", "distribution", "mean", "std", "COV", "unit", "sets"],
+            [(str(v["label"]), str(v["name"]), str(v["group"]).replace("_", " "), str(v["distribution"]).replace(
+                "_", " "), format_number(v["mean"]), format_number(v["std"]), format_number(v["cov"]),
+              str(v["unit"]), str(v["target"])) for v in variables], cls="settings"))
     recs = list(cfg.get("settings") or [])
     ref = reference_of(cfg)
     if ref:

@@ -92,7 +92,7 @@ def config_warnings(config: StudyConfig) -> list[str]:
     ``MEAN_SHIFT_WARNING_SIGMAS`` standard deviations from the value drawn at its target. The nominal stages
     (simulate, wear) run the drawn mechanism and the reliability stages sample around the mean, so they would
     describe two different mechanisms."""
-    from jointwear.schema import path_unit
+    from jointwear.config import target_unit
     from jointwear.uncertainty.targets import target_error, target_value
 
     unc = config.uncertainty
@@ -106,7 +106,7 @@ def config_warnings(config: StudyConfig) -> list[str]:
         drawn = target_value(data, spec.target)
         shift = (spec.mean - drawn) / spec.std
         if abs(shift) > MEAN_SHIFT_WARNING_SIGMAS:
-            unit = "m" if spec.target.endswith(".clearance") else path_unit(StudyConfig, spec.target)
+            unit = target_unit(spec.target)
             unit = f" {unit}" if unit and unit != "*" else ""
             out.append(f"uncertainty: the mean of '{spec.name}' ({spec.mean:.6g}{unit}) is {abs(shift):,.0f} standard "
                        f"deviations from the value drawn at its target {spec.target} ({drawn:.6g}{unit}): the "
