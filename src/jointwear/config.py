@@ -200,12 +200,11 @@ def _loc(loc: tuple[Any, ...]) -> str:
     return out or "config"
 
 
-def _did_you_mean(loc: tuple[Any, ...]) -> str:
-    """'; did you mean mass_g?' for an unknown key close to a field of its section or to a field with a suffix of
-    its unit; '' when none is close."""
+def _models_at(loc: tuple[Any, ...]) -> list[type[BaseModel]]:
+    """The config models a validation error's location leads to ([] where the walk cannot follow it)."""
     candidates: list[type[BaseModel]] = [StudyConfig]
     items: list[type[BaseModel]] | None = None
-    for part in loc[:-1]:
+    for part in loc:
         if isinstance(part, int):
             candidates, items = (items or candidates), None
             continue
@@ -216,12 +215,29 @@ def _did_you_mean(loc: tuple[Any, ...]) -> str:
             continue
         owner = next((m for m in candidates if part in m.model_fields), None)
         if owner is None:
-            return ""
+            return []
         annotation = owner.model_fields[part].annotation
         candidates = config_models(annotation)
         items = [m for a in typing.get_args(annotation) for m in config_models(a)] or None
         if not candidates and items is None:
-            return ""
+            return []
+    return candidates
+
+
+def _unit_at(loc: tuple[Any, ...]) -> str | None:
+    """The SI unit of the field a validation error points at (an item of a point or list takes its field's)."""
+    while loc and isinstance(loc[-1], int):
+        loc = loc[:-1]
+    units = [field_units(m).get(str(loc[-1])) for m in _models_at(loc[:-1])] if loc else []
+    return next((u for u in units if u is not None and u != ANY_UNIT), None)
+
+
+def _did_you_mean(loc: tuple[Any, ...]) -> str:
+    """' (did you mean mass_g?)' for an unknown key close to a field of its section or to a field with a suffix of
+    its unit; '' when none is close."""
+    candidates = _models_at(loc[:-1])
+    if not candidates:
+        return ""
     key = str(loc[-1]) if loc else ""
     units = {name: unit for model in candidates for name, unit in field_units(model).items()}
     allowed = {name: list(SUFFIXES) if unit == ANY_UNIT else suffixes_of(unit) for name, unit in units.items() if unit}
@@ -251,10 +267,12 @@ def validation_problems(exc: ValidationError) -> list[str]:
         shown = ""
         if err.get("type") not in ("missing", "extra_forbidden") and isinstance(inp, (int, float, str)) \
                 and not isinstance(inp, bool):
-            shown = f" (got {inp!r}{', SI units' if isinstance(inp, float) else ''})"
+            unit = _unit_at(tuple(err.get("loc", ()))) if isinstance(inp, float) else None
+            shown = f" (got {inp!r}{f' {unit}' if unit else ', SI units' if isinstance(inp, float) else ''})"
         if err.get("type") == "extra_forbidden":
             msg = "unknown key (not a setting of this section)" + _did_you_mean(tuple(err.get("loc", ())))
-        text = f"{where}: {msg}{shown}".replace("\n", " ")
+        # a whole-config rule's message starts with the fields it names
+        text = (f"{where}: {msg}{shown}" if where != "config" else f"{msg}{shown}").replace("\n", " ")
         if text not in out:
             out.append(text)
     return out

@@ -143,3 +143,25 @@ def test_a_mapping_of_toml_tables_is_a_config_as_its_file_is(tmp_path):
         load_config(42)
     with pytest.raises(ConfigError, match="allowance_furlong: unknown key"):
         load_config({"extends": "jin2025_flapping_wing", "reliability": {"allowance_furlong": 1}})
+
+
+def test_a_bad_value_is_echoed_with_its_si_unit_and_a_whole_config_rule_names_its_field_first():
+    cfg = load_config().model_dump()
+    cfg["clearance_joints"][0]["width"] = -0.008
+    with pytest.raises(ConfigError, match=r"clearance_joints\[0\]\.width: .*\(got -0\.008 m\)"):
+        config_from_dict(cfg, "my.toml")
+    cfg = load_config().model_dump()
+    cfg["clearance_joints"][0]["joint"] = "Z"
+    with pytest.raises(ConfigError) as err:
+        config_from_dict(cfg, "my.toml")
+    assert str(err.value).startswith("my.toml: clearance_joints[0].joint: 'Z' is not a joint")
+
+
+def test_a_cross_section_problem_names_the_file(tmp_path, capsys):
+    """The study's cross-section rules name the file they read, as the schema's do (they said 'config')."""
+    from jointwear.cli import main_entry
+
+    path = tmp_path / "mine.toml"
+    path.write_text('extends = "jin2025_flapping_wing"\n[sensitivity]\ncycles = 123\n', encoding="utf-8")
+    assert main_entry(["check", str(path)]) == 2
+    assert f"error: {path}: sensitivity.cycles: 123 is not one of the R(N) curve's" in capsys.readouterr().err

@@ -158,11 +158,16 @@ class Study:
         if not problems and not self._checked:
             problems += check_runs(self.config)
         if problems:
-            raise ConfigError.from_problems(problems, "config")
+            raise ConfigError.from_problems(problems, self._source_label)
         if not self._checked:
             for warning in config_warnings(self.config):
                 self.echo(f"check: warning: {warning}")
         self._checked |= stages
+
+    @property
+    def _source_label(self) -> str:
+        """How messages name the config: the file or preset as given, else 'config'."""
+        return "config" if self.source is None else str(self.source)
 
     @property
     def stages(self) -> tuple[str, ...]:
@@ -494,7 +499,7 @@ class Study:
 
         problems = design_problems(self.config)
         if problems:
-            raise ConfigError.from_problems(problems, "config")
+            raise ConfigError.from_problems(problems, self._source_label)
         self._prepare({"reliability"}, store_reuse=True)
         with self._session(reuse=True) as ctx:
             rel = self._reliability
