@@ -218,7 +218,8 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
         ("max bearing wear" + first, f"{format_number(wear.max_wear_mm)} mm", None),
         ("at angle", f"{angle_text(wear.max_wear_angle_deg, 1)} deg", "0 deg = leftmost, clockwise"),
         ("second peak", *second),
-        ("wall time", "\u2014" if wear.wall_seconds is None else f"{wear.wall_seconds:.3g} s", None),
+        ("wall time", "\u2014" if wear.wall_seconds is None else f"{wear.wall_seconds:.3g} s",
+         "of the history; the stage also builds the model and draws its figures"),
         ("geometry mode", wear.geometry_mode, None),
     ]
     if wear.journal.get("max_wear_mm") is not None:

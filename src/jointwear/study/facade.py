@@ -278,7 +278,8 @@ class Study:
         result = WearSummary.from_history(res, self.config, self._allowances())
         result.save(self.out)
         self.echo(f"wear: max bearing wear {wear_line(result)} after {result.cycles} cycles "
-                  f"({time.perf_counter() - t0:.1f} s) -> {self.out / result.FILE}")
+                  f"(history {res.wall_seconds:.1f} s, stage {time.perf_counter() - t0:.1f} s) "
+                  f"-> {self.out / result.FILE}")
         if result.geometry_mode == "uniform" and result.uniform_mode_valid is False:
             self.echo(f"wear: uniform mode is outside its range here (conformity {result.conformity:.3g} > 1: the "
                       'journal fits into its own wear); wear.geometry_mode = "profile" follows it (docs/wear.md)')
