@@ -105,7 +105,7 @@ class StudyConfig(SIModel):
     def _variable_units(cls, data: Any) -> Any:
         """A random variable's mean, std and bounds take suffixes of its target's unit (``mean_HB`` for a
         hardness, never ``std_mm``), and so do the design's specifications of that variable."""
-        for where, raw, unit in _suffixed_by_target(cls, data):
+        for where, raw, unit in _suffixed_by_target(data):
             for key in raw:
                 split = split_unit_key(key, frozenset(("mean", "std", "lower", "upper")))
                 problem = split and suffix_problem(key, split[0], split[1], unit)
@@ -152,7 +152,7 @@ def target_unit(path: str) -> str | None:
     return "m" if path.endswith(CLEARANCE_SUFFIX) else path_unit(StudyConfig, path)
 
 
-def _suffixed_by_target(model: type[BaseModel], data: Any) -> list[tuple[str, dict, str | None]]:
+def _suffixed_by_target(data: Any) -> list[tuple[str, dict, str | None]]:
     """(where, raw table, SI unit of the target) of every table whose numbers take their variable's target's unit:
     the random variables, and the design's property classes and material options."""
     if not isinstance(data, Mapping) or not isinstance(data.get("uncertainty"), Mapping):
