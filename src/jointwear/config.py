@@ -225,11 +225,13 @@ def _models_at(loc: tuple[Any, ...]) -> list[type[BaseModel]]:
 
 
 def _unit_at(loc: tuple[Any, ...]) -> str | None:
-    """The SI unit of the field a validation error points at (an item of a point or list takes its field's)."""
+    """The SI unit of the field a validation error points at (an item of a point or list takes its field's); ''
+    for a plain number, None where the field or its unit is not known here."""
     while loc and isinstance(loc[-1], int):
         loc = loc[:-1]
-    units = [field_units(m).get(str(loc[-1])) for m in _models_at(loc[:-1])] if loc else []
-    return next((u for u in units if u is not None and u != ANY_UNIT), None)
+    models = [m for m in _models_at(loc[:-1]) if str(loc[-1]) in m.model_fields] if loc else []
+    units = [field_units(m)[str(loc[-1])] or "" for m in models]
+    return units[0] if units and ANY_UNIT not in units else None
 
 
 def _did_you_mean(loc: tuple[Any, ...]) -> str:
@@ -267,8 +269,8 @@ def validation_problems(exc: ValidationError) -> list[str]:
         shown = ""
         if err.get("type") not in ("missing", "extra_forbidden") and isinstance(inp, (int, float, str)) \
                 and not isinstance(inp, bool):
-            unit = _unit_at(tuple(err.get("loc", ()))) if isinstance(inp, float) else None
-            shown = f" (got {inp!r}{f' {unit}' if unit else ', SI units' if isinstance(inp, float) else ''})"
+            unit = _unit_at(tuple(err.get("loc", ()))) if isinstance(inp, float) else ""
+            shown = f" (got {inp!r}{', SI units' if unit is None else f' {unit}' if unit else ''})"
         if err.get("type") == "extra_forbidden":
             msg = "unknown key (not a setting of this section)" + _did_you_mean(tuple(err.get("loc", ())))
         # a whole-config rule's message starts with the fields it names

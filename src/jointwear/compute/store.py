@@ -97,7 +97,8 @@ class ConfigChangedError(StoreError):
 
 def _exists_error(db: Path) -> StoreExistsError:
     return StoreExistsError(f"an evaluation store already exists in {db.parent} from an earlier run; "
-                            "resume it (--resume), overwrite it (--overwrite), or use a new --out folder")
+                            "resume it (--resume; resume=True in Python), overwrite it (--overwrite; overwrite=True), "
+                            "or use a new --out folder")
 
 
 def _meta_error(db: Path, meta: dict, config_hash: str) -> StoreError | None:

@@ -4,7 +4,7 @@ Contract (every key optional; the report lists whatever is there)::
 
     {"name": "my_linkage",                           # the study's name (its config's `name`)
      "preset": "jin2025_flapping_wing" | null,       # preset name, or null for a TOML file
-     "source": "preset" | "path/to/study.toml",
+     "source": "preset" | "path/to/study.toml" | "python",   # "python": a StudyConfig or a mapping
      "citation": "...",                              # the preset's citation
      "jointwear_version": "0.1.0", "seed": 2025,     # any other top-level scalars are listed too
      "mechanism": {"type": "crank_rocker", "crank_mm": 6.0, "rod_mm": 38.0, "rocker_mm": 12.0,

@@ -16,6 +16,7 @@ import time
 import warnings
 from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
+from typing import Any
 
 from jointwear.config import StudyConfig, load_config
 from jointwear.schema import ConfigError
@@ -82,15 +83,17 @@ class Study:
     workers : int, optional
         Local worker processes for model calls (default ``compute.workers`` of the config, else all cores;
         1 runs in this process).
-    scheduler : str, optional
-        Address of a Dask scheduler (``tcp://host:8786``) to run the model calls on a cluster.
+    scheduler : str, distributed.Client or LocalCluster, optional
+        A Dask cluster for the model calls: its address (``tcp://host:8786``), a client or a cluster object
+        (``jointwear.compute.start_local_cluster``). Either argument replaces the config's compute section.
     resume : bool
         Continue the study whose evaluation store is in ``out`` (no call is repeated). Without it an
         existing store with calls in it is an error, unless ``overwrite``.
     overwrite : bool
         Discard an earlier study's evaluation store in ``out``.
     echo : callable, optional
-        Receives a one-line summary of each stage (default: the ``jointwear`` logger at INFO level).
+        Receives a one-line summary of each stage and its warnings (default: the ``jointwear`` logger, the
+        summaries at INFO level, the warnings at WARNING level, which Python prints when logging is not set up).
 
     Examples
     --------
@@ -100,20 +103,29 @@ class Study:
     """
 
     def __init__(self, config: str | Path | StudyConfig | Mapping | None = None, out: str | Path = "results", *,
-                 workers: int | None = None, scheduler: str | None = None, resume: bool = False,
+                 workers: int | None = None, scheduler: Any = None, resume: bool = False,
                  overwrite: bool = False, echo: Callable[[str], None] | None = None):
         self.config: StudyConfig = load_config(config)
         self.source = config if isinstance(config, (str, Path)) else None
+        # a preset is named (or the default); a StudyConfig or a mapping comes from Python, not from a preset
+        self._preset = config is None or (isinstance(config, str) and not config.endswith(".toml")
+                                          and not Path(config).exists())
         self.out = Path(out)
         if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
             raise ConfigError(f"workers: must be a whole number >= 1 (got {workers!r})")
-        self.workers = workers if workers is not None else self.config.compute.workers
-        self.scheduler = scheduler if scheduler is not None else self.config.compute.scheduler
         if scheduler is not None and workers is not None:
             raise ConfigError("workers/scheduler: give either local workers or a Dask scheduler, not both")
+        # an argument wins over the config's compute section, whichever of the two the config names
+        compute = self.config.compute
+        given = workers is not None or scheduler is not None
+        self.workers = workers if given else compute.workers
+        self.scheduler = scheduler if given else compute.scheduler
         self.resume = resume
         self.overwrite = overwrite
         self.echo = echo if echo is not None else logger.info
+        # what needs the user's attention reaches them even without an echo: the logger's WARNING level is printed
+        # by Python's last-resort handler when nothing else is configured
+        self.warn = echo if echo is not None else logger.warning
         self._checked: set[str] = set()
         self._store_opened = False
         self._context = None
@@ -147,7 +159,7 @@ class Study:
         if stages <= self._checked:
             return
         problems = config_problems(self.config, stages | self._checked)
-        if self.scheduler != self.config.compute.scheduler:
+        if isinstance(self.scheduler, str) and self.scheduler != self.config.compute.scheduler:
             problem = scheduler_problem(self.scheduler)
             if problem:
                 problems.append(problem.replace("compute.scheduler", "scheduler"))
@@ -161,7 +173,7 @@ class Study:
             raise ConfigError.from_problems(problems, self._source_label)
         if not self._checked:
             for warning in config_warnings(self.config):
-                self.echo(f"check: warning: {warning}")
+                self.warn(f"check: warning: {warning}")
         self._checked |= stages
 
     @property
@@ -194,9 +206,8 @@ class Study:
             raise ConfigError(f"out: cannot write to '{self.out}': {exc.strerror or exc}") from None
         from jointwear.report.settings import write_settings
 
-        is_preset = self.source is None or not (str(self.source).endswith(".toml") or Path(self.source).exists())
-        write_settings(self.out, self.config, preset=self.config.name if is_preset else None,
-                       source="preset" if is_preset else str(self.source))
+        source = "preset" if self._preset else "python" if self.source is None else str(self.source)
+        write_settings(self.out, self.config, preset=self.config.name if self._preset else None, source=source)
 
     def _log_warnings(self, stage: str, caught) -> None:
         if not caught:
@@ -281,7 +292,7 @@ class Study:
                   f"(history {res.wall_seconds:.1f} s, stage {time.perf_counter() - t0:.1f} s) "
                   f"-> {self.out / result.FILE}")
         if result.geometry_mode == "uniform" and result.uniform_mode_valid is False:
-            self.echo(f"wear: uniform mode is outside its range here (conformity {result.conformity:.3g} > 1: the "
+            self.warn(f"wear: uniform mode is outside its range here (conformity {result.conformity:.3g} > 1: the "
                       'journal fits into its own wear); wear.geometry_mode = "profile" follows it (docs/wear.md)')
         return result
 
@@ -306,7 +317,7 @@ class Study:
         self.echo(f"reliability: {res.model_calls} model calls, n_mc = {res.n_mc:,}, life at R = {res.target}: "
                   f"{life}{governing} -> {self.out / res.FILE}")
         if not res.converged:
-            self.echo(f"reliability: {learning_stop_line(res, self.config.reliability)}")
+            self.warn(f"reliability: {learning_stop_line(res, self.config.reliability)}")
         return res
 
     @_quiet
@@ -365,8 +376,7 @@ class Study:
         """Build ``out/report.html`` from the results in the output folder; returns its path."""
         from jointwear.report.html import build_report
 
-        results = load_results(self.out)
-        if not results.stages:
+        if not self.out.is_dir() or not load_results(self.out).stages:
             raise ConfigError(f"report: '{self.out}' has no study results (simulate.json, wear.json, "
                               "reliability.json or sensitivity.json)")
         path = build_report(self.out)
@@ -424,7 +434,7 @@ class Study:
             return (f"out: the evaluation store in {self.out} holds calls of another wear model: the "
                     f"{', '.join(WearModelCall.MODEL_SECTIONS)} sections, the random variables' targets or the "
                     "curve's cycle counts changed since it was written. Resume with the model it was written for, "
-                    "or use a new --out folder (the learning, sensitivity, design and report settings may change "
+                    "or use a new output folder (--out; out= in Python) (the learning, sensitivity, design and report settings may change "
                     "on resume)")
         return str(exc)
 

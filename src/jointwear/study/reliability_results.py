@@ -58,7 +58,7 @@ class ReliabilityResult(StageResult):
     crank_speed_rpm: float | None = None
     infeasible: dict = field(default_factory=dict)
     learning_stop: str = ""
-    provenance: dict = field(default_factory=dict)
+    provenance: dict = field(default_factory=provenance)
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
     engine: Any = field(repr=False, default=None, metadata={"json": False})
 
@@ -223,7 +223,7 @@ class SensitivityResult(StageResult):
     derivatives: dict = field(default_factory=dict)
     n_population: int = 0
     wall_seconds: float | None = None
-    provenance: dict = field(default_factory=dict)
+    provenance: dict = field(default_factory=provenance)
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
 
     @property
@@ -298,7 +298,7 @@ class ValidationResult(StageResult):
     failed_calls: int = 0
     seed: int | None = None
     cross_validation: dict = field(default_factory=dict)
-    provenance: dict = field(default_factory=dict)
+    provenance: dict = field(default_factory=provenance)
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
 
     @property

@@ -325,8 +325,15 @@ def load_results(folder: Path | str) -> StudyResults:
     StudyResults
         One typed result per stage; a stage whose file is missing is None, one whose file cannot be read is
         None with the reason in ``errors``.
+
+    Raises
+    ------
+    FileNotFoundError
+        ``folder`` is not a directory (a mistyped folder would otherwise read as a study with no results).
     """
     folder = Path(folder)
+    if not folder.is_dir():
+        raise FileNotFoundError(f"no study folder '{folder}'")
     out = StudyResults(folder)
     cfg = folder / "config.json"
     if cfg.is_file():

@@ -74,7 +74,8 @@ class StageResult:
 
     def write(self, folder: Path | str) -> Path:
         payload = self.to_json()
-        payload.setdefault("provenance", provenance())
+        if not payload.get("provenance"):  # a result built without its machine's record gets this one's
+            payload["provenance"] = provenance()
         return write_json(Path(folder) / self.FILE, payload)
 
 

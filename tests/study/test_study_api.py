@@ -1,0 +1,51 @@
+"""What a script or a notebook meets first: the compute arguments, the folder it reads, where warnings go."""
+
+import json
+import logging
+
+import pytest
+
+import jointwear
+from jointwear.config import load_config, updated
+from jointwear.schema import ConfigError
+
+
+def test_an_argument_replaces_the_configs_compute_section(tmp_path):
+    """`scheduler=` on a config that names local workers (and the reverse) runs where the argument says; both
+    arguments at once are refused."""
+    with_workers = updated(load_config(), {"compute.workers": 2})
+    study = jointwear.Study(with_workers, out=tmp_path, scheduler="tcp://127.0.0.1:8786")
+    assert (study.workers, study.scheduler) == (None, "tcp://127.0.0.1:8786")
+    with_scheduler = updated(load_config(), {"compute.scheduler": "tcp://127.0.0.1:8786"})
+    study = jointwear.Study(with_scheduler, out=tmp_path, workers=1)
+    assert (study.workers, study.scheduler) == (1, None)
+    assert (jointwear.Study(with_workers, out=tmp_path).workers, jointwear.Study(with_workers).scheduler) == (2, None)
+    with pytest.raises(ConfigError, match="not both"):
+        jointwear.Study(out=tmp_path, workers=1, scheduler="tcp://127.0.0.1:8786")
+
+
+def test_results_of_a_folder_that_is_not_there_are_an_error(tmp_path):
+    with pytest.raises(FileNotFoundError, match="no study folder"):
+        jointwear.load_results(tmp_path / "reslts")
+    with pytest.raises(ConfigError, match="has no study results"):
+        jointwear.Study(out=tmp_path / "reslts").report()
+
+
+def test_a_warning_reaches_a_script_without_an_echo(tmp_path, caplog):
+    """Without `echo=` the stage summaries go to the logger at INFO (silent by default) and the warnings at WARNING
+    (printed by default): a mean 19 standard deviations off its drawing used to pass in silence."""
+    shifted = updated(load_config(), {"uncertainty.clearance.mean": 2e-5})
+    with caplog.at_level(logging.WARNING, logger="jointwear"):
+        jointwear.Study(shifted, out=tmp_path).check()
+    assert [r.levelno for r in caplog.records] == [logging.WARNING]
+    assert "the mean of 'c'" in caplog.records[0].getMessage()
+
+
+def test_a_config_from_python_is_not_labelled_a_preset(tmp_path):
+    data = {"extends": "jin2025_flapping_wing", "name": "mine"}
+    jointwear.Study(data, out=tmp_path / "dict").simulate(cycles=1)
+    jointwear.Study(None, out=tmp_path / "preset").simulate(cycles=1)
+    mine = json.loads((tmp_path / "dict" / "config.json").read_text())
+    preset = json.loads((tmp_path / "preset" / "config.json").read_text())
+    assert (mine["preset"], mine["source"]) == (None, "python")
+    assert (preset["preset"], preset["source"]) == ("jin2025_flapping_wing", "preset")
