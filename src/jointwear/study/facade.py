@@ -434,8 +434,8 @@ class Study:
             return (f"out: the evaluation store in {self.out} holds calls of another wear model: the "
                     f"{', '.join(WearModelCall.MODEL_SECTIONS)} sections, the random variables' targets or the "
                     "curve's cycle counts changed since it was written. Resume with the model it was written for, "
-                    "or use a new output folder (--out; out= in Python) (the learning, sensitivity, design and report settings may change "
-                    "on resume)")
+                    "or use a new output folder (--out; out= in Python). The learning, sensitivity, design and "
+                    "report settings may change on resume.")
         return str(exc)
 
     def _refuse_store(self, reuse: bool) -> None:
