@@ -49,3 +49,17 @@ def test_a_config_from_python_is_not_labelled_a_preset(tmp_path):
     preset = json.loads((tmp_path / "preset" / "config.json").read_text())
     assert (mine["preset"], mine["source"]) == (None, "python")
     assert (preset["preset"], preset["source"]) == ("jin2025_flapping_wing", "preset")
+
+
+def test_a_folder_with_results_of_another_wear_model_is_warned(tmp_path):
+    """A stage run into a folder that holds another model's results: the report would mix the two, so the stage
+    says so; another budget (a learning setting) is the same model and says nothing."""
+    lines: list[str] = []
+    jointwear.Study(None, out=tmp_path, echo=lines.append).simulate(cycles=1)
+    budget = updated(load_config(), {"reliability.max_calls": 70})
+    jointwear.Study(budget, out=tmp_path, echo=lines.append).simulate(cycles=1)
+    assert not [line for line in lines if line.startswith("out:")]
+    loaded = updated(load_config(), {"mechanism.rod_force": (0.0, -0.05)})
+    jointwear.Study(loaded, out=tmp_path, echo=lines.append).simulate(cycles=1)
+    (warning,) = [line for line in lines if line.startswith("out:")]
+    assert "holds results of another wear model (changed: mechanism.rod_force)" in warning

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import contextlib
 import functools
+import json
 import logging
 import sqlite3
 import time
@@ -204,9 +205,14 @@ class Study:
             probe.unlink()
         except OSError as exc:
             raise ConfigError(f"out: cannot write to '{self.out}': {exc.strerror or exc}") from None
-        from jointwear.report.settings import write_settings
+        from jointwear.report.settings import settings_dump, write_settings
 
         source = "preset" if self._preset else "python" if self.source is None else str(self.source)
+        changed = _changed_settings(self.out, settings_dump(self.config)["settings"])
+        if changed:
+            self.warn(f"out: {self.out} holds results of another wear model (changed: {', '.join(changed[:3])}"
+                      f"{f' and {len(changed) - 3} more' if len(changed) > 3 else ''}); the results this study "
+                      "writes replace theirs, and the report reads both: use a new output folder to keep them apart")
         write_settings(self.out, self.config, preset=self.config.name if self._preset else None, source=source)
 
     def _log_warnings(self, stage: str, caught) -> None:
@@ -534,6 +540,25 @@ class Study:
                   f"R = {result.target_reliability:g}{verified}; {result.model_calls} model calls "
                   f"-> {self.out / result.FILE}")
         return result
+
+def _changed_settings(out: Path, settings: list[dict]) -> list[str]:
+    """The settings of the wear model (``WearModelCall.MODEL_SECTIONS``) whose values differ from those recorded in
+    ``out/config.json`` by an earlier study whose results are still there; empty when there is none or it had this
+    model (the learning, sensitivity and report settings may change between runs in one folder)."""
+    from jointwear.study.results import STAGE_TYPES
+
+    recorded = out / "config.json"
+    if not recorded.is_file() or not any((out / cls.FILE).is_file() for cls in STAGE_TYPES.values()):
+        return []
+    try:
+        before = {r["name"]: r.get("value") for r in json.loads(recorded.read_text(encoding="utf-8"))["settings"]}
+    except (OSError, ValueError, KeyError, TypeError):
+        return []
+    now = {r["name"]: json.loads(json.dumps(r.get("value"), default=str)) for r in settings}
+    names = list(now) + [name for name in before if name not in now]
+    model = tuple(WearModelCall.MODEL_SECTIONS)
+    return [name for name in names if name.split(".")[0].split("[")[0] in model and now.get(name) != before.get(name)]
+
 
 def _empty_store(out: Path) -> bool:
     """Whether ``out`` holds an evaluation store with no call in it (a study stopped before its first call:
