@@ -63,3 +63,17 @@ def test_a_folder_with_results_of_another_wear_model_is_warned(tmp_path):
     jointwear.Study(loaded, out=tmp_path, echo=lines.append).simulate(cycles=1)
     (warning,) = [line for line in lines if line.startswith("out:")]
     assert "holds results of another wear model (changed: mechanism.rod_force)" in warning
+
+
+def test_a_bushing_worn_through_is_warned(tmp_path):
+    """Wear deeper than the bushing's wall (bearing_outer_radius - bearing_radius) leaves the model's range."""
+    from pathlib import Path
+
+    own = load_config(Path(__file__).resolve().parents[2] / "examples" / "my_linkage.toml")
+    cj = own.clearance_joints[0]
+    thin = updated(own, {"clearance_joints.B.bearing_outer_radius": cj.bearing_radius + 2e-6})
+    lines: list[str] = []
+    result = jointwear.Study(thin, out=tmp_path, echo=lines.append).wear(cycles=200_000)
+    assert result.joints[0]["max_wear_mm"] > 2e-3  # deeper than the 2 um wall
+    (warning,) = [line for line in lines if "worn through" in line]
+    assert "is deeper than its wall (0.002 mm" in warning
