@@ -77,3 +77,9 @@ def test_a_bushing_worn_through_is_warned(tmp_path):
     assert result.joints[0]["max_wear_mm"] > 2e-3  # deeper than the 2 um wall
     (warning,) = [line for line in lines if "worn through" in line]
     assert "is deeper than its wall (0.002 mm" in warning
+
+
+def test_study_results_have_the_name_their_repr_shows(tmp_path):
+    jointwear.Study(None, out=tmp_path).simulate(cycles=1)
+    results = jointwear.load_results(tmp_path)
+    assert results.name == "jin2025_flapping_wing" and "name='jin2025_flapping_wing'" in repr(results)

@@ -296,9 +296,13 @@ class StudyResults:
     errors: dict[str, str] = field(default_factory=dict)
 
     def __repr__(self) -> str:
-        name = (self.config or {}).get("name")
-        return (f"StudyResults(folder={str(self.folder)!r}, name={name!r}, stages={self.stages}"
+        return (f"StudyResults(folder={str(self.folder)!r}, name={self.name!r}, stages={self.stages}"
                 + (f", errors={self.errors}" if self.errors else "") + ")")
+
+    @property
+    def name(self) -> str | None:
+        """The study's name, from its ``config.json`` (None when the folder has none)."""
+        return (self.config or {}).get("name")
 
     @property
     def stages(self) -> list[str]:
