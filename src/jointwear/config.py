@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import difflib
 import tomllib
-import typing
 from collections.abc import Mapping
 from importlib import resources
 from pathlib import Path
@@ -48,7 +47,7 @@ from jointwear.mechanism.settings import (
     SliderCrankConfig,
 )
 from jointwear.reference import AcceptanceBand, ReferenceData, ReferenceValue
-from jointwear.schema import ConfigError, F, SIModel, config_models, field_units, path_unit
+from jointwear.schema import ConfigError, F, SIModel, field_units, path_unit, walk_schema
 from jointwear.study_settings import (
     ComputeSettings,
     ReliabilitySettings,
@@ -200,44 +199,18 @@ def _loc(loc: tuple[Any, ...]) -> str:
     return out or "config"
 
 
-def _models_at(loc: tuple[Any, ...]) -> list[type[BaseModel]]:
-    """The config models a validation error's location leads to ([] where the walk cannot follow it)."""
-    candidates: list[type[BaseModel]] = [StudyConfig]
-    items: list[type[BaseModel]] | None = None
-    for part in loc:
-        if isinstance(part, int):
-            candidates, items = (items or candidates), None
-            continue
-        tagged = [m for m in candidates if "type" in m.model_fields and part in typing.get_args(
-            m.model_fields["type"].annotation)]
-        if tagged:
-            candidates = tagged
-            continue
-        owner = next((m for m in candidates if part in m.model_fields), None)
-        if owner is None:
-            return []
-        annotation = owner.model_fields[part].annotation
-        candidates = config_models(annotation)
-        items = [m for a in typing.get_args(annotation) for m in config_models(a)] or None
-        if not candidates and items is None:
-            return []
-    return candidates
-
-
 def _unit_at(loc: tuple[Any, ...]) -> str | None:
     """The SI unit of the field a validation error points at (an item of a point or list takes its field's); ''
     for a plain number, None where the field or its unit is not known here."""
-    while loc and isinstance(loc[-1], int):
-        loc = loc[:-1]
-    models = [m for m in _models_at(loc[:-1]) if str(loc[-1]) in m.model_fields] if loc else []
-    units = [field_units(m)[str(loc[-1])] or "" for m in models]
-    return units[0] if units and ANY_UNIT not in units else None
+    found = walk_schema(StudyConfig, loc) if loc else None
+    return None if found is None or found[1] == ANY_UNIT else found[1] or ""
 
 
 def _did_you_mean(loc: tuple[Any, ...]) -> str:
     """' (did you mean mass_g?)' for an unknown key close to a field of its section or to a field with a suffix of
     its unit; '' when none is close."""
-    candidates = _models_at(loc[:-1])
+    found = walk_schema(StudyConfig, loc[:-1])
+    candidates = found[0] if found else []
     if not candidates:
         return ""
     key = str(loc[-1]) if loc else ""

@@ -61,26 +61,40 @@ def config_models(annotation: Any) -> list[type[BaseModel]]:
     return []
 
 
+def walk_schema(model: type[BaseModel], keys) -> tuple[list[type[BaseModel]], str | None] | None:
+    """Follow ``keys`` (a dotted target split at its dots, or a validation error's location) through the config
+    schema from ``model``: the models the last key leads to and the SI unit of the last field passed; None where a
+    key names no field. The key after a list or table of sections is an item's index or name; a discriminated
+    union's tag is passed over; inside a point, a list or a table of numbers the field's unit holds."""
+    candidates, unit, items = [model], None, None
+    for key in keys:
+        if items is not None:  # this key is the item's index or name
+            candidates, items = items, None
+            continue
+        if not candidates:
+            continue
+        tagged = [m for m in candidates
+                  if "type" in m.model_fields and key in typing.get_args(m.model_fields["type"].annotation)]
+        if tagged:
+            candidates = tagged
+            continue
+        owner = next((m for m in candidates if key in m.model_fields), None)
+        if owner is None:
+            return None
+        annotation = owner.model_fields[key].annotation
+        unit = field_units(owner)[key]
+        candidates = config_models(annotation)
+        if not candidates:
+            items = [m for a in typing.get_args(annotation) for m in config_models(a)] or None
+    return candidates, unit
+
+
 def path_unit(model: type[BaseModel], path: str) -> str | None:
     """The SI unit of the config field a dotted path (a random variable's ``target``) ends in, from the schema;
     an item of a table, a list of numbers or a point has its field's unit. ``ANY_UNIT`` where the walk cannot
     follow the path (the target's own check reports that)."""
-    candidates, unit, item_of = [model], None, None
-    for key in path.split("."):
-        if item_of is not None:  # a list of tables: this key is the item's index or name
-            candidates, item_of = item_of, None
-            continue
-        if not candidates:
-            continue  # inside a table, a list of numbers or a point: the field's unit holds
-        owner = next((m for m in candidates if key in m.model_fields), None)
-        if owner is None:
-            return ANY_UNIT
-        info = owner.model_fields[key]
-        unit = field_units(owner)[key]
-        candidates = config_models(info.annotation)
-        if not candidates and typing.get_origin(info.annotation) is list:
-            item_of = [m for a in typing.get_args(info.annotation) for m in config_models(a)] or None
-    return unit
+    found = walk_schema(model, path.split("."))
+    return ANY_UNIT if found is None else found[1]
 
 
 class SIModel(BaseModel):
