@@ -54,7 +54,7 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
         ("true-model calls", format_number(rel.model_calls), "for the whole curve"),
         ("Monte Carlo population", format_number(rel.n_mc), "n_mc"),
         ("learning converged", "yes" if rel.converged else "NO", None if rel.converged else (
-            "stopped by the budget of model calls" if "max_calls" in rel.learning_stop or not rel.learning_stop
+            "stopped by the budget of model calls" if rel.stopped_by_budget or not rel.learning_stop
             else rel.learning_stop)),
         ("surrogate error of R", "\u2014" if worst is None else f"{worst[0]:.3f}",
          None if worst is None else f"largest estimate, at {worst[1]:,.0f} cycles"),

@@ -42,6 +42,8 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from jointwear.units import ANY_UNIT
+
 __all__ = ["settings_records", "settings_dump", "write_settings", "is_paper_open", "random_variables"]
 
 _OPEN = re.compile(
@@ -123,7 +125,7 @@ def settings_records(model: Any, prefix: str = "", *, explicit: bool = True) -> 
             from jointwear.config import target_unit  # a random variable's numbers are in its target's unit
 
             unit = target_unit(model.target)
-            unit = None if unit == "*" else unit
+            unit = None if unit == ANY_UNIT else unit
         shown, shown_unit = _display(_plain(value), unit)
         desc = info.description or ""
         out.append({
@@ -231,7 +233,7 @@ def random_variables(config: Any) -> list[dict]:
             factor, unit = spec.scale, spec.unit
         else:
             si = target_unit(spec.target)
-            shown, unit = _display(spec.mean, None if si == "*" else si)
+            shown, unit = _display(spec.mean, None if si == ANY_UNIT else si)
             factor = shown / spec.mean if spec.mean else 1.0  # one prefix for the mean, std and bounds
 
         def conv(v: float | None) -> float | None:

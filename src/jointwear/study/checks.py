@@ -94,6 +94,7 @@ def config_warnings(config: StudyConfig) -> list[str]:
     describe two different mechanisms."""
     from jointwear.config import target_unit
     from jointwear.uncertainty.targets import target_error, target_value
+    from jointwear.units import ANY_UNIT
 
     unc = config.uncertainty
     if unc is None:
@@ -107,7 +108,7 @@ def config_warnings(config: StudyConfig) -> list[str]:
         shift = (spec.mean - drawn) / spec.std
         if abs(shift) > MEAN_SHIFT_WARNING_SIGMAS:
             unit = target_unit(spec.target)
-            unit = f" {unit}" if unit and unit != "*" else ""
+            unit = f" {unit}" if unit and unit != ANY_UNIT else ""
             out.append(f"uncertainty: the mean of '{spec.name}' ({spec.mean:.6g}{unit}) is {abs(shift):,.0f} standard "
                        f"deviations from the value drawn at its target {spec.target} ({drawn:.6g}{unit}): the "
                        "simulate and wear stages run the drawn mechanism, the reliability stages one around the mean; "

@@ -587,7 +587,7 @@ def learning_stop_line(res: ReliabilityResult, settings) -> str:
         f"; the surrogate's error estimate of R reaches {worst[0]:.3f} at {worst[1]:,.0f} cycles (tolerance "
         f"{settings.error_abs_tol:g} in R or {settings.error_tol:.0%} of Pf)")
     reason = res.learning_stop or "not converged"
-    if "max_calls" in reason:
+    if res.stopped_by_budget:
         advice = ("; raise reliability.max_calls and run again with --resume to continue it (the calls made are "
                   "read back)")
     elif "n_mc_max" in reason:

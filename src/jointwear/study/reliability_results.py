@@ -62,22 +62,28 @@ class ReliabilityResult(StageResult):
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
     engine: Any = field(repr=False, default=None, metadata={"json": False})
 
+    @property
+    def stopped_by_budget(self) -> bool:
+        """Whether the learning ended on its budget of model calls (``reliability.max_calls``)."""
+        return "max_calls" in self.learning_stop
+
     def largest_error(self) -> tuple[float, float] | None:
         """(error, cycles): the surrogate's largest error estimate of R over the curve's levels whose COV counts
         (Pf above ``pf_floor``), and where it is; None when no level has an estimate."""
-        err = np.asarray(self.pf_error, dtype=float)
-        counted = np.isfinite(err) & ~np.asarray(self.below_floor, dtype=bool)
-        if not counted.any():
-            return None
-        k = int(np.flatnonzero(counted)[np.argmax(err[counted])])
-        return float(err[k]), float(np.asarray(self.cycles, dtype=float)[k])
+        k = self._largest_counted(self.pf_error)
+        return None if k is None else (float(self.pf_error[k]), float(self.cycles[k]))
 
     def largest_cov(self) -> float | None:
         """The largest COV of the Monte Carlo estimate of Pf over the levels whose COV counts (Pf above
         ``pf_floor``: a Pf of 1e-5 has a large COV that moves R by nothing)."""
-        cov = np.asarray(self.pf_cov, dtype=float)
-        counted = np.isfinite(cov) & ~np.asarray(self.below_floor, dtype=bool)
-        return float(cov[counted].max()) if counted.any() else None
+        k = self._largest_counted(self.pf_cov)
+        return None if k is None else float(self.pf_cov[k])
+
+    def _largest_counted(self, values) -> int | None:
+        """The level of the largest finite value among those above ``pf_floor`` (None when there is none)."""
+        values = np.asarray(values, dtype=float)
+        counted = np.isfinite(values) & ~np.asarray(self.below_floor, dtype=bool)
+        return int(np.flatnonzero(counted)[np.argmax(values[counted])]) if counted.any() else None
 
     @property
     def governing_joint(self) -> str | None:
