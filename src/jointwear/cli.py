@@ -192,17 +192,16 @@ def check(config):
     setting resolved, with its unit and where its value comes from."""
     from jointwear.report.settings import settings_records
     from jointwear.study import Study
-    from jointwear.study.checks import config_warnings
 
     study = Study(config, out=Path("."), echo=lambda line: None)  # its warnings are printed last, below
-    study.check()
+    found = study.check()
     for rec in settings_records(study.config):
         unit = f" {rec['unit']}" if rec["unit"] else ""
         source = " ".join(str(rec["source"]).split())
         value = rec["value"]
         shown = f"{value:.6g}" if isinstance(value, float) else repr(value)
         click.echo(f"{rec['name']} = {shown}{unit}" + (f"    # {source}" if source else ""))
-    for warning in config_warnings(study.config):
+    for warning in found:
         say(f"check: warning: {warning}")
     say(f"check: {config} is a valid study config for the stages {', '.join(study.stages)}")
 

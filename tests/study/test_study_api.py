@@ -36,9 +36,10 @@ def test_a_warning_reaches_a_script_without_an_echo(tmp_path, caplog):
     (printed by default): a mean 19 standard deviations off its drawing used to pass in silence."""
     shifted = updated(load_config(), {"uncertainty.clearance.mean": 2e-5})
     with caplog.at_level(logging.WARNING, logger="jointwear"):
-        jointwear.Study(shifted, out=tmp_path).check()
+        found = jointwear.Study(shifted, out=tmp_path).check()
     assert [r.levelno for r in caplog.records] == [logging.WARNING]
     assert "the mean of 'c'" in caplog.records[0].getMessage()
+    assert len(found) == 1 and found[0] in caplog.records[0].getMessage()  # returned too, as `check` prints them
 
 
 def test_a_config_from_python_is_not_labelled_a_preset(tmp_path):

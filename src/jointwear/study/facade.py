@@ -138,7 +138,7 @@ class Study:
         return f"Study({self.config.name!r}{source}, out={str(self.out)!r}{where})"
 
     # ----------------------------------------------------------------------------------------- checking
-    def check(self, stages=None) -> None:
+    def check(self, stages=None) -> list[str]:
         """Check the whole config and that the nominal mechanism assembles and runs. Writes nothing.
 
         Parameters
@@ -146,19 +146,24 @@ class Study:
         stages : iterable of str, optional
             The stages whose settings are checked (default: every stage the config can run, :attr:`stages`).
 
+        Returns
+        -------
+        list of str
+            What is legal but probably not meant (also sent to ``echo``); only on the study's first check.
+
         Raises
         ------
         jointwear.schema.ConfigError
             Every problem found, listed in one message that names each field.
         """
-        self._check(stages)
+        return self._check(stages)
 
-    def _check(self, stages=None, out: Path | None = None) -> None:
+    def _check(self, stages=None, out: Path | None = None) -> list[str]:
         """:meth:`check`, and with ``out`` whether that folder can be written, before the check that runs the
         mechanism (the first run compiles the kernels: about a minute on a fresh install)."""
         stages = set(self.stages if stages is None else stages)
         if stages <= self._checked:
-            return
+            return []
         problems = config_problems(self.config, stages | self._checked)
         if isinstance(self.scheduler, str) and self.scheduler != self.config.compute.scheduler:
             problem = scheduler_problem(self.scheduler)
@@ -172,10 +177,11 @@ class Study:
             problems += check_runs(self.config)
         if problems:
             raise ConfigError.from_problems(problems, self._source_label)
-        if not self._checked:
-            for warning in config_warnings(self.config):
-                self.warn(f"check: warning: {warning}")
+        found = [] if self._checked else config_warnings(self.config)
+        for warning in found:
+            self.warn(f"check: warning: {warning}")
         self._checked |= stages
+        return found
 
     @property
     def _source_label(self) -> str:
