@@ -62,9 +62,7 @@ def target_value(data: dict, path: str) -> float:
     if path.endswith(CLEARANCE_SUFFIX):
         node = _walk(data, path[: -len(CLEARANCE_SUFFIX)].split("."))
         return float(node["bearing_radius"]) - float(node["journal_radius"])
-    keys = path.split(".")
-    parent = _walk(data, keys[:-1])
-    return float(parent[_index(parent, keys[-1])] if isinstance(parent, (list, tuple)) else parent[keys[-1]])
+    return float(_walk(data, path.split(".")))
 
 
 def point_shift(data: dict, path: str, value: float) -> float:
