@@ -13,7 +13,7 @@ from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from jointwear.units import ANY_UNIT, UnitError, convert_keys
+from jointwear.units import ANY_UNIT, UnitError, convert_keys, not_a_number, split_unit_key
 
 
 class ConfigError(ValueError):
@@ -50,6 +50,36 @@ def field_units(model: type[BaseModel]) -> dict[str, str | None]:
         extra = info.json_schema_extra if isinstance(info.json_schema_extra, dict) else {}
         out[name] = ANY_UNIT if extra.get("unit_of") else extra.get("unit")
     return out
+
+
+NUMBER_TYPES = (float, int)
+
+
+@functools.cache
+def number_fields(model: type[BaseModel]) -> frozenset[str]:
+    """The fields that hold a number or a fixed list of numbers (``float``, ``int | None``, ``tuple[float, float]``,
+    ``list[float]``): a string or a boolean there is a slip, not a number to convert."""
+    def numeric(annotation: Any) -> bool:
+        args = [a for a in typing.get_args(annotation) if a is not type(None) and a is not Ellipsis]
+        if typing.get_origin(annotation) in (typing.Union, types.UnionType, list, tuple):
+            return bool(args) and all(numeric(a) for a in args)
+        return annotation in NUMBER_TYPES
+    return frozenset(name for name, info in model.model_fields.items() if numeric(info.annotation))
+
+
+def number_slips(model: type[BaseModel], data: dict[str, Any]) -> list[str]:
+    """'key: a number is expected, not the string '0.9' ...' for each key of ``data`` (unit-suffixed or not) that
+    gives a number field a string or a boolean (pydantic's lax mode would read "0.9" as 0.9 and true as 1)."""
+    numbers = number_fields(model)
+    out = []
+    for key, value in data.items():
+        split = split_unit_key(key, frozenset(model.model_fields))
+        if (split[0] if split else key) in numbers:
+            items = value if isinstance(value, (list, tuple)) else [value]
+            slip = next(filter(None, map(not_a_number, items)), None)
+            if slip:
+                out.append(f"{key}: {slip}")
+    return sorted(out)
 
 
 def config_models(annotation: Any) -> list[type[BaseModel]]:
@@ -107,6 +137,9 @@ class SIModel(BaseModel):
     @classmethod
     def _unit_suffixes(cls, data: Any) -> Any:
         if isinstance(data, dict):
+            slips = number_slips(cls, data)
+            if slips:
+                raise ValueError("; ".join(slips))
             try:
                 return convert_keys(data, frozenset(cls.model_fields), field_units(cls))
             except UnitError as exc:

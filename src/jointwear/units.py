@@ -109,11 +109,21 @@ def split_unit_key(key: str, fields: set[str] | frozenset[str]) -> tuple[str, st
     return best
 
 
+def not_a_number(value: Any) -> str | None:
+    """'a number is expected, not the string '0.9' ...' for a string or a boolean given as a number, else None."""
+    if isinstance(value, str):
+        return f"a number is expected, not the string {value!r} (write it without quotes)"
+    if isinstance(value, bool):
+        return f"a number is expected, not the boolean {str(value).lower()}"
+    return None
+
+
 def to_si(value: Any, suffix: str) -> Any:
     """Multiply a number, or a (nested) list of numbers, by the suffix's factor to SI."""
     factor = SUFFIXES[suffix][0]
-    if isinstance(value, bool):
-        raise UnitError(f"expected a number with unit '{suffix}', got a boolean")
+    slip = not_a_number(value)
+    if slip:
+        raise UnitError(slip)
     if isinstance(value, (int, float)):
         return float(value) * factor
     if isinstance(value, (list, tuple)):

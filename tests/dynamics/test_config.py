@@ -94,6 +94,35 @@ def test_a_random_variable_takes_the_unit_of_its_target():
         with_std("std_mm", 9.0)
 
 
+@pytest.mark.parametrize("section, key, value, message", [
+    (("reliability",), "target_reliability", "0.9",
+     r"reliability: target_reliability: a number is expected, not the string '0.9' \(write it without quotes\)"),
+    (("reliability",), "target_reliability", [0.9, "0.5"], r"target_reliability: .*not the string '0.5'"),
+    (("compute",), "workers", True, r"compute: workers: a number is expected, not the boolean true"),
+    (("mechanism",), "rocker_pivot", [0.0115, "38e-3"], r"mechanism: rocker_pivot: .*not the string '38e-3'"),
+])
+def test_a_quoted_number_or_a_boolean_is_not_read_as_a_number(section, key, value, message):
+    """pydantic's lax mode read `target_reliability = "0.9"` as 0.9 and `workers = true` as 1 without a word."""
+    cfg = load_config().model_dump()
+    node = cfg
+    for part in section:
+        node = node[part]
+    node[key] = value
+    with pytest.raises(ConfigError, match=message):
+        config_from_dict(cfg)
+
+
+def test_a_quoted_number_in_a_file_is_refused_with_the_others(tmp_path):
+    """Every quoted number of a section is named at once, a unit-suffixed one included."""
+    path = tmp_path / "quoted.toml"
+    path.write_text('extends = "jin2025_flapping_wing"\n[reliability]\nmax_calls = "30"\nallowance_mm = "0.05"\n')
+    with pytest.raises(ConfigError) as err:
+        load_config(path)
+    text = str(err.value)
+    assert "max_calls: a number is expected, not the string '30'" in text
+    assert "allowance" in text and "'0.05'" in text
+
+
 @pytest.mark.parametrize("section, key, hint", [
     (("mechanism", "rod"), "mass_gr", "the unit suffixes of mass: _kg, _g"),
     (("mechanism",), "crank_speed_RPM", "did you mean crank_speed_rpm? unit suffixes are case-sensitive"),
