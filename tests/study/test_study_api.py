@@ -78,6 +78,10 @@ def test_a_bushing_worn_through_is_warned(tmp_path):
     assert result.joints[0]["max_wear_mm"] > 2e-3  # deeper than the 2 um wall
     (warning,) = [line for line in lines if "worn through" in line]
     assert "is deeper than its wall (0.002 mm" in warning
+    loaded = jointwear.load_results(tmp_path).wear  # wear.json keeps the wall, so the report tells it too
+    assert loaded.worn_through() == result.worn_through() and len(loaded.worn_through()) == 1
+    html = jointwear.Study(thin, out=tmp_path, echo=lines.append).report().read_text()
+    assert "<strong>Worn through.</strong> Joint B&#x27;s bearing wear" in html
 
 
 def test_study_results_have_the_name_their_repr_shows(tmp_path):

@@ -206,6 +206,8 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
     parts: list[str] = []
     if wear.geometry_mode == "uniform" and wear.uniform_mode_valid is False:
         parts.append(_UNIFORM_WARNING.format(conformity=e(format_number(wear.conformity, 3))))
+    parts += [f'<p class="warn"><strong>Worn through.</strong> {e(s[0].upper() + s[1:])}.</p>'
+              for s in wear.worn_through()]
     sp = second_peak(wear)
     floor = float(wear.settings.get("peak_prominence", 0.05)) * (wear.max_wear_mm or 0.0)
     if sp is not None and not sp[1] >= floor:  # what is left far from the main peak is not a wear zone of its own

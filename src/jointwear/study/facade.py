@@ -303,12 +303,8 @@ class Study:
         self.echo(f"wear: max bearing wear {wear_line(result)} after {result.cycles} cycles "
                   f"(history {res.wall_seconds:.1f} s, stage {time.perf_counter() - t0:.1f} s) "
                   f"-> {self.out / result.FILE}")
-        for joint, cj in zip(result.joints, self.config.clearance_joints):
-            wall = None if cj.bearing_outer_radius is None else cj.bearing_outer_radius - cj.bearing_radius
-            if wall is not None and joint["max_wear_mm"] > wall * 1e3:
-                self.warn(f"wear: joint {joint['name']}'s bearing wear ({joint['max_wear_mm']:.3g} mm) is deeper than "
-                          f"its wall ({wall * 1e3:.3g} mm, bearing_outer_radius - bearing_radius): the bushing is worn "
-                          f"through within {result.cycles:,} cycles, which the wear model does not describe")
+        for sentence in result.worn_through():
+            self.warn(f"wear: {sentence}")
         if result.geometry_mode == "uniform" and result.uniform_mode_valid is False:
             self.warn(f"wear: uniform mode is outside its range here (conformity {result.conformity:.3g} > 1: the "
                       'journal fits into its own wear); wear.geometry_mode = "profile" follows it (docs/wear.md)')

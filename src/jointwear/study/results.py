@@ -191,6 +191,9 @@ class WearSummary(StageResult):
             jo = np.argsort(jang)
             eb, ej = conservation_error(jw)
             a = allowances_m.get(name)
+            cj = config.clearance_joints[jw.index] if config is not None else None
+            outer = None if cj is None else cj.bearing_outer_radius
+            wall = None if outer is None else outer - cj.bearing_radius
             joints.append({
                 "name": name,
                 "max_wear_mm": jw.max_bearing_wear * 1e3,
@@ -208,6 +211,7 @@ class WearSummary(StageResult):
                             "profile": {"angle_deg": jang[jo].tolist(),
                                         "depth_mm": (jw.journal_wear[jo] * 1e3).tolist()}},
                 "bearing_radius_mm": jw.bearing_radius * 1e3,
+                "bearing_wall_mm": None if wall is None else wall * 1e3,
                 "allowance_mm": None if a is None else a * 1e3,
                 "rod_mean_orientation_deg": math.degrees(jw.mean_orientation),
                 "archard_volume_mm3": {"bearing": jw.volume_bearing * 1e9, "journal": jw.volume_journal * 1e9},
@@ -232,6 +236,15 @@ class WearSummary(StageResult):
             limit_mm=j0["allowance_mm"], conformity=j0["conformity"],
             uniform_mode_valid=all(j["uniform_mode_valid"] for j in joints), provenance=provenance(),
             history_result=res)
+
+    def worn_through(self) -> list[str]:
+        """One sentence per joint whose bearing wear is deeper than its bushing wall (bearing_outer_radius -
+        bearing_radius): a worn-through bushing, which the wear model does not describe."""
+        return [f"joint {j['name']}'s bearing wear ({j['max_wear_mm']:.3g} mm) is deeper than its wall "
+                f"({j['bearing_wall_mm']:.3g} mm, bearing_outer_radius - bearing_radius): the bushing is worn through "
+                f"within {self.cycles:,} cycles, which the wear model does not describe"
+                for j in self.joints
+                if j.get("bearing_wall_mm") is not None and j["max_wear_mm"] > j["bearing_wall_mm"]]
 
     def save(self, folder: Path | str, *, figures: bool = True) -> Path:
         """Write ``wear.json``, the profile and history CSV tables of every joint and the figures."""
