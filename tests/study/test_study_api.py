@@ -88,3 +88,20 @@ def test_study_results_have_the_name_their_repr_shows(tmp_path):
     jointwear.Study(None, out=tmp_path).simulate(cycles=1)
     results = jointwear.load_results(tmp_path)
     assert results.name == "jin2025_flapping_wing" and "name='jin2025_flapping_wing'" in repr(results)
+
+
+def test_a_design_section_left_behind_by_a_variation_only_stops_the_design_stage(tmp_path):
+    """A shifted mean can leave the preset's acceptance limits behind: `check` and `design` refuse that, the other
+    stages run and say it once (they used to refuse it too, so a plain variation of the preset failed)."""
+    shifted = updated(load_config(), {"clearance_joints.A.bearing_material.wear_coefficient": 1.44e-3,
+                                      "uncertainty.variables.k_b.mean": 1.44e-3})
+    with pytest.raises(ConfigError, match=r"acceptance limits \(0.0013\) must enclose the variable's mean \(0.00144\)"):
+        jointwear.Study(shifted, out=tmp_path / "a").check()
+    lines: list[str] = []
+    study = jointwear.Study(shifted, out=tmp_path / "b", echo=lines.append)
+    study.simulate(cycles=1)
+    study.simulate(cycles=1)
+    (warning,) = [line for line in lines if line.startswith("design:")]
+    assert "only the design stage reads the [design] section" in warning
+    with pytest.raises(ConfigError, match="must enclose"):
+        study.design()

@@ -128,6 +128,7 @@ class Study:
         # by Python's last-resort handler when nothing else is configured
         self.warn = echo if echo is not None else logger.warning
         self._checked: set[str] = set()
+        self._design_told = False
         self._store_opened = False
         self._context = None
         self._reliability: ReliabilityResult | None = None
@@ -191,7 +192,7 @@ class Study:
     @property
     def stages(self) -> tuple[str, ...]:
         """The stages this config can run: all four when it has random variables, and `design` when it also has a
-        [design] section (so `check` and every command check that section too)."""
+        [design] section (so `check` checks that section too; the other stages only warn about its problems)."""
         unc = self.config.uncertainty
         if unc is None or not unc.all_specs():
             return ("simulate", "wear")
@@ -201,7 +202,9 @@ class Study:
         """Check the whole config (every rule of every stage it declares, so that a bad config is refused by
         any command), make sure the output folder can be written and, for a stage that makes model calls
         (``store_reuse`` given), that its evaluation store can be opened; then record the resolved config."""
-        self._check(set(stages) | set(self.stages), out=self.out)
+        declared = set(self.stages) - ({"design"} if "design" not in stages else set())
+        self._check(set(stages) | declared, out=self.out)
+        self._warn_design_problems(stages)
         if store_reuse is not None:
             self._refuse_store(store_reuse)
         try:
@@ -220,6 +223,19 @@ class Study:
                       f"{f' and {len(changed) - 3} more' if len(changed) > 3 else ''}); the results this study "
                       "writes replace theirs, and the report reads both: use a new output folder to keep them apart")
         write_settings(self.out, self.config, preset=self.config.name if self._preset else None, source=source)
+
+    def _warn_design_problems(self, stages) -> None:
+        """A [design] section that only `design` reads does not stop the other stages (a variation that shifts a
+        mean can leave its acceptance limits behind): its problems are told once instead."""
+        if "design" in stages or self.config.design is None or self._design_told:
+            return
+        from jointwear.design import design_problems
+
+        self._design_told = True
+        problems = design_problems(self.config)
+        if problems:
+            self.warn(f"design: {'; '.join(problems)} (only the design stage reads the [design] section: fix it "
+                      "before running that stage, or drop the section, e.g. updated(config, {'design': None}))")
 
     def _log_warnings(self, stage: str, caught) -> None:
         if not caught:
