@@ -21,6 +21,7 @@ owning subpackage, e.g. ``wear: WearConfig = Field(default_factory=WearConfig, d
 from __future__ import annotations
 
 import difflib
+import numbers
 import tomllib
 from collections.abc import Mapping
 from importlib import resources
@@ -60,7 +61,7 @@ from jointwear.uncertainty.variables import (
     RandomVariableSpec,
     UncertaintySettings,
 )
-from jointwear.units import ANY_UNIT, PA_PER_HB, SUFFIXES, split_unit_key, suffix_problem, suffixes_of
+from jointwear.units import ANY_UNIT, PA_PER_HB, SUFFIXES, split_unit_key, suffix_problem, suffixes_of, to_si
 from jointwear.wear.settings import WearSettings
 
 __all__ = [
@@ -272,8 +273,8 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
 
     Parameters
     ----------
-    config : StudyConfig
-        The validated config to start from (unchanged).
+    config : StudyConfig, str or Path
+        The validated config to start from (unchanged), or a preset name or file to load it from.
     changes : mapping of str to value
         Dotted paths and their new values, e.g. ``{"reliability.n_mc": 50_000,
         "clearance_joints.B.friction.law": "none", "uncertainty.variables.HB_b.std_HB": 6.0}``. A list of
@@ -281,7 +282,7 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
         the last key may carry a unit suffix as in TOML (``allowance_mm``), else the value is in SI; a value may
         be a section (an SIModel). Every path a random variable's ``target`` takes works too: a coordinate of a
         point (``mechanism.ground_points.C.x``) and a clearance joint's ``clearance`` (the bearing radius becomes
-        the journal radius plus the value).
+        the journal radius plus the value), with a unit suffix too (``clearance_joints.B.clearance_um``).
     source : str
         Name of the config in messages.
 
@@ -295,15 +296,24 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
     ConfigError
         A path that does not exist, or a changed config that the schema rejects (the message names the field).
     """
+    if isinstance(config, (str, Path)):
+        config = load_config(config)
+    if not isinstance(config, StudyConfig):
+        raise TypeError(f"updated: config must be a StudyConfig, a preset name or a file (got {type(config).__name__})")
+    if not isinstance(changes, Mapping):
+        raise TypeError(f"updated: changes must be a mapping of dotted paths to values (got {type(changes).__name__})")
     data = config.model_dump()
     for path, value in changes.items():
         *parents, last = path.split(".")
         value = value.model_dump() if isinstance(value, BaseModel) else value
-        if _is_number(value) and target_error(data, path) is None:  # a random variable's kind of path
-            if path.endswith(CLEARANCE_SUFFIX):
-                set_clearance(data, path, float(value))
+        target = _target_path(data, path, source) if _is_number(value) else None
+        if target is not None:  # a random variable's kind of path, perhaps with a unit suffix
+            target_path, suffix = target
+            number = float(to_si(value, suffix) if suffix else value)
+            if target_path.endswith(CLEARANCE_SUFFIX):
+                set_clearance(data, target_path, number)
             else:
-                set_target(data, path, value)
+                set_target(data, target_path, number if suffix else value)
             continue
         node: Any = data
         walked: list[str] = []
@@ -327,7 +337,24 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
 
 
 def _is_number(value: Any) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool)
+    return isinstance(value, numbers.Real) and not isinstance(value, bool)
+
+
+def _target_path(data: dict[str, Any], path: str, source: str) -> tuple[str, str | None] | None:
+    """(target, suffix) when ``path`` is a random variable's kind of target (a point's coordinate, a clearance
+    joint's ``clearance``), or one with a unit suffix on its last key (``clearance_um``); else None."""
+    if target_error(data, path) is None:
+        return path, None
+    head, _, last = path.rpartition(".")
+    for suffix in sorted(SUFFIXES, key=len, reverse=True):
+        if last.endswith("_" + suffix) and head:
+            base = last[: -len(suffix) - 1]
+            if target_error(data, f"{head}.{base}") is None:
+                problem = suffix_problem(last, base, suffix, target_unit(f"{head}.{base}"))
+                if problem:
+                    raise ConfigError(f"{source}: {head}.{problem}")
+                return f"{head}.{base}", suffix
+    return None
 
 
 def _missing(node: Any, key: str, walked: list[str]) -> str:

@@ -17,6 +17,7 @@ Brinell hardness: ``HB`` is converted with 9.807e6 Pa per HB (1 kgf/mm^2 =
 from __future__ import annotations
 
 import math
+import numbers
 from typing import Any
 
 #: Pa per Brinell hardness number (kgf/mm^2 -> Pa); baseline reading, user guide.
@@ -124,13 +125,13 @@ def to_si(value: Any, suffix: str) -> Any:
     slip = not_a_number(value)
     if slip:
         raise UnitError(slip)
-    if isinstance(value, (int, float)):
+    if isinstance(value, numbers.Real):  # numpy scalars too (np.int64 from np.arange)
         return float(value) * factor
     if isinstance(value, (list, tuple)):
         return [to_si(v, suffix) for v in value]
     if isinstance(value, dict):  # a table of named values, e.g. allowances_mm = { A = 0.03 }
         return {k: to_si(v, suffix) for k, v in value.items()}
-    raise UnitError(f"expected a number with unit '{suffix}', got {type(value).__name__}")
+    raise UnitError(f"a number is expected, not {type(value).__name__} {value!r}")
 
 
 def convert_keys(data: dict[str, Any], fields: set[str] | frozenset[str],

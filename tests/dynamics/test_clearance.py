@@ -239,6 +239,15 @@ def test_configs_are_frozen_and_updated_revalidates():
     cj = moved.clearance_joints[0]
     assert cj.journal_radius == own.clearance_joints[0].journal_radius
     assert cj.bearing_radius - cj.journal_radius == pytest.approx(3e-6, rel=1e-9)
+    # ... with a unit suffix too, and from a preset name (both were refused)
+    suffixed = updated(own, {"mechanism.bodies.crank.points.A.y_mm": 0.1, "clearance_joints.B.clearance_um": 3.0})
+    assert suffixed.mechanism.bodies[0].points["A"] == pytest.approx(moved.mechanism.bodies[0].points["A"], rel=1e-12)
+    assert suffixed.clearance_joints[0].bearing_radius == pytest.approx(cj.bearing_radius, rel=1e-12)
+    with pytest.raises(ConfigError, match=r"clearance_joints.B.clearance_deg: clearance is in m"):
+        updated(own, {"clearance_joints.B.clearance_deg": 3.0})
+    assert updated("jin2025_flapping_wing", {"reliability.n_mc": 1000}).reliability.n_mc == 1000
+    with pytest.raises(TypeError, match="changes must be a mapping"):
+        updated(cfg, [("reliability.n_mc", 1000)])
 
 
 @pytest.mark.parametrize("amp", [0.0, 2e-6, 2e-5])

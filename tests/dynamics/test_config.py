@@ -112,6 +112,17 @@ def test_a_quoted_number_or_a_boolean_is_not_read_as_a_number(section, key, valu
         config_from_dict(cfg)
 
 
+def test_numpy_scalars_take_unit_suffixes():
+    """A sweep over np.arange gives np.int64: it was refused as 'expected a number with unit 'rpm', got int64'."""
+    import numpy as np
+
+    from jointwear.config import updated
+
+    speeds = [updated(load_config(), {"mechanism.crank_speed_rpm": v}).mechanism.crank_speed
+              for v in (np.int64(480), np.int32(480), np.float32(480.0), 480)]
+    assert speeds == [pytest.approx(480 * 2 * math.pi / 60, rel=1e-15)] * 4
+
+
 def test_a_quoted_number_in_a_file_is_refused_with_the_others(tmp_path):
     """Every quoted number of a section is named at once, a unit-suffixed one included."""
     path = tmp_path / "quoted.toml"

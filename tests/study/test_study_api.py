@@ -105,3 +105,14 @@ def test_a_design_section_left_behind_by_a_variation_only_stops_the_design_stage
     assert "only the design stage reads the [design] section" in warning
     with pytest.raises(ConfigError, match="must enclose"):
         study.design()
+
+
+@pytest.mark.parametrize("stage, kwargs, message", [
+    ("simulate", {"cycles": 0}, "cycles must be > 0 cycles, got 0"),  # was a ZeroDivisionError
+    ("simulate", {"cycles": 1, "settle": -1}, "settle must be a whole number of cycles >= 0, got -1"),
+    ("wear", {"cycles": "1000"}, "cycles must be a positive whole number of cycles, got '1000'"),  # was accepted
+])
+def test_a_stage_argument_is_checked_before_anything_is_written(tmp_path, stage, kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        getattr(jointwear.Study(None, out=tmp_path / "out"), stage)(**kwargs)
+    assert not (tmp_path / "out").exists()

@@ -12,6 +12,7 @@ import contextlib
 import functools
 import json
 import logging
+import numbers
 import sqlite3
 import time
 import warnings
@@ -275,10 +276,14 @@ class Study:
         """
         from jointwear.mechanism import build_model
         from jointwear.mechanism import simulate as run_simulation
+        from jointwear.wear.settings import check_cycles
 
+        n = check_cycles(cycles if cycles is not None else self.config.simulation.cycles, "cycles")
+        if settle is not None and not (isinstance(settle, numbers.Integral) and not isinstance(settle, bool)
+                                       and settle >= 0):
+            raise ValueError(f"settle must be a whole number of cycles >= 0, got {settle!r}")
         self._prepare({"simulate"})
         model = build_model(self.config)
-        n = cycles if cycles is not None else self.config.simulation.cycles
         run_simulation(model, 0.01, settle_cycles=0)  # compile (or load) the kernels so the timing excludes it
         res = run_simulation(model, n, settle_cycles=settle)
         result = SimulationSummary.from_simulation(res, self.config.name)
@@ -310,6 +315,8 @@ class Study:
         from jointwear.wear import wear_history
         from jointwear.wear.settings import check_cycles
 
+        if cycles is not None:
+            check_cycles(cycles, "cycles")
         self._prepare({"wear"})
         n = check_cycles(cycles if cycles is not None else nominal_wear_cycles(self.config), "cycles")
         t0 = time.perf_counter()

@@ -281,7 +281,7 @@ def check_cycles(value, field: str | None = "cycles") -> int:
     """Validate a cycle count at an API boundary: a finite, positive whole number. Raises ValueError naming `field`
     (field None: the message starts with "must be", for validators whose caller adds the field's path)."""
     field = field or ""
-    if isinstance(value, bool):
+    if isinstance(value, (bool, str)):  # float("1000") would read a string
         raise ValueError(f"{field}{' ' if field else ''}must be a positive whole number of cycles, got {value!r}")
     try:
         x = float(value)
