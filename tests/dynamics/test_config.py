@@ -205,3 +205,12 @@ def test_a_cross_section_problem_names_the_file(tmp_path, capsys):
     path.write_text('extends = "jin2025_flapping_wing"\n[sensitivity]\ncycles = 123\n', encoding="utf-8")
     assert main_entry(["check", str(path)]) == 2
     assert f"error: {path}: sensitivity.cycles: 123 is not one of the R(N) curve's" in capsys.readouterr().err
+
+
+def test_a_budget_below_the_initial_design_is_refused_by_the_schema():
+    """max_calls < n_initial passed `check` and failed inside the learning, after the store was written."""
+    from jointwear.config import updated
+
+    with pytest.raises(ConfigError, match=r"max_calls \(10\) must be >= n_initial \(12\)"):
+        updated(load_config(), {"reliability.max_calls": 10})
+    assert updated(load_config(), {"reliability.max_calls": 10, "reliability.n_initial": 10}).reliability.max_calls == 10
