@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import MISSING, fields
 from pathlib import Path
 from typing import Any, ClassVar
@@ -35,6 +36,19 @@ def short_repr(value: Any) -> str:
     return text[: _SHORT - 3] + "..."
 
 
+def _nan_holes(value: Any) -> Any:
+    """JSON's null back to NaN inside a list of floats (write_json writes NaN as null), so that numpy reads a
+    loaded profile as it read the one in memory; other values unchanged."""
+    if isinstance(value, dict):
+        return {k: _nan_holes(v) for k, v in value.items()}
+    if isinstance(value, list):
+        if (None in value and any(isinstance(v, float) for v in value)
+                and all(v is None or (isinstance(v, (int, float)) and not isinstance(v, bool)) for v in value)):
+            return [math.nan if v is None else v for v in value]
+        return [_nan_holes(v) for v in value]
+    return value
+
+
 class StageResult:
     """Shared save/load of the stage results: the JSON holds every field not marked ``json=False``."""
 
@@ -60,7 +74,7 @@ class StageResult:
             if not f.metadata.get("json", True):
                 continue
             if f.name in data:
-                kwargs[f.name] = data[f.name]
+                kwargs[f.name] = _nan_holes(data[f.name])
             elif f.default is MISSING and f.default_factory is MISSING:
                 raise ValueError(f"{cls.FILE}: missing key '{f.name}'")
         if "extra" in known:
