@@ -613,8 +613,8 @@ def learning_stop_line(res: ReliabilityResult, settings) -> str:
         f"{settings.error_abs_tol:g} in R or {settings.error_tol:.0%} of Pf)")
     reason = res.learning_stop or "not converged"
     if res.stopped_by_budget:
-        advice = ("; raise reliability.max_calls and run again with --resume to continue it (the calls made are "
-                  "read back)")
+        advice = ("; raise reliability.max_calls and run again with --resume (resume=True in Python) to continue it "
+                  "(the calls made are read back)")
     elif "n_mc_max" in reason:
         advice = "; raise reliability.n_mc_max (a larger population costs no model call)"
     else:
