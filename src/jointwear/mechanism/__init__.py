@@ -21,6 +21,8 @@ from jointwear.mechanism.results import (
     SimulationError,
     SimulationResult,
     SimulationState,
+    whirl_measure,
+    whirl_threshold,
 )
 from jointwear.mechanism.simulate import simulate
 
@@ -40,4 +42,6 @@ __all__ = [
     "check_assembly",
     "initial_state",
     "simulate",
+    "whirl_measure",
+    "whirl_threshold",
 ]

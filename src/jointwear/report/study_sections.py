@@ -121,6 +121,11 @@ def settings_section(out: StudyOutputs, figs: Figures) -> str:
     return "".join(parts)
 
 
+def warning(title: str, sentence: str) -> str:
+    """A warning paragraph: a bold title, then the sentence capitalised."""
+    return f'<p class="warn"><strong>{e(title)}</strong> {e(sentence[:1].upper() + sentence[1:])}.</p>'
+
+
 def dynamics_section(out: StudyOutputs, figs: Figures) -> str:
     sim = out.results.simulate
     if sim is None:
@@ -132,7 +137,8 @@ def dynamics_section(out: StudyOutputs, figs: Figures) -> str:
     mean_force, peak_force = ("\u2014" if v is None else f"{x:.4g} {force_unit}" for v, x in zip(raw, scaled))
 
     first = f" (joint {sim.joints[0]['name']})" if len(sim.joints) > 1 else ""
-    parts = [cards([
+    parts = [warning("Friction-driven whirl.", sentence) for sentence in sim.whirls()]
+    parts += [cards([
         ("mean contact force" + first, mean_force, None),
         ("peak contact force" + first, peak_force, None),
         ("contact fraction", format_number(sim.contact_fraction, 3), "share of the cycle in contact"),
@@ -206,8 +212,8 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
     parts: list[str] = []
     if wear.geometry_mode == "uniform" and wear.uniform_mode_valid is False:
         parts.append(_UNIFORM_WARNING.format(conformity=e(format_number(wear.conformity, 3))))
-    parts += [f'<p class="warn"><strong>Worn through.</strong> {e(s[0].upper() + s[1:])}.</p>'
-              for s in wear.worn_through()]
+    parts += [warning("Worn through.", s) for s in wear.worn_through()]
+    parts += [warning("Friction-driven whirl.", s) for s in wear.whirls()]
     sp = second_peak(wear)
     floor = float(wear.settings.get("peak_prominence", 0.05)) * (wear.max_wear_mm or 0.0)
     if sp is not None and not sp[1] >= floor:  # what is left far from the main peak is not a wear zone of its own

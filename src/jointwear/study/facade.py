@@ -292,6 +292,8 @@ class Study:
                   f"{result.wall_seconds_per_cycle * 1e3:.1f} ms/cycle; mean contact force "
                   f"{result.contact_force_mean_N if result.contact_force_mean_N is not None else float('nan'):.4g} N"
                   f" -> {self.out / result.FILE}")
+        for sentence in result.whirls():
+            self.warn(f"simulate: {sentence}")
         return result
 
     @_quiet
@@ -326,7 +328,7 @@ class Study:
         self.echo(f"wear: max bearing wear {wear_line(result)} after {result.cycles} cycles "
                   f"(history {res.wall_seconds:.1f} s, stage {time.perf_counter() - t0:.1f} s) "
                   f"-> {self.out / result.FILE}")
-        for sentence in result.worn_through():
+        for sentence in result.worn_through() + result.whirls():
             self.warn(f"wear: {sentence}")
         if result.geometry_mode == "uniform" and result.uniform_mode_valid is False:
             self.warn(f"wear: uniform mode is outside its range here (conformity {result.conformity:.3g} > 1: the "

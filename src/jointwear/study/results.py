@@ -25,6 +25,15 @@ __all__ = ["StageResult", "SimulationSummary", "WearSummary", "ReliabilityResult
 
 
 # --------------------------------------------------------------------------------------------------- simulate
+def whirl_sentence(joint: str, revolutions: float, force_N: float | None = None) -> str:
+    """What a whirling joint means for the results, in one sentence."""
+    force = "" if force_N is None else f", mean contact force {force_N:.3g} N"
+    return (f"joint {joint} whirls: its contact point runs round the bearing {abs(revolutions):,.0f} times per cycle "
+            f"({'backward' if revolutions < 0 else 'forward'}{force}), a friction-driven whirl of the journal in its "
+            "bore that the model's equations allow beside the calm motion; the forces and the wear depend on which "
+            "of the two the run is in (docs/dynamics.md, 'Friction-driven whirl')")
+
+
 @dataclass(repr=False)
 class SimulationSummary(StageResult):
     """The dynamics of the nominal mechanism over a few crank cycles (``jointwear simulate``).
@@ -57,12 +66,20 @@ class SimulationSummary(StageResult):
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
     trace: Any = field(default=None, repr=False, metadata={"json": False})
 
+    def whirls(self) -> list[str]:
+        """One sentence per joint in a friction-driven whirl (docs/dynamics.md, "Friction-driven whirl")."""
+        return [whirl_sentence(j["name"], j["contact_revolutions_per_cycle"], j["contact_force_mean_N"])
+                for j in self.joints if j.get("whirl")]
+
     @classmethod
     def from_simulation(cls, res, name: str = "") -> SimulationSummary:
+        from jointwear.mechanism import whirl_measure
+
         total = res.n_cycles + res.settle_cycles
         joints = []
         for tr in res.joints:
             f = tr.contact_force
+            revolutions, whirl = whirl_measure(tr, res.n_cycles)
             joints.append({
                 "name": tr.name, "bearing_body": tr.bearing_body, "journal_body": tr.journal_body,
                 "contact_force_mean_N": tr.mean_force,
@@ -73,6 +90,8 @@ class SimulationSummary(StageResult):
                 "max_penetration_m": float(tr.penetration.max()),
                 "clearance_m": tr.clearance_used,
                 "stiffness_N_per_m1p5": float(np.median(tr.stiffness)),
+                "contact_revolutions_per_cycle": revolutions,
+                "whirl": whirl,
             })
         first = joints[0] if joints else {}
         return cls(
@@ -231,11 +250,27 @@ class WearSummary(StageResult):
             simulation_seconds=res.sim_seconds, n_simulated_cycles=res.n_simulated_cycles,
             n_blocks=len(res.blocks),
             blocks=[{"start": b.start, "size": b.size, "peak_rate_mm_per_cycle": b.peak_rate * 1e3,
-                     "rate_change": None if math.isnan(b.rate_change) else b.rate_change} for b in res.blocks],
+                     "rate_change": None if math.isnan(b.rate_change) else b.rate_change,
+                     "contact_revolutions_per_cycle": list(b.contact_revolutions),
+                     "whirl": [joints[i]["name"] for i, w in enumerate(b.whirl) if w]} for b in res.blocks],
             settings=res.settings.model_dump(mode="json"), geometry_mode=res.settings.geometry_mode,
             limit_mm=j0["allowance_mm"], conformity=j0["conformity"],
             uniform_mode_valid=all(j["uniform_mode_valid"] for j in joints), provenance=provenance(),
             history_result=res)
+
+    def whirls(self) -> list[str]:
+        """One sentence per joint that whirled in some blocks of the history (docs/dynamics.md, "Friction-driven
+        whirl"): its wear is spread round the bore there, so the depth depends on how many blocks whirled."""
+        out = []
+        for j in self.joints:
+            spun = [b for b in self.blocks if j["name"] in (b.get("whirl") or [])]
+            if spun:
+                k = self.joints.index(j)
+                most = max((b["contact_revolutions_per_cycle"][k] for b in spun), key=abs)
+                cycles = sum(b["size"] for b in spun)
+                out.append(f"{whirl_sentence(j['name'], most)}; here in {len(spun)} of {len(self.blocks)} blocks "
+                           f"({cycles:,} of {self.cycles:,} cycles)")
+        return out
 
     def worn_through(self) -> list[str]:
         """One sentence per joint whose bearing wear is deeper than its bushing wall (bearing_outer_radius -

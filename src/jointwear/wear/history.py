@@ -27,6 +27,7 @@ import numpy as np
 
 from jointwear.contact.envelope import admissible_set, rounded_envelope
 from jointwear.contact.geometry import PROFILE_ROUNDING
+from jointwear.mechanism.results import whirl_measure
 
 from .cycle import CycleWear, JointMaterials, cycle_wear, mean_half_width
 from .kernels import TWO_PI, smooth_periodic
@@ -291,7 +292,9 @@ def wear_history(
                 hist_b[i].append(float(wb[i].max()))
                 hist_j[i].append(float(wj[i].max()))
                 hist_g[i].append(growth[i])
-            blocks.append(BlockRecord(done, dn, peak, change, dt_sim, int(res.n_steps)))
+            spin = [whirl_measure(tr, res.n_cycles) for tr in res.joints]
+            blocks.append(BlockRecord(done, dn, peak, change, dt_sim, int(res.n_steps),
+                                      tuple(n for n, _ in spin), tuple(w for _, w in spin)))
             done += dn
             hist_c.append(done)
             if progress is not None:

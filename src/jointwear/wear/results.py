@@ -108,6 +108,8 @@ class BlockRecord:
     rate_change: float  # relative change of joint 0's bearing volume rate vs the previous block (nan for the first)
     sim_seconds: float
     n_steps: int
+    contact_revolutions: tuple[float, ...] = ()  # per joint: contact-point revolutions per recorded cycle
+    whirl: tuple[bool, ...] = ()  # per joint: a friction-driven whirl (jointwear.mechanism.whirl_measure)
 
 
 @dataclass
