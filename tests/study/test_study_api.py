@@ -116,3 +116,15 @@ def test_a_stage_argument_is_checked_before_anything_is_written(tmp_path, stage,
     with pytest.raises(ValueError, match=message):
         getattr(jointwear.Study(None, out=tmp_path / "out"), stage)(**kwargs)
     assert not (tmp_path / "out").exists()
+
+
+def test_a_config_changed_in_place_is_validated_again_by_the_study(tmp_path):
+    """Its fields are frozen but its lists are plain lists: a None appended gave an AttributeError in every later
+    stage; the Study now refuses it, naming the item, and keeps a copy of its own."""
+    cfg = load_config()
+    study = jointwear.Study(cfg, out=tmp_path)
+    assert study.config == cfg and study.config is not cfg
+    cfg.clearance_joints.append(None)
+    assert len(study.config.clearance_joints) == 1
+    with pytest.raises(ConfigError, match=r"clearance_joints\[1\]"):
+        jointwear.Study(cfg, out=tmp_path)

@@ -20,7 +20,7 @@ from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
-from jointwear.config import StudyConfig, load_config
+from jointwear.config import StudyConfig, config_from_dict, load_config
 from jointwear.schema import ConfigError
 from jointwear.study.checks import (
     check_runs,
@@ -107,7 +107,9 @@ class Study:
     def __init__(self, config: str | Path | StudyConfig | Mapping | None = None, out: str | Path = "results", *,
                  workers: int | None = None, scheduler: Any = None, resume: bool = False,
                  overwrite: bool = False, echo: Callable[[str], None] | None = None):
-        self.config: StudyConfig = load_config(config)
+        # a StudyConfig is validated again: its lists are plain lists, which Python code can still change in place
+        self.config: StudyConfig = (config_from_dict(config.model_dump(), "config") if isinstance(config, StudyConfig)
+                                    else load_config(config))
         self.source = config if isinstance(config, (str, Path)) else None
         # a preset is named (or the default); a StudyConfig or a mapping comes from Python, not from a preset
         self._preset = config is None or (isinstance(config, str) and not config.endswith(".toml")
