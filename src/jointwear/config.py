@@ -453,8 +453,9 @@ def load_config(source: str | Path | None = None) -> StudyConfig:
     ----------
     source : str, Path, StudyConfig, mapping or None
         A TOML file, a preset name (:func:`available_presets`), a config already validated (returned as is), the
-        tables of a TOML file as a mapping (unit-suffixed keys and ``extends`` as in a file), or None for the default
-        preset ``jin2025_flapping_wing``.
+        tables of a TOML file as a mapping (unit-suffixed keys and ``extends`` as in a file), a study's output
+        folder or its ``config.json`` (the config that study ran), or None for the default preset
+        ``jin2025_flapping_wing``.
 
     Returns
     -------
@@ -475,8 +476,25 @@ def load_config(source: str | Path | None = None) -> StudyConfig:
     if not isinstance(source, (str, Path)):
         raise ConfigError(f"config: expected a preset name, a TOML path, a StudyConfig or a mapping of TOML tables "
                           f"(got {type(source).__name__})")
+    written = Path(source) / "config.json" if Path(source).is_dir() else Path(source)
+    if written.suffix == ".json":
+        return _written_config(written)
     data, name = _resolve(source)
     return config_from_dict(data, name)
+
+
+def _written_config(path: Path) -> StudyConfig:
+    """The config a study wrote to its folder (config.json's ``study_config``, SI units)."""
+    import json
+
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError) as exc:
+        raise ConfigError(f"config: cannot read '{path}': {getattr(exc, 'strerror', None) or exc}") from None
+    if not isinstance(data, dict) or "study_config" not in data:
+        raise ConfigError(f"config: '{path}' holds no study config (a results folder's config.json written by "
+                          "jointwear 0.x before the study config was kept there, or not a config.json)")
+    return config_from_dict(data["study_config"], str(path))
 
 
 # ---------------------------------------------------------------------------------------------

@@ -128,3 +128,15 @@ def test_a_config_changed_in_place_is_validated_again_by_the_study(tmp_path):
     assert len(study.config.clearance_joints) == 1
     with pytest.raises(ConfigError, match=r"clearance_joints\[1\]"):
         jointwear.Study(cfg, out=tmp_path)
+
+
+def test_a_results_folder_gives_back_the_config_it_ran(tmp_path):
+    """config.json keeps the whole validated config (SI): load_config(folder) returns it, so a notebook restarted on
+    a folder can rerun or vary the study; `Study(res.config)` on the flat settings failed with unknown keys."""
+    cfg = updated(load_config(), {"mechanism.crank_speed_rpm": 420, "reliability.max_calls": 30})
+    jointwear.Study(cfg, out=tmp_path).simulate(cycles=1)
+    assert load_config(tmp_path) == cfg and load_config(tmp_path / "config.json") == cfg
+    assert jointwear.Study(tmp_path / "config.json", out=tmp_path / "again").config == cfg
+    (tmp_path / "other.json").write_text("{}")
+    with pytest.raises(ConfigError, match="holds no study config"):
+        load_config(tmp_path / "other.json")

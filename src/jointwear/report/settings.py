@@ -215,6 +215,8 @@ def settings_dump(config: Any, *sections: tuple[str, Any], preset: str | None = 
     out["random_variables"] = random_variables(config)
     ref = getattr(config, "reference", None)
     out["reference"] = ref.report_dict() if hasattr(ref, "report_dict") else None
+    if hasattr(config, "model_dump"):  # the whole validated config, SI: load_config(folder) gives it back
+        out["study_config"] = config.model_dump(mode="json")
     return out
 
 
