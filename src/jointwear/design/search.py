@@ -241,11 +241,13 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
         return [i for i in order if candidates[i].cost(controls) <= limit]
 
     est = evaluate_all(range(len(candidates)))
-    refine_calls, iterations, verification_calls = 0, 0, 0
+    # the budget counts the points asked for: a point the store already holds (a failed call, a resumed run) costs
+    # no new call, and counting only new calls let a refinement that kept asking for it loop without end
+    refine_calls, refine_points, iterations, verification_calls = 0, 0, 0, 0
     verifications: list[dict] = []
     verified: dict[int, dict] = {}
     while True:
-        while refine_calls < settings.refine_max_calls:
+        while refine_points < settings.refine_max_calls:
             todo = undecided(est)
             if not todo:
                 break
@@ -255,12 +257,13 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
                     continue
                 seen.add(i)
                 picks.append(_refine_point(space, sur, candidates[i], targets[k]["log_life"]))
-                if len(picks) >= min(settings.batch_size, settings.refine_max_calls - refine_calls):
+                if len(picks) >= min(settings.batch_size, settings.refine_max_calls - refine_points):
                     break
             before = ctx.n_evaluated
             x_new = np.vstack(picks)
             ctx.log_life(x_new)  # true-model calls (through the evaluator and the evaluation store)
             refine_calls += max(ctx.n_evaluated - before, 0)
+            refine_points += x_new.shape[0]
             sur.add(x_new)
             iterations += 1
             est.update(evaluate_all(_relevant(est) if len(candidates) > 2000 else range(len(candidates))))

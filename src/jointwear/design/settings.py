@@ -240,7 +240,8 @@ class DesignSettings(SIModel):
         "same standard-normal draws for every candidate, so candidates differ only by their distributions).")
     max_candidates: int = Field(100_000, description="Largest number of combinations enumerated.")
     refine_max_calls: int = Field(
-        40, description="Budget of true-model calls added where the surrogate must be refined for a candidate.")
+        40, description="Budget of refinement points, each a true-model call where the surrogate must be refined for a "
+        "candidate (a point the evaluation store already holds counts too).")
     batch_size: int = Field(2, description="Refinement points per iteration (run in parallel).")
     verify: bool = Field(True, description="Verify the chosen design with its own reliability study.")
     verification_max_calls: int = Field(80, description="Budget of true-model calls of the verification study.")
