@@ -1,5 +1,9 @@
 """Legal but probably unmeant: a random variable whose mean is far from the value drawn at its target."""
 
+import copy
+import sys
+from pathlib import Path
+
 import pytest
 
 from jointwear.config import available_presets, load_config, updated
@@ -20,3 +24,27 @@ def test_a_clearance_mean_far_from_the_drawn_gap_is_warned_with_its_distance():
     assert f"the mean of 'c' ({spec.mean + sigmas * spec.std:.6g} m) is {sigmas:,.0f} standard deviations" in warning
     inside = updated(base, {"uncertainty.clearance.mean": spec.mean + (MEAN_SHIFT_WARNING_SIGMAS - 0.5) * spec.std})
     assert config_warnings(inside) == []
+
+
+@pytest.mark.parametrize("path, value, where", [
+    # a hardness class given without its suffix: 120 Pa, not 120 HB
+    ("design.properties.0.classes.2.mean", 120.0, "design.properties[HB_b].classes[hard]: its mean (120 Pa) is"),
+    # a fit's clearance in mm where um was meant: 531 times the study's
+    ("design.fit.options.1.mean", 2e-3, "design.fit.options[H6/g5]: its mean (0.002 m) is 1e+03 times"),
+])
+def test_a_design_specification_orders_of_magnitude_off_is_warned(path, value, where):
+    """A unit slip in [design] passed check and design silently; a real alternative differs by a factor of a few."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "design"))
+    from design_fixtures import DESIGN
+
+    base = updated(load_config(), {"design": DESIGN})
+    assert config_warnings(base) == []  # 390 HB against 350: a real alternative
+    keys = path.split(".")
+    design = copy.deepcopy(DESIGN)
+    node = design
+    for key in keys[1:-1]:
+        node = node[int(key)] if key.isdigit() else node[key]
+    node.pop(keys[-1] + "_HB", None)
+    node[keys[-1]] = value
+    (warning,) = config_warnings(updated(load_config(), {"design": design}))
+    assert warning.startswith(where) and "a unit slip?" in warning

@@ -87,11 +87,47 @@ def config_problems(config: StudyConfig, stages: frozenset[str] | set[str]) -> l
 MEAN_SHIFT_WARNING_SIGMAS = 3.0
 
 
+#: a design specification this many times larger or smaller than its variable's mean is worth a warning
+DESIGN_SCALE_WARNING = 100.0
+
+
+def design_warnings(config: StudyConfig) -> list[str]:
+    """Design specifications whose mean is more than ``DESIGN_SCALE_WARNING`` times larger or smaller than the
+    study's mean of their variable (a fit's mean against the clearance's): the sign of a unit slip, such as
+    ``mean = 120`` meant in HB (read as 120 Pa) or ``mean_mm = 8.5`` meant in um. A real alternative material or fit
+    differs by a factor of a few."""
+    from jointwear.config import target_unit
+    from jointwear.units import ANY_UNIT
+
+    design, unc = config.design, config.uncertainty
+    if design is None or unc is None:
+        return []
+    specs = {spec.name: spec for spec in unc.all_specs()}
+    given = [(f"design.properties[{p.variable}].classes[{c.name}]", p.variable, c)
+             for p in design.properties for c in p.classes]
+    given += [(f"design.materials[{m.name}].options[{o.name}].variables.{name}", name, spec)
+              for m in design.materials for o in m.options for name, spec in o.variables.items()]
+    if design.fit is not None and unc.clearance is not None:
+        given += [(f"design.fit.options[{o.name}]", "c", o) for o in design.fit.options]
+    out = []
+    for where, name, spec in given:
+        base = specs.get(name)
+        if base is None or spec.mean is None or not base.mean or not spec.mean:
+            continue
+        ratio = abs(spec.mean / base.mean)
+        if not 1.0 / DESIGN_SCALE_WARNING <= ratio <= DESIGN_SCALE_WARNING:
+            unit = "m" if name == "c" else target_unit(base.target)
+            unit = f" {unit}" if unit and unit != ANY_UNIT else ""
+            out.append(f"{where}: its mean ({spec.mean:.6g}{unit}) is {ratio:.3g} times the study's mean of "
+                       f"'{name}' ({base.mean:.6g}{unit}): a unit slip? (a suffix gives the unit: mean_HB, mean_um)")
+    return out
+
+
 def config_warnings(config: StudyConfig) -> list[str]:
     """What is legal but probably not meant: a random variable whose mean lies more than
-    ``MEAN_SHIFT_WARNING_SIGMAS`` standard deviations from the value drawn at its target. The nominal stages
+    ``MEAN_SHIFT_WARNING_SIGMAS`` standard deviations from the value drawn at its target (the nominal stages
     (simulate, wear) run the drawn mechanism and the reliability stages sample around the mean, so they would
-    describe two different mechanisms."""
+    describe two different mechanisms), and the design specifications of :func:`design_warnings`."""
     from jointwear.config import target_unit
     from jointwear.uncertainty.targets import target_error, target_value
     from jointwear.units import ANY_UNIT
@@ -113,7 +149,7 @@ def config_warnings(config: StudyConfig) -> list[str]:
                        f"deviations from the value drawn at its target {spec.target} ({drawn:.6g}{unit}): the "
                        "simulate and wear stages run the drawn mechanism, the reliability stages one around the mean; "
                        "give both the same value unless the shift is meant")
-    return out
+    return out + design_warnings(config)
 
 
 def out_problem(out: Path) -> str | None:
