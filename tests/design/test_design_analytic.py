@@ -120,6 +120,24 @@ def test_report_section_shows_the_front_the_choice_and_the_verified_reliability(
     for option in design.chosen["choices"].values():
         assert option in html
     assert f"{design.verification['reliability_at_target_life']:.4f}" in html and "confirms" in html
+    assert "Extrapolated candidates" not in html and "outside the study's inputs</th>" in html
+
+
+def test_report_section_warns_of_extrapolated_candidates_and_of_uniform_wear_outside_its_range(design, tmp_path):
+    """A user's PTFE option showed R(N*) = 1.0000 with 99.7 % of its population outside the study's inputs, and the
+    choice rested on uniform-mode wear the wear stage called untrustworthy: both are now said above the front."""
+    from jointwear.report.design_section import EXTRAPOLATED_SHARE, design_section
+    from jointwear.study import WearSummary
+
+    far = copy.deepcopy(design)
+    far.pareto[-1]["outside_design_fraction"] = 0.997
+    far.save(tmp_path, figures=False)
+    WearSummary(cycles=1, max_wear_mm=0.1, geometry_mode="uniform", conformity=17.9,
+                uniform_mode_valid=False).write(tmp_path)
+    html = design_section(tmp_path)
+    assert "<strong>Extrapolated candidates.</strong> 1 of these designs draw more than " \
+           f"{EXTRAPOLATED_SHARE:.0%}" in html and "<td>100%</td>" in html
+    assert "<strong>The wear model is outside its range.</strong>" in html and "conformity 17.9" in html
 
 
 def test_a_refinement_that_learns_nothing_stops_at_its_budget(setup, monkeypatch):

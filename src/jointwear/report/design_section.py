@@ -81,9 +81,42 @@ def design_section(out_dir: Path | str) -> str | None:
         parts.append(f'<figure class="fig"><img src="{uri}" alt="{e(caption)}"><figcaption>{e(caption)}'
                      "</figcaption></figure>")
         names = list(_get(d, "pareto")[0]["choices"])
-        header = "".join(f"<th>{e(n)}</th>" for n in names) + "<th>cost</th><th>life at R* (cycles)</th><th>R(N*)</th>"
+        header = "".join(f"<th>{e(n)}</th>" for n in names) + (
+            "<th>cost</th><th>life at R* (cycles)</th><th>R(N*)</th><th>+/- error</th>"
+            "<th>outside the study's inputs</th>")
         body = "".join("<tr>" + "".join(f"<td>{e(str(r['choices'][n]))}</td>" for n in names)
                        + f"<td>{r['cost']:.4g}</td><td>{_fmt(r.get('life_at_target_cycles'), ',.0f')}</td>"
-                       f"<td>{r['reliability_at_target_life']:.4f}</td></tr>" for r in _get(d, "pareto"))
+                       f"<td>{r['reliability_at_target_life']:.4f}</td><td>{_fmt(r.get('reliability_error'), '.4f')}"
+                       f"</td><td>{_fmt(r.get('outside_design_fraction'), '.0%')}</td></tr>"
+                       for r in _get(d, "pareto"))
         parts.append(f"<table><thead><tr>{header}</tr></thead><tbody>{body}</tbody></table>")
+        far = [r for r in _get(d, "pareto") + ([chosen] if chosen else [])
+               if (r.get("outside_design_fraction") or 0.0) > EXTRAPOLATED_SHARE]
+        if far:
+            parts.insert(0, '<p class="warn"><strong>Extrapolated candidates.</strong> '
+                         f"{len({str(r['choices']) for r in far})} of these designs draw more than "
+                         f"{EXTRAPOLATED_SHARE:.0%} of their population outside the inputs the study's surrogate "
+                         "learned from (the last column): their R(N*) and life are extrapolations, however certain "
+                         "they look. Widen the study's inputs to cover them, or verify one with its own study, before "
+                         "choosing it.</p>")
+    wear = _wear(out_dir)
+    if wear is not None and wear.geometry_mode == "uniform" and wear.uniform_mode_valid is False:
+        parts.insert(0, '<p class="warn"><strong>The wear model is outside its range.</strong> This choice rests on '
+                     f"uniform-mode wear, and the wear stage found the worn pocket wider than the contact "
+                     f"(conformity {wear.conformity:.3g} &gt; 1): rerun the study and the design with "
+                     '<code>wear.geometry_mode = "profile"</code> before deciding (docs/wear.md).</p>')
     return "".join(parts)
+
+
+#: share of a candidate's population outside the study's inputs beyond which its estimate is called extrapolated
+EXTRAPOLATED_SHARE = 0.05
+
+
+def _wear(out_dir: Path | str):
+    """The folder's wear result, when the wear stage ran there."""
+    from jointwear.study.results import WearSummary
+
+    try:
+        return WearSummary.load(out_dir)
+    except (OSError, ValueError, KeyError, TypeError):
+        return None

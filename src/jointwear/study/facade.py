@@ -574,7 +574,29 @@ class Study:
         self.echo(f"design: {picks} (cost {chosen['cost']:.3g}) reaches {result.target_life_cycles:,.0f} cycles at "
                   f"R = {result.target_reliability:g}{verified}; {result.model_calls} model calls "
                   f"-> {self.out / result.FILE}")
+        self._warn_design_trust(chosen)
+        if (self.out / "report.html").is_file():  # a report already there would go on without the design
+            self.report()
         return result
+
+    def _warn_design_trust(self, chosen: dict) -> None:
+        """What the choice rests on that the user must know before buying it: an extrapolated estimate, and
+        uniform-mode wear outside its range (as the folder's wear stage found it)."""
+        from jointwear.report.design_section import EXTRAPOLATED_SHARE
+
+        share = chosen.get("outside_design_fraction") or 0.0
+        if share > EXTRAPOLATED_SHARE:
+            self.warn(f"design: {share:.0%} of the chosen design's population lies outside the inputs the study's "
+                      "surrogate learned from: its R(N*) is partly an extrapolation (widen the study's inputs to cover "
+                      "it, or keep the verification on)")
+        try:
+            wear = WearSummary.load(self.out)
+        except (OSError, ValueError, KeyError, TypeError):
+            return
+        if wear.geometry_mode == "uniform" and wear.uniform_mode_valid is False:
+            self.warn(f"design: the choice rests on uniform-mode wear, which the wear stage found outside its range "
+                      f"(conformity {wear.conformity:.3g} > 1); rerun the study and the design with "
+                      'wear.geometry_mode = "profile" before deciding (docs/wear.md)')
 
 def _changed_settings(out: Path, settings: list[dict]) -> list[str]:
     """The settings of the wear model (``WearModelCall.MODEL_SECTIONS``) whose values differ from those recorded in
