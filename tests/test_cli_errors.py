@@ -193,3 +193,16 @@ def test_a_config_extends_a_preset(tmp_path, capsys):
     loop.write_text('extends = "loop.toml"\n', encoding="utf-8")
     code, err = _run(capsys, ["check", str(loop)])
     assert code == 2 and "circular" in err
+
+
+def test_an_interrupt_says_how_to_continue(tmp_path, capsys, monkeypatch):
+    """Ctrl-C printed only 'error: aborted'; the calls made are kept, and the message now says how to go on."""
+    import jointwear.study
+
+    def interrupted(self, *args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(jointwear.study.Study, "reliability", interrupted)
+    assert main_entry(["reliability", "--out", str(tmp_path)]) == 1
+    err = capsys.readouterr().err
+    assert "error: aborted" in err and "again with --resume" in err

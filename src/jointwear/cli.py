@@ -60,7 +60,8 @@ class JointwearGroup(click.Group):
             click.echo(f"error: {one_line(str(exc))}", err=True)
             return 2
         except click.exceptions.Abort:
-            click.echo("error: aborted", err=True)
+            click.echo("error: aborted (a stage that makes model calls keeps those made in the output folder's "
+                       "evaluation store: run the same command again with --resume to continue it)", err=True)
             return 1
         except click.UsageError as exc:
             click.echo(f"error: {one_line(exc.format_message())}", err=True)

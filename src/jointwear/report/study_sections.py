@@ -234,7 +234,8 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
         items.append(("journal max wear", f"{wear.journal['max_wear_mm']:.4g} mm", "over the pin's circumference"))
     if wear.conformity is not None and math.isfinite(wear.conformity):
         items.append(("conformity", format_number(wear.conformity, 3),
-                      "worn arc / contact patch; uniform mode is fair up to 1"))
+                      "worn arc / contact patch; profile mode follows the worn shape at any value: the answer to trust"
+                      if wear.geometry_mode == "profile" else "worn arc / contact patch; uniform mode is fair up to 1"))
     parts.append(cards(items))
     if len(wear.joints) > 1:
         parts.append(joints_wear_table(wear.joints))
