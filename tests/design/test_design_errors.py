@@ -18,6 +18,12 @@ def _preset_text() -> str:
      ["design.properties[2].variable", "nope"]),
     ('\n[[design.properties]]\nvariable = "l1"\nclasses = [{ name = "a", cost = 1.0 }]\n'
      '\n[[design.tolerances]]\nvariable = "l1"\ngrades = ["IT8"]\n', ["l1", "already set"]),
+    # every unknown grade at once (only the first was named), and the table's reach
+    ('\n[[design.tolerances]]\nvariable = "l1"\ngrades = ["IT19", "H7", "IT01", "IT9"]\n',
+     ["grades ['IT19', 'H7', 'IT01']", "up to 120 mm"]),
+    # a grade on a hardness: "nominal size 8.8263e+11 mm outside the tabulated range" before
+    ('\n[[design.tolerances]]\nvariable = "E_j"\ngrades = ["IT8"]\n',
+     ["'E_j' is not a length (its target is in Pa)", "[[design.properties]]"]),
 ])
 def test_bad_design_section_exits_2_with_one_line(tmp_path, capsys, extra, words):
     cfg = tmp_path / "bad.toml"

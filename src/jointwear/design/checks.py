@@ -39,22 +39,23 @@ def design_problems(config: StudyConfig) -> list[str]:
         if t.variable == "c":
             problems.append(f"{where}: the clearance is set by a fit ([design.fit]), not by a length grade")
             continue
+        unit = target_unit(specs[t.variable].target)
+        if unit not in ("m", ANY_UNIT):
+            problems.append(f"{where}: '{t.variable}' is not a length (its target is in {unit or 'no unit'}): a "
+                            "tolerance grade sets a length's spread; a material property's class goes in "
+                            "[[design.properties]]")
+            continue
         claim(t.variable, f"design.tolerances[{i}]")
         nominal = t.nominal if t.nominal is not None else abs(specs[t.variable].mean)
-        try:
-            it_tolerance(t.grades[0], nominal)
-        except ValueError as exc:
-            problems.append(f"design.tolerances[{i}].nominal: {exc}")
+        problems += _grade_problems(t.grades, nominal, f"design.tolerances[{i}]")
     if d.fit is not None:
         if unc.clearance is None:
             problems.append("design.fit: the fit needs a random clearance ([uncertainty.clearance])")
         else:
             claim("c", "design.fit")
             for j, f in enumerate(d.fit.options):
-                try:
-                    it_tolerance(f.hole_grade, unc.clearance.nominal_diameter)
-                except ValueError as exc:
-                    problems.append(f"design.fit.options[{j}]: {exc}")
+                problems += _grade_problems([f.hole_grade, f.shaft_grade], unc.clearance.nominal_diameter,
+                                            f"design.fit.options[{j}]")
     for i, p in enumerate(d.properties):
         where = f"design.properties[{i}].variable"
         if not known(p.variable, where):
@@ -79,6 +80,18 @@ def design_problems(config: StudyConfig) -> list[str]:
         problems.append(f"design: control names given twice: {dup} (a material's name must differ from the "
                         "controlled variables and from 'fit')")
     return problems
+
+
+def _grade_problems(grades, nominal: float, where: str) -> list[str]:
+    """Every grade the ISO 286 table cannot give for this nominal size, each message once."""
+    out = []
+    for grade in grades:
+        try:
+            it_tolerance(grade, nominal)
+        except ValueError as exc:
+            if f"{where}: {exc}" not in out:
+                out.append(f"{where}: {exc}")
+    return out
 
 
 def _spec_problems(spec, change, where: str) -> list[str]:

@@ -17,7 +17,7 @@ from typing import Literal
 from pydantic import Field, field_validator, model_validator
 
 from jointwear.schema import F, SIModel
-from jointwear.uncertainty.tolerances import it_tolerance
+from jointwear.uncertainty.tolerances import IT_GRADES, it_tolerance
 
 
 def _grade_name(grade: str) -> str:
@@ -70,6 +70,10 @@ class ToleranceControl(SIModel):
     def _grades(cls, grades: list[str]) -> list[str]:
         if not grades:
             raise ValueError("give at least one grade")
+        unknown = [g for g in grades if str(g).upper().replace(" ", "") not in IT_GRADES]
+        if unknown:
+            raise ValueError(f"unknown ISO 286 tolerance grades {unknown}; known: {', '.join(IT_GRADES)} (the table "
+                             "covers nominal sizes up to 120 mm)")
         names = [_grade_name(g) for g in grades]
         if len(set(names)) != len(names):
             raise ValueError(f"grades given twice: {names}")

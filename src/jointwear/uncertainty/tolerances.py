@@ -27,6 +27,8 @@ _IT_UM = {
     "IT10": (40, 48, 58, 70, 84, 100, 120, 140),
     "IT11": (60, 75, 90, 110, 130, 160, 190, 220),
 }
+#: the grades tabulated (nominal sizes up to 120 mm)
+IT_GRADES = tuple(_IT_UM)
 
 
 def it_tolerance(grade: str, nominal_size: float) -> float:
