@@ -21,7 +21,9 @@ class DesignResult(StageResult):
     ``verification``: the chosen design's own AK-MCS study on the true model at N* (``reliability_at_target_life``,
     ``error``, ``model_calls``, ``confirmed``: R + error >= R*). ``model_calls``: the distinct true-model inputs
     the design rests on (study, refinement and verification; ``calls`` splits them). ``targets``: the same for
-    every target (the first is the headline).
+    every target (the first is the headline). ``chosen_every_target``: with several targets, the cheapest candidate
+    that meets all of them at once (its R(N*) and error per target, in their order; None with one target or when
+    none does), which a drawing needs; each target's own choice may miss the others.
     """
 
     FILE: ClassVar[str] = "design.json"
@@ -43,6 +45,7 @@ class DesignResult(StageResult):
     n_population: int = 0
     n_candidates: int = 0
     provenance: dict = field(default_factory=dict)
+    chosen_every_target: dict | None = None
 
     @property
     def feasible(self) -> bool:

@@ -178,8 +178,8 @@ def baseline_life(ctx: StudyContext, reliability_result, target: float, space: C
 
 def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings | None = None, *,
                echo: Callable[[str], None] | None = None) -> DesignResult:
-    """The cheapest controls meeting every target, the Pareto front of cost vs life at R*, and the verification
-    of the headline target's choice (see the module docstring)."""
+    """The cheapest controls meeting each target and, with several, every target at once; the Pareto front of cost
+    vs life at R*; and the verification of the headline target's choice (see the module docstring)."""
     t0 = time.perf_counter()
     settings = settings if settings is not None else ctx.config.design
     say = echo if echo is not None else (lambda _m: None)
@@ -301,6 +301,14 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
                            "chosen": chosen, "chosen_index": chosen_i, "pareto": _pareto(rows), "rows": rows,
                            "undecided": sum(1 for _, kk in left if kk == k)})
 
+    every = None
+    if len(targets) > 1:  # a drawing must meet every target at once: the cheapest candidate that does
+        both = next((i for i in order if all(est[(i, k)].reliability >= t["reliability"]
+                                             for k, t in enumerate(targets))), None)
+        if both is not None:
+            every = {"choices": candidates[both].choices(controls), "cost": candidates[both].cost(controls),
+                     "reliability_at_target_life": [est[(both, k)].reliability for k in range(len(targets))],
+                     "reliability_error": [est[(both, k)].error for k in range(len(targets))]}
     head = per_target[0]
     verification = verified.get(head["chosen_index"]) if head["chosen_index"] is not None else None
     if verification is not None:
@@ -322,7 +330,7 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
                "new_in_this_stage": int(total_calls - calls_before)},
         refinement={"iterations": iterations, "model_calls": int(refine_calls),
                     "undecided_left": len(left), "design_points": int(sur.x.shape[0])},
-        n_population=settings.n_population, n_candidates=len(candidates))
+        n_population=settings.n_population, n_candidates=len(candidates), chosen_every_target=every)
 
 
 def _cheapest_meeting(est: dict, order: list[int], k: int, reliability: float) -> int | None:

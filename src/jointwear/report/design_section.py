@@ -75,6 +75,14 @@ def design_section(out_dir: Path | str) -> str | None:
             text += (f" Its own reliability study ({ver['model_calls']} true-model calls) gives R(N*) = "
                      f"{ver['reliability_at_target_life']:.4f} +/- {ver['error']:.4f}: it {verdict} R(N*) >= R*.")
         parts.append(f"<p>{e(text)}</p>")
+    targets, every = _get(d, "targets") or [], _get(d, "chosen_every_target")
+    if len(targets) > 1 and chosen is not None and (every is None or every["choices"] != chosen["choices"]):
+        meets = "No candidate meets every target at once." if every is None else (
+            "The cheapest design that meets every target at once: "
+            + ", ".join(f"{k} {v}" for k, v in every["choices"].items()) + f" (cost {every['cost']:.4g}; R(N*) "
+            + ", ".join(f"{r:.4f}" for r in every["reliability_at_target_life"]) + " at the targets in order).")
+        parts.append('<p class="warn"><strong>The headline choice does not meet every target.</strong> '
+                     f"{e(meets)}</p>")
     if _get(d, "pareto"):
         uri = to_data_uri(design_pareto_figure(d))
         caption = "Cost of every candidate design against its life at the target reliability; the front and the choice."

@@ -119,6 +119,10 @@ def settings_records(model: Any, prefix: str = "", *, explicit: bool = True) -> 
             for i, v in enumerate(value):
                 out += settings_records(v, f"{full}[{i}]", explicit=here)
             continue
+        if isinstance(value, Mapping) and value and all(isinstance(v, BaseModel) for v in value.values()):
+            for key, v in value.items():  # a table of sections, e.g. a material option's specifications
+                out += settings_records(v, f"{full}.{key}", explicit=here)
+            continue
         extra = info.json_schema_extra if isinstance(info.json_schema_extra, Mapping) else {}
         unit = extra.get("unit")
         if extra.get("unit_of") == "target" and isinstance(getattr(model, "target", None), str):

@@ -574,6 +574,12 @@ class Study:
         self.echo(f"design: {picks} (cost {chosen['cost']:.3g}) reaches {result.target_life_cycles:,.0f} cycles at "
                   f"R = {result.target_reliability:g}{verified}; {result.model_calls} model calls "
                   f"-> {self.out / result.FILE}")
+        every = result.chosen_every_target
+        if len(result.targets) > 1 and (every is None or every["choices"] != chosen["choices"]):
+            self.warn("design: the headline choice does not meet every target; " + (
+                "no candidate meets them all at once" if every is None else
+                f"the cheapest that does: {', '.join(f'{k} {v}' for k, v in every['choices'].items())} "
+                f"(cost {every['cost']:.3g})"))
         self._warn_design_trust(chosen)
         if (self.out / "report.html").is_file():  # a report already there would go on without the design
             self.report()
