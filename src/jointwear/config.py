@@ -476,9 +476,11 @@ def load_config(source: str | Path | None = None) -> StudyConfig:
     if not isinstance(source, (str, Path)):
         raise ConfigError(f"config: expected a preset name, a TOML path, a StudyConfig or a mapping of TOML tables "
                           f"(got {type(source).__name__})")
-    written = Path(source) / "config.json" if Path(source).is_dir() else Path(source)
-    if written.suffix == ".json":
+    written = Path(source) / "config.json"
+    if written.is_file():  # a study's output folder
         return _written_config(written)
+    if Path(source).suffix == ".json":
+        return _written_config(Path(source))
     data, name = _resolve(source)
     return config_from_dict(data, name)
 
