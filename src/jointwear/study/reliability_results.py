@@ -27,6 +27,11 @@ class ReliabilityResult(StageResult):
     ``hours``, ``status``}]: the life is None where it lies outside the curve, and ``status`` says on which side
     ('in_curve', 'beyond_curve': longer than the curve, 'before_curve': shorter than its first level). ``joints``: each judged joint's
     allowance and, with several, its own R(N) and its share of the system's failures (``governing_share``).
+
+    Units: ``design_x`` are the true-model inputs in SI (columns in the order of ``names``; a hardness in Pa),
+    ``design_wear`` their wear quantity in m at the study's history cycles, ``design_life`` their life in cycles;
+    ``mean_max_wear`` (``cycles``, ``mean``) and ``histograms`` are in mm, as in reliability.json's
+    ``mean_max_wear_mm``.
     """
 
     FILE: ClassVar[str] = "reliability.json"
