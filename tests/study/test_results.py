@@ -115,3 +115,14 @@ def test_a_study_prints_its_config_and_folder(tmp_path):
     out = str(tmp_path / "o")
     assert repr(study) == f"Study('jin2025_flapping_wing', source='jin2025_flapping_wing', out={out!r}, workers=1)"
     assert not (tmp_path / "o").exists()  # building a study writes nothing
+
+
+def test_profile_mode_writes_the_limit_states_clearance_growth(tmp_path):
+    """In profile mode the dynamics grow no clearance, so the column read all zeros while the bearing wore 0.024 mm;
+    it now holds the limit state's clearance_growth: the maximum bearing plus the maximum journal depth."""
+    r = wear_history(FakeModel(), WearSettings(n_grid=360, geometry_mode="profile"), 50_000, simulate=fake_simulate)
+    s = WearSummary.from_history(r)
+    h = s.joints[0]["history"]
+    np.testing.assert_allclose(h["clearance_growth_mm"],
+                               np.add(h["max_wear_mm"], h["max_journal_wear_mm"]), rtol=1e-12)
+    assert h["clearance_growth_mm"][-1] > 0

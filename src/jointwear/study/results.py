@@ -223,7 +223,10 @@ class WearSummary(StageResult):
                 "history": {"cycles": jw.history_cycles.astype(int).tolist(),
                             "max_wear_mm": (jw.history_max_bearing * 1e3).tolist(),
                             "max_journal_wear_mm": (jw.history_max_journal * 1e3).tolist(),
-                            "clearance_growth_mm": (jw.history_clearance_growth * 1e3).tolist()},
+                            # profile mode grows no clearance in the dynamics: the limit state's measure instead
+                            "clearance_growth_mm": ((jw.history_max_bearing + jw.history_max_journal
+                                                     if res.settings.geometry_mode == "profile"
+                                                     else jw.history_clearance_growth) * 1e3).tolist()},
                 "journal": {"max_wear_mm": float(jw.journal_wear.max() * 1e3),
                             "mean_wear_mm": float(jw.journal_wear.mean() * 1e3),
                             "angle_convention": "journal frame laid along +x; 0 deg leftmost, clockwise",
