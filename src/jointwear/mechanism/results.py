@@ -88,7 +88,8 @@ class ContactTrace:
     def contact_revolutions(self) -> float:
         """Net revolutions of the contact point round the bearing while in contact (CCW > 0): the wrapped steps of
         theta_bearing between consecutive samples both in contact, summed, over 2 pi."""
-        both = self.in_contact[1:] & self.in_contact[:-1]
+        contact = np.asarray(self.in_contact, dtype=bool)
+        both = contact[1:] & contact[:-1]
         step = np.angle(np.exp(1j * np.diff(self.theta_bearing)))
         return float(np.sum(step[both]) / (2.0 * np.pi))
 
