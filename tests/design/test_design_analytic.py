@@ -140,7 +140,7 @@ def test_report_section_warns_of_extrapolated_candidates_and_of_uniform_wear_out
     assert "<strong>The wear model is outside its range.</strong>" in html and "conformity 17.9" in html
 
 
-def test_a_refinement_that_learns_nothing_stops_at_its_budget(setup, monkeypatch):
+def test_a_refinement_that_learns_nothing_stops_at_its_budget(setup, design, monkeypatch):
     """The refinement's budget counts the points it asks for. It counted only new model calls, so a point the store
     already held (a failed call) was asked for again and again: a user's design ran 320 iterations until killed.
     Here every refinement point is a known study point and the surrogate learns nothing from it."""
@@ -152,11 +152,10 @@ def test_a_refinement_that_learns_nothing_stops_at_its_budget(setup, monkeypatch
     known = np.asarray(rel.design_x)[:1]
     monkeypatch.setattr(search, "_refine_point", lambda *args: known.copy())
     monkeypatch.setattr(search.LifeSurrogate, "add", lambda self, x: None)
-    edge = run_design(ctx, rel, settings=cfg.design.model_copy(update={"verify": False}))
     # a target life where the cheapest feasible design sits on R*: undecided until the surrogate learns
-    target = cfg.design.targets[0].model_copy(update={"life_cycles": edge.chosen["life_at_target_cycles"]})
-    settings = cfg.design.model_copy(update={"targets": [target], "verify": False, "refine_max_calls": 6,
-                                             "batch_size": 1})
+    target = cfg.design.targets[0].model_copy(update={"life_cycles": design.chosen["life_at_target_cycles"]})
+    settings = cfg.design.model_copy(update={"targets": [target], "verify": False, "refine_max_calls": 3,
+                                             "batch_size": 1, "n_population": 10_000})
 
     def endless(*_):
         raise TimeoutError("the refinement did not stop at its budget")
@@ -168,7 +167,7 @@ def test_a_refinement_that_learns_nothing_stops_at_its_budget(setup, monkeypatch
     finally:
         signal.alarm(0)
         signal.signal(signal.SIGALRM, previous)
-    assert res.refinement["iterations"] == 6 and res.refinement["model_calls"] == 0
+    assert res.refinement["iterations"] == 3 and res.refinement["model_calls"] == 0
     assert res.refinement["undecided_left"] >= 1
 
 
