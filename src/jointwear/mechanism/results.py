@@ -89,15 +89,20 @@ class ContactTrace:
         """Net revolutions of the contact point round the bearing while in contact (CCW > 0): the wrapped steps of
         theta_bearing between consecutive samples both in contact, summed, over 2 pi."""
         contact = np.asarray(self.in_contact, dtype=bool)
-        both = contact[1:] & contact[:-1]
-        step = np.angle(np.exp(1j * np.diff(self.theta_bearing)))
-        return float(np.sum(step[both]) / (2.0 * np.pi))
+        step = _wrapped_steps(self.theta_bearing)
+        return float(np.sum(step[contact[1:] & contact[:-1]]) / (2.0 * np.pi))
 
     @property
     def relative_revolutions(self) -> float:
         """Net revolutions of the journal body relative to the bearing body over the trace."""
-        rel = np.unwrap(self.journal_body_angle - self.bearing_body_angle)
-        return float((rel[-1] - rel[0]) / (2.0 * np.pi)) if rel.size else 0.0
+        return float(np.sum(_wrapped_steps(self.journal_body_angle - self.bearing_body_angle)) / (2.0 * np.pi))
+
+
+def _wrapped_steps(angle: np.ndarray) -> np.ndarray:
+    """Steps between consecutive angles, each wrapped to [-pi, pi] (a step of a sampled motion is below pi)."""
+    step = np.diff(angle)
+    step -= 2.0 * np.pi * np.rint(step / (2.0 * np.pi))
+    return step
 
 
 def whirl_threshold(relative_per_cycle: float) -> float:
