@@ -173,7 +173,7 @@ def test_resume_with_a_changed_model_is_refused(quick_config, tmp_path):
     before = (out / "config.json").read_bytes()
     res = subprocess.run(_cmd(changed, out, "--resume"), env=_env(), capture_output=True, text=True, timeout=300)
     assert res.returncode == 2
-    assert "holds calls of another wear model" in res.stderr
+    assert "holds calls of another wear model (changed: wear.block_cycles)" in res.stderr
     assert len([ln for ln in res.stderr.splitlines() if ln.strip()]) == 1
     assert (out / "config.json").read_bytes() == before  # refused before it wrote anything
 

@@ -472,7 +472,11 @@ class Study:
         from jointwear import compute
 
         if isinstance(exc, compute.ConfigChangedError):
-            return (f"out: the evaluation store in {self.out} holds calls of another wear model: the "
+            from jointwear.report.settings import settings_dump
+
+            changed = _changed_settings(self.out, settings_dump(self.config)["settings"], with_results=False)
+            named = f" (changed: {', '.join(changed[:5])}{' ...' if len(changed) > 5 else ''})" if changed else ""
+            return (f"out: the evaluation store in {self.out} holds calls of another wear model{named}: the "
                     f"{', '.join(WearModelCall.MODEL_SECTIONS)} sections, the random variables' targets or the "
                     "curve's cycle counts changed since it was written. Resume with the model it was written for, "
                     "or use a new output folder (--out; out= in Python). The learning, sensitivity, design and "
@@ -604,14 +608,16 @@ class Study:
                       f"(conformity {wear.conformity:.3g} > 1); rerun the study and the design with "
                       'wear.geometry_mode = "profile" before deciding (docs/wear.md)')
 
-def _changed_settings(out: Path, settings: list[dict]) -> list[str]:
+def _changed_settings(out: Path, settings: list[dict], *, with_results: bool = True) -> list[str]:
     """The settings of the wear model (``WearModelCall.MODEL_SECTIONS``) whose values differ from those recorded in
-    ``out/config.json`` by an earlier study whose results are still there; empty when there is none or it had this
-    model (the learning, sensitivity and report settings may change between runs in one folder)."""
+    ``out/config.json`` by an earlier study whose results are still there (``with_results=False``: whose config is
+    there, e.g. beside its evaluation store); empty when there is none or it had this model (the learning,
+    sensitivity and report settings may change between runs in one folder)."""
     from jointwear.study.results import STAGE_TYPES
 
     recorded = out / "config.json"
-    if not recorded.is_file() or not any((out / cls.FILE).is_file() for cls in STAGE_TYPES.values()):
+    results = any((out / cls.FILE).is_file() for cls in STAGE_TYPES.values())
+    if not recorded.is_file() or (with_results and not results):
         return []
     try:
         before = {r["name"]: r.get("value") for r in json.loads(recorded.read_text(encoding="utf-8"))["settings"]}
