@@ -11,6 +11,8 @@ Sections (preset jin2025_flapping_wing, only the named settings changed):
   does not depend on);
 - centripetal: the mass m that the whirl's mean contact force would keep orbiting at radius c at the whirl's
   angular speed Omega (F = m c Omega^2), beside the rod's mass (the eye's effective mass adds the rocker's);
+- other_configs: every clearance joint of the other presets, the examples and benchmarks/configs from rest (the
+  calm side of the whirl threshold);
 - wear: the wear stage's history (default settings, `--wear-cycles`) per speed: max bearing wear and the blocks
   that whirled.
 """
@@ -75,6 +77,27 @@ def main() -> None:
     for name, change in variants.items():
         out["needs_at_360_rpm"][name] = one_run(updated(base, {**at360, **change}))
         print(f"360 rpm, {name}: {out['needs_at_360_rpm'][name]}", file=sys.stderr, flush=True)
+
+    # the calm side of the threshold: every clearance joint of the other presets, the examples and the benchmark
+    # configs, from rest (the whirl threshold is max(5, 3 (|n_rel| + 1)))
+    from jointwear.config import available_presets
+    from jointwear.mechanism import build_model, simulate, whirl_measure
+
+    root = Path(__file__).resolve().parents[1]
+    sources = [p for p in available_presets() if p != "jin2025_flapping_wing"]
+    sources += [str(p.relative_to(root)) for p in sorted((root / "examples").glob("*.toml"))]
+    sources += [str(p.relative_to(root)) for p in sorted((root / "benchmarks" / "configs").glob("*.toml"))]
+    out["other_configs"] = {}
+    for source in sources:
+        cfg = load_config(source if source in available_presets() else root / source)
+        res = simulate(build_model(cfg), 2)
+        rows = {}
+        for tr in res.joints:
+            revolutions, whirl = whirl_measure(tr, res.n_cycles)
+            rows[tr.name] = {"contact_revolutions_per_cycle": revolutions, "whirl": whirl,
+                             "relative_revolutions_per_cycle": tr.relative_revolutions / res.n_cycles}
+        out["other_configs"][source] = rows
+        print(f"{source}: {out['other_configs'][source]}", file=sys.stderr, flush=True)
 
     cj = base.clearance_joints[0]
     c = cj.bearing_radius - cj.journal_radius
