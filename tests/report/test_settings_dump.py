@@ -95,3 +95,18 @@ def test_the_random_inputs_are_listed_in_their_targets_units():
     hb = next(r for r in settings_dump(plain)["random_variables"] if r["name"] == "HB_b")
     assert hb["unit"] == ("GPa" if spec.mean >= 1e9 else "MPa")
     assert hb["std"] / hb["mean"] == pytest.approx(spec.std / spec.mean) == pytest.approx(hb["cov"])
+
+
+def test_a_design_specification_is_listed_field_by_field_in_its_variables_unit():
+    """`check` printed a material option's specifications as a raw SI dump ("{'HB_b': 'mean=1176840000.0 ...'}");
+    each field is now a row, in the unit of its variable's target (a hardness in MPa/GPa)."""
+    from jointwear.config import load_config
+    from jointwear.report.settings import settings_records
+
+    cfg = load_config()  # its [design] has a "hardened" class of HB_b: mean_HB = 390
+    k = next(i for i, p in enumerate(cfg.design.properties) if p.variable == "HB_b")
+    j = next(i for i, c in enumerate(cfg.design.properties[k].classes) if c.name == "hardened")
+    rows = {r["name"]: r for r in settings_records(cfg)}
+    row = rows[f"design.properties[{k}].classes[{j}].mean"]
+    assert row["unit"] == "GPa" and row["value"] == pytest.approx(390 * 9.807e6 / 1e9, rel=1e-12)
+    assert not any(isinstance(r["value"], str) and "mean=" in r["value"] for r in rows.values())

@@ -100,11 +100,17 @@ def _plain(v: Any) -> Any:
         return str(v)
 
 
-def settings_records(model: Any, prefix: str = "", *, explicit: bool = True) -> list[dict]:
+def settings_records(model: Any, prefix: str = "", *, explicit: bool = True,
+                     variable_units: Mapping[str, str | None] | None = None, variable: str | None = None) -> list[dict]:
     """Flatten a pydantic model into ``{"name", "value", "unit", "source", "paper_open", "description",
-    "explicit"}``; ``explicit`` is whether the config gave the value (False: a default)."""
+    "explicit"}``; ``explicit`` is whether the config gave the value (False: a default). A design specification's
+    numbers (unit set by its random variable) are shown in that variable's target unit."""
     from pydantic import BaseModel
 
+    if variable_units is None:
+        variable_units = _variable_units(model)
+    variable = getattr(model, "variable", None) if isinstance(getattr(model, "variable", None), str) else variable
+    deeper = {"variable_units": variable_units, "variable": variable}
     out: list[dict] = []
     fields = type(model).model_fields
     given = getattr(model, "model_fields_set", set())
@@ -113,15 +119,16 @@ def settings_records(model: Any, prefix: str = "", *, explicit: bool = True) -> 
         full = f"{prefix}.{name}" if prefix else name
         here = explicit and name in given
         if isinstance(value, BaseModel):
-            out += settings_records(value, full, explicit=here)
+            out += settings_records(value, full, explicit=here, **deeper)
             continue
         if isinstance(value, (list, tuple)) and value and all(isinstance(v, BaseModel) for v in value):
             for i, v in enumerate(value):
-                out += settings_records(v, f"{full}[{i}]", explicit=here)
+                out += settings_records(v, f"{full}[{i}]", explicit=here, **deeper)
             continue
         if isinstance(value, Mapping) and value and all(isinstance(v, BaseModel) for v in value.values()):
-            for key, v in value.items():  # a table of sections, e.g. a material option's specifications
-                out += settings_records(v, f"{full}.{key}", explicit=here)
+            for key, v in value.items():  # a table of sections, e.g. a material option's specifications by variable
+                out += settings_records(v, f"{full}.{key}", explicit=here, variable_units=variable_units,
+                                        variable=str(key))
             continue
         extra = info.json_schema_extra if isinstance(info.json_schema_extra, Mapping) else {}
         unit = extra.get("unit")
@@ -130,6 +137,8 @@ def settings_records(model: Any, prefix: str = "", *, explicit: bool = True) -> 
 
             unit = target_unit(model.target)
             unit = None if unit == ANY_UNIT else unit
+        elif extra.get("unit_of") == "variable" and variable is not None:
+            unit = variable_units.get(variable)
         shown, shown_unit = _display(_plain(value), unit)
         desc = info.description or ""
         out.append({
@@ -142,6 +151,17 @@ def settings_records(model: Any, prefix: str = "", *, explicit: bool = True) -> 
             "explicit": here,
         })
     return out
+
+
+def _variable_units(config: Any) -> dict[str, str | None]:
+    """Each random variable's target unit (None where it has none), from a study config; empty for a section."""
+    unc = getattr(config, "uncertainty", None)
+    if unc is None or not hasattr(unc, "all_specs"):
+        return {}
+    from jointwear.config import target_unit
+
+    units = {spec.name: target_unit(spec.target) for spec in unc.all_specs()}
+    return {name: None if unit == ANY_UNIT else unit for name, unit in units.items()}
 
 
 def _general_mechanism(mech: Any, joints: list) -> dict:
