@@ -107,8 +107,10 @@ def design_section(out_dir: Path | str) -> str | None:
                          "learned from (the last column): their R(N*) and life are extrapolations, however certain "
                          "they look. Widen the study's inputs to cover them, or verify one with its own study, before "
                          "choosing it.</p>")
-    wear = _wear(out_dir)
-    if wear is not None and wear.geometry_mode == "uniform" and wear.uniform_mode_valid is False:
+    from jointwear.study.results import WearSummary
+
+    wear = WearSummary.load_if_present(out_dir)
+    if wear is not None and wear.uniform_out_of_range:
         parts.insert(0, '<p class="warn"><strong>The wear model is outside its range.</strong> This choice rests on '
                      f"uniform-mode wear, and the wear stage found the worn pocket wider than the contact "
                      f"(conformity {wear.conformity:.3g} &gt; 1): rerun the study and the design with "
@@ -118,13 +120,3 @@ def design_section(out_dir: Path | str) -> str | None:
 
 #: share of a candidate's population outside the study's inputs beyond which its estimate is called extrapolated
 EXTRAPOLATED_SHARE = 0.05
-
-
-def _wear(out_dir: Path | str):
-    """The folder's wear result, when the wear stage ran there."""
-    from jointwear.study.results import WearSummary
-
-    try:
-        return WearSummary.load(out_dir)
-    except (OSError, ValueError, KeyError, TypeError):
-        return None

@@ -210,7 +210,7 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
     if wear is None:
         return not_run(out, "wear", "the wear stage")
     parts: list[str] = []
-    if wear.geometry_mode == "uniform" and wear.uniform_mode_valid is False:
+    if wear.uniform_out_of_range:
         parts.append(_UNIFORM_WARNING.format(conformity=e(format_number(wear.conformity, 3))))
     parts += [warning("Worn through.", s) for s in wear.worn_through()]
     parts += [warning("Friction-driven whirl.", s) for s in wear.whirls()]

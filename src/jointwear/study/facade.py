@@ -332,7 +332,7 @@ class Study:
                   f"-> {self.out / result.FILE}")
         for sentence in result.worn_through() + result.whirls():
             self.warn(f"wear: {sentence}")
-        if result.geometry_mode == "uniform" and result.uniform_mode_valid is False:
+        if result.uniform_out_of_range:
             self.warn(f"wear: uniform mode is outside its range here (conformity {result.conformity:.3g} > 1: the "
                       'journal fits into its own wear); wear.geometry_mode = "profile" follows it (docs/wear.md)')
         return result
@@ -599,14 +599,12 @@ class Study:
             self.warn(f"design: {share:.0%} of the chosen design's population lies outside the inputs the study's "
                       "surrogate learned from: its R(N*) is partly an extrapolation (widen the study's inputs to cover "
                       "it, or keep the verification on)")
-        try:
-            wear = WearSummary.load(self.out)
-        except (OSError, ValueError, KeyError, TypeError):
-            return
-        if wear.geometry_mode == "uniform" and wear.uniform_mode_valid is False:
+        wear = WearSummary.load_if_present(self.out)
+        if wear is not None and wear.uniform_out_of_range:
             self.warn(f"design: the choice rests on uniform-mode wear, which the wear stage found outside its range "
                       f"(conformity {wear.conformity:.3g} > 1); rerun the study and the design with "
                       'wear.geometry_mode = "profile" before deciding (docs/wear.md)')
+
 
 def _changed_settings(out: Path, settings: list[dict], *, with_results: bool = True) -> list[str]:
     """The settings of the wear model (``WearModelCall.MODEL_SECTIONS``) whose values differ from those recorded in

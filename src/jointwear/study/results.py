@@ -275,6 +275,12 @@ class WearSummary(StageResult):
                            f"({cycles:,} of {self.cycles:,} cycles)")
         return out
 
+    @property
+    def uniform_out_of_range(self) -> bool:
+        """Whether the history ran in uniform mode where the worn pocket outgrew the contact patch (conformity > 1),
+        so that profile mode's answer is the one to trust (docs/wear.md)."""
+        return self.geometry_mode == "uniform" and self.uniform_mode_valid is False
+
     def worn_through(self) -> list[str]:
         """One sentence per joint whose bearing wear is deeper than its bushing wall (bearing_outer_radius -
         bearing_radius): a worn-through bushing, which the wear model does not describe."""

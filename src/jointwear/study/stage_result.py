@@ -86,6 +86,14 @@ class StageResult:
         """Read the result back from ``folder / FILE``."""
         return cls.from_json(read_json(Path(folder) / cls.FILE))
 
+    @classmethod
+    def load_if_present(cls, folder: Path | str):
+        """The result in ``folder``, or None where the stage has not written it there or it cannot be read."""
+        try:
+            return cls.load(folder)
+        except (OSError, ValueError, KeyError, TypeError):
+            return None
+
     def write(self, folder: Path | str) -> Path:
         payload = self.to_json()
         if not payload.get("provenance"):  # a result built without its machine's record gets this one's
