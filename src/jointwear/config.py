@@ -152,6 +152,13 @@ def target_unit(path: str) -> str | None:
     return "m" if path.endswith(CLEARANCE_SUFFIX) else path_unit(StudyConfig, path)
 
 
+def target_display_unit(path: str) -> str | None:
+    """A target's SI unit to show beside its numbers: None for a plain number and for a path the schema does not
+    follow."""
+    unit = target_unit(path)
+    return None if unit == ANY_UNIT else unit
+
+
 def _suffixed_by_target(data: Any) -> list[tuple[str, dict, str | None]]:
     """(where, raw table, SI unit of the target) of every table whose numbers take their variable's target's unit:
     the random variables, and the design's property classes and material options."""

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from jointwear.config import StudyConfig, target_unit
+from jointwear.config import StudyConfig, target_display_unit, target_unit
 from jointwear.uncertainty.tolerances import it_tolerance
 from jointwear.units import ANY_UNIT
 
@@ -102,8 +102,8 @@ def _spec_problems(spec, change, where: str) -> list[str]:
     if truncated:
         mean = spec.mean if change.mean is None else change.mean
         if (change.lower is not None and change.lower >= mean) or (change.upper is not None and change.upper <= mean):
-            unit = target_unit(spec.target)
-            unit = f" {unit}" if unit and unit != ANY_UNIT else ""
+            unit = target_display_unit(spec.target)
+            unit = f" {unit}" if unit else ""
             limits = " and ".join(f"{v:g}{unit}" for v in (change.lower, change.upper) if v is not None)
             out.append(f"{where}: the acceptance limits ({limits}) must enclose the variable's mean ({mean:g}{unit})")
     return out

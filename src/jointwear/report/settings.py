@@ -42,8 +42,6 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from jointwear.units import ANY_UNIT
-
 __all__ = ["settings_records", "settings_dump", "write_settings", "is_paper_open", "random_variables"]
 
 _OPEN = re.compile(
@@ -133,10 +131,9 @@ def settings_records(model: Any, prefix: str = "", *, explicit: bool = True,
         extra = info.json_schema_extra if isinstance(info.json_schema_extra, Mapping) else {}
         unit = extra.get("unit")
         if extra.get("unit_of") == "target" and isinstance(getattr(model, "target", None), str):
-            from jointwear.config import target_unit  # a random variable's numbers are in its target's unit
+            from jointwear.config import target_display_unit  # a random variable's numbers: its target's unit
 
-            unit = target_unit(model.target)
-            unit = None if unit == ANY_UNIT else unit
+            unit = target_display_unit(model.target)
         elif extra.get("unit_of") == "variable" and variable is not None:
             unit = variable_units.get(variable)
         shown, shown_unit = _display(_plain(value), unit)
@@ -158,10 +155,9 @@ def _variable_units(config: Any) -> dict[str, str | None]:
     unc = getattr(config, "uncertainty", None)
     if unc is None or not hasattr(unc, "all_specs"):
         return {}
-    from jointwear.config import target_unit
+    from jointwear.config import target_display_unit
 
-    units = {spec.name: target_unit(spec.target) for spec in unc.all_specs()}
-    return {name: None if unit == ANY_UNIT else unit for name, unit in units.items()}
+    return {spec.name: target_display_unit(spec.target) for spec in unc.all_specs()}
 
 
 def _general_mechanism(mech: Any, joints: list) -> dict:
@@ -251,15 +247,14 @@ def random_variables(config: Any) -> list[dict]:
     unc = getattr(config, "uncertainty", None)
     if unc is None or not hasattr(unc, "all_specs"):
         return []
-    from jointwear.config import target_unit
+    from jointwear.config import target_display_unit
 
     rows = []
     for spec in unc.all_specs():
         if spec.unit:
             factor, unit = spec.scale, spec.unit
         else:
-            si = target_unit(spec.target)
-            shown, unit = _display(spec.mean, None if si == ANY_UNIT else si)
+            shown, unit = _display(spec.mean, target_display_unit(spec.target))
             factor = shown / spec.mean if spec.mean else 1.0  # one prefix for the mean, std and bounds
 
         def conv(v: float | None) -> float | None:

@@ -96,8 +96,7 @@ def design_warnings(config: StudyConfig) -> list[str]:
     study's mean of their variable (a fit's mean against the clearance's): the sign of a unit slip, such as
     ``mean = 120`` meant in HB (read as 120 Pa) or ``mean_mm = 8.5`` meant in um. A real alternative material or fit
     differs by a factor of a few."""
-    from jointwear.config import target_unit
-    from jointwear.units import ANY_UNIT
+    from jointwear.config import target_display_unit
 
     design, unc = config.design, config.uncertainty
     if design is None or unc is None:
@@ -116,8 +115,8 @@ def design_warnings(config: StudyConfig) -> list[str]:
             continue
         ratio = abs(spec.mean / base.mean)
         if not 1.0 / DESIGN_SCALE_WARNING <= ratio <= DESIGN_SCALE_WARNING:
-            unit = "m" if name == "c" else target_unit(base.target)
-            unit = f" {unit}" if unit and unit != ANY_UNIT else ""
+            unit = target_display_unit(base.target)
+            unit = f" {unit}" if unit else ""
             out.append(f"{where}: its mean ({spec.mean:.6g}{unit}) is {ratio:.3g} times the study's mean of "
                        f"'{name}' ({base.mean:.6g}{unit}): a unit slip? (a suffix gives the unit: mean_HB, mean_um)")
     return out
@@ -128,9 +127,8 @@ def config_warnings(config: StudyConfig) -> list[str]:
     ``MEAN_SHIFT_WARNING_SIGMAS`` standard deviations from the value drawn at its target (the nominal stages
     (simulate, wear) run the drawn mechanism and the reliability stages sample around the mean, so they would
     describe two different mechanisms), and the design specifications of :func:`design_warnings`."""
-    from jointwear.config import target_unit
+    from jointwear.config import target_display_unit
     from jointwear.uncertainty.targets import target_error, target_value
-    from jointwear.units import ANY_UNIT
 
     unc = config.uncertainty
     if unc is None:
@@ -143,8 +141,8 @@ def config_warnings(config: StudyConfig) -> list[str]:
         drawn = target_value(data, spec.target)
         shift = (spec.mean - drawn) / spec.std
         if abs(shift) > MEAN_SHIFT_WARNING_SIGMAS:
-            unit = target_unit(spec.target)
-            unit = f" {unit}" if unit and unit != ANY_UNIT else ""
+            unit = target_display_unit(spec.target)
+            unit = f" {unit}" if unit else ""
             out.append(f"uncertainty: the mean of '{spec.name}' ({spec.mean:.6g}{unit}) is {abs(shift):,.0f} standard "
                        f"deviations from the value drawn at its target {spec.target} ({drawn:.6g}{unit}): the "
                        "simulate and wear stages run the drawn mechanism, the reliability stages one around the mean; "
