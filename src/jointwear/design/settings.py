@@ -20,9 +20,14 @@ from jointwear.schema import F, SIModel
 from jointwear.uncertainty.tolerances import IT_GRADES, it_tolerance
 
 
+def _grade_key(grade: str) -> str:
+    """Normalised ISO 286 grade name ('it 7' -> 'IT7')."""
+    return str(grade).upper().replace(" ", "")
+
+
 def _grade_name(grade: str) -> str:
-    """Normalised ISO 286 grade name ('it7' -> 'IT7'); raises ValueError naming the known grades."""
-    key = str(grade).upper().replace(" ", "")
+    """:func:`_grade_key`; raises ValueError naming the known grades."""
+    key = _grade_key(grade)
     it_tolerance(key, 1e-3)  # raises for an unknown grade
     return key
 
@@ -70,11 +75,11 @@ class ToleranceControl(SIModel):
     def _grades(cls, grades: list[str]) -> list[str]:
         if not grades:
             raise ValueError("give at least one grade")
-        unknown = [g for g in grades if str(g).upper().replace(" ", "") not in IT_GRADES]
+        names = [_grade_key(g) for g in grades]
+        unknown = [g for g, name in zip(grades, names) if name not in IT_GRADES]
         if unknown:
             raise ValueError(f"unknown ISO 286 tolerance grades {unknown}; known: {', '.join(IT_GRADES)} (the table "
                              "covers nominal sizes up to 120 mm)")
-        names = [_grade_name(g) for g in grades]
         if len(set(names)) != len(names):
             raise ValueError(f"grades given twice: {names}")
         return names
