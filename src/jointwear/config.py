@@ -316,11 +316,11 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
         target = _target_path(data, path, source) if _is_number(value) else None
         if target is not None:  # a random variable's kind of path, perhaps with a unit suffix
             target_path, suffix = target
-            number = float(to_si(value, suffix) if suffix else value)
+            value = to_si(value, suffix) if suffix else value
             if target_path.endswith(CLEARANCE_SUFFIX):
-                set_clearance(data, target_path, number)
+                set_clearance(data, target_path, float(value))
             else:
-                set_target(data, target_path, number if suffix else value)
+                set_target(data, target_path, value)
             continue
         node: Any = data
         walked: list[str] = []

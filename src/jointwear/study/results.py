@@ -265,10 +265,9 @@ class WearSummary(StageResult):
         """One sentence per joint that whirled in some blocks of the history (docs/dynamics.md, "Friction-driven
         whirl"): its wear is spread round the bore there, so the depth depends on how many blocks whirled."""
         out = []
-        for j in self.joints:
+        for k, j in enumerate(self.joints):
             spun = [b for b in self.blocks if j["name"] in (b.get("whirl") or [])]
             if spun:
-                k = self.joints.index(j)
                 most = max((b["contact_revolutions_per_cycle"][k] for b in spun), key=abs)
                 cycles = sum(b["size"] for b in spun)
                 out.append(f"{whirl_sentence(j['name'], most)}; here in {len(spun)} of {len(self.blocks)} blocks "
