@@ -70,10 +70,10 @@ def number_fields(model: type[BaseModel]) -> frozenset[str]:
 def number_slips(model: type[BaseModel], data: dict[str, Any]) -> list[str]:
     """'key: a number is expected, not the string '0.9' ...' for each key of ``data`` (unit-suffixed or not) that
     gives a number field a string or a boolean (pydantic's lax mode would read "0.9" as 0.9 and true as 1)."""
-    numbers = number_fields(model)
+    numbers, names = number_fields(model), frozenset(model.model_fields)
     out = []
     for key, value in data.items():
-        split = split_unit_key(key, frozenset(model.model_fields))
+        split = split_unit_key(key, names)
         if (split[0] if split else key) in numbers:
             items = value if isinstance(value, (list, tuple)) else [value]
             slip = next(filter(None, map(not_a_number, items)), None)
