@@ -289,7 +289,12 @@ def _allowances(config: Any) -> dict:
 def write_settings(out_dir: Path | str, config: Any, *sections: tuple[str, Any], filename: str = "config.json",
                    **kw: Any) -> Path:
     """Write :func:`settings_dump` to ``out_dir / "config.json"``; returns the path."""
+    return write_dump(out_dir, settings_dump(config, *sections, **kw), filename=filename)
+
+
+def write_dump(out_dir: Path | str, dump: dict, *, filename: str = "config.json") -> Path:
+    """Write a :func:`settings_dump` already made to ``out_dir / filename``; returns the path."""
     path = Path(out_dir) / filename
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(settings_dump(config, *sections, **kw), indent=1, default=str), encoding="utf-8")
+    path.write_text(json.dumps(dump, indent=1, default=str), encoding="utf-8")
     return path

@@ -217,15 +217,16 @@ class Study:
             probe.unlink()
         except OSError as exc:
             raise ConfigError(f"out: cannot write to '{self.out}': {exc.strerror or exc}") from None
-        from jointwear.report.settings import settings_dump, write_settings
+        from jointwear.report.settings import settings_dump, write_dump
 
         source = "preset" if self._preset else "python" if self.source is None else str(self.source)
-        changed = _changed_settings(self.out, settings_dump(self.config)["settings"])
+        dump = settings_dump(self.config, preset=self.config.name if self._preset else None, source=source)
+        changed = _changed_settings(self.out, dump["settings"])
         if changed:
             self.warn(f"out: {self.out} holds results of another wear model (changed: {', '.join(changed[:3])}"
                       f"{f' and {len(changed) - 3} more' if len(changed) > 3 else ''}); the results this study "
                       "writes replace theirs, and the report reads both: use a new output folder to keep them apart")
-        write_settings(self.out, self.config, preset=self.config.name if self._preset else None, source=source)
+        write_dump(self.out, dump)
 
     def _warn_design_problems(self, stages) -> None:
         """A [design] section that only `design` reads does not stop the other stages (a variation that shifts a
