@@ -393,3 +393,21 @@ def test_a_mechanism_with_several_clearance_joints_shows_each(tmp_path, nominal)
     assert "mean contact force (joint A)" in page and "max bearing wear (joint A)" in page
     assert "<td>E</td><td>0.003286</td><td>277.2</td>" in page and "<td>0.1914</td>" in page
     assert "Bearing wear profile of joint E" in page and page.count("data:image/png;base64") == n_figures + 1
+
+
+def test_failed_model_calls_and_a_worn_away_joint_are_warned(tmp_path, nominal):
+    """Failed calls teach the surrogate nothing (the curve can be too high), and a history that stopped because a
+    joint wore away extrapolates past that point: both are said where the numbers are, not only in the JSON."""
+    d = make_fixture_dir(tmp_path / "x", nominal, which=("wear", "reliability"))
+    page = build_report(d).read_text(encoding="utf-8")
+    assert "Failed model calls" not in page and "Worn away" not in page
+    rel, wear = ReliabilityResult.load(d), WearSummary.load(d)
+    rel.failed_calls = 9
+    rel.infeasible = {"failed_calls": 9, "failure_reasons": {"3": "ValueError: boom", "5": "ValueError: boom"}}
+    rel.save(d)
+    wear.stopped_at_cycles, wear.stop_reason = 100_000, "joint A: the journal is worn 2 mm deep"
+    wear.write(d)
+    page = build_report(d).read_text(encoding="utf-8")
+    assert "Failed model calls" in page and f"9 of {rel.model_calls} model calls failed" in page
+    assert "most often: ValueError: boom" in page and "unconservative" in page
+    assert "Worn away" in page and "stopped at 100,000 of" in page

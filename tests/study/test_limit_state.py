@@ -174,4 +174,7 @@ def test_the_wear_line_names_each_joint_of_a_series_system():
     two = SimpleNamespace(joints=[{"name": "A", "max_wear_mm": 0.02872, "max_wear_angle_deg": 108.19},
                                   {"name": "E", "max_wear_mm": 0.003286, "max_wear_angle_deg": 277.25}],
                           max_wear_mm=0.02872, max_wear_angle_deg=108.19)
-    assert wear_line(two) == "A 0.0287 mm at 108 deg, E 0.0033 mm at 277 deg"
+    assert wear_line(two) == "A 0.0287 mm at 108 deg, E 0.00329 mm at 277 deg"
+    # three significant figures, not four decimals: a bronze bushing's 7.1e-5 mm read "0.0001 mm"
+    bronze = SimpleNamespace(joints=[{}], max_wear_mm=7.1e-5, max_wear_angle_deg=12.0)
+    assert wear_line(bronze) == "7.1e-05 mm at 12 deg"

@@ -61,6 +61,8 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
         ("max COV of Pf", "\u2014" if cov is None else f"{cov:.3g}", "over the levels with Pf \u2265 pf_floor"),
         ("wall time", f"{rel.wall_seconds:.4g} s", None),
     ])]
+    if rel.failed_calls:
+        parts.append(f'<p class="warn"><strong>Failed model calls.</strong> {e(rel.failed_calls_sentence())}</p>')
     missed = curve_misses_life(rel, out.results.wear)
     if missed:
         parts.append(f'<p class="warn"><strong>The curve misses the life.</strong> {missed}</p>')

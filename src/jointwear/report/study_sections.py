@@ -212,6 +212,7 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
     parts: list[str] = []
     if wear.uniform_out_of_range:
         parts.append(_UNIFORM_WARNING.format(conformity=e(format_number(wear.conformity, 3))))
+    parts += [warning("Worn away.", s) for s in wear.worn_away()]
     parts += [warning("Worn through.", s) for s in wear.worn_through()]
     parts += [warning("Friction-driven whirl.", s) for s in wear.whirls()]
     sp = second_peak(wear)

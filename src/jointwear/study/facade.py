@@ -328,10 +328,12 @@ class Study:
         res = wear_history(build_model(self.config), self.config.wear, n, progress=progress)
         result = WearSummary.from_history(res, self.config, self._allowances())
         result.save(self.out)
-        self.echo(f"wear: max bearing wear {wear_line(result)} after {result.cycles} cycles "
+        ran = (f"{result.cycles} cycles" if result.stopped_at_cycles is None
+               else f"{result.stopped_at_cycles} of {result.cycles} cycles (stopped: worn away)")
+        self.echo(f"wear: max bearing wear {wear_line(result)} after {ran} "
                   f"(history {res.wall_seconds:.1f} s, stage {time.perf_counter() - t0:.1f} s) "
                   f"-> {self.out / result.FILE}")
-        for sentence in result.worn_through() + result.whirls():
+        for sentence in result.worn_away() + result.worn_through() + result.whirls():
             self.warn(f"wear: {sentence}")
         if result.uniform_out_of_range:
             self.warn(f"wear: uniform mode is outside its range here (conformity {result.conformity:.3g} > 1: the "
@@ -360,6 +362,8 @@ class Study:
                   f"{life}{governing} -> {self.out / res.FILE}")
         if not res.converged:
             self.warn(f"reliability: {learning_stop_line(res, self.config.reliability)}")
+        if res.failed_calls:
+            self.warn(f"reliability: {res.failed_calls_sentence()}")
         return res
 
     @_quiet
@@ -662,8 +666,8 @@ def learning_stop_line(res: ReliabilityResult, settings) -> str:
 def wear_line(result: WearSummary) -> str:
     """'0.0266 mm at 125 deg', or each joint's when there are several: 'A 0.0287 mm at 108 deg, E 0.0033 mm ...'."""
     if len(result.joints) <= 1:
-        return f"{result.max_wear_mm:.4f} mm at {angle_text(result.max_wear_angle_deg)} deg"
-    return ", ".join(f"{j['name']} {j['max_wear_mm']:.4f} mm at {angle_text(j['max_wear_angle_deg'])} deg"
+        return f"{result.max_wear_mm:.3g} mm at {angle_text(result.max_wear_angle_deg)} deg"
+    return ", ".join(f"{j['name']} {j['max_wear_mm']:.3g} mm at {angle_text(j['max_wear_angle_deg'])} deg"
                      for j in result.joints)
 
 

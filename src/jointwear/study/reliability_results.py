@@ -4,6 +4,7 @@ against the true model; each with ``save(folder)`` (JSON, CSV tables, figures) a
 from __future__ import annotations
 
 import math
+from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, ClassVar
@@ -71,6 +72,17 @@ class ReliabilityResult(StageResult):
     def stopped_by_budget(self) -> bool:
         """Whether the learning ended on its budget of model calls (``reliability.max_calls``)."""
         return "max_calls" in self.learning_stop
+
+    def failed_calls_sentence(self) -> str:
+        """What failed model calls mean for the curve (empty when none failed): they count as failures where they
+        were drawn but teach the surrogate nothing, so where failures come with high wear R(N) is too high."""
+        if not self.failed_calls:
+            return ""
+        reasons = Counter(str(r) for r in (self.infeasible.get("failure_reasons") or {}).values())
+        common = f"; most often: {reasons.most_common(1)[0][0]}" if reasons else ""
+        return (f"{self.failed_calls} of {self.model_calls} model calls failed{common}. A failed call counts as a "
+                "failure where it was drawn but is left out of the surrogate, so if failures come with high wear the "
+                "curve is too high (unconservative): the reasons are in reliability.json (infeasible.failure_reasons)")
 
     def largest_error(self) -> tuple[float, float] | None:
         """(error, cycles): the surrogate's largest error estimate of R over the curve's levels whose COV counts

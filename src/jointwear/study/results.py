@@ -66,6 +66,14 @@ class SimulationSummary(StageResult):
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
     trace: Any = field(default=None, repr=False, metadata={"json": False})
 
+    def worn_away(self) -> list[str]:
+        """The sentence saying that the history stopped early because a joint was worn away, if it did."""
+        if self.stopped_at_cycles is None:
+            return []
+        return [f"the history stopped at {self.stopped_at_cycles:,} of {self.cycles:,} cycles because "
+                f"{self.stop_reason}: the joint is worn away, which the wear model does not describe; depths past that point are the "
+                "history's linear extrapolation"]
+
     def whirls(self) -> list[str]:
         """One sentence per joint in a friction-driven whirl (docs/dynamics.md, "Friction-driven whirl")."""
         return [whirl_sentence(j["name"], j["contact_revolutions_per_cycle"], j["contact_force_mean_N"])
@@ -189,6 +197,8 @@ class WearSummary(StageResult):
     limit_mm: float | None = None
     conformity: float | None = None
     uniform_mode_valid: bool | None = None
+    stopped_at_cycles: int | None = None
+    stop_reason: str | None = None
     files: list[str] = field(default_factory=list)
     provenance: dict = field(default_factory=dict)
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
@@ -258,8 +268,16 @@ class WearSummary(StageResult):
                      "whirl": [joints[i]["name"] for i, w in enumerate(b.whirl) if w]} for b in res.blocks],
             settings=res.settings.model_dump(mode="json"), geometry_mode=res.settings.geometry_mode,
             limit_mm=j0["allowance_mm"], conformity=j0["conformity"],
-            uniform_mode_valid=all(j["uniform_mode_valid"] for j in joints), provenance=provenance(),
-            history_result=res)
+            uniform_mode_valid=all(j["uniform_mode_valid"] for j in joints), stopped_at_cycles=res.stopped_at,
+            stop_reason=res.stop_reason, provenance=provenance(), history_result=res)
+
+    def worn_away(self) -> list[str]:
+        """The sentence saying that the history stopped early because a joint was worn away, if it did."""
+        if self.stopped_at_cycles is None:
+            return []
+        return [f"the history stopped at {self.stopped_at_cycles:,} of {self.cycles:,} cycles because "
+                f"{self.stop_reason}: the joint is worn away, which the wear model does not describe; depths past that point are the "
+                "history's linear extrapolation"]
 
     def whirls(self) -> list[str]:
         """One sentence per joint that whirled in some blocks of the history (docs/dynamics.md, "Friction-driven

@@ -142,6 +142,20 @@ def lane_threads(lanes: int, threads: int | None = None) -> int:
     return max(1, min(lanes, int(threads)))
 
 
+def used_up(g0, settings: WearSettings, wj: np.ndarray, growth: float) -> str | None:
+    """Why joint geometry ``g0`` worn by the journal profile wj (and, in uniform mode, the clearance growth) can no
+    longer be run, or None: the journal worn to its radius (the pin is gone), or in uniform mode a growth that leaves
+    the journal no radius (R_j - growth / 2 <= 0, paper Eq. 37)."""
+    r_j = float(g0.journal_radius)
+    depth = float(wj.max())
+    if depth >= r_j:
+        return f"the journal is worn {depth * 1e3:.3g} mm deep, as deep as its radius ({r_j * 1e3:.3g} mm)"
+    if settings.geometry_mode == "uniform" and growth - float(g0.clearance_growth) >= 2.0 * r_j:
+        return (f"the clearance has grown {(growth - float(g0.clearance_growth)) * 1e3:.3g} mm, more than the "
+                f"journal's diameter ({2e3 * r_j:.3g} mm): uniform mode leaves the journal no radius")
+    return None
+
+
 def wear_history(
     model,
     settings: WearSettings,
@@ -176,6 +190,10 @@ def wear_history(
         Initial geometry (default `model.initial_geometry()`).
     progress : callable, optional
         Called as ``progress(done, n_cycles)`` after every block.
+
+    A history whose joint is worn away (:func:`used_up`) stops at the end of that block: the result's
+    ``stopped_at`` and ``stop_reason`` say when and why, and its histories end there (the model call extrapolates
+    them linearly, as past any history's end).
     """
     t_wall = time.perf_counter()
     if n_cycles is None:
@@ -223,6 +241,7 @@ def wear_history(
         settle0 = model.settings.settle_cycles if settle_cycles is None else settle_cycles
     inflight: deque = deque()
     k_next = 0
+    stopped_at, stop_reason = None, None
 
     def run_block(geoms, state, settle):
         t0 = time.perf_counter()
@@ -299,6 +318,10 @@ def wear_history(
             hist_c.append(done)
             if progress is not None:
                 progress(done, n_cycles)
+            gone = [(i, why) for i in range(nj) if (why := used_up(geoms0[i], settings, wj[i], growth[i]))]
+            if gone and done < n_cycles:
+                stopped_at, stop_reason = done, f"joint {model.clearance_joints[gone[0][0]].name}: {gone[0][1]}"
+                break
     finally:
         if pool is not None:
             for item in inflight:
@@ -321,4 +344,4 @@ def wear_history(
                     for k in find_peaks_periodic(wb[i], settings.peak_prominence, settings.peak_separation_deg)]
         joints.append(jw)
     return WearResult(joints, settings, n_cycles, blocks, time.perf_counter() - t_wall, sim_seconds, sim_cycles,
-                      n_steps)
+                      n_steps, stopped_at, stop_reason)

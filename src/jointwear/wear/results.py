@@ -124,6 +124,8 @@ class WearResult:
     sim_seconds: float
     n_simulated_cycles: float
     n_steps: int
+    stopped_at: int | None = None  # cycles at which a joint was worn away and the history stopped (history.used_up)
+    stop_reason: str | None = None
 
     @property
     def cycles(self) -> np.ndarray:

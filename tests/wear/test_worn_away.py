@@ -1,0 +1,55 @@
+"""A wear history whose pin wears away stops there, says why, and still answers the limit state.
+
+Dry mild steel on mild steel (Archard and Hirst's k = 7e-3, 190 HB) in the tutorial's linkage wears its 2 mm pin
+away within about a million cycles; uniform mode's dynamics would then need a journal of negative radius (it raised
+a math domain error, and every such reliability sample was a failed call left out of the surrogate).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from jointwear.config import load_config, updated
+from jointwear.mechanism import build_model
+from jointwear.study.model_call import WearModelCall
+from jointwear.wear import wear_history
+from jointwear.wear.history import used_up
+from jointwear.wear.settings import WearSettings
+
+EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "my_linkage.toml"
+
+
+def test_used_up_at_the_journal_radius_and_at_a_growth_of_its_diameter():
+    g = SimpleNamespace(journal_radius=2e-3, clearance_growth=0.0)
+    uniform, profile = WearSettings(geometry_mode="uniform"), WearSettings(geometry_mode="profile")
+    assert used_up(g, uniform, np.array([0.0, 1.999e-3]), 3.999e-3) is None
+    assert "as deep as its radius" in used_up(g, profile, np.array([0.0, 2e-3]), 0.0)
+    assert "no radius" in used_up(g, uniform, np.array([0.0, 1e-3]), 4e-3)
+    assert used_up(g, profile, np.array([0.0, 1e-3]), 4e-3) is None  # profile mode grows no uniform clearance
+
+
+@pytest.fixture(scope="module")
+def dry_steel():
+    steel = {"youngs_modulus": 207e9, "poissons_ratio": 0.3, "hardness": 1.863e9, "wear_coefficient": 7e-3}
+    cfg = load_config(EXAMPLE)
+    return updated(cfg, {"clearance_joints.B.bearing_material": steel, "clearance_joints.B.journal_material": steel,
+                         "wear.block_cycles": 100_000})
+
+
+def test_a_pin_worn_away_stops_the_history_instead_of_raising(dry_steel):
+    res = wear_history(build_model(dry_steel), dry_steel.wear, 2_000_000)
+    assert res.stopped_at is not None and res.stopped_at < 2_000_000
+    jw = res.joints[0]
+    assert jw.history_cycles[-1] == res.stopped_at
+    r_j = dry_steel.clearance_joints[0].journal_radius
+    assert jw.history_max_journal[-1] >= r_j or jw.history_clearance_growth[-1] >= 2.0 * r_j
+    assert "joint B" in res.stop_reason
+    # a limit-state read past the stop is the history's linear extrapolation: finite, so the call does not fail
+    call = WearModelCall(dry_steel.model_dump(), ["clearance_joints.B.bearing_material.wear_coefficient"],
+                         [500_000, 2_000_000])
+    out, status = call(np.array([7e-3]))
+    assert status == "ok" and np.all(np.isfinite(out)) and out[1] > out[0]
