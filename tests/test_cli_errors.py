@@ -38,6 +38,10 @@ CASES = [
     ("width_mm = 1.0", "width_mm = 1.0\nwidht_mm = 2.0", ["widht_mm", "unknown key"]),
     ("crank_speed_rpm = 480.0", 'crank_speed_rpm = "fast"', ["mechanism", "crank_speed_rpm"]),
     ('joint = "A"', 'joint = "O"', ["clearance_joints[0].joint", "allowed"]),
+    # a GPa value given in Pa (on the tutorial's linkage the journal's preload then failed to assemble: a traceback)
+    ("youngs_modulus_GPa = 120.0", "youngs_modulus_Pa = 3.0", ["bearing_material.youngs_modulus", "1000000"]),
+    ("hardness_HB = 350.0", "hardness_Pa = 120.0", ["bearing_material.hardness", "1000000"]),
+    ("wear_coefficient = 1.2e-3", "wear_coefficient = 2.0", ["bearing_material.wear_coefficient", "less than 1"]),
 ]
 
 
@@ -206,3 +210,19 @@ def test_an_interrupt_says_how_to_continue(tmp_path, capsys, monkeypatch):
     assert main_entry(["reliability", "--out", str(tmp_path)]) == 1
     err = capsys.readouterr().err
     assert "error: aborted" in err and "again with --resume" in err
+
+
+def test_a_mechanism_that_cannot_start_is_a_problem_naming_the_joints_materials(monkeypatch):
+    """The start presses the journals into their bores by their contact law and assembles the rest; when that fails
+    (a ValueError from the assembly), check says so in one problem instead of a traceback."""
+    import jointwear.mechanism as mechanism
+    from jointwear.config import load_config
+    from jointwear.study.checks import check_runs
+
+    def cannot_start(*args, **kwargs):
+        raise ValueError("assembly did not converge at t = 0 s")
+
+    monkeypatch.setattr(mechanism, "simulate", cannot_start)
+    (problem,) = check_runs(load_config("jin2025_flapping_wing"))
+    assert "does not start (assembly did not converge at t = 0 s)" in problem
+    assert "clearance_joints.A.bearing_material.youngs_modulus = 1.2e+11 Pa" in problem

@@ -19,14 +19,21 @@ class MaterialConfig(SIModel):
     """Elastic and wear properties of one body of a clearance joint."""
 
     name: str = F("", description="Material name, for reports only.")
-    youngs_modulus: float = F(unit="Pa", gt=0, description="Young's modulus E (key e.g. youngs_modulus_GPa).")
+    youngs_modulus: float = F(
+        unit="Pa", ge=1e6,
+        description="Young's modulus E (key e.g. youngs_modulus_GPa), at least 1 MPa (a soft rubber): a smaller value "
+        "is a unit slip.",
+    )
     poissons_ratio: float = F(gt=-1.0, lt=0.5, description="Poisson's ratio nu, in (-1, 0.5).")
     hardness: float = F(
-        unit="Pa", gt=0,
-        description="Hardness H used by Archard's law (key hardness_HB: Brinell number x 9.807e6 Pa; baseline reading).",
+        unit="Pa", ge=1e6,
+        description="Hardness H used by Archard's law (key hardness_HB: Brinell number x 9.807e6 Pa; baseline "
+        "reading), at least 1 MPa (PTFE's is about 30 MPa): a smaller value is a unit slip.",
     )
     wear_coefficient: float = F(
-        ge=0, description="Dimensionless Archard wear coefficient k (paper Eq. 29; baseline reading of Table 2).",
+        ge=0, lt=1, description="Dimensionless Archard wear coefficient k, 0 <= k < 1 (paper Eq. 29; baseline reading "
+        "of Table 2): a probability per asperity encounter, about 1e-2 for dry mild steel at most; 0 for a side that "
+        "does not wear.",
     )
 
     @property

@@ -175,4 +175,10 @@ def check_runs(config: StudyConfig) -> list[str]:
         simulate(model, 0.01, settle_cycles=0)
     except SimulationError as exc:
         return [f"simulation: the nominal mechanism does not run: {' '.join(str(exc).split())}"]
+    except (ValueError, ArithmeticError) as exc:  # the start: journals preloaded by their contact law, assembled
+        moduli = ", ".join(f"clearance_joints.{cj.name}.{side}.youngs_modulus = "
+                           f"{getattr(cj, side).youngs_modulus:.3g} Pa" for cj in config.clearance_joints
+                           for side in ("bearing_material", "journal_material"))
+        return [f"simulation: the nominal mechanism does not start ({exc}); the journals start pressed into their "
+                f"bores by their contact law, so look first at the clearance joints' radii and materials ({moduli})"]
     return []
