@@ -66,14 +66,6 @@ class SimulationSummary(StageResult):
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
     trace: Any = field(default=None, repr=False, metadata={"json": False})
 
-    def worn_away(self) -> list[str]:
-        """The sentence saying that the history stopped early because a joint was worn away, if it did."""
-        if self.stopped_at_cycles is None:
-            return []
-        return [f"the history stopped at {self.stopped_at_cycles:,} of {self.cycles:,} cycles because "
-                f"{self.stop_reason}: the joint is worn away, which the wear model does not describe; depths past that point are the "
-                "history's linear extrapolation"]
-
     def whirls(self) -> list[str]:
         """One sentence per joint in a friction-driven whirl (docs/dynamics.md, "Friction-driven whirl")."""
         return [whirl_sentence(j["name"], j["contact_revolutions_per_cycle"], j["contact_force_mean_N"])
@@ -276,8 +268,8 @@ class WearSummary(StageResult):
         if self.stopped_at_cycles is None:
             return []
         return [f"the history stopped at {self.stopped_at_cycles:,} of {self.cycles:,} cycles because "
-                f"{self.stop_reason}: the joint is worn away, which the wear model does not describe; depths past that point are the "
-                "history's linear extrapolation"]
+                f"{self.stop_reason}: the joint is worn away, which the wear model does not describe; depths past "
+                "that point are the history's linear extrapolation"]
 
     def whirls(self) -> list[str]:
         """One sentence per joint that whirled in some blocks of the history (docs/dynamics.md, "Friction-driven
