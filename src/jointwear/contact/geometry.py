@@ -12,6 +12,21 @@ import numpy as np
 #: cusp; 0.2 keeps the steps per cycle as on a round bore (docs/wear.md "Profile mode: cost").
 PROFILE_ROUNDING = 0.2
 
+#: Largest contact half-angle b / R_b (rad) at which the Hertz reading of a joint's contact is trusted: Hertz's
+#: theory takes the gap as a parabola and the bodies as half-spaces (Johnson, Contact Mechanics, 1985, Sect. 4.1); the
+#: gap of a pin in a bore, c (1 - cos theta), departs from the parabola c theta^2 / 2 by theta^2 / 12, 0.75 % here,
+#: and a contact of 17 deg is no longer small against the bodies. Past it (soft bushings, heavy loads) the forces,
+#: penetrations and the wear laid on the half-width are indicative only (docs/dynamics.md).
+HERTZ_HALF_ANGLE_LIMIT = 0.3
+
+
+def hertz_half_angle(force: float, bearing_radius: float, journal_radius: float, hsum: float, width: float) -> float:
+    """Contact half-angle b / R_b (rad) of Johnson's line contact under the normal force (N): b = sqrt(4 F R* hsum /
+    (pi L)), R* = R_b R_j / (R_b - R_j), hsum = sum of (1 - nu^2) / E (Johnson 1985, Eq. 4.43)."""
+    r_star = bearing_radius * journal_radius / (bearing_radius - journal_radius)
+    return float(np.sqrt(4.0 * max(force, 0.0) * r_star * hsum / (np.pi * width)) / bearing_radius)
+
+
 #: default number of points of the angular wear grids
 DEFAULT_N_GRID = 360
 

@@ -137,7 +137,8 @@ def dynamics_section(out: StudyOutputs, figs: Figures) -> str:
     mean_force, peak_force = ("\u2014" if v is None else f"{x:.4g} {force_unit}" for v, x in zip(raw, scaled))
 
     first = f" (joint {sim.joints[0]['name']})" if len(sim.joints) > 1 else ""
-    parts = [warning("Friction-driven whirl.", sentence) for sentence in sim.whirls()]
+    parts = [warning("Outside the contact law's range.", sentence) for sentence in sim.outside_hertz()]
+    parts += [warning("Friction-driven whirl.", sentence) for sentence in sim.whirls()]
     parts += [cards([
         ("mean contact force" + first, mean_force, None),
         ("peak contact force" + first, peak_force, None),

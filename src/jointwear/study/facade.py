@@ -295,7 +295,7 @@ class Study:
                   f"{result.wall_seconds_per_cycle * 1e3:.1f} ms/cycle; mean contact force "
                   f"{result.contact_force_mean_N if result.contact_force_mean_N is not None else float('nan'):.4g} N"
                   f" -> {self.out / result.FILE}")
-        for sentence in result.whirls():
+        for sentence in result.outside_hertz() + result.whirls():
             self.warn(f"simulate: {sentence}")
         return result
 

@@ -66,6 +66,19 @@ class SimulationSummary(StageResult):
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
     trace: Any = field(default=None, repr=False, metadata={"json": False})
 
+    def outside_hertz(self) -> list[str]:
+        """One sentence per joint whose contact at its largest normal force is too wide for the Hertz reading of the
+        contact law (contact.geometry.HERTZ_HALF_ANGLE_LIMIT; docs/dynamics.md, "Where the contact law holds")."""
+        from jointwear.contact.geometry import HERTZ_HALF_ANGLE_LIMIT
+
+        limit = math.degrees(HERTZ_HALF_ANGLE_LIMIT)
+        return [f"joint {j['name']}'s contact is {j['contact_half_angle_deg']:.3g} deg wide each side at its largest "
+                f"normal force ({j['normal_force_max_N']:.3g} N; Hertz half-width on the unworn radii), more than the "
+                f"{limit:.3g} deg to which the Hertz contact law holds: its forces, penetrations (up to "
+                f"{j['max_penetration_m'] * 1e6:.3g} um against a clearance of {j['clearance_m'] * 1e6:.3g} um) and "
+                "the wear laid on that width are indicative only (docs/dynamics.md, 'Where the contact law holds')"
+                for j in self.joints if (j.get("contact_half_angle_deg") or 0.0) > limit]
+
     def whirls(self) -> list[str]:
         """One sentence per joint in a friction-driven whirl (docs/dynamics.md, "Friction-driven whirl")."""
         return [whirl_sentence(j["name"], j["contact_revolutions_per_cycle"], j["contact_force_mean_N"])
@@ -73,12 +86,14 @@ class SimulationSummary(StageResult):
 
     @classmethod
     def from_simulation(cls, res, name: str = "") -> SimulationSummary:
+        from jointwear.contact.geometry import hertz_half_angle
         from jointwear.mechanism import whirl_measure
 
         total = res.n_cycles + res.settle_cycles
         joints = []
         for tr in res.joints:
             f = tr.contact_force
+            fn_max = float(tr.force_normal.max()) if tr.force_normal.size else 0.0
             revolutions, whirl = whirl_measure(tr, res.n_cycles)
             joints.append({
                 "name": tr.name, "bearing_body": tr.bearing_body, "journal_body": tr.journal_body,
@@ -88,6 +103,9 @@ class SimulationSummary(StageResult):
                 "contact_fraction": tr.contact_fraction,
                 "impacts_per_cycle": tr.n_impacts / res.n_cycles,
                 "max_penetration_m": float(tr.penetration.max()),
+                "normal_force_max_N": fn_max,
+                "contact_half_angle_deg": math.degrees(hertz_half_angle(
+                    fn_max, tr.bearing_radius, tr.journal_radius, tr.joint.hsum, tr.joint.width)),
                 "clearance_m": tr.clearance_used,
                 "stiffness_N_per_m1p5": float(np.median(tr.stiffness)),
                 "contact_revolutions_per_cycle": revolutions,
