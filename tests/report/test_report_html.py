@@ -187,6 +187,7 @@ def test_report_shows_the_validation_from_its_typed_result(tmp_path, nominal):
                                        "log_life_loo_sd": [0.01, 0.01, 0.01], "q2": 0.97, "n_points": 3}).save(d)
     page = build_report(d).read_text(encoding="utf-8")
     assert 'id="validation"' in page and "1 of 2" in page and "0.970" in page
+    assert "\u00b10.02" in page  # the widest half-width of the direct estimate, 0.82 - 0.8: what the check can see
     assert page.count("data:image/png;base64") >= 2
 
 

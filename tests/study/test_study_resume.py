@@ -112,8 +112,11 @@ def expected(reference_dir) -> dict:
 def test_validate_reuses_the_study_and_adds_only_its_samples(quick_config, reference_dir, expected, tmp_path):
     import shutil
 
+    from jointwear.report.html import build_report
+
     out = tmp_path / "validate"
     shutil.copytree(reference_dir, out)
+    assert "true-model samples" not in build_report(out).read_text(encoding="utf-8")
     cmd = [sys.executable, "-m", "jointwear", "validate", str(quick_config), "--samples", "10", "--out", str(out),
            "--workers", "2"]
     done = subprocess.run(cmd, env=_env(), capture_output=True, text=True, timeout=600)
@@ -125,6 +128,7 @@ def test_validate_reuses_the_study_and_adds_only_its_samples(quick_config, refer
     assert val["n_samples"] == 10 and val["model_calls"] == 10
     assert val["reliability_surrogate"] == expected["curve"]["reliability"]  # read back, not re-learned
     assert (out / "validation.csv").is_file() and (out / "cross_validation.csv").is_file()
+    assert "true-model samples" in (out / "report.html").read_text(encoding="utf-8")  # the report there is rebuilt
 
 
 def test_killed_and_resumed_study_equals_uninterrupted(quick_config, expected, tmp_path):

@@ -34,6 +34,8 @@ def test_validation_agrees_with_an_exact_model():
     rel = run_reliability(ctx)
     val = run_validation(ctx, rel, 3000)
     assert val.n_samples == 3000 and val.model_calls == 3000 and val.failed_calls == 0
+    again = run_validation(ctx, rel, 3000)  # the same samples, known: no new call (it said 3000 new calls)
+    assert again.model_calls == 0 and again.reliability_mc == val.reliability_mc
     assert val.all_agree, list(zip(val.cycles, val.reliability_mc, val.reliability_surrogate))
     for lo, r, hi in zip(val.ci_low, val.reliability_mc, val.ci_high):
         assert lo <= r <= hi

@@ -261,9 +261,13 @@ def validation_section(out: StudyOutputs, figs: Figures) -> str:
     agree = sum(bool(a) for a in val.agreement)
     cv = val.cross_validation
     q2 = cv.get("q2")
+    resolution = max((max(r - lo, hi - r) for r, lo, hi in zip(val.reliability_mc, val.ci_low, val.ci_high)),
+                     default=float("nan"))
     head = cards([
         ("true-model samples", f"{val.n_samples:,}", f"{val.model_calls:,} new model calls"),
         ("levels in agreement", f"{agree} of {len(val.agreement)}", "within the combined 95 % half-widths"),
+        ("resolution in R", f"\u00b1{resolution:.2g}", "the widest 95 % half-width of the direct estimate: smaller "
+         "differences from the surrogate cannot be seen with these samples"),
         ("cross-validation Q\u00b2", "-" if q2 is None else f"{q2:.3f}",
          f"leave-one-out over {cv.get('n_points', 0)} design points"),
     ])

@@ -416,6 +416,8 @@ class Study:
         self.echo(f"validate: {result.n_samples:,} true-model samples ({result.model_calls:,} new calls), "
                   f"agreement at {agree} of {len(result.agreement)} levels, cross-validation Q2 = "
                   f"{result.cross_validation.get('q2', float('nan')):.3f} -> {self.out / result.FILE}")
+        if (self.out / "report.html").is_file():  # a report already there would go on without the validation
+            self.report()
         return result
 
     def report(self) -> Path:

@@ -79,6 +79,11 @@ class StudyContext:
         """Distinct model inputs evaluated (or read back from the store) through this context."""
         return self.evaluator.n_known
 
+    @property
+    def n_model_calls(self) -> int:
+        """True-model calls made through this context (not those read back from the store or from memory)."""
+        return int(getattr(self.evaluator, "n_model_calls", self.n_evaluated))
+
     def split(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
         """Model inputs and the sampled allowance (None when the allowance is deterministic)."""
         X = np.atleast_2d(np.asarray(X, dtype=float))

@@ -302,7 +302,8 @@ class ValidationResult(StageResult):
     exact binomial 95 % interval [``ci_low``, ``ci_high``], the surrogate's ``reliability_surrogate`` with its
     error estimate (``surrogate_error``, absolute) and COV, and whether the two agree within their combined
     95 % half-widths (``agreement``). ``cross_validation``: leave-one-out predictions of the design points'
-    log life against their true values, with Q^2.
+    log life against their true values, with Q^2. ``model_calls``: the true-model calls this run made (samples read
+    back from the evaluation store are not counted).
     """
 
     FILE: ClassVar[str] = "validation.json"

@@ -60,10 +60,10 @@ def run_validation(ctx: StudyContext, reliability: ReliabilityResult, n_samples:
     """The true model on ``n_samples`` fresh samples against the surrogate's R(N)."""
     t0 = time.perf_counter()
     rel = ctx.config.reliability
-    before = ctx.n_evaluated
+    before = ctx.n_model_calls
     x = ctx.sample(n_samples, rel.seed + SEED_OFFSET)
     life = ctx.life(x)
-    calls = ctx.n_evaluated - before
+    calls = ctx.n_model_calls - before  # new calls only: a resumed validation reads its samples back
     failed = np.isnan(life)
     levels = np.asarray(ctx.cycles, dtype=float)
     # a failed call counts as a failure of the mechanism (the engine's rule): never as safe
