@@ -138,7 +138,7 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
             low_label=f"mean \u00d7 {lo_f:g}", high_label=f"mean \u00d7 {hi_f:g}"),
             f"Sensitivity of the reliability: {title}.", png_keys=("tornado",)))
     parts.append("</div>")
-    optional = [("elasticity_mean", "elasticity of R to the mean"), ("S1", "Sobol' S1"), ("ST", "Sobol' ST")]
+    optional = [("elasticity_mean", "elasticity of R to the mean, (\u03bc/R) dR/d\u03bc"), ("S1", "Sobol' S1"), ("ST", "Sobol' ST")]
     extra_cols = [(k, h) for k, h in optional if any(v.get(k) is not None for v in sens.variables)]
     has_err = any(v.get("reliability_low_error") is not None for v in sens.variables)
     rows = []

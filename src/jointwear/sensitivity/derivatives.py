@@ -40,7 +40,8 @@ class ReliabilityDerivatives:
 
 def reliability_derivatives(x: np.ndarray, failed: np.ndarray, marginals: Sequence,
                             names: Sequence[str]) -> ReliabilityDerivatives:
-    """Derivatives of Pf w.r.t. each mean and standard deviation from samples ``x`` (n, d)."""
+    """Derivatives of Pf w.r.t. each mean and standard deviation from samples ``x`` (n, d), and the elasticities of
+    Pf, (mu / Pf) dPf/dmu and (sigma / Pf) dPf/dsigma."""
     x = np.asarray(x, dtype=float)
     ind = np.asarray(failed, dtype=float).reshape(-1)
     if x.ndim != 2 or x.shape[0] != ind.shape[0] or x.shape[1] != len(marginals):

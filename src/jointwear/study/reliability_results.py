@@ -226,7 +226,9 @@ class SensitivityResult(StageResult):
     """How the reliability at ``cycles`` moves with each variable: mean shifts (``variables`` rows with
     ``reliability_low``/``reliability_high`` and their error estimates), the ranking overall and per group
     (``unresolved_pairs``: neighbours the surrogate's error does not separate), Sobol' indices of the wear
-    and reliability derivatives."""
+    and reliability derivatives. A row's ``dR_dmean`` / ``dR_dstd`` are per SI unit of the variable and its
+    ``elasticity_mean`` is that of R, (mu / R) dR/dmu; ``derivatives`` holds those of Pf (``elasticity_mean``:
+    (mu / Pf) dPf/dmu)."""
 
     FILE: ClassVar[str] = "sensitivity.json"
 

@@ -248,7 +248,9 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
             "reliability_low": table.reliability_low[k], "reliability_high": table.reliability_high[k],
             "reliability_low_error": errors_low[k], "reliability_high_error": errors_high[k],
             "dR_dmean": float(-deriv.dpf_dmean[k]), "dR_dstd": float(-deriv.dpf_dstd[k]),
-            "elasticity_mean": float(-deriv.elasticity_mean[k]) if deriv.pf > 0 else 0.0,
+            # the elasticity of R, (mu / R) dR/dmu = -(Pf / R) x the Pf elasticity the derivatives hold
+            "elasticity_mean": (float(-deriv.elasticity_mean[k] * deriv.pf / (1.0 - deriv.pf))
+                                if 0.0 < deriv.pf < 1.0 else 0.0),
             "S1": float(sobol.S1[k]), "ST": float(sobol.ST[k]),
         })
     return SensitivityResult(**{
