@@ -60,7 +60,10 @@ def build_report(out_dir: Path | str, *, output: Path | str | None = None, title
         ("wear", "Wear of the joints" if several else "Wear of the joint", lambda: wear_section(out, figs),
          "Archard wear on the bearing; angles in the bearing frame, 0 deg at the leftmost point, clockwise."),
         ("reliability", "Wear reliability", lambda: reliability_section(out, figs),
-         "Limit state G = \u03b4\u2080 \u2212 \u03b4max(x, N): failure when the max wear exceeds the allowable wear."),
+         "Limit state G = ln N_f(x) \u2212 ln N: failure when the wear life N_f, the cycles at which the max wear "
+         "reaches the allowance \u03b4\u2080 (read from each model call's wear history, extrapolated linearly past "
+         "its end), is below N; the same event as \u03b4max(x, N) > \u03b4\u2080. Lives between the curve's "
+         "levels are interpolated linearly."),
         *([("validation", "Validation against the true model", lambda: validation_section(out, figs),
             "The R(N) curve checked against direct Monte Carlo of the true wear model.")]
           if out.results.validation is not None else []),

@@ -271,7 +271,8 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
                                       mean_cycles=mean.get("cycles"), mean_max_wear_mm=mean.get("mean"),
                                       reference_mean=ref_mean or None, reference_nominal=nominal,
                                       reference_label=label),
-        "Max bearing wear against cycles: the nominal design, the Monte Carlo mean (if computed)"
+        "Max bearing wear against cycles: the nominal design, the mean over the random inputs (if computed; read "
+        "from the life surrogate as allowance \u00d7 N / N_f(x), a linear growth that is exact at the allowance)"
         + (f", the values of the reference ({label})" if ref_mean or nominal else "")
         + (f" and the configured allowance ({limit:g} mm, dashed)." if limit is not None else "."),
         png_keys=("history",)))
