@@ -34,6 +34,10 @@ def test_wear_summary_save_and_load(tmp_path):
     assert d["max_wear_mm"] == pytest.approx(r.joints[0].max_bearing_wear * 1e3)
     assert d["limit_mm"] == pytest.approx(0.03)
     assert {"jointwear", "numpy", "scipy", "numba", "openturns", "machine"} <= set(d["provenance"])
+    # the code that wrote it, as the evaluation store records it: the git commit too when run from a checkout
+    from jointwear.compute.store import code_version
+
+    assert d["provenance"]["jointwear"] == code_version()
     for f in ("wear_profile.csv", "wear_history.csv", "wear_journal_profile.csv", "wear_polar.png",
               "wear_vs_angle.png", "wear_history.png"):
         assert (tmp_path / f).stat().st_size > 0

@@ -78,10 +78,10 @@ def _static_provenance() -> dict:
         cpu = llvm.get_host_cpu_name()
     except Exception:  # noqa: BLE001 - provenance is best effort
         cpu = None
-    from jointwear import __version__
+    from jointwear.compute.store import code_version
 
     return {
-        "jointwear": __version__,
+        "jointwear": code_version(),  # with the git commit when run from a checkout: which code wrote the result
         "python": platform.python_version(),
         "numpy": v("numpy"), "scipy": v("scipy"), "numba": v("numba"), "openturns": v("openturns"),
         "machine": {"platform": platform.platform(), "processor": platform.machine(), "llvm_host_cpu": cpu},
