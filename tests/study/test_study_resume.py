@@ -272,3 +272,8 @@ def test_a_learning_stopped_by_its_budget_is_told_with_its_error(quick_config, r
     line = learning_stop_line(res, load_config(quick_config).reliability)
     assert f"reaches {err[k]:.3f} at {res.cycles[k]:,.0f} cycles (tolerance 0.01 in R or 2% of Pf)" in line
     assert "raise reliability.max_calls and run again with --resume (resume=True in Python)" in line
+    # a COV above its target is named too: a line whose error estimate met its tolerance named nothing unmet
+    settings = load_config(quick_config).reliability
+    assert ("COV of Pf reaches" in line) == (res.largest_cov() >= settings.cov_target)
+    res.pf_cov = np.where(counted, 0.0505, res.pf_cov)
+    assert "the COV of Pf reaches 0.0505 (target 0.05)" in learning_stop_line(res, settings)

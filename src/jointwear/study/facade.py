@@ -654,6 +654,9 @@ def learning_stop_line(res: ReliabilityResult, settings) -> str:
     error = "" if worst is None else (
         f"; the surrogate's error estimate of R reaches {worst[0]:.3f} at {worst[1]:,.0f} cycles (tolerance "
         f"{settings.error_abs_tol:g} in R or {settings.error_tol:.0%} of Pf)")
+    cov = res.largest_cov()
+    if cov is not None and cov >= settings.cov_target:  # the criterion left when the surrogate's error is met
+        error += f"; the COV of Pf reaches {cov:.3g} (target {settings.cov_target:g})"
     reason = res.learning_stop or "not converged"
     if res.stopped_by_budget:
         advice = ("; raise reliability.max_calls and run again with --resume (resume=True in Python) to continue it "
