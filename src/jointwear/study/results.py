@@ -180,7 +180,8 @@ class WearSummary(StageResult):
     ``depth_mm``}, ``history`` {``cycles``, ``max_wear_mm``}; ``joints`` has the same for every joint plus the
     journal's wear, the clearance growth, the Archard volumes and the wear-rate diagnostics.
     ``conformity`` (joint 0) is the half worn arc of a bore worn to the journal's shape over the contact's
-    half-angle on the unworn bore; ``uniform_mode_valid`` is False when it exceeds 1 for any joint, where only
+    half-angle on the unworn bore (a joint's ``contact_half_width_um``: Johnson's half-width at the first block's mean
+    force; ``max_half_width_um`` is the largest in the last block's recorded cycles); ``uniform_mode_valid`` is False when it exceeds 1 for any joint, where only
     ``geometry_mode = "profile"`` describes the contact (docs/wear.md).
     ``history_result`` (not saved) is the full :class:`jointwear.wear.WearResult`.
     """
@@ -260,7 +261,10 @@ class WearSummary(StageResult):
                 "conservation_rel_error": {"bearing": eb, "journal": ej},
                 "wear_rate_initial_mm_per_cycle": float(jw.first_rate.bearing.max() * 1e3),
                 "wear_rate_final_mm_per_cycle": float(jw.diagnostics.bearing.max() * 1e3),
+                # the largest over the last block's recorded cycles (a wide unworn contact narrows as it wears in);
+                # the first block's, at its mean force on the unworn radii, is what the conformity is measured on
                 "max_half_width_um": jw.diagnostics.max_half_width * 1e6,
+                "contact_half_width_um": jw.contact_half_width * 1e6,
                 "conformity": jw.conformity,
                 "uniform_mode_valid": jw.uniform_mode_valid,
             })
