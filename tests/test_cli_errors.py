@@ -3,6 +3,7 @@
 import subprocess
 import sys
 from importlib import resources
+from pathlib import Path
 
 import pytest
 
@@ -197,6 +198,33 @@ def test_a_config_extends_a_preset(tmp_path, capsys):
     loop.write_text('extends = "loop.toml"\n', encoding="utf-8")
     code, err = _run(capsys, ["check", str(loop)])
     assert code == 2 and "circular" in err
+
+
+def test_an_extending_config_changes_one_named_entry_and_a_field_in_another_unit(tmp_path, capsys):
+    """``[clearance_joints.B.bearing_material]`` changes the base's joint B only (it was 'Input should be a valid
+    list': the whole [[clearance_joints]] entry had to be restated), and ``length_m`` replaces the base's
+    ``length_mm`` (it was 'length given twice')."""
+    from jointwear.config import load_config
+
+    example = Path(__file__).resolve().parents[1] / "examples" / "my_linkage.toml"
+    p = tmp_path / "pom.toml"
+    p.write_text(f'extends = "{example.as_posix()}"\nname = "pom"\n[clearance_joints.B.bearing_material]\n'
+                 'name = "POM"\nyoungs_modulus_GPa = 3.0\nhardness_MPa = 170.0\nwear_coefficient = 2e-5\n',
+                 encoding="utf-8")
+    cfg, base = load_config(p), load_config(example)
+    (joint,), (base_joint,) = cfg.clearance_joints, base.clearance_joints
+    assert (joint.bearing_material.youngs_modulus, joint.bearing_material.hardness) == (3e9, 170e6)
+    assert joint.bearing_material.poissons_ratio == base_joint.bearing_material.poissons_ratio  # merged, not replaced
+    assert joint.journal_material == base_joint.journal_material and joint.width == base_joint.width
+    rod = tmp_path / "rod.toml"
+    rod.write_text('extends = "jin2025_flapping_wing"\n[mechanism.rod]\nlength_m = 0.0385\n', encoding="utf-8")
+    assert load_config(rod).mechanism.rod.length == 0.0385
+    wrong = tmp_path / "wrong.toml"
+    wrong.write_text(f'extends = "{example.as_posix()}"\n[clearance_joints.bearing_material]\n'
+                     'youngs_modulus_GPa = 3.0\n', encoding="utf-8")
+    code, err = _run(capsys, ["check", str(wrong)])
+    assert code == 2 and "wrong.toml: clearance_joints: 'bearing_material' names no entry" in err
+    assert "[clearance_joints.<name>.<key>]" in err
 
 
 def test_an_interrupt_says_how_to_continue(tmp_path, capsys, monkeypatch):

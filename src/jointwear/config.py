@@ -416,16 +416,48 @@ def _read_source(source: str | Path) -> tuple[dict[str, Any], str, Path | None]:
     return _parse_toml(text, str(path)), str(path), path.parent
 
 
-def merge_tables(base: dict[str, Any], override: dict[str, Any]) -> dict[str, Any]:
+def merge_tables(base: dict[str, Any], override: dict[str, Any], where: str = "") -> dict[str, Any]:
     """``override`` laid over ``base``: tables merge key by key, anything else (numbers, strings, arrays and
-    arrays of tables) replaces the base's value."""
+    arrays of tables) replaces the base's value. A key replaces the base's key for the same field in another unit
+    (``hardness_MPa`` over ``hardness_HB``), and a table over an array of named tables changes the entries it names
+    (``[clearance_joints.B.bearing_material]`` over the base's ``[[clearance_joints]]``)."""
     out = dict(base)
     for key, value in override.items():
-        if isinstance(value, dict) and isinstance(out.get(key), dict):
-            out[key] = merge_tables(out[key], value)
+        path = f"{where}.{key}" if where else key
+        for other in [k for k in out if k != key and _unit_stems(k) & _unit_stems(key)]:
+            del out[other]
+        current = out.get(key)
+        if isinstance(value, dict) and isinstance(current, dict):
+            out[key] = merge_tables(current, value, path)
+        elif isinstance(value, dict) and _named_entries(current):
+            out[key] = _merge_named(current, value, path)
         else:
             out[key] = value
     return out
+
+
+def _unit_stems(key: str) -> set[str]:
+    """The field names ``key`` can spell: itself, and its stem before any unit suffix (``length_mm``: length)."""
+    return {key} | {key[: -len(s) - 1] for s in SUFFIXES if key.endswith("_" + s) and len(key) > len(s) + 1}
+
+
+def _named_entries(value: Any) -> bool:
+    return isinstance(value, list) and bool(value) and all(isinstance(v, dict) and "name" in v for v in value)
+
+
+def _merge_named(entries: list[dict], changes: dict[str, Any], where: str) -> list[dict]:
+    """The array of named tables ``entries`` with the entries ``changes`` names changed (each a table)."""
+    names = [str(v["name"]) for v in entries]
+    unknown = [k for k in changes if k not in names]
+    if unknown:
+        raise ConfigError(f"{where}: {', '.join(repr(k) for k in unknown)} names no entry of the base's {where} "
+                          f"(its entries: {', '.join(names)}); change one with [{where}.<name>.<key>], or give the "
+                          f"whole list with [[{where}]]")
+    bad = [k for k, v in changes.items() if not isinstance(v, dict)]
+    if bad:
+        raise ConfigError(f"{where}.{bad[0]}: expected a table of the entry's keys")
+    return [merge_tables(v, changes[str(v["name"])], f"{where}.{v['name']}") if str(v["name"]) in changes else v
+            for v in entries]
 
 
 def _resolve(source: str | Path, chain: tuple[str, ...] = ()) -> tuple[dict[str, Any], str]:
@@ -447,14 +479,18 @@ def _extended(data: dict[str, Any], name: str, folder: Path | None, chain: tuple
     if folder is not None and (base.endswith(".toml") or "/" in base) and not Path(base).is_absolute():
         base = str(folder / base)
     base_data, _ = _resolve(base, chain + (name,))
-    return merge_tables(base_data, data)
+    try:
+        return merge_tables(base_data, data)
+    except ConfigError as exc:
+        raise ConfigError(f"{name}: {exc}") from None
 
 
 def load_config(source: str | Path | None = None) -> StudyConfig:
     """Load and validate a study config.
 
     A file may start from another config with ``extends = "<preset name or TOML path>"``: its tables are laid
-    over the base's key by key (arrays, including arrays of tables, replace the base's).
+    over the base's key by key (arrays, including arrays of tables, replace the base's; a key in another unit
+    replaces the base's; ``[clearance_joints.B.bearing_material]`` changes the base's joint named B).
 
     Parameters
     ----------
