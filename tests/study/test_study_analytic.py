@@ -225,3 +225,31 @@ def test_archard_check_is_not_made_outside_the_learned_curve():
     for c in checks:
         assert c["consistent"] is None and "outside the learned curve" in c["note"]
         assert not 360_000 <= c["life_level_needed"] <= 440_000
+
+
+class _WornAwayAbove(AnalyticWear):
+    """The analytic wear model whose calls fail above a wear coefficient, as a worn-away pin's did."""
+
+    def __init__(self, names, cycles, k_max):
+        super().__init__(names, cycles)
+        self.k_max = k_max
+
+    def __call__(self, x):
+        if x[self.i_k] > self.k_max:
+            raise ValueError("math domain error")
+        return super().__call__(x)
+
+
+def test_a_failed_call_keeps_the_models_own_reason_and_is_counted():
+    """The engine sees a failed call's NaN only; the study keeps what the model said (it reported 'g returned a
+    non-finite value' for every worn-away pin)."""
+    cfg = _small_config()
+    k = cfg.uncertainty.all_specs()[[s.name for s in cfg.uncertainty.all_specs()].index("k_b")]
+    ctx = study_context(cfg, lambda call: compute.Evaluator(
+        _WornAwayAbove([s.name for s in cfg.uncertainty.all_specs()], call.cycles, k.mean + 1.5 * k.std), None,
+        None, n_outputs=len(call.cycles)))
+    res = run_reliability(ctx)
+    reasons = res.infeasible["failure_reasons"]
+    assert res.failed_calls == len(reasons) > 0
+    assert all("math domain error" in r for r in reasons.values()), reasons
+    assert f"{res.failed_calls} of {res.model_calls} model calls failed" in res.failed_calls_sentence()

@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -48,6 +48,8 @@ class StudyContext:
     random_allowance: bool
     limit_state: LimitState
     copula: Any = None
+    #: why each failed model call failed, by its input row's bytes (the engines see only its NaN outputs)
+    call_failures: dict[bytes, str] = field(default_factory=dict, repr=False)
 
     def sample(self, n: int, seed: int) -> np.ndarray:
         """A Monte Carlo population of the study's inputs (their copula honoured)."""
@@ -67,7 +69,16 @@ class StudyContext:
     def outputs(self, X: np.ndarray) -> np.ndarray:
         """The model outputs (n, J * H): the wear quantity of every judged joint at ``history_cycles``."""
         X = np.atleast_2d(np.asarray(X, dtype=float))
-        return np.asarray(self.evaluator(X), dtype=float).reshape(X.shape[0], -1)
+        if not hasattr(self.evaluator, "evaluate"):  # a plain callable (tests)
+            return np.asarray(self.evaluator(X), dtype=float).reshape(X.shape[0], -1)
+        batch = self.evaluator.evaluate(X)
+        for i, status, reason in batch.failures:
+            self.call_failures[np.ascontiguousarray(X[i]).tobytes()] = f"{status}: {reason}" if reason else status
+        return np.asarray(batch.Y, dtype=float).reshape(X.shape[0], -1)
+
+    def failure_reason(self, x_model: np.ndarray) -> str | None:
+        """Why the model call at the input row ``x_model`` failed (None when it did not, or is unknown)."""
+        return self.call_failures.get(np.ascontiguousarray(np.asarray(x_model, dtype=float)).tobytes())
 
     def wear(self, X: np.ndarray, joint: int = 0) -> np.ndarray:
         """The wear quantity (m) of judged joint ``joint`` at ``history_cycles``, shape (n, H)."""
@@ -269,7 +280,9 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         infeasible = {"rule": unc.clearance.infeasible_rule, "minimum_clearance_m": unc.clearance.minimum,
                       "probability_below_minimum": unc.clearance.infeasible_probability()}
     infeasible["failed_calls"] = int(engine.n_failed_calls)
-    infeasible["failure_reasons"] = {str(k): v for k, v in engine.failure_reasons.items()}
+    # the model's own reason for a call that returned NaN, where the engine only saw the NaN
+    infeasible["failure_reasons"] = {str(k): ctx.failure_reason(design_x_model[int(k)]) or v
+                                     for k, v in engine.failure_reasons.items()}
     joints = _joint_breakdown(ctx, engine, design_x, pop, reliability)
     return ReliabilityResult(
         cycles=cycles, reliability=reliability, pf=pf, pf_cov=pf_cov,
