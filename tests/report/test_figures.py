@@ -120,3 +120,20 @@ def test_figures_leave_the_users_matplotlib_settings_alone():
     assert dict(mpl.rcParams) == before
     # the house style did apply inside the drawing: a key it sets differs from matplotlib's default somewhere
     assert any(mpl.rcParamsDefault[k] != v for k, v in RC.items() if k in mpl.rcParamsDefault)
+
+
+def test_the_reliability_band_adds_the_surrogates_error_to_the_monte_carlo_half_width():
+    """The band was the Monte Carlo half-width alone (a third of the uncertainty on the piston pump); with the
+    surrogate's error it is the combined half-width the validation judges agreement by."""
+    def band(fig):  # the band's width at the last level (300k cycles)
+        (poly,) = fig.axes[0].collections
+        v = poly.get_paths()[0].vertices
+        ys = v[np.isclose(v[:, 0], 300.0), 1]
+        return ys.max() - ys.min()
+
+    cyc, rel, cov = [1e5, 2e5, 3e5], [0.9, 0.7, 0.5], [0.02, 0.02, 0.02]
+    mc = band(F.reliability_curve_figure(cyc, rel, pf_cov=cov))
+    both = F.reliability_curve_figure(cyc, rel, pf_cov=cov, pf_error=[0.01, 0.03, 0.05])
+    # the widest point is the last: R = 0.5 +- (1.96 x 0.02 x 0.5 + 0.05), clipped at neither end
+    assert band(both) == pytest.approx(2 * (1.96 * 0.02 * 0.5 + 0.05), rel=1e-9) and band(both) > mc
+    assert "95 % band (COV of Pf + surrogate error)" in [t.get_text() for t in both.axes[0].get_legend().get_texts()]

@@ -412,3 +412,14 @@ def test_failed_model_calls_and_a_worn_away_joint_are_warned(tmp_path, nominal):
     assert "Failed model calls" in page and f"9 of {rel.model_calls} model calls failed" in page
     assert "most often: ValueError: boom" in page and "unconservative" in page
     assert "Worn away" in page and "stopped at 100,000 of" in page
+
+
+def test_the_life_table_keeps_a_target_near_1_and_the_numbers_give_the_surrogates_error(tmp_path, nominal):
+    """A target of 0.99995 was shown as '1'; the R(N) table had no column for the surrogate's error of R."""
+    d = make_fixture_dir(tmp_path / "t", nominal, which=("reliability",))
+    rel = ReliabilityResult.load(d)
+    rel.life_table = [{"target": 0.9, "cycles": 370_000.0, "hours": 12.8, "status": "in_curve"},
+                      {"target": 0.99995, "cycles": 300_000.0, "hours": 10.4, "status": "in_curve"}]
+    rel.save(d)
+    page = build_report(d).read_text(encoding="utf-8")
+    assert ">0.99995<" in page and "surrogate error of R" in page

@@ -38,13 +38,15 @@ def reliability_curve_figure(
     reliability: Array,
     *,
     pf_cov: Array | None = None,
+    pf_error: Array | None = None,
     target: float | None = None,
     life_cycles: float | None = None,
     reference: Mapping[float, float] | None = None,
     reference_life: float | None = None,
     reference_label: str = "reference",
 ) -> Figure:
-    """R(N) with a 95 % band from the COV of Pf, the target line, the life at the target and, when given, a
+    """R(N) with a 95 % band, the Monte Carlo half-width 1.96 COV Pf plus the surrogate's error estimate
+    ``pf_error`` (absolute, in R) when given, the target line, the life at the target and, when given, a
     cited reference's points ``reference`` {cycles: R} and life ``reference_life`` (cycles at the target),
     labelled ``reference_label``."""
     n = kilo_cycles(cycles)
@@ -54,8 +56,12 @@ def reliability_curve_figure(
         cov = require_array(pf_cov)
         cov = np.where(np.isfinite(cov), cov, 0.0)  # no COV where Pf = 0: a band of zero width
         half = 1.96 * cov * (1.0 - rel)
+        label = "95 % band (COV of Pf)"
+        if pf_error is not None:
+            half = half + np.nan_to_num(require_array(pf_error))
+            label = "95 % band (COV of Pf + surrogate error)"
         ax.fill_between(n, np.clip(rel - half, 0, 1), np.clip(rel + half, 0, 1), color=COLORS[0], alpha=0.2,
-                        lw=0, label="95 % band (COV of Pf)")
+                        lw=0, label=label)
     ax.plot(n, rel, color=COLORS[0], marker="o", ms=3, label="this study")
     if reference:
         ks = sorted(reference)

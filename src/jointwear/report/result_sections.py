@@ -68,7 +68,7 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
         parts.append(f'<p class="warn"><strong>The curve misses the life.</strong> {missed}</p>')
     if len(rel.life_table) > 1:
         parts.append(table(["target R", "life (cycles)", "life (h)", "where"], [
-            (format_number(r["target"]), format_number(r["cycles"]), format_number(r["hours"], 3),
+            (format_number(r["target"], 6), format_number(r["cycles"]), format_number(r["hours"], 3),
              str(r.get("status", "")).replace("_", " ")) for r in rel.life_table], cls="kv"))
     if len(rel.joints) > 1:
         parts.append(f"<p>Series system of {len(rel.joints)} joints; the joint that governs: "
@@ -80,10 +80,11 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
                      if v.get("target_reliability") == rel.target), None)
     parts.append('<div class="grid">')
     parts.append(figs.draw(
-        lambda: F.reliability_curve_figure(rel.cycles, rel.reliability, pf_cov=rel.pf_cov, target=rel.target,
-                                           life_cycles=life, reference=ref_r or None, reference_life=ref_life,
-                                           reference_label=label),
-        "Reliability R(N) with a 95 % band from the COV of Pf, the target and the life"
+        lambda: F.reliability_curve_figure(rel.cycles, rel.reliability, pf_cov=rel.pf_cov, pf_error=rel.pf_error,
+                                           target=rel.target, life_cycles=life, reference=ref_r or None,
+                                           reference_life=ref_life, reference_label=label),
+        "Reliability R(N) with a 95 % band (the Monte Carlo half-width from the COV of Pf plus the surrogate's error "
+        "estimate, as the validation combines them), the target and the life"
         + (f"; crosses: the values of the reference ({label})." if ref_r else "."),
         png_keys=("reliability_curve",)))
     conv = rel.convergence
@@ -105,9 +106,10 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
         + ", dashed: the allowable wear.", png_keys=("histogram",), wide=True,
         missing_text="Max wear histograms: none requested ([reliability] histogram levels)."))
     rows = [(format_number(float(c)), format_number(float(r), 4), format_number(float(p)),
-             format_number(float(cv), 3)) for c, r, p, cv in zip(rel.cycles, rel.reliability, rel.pf, rel.pf_cov)]
+             format_number(float(cv), 3), format_number(float(err), 2))
+            for c, r, p, cv, err in zip(rel.cycles, rel.reliability, rel.pf, rel.pf_cov, rel.pf_error)]
     parts.append("<details><summary>R(N) as numbers</summary>")
-    parts.append(table(["cycles", "R(N)", "Pf", "COV of Pf"], rows, cls="num"))
+    parts.append(table(["cycles", "R(N)", "Pf", "COV of Pf", "surrogate error of R"], rows, cls="num"))
     parts.append("</details>")
     return "".join(parts)
 
