@@ -137,3 +137,23 @@ def test_the_reliability_band_adds_the_surrogates_error_to_the_monte_carlo_half_
     # the widest point is the last: R = 0.5 +- (1.96 x 0.02 x 0.5 + 0.05), clipped at neither end
     assert band(both) == pytest.approx(2 * (1.96 * 0.02 * 0.5 + 0.05), rel=1e-9) and band(both) > mc
     assert "95 % band (COV of Pf + surrogate error)" in [t.get_text() for t in both.axes[0].get_legend().get_texts()]
+
+
+def test_a_figure_drawn_here_supersedes_the_stage_file_it_names_exactly(tmp_path):
+    """validation.png was listed again among the figures 'the sections above do not show': its key also names
+    cross_validation.png, which sorts first, so drawing the validation figure superseded the wrong file."""
+    import matplotlib.pyplot as plt
+
+    from jointwear.report.markup import Figures
+    from jointwear.report.style import to_png_bytes
+
+    fig = plt.figure(figsize=(1, 1))
+    pngs = {}
+    for stem in ("cross_validation", "validation"):
+        pngs[stem] = tmp_path / f"{stem}.png"
+        pngs[stem].write_bytes(to_png_bytes(fig))
+    plt.close(fig)
+    figs = Figures(pngs)
+    figs.draw(lambda: F.reliability_curve_figure([1, 2], [0.9, 0.5]), "validation", png_keys=("validation",))
+    figs.draw(lambda: F.reliability_curve_figure([1, 2], [0.9, 0.5]), "cv", png_keys=("cross_validation",))
+    assert figs.leftovers() == []

@@ -150,19 +150,23 @@ class Figures:
                 self.count += 1
         return out
 
+    def _candidates(self, key: str) -> list[str]:
+        """The unused stems ``key`` names: the one it spells exactly first (``validation`` is not
+        ``cross_validation``, which sorts before it), then those that contain it."""
+        stems = [s for s in sorted(self.pngs) if s not in self.used and key in s.lower()]
+        return sorted(stems, key=lambda s: s.lower() != key)
+
     def _supersede(self, keys: Sequence[str]) -> None:
         """The stage's own file of a figure drawn here from data is not shown again in the appendix."""
         for key in keys:
-            for stem in sorted(self.pngs):
-                if stem not in self.used and key in stem.lower():
-                    self.used.add(stem)
-                    return
+            for stem in self._candidates(key):
+                self.used.add(stem)
+                return
 
     def _png(self, keys: Sequence[str], caption: str = "") -> str | None:
         for key in keys:
-            for stem, path in sorted(self.pngs.items()):
-                if stem in self.used or key not in stem.lower():
-                    continue
+            for stem in self._candidates(key):
+                path = self.pngs[stem]
                 uri = png_data_uri(path)
                 if uri is None:
                     continue
