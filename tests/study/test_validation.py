@@ -35,6 +35,10 @@ def test_validation_agrees_with_an_exact_model():
     val = run_validation(ctx, rel, 3000)
     assert val.n_samples == 3000 and val.model_calls == 3000 and val.failed_calls == 0
     again = run_validation(ctx, rel, 3000)  # the same samples, known: no new call (it said 3000 new calls)
+    # a level without an error estimate stays without one (it was written as an error of 0)
+    rel.pf_error = np.where(np.arange(len(rel.pf_error)) == 0, np.nan, rel.pf_error)
+    unestimated = run_validation(ctx, rel, 3000)
+    assert np.isnan(unestimated.surrogate_error[0]) and np.isfinite(unestimated.surrogate_error[1:]).all()
     assert again.model_calls == 0 and again.reliability_mc == val.reliability_mc
     assert val.all_agree, list(zip(val.cycles, val.reliability_mc, val.reliability_surrogate))
     for lo, r, hi in zip(val.ci_low, val.reliability_mc, val.ci_high):

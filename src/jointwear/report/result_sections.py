@@ -50,7 +50,7 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
     worst = rel.largest_error()
     parts = [cards([
         (f"life at R = {rel.target:g}", _life_text(life, note),
-         None if rel.life_hours is None else f"{rel.life_hours:.3g} h"),
+         None if rel.life_hours is None else f"{rel.life_hours:,.2f} h"),
         ("true-model calls", format_number(rel.model_calls), "for the whole curve"),
         ("Monte Carlo population", format_number(rel.n_mc), "n_mc"),
         ("learning converged", "yes" if rel.converged else "NO", None if rel.converged else (

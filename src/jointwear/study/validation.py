@@ -90,7 +90,7 @@ def run_validation(ctx: StudyContext, reliability: ReliabilityResult, n_samples:
     return ValidationResult(
         cycles=levels.astype(int).tolist(), reliability_mc=r_mc, ci_low=lo, ci_high=hi,
         reliability_surrogate=r_sur.tolist(),
-        surrogate_error=np.nan_to_num(np.asarray(reliability.pf_error, dtype=float)).tolist(),
+        surrogate_error=np.asarray(reliability.pf_error, dtype=float).tolist(),  # NaN where not estimated, not 0
         surrogate_cov=np.asarray(reliability.pf_cov, dtype=float).tolist(),
         agreement=agree, n_samples=int(n_samples), model_calls=int(calls), failed_calls=int(failed.sum()),
         seed=int(rel.seed + SEED_OFFSET), cross_validation=cv, wall_seconds=time.perf_counter() - t0)
