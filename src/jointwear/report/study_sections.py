@@ -144,14 +144,15 @@ def dynamics_section(out: StudyOutputs, figs: Figures) -> str:
         ("peak contact force" + first, peak_force, None),
         ("contact fraction", format_number(sim.contact_fraction, 3), "share of the cycle in contact"),
         ("impacts per cycle", format_number(sim.impacts_per_cycle, 3), None),
-        ("steps per cycle", format_number(sim.steps_per_cycle), None),
+        ("steps per cycle", format_number(sim.steps_per_cycle), "over the recorded cycles"),
         ("wall time per cycle", "\u2014" if sim.wall_seconds_per_cycle is None
          else f"{sim.wall_seconds_per_cycle * 1e3:.3g} ms", None),
     ])]
     parts.append(table(["other result", "value"], [
         ("kernel", sim.kernel or "\u2014"), ("cycles simulated", format_number(sim.cycles)),
         ("settling cycles", format_number(sim.settle_cycles)), ("crank period (s)", format_number(sim.period_s)),
-        ("accepted / rejected steps", f"{format_number(sim.accepted_steps)} / {format_number(sim.rejected_steps)}"),
+        ("accepted / rejected steps (settling included)",
+         f"{format_number(sim.accepted_steps)} / {format_number(sim.rejected_steps)}"),
         ("clearance joints", ", ".join(str(j["name"]) for j in sim.joints) or "\u2014")], cls="kv"))
     if len(sim.joints) > 1:
         parts.append(joints_dynamics_table(sim.joints))
