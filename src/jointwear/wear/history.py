@@ -150,9 +150,9 @@ def used_up(g0, settings: WearSettings, wj: np.ndarray, growth: float) -> str | 
     depth = float(wj.max())
     if depth >= r_j:
         return f"the journal is worn {depth * 1e3:.3g} mm deep, as deep as its radius ({r_j * 1e3:.3g} mm)"
-    if settings.geometry_mode == "uniform" and growth - float(g0.clearance_growth) >= 2.0 * r_j:
-        return (f"the clearance has grown {(growth - float(g0.clearance_growth)) * 1e3:.3g} mm, more than the "
-                f"journal's diameter ({2e3 * r_j:.3g} mm): uniform mode leaves the journal no radius")
+    if settings.geometry_mode == "uniform" and growth >= 2.0 * r_j:  # the dynamics' journal radius R_j - growth / 2
+        return (f"the clearance has grown {growth * 1e3:.3g} mm, more than the journal's diameter "
+                f"({2e3 * r_j:.3g} mm): uniform mode leaves the journal no radius")
     return None
 
 
