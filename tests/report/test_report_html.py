@@ -404,14 +404,17 @@ def test_failed_model_calls_and_a_worn_away_joint_are_warned(tmp_path, nominal):
     assert "Failed model calls" not in page and "Worn away" not in page
     rel, wear = ReliabilityResult.load(d), WearSummary.load(d)
     rel.failed_calls = 9
-    rel.infeasible = {"failed_calls": 9, "failure_reasons": {"3": "ValueError: boom", "5": "ValueError: boom"}}
+    rel.infeasible = {"failed_calls": 9, "failure_reasons": {"3": "ValueError: boom", "5": "ValueError: boom"},
+                      "worn_away_calls": 3}
     rel.save(d)
-    wear.stopped_at_cycles, wear.stop_reason = 100_000, "joint A: the journal is worn 2 mm deep"
+    wear.stopped_at_cycles, wear.cycles_requested = 100_000, wear.cycles
+    wear.stop_reason = "joint A: the journal is worn 2 mm deep"
     wear.write(d)
     page = build_report(d).read_text(encoding="utf-8")
     assert "Failed model calls" in page and f"9 of {rel.model_calls} model calls failed" in page
     assert "most often: ValueError: boom" in page and "unconservative" in page
     assert "Worn away" in page and "stopped at 100,000 of" in page
+    assert "Joints worn away" in page and f"3 of {rel.model_calls} model calls wore a joint away" in page
 
 
 def test_the_life_table_keeps_a_target_near_1_and_the_numbers_give_the_surrogates_error(tmp_path, nominal):

@@ -15,7 +15,8 @@ import pytest
 
 from jointwear.config import load_config, updated
 from jointwear.mechanism import build_model
-from jointwear.study.model_call import WearModelCall
+from jointwear.study.limit_state import life_from_history
+from jointwear.study.model_call import WORN_AWAY_WEAR, WearModelCall
 from jointwear.wear import wear_history
 from jointwear.wear.history import used_up
 from jointwear.wear.settings import WearSettings
@@ -48,8 +49,14 @@ def test_a_pin_worn_away_stops_the_history_instead_of_raising(dry_steel):
     r_j = dry_steel.clearance_joints[0].journal_radius
     assert jw.history_max_journal[-1] >= r_j or jw.history_clearance_growth[-1] >= 2.0 * r_j
     assert "joint B" in res.stop_reason
-    # a limit-state read past the stop is the history's linear extrapolation: finite, so the call does not fail
-    call = WearModelCall(dry_steel.model_dump(), ["clearance_joints.B.bearing_material.wear_coefficient"],
-                         [500_000, 2_000_000])
+    # a model call reports, past the stop, a wear no allowance reaches: the call does not fail, and its life ends
+    # at the stop (within one step of its cycle grid) instead of running on along an extrapolated history
+    cycles = list(range(100_000, 2_000_001, 100_000))
+    call = WearModelCall(dry_steel.model_dump(), ["clearance_joints.B.bearing_material.wear_coefficient"], cycles)
     out, status = call(np.array([7e-3]))
-    assert status == "ok" and np.all(np.isfinite(out)) and out[1] > out[0]
+    assert status == "ok" and np.all(np.isfinite(out))
+    after = np.asarray(cycles) > res.stopped_at
+    assert np.all(out[after] == WORN_AWAY_WEAR) and np.all(out[~after] < r_j)
+    allowance = 1.05 * out[~after][-1]  # not reached before the stop
+    life = life_from_history(cycles, out[None, :], allowance)[0]
+    assert res.stopped_at <= life < res.stopped_at + 100_000

@@ -63,6 +63,8 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
     ])]
     if rel.failed_calls:
         parts.append(f'<p class="warn"><strong>Failed model calls.</strong> {e(rel.failed_calls_sentence())}</p>')
+    if rel.worn_away_sentence():
+        parts.append(f'<p class="warn"><strong>Joints worn away.</strong> {e(rel.worn_away_sentence())}</p>')
     missed = curve_misses_life(rel, out.results.wear)
     if missed:
         parts.append(f'<p class="warn"><strong>The curve misses the life.</strong> {missed}</p>')
@@ -140,7 +142,8 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
             low_label=f"mean \u00d7 {lo_f:g}", high_label=f"mean \u00d7 {hi_f:g}"),
             f"Sensitivity of the reliability: {title}.", png_keys=("tornado",)))
     parts.append("</div>")
-    optional = [("elasticity_mean", "elasticity of R to the mean, (\u03bc/R) dR/d\u03bc"), ("S1", "Sobol' S1"), ("ST", "Sobol' ST")]
+    optional = [("elasticity_mean", "elasticity of R to the mean, (\u03bc/R) dR/d\u03bc"), ("S1", "Sobol' S1"),
+                ("ST", "Sobol' ST")]
     extra_cols = [(k, h) for k, h in optional if any(v.get(k) is not None for v in sens.variables)]
     has_err = any(v.get("reliability_low_error") is not None for v in sens.variables)
     rows = []

@@ -329,7 +329,7 @@ class Study:
         result = WearSummary.from_history(res, self.config, self._allowances())
         result.save(self.out)
         ran = (f"{result.cycles} cycles" if result.stopped_at_cycles is None
-               else f"{result.stopped_at_cycles} of {result.cycles} cycles (stopped: worn away)")
+               else f"{result.stopped_at_cycles} of {result.cycles_requested} cycles (stopped: worn away)")
         self.echo(f"wear: max bearing wear {wear_line(result)} after {ran} "
                   f"(history {res.wall_seconds:.1f} s, stage {time.perf_counter() - t0:.1f} s) "
                   f"-> {self.out / result.FILE}")
@@ -362,8 +362,9 @@ class Study:
                   f"{life}{governing} -> {self.out / res.FILE}")
         if not res.converged:
             self.warn(f"reliability: {learning_stop_line(res, self.config.reliability)}")
-        if res.failed_calls:
-            self.warn(f"reliability: {res.failed_calls_sentence()}")
+        for sentence in (res.failed_calls_sentence(), res.worn_away_sentence()):
+            if sentence:
+                self.warn(f"reliability: {sentence}")
         return res
 
     @_quiet

@@ -53,6 +53,12 @@ def apply_sample(base: StudyConfig | dict, targets: Sequence[str], x: Sequence[f
     return config_from_dict(data, source="sample")
 
 
+#: The wear (m) a call reports at the cycle counts after its history stopped with a joint worn away
+#: (wear.history.used_up): larger than any allowance, so that the life ends at the stop (within one cycle step of
+#: the curve) instead of running on along an extrapolated history of a joint that is gone.
+WORN_AWAY_WEAR = 1.0
+
+
 def quantity_history(joint_wear, quantity: str, cycles) -> np.ndarray:
     """The wear quantity (m) of one joint's history at ``cycles``: linear between history points, linear
     extrapolation past the end (the wear grows linearly in N)."""
@@ -109,5 +115,7 @@ class WearModelCall:
         except ConfigError as exc:
             return np.full(self.n_outputs, np.nan), f"infeasible sample: {exc}"
         res = wear_history(model, cfg.wear, max(self.cycles), threads=self.threads)
-        return np.concatenate([quantity_history(res.joints[j], self.quantity, self.cycles)
+        gone = np.asarray(self.cycles, dtype=float) > (np.inf if res.stopped_at is None else res.stopped_at)
+        return np.concatenate([np.where(gone, WORN_AWAY_WEAR, quantity_history(res.joints[j], self.quantity,
+                                                                                self.cycles))
                                for j in self.joints]), "ok"

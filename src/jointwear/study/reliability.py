@@ -22,7 +22,7 @@ import numpy as np
 from jointwear.config import StudyConfig
 from jointwear.schema import ConfigError
 from jointwear.study.limit_state import LimitState, life_at, life_status, limit_state_from_config
-from jointwear.study.model_call import WearModelCall
+from jointwear.study.model_call import WORN_AWAY_WEAR, WearModelCall
 from jointwear.study.results import ReliabilityResult
 
 
@@ -280,6 +280,8 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         infeasible = {"rule": unc.clearance.infeasible_rule, "minimum_clearance_m": unc.clearance.minimum,
                       "probability_below_minimum": unc.clearance.infeasible_probability()}
     infeasible["failed_calls"] = int(engine.n_failed_calls)
+    with np.errstate(invalid="ignore"):  # a failed call's NaN row is no worn-away one
+        infeasible["worn_away_calls"] = int(np.any(ctx.outputs(design_x_model) >= WORN_AWAY_WEAR, axis=1).sum())
     # the model's own reason for a call that returned NaN, where the engine only saw the NaN
     infeasible["failure_reasons"] = {str(k): ctx.failure_reason(design_x_model[int(k)]) or v
                                      for k, v in engine.failure_reasons.items()}

@@ -84,6 +84,15 @@ class ReliabilityResult(StageResult):
                 "failure where it was drawn but is left out of the surrogate, so if failures come with high wear the "
                 "curve is too high (unconservative): the reasons are in reliability.json (infeasible.failure_reasons)")
 
+    def worn_away_sentence(self) -> str:
+        """How many model calls wore a joint away (their life ends where the history stopped; empty when none)."""
+        n = int(self.infeasible.get("worn_away_calls") or 0)
+        if not n:
+            return ""
+        return (f"{n} of {self.model_calls} model calls wore a joint away within the curve's cycles (docs/wear.md, "
+                "'A joint worn away'): a joint worn away has failed whatever the allowance, so their life ends where "
+                "their history stopped (within one step of the history's cycles)")
+
     def largest_error(self) -> tuple[float, float] | None:
         """(error, cycles): the surrogate's largest error estimate of R over the curve's levels whose COV counts
         (Pf above ``pf_floor``), and where it is; None when no level has an estimate."""

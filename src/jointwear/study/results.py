@@ -181,8 +181,9 @@ class WearSummary(StageResult):
     journal's wear, the clearance growth, the Archard volumes and the wear-rate diagnostics.
     ``conformity`` (joint 0) is the half worn arc of a bore worn to the journal's shape over the contact's
     half-angle on the unworn bore (a joint's ``contact_half_width_um``: Johnson's half-width at the first block's mean
-    force; ``max_half_width_um`` is the largest in the last block's recorded cycles); ``uniform_mode_valid`` is False when it exceeds 1 for any joint, where only
-    ``geometry_mode = "profile"`` describes the contact (docs/wear.md).
+    force; ``max_half_width_um`` is the largest in the last block's recorded cycles); ``uniform_mode_valid`` is
+    False when it exceeds 1 for any joint, where only ``geometry_mode = "profile"`` describes the contact
+    (docs/wear.md).
     ``history_result`` (not saved) is the full :class:`jointwear.wear.WearResult`.
     """
 
@@ -208,7 +209,8 @@ class WearSummary(StageResult):
     limit_mm: float | None = None
     conformity: float | None = None
     uniform_mode_valid: bool | None = None
-    stopped_at_cycles: int | None = None
+    stopped_at_cycles: int | None = None  # ``cycles`` then holds these, the history's end, and
+    cycles_requested: int | None = None  # this what was asked
     stop_reason: str | None = None
     files: list[str] = field(default_factory=list)
     provenance: dict = field(default_factory=dict)
@@ -270,7 +272,8 @@ class WearSummary(StageResult):
             })
         j0 = joints[0]
         return cls(
-            cycles=res.n_cycles, max_wear_mm=j0["max_wear_mm"], max_wear_angle_deg=j0["max_wear_angle_deg"],
+            cycles=res.n_cycles if res.stopped_at is None else res.stopped_at, max_wear_mm=j0["max_wear_mm"],
+            max_wear_angle_deg=j0["max_wear_angle_deg"],
             peaks=j0["peaks"], profile=j0["profile"],
             history={"cycles": j0["history"]["cycles"], "max_wear_mm": j0["history"]["max_wear_mm"]},
             journal=j0["journal"], wall_seconds=res.wall_seconds, joints=joints,
@@ -283,15 +286,15 @@ class WearSummary(StageResult):
             settings=res.settings.model_dump(mode="json"), geometry_mode=res.settings.geometry_mode,
             limit_mm=j0["allowance_mm"], conformity=j0["conformity"],
             uniform_mode_valid=all(j["uniform_mode_valid"] for j in joints), stopped_at_cycles=res.stopped_at,
-            stop_reason=res.stop_reason, provenance=provenance(), history_result=res)
+            cycles_requested=res.n_cycles, stop_reason=res.stop_reason, provenance=provenance(), history_result=res)
 
     def worn_away(self) -> list[str]:
         """The sentence saying that the history stopped early because a joint was worn away, if it did."""
         if self.stopped_at_cycles is None:
             return []
-        return [f"the history stopped at {self.stopped_at_cycles:,} of {self.cycles:,} cycles because "
-                f"{self.stop_reason}: the joint is worn away, which the wear model does not describe; depths past "
-                "that point are the history's linear extrapolation"]
+        asked = self.cycles_requested or self.cycles
+        return [f"the history stopped at {self.stopped_at_cycles:,} of {asked:,} cycles because {self.stop_reason}: "
+                "the joint is worn away, which the wear model does not describe (docs/wear.md, 'A joint worn away')"]
 
     def whirls(self) -> list[str]:
         """One sentence per joint that whirled in some blocks of the history (docs/dynamics.md, "Friction-driven
