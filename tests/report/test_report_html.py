@@ -247,8 +247,14 @@ def test_report_has_a_design_section_when_the_folder_has_a_design(tmp_path, nomi
         "target_life_cycles": 452_920.0, "target_reliability": 0.9, "chosen": point, "pareto": [point],
         "verification": {"reliability_at_target_life": 0.958, "error": 0.0035, "model_calls": 80, "confirmed": True},
         "model_calls": 140, "wall_seconds": 223.0, "n_candidates": 243}))
+    from jointwear.report import figures as F
+    from jointwear.report.style import to_png_bytes
+
+    (d / "design_pareto.png").write_bytes(to_png_bytes(F.reliability_curve_figure([1, 2], [0.9, 0.5])))
     page = build_report(d).read_text(encoding="utf-8")
     assert 'id="design"' in page and "IT8/IT7" in page and "coated" in page
+    # the stage's own file of the front is not shown again among the figures no section shows (it was)
+    assert "design_pareto.png" not in page
 
 
 def test_a_general_linkage_is_sketched_as_drawn(tmp_path):

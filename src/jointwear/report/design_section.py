@@ -7,6 +7,7 @@ import html
 from collections.abc import Mapping
 from pathlib import Path
 
+from jointwear.report.markup import figure_html
 from jointwear.report.style import TARGET_COLOR, figure, label_axes, styled, to_data_uri
 
 
@@ -44,8 +45,10 @@ def _fmt(v, spec: str = ".4g") -> str:
     return "-" if v is None else format(v, spec)
 
 
-def design_section(out_dir: Path | str) -> str | None:
-    """HTML of the design section from ``out_dir/design.json``; None when there is no design result."""
+def design_section(out_dir: Path | str, figs=None) -> str | None:
+    """HTML of the design section from ``out_dir/design.json``; None when there is no design result. ``figs`` (the
+    report's :class:`jointwear.report.markup.Figures`) draws the front, so that the stage's own file of it is not
+    shown again among the figures no section shows."""
     from jointwear.design.results import DesignResult
 
     if not (Path(out_dir) / DesignResult.FILE).is_file():
@@ -84,10 +87,11 @@ def design_section(out_dir: Path | str) -> str | None:
         parts.append('<p class="warn"><strong>The headline choice does not meet every target.</strong> '
                      f"{e(meets)}</p>")
     if _get(d, "pareto"):
-        uri = to_data_uri(design_pareto_figure(d))
         caption = "Cost of every candidate design against its life at the target reliability; the front and the choice."
-        parts.append(f'<figure class="fig"><img src="{uri}" alt="{e(caption)}"><figcaption>{e(caption)}'
-                     "</figcaption></figure>")
+        if figs is not None:
+            parts.append(figs.draw(lambda: design_pareto_figure(d), caption, png_keys=("design_pareto",)))
+        else:
+            parts.append(figure_html(to_data_uri(design_pareto_figure(d)), caption))
         names = list(_get(d, "pareto")[0]["choices"])
         header = "".join(f"<th>{e(n)}</th>" for n in names) + (
             "<th>cost</th><th>life at R* (cycles)</th><th>R(N*)</th><th>+/- error</th>"

@@ -68,7 +68,7 @@ def build_report(out_dir: Path | str, *, output: Path | str | None = None, title
             "The R(N) curve checked against direct Monte Carlo of the true wear model.")]
           if out.results.validation is not None else []),
         ("sensitivity", "Sensitivity", lambda: sensitivity_section(out, figs), ""),
-        *([("design", "Uncertainty control: the cheapest controls", lambda: design_section(out_dir),
+        *([("design", "Uncertainty control: the cheapest controls", lambda: design_section(out_dir, figs),
             "The tolerance grades, fit and material specifications that reach the target life at the target "
             "reliability at the least cost (docs/design.md).")]
           if (out_dir / "design.json").is_file() else []),
