@@ -254,7 +254,12 @@ def test_report_has_a_design_section_when_the_folder_has_a_design(tmp_path, nomi
     page = build_report(d).read_text(encoding="utf-8")
     assert 'id="design"' in page and "IT8/IT7" in page and "coated" in page
     # the stage's own file of the front is not shown again among the figures no section shows (it was)
-    assert "design_pareto.png" not in page
+    assert "design_pareto.png" not in page and "Candidates left undecided" not in page
+    data = json.loads((d / "design.json").read_text())
+    data["refinement"] = {"iterations": 20, "model_calls": 40, "undecided_left": 1}
+    (d / "design.json").write_text(json.dumps(data))
+    page = build_report(d).read_text(encoding="utf-8")
+    assert "Candidates left undecided" in page and "ran out with 1 candidate(s)" in page
 
 
 def test_a_general_linkage_is_sketched_as_drawn(tmp_path):

@@ -52,6 +52,15 @@ class DesignResult(StageResult):
         """Whether some candidate reaches the headline target on the surrogate."""
         return self.chosen is not None
 
+    def undecided_sentence(self) -> str:
+        """What candidates left undecided by the refinement mean for the choice (empty when none was left)."""
+        n = int((self.refinement or {}).get("undecided_left") or 0)
+        if not n:
+            return ""
+        return (f"the refinement's budget (design.refine_max_calls) ran out with {n} candidate(s) no dearer than the "
+                "choice still undecided (their estimate's error spans the target): a cheaper one may meet it; raise "
+                "design.refine_max_calls and run again with --resume (resume=True in Python)")
+
     def save(self, folder: Path | str, *, figures: bool = True) -> Path:
         """Write ``design.json``, the front (``design_pareto.csv``), every candidate (``design_candidates.csv``)
         and the front's figure."""

@@ -593,6 +593,8 @@ class Study:
                 f"the cheapest that does: {', '.join(f'{k} {v}' for k, v in every['choices'].items())} "
                 f"(cost {every['cost']:.3g})"))
         self._warn_design_trust(chosen)
+        if result.undecided_sentence():
+            self.warn(f"design: {result.undecided_sentence()}")
         if (self.out / "report.html").is_file():  # a report already there would go on without the design
             self.report()
         return result
