@@ -48,3 +48,24 @@ def test_a_design_specification_orders_of_magnitude_off_is_warned(path, value, w
     node[keys[-1]] = value
     (warning,) = config_warnings(updated(load_config(), {"design": design}))
     assert warning.startswith(where) and "a unit slip?" in warning
+
+
+def test_a_design_specification_beyond_the_studys_population_is_warned():
+    """A POM option against a bronze study (hardness and k about 8 study standard deviations away) was rejected by
+    the design on an extrapolated R(N*) of 0.03 where its own study gave 0.97; nothing said it lay outside."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "design"))
+    from design_fixtures import DESIGN
+
+    from jointwear.study.checks import population_reach
+
+    base = updated(load_config(), {"design": DESIGN})
+    spec = next(s for s in base.uncertainty.all_specs() if s.name == "HB_b")
+    reach = population_reach(base.reliability.n_mc)
+    design = copy.deepcopy(DESIGN)
+    cls = design["properties"][0]["classes"][2]
+    cls.pop("mean_HB", None)
+    for sigmas, warned in ((reach - 0.2, False), (reach + 0.2, True), (8.0, True)):
+        cls["mean"] = spec.mean - sigmas * spec.std
+        found = [w for w in config_warnings(updated(load_config(), {"design": design})) if "population of" in w]
+        assert bool(found) is warned, (sigmas, found)
+    assert "lies 8 of the study's standard deviations" in found[0] and "docs/design.md" in found[0]

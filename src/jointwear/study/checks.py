@@ -91,6 +91,15 @@ MEAN_SHIFT_WARNING_SIGMAS = 3.0
 DESIGN_SCALE_WARNING = 100.0
 
 
+def population_reach(n_mc: int) -> float:
+    """How many standard deviations from its mean a normal population of ``n_mc`` samples reaches: the quantile
+    that one sample in n_mc exceeds on either side (4.6 for 238,691). A design specification whose mean lies beyond
+    it is outside what the study's surrogate has seen."""
+    from scipy.stats import norm
+
+    return float(norm.isf(0.5 / max(int(n_mc), 1)))
+
+
 def design_warnings(config: StudyConfig) -> list[str]:
     """Design specifications whose mean is more than ``DESIGN_SCALE_WARNING`` times larger or smaller than the
     study's mean of their variable (a fit's mean against the clearance's): the sign of a unit slip, such as
@@ -109,16 +118,24 @@ def design_warnings(config: StudyConfig) -> list[str]:
     if design.fit is not None and unc.clearance is not None:
         given += [(f"design.fit.options[{o.name}]", "c", o) for o in design.fit.options]
     out = []
+    reach = population_reach(config.reliability.n_mc)
     for where, name, spec in given:
         base = specs.get(name)
         if base is None or spec.mean is None or not base.mean or not spec.mean:
             continue
         ratio = abs(spec.mean / base.mean)
+        unit = target_display_unit(base.target)
+        unit = f" {unit}" if unit else ""
+        sigmas = abs(spec.mean - base.mean) / base.std if getattr(base, "std", None) else 0.0
         if not 1.0 / DESIGN_SCALE_WARNING <= ratio <= DESIGN_SCALE_WARNING:
-            unit = target_display_unit(base.target)
-            unit = f" {unit}" if unit else ""
             out.append(f"{where}: its mean ({spec.mean:.6g}{unit}) is {ratio:.3g} times the study's mean of "
                        f"'{name}' ({base.mean:.6g}{unit}): a unit slip? (a suffix gives the unit: mean_HB, mean_um)")
+        elif sigmas > reach:
+            out.append(f"{where}: its mean ({spec.mean:.6g}{unit}) lies {sigmas:.3g} of the study's standard "
+                       f"deviations from its mean of '{name}' ({base.mean:.6g}{unit}), beyond the {reach:.2g} its "
+                       f"population of {config.reliability.n_mc:,} reaches: the design judges it by extrapolation, and "
+                       "a rejected option is never verified; widen the study's distribution of it to cover the "
+                       "option, or run a study of the option (docs/design.md, 'Limits')")
     return out
 
 
