@@ -156,6 +156,10 @@ def test_report_of_a_folder_without_results_exits_2(tmp_path, capsys):
     code, err = _run(capsys, ["report", str(tmp_path)])
     assert code == 2 and "no study results" in err and len(err.strip().splitlines()) == 1
     assert not (tmp_path / "report.html").exists()
+    config = tmp_path / "study.toml"  # a config, as the other commands take it (it was "Directory ... is a file")
+    config.write_text('extends = "jin2025_flapping_wing"\n', encoding="utf-8")
+    code, err = _run(capsys, ["report", str(config)])
+    assert code == 2 and "report takes the results folder of a study" in err and "--out DIR" in err
 
 
 def test_report_takes_its_folder_as_directory_or_as_out_like_every_command(tmp_path, capsys):

@@ -156,8 +156,8 @@ def validate(config, samples, workers, scheduler, resume, overwrite, out):
 
 
 @main.command()
-@click.argument("directory", type=click.Path(file_okay=False, path_type=Path), required=False)
-@click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
+@click.argument("directory", type=click.Path(path_type=Path), required=False)
+@click.option("--out", "out", type=click.Path(path_type=Path), default=None,
               help="The results folder, as the other commands name it (same as DIRECTORY).")
 def report(directory, out):
     """Build DIRECTORY/report.html from the results of a study (DIRECTORY or --out DIR)."""
@@ -169,6 +169,9 @@ def report(directory, out):
     if directory is not None and out is not None and directory.resolve() != out.resolve():
         raise ConfigError(f"report: two results directories, '{directory}' and --out '{out}': give one")
     directory = directory if directory is not None else out
+    if directory.is_file():  # a config given as the other commands take it
+        raise ConfigError(f"report: '{directory}' is a file; report takes the results folder of a study (the --out "
+                          "of the command that ran it): jointwear report --out DIR")
     if not directory.is_dir():
         raise ConfigError(f"report: '{directory}' is not a directory with study results")
     if not load_results(directory).stages:
