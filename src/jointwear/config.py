@@ -254,6 +254,13 @@ def validation_problems(exc: ValidationError) -> list[str]:
             shown = f" (got {inp!r}{', SI units' if unit is None else f' {unit}' if unit else ''})"
         if err.get("type") == "extra_forbidden":
             msg = "unknown key (not a setting of this section)" + _did_you_mean(tuple(err.get("loc", ())))
+        bound = next((v for k, v in (err.get("ctx") or {}).items() if k in ("ge", "gt", "le", "lt")), None)
+        if isinstance(inp, float) and isinstance(bound, (int, float)) and bound and shown.endswith(" Pa)"):
+            shown_bound = str(int(bound)) if float(bound).is_integer() else str(bound)  # as pydantic writes it
+            msg = msg.replace(shown_bound, f"{bound:g} Pa")
+            if not 1e-2 < abs(inp / bound) < 1e2:  # orders of magnitude off its bound: the unit, most likely
+                field = str(err["loc"][-1])
+                msg += f", a unit slip? (a suffix gives the unit: {field}_MPa, {field}_GPa)"
         # a whole-config rule's message starts with the fields it names
         text = (f"{where}: {msg}{shown}" if where != "config" else f"{msg}{shown}").replace("\n", " ")
         if text not in out:
