@@ -192,8 +192,8 @@ def wear_history(
         Called as ``progress(done, n_cycles)`` after every block.
 
     A history whose joint is worn away (:func:`used_up`) stops at the end of that block: the result's
-    ``stopped_at`` and ``stop_reason`` say when and why, and its histories end there (the model call extrapolates
-    them linearly, as past any history's end).
+    ``stopped_at`` and ``stop_reason`` say when and why, and its histories end there (a reliability model call
+    reports a wear no allowance reaches past that point: study.model_call.WORN_AWAY_WEAR).
     """
     t_wall = time.perf_counter()
     if n_cycles is None:
