@@ -69,8 +69,6 @@ class StudyContext:
     def outputs(self, X: np.ndarray) -> np.ndarray:
         """The model outputs (n, J * H): the wear quantity of every judged joint at ``history_cycles``."""
         X = np.atleast_2d(np.asarray(X, dtype=float))
-        if not hasattr(self.evaluator, "evaluate"):  # a plain callable (tests)
-            return np.asarray(self.evaluator(X), dtype=float).reshape(X.shape[0], -1)
         batch = self.evaluator.evaluate(X)
         for i, status, reason in batch.failures:
             self.call_failures[np.ascontiguousarray(X[i]).tobytes()] = f"{status}: {reason}" if reason else status
@@ -93,7 +91,7 @@ class StudyContext:
     @property
     def n_model_calls(self) -> int:
         """True-model calls made through this context (not those read back from the store or from memory)."""
-        return int(getattr(self.evaluator, "n_model_calls", self.n_evaluated))
+        return int(self.evaluator.n_model_calls)
 
     def split(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
         """Model inputs and the sampled allowance (None when the allowance is deterministic)."""
