@@ -8,6 +8,7 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from jointwear.report.markup import figure_html
+from jointwear.report.study_sections import warning
 from jointwear.report.style import TARGET_COLOR, figure, label_axes, styled, to_data_uri
 
 
@@ -86,8 +87,8 @@ def design_section(out_dir: Path | str, figs=None) -> str | None:
             + ", ".join(f"{r:.4f}" for r in every["reliability_at_target_life"]) + " at the targets in order).")
         parts.append('<p class="warn"><strong>The headline choice does not meet every target.</strong> '
                      f"{e(meets)}</p>")
-    if hasattr(d, "undecided_sentence") and d.undecided_sentence():
-        parts.append(f'<p class="warn"><strong>Candidates left undecided.</strong> {e(d.undecided_sentence())}</p>')
+    if undecided := d.undecided_sentence():
+        parts.append(warning("Candidates left undecided.", undecided))
     if _get(d, "pareto"):
         caption = "Cost of every candidate design against its life at the target reliability; the front and the choice."
         if figs is not None:

@@ -26,7 +26,7 @@ from .checks import (
 )
 from .markup import Figures, cards, e, format_number, missing, table
 from .read import StudyOutputs
-from .study_sections import allowance_mm, not_run
+from .study_sections import allowance_mm, not_run, warning
 
 __all__ = ["reliability_section", "sensitivity_section", "validation_section", "comparison_section",
            "summary_cards", "files_section"]
@@ -61,10 +61,9 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
         ("max COV of Pf", "\u2014" if cov is None else f"{cov:.3g}", "over the levels with Pf \u2265 pf_floor"),
         ("wall time", f"{rel.wall_seconds:.4g} s", None),
     ])]
-    if rel.failed_calls:
-        parts.append(f'<p class="warn"><strong>Failed model calls.</strong> {e(rel.failed_calls_sentence())}</p>')
-    if rel.worn_away_sentence():
-        parts.append(f'<p class="warn"><strong>Joints worn away.</strong> {e(rel.worn_away_sentence())}</p>')
+    parts += [warning(title, sentence) for title, sentence in (("Failed model calls.", rel.failed_calls_sentence()),
+                                                              ("Joints worn away.", rel.worn_away_sentence()))
+              if sentence]
     missed = curve_misses_life(rel, out.results.wear)
     if missed:
         parts.append(f'<p class="warn"><strong>The curve misses the life.</strong> {missed}</p>')
