@@ -417,9 +417,13 @@ class Study:
         self.echo(f"validate: {result.n_samples:,} true-model samples ({result.model_calls:,} new calls), "
                   f"agreement at {agree} of {len(result.agreement)} levels, cross-validation Q2 = "
                   f"{result.cross_validation.get('q2', float('nan')):.3f} -> {self.out / result.FILE}")
-        if (self.out / "report.html").is_file():  # a report already there would go on without the validation
-            self.report()
+        self._refresh_report()
         return result
+
+    def _refresh_report(self) -> None:
+        """Rebuild a report already in the folder: it would go on without the stage that just wrote its result."""
+        if (self.out / "report.html").is_file():
+            self.report()
 
     def report(self) -> Path:
         """Build ``out/report.html`` from the results in the output folder; returns its path."""
@@ -593,10 +597,9 @@ class Study:
                 f"the cheapest that does: {', '.join(f'{k} {v}' for k, v in every['choices'].items())} "
                 f"(cost {every['cost']:.3g})"))
         self._warn_design_trust(chosen)
-        if result.undecided_sentence():
-            self.warn(f"design: {result.undecided_sentence()}")
-        if (self.out / "report.html").is_file():  # a report already there would go on without the design
-            self.report()
+        if undecided := result.undecided_sentence():
+            self.warn(f"design: {undecided}")
+        self._refresh_report()
         return result
 
     def _warn_design_trust(self, chosen: dict) -> None:
