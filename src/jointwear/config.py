@@ -248,14 +248,14 @@ def validation_problems(exc: ValidationError) -> list[str]:
         msg = err.get("msg", "invalid").removeprefix("Value error, ")
         inp = err.get("input")
         shown = ""
+        unit = _unit_at(tuple(err.get("loc", ()))) if isinstance(inp, float) else ""
         if err.get("type") not in ("missing", "extra_forbidden") and isinstance(inp, (int, float, str)) \
                 and not isinstance(inp, bool):
-            unit = _unit_at(tuple(err.get("loc", ()))) if isinstance(inp, float) else ""
             shown = f" (got {inp!r}{', SI units' if unit is None else f' {unit}' if unit else ''})"
         if err.get("type") == "extra_forbidden":
             msg = "unknown key (not a setting of this section)" + _did_you_mean(tuple(err.get("loc", ())))
         bound = next((v for k, v in (err.get("ctx") or {}).items() if k in ("ge", "gt", "le", "lt")), None)
-        if isinstance(inp, float) and isinstance(bound, (int, float)) and bound and shown.endswith(" Pa)"):
+        if unit == "Pa" and isinstance(bound, (int, float)) and bound:
             shown_bound = str(int(bound)) if float(bound).is_integer() else str(bound)  # as pydantic writes it
             msg = msg.replace(shown_bound, f"{bound:g} Pa")
             if not 1e-2 < abs(inp / bound) < 1e2:  # orders of magnitude off its bound: the unit, most likely
