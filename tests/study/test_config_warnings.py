@@ -69,3 +69,30 @@ def test_a_design_specification_beyond_the_studys_population_is_warned():
         found = [w for w in config_warnings(updated(load_config(), {"design": design})) if "population of" in w]
         assert bool(found) is warned, (sigmas, found)
     assert "lies 8 of the study's standard deviations" in found[0] and "docs/design.md" in found[0]
+
+
+def test_a_clearance_mean_at_or_below_its_minimum_is_refused_naming_the_field():
+    """A mean of -5 um passed check, and the truncation at the minimum then sampled clearances of 0.1-0.9 um."""
+    from jointwear.schema import ConfigError
+
+    with pytest.raises(ConfigError, match=r"uncertainty\.clearance.*mean of the clearance \(-5 um\) must exceed its "
+                                          r"minimum \(0\.1 um\)"):
+        updated(load_config(), {"uncertainty.clearance.mean_um": -5.0})
+
+
+def test_a_clearance_mostly_truncated_at_its_minimum_is_warned_with_the_mean_it_samples():
+    """The truncated normal's mean mu + sigma phi(a) / (1 - Phi(a)), a = (minimum - mu) / sigma (exact)."""
+    from scipy.stats import norm
+
+    from jointwear.study.checks import TRUNCATED_MEAN_SHIFT_WARNING
+
+    base = load_config()
+    narrow = updated(base, {"uncertainty.clearance.mean_um": 0.6})
+    spec = narrow.uncertainty.clearance
+    a = (spec.minimum - spec.mean) / spec.std
+    sampled = spec.mean + spec.std * norm.pdf(a) / norm.sf(a)
+    assert sampled - spec.mean > TRUNCATED_MEAN_SHIFT_WARNING * spec.mean  # the case is meant to warn
+    (warning,) = config_warnings(narrow)
+    assert warning.startswith(f"uncertainty.clearance: {norm.cdf(a):.1%} of the clearance's normal")
+    assert f"their mean is {sampled * 1e6:.4g} um, not the designed 0.6 um" in warning
+    assert config_warnings(updated(narrow, {"uncertainty.clearance.infeasible_rule": "fail"})) == []

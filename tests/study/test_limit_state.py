@@ -72,6 +72,25 @@ def test_limit_state_problems_name_the_field():
     assert any(p.startswith("reliability.allowances:") for p in problems)
 
 
+@pytest.mark.parametrize("reliability, where, stock", [
+    # 5 mm meant as 0.005 mm: the six-bar's joint A bushing is 3 - 2.02 = 0.98 mm thick (its TOML's radii)
+    ({"allowance_mm": None, "allowance": 0.005, "joints": ["A"]}, "reliability.allowance: 5 mm for joint A",
+     "bearing wall"),
+    ({"allowances_mm": {"E": 0.05}, "allowance_mm": 10.0, "joints": ["E"], "quantity": "journal_max_depth"},
+     None, None),
+    ({"allowances_mm": {"E": 5.0}, "joints": ["E"], "quantity": "journal_max_depth"},
+     "reliability.allowances.E: 5 mm for joint E", "journal radius"),
+])
+def test_an_allowance_no_part_can_reach_is_a_problem_naming_the_field(reliability, where, stock):
+    """An allowance of 5 m passed check and ran: R = 1 everywhere, lives extrapolated 440x past the history."""
+    problems = limit_state_problems(config_from_dict(_six_bar(reliability)))
+    if where is None:
+        assert problems == []
+        return
+    (problem,) = problems
+    assert problem.startswith(where) and stock in problem and "a unit slip?" in problem
+
+
 def test_every_problem_is_listed_before_anything_runs():
     data = _six_bar({"joints": ["Z"], "cycles_start": None, "histogram_cycles": [900_000]})
     data["sensitivity"] = {"cycles": 123}

@@ -90,6 +90,9 @@ MEAN_SHIFT_WARNING_SIGMAS = 3.0
 #: a design specification this many times larger or smaller than its variable's mean is worth a warning
 DESIGN_SCALE_WARNING = 100.0
 
+#: a truncation at the minimum clearance that moves the sampled clearance's mean by this share is worth a warning
+TRUNCATED_MEAN_SHIFT_WARNING = 0.1
+
 
 def population_reach(n_mc: int) -> float:
     """How many standard deviations from its mean a normal population of ``n_mc`` samples reaches: the quantile
@@ -164,7 +167,23 @@ def config_warnings(config: StudyConfig) -> list[str]:
                        f"deviations from the value drawn at its target {spec.target} ({drawn:.6g}{unit}): the "
                        "simulate and wear stages run the drawn mechanism, the reliability stages one around the mean; "
                        "give both the same value unless the shift is meant")
-    return out + design_warnings(config)
+    return out + clearance_warnings(config) + design_warnings(config)
+
+
+def clearance_warnings(config: StudyConfig) -> list[str]:
+    """A clearance whose normal lies so far below ``minimum`` that the truncation there moves the sampled mean
+    by more than ``TRUNCATED_MEAN_SHIFT_WARNING`` of the designed mean (the study then describes another fit)."""
+    clearance = None if config.uncertainty is None else config.uncertainty.clearance
+    if clearance is None or clearance.infeasible_rule != "truncate":
+        return []
+    sampled = float(clearance.feasible().mean())
+    if abs(sampled - clearance.mean) <= TRUNCATED_MEAN_SHIFT_WARNING * clearance.mean:
+        return []
+    return [f"uncertainty.clearance: {clearance.infeasible_probability():.1%} of the clearance's normal "
+            f"(mean {clearance.mean * 1e6:.4g} um, std {clearance.std * 1e6:.4g} um) lies at or below its minimum "
+            f"({clearance.minimum * 1e6:.4g} um); the samples are truncated there, so their mean is "
+            f"{sampled * 1e6:.4g} um, not the designed {clearance.mean * 1e6:.4g} um: choose a fit whose spread "
+            "suits the clearance, or infeasible_rule = 'fail' to count those assemblies as failures"]
 
 
 def out_problem(out: Path) -> str | None:

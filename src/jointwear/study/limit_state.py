@@ -100,10 +100,35 @@ def limit_state_problems(config) -> list[str]:
     if extra:
         problems.append(f"reliability.allowances: {extra} are not judged joints (judged: {chosen})")
     for n in chosen:
-        if n in names_all and joint_allowance(rel, config.clearance_joints[names_all.index(n)]) is None:
+        if n not in names_all:
+            continue
+        joint = config.clearance_joints[names_all.index(n)]
+        allowance = joint_allowance(rel, joint)
+        if allowance is None:
             problems.append(f"reliability.allowance: required for joint {n} (or give clearance_joints.{n}."
                             "bearing_outer_radius for the default 0.01 D)")
+            continue
+        stock = wearable_stock(rel.quantity, joint)
+        if stock is not None and allowance >= stock[0]:
+            where = f"reliability.allowances.{n}" if n in rel.allowances else "reliability.allowance"
+            problems.append(f"{where}: {allowance * 1e3:.6g} mm for joint {n} is not less than its {stock[1]} "
+                            f"({stock[0] * 1e3:.6g} mm): the part is worn through before the {QUANTITY_LABELS[rel.quantity]} "
+                            "reaches it (a unit slip? without a suffix the allowance is in m: allowance_mm, allowance_um)")
     return problems
+
+
+def wearable_stock(quantity: str, joint) -> tuple[float, str] | None:
+    """The most the judged wear quantity of ``joint`` can grow before a part is worn through (m), and what that is:
+    the bearing's wall (outer - inner radius), the journal's radius, or both for the clearance growth; None where
+    the bearing's outer radius is needed and not given."""
+    wall = None if joint.bearing_outer_radius is None else joint.bearing_outer_radius - joint.bearing_radius
+    if quantity == "journal_max_depth":
+        return float(joint.journal_radius), "journal radius"
+    if wall is None:
+        return None
+    if quantity == "bearing_max_depth":
+        return float(wall), "bearing wall (bearing_outer_radius - bearing_radius)"
+    return float(wall + joint.journal_radius), "bearing wall plus journal radius"
 
 
 def life_from_history(cycles, wear, allowance) -> np.ndarray:

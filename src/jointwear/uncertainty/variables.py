@@ -168,6 +168,16 @@ class ClearanceSpec(SIModel):
         it_tolerance(grade, 1e-3)  # an unknown grade is refused here, where the message can name the field
         return grade
 
+    @model_validator(mode="after")
+    def _above_minimum(self) -> ClearanceSpec:
+        if not self.minimum > 0:
+            raise ValueError(f"minimum of the clearance must be > 0 m (got {self.minimum:g})")
+        if not self.mean > self.minimum:
+            raise ValueError(f"mean of the clearance ({self.mean * 1e6:g} um) must exceed its minimum "
+                             f"({self.minimum * 1e6:g} um), the smallest clearance the clearance-joint model "
+                             "describes (a unit slip? mean_um, mean_mm)")
+        return self
+
     @property
     def std(self) -> float:
         if self.source == "table5":
