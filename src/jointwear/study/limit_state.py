@@ -112,8 +112,9 @@ def limit_state_problems(config) -> list[str]:
         if stock is not None and allowance >= stock[0]:
             where = f"reliability.allowances.{n}" if n in rel.allowances else "reliability.allowance"
             problems.append(f"{where}: {allowance * 1e3:.6g} mm for joint {n} is not less than its {stock[1]} "
-                            f"({stock[0] * 1e3:.6g} mm): the part is worn through before the {QUANTITY_LABELS[rel.quantity]} "
-                            "reaches it (a unit slip? without a suffix the allowance is in m: allowance_mm, allowance_um)")
+                            f"({stock[0] * 1e3:.6g} mm): the part is worn through before the "
+                            f"{QUANTITY_LABELS[rel.quantity]} reaches it (a unit slip? without a suffix the allowance "
+                            "is in m: allowance_mm, allowance_um)")
     return problems
 
 
