@@ -14,12 +14,14 @@ Nothing here draws random numbers, so a deterministic function gives the same re
 
 from __future__ import annotations
 
+import ast
 import concurrent.futures as cf
 import ctypes
 import multiprocessing
 import os
 import signal
 import sys
+from pathlib import Path
 from typing import Any, Callable
 
 __all__ = [
@@ -29,6 +31,7 @@ __all__ = [
     "available_cores",
     "make_executor",
     "start_local_cluster",
+    "unguarded_main_script",
 ]
 
 
@@ -165,6 +168,31 @@ def _pid_alive(pid: int) -> bool:
     return True
 
 
+def unguarded_main_script() -> str | None:
+    """The script run as ``__main__`` when no top-level ``if __name__ == "__main__":`` guards any of it, else None.
+
+    Worker processes import the main script again before they take calls; without the guard each of them would
+    run the study once more, and every call would fail with multiprocessing's bootstrapping error."""
+    path = getattr(sys.modules.get("__main__"), "__file__", None)
+    if not path:  # an interactive session or a notebook: nothing is imported again
+        return None
+    try:
+        tree = ast.parse(Path(path).read_bytes())
+    except (OSError, SyntaxError, ValueError):
+        return None
+    return None if any(_is_main_guard(node) for node in tree.body) else str(path)
+
+
+def _is_main_guard(node: ast.stmt) -> bool:
+    """``if __name__ == "__main__":`` (either order of the comparison)."""
+    if not isinstance(node, ast.If) or not isinstance(node.test, ast.Compare) or len(node.test.comparators) != 1:
+        return False
+    sides = [node.test.left, node.test.comparators[0]]
+    names = [s.id for s in sides if isinstance(s, ast.Name)]
+    texts = [s.value for s in sides if isinstance(s, ast.Constant)]
+    return isinstance(node.test.ops[0], ast.Eq) and names == ["__name__"] and texts == ["__main__"]
+
+
 class LocalExecutor(_ExecutorBase):
     """A pool of ``workers`` local processes (:class:`concurrent.futures.ProcessPoolExecutor`).
 
@@ -181,6 +209,11 @@ class LocalExecutor(_ExecutorBase):
         self._workers = int(workers) if workers is not None else available_cores()
         if self._workers < 1:
             raise ValueError(f"workers must be >= 1, got {workers}")
+        script = unguarded_main_script()
+        if script is not None:
+            raise RuntimeError(
+                f"{script} runs model calls in {self._workers} worker processes, which import it again: put the "
+                "study under `if __name__ == \"__main__\":` (or use workers=1 to run the calls in this process)")
         if mp_context is None:
             methods = multiprocessing.get_all_start_methods()
             mp_context = "forkserver" if "forkserver" in methods else "spawn"
