@@ -21,6 +21,7 @@ from .result_sections import (
     files_section,
     reliability_section,
     sensitivity_section,
+    summary_caveats,
     summary_cards,
     validation_section,
 )
@@ -80,7 +81,7 @@ def build_report(out_dir: Path | str, *, output: Path | str | None = None, title
         bodies.insert(-1, ("stage-figures", "Figures written by the stages",
                            '<div class="grid">' + "".join(extra) + "</div>",
                            "PNG files found in the output folder that the sections above do not show."))
-    summary = summary_cards(out, checks, ref)
+    summary = summary_cards(out, checks, ref) + summary_caveats(out)
 
     preset, source, name = cfg.get("preset"), cfg.get("source"), cfg.get("name")
     sub = " \u00b7 ".join([

@@ -29,7 +29,7 @@ from .read import StudyOutputs
 from .study_sections import allowance_mm, not_run, warning
 
 __all__ = ["reliability_section", "sensitivity_section", "validation_section", "comparison_section",
-           "summary_cards", "files_section"]
+           "summary_cards", "summary_caveats", "files_section"]
 
 
 def _pill(status: str) -> str:
@@ -350,6 +350,41 @@ def summary_cards(out: StudyOutputs, checks: Sequence[Check], ref: Mapping | Non
     else:
         items.append(("life at the target R", "\u2014", "no reliability result"))
     return cards(items, cls="cards summary")
+
+
+def summary_caveats(out: StudyOutputs) -> str:
+    """The warnings of the sections below that bear on the summary's numbers, one line each with a link to its
+    section (empty when there is none): a reader of the headline alone must not miss them."""
+    sim, wear, rel = out.results.simulate, out.results.wear, out.results.reliability
+    items: list[tuple[str, str, str]] = []
+    if sim is not None:
+        items += [("dynamics", "Outside the contact law's range", s) for s in sim.outside_hertz()]
+    if wear is not None:
+        if wear.uniform_out_of_range:
+            items.append(("wear", "Uniform mode is outside its range",
+                          "the worn pocket is wider than the contact patch, so the depth grows more slowly than "
+                          'uniform mode assumes; run the study with wear.geometry_mode = "profile" and trust that '
+                          "answer"))
+        items += [("wear", "Worn away", s) for s in wear.worn_away()]
+        items += [("wear", "Worn through", s) for s in wear.worn_through()]
+    if rel is not None:
+        if not rel.converged:
+            why = ("its budget of model calls ended" if rel.stopped_by_budget or not rel.learning_stop
+                   else rel.learning_stop)
+            items.append(("reliability", "The learning did not converge",
+                          f"{why}; the curve and the life carry more error than the settings ask for (the R(N) "
+                          "band and the surrogate error of R say how much)"))
+        items += [("reliability", title, s) for title, s in (("Failed model calls", rel.failed_calls_sentence()),
+                                                             ("Joints worn away", rel.worn_away_sentence())) if s]
+    rows = [f'<li><a href="#{e(sid)}"><strong>{e(title)}</strong></a>: {e(sentence.rstrip("."))}.</li>'
+            for sid, title, sentence in items]
+    missed = None if rel is None else curve_misses_life(rel, wear)  # markup already
+    if missed:
+        rows.append(f'<li><a href="#reliability"><strong>The curve misses the life</strong></a>: {missed}</li>')
+    if not rows:
+        return ""
+    what = "this caveat" if len(rows) == 1 else "these caveats"
+    return f'<div class="warn"><strong>Read these numbers with {what}</strong><ul>{"".join(rows)}</ul></div>'
 
 
 def files_section(out: StudyOutputs) -> str:
