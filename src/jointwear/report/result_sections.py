@@ -69,7 +69,8 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
         parts.append(f'<p class="warn"><strong>The curve misses the life.</strong> {missed}</p>')
     if len(rel.life_table) > 1:
         parts.append(table(["target R", "life (cycles)", "life (h)", "where"], [
-            (format_number(r["target"], 6), format_number(r["cycles"]), format_number(r["hours"], 3),
+            (format_number(r["target"], 6), format_number(r["cycles"]),
+             "\u2014" if r.get("hours") is None else f"{r['hours']:,.2f}",
              str(r.get("status", "")).replace("_", " ")) for r in rel.life_table], cls="kv"))
     if len(rel.joints) > 1:
         parts.append(f"<p>Series system of {len(rel.joints)} joints; the joint that governs: "
@@ -121,7 +122,14 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
         return not_run(out, "sensitivity", "the sensitivity study")
     nominal = sens.reliability_nominal
     lo_f, hi_f = sens.factors
-    parts = [f"<p>{e(f'Reliability at {sens.cycles:,.0f} cycles (nominal {nominal:.3f}) when the mean of each variable is moved to {lo_f * 100:g} % and to {hi_f * 100:g} % of its value, the others fixed.')}</p>"]
+    population = f" on the sensitivity's population of {sens.n_population:,}" if sens.n_population else ""
+    rel = out.results.reliability
+    curve = None
+    if rel is not None and sens.cycles in set(float(c) for c in rel.cycles):
+        curve = float(rel.reliability[[float(c) for c in rel.cycles].index(float(sens.cycles))])
+    if curve is not None and f"{curve:.3f}" != f"{nominal:.3f}":
+        population += f"; the R(N) curve, on its own population, reads {curve:.4g} there"
+    parts = [f"<p>{e(f'Reliability at {sens.cycles:,.0f} cycles (nominal {nominal:.3f}{population}) when the mean of each variable is moved to {lo_f * 100:g} % and to {hi_f * 100:g} % of its value, the others fixed.')}</p>"]
     if not sens.shifts_move_reliability:
         parts.append(f'<p class="warn"><strong>No mean shift changes the reliability here.</strong> At '
                      f"{sens.cycles:,.0f} cycles R = {nominal:.3f} whatever the shift: the level lies outside the "
@@ -141,8 +149,8 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
             low_label=f"mean \u00d7 {lo_f:g}", high_label=f"mean \u00d7 {hi_f:g}"),
             f"Sensitivity of the reliability: {title}.", png_keys=("tornado",)))
     parts.append("</div>")
-    optional = [("elasticity_mean", "elasticity of R to the mean, (\u03bc/R) dR/d\u03bc"), ("S1", "Sobol' S1"),
-                ("ST", "Sobol' ST")]
+    optional = [("elasticity_mean", "elasticity of R to the mean, (\u03bc/R) dR/d\u03bc"), ("S1", "Sobol' S1 (\u00b1 95 %)"),
+                ("ST", "Sobol' ST (\u00b1 95 %)")]
     extra_cols = [(k, h) for k, h in optional if any(v.get(k) is not None for v in sens.variables)]
     has_err = any(v.get("reliability_low_error") is not None for v in sens.variables)
     rows = []
@@ -153,7 +161,7 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
                 + format_number(v.get("reliability_high_error"), 3),) if has_err else ())
         rows.append((str(v.get("label") or v["name"]), str(v["name"]), str(v.get("group") or "").replace("_", " "),
                      format_number(v["reliability_low"], 3), format_number(v["reliability_high"], 3),
-                     format_number(swing, 3)) + err + tuple(format_number(v.get(k), 3) for k, _h in extra_cols))
+                     format_number(swing, 3)) + err + tuple(_index_text(sens.sobol, v, k) for k, _h in extra_cols))
     parts.append("<details><summary>Sensitivity as numbers</summary>")
     parts.append(table(["variable", "name", "group", f"R at mean \u00d7 {lo_f:g}", f"R at mean \u00d7 {hi_f:g}",
                         "largest change of R"] + (["surrogate error of R (low / high)"] if has_err else [])
@@ -193,6 +201,18 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
         parts.append(figs.draw(None, "Sobol' indices", png_keys=("sobol",),
                                missing_text="Sobol' indices: not computed in this result."))
     return "".join(parts)
+
+
+def _index_text(sobol: Mapping, variable: Mapping, key: str) -> str:
+    """A column of the sensitivity table; a Sobol' index with its 95 % confidence half-width where it has one
+    (on a small base sample ST can read below S1 within them)."""
+    text = format_number(variable.get(key), 3)
+    names = [str(n) for n in sobol.get("names") or []]
+    conf = sobol.get(f"{key}_conf") if key in ("S1", "ST") else None
+    if conf is None or str(variable["name"]) not in names or variable.get(key) is None:
+        return text
+    half = conf[names.index(str(variable["name"]))]
+    return text if half is None else f"{text} \u00b1 {format_number(float(half), 2)}"
 
 
 def far_shift_part(sens, labels: Mapping[str, str]) -> str:
