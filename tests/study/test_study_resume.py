@@ -277,3 +277,24 @@ def test_a_learning_stopped_by_its_budget_is_told_with_its_error(quick_config, r
     assert ("COV of Pf reaches" in line) == (res.largest_cov() >= settings.cov_target)
     res.pf_cov = np.where(counted, 0.0505, res.pf_cov)
     assert "the COV of Pf reaches 0.0505 (target 0.05)" in learning_stop_line(res, settings)
+
+
+def test_a_population_that_hit_n_mc_max_says_how_large_it_must_be(quick_config, reference_dir):
+    """The line said 'the learning stopped before its tolerance' and advised subset_simulation, which no study
+    setting offers; the shortfall was the Monte Carlo population (Pf = 0.00103 needs about 388,000 samples)."""
+    import numpy as np
+
+    from jointwear.study.facade import learning_stop_line
+    from jointwear.study.results import ReliabilityResult
+
+    res = ReliabilityResult.load(reference_dir)
+    settings = load_config(quick_config).reliability
+    res.learning_stop = "COV target 0.05 not met with the maximum population n_mc_max=200000 (pf=0.00103)"
+    res.pf = np.full(len(res.cycles), 0.5)
+    res.pf_cov = np.full(len(res.cycles), 0.01)
+    res.pf[1], res.pf_cov[1] = 0.00103, 0.0685
+    line = learning_stop_line(res, settings)
+    n = (1 - 0.00103) / (0.00103 * settings.cov_target ** 2)  # COV^2 = (1 - Pf) / (n Pf)
+    assert line.startswith("the Monte Carlo population reached its maximum before the COV of Pf met its target")
+    assert f"at Pf = 0.00103 needs about {n:,.0f} samples" in line and "subset" not in line
+    assert "raise reliability.n_mc_max" in line and "reliability.pf_floor" in line

@@ -219,7 +219,7 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
                 break
             if n_pop >= n_mc_max:
                 message = (f"COV target {cov_target} not met with the maximum population n_mc_max={n_mc_max} "
-                           f"(pf={pf[need].min():.3g}); use subset_simulation for small pf or raise n_mc_max")
+                           f"(pf={pf[need].min():.3g})")
                 break
             new_n = max(population_size(p, cov_target, n_mc_max, grow_from=n_pop) for p in pf[need])
             u_pop = np.vstack([u_pop, rng.standard_normal((new_n - n_pop, d))])

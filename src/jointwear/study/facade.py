@@ -668,7 +668,13 @@ def learning_stop_line(res: ReliabilityResult, settings) -> str:
         advice = ("; raise reliability.max_calls and run again with --resume (resume=True in Python) to continue it "
                   "(the calls made are read back)")
     elif "n_mc_max" in reason:
-        advice = "; raise reliability.n_mc_max (a larger population costs no model call)"
+        unmet = [float(p) for p, c in zip(res.pf, res.pf_cov) if p > 0 and c >= settings.cov_target]
+        need = "" if not unmet else (  # COV^2 = (1 - Pf) / (n Pf) of a Monte Carlo estimate
+            f"; a COV of {settings.cov_target:g} at Pf = {min(unmet):.3g} needs about "
+            f"{(1.0 - min(unmet)) / (min(unmet) * settings.cov_target ** 2):,.0f} samples")
+        return (f"the Monte Carlo population reached its maximum before the COV of Pf met its target ({reason})"
+                f"{error}{need}; raise reliability.n_mc_max (a larger population costs no model call), or raise "
+                "reliability.pf_floor above that Pf if so small a Pf need not be known that well")
     else:
         advice = ""
     return f"the learning stopped before its tolerance ({reason}){error}{advice}"
