@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import difflib
 import numbers
+import re
 import tomllib
 from collections.abc import Mapping
 from importlib import resources
@@ -292,7 +293,8 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
     changes : mapping of str to value
         Dotted paths and their new values, e.g. ``{"reliability.n_mc": 50_000,
         "clearance_joints.B.friction.law": "none", "uncertainty.variables.HB_b.std_HB": 6.0}``. A list of
-        named tables (bodies, joints, clearance joints, variables) is indexed by an item's name or by number;
+        named tables (bodies, joints, clearance joints, variables; drivers by their joint) is indexed by an item's
+        name or by number, as ``clearance_joints.B`` or ``clearance_joints[0]``;
         the last key may carry a unit suffix as in TOML (``allowance_mm``), else the value is in SI; a value may
         be a section (an SIModel). Every path a random variable's ``target`` takes works too: a coordinate of a
         point (``mechanism.ground_points.C.x``) and a clearance joint's ``clearance`` (the bearing radius becomes
@@ -317,7 +319,8 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
     if not isinstance(changes, Mapping):
         raise TypeError(f"updated: changes must be a mapping of dotted paths to values (got {type(changes).__name__})")
     data = config.model_dump()
-    for path, value in changes.items():
+    for given, value in changes.items():
+        path = re.sub(r"\[([^\]]+)\]", r".\1", given)  # clearance_joints[0] as the messages write it
         *parents, last = path.split(".")
         value = value.model_dump() if isinstance(value, BaseModel) else value
         target = _target_path(data, path, source) if _is_number(value) else None
@@ -383,10 +386,10 @@ def _missing(node: Any, key: str, walked: list[str]) -> str:
 
 
 def _list_index(items: list, key: str) -> int:
-    """The position of ``key`` in a list: a number, or the name of one of its tables."""
+    """The position of ``key`` in a list: a number, or the name of one of its tables (a driver's: its joint)."""
     if key.lstrip("-").isdigit():
         return int(key)
-    names = [item.get("name") if isinstance(item, dict) else None for item in items]
+    names = [item.get("name", item.get("joint")) if isinstance(item, dict) else None for item in items]
     if key not in names:
         raise KeyError(key)
     return names.index(key)

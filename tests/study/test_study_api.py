@@ -2,12 +2,16 @@
 
 import json
 import logging
+import math
+from pathlib import Path
 
 import pytest
 
 import jointwear
 from jointwear.config import load_config, updated
 from jointwear.schema import ConfigError
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 
 def test_an_argument_replaces_the_configs_compute_section(tmp_path):
@@ -140,3 +144,14 @@ def test_a_results_folder_gives_back_the_config_it_ran(tmp_path):
     (tmp_path / "other.json").write_text("{}")
     with pytest.raises(ConfigError, match="holds no study config"):
         load_config(tmp_path / "other.json")
+
+
+def test_updated_takes_a_path_as_the_messages_write_it_and_a_driver_by_its_joint():
+    """Errors name `mechanism.drivers[0]` and `clearance_joints[0]`, but updated() took only `drivers.0`."""
+    own = load_config(EXAMPLES / "my_linkage.toml")
+    joint = own.mechanism.drivers[0].joint
+    for path in ("mechanism.drivers[0].speed_rpm", f"mechanism.drivers.{joint}.speed_rpm",
+                 "mechanism.drivers.0.speed_rpm"):
+        assert updated(own, {path: 400.0}).mechanism.drivers[0].speed == pytest.approx(400.0 * 2 * math.pi / 60)
+    width = updated(own, {"clearance_joints[0].width_mm": 7.0}).clearance_joints[0].width
+    assert width == pytest.approx(7e-3)
