@@ -26,3 +26,8 @@ def __getattr__(name: str):
 
         return load_config
     raise AttributeError(f"module 'jointwear' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    # the public names, the lazily imported ones too, so that tab completion offers them
+    return sorted(set(__all__) | {name for name in globals() if name.startswith("__")})

@@ -155,3 +155,10 @@ def test_updated_takes_a_path_as_the_messages_write_it_and_a_driver_by_its_joint
         assert updated(own, {path: 400.0}).mechanism.drivers[0].speed == pytest.approx(400.0 * 2 * math.pi / 60)
     width = updated(own, {"clearance_joints[0].width_mm": 7.0}).clearance_joints[0].width
     assert width == pytest.approx(7e-3)
+
+
+def test_the_package_offers_its_lazily_imported_names_to_tab_completion():
+    """dir(jointwear) was ['PackageNotFoundError', 'version']: a notebook's completion missed Study."""
+    public = [name for name in dir(jointwear) if not name.startswith("_")]
+    assert public == sorted(n for n in jointwear.__all__ if not n.startswith("_"))
+    assert all(getattr(jointwear, name) is not None for name in public)
