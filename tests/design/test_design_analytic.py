@@ -107,6 +107,11 @@ def test_design_json_has_the_contract_keys_and_loads_back(design, tmp_path):
     assert (tmp_path / "design_pareto.csv").read_text().count("\n") == len(data["pareto"]) + 1
     back = DesignResult.load(tmp_path)
     assert back.chosen["choices"] == design.chosen["choices"] and back.target_life_cycles == design.target_life_cycles
+    # and with every other stage's result: load_results had no design field although Study.design() writes one
+    from jointwear import load_results
+
+    folder = load_results(tmp_path)
+    assert folder.stages == ["design"] and folder.design.chosen["choices"] == design.chosen["choices"]
 
 
 def test_report_section_shows_the_front_the_choice_and_the_verified_reliability(design, tmp_path):

@@ -12,13 +12,16 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
 from jointwear.study.io import provenance, read_json, write_csv
 from jointwear.study.reliability_results import ReliabilityResult, SensitivityResult, ValidationResult
 from jointwear.study.stage_result import StageResult, save_figure
+
+if TYPE_CHECKING:
+    from jointwear.design.results import DesignResult
 
 __all__ = ["StageResult", "SimulationSummary", "WearSummary", "ReliabilityResult", "SensitivityResult",
            "ValidationResult", "StudyResults", "STAGE_TYPES", "load_results"]
@@ -384,6 +387,7 @@ class StudyResults:
     reliability: ReliabilityResult | None = None
     sensitivity: SensitivityResult | None = None
     validation: ValidationResult | None = None
+    design: DesignResult | None = None
     errors: dict[str, str] = field(default_factory=dict)
 
     def __repr__(self) -> str:
@@ -398,7 +402,7 @@ class StudyResults:
     @property
     def stages(self) -> list[str]:
         """The stages with a result in the folder."""
-        return [s for s in ("simulate", "wear", "reliability", "sensitivity", "validation")
+        return [s for s in ("simulate", "wear", "reliability", "sensitivity", "validation", "design")
                 if getattr(self, s) is not None]
 
 
@@ -436,7 +440,9 @@ def load_results(folder: Path | str) -> StudyResults:
             out.config = read_json(cfg)
         except (OSError, ValueError) as exc:
             out.errors["config"] = f"config.json could not be read: {exc}"
-    for stage, cls in STAGE_TYPES.items():
+    from jointwear.design.results import DesignResult  # the design stage builds on the study: imported on use
+
+    for stage, cls in (*STAGE_TYPES.items(), ("design", DesignResult)):
         path = folder / cls.FILE
         if not path.is_file():
             continue
