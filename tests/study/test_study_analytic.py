@@ -57,6 +57,10 @@ def test_life_and_histograms_are_consistent(study):
     # 1 % : the surrogate's error on a smooth 3-variable product over the population, well above MC noise
     np.testing.assert_allclose(res.mean_max_wear["mean"], exact, rtol=1e-2)
     assert res.histograms["cycles"] == [380_000, 420_000]
+    # the design points' wear comes with the cycles it is at (it had no cycle axis): the analytic wear RATE * N * scale
+    np.testing.assert_array_equal(res.design_wear_cycles, ctx.history_cycles)
+    scale = model.scale(res.design_x)[:, None]
+    np.testing.assert_allclose(res.design_wear, RATE * scale * np.asarray(ctx.history_cycles)[None, :], rtol=1e-12)
     # one model for both: P(wear > allowance) of the histograms is 1 - R(N) up to the Monte Carlo noise of two
     # populations (4 standard errors of their difference)
     n_h, n_mc = res.histograms["n_population"], res.n_mc

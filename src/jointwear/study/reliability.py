@@ -293,6 +293,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         converged=bool(engine.converged), wall_seconds=time.perf_counter() - t0, names=ctx.names,
         histograms=histograms, mean_max_wear=mean_max, convergence=convergence,
         design_x=design_x, design_wear=design_wear, design_life=ctx.life(design_x),
+        design_wear_cycles=np.asarray(ctx.history_cycles, dtype=float),
         quantity=ctx.limit_state.quantity, joints=joints,
         crank_speed_rpm=abs(float(ctx.config.mechanism.crank_speed)) * 60 / (2 * math.pi),
         engine=engine, infeasible=infeasible, learning_stop="" if engine.converged else str(engine.message))

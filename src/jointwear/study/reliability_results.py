@@ -30,7 +30,8 @@ class ReliabilityResult(StageResult):
     allowance and, with several, its own R(N) and its share of the system's failures (``governing_share``).
 
     Units: ``design_x`` are the true-model inputs in SI (columns in the order of ``names``; a hardness in Pa),
-    ``design_wear`` their wear quantity in m at the study's history cycles, ``design_life`` their life in cycles;
+    ``design_wear`` their wear quantity in m (the first judged joint's) at the history's cycles
+    ``design_wear_cycles``, ``design_life`` their life in cycles;
     ``mean_max_wear`` (``cycles``, ``mean``) and ``histograms`` are in mm, as in reliability.json's
     ``mean_max_wear_mm``.
     """
@@ -59,6 +60,7 @@ class ReliabilityResult(StageResult):
     design_wear: np.ndarray
     life_table: list[dict] = field(default_factory=list)
     design_life: np.ndarray | None = None
+    design_wear_cycles: np.ndarray | None = None
     quantity: str = "bearing_max_depth"
     joints: list[dict] = field(default_factory=list)
     crank_speed_rpm: float | None = None
@@ -148,6 +150,8 @@ class ReliabilityResult(StageResult):
             "mean_max_wear_mm": self.mean_max_wear,
             "convergence": self.convergence,
             "design": {"x": np.asarray(self.design_x).tolist(), "wear_m": np.asarray(self.design_wear).tolist(),
+                       "wear_cycles": None if self.design_wear_cycles is None
+                       else np.asarray(self.design_wear_cycles).tolist(),
                        "life_cycles": None if self.design_life is None else np.asarray(self.design_life).tolist()},
             "infeasible": self.infeasible,
             "provenance": self.provenance or provenance(),
@@ -178,6 +182,7 @@ class ReliabilityResult(StageResult):
             design_x=np.asarray(design.get("x", []), dtype=float),
             design_wear=np.asarray(design.get("wear_m", []), dtype=float),
             design_life=None if design.get("life_cycles") is None else arr(design["life_cycles"]),
+            design_wear_cycles=None if design.get("wear_cycles") is None else arr(design["wear_cycles"]),
             life_table=data.get("life_table", []), quantity=data.get("quantity", "bearing_max_depth"),
             joints=data.get("joints", []), crank_speed_rpm=data.get("crank_speed_rpm"),
             infeasible=data.get("infeasible", {}), learning_stop=data.get("learning_stop", ""),
