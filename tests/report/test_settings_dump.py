@@ -82,7 +82,7 @@ def test_dump_of_the_default_preset():
 
 def test_the_random_inputs_are_listed_in_their_targets_units():
     """Each random variable in report units: its own display unit when it gives one (the preset's HB), else its
-    target's (a bronze hardness in MPa, not 882,630,000); the mean, std and bounds with one prefix."""
+    target's (a modulus in GPa, not 1.1e11), a hardness in HB; the mean, std and bounds with one prefix."""
     from jointwear import config
 
     cfg = config.load_config("jin2025_flapping_wing")
@@ -93,13 +93,16 @@ def test_the_random_inputs_are_listed_in_their_targets_units():
     assert rows["HB_b"]["unit"] == spec.unit and rows["HB_b"]["mean"] == pytest.approx(spec.mean * spec.scale)
     plain = config.updated(cfg, {"uncertainty.variables.HB_b.unit": "", "uncertainty.variables.HB_b.scale": 1.0})
     hb = next(r for r in settings_dump(plain)["random_variables"] if r["name"] == "HB_b")
-    assert hb["unit"] == ("GPa" if spec.mean >= 1e9 else "MPa")
+    # a hardness without its own display unit in HB, as it is entered and quoted (it read 1.177 GPa; 9.807e6 Pa/HB)
+    assert (hb["unit"], hb["mean"]) == ("HB", pytest.approx(spec.mean / 9.807e6))
+    e_b = next(r for r in settings_dump(plain)["random_variables"] if r["name"] == "E_b")
+    assert e_b["unit"] == "GPa"
     assert hb["std"] / hb["mean"] == pytest.approx(spec.std / spec.mean) == pytest.approx(hb["cov"])
 
 
 def test_a_design_specification_is_listed_field_by_field_in_its_variables_unit():
     """`check` printed a material option's specifications as a raw SI dump ("{'HB_b': 'mean=1176840000.0 ...'}");
-    each field is now a row, in the unit of its variable's target (a hardness in MPa/GPa)."""
+    each field is now a row, in the unit of its variable's target (a hardness in HB, as entered)."""
     from jointwear.config import load_config
     from jointwear.report.settings import settings_records
 
@@ -108,5 +111,17 @@ def test_a_design_specification_is_listed_field_by_field_in_its_variables_unit()
     j = next(i for i, c in enumerate(cfg.design.properties[k].classes) if c.name == "hardened")
     rows = {r["name"]: r for r in settings_records(cfg)}
     row = rows[f"design.properties[{k}].classes[{j}].mean"]
-    assert row["unit"] == "GPa" and row["value"] == pytest.approx(390 * 9.807e6 / 1e9, rel=1e-12)
+    assert row["unit"] == "HB" and row["value"] == pytest.approx(390, rel=1e-12)
     assert not any(isinstance(r["value"], str) and "mean=" in r["value"] for r in rows.values())
+
+
+def test_a_setting_is_shown_as_entered():
+    """The settings table showed a seed as 2,025, a point of a body as 18.780500000000004 and a length of 18.7805 mm
+    as 18.78."""
+    from jointwear.report.study_sections import setting_text
+
+    assert setting_text({"name": "reliability.seed", "value": 2025}) == "2025"
+    assert setting_text({"name": "reliability.n_mc", "value": 238_691}) == "238,691"
+    assert setting_text({"name": "mechanism.bodies[1].points", "value": {"B": [18.780500000000004, -2.5]}}) \
+        == "{B: [18.7805, -2.5]}"
+    assert setting_text({"name": "clearance_joints[0].bearing_radius", "value": 18.7805}) == "18.7805"

@@ -44,6 +44,8 @@ def format_number(v, digits: int = 4) -> str:
         if len(v) > 8:
             return f"[{', '.join(format_number(x, digits) for x in v[:6])}, \u2026 ({len(v)} values)]"
         return "[" + ", ".join(format_number(x, digits) for x in v) + "]"
+    if isinstance(v, dict):  # a table of named values, e.g. the points of a body
+        return "{" + ", ".join(f"{k}: {format_number(x, digits)}" for k, x in v.items()) + "}"
     return str(v)
 
 

@@ -42,6 +42,8 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from jointwear.units import PA_PER_HB
+
 __all__ = ["settings_records", "settings_dump", "write_settings", "is_paper_open", "random_variables"]
 
 _OPEN = re.compile(
@@ -59,8 +61,16 @@ def is_paper_open(description: str | None, extra: Mapping | None = None) -> bool
     return bool(description and _OPEN.search(description))
 
 
+def display_unit(target: str) -> str | None:
+    """The unit a random variable's numbers are shown in: its target's SI unit, except a hardness, which is
+    entered and quoted in HB ("HB" here; :func:`_display` converts)."""
+    from jointwear.config import target_display_unit
+
+    return "HB" if target.rsplit(".", 1)[-1] == "hardness" else target_display_unit(target)
+
+
 def _display(value: Any, unit: str | None) -> tuple[Any, str | None]:
-    """SI value -> report units (mm, GPa/MPa, rpm)."""
+    """SI value -> report units (mm, GPa/MPa, HB for a hardness, rpm)."""
     def conv(v, f):
         if isinstance(v, dict):  # a table of named values, e.g. the points of a body
             return {k: conv(x, f) for k, x in v.items()}
@@ -76,6 +86,8 @@ def _display(value: Any, unit: str | None) -> tuple[Any, str | None]:
         mag = max((abs(x) for x in (value if isinstance(value, (list, tuple)) else [value])
                    if isinstance(x, (int, float))), default=0)
         return (conv(value, 1e-9), "GPa") if mag >= 1e9 else (conv(value, 1e-6), "MPa")
+    if unit == "HB":
+        return conv(value, 1.0 / PA_PER_HB), "HB"
     if unit == "rad/s":
         return conv(value, 60 / (2 * math.pi)), "rpm"
     if unit == "rad":
@@ -131,11 +143,11 @@ def settings_records(model: Any, prefix: str = "", *, explicit: bool = True,
         extra = info.json_schema_extra if isinstance(info.json_schema_extra, Mapping) else {}
         unit = extra.get("unit")
         if extra.get("unit_of") == "target" and isinstance(getattr(model, "target", None), str):
-            from jointwear.config import target_display_unit  # a random variable's numbers: its target's unit
-
-            unit = target_display_unit(model.target)
+            unit = display_unit(model.target)  # a random variable's numbers: its target's unit
         elif extra.get("unit_of") == "variable" and variable is not None:
             unit = variable_units.get(variable)
+        elif name == "hardness" and unit == "Pa":
+            unit = "HB"
         shown, shown_unit = _display(_plain(value), unit)
         desc = info.description or ""
         out.append({
@@ -155,9 +167,7 @@ def _variable_units(config: Any) -> dict[str, str | None]:
     unc = getattr(config, "uncertainty", None)
     if unc is None or not hasattr(unc, "all_specs"):
         return {}
-    from jointwear.config import target_display_unit
-
-    return {spec.name: target_display_unit(spec.target) for spec in unc.all_specs()}
+    return {spec.name: display_unit(spec.target) for spec in unc.all_specs()}
 
 
 def _general_mechanism(mech: Any, joints: list) -> dict:
@@ -247,14 +257,12 @@ def random_variables(config: Any) -> list[dict]:
     unc = getattr(config, "uncertainty", None)
     if unc is None or not hasattr(unc, "all_specs"):
         return []
-    from jointwear.config import target_display_unit
-
     rows = []
     for spec in unc.all_specs():
         if spec.unit:
             factor, unit = spec.scale, spec.unit
         else:
-            shown, unit = _display(spec.mean, target_display_unit(spec.target))
+            shown, unit = _display(spec.mean, display_unit(spec.target))
             factor = shown / spec.mean if spec.mean else 1.0  # one prefix for the mean, std and bounds
 
         def conv(v: float | None) -> float | None:

@@ -37,7 +37,16 @@ def _settings_row(x: dict) -> tuple:
     src = e(x.get("source") or "\u2014")
     if x.get("description") and x.get("description") != x.get("source"):
         src += f'<div class="desc">{e(x["description"])}</div>'
-    return (e(x.get("name")), e(format_number(x.get("value"))), e(x.get("unit") or ""), flag, src)
+    return (e(x.get("name")), e(setting_text(x)), e(x.get("unit") or ""), flag, src)
+
+
+def setting_text(record: dict) -> str:
+    """A setting's value as entered: six significant digits (a length of 18.7805 mm read 18.78 with the report's
+    usual four, a list of them 18.780500000000004), and a seed as the integer it is (not 2,025)."""
+    value = record.get("value")
+    if str(record.get("name", "")).endswith("seed") and isinstance(value, int) and not isinstance(value, bool):
+        return str(value)
+    return format_number(value, 6)
 
 
 def settings_section(out: StudyOutputs, figs: Figures) -> str:
@@ -109,7 +118,7 @@ def settings_section(out: StudyOutputs, figs: Figures) -> str:
     else:
         # no reference: the study's own values; where a default comes from is documented in docs/config.md
         given = {True: "the config", False: "jointwear default"}
-        rows = [(str(x.get("name")), format_number(x.get("value")), str(x.get("unit") or ""),
+        rows = [(str(x.get("name")), setting_text(x), str(x.get("unit") or ""),
                  given.get(x.get("explicit"), "\u2014")) for x in recs]
         n_set = sum(x.get("explicit") is True for x in recs)
         parts.append(f"<h3>Settings of this study ({len(recs)}, {n_set} given in the config)</h3>")
