@@ -291,7 +291,7 @@ class Study:
         res = run_simulation(model, n, settle_cycles=settle)
         result = SimulationSummary.from_simulation(res, self.config.name)
         result.save(self.out)
-        self.echo(f"simulate: {n} cycles, {result.steps_per_cycle:.0f} steps/cycle, "
+        self.echo(f"simulate: {n} cycle{'' if n == 1 else 's'}, {result.steps_per_cycle:.0f} steps/cycle, "
                   f"{result.wall_seconds_per_cycle * 1e3:.1f} ms/cycle; mean contact force "
                   f"{result.contact_force_mean_N if result.contact_force_mean_N is not None else float('nan'):.4g} N"
                   f" -> {self.out / result.FILE}")

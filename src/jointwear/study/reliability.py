@@ -295,7 +295,8 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         design_x=design_x, design_wear=design_wear, design_life=ctx.life(design_x),
         design_wear_cycles=np.asarray(ctx.history_cycles, dtype=float),
         quantity=ctx.limit_state.quantity, joints=joints,
-        crank_speed_rpm=abs(float(ctx.config.mechanism.crank_speed)) * 60 / (2 * math.pi),
+        # 12 digits: the rpm entered comes back through rad/s as 399.99999999999994
+        crank_speed_rpm=float(f"{abs(float(ctx.config.mechanism.crank_speed)) * 60 / (2 * math.pi):.12g}"),
         engine=engine, infeasible=infeasible, learning_stop="" if engine.converged else str(engine.message))
 
 
