@@ -204,6 +204,18 @@ def test_progress_counts_calls_and_is_silent_off_a_terminal(tmp_path, capsys):
     assert "5/5" in text and "pf=0.001234" in text and "cov=0.05" in text
 
 
+def test_progress_shows_in_a_notebook_whose_stderr_is_no_terminal(monkeypatch):
+    """In Jupyter stderr is no terminal, and the progress line was never shown there."""
+    import rich.console
+
+    monkeypatch.delenv("JOINTWEAR_PROGRESS", raising=False)
+    assert not Progress(total=3).enabled  # pytest's captured stderr, no notebook
+    monkeypatch.setattr(rich.console, "_is_jupyter", lambda: True)  # what rich sees in a Jupyter kernel
+    assert Progress(total=3).enabled
+    monkeypatch.setenv("JOINTWEAR_PROGRESS", "0")
+    assert not Progress(total=3).enabled
+
+
 def test_make_executor_arguments():
     assert isinstance(make_executor(1), SerialExecutor)
     with pytest.raises(ValueError, match="workers must be >= 1"):

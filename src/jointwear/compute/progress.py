@@ -1,6 +1,6 @@
 """A small progress display for long work: model calls done / total, free-text fields (current Pf,
-COV, ...), elapsed time and time left. Built on ``rich.progress``; silent when the output is not a
-terminal, when disabled, or when ``JOINTWEAR_PROGRESS=0``.
+COV, ...), elapsed time and time left. Built on ``rich.progress``; silent when the output is neither a
+terminal nor a Jupyter notebook, when disabled, or when ``JOINTWEAR_PROGRESS=0``.
 
     with Progress(total=None, description="AK-MCS") as progress:
         evaluator = Evaluator(model, executor, store, progress=progress)
@@ -28,6 +28,13 @@ def _format_fields(fields: dict[str, Any]) -> str:
     return "  ".join(parts)
 
 
+def _in_notebook() -> bool:
+    """Whether this process is a Jupyter kernel (rich's own detection), where stderr is no terminal."""
+    from rich.console import Console
+
+    return bool(Console(stderr=True).is_jupyter)
+
+
 class Progress:
     """Progress of model calls.
 
@@ -35,7 +42,8 @@ class Progress:
     batch's size) adds to the total. A study that knows its budget passes ``total`` (or sets it later
     with :meth:`update`), and :meth:`expect` then leaves it alone.
 
-    ``enabled=None`` shows the display only on a terminal (``sys.stderr.isatty()``), unless the
+    ``enabled=None`` shows the display only on a terminal (``sys.stderr.isatty()``) or in a Jupyter notebook
+    (rich draws it there as a live cell output), unless the
     environment variable ``JOINTWEAR_PROGRESS`` is ``0`` (never) or ``1`` (always). The counters
     (:attr:`completed`, :attr:`total`, :attr:`fields`) are kept even when nothing is shown.
     """
@@ -59,7 +67,7 @@ class Progress:
             if env in ("0", "1"):
                 enabled = env == "1"
             else:
-                enabled = console.is_terminal if console is not None else sys.stderr.isatty()
+                enabled = console.is_terminal if console is not None else (sys.stderr.isatty() or _in_notebook())
         self.enabled = bool(enabled)
         self._rich = None
         self._task = None

@@ -95,7 +95,8 @@ class Study:
         Discard an earlier study's evaluation store in ``out``.
     echo : callable, optional
         Receives a one-line summary of each stage and its warnings (default: the ``jointwear`` logger, the
-        summaries at INFO level, the warnings at WARNING level, which Python prints when logging is not set up).
+        summaries at INFO level, the warnings at WARNING level, which Python prints when logging is not set up);
+        ``echo=print`` shows the summaries in a notebook too.
 
     Examples
     --------
