@@ -209,8 +209,13 @@ def test_a_study_resumed_with_a_larger_budget_reads_back_every_call(quick_config
     out = tmp_path / "larger"
     shutil.copytree(reference_dir, out)
     larger = updated(load_config(quick_config), {"reliability.max_calls": expected["model_calls"] + 1})
-    res = jointwear.Study(larger, out=out, workers=2, resume=True).reliability()
+    lines: list[str] = []
+    res = jointwear.Study(larger, out=out, workers=2, resume=True, echo=lines.append).reliability()
     assert res.model_calls == expected["model_calls"] + 1
+    # the summary says which calls were made now (it said only the total)
+    n = expected["model_calls"]
+    assert any(ln.startswith(f"reliability: {n + 1} model calls (1 new, {n} read back from the store)")
+               for ln in lines), lines
     with EvaluationStore.open(out, store_digest(larger), resume=True) as store:
         stats = store.stats()
     assert stats.n_repeated == 0 and stats.n_calls == expected["model_calls"] + 1  # one new call, none repeated

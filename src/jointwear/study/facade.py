@@ -355,11 +355,13 @@ class Study:
         self._prepare({"reliability"}, store_reuse=False)
         with self._session(reuse=False) as ctx:
             res = run_reliability(ctx, progress=self._progress_callback)
+            new = ctx.n_model_calls
         self._reliability = res
         res.save(self.out)
         life = life_text(res.life_table[0])
         governing = f", governed by joint {res.governing_joint}" if len(res.joints) > 1 else ""
-        self.echo(f"reliability: {res.model_calls} model calls, n_mc = {res.n_mc:,}, life at R = {res.target}: "
+        reused = f" ({new} new, {res.model_calls - new} read back from the store)" if new < res.model_calls else ""
+        self.echo(f"reliability: {res.model_calls} model calls{reused}, n_mc = {res.n_mc:,}, life at R = {res.target}: "
                   f"{life}{governing} -> {self.out / res.FILE}")
         if not res.converged:
             self.warn(f"reliability: {learning_stop_line(res, self.config.reliability)}")
