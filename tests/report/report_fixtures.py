@@ -58,7 +58,7 @@ def reliability_result(*, optional: bool = True) -> ReliabilityResult:
         histograms={"cycles": hist_levels, "max_wear_mm": [
             (7.12e-8 * c * (1 + 0.082 * rng.standard_normal(2000))).tolist() for c in hist_levels]}
         if optional else {},
-        mean_max_wear={"cycles": hist_levels, "mean": [7.12e-8 * c for c in hist_levels]} if optional else {},
+        mean_max_wear_mm={"cycles": hist_levels, "mean": [7.12e-8 * c for c in hist_levels]} if optional else {},
         convergence={"cycles": 400_000, "n_calls": calls.tolist(),
                      "pf": (pf400 * (1 + 0.6 * np.exp(-(calls - 12) / 5) * np.cos(calls))).tolist()}
         if optional else {},

@@ -65,7 +65,7 @@ def _reliability_result():
         cycles=cycles, reliability=rel, pf=1 - rel, pf_cov=np.array([np.inf, 0.02, 0.01]),
         below_floor=np.array([False, False, False]), pf_error=np.array([0.001, 0.01, 0.01]), target=0.9,
         life_cycles=1.45e5, life_hours=1.0, model_calls=20, failed_calls=0, n_mc=1000, converged=True,
-        wall_seconds=1.0, names=["a", "b"], histograms={}, mean_max_wear={}, convergence={},
+        wall_seconds=1.0, names=["a", "b"], histograms={}, mean_max_wear_mm={}, convergence={},
         design_x=np.ones((3, 2)), design_wear=np.ones((3, 3)), design_life=np.array([1e5, 2e5, np.inf]),
         life_table=[{"target": 0.9, "cycles": 1.45e5, "hours": 1.0}, {"target": 0.99, "cycles": None,
                                                                        "hours": None}],

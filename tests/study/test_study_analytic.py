@@ -53,9 +53,9 @@ def test_life_and_histograms_are_consistent(study):
     assert life == res.life_cycles
     # Mean max wear from the surrogate vs the exact mean RATE * N * E[scale] (Monte Carlo, 1e6 samples).
     x = population(ctx.marginals, 1_000_000, seed=5)
-    exact = RATE * model.scale(x).mean() * np.asarray(res.mean_max_wear["cycles"]) * 1e3
+    exact = RATE * model.scale(x).mean() * np.asarray(res.mean_max_wear_mm["cycles"]) * 1e3
     # 1 % : the surrogate's error on a smooth 3-variable product over the population, well above MC noise
-    np.testing.assert_allclose(res.mean_max_wear["mean"], exact, rtol=1e-2)
+    np.testing.assert_allclose(res.mean_max_wear_mm["mean"], exact, rtol=1e-2)
     assert res.histograms["cycles"] == [380_000, 420_000]
     # the design points' wear comes with the cycles it is at (it had no cycle axis): the analytic wear RATE * N * scale
     np.testing.assert_array_equal(res.design_wear_cycles, ctx.history_cycles)

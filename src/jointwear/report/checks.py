@@ -154,7 +154,7 @@ def second_peak(wear: WearSummary) -> tuple[float, float] | None:
 
 def _mean_max_wear(rel: ReliabilityResult, levels) -> dict[float, float]:
     """The study's mean of the max wear (mm) at each of ``levels`` (cycles) where it has one."""
-    m = rel.mean_max_wear
+    m = rel.mean_max_wear_mm
     out: dict[float, float] = {}
     for n in levels:
         v = _interp_at(m["cycles"], m["mean"], n) if m.get("cycles") else None

@@ -270,7 +270,7 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
             f"Bearing wear profile of joint {j['name']} over the initial circle.",
             missing_text=f"Polar wear profile of joint {j['name']}: not in this wear result."))
     rel = out.results.reliability
-    mean = rel.mean_max_wear if rel is not None else {}
+    mean = rel.mean_max_wear_mm if rel is not None else {}
     limit = allowance_mm(out)
     ref = reference_of(out.config)
     label = reference_label(ref)

@@ -291,7 +291,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         life_cycles=lives[0], life_hours=life_table[0]["hours"], life_table=life_table,
         model_calls=int(engine.n_calls), failed_calls=int(engine.n_failed_calls), n_mc=n_mc,
         converged=bool(engine.converged), wall_seconds=time.perf_counter() - t0, names=ctx.names,
-        histograms=histograms, mean_max_wear=mean_max, convergence=convergence,
+        histograms=histograms, mean_max_wear_mm=mean_max, convergence=convergence,
         design_x=design_x, design_wear=design_wear, design_life=ctx.life(design_x),
         design_wear_cycles=np.asarray(ctx.history_cycles, dtype=float),
         quantity=ctx.limit_state.quantity, joints=joints,

@@ -32,8 +32,7 @@ class ReliabilityResult(StageResult):
     Units: ``design_x`` are the true-model inputs in SI (columns in the order of ``names``; a hardness in Pa),
     ``design_wear`` their wear quantity in m (the first judged joint's) at the history's cycles
     ``design_wear_cycles``, ``design_life`` their life in cycles;
-    ``mean_max_wear`` (``cycles``, ``mean``) and ``histograms`` are in mm, as in reliability.json's
-    ``mean_max_wear_mm``.
+    ``mean_max_wear_mm`` (``cycles``, ``mean``) and ``histograms`` (``max_wear_mm``) are in mm, as named.
     """
 
     FILE: ClassVar[str] = "reliability.json"
@@ -54,7 +53,7 @@ class ReliabilityResult(StageResult):
     wall_seconds: float
     names: list[str]
     histograms: dict
-    mean_max_wear: dict
+    mean_max_wear_mm: dict
     convergence: dict
     design_x: np.ndarray
     design_wear: np.ndarray
@@ -147,7 +146,7 @@ class ReliabilityResult(StageResult):
             "wall_seconds": self.wall_seconds,
             "variables": self.names,
             "histograms": self.histograms,
-            "mean_max_wear_mm": self.mean_max_wear,
+            "mean_max_wear_mm": self.mean_max_wear_mm,
             "convergence": self.convergence,
             "design": {"x": np.asarray(self.design_x).tolist(), "wear_m": np.asarray(self.design_wear).tolist(),
                        "wear_cycles": None if self.design_wear_cycles is None
@@ -177,7 +176,7 @@ class ReliabilityResult(StageResult):
             model_calls=data.get("model_calls", 0), failed_calls=data.get("failed_calls", 0),
             n_mc=data.get("n_mc", 0), converged=data.get("converged", False),
             wall_seconds=data.get("wall_seconds", math.nan), names=data.get("variables", []),
-            histograms=data.get("histograms", {}), mean_max_wear=data.get("mean_max_wear_mm", {}),
+            histograms=data.get("histograms", {}), mean_max_wear_mm=data.get("mean_max_wear_mm", {}),
             convergence=data.get("convergence", {}),
             design_x=np.asarray(design.get("x", []), dtype=float),
             design_wear=np.asarray(design.get("wear_m", []), dtype=float),
