@@ -303,3 +303,28 @@ def test_a_population_that_hit_n_mc_max_says_how_large_it_must_be(quick_config, 
     assert line.startswith("the Monte Carlo population reached its maximum before the COV of Pf met its target")
     assert f"at Pf = 0.00103 needs about {n:,.0f} samples" in line and "subset" not in line
     assert "raise reliability.n_mc_max" in line and "reliability.pf_floor" in line
+
+
+def test_a_second_study_in_a_folder_in_use_is_refused(quick_config, tmp_path):
+    """Two studies started in one folder both ran, mixing their files and their calls in one store."""
+    from filelock import FileLock
+
+    import jointwear
+    from jointwear.schema import ConfigError
+
+    out = tmp_path / "busy"
+    proc = subprocess.Popen(_cmd(quick_config, out), env=_env(), stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE, start_new_session=True)
+    try:
+        t0 = time.monotonic()
+        while _stored_calls(out) < 1 and proc.poll() is None and time.monotonic() - t0 < 300:
+            time.sleep(0.05)
+        assert proc.poll() is None, "the first study ended before the second could start"
+        with pytest.raises(ConfigError, match="another jointwear process is working in"):
+            jointwear.Study(quick_config, out=out, workers=1, resume=True).reliability()
+        assert proc.poll() is None  # the first study goes on
+    finally:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+    with FileLock(out / ".jointwear.lock", timeout=0):  # a killed study leaves the folder free (else: Timeout)
+        pass

@@ -61,7 +61,7 @@ def _quiet(stage):
 
     @functools.wraps(stage)
     def wrapper(self, *args, **kwargs):
-        with warnings.catch_warnings(record=True) as caught:
+        with self._stage_scope(), warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("default")
             try:
                 return stage(self, *args, **kwargs)
@@ -136,6 +136,8 @@ class Study:
         self._store_opened = False
         self._context = None
         self._reliability: ReliabilityResult | None = None
+        self._depth = 0  # stages running now (one calls another); the folder is released when the last ends
+        self._folder_lock = None
 
     def __repr__(self) -> str:
         source = f", source={str(self.source)!r}" if self.source is not None else ""
@@ -209,8 +211,6 @@ class Study:
         declared = set(self.stages) - ({"design"} if "design" not in stages else set())
         self._check(set(stages) | declared, out=self.out)
         self._warn_design_problems(stages)
-        if store_reuse is not None:
-            self._refuse_store(store_reuse)
         try:
             self.out.mkdir(parents=True, exist_ok=True)
             probe = self.out / ".jointwear-write-test"
@@ -218,6 +218,9 @@ class Study:
             probe.unlink()
         except OSError as exc:
             raise ConfigError(f"out: cannot write to '{self.out}': {exc.strerror or exc}") from None
+        self._hold_folder()  # before the store is judged: a study starting beside this one finds no store yet
+        if store_reuse is not None:
+            self._refuse_store(store_reuse)
         from jointwear.report.settings import settings_dump, write_dump
 
         source = "preset" if self._preset else "python" if self.source is None else str(self.source)
@@ -228,6 +231,34 @@ class Study:
                       f"{f' and {len(changed) - 3} more' if len(changed) > 3 else ''}); the results this study "
                       "writes replace theirs, and the report reads both: use a new output folder to keep them apart")
         write_dump(self.out, dump)
+
+    def _hold_folder(self) -> None:
+        """Claim ``out`` for this process until its outermost stage ends, so that a second study started in the
+        same folder is refused instead of mixing its files and calls with this one's. The operating system's lock
+        ends with the process, so a killed study leaves nothing to clean up."""
+        if self._folder_lock is not None:
+            return
+        from filelock import FileLock, Timeout
+
+        lock = FileLock(self.out / ".jointwear.lock", timeout=0, is_singleton=True)
+        try:
+            lock.acquire()
+        except Timeout:
+            raise ConfigError(f"out: another jointwear process is working in '{self.out}'; wait for it to end or give "
+                              "this study another output folder") from None
+        self._folder_lock = lock
+
+    @contextlib.contextmanager
+    def _stage_scope(self) -> Iterator[None]:
+        """A stage (or a run of stages) in progress: the folder claimed by its first stage is released at the end."""
+        self._depth += 1
+        try:
+            yield
+        finally:
+            self._depth -= 1
+            if self._depth == 0 and self._folder_lock is not None:
+                self._folder_lock.release()
+                self._folder_lock = None
 
     def _warn_design_problems(self, stages) -> None:
         """A [design] section that only `design` reads does not stop the other stages (a variation that shifts a
@@ -454,14 +485,15 @@ class Study:
         self.check(self.stages)
         if stochastic:
             self._refuse_store(reuse=False)
-        self.simulate()
-        self.wear()
-        if stochastic:
-            self.reliability()
-            self.sensitivity()
-        else:
-            self.echo("run: no [uncertainty] section: reliability and sensitivity skipped")
-        path = self.report()
+        with self._stage_scope():  # the folder stays this run's between its stages
+            self.simulate()
+            self.wear()
+            if stochastic:
+                self.reliability()
+                self.sensitivity()
+            else:
+                self.echo("run: no [uncertainty] section: reliability and sensitivity skipped")
+            path = self.report()
         self.echo(f"run: done in {time.perf_counter() - t0:.0f} s -> {path}")
         return load_results(self.out)
 
