@@ -43,3 +43,17 @@ def test_bad_cost_model_is_refused():
     with pytest.raises(ValueError, match="costs"):
         ToleranceControl(variable="l2", grades=["IT9", "IT11"], costs=[1.0])
     assert it_tolerance("IT9", 38e-3) == pytest.approx(62e-6)
+
+
+def test_a_reference_grade_makes_a_grades_cost_independent_of_the_list():
+    """Scaled to the loosest listed grade, IT9 cost 2.558 beside IT7/IT11 and 1.0 beside IT7 alone, while fit and
+    material costs stayed absolute; a fixed reference grade gives IT9 one cost (ISO 286-1 at 15 mm: IT9 43 um,
+    IT11 110 um; reciprocal model: 110 / 43)."""
+    model = CostModel(reference_grade="IT11")
+    wide = grade_costs(ToleranceControl(variable="l1", grades=["IT7", "IT9", "IT11"]), 15e-3, model)
+    narrow = grade_costs(ToleranceControl(variable="l1", grades=["IT7", "IT9"]), 15e-3, model)
+    assert wide[:2] == narrow and wide[1] == pytest.approx(110 / 43, rel=1e-12) and wide[2] == pytest.approx(1.0)
+    loosest = grade_costs(ToleranceControl(variable="l1", grades=["IT7", "IT9"]), 15e-3, CostModel())
+    assert loosest[1] == pytest.approx(1.0)  # without a reference: the list's loosest grade
+    with pytest.raises(ValueError, match="reference_grade"):
+        CostModel(reference_grade="IT99")

@@ -124,7 +124,8 @@ def test_report_section_shows_the_front_the_choice_and_the_verified_reliability(
     assert "data:image/png;base64," in html
     for option in design.chosen["choices"].values():
         assert option in html
-    assert f"{design.verification['reliability_at_target_life']:.4f}" in html and "confirms" in html
+    assert f"{design.verification['reliability_at_target_life']:.4f}" in html
+    assert design.verification_sentence()[1:] in html and design.verdict() in ("meets", "within_error")
     assert "Extrapolated candidates" not in html and "outside the study's inputs</th>" in html
 
 
@@ -185,6 +186,7 @@ def test_with_several_targets_the_design_names_the_cheapest_meeting_them_all(set
     second = cfg.design.targets[0].model_copy(update={"reliability": 0.99, "life_cycles": 380_000})
     settings = cfg.design.model_copy(update={"targets": [cfg.design.targets[0], second], "verify": False})
     res = run_design(ctx, rel, settings=settings)
+    assert res.verdict() == "not_verified" and "(design.verify = false)" in res.verification_sentence()
     every = res.chosen_every_target
     assert every is not None and every["choices"] != res.chosen["choices"]
     meets = [t["reliability"] for t in settings.model_dump()["targets"]]

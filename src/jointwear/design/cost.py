@@ -27,9 +27,9 @@ def tolerance_cost(tolerance: float, reference: float, model: CostModel) -> floa
 
 def grade_costs(control: ToleranceControl, nominal: float, model: CostModel) -> list[float]:
     """The cost of every grade of a toleranced length: the user's costs when given, else the cost model with
-    the loosest listed grade as the reference (so that grade costs a + b)."""
+    its ``reference_grade`` as the reference, or else the loosest listed grade (that grade costs a + b)."""
     if control.costs is not None:
         return [float(c) for c in control.costs]
     bands = [it_tolerance(g, nominal) for g in control.grades]
-    reference = max(bands)
+    reference = it_tolerance(model.reference_grade, nominal) if model.reference_grade is not None else max(bands)
     return [tolerance_cost(t, reference, model) for t in bands]

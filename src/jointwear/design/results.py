@@ -16,7 +16,8 @@ class DesignResult(StageResult):
 
     ``chosen`` and every ``pareto`` row: ``choices`` (control -> option), ``cost`` (relative), the life at R*
     (``life_at_target_cycles``) and R(N*) (``reliability_at_target_life``) on the study's surrogate, with its
-    error bound ``reliability_error`` (the surrogate's ESC bound plus the Monte Carlo 95 % half-width) and the
+    error bound ``reliability_error`` (the surrogate's ESC bound, plus the exact 95 % Monte Carlo half-width, plus
+    the share of the population outside the study design's region, which the surrogate may misclassify) and the
     share of the candidate's population outside the study design's region (``outside_design_fraction``).
     ``verification``: the chosen design's own AK-MCS study on the true model at N* (``reliability_at_target_life``,
     ``error``, ``model_calls``, ``confirmed``: R + error >= R*). ``model_calls``: the distinct true-model inputs
@@ -46,6 +47,21 @@ class DesignResult(StageResult):
     n_candidates: int = 0
     provenance: dict = field(default_factory=dict)
     chosen_every_target: dict | None = None
+    study_curve_cycles: list[float] = field(default_factory=list)  # first and last level of the study's R(N)
+
+    def target_outside_curve_sentence(self) -> str:
+        """A target life outside the study's R(N) curve (empty when inside, or unknown): the learning refined the
+        surrogate near the curve's levels, so a life far from them is judged where it was not refined."""
+        if len(self.study_curve_cycles) != 2:
+            return ""
+        lo, hi = self.study_curve_cycles
+        n_star = self.target_life_cycles
+        if lo <= n_star <= hi:
+            return ""
+        side = "below" if n_star < lo else "beyond"
+        return (f"the target life {n_star:,.0f} cycles lies {side} the study's R(N) curve ({lo:,.0f} to {hi:,.0f} "
+                "cycles), where its learning did not refine the surrogate: the candidates' R(N*) there is less sure "
+                "than its error says; move reliability.cycles_start / cycles_stop to cover it and run the study again")
 
     @property
     def feasible(self) -> bool:
@@ -53,13 +69,53 @@ class DesignResult(StageResult):
         return self.chosen is not None
 
     def undecided_sentence(self) -> str:
-        """What candidates left undecided by the refinement mean for the choice (empty when none was left)."""
-        n = int((self.refinement or {}).get("undecided_left") or 0)
+        """What candidates left undecided by the refinement mean for the choice (empty when none was left, or when
+        only the choice itself was and its verification met the target beyond its error)."""
+        ref = self.refinement or {}
+        n = int(ref.get("undecided_left") or 0)
         if not n:
             return ""
-        return (f"the refinement's budget (design.refine_max_calls) ran out with {n} candidate(s) no dearer than the "
-                "choice still undecided (their estimate's error spans the target): a cheaper one may meet it; raise "
-                "design.refine_max_calls and run again with --resume (resume=True in Python)")
+        others = int(ref.get("undecided_other_than_choice", n))
+        if not others:  # only the choice: its verification on the true model settles it
+            if self.verdict() == "meets":
+                return ""
+            return ("the choice's R(N*) on the surrogate lies within its error of the target, and only its "
+                    "verification on the true model can settle that: " + self.verification_sentence())
+        start = ("no refinement was allowed (design.refine_max_calls = 0)" if ref.get("budget") == 0
+                 else "the refinement's budget (design.refine_max_calls) ran out")
+        return (f"{start} with {others} candidate(s) no dearer than the choice still undecided (their estimate's "
+                "error spans the target): a cheaper one may meet it; raise design.refine_max_calls and run again "
+                "with --resume (resume=True in Python)")
+
+    def verdict(self) -> str | None:
+        """The verification's verdict on the choice: 'meets' (R(N*) - error >= R*), 'within_error' (only
+        R(N*) + error >= R*), 'misses', 'not_verified'; None without a choice."""
+        ver = self.verification
+        if self.chosen is None or ver is None:
+            return None if self.chosen is None else "not_verified"
+        r, err = ver.get("reliability_at_target_life"), ver.get("error")
+        if r is None or err is None:
+            return "not_verified"
+        r_star = self.target_reliability
+        return "meets" if r - err >= r_star else "within_error" if r + err >= r_star else "misses"
+
+    def verification_sentence(self) -> str:
+        """What the verification says of the choice, in words (empty without a choice)."""
+        verdict, ver = self.verdict(), self.verification or {}
+        if verdict is None:
+            return ""
+        if verdict == "not_verified":
+            why = f" ({ver['note']})" if ver.get("note") else ""
+            return f"the choice is not verified on the true model{why}: its R(N*) rests on the study's surrogate alone"
+        text = (f"its own reliability study ({ver.get('model_calls', 0)} true-model calls) gives R(N*) = "
+                f"{ver['reliability_at_target_life']:.4f} +/- {ver['error']:.4f}: ")
+        text += {"meets": "it meets R* beyond its error",
+                 "within_error": f"R* = {self.target_reliability:g} lies within its error, so the target is not "
+                                 "excluded, nor proven",
+                 "misses": f"it misses R* = {self.target_reliability:g}"}[verdict]
+        if ver.get("converged") is False:
+            text += "; its learning stopped on its budget of calls (design.verification_max_calls) before its tolerance"
+        return text
 
     def save(self, folder: Path | str, *, figures: bool = True) -> Path:
         """Write ``design.json``, the front (``design_pareto.csv``), every candidate (``design_candidates.csv``)

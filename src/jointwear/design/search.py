@@ -26,6 +26,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import stats
 
 from jointwear.design.candidates import Candidate, Control, build_controls, enumerate_candidates
 from jointwear.design.results import DesignResult
@@ -42,10 +43,19 @@ class Estimate:
     """A candidate's reliability at N* and life at R* on the surrogate."""
 
     reliability: float
-    error: float  # surrogate (ESC) bound + Monte Carlo 95 % half-width, absolute, on R(N*)
+    error: float  # surrogate (ESC) bound + Monte Carlo 95 % half-width + share outside the design, absolute, on R
     surrogate_error: float
     life_cycles: float | None
     outside_fraction: float
+
+
+def monte_carlo_half_width(k: int, n: int) -> float:
+    """The larger side of the exact (Clopper-Pearson) 95 % interval of a proportion k / n: unlike the normal
+    approximation it is not 0 when every sample lies on one side (R = 1 of 10 samples: 0.31)."""
+    p = k / n
+    lo = 0.0 if k == 0 else float(stats.beta.ppf(0.025, k, n - k + 1))
+    hi = 1.0 if k == n else float(stats.beta.ppf(0.975, k + 1, n - k))
+    return max(p - lo, hi - p)
 
 
 class LifeSurrogate:
@@ -126,14 +136,19 @@ def estimate(space: CandidateSpace, sur: LifeSurrogate, cand: Candidate, log_tar
     p_inf = space.infeasible_probability(cand)
     n = mu.size
     g = mu - log_target
-    r_feasible = float(np.mean(g > 0))
+    k = int(np.count_nonzero(g > 0))
+    r_feasible = k / n
     # 'fail' rule: an infeasible clearance is a failure at every N (the learning runs on the feasible part)
     reliability = (1.0 - p_inf) * r_feasible
     sur_err = (1.0 - p_inf) * esc_absolute_error(g, sd)  # Pf = P[g <= 0]: the same absolute error as R
-    mc_err = _Z95 * math.sqrt(max(reliability * (1.0 - reliability), 0.0) / n)
+    mc_err = (1.0 - p_inf) * monte_carlo_half_width(k, n)
+    outside = float(np.mean(sur.outside(u)))
+    # the share drawn outside the design's region may be misclassified wholesale: the Kriging extrapolates there,
+    # with a variance that need not say so (a far PTFE option read R = 1.0000 +/- 0.0000, its own study 0.9 at 1.8x)
+    error = sur_err + mc_err + (1.0 - p_inf) * outside
     level = 1.0 - reliability_target / (1.0 - p_inf)
     life = float(np.exp(np.quantile(mu, level))) if 0.0 < level < 1.0 else None
-    return Estimate(reliability, sur_err + mc_err, sur_err, life, float(np.mean(sur.outside(u))))
+    return Estimate(reliability, error, sur_err, life, outside)
 
 
 def _refine_point(space: CandidateSpace, sur: LifeSurrogate, cand: Candidate, log_target: float) -> np.ndarray:
@@ -183,7 +198,7 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
     t0 = time.perf_counter()
     settings = settings if settings is not None else ctx.config.design
     say = echo if echo is not None else (lambda _m: None)
-    calls_before = ctx.n_evaluated
+    calls_before, made_before = ctx.n_evaluated, ctx.n_model_calls
     controls = build_controls(ctx.config, settings)
     clearance = ctx.config.uncertainty.clearance
     p_inf = clearance.infeasible_probability() if clearance is not None and clearance.infeasible_rule == "fail" else 0.0
@@ -315,8 +330,13 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
         verification = dict(verification, model_calls=verification_calls, rounds=verifications)
     elif verifications:  # the budget ended before the latest choice could be verified
         verification = {"reliability_at_target_life": None, "error": None, "model_calls": verification_calls,
-                        "confirmed": False, "rounds": verifications,
+                        "confirmed": False, "verdict": "not_verified", "rounds": verifications,
                         "note": "verification budget spent before the final choice was verified"}
+    elif head["chosen_index"] is not None:
+        reason = "design.verify = false" if not settings.verify else "design.verification_max_calls = 0"
+        verification = {"reliability_at_target_life": None, "error": None, "model_calls": 0, "confirmed": False,
+                        "verdict": "not_verified", "rounds": [], "note": reason}
+    others = [i for i, k in left if k == 0 and i != head["chosen_index"]]
     total_calls = ctx.n_evaluated
     return DesignResult(
         target_life_cycles=head["target_life_cycles"], target_reliability=head["target_reliability"],
@@ -327,10 +347,14 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
         targets=[{k: v for k, v in row.items() if k not in ("rows", "chosen_index")} for row in per_target],
         controls=[c.to_json() for c in controls], candidates=head["rows"],
         calls={"study": study_points, "refinement": int(refine_calls), "verification": int(verification_calls),
-               "new_in_this_stage": int(total_calls - calls_before)},
+               "new_in_this_stage": int(total_calls - calls_before),
+               "run_now": int(ctx.n_model_calls - made_before)},
         refinement={"iterations": iterations, "model_calls": int(refine_calls),
-                    "undecided_left": len(left), "design_points": int(sur.x.shape[0])},
-        n_population=settings.n_population, n_candidates=len(candidates), chosen_every_target=every)
+                    "undecided_left": len(left), "undecided_other_than_choice": len(others),
+                    "budget": int(settings.refine_max_calls), "design_points": int(sur.x.shape[0])},
+        n_population=settings.n_population, n_candidates=len(candidates), chosen_every_target=every,
+        study_curve_cycles=[float(np.min(reliability_result.cycles)), float(np.max(reliability_result.cycles))]
+        if len(reliability_result.cycles) else [])
 
 
 def _cheapest_meeting(est: dict, order: list[int], k: int, reliability: float) -> int | None:
@@ -350,7 +374,7 @@ def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: C
     """
     rel = ctx.config.reliability
     marginals = cand.marginals(controls, ctx.names, ctx.marginals)
-    before = ctx.n_evaluated
+    before, made_before = ctx.n_evaluated, ctx.n_model_calls
     n_initial = min(max(rel.n_initial, 2 * len(marginals) + 2), max_calls)
     eng = akmcs_multi(
         ctx.log_life, marginals, levels=np.array([target["log_life"]]), n_mc=rel.n_mc, n_mc_max=rel.n_mc_max,
@@ -372,9 +396,15 @@ def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: C
     mc_err = _Z95 * (1.0 - p_inf) * (cov * pf_feasible if math.isfinite(cov) else 0.0)
     reliability = 1.0 - pf
     error = sur_err + mc_err
+    r_star = target["reliability"]
+    verdict = "meets" if reliability - error >= r_star else "within_error" if reliability + error >= r_star \
+        else "misses"
     return {"reliability_at_target_life": reliability, "error": error,
+            # new_model_calls: the inputs it added to the design (its budget counts them, so a resumed run replays
+            # the same rounds); run_now: the calls it made in this process, the rest read back from the store
             "model_calls": int(eng.n_calls), "new_model_calls": int(ctx.n_evaluated - before),
-            "confirmed": bool(reliability + error >= target["reliability"]),
+            "run_now": int(ctx.n_model_calls - made_before),
+            "confirmed": verdict != "misses", "verdict": verdict,
             "meets_target_without_error": bool(reliability >= target["reliability"]),
             "pf_cov": cov, "surrogate_error": sur_err, "n_mc": int(eng.n_mc), "converged": bool(eng.converged),
             "failed_calls": int(eng.n_failed_calls)}, np.asarray(eng.design_x, dtype=float)

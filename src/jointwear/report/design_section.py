@@ -25,6 +25,12 @@ def design_pareto_figure(result):
     pts = [(r["cost"], r["life_at_target_cycles"]) for r in candidates if r.get("life_at_target_cycles")]
     if pts:
         ax.scatter([p[0] for p in pts], [p[1] / 1e3 for p in pts], s=8, color="#BBBBBB", label="candidates")
+    far = [r for r in candidates + (_get(result, "pareto") or [])
+           if r.get("life_at_target_cycles") and (r.get("outside_design_fraction") or 0.0) > EXTRAPOLATED_SHARE]
+    if far:  # their life is the surrogate's extrapolation: drawn open, not as points of the same standing
+        ax.scatter([r["cost"] for r in far], [r["life_at_target_cycles"] / 1e3 for r in far], s=40,
+                   facecolors="none", edgecolors="#AA3377", zorder=3,
+                   label=f"extrapolated (> {EXTRAPOLATED_SHARE:.0%} outside the study's inputs)")
     front = [r for r in _get(result, "pareto") or [] if r.get("life_at_target_cycles")]
     if front:
         ax.plot([r["cost"] for r in front], [r["life_at_target_cycles"] / 1e3 for r in front], "o-", ms=4,
@@ -64,21 +70,24 @@ def design_section(out_dir: Path | str, figs=None) -> str | None:
                  f"{_get(d, 'baseline_life_cycles'):,.0f} cycles)")
     parts.append(f"<p>{e(head)}; {_get(d, 'n_candidates', 0)} candidate designs, "
                  f"{_get(d, 'model_calls', 0)} true-model calls in all.</p>")
-    chosen, ver = _get(d, "chosen"), _get(d, "verification")
+    chosen = _get(d, "chosen")
     if chosen is None:
         parts.append('<p class="missing">No candidate reaches the target on the surrogate.</p>')
     else:
-        rows = "".join(f"<tr><td>{e(str(k))}</td><td>{e(str(v))}</td></tr>" for k, v in chosen["choices"].items())
-        parts.append(f"<table><thead><tr><th>control</th><th>chosen option</th></tr></thead><tbody>{rows}"
-                     "</tbody></table>")
-        text = (f"Cost {chosen['cost']:.4g}; on the study's surrogate R(N*) = "
-                f"{chosen['reliability_at_target_life']:.4f} +/- {chosen.get('reliability_error', 0):.4f} and a life "
-                f"of {_fmt(chosen.get('life_at_target_cycles'), ',.0f')} cycles at R*.")
-        if ver:
-            verdict = "confirms" if ver.get("confirmed") else "does not confirm"
-            text += (f" Its own reliability study ({ver['model_calls']} true-model calls) gives R(N*) = "
-                     f"{ver['reliability_at_target_life']:.4f} +/- {ver['error']:.4f}: it {verdict} R(N*) >= R*.")
-        parts.append(f"<p>{e(text)}</p>")
+        costs = {c["name"]: {o["name"]: o.get("cost") for o in c.get("options", [])}
+                 for c in _get(d, "controls") or []}
+        rows = "".join(f"<tr><td>{e(str(k))}</td><td>{e(str(v))}</td>"
+                       f"<td>{_fmt(costs.get(k, {}).get(v), '.4g')}</td></tr>" for k, v in chosen["choices"].items())
+        parts.append(f"<table><thead><tr><th>control</th><th>chosen option</th><th>its cost</th></tr></thead>"
+                     f"<tbody>{rows}</tbody></table>")
+        text = (f"Cost {chosen['cost']:.4g} (relative units: the sum of the options' costs); on the study's "
+                f"surrogate R(N*) = {chosen['reliability_at_target_life']:.4f} +/- "
+                f"{chosen.get('reliability_error', 0):.4f} and a life of "
+                f"{_fmt(chosen.get('life_at_target_cycles'), ',.0f')} cycles at R*. ")
+        sentence = d.verification_sentence()
+        text += sentence[:1].upper() + sentence[1:] + "."
+        cls = "" if d.verdict() in ("meets", "within_error") else ' class="warn"'  # misses, or not verified
+        parts.append(f"<p{cls}>{e(text)}</p>")
     targets, every = _get(d, "targets") or [], _get(d, "chosen_every_target")
     if len(targets) > 1 and chosen is not None and (every is None or every["choices"] != chosen["choices"]):
         meets = "No candidate meets every target at once." if every is None else (
@@ -89,6 +98,8 @@ def design_section(out_dir: Path | str, figs=None) -> str | None:
                      f"{e(meets)}</p>")
     if undecided := d.undecided_sentence():
         parts.append(warning("Candidates left undecided.", undecided))
+    if outside := d.target_outside_curve_sentence():
+        parts.append(warning("The target lies outside the study's curve.", outside))
     if _get(d, "pareto"):
         caption = "Cost of every candidate design against its life at the target reliability; the front and the choice."
         if figs is not None:

@@ -617,14 +617,15 @@ class Study:
             self.echo(f"design: no candidate reaches {result.target_life_cycles:,.0f} cycles at "
                       f"R = {result.target_reliability:g}; {result.model_calls} model calls -> {self.out / result.FILE}")
             return result
-        ver = result.verification
-        verified = "" if ver is None else (
-            f"; verified R = {ver['reliability_at_target_life']:.4f} +/- {ver['error']:.4f}"
-            + ("" if ver["confirmed"] else " (NOT confirmed)"))
         picks = ", ".join(f"{k} {v}" for k, v in chosen["choices"].items())
-        self.echo(f"design: {picks} (cost {chosen['cost']:.3g}) reaches {result.target_life_cycles:,.0f} cycles at "
-                  f"R = {result.target_reliability:g}{verified}; {result.model_calls} model calls "
-                  f"-> {self.out / result.FILE}")
+        life = chosen.get("life_at_target_cycles")
+        life = "" if life is None else f", a life of {life:,.0f} cycles at R = {result.target_reliability:g}"
+        self.echo(f"design: {picks} (cost {chosen['cost']:.3g}): on the surrogate R = "
+                  f"{chosen['reliability_at_target_life']:.4f} +/- {chosen['reliability_error']:.4f} at the target "
+                  f"{result.target_life_cycles:,.0f} cycles{life}; {result.model_calls} model calls "
+                  f"({result.calls.get('run_now', 0)} run now) -> {self.out / result.FILE}")
+        sentence = result.verification_sentence()
+        (self.echo if result.verdict() in ("meets", "within_error") else self.warn)(f"design: {sentence}")
         every = result.chosen_every_target
         if len(result.targets) > 1 and (every is None or every["choices"] != chosen["choices"]):
             self.warn("design: the headline choice does not meet every target; " + (
@@ -632,8 +633,9 @@ class Study:
                 f"the cheapest that does: {', '.join(f'{k} {v}' for k, v in every['choices'].items())} "
                 f"(cost {every['cost']:.3g})"))
         self._warn_design_trust(chosen)
-        if undecided := result.undecided_sentence():
-            self.warn(f"design: {undecided}")
+        for sentence in (result.undecided_sentence(), result.target_outside_curve_sentence()):
+            if sentence:
+                self.warn(f"design: {sentence}")
         self._refresh_report()
         return result
 

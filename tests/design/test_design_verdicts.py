@@ -1,0 +1,113 @@
+"""What the design says of a candidate and of its verification: exact intervals, the share outside the study's
+inputs in the error, the verification's verdict, and which candidates are left undecided."""
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from jointwear.design.results import DesignResult
+from jointwear.design.search import estimate, monte_carlo_half_width
+
+
+@pytest.mark.parametrize("k, n", [(10, 10), (0, 10), (9_000, 10_000), (49_000, 50_000)])
+def test_the_monte_carlo_half_width_is_the_exact_interval(k, n):
+    """Clopper-Pearson: the normal approximation gave 0 for R = 1.0000 of 10 samples (a user's n_population = 10)."""
+    ci = stats.binomtest(k, n).proportion_ci(confidence_level=0.95, method="exact")
+    assert monte_carlo_half_width(k, n) == pytest.approx(max(k / n - ci.low, ci.high - k / n), rel=1e-9)
+    if k == n:  # the closed form at the edge: lower bound 0.025^(1/n)
+        assert monte_carlo_half_width(k, n) == pytest.approx(1 - 0.025 ** (1 / n), rel=1e-12)
+
+
+class _Space:
+    def __init__(self, n):
+        self.u = np.zeros((n, 2))
+
+    def population(self, cand):
+        return self.u, self.u
+
+    def infeasible_probability(self, cand):
+        return 0.0
+
+
+class _Surrogate:
+    """Every point predicted far above the target with a tiny variance; ``share`` of them outside the design."""
+
+    def __init__(self, share):
+        self.share = share
+
+    def predict(self, u):
+        return np.full(u.shape[0], 20.0), np.full(u.shape[0], 1e-3)
+
+    def outside(self, u):
+        return np.arange(u.shape[0]) < self.share * u.shape[0]
+
+
+@pytest.mark.parametrize("share", [0.0, 0.05, 1.0])
+def test_a_candidate_drawn_outside_the_studys_inputs_carries_that_share_in_its_error(share):
+    """A PTFE option 8 standard deviations out read R(N*) = 1.0000 +/- 0.0000; its own study gave a life 1.8x
+    the design's: the share outside may be misclassified wholesale."""
+    n = 2_000
+    est = estimate(_Space(n), _Surrogate(share), None, log_target=10.0, reliability_target=0.9)
+    assert est.reliability == 1.0 and est.surrogate_error == pytest.approx(0.0, abs=1e-12)
+    assert est.outside_fraction == pytest.approx(share)
+    assert est.error == pytest.approx(monte_carlo_half_width(n, n) + share, rel=1e-9)
+
+
+def _result(verification, refinement=None, r_star=0.9):
+    return DesignResult(target_life_cycles=1e6, target_reliability=r_star, chosen={"choices": {"fit": "H7/g6"}},
+                        pareto=[], verification=verification, model_calls=10, wall_seconds=1.0,
+                        refinement=refinement or {})
+
+
+@pytest.mark.parametrize("r, err, verdict, words", [
+    (0.95, 0.01, "meets", "it meets R* beyond its error"),
+    (0.895, 0.006, "within_error", "lies within its error, so the target is not excluded, nor proven"),
+    (0.85, 0.01, "misses", "it misses R* = 0.9"),
+])
+def test_the_verification_says_whether_it_meets_the_target_beyond_its_error(r, err, verdict, words):
+    """A verified 0.895 +/- 0.006 read 'confirms R(N*) >= R*'."""
+    res = _result({"reliability_at_target_life": r, "error": err, "model_calls": 30, "confirmed": r + err >= 0.9,
+                   "converged": False})
+    assert res.verdict() == verdict
+    sentence = res.verification_sentence()
+    assert words in sentence and "stopped on its budget of calls" in sentence
+
+
+def test_a_choice_not_verified_says_so():
+    res = _result({"reliability_at_target_life": None, "error": None, "model_calls": 0, "confirmed": False,
+                   "note": "design.verify = false"})
+    assert res.verdict() == "not_verified"
+    assert res.verification_sentence().startswith("the choice is not verified on the true model (design.verify = "
+                                                  "false)")
+
+
+def test_only_the_choice_undecided_is_left_to_its_verification():
+    """The warning said 'a cheaper one may meet it' when the one undecided candidate was the choice itself, and
+    after its verification had confirmed it."""
+    met = {"reliability_at_target_life": 0.95, "error": 0.01, "model_calls": 30, "confirmed": True}
+    only_choice = {"undecided_left": 1, "undecided_other_than_choice": 0, "budget": 10}
+    assert _result(met, only_choice).undecided_sentence() == ""
+    near = dict(met, reliability_at_target_life=0.905)
+    assert _result(near, only_choice).undecided_sentence().startswith("the choice's R(N*) on the surrogate lies "
+                                                                      "within its error")
+    cheaper = {"undecided_left": 3, "undecided_other_than_choice": 2, "budget": 0}
+    assert _result(met, cheaper).undecided_sentence().startswith("no refinement was allowed (design.refine_max_calls "
+                                                                 "= 0) with 2 candidate(s)")
+
+
+def test_a_population_too_small_to_resolve_the_target_is_refused():
+    from jointwear.config import load_config, updated
+    from jointwear.schema import ConfigError
+
+    with pytest.raises(ConfigError, match=r"design.*n_population must be >= 1,000 \(got 10\)"):
+        updated(load_config(), {"design.n_population": 10})
+
+
+@pytest.mark.parametrize("n_star, side", [(533_381, "below"), (2_500_000, "beyond"), (1_000_000, None)])
+def test_a_target_outside_the_studys_curve_is_told(n_star, side):
+    """N* = 0.5 x today's life fell below cycles_start and was accepted silently."""
+    res = _result({"reliability_at_target_life": 0.95, "error": 0.01, "model_calls": 30, "confirmed": True})
+    res.target_life_cycles, res.study_curve_cycles = n_star, [800_000.0, 2_000_000.0]
+    sentence = res.target_outside_curve_sentence()
+    assert (sentence == "") if side is None else sentence.startswith(
+        f"the target life {n_star:,.0f} cycles lies {side} the study's R(N) curve (800,000 to 2,000,000 cycles)")
