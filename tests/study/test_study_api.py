@@ -162,3 +162,24 @@ def test_the_package_offers_its_lazily_imported_names_to_tab_completion():
     public = [name for name in dir(jointwear) if not name.startswith("_")]
     assert public == sorted(n for n in jointwear.__all__ if not n.startswith("_"))
     assert all(getattr(jointwear, name) is not None for name in public)
+
+
+def test_a_folder_recorded_in_other_display_units_is_the_same_model(tmp_path):
+    """A folder whose config.json shows the hardness in GPa (as older versions wrote it) was said to hold another
+    wear model (changed: ...hardness) by a study that shows it in HB: the values are compared in SI now."""
+    from jointwear.report.settings import settings_dump, write_dump
+    from jointwear.study.facade import _changed_settings
+    from jointwear.units import PA_PER_HB
+
+    cfg = load_config()
+    dump = settings_dump(cfg)
+    (tmp_path / "simulate.json").write_text("{}")  # a result, so that the recorded config counts
+    old = json.loads(json.dumps(dump))
+    for record in old["settings"]:
+        if record["unit"] == "HB" and record["value"] is not None:
+            record["unit"], record["value"] = "GPa", record["value"] * PA_PER_HB / 1e9
+    write_dump(tmp_path, old)
+    assert any(r["unit"] == "GPa" and r["name"].endswith("hardness") for r in old["settings"])
+    assert _changed_settings(tmp_path, dump["settings"]) == []
+    harder = settings_dump(updated(cfg, {"clearance_joints.A.bearing_material.hardness_HB": 400.0}))
+    assert _changed_settings(tmp_path, harder["settings"]) == ["clearance_joints[0].bearing_material.hardness"]

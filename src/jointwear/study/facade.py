@@ -668,13 +668,39 @@ def _changed_settings(out: Path, settings: list[dict], *, with_results: bool = T
     if not recorded.is_file() or (with_results and not results):
         return []
     try:
-        before = {r["name"]: r.get("value") for r in json.loads(recorded.read_text(encoding="utf-8"))["settings"]}
+        before = {r["name"]: _in_si(r.get("value"), r.get("unit"))
+                  for r in json.loads(recorded.read_text(encoding="utf-8"))["settings"]}
     except (OSError, ValueError, KeyError, TypeError):
         return []
-    now = {r["name"]: json.loads(json.dumps(r.get("value"), default=str)) for r in settings}
+    now = {r["name"]: _in_si(json.loads(json.dumps(r.get("value"), default=str)), r.get("unit")) for r in settings}
     names = list(now) + [name for name in before if name not in now]
     model = tuple(WearModelCall.MODEL_SECTIONS)
-    return [name for name in names if name.split(".")[0].split("[")[0] in model and now.get(name) != before.get(name)]
+    return [name for name in names if name.split(".")[0].split("[")[0] in model
+            and not _same(now.get(name), before.get(name))]
+
+
+def _in_si(value: Any, unit: str | None) -> Any:
+    """A recorded setting in SI, so that a folder written with other display units (a hardness once shown in GPa,
+    now in HB) compares by value."""
+    from jointwear.units import SUFFIXES, UnitError, to_si
+
+    if not unit or unit not in SUFFIXES:
+        return value
+    try:
+        return to_si(value, unit)
+    except UnitError:
+        return value
+
+
+def _same(a: Any, b: Any) -> bool:
+    """Equal, numbers to 12 significant digits (a value converted to another display unit and back)."""
+    if isinstance(a, float) and isinstance(b, float):
+        return a == b or abs(a - b) <= 1e-12 * max(abs(a), abs(b))
+    if isinstance(a, list) and isinstance(b, list):
+        return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b))
+    if isinstance(a, dict) and isinstance(b, dict):
+        return a.keys() == b.keys() and all(_same(a[k], b[k]) for k in a)
+    return a == b
 
 
 def _empty_store(out: Path) -> bool:
