@@ -125,3 +125,4 @@ def test_a_setting_is_shown_as_entered():
     assert setting_text({"name": "mechanism.bodies[1].points", "value": {"B": [18.780500000000004, -2.5]}}) \
         == "{B: [18.7805, -2.5]}"
     assert setting_text({"name": "clearance_joints[0].bearing_radius", "value": 18.7805}) == "18.7805"
+    assert setting_text({"name": "reliability.pf_floor", "value": 1e-3}) == "0.001"

@@ -10,6 +10,13 @@ from jointwear.study.io import write_csv
 from jointwear.study.stage_result import StageResult
 
 
+def verification_verdict(reliability: float, error: float, target: float) -> str:
+    """'meets' when R(N*) - error >= R*, 'within_error' when only R(N*) + error >= R*, else 'misses'."""
+    if reliability - error >= target:
+        return "meets"
+    return "within_error" if reliability + error >= target else "misses"
+
+
 @dataclass(repr=False)
 class DesignResult(StageResult):
     """The cheapest controls that reach N* cycles at reliability R*, and the Pareto front of cost vs life at R*.
@@ -96,8 +103,7 @@ class DesignResult(StageResult):
         r, err = ver.get("reliability_at_target_life"), ver.get("error")
         if r is None or err is None:
             return "not_verified"
-        r_star = self.target_reliability
-        return "meets" if r - err >= r_star else "within_error" if r + err >= r_star else "misses"
+        return verification_verdict(r, err, self.target_reliability)
 
     def verification_sentence(self) -> str:
         """What the verification says of the choice, in words (empty without a choice)."""

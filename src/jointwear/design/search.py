@@ -29,7 +29,7 @@ import numpy as np
 from scipy import stats
 
 from jointwear.design.candidates import Candidate, Control, build_controls, enumerate_candidates
-from jointwear.design.results import DesignResult
+from jointwear.design.results import DesignResult, verification_verdict
 from jointwear.design.settings import DesignSettings
 from jointwear.reliability import IsoTransform, KrigingSurrogate, akmcs_multi, esc_absolute_error
 from jointwear.study.limit_state import life_at
@@ -396,9 +396,7 @@ def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: C
     mc_err = _Z95 * (1.0 - p_inf) * (cov * pf_feasible if math.isfinite(cov) else 0.0)
     reliability = 1.0 - pf
     error = sur_err + mc_err
-    r_star = target["reliability"]
-    verdict = "meets" if reliability - error >= r_star else "within_error" if reliability + error >= r_star \
-        else "misses"
+    verdict = verification_verdict(reliability, error, target["reliability"])
     return {"reliability_at_target_life": reliability, "error": error,
             # new_model_calls: the inputs it added to the design (its budget counts them, so a resumed run replays
             # the same rounds); run_now: the calls it made in this process, the rest read back from the store

@@ -46,7 +46,20 @@ def setting_text(record: dict) -> str:
     value = record.get("value")
     if str(record.get("name", "")).endswith("seed") and isinstance(value, int) and not isinstance(value, bool):
         return str(value)
-    return format_number(value, 6)
+    return _entered(value)
+
+
+def _entered(value) -> str:
+    """A float to six significant digits without padding (1e-05, 18.7805), anything else as the report shows it."""
+    if isinstance(value, float) and math.isfinite(value):
+        return f"{value:.6g}"
+    if isinstance(value, (list, tuple)):
+        if len(value) > 8:  # as format_number shortens a long list
+            return f"[{', '.join(_entered(v) for v in value[:6])}, \u2026 ({len(value)} values)]"
+        return "[" + ", ".join(_entered(v) for v in value) + "]"
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k}: {_entered(v)}" for k, v in value.items()) + "}"
+    return format_number(value)
 
 
 def settings_section(out: StudyOutputs, figs: Figures) -> str:
