@@ -62,6 +62,20 @@ def test_estimates_agree_with_the_exact_reliabilities_within_their_error(setup, 
         assert abs(row["reliability_at_target_life"] - e) <= tol, (row["choices"], row["reliability_at_target_life"], e)
 
 
+def test_todays_design_is_read_on_the_same_surrogate(setup, design):
+    """The report gave the choice but not today's design beside it (a manager could not see that the choice was
+    cheaper than today's). Today's R(N*) against the exact one (brute force on the study's own inputs): within
+    the error bound the design gives its own candidates, the largest over the front."""
+    from jointwear.reliability import IsoTransform
+
+    cfg, ctx, model, rel, *_ = setup
+    z = np.random.default_rng(7).standard_normal((1_000_000, len(ctx.names)))
+    exact = float(np.mean(model.life(IsoTransform(ctx.marginals).to_x(z)) > N_STAR))
+    bound = max(r["reliability_error"] for r in design.pareto)
+    assert abs(design.baseline_reliability_at_target_life - exact) <= bound + 3 * np.sqrt(exact * (1 - exact) / 1e6)
+    assert exact < R_STAR  # today's design misses the target the design reaches
+
+
 def test_pareto_front_is_non_dominated(design):
     costs = [r["cost"] for r in design.pareto]
     lives = [r["life_at_target_cycles"] for r in design.pareto]
@@ -114,18 +128,24 @@ def test_design_json_has_the_contract_keys_and_loads_back(design, tmp_path):
     assert folder.stages == ["design"] and folder.design.chosen["choices"] == design.chosen["choices"]
 
 
-def test_report_section_shows_the_front_the_choice_and_the_verified_reliability(design, tmp_path):
+def test_report_section_shows_the_front_the_choice_and_the_verified_reliability(setup, design, tmp_path):
     from jointwear.report.design_section import design_section
 
     assert design_section(tmp_path) is None  # no design.json: no section
     design.save(tmp_path)
+    rel = setup[3]
+    rel.save(tmp_path, figures=False)  # its crank speed gives the chosen life in hours
     html = design_section(tmp_path)
+    hours = design.chosen["life_at_target_cycles"] / rel.crank_speed_rpm / 60
+    assert f"cycles ({hours:,.2f} h) at R*" in html
     assert (tmp_path / "design_pareto.png").read_bytes().startswith(b"\x89PNG")
     assert "data:image/png;base64," in html
     for option in design.chosen["choices"].values():
         assert option in html
     assert f"{design.verification['reliability_at_target_life']:.4f}" in html
     assert design.verification_sentence()[1:] in html and design.verdict() in ("meets", "within_error")
+    today = f"{design.baseline_reliability_at_target_life:.4f}"
+    assert f"today&#x27;s design (the study&#x27;s own inputs) reads R(N*) = {today} on the same surrogate" in html
     assert "Extrapolated candidates" not in html and "outside the study's inputs</th>" in html
 
 

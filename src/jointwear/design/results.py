@@ -44,6 +44,7 @@ class DesignResult(StageResult):
     model_calls: int
     wall_seconds: float
     baseline_life_cycles: float | None = None
+    baseline_reliability_at_target_life: float | None = None  # today's design (the study's inputs) on the surrogate
     life_factor: float | None = None
     targets: list[dict] = field(default_factory=list)
     controls: list[dict] = field(default_factory=list)

@@ -337,6 +337,9 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
         verification = {"reliability_at_target_life": None, "error": None, "model_calls": 0, "confirmed": False,
                         "verdict": "not_verified", "rounds": [], "note": reason}
     others = [i for i, k in left if k == 0 and i != head["chosen_index"]]
+    # today's design (the study's own distributions) on the final surrogate, for comparison with the choice
+    mu_today, _ = sur.predict(space.base_u)
+    today = (1.0 - space.p_inf_default) * float(np.mean(mu_today > targets[0]["log_life"]))
     total_calls = ctx.n_evaluated
     return DesignResult(
         target_life_cycles=head["target_life_cycles"], target_reliability=head["target_reliability"],
@@ -344,6 +347,7 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
         model_calls=int(total_calls),
         wall_seconds=time.perf_counter() - t0,
         baseline_life_cycles=head["baseline_life_cycles"], life_factor=head["life_factor"],
+        baseline_reliability_at_target_life=today,
         targets=[{k: v for k, v in row.items() if k not in ("rows", "chosen_index")} for row in per_target],
         controls=[c.to_json() for c in controls], candidates=head["rows"],
         calls={"study": study_points, "refinement": int(refine_calls), "verification": int(verification_calls),

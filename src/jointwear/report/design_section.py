@@ -68,6 +68,9 @@ def design_section(out_dir: Path | str, figs=None) -> str | None:
     if _get(d, "life_factor") and _get(d, "baseline_life_cycles"):
         head += (f" ({_get(d, 'life_factor'):g} x today's life at that reliability, "
                  f"{_get(d, 'baseline_life_cycles'):,.0f} cycles)")
+    today = _get(d, "baseline_reliability_at_target_life")
+    if today is not None:
+        head += f"; today's design (the study's own inputs) reads R(N*) = {today:.4f} on the same surrogate"
     parts.append(f"<p>{e(head)}; {_get(d, 'n_candidates', 0)} candidate designs, "
                  f"{_get(d, 'model_calls', 0)} true-model calls in all.</p>")
     chosen = _get(d, "chosen")
@@ -80,10 +83,11 @@ def design_section(out_dir: Path | str, figs=None) -> str | None:
                        f"<td>{_fmt(costs.get(k, {}).get(v), '.4g')}</td></tr>" for k, v in chosen["choices"].items())
         parts.append(f"<table><thead><tr><th>control</th><th>chosen option</th><th>its cost</th></tr></thead>"
                      f"<tbody>{rows}</tbody></table>")
+        life, rpm = chosen.get("life_at_target_cycles"), _crank_rpm(out_dir)
+        hours = f" ({life / rpm / 60:,.2f} h)" if life and rpm else ""
         text = (f"Cost {chosen['cost']:.4g} (relative units: the sum of the options' costs); on the study's "
                 f"surrogate R(N*) = {chosen['reliability_at_target_life']:.4f} +/- "
-                f"{chosen.get('reliability_error', 0):.4f} and a life of "
-                f"{_fmt(chosen.get('life_at_target_cycles'), ',.0f')} cycles at R*. ")
+                f"{chosen.get('reliability_error', 0):.4f} and a life of {_fmt(life, ',.0f')} cycles{hours} at R*. ")
         sentence = d.verification_sentence()
         text += sentence[:1].upper() + sentence[1:] + "."
         cls = "" if d.verdict() in ("meets", "within_error") else ' class="warn"'  # misses, or not verified
@@ -134,6 +138,16 @@ def design_section(out_dir: Path | str, figs=None) -> str | None:
                      f"(conformity {wear.conformity:.3g} &gt; 1): rerun the study and the design with "
                      '<code>wear.geometry_mode = "profile"</code> before deciding (docs/wear.md).</p>')
     return "".join(parts)
+
+
+def _crank_rpm(out_dir: Path | str) -> float | None:
+    """The crank speed the study recorded in reliability.json (to give lives in hours), None without it."""
+    from jointwear.study.results import ReliabilityResult
+
+    try:
+        return ReliabilityResult.load(out_dir).crank_speed_rpm
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
 
 
 #: share of a candidate's population outside the study's inputs beyond which its estimate is called extrapolated
