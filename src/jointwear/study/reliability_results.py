@@ -33,6 +33,9 @@ class ReliabilityResult(StageResult):
     ``design_wear`` their wear quantity in m (the first judged joint's) at the history's cycles
     ``design_wear_cycles``, ``design_life`` their life in cycles;
     ``mean_max_wear_mm`` (``cycles``, ``mean``) and ``histograms`` (``max_wear_mm``) are in mm, as named.
+
+    ``engine``: the learning engine with its surrogates, held only by the result a run returns (it is not written
+    to reliability.json, so a result read back by ``load_results`` has None there).
     """
 
     FILE: ClassVar[str] = "reliability.json"
