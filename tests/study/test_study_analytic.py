@@ -57,6 +57,8 @@ def test_life_and_histograms_are_consistent(study):
     # 1 % : the surrogate's error on a smooth 3-variable product over the population, well above MC noise
     np.testing.assert_allclose(res.mean_max_wear_mm["mean"], exact, rtol=1e-2)
     assert res.histograms["cycles"] == [380_000, 420_000]
+    # the speed as entered: 480 rpm came back through rad/s as 479.99999999999994
+    assert cfg.mechanism.crank_speed * 60 / (2 * np.pi) != 480.0 and res.crank_speed_rpm == 480.0
     # the design points' wear comes with the cycles it is at (it had no cycle axis): the analytic wear RATE * N * scale
     np.testing.assert_array_equal(res.design_wear_cycles, ctx.history_cycles)
     scale = model.scale(res.design_x)[:, None]

@@ -61,6 +61,7 @@ def test_a_folder_with_results_of_another_wear_model_is_warned(tmp_path):
     says so; another budget (a learning setting) is the same model and says nothing."""
     lines: list[str] = []
     jointwear.Study(None, out=tmp_path, echo=lines.append).simulate(cycles=1)
+    assert lines[0].startswith("simulate: 1 cycle, ")  # not "1 cycles"
     budget = updated(load_config(), {"reliability.max_calls": 70})
     jointwear.Study(budget, out=tmp_path, echo=lines.append).simulate(cycles=1)
     assert not [line for line in lines if line.startswith("out:")]
