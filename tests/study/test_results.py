@@ -130,3 +130,14 @@ def test_profile_mode_writes_the_limit_states_clearance_growth(tmp_path):
     np.testing.assert_allclose(h["clearance_growth_mm"],
                                np.add(h["max_wear_mm"], h["max_journal_wear_mm"]), rtol=1e-12)
     assert h["clearance_growth_mm"][-1] > 0
+
+
+def test_results_compare_by_value():
+    """`rel_a == rel_b` raised 'the truth value of an array is ambiguous' (the dataclass comparison)."""
+    a, b = _reliability_result(), _reliability_result()
+    a.pf_error[0] = b.pf_error[0] = np.nan  # NaN holes, as a loaded result has them, compare equal
+    assert a == b and not (a != b)
+    b.reliability = b.reliability.copy()
+    b.reliability[1] = 0.81
+    assert a != b
+    assert a != "a string" and a != _reliability_result().__dict__

@@ -17,7 +17,7 @@ def verification_verdict(reliability: float, error: float, target: float) -> str
     return "within_error" if reliability + error >= target else "misses"
 
 
-@dataclass(repr=False)
+@dataclass(repr=False, eq=False)  # StageResult compares by value
 class DesignResult(StageResult):
     """The cheapest controls that reach N* cycles at reliability R*, and the Pareto front of cost vs life at R*.
 

@@ -18,7 +18,7 @@ __all__ = ["ReliabilityResult", "SensitivityResult", "ValidationResult"]
 
 
 # ------------------------------------------------------------------------------------------------ reliability
-@dataclass(repr=False)
+@dataclass(repr=False, eq=False)  # StageResult compares by value
 class ReliabilityResult(StageResult):
     """The R(N) curve, the life at each target reliability and the wear distributions of a study.
 
@@ -237,7 +237,7 @@ _RELIABILITY_KEYS = frozenset({
 
 
 # ------------------------------------------------------------------------------------------------ sensitivity
-@dataclass(repr=False)
+@dataclass(repr=False, eq=False)  # StageResult compares by value
 class SensitivityResult(StageResult):
     """How the reliability at ``cycles`` moves with each variable: mean shifts (``variables`` rows with
     ``reliability_low``/``reliability_high`` and their error estimates), the ranking overall and per group
@@ -312,7 +312,7 @@ class SensitivityResult(StageResult):
 
 
 # ------------------------------------------------------------------------------------------------- validation
-@dataclass(repr=False)
+@dataclass(repr=False, eq=False)  # StageResult compares by value
 class ValidationResult(StageResult):
     """The surrogate's R(N) against the true model sampled directly (``jointwear validate``).
 

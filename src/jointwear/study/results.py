@@ -37,7 +37,7 @@ def whirl_sentence(joint: str, revolutions: float, force_N: float | None = None)
             "of the two the run is in (docs/dynamics.md, 'Friction-driven whirl')")
 
 
-@dataclass(repr=False)
+@dataclass(repr=False, eq=False)  # StageResult compares by value
 class SimulationSummary(StageResult):
     """The dynamics of the nominal mechanism over a few crank cycles (``jointwear simulate``).
 
@@ -174,7 +174,7 @@ def _profile_panels(jw, order) -> dict[str, list[float]]:
             "sliding_mm_per_deg_per_cycle": (d.slip_distance[order] * 1e3 / cell_deg).tolist(),
             "contact_area_mean_mm2": (d.area_mean[order] * 1e6).tolist()}
 
-@dataclass(repr=False)
+@dataclass(repr=False, eq=False)  # StageResult compares by value
 class WearSummary(StageResult):
     """The wear history of the nominal mechanism (``jointwear wear``).
 

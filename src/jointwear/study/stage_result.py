@@ -11,7 +11,7 @@ import numpy as np
 
 from jointwear.study.io import provenance, read_json, write_json
 
-__all__ = ["StageResult", "save_figure", "short_repr"]
+__all__ = ["StageResult", "same_value", "save_figure", "short_repr"]
 
 _SHORT = 100  # characters of a value shown whole in a result's repr
 
@@ -49,10 +49,36 @@ def _nan_holes(value: Any) -> Any:
     return value
 
 
+def same_value(a: Any, b: Any) -> bool:
+    """Equality of result values, arrays by value and NaN equal to NaN (a loaded result keeps its NaN holes)."""
+    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+        a, b = np.asarray(a), np.asarray(b)
+        try:
+            return bool(np.array_equal(a, b, equal_nan=True))
+        except TypeError:  # not numbers: NaN cannot occur
+            return bool(np.array_equal(a, b))
+    if isinstance(a, dict) and isinstance(b, dict):
+        return a.keys() == b.keys() and all(same_value(a[k], b[k]) for k in a)
+    if isinstance(a, (list, tuple)) and isinstance(b, (list, tuple)):
+        return len(a) == len(b) and all(same_value(x, y) for x, y in zip(a, b))
+    if isinstance(a, float) and isinstance(b, float) and math.isnan(a) and math.isnan(b):
+        return True
+    return bool(a == b)
+
+
 class StageResult:
     """Shared save/load of the stage results: the JSON holds every field not marked ``json=False``."""
 
     FILE: ClassVar[str] = ""
+    __hash__ = None  # mutable, compared by value
+
+    def __eq__(self, other: object) -> bool:
+        """Field by field, arrays by value (the dataclass comparison raised 'the truth value of an array is
+        ambiguous'); fields kept out of the JSON (the learning engine) are not compared."""
+        if type(other) is not type(self):
+            return NotImplemented
+        return all(same_value(getattr(self, f.name), getattr(other, f.name))
+                   for f in fields(self) if f.metadata.get("json", True))
 
     def __repr__(self) -> str:
         """One line per field, long values summarised (``short_repr``); subclasses are dataclasses with repr=False."""
