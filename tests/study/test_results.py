@@ -33,6 +33,11 @@ def test_wear_summary_save_and_load(tmp_path):
     assert d["peaks"][0]["depth_mm"] == pytest.approx(d["max_wear_mm"])
     assert d["max_wear_mm"] == pytest.approx(r.joints[0].max_bearing_wear * 1e3)
     assert d["limit_mm"] == pytest.approx(0.03)
+    # the deepest point's growth over the last block, as the tutorial reads the nominal life from it (the peak of a
+    # block's rate profile, which moves round a conformal pocket, read 50x the growth in profile mode)
+    h = d["joints"][0]["history"]
+    growth = (h["max_wear_mm"][-1] - h["max_wear_mm"][-2]) / (h["cycles"][-1] - h["cycles"][-2])
+    assert d["joints"][0]["max_depth_growth_mm_per_cycle"] == pytest.approx(growth, rel=1e-12)
     assert {"jointwear", "numpy", "scipy", "numba", "openturns", "machine"} <= set(d["provenance"])
     # the code that wrote it, as the evaluation store records it: the git commit too when run from a checkout
     from jointwear.compute.store import code_version

@@ -174,6 +174,14 @@ def _profile_panels(jw, order) -> dict[str, list[float]]:
             "sliding_mm_per_deg_per_cycle": (d.slip_distance[order] * 1e3 / cell_deg).tolist(),
             "contact_area_mean_mm2": (d.area_mean[order] * 1e6).tolist()}
 
+def _last_slope_mm(cycles: np.ndarray, depth_m: np.ndarray) -> float | None:
+    """Growth of a depth history over its last segment, mm per cycle (None with fewer than two points)."""
+    n, d = np.asarray(cycles, dtype=float), np.asarray(depth_m, dtype=float)
+    if n.size < 2 or n[-1] == n[-2]:
+        return None
+    return float((d[-1] - d[-2]) / (n[-1] - n[-2]) * 1e3)
+
+
 @dataclass(repr=False, eq=False)  # StageResult compares by value
 class WearSummary(StageResult):
     """The wear history of the nominal mechanism (``jointwear wear``).
@@ -264,8 +272,11 @@ class WearSummary(StageResult):
                 "rod_mean_orientation_deg": math.degrees(jw.mean_orientation),
                 "archard_volume_mm3": {"bearing": jw.volume_bearing * 1e9, "journal": jw.volume_journal * 1e9},
                 "conservation_rel_error": {"bearing": eb, "journal": ej},
+                # the peak of one block's wear-rate profile (the touching point's rate, which in profile mode moves
+                # round a conformal pocket); the deepest point's growth is max_depth_growth_mm_per_cycle
                 "wear_rate_initial_mm_per_cycle": float(jw.first_rate.bearing.max() * 1e3),
                 "wear_rate_final_mm_per_cycle": float(jw.diagnostics.bearing.max() * 1e3),
+                "max_depth_growth_mm_per_cycle": _last_slope_mm(jw.history_cycles, jw.history_max_bearing),
                 # the largest over the last block's recorded cycles (a wide unworn contact narrows as it wears in);
                 # the first block's, at its mean force on the unworn radii, is what the conformity is measured on
                 "max_half_width_um": jw.diagnostics.max_half_width * 1e6,
