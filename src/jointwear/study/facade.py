@@ -45,6 +45,7 @@ from jointwear.study.results import (
     WearSummary,
     load_results,
 )
+from jointwear.study.stage_result import same_value
 from jointwear.wear.angles import angle_text
 
 #: Tag of the true-model calls in the evaluation store (shared by the CLI and the Python API).
@@ -503,8 +504,13 @@ class Study:
         from jointwear.study.reliability import run_reliability
 
         if self._reliability is None:
-            self._reliability = run_reliability(ctx, progress=self._progress_callback)
-            self._reliability.save(self.out)
+            replay = run_reliability(ctx, progress=self._progress_callback)
+            recorded = _recorded_reliability(self.out)
+            if recorded is not None and recorded.model_calls == replay.model_calls and same_value(
+                    recorded.reliability, replay.reliability):
+                replay.wall_seconds = recorded.wall_seconds  # the study's own time, not the replay's
+            replay.save(self.out)
+            self._reliability = replay
         return self._reliability
 
     # --------------------------------------------------------------------------------------- model calls
@@ -701,6 +707,16 @@ def _same(a: Any, b: Any) -> bool:
     if isinstance(a, dict) and isinstance(b, dict):
         return a.keys() == b.keys() and all(_same(a[k], b[k]) for k in a)
     return a == b
+
+
+def _recorded_reliability(out: Path) -> ReliabilityResult | None:
+    """The reliability result already in ``out`` (None when there is none, or it cannot be read)."""
+    if not (out / ReliabilityResult.FILE).is_file():
+        return None
+    try:
+        return ReliabilityResult.load(out)
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
 
 
 def _empty_store(out: Path) -> bool:
