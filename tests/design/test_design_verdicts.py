@@ -50,7 +50,7 @@ def test_a_candidate_drawn_outside_the_studys_inputs_carries_that_share_in_its_e
     est = estimate(_Space(n), _Surrogate(share), None, log_target=10.0, reliability_target=0.9)
     assert est.reliability == 1.0 and est.surrogate_error == pytest.approx(0.0, abs=1e-12)
     assert est.outside_fraction == pytest.approx(share)
-    assert est.error == pytest.approx(monte_carlo_half_width(n, n) + share, rel=1e-9)
+    assert est.error == pytest.approx(min(monte_carlo_half_width(n, n) + share, 1.0), rel=1e-9)
 
 
 def _result(verification, refinement=None, r_star=0.9):
@@ -90,6 +90,8 @@ def test_only_the_choice_undecided_is_left_to_its_verification():
     near = dict(met, reliability_at_target_life=0.905)
     assert _result(near, only_choice).undecided_sentence().startswith("the choice's R(N*) on the surrogate lies "
                                                                       "within its error")
+    unverified = {"reliability_at_target_life": None, "error": None, "model_calls": 0, "confirmed": False}
+    assert _result(unverified, only_choice).undecided_sentence().endswith("(it was not verified)")
     cheaper = {"undecided_left": 3, "undecided_other_than_choice": 2, "budget": 0}
     assert _result(met, cheaper).undecided_sentence().startswith("no refinement was allowed (design.refine_max_calls "
                                                                  "= 0) with 2 candidate(s)")

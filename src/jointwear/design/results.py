@@ -88,7 +88,8 @@ class DesignResult(StageResult):
             if self.verdict() == "meets":
                 return ""
             return ("the choice's R(N*) on the surrogate lies within its error of the target, and only its "
-                    "verification on the true model can settle that: " + self.verification_sentence())
+                    "verification on the true model can settle that"
+                    + (" (it was not verified)" if self.verdict() == "not_verified" else " (its verdict above)"))
         start = ("no refinement was allowed (design.refine_max_calls = 0)" if ref.get("budget") == 0
                  else "the refinement's budget (design.refine_max_calls) ran out")
         return (f"{start} with {others} candidate(s) no dearer than the choice still undecided (their estimate's "

@@ -145,7 +145,7 @@ def estimate(space: CandidateSpace, sur: LifeSurrogate, cand: Candidate, log_tar
     outside = float(np.mean(sur.outside(u)))
     # the share drawn outside the design's region may be misclassified wholesale: the Kriging extrapolates there,
     # with a variance that need not say so (a far PTFE option read R = 1.0000 +/- 0.0000, its own study 0.9 at 1.8x)
-    error = sur_err + mc_err + (1.0 - p_inf) * outside
+    error = min(sur_err + mc_err + (1.0 - p_inf) * outside, 1.0)  # R is a probability: no error exceeds 1
     level = 1.0 - reliability_target / (1.0 - p_inf)
     life = float(np.exp(np.quantile(mu, level))) if 0.0 < level < 1.0 else None
     return Estimate(reliability, error, sur_err, life, outside)
