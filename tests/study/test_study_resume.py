@@ -330,3 +330,23 @@ def test_a_second_study_in_a_folder_in_use_is_refused(quick_config, tmp_path):
         proc.wait()
     with FileLock(out / ".jointwear.lock", timeout=0):  # a killed study leaves the folder free (else: Timeout)
         pass
+
+
+def test_a_curve_that_misses_the_life_is_told_in_the_terminal(quick_config, reference_dir, tmp_path, monkeypatch):
+    """A curve ending long before the nominal design reaches its allowance 'converged' at R = 1 everywhere; only
+    the report said that the curve misses the life."""
+    import numpy as np
+
+    import jointwear
+    from jointwear.study import reliability
+    from jointwear.study.results import ReliabilityResult
+
+    res = ReliabilityResult.load(reference_dir)
+    res.life_table = [dict(res.life_table[0], cycles=None, hours=None, status="beyond_curve")]
+    res.reliability = np.ones_like(res.reliability)
+    monkeypatch.setattr(reliability, "run_reliability", lambda ctx, progress=None: res)
+    lines: list[str] = []
+    jointwear.Study(quick_config, out=tmp_path / "short", echo=lines.append).reliability()
+    (told,) = [ln for ln in lines if "lies beyond this curve" in ln]
+    assert told.startswith("reliability: The life at R = 0.9 lies beyond this curve") and "<code>" not in told
+    assert "Raise reliability.cycles_stop" in told

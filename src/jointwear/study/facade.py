@@ -13,6 +13,7 @@ import functools
 import json
 import logging
 import numbers
+import re
 import sqlite3
 import time
 import warnings
@@ -397,7 +398,11 @@ class Study:
                   f"{life}{governing} -> {self.out / res.FILE}")
         if not res.converged:
             self.warn(f"reliability: {learning_stop_line(res, self.config.reliability)}")
-        for sentence in (res.failed_calls_sentence(), res.worn_away_sentence()):
+        from jointwear.report.checks import curve_misses_life
+
+        missed = curve_misses_life(res, WearSummary.load_if_present(self.out))
+        for sentence in (res.failed_calls_sentence(), res.worn_away_sentence(),
+                         missed and re.sub(r"</?code>", "", missed).rstrip(".")):
             if sentence:
                 self.warn(f"reliability: {sentence}")
         return res
