@@ -96,3 +96,21 @@ def test_a_clearance_mostly_truncated_at_its_minimum_is_warned_with_the_mean_it_
     assert warning.startswith(f"uncertainty.clearance: {norm.cdf(a):.1%} of the clearance's normal")
     assert f"their mean is {sampled * 1e6:.4g} um, not the designed 0.6 um" in warning
     assert config_warnings(updated(narrow, {"uncertainty.clearance.infeasible_rule": "fail"})) == []
+
+
+@pytest.mark.parametrize("changes, unread", [
+    ({"wear.profile_smoothing_deg": 6.0}, "wear.profile_smoothing_deg: read only with geometry_mode = 'profile'"),
+    ({"wear.geometry_mode": "profile", "wear.profile_deposit": "touch", "wear.profile_substep_cycles": 50.0},
+     "wear.profile_substep_cycles: read only with profile_deposit = 'distributed'"),
+    ({"wear.geometry_mode": "profile", "wear.uniform_growth": "bearing_max"},
+     "wear.uniform_growth: read only with geometry_mode = 'uniform'"),
+    ({"wear.geometry_mode": "profile", "wear.profile_substep_cycles": 50.0}, None),
+])
+def test_a_wear_setting_its_mode_does_not_read_is_warned(changes, unread):
+    """profile_smoothing_deg in uniform mode, and profile_substep_cycles with the touch deposit, passed silently."""
+    warnings = config_warnings(updated(load_config(), changes))
+    if unread is None:
+        assert warnings == []
+        return
+    (warning,) = warnings
+    assert warning.startswith(unread) and warning.endswith("so the setting changes nothing")

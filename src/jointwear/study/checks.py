@@ -167,7 +167,25 @@ def config_warnings(config: StudyConfig) -> list[str]:
                        f"deviations from the value drawn at its target {spec.target} ({drawn:.6g}{unit}): the "
                        "simulate and wear stages run the drawn mechanism, the reliability stages one around the mean; "
                        "give both the same value unless the shift is meant")
-    return out + clearance_warnings(config) + design_warnings(config)
+    return out + clearance_warnings(config) + wear_mode_warnings(config) + design_warnings(config)
+
+
+def wear_mode_warnings(config: StudyConfig) -> list[str]:
+    """Wear settings moved from their defaults that the config's geometry mode (or profile deposit) does not read:
+    a setting that silently changes nothing."""
+    wear = config.wear
+    given = {name for name, info in type(wear).model_fields.items() if getattr(wear, name) != info.default}
+    mode = wear.geometry_mode
+    unread = []
+    if mode == "uniform":
+        unread += [(name, "geometry_mode = 'profile'") for name in sorted(given) if name.startswith("profile_")]
+    else:
+        unread += [(name, "geometry_mode = 'uniform'") for name in sorted(given) if name.startswith("uniform_")]
+        if wear.profile_deposit == "touch" and "profile_substep_cycles" in given:
+            unread.append(("profile_substep_cycles", "profile_deposit = 'distributed'"))
+    return [f"wear.{name}: read only with {needed}; this study runs geometry_mode = '{mode}'"
+            + (f" with profile_deposit = '{wear.profile_deposit}'" if mode == "profile" else "")
+            + ", so the setting changes nothing" for name, needed in unread]
 
 
 def clearance_warnings(config: StudyConfig) -> list[str]:
