@@ -21,8 +21,8 @@ from .result_sections import (
     files_section,
     reliability_section,
     sensitivity_section,
-    summary_caveats,
     summary_cards,
+    summary_caveats,
     validation_section,
 )
 from .study_sections import dynamics_section, settings_section, wear_section
