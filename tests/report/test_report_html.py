@@ -439,31 +439,34 @@ def test_the_life_table_keeps_a_target_near_1_and_the_numbers_give_the_surrogate
     assert ">0.99995<" in page and "surrogate error of R" in page
 
 
-def _summary(page: str) -> str:
-    return page[page.index('<section id="summary">'):page.index("</section>", page.index('<section id="summary">'))]
-
-
 def test_the_summary_carries_the_caveats_of_the_sections_below(tmp_path, nominal):
     """The headline life stood alone; 'learning converged: NO' and the uniform-mode warning were three sections
     further down."""
+    from jointwear.report.read import read_outputs
+    from jointwear.report.result_sections import summary_caveats
+
     d = make_fixture_dir(tmp_path / "c", nominal, which=("wear", "reliability"))
     rel, wear = ReliabilityResult.load(d), WearSummary.load(d)
     rel.converged, rel.learning_stop = True, ""
-    rel.save(d)
+    rel.save(d, figures=False)
     wear.geometry_mode, wear.uniform_mode_valid = "profile", True
     wear.write(d)
-    assert "caveat" not in _summary(build_report(d).read_text(encoding="utf-8"))
+    assert summary_caveats(read_outputs(d)) == ""
     rel.converged, rel.learning_stop, rel.failed_calls = False, "max_calls (60) reached", 2
     rel.infeasible = {"failed_calls": 2, "failure_reasons": {"3": "ValueError: boom"}}
-    rel.save(d)
+    rel.save(d, figures=False)
     wear.geometry_mode, wear.uniform_mode_valid = "uniform", False
     wear.write(d)
-    summary = _summary(build_report(d).read_text(encoding="utf-8"))
+    summary = summary_caveats(read_outputs(d))
     assert "Read these numbers with these caveats" in summary
     assert '<a href="#reliability"><strong>The learning did not converge</strong></a>: its budget of model calls ' \
            "ended" in summary
     assert '<a href="#wear"><strong>Uniform mode is outside its range</strong></a>' in summary
     assert f"2 of {rel.model_calls} model calls failed" in summary
+    # and the report puts them in its summary section
+    page = build_report(d).read_text(encoding="utf-8")
+    start = page.index('<section id="summary">')
+    assert summary in page[start:page.index("</section>", start)]
 
 
 def test_sobol_indices_carry_their_intervals_and_the_nominal_r_says_its_population(tmp_path, nominal):
