@@ -197,3 +197,22 @@ def test_the_wear_line_names_each_joint_of_a_series_system():
     # three significant figures, not four decimals: a bronze bushing's 7.1e-5 mm read "0.0001 mm"
     bronze = SimpleNamespace(joints=[{}], max_wear_mm=7.1e-5, max_wear_angle_deg=12.0)
     assert wear_line(bronze) == "7.1e-05 mm at 12 deg"
+
+
+@pytest.mark.parametrize("wear_per_100k_mm, words", [
+    (0.001, "after about 3,000,000 cycles (its wear history, extrapolated linearly past its end), 10.0 times the R(N) "
+            "curve's last level (300,000 cycles): the curve will read R close to 1"),
+    (0.015, None),  # life 200,000 cycles, inside the curve
+    (0.3, "after about 10,000 cycles (its wear history, extrapolated linearly past its end), 10.0 times short of the "
+          "R(N) curve's first level (100,000 cycles): the curve will read R near 0"),
+])
+def test_a_nominal_life_far_outside_the_curve_is_told_by_the_wear_stage(wear_per_100k_mm, words):
+    """A curve of 150k-450k cycles on a six-bar whose nominal life is 1.26M 'converged' at R = 1 everywhere on lives
+    extrapolated 5.6x past the history; nothing said so before the reliability stage had spent its calls. Exact:
+    the linear history 0.03 mm / (rate per cycle)."""
+    from jointwear.study.limit_state import nominal_life_outside_curve
+
+    cfg = config_from_dict(_six_bar({"joints": ["A"]}))  # allowance 0.03 mm, curve 100k-300k
+    history = {"cycles": [50_000, 100_000], "max_wear_mm": [wear_per_100k_mm / 2, wear_per_100k_mm]}
+    sentence = nominal_life_outside_curve(cfg, [{"name": "A", "history": history}])
+    assert sentence == "" if words is None else words in sentence

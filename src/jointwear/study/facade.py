@@ -35,6 +35,7 @@ from jointwear.study.limit_state import (
     joint_allowance,
     limit_state_from_config,
     limit_state_problems,
+    nominal_life_outside_curve,
 )
 from jointwear.study.model_call import WearModelCall
 from jointwear.study.results import (
@@ -367,7 +368,8 @@ class Study:
         self.echo(f"wear: max bearing wear {wear_line(result)} after {ran} "
                   f"(history {res.wall_seconds:.1f} s, stage {time.perf_counter() - t0:.1f} s) "
                   f"-> {self.out / result.FILE}")
-        for sentence in result.worn_away() + result.worn_through() + result.whirls():
+        placed = nominal_life_outside_curve(self.config, result.joints)
+        for sentence in result.worn_away() + result.worn_through() + result.whirls() + ([placed] if placed else []):
             self.warn(f"wear: {sentence}")
         if result.uniform_out_of_range:
             self.warn(f"wear: uniform mode is outside its range here (conformity {result.conformity:.3g} > 1: the "

@@ -183,3 +183,44 @@ def life_status(reliability, target: float) -> str:
     if below.size == 0:
         return "beyond_curve"
     return "before_curve" if below[0] == 0 else "in_curve"
+
+
+#: the wear history's key (wear.json, each joint's ``history``) of each judged quantity, in mm
+HISTORY_KEYS = {"bearing_max_depth": "max_wear_mm", "journal_max_depth": "max_journal_wear_mm",
+                "clearance_growth": "clearance_growth_mm"}
+
+#: a nominal life this many times beyond the curve's last level (or short of its first) is worth a warning
+CURVE_MISS_FACTOR = 2.0
+
+
+def nominal_life_outside_curve(config, joints: list[dict]) -> str:
+    """Where the nominal design's wear history (``joints`` of wear.json) reaches the allowance, when that lies more
+    than ``CURVE_MISS_FACTOR`` times beyond the R(N) curve's last level or short of its first: the curve would then
+    read R near 1 (or 0) at every level, and the reliability stage would spend its calls on it (empty otherwise, and
+    without an R(N) curve)."""
+    rel = config.reliability
+    if config.uncertainty is None or rel.curve_problems() or limit_state_problems(config):
+        return ""
+    ls = limit_state_from_config(config)
+    by_name = {str(j.get("name")): j for j in joints}
+    lives = []
+    for name, allowance in zip(ls.names, ls.allowances):
+        history = (by_name.get(name) or {}).get("history") or {}
+        depth = history.get(HISTORY_KEYS[ls.quantity])
+        if depth is None or len(depth) < 2:
+            continue
+        lives.append(float(life_from_history(history["cycles"], [np.asarray(depth, dtype=float) * 1e-3],
+                                             allowance)[0]))
+    life = min(lives, default=float("nan"))
+    if not np.isfinite(life):
+        return ""
+    first, last = rel.cycles_start, rel.cycles_stop
+    if life > CURVE_MISS_FACTOR * last:
+        where, reads = f"{life / last:.1f} times the R(N) curve's last level ({last:,} cycles)", "close to 1"
+    elif life < first / CURVE_MISS_FACTOR:
+        where, reads = f"{first / life:.1f} times short of the R(N) curve's first level ({first:,} cycles)", "near 0"
+    else:
+        return ""
+    return (f"the nominal design reaches its allowance after about {life:,.0f} cycles (its wear history, extrapolated "
+            f"linearly past its end), {where}: the curve will read R {reads} at every level; put it round the nominal "
+            "life (reliability.cycles_start, cycles_stop), about 0.6 to 1.5 times it")
