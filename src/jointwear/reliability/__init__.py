@@ -25,6 +25,7 @@ from .results import (
     IterationRecord,
     MultiReliabilityResult,
     ReliabilityResult,
+    cov_population,
     population_size,
 )
 
@@ -50,6 +51,7 @@ __all__ = [
     "form",
     "importance_sampling",
     "monte_carlo",
+    "cov_population",
     "population_size",
     "problems",
     "sample",

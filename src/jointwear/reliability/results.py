@@ -14,6 +14,7 @@ __all__ = [
     "IterationRecord",
     "MultiReliabilityResult",
     "ReliabilityResult",
+    "cov_population",
     "mc_cov",
     "pf_to_beta",
     "population_size",
@@ -35,12 +36,18 @@ def mc_cov(pf: float | np.ndarray, n: int) -> float | np.ndarray:
     return float(c) if c.ndim == 0 else c
 
 
+def cov_population(pf: float, cov_target: float) -> float:
+    """Samples a Monte Carlo estimate of ``pf`` > 0 needs for a coefficient of variation ``cov_target``:
+    COV^2 = (1 - pf) / (n pf)."""
+    return (1.0 - pf) / (cov_target**2 * pf)
+
+
 def population_size(pf: float, cov_target: float, n_max: int, *, grow_from: int = 0) -> int:
     """Monte Carlo population that brings COV(Pf) below ``cov_target`` at ``pf``: 10 % over the size the COV
     formula asks for, at least 20 % more than ``grow_from`` (the current population), at most ``n_max``. At
     pf = 0 (no failure seen, the COV is infinite) it doubles ``grow_from``, or takes ``n_max`` from nothing."""
     if pf > 0:
-        target = (1.0 - pf) / (cov_target**2 * pf) + 1.0
+        target = cov_population(pf, cov_target) + 1.0
     else:
         target = 2.0 * grow_from if grow_from else np.inf
     return int(min(n_max, max(1.1 * target, 1.2 * grow_from)))

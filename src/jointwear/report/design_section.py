@@ -144,10 +144,8 @@ def _crank_rpm(out_dir: Path | str) -> float | None:
     """The crank speed the study recorded in reliability.json (to give lives in hours), None without it."""
     from jointwear.study.results import ReliabilityResult
 
-    try:
-        return ReliabilityResult.load(out_dir).crank_speed_rpm
-    except (OSError, ValueError, KeyError, TypeError):
-        return None
+    rel = ReliabilityResult.load_if_present(out_dir)
+    return None if rel is None else rel.crank_speed_rpm
 
 
 #: share of a candidate's population outside the study's inputs beyond which its estimate is called extrapolated

@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from jointwear.config import StudyConfig, config_from_dict, load_config
+from jointwear.reliability import cov_population
 from jointwear.schema import ConfigError
 from jointwear.study.checks import (
     check_runs,
@@ -512,7 +513,7 @@ class Study:
 
         if self._reliability is None:
             replay = run_reliability(ctx, progress=self._progress_callback)
-            recorded = _recorded_reliability(self.out)
+            recorded = ReliabilityResult.load_if_present(self.out)
             if recorded is not None and recorded.model_calls == replay.model_calls and same_value(
                     recorded.reliability, replay.reliability):
                 replay.wall_seconds = recorded.wall_seconds  # the study's own time, not the replay's
@@ -689,7 +690,7 @@ def _changed_settings(out: Path, settings: list[dict], *, with_results: bool = T
     names = list(now) + [name for name in before if name not in now]
     model = tuple(WearModelCall.MODEL_SECTIONS)
     return [name for name in names if name.split(".")[0].split("[")[0] in model
-            and not _same(now.get(name), before.get(name))]
+            and not same_value(now.get(name), before.get(name), rtol=1e-12)]  # a display unit there and back
 
 
 def _in_si(value: Any, unit: str | None) -> Any:
@@ -703,27 +704,6 @@ def _in_si(value: Any, unit: str | None) -> Any:
         return to_si(value, unit)
     except UnitError:
         return value
-
-
-def _same(a: Any, b: Any) -> bool:
-    """Equal, numbers to 12 significant digits (a value converted to another display unit and back)."""
-    if isinstance(a, float) and isinstance(b, float):
-        return a == b or abs(a - b) <= 1e-12 * max(abs(a), abs(b))
-    if isinstance(a, list) and isinstance(b, list):
-        return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b))
-    if isinstance(a, dict) and isinstance(b, dict):
-        return a.keys() == b.keys() and all(_same(a[k], b[k]) for k in a)
-    return a == b
-
-
-def _recorded_reliability(out: Path) -> ReliabilityResult | None:
-    """The reliability result already in ``out`` (None when there is none, or it cannot be read)."""
-    if not (out / ReliabilityResult.FILE).is_file():
-        return None
-    try:
-        return ReliabilityResult.load(out)
-    except (OSError, ValueError, KeyError, TypeError):
-        return None
 
 
 def _empty_store(out: Path) -> bool:
@@ -755,9 +735,9 @@ def learning_stop_line(res: ReliabilityResult, settings) -> str:
                   "(the calls made are read back)")
     elif "n_mc_max" in reason:
         unmet = [float(p) for p, c in zip(res.pf, res.pf_cov) if p > 0 and c >= settings.cov_target]
-        need = "" if not unmet else (  # COV^2 = (1 - Pf) / (n Pf) of a Monte Carlo estimate
+        need = "" if not unmet else (
             f"; a COV of {settings.cov_target:g} at Pf = {min(unmet):.3g} needs about "
-            f"{(1.0 - min(unmet)) / (min(unmet) * settings.cov_target ** 2):,.0f} samples")
+            f"{cov_population(min(unmet), settings.cov_target):,.0f} samples")
         return (f"the Monte Carlo population reached its maximum before the COV of Pf met its target ({reason})"
                 f"{error}{need}; raise reliability.n_mc_max (a larger population costs no model call), or raise "
                 "reliability.pf_floor above that Pf if so small a Pf need not be known that well")

@@ -49,20 +49,25 @@ def _nan_holes(value: Any) -> Any:
     return value
 
 
-def same_value(a: Any, b: Any) -> bool:
-    """Equality of result values, arrays by value and NaN equal to NaN (a loaded result keeps its NaN holes)."""
+def same_value(a: Any, b: Any, *, rtol: float = 0.0) -> bool:
+    """Equality of result values, arrays by value and NaN equal to NaN (a loaded result keeps its NaN holes);
+    floats within ``rtol`` of each other count as equal (0: exactly)."""
     if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
         a, b = np.asarray(a), np.asarray(b)
+        if rtol and a.shape == b.shape and a.dtype.kind == b.dtype.kind == "f":
+            return bool(np.allclose(a, b, rtol=rtol, atol=0.0, equal_nan=True))
         try:
             return bool(np.array_equal(a, b, equal_nan=True))
         except TypeError:  # not numbers: NaN cannot occur
             return bool(np.array_equal(a, b))
     if isinstance(a, dict) and isinstance(b, dict):
-        return a.keys() == b.keys() and all(same_value(a[k], b[k]) for k in a)
+        return a.keys() == b.keys() and all(same_value(a[k], b[k], rtol=rtol) for k in a)
     if isinstance(a, (list, tuple)) and isinstance(b, (list, tuple)):
-        return len(a) == len(b) and all(same_value(x, y) for x, y in zip(a, b))
-    if isinstance(a, float) and isinstance(b, float) and math.isnan(a) and math.isnan(b):
-        return True
+        return len(a) == len(b) and all(same_value(x, y, rtol=rtol) for x, y in zip(a, b))
+    if isinstance(a, float) and isinstance(b, float):
+        if math.isnan(a) and math.isnan(b):
+            return True
+        return a == b or abs(a - b) <= rtol * max(abs(a), abs(b))
     return bool(a == b)
 
 
