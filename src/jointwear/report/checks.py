@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from jointwear.study.limit_state import life_at, life_from_history
+from jointwear.study.limit_state import life_at, nominal_lives
 from jointwear.study.results import ReliabilityResult, SensitivityResult, StudyResults, WearSummary
 
 from .markup import format_number
@@ -201,13 +201,12 @@ def curve_misses_life(rel: ReliabilityResult, wear: WearSummary | None) -> str |
     else:
         text = (f"The life at R = {rel.target:g} lies beyond this curve: R = {rel.reliability[-1]:.3f} still at "
                 f"its last level ({rel.cycles[-1]:,.0f} cycles). Raise <code>reliability.cycles_stop</code>")
-    histories = {} if wear is None else {str(j.get("name")): j.get("history") or {} for j in wear.joints}
-    judged = [(histories.get(str(j.get("name"))), j.get("allowance_mm")) for j in rel.joints]
-    if rel.quantity == "bearing_max_depth" and judged and all(h and a is not None for h, a in judged):
-        crossings = [float(life_from_history(h["cycles"], [h["max_wear_mm"]], float(a))[0]) for h, a in judged
-                     if max(h["max_wear_mm"]) >= float(a)]  # inside the history: no extrapolation
-        if crossings:
-            text += (f"; the nominal design reaches its allowance after about {min(crossings):,.0f} cycles (its wear "
+    judged = {str(j.get("name")): j.get("allowance_mm") for j in rel.joints}
+    lives = {} if wear is None or None in judged.values() else nominal_lives(wear.joints, judged, rel.quantity)
+    if rel.quantity == "bearing_max_depth" and judged and len(lives) == len(judged):
+        crossing = min(lives.values())
+        if crossing <= wear.cycles:  # inside the history: no extrapolation
+            text += (f"; the nominal design reaches its allowance after about {crossing:,.0f} cycles (its wear "
                      "history), and the curve should hold that count")
         else:
             text += (f"; the nominal design stays below its allowance over its whole wear history "

@@ -193,6 +193,20 @@ HISTORY_KEYS = {"bearing_max_depth": "max_wear_mm", "journal_max_depth": "max_jo
 CURVE_MISS_FACTOR = 2.0
 
 
+def nominal_lives(joints: list[dict], allowances_mm: dict[str, float], quantity: str) -> dict[str, float]:
+    """Each named joint's cycles to its allowance (mm) in the nominal wear history (``joints`` of wear.json),
+    extrapolated linearly past the history's end (inf where it stops growing); a joint without that history is
+    left out."""
+    by_name = {str(j.get("name")): j.get("history") or {} for j in joints}
+    lives = {}
+    for name, allowance in allowances_mm.items():
+        history = by_name.get(name) or {}
+        depth = history.get(HISTORY_KEYS[quantity])
+        if depth:
+            lives[name] = float(life_from_history(history["cycles"], [depth], float(allowance))[0])
+    return lives
+
+
 def nominal_life_outside_curve(config, joints: list[dict]) -> str:
     """Where the nominal design's wear history (``joints`` of wear.json) reaches the allowance, when that lies more
     than ``CURVE_MISS_FACTOR`` times beyond the R(N) curve's last level or short of its first: the curve would then
@@ -202,16 +216,8 @@ def nominal_life_outside_curve(config, joints: list[dict]) -> str:
     if config.uncertainty is None or rel.curve_problems() or limit_state_problems(config):
         return ""
     ls = limit_state_from_config(config)
-    by_name = {str(j.get("name")): j for j in joints}
-    lives = []
-    for name, allowance in zip(ls.names, ls.allowances):
-        history = (by_name.get(name) or {}).get("history") or {}
-        depth = history.get(HISTORY_KEYS[ls.quantity])
-        if depth is None or len(depth) < 2:
-            continue
-        lives.append(float(life_from_history(history["cycles"], [np.asarray(depth, dtype=float) * 1e-3],
-                                             allowance)[0]))
-    life = min(lives, default=float("nan"))
+    lives = nominal_lives(joints, {name: a * 1e3 for name, a in zip(ls.names, ls.allowances)}, ls.quantity)
+    life = min(lives.values(), default=float("nan"))
     if not np.isfinite(life):
         return ""
     first, last = rel.cycles_start, rel.cycles_stop
