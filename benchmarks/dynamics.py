@@ -10,7 +10,7 @@ Writes benchmarks/results/dynamics.json. Run: python benchmarks/dynamics.py [--r
   its settled value in the scipy runs (no per-step bookkeeping hook in solve_ivp);
 - cartesian_kernel (skip with --no-cartesian): the general kernels on the six-bar preset watt_six_bar_two_clearances
   (one cycle from a settled state): the tree kernel specialised to the six-bar's shape (jointwear.mechanism.
-  tree_codegen, the default for it), the general tree kernel (kernel.integrate with kernel.rhs_tree) and the
+  tree_codegen, the default for it), the general tree kernel (kernel.integrate_tree with kernel.rhs_tree) and the
   Cartesian kernel (kernel.rhs, fast=False), and the flapping wing forced onto the Cartesian kernel; medians over the
   repeats, alternated with the fast path in the same process. Per step: the whole simulate() call and the
   integration loop alone, against the fast path's loop (goal: six-bar <= 2.5x per step);
@@ -90,19 +90,19 @@ def main() -> None:
     # with numba's reference counting, as before session 3 (kernel.STEP_LOOP_NRT)
     from numba import njit
 
-    refcounted = njit(nogil=True, error_model="numpy", fastmath=K.FASTMATH)(K.integrate.py_func)
-    fast_loop = K.integrate
-    K.integrate = refcounted
+    fast_loops = K.INTEGRATORS
+    refcounted = tuple(njit(nogil=True, error_model="numpy", fastmath=K.FASTMATH)(f.py_func) for f in fast_loops)
+    K.INTEGRATORS = refcounted
     simulate(model, 0.01, settle_cycles=0, state0=state)  # compile
-    K.integrate = fast_loop
+    K.INTEGRATORS = fast_loops
     ref_walls = []
     walls, cpus, steps, rejected, before_packaging = [], [], [], [], []
     for _ in range(args.repeats):
-        K.integrate = refcounted
+        K.INTEGRATORS = refcounted
         w0 = time.perf_counter()
         simulate(model, 1, settle_cycles=0, state0=state)
         ref_walls.append(time.perf_counter() - w0)
-        K.integrate = fast_loop
+        K.INTEGRATORS = fast_loops
         c0 = time.process_time()
         w0 = time.perf_counter()
         r = simulate(model, 1, settle_cycles=0, state0=state)
@@ -148,7 +148,7 @@ def main() -> None:
     # the experimental implicit option (simulation.method = "radau5") on the same cycle, rtol 1e-5
     import dataclasses
 
-    rad = dataclasses.replace(model, settings=dataclasses.replace(model.settings, method="radau5"))
+    rad = dataclasses.replace(model, settings=model.settings.model_copy(update={"method": "radau5"}))
     simulate(rad, 0.05, settle_cycles=0, state0=state, rtol=1e-5, atol=1e-8)  # compile
     rwalls, rsteps = [], []
     for _ in range(max(1, args.repeats // 2)):
@@ -223,7 +223,7 @@ def _host_cpu() -> str:
 
 def _loop_timer(model, state, fast, general_tree: bool = False):
     """A function timing one cycle of the integration loop alone (nothing recorded) from `state` on the kernel that
-    simulate(fast=fast) picks (general_tree: the general tree loop kernel.integrate instead of the one specialised to
+    simulate(fast=fast) picks (general_tree: the general tree loop kernel.integrate_tree instead of the one specialised to
     the shape): returns (seconds, accepted steps, rejected steps)."""
     import math
 
@@ -232,7 +232,7 @@ def _loop_timer(model, state, fast, general_tree: bool = False):
 
     run = Runner(model, None, model.settings.rtol, model.settings.atol, fast)
     if general_tree:
-        run.integrate = K.integrate
+        run.integrate = K.integrate_tree
     y0 = run.to_internal(state.y)
     hmax = model.settings.max_step or model.period / 200.0
     buf = run.buffers(1)
@@ -301,7 +301,7 @@ def _cartesian_kernel(fw_model, fw_state, fw_fast_wall: float, repeats: int) -> 
     out["six_bar_tree"]["ratio_per_cycle_to_cartesian"] = (
         out["six_bar_tree"]["wall_seconds_per_cycle_median"] / out["six_bar"]["wall_seconds_per_cycle_median"])
     out["six_bar_tree_general"] = {
-        "kernel": "tree, general loop (kernel.integrate, kernel.rhs_tree)",
+        "kernel": "tree, general loop (kernel.integrate_tree, kernel.rhs_tree)",
         "steps_per_cycle": loop_runs["six_bar_tree_general"][0][1],
         "loop_ns_per_step": loop_ns["six_bar_tree_general"],
         "loop_ratio_per_step_to_fast_path": loop_ns["six_bar_tree_general"] / loop_ns["fast_path"],
@@ -434,7 +434,7 @@ def _six_bar_steps() -> dict:
     base = simulate(six, 1, settle_cycles=0, state0=st)
     out["clearance_step_fraction"] = []
     for cf in (0.05, s.clearance_step_fraction, 1.0):
-        m = dataclasses.replace(six, settings=dataclasses.replace(s, clearance_step_fraction=cf))
+        m = dataclasses.replace(six, settings=s.model_copy(update={"clearance_step_fraction": cf}))
         r = simulate(m, 1, settle_cycles=0, state0=st)
         out["clearance_step_fraction"].append({"value": cf, "steps": r.n_recorded_steps})
     # stiffest eigenvalues of the Jacobian of the Cartesian right-hand side (central differences) along the cycle
@@ -503,7 +503,7 @@ def _six_bar_accuracy() -> dict:
 
 def _six_bar_specialised() -> dict:
     """Two cycles from a settled state on the specialised tree kernel (simulate's default), on the general tree loop
-    (kernel.integrate, kernel.rhs_tree), and on the specialised one after a 1-ulp nudge of the coupler's angle: mean
+    (kernel.integrate_tree, kernel.rhs_tree), and on the specialised one after a 1-ulp nudge of the coupler's angle: mean
     and peak normal force and one cycle's wear (the preset's wear settings, uniform mode) per joint, relative to the
     general loop."""
     from jointwear.config import load_config
@@ -522,7 +522,7 @@ def _six_bar_specialised() -> dict:
 
     def general_init(self, *a, **kw):
         orig(self, *a, **kw)
-        self.integrate = K.integrate
+        self.integrate = K.integrate_tree
 
     runs = {}
     for name, state0, general in (("general", st, True), ("specialised", st, False),
@@ -561,7 +561,7 @@ def _six_bar_l_stable() -> dict:
 
     six = build_model(load_config("watt_six_bar_two_clearances"))
     st = simulate(six, 0.0).state_end
-    rad = dataclasses.replace(six, settings=dataclasses.replace(six.settings, method="radau5"))
+    rad = dataclasses.replace(six, settings=six.settings.model_copy(update={"method": "radau5"}))
     s = six.settings
     cases = {"dopri5_rtol_1e-06": (six, s.rtol)}
     cases |= {f"radau5_rtol_{r:.0e}": (rad, r) for r in (1e-4, 1e-5, 1e-6)}

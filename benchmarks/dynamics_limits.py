@@ -206,7 +206,7 @@ def main() -> None:
 
 def rosenbrock_w(f, st, y0, period, rtol, atolv, cstate, cpar, cout, K) -> dict:
     """ROS34PW2 over one cycle; W = exact Jacobian columns of the clearance joint's coordinates (A, Adot), by
-    central differences 1e-12 m / 1e-9 m/s, exact df/dt (central, 1e-12 s); contact memory as kernel.integrate."""
+    central differences 1e-12 m / 1e-9 m/s, exact df/dt (central, 1e-12 s); contact memory as kernel's step loops."""
     cstate[:] = st.cstate
     y = y0.copy()
     t = st.t

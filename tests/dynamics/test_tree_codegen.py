@@ -1,5 +1,5 @@
 """The tree kernel specialised per linkage shape (jointwear.mechanism.tree_codegen) against the general tree kernel
-(kernel.rhs_tree and kernel.integrate), which it replaces in simulate."""
+(kernel.rhs_tree and kernel.integrate_tree), which it replaces in simulate."""
 
 from __future__ import annotations
 
@@ -99,7 +99,7 @@ def test_specialised_rhs_equals_general(six, which):
 
 def test_specialised_loop_cycle_matches_general(six):
     """One cycle from a settled state on the specialised loop (simulate's default) and on the general one
-    (kernel.integrate with kernel.rhs_tree): mean and peak contact force and one cycle's wear depth of each joint.
+    (kernel.integrate_tree with kernel.rhs_tree): mean and peak contact force and one cycle's wear depth of each joint.
 
     Tolerance: the two differ by rounding in each evaluation, which the step control turns into different step
     sequences, as a 1-ulp nudge of an angle of the start state does: that nudge moves the mean force by up to 4e-5,
@@ -114,7 +114,7 @@ def test_specialised_loop_cycle_matches_general(six):
 
     def general_init(self, *args, **kw):
         orig(self, *args, **kw)
-        self.integrate = K.integrate
+        self.integrate = K.integrate_tree
 
     Runner.__init__ = general_init
     try:

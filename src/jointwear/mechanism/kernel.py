@@ -580,7 +580,7 @@ def rhs(t, y, dy, row, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid
 # of each body's path instead of n^2 x 3 nb dense products (the six-bar: 8 pairs instead of 160).
 # simulate runs these equations through jointwear.mechanism.tree_codegen, which generates them for one linkage shape
 # (literal indices, locals, the mass matrix factorised leaves first); rhs_tree below is the general form, the
-# reference of that generated code and the entry of kernel.accelerations.
+# reference of that generated code.
 TREE_REVOLUTE = 0
 TREE_FLOATING = 1
 TREE_PRISMATIC = 2
@@ -904,113 +904,132 @@ def crank_rotation(c0, s0, d):
     return c0 * cd - s0 * sd, s0 * cd + c0 * sd
 
 
-@njit(cache=True, nogil=True, error_model="numpy", fastmath=FASTMATH, _nrt=STEP_LOOP_NRT)
-def integrate(mode, t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_steps, t_record,
-              nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
-              kin, phi_, phid, rest, jac, smat, lam, f, cout, ks, ytmp,
-              rec_t, rec_h, rec_y, rec_acc, rec_lam, rec_c, counters):
-    """Dormand-Prince 5(4) with error control from t to t_end (in place on y).
+# The step loops are built per right-hand side (MODES): `mode` is a closure constant, which numba folds and prunes
+# before it inlines the right-hand sides, so that each loop compiles only its own (one loop with all three took
+# ~100 s to compile). Closure constants are part of numba's cache key.
+MODES = ("cartesian", "natural_fourbar", "tree")
 
-    rec_c is (n_joints, NCOUT, capacity): each output recorded contiguously over the steps.
-    ks: (7, ny) stage derivatives; ks[0] must hold f(t, y) on entry (and holds f at the final
-    point on exit).  Records every accepted step with t >= t_record into the rec_* buffers
-    (starting at counters[0]); stops early when the buffers are full.  counters: [n_recorded,
-    n_accepted, n_rejected, status]; status 0 = reached t_end, 1 = buffer full, 2 = max_steps,
-    3 = step underflow.  Step limits: h <= hmax and, per clearance joint, h <= clear_frac *
-    clearance / |relative velocity of the journal centre| (no impact can be stepped over).
-    Returns (t, h).
-    """
-    ny = y.shape[0]
-    cap = rec_t.shape[0]
-    nrec = counters[0]
-    nsteps = 0
-    counters[3] = 0
-    hmin = 1e-15 * max(abs(t), abs(t_end), 1.0)
-    c0 = s0 = cs = ss = 0.0  # crank angle cos/sin (four-bar kernel)
-    hlim = step_limit(cout, clear_frac, hmax)
-    while t < t_end:
-        h, tn, stop = next_step(t, h, hlim, t_end, hmin, nrec, cap, nsteps, max_steps)
-        if stop:
-            counters[3] = stop
-            break
-        for st in range(1, 7):
+
+def _dormand_prince(mode: int):
+    def integrate(t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_steps, t_record,
+                  nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+                  kin, phi_, phid, rest, jac, smat, lam, f, cout, ks, ytmp,
+                  rec_t, rec_h, rec_y, rec_acc, rec_lam, rec_c, counters):
+        """Dormand-Prince 5(4) with error control from t to t_end (in place on y).
+
+        rec_c is (n_joints, NCOUT, capacity): each output recorded contiguously over the steps.
+        ks: (7, ny) stage derivatives; ks[0] must hold f(t, y) on entry (and holds f at the final
+        point on exit).  Records every accepted step with t >= t_record into the rec_* buffers
+        (starting at counters[0]); stops early when the buffers are full.  counters: [n_recorded,
+        n_accepted, n_rejected, status]; status 0 = reached t_end, 1 = buffer full, 2 = max_steps,
+        3 = step underflow.  Step limits: h <= hmax and, per clearance joint, h <= clear_frac *
+        clearance / |relative velocity of the journal centre| (no impact can be stepped over).
+        Returns (t, h).
+        """
+        ny = y.shape[0]
+        cap = rec_t.shape[0]
+        nrec = counters[0]
+        nsteps = 0
+        counters[3] = 0
+        hmin = 1e-15 * max(abs(t), abs(t_end), 1.0)
+        c0 = s0 = cs = ss = 0.0  # crank angle cos/sin (four-bar kernel)
+        hlim = step_limit(cout, clear_frac, hmax)
+        while t < t_end:
+            h, tn, stop = next_step(t, h, hlim, t_end, hmin, nrec, cap, nsteps, max_steps)
+            if stop:
+                counters[3] = stop
+                break
+            for st in range(1, 7):
+                for i in range(ny):
+                    acc = 0.0
+                    for m in range(st):
+                        acc += DP_A[st, m] * ks[m, i]
+                    ytmp[st - 1, i] = y[i] + h * acc
+                ts = tn if st >= 5 else t + DP_C[st] * h
+                if mode == 0:
+                    rhs(ts, ytmp[st - 1], ks, st, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate,
+                        baum, kin, phi_, phid, rest, jac, smat, lam, f, cout)
+                elif mode == 2:  # tree kernel: the work slots phi_, phid, rest, jac, smat, lam hold cb, sb, cacc, jt,
+                    # mm, gq
+                    if st == 1:
+                        tree_base(t, y, jint, dpar, kin, phi_, phid)
+                    rhs_tree(ts, ts - t, ytmp[st - 1], y, ks, st, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof,
+                             ngrid, cstate, kin, phi_, phid, rest, jac, smat, lam, f, cout)
+                else:
+                    if st == 1:  # crank angle at t once per attempt; the stages rotate it (crank_rotation)
+                        th0 = dpar[0, 4] + dpar[0, 5] * t
+                        c0 = math.cos(th0)
+                        s0 = math.sin(th0)
+                    if st <= 5:  # stages 5 and 6 are both at tn
+                        cs, ss = crank_rotation(c0, s0, dpar[0, 5] * (ts - t))
+                    rhs_fourbar_cs(cs, ss, ytmp, st - 1, ks, st, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam,
+                                   cout)
+            err = 0.0
             for i in range(ny):
-                acc = 0.0
-                for m in range(st):
-                    acc += DP_A[st, m] * ks[m, i]
-                ytmp[st - 1, i] = y[i] + h * acc
-            ts = tn if st >= 5 else t + DP_C[st] * h
-            if mode == 0:
-                rhs(ts, ytmp[st - 1], ks, st, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate,
-                    baum, kin, phi_, phid, rest, jac, smat, lam, f, cout)
-            elif mode == 2:  # tree kernel: the work slots phi_, phid, rest, jac, smat, lam hold cb, sb, cacc, jt, mm, gq
-                if st == 1:
-                    tree_base(t, y, jint, dpar, kin, phi_, phid)
-                rhs_tree(ts, ts - t, ytmp[st - 1], y, ks, st, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof,
-                         ngrid, cstate, kin, phi_, phid, rest, jac, smat, lam, f, cout)
-            else:
-                if st == 1:  # crank angle at t once per attempt; the stages rotate it (crank_rotation)
-                    th0 = dpar[0, 4] + dpar[0, 5] * t
-                    c0 = math.cos(th0)
-                    s0 = math.sin(th0)
-                if st <= 5:  # stages 5 and 6 are both at tn
-                    cs, ss = crank_rotation(c0, s0, dpar[0, 5] * (ts - t))
-                rhs_fourbar_cs(cs, ss, ytmp, st - 1, ks, st, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam,
-                               cout)
-        err = 0.0
-        for i in range(ny):
-            ei = h * (DP_E[0] * ks[0, i] + DP_E[2] * ks[2, i] + DP_E[3] * ks[3, i] + DP_E[4] * ks[4, i]
-                      + DP_E[5] * ks[5, i] + DP_E[6] * ks[6, i])
-            yi = abs(y[i])
-            yn = abs(ytmp[5, i])
-            sc = atolv[i] + rtol * (yi if yi > yn else yn)
-            r = ei / sc
-            err += r * r
-        err = math.sqrt(err / ny)
-        nsteps += 1
-        if err <= 1.0:
-            t = tn
-            for i in range(ny):
-                y[i] = ytmp[5, i]
-                ks[0, i] = ks[6, i]
-            counters[1] += 1
-            nrec = accept_point(t, h, y, ks, lam, cout, cstate, cpar, t_record, nrec, rec_t, rec_h, rec_y, rec_acc,
-                                rec_lam, rec_c)
-            hlim = step_limit(cout, clear_frac, hmax)
-            fac = 0.9 * (err if err > 1e-10 else 1e-10) ** (-0.2)
-            if fac > 5.0:
-                fac = 5.0
-            if fac < 0.2:
-                fac = 0.2
-            h = h * fac
-        else:
-            counters[2] += 1
-            if err == err:  # not NaN
-                fac = 0.9 * err ** (-0.2)
+                ei = h * (DP_E[0] * ks[0, i] + DP_E[2] * ks[2, i] + DP_E[3] * ks[3, i] + DP_E[4] * ks[4, i]
+                          + DP_E[5] * ks[5, i] + DP_E[6] * ks[6, i])
+                yi = abs(y[i])
+                yn = abs(ytmp[5, i])
+                sc = atolv[i] + rtol * (yi if yi > yn else yn)
+                r = ei / sc
+                err += r * r
+            err = math.sqrt(err / ny)
+            nsteps += 1
+            if err <= 1.0:
+                t = tn
+                for i in range(ny):
+                    y[i] = ytmp[5, i]
+                    ks[0, i] = ks[6, i]
+                counters[1] += 1
+                nrec = accept_point(t, h, y, ks, lam, cout, cstate, cpar, t_record, nrec, rec_t, rec_h, rec_y, rec_acc,
+                                    rec_lam, rec_c)
+                hlim = step_limit(cout, clear_frac, hmax)
+                fac = 0.9 * (err if err > 1e-10 else 1e-10) ** (-0.2)
+                if fac > 5.0:
+                    fac = 5.0
                 if fac < 0.2:
                     fac = 0.2
-            else:  # a stage produced NaN/inf (e.g. a huge penetration): shrink hard and retry
-                fac = 0.1
-            h = h * fac
-    counters[0] = nrec
-    return t, h
+                h = h * fac
+            else:
+                counters[2] += 1
+                if err == err:  # not NaN
+                    fac = 0.9 * err ** (-0.2)
+                    if fac < 0.2:
+                        fac = 0.2
+                else:  # a stage produced NaN/inf (e.g. a huge penetration): shrink hard and retry
+                    fac = 0.1
+                h = h * fac
+        counters[0] = nrec
+        return t, h
+
+    integrate.__name__ = integrate.__qualname__ = f"integrate_{MODES[mode]}"
+    return njit(cache=True, nogil=True, error_model="numpy", fastmath=FASTMATH, _nrt=STEP_LOOP_NRT)(integrate)
 
 
-@njit(cache=True, error_model="numpy")
-def accelerations(mode, t, y, dy, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
-                  kin, phi_, phid, rest, jac, smat, lam, f, cout):
-    """One evaluation of the equations of motion into dy (2-D, row 0)."""
-    if mode == 0:
-        rhs(t, y, dy, 0, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
-            kin, phi_, phid, rest, jac, smat, lam, f, cout)
-    elif mode == 2:
-        tree_base(t, y, jint, dpar, kin, phi_, phid)
-        rhs_tree(t, 0.0, y, y, dy, 0, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate,
-                 kin, phi_, phid, rest, jac, smat, lam, f, cout)
-    else:
-        Y = np.empty((1, y.shape[0]))
-        Y[0, :] = y
-        rhs_fourbar(t, Y, 0, dy, 0, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
+integrate_cartesian, integrate_fourbar, integrate_tree = INTEGRATORS = tuple(_dormand_prince(m) for m in range(3))
+
+
+def _evaluation(mode: int):
+    def accelerations(t, y, dy, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+                      kin, phi_, phid, rest, jac, smat, lam, f, cout):
+        """One evaluation of the equations of motion into dy (2-D, row 0)."""
+        if mode == 0:
+            rhs(t, y, dy, 0, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+                kin, phi_, phid, rest, jac, smat, lam, f, cout)
+        elif mode == 2:
+            tree_base(t, y, jint, dpar, kin, phi_, phid)
+            rhs_tree(t, 0.0, y, y, dy, 0, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate,
+                     kin, phi_, phid, rest, jac, smat, lam, f, cout)
+        else:
+            Y = np.empty((1, y.shape[0]))
+            Y[0, :] = y
+            rhs_fourbar(t, Y, 0, dy, 0, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
+
+    accelerations.__name__ = accelerations.__qualname__ = f"accelerations_{MODES[mode]}"
+    return njit(cache=True, error_model="numpy")(accelerations)
+
+
+EVALUATORS = tuple(_evaluation(m) for m in range(3))
 
 
 def empty_work(nb: int, nd: int, nj: int, ncj: int) -> dict[str, np.ndarray]:

@@ -26,6 +26,7 @@ import numpy as np
 from numba import njit
 
 from jointwear.mechanism.kernel import (
+    MODES,
     STEP_LOOP_NRT,
     accept_point,
     next_step,
@@ -73,16 +74,6 @@ def work_arrays(ny: int) -> tuple:
     return (np.zeros((ny, ny)), np.zeros((ny, ny)), np.zeros(ny, dtype=np.int64), np.zeros((ny, ny), dtype=np.complex128),
             np.zeros(ny, dtype=np.int64), np.zeros((3, ny)), np.zeros((3, ny)), np.zeros((3, ny)), np.zeros((3, ny)),
             np.zeros(ny), np.zeros(ny), np.zeros(ny, dtype=np.complex128), np.zeros((3, ny)))
-
-
-@njit(cache=True, inline="always", error_model="numpy", _nrt=STEP_LOOP_NRT)
-def _f(mode, ts, Y, yrow, dst, drow, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
-       kin, phi_, phid, rest, jac, smat, lam, f, cout):
-    if mode == 0:
-        rhs(ts, Y[yrow], dst, drow, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate,
-            baum, kin, phi_, phid, rest, jac, smat, lam, f, cout)
-    else:
-        rhs_fourbar(ts, Y, yrow, dst, drow, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
 
 
 @njit(cache=True, error_model="numpy", _nrt=STEP_LOOP_NRT)
@@ -145,219 +136,244 @@ def _rms(v, scale):
     return math.sqrt(s / v.shape[0])
 
 
-@njit(cache=True, nogil=True, error_model="numpy", _nrt=STEP_LOOP_NRT)
-def integrate_radau(mode, t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_steps, t_record,
-                    nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
-                    kin, phi_, phid, rest, jac, smat, lam, f, cout, ks, ytmp6,
-                    rec_t, rec_h, rec_y, rec_acc, rec_lam, rec_c, counters,
-                    J, LUr, pivr, LUc, pivc, Z, W, F, ytmp, f0, vec, cvec, Zold):
-    """Radau IIA (order 5) with error control from t to t_end (in place on y); contract of kernel.integrate.
+def _radau(mode: int):
+    """The Radau loop for one right-hand side (kernel.MODES; `mode` is a closure constant, as in
+    kernel._dormand_prince, so that each mode compiles alone)."""
+    def integrate_radau(t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_steps, t_record,
+                        nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+                        kin, phi_, phid, rest, jac, smat, lam, f, cout, ks, ytmp6,
+                        rec_t, rec_h, rec_y, rec_acc, rec_lam, rec_c, counters,
+                        J, LUr, pivr, LUc, pivc, Z, W, F, ytmp, f0, vec, cvec, Zold):
+        """Radau IIA (order 5) with error control from t to t_end (in place on y); contract of kernel.integrate.
 
-    ks[0] must hold f(t, y) on entry and holds f at the final point on exit (ytmp6 is unused here)."""
-    ny = y.shape[0]
-    cap = rec_t.shape[0]
-    nrec = counters[0]
-    nsteps = 0
-    counters[3] = 0
-    hmin = 1e-15 * max(abs(t), abs(t_end), 1.0)
-    newton_tol = max(10.0 * 2.220446049250313e-16 / rtol, min(0.03, math.sqrt(rtol)))
-    hlim = step_limit(cout, clear_frac, hmax)
-    for i in range(ny):
-        f0[i] = ks[0, i]
-    need_jac = True
-    current_jac = False
-    lu_ok = False
-    h_lu = -1.0
-    h_old = -1.0
-    err_old = -1.0
-    rejected = False
-    h_acc = -1.0  # length of the last accepted step (for the extrapolated Newton start)
-    while t < t_end:
-        h, tn, stop = next_step(t, h, hlim, t_end, hmin, nrec, cap, nsteps, max_steps)
-        if stop:
-            counters[3] = stop
-            break
-        nsteps += 1
-        if need_jac:  # forward differences around (t, y); f0 = f(t, y)
-            for i in range(ny):
-                ytmp[0, i] = y[i]
-            for i in range(ny):
-                e = 1e-8 * abs(y[i])
-                e2 = 1e-3 * atolv[i]
-                if e2 > e:
-                    e = e2
-                ytmp[0, i] = y[i] + e
-                e = ytmp[0, i] - y[i]
-                _f(mode, t, ytmp, 0, F, 0, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate,
-                   baum, kin, phi_, phid, rest, jac, smat, lam, f, cout)
-                for r in range(ny):
-                    J[r, i] = (F[0, r] - f0[r]) / e
-                ytmp[0, i] = y[i]
-            need_jac = False
-            current_jac = True
-            lu_ok = False
-        if not lu_ok or h != h_lu:
-            mr = MU_R / h
-            mc = MU_C / h
-            for r in range(ny):
-                for c in range(ny):
-                    LUr[r, c] = -J[r, c]
-                    LUc[r, c] = -J[r, c]
-                LUr[r, r] += mr
-                LUc[r, r] += mc
-            ok_r = _lu_factor(LUr, pivr)
-            ok_c = _lu_factor(LUc, pivc)
-            lu_ok = ok_r and ok_c
-            h_lu = h
-            if not lu_ok:
-                h *= 0.5
-                counters[2] += 1
-                continue
-        # ---- simplified Newton on the transformed collocation system, started from the previous step's
-        # collocation polynomial extrapolated to the new stages (zero on the first step)
-        if h_acc > 0.0:
-            for s in range(3):
-                x = 1.0 + RC[s] * h / h_acc
-                for i in range(ny):
-                    q = 0.0
-                    xp = x
-                    for j in range(3):
-                        q += (Zold[0, i] * RP[0, j] + Zold[1, i] * RP[1, j] + Zold[2, i] * RP[2, j]) * xp
-                        xp *= x
-                    Z[s, i] = q - Zold[2, i]
-        else:
-            for s in range(3):
-                for i in range(ny):
-                    Z[s, i] = 0.0
-        for s in range(3):
-            for i in range(ny):
-                W[s, i] = RTI[s, 0] * Z[0, i] + RTI[s, 1] * Z[1, i] + RTI[s, 2] * Z[2, i]
-        mr = MU_R / h
-        mc = MU_C / h
-        converged = False
-        n_iter = 0
-        rate = -1.0
-        dw_old = -1.0
-        for it in range(NEWTON_MAXITER):
-            n_iter = it + 1
-            for s in range(3):
-                for i in range(ny):
-                    ytmp[s, i] = y[i] + Z[s, i]
-                _f(mode, t + RC[s] * h, ytmp, s, F, s, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid,
-                   cstate, baum, kin, phi_, phid, rest, jac, smat, lam, f, cout)
-            finite = True
-            for s in range(3):
-                for i in range(ny):
-                    if not math.isfinite(F[s, i]):
-                        finite = False
-            if not finite:
-                break
-            dw = 0.0
-            for i in range(ny):
-                fr = RTI[0, 0] * F[0, i] + RTI[0, 1] * F[1, i] + RTI[0, 2] * F[2, i] - mr * W[0, i]
-                fre = RTI[1, 0] * F[0, i] + RTI[1, 1] * F[1, i] + RTI[1, 2] * F[2, i]
-                fim = RTI[2, 0] * F[0, i] + RTI[2, 1] * F[1, i] + RTI[2, 2] * F[2, i]
-                vec[i] = fr
-                cvec[i] = complex(fre, fim) - mc * complex(W[1, i], W[2, i])
-            _lu_solve(LUr, pivr, vec)
-            _lu_solve(LUc, pivc, cvec)
-            for i in range(ny):
-                sc = atolv[i] + abs(y[i]) * rtol
-                d0 = vec[i] / sc
-                d1 = cvec[i].real / sc
-                d2 = cvec[i].imag / sc
-                dw += d0 * d0 + d1 * d1 + d2 * d2
-            dw = math.sqrt(dw / (3 * ny))
-            if dw_old >= 0.0:
-                rate = dw / dw_old
-            if rate >= 0.9:  # diverging or stalled (scipy also gives up when the predicted error misses newton_tol)
-                break
-            for i in range(ny):
-                W[0, i] += vec[i]
-                W[1, i] += cvec[i].real
-                W[2, i] += cvec[i].imag
-            for s in range(3):
-                for i in range(ny):
-                    Z[s, i] = RT[s, 0] * W[0, i] + RT[s, 1] * W[1, i] + RT[s, 2] * W[2, i]
-            if dw == 0.0 or (rate >= 0.0 and rate / (1.0 - rate) * dw < newton_tol):
-                converged = True
-                break
-            dw_old = dw
-        if not converged:
-            counters[2] += 1
-            if not current_jac:
-                need_jac = True
-            else:
-                h *= 0.5
-                lu_ok = False
-            continue
-        # ---- error estimate
-        for i in range(ny):
-            vec[i] = f0[i] + (RE[0] * Z[0, i] + RE[1] * Z[1, i] + RE[2] * Z[2, i]) / h
-        _lu_solve(LUr, pivr, vec)
-        for i in range(ny):
-            ytmp[2, i] = y[i] + Z[2, i]  # y_new
-        # scale from max(|y|, |y_new|) (reuse F[0] as the scale vector)
-        for i in range(ny):
-            a0 = abs(y[i])
-            a1 = abs(ytmp[2, i])
-            F[0, i] = atolv[i] + rtol * (a0 if a0 > a1 else a1)
-        err = _rms(vec, F[0])
-        if rejected and err > 1.0:
-            for i in range(ny):
-                ytmp[1, i] = y[i] + vec[i]
-            _f(mode, t, ytmp, 1, F, 1, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
-               kin, phi_, phid, rest, jac, smat, lam, f, cout)
-            for i in range(ny):
-                vec[i] = F[1, i] + (RE[0] * Z[0, i] + RE[1] * Z[1, i] + RE[2] * Z[2, i]) / h
-            _lu_solve(LUr, pivr, vec)
-            err = _rms(vec, F[0])
-        safety = 0.9 * (2 * NEWTON_MAXITER + 1) / (2 * NEWTON_MAXITER + n_iter)
-        if err != err or err > 1.0:  # rejected (NaN included)
-            counters[2] += 1
-            if err != err:
-                fac = 0.1
-            else:
-                mult = 1.0
-                if h_old > 0.0 and err_old > 0.0:
-                    mult = h / h_old * (err_old / err) ** 0.25
-                fac = min(1.0, mult) * err ** -0.25
-                fac = max(MIN_FACTOR, safety * fac)
-            h *= fac
-            lu_ok = False
-            rejected = True
-            continue
-        # ---- accepted
-        rejected = False
-        t = tn
-        h_acc = h
-        for s in range(3):
-            for i in range(ny):
-                Zold[s, i] = Z[s, i]
-        for i in range(ny):
-            y[i] = ytmp[2, i]
-        _f(mode, t, ytmp, 2, ks, 0, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
-           kin, phi_, phid, rest, jac, smat, lam, f, cout)
+        ks[0] must hold f(t, y) on entry and holds f at the final point on exit (ytmp6 is unused here)."""
+        ny = y.shape[0]
+        cap = rec_t.shape[0]
+        nrec = counters[0]
+        nsteps = 0
+        counters[3] = 0
+        hmin = 1e-15 * max(abs(t), abs(t_end), 1.0)
+        newton_tol = max(10.0 * 2.220446049250313e-16 / rtol, min(0.03, math.sqrt(rtol)))
+        hlim = step_limit(cout, clear_frac, hmax)
         for i in range(ny):
             f0[i] = ks[0, i]
-        counters[1] += 1
-        nrec = accept_point(t, h, y, ks, lam, cout, cstate, cpar, t_record, nrec, rec_t, rec_h, rec_y, rec_acc,
-                            rec_lam, rec_c)
-        hlim = step_limit(cout, clear_frac, hmax)
-        recompute = n_iter > 2 and rate > 1e-3
-        mult = 1.0
-        if h_old > 0.0 and err_old > 0.0 and err > 0.0:
-            mult = h / h_old * (err_old / err) ** 0.25
-        fac = min(1.0, mult) * (err if err > 1e-10 else 1e-10) ** -0.25
-        fac = min(MAX_FACTOR, safety * fac)
-        h_old = h
-        err_old = err
-        if not recompute and fac < 1.2:
-            fac = 1.0  # keep h: the factorisations stay valid (as scipy's Radau)
-        h *= fac
-        if recompute:
-            need_jac = True
-        else:
-            current_jac = False
-    counters[0] = nrec
-    return t, h
+        need_jac = True
+        current_jac = False
+        lu_ok = False
+        h_lu = -1.0
+        h_old = -1.0
+        err_old = -1.0
+        rejected = False
+        h_acc = -1.0  # length of the last accepted step (for the extrapolated Newton start)
+        while t < t_end:
+            h, tn, stop = next_step(t, h, hlim, t_end, hmin, nrec, cap, nsteps, max_steps)
+            if stop:
+                counters[3] = stop
+                break
+            nsteps += 1
+            if need_jac:  # forward differences around (t, y); f0 = f(t, y)
+                for i in range(ny):
+                    ytmp[0, i] = y[i]
+                for i in range(ny):
+                    e = 1e-8 * abs(y[i])
+                    e2 = 1e-3 * atolv[i]
+                    if e2 > e:
+                        e = e2
+                    ytmp[0, i] = y[i] + e
+                    e = ytmp[0, i] - y[i]
+                    if mode == 0:
+                        rhs(t, ytmp[0], F, 0, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid,
+                            cstate, baum, kin, phi_, phid, rest, jac, smat, lam, f, cout)
+                    else:
+                        rhs_fourbar(t, ytmp, 0, F, 0, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam,
+                                    cout)
+                    for r in range(ny):
+                        J[r, i] = (F[0, r] - f0[r]) / e
+                    ytmp[0, i] = y[i]
+                need_jac = False
+                current_jac = True
+                lu_ok = False
+            if not lu_ok or h != h_lu:
+                mr = MU_R / h
+                mc = MU_C / h
+                for r in range(ny):
+                    for c in range(ny):
+                        LUr[r, c] = -J[r, c]
+                        LUc[r, c] = -J[r, c]
+                    LUr[r, r] += mr
+                    LUc[r, r] += mc
+                ok_r = _lu_factor(LUr, pivr)
+                ok_c = _lu_factor(LUc, pivc)
+                lu_ok = ok_r and ok_c
+                h_lu = h
+                if not lu_ok:
+                    h *= 0.5
+                    counters[2] += 1
+                    continue
+            # ---- simplified Newton on the transformed collocation system, started from the previous step's
+            # collocation polynomial extrapolated to the new stages (zero on the first step)
+            if h_acc > 0.0:
+                for s in range(3):
+                    x = 1.0 + RC[s] * h / h_acc
+                    for i in range(ny):
+                        q = 0.0
+                        xp = x
+                        for j in range(3):
+                            q += (Zold[0, i] * RP[0, j] + Zold[1, i] * RP[1, j] + Zold[2, i] * RP[2, j]) * xp
+                            xp *= x
+                        Z[s, i] = q - Zold[2, i]
+            else:
+                for s in range(3):
+                    for i in range(ny):
+                        Z[s, i] = 0.0
+            for s in range(3):
+                for i in range(ny):
+                    W[s, i] = RTI[s, 0] * Z[0, i] + RTI[s, 1] * Z[1, i] + RTI[s, 2] * Z[2, i]
+            mr = MU_R / h
+            mc = MU_C / h
+            converged = False
+            n_iter = 0
+            rate = -1.0
+            dw_old = -1.0
+            for it in range(NEWTON_MAXITER):
+                n_iter = it + 1
+                for s in range(3):
+                    for i in range(ny):
+                        ytmp[s, i] = y[i] + Z[s, i]
+                    if mode == 0:
+                        rhs(t + RC[s] * h, ytmp[s], F, s, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid,
+                            cstate, baum, kin, phi_, phid, rest, jac, smat, lam, f, cout)
+                    else:
+                        rhs_fourbar(t + RC[s] * h, ytmp, s, F, s, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum,
+                                    lam, cout)
+                finite = True
+                for s in range(3):
+                    for i in range(ny):
+                        if not math.isfinite(F[s, i]):
+                            finite = False
+                if not finite:
+                    break
+                dw = 0.0
+                for i in range(ny):
+                    fr = RTI[0, 0] * F[0, i] + RTI[0, 1] * F[1, i] + RTI[0, 2] * F[2, i] - mr * W[0, i]
+                    fre = RTI[1, 0] * F[0, i] + RTI[1, 1] * F[1, i] + RTI[1, 2] * F[2, i]
+                    fim = RTI[2, 0] * F[0, i] + RTI[2, 1] * F[1, i] + RTI[2, 2] * F[2, i]
+                    vec[i] = fr
+                    cvec[i] = complex(fre, fim) - mc * complex(W[1, i], W[2, i])
+                _lu_solve(LUr, pivr, vec)
+                _lu_solve(LUc, pivc, cvec)
+                for i in range(ny):
+                    sc = atolv[i] + abs(y[i]) * rtol
+                    d0 = vec[i] / sc
+                    d1 = cvec[i].real / sc
+                    d2 = cvec[i].imag / sc
+                    dw += d0 * d0 + d1 * d1 + d2 * d2
+                dw = math.sqrt(dw / (3 * ny))
+                if dw_old >= 0.0:
+                    rate = dw / dw_old
+                if rate >= 0.9:  # diverging or stalled (scipy also gives up when the predicted error misses newton_tol)
+                    break
+                for i in range(ny):
+                    W[0, i] += vec[i]
+                    W[1, i] += cvec[i].real
+                    W[2, i] += cvec[i].imag
+                for s in range(3):
+                    for i in range(ny):
+                        Z[s, i] = RT[s, 0] * W[0, i] + RT[s, 1] * W[1, i] + RT[s, 2] * W[2, i]
+                if dw == 0.0 or (rate >= 0.0 and rate / (1.0 - rate) * dw < newton_tol):
+                    converged = True
+                    break
+                dw_old = dw
+            if not converged:
+                counters[2] += 1
+                if not current_jac:
+                    need_jac = True
+                else:
+                    h *= 0.5
+                    lu_ok = False
+                continue
+            # ---- error estimate
+            for i in range(ny):
+                vec[i] = f0[i] + (RE[0] * Z[0, i] + RE[1] * Z[1, i] + RE[2] * Z[2, i]) / h
+            _lu_solve(LUr, pivr, vec)
+            for i in range(ny):
+                ytmp[2, i] = y[i] + Z[2, i]  # y_new
+            # scale from max(|y|, |y_new|) (reuse F[0] as the scale vector)
+            for i in range(ny):
+                a0 = abs(y[i])
+                a1 = abs(ytmp[2, i])
+                F[0, i] = atolv[i] + rtol * (a0 if a0 > a1 else a1)
+            err = _rms(vec, F[0])
+            if rejected and err > 1.0:
+                for i in range(ny):
+                    ytmp[1, i] = y[i] + vec[i]
+                if mode == 0:
+                    rhs(t, ytmp[1], F, 1, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid,
+                        cstate, baum, kin, phi_, phid, rest, jac, smat, lam, f, cout)
+                else:
+                    rhs_fourbar(t, ytmp, 1, F, 1, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam,
+                                cout)
+                for i in range(ny):
+                    vec[i] = F[1, i] + (RE[0] * Z[0, i] + RE[1] * Z[1, i] + RE[2] * Z[2, i]) / h
+                _lu_solve(LUr, pivr, vec)
+                err = _rms(vec, F[0])
+            safety = 0.9 * (2 * NEWTON_MAXITER + 1) / (2 * NEWTON_MAXITER + n_iter)
+            if err != err or err > 1.0:  # rejected (NaN included)
+                counters[2] += 1
+                if err != err:
+                    fac = 0.1
+                else:
+                    mult = 1.0
+                    if h_old > 0.0 and err_old > 0.0:
+                        mult = h / h_old * (err_old / err) ** 0.25
+                    fac = min(1.0, mult) * err ** -0.25
+                    fac = max(MIN_FACTOR, safety * fac)
+                h *= fac
+                lu_ok = False
+                rejected = True
+                continue
+            # ---- accepted
+            rejected = False
+            t = tn
+            h_acc = h
+            for s in range(3):
+                for i in range(ny):
+                    Zold[s, i] = Z[s, i]
+            for i in range(ny):
+                y[i] = ytmp[2, i]
+            if mode == 0:
+                rhs(t, ytmp[2], ks, 0, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid,
+                    cstate, baum, kin, phi_, phid, rest, jac, smat, lam, f, cout)
+            else:
+                rhs_fourbar(t, ytmp, 2, ks, 0, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam,
+                            cout)
+            for i in range(ny):
+                f0[i] = ks[0, i]
+            counters[1] += 1
+            nrec = accept_point(t, h, y, ks, lam, cout, cstate, cpar, t_record, nrec, rec_t, rec_h, rec_y, rec_acc,
+                                rec_lam, rec_c)
+            hlim = step_limit(cout, clear_frac, hmax)
+            recompute = n_iter > 2 and rate > 1e-3
+            mult = 1.0
+            if h_old > 0.0 and err_old > 0.0 and err > 0.0:
+                mult = h / h_old * (err_old / err) ** 0.25
+            fac = min(1.0, mult) * (err if err > 1e-10 else 1e-10) ** -0.25
+            fac = min(MAX_FACTOR, safety * fac)
+            h_old = h
+            err_old = err
+            if not recompute and fac < 1.2:
+                fac = 1.0  # keep h: the factorisations stay valid (as scipy's Radau)
+            h *= fac
+            if recompute:
+                need_jac = True
+            else:
+                current_jac = False
+        counters[0] = nrec
+        return t, h
+
+    integrate_radau.__name__ = integrate_radau.__qualname__ = f"integrate_radau_{MODES[mode]}"
+    return njit(cache=True, nogil=True, error_model="numpy", _nrt=STEP_LOOP_NRT)(integrate_radau)
+
+
+# the tree kernel does not run under Radau (simulate.Runner): no tree entry
+RADAU_INTEGRATORS = (_radau(MODES.index("cartesian")), _radau(MODES.index("natural_fourbar")))

@@ -89,12 +89,13 @@ class Runner:
         self.tree = (tree_layout(a) if fast is None and self.lay is None and model.settings.method == "dopri5"
                      else None)
         self.mode = 1 if self.lay is not None else 2 if self.tree is not None else 0
-        self.integrate = K.integrate
+        self.integrate, self.evaluate = K.INTEGRATORS[self.mode], K.EVALUATORS[self.mode]
         if self.mode == 2:
             from jointwear.mechanism.tree_codegen import specialised_module
 
             # the Dormand-Prince loop compiled for this linkage shape (generated, cached per shape)
-            self.integrate = specialised_module(self.tree, a["dpar"].shape[0], a["cint"]).integrate
+            spec = specialised_module(self.tree, a["dpar"].shape[0], a["cint"])
+            self.integrate, self.evaluate = spec.integrate, spec.accelerations
             a["jint"], a["jpar"], a["winv"] = self.tree.jint, self.tree.jpar, self.tree.mass
             self.w = tree_work_arrays(self.tree, a["dpar"].shape[0], a["cint"].shape[0])
             self.ny = 2 * self.tree.n
@@ -161,7 +162,7 @@ class Runner:
 
     def eval(self, t, y):
         """Evaluate the equations of motion at (t, y) into ks[0] (also fills lam and cout)."""
-        K.accelerations(self.mode, t, y, self.ks, *self._args())
+        self.evaluate(t, y, self.ks, *self._args())
 
     def buffers(self, cap: int) -> dict[str, np.ndarray]:
         ncj = self.a["cint"].shape[0]
@@ -172,7 +173,7 @@ class Runner:
 
     def run(self, t, y, t_end, h, hmax, t_record, rec, max_steps, counters):
         s = self.model.settings
-        args = (self.mode, t, y, t_end, h, self.rtol, self.atolv, hmax, s.clearance_step_fraction, max_steps,
+        args = (t, y, t_end, h, self.rtol, self.atolv, hmax, s.clearance_step_fraction, max_steps,
                 t_record, *self._args(), self.ks, self.ytmp, rec["rec_t"], rec["rec_h"], rec["rec_y"],
                 rec["rec_acc"], rec["rec_lam"], rec["rec_c"], counters)
         if s.method == "radau5":
@@ -180,7 +181,7 @@ class Runner:
 
             if self._radau_work is None:
                 self._radau_work = radau.work_arrays(self.ny)
-            return radau.integrate_radau(*args, *self._radau_work)
+            return radau.RADAU_INTEGRATORS[self.mode](*args, *self._radau_work)
         return self.integrate(*args)
 
 
@@ -298,7 +299,7 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
     state_end = SimulationState(t, y_end, run.a["cstate"].copy(), h)
     res = _package(model, geometry, cat, free_phi, joint_angles, cart, state_end, counters, n_cycles, settle, period,
                    time.perf_counter() - wall0)
-    res.extra["kernel"] = ("cartesian", "natural_fourbar", "tree")[run.mode]
+    res.extra["kernel"] = K.MODES[run.mode]
     return res
 
 
