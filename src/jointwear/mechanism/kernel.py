@@ -911,6 +911,7 @@ MODES = ("cartesian", "natural_fourbar", "tree")
 
 
 def _dormand_prince(mode: int):
+    """The Dormand-Prince step loop on the right-hand side MODES[mode] (compiled on first call, cached)."""
     def integrate(t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_steps, t_record,
                   nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
                   kin, phi_, phid, rest, jac, smat, lam, f, cout, ks, ytmp,
@@ -1006,10 +1007,8 @@ def _dormand_prince(mode: int):
     return njit(cache=True, nogil=True, error_model="numpy", fastmath=FASTMATH, _nrt=STEP_LOOP_NRT)(integrate)
 
 
-integrate_cartesian, integrate_fourbar, integrate_tree = INTEGRATORS = tuple(_dormand_prince(m) for m in range(3))
-
-
 def _evaluation(mode: int):
+    """One evaluation of the right-hand side MODES[mode] (the record's first point; compiled on first call)."""
     def accelerations(t, y, dy, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
                       kin, phi_, phid, rest, jac, smat, lam, f, cout):
         """One evaluation of the equations of motion into dy (2-D, row 0)."""
@@ -1029,6 +1028,8 @@ def _evaluation(mode: int):
     return njit(cache=True, error_model="numpy")(accelerations)
 
 
+INTEGRATORS = tuple(_dormand_prince(m) for m in range(3))
+integrate_cartesian, integrate_natural_fourbar, integrate_tree = INTEGRATORS
 EVALUATORS = tuple(_evaluation(m) for m in range(3))
 
 
