@@ -94,8 +94,7 @@ class Runner:
             from jointwear.mechanism.tree_codegen import specialised_module
 
             # the Dormand-Prince loop compiled for this linkage shape (generated, cached per shape)
-            spec = specialised_module(self.tree, a["dpar"].shape[0], a["cint"])
-            self.integrate, self.evaluate = spec.integrate, spec.accelerations
+            self.integrate = specialised_module(self.tree, a["dpar"].shape[0], a["cint"]).integrate
             a["jint"], a["jpar"], a["winv"] = self.tree.jint, self.tree.jpar, self.tree.mass
             self.w = tree_work_arrays(self.tree, a["dpar"].shape[0], a["cint"].shape[0])
             self.ny = 2 * self.tree.n
