@@ -9,7 +9,7 @@ generated module), the flapping wing forced onto the Cartesian kernel (fast=Fals
 the same cases on another checkout's ``src`` directory (e.g. a worktree of an earlier commit), alternated with the
 current one, and records the ratios.
 
-    python benchmarks/compile.py [--repeats 1] [--reference-src DIR] [--out benchmarks/results/compile.json]
+    python benchmarks/compile.py [--repeats 1] [--cases NAME ...] [--reference-src DIR] [--out FILE]
 """
 
 from __future__ import annotations
@@ -74,9 +74,16 @@ def one_case(preset: str, method: str, fast, repeats: int, src: Path | None = No
             "median_warm_seconds": statistics.median(warm)}
 
 
+def _commit(repo: Path) -> str | None:
+    """The checked-out commit of a git work tree, None if it is not one."""
+    out = subprocess.run(["git", "-C", str(repo), "rev-parse", "HEAD"], capture_output=True, text=True)
+    return out.stdout.strip() or None
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=1)
+    ap.add_argument("--cases", nargs="+", choices=list(CASES), default=list(CASES), help="the cases to run")
     ap.add_argument("--reference-src", type=Path, default=None,
                     help="another checkout's src directory, measured alongside as the reference")
     ap.add_argument("--out", type=Path, default=Path(__file__).parent / "results" / "compile.json")
@@ -87,7 +94,8 @@ def main() -> None:
 
     load = os.getloadavg()[0]
     cases = {}
-    for name, (preset, method, fast) in CASES.items():
+    for name in args.cases:
+        preset, method, fast = CASES[name]
         rec = one_case(preset, method, fast, args.repeats, here)
         line = f"{name}: {rec['median_cold_seconds']:.1f} s cold, {rec['median_warm_seconds']:.2f} s warm"
         if args.reference_src is not None:
@@ -106,7 +114,9 @@ def main() -> None:
                     "numba_threads": numba_config.NUMBA_NUM_THREADS, "loadavg_1min_at_start": load},
         "note": "each case in fresh processes with empty caches; cold = the first simulate() call of 0.01 cycle "
                 "(compilation included), warm = the same call in a second process loading the caches",
+        "commit": _commit(here.parent),
         "reference_src": str(args.reference_src) if args.reference_src else None,
+        "reference_commit": _commit(args.reference_src.resolve().parent) if args.reference_src else None,
         "cases": cases,
     }
     args.out.parent.mkdir(parents=True, exist_ok=True)
