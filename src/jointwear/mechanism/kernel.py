@@ -910,6 +910,13 @@ def crank_rotation(c0, s0, d):
 MODES = ("cartesian", "natural_fourbar", "tree")
 
 
+def compile_for_mode(fn, mode: int, **options):
+    """numba's dispatcher of the builder-made function `fn` for MODES[mode], named `<name>_<mode>`: the name gives each
+    mode its own cache file (a closure's qualified name is otherwise the same for every mode)."""
+    fn.__name__ = fn.__qualname__ = f"{fn.__name__}_{MODES[mode]}"
+    return njit(cache=True, **options)(fn)
+
+
 def _dormand_prince(mode: int):
     """The Dormand-Prince step loop on the right-hand side MODES[mode] (compiled on first call, cached)."""
     def integrate(t, y, t_end, h, rtol, atolv, hmax, clear_frac, max_steps, t_record,
@@ -1003,8 +1010,7 @@ def _dormand_prince(mode: int):
         counters[0] = nrec
         return t, h
 
-    integrate.__name__ = integrate.__qualname__ = f"integrate_{MODES[mode]}"
-    return njit(cache=True, nogil=True, error_model="numpy", fastmath=FASTMATH, _nrt=STEP_LOOP_NRT)(integrate)
+    return compile_for_mode(integrate, mode, nogil=True, error_model="numpy", fastmath=FASTMATH, _nrt=STEP_LOOP_NRT)
 
 
 def _evaluation(mode: int):
@@ -1024,8 +1030,7 @@ def _evaluation(mode: int):
             Y[0, :] = y
             rhs_fourbar(t, Y, 0, dy, 0, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
 
-    accelerations.__name__ = accelerations.__qualname__ = f"accelerations_{MODES[mode]}"
-    return njit(cache=True, error_model="numpy")(accelerations)
+    return compile_for_mode(accelerations, mode, error_model="numpy")
 
 
 INTEGRATORS = tuple(_dormand_prince(m) for m in range(3))

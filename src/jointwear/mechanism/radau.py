@@ -13,7 +13,7 @@ most rejections of the contact problem into Newton failures), the embedded error
 (I - h gamma0 J)^-1 (f0 + Z^T E / h) (re-estimated once after a rejection), Gustafsson's predictive step control,
 and the step size kept (LU reused) when it would grow by less than 20 %.
 
-Same arguments as ``kernel.integrate`` plus the work arrays of ``work_arrays``; selected by
+Same arguments as the loops of ``kernel.INTEGRATORS`` plus the work arrays of ``work_arrays``; selected by
 ``simulation.method = "radau5"``. The step start (``kernel.next_step``), the step limit (``kernel.step_limit``) and the
 accepted-step bookkeeping (impact speed, record; ``kernel.accept_point``) are shared with the Dormand-Prince loop.
 """
@@ -29,6 +29,7 @@ from jointwear.mechanism.kernel import (
     MODES,
     STEP_LOOP_NRT,
     accept_point,
+    compile_for_mode,
     next_step,
     rhs,
     rhs_fourbar,
@@ -144,7 +145,7 @@ def _radau(mode: int):
                         kin, phi_, phid, rest, jac, smat, lam, f, cout, ks, ytmp6,
                         rec_t, rec_h, rec_y, rec_acc, rec_lam, rec_c, counters,
                         J, LUr, pivr, LUc, pivc, Z, W, F, ytmp, f0, vec, cvec, Zold):
-        """Radau IIA (order 5) with error control from t to t_end (in place on y); contract of kernel.integrate.
+        """Radau IIA (order 5) with error control from t to t_end (in place on y); contract of kernel.INTEGRATORS.
 
         ks[0] must hold f(t, y) on entry and holds f at the final point on exit (ytmp6 is unused here)."""
         ny = y.shape[0]
@@ -371,8 +372,7 @@ def _radau(mode: int):
         counters[0] = nrec
         return t, h
 
-    integrate_radau.__name__ = integrate_radau.__qualname__ = f"integrate_radau_{MODES[mode]}"
-    return njit(cache=True, nogil=True, error_model="numpy", _nrt=STEP_LOOP_NRT)(integrate_radau)
+    return compile_for_mode(integrate_radau, mode, nogil=True, error_model="numpy", _nrt=STEP_LOOP_NRT)
 
 
 # the tree kernel does not run under Radau (simulate.Runner): no tree entry
