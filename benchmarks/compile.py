@@ -2,12 +2,13 @@
 
 Each case runs in a fresh process with empty numba and generated-kernel caches (NUMBA_CACHE_DIR and
 JOINTWEAR_KERNEL_CACHE in a temporary directory): the wall seconds of its first short simulation (compilation and
-0.01 cycle), then of the same call in a second fresh process on the now warm caches (the load). Cases: the
+0.01 cycle), then of the same call in a second fresh process on the now warm caches (the load); in each process then
+the wall seconds of one cycle from there (median of 3; the record keeps both processes'). Cases: the
 flapping wing (natural four-bar kernel), the Flores slider-crank and the Watt six-bar (tree kernel, each shape's
 generated module), the flapping wing forced onto the Cartesian kernel (fast=False) and under Radau IIA
-(simulation.method = "radau5"). The first pass is repeated --repeats times (median). --reference-src DIR measures
-the same cases on another checkout's ``src`` directory (e.g. a worktree of an earlier commit), alternated with the
-current one, and records the ratios.
+(simulation.method = "radau5"), and the six-bar under Radau IIA (its Cartesian kernel). The first pass is repeated
+--repeats times (median). --reference-src DIR measures the same cases on another checkout's ``src`` directory (e.g. a
+worktree of an earlier commit), alternated with the current one, and records the ratios.
 
     python benchmarks/compile.py [--repeats 1] [--cases NAME ...] [--reference-src DIR] [--out FILE]
 """
@@ -31,6 +32,7 @@ CASES = {
     "six_bar_tree": ("watt_six_bar_two_clearances", "dopri5", None),
     "flapping_wing_cartesian": ("jin2025_flapping_wing", "dopri5", False),
     "flapping_wing_radau5": ("jin2025_flapping_wing", "radau5", None),
+    "six_bar_radau5": ("watt_six_bar_two_clearances", "radau5", None),
 }
 
 CHILD = """
@@ -45,9 +47,15 @@ if method != "dopri5":
     model = dataclasses.replace(model, settings=model.settings.model_copy(update={"method": method}))
 t0 = time.perf_counter()
 res = simulate(model, 0.01, settle_cycles=0, fast=fast)
+first = time.perf_counter() - t0
+runs = []
+for _ in range(3):
+    t0 = time.perf_counter()
+    simulate(model, 1, settle_cycles=0, state0=res.state_end, fast=fast)
+    runs.append(time.perf_counter() - t0)
 import jointwear
-print(json.dumps({"import_seconds": t_import, "first_simulation_seconds": time.perf_counter() - t0,
-                  "kernel": res.extra["kernel"], "package": jointwear.__file__}))
+print(json.dumps({"import_seconds": t_import, "first_simulation_seconds": first,
+                  "seconds_per_cycle": sorted(runs)[1], "kernel": res.extra["kernel"], "package": jointwear.__file__}))
 """
 
 
@@ -61,17 +69,19 @@ def run_child(preset: str, method: str, fast, cache: Path, src: Path | None) -> 
 
 
 def one_case(preset: str, method: str, fast, repeats: int, src: Path | None = None) -> dict:
-    cold, warm, kernel = [], [], None
+    cold, warm, per_cycle, kernel = [], [], [], None
     for _ in range(repeats):
         with tempfile.TemporaryDirectory() as d:
             first = run_child(preset, method, fast, Path(d), src)
             second = run_child(preset, method, fast, Path(d), src)
         cold.append(first["first_simulation_seconds"])
         warm.append(second["first_simulation_seconds"])
+        per_cycle += [first["seconds_per_cycle"], second["seconds_per_cycle"]]
         kernel, package = first["kernel"], first["package"]
     return {"preset": preset, "method": method, "fast": fast, "kernel": kernel, "package": package,
             "cold_seconds": cold, "warm_seconds": warm, "median_cold_seconds": statistics.median(cold),
-            "median_warm_seconds": statistics.median(warm)}
+            "median_warm_seconds": statistics.median(warm), "seconds_per_cycle": per_cycle,
+            "median_seconds_per_cycle": statistics.median(per_cycle)}
 
 
 def _commit(repo: Path) -> str | None:
@@ -102,7 +112,9 @@ def main() -> None:
             ref = one_case(preset, method, fast, args.repeats, args.reference_src.resolve())
             rec["reference"] = ref
             rec["cold_ratio_to_reference"] = rec["median_cold_seconds"] / ref["median_cold_seconds"]
-            line += f" (reference {ref['median_cold_seconds']:.1f} s cold: {rec['cold_ratio_to_reference']:.2f}x)"
+            rec["per_cycle_ratio_to_reference"] = rec["median_seconds_per_cycle"] / ref["median_seconds_per_cycle"]
+            line += (f" (reference {ref['median_cold_seconds']:.1f} s cold: {rec['cold_ratio_to_reference']:.2f}x;"
+                     f" per cycle {rec['per_cycle_ratio_to_reference']:.2f}x)")
         cases[name] = rec
         print(line, flush=True)
     from llvmlite import binding as llvm
@@ -113,7 +125,8 @@ def main() -> None:
                     "llvm_host_cpu": str(llvm.get_host_cpu_name()), "numba": numba_version,
                     "numba_threads": numba_config.NUMBA_NUM_THREADS, "loadavg_1min_at_start": load},
         "note": "each case in fresh processes with empty caches; cold = the first simulate() call of 0.01 cycle "
-                "(compilation included), warm = the same call in a second process loading the caches",
+                "(compilation included), warm = the same call in a second process loading the caches; "
+                "seconds_per_cycle = one cycle after it (median of 3 in each process)",
         "commit": _commit(here.parent),
         "reference_src": str(args.reference_src) if args.reference_src else None,
         "reference_commit": _commit(args.reference_src.resolve().parent) if args.reference_src else None,

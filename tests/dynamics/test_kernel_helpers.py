@@ -65,7 +65,8 @@ def test_step_loops_compile_without_reference_counting():
     """The step loops allocate nothing; with numba's reference counting every inlined evaluation costs ~24
     atomic operations, 2x the time per cycle (benchmarks/dynamics.py)."""
     assert K.STEP_LOOP_NRT is False
-    for fn in (*K.INTEGRATORS, K.rhs, K.rhs_fourbar_cs, *radau.RADAU_INTEGRATORS):
+    for fn in (*K.INTEGRATORS, K.rhs, K.rhs_fourbar_cs, *radau.RADAU_INTEGRATORS, radau.rhs_cartesian_row,
+               radau.rhs_natural_fourbar_row):
         assert fn.targetoptions.get("_nrt") is False, fn
 
 

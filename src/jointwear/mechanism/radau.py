@@ -70,6 +70,25 @@ MIN_FACTOR = 0.2
 MAX_FACTOR = 10.0
 
 
+@njit(cache=True, error_model="numpy", _nrt=STEP_LOOP_NRT)
+def rhs_cartesian_row(t, Y, dy, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+                      kin, phi_, phid, rest, jac, smat, lam, f, cout):
+    """dy[0] = f(t, Y[0]) of the Cartesian kernel (kernel.rhs), for the loop's evaluations outside the Newton stages
+    (the Jacobian's columns, the error re-estimate, the accepted point). Called there, not inlined: every inlined copy
+    of a right-hand side is compiled again (the four-bar loop compiled in 66 s with four copies, 28 s with one), and
+    the stages, inlined, take most evaluations (three per Newton iteration against one per accepted step): the time
+    per cycle stayed within the +-5 % scatter of the measurement (benchmarks/results/compile.json)."""
+    rhs(t, Y[0], dy, 0, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+        kin, phi_, phid, rest, jac, smat, lam, f, cout)
+
+
+@njit(cache=True, error_model="numpy", _nrt=STEP_LOOP_NRT)
+def rhs_natural_fourbar_row(t, Y, dy, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+                            kin, phi_, phid, rest, jac, smat, lam, f, cout):
+    """dy[0] = f(t, Y[0]) of the natural-coordinate four-bar (kernel.rhs_fourbar); as rhs_cartesian_row."""
+    rhs_fourbar(t, Y, 0, dy, 0, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
+
+
 def work_arrays(ny: int) -> tuple:
     """(J, LU_real, piv_real, LU_complex, piv_complex, Z, W, F, ytmp, f0, vec, cvec, Zold) for integrate_radau."""
     return (np.zeros((ny, ny)), np.zeros((ny, ny)), np.zeros(ny, dtype=np.int64), np.zeros((ny, ny), dtype=np.complex128),
@@ -148,6 +167,10 @@ def _radau(mode: int):
         """Radau IIA (order 5) with error control from t to t_end (in place on y); contract of kernel.INTEGRATORS.
 
         ks[0] must hold f(t, y) on entry and holds f at the final point on exit (ytmp6 is unused here)."""
+        if mode == 0:  # folded: only the chosen one is compiled into the loop
+            rhs_row = rhs_cartesian_row
+        else:
+            rhs_row = rhs_natural_fourbar_row
         ny = y.shape[0]
         cap = rec_t.shape[0]
         nrec = counters[0]
@@ -182,12 +205,8 @@ def _radau(mode: int):
                         e = e2
                     ytmp[0, i] = y[i] + e
                     e = ytmp[0, i] - y[i]
-                    if mode == 0:
-                        rhs(t, ytmp[0], F, 0, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid,
-                            cstate, baum, kin, phi_, phid, rest, jac, smat, lam, f, cout)
-                    else:
-                        rhs_fourbar(t, ytmp, 0, F, 0, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam,
-                                    cout)
+                    rhs_row(t, ytmp[0:1], F[0:1], nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate,
+                            baum, kin, phi_, phid, rest, jac, smat, lam, f, cout)
                     for r in range(ny):
                         J[r, i] = (F[0, r] - f0[r]) / e
                     ytmp[0, i] = y[i]
@@ -241,7 +260,7 @@ def _radau(mode: int):
                 for s in range(3):
                     for i in range(ny):
                         ytmp[s, i] = y[i] + Z[s, i]
-                    if mode == 0:
+                    if mode == 0:  # inlined here, where the loop spends its evaluations; called elsewhere
                         rhs(t + RC[s] * h, ytmp[s], F, s, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid,
                             cstate, baum, kin, phi_, phid, rest, jac, smat, lam, f, cout)
                     else:
@@ -308,12 +327,8 @@ def _radau(mode: int):
             if rejected and err > 1.0:
                 for i in range(ny):
                     ytmp[1, i] = y[i] + vec[i]
-                if mode == 0:
-                    rhs(t, ytmp[1], F, 1, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid,
-                        cstate, baum, kin, phi_, phid, rest, jac, smat, lam, f, cout)
-                else:
-                    rhs_fourbar(t, ytmp, 1, F, 1, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam,
-                                cout)
+                rhs_row(t, ytmp[1:2], F[1:2], nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+                        kin, phi_, phid, rest, jac, smat, lam, f, cout)
                 for i in range(ny):
                     vec[i] = F[1, i] + (RE[0] * Z[0, i] + RE[1] * Z[1, i] + RE[2] * Z[2, i]) / h
                 _lu_solve(LUr, pivr, vec)
@@ -342,12 +357,8 @@ def _radau(mode: int):
                     Zold[s, i] = Z[s, i]
             for i in range(ny):
                 y[i] = ytmp[2, i]
-            if mode == 0:
-                rhs(t, ytmp[2], ks, 0, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid,
-                    cstate, baum, kin, phi_, phid, rest, jac, smat, lam, f, cout)
-            else:
-                rhs_fourbar(t, ytmp, 2, ks, 0, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam,
-                            cout)
+            rhs_row(t, ytmp[2:3], ks[0:1], nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
+                    kin, phi_, phid, rest, jac, smat, lam, f, cout)
             for i in range(ny):
                 f0[i] = ks[0, i]
             counters[1] += 1
