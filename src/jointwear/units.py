@@ -76,6 +76,21 @@ class UnitError(ValueError):
     """A value that cannot be converted (not a number or a list of numbers), or a suffix of the wrong dimension."""
 
 
+def si_suffix(unit: str) -> str | None:
+    """The key suffix that names an SI unit as itself (``"Pa"`` -> ``"Pa"``, ``"rad/s"`` -> ``"rad_s"``, ``"kg m^2"``
+    -> ``"kg_m2"``), for column names such as ``E_b_Pa``; ``""`` for no unit, None for a unit no suffix names."""
+    if not unit:
+        return ""
+    return next((suffix for suffix, (scale, si) in SUFFIXES.items() if si == unit and scale == 1.0), None)
+
+
+def column_name(name: str, unit: str) -> str:
+    """A table column named as a config key would be: ``name_<suffix>`` of the SI unit (``HB_b_Pa``), the bare name for
+    a plain number or a unit no suffix names."""
+    suffix = si_suffix(unit)
+    return f"{name}_{suffix}" if suffix else name
+
+
 def suffixes_of(unit: str) -> list[str]:
     """The suffixes that convert to the SI ``unit``, e.g. ``['m', 'mm', 'um', 'nm', 'cm']`` for 'm'."""
     return [s for s, (_, u) in SUFFIXES.items() if u == unit]

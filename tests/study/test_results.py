@@ -12,8 +12,10 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "wear"))
 from wear_synthetic import FakeModel, fake_simulate  # noqa: E402
 
+from jointwear.config import config_from_dict, load_config  # noqa: E402
 from jointwear.study import ReliabilityResult, WearSummary, load_results  # noqa: E402
 from jointwear.study.io import strict, write_json  # noqa: E402
+from jointwear.study.reliability import study_context  # noqa: E402
 from jointwear.wear import WearSettings, wear_history  # noqa: E402
 
 
@@ -70,7 +72,7 @@ def _reliability_result():
         cycles=cycles, reliability=rel, pf=1 - rel, pf_cov=np.array([np.inf, 0.02, 0.01]),
         below_floor=np.array([False, False, False]), pf_error=np.array([0.001, 0.01, 0.01]), target=0.9,
         life_cycles=1.45e5, life_hours=1.0, model_calls=20, failed_calls=0, n_mc=1000, converged=True,
-        wall_seconds=1.0, names=["a", "b"], histograms={}, mean_max_wear_mm={}, convergence={},
+        wall_seconds=1.0, names=["a", "b"], units=["Pa", ""], histograms={}, mean_max_wear_mm={}, convergence={},
         design_x=np.ones((3, 2)), design_wear=np.ones((3, 3)), design_life=np.array([1e5, 2e5, np.inf]),
         life_table=[{"target": 0.9, "cycles": 1.45e5, "hours": 1.0}, {"target": 0.99, "cycles": None,
                                                                        "hours": None}],
@@ -87,7 +89,23 @@ def test_reliability_result_round_trip_and_tables(tmp_path):
     curve = (tmp_path / "reliability_curve.csv").read_text().splitlines()
     assert curve[0].split(",")[:3] == ["cycles", "reliability", "pf"] and len(curve) == 4
     assert (tmp_path / "life_table.csv").read_text().splitlines()[0] == "target_reliability,life_cycles,life_hours,status"
-    assert (tmp_path / "design_points.csv").read_text().splitlines()[0] == "a,b,life_cycles"
+    # each input column named as a config key with its SI unit, a plain number bare
+    assert (tmp_path / "design_points.csv").read_text().splitlines()[0] == "a_Pa,b,life_cycles"
+    assert back.units == ["Pa", ""]
+
+
+def test_the_study_inputs_carry_their_si_units():
+    """The units that name design_points.csv's columns and sensitivity.csv's `unit`: each variable's target's SI
+    unit (the clearance's and the wear allowance's: m), "" for a plain number."""
+    cfg = load_config("jin2025_flapping_wing")
+    ctx = study_context(cfg, lambda call: None)
+    units = dict(zip(ctx.names, ctx.units))
+    assert units["Rj"] == units["c"] == units["l2"] == "m"
+    assert units["E_b"] == units["HB_j"] == "Pa" and units["nu_b"] == units["k_j"] == ""
+    data = cfg.model_dump(mode="json")
+    data["reliability"]["allowance_std"] = 1e-6  # a random allowance: one more input
+    ctx = study_context(config_from_dict(data), lambda call: None)
+    assert ctx.names[-1] == "delta_0" and ctx.units[-1] == "m" and len(ctx.units) == len(ctx.names)
 
 
 def test_load_results_of_an_empty_or_damaged_folder(tmp_path):

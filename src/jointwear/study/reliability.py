@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from jointwear.config import StudyConfig
+from jointwear.config import StudyConfig, target_display_unit
 from jointwear.schema import ConfigError
 from jointwear.study.limit_state import LimitState, life_at, life_status, limit_state_from_config
 from jointwear.study.model_call import WORN_AWAY_WEAR, WearModelCall
@@ -40,6 +40,7 @@ class StudyContext:
     config: StudyConfig
     names: list[str]
     labels: list[str]
+    units: list[str]  # SI unit of each input ("" for a plain number)
     marginals: list
     targets: list[str]
     cycles: list[int]
@@ -138,6 +139,7 @@ def study_context(config: StudyConfig, evaluator_factory: Callable[[WearModelCal
     specs = unc.all_specs()
     names = [s.name for s in specs]
     labels = [s.label or s.name for s in specs]
+    units = [target_display_unit(s.target) or "" for s in specs]
     # The learning always runs on feasible samples (clearance above its minimum); under the 'fail' rule the
     # infeasible probability mass is added to Pf afterwards (run_reliability), which is exact because the
     # truncated distribution is the conditional one given feasibility.
@@ -151,9 +153,10 @@ def study_context(config: StudyConfig, evaluator_factory: Callable[[WearModelCal
 
         names.append("delta_0")
         labels.append("wear allowance")
+        units.append("m")
         marginals.append(stats.norm(limit.reference_allowance, rel.allowance_std))
-    return StudyContext(config, names, labels, marginals, [s.target for s in specs], rel.curve_cycles(), call.cycles,
-                        evaluator_factory(call), random_allowance, limit, copula=unc.copula(names))
+    return StudyContext(config, names, labels, units, marginals, [s.target for s in specs], rel.curve_cycles(),
+                        call.cycles, evaluator_factory(call), random_allowance, limit, copula=unc.copula(names))
 
 
 def store_digest(config: StudyConfig) -> str:
@@ -290,7 +293,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         pf_error=_absolute_error(engine.error_estimate, pf),
         life_cycles=lives[0], life_hours=life_table[0]["hours"], life_table=life_table,
         model_calls=int(engine.n_calls), failed_calls=int(engine.n_failed_calls), n_mc=n_mc,
-        converged=bool(engine.converged), wall_seconds=time.perf_counter() - t0, names=ctx.names,
+        converged=bool(engine.converged), wall_seconds=time.perf_counter() - t0, names=ctx.names, units=ctx.units,
         histograms=histograms, mean_max_wear_mm=mean_max, convergence=convergence,
         design_x=design_x, design_wear=design_wear, design_life=ctx.life(design_x),
         design_wear_cycles=np.asarray(ctx.history_cycles, dtype=float),

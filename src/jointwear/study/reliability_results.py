@@ -13,6 +13,7 @@ import numpy as np
 
 from jointwear.study.io import provenance, write_csv
 from jointwear.study.stage_result import StageResult, save_figure
+from jointwear.units import column_name
 
 __all__ = ["ReliabilityResult", "SensitivityResult", "ValidationResult"]
 
@@ -29,7 +30,8 @@ class ReliabilityResult(StageResult):
     ('in_curve', 'beyond_curve': longer than the curve, 'before_curve': shorter than its first level). ``joints``: each judged joint's
     allowance and, with several, its own R(N) and its share of the system's failures (``governing_share``).
 
-    Units: ``design_x`` are the true-model inputs in SI (columns in the order of ``names``; a hardness in Pa),
+    Units: ``design_x`` are the true-model inputs in SI (columns in the order of ``names``, units in ``units``: a
+    hardness in Pa, "" for a plain number),
     ``design_wear`` their wear quantity in m (the first judged joint's) at the history's cycles
     ``design_wear_cycles``, ``design_life`` their life in cycles;
     ``mean_max_wear_mm`` (``cycles``, ``mean``) and ``histograms`` (``max_wear_mm``) are in mm, as named.
@@ -65,6 +67,7 @@ class ReliabilityResult(StageResult):
     design_wear_cycles: np.ndarray | None = None
     quantity: str = "bearing_max_depth"
     joints: list[dict] = field(default_factory=list)
+    units: list[str] = field(default_factory=list)
     crank_speed_rpm: float | None = None
     infeasible: dict = field(default_factory=dict)
     learning_stop: str = ""
@@ -148,6 +151,7 @@ class ReliabilityResult(StageResult):
             "learning_stop": self.learning_stop,
             "wall_seconds": self.wall_seconds,
             "variables": self.names,
+            "variable_units": self.units,
             "histograms": self.histograms,
             "mean_max_wear_mm": self.mean_max_wear_mm,
             "convergence": self.convergence,
@@ -179,6 +183,7 @@ class ReliabilityResult(StageResult):
             model_calls=data.get("model_calls", 0), failed_calls=data.get("failed_calls", 0),
             n_mc=data.get("n_mc", 0), converged=data.get("converged", False),
             wall_seconds=data.get("wall_seconds", math.nan), names=data.get("variables", []),
+            units=data.get("variable_units", []),
             histograms=data.get("histograms", {}), mean_max_wear_mm=data.get("mean_max_wear_mm", {}),
             convergence=data.get("convergence", {}),
             design_x=np.asarray(design.get("x", []), dtype=float),
@@ -207,7 +212,10 @@ class ReliabilityResult(StageResult):
             "status": [r.get("status", "") for r in self.life_table]})
         x = np.atleast_2d(np.asarray(self.design_x, dtype=float))
         if x.size:
-            cols: dict[str, Any] = {name: x[:, k] for k, name in enumerate(self.names[:x.shape[1]])}
+            names = self.names[:x.shape[1]]
+            units = [*self.units, *[""] * len(names)]  # a result without units (read from an older file): bare names
+            cols: dict[str, Any] = {column_name(name, unit): x[:, k]
+                                    for k, (name, unit) in enumerate(zip(names, units))}
             if self.design_life is not None:
                 cols["life_cycles"] = self.design_life
             write_csv(folder / "design_points.csv", cols)
@@ -233,7 +241,8 @@ class ReliabilityResult(StageResult):
 _RELIABILITY_KEYS = frozenset({
     "curve", "life_at_target", "life_table", "quantity", "joints", "governing_joint", "allowance_mm",
     "crank_speed_rpm", "model_calls", "failed_calls", "n_mc", "converged", "learning_stop", "wall_seconds",
-    "variables", "histograms", "mean_max_wear_mm", "convergence", "design", "infeasible", "provenance"})
+    "variables", "variable_units", "histograms", "mean_max_wear_mm", "convergence", "design", "infeasible",
+    "provenance"})
 
 
 # ------------------------------------------------------------------------------------------------ sensitivity
@@ -242,7 +251,8 @@ class SensitivityResult(StageResult):
     """How the reliability at ``cycles`` moves with each variable: mean shifts (``variables`` rows with
     ``reliability_low``/``reliability_high`` and their error estimates), the ranking overall and per group
     (``unresolved_pairs``: neighbours the surrogate's error does not separate), Sobol' indices of the wear
-    and reliability derivatives. A row's ``dR_dmean`` / ``dR_dstd`` are per SI unit of the variable and its
+    and reliability derivatives. A row's ``dR_dmean`` / ``dR_dstd`` are per SI unit of the variable (its ``unit``, ""
+    for a plain number) and its
     ``elasticity_mean`` is that of R, (mu / R) dR/dmu; ``derivatives`` holds those of Pf (``elasticity_mean``:
     (mu / Pf) dPf/dmu)."""
 
@@ -290,7 +300,7 @@ class SensitivityResult(StageResult):
     def save(self, folder: Path | str, *, figures: bool = True) -> Path:
         """Write ``sensitivity.json``, ``sensitivity.csv`` (one row per variable) and the figures."""
         folder = Path(folder)
-        keys = ["name", "label", "group", "reliability_low", "reliability_high", "reliability_low_error",
+        keys = ["name", "label", "group", "unit", "reliability_low", "reliability_high", "reliability_low_error",
                 "reliability_high_error", "dR_dmean", "dR_dstd", "elasticity_mean", "S1", "ST"]
         write_csv(folder / "sensitivity.csv", {k: [v.get(k) for v in self.variables] for k in keys})
         path = self.write(folder)

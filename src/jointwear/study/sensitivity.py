@@ -246,6 +246,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
         variables.append({
             "name": name, "label": ctx.labels[k],
             "group": specs[k].group if k < len(specs) else "other",
+            "unit": ctx.units[k],  # SI: dR_dmean and dR_dstd are per this unit
             "reliability_low": table.reliability_low[k], "reliability_high": table.reliability_high[k],
             "reliability_low_error": errors_low[k], "reliability_high_error": errors_high[k],
             "dR_dmean": float(-deriv.dpf_dmean[k]), "dR_dstd": float(-deriv.dpf_dstd[k]),
