@@ -5,13 +5,16 @@ validation must agree at every level, and the leave-one-out cross-validation of 
 must be nearly exact.
 """
 
+import json
+
 import numpy as np
 import pytest
 from analytic_wear import AnalyticWear
 
 from jointwear import compute
 from jointwear.config import load_config, updated
-from jointwear.study import run_reliability, study_context
+from jointwear.study import ValidationResult, run_reliability, study_context
+from jointwear.study.io import strict
 from jointwear.study.validation import clopper_pearson, run_validation
 
 
@@ -39,7 +42,11 @@ def test_validation_agrees_with_an_exact_model():
     rel.pf_error = np.where(np.arange(len(rel.pf_error)) == 0, np.nan, rel.pf_error)
     unestimated = run_validation(ctx, rel, 3000)
     assert np.isnan(unestimated.surrogate_error[0]) and np.isfinite(unestimated.surrogate_error[1:]).all()
-    assert again.model_calls == 0 and again.reliability_mc == val.reliability_mc
+    assert again.model_calls == 0 and np.array_equal(again.reliability_mc, val.reliability_mc)
+    # typed as the reliability's curves: arrays, also when read back from validation.json
+    back = ValidationResult.from_json(json.loads(json.dumps(strict(val.to_json()))))
+    assert back == val and back.reliability_mc.dtype == float and back.agreement.dtype == bool
+    assert np.all(val.ci_high - val.ci_low >= 0)
     assert val.all_agree, list(zip(val.cycles, val.reliability_mc, val.reliability_surrogate))
     for lo, r, hi in zip(val.ci_low, val.reliability_mc, val.ci_high):
         assert lo <= r <= hi

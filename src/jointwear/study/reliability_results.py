@@ -336,26 +336,34 @@ class ValidationResult(StageResult):
 
     FILE: ClassVar[str] = "validation.json"
 
-    cycles: list[int]
-    reliability_mc: list[float]
-    ci_low: list[float]
-    ci_high: list[float]
-    reliability_surrogate: list[float]
-    surrogate_error: list[float]
+    cycles: np.ndarray
+    reliability_mc: np.ndarray
+    ci_low: np.ndarray
+    ci_high: np.ndarray
+    reliability_surrogate: np.ndarray
+    surrogate_error: np.ndarray
     n_samples: int
     model_calls: int
     wall_seconds: float
-    agreement: list[bool] = field(default_factory=list)
-    surrogate_cov: list[float] = field(default_factory=list)
+    agreement: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
+    surrogate_cov: np.ndarray = field(default_factory=lambda: np.zeros(0))
     failed_calls: int = 0
     seed: int | None = None
     cross_validation: dict = field(default_factory=dict)
     provenance: dict = field(default_factory=provenance)
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
 
+    def __post_init__(self) -> None:
+        """The curves as arrays (as ReliabilityResult's), built or read back from JSON (lists with null holes)."""
+        self.cycles = np.array(self.cycles, dtype=np.int64)  # copies: never a view of the reliability's arrays
+        for name in ("reliability_mc", "ci_low", "ci_high", "reliability_surrogate", "surrogate_error",
+                     "surrogate_cov"):
+            setattr(self, name, np.array(getattr(self, name), dtype=float))
+        self.agreement = np.array(self.agreement, dtype=bool)
+
     @property
     def all_agree(self) -> bool:
-        return all(self.agreement)
+        return bool(np.all(self.agreement))
 
     def save(self, folder: Path | str, *, figures: bool = True) -> Path:
         """Write ``validation.json``, ``validation.csv``, ``cross_validation.csv`` and the figures."""

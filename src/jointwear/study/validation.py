@@ -88,9 +88,8 @@ def run_validation(ctx: StudyContext, reliability: ReliabilityResult, n_samples:
         agree.append(bool(abs(pf_j - pf_sur[j]) <= half_mc + half_sur))
     cv = leave_one_out(ctx, np.asarray(reliability.design_x), seed=rel.seed)
     return ValidationResult(
-        cycles=levels.astype(int).tolist(), reliability_mc=r_mc, ci_low=lo, ci_high=hi,
-        reliability_surrogate=r_sur.tolist(),
-        surrogate_error=np.asarray(reliability.pf_error, dtype=float).tolist(),  # NaN where not estimated, not 0
-        surrogate_cov=np.asarray(reliability.pf_cov, dtype=float).tolist(),
+        cycles=levels, reliability_mc=r_mc, ci_low=lo, ci_high=hi, reliability_surrogate=r_sur,
+        surrogate_error=reliability.pf_error,  # NaN where not estimated, not 0
+        surrogate_cov=reliability.pf_cov,
         agreement=agree, n_samples=int(n_samples), model_calls=int(calls), failed_calls=int(failed.sum()),
         seed=int(rel.seed + SEED_OFFSET), cross_validation=cv, wall_seconds=time.perf_counter() - t0)
