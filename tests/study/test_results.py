@@ -14,7 +14,7 @@ from wear_synthetic import FakeModel, fake_simulate  # noqa: E402
 
 from jointwear.config import config_from_dict, load_config  # noqa: E402
 from jointwear.study import ReliabilityResult, WearSummary, load_results  # noqa: E402
-from jointwear.study.io import strict, write_json  # noqa: E402
+from jointwear.study.io import file_labels, strict, write_json  # noqa: E402
 from jointwear.study.reliability import study_context  # noqa: E402
 from jointwear.wear import WearSettings, wear_history  # noqa: E402
 
@@ -55,6 +55,20 @@ def test_wear_summary_save_and_load(tmp_path):
     force = np.asarray(s.profile["contact_force_mean_N"], dtype=float)
     assert np.isnan(force).any()
     np.testing.assert_array_equal(np.asarray(back.profile["contact_force_mean_N"]), force)
+
+
+def test_several_joints_write_their_files_under_their_names(tmp_path):
+    """wear_profile_<joint>.csv and the rest, as orbit_<joint>.png: a name made safe for a file name, and one
+    label two names would share told apart by position."""
+    r = wear_history(FakeModel(n_joints=2), WearSettings(n_grid=360), 20_000, simulate=fake_simulate)
+    s = WearSummary.from_history(r, allowances_m={"joint0": 3e-5, "joint1": 3e-5})
+    first = s.joints[0]["name"]
+    s.joints[1]["name"] = "crank pin/rod"
+    s.save(tmp_path, figures=False)
+    names = {p.name for p in tmp_path.glob("*.csv")}
+    for stem in ("wear_profile", "wear_history", "wear_journal_profile"):
+        assert {f"{stem}_{first}.csv", f"{stem}_crank_pin_rod.csv"} <= names and f"{stem}.csv" not in names
+    assert file_labels(["A", "A B", "A/B", ""]) == ["A", "A_B_1", "A_B_2", "_"]
 
 
 def test_json_is_strict(tmp_path):

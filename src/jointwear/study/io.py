@@ -7,6 +7,8 @@ import datetime as _dt
 import json
 import math
 import platform
+import re
+from collections import Counter
 from collections.abc import Mapping, Sequence
 from functools import lru_cache
 from pathlib import Path
@@ -45,6 +47,14 @@ def read_json(path: Path) -> dict:
     if not isinstance(obj, dict):
         raise ValueError(f"{path}: expected a JSON object")
     return obj
+
+
+def file_labels(names: Sequence[str]) -> list[str]:
+    """Each name as part of a file name: characters other than letters, digits, '.', '-' and '_' become '_' (a joint
+    named 'crank pin/rod' -> 'crank_pin_rod'); where two names give the same label, each gets its position appended."""
+    labels = [re.sub(r"[^A-Za-z0-9._-]", "_", str(name)) or "_" for name in names]
+    counts = Counter(labels)
+    return [f"{label}_{k}" if counts[label] > 1 else label for k, label in enumerate(labels)]
 
 
 def write_csv(path: Path, columns: Mapping[str, Sequence]) -> Path:

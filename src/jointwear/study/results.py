@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from jointwear.study.io import provenance, read_json, write_csv
+from jointwear.study.io import file_labels, provenance, read_json, write_csv
 from jointwear.study.reliability_results import ReliabilityResult, SensitivityResult, ValidationResult
 from jointwear.study.stage_result import StageResult, save_figure
 
@@ -150,13 +150,13 @@ class SimulationSummary(StageResult):
         if figures:
             from jointwear.report import figures as F
 
-            for tr in res.joints:
+            for tr, label in zip(res.joints, file_labels([tr.name for tr in res.joints])):
                 save_figure(F.orbit_figure(tr.eccentricity[:, 0] * 1e3, tr.eccentricity[:, 1] * 1e3,
                                         tr.clearance_used * 1e3, title=f"Journal centre orbit, joint {tr.name}"),
-                         folder / f"orbit_{tr.name}.png")
+                         folder / f"orbit_{label}.png")
                 save_figure(F.contact_force_figure(np.degrees(res.crank_angle), tr.contact_force,
                                                 mean_N=tr.mean_force, title=f"Contact force, joint {tr.name}"),
-                         folder / f"force_{tr.name}.png")
+                         folder / f"force_{label}.png")
         return path
 
 
@@ -339,12 +339,14 @@ class WearSummary(StageResult):
                 if j.get("bearing_wall_mm") is not None and j["max_wear_mm"] > j["bearing_wall_mm"]]
 
     def save(self, folder: Path | str, *, figures: bool = True) -> Path:
-        """Write ``wear.json``, the profile and history CSV tables of every joint and the figures."""
+        """Write ``wear.json``, the profile and history CSV tables of every joint and the figures (with several joints,
+        each joint's files end in its name: ``wear_profile_A.csv``)."""
         folder = Path(folder)
         res = self.history_result
         files: list[str] = []
+        labels = file_labels([joint["name"] for joint in self.joints])
         for k, joint in enumerate(self.joints):
-            sfx = "" if k == 0 else f"_{k}"
+            sfx = "" if len(self.joints) == 1 else f"_{labels[k]}"
             h = joint["history"]
             files.append(write_csv(folder / f"wear_history{sfx}.csv", {
                 "cycles": h["cycles"], "max_bearing_wear_mm": h["max_wear_mm"],
