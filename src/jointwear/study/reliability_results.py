@@ -252,9 +252,8 @@ class SensitivityResult(StageResult):
     ``reliability_low``/``reliability_high`` and their error estimates), the ranking overall and per group
     (``unresolved_pairs``: neighbours the surrogate's error does not separate), Sobol' indices of the wear
     and reliability derivatives. A row's ``dR_dmean`` / ``dR_dstd`` are per SI unit of the variable (its ``unit``, ""
-    for a plain number) and its
-    ``elasticity_mean`` is that of R, (mu / R) dR/dmu; ``derivatives`` holds those of Pf (``elasticity_mean``:
-    (mu / Pf) dPf/dmu)."""
+    for a plain number) and its ``elasticity_mean`` is that of R, (mu / R) dR/dmu; ``derivatives`` holds those of Pf
+    (``elasticity_mean``: (mu / Pf) dPf/dmu)."""
 
     FILE: ClassVar[str] = "sensitivity.json"
 
