@@ -155,8 +155,8 @@ def test_series_system_reliability_against_brute_force():
     # joint A wears faster at the mean point, so it governs most failures at the headline life
     assert res.governing_joint == "A"
     assert [j["name"] for j in res.joints] == ["A", "E"]
-    for j in res.joints:  # a joint alone is at least as reliable as the series system (to the surrogate's error)
-        assert np.all(np.asarray(j["reliability"]) >= res.reliability - 0.02)
+    for j in res.joints:  # a joint alone is at least as reliable as the series system
+        assert np.all(np.asarray(j["reliability"]) >= res.reliability)
 
 
 def test_flapping_wing_preset_states_the_papers_curve():
