@@ -122,6 +122,30 @@ def test_the_study_inputs_carry_their_si_units():
     assert ctx.names[-1] == "delta_0" and ctx.units[-1] == "m" and len(ctx.units) == len(ctx.names)
 
 
+def test_every_table_as_its_csv_file_and_as_a_data_frame(tmp_path):
+    """A stage's tables are what its CSV files hold, and each is a pandas DataFrame with the same columns and rows
+    (a notebook reads the result without the folder)."""
+    import pandas as pd
+
+    res = _reliability_result()
+    res.save(tmp_path, figures=False)
+    tables = res.tables()
+    assert list(tables) == ["reliability_curve", "life_table", "design_points"]
+    for stem in tables:
+        frame, csv = res.frame(stem), pd.read_csv(tmp_path / f"{stem}.csv")
+        assert list(frame.columns) == list(csv.columns) and len(frame) == len(csv)
+    assert res.frame().equals(res.frame("reliability_curve"))
+    np.testing.assert_allclose(res.frame("design_points")["a_Pa"], pd.read_csv(tmp_path / "design_points.csv")["a_Pa"])
+    with pytest.raises(KeyError, match="reliability_curve, life_table, design_points"):
+        res.frame("curve")
+    r = wear_history(FakeModel(n_joints=2), WearSettings(n_grid=360), 20_000, simulate=fake_simulate)
+    wear = WearSummary.from_history(r, allowances_m={"joint0": 3e-5, "joint1": 3e-5})
+    names = [j["name"] for j in wear.joints]
+    assert set(wear.tables()) == {f"{stem}_{n}" for stem in ("wear_history", "wear_journal_profile", "wear_profile")
+                                  for n in names}
+    assert len(wear.frame(f"wear_profile_{names[1]}")) == 360
+
+
 def test_load_results_of_an_empty_or_damaged_folder(tmp_path):
     assert load_results(tmp_path).stages == []
     (tmp_path / "reliability.json").write_text("{not json")

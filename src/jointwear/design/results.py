@@ -4,9 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import ClassVar
+from typing import Any, ClassVar
 
-from jointwear.study.io import write_csv
 from jointwear.study.stage_result import StageResult
 
 
@@ -125,17 +124,23 @@ class DesignResult(StageResult):
             text += "; its learning stopped on its budget of calls (design.verification_max_calls) before its tolerance"
         return text
 
-    def save(self, folder: Path | str, *, figures: bool = True) -> Path:
-        """Write ``design.json``, the front (``design_pareto.csv``), every candidate (``design_candidates.csv``)
-        and the front's figure."""
-        folder = Path(folder)
+    def tables(self) -> dict[str, dict[str, Any]]:
+        """``design_pareto`` (the front) and ``design_candidates`` (every candidate): each control's choice, the
+        cost, the life at the target reliability and the reliability at the target life with its error."""
         names = [c["name"] for c in self.controls]
-        for rows, name in ((self.pareto, "design_pareto.csv"), (self.candidates, "design_candidates.csv")):
+        out = {}
+        for rows, stem in ((self.pareto, "design_pareto"), (self.candidates, "design_candidates")):
             cols = {n: [r["choices"][n] for r in rows] for n in names}
             for key in ("cost", "life_at_target_cycles", "reliability_at_target_life", "reliability_error",
                         "outside_design_fraction"):
                 cols[key] = [r.get(key) for r in rows]
-            write_csv(folder / name, cols)
+            out[stem] = cols
+        return out
+
+    def save(self, folder: Path | str, *, figures: bool = True) -> Path:
+        """Write ``design.json``, the front and every candidate (:meth:`tables`) and the front's figure."""
+        folder = Path(folder)
+        self.write_tables(folder)
         path = self.write(folder)
         if figures and self.pareto:
             from jointwear.report.design_section import design_pareto_figure

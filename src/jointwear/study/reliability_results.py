@@ -11,7 +11,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from jointwear.study.io import provenance, write_csv
+from jointwear.study.io import provenance
 from jointwear.study.stage_result import StageResult, save_figure
 from jointwear.units import column_name
 
@@ -196,20 +196,20 @@ class ReliabilityResult(StageResult):
             provenance=data.get("provenance", {}),
             extra={k: v for k, v in data.items() if k not in _RELIABILITY_KEYS})
 
-    def save(self, folder: Path | str, *, figures: bool = True) -> Path:
-        """Write ``reliability.json``, the CSV tables (curve, life table, design points) and the figures."""
-        folder = Path(folder)
+    def tables(self) -> dict[str, dict[str, Any]]:
+        """``reliability_curve`` (R, Pf, its COV and error at every level; each joint's R and share with several),
+        ``life_table`` (the life at each target) and ``design_points`` (the true-model calls: inputs in SI, each
+        column named with its unit as a config key, ``Rj_m``; the life each gave)."""
         curve = {"cycles": np.asarray(self.cycles, dtype=float), "reliability": self.reliability, "pf": self.pf,
                  "pf_cov": self.pf_cov, "pf_error_estimate": self.pf_error}
         for j in self.joints if len(self.joints) > 1 else []:
             curve[f"reliability_{j['name']}"] = j["reliability"]
             curve[f"governing_share_{j['name']}"] = j["governing_share"]
-        write_csv(folder / "reliability_curve.csv", curve)
-        write_csv(folder / "life_table.csv", {
+        out = {"reliability_curve": curve, "life_table": {
             "target_reliability": [r["target"] for r in self.life_table],
             "life_cycles": [r["cycles"] for r in self.life_table],
             "life_hours": [r["hours"] for r in self.life_table],
-            "status": [r.get("status", "") for r in self.life_table]})
+            "status": [r.get("status", "") for r in self.life_table]}}
         x = np.atleast_2d(np.asarray(self.design_x, dtype=float))
         if x.size:
             names = self.names[:x.shape[1]]
@@ -218,7 +218,13 @@ class ReliabilityResult(StageResult):
                                     for k, (name, unit) in enumerate(zip(names, units))}
             if self.design_life is not None:
                 cols["life_cycles"] = self.design_life
-            write_csv(folder / "design_points.csv", cols)
+            out["design_points"] = cols
+        return out
+
+    def save(self, folder: Path | str, *, figures: bool = True) -> Path:
+        """Write ``reliability.json``, the CSV tables (:meth:`tables`) and the figures."""
+        folder = Path(folder)
+        self.write_tables(folder)
         path = self.write(folder)
         if figures:
             from jointwear.report import figures as F
@@ -296,12 +302,16 @@ class SensitivityResult(StageResult):
         data.setdefault("factors", [0.8, 1.2])
         return super().from_json(data)
 
-    def save(self, folder: Path | str, *, figures: bool = True) -> Path:
-        """Write ``sensitivity.json``, ``sensitivity.csv`` (one row per variable) and the figures."""
-        folder = Path(folder)
+    def tables(self) -> dict[str, dict[str, Any]]:
+        """``sensitivity``: one row per variable (its unit, the shifted reliabilities, derivatives, Sobol')."""
         keys = ["name", "label", "group", "unit", "reliability_low", "reliability_high", "reliability_low_error",
                 "reliability_high_error", "dR_dmean", "dR_dstd", "elasticity_mean", "S1", "ST"]
-        write_csv(folder / "sensitivity.csv", {k: [v.get(k) for v in self.variables] for k in keys})
+        return {"sensitivity": {k: [v.get(k) for v in self.variables] for k in keys}}
+
+    def save(self, folder: Path | str, *, figures: bool = True) -> Path:
+        """Write ``sensitivity.json``, ``sensitivity.csv`` (:meth:`tables`) and the figures."""
+        folder = Path(folder)
+        self.write_tables(folder)
         path = self.write(folder)
         if figures:
             from jointwear.report import figures as F
@@ -364,18 +374,24 @@ class ValidationResult(StageResult):
     def all_agree(self) -> bool:
         return bool(np.all(self.agreement))
 
-    def save(self, folder: Path | str, *, figures: bool = True) -> Path:
-        """Write ``validation.json``, ``validation.csv``, ``cross_validation.csv`` and the figures."""
-        folder = Path(folder)
-        write_csv(folder / "validation.csv", {
+    def tables(self) -> dict[str, dict[str, Any]]:
+        """``validation`` (the direct Monte Carlo against the surrogate at every level) and, when computed,
+        ``cross_validation`` (leave-one-out log lives of the design points)."""
+        out = {"validation": {
             "cycles": self.cycles, "reliability_mc": self.reliability_mc, "ci_low": self.ci_low,
             "ci_high": self.ci_high, "reliability_surrogate": self.reliability_surrogate,
-            "surrogate_error": self.surrogate_error, "agreement": self.agreement})
+            "surrogate_error": self.surrogate_error, "agreement": self.agreement}}
         cv = self.cross_validation
         if cv.get("log_life_true"):
-            write_csv(folder / "cross_validation.csv", {
-                "log_life_true": cv["log_life_true"], "log_life_loo": cv["log_life_loo"],
-                "log_life_loo_sd": cv["log_life_loo_sd"]})
+            out["cross_validation"] = {"log_life_true": cv["log_life_true"], "log_life_loo": cv["log_life_loo"],
+                                       "log_life_loo_sd": cv["log_life_loo_sd"]}
+        return out
+
+    def save(self, folder: Path | str, *, figures: bool = True) -> Path:
+        """Write ``validation.json``, the CSV tables (:meth:`tables`) and the figures."""
+        folder = Path(folder)
+        self.write_tables(folder)
+        cv = self.cross_validation
         path = self.write(folder)
         if figures:
             from jointwear.report import figures as F

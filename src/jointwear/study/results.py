@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from jointwear.study.io import file_labels, provenance, read_json, write_csv
+from jointwear.study.io import file_labels, provenance, read_json
 from jointwear.study.reliability_results import ReliabilityResult, SensitivityResult, ValidationResult
 from jointwear.study.stage_result import StageResult, save_figure
 
@@ -126,12 +126,17 @@ class SimulationSummary(StageResult):
             contact_fraction=first.get("contact_fraction"), impacts_per_cycle=first.get("impacts_per_cycle"),
             provenance=provenance(), trace=res)
 
+    def tables(self) -> dict[str, dict[str, Any]]:
+        """``simulate_joints``: one row per clearance joint (forces, contact, penetration, whirl)."""
+        keys = [k for k in (self.joints[0] if self.joints else {}) if k not in ("bearing_body", "journal_body")]
+        return {"simulate_joints": {k: [j[k] for j in self.joints] for k in keys}}
+
     def save(self, folder: Path | str, *, figures: bool = True) -> Path:
-        """Write ``simulate.json``, ``simulate_joints.csv``, ``simulate.npz`` (series) and the figures."""
+        """Write ``simulate.json``, ``simulate_joints.csv`` (:meth:`tables`), ``simulate.npz`` (series) and the
+        figures."""
         folder = Path(folder)
         path = self.write(folder)
-        keys = [k for k in (self.joints[0] if self.joints else {}) if k not in ("bearing_body", "journal_body")]
-        write_csv(folder / "simulate_joints.csv", {k: [j[k] for j in self.joints] for k in keys})
+        self.write_tables(folder)
         res = self.trace
         if res is None:
             return path
@@ -338,23 +343,25 @@ class WearSummary(StageResult):
                 for j in self.joints
                 if j.get("bearing_wall_mm") is not None and j["max_wear_mm"] > j["bearing_wall_mm"]]
 
-    def save(self, folder: Path | str, *, figures: bool = True) -> Path:
-        """Write ``wear.json``, the profile and history CSV tables of every joint and the figures (with several joints,
-        each joint's files end in its name: ``wear_profile_A.csv``)."""
-        folder = Path(folder)
+    def _suffixes(self) -> list[str]:
+        """Each joint's file-name suffix: none for a single joint, else its name made safe for a file name."""
+        if len(self.joints) == 1:
+            return [""]
+        return [f"_{label}" for label in file_labels([joint["name"] for joint in self.joints])]
+
+    def tables(self) -> dict[str, dict[str, Any]]:
+        """Per joint: ``wear_history`` (the maximum depths and the clearance growth against cycles),
+        ``wear_journal_profile`` and ``wear_profile`` (depth and the per-cycle contact quantities round the bearing);
+        with several joints each name ends in the joint's (``wear_profile_A``)."""
         res = self.history_result
-        files: list[str] = []
-        labels = file_labels([joint["name"] for joint in self.joints])
-        for k, joint in enumerate(self.joints):
-            sfx = "" if len(self.joints) == 1 else f"_{labels[k]}"
+        out: dict[str, dict[str, Any]] = {}
+        for k, (joint, sfx) in enumerate(zip(self.joints, self._suffixes())):
             h = joint["history"]
-            files.append(write_csv(folder / f"wear_history{sfx}.csv", {
+            out[f"wear_history{sfx}"] = {
                 "cycles": h["cycles"], "max_bearing_wear_mm": h["max_wear_mm"],
-                "max_journal_wear_mm": h["max_journal_wear_mm"], "clearance_growth_mm": h["clearance_growth_mm"],
-            }).name)
+                "max_journal_wear_mm": h["max_journal_wear_mm"], "clearance_growth_mm": h["clearance_growth_mm"]}
             jp = joint["journal"]["profile"]
-            files.append(write_csv(folder / f"wear_journal_profile{sfx}.csv",
-                                   {"angle_deg": jp["angle_deg"], "journal_depth_mm": jp["depth_mm"]}).name)
+            out[f"wear_journal_profile{sfx}"] = {"angle_deg": jp["angle_deg"], "journal_depth_mm": jp["depth_mm"]}
             prof = joint["profile"]
             cols = {"angle_deg": prof["angle_deg"], "bearing_depth_mm": prof["depth_mm"],
                     **{key: prof[key] for key in _PANEL_KEYS if key in prof}}
@@ -364,10 +371,19 @@ class WearSummary(StageResult):
                 cols.update({"body_angle_deg": np.degrees(jw.theta[o]),
                              "contact_time_s_per_cycle": jw.diagnostics.contact_time[o],
                              "depth_rate_mm_per_cycle": jw.diagnostics.bearing[o] * 1e3})
-            files.append(write_csv(folder / f"wear_profile{sfx}.csv", cols).name)
-            if figures:
-                from jointwear.report import figures as F
+            out[f"wear_profile{sfx}"] = cols
+        return out
 
+    def save(self, folder: Path | str, *, figures: bool = True) -> Path:
+        """Write ``wear.json``, the CSV tables of every joint (:meth:`tables`) and the figures (with several joints,
+        each joint's files end in its name: ``wear_profile_A.csv``)."""
+        folder = Path(folder)
+        files = self.write_tables(folder)
+        if figures:
+            from jointwear.report import figures as F
+
+            for joint, sfx in zip(self.joints, self._suffixes()):
+                h, prof = joint["history"], joint["profile"]
                 save_figure(F.wear_polar_figure(prof["angle_deg"], prof["depth_mm"],
                                              radius_mm=joint.get("bearing_radius_mm"), peaks=joint["peaks"],
                                              cycles=self.cycles, title=f"Worn bearing, joint {joint['name']}"),

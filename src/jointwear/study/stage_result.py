@@ -9,7 +9,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from jointwear.study.io import provenance, read_json, write_json
+from jointwear.study.io import provenance, read_json, write_csv, write_json
 
 __all__ = ["StageResult", "same_value", "save_figure", "short_repr"]
 
@@ -124,6 +124,26 @@ class StageResult:
             return cls.load(folder)
         except (OSError, ValueError, KeyError, TypeError):
             return None
+
+    def tables(self) -> dict[str, dict[str, Any]]:
+        """The stage's tables by file stem (``save`` writes each as ``<stem>.csv``): equal-length columns by name,
+        units in the names."""
+        return {}
+
+    def frame(self, table: str | None = None):
+        """One of :meth:`tables` as a pandas DataFrame (the first when ``table`` is None), as its CSV file holds it."""
+        import pandas as pd
+
+        tables = self.tables()
+        if table is None and tables:
+            table = next(iter(tables))
+        if table not in tables:
+            raise KeyError(f"{type(self).__name__} has no table {table!r}; its tables: {', '.join(tables) or 'none'}")
+        return pd.DataFrame({name: np.asarray(column) for name, column in tables[table].items()})
+
+    def write_tables(self, folder: Path | str) -> list[str]:
+        """Write every table as ``<stem>.csv`` in ``folder``; the file names."""
+        return [write_csv(Path(folder) / f"{stem}.csv", columns).name for stem, columns in self.tables().items()]
 
     def write(self, folder: Path | str) -> Path:
         payload = self.to_json()
