@@ -200,7 +200,7 @@ class ReliabilityResult(StageResult):
         """``reliability_curve`` (R, Pf, its COV and error at every level; each joint's R and share with several),
         ``life_table`` (the life at each target) and ``design_points`` (the true-model calls: inputs in SI, each
         column named with its unit as a config key, ``Rj_m``; the life each gave)."""
-        curve = {"cycles": np.asarray(self.cycles, dtype=float), "reliability": self.reliability, "pf": self.pf,
+        curve = {"cycles": np.asarray(self.cycles, dtype=np.int64), "reliability": self.reliability, "pf": self.pf,
                  "pf_cov": self.pf_cov, "pf_error_estimate": self.pf_error}
         for j in self.joints if len(self.joints) > 1 else []:
             curve[f"reliability_{j['name']}"] = j["reliability"]
