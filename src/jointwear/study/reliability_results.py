@@ -24,11 +24,13 @@ class ReliabilityResult(StageResult):
     """The R(N) curve, the life at each target reliability and the wear distributions of a study.
 
     Arrays over the curve's ``cycles``: ``reliability``, ``pf``, ``pf_cov`` (coefficient of variation of the
-    Monte Carlo estimate of Pf on the surrogate), ``pf_error`` (the surrogate's own absolute error estimate),
-    ``below_floor`` (levels whose COV need not meet the target). ``life_table``: [{``target``, ``cycles``,
-    ``hours``, ``status``}]: the life is None where it lies outside the curve, and ``status`` says on which side
-    ('in_curve', 'beyond_curve': longer than the curve, 'before_curve': shorter than its first level). ``joints``: each judged joint's
-    allowance and, with several, its own R(N) and its share of the system's failures (``governing_share``).
+    Monte Carlo estimate of Pf on the surrogate), ``pf_error`` (the surrogate's own absolute error estimate;
+    ``pf_error_estimate`` in reliability.json and the CSV), ``below_floor`` (levels whose COV need not meet the
+    target; ``cov_waived_below_pf_floor`` in the JSON). ``life_cycles`` / ``life_hours``: the life at the first
+    target (``life_at_target`` in the JSON). ``life_table``: [{``target``, ``cycles``, ``hours``, ``status``}]: the
+    life is None where it lies outside the curve, and ``status`` says on which side ('in_curve', 'beyond_curve':
+    longer than the curve, 'before_curve': shorter than its first level). ``joints``: each judged joint's allowance
+    and, with several, its own R(N) and its share of the system's failures (``governing_share``).
 
     Units: ``design_x`` are the true-model inputs in SI (columns in the order of ``names``, units in ``units``: a
     hardness in Pa, "" for a plain number),
