@@ -75,10 +75,9 @@ def rhs_cartesian_row(t, Y, dy, nb, winv, fext, dpar, jint, jpar, cint, cpar, pr
                       kin, phi_, phid, rest, jac, smat, lam, f, cout):
     """dy[0] = f(t, Y[0]) of the Cartesian kernel (kernel.rhs), for the loop's evaluations outside the Newton stages
     (the Jacobian's columns, the error re-estimate, the accepted point). Called there, not inlined: every inlined copy
-    of a right-hand side is compiled again (the four-bar loop compiled in 66 s with four copies, 28 s with one), and
-    the stages, inlined, take most evaluations (three per Newton iteration against one per accepted step). The call
-    costs the four-bar's cheap evaluation ~10 % per cycle, the six-bar's nothing measurable
-    (benchmarks/results/radau.json)."""
+    of a right-hand side is compiled again (benchmarks/results/compile.json), and the stages, inlined, take most
+    evaluations (three per Newton iteration against one per accepted step). The call weighs on the four-bar's cheap
+    evaluation per cycle, not on the six-bar's (benchmarks/results/radau.json)."""
     rhs(t, Y[0], dy, 0, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
         kin, phi_, phid, rest, jac, smat, lam, f, cout)
 
