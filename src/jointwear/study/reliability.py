@@ -324,8 +324,7 @@ def _joint_breakdown(ctx: StudyContext, engine, design_x: np.ndarray, pop: np.nd
     failures at every level, from a Kriging of its log life fitted on the final design (no learning).
 
     A joint alone is at least as reliable as the series system; its own Kriging, not refined by the learning, can
-    read lower than the system's R within its error (0.0016 lower against an error of ~0.005 on the six-bar), so a
-    joint's R is reported no lower than the system's."""
+    read lower than the system's R within its error, so a joint's R is reported no lower than the system's."""
     limit = ctx.limit_state
     rows = [{"name": n, "allowance_mm": a * 1e3} for n, a in zip(limit.names, limit.allowances)]
     if len(limit.joints) == 1:
