@@ -12,12 +12,12 @@ try:
 except PackageNotFoundError:  # running from a source tree that is not installed
     __version__ = "0+unknown"
 
-__all__ = ["Study", "load_results", "load_config", "__version__"]
+__all__ = ["Study", "load_results", "load_config", "compare_studies", "__version__"]
 
 
 def __getattr__(name: str):
     # the study pulls in numba and the reliability engine: import it on first use, not with the package
-    if name in ("Study", "load_results"):
+    if name in ("Study", "load_results", "compare_studies"):
         from jointwear import study
 
         return getattr(study, name)

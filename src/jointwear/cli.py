@@ -190,6 +190,25 @@ def run(config, workers, scheduler, resume, overwrite, out):
 
 
 @main.command()
+@click.argument("directories", nargs=-1, required=True, type=click.Path(path_type=Path))
+@click.option("--target", type=click.FloatRange(min=0.0, max=1.0, min_open=True, max_open=True), default=None,
+              help="Target reliability (default: the first study's first target).")
+@click.option("--label", "labels", multiple=True,
+              help="A name for each study, in order (repeat the option; default: the studies' names).")
+@click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
+              help="Also write comparison.json, its CSV tables, comparison.md and the figure here.")
+def compare(directories, target, labels, out):
+    """Compare finished studies (their results folders; the first is the baseline): the life at the target with
+    its 95 % interval, whether it differs beyond the errors, the nominal wear and the settings that differ."""
+    from jointwear.study import compare_studies
+
+    result = compare_studies(list(directories), target=target, labels=list(labels) or None)
+    click.echo(result.markdown())
+    if out is not None:
+        say(f"compare: {result.save(out)}")
+
+
+@main.command()
 @click.argument("config", required=True)
 def check(config):
     """Check CONFIG whole (every section and cross-section rule, the nominal mechanism runs) and print every

@@ -87,7 +87,7 @@ SECTION_CASES = [
 ]
 
 CONFIG_COMMANDS = ["simulate", "wear", "reliability", "sensitivity", "validate", "run", "check", "design"]
-ALL_COMMANDS = [*CONFIG_COMMANDS, "report", "presets"]
+ALL_COMMANDS = [*CONFIG_COMMANDS, "report", "presets", "compare"]
 
 
 def run_cli(argv, capsys):
@@ -155,6 +155,8 @@ ARGUMENT_CASES = [
     ("report", ["{tmp}/nothing_here"], "nothing_here"),
     ("report", [], "directory"),
     ("presets", ["extra"], "extra"),
+    ("compare", ["{tmp}/nothing_here", "{tmp}/nor_here"], "nothing_here"),
+    ("compare", ["{tmp}/a", "{tmp}/b", "--target", "1.5"], "--target"),
     ("simulate", ["{tmp}/missing.toml"], "missing.toml"),
 ]
 

@@ -17,7 +17,13 @@ from jointwear.config import config_from_dict, load_config
 from jointwear.schema import ConfigError
 from jointwear.study import LimitState, limit_state_from_config, population, run_reliability, study_context
 from jointwear.study.checks import config_problems
-from jointwear.study.limit_state import life_from_history, limit_state_problems
+from jointwear.study.limit_state import (
+    curve_half_width,
+    life_at,
+    life_from_history,
+    life_interval,
+    limit_state_problems,
+)
 
 SIX = "watt_six_bar_two_clearances"
 
@@ -142,6 +148,7 @@ def assert_series_pf_matches_brute_force(res, x):
         # tolerance (0.002) and 3 standard errors of the 1e6-sample reference
         tol = max(0.03 * pf_ref[k], 2 * res.pf_cov[k] * res.pf[k]) + 0.002 + 3 * np.sqrt(pf_ref[k] / 1e6)
         assert abs(res.pf[k] - pf_ref[k]) < tol, (res.cycles[k], res.pf[k], pf_ref[k])
+    return pf_ref
 
 
 def test_series_system_reliability_against_brute_force():
@@ -150,8 +157,14 @@ def test_series_system_reliability_against_brute_force():
     ctx = study_context(cfg, lambda call: compute.Evaluator(TwoJointWear(call.cycles), None, None,
                                                             n_outputs=call.n_outputs))
     res = run_reliability(ctx)
-    assert_series_pf_matches_brute_force(res, population(ctx.marginals, 1_000_000, seed=3))
+    pf_ref = assert_series_pf_matches_brute_force(res, population(ctx.marginals, 1_000_000, seed=3))
     assert [row["target"] for row in res.life_table] == [0.9, 0.5]
+    # Each life has its interval. It need not hold the brute-force life here: on this kinked limit state (the
+    # min of two joints' lives) the learning stops after 12 calls with a Kriging variance too small near the
+    # kink, and the brute-force life lies ~1.5 half-widths away (docs/reliability.md, "How far to trust the life")
+    for row in res.life_table:
+        assert row["cycles_low"] < row["cycles"] < row["cycles_high"]
+    assert life_at(res.cycles, 1.0 - pf_ref, 0.9) > 0
     # joint A wears faster at the mean point, so it governs most failures at the headline life
     assert res.governing_joint == "A"
     assert [j["name"] for j in res.joints] == ["A", "E"]
@@ -216,3 +229,23 @@ def test_a_nominal_life_far_outside_the_curve_is_told_by_the_wear_stage(wear_per
     history = {"cycles": [50_000, 100_000], "max_wear_mm": [wear_per_100k_mm / 2, wear_per_100k_mm]}
     sentence = nominal_life_outside_curve(cfg, [{"name": "A", "history": history}])
     assert sentence == "" if words is None else words in sentence
+
+
+def test_life_interval_on_a_straight_curve_is_where_the_band_crosses():
+    # R(N) = 1 - N / 1e6 with a band of +-0.01: the band crosses R = 0.9 at N = 90,000 and 110,000 exactly
+    # (linear interpolation is exact on a straight line)
+    cycles = np.linspace(0.0, 2e5, 11)
+    rel = 1.0 - cycles / 1e6
+    low, high = life_interval(cycles, rel, np.full(11, 0.01), 0.9)
+    assert low == pytest.approx(9e4, rel=1e-12) and high == pytest.approx(1.1e5, rel=1e-12)
+    assert life_at(cycles, rel, 0.9) == pytest.approx(1e5, rel=1e-12)
+    # an end outside the curve is None: the upper band never falls to 0.79, the lower one is there at once
+    assert life_interval(cycles, rel, np.full(11, 0.02), 0.79)[1] is None
+    assert life_interval(cycles, rel, np.full(11, 0.02), 0.99)[0] is None
+
+
+def test_curve_half_width_adds_the_monte_carlo_and_the_surrogate_parts():
+    pf = np.array([0.0, 0.1, 0.5])
+    half = curve_half_width(pf, np.array([np.nan, 0.02, 0.01]), np.array([0.001, np.nan, 0.003]))
+    # no COV where Pf = 0 and no error where none was estimated: each counts as 0
+    np.testing.assert_allclose(half, [0.001, 1.96 * 0.02 * 0.1, 1.96 * 0.01 * 0.5 + 0.003], rtol=1e-15)

@@ -102,7 +102,14 @@ def test_reliability_result_round_trip_and_tables(tmp_path):
     assert back.life_table == res.life_table and back.governing_joint == "A"
     curve = (tmp_path / "reliability_curve.csv").read_text().splitlines()
     assert curve[0].split(",")[:3] == ["cycles", "reliability", "pf"] and len(curve) == 4
-    assert (tmp_path / "life_table.csv").read_text().splitlines()[0] == "target_reliability,life_cycles,life_hours,status"
+    life_rows = (tmp_path / "life_table.csv").read_text().splitlines()
+    assert life_rows[0] == "target_reliability,life_cycles,life_hours,status,life_cycles_low,life_cycles_high"
+    # the band R -/+ (1.96 COV Pf + error) is 0.99 -/+ 0.001 at 1e5 (the infinite COV counts as 0) and
+    # 0.8 -/+ (1.96 x 0.02 x 0.2 + 0.01) = 0.8 -/+ 0.01784 at 2e5: it crosses 0.9 where linear interpolation puts it
+    low, high = res.life_interval()
+    assert low == pytest.approx(1e5 + (0.989 - 0.9) / (0.989 - (0.8 - 0.01784)) * 1e5, rel=1e-12)
+    assert high == pytest.approx(1e5 + (0.991 - 0.9) / (0.991 - (0.8 + 0.01784)) * 1e5, rel=1e-12)
+    assert back.to_json()["life_at_target"]["cycles_low"] == pytest.approx(low, rel=1e-15)
     # each input column named as a config key with its SI unit, a plain number bare
     assert (tmp_path / "design_points.csv").read_text().splitlines()[0] == "a_Pa,b,life_cycles"
     assert back.units == ["Pa", ""]

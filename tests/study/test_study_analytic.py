@@ -51,6 +51,13 @@ def test_life_and_histograms_are_consistent(study):
     cfg, ctx, res, model = study
     life = life_at(res.cycles, res.reliability, cfg.reliability.target_reliability)
     assert life == res.life_cycles
+    # the life's 95 % interval (the band R -/+ (1.96 COV Pf + ESC error) crossing the target) holds the life of
+    # the brute-force curve read on the same levels: the interpolation between levels is the same on both sides
+    x = population(ctx.marginals, 1_000_000, seed=99)
+    pf_ref = np.mean(RATE * model.scale(x)[:, None] * res.cycles[None, :] > cfg.reliability.allowance, axis=0)
+    low, high = res.life_interval()
+    assert low <= life_at(res.cycles, 1.0 - pf_ref, cfg.reliability.target_reliability) <= high, (low, high)
+    assert res.life_table[0]["cycles_low"] == low and res.life_table[0]["cycles_high"] == high
     # Mean max wear from the surrogate vs the exact mean RATE * N * E[scale] (Monte Carlo, 1e6 samples).
     x = population(ctx.marginals, 1_000_000, seed=5)
     exact = RATE * model.scale(x).mean() * np.asarray(res.mean_max_wear_mm["cycles"]) * 1e3

@@ -15,7 +15,8 @@ from jointwear import compute
 from jointwear.config import load_config, updated
 from jointwear.study import ValidationResult, run_reliability, study_context
 from jointwear.study.io import strict
-from jointwear.study.validation import clopper_pearson, run_validation
+from jointwear.study.limit_state import life_at
+from jointwear.study.validation import clopper_pearson, life_check, run_validation
 
 
 def test_clopper_pearson_exact_values():
@@ -28,7 +29,7 @@ def test_clopper_pearson_exact_values():
 
 def test_validation_agrees_with_an_exact_model():
     cfg = updated(load_config(), {
-        "reliability.cycles_start": 360_000, "reliability.cycles_stop": 440_000, "reliability.cycles_step": 40_000,
+        "reliability.cycles_start": 320_000, "reliability.cycles_stop": 440_000, "reliability.cycles_step": 40_000,
         "reliability.histogram_cycles": [400_000], "reliability.n_mc": 20_000, "reliability.max_calls": 40,
         "reliability.noise": "none", "reliability.error_abs_tol": 0.002})
     ctx = study_context(cfg, lambda call: compute.Evaluator(
@@ -50,7 +51,31 @@ def test_validation_agrees_with_an_exact_model():
     assert val.all_agree, list(zip(val.cycles, val.reliability_mc, val.reliability_surrogate))
     for lo, r, hi in zip(val.ci_low, val.reliability_mc, val.ci_high):
         assert lo <= r <= hi
+    # the life on the true model's curve, with its interval, overlaps the surrogate's
+    (row,) = val.life_table
+    assert row["target"] == 0.9 and row["cycles_low"] <= row["cycles"] <= row["cycles_high"]
+    assert row["surrogate_cycles"] == rel.life_cycles and row["agree"]
     cv = val.cross_validation
     # the analytic log life is smooth (a sum of logs): its leave-one-out Q^2 is near 1
     assert cv["q2"] > 0.95 and cv["n_points"] == len(rel.design_x)
     assert np.isfinite(cv["log_life_loo"]).all()
+
+
+def test_life_check_reads_both_curves_and_says_when_their_intervals_miss():
+    class Surrogate:  # R(N) = 1 - N / 1e6 with a band of +-0.01: life 1e5, interval 9e4-1.1e5
+        cycles = np.linspace(0.0, 2e5, 11)
+        reliability = 1.0 - cycles / 1e6
+
+        def life_interval(self, target):
+            return life_at(self.cycles, self.reliability - 0.01, target), life_at(
+                self.cycles, self.reliability + 0.01, target)
+
+    sur = Surrogate()
+    # the true curve 0.02 lower (life 8e4) with exact bounds +-0.005: 7.5e4-8.5e4, no overlap with 9e4-1.1e5
+    r = sur.reliability - 0.02
+    row = life_check(sur.cycles, r, r - 0.005, r + 0.005, sur, 0.9)
+    assert row["cycles"] == pytest.approx(8e4, rel=1e-12) and row["cycles_low"] == pytest.approx(7.5e4, rel=1e-12)
+    assert row["cycles_high"] == pytest.approx(8.5e4, rel=1e-12) and row["surrogate_cycles"] == pytest.approx(1e5)
+    assert not row["agree"]
+    # bounds +-0.012 reach 9.2e4: the intervals overlap
+    assert life_check(sur.cycles, r, r - 0.012, r + 0.012, sur, 0.9)["agree"]

@@ -18,6 +18,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from .reliability_figures import (
+    comparison_figure,
     convergence_figure,
     cross_validation_figure,
     reliability_curve_figure,
@@ -54,6 +55,7 @@ __all__ = [
     "wear_panels_figure",
     "wear_history_figure",
     "reliability_curve_figure",
+    "comparison_figure",
     "wear_histograms_figure",
     "convergence_figure",
     "tornado_figure",

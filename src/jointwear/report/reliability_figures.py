@@ -9,9 +9,12 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from matplotlib.figure import Figure
 
+from jointwear.study.limit_state import curve_half_width
+from jointwear.study.reliability_results import interval_text
+
 from .style import (
-    CYCLES_LABEL,
     COLORS,
+    CYCLES_LABEL,
     LIMIT_COLOR,
     PAPER_COLOR,
     TARGET_COLOR,
@@ -26,8 +29,8 @@ from .style import (
     vline,
 )
 
-__all__ = ["reliability_curve_figure", "wear_histograms_figure", "convergence_figure", "tornado_figure",
-           "sobol_figure", "validation_figure", "cross_validation_figure"]
+__all__ = ["reliability_curve_figure", "comparison_figure", "wear_histograms_figure", "convergence_figure",
+           "tornado_figure", "sobol_figure", "validation_figure", "cross_validation_figure"]
 
 Array = Sequence[float] | np.ndarray
 
@@ -41,25 +44,23 @@ def reliability_curve_figure(
     pf_error: Array | None = None,
     target: float | None = None,
     life_cycles: float | None = None,
+    life_interval: tuple[float | None, float | None] | None = None,
     reference: Mapping[float, float] | None = None,
     reference_life: float | None = None,
     reference_label: str = "reference",
 ) -> Figure:
     """R(N) with a 95 % band, the Monte Carlo half-width 1.96 COV Pf plus the surrogate's error estimate
-    ``pf_error`` (absolute, in R) when given, the target line, the life at the target and, when given, a
+    ``pf_error`` (absolute, in R) when given, the target line, the life at the target with its 95 % interval
+    ``life_interval`` (cycles; an end that is None is drawn to the curve's end) and, when given, a
     cited reference's points ``reference`` {cycles: R} and life ``reference_life`` (cycles at the target),
     labelled ``reference_label``."""
     n = kilo_cycles(cycles)
     rel = require_array(reliability)
     fig, ax = figure()
     if pf_cov is not None:
-        cov = require_array(pf_cov)
-        cov = np.where(np.isfinite(cov), cov, 0.0)  # no COV where Pf = 0: a band of zero width
-        half = 1.96 * cov * (1.0 - rel)
-        label = "95 % band (COV of Pf)"
-        if pf_error is not None:
-            half = half + np.nan_to_num(require_array(pf_error))
-            label = "95 % band (COV of Pf + surrogate error)"
+        half = curve_half_width(1.0 - rel, require_array(pf_cov),
+                                None if pf_error is None else require_array(pf_error))
+        label = "95 % band (COV of Pf" + ("" if pf_error is None else " + surrogate error") + ")"
         ax.fill_between(n, np.clip(rel - half, 0, 1), np.clip(rel + half, 0, 1), color=COLORS[0], alpha=0.2,
                         lw=0, label=label)
     ax.plot(n, rel, color=COLORS[0], marker="o", ms=3, label="this study")
@@ -73,6 +74,11 @@ def reliability_curve_figure(
         vline(ax, life_cycles / 1e3, f"life {life_cycles:,.0f} cycles", color=TARGET_COLOR)
         if target is not None:
             ax.plot(life_cycles / 1e3, target, "D", color=TARGET_COLOR, ms=6, zorder=5)
+            if life_interval is not None and n.size:
+                low = n[0] if life_interval[0] is None else life_interval[0] / 1e3
+                high = n[-1] if life_interval[1] is None else life_interval[1] / 1e3
+                ax.plot([low, high], [target, target], color=TARGET_COLOR, lw=3, solid_capstyle="butt", zorder=4,
+                        label=f"life: {interval_text(*life_interval)}")
     if reference_life is not None and target is not None:
         ax.plot(reference_life / 1e3, target, "D", mfc="none", color=PAPER_COLOR, ms=7,
                 label=f"{reference_label}: life {reference_life:,.0f} cycles")
@@ -81,6 +87,42 @@ def reliability_curve_figure(
     ax.set_ylabel(axis_label("reliability R(N)", None))
     ax.legend(loc="lower left")
     ax.set_title("Reliability against cycles")
+    return fig
+
+
+def comparison_figure(
+    curves: Sequence[Mapping],
+    labels: Sequence[str],
+    *,
+    target: float | None = None,
+    lives: Sequence[tuple[float | None, float | None, float | None]] | None = None,
+) -> Figure:
+    """Several studies' R(N) on one axis: each curve (``cycles``, ``reliability``, ``half_width``: its 95 %
+    half-width) with its band, the target line and, from ``lives`` (life, low, high per study, cycles; None where
+    outside the curve), each life with its 95 % interval."""
+    fig, ax = figure()
+    for k, (curve, label) in enumerate(zip(curves, labels)):
+        color = COLORS[k % len(COLORS)]
+        n = kilo_cycles(curve["cycles"])
+        rel = require_array(curve["reliability"])
+        half = np.nan_to_num(require_array(curve["half_width"]))
+        ax.fill_between(n, np.clip(rel - half, 0, 1), np.clip(rel + half, 0, 1), color=color, alpha=0.2, lw=0)
+        ax.plot(n, rel, color=color, marker="o", ms=3, label=label)
+        life, low, high = lives[k] if lives is not None else (None, None, None)
+        if target is not None and life is not None and n.size:
+            lo = n[0] if low is None else low / 1e3
+            hi = n[-1] if high is None else high / 1e3
+            ax.plot([lo, hi], [target, target], color=color, lw=3, solid_capstyle="butt", zorder=4)
+            ax.plot(life / 1e3, target, "D", color=color, ms=6, zorder=5)
+    if target is not None:
+        hline(ax, target, f"target R = {target:g}", color=TARGET_COLOR)
+    ax.set_ylim(-0.02, 1.02)
+    ax.set_xlabel(CYCLES_LABEL)
+    ax.set_ylabel(axis_label("reliability R(N)", None))
+    ax.fill_between([], [], [], color=COLORS[-1], alpha=0.4, lw=0,
+                    label="95 % bands (Monte Carlo + surrogate error); bars: the lives' 95 % intervals")
+    ax.legend(loc="lower left")
+    ax.set_title("Reliability against cycles: the studies compared")
     return fig
 
 

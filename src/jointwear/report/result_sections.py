@@ -6,6 +6,8 @@ from __future__ import annotations
 import datetime as _dt
 from collections.abc import Mapping, Sequence
 
+from jointwear.study.reliability_results import interval_cells, interval_text
+
 from . import figures as F
 from .checks import (
     FAIL,
@@ -48,9 +50,11 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
     life, note = life_with_note(rel, rel.target)
     cov = rel.largest_cov()
     worst = rel.largest_error()
+    interval = rel.life_interval()
+    life_notes = (([] if rel.life_hours is None else [f"{rel.life_hours:,.2f} h"])
+                  + ([] if life is None or note else [interval_text(*interval)]))
     parts = [cards([
-        (f"life at R = {rel.target:g}", _life_text(life, note),
-         None if rel.life_hours is None else f"{rel.life_hours:,.2f} h"),
+        (f"life at R = {rel.target:g}", _life_text(life, note), "; ".join(life_notes) or None),
         ("true-model calls", format_number(rel.model_calls), "for the whole curve"),
         ("Monte Carlo population", format_number(rel.n_mc), "n_mc"),
         ("learning converged", "yes" if rel.converged else "NO", None if rel.converged else (
@@ -68,8 +72,9 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
     if missed:
         parts.append(f'<p class="warn"><strong>The curve misses the life.</strong> {missed}</p>')
     if len(rel.life_table) > 1:
-        parts.append(table(["target R", "life (cycles)", "life (h)", "where"], [
+        parts.append(table(["target R", "life (cycles)", "95 % interval (cycles)", "life (h)", "where"], [
             (format_number(r["target"], 6), format_number(r["cycles"]),
+             interval_cells(*rel.life_interval(float(r["target"]))),
              "\u2014" if r.get("hours") is None else f"{r['hours']:,.2f}",
              str(r.get("status", "")).replace("_", " ")) for r in rel.life_table], cls="kv"))
     if len(rel.joints) > 1:
@@ -83,7 +88,8 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
     parts.append('<div class="grid">')
     parts.append(figs.draw(
         lambda: F.reliability_curve_figure(rel.cycles, rel.reliability, pf_cov=rel.pf_cov, pf_error=rel.pf_error,
-                                           target=rel.target, life_cycles=life, reference=ref_r or None,
+                                           target=rel.target, life_cycles=life,
+                                           life_interval=None if note else interval, reference=ref_r or None,
                                            reference_life=ref_life, reference_label=label),
         "Reliability R(N) with a 95 % band (the Monte Carlo half-width from the COV of Pf plus the surrogate's error "
         "estimate, as the validation combines them), the target and the life"
@@ -279,6 +285,16 @@ def archard_check_part(sens) -> str:
     return "".join(parts)
 
 
+def _validated_life_card(row: Mapping) -> tuple[str, str, str]:
+    """The life at the headline target on the true model's curve, beside the surrogate's."""
+    value = "\u2014" if row.get("cycles") is None else f"{row['cycles']:,.0f} cycles"
+    surrogate = ("\u2014" if row.get("surrogate_cycles") is None else f"{row['surrogate_cycles']:,.0f}")
+    note = (f"true model, {interval_text(row.get('cycles_low'), row.get('cycles_high'))}; surrogate {surrogate}, "
+            f"{interval_text(row.get('surrogate_cycles_low'), row.get('surrogate_cycles_high'))}"
+            + ("" if row.get("agree", True) else ": the intervals do not overlap"))
+    return (f"life at R = {row['target']:g}", value, note)
+
+
 def validation_section(out: StudyOutputs, figs: Figures) -> str:
     """The surrogate's R(N) against the true model sampled directly, and its cross-validation."""
     val = out.results.validation
@@ -294,6 +310,7 @@ def validation_section(out: StudyOutputs, figs: Figures) -> str:
          "differences from the surrogate cannot be seen with these samples"),
         ("cross-validation Q\u00b2", "-" if q2 is None else f"{q2:.3f}",
          f"leave-one-out over {cv.get('n_points', 0)} design points"),
+        *[_validated_life_card(row) for row in val.life_table[:1]],
     ])
     rows = [[f"{c:,}", format_number(r), f"[{format_number(lo)}, {format_number(hi)}]", format_number(rs),
              format_number(err), "yes" if a else "NO"]

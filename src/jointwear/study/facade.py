@@ -39,6 +39,7 @@ from jointwear.study.limit_state import (
     nominal_life_outside_curve,
 )
 from jointwear.study.model_call import WearModelCall
+from jointwear.study.reliability_results import interval_text
 from jointwear.study.results import (
     ReliabilityResult,
     SensitivityResult,
@@ -457,8 +458,15 @@ class Study:
             result = run_validation(ctx, self._learned(ctx), n_samples)
         result.save(self.out)
         agree = sum(result.agreement)
+        life = ""
+        if result.life_table and result.life_table[0]["cycles"] is not None:
+            row = result.life_table[0]
+            life = (f", life at R = {row['target']:g}: true model {row['cycles']:,.0f} cycles "
+                    f"({interval_text(row['cycles_low'], row['cycles_high'])}), surrogate "
+                    f"{'-' if row['surrogate_cycles'] is None else format(row['surrogate_cycles'], ',.0f')}"
+                    f"{'' if row['agree'] else ' (the intervals do not overlap)'}")
         self.echo(f"validate: {result.n_samples:,} true-model samples ({result.model_calls:,} new calls), "
-                  f"agreement at {agree} of {len(result.agreement)} levels, cross-validation Q2 = "
+                  f"agreement at {agree} of {len(result.agreement)} levels{life}, cross-validation Q2 = "
                   f"{result.cross_validation.get('q2', float('nan')):.3f} -> {self.out / result.FILE}")
         self._refresh_report()
         return result
@@ -755,9 +763,12 @@ def wear_line(result: WearSummary) -> str:
 
 
 def life_text(row: dict) -> str:
-    """'377,433 cycles = 13.11 h', or where the life lies when it is outside the curve."""
+    """'377,433 cycles = 13.11 h (95 % interval 374,429-380,517 cycles)', or where the life lies when it is
+    outside the curve."""
     if row["cycles"] is not None:
-        return f"{row['cycles']:,.0f} cycles = {row['hours']:.2f} h"
+        interval = (f" ({interval_text(row['cycles_low'], row['cycles_high'])})"
+                    if "cycles_low" in row and "cycles_high" in row else "")
+        return f"{row['cycles']:,.0f} cycles = {row['hours']:.2f} h{interval}"
     return {"beyond_curve": "beyond the curve's last level (extend cycles_stop)",
             "before_curve": "before the curve's first level (lower cycles_start)"}.get(row.get("status"), "not reached")
 

@@ -174,6 +174,29 @@ def life_at(cycles, reliability, target: float) -> float | None:
     return float(n[i - 1] + (r0 - target) * (n[i] - n[i - 1]) / (r0 - r1))
 
 
+def curve_half_width(pf, pf_cov, pf_error=None) -> np.ndarray:
+    """95 % half-width of an R(N) estimate at each level: the Monte Carlo part 1.96 COV(Pf) Pf plus the
+    surrogate's own absolute error estimate ``pf_error`` (each taken as 0 where it is undefined, e.g. the COV
+    where Pf = 0). The band the report draws and the validation compares with."""
+    pf = np.asarray(pf, dtype=float)
+    cov = np.asarray(pf_cov, dtype=float)
+    half = 1.96 * np.where(np.isfinite(cov), cov, 0.0) * pf
+    if pf_error is not None:
+        half = half + np.nan_to_num(np.asarray(pf_error, dtype=float))
+    return half
+
+
+def life_interval(cycles, reliability, half_width, target: float) -> tuple[float | None, float | None]:
+    """The 95 % interval of the life at ``target``: where the band R -/+ ``half_width`` crosses the target
+    (linear interpolation, as :func:`life_at`). The true curve lies in the band at each level, so its crossing
+    lies between the band's crossings. A side is None where its crossing is not inside the curve: the low end
+    when R - half is at or below the target already at the first level, the high end when R + half stays above it
+    to the last."""
+    r = np.asarray(reliability, dtype=float)
+    half = np.asarray(half_width, dtype=float)
+    return life_at(cycles, r - half, target), life_at(cycles, r + half, target)
+
+
 def life_status(reliability, target: float) -> str:
     """Where the life at ``target`` lies: 'in_curve', 'beyond_curve' (R stays above the target to the last
     level: the life is longer than the curve) or 'before_curve' (R is already at or below the target at the

@@ -21,7 +21,14 @@ import numpy as np
 
 from jointwear.config import StudyConfig, target_display_unit
 from jointwear.schema import ConfigError
-from jointwear.study.limit_state import LimitState, life_at, life_status, limit_state_from_config
+from jointwear.study.limit_state import (
+    LimitState,
+    curve_half_width,
+    life_at,
+    life_interval,
+    life_status,
+    limit_state_from_config,
+)
 from jointwear.study.model_call import WORN_AWAY_WEAR, WearModelCall
 from jointwear.study.results import ReliabilityResult
 
@@ -246,8 +253,13 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     reliability = 1.0 - pf
     targets = rel.targets
     lives = [life_at(cycles, reliability, t) for t in targets]
-    life_table = [{"target": t, "cycles": n, "hours": None if n is None else cycles_to_hours(n, ctx.config),
-                   "status": life_status(reliability, t)} for t, n in zip(targets, lives)]
+    pf_error = _absolute_error(engine.error_estimate, pf)
+    half = curve_half_width(pf, pf_cov, pf_error)
+    life_table = []
+    for t, n in zip(targets, lives):
+        low, high = life_interval(cycles, reliability, half, t)
+        life_table.append({"target": t, "cycles": n, "hours": None if n is None else cycles_to_hours(n, ctx.config),
+                           "status": life_status(reliability, t), "cycles_low": low, "cycles_high": high})
 
     # Wear distributions over the random inputs (paper Fig. 20), from the same life model as R(N), so that
     # P(wear > allowance at N) = 1 - R(N) up to Monte Carlo noise.
@@ -290,7 +302,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     return ReliabilityResult(
         cycles=cycles, reliability=reliability, pf=pf, pf_cov=pf_cov,
         below_floor=pf < rel.pf_floor, target=targets[0],
-        pf_error=_absolute_error(engine.error_estimate, pf),
+        pf_error=pf_error,
         life_cycles=lives[0], life_hours=life_table[0]["hours"], life_table=life_table,
         model_calls=int(engine.n_calls), failed_calls=int(engine.n_failed_calls), n_mc=n_mc,
         converged=bool(engine.converged), wall_seconds=time.perf_counter() - t0, names=ctx.names, units=ctx.units,

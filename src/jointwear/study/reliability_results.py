@@ -12,10 +12,28 @@ from typing import Any, ClassVar
 import numpy as np
 
 from jointwear.study.io import provenance
+from jointwear.study.limit_state import curve_half_width, life_interval
 from jointwear.study.stage_result import StageResult, save_figure
 from jointwear.units import column_name
 
-__all__ = ["ReliabilityResult", "SensitivityResult", "ValidationResult"]
+__all__ = ["ReliabilityResult", "SensitivityResult", "ValidationResult", "interval_cells", "interval_text"]
+
+
+def interval_text(low: float | None, high: float | None) -> str:
+    """'95 % interval 374,429-380,517 cycles'; an end outside the curve is said as such."""
+    if low is None and high is None:
+        return "95 % interval wider than the curve"
+    if low is None:
+        return f"95 % interval up to {high:,.0f} cycles (its low end before the curve)"
+    if high is None:
+        return f"95 % interval from {low:,.0f} cycles (its high end beyond the curve)"
+    return f"95 % interval {low:,.0f}-{high:,.0f} cycles"
+
+
+def interval_cells(low: float | None, high: float | None) -> str:
+    """'374,429 \u2013 380,517' for a table cell; an end outside the curve said as such."""
+    return (("before the curve" if low is None else f"{low:,.0f}") + " \u2013 "
+            + ("beyond the curve" if high is None else f"{high:,.0f}"))
 
 
 # ------------------------------------------------------------------------------------------------ reliability
@@ -27,10 +45,12 @@ class ReliabilityResult(StageResult):
     Monte Carlo estimate of Pf on the surrogate), ``pf_error`` (the surrogate's own absolute error estimate;
     ``pf_error_estimate`` in reliability.json and the CSV), ``below_floor`` (levels whose COV need not meet the
     target; ``cov_waived_below_pf_floor`` in the JSON). ``life_cycles`` / ``life_hours``: the life at the first
-    target (``life_at_target`` in the JSON). ``life_table``: [{``target``, ``cycles``, ``hours``, ``status``}]: the
-    life is None where it lies outside the curve, and ``status`` says on which side ('in_curve', 'beyond_curve':
-    longer than the curve, 'before_curve': shorter than its first level). ``joints``: each judged joint's allowance
-    and, with several, its own R(N) and its share of the system's failures (``governing_share``).
+    target (``life_at_target`` in the JSON). ``life_table``: [{``target``, ``cycles``, ``hours``, ``status``,
+    ``cycles_low``, ``cycles_high``}]: the life is None where it lies outside the curve, and ``status`` says on
+    which side ('in_curve', 'beyond_curve': longer than the curve, 'before_curve': shorter than its first level);
+    ``cycles_low`` / ``cycles_high`` bound its 95 % interval (:meth:`life_interval`; None on a side outside the
+    curve). ``joints``: each judged joint's allowance and, with several, its own R(N) and its share of the
+    system's failures (``governing_share``).
 
     Units: ``design_x`` are the true-model inputs in SI (columns in the order of ``names``, units in ``units``: a
     hardness in Pa, "" for a plain number),
@@ -102,6 +122,18 @@ class ReliabilityResult(StageResult):
                 "'A joint worn away'): a joint worn away has failed whatever the allowance, so their life ends where "
                 "their history stopped (within one step of the history's cycles)")
 
+    @property
+    def half_width(self) -> np.ndarray:
+        """The 95 % half-width of R at each level (:func:`~jointwear.study.limit_state.curve_half_width`)."""
+        return curve_half_width(self.pf, self.pf_cov, self.pf_error)
+
+    def life_interval(self, target: float | None = None) -> tuple[float | None, float | None]:
+        """The 95 % interval (cycles) of the life at ``target`` (default: the first target), where the band
+        R -/+ :attr:`half_width` crosses it (:func:`~jointwear.study.limit_state.life_interval`). It is the error
+        of the estimate of R(N) for this wear model, not the scatter of the wear model itself."""
+        return life_interval(self.cycles, self.reliability, self.half_width,
+                             self.target if target is None else target)
+
     def largest_error(self) -> tuple[float, float] | None:
         """(error, cycles): the surrogate's largest error estimate of R over the curve's levels whose COV counts
         (Pf above ``pf_floor``), and where it is; None when no level has an estimate."""
@@ -134,12 +166,14 @@ class ReliabilityResult(StageResult):
         return self.joints[int(np.argmax(shares))]["name"]
 
     def to_json(self) -> dict:
+        low, high = self.life_interval()
         return {
             "curve": {"cycles": np.asarray(self.cycles).tolist(), "reliability": np.asarray(self.reliability).tolist(),
                       "pf": np.asarray(self.pf).tolist(), "pf_cov": np.asarray(self.pf_cov).tolist(),
                       "pf_error_estimate": np.asarray(self.pf_error).tolist(),
                       "cov_waived_below_pf_floor": np.asarray(self.below_floor).tolist()},
-            "life_at_target": {"target": self.target, "cycles": self.life_cycles, "hours": self.life_hours},
+            "life_at_target": {"target": self.target, "cycles": self.life_cycles, "hours": self.life_hours,
+                               "cycles_low": low, "cycles_high": high},
             "life_table": self.life_table,
             "quantity": self.quantity,
             "joints": self.joints,
@@ -199,11 +233,12 @@ class ReliabilityResult(StageResult):
             extra={k: v for k, v in data.items() if k not in _RELIABILITY_KEYS})
 
     def tables(self) -> dict[str, dict[str, Any]]:
-        """``reliability_curve`` (R, Pf, its COV and error at every level; each joint's R and share with several),
-        ``life_table`` (the life at each target) and ``design_points`` (the true-model calls: inputs in SI, each
-        column named with its unit as a config key, ``Rj_m``; the life each gave)."""
+        """``reliability_curve`` (R, Pf, its COV and error and R's 95 % half-width at every level; each joint's R
+        and share with several), ``life_table`` (the life at each target and its 95 % interval) and
+        ``design_points`` (the true-model calls: inputs in SI, each column named with its unit as a config key,
+        ``Rj_m``; the life each gave)."""
         curve = {"cycles": np.asarray(self.cycles, dtype=np.int64), "reliability": self.reliability, "pf": self.pf,
-                 "pf_cov": self.pf_cov, "pf_error_estimate": self.pf_error}
+                 "pf_cov": self.pf_cov, "pf_error_estimate": self.pf_error, "half_width_95": self.half_width}
         for j in self.joints if len(self.joints) > 1 else []:
             curve[f"reliability_{j['name']}"] = j["reliability"]
             curve[f"governing_share_{j['name']}"] = j["governing_share"]
@@ -211,7 +246,9 @@ class ReliabilityResult(StageResult):
             "target_reliability": [r["target"] for r in self.life_table],
             "life_cycles": [r["cycles"] for r in self.life_table],
             "life_hours": [r["hours"] for r in self.life_table],
-            "status": [r.get("status", "") for r in self.life_table]}}
+            "status": [r.get("status", "") for r in self.life_table],
+            "life_cycles_low": [self.life_interval(r["target"])[0] for r in self.life_table],
+            "life_cycles_high": [self.life_interval(r["target"])[1] for r in self.life_table]}}
         x = np.atleast_2d(np.asarray(self.design_x, dtype=float))
         if x.size:
             names = self.names[:x.shape[1]]
@@ -231,8 +268,10 @@ class ReliabilityResult(StageResult):
         if figures:
             from jointwear.report import figures as F
 
-            save_figure(F.reliability_curve_figure(self.cycles, self.reliability, pf_cov=self.pf_cov, target=self.target,
-                                                life_cycles=self.life_cycles), folder / "reliability_curve.png")
+            save_figure(F.reliability_curve_figure(
+                self.cycles, self.reliability, pf_cov=self.pf_cov, pf_error=self.pf_error, target=self.target,
+                life_cycles=self.life_cycles, life_interval=None if self.life_cycles is None else self.life_interval()),
+                folder / "reliability_curve.png")
             h = self.histograms
             if h.get("cycles"):
                 limit = self.joints[0]["allowance_mm"] if self.joints else None
@@ -342,7 +381,10 @@ class ValidationResult(StageResult):
     error estimate (``surrogate_error``, absolute) and COV, and whether the two agree within their combined
     95 % half-widths (``agreement``). ``cross_validation``: leave-one-out predictions of the design points'
     log life against their true values, with Q^2. ``model_calls``: the true-model calls this run made (samples read
-    back from the evaluation store are not counted).
+    back from the evaluation store are not counted). ``life_table``: at each target of the study, the life read on
+    the true model's curve (``cycles``) with the interval where its exact 95 % bounds cross the target
+    (``cycles_low``, ``cycles_high``), the surrogate's life and interval (``surrogate_cycles``,
+    ``surrogate_cycles_low``, ``surrogate_cycles_high``) and whether the two intervals overlap (``agree``).
     """
 
     FILE: ClassVar[str] = "validation.json"
@@ -361,6 +403,7 @@ class ValidationResult(StageResult):
     failed_calls: int = 0
     seed: int | None = None
     cross_validation: dict = field(default_factory=dict)
+    life_table: list[dict] = field(default_factory=list)
     provenance: dict = field(default_factory=provenance)
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
 
@@ -377,12 +420,15 @@ class ValidationResult(StageResult):
         return bool(np.all(self.agreement))
 
     def tables(self) -> dict[str, dict[str, Any]]:
-        """``validation`` (the direct Monte Carlo against the surrogate at every level) and, when computed,
-        ``cross_validation`` (leave-one-out log lives of the design points)."""
+        """``validation`` (the direct Monte Carlo against the surrogate at every level), ``validation_life`` (the
+        life at each target on both curves, with their intervals) and, when computed, ``cross_validation``
+        (leave-one-out log lives of the design points)."""
         out = {"validation": {
             "cycles": self.cycles, "reliability_mc": self.reliability_mc, "ci_low": self.ci_low,
             "ci_high": self.ci_high, "reliability_surrogate": self.reliability_surrogate,
             "surrogate_error": self.surrogate_error, "agreement": self.agreement}}
+        if self.life_table:
+            out["validation_life"] = {key: [row.get(key) for row in self.life_table] for key in self.life_table[0]}
         cv = self.cross_validation
         if cv.get("log_life_true"):
             out["cross_validation"] = {"log_life_true": cv["log_life_true"], "log_life_loo": cv["log_life_loo"],

@@ -16,6 +16,7 @@ import time
 import numpy as np
 from scipy import stats
 
+from jointwear.study.limit_state import curve_half_width, life_at
 from jointwear.study.reliability import StudyContext
 from jointwear.study.results import ReliabilityResult, ValidationResult
 
@@ -75,6 +76,7 @@ def run_validation(ctx: StudyContext, reliability: ReliabilityResult, n_samples:
     r_mc, lo, hi, agree = [], [], [], []
     r_sur = np.asarray(reliability.reliability, dtype=float)
     pf_sur = 1.0 - r_sur
+    half_sur = curve_half_width(pf_sur, reliability.pf_cov, reliability.pf_error)
     for j in range(levels.size):
         c_lo, c_hi = clopper_pearson(int(k[j]), n_samples)
         # the 'fail' rule adds the infeasible mass exactly: Pf = p + (1 - p) Pf(feasible)
@@ -83,13 +85,28 @@ def run_validation(ctx: StudyContext, reliability: ReliabilityResult, n_samples:
         lo.append(1.0 - pf_hi)
         hi.append(1.0 - pf_lo)
         half_mc = max(pf_j - pf_lo, pf_hi - pf_j)
-        cov = float(reliability.pf_cov[j]) if np.isfinite(reliability.pf_cov[j]) else 0.0
-        half_sur = 1.96 * cov * pf_sur[j] + float(np.nan_to_num(reliability.pf_error[j]))
-        agree.append(bool(abs(pf_j - pf_sur[j]) <= half_mc + half_sur))
+        agree.append(bool(abs(pf_j - pf_sur[j]) <= half_mc + half_sur[j]))
     cv = leave_one_out(ctx, np.asarray(reliability.design_x), seed=rel.seed)
+    life_table = [life_check(levels, r_mc, lo, hi, reliability, float(row["target"]))
+                  for row in reliability.life_table]
     return ValidationResult(
         cycles=levels, reliability_mc=r_mc, ci_low=lo, ci_high=hi, reliability_surrogate=r_sur,
         surrogate_error=reliability.pf_error,  # NaN where not estimated, not 0
         surrogate_cov=reliability.pf_cov,
         agreement=agree, n_samples=int(n_samples), model_calls=int(calls), failed_calls=int(failed.sum()),
-        seed=int(rel.seed + SEED_OFFSET), cross_validation=cv, wall_seconds=time.perf_counter() - t0)
+        seed=int(rel.seed + SEED_OFFSET), cross_validation=cv, life_table=life_table,
+        wall_seconds=time.perf_counter() - t0)
+
+
+def life_check(levels, r_mc, ci_low, ci_high, reliability: ReliabilityResult, target: float) -> dict:
+    """The life at ``target`` read on the true model's curve, with the interval where its exact 95 % bounds
+    cross the target, beside the surrogate's life and interval; ``agree`` when the two intervals overlap (an
+    end outside the curve reaches as far as it may)."""
+    life, low, high = (life_at(levels, r, target) for r in (r_mc, ci_low, ci_high))
+    s_life = life_at(reliability.cycles, reliability.reliability, target)
+    s_low, s_high = reliability.life_interval(target)
+    inf = math.inf
+    agree = max(-inf if low is None else low, -inf if s_low is None else s_low) <= min(
+        inf if high is None else high, inf if s_high is None else s_high)
+    return {"target": target, "cycles": life, "cycles_low": low, "cycles_high": high, "surrogate_cycles": s_life,
+            "surrogate_cycles_low": s_low, "surrogate_cycles_high": s_high, "agree": bool(agree)}

@@ -1,0 +1,249 @@
+"""Finished studies side by side: the life at one target reliability with its 95 % interval, whether two lives
+differ beyond their errors, the nominal wear and the settings that differ (``jointwear compare``).
+
+Two lives differ beyond their errors when their 95 % intervals (:meth:`ReliabilityResult.life_interval`) do not
+overlap. The intervals cover the error of each study's estimate of R(N), not the wear model's assumptions
+(docs/study.md, "How far to trust the life"): two studies that differ in those are compared as they stand.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, ClassVar
+
+import numpy as np
+
+from jointwear.schema import ConfigError
+from jointwear.study.io import provenance
+from jointwear.study.limit_state import life_at, life_status
+from jointwear.study.reliability_results import interval_cells
+from jointwear.study.results import StudyResults, load_results
+from jointwear.study.stage_result import StageResult, save_figure
+
+__all__ = ["StudyComparison", "compare_studies", "life_verdict"]
+
+#: settings that name or describe a study rather than set it
+_NOT_SETTINGS = {"name", "citation", "description"}
+
+
+def life_verdict(low: float | None, high: float | None, base_low: float | None, base_high: float | None) -> str:
+    """'longer' or 'shorter' when the interval [low, high] lies wholly above or below the baseline's
+    [base_low, base_high], else 'within the errors' (an end outside its curve, None, reaches as far as it may)."""
+    lo, hi = (-math.inf if low is None else low), (math.inf if high is None else high)
+    b_lo, b_hi = (-math.inf if base_low is None else base_low), (math.inf if base_high is None else base_high)
+    if lo > b_hi:
+        return "longer"
+    if hi < b_lo:
+        return "shorter"
+    return "within the errors"
+
+
+@dataclass(repr=False, eq=False)  # StageResult compares by value
+class StudyComparison(StageResult):
+    """Several studies at one target reliability ``target``; the first is the baseline.
+
+    ``studies``: one row per study: ``label``, ``folder``, ``geometry_mode``, the life at the target
+    (``life_cycles``, ``life_cycles_low``, ``life_cycles_high``: its 95 % interval; ``life_hours``; ``status``:
+    'in_curve', 'beyond_curve' or 'before_curve'), ``life_ratio`` (to the baseline's life), ``verdict`` against the
+    baseline (:func:`life_verdict`; 'baseline' for the first), ``model_calls``, ``converged``, the nominal
+    ``max_wear_mm`` after ``wear_cycles``, ``uniform_out_of_range`` (uniform mode past its range: docs/wear.md) and,
+    when the study was validated, ``validation_agrees`` (every level of the curve agrees with the true model).
+    ``differences``: every setting whose value differs between the studies (``name``, ``unit``, ``values`` in the
+    order of ``studies``; None where a study has no such setting), in the units of the config files.
+    ``curves``: each study's R(N) (``cycles``, ``reliability``, ``half_width``: the 95 % half-width of R).
+    """
+
+    FILE: ClassVar[str] = "comparison.json"
+
+    target: float
+    studies: list[dict]
+    differences: list[dict] = field(default_factory=list)
+    curves: list[dict] = field(default_factory=list)
+    provenance: dict = field(default_factory=provenance)
+    extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
+
+    @property
+    def labels(self) -> list[str]:
+        return [s["label"] for s in self.studies]
+
+    def tables(self) -> dict[str, dict[str, Any]]:
+        """``comparison`` (one row per study) and ``comparison_settings`` (one row per setting that differs, a
+        column per study)."""
+        keys = [k for k in self.studies[0] if k != "folder"] + ["folder"] if self.studies else []
+        out = {"comparison": {k: [s.get(k) for s in self.studies] for k in keys}}
+        settings: dict[str, list] = {"setting": [d["name"] for d in self.differences],
+                                     "unit": [d.get("unit") or "" for d in self.differences]}
+        for i, label in enumerate(self.labels):
+            settings[label] = [_shown(d["values"][i]) for d in self.differences]
+        out["comparison_settings"] = settings
+        return out
+
+    def markdown(self) -> str:
+        """The comparison as Markdown: a table of the studies, then the settings that differ."""
+        lines = [f"Life at R = {self.target:g}; the first study is the baseline.", "",
+                 "| study | life (cycles) | 95 % interval | ratio | against the baseline | max wear (mm) | "
+                 "model calls | wear mode |",
+                 "|---|---|---|---|---|---|---|---|"]
+        for s in self.studies:
+            life = _cycles(s["life_cycles"]) if s["life_cycles"] is not None else s["status"].replace("_", " ")
+            ratio = "\u2014" if s["life_ratio"] is None else f"{s['life_ratio']:.3f}"
+            wear = ("\u2014" if s["max_wear_mm"] is None
+                    else f"{s['max_wear_mm']:.4g} at {s['wear_cycles']:,}")
+            mode = s["geometry_mode"] or "\u2014"
+            if s["uniform_out_of_range"]:
+                mode += " (outside its range)"
+            lines.append(f"| {s['label']} | {life} | {interval_cells(s['life_cycles_low'], s['life_cycles_high'])} | "
+                         f"{ratio} | {s['verdict']} | {wear} | {s['model_calls']} | {mode} |")
+        if self.differences:
+            lines += ["", "| setting | " + " | ".join(self.labels) + " |",
+                      "|---" * (len(self.labels) + 1) + "|"]
+            for d in self.differences:
+                unit = f" ({d['unit']})" if d.get("unit") else ""
+                lines.append(f"| {d['name']}{unit} | " + " | ".join(_shown(v) for v in d["values"]) + " |")
+        else:
+            lines += ["", "No setting differs between the studies."]
+        return "\n".join(lines)
+
+    def save(self, folder: Path | str, *, figures: bool = True) -> Path:
+        """Write ``comparison.json``, the CSV tables (:meth:`tables`), ``comparison.md`` and the figure of the
+        curves (``comparison_reliability.png``)."""
+        folder = Path(folder)
+        folder.mkdir(parents=True, exist_ok=True)
+        self.write_tables(folder)
+        (folder / "comparison.md").write_text(self.markdown() + "\n", encoding="utf-8")
+        if figures:
+            from jointwear.report import figures as F
+
+            save_figure(F.comparison_figure(self.curves, self.labels, target=self.target,
+                                            lives=[(s["life_cycles"], s["life_cycles_low"], s["life_cycles_high"])
+                                                   for s in self.studies]),
+                        folder / "comparison_reliability.png")
+        return self.write(folder)
+
+
+def compare_studies(studies: Sequence[Path | str | StudyResults], *, target: float | None = None,
+                    labels: Sequence[str] | None = None) -> StudyComparison:
+    """Compare finished studies at one target reliability.
+
+    Parameters
+    ----------
+    studies : sequence of folders (or of :class:`StudyResults` from ``load_results``)
+        Two or more study folders with a reliability result; the first is the baseline.
+    target : float, optional
+        The target reliability, in (0, 1). Default: the baseline's first target.
+    labels : sequence of str, optional
+        A name for each study. Default: each study's name, or its folder's where names repeat.
+
+    Returns
+    -------
+    StudyComparison
+
+    Raises
+    ------
+    ConfigError
+        Fewer than two studies, a folder without a reliability result, a target outside (0, 1), or labels that
+        do not match the studies one to one.
+    """
+    loaded = [s if isinstance(s, StudyResults) else _load(s) for s in studies]
+    if len(loaded) < 2:
+        raise ConfigError(f"compare: needs two or more study folders (got {len(loaded)})")
+    for res in loaded:
+        if res.reliability is None:
+            why = f" ({res.errors['reliability']})" if "reliability" in res.errors else ""
+            raise ConfigError(f"compare: '{res.folder}' has no reliability result{why}: run "
+                              f"`jointwear reliability --out {res.folder}` (or `run`) first")
+    if target is None:
+        target = float(loaded[0].reliability.target)
+    if isinstance(target, bool) or not isinstance(target, (int, float)) or not 0.0 < target < 1.0:
+        raise ConfigError(f"compare: target: a reliability in (0, 1) (got {target!r})")
+    if labels is None:
+        labels = _default_labels(loaded)
+    elif len(labels) != len(loaded) or len(set(labels)) != len(labels):
+        raise ConfigError(f"compare: labels: one distinct label per study ({len(loaded)}; got {list(labels)!r})")
+    rows = [_row(res, str(label), float(target)) for res, label in zip(loaded, labels)]
+    base = rows[0]
+    for i, row in enumerate(rows):
+        row["verdict"] = "baseline" if i == 0 else life_verdict(
+            row["life_cycles_low"], row["life_cycles_high"], base["life_cycles_low"], base["life_cycles_high"])
+        row["life_ratio"] = (row["life_cycles"] / base["life_cycles"]
+                             if row["life_cycles"] is not None and base["life_cycles"] else None)
+    curves = [{"cycles": np.asarray(r.reliability.cycles, dtype=float).tolist(),
+               "reliability": np.asarray(r.reliability.reliability, dtype=float).tolist(),
+               "half_width": np.asarray(r.reliability.half_width, dtype=float).tolist()} for r in loaded]
+    return StudyComparison(target=float(target), studies=rows, differences=_differences(loaded), curves=curves)
+
+
+def _load(folder: Path | str) -> StudyResults:
+    try:
+        return load_results(folder)
+    except FileNotFoundError as exc:
+        raise ConfigError(f"compare: {exc}") from None
+
+
+def _default_labels(loaded: list[StudyResults]) -> list[str]:
+    """Study names; folder names where names repeat; whole paths where those repeat too."""
+    for candidate in ([r.name or r.folder.name for r in loaded], [r.folder.name for r in loaded],
+                      [str(r.folder) for r in loaded]):
+        if len(set(candidate)) == len(candidate):
+            return candidate
+    return [f"{i + 1}: {r.folder}" for i, r in enumerate(loaded)]
+
+
+def _row(res: StudyResults, label: str, target: float) -> dict:
+    rel = res.reliability
+    life = life_at(rel.cycles, rel.reliability, target)
+    low, high = rel.life_interval(target)
+    hours = None if life is None or not rel.crank_speed_rpm else life / (rel.crank_speed_rpm * 60.0)
+    wear = res.wear
+    val = res.validation
+    return {
+        "label": label, "geometry_mode": None if wear is None else wear.geometry_mode,
+        "life_cycles": life, "life_cycles_low": low, "life_cycles_high": high, "life_hours": hours,
+        "status": life_status(rel.reliability, target), "life_ratio": None, "verdict": "",
+        "model_calls": int(rel.model_calls), "converged": bool(rel.converged),
+        "max_wear_mm": None if wear is None else float(wear.max_wear_mm),
+        "wear_cycles": None if wear is None else int(wear.cycles),
+        "uniform_out_of_range": bool(wear is not None and wear.uniform_out_of_range),
+        "validation_agrees": None if val is None else val.all_agree,
+        "folder": str(res.folder),
+    }
+
+
+def _differences(loaded: list[StudyResults]) -> list[dict]:
+    """The settings (config.json's resolved ``settings``) whose values differ, in the order the first study that
+    has each lists them."""
+    per_study = [{s["name"]: s for s in (r.config or {}).get("settings", [])} for r in loaded]
+    names: list[str] = []
+    for settings in per_study:
+        names += [n for n in settings if n not in names and n not in _NOT_SETTINGS]
+    out = []
+    for name in names:
+        values = [s[name]["value"] if name in s else None for s in per_study]
+        if any(not _same(values[0], v) for v in values[1:]):
+            unit = next((s[name].get("unit") for s in per_study if name in s), None)
+            out.append({"name": name, "unit": unit, "values": values})
+    return out
+
+
+def _same(a: Any, b: Any) -> bool:
+    """Equal settings; floats within 1e-12 of each other (a value read back through another unit)."""
+    if isinstance(a, float) and isinstance(b, float):
+        return a == b or abs(a - b) <= 1e-12 * max(abs(a), abs(b))
+    if isinstance(a, list) and isinstance(b, list):
+        return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b))
+    return a == b
+
+
+def _cycles(value: float | None) -> str:
+    return "\u2014" if value is None else f"{value:,.0f}"
+
+
+def _shown(value: Any) -> str:
+    if value is None:
+        return "\u2014"
+    if isinstance(value, float):
+        return f"{value:.6g}"
+    return str(value)

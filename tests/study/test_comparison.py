@@ -1,0 +1,122 @@
+"""Studies compared side by side (`jointwear compare`, `jointwear.compare_studies`), on straight R(N) curves whose
+lives and 95 % intervals are exact: R(N) = 1 - N / scale with a band of +-0.01 crosses R = 0.9 at
+N = 0.1 scale, and its band at 0.09 scale and 0.11 scale (linear interpolation is exact on a straight line)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import jointwear
+from jointwear.cli import main_entry
+from jointwear.schema import ConfigError
+from jointwear.study import ReliabilityResult, StudyComparison, compare_studies
+from jointwear.study.comparison import life_verdict
+
+
+def _study(folder, name, scale, mode="uniform", rpm=480.0):
+    """A finished study in ``folder``: a straight R(N) of slope 1 / scale, its band +-0.01 (no Monte Carlo part),
+    and a config.json whose settings list the wear mode."""
+    cycles = np.linspace(0.0, 4e5, 21)
+    rel = 1.0 - cycles / scale
+    res = ReliabilityResult(
+        cycles=cycles, reliability=rel, pf=1.0 - rel, pf_cov=np.zeros(21), below_floor=np.zeros(21, dtype=bool),
+        pf_error=np.full(21, 0.01), target=0.9, life_cycles=0.1 * scale, life_hours=0.1 * scale / (rpm * 60),
+        model_calls=40, failed_calls=0, n_mc=1000, converged=True, wall_seconds=1.0, names=["a"], units=[""],
+        histograms={}, mean_max_wear_mm={}, convergence={}, design_x=np.ones((2, 1)), design_wear=np.ones((2, 3)),
+        life_table=[{"target": 0.9, "cycles": 0.1 * scale, "hours": 1.0, "status": "in_curve"}],
+        joints=[{"name": "A", "allowance_mm": 0.02}], crank_speed_rpm=rpm)
+    folder.mkdir()
+    res.save(folder, figures=False)
+    settings = [{"name": "name", "value": name, "unit": None},
+                {"name": "clearance_joints[0].bearing_radius", "value": 1.0, "unit": "mm"},
+                {"name": "wear.geometry_mode", "value": mode, "unit": None}]
+    (folder / "config.json").write_text(json.dumps({"name": name, "settings": settings}))
+    return folder
+
+
+@pytest.fixture
+def three(tmp_path):
+    return [_study(tmp_path / "a", "pin", 1e6), _study(tmp_path / "b", "pin profile", 2e6, mode="profile"),
+            _study(tmp_path / "c", "pin again", 1.02e6)]
+
+
+def test_lives_intervals_and_verdicts_are_exact_on_straight_curves(three):
+    comp = compare_studies(three)
+    a, b, c = comp.studies
+    assert comp.target == 0.9 and comp.labels == ["pin", "pin profile", "pin again"]
+    for row, scale in ((a, 1e6), (b, 2e6), (c, 1.02e6)):
+        assert row["life_cycles"] == pytest.approx(0.1 * scale, rel=1e-12)
+        assert row["life_cycles_low"] == pytest.approx(0.09 * scale, rel=1e-12)
+        assert row["life_cycles_high"] == pytest.approx(0.11 * scale, rel=1e-12)
+        assert row["life_hours"] == pytest.approx(0.1 * scale / (480 * 60), rel=1e-12)
+    # 180,000-220,000 lies above 90,000-110,000; 91,800-112,200 overlaps it
+    assert (a["verdict"], b["verdict"], c["verdict"]) == ("baseline", "longer", "within the errors")
+    assert b["life_ratio"] == pytest.approx(2.0, rel=1e-12) and a["life_ratio"] == 1.0
+    # the one setting that differs among those the three share (the name is a label, not a setting)
+    assert [d["name"] for d in comp.differences] == ["wear.geometry_mode"]
+    assert comp.differences[0]["values"] == ["uniform", "profile", "uniform"]
+
+
+def test_another_target_is_read_on_each_curve(three):
+    comp = compare_studies(three[:2], target=0.8)  # no study has it in its table: read on the curves
+    assert [s["life_cycles"] for s in comp.studies] == pytest.approx([2e5, 4e5], rel=1e-12)
+    assert comp.studies[1]["life_cycles_high"] is None  # 0.79 never reached on the 2e6 curve's upper band
+    assert comp.studies[1]["status"] == "in_curve" and comp.studies[1]["verdict"] == "longer"
+
+
+def test_life_verdict_reads_an_open_end_as_reaching_as_far_as_it_may():
+    assert life_verdict(5.0, 6.0, 1.0, 4.0) == "longer"
+    assert life_verdict(1.0, 2.0, 3.0, 4.0) == "shorter"
+    assert life_verdict(4.0, 6.0, 1.0, 4.0) == "within the errors"  # touching intervals overlap
+    assert life_verdict(5.0, 6.0, 1.0, None) == "within the errors"  # the baseline's end beyond its curve
+    assert life_verdict(None, 0.5, 1.0, 4.0) == "shorter"
+
+
+def test_saved_comparison_reads_back_and_writes_its_tables(three, tmp_path):
+    comp = compare_studies(three, labels=["A", "B", "C"])
+    comp.save(tmp_path / "cmp")
+    back = StudyComparison.load(tmp_path / "cmp")
+    assert back == comp and back.labels == ["A", "B", "C"]
+    rows = (tmp_path / "cmp" / "comparison.csv").read_text().splitlines()
+    assert rows[0].startswith("label,geometry_mode,life_cycles,life_cycles_low,life_cycles_high") and len(rows) == 4
+    assert (tmp_path / "cmp" / "comparison_settings.csv").read_text().splitlines() == [
+        "setting,unit,A,B,C", "wear.geometry_mode,,uniform,profile,uniform"]
+    assert (tmp_path / "cmp" / "comparison_reliability.png").stat().st_size > 10_000
+    md = (tmp_path / "cmp" / "comparison.md").read_text()
+    assert "| B | 200,000 | 180,000 \u2013 220,000 | 2.000 | longer |" in md
+
+
+def test_labels_default_to_folders_where_names_repeat(tmp_path):
+    a = _study(tmp_path / "x", "same", 1e6)
+    b = _study(tmp_path / "y", "same", 1e6)
+    comp = jointwear.compare_studies([a, b])
+    assert comp.labels == ["x", "y"] and comp.differences == []
+    assert comp.studies[1]["verdict"] == "within the errors"
+
+
+def test_bad_inputs_name_what_is_wrong(three, tmp_path):
+    with pytest.raises(ConfigError, match="two or more"):
+        compare_studies(three[:1])
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(ConfigError, match="'.*empty' has no reliability result"):
+        compare_studies([three[0], tmp_path / "empty"])
+    with pytest.raises(ConfigError, match="no study folder"):
+        compare_studies([three[0], tmp_path / "missing"])
+    with pytest.raises(ConfigError, match="target"):
+        compare_studies(three, target=1.5)
+    with pytest.raises(ConfigError, match="labels"):
+        compare_studies(three, labels=["a", "a", "b"])
+
+
+def test_the_command_prints_the_table_and_writes_with_out(three, tmp_path, capsys):
+    assert main_entry(["compare", *map(str, three[:2]), "--label", "U", "--label", "P",
+                       "--out", str(tmp_path / "cmp")]) == 0
+    out = capsys.readouterr()
+    assert "| P | 200,000 | 180,000 \u2013 220,000 | 2.000 | longer |" in out.out
+    assert "| wear.geometry_mode | uniform | profile |" in out.out
+    assert (tmp_path / "cmp" / "comparison.json").is_file() and "comparison.json" in out.err
+    assert main_entry(["compare", str(three[0])]) == 2
+    assert "two or more" in capsys.readouterr().err
