@@ -6,7 +6,7 @@ each in a fresh process.
 Writes benchmarks/results/validate.json (validate_<name>.json for another config): the wall time of the
 validation (bar: 2,000 calls within 30 minutes on 2 cores), the calls, the load average, the machine, and the
 validation itself (true-model R(N) with its exact 95 % interval against the surrogate's, agreement per level,
-the surrogate's leave-one-out Q^2).
+the life at each target on both curves with their intervals, the surrogate's leave-one-out Q^2).
 """
 
 from __future__ import annotations
@@ -73,7 +73,8 @@ def main() -> None:
     if args.keep is not None:
         shutil.copy(out_file, folder / "validate_benchmark.json")
     print(json.dumps({"name": name, "validate_wall_seconds": wall_val, "calls": val["model_calls"],
-                      "agreement": f"{sum(val['agreement'])}/{len(val['agreement'])}"}))
+                      "agreement": f"{sum(val['agreement'])}/{len(val['agreement'])}",
+                      "life": val.get("life_table", [])}))
 
 
 if __name__ == "__main__":

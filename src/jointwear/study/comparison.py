@@ -8,7 +8,6 @@ overlap. The intervals cover the error of each study's estimate of R(N), not the
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -18,7 +17,7 @@ import numpy as np
 
 from jointwear.schema import ConfigError
 from jointwear.study.io import provenance
-from jointwear.study.limit_state import life_at, life_status
+from jointwear.study.limit_state import intervals_overlap, life_at, life_status
 from jointwear.study.reliability_results import interval_cells
 from jointwear.study.results import StudyResults, load_results
 from jointwear.study.stage_result import StageResult, save_figure
@@ -32,13 +31,9 @@ _NOT_SETTINGS = {"name", "citation", "description"}
 def life_verdict(low: float | None, high: float | None, base_low: float | None, base_high: float | None) -> str:
     """'longer' or 'shorter' when the interval [low, high] lies wholly above or below the baseline's
     [base_low, base_high], else 'within the errors' (an end outside its curve, None, reaches as far as it may)."""
-    lo, hi = (-math.inf if low is None else low), (math.inf if high is None else high)
-    b_lo, b_hi = (-math.inf if base_low is None else base_low), (math.inf if base_high is None else base_high)
-    if lo > b_hi:
-        return "longer"
-    if hi < b_lo:
-        return "shorter"
-    return "within the errors"
+    if intervals_overlap(low, high, base_low, base_high):
+        return "within the errors"
+    return "shorter" if high is not None and base_low is not None and high < base_low else "longer"
 
 
 @dataclass(repr=False, eq=False)  # StageResult compares by value

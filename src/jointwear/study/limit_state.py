@@ -7,6 +7,7 @@ mechanism fails when the first of them fails (a series system): N_f(x) = min_j N
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -195,6 +196,15 @@ def life_interval(cycles, reliability, half_width, target: float) -> tuple[float
     r = np.asarray(reliability, dtype=float)
     half = np.asarray(half_width, dtype=float)
     return life_at(cycles, r - half, target), life_at(cycles, r + half, target)
+
+
+def intervals_overlap(low: float | None, high: float | None, other_low: float | None,
+                      other_high: float | None) -> bool:
+    """Whether two life intervals share a point; an end that is None (outside its curve) reaches as far as it
+    may."""
+    lo = max(-math.inf if low is None else low, -math.inf if other_low is None else other_low)
+    hi = min(math.inf if high is None else high, math.inf if other_high is None else other_high)
+    return lo <= hi
 
 
 def life_status(reliability, target: float) -> str:

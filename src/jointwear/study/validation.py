@@ -16,7 +16,7 @@ import time
 import numpy as np
 from scipy import stats
 
-from jointwear.study.limit_state import curve_half_width, life_at
+from jointwear.study.limit_state import curve_half_width, intervals_overlap, life_at
 from jointwear.study.reliability import StudyContext
 from jointwear.study.results import ReliabilityResult, ValidationResult
 
@@ -105,8 +105,6 @@ def life_check(levels, r_mc, ci_low, ci_high, reliability: ReliabilityResult, ta
     life, low, high = (life_at(levels, r, target) for r in (r_mc, ci_low, ci_high))
     s_life = life_at(reliability.cycles, reliability.reliability, target)
     s_low, s_high = reliability.life_interval(target)
-    inf = math.inf
-    agree = max(-inf if low is None else low, -inf if s_low is None else s_low) <= min(
-        inf if high is None else high, inf if s_high is None else s_high)
     return {"target": target, "cycles": life, "cycles_low": low, "cycles_high": high, "surrogate_cycles": s_life,
-            "surrogate_cycles_low": s_low, "surrogate_cycles_high": s_high, "agree": bool(agree)}
+            "surrogate_cycles_low": s_low, "surrogate_cycles_high": s_high,
+            "agree": intervals_overlap(low, high, s_low, s_high)}
