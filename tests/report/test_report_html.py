@@ -439,6 +439,22 @@ def test_the_life_table_keeps_a_target_near_1_and_the_numbers_give_the_surrogate
     assert ">0.99995<" in page and "surrogate error of R" in page
 
 
+def test_the_life_is_shown_with_its_interval(tmp_path, nominal):
+    """The reliability card, the life table and the summary give the life's 95 % interval, the one the result
+    computes (where the band R -/+ half-width crosses the target)."""
+    d = make_fixture_dir(tmp_path / "i", nominal, which=("reliability",))
+    rel = ReliabilityResult.load(d)
+    rel.life_table = [{"target": 0.9, "cycles": rel.life_cycles, "hours": 12.8, "status": "in_curve"},
+                      {"target": 0.5, "cycles": 450_000.0, "hours": 15.6, "status": "in_curve"}]
+    rel.save(d, figures=False)
+    low, high = rel.life_interval()
+    assert low < rel.life_cycles < high
+    page = build_report(d).read_text(encoding="utf-8")
+    assert page.count(f"95 % interval {low:,.0f}-{high:,.0f} cycles") == 2  # the summary's card and the section's
+    low5, high5 = rel.life_interval(0.5)
+    assert f"{low5:,.0f} \u2013 {high5:,.0f}" in page  # the life table's column
+
+
 def test_the_summary_carries_the_caveats_of_the_sections_below(tmp_path, nominal):
     """The headline life stood alone; 'learning converged: NO' and the uniform-mode warning were three sections
     further down."""

@@ -381,7 +381,8 @@ def summary_cards(out: StudyOutputs, checks: Sequence[Check], ref: Mapping | Non
     if rel is not None:
         life, note = life_with_note(rel, rel.target)
         items.append((f"life at R = {rel.target:g}", _life_text(life, note),
-                      ref_note("life_cycles", target_reliability=rel.target)))
+                      ref_note("life_cycles", target_reliability=rel.target)
+                      or (None if life is None or note else interval_text(*rel.life_interval()))))
         items.append(("true-model calls", format_number(rel.model_calls), ref_note("model_calls") or
                       "reliability analysis"))
     else:
