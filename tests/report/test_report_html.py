@@ -455,6 +455,19 @@ def test_the_life_is_shown_with_its_interval(tmp_path, nominal):
     assert f"{low5:,.0f} \u2013 {high5:,.0f}" in page  # the life table's column
 
 
+def test_a_series_system_is_told_that_its_interval_may_be_too_narrow(tmp_path, nominal):
+    d = make_fixture_dir(tmp_path / "s", nominal, which=("reliability",))
+    rel = ReliabilityResult.load(d)
+    n = len(rel.cycles)
+    rel.joints = [
+        {"name": "A", "allowance_mm": 0.03, "reliability": list(rel.reliability), "governing_share": [0.7] * n},
+        {"name": "E", "allowance_mm": 0.03, "reliability": [1.0] * n, "governing_share": [0.3] * n}]
+    rel.save(d, figures=False)
+    page = build_report(d).read_text(encoding="utf-8")
+    assert "Series system of 2 joints" in page and "<b>A</b>" in page
+    assert "held the exact life in 8 of 20 runs" in page and "<code>jointwear validate</code>" in page
+
+
 def test_the_summary_carries_the_caveats_of_the_sections_below(tmp_path, nominal):
     """The headline life stood alone; 'learning converged: NO' and the uniform-mode warning were three sections
     further down."""

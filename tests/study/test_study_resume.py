@@ -284,6 +284,10 @@ def test_a_learning_stopped_by_its_budget_is_told_with_its_error(quick_config, r
     assert ("COV of Pf reaches" in line) == (res.largest_cov() >= settings.cov_target)
     res.pf_cov = np.where(counted, 0.0505, res.pf_cov)
     assert "the COV of Pf reaches 0.0505 (target 0.05)" in learning_stop_line(res, settings)
+    # under the paper's U rule the line names that rule, not the error tolerance it does not use
+    u_rule = learning_stop_line(res, settings.model_copy(update={"stopping": "u"}))
+    assert "(the learning's rule is min U >= 2 at every level, stopping = 'u')" in u_rule
+    assert "tolerance" not in u_rule
 
 
 def test_a_population_that_hit_n_mc_max_says_how_large_it_must_be(quick_config, reference_dir):

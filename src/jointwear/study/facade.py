@@ -731,9 +731,11 @@ def learning_stop_line(res: ReliabilityResult, settings) -> str:
     """What an unconverged learning means for the curve: why it stopped, the surrogate's largest error estimate of R
     against the tolerance of the stopping rule, and what to do."""
     worst = res.largest_error()
+    rule = (f"tolerance {settings.error_abs_tol:g} in R or {settings.error_tol:.0%} of Pf"
+            if settings.stopping == "error"
+            else f"the learning's rule is min U >= {settings.u_threshold:g} at every level, stopping = 'u'")
     error = "" if worst is None else (
-        f"; the surrogate's error estimate of R reaches {worst[0]:.3f} at {worst[1]:,.0f} cycles (tolerance "
-        f"{settings.error_abs_tol:g} in R or {settings.error_tol:.0%} of Pf)")
+        f"; the surrogate's error estimate of R reaches {worst[0]:.3f} at {worst[1]:,.0f} cycles ({rule})")
     cov = res.largest_cov()
     if cov is not None and cov >= settings.cov_target:  # the criterion left when the surrogate's error is met
         error += f"; the COV of Pf reaches {cov:.3g} (target {settings.cov_target:g})"
@@ -751,7 +753,7 @@ def learning_stop_line(res: ReliabilityResult, settings) -> str:
                 "reliability.pf_floor above that Pf if so small a Pf need not be known that well")
     else:
         advice = ""
-    return f"the learning stopped before its tolerance ({reason}){error}{advice}"
+    return f"the learning stopped before its stopping rule was met ({reason}){error}{advice}"
 
 
 def wear_line(result: WearSummary) -> str:
