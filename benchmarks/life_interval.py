@@ -20,6 +20,7 @@ import argparse
 import datetime as dt
 import json
 import os
+import sys
 import time
 import tomllib
 from importlib import resources
@@ -32,27 +33,16 @@ from jointwear.config import config_from_dict, load_config, updated
 from jointwear.study import life_at, population, run_reliability, study_context
 from jointwear.study.io import provenance
 
-RATE = 7.1e-11  # m per cycle at the nominal point (the paper's mean slope)
-ALLOWANCE = 3e-5  # m, the flapping-wing preset's
+# the tests' analytic wear model (Archard's structure; its exact R(N) by brute force)
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from analytic_wear import RATE, AnalyticWear  # noqa: E402
+
 RATES_SERIES = {"A": 1.2e-10, "E": 1.0e-10}
 
 
-class SmoothWear:
-    """One joint: wear = RATE N scale(x)."""
-
-    def __init__(self, names, cycles):
-        self.i_k, self.i_h, self.i_c = names.index("k_b"), names.index("HB_b"), names.index("c")
-        self.cycles = np.asarray(cycles, dtype=float)
-
-    def scale(self, x):
-        x = np.atleast_2d(x)
-        return (x[:, self.i_k] / 1.2e-3) * (350 * 9.807e6 / x[:, self.i_h]) * (1 + 0.05 * (x[:, self.i_c] - 2e-6) / 1e-6)
-
-    def __call__(self, x):
-        return RATE * self.cycles * self.scale(x)[0], "ok"
-
-    def pf(self, x, levels, allowance):
-        return np.mean(RATE * self.scale(x)[:, None] * levels[None, :] > allowance, axis=0)
+def smooth_pf(model: AnalyticWear, x, levels, allowance):
+    """Exact Pf at each level over the population x: wear = RATE N scale(x) above the allowance."""
+    return np.mean(RATE * model.scale(x)[:, None] * levels[None, :] > allowance, axis=0)
 
 
 class SeriesWear:
@@ -101,8 +91,8 @@ def one_run(case: str, seed: int, n_truth: int) -> dict:
     holder = {}
 
     def factory(call):
-        holder["model"] = (SmoothWear([s.name for s in cfg.uncertainty.all_specs()], call.cycles) if case == "smooth"
-                           else SeriesWear(call.cycles))
+        holder["model"] = (AnalyticWear([s.name for s in cfg.uncertainty.all_specs()], call.cycles)
+                           if case == "smooth" else SeriesWear(call.cycles))
         return compute.Evaluator(holder["model"], None, None, n_outputs=call.n_outputs)
 
     ctx = study_context(cfg, factory)
@@ -110,7 +100,9 @@ def one_run(case: str, seed: int, n_truth: int) -> dict:
     res = run_reliability(ctx)
     wall = time.perf_counter() - t0
     x = population(ctx.marginals, n_truth, seed=10_000 + seed)
-    pf_true = holder["model"].pf(x, np.asarray(res.cycles, dtype=float), cfg.reliability.allowance)
+    levels = np.asarray(res.cycles, dtype=float)
+    pf_true = (smooth_pf(holder["model"], x, levels, cfg.reliability.allowance) if case == "smooth"
+               else SeriesWear.pf(x, levels, cfg.reliability.allowance))
     rows = []
     for row in res.life_table:
         t = float(row["target"])
