@@ -12,7 +12,7 @@ import pytest
 import jointwear
 from jointwear.cli import main_entry
 from jointwear.schema import ConfigError
-from jointwear.study import ReliabilityResult, StudyComparison, compare_studies
+from jointwear.study import ReliabilityResult, StudyComparison, ValidationResult, compare_studies
 from jointwear.study.comparison import life_verdict
 
 
@@ -87,6 +87,7 @@ def test_saved_comparison_reads_back_and_writes_its_tables(three, tmp_path):
     assert (tmp_path / "cmp" / "comparison_reliability.png").stat().st_size > 10_000
     md = (tmp_path / "cmp" / "comparison.md").read_text()
     assert "| B | 200,000 | 180,000 \u2013 220,000 | 2.000 | longer |" in md
+    assert md.count("| 40 | \u2014 | \u2014 |") == 3  # no wear mode, not validated: said so, not left blank
 
 
 def test_labels_default_to_folders_where_names_repeat(tmp_path):
@@ -120,3 +121,13 @@ def test_the_command_prints_the_table_and_writes_with_out(three, tmp_path, capsy
     assert (tmp_path / "cmp" / "comparison.json").is_file() and "comparison.json" in out.err
     assert main_entry(["compare", str(three[0])]) == 2
     assert "two or more" in capsys.readouterr().err
+
+
+def test_a_validated_study_shows_how_many_levels_agree(three):
+    r = np.linspace(1.0, 0.6, 5)
+    ValidationResult(cycles=np.linspace(0, 4e5, 5), reliability_mc=r, ci_low=r - 0.01, ci_high=r + 0.01,
+                     reliability_surrogate=r, surrogate_error=np.zeros(5), n_samples=100, model_calls=100,
+                     wall_seconds=1.0, agreement=[True, True, False, True, True]).save(three[1], figures=False)
+    comp = compare_studies(three[:2])
+    assert [(s["validation_levels_agreeing"], s["validation_levels"]) for s in comp.studies] == [(None, None), (4, 5)]
+    assert "| 4 of 5 levels agree |" in comp.markdown()

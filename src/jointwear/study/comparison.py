@@ -45,7 +45,8 @@ class StudyComparison(StageResult):
     'in_curve', 'beyond_curve' or 'before_curve'), ``life_ratio`` (to the baseline's life), ``verdict`` against the
     baseline (:func:`life_verdict`; 'baseline' for the first), ``model_calls``, ``converged``, the nominal
     ``max_wear_mm`` after ``wear_cycles``, ``uniform_out_of_range`` (uniform mode past its range: docs/wear.md) and,
-    when the study was validated, ``validation_agrees`` (every level of the curve agrees with the true model).
+    when the study was validated, ``validation_levels_agreeing`` of its ``validation_levels`` (the curve's levels
+    that agree with the true model sampled directly).
     ``differences``: every setting whose value differs between the studies (``name``, ``unit``, ``values`` in the
     order of ``studies``; None where a study has no such setting), in the units of the config files.
     ``curves``: each study's R(N) (``cycles``, ``reliability``, ``half_width``: the 95 % half-width of R).
@@ -80,8 +81,8 @@ class StudyComparison(StageResult):
         """The comparison as Markdown: a table of the studies, then the settings that differ."""
         lines = [f"Life at R = {self.target:g}; the first study is the baseline.", "",
                  "| study | life (cycles) | 95 % interval | ratio | against the baseline | max wear (mm) | "
-                 "model calls | wear mode |",
-                 "|---|---|---|---|---|---|---|---|"]
+                 "model calls | wear mode | validated |",
+                 "|---|---|---|---|---|---|---|---|---|"]
         for s in self.studies:
             life = _cycles(s["life_cycles"]) if s["life_cycles"] is not None else s["status"].replace("_", " ")
             ratio = "\u2014" if s["life_ratio"] is None else f"{s['life_ratio']:.3f}"
@@ -90,8 +91,10 @@ class StudyComparison(StageResult):
             mode = s["geometry_mode"] or "\u2014"
             if s["uniform_out_of_range"]:
                 mode += " (outside its range)"
+            validated = ("\u2014" if s["validation_levels"] is None
+                         else f"{s['validation_levels_agreeing']} of {s['validation_levels']} levels agree")
             lines.append(f"| {s['label']} | {life} | {interval_cells(s['life_cycles_low'], s['life_cycles_high'])} | "
-                         f"{ratio} | {s['verdict']} | {wear} | {s['model_calls']} | {mode} |")
+                         f"{ratio} | {s['verdict']} | {wear} | {s['model_calls']} | {mode} | {validated} |")
         if self.differences:
             lines += ["", "| setting | " + " | ".join(self.labels) + " |",
                       "|---" * (len(self.labels) + 1) + "|"]
@@ -202,7 +205,8 @@ def _row(res: StudyResults, label: str, target: float) -> dict:
         "max_wear_mm": None if wear is None else float(wear.max_wear_mm),
         "wear_cycles": None if wear is None else int(wear.cycles),
         "uniform_out_of_range": bool(wear is not None and wear.uniform_out_of_range),
-        "validation_agrees": None if val is None else val.all_agree,
+        "validation_levels_agreeing": None if val is None else int(np.sum(val.agreement)),
+        "validation_levels": None if val is None else int(len(val.agreement)),
         "folder": str(res.folder),
     }
 
