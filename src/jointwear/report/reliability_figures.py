@@ -36,6 +36,22 @@ Array = Sequence[float] | np.ndarray
 
 
 # --------------------------------------------------------------------------------------------- reliability
+def _band(ax, n, rel, half, color: str, label: str | None = None) -> None:
+    """R -/+ half (clipped to [0, 1]) as a shaded band over the curve's levels n (thousands of cycles)."""
+    ax.fill_between(n, np.clip(rel - half, 0, 1), np.clip(rel + half, 0, 1), color=color, alpha=0.2, lw=0,
+                    label=label)
+
+
+def _life_bar(ax, n, target: float, low: float | None, high: float | None, color: str,
+              label: str | None = None) -> None:
+    """A life's interval (cycles) as a bar along the target line; an end that is None runs to the curve's end."""
+    if not n.size:
+        return
+    lo = n[0] if low is None else low / 1e3
+    hi = n[-1] if high is None else high / 1e3
+    ax.plot([lo, hi], [target, target], color=color, lw=3, solid_capstyle="butt", zorder=4, label=label)
+
+
 def reliability_curve_figure(
     cycles: Array,
     reliability: Array,
@@ -60,9 +76,8 @@ def reliability_curve_figure(
     if pf_cov is not None:
         half = curve_half_width(1.0 - rel, require_array(pf_cov),
                                 None if pf_error is None else require_array(pf_error))
-        label = "95 % band (COV of Pf" + ("" if pf_error is None else " + surrogate error") + ")"
-        ax.fill_between(n, np.clip(rel - half, 0, 1), np.clip(rel + half, 0, 1), color=COLORS[0], alpha=0.2,
-                        lw=0, label=label)
+        _band(ax, n, rel, half, COLORS[0],
+              "95 % band (COV of Pf" + ("" if pf_error is None else " + surrogate error") + ")")
     ax.plot(n, rel, color=COLORS[0], marker="o", ms=3, label="this study")
     if reference:
         ks = sorted(reference)
@@ -74,11 +89,8 @@ def reliability_curve_figure(
         vline(ax, life_cycles / 1e3, f"life {life_cycles:,.0f} cycles", color=TARGET_COLOR)
         if target is not None:
             ax.plot(life_cycles / 1e3, target, "D", color=TARGET_COLOR, ms=6, zorder=5)
-            if life_interval is not None and n.size:
-                low = n[0] if life_interval[0] is None else life_interval[0] / 1e3
-                high = n[-1] if life_interval[1] is None else life_interval[1] / 1e3
-                ax.plot([low, high], [target, target], color=TARGET_COLOR, lw=3, solid_capstyle="butt", zorder=4,
-                        label=f"life: {interval_text(*life_interval)}")
+            if life_interval is not None:
+                _life_bar(ax, n, target, *life_interval, TARGET_COLOR, label=f"life: {interval_text(*life_interval)}")
     if reference_life is not None and target is not None:
         ax.plot(reference_life / 1e3, target, "D", mfc="none", color=PAPER_COLOR, ms=7,
                 label=f"{reference_label}: life {reference_life:,.0f} cycles")
@@ -105,14 +117,11 @@ def comparison_figure(
         color = COLORS[k % len(COLORS)]
         n = kilo_cycles(curve["cycles"])
         rel = require_array(curve["reliability"])
-        half = np.nan_to_num(require_array(curve["half_width"]))
-        ax.fill_between(n, np.clip(rel - half, 0, 1), np.clip(rel + half, 0, 1), color=color, alpha=0.2, lw=0)
+        _band(ax, n, rel, np.nan_to_num(require_array(curve["half_width"])), color)
         ax.plot(n, rel, color=color, marker="o", ms=3, label=label)
         life, low, high = lives[k] if lives is not None else (None, None, None)
-        if target is not None and life is not None and n.size:
-            lo = n[0] if low is None else low / 1e3
-            hi = n[-1] if high is None else high / 1e3
-            ax.plot([lo, hi], [target, target], color=color, lw=3, solid_capstyle="butt", zorder=4)
+        if target is not None and life is not None:
+            _life_bar(ax, n, target, low, high, color)
             ax.plot(life / 1e3, target, "D", color=color, ms=6, zorder=5)
     if target is not None:
         hline(ax, target, f"target R = {target:g}", color=TARGET_COLOR)

@@ -242,13 +242,14 @@ class ReliabilityResult(StageResult):
         for j in self.joints if len(self.joints) > 1 else []:
             curve[f"reliability_{j['name']}"] = j["reliability"]
             curve[f"governing_share_{j['name']}"] = j["governing_share"]
+        intervals = [self.life_interval(r["target"]) for r in self.life_table]
         out = {"reliability_curve": curve, "life_table": {
             "target_reliability": [r["target"] for r in self.life_table],
             "life_cycles": [r["cycles"] for r in self.life_table],
             "life_hours": [r["hours"] for r in self.life_table],
             "status": [r.get("status", "") for r in self.life_table],
-            "life_cycles_low": [self.life_interval(r["target"])[0] for r in self.life_table],
-            "life_cycles_high": [self.life_interval(r["target"])[1] for r in self.life_table]}}
+            "life_cycles_low": [low for low, _ in intervals],
+            "life_cycles_high": [high for _, high in intervals]}}
         x = np.atleast_2d(np.asarray(self.design_x, dtype=float))
         if x.size:
             names = self.names[:x.shape[1]]

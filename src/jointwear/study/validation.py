@@ -16,7 +16,7 @@ import time
 import numpy as np
 from scipy import stats
 
-from jointwear.study.limit_state import curve_half_width, intervals_overlap, life_at
+from jointwear.study.limit_state import intervals_overlap, life_at
 from jointwear.study.reliability import StudyContext
 from jointwear.study.results import ReliabilityResult, ValidationResult
 
@@ -76,7 +76,7 @@ def run_validation(ctx: StudyContext, reliability: ReliabilityResult, n_samples:
     r_mc, lo, hi, agree = [], [], [], []
     r_sur = np.asarray(reliability.reliability, dtype=float)
     pf_sur = 1.0 - r_sur
-    half_sur = curve_half_width(pf_sur, reliability.pf_cov, reliability.pf_error)
+    half_sur = reliability.half_width
     for j in range(levels.size):
         c_lo, c_hi = clopper_pearson(int(k[j]), n_samples)
         # the 'fail' rule adds the infeasible mass exactly: Pf = p + (1 - p) Pf(feasible)
