@@ -28,6 +28,8 @@ Sections
   processes for the uniform preset (jin2025_flapping_wing) and the profile one (jin2025_flapping_wing_profile),
   one after the other in the same benchmark run: wall times, their ratio (goal <= 2), model calls, R(N), the life
   at the target, the nominal wear, the host CPU and the date.
+- profile_deposit (only with --only, about a minute): the profile preset's model call, replicated: its max depth
+  over the curve, its wall time, the deposit's own wall time, and how much its sub-step iteration amplifies rounding.
 - profile_rig_rocking (only with --only, about a minute): what sets the integrator's steps on the pendulum rig: the
   eye's rocking on the pin (docs/verification.md, case 7) on each mode's geometry after 0, 1e4 and 1e5 revolutions.
 - profile_jammed_shift (only with --only, about a minute): the profile preset's rod length x 1.2 in both geometry modes
@@ -748,6 +750,65 @@ def bench_profile_jammed_shift(factor: float = 1.2, n_cycles: int = 400_000) -> 
     return out
 
 
+def bench_profile_deposit(levels=(700_000, 900_000, 1_100_000, 1_300_000), replicates: int = 8,
+                          blocks=(1, 10, 40), perturbations: int = 3) -> dict:
+    """Issue 14 items 1 and 5: the profile preset's model call (its nominal history to 1.3M cycles) and its
+    deposit. `replicates` histories (start phase +0.05 cycle each): the max depth at `levels`, the wall and
+    simulation seconds of each; the wall of laying the deposit alone (history.lay_bearing over one history's blocks,
+    re-run on their recorded loads); and how the deposit's sub-step iteration amplifies rounding: blocks `blocks`
+    laid again from their input profile perturbed by 1e-13 (relative, `perturbations` draws), the change of the
+    block's increment (largest cell, relative to the increment's max) and of its max. Tree-agnostic, so the same
+    section run on an earlier commit (--out elsewhere) records the code it replaced."""
+    import jointwear.wear.history as history
+
+    cfg = load_config("jin2025_flapping_wing_profile")
+    model = build_model(cfg)
+    s = base_settings(cfg)
+    settle0 = s.settle_cycles_initial if s.settle_cycles_initial is not None else cfg.simulation.settle_cycles
+    n_cycles = max(levels)
+    wear_history(model, s, 40_000)  # compiles
+    runs = []
+    for r in range(replicates):
+        res = wear_history(model, s.model_copy(update={"settle_cycles_initial": settle0 + 0.05 * r}), n_cycles)
+        runs.append({"max_depth_mm": [float(res.max_wear_at(n) * MM) for n in levels],
+                     "wall_seconds": res.wall_seconds, "simulation_seconds": res.sim_seconds})
+        print("replicate", r, round(res.wall_seconds, 2), file=sys.stderr)
+    depth = np.array([x["max_depth_mm"] for x in runs])
+    out = {"levels": list(levels), "replicates": runs, "max_depth_mm_mean": depth.mean(axis=0).tolist(),
+           "max_depth_mm_std": depth.std(axis=0, ddof=1).tolist(),
+           "wall_seconds_median": statistics.median(x["wall_seconds"] for x in runs),
+           "simulation_seconds_median": statistics.median(x["simulation_seconds"] for x in runs)}
+    captured = []
+    lay = history.lay_bearing
+
+    def spy(cw, wb, wj, dn, settings):
+        captured.append((cw, wb.copy(), wj.copy(), dn))
+        return lay(cw, wb, wj, dn, settings)
+
+    history.lay_bearing = spy
+    try:
+        wear_history(model, s.model_copy(update={"lanes": 1}), n_cycles)
+    finally:
+        history.lay_bearing = lay
+    t0 = time.perf_counter()
+    for cw, wb, wj, dn in captured:
+        lay(cw, wb, wj, dn, s)
+    out["deposit_wall_seconds_one_history"] = time.perf_counter() - t0
+    out["deposit_blocks"] = len(captured)
+    rng = np.random.default_rng(0)
+    cond = []
+    for i in blocks:
+        cw, wb, wj, dn = captured[i]
+        inc = lay(cw, wb, wj, dn, s)[0] - wb
+        for _ in range(perturbations):
+            pert = wb * (1.0 + 1e-13 * rng.standard_normal(wb.shape))
+            inc_p = lay(cw, pert, wj, dn, s)[0] - pert
+            cond.append({"block": i, "increment_change": float(np.abs(inc_p - inc).max() / inc.max()),
+                         "increment_max_change": float(inc_p.max() / inc.max() - 1.0)})
+    out["rounding_amplification"] = cond
+    return out
+
+
 def bench_profile_study(repeats: int = 1) -> dict:
     """Issue 14 item 5: the whole study (`jointwear run`, fresh process, benchmarks/study.py's runner) with the
     uniform preset and with the profile preset, alternating when repeated; the ratio of the median wall times."""
@@ -806,6 +867,8 @@ def main(argv=None) -> int:
             data["profile_rig_convergence"] = bench_profile_rig_convergence()
         elif sec == "profile_wing_blocks":
             data["profile_wing_blocks"] = bench_profile_wing_blocks()
+        elif sec == "profile_deposit":
+            data["profile_deposit"] = bench_profile_deposit()
         elif sec == "profile_study":
             data["profile_study"] = bench_profile_study()
         elif sec == "profile_rig_rocking":

@@ -157,31 +157,31 @@ def test_peaks_periodic():
 )
 def test_deposit_substeps(g, dn, sub, expected):
     """lay_bearing's sub-steps: max(min(ceil(g dn / 2), 16), ceil(dn / profile_substep_cycles)) (the rule its
-    docstring and WearSettings.profile_substep_cycles state), each re-sharing the loads on the bore laid so far."""
+    docstring and WearSettings.profile_substep_cycles state): the first from the block's own sharing, the others
+    laid by the merged loads (ConformalShare.lay, tested against its loop in test_share_load.py)."""
     n = 72
-    calls = []
+    laid = []
 
-    class Share:  # stands in for ConformalShare: a uniform rate whatever the bore, counting its calls
-        def __call__(self, bore):
-            calls.append(bore.copy())
-            return np.full(n, 1e-9), 1e-12, g
+    class Share:  # stands in for ConformalShare: a uniform rate whatever the bore, recording the sub-steps asked
+        def lay(self, wb, steps, dt, smoothing_deg):
+            laid.append((steps, dt, wb.max()))
+            wb += 1e-9 * dt * steps
+            return 1e-12 * dt * steps
 
         def merged(self, factor):
             return self
 
-    share = Share()
-
     cw = CycleWear(np.full(n, 1e-9), np.zeros(n), 1e-12, 0.0, 0.0, np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n),
-                   0.0, 0.0, levelling_rate=g, share=share)
+                   0.0, 0.0, levelling_rate=g, share=Share())
     settings = WearSettings(geometry_mode="profile", profile_substep_cycles=sub, n_grid=n)
     wb, vol = lay_bearing(cw, np.zeros(n), np.zeros(n), dn, settings)
-    assert len(calls) == expected - 1  # the first sub-step uses the block's own sharing
+    assert len(laid) == 1
+    steps, dt, first = laid[0]
+    assert steps == expected - 1 and dt == pytest.approx(dn / expected, rel=1e-12)
+    assert first == pytest.approx(1e-9 * dn / expected, rel=1e-12)  # the later sub-steps start from the first's
     # a uniform rate stays uniform under the smoothing: the block lays rate x dn, and its volume
     np.testing.assert_allclose(wb, 1e-9 * dn, rtol=1e-12)
     assert vol == pytest.approx(1e-12 * dn, rel=1e-12)
-    # each sub-step sees the bore laid so far
-    np.testing.assert_allclose([c.max() for c in calls], [1e-9 * dn * (j + 1) / expected for j in range(expected - 1)],
-                               rtol=1e-9)
 
 
 def test_a_round_side_needs_no_touch_map():

@@ -139,6 +139,20 @@ def test_contact_envelope_narrow_pocket_bridged():
     assert np.all(idx == np.arange(n))
 
 
+@pytest.mark.parametrize("n, sigma_deg, real_space", [(720, 3.0, True), (360, 3.0, True), (1440, 3.0, True),
+                                                      (720, 1.0, False), (72, 3.0, False), (1440, 6.0, False)])
+def test_smooth_periodic_is_its_fourier_multiplier(n, sigma_deg, real_space):
+    """The real-space taps apply the same operator as the Fourier multiplier exp(-(k sigma)^2 / 2): they drop taps
+    below 1e-15 of the centre's and the irfft that gives them rounds at ~1e-16, so 1e-14 of the profile's scale.
+    A kernel whose taps do not fall that low inside MAX_TAPS (aliased on a coarse grid, or wide) takes the FFT."""
+    from jointwear.wear.kernels import gaussian_multiplier, gaussian_taps, smooth_periodic
+
+    assert (gaussian_taps(n, sigma_deg) is not None) == real_space
+    p = np.random.default_rng(n).uniform(0.0, 1e-5, n)
+    ref = np.fft.irfft(np.fft.rfft(p) * gaussian_multiplier(n, sigma_deg), n)
+    np.testing.assert_allclose(smooth_periodic(p, sigma_deg), ref, rtol=0.0, atol=1e-14 * 1e-5)
+
+
 def test_smooth_periodic_conserves_area():
     from jointwear.wear.kernels import smooth_periodic
 

@@ -79,16 +79,22 @@ def polygon_distance(r, tab, px, py):
 @njit(cache=True)
 def polar_hull(c, px, py, hull):
     """The cells whose half-planes e . u_k <= c_k bound the admissible set S (its edges), in angular order: the
-    vertices of the convex hull of the polar dual points p_k = u_k / c_k (written to px, py), found by a Graham scan
-    (the p_k come in angular order round the origin, which lies inside). Returns nh; hull[0 .. nh - 1] are the cells,
-    hull[nh] = hull[0]. The corner of S between edges hull[t] and hull[t + 1] supports S along every direction between
-    their normals."""
+    vertices of the convex hull of the polar dual points p_k = u_k / c_k (written to px, py; see polar_scan).
+    Returns nh; hull[0 .. nh - 1] are the cells, hull[nh] = hull[0]. The corner of S between edges hull[t] and
+    hull[t + 1] supports S along every direction between their normals."""
     n = c.shape[0]
     delta = TWO_PI / n
     for k in range(n):
         px[k] = math.cos(k * delta) / c[k]
         py[k] = math.sin(k * delta) / c[k]
-    k0 = int(np.argmin(c))  # the p_k farthest from the origin: a hull vertex
+    return polar_scan(px, py, int(np.argmin(c)), hull)
+
+
+@njit(cache=True, nogil=True)
+def polar_scan(px, py, k0, hull):
+    """polar_hull's Graham scan of points p_k that come in angular order round the origin (which lies inside),
+    starting at k0, a hull vertex (the p_k farthest from the origin). Returns nh as polar_hull."""
+    n = px.shape[0]
     m = 0
     for j in range(n + 1):
         k = (k0 + j) % n

@@ -17,10 +17,13 @@ from .angles import circular_mean
 from .kernels import (
     accumulate_wear,
     gather_directions,
+    gaussian_taps,
     grid_directions,
+    lay_substeps,
     map_touch_angles,
     periodic_interp,
     share_load,
+    smooth_periodic,
 )
 from .settings import WearSettings
 
@@ -98,6 +101,21 @@ class ConformalShare:
         out = np.zeros_like(self.bins)
         np.add.at(out, (slice(None), k), tot)
         return ConformalShare(out, self.c0, self.r_b0, self.width)
+
+    def lay(self, wb: np.ndarray, steps: int, dt: float, smoothing_deg: float) -> float:
+        """`steps` explicit sub-steps of dt cycles on the bearing profile wb (in place), each sharing the loads over
+        the bore laid so far: wb += dt max(S rate, 0), rate the shares on the bore max(S wb, 0), S the running-in
+        smoothing (kernels.smooth_periodic). Returns the Archard volume laid (m^3)."""
+        taps = np.ones(1) if smoothing_deg <= 0.0 else gaussian_taps(wb.shape[0], float(smoothing_deg))
+        if taps is not None:  # compiled: the deposit lays thousands of sub-steps per history
+            return float(lay_substeps(self.bins, self.c0, *self.directions, self.r_b0, self.width, taps, wb,
+                                      int(steps), float(dt)))
+        vol = 0.0
+        for _ in range(steps):  # a kernel too wide for real-space taps: FFT smoothing
+            rate, vrate, _ = self(np.maximum(smooth_periodic(wb, smoothing_deg), 0.0))
+            wb += np.maximum(smooth_periodic(rate, smoothing_deg), 0.0) * dt
+            vol += vrate * dt
+        return vol
 
     def __call__(self, bore: np.ndarray) -> tuple[np.ndarray, float, float]:
         """(bearing depth per cycle, Archard volume per cycle, levelling rate per cycle) on the bore profile."""

@@ -112,18 +112,14 @@ def lay_bearing(cw: CycleWear, wb: np.ndarray, wj: np.ndarray, dn: int, settings
     Returns (new profile, Archard volume of the block)."""
     m = max(1, min(MAX_LEVELLING_SUBSTEPS, math.ceil(cw.levelling_rate * dn / LEVELLING_STEP)),
             math.ceil(dn / settings.profile_substep_cycles))
-    wb = wb.copy()
-    vol = 0.0
-    share = cw.share.merged(SUBSTEP_MERGE) if m > 1 and SUBSTEP_MERGE > 1 else cw.share
-    for j in range(m):
-        if j == 0:
-            rate, vrate = cw.bearing, cw.volume_bearing
-        else:
-            rate, vrate, _ = share(bore_profile(wb, settings))
-        if settings.profile_smoothing_deg > 0.0:
-            rate = np.maximum(smooth_periodic(rate, settings.profile_smoothing_deg), 0.0)
-        wb += rate * (dn / m)
-        vol += vrate * (dn / m)
+    rate = cw.bearing  # the first sub-step: the block's own sharing, at the full direction resolution
+    if settings.profile_smoothing_deg > 0.0:
+        rate = np.maximum(smooth_periodic(rate, settings.profile_smoothing_deg), 0.0)
+    wb = wb + rate * (dn / m)
+    vol = cw.volume_bearing * (dn / m)
+    if m > 1:
+        share = cw.share.merged(SUBSTEP_MERGE) if SUBSTEP_MERGE > 1 else cw.share
+        vol += share.lay(wb, m - 1, dn / m, settings.profile_smoothing_deg)
     return wb, vol
 
 

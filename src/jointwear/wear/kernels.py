@@ -21,7 +21,7 @@ import math
 import numpy as np
 from numba import njit
 
-from jointwear.contact.envelope import polar_hull
+from jointwear.contact.envelope import polar_scan
 
 TWO_PI = 2.0 * math.pi
 
@@ -183,12 +183,21 @@ def map_touch_angles(theta: np.ndarray, idx: np.ndarray, out: np.ndarray) -> Non
 
 
 def smooth_periodic(profile: np.ndarray, sigma_deg: float) -> np.ndarray:
-    """Periodic Gaussian smoothing (standard deviation sigma_deg) of a grid profile; conserves its sum exactly."""
+    """Periodic Gaussian smoothing (standard deviation sigma_deg) of a grid profile; conserves its sum to rounding.
+
+    The operator is the Fourier multiplier exp(-(k sigma)^2 / 2) (gaussian_multiplier); a kernel narrow on the grid
+    is applied as its circulant taps in real space (gaussian_taps, the same operator to rounding), faster than an
+    FFT for the deposit's thousands of sub-steps per history."""
     p = np.asarray(profile, dtype=float)
     if sigma_deg <= 0.0:
         return p.copy()
     n = p.shape[0]
-    return np.fft.irfft(np.fft.rfft(p) * gaussian_multiplier(n, float(sigma_deg)), n)
+    taps = gaussian_taps(n, float(sigma_deg))
+    if taps is None:
+        return np.fft.irfft(np.fft.rfft(p) * gaussian_multiplier(n, float(sigma_deg)), n)
+    out = np.empty(n)
+    convolve_periodic(np.ascontiguousarray(p), taps, out)
+    return out
 
 
 @functools.lru_cache(maxsize=16)
@@ -199,6 +208,44 @@ def gaussian_multiplier(n: int, sigma_deg: float) -> np.ndarray:
     g = np.exp(-0.5 * (k * math.radians(sigma_deg)) ** 2)
     g.flags.writeable = False
     return g
+
+
+#: Circulant taps smaller than this fraction of the centre tap are dropped (the irfft that gives them rounds at
+#: about 1e-16 of it).
+TAP_CUTOFF = 1e-15
+#: Wider kernels than this many taps are applied by FFT (about where the two cost the same on a 720-cell grid).
+MAX_TAPS = 257
+
+
+@functools.lru_cache(maxsize=16)
+def gaussian_taps(n: int, sigma_deg: float) -> np.ndarray | None:
+    """The circulant kernel of gaussian_multiplier, taps[W + d] for d = -W .. W, W the last offset whose tap is at
+    least TAP_CUTOFF of the centre's, normalised to sum 1; None when it has more than MAX_TAPS taps (read-only)."""
+    kern = np.fft.irfft(gaussian_multiplier(n, sigma_deg), n)
+    big = np.nonzero(np.abs(kern[: n // 2 + 1]) >= TAP_CUTOFF * kern[0])[0]
+    half = int(big[-1])
+    if 2 * half + 1 > min(MAX_TAPS, n):
+        return None
+    taps = np.concatenate((kern[n - half:], kern[: half + 1]))
+    taps /= taps.sum()
+    taps.flags.writeable = False
+    return taps
+
+
+@njit(cache=True, nogil=True)
+def convolve_periodic(x, taps, out):
+    """out[i] = sum_d taps[W + d] x[(i + d) mod n], d = -W .. W (tap-major, so the inner loop vectorizes)."""
+    n = x.shape[0]
+    half = (taps.shape[0] - 1) // 2
+    ext = np.empty(n + 2 * half)
+    for i in range(n + 2 * half):
+        ext[i] = x[(i - half) % n]
+    out[:] = 0.0
+    for d in range(taps.shape[0]):
+        t = taps[d]
+        seg = ext[d:d + n]
+        for i in range(n):
+            out[i] += t * seg[i]
 
 
 @njit(cache=True, nogil=True)
@@ -267,7 +314,7 @@ def grid_directions(cs, sn):
         sn[k] = math.sin(k * delta)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath={"reassoc", "contract"})
 def share_load(bins, c_bore, cs, sn, r_b0, width, wear_b):
     """Archard wear of the bearing in profile mode, each step's load shared by the bore cells the journal touches.
 
@@ -304,10 +351,17 @@ def share_load(bins, c_bore, cs, sn, r_b0, width, wear_b):
     px = np.empty(n)
     py = np.empty(n)
     hull = np.empty(n + 1, dtype=np.int64)
-    nh = polar_hull(c_bore, px, py, hull)
+    for k in range(n):  # the polar dual points of contact.envelope.polar_hull, from the direction tables
+        px[k] = cs[k] / c_bore[k]
+        py[k] = sn[k] / c_bore[k]
+    nh = polar_scan(px, py, int(np.argmin(c_bore)), hull)
     w = np.empty(2 * q + 1)
-    idx = np.empty(2 * q + 1, dtype=np.int64)
-    gcell = np.zeros(n)
+    cs2 = np.concatenate((cs, cs))
+    sn2 = np.concatenate((sn, sn))
+    c2 = np.concatenate((c_bore, c_bore))
+    wear2 = np.zeros(2 * n)  # cell k's wear in k and k + n, folded at the end
+    gcell2 = np.zeros(2 * n)
+    gcell = np.empty(n)
     vol = 0.0
     c_min = c_bore.min()
     t = -1
@@ -322,7 +376,7 @@ def share_load(bins, c_bore, cs, sn, r_b0, width, wear_b):
         sm /= nm
         dh = bdh[c] / acc_v
         if nh < 3:  # no corner to rest in (a degenerate grid): the normal's cell takes the load
-            wear_b[c] += acc_v / (width * r_b0 * delta)
+            wear2[c] += acc_v / (width * r_b0 * delta)
             vol += acc_v
             continue
         # the hull edge pair (a, b) whose normals bracket m; the directions come in increasing angle, so one
@@ -360,29 +414,56 @@ def share_load(bins, c_bore, cs, sn, r_b0, width, wear_b):
                 hi = int(math.ceil((off + half) / delta)) + 1
             d_lo = max(d_lo, lo)
             d_hi = min(d_hi, hi)
-        m_ = 0
+        # the window as one run of cells on the doubled tables (no wrap inside the loops, so they vectorize)
+        ln = d_hi - d_lo + 1
+        s0 = (c + d_lo) % n
+        cw = cs2[s0:s0 + ln]
+        sw = sn2[s0:s0 + ln]
+        bw = c2[s0:s0 + ln]
         wproj = 0.0
-        for d in range(d_lo, d_hi + 1):  # about m's own cell: the facing cells are within +-q of it
-            k = c + d
-            if k < 0:
-                k += n
-            elif k >= n:
-                k -= n
-            f = cs[k] * cm + sn[k] * sm
-            o = ex * cs[k] + ey * sn[k] - c_bore[k]
-            if o > 0.0 and f > 0.1:  # only bore cells that face the contact normal can carry its load
-                idx[m_] = k
-                w[m_] = o
-                wproj += o * f
-                m_ += 1
+        wsum = 0.0
+        for j in range(ln):
+            f = cw[j] * cm + sw[j] * sm
+            o = max(ex * cw[j] + ey * sw[j] - bw[j], 0.0) * (f > 0.1)  # only cells facing the normal carry its load
+            w[j] = o
+            wproj += o * f
+            wsum += o
         if not (wproj > 0.0):  # nothing on the grid faces the normal: the normal's cell takes it
-            wear_b[c] += acc_v / (width * r_b0 * delta)
+            wear2[c] += acc_v / (width * r_b0 * delta)
             vol += acc_v
             continue
         scale = acc_v / wproj
-        for j in range(m_):
-            dvj = scale * w[j]
-            wear_b[idx[j]] += dvj / (width * r_b0 * delta)
-            gcell[idx[j]] += scale / (width * r_b0 * delta)
-            vol += dvj
+        cell = scale / (width * r_b0 * delta)
+        ww = wear2[s0:s0 + ln]
+        gw = gcell2[s0:s0 + ln]
+        for j in range(ln):
+            ww[j] += cell * w[j]
+            gw[j] += cell * (w[j] > 0.0)
+        vol += scale * wsum
+    for k in range(n):
+        wear_b[k] += wear2[k] + wear2[k + n]
+        gcell[k] = gcell2[k] + gcell2[k + n]
     return vol, gcell.max()
+
+
+@njit(cache=True, nogil=True)
+def lay_substeps(bins, c0, cs, sn, r_b0, width, taps, wb, steps, dt):
+    """`steps` explicit sub-steps of dt cycles of the distributed deposit (history.lay_bearing), in place on the
+    bearing profile wb: bore = c0 + max(S wb, 0), wb += dt max(S share_load(bins, bore), 0), S the convolution with
+    `taps` (gaussian_taps; [1.0] for none). Returns the Archard volume laid (m^3)."""
+    n = wb.shape[0]
+    bore = np.empty(n)
+    rate = np.empty(n)
+    smooth = np.empty(n)
+    vol = 0.0
+    for _ in range(steps):
+        convolve_periodic(wb, taps, bore)
+        for k in range(n):
+            bore[k] = c0 + max(bore[k], 0.0)
+        rate[:] = 0.0
+        v, _g = share_load(bins, bore, cs, sn, r_b0, width, rate)
+        convolve_periodic(rate, taps, smooth)
+        for k in range(n):
+            wb[k] += max(smooth[k], 0.0) * dt
+        vol += v * dt
+    return vol
