@@ -178,8 +178,8 @@ def wear_history(
         (lane j settles j / lanes cycle longer); default the mechanism's ``model.settings.settle_cycles``
         (``config.simulation.settle_cycles``).
     threads : int, optional
-        Most threads that run the lanes (default: the cores this process may use); a pool of worker processes
-        gives each history cores // workers. The result does not depend on it.
+        Most threads that run the lanes (default: the cores this process may use; a study's local worker
+        processes pass the same). The result does not depend on it.
     simulate : callable, optional
         The dynamics entry point (default `jointwear.mechanism.simulate`); injectable for tests.
     geometry : list of ClearanceGeometry, optional
