@@ -18,29 +18,19 @@ import datetime as dt
 import json
 import os
 import statistics
-import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
+
+from study import one_run
 
 from jointwear.study.io import provenance
 
 
-def one_run(src: str, preset: str) -> dict:
+def timed_run(src: str, preset: str) -> dict:
     with tempfile.TemporaryDirectory() as tmp:
-        out = Path(tmp) / "run"
-        env = dict(os.environ, JOINTWEAR_PROGRESS="0", PYTHONPATH=src)
-        load = os.getloadavg()[0]
-        t0 = time.perf_counter()
-        proc = subprocess.run([sys.executable, "-m", "jointwear", "run", preset, "--out", str(out)], env=env,
-                              capture_output=True, text=True, cwd=tmp)
-        wall = time.perf_counter() - t0
-        if proc.returncode != 0:
-            raise SystemExit(f"jointwear run {preset} failed ({proc.returncode}): {proc.stderr[-2000:]}")
-        rel = json.loads((out / "reliability.json").read_text())
-    return {"wall_seconds": wall, "load_average_before": load, "life_cycles": rel["life_at_target"]["cycles"],
-            "model_calls": rel["model_calls"]}
+        r = one_run(preset, Path(tmp), None, pythonpath=src)
+    return {k: r[k] for k in ("wall_seconds", "load_average_before", "life_cycles", "model_calls")}
 
 
 def main() -> None:
@@ -58,7 +48,7 @@ def main() -> None:
         runs = {name: [] for name in trees}
         for _ in range(a.repeats):
             for name, src in trees.items():
-                runs[name].append(one_run(src, preset))
+                runs[name].append(timed_run(src, preset))
                 print(preset, name, f"{runs[name][-1]['wall_seconds']:.1f} s", file=sys.stderr)
         med = {name: statistics.median(r["wall_seconds"] for r in runs[name]) for name in trees}
         result["presets"][preset] = {

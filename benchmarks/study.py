@@ -26,9 +26,12 @@ from jointwear.config import load_config
 from jointwear.study.io import provenance
 
 
-def one_run(config: str, workdir: Path, workers: int | None) -> dict:
+def one_run(config: str, workdir: Path, workers: int | None, pythonpath: str | None = None) -> dict:
+    """`jointwear run CONFIG` in a fresh process (with PYTHONPATH=pythonpath: another source tree)."""
     out = workdir / "run"
     env = dict(os.environ, JOINTWEAR_PROGRESS="0")
+    if pythonpath is not None:
+        env["PYTHONPATH"] = pythonpath
     load = os.getloadavg()[0]
     cmd = [sys.executable, "-m", "jointwear", "run", config, "--out", str(out)]
     if workers:

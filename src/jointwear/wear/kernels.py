@@ -314,6 +314,7 @@ def grid_directions(cs, sn):
         sn[k] = math.sin(k * delta)
 
 
+# reassoc: the window's sums vectorize (a change of rounding only, which the deposit amplifies anyway: docs/wear.md)
 @njit(cache=True, nogil=True, fastmath={"reassoc", "contract"})
 def share_load(bins, c_bore, cs, sn, r_b0, width, wear_b):
     """Archard wear of the bearing in profile mode, each step's load shared by the bore cells the journal touches.
