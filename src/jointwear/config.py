@@ -119,10 +119,13 @@ class StudyConfig(SIModel):
         if self.uncertainty is None:
             return self
         data = self.model_dump()
-        for i, spec in enumerate(self.uncertainty.all_specs()):
+        clearances = [c.name for c in self.uncertainty.clearances()]
+        several = isinstance(self.uncertainty.clearance, list)
+        for spec in self.uncertainty.all_specs():
             problem = target_error(data, spec.target)
             if problem:
-                where = "uncertainty.clearance" if spec.name == "c" else f"uncertainty.variables[{spec.name}]"
+                where = (f"uncertainty.variables[{spec.name}]" if spec.name not in clearances
+                         else f"uncertainty.clearance[{spec.name}]" if several else "uncertainty.clearance")
                 raise ValueError(f"{where}.target: {problem}")
         return self
 
@@ -167,8 +170,10 @@ def _suffixed_by_target(data: Any) -> list[tuple[str, dict, str | None]]:
         return []
     unc = data["uncertainty"]
     units = {}
-    if isinstance(unc.get("clearance"), Mapping):
-        units["c"] = "m"
+    clearance = unc.get("clearance")
+    for c in [clearance] if isinstance(clearance, Mapping) else clearance if isinstance(clearance, list) else []:
+        if isinstance(c, Mapping):
+            units[str(c.get("name", "c"))] = "m"
     out = []
     for var in unc.get("variables") or []:
         if isinstance(var, Mapping) and isinstance(var.get("target"), str):

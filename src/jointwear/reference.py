@@ -136,8 +136,8 @@ class ReferenceValue(SIModel):
         description="The reported value, SI or with a unit suffix matching the quantity (value_mm, "
         "value_deg, value_h; reliability, cycles and calls are plain numbers).")
     ranking: list[str] | None = Field(
-        None, description="sensitivity_ranking only: variable names ([[uncertainty.variables]] name, 'c' for the "
-        "clearance), most influential first.")
+        None, description="sensitivity_ranking only: variable names ([[uncertainty.variables]] name, a "
+        "clearance's name: 'c' unless named), most influential first.")
     group: str | None = Field(
         None, description="sensitivity_ranking only: the variables' group (tolerance, bearing_material, ...).")
     cycles: int | None = Field(None, gt=0, description="Cycle count N of an 'at N cycles' quantity.")

@@ -76,7 +76,7 @@ def test_study_path_settings_copula_and_levels():
     from jointwear.uncertainty.variables import UncertaintySettings
 
     unc = UncertaintySettings(
-        variables=[{"name": n, "target": "x", "mean": m, "std": s} for n, m, s in zip("abc", MU, SD)],
+        variables=[{"name": n, "target": f"x.{n}", "mean": m, "std": s} for n, m, s in zip("abc", MU, SD)],
         correlation={"pairs": [["a", "b", R[0, 1]], ["a", "c", R[0, 2]], ["b", "c", R[1, 2]]]},
     )
     names = unc.names() + ["delta_0"]  # the study appends an input of its own, independent of the others

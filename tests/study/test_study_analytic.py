@@ -150,7 +150,8 @@ def test_fail_rule_adds_the_infeasible_probability():
     _, failing, _ = _analytic_study(cfg)
     p_inf = cfg.uncertainty.clearance.infeasible_probability()
     np.testing.assert_allclose(failing.pf, p_inf + (1 - p_inf) * truncated.pf, rtol=1e-12, atol=1e-15)
-    assert failing.infeasible["rule"] == "fail"
+    assert failing.infeasible["clearances"][0]["rule"] == "fail"
+    assert failing.infeasible["probability_failed_at_assembly"] == pytest.approx(p_inf, rel=1e-12)  # 1 - (1 - p)
 
 
 def test_sensitivity_mean_shifts_against_brute_force():

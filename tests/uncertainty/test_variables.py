@@ -58,7 +58,7 @@ def test_errors_name_the_field(kwargs, field):
 
 def _settings(**corr):
     return UncertaintySettings(
-        variables=[{"name": n, "target": "x", "mean": 1.0, "std": 0.1} for n in ("a", "b", "c2")],
+        variables=[{"name": n, "target": f"x.{n}", "mean": 1.0, "std": 0.1} for n in ("a", "b", "c2")],
         correlation=corr or None)
 
 

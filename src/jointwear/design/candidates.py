@@ -98,12 +98,14 @@ def build_controls(config: StudyConfig, settings: DesignSettings | None = None) 
         controls.append(Control(t.variable, "tolerance", options))
     if settings.fit is not None:
         options = []
+        fitted = settings.fit.clearance(unc)
         for f in settings.fit.options:
-            c = fit_clearance(unc.clearance, f.hole_grade, f.shaft_grade, f.mean)
-            p_inf = c.infeasible_probability() if c.infeasible_rule == "fail" else 0.0
-            options.append(Option(f.name, f.cost, {"c": c.feasible()},
-                                  {"c": {"mean": c.mean, "std": c.std, "lower": c.minimum, "upper": None,
-                                         "hole_grade": f.hole_grade, "shaft_grade": f.shaft_grade}},
+            c = fit_clearance(fitted, f.hole_grade, f.shaft_grade, f.mean)
+            # the other clearances' 'fail' mass stays whatever this fit
+            p_inf = unc.infeasible_probability(replace={c.name: c})
+            options.append(Option(f.name, f.cost, {c.name: c.feasible()},
+                                  {c.name: {"mean": c.mean, "std": c.std, "lower": c.minimum, "upper": None,
+                                            "hole_grade": f.hole_grade, "shaft_grade": f.shaft_grade}},
                                   infeasible_probability=p_inf))
         controls.append(Control("fit", "fit", options))
     for p in settings.properties:
@@ -143,7 +145,8 @@ class Candidate:
         return out
 
     def infeasible_probability(self, controls: list[Control]) -> float:
-        """Probability of a clearance at or below its minimum under the 'fail' rule (0 otherwise)."""
+        """Probability of an assembly with a clearance at or below its minimum under the 'fail' rule: the fit
+        option's (which counts the other clearances too; 0 without a 'fail' clearance)."""
         return max([o.infeasible_probability or 0.0 for o in self.options(controls)] + [0.0])
 
     def distributions(self, controls: list[Control]) -> dict:

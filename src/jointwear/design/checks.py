@@ -36,7 +36,7 @@ def design_problems(config: StudyConfig) -> list[str]:
         where = f"design.tolerances[{i}].variable"
         if not known(t.variable, where):
             continue
-        if t.variable == "c":
+        if unc.clearance_named(t.variable) is not None:
             problems.append(f"{where}: the clearance is set by a fit ([design.fit]), not by a length grade")
             continue
         unit = target_unit(specs[t.variable].target)
@@ -49,12 +49,20 @@ def design_problems(config: StudyConfig) -> list[str]:
         nominal = t.nominal if t.nominal is not None else abs(specs[t.variable].mean)
         problems += _grade_problems(t.grades, nominal, f"design.tolerances[{i}]")
     if d.fit is not None:
-        if unc.clearance is None:
+        fitted = d.fit.clearance(unc)
+        names = [c.name for c in unc.clearances()]
+        if not names:
             problems.append("design.fit: the fit needs a random clearance ([uncertainty.clearance])")
+        elif fitted is None and d.fit.variable is None:
+            problems.append(f"design.fit.variable: the study has several random clearances ({', '.join(names)}); "
+                            "name the one this fit sets")
+        elif fitted is None:
+            problems.append(f"design.fit.variable: '{d.fit.variable}' is not a random clearance of "
+                            f"[uncertainty.clearance] (known: {', '.join(names)})")
         else:
-            claim("c", "design.fit")
+            claim(fitted.name, "design.fit")
             for j, f in enumerate(d.fit.options):
-                problems += _grade_problems([f.hole_grade, f.shaft_grade], unc.clearance.nominal_diameter,
+                problems += _grade_problems([f.hole_grade, f.shaft_grade], fitted.nominal_diameter,
                                             f"design.fit.options[{j}]")
     for i, p in enumerate(d.properties):
         where = f"design.properties[{i}].variable"
@@ -69,7 +77,7 @@ def design_problems(config: StudyConfig) -> list[str]:
         for j, o in enumerate(m.options):
             for var, ch in o.variables.items():
                 where = f"design.materials[{i}].options[{j}].variables.{var}"
-                if var == "c":
+                if unc.clearance_named(var) is not None:
                     problems.append(f"{where}: the clearance is set by a fit ([design.fit])")
                 elif known(var, where):
                     problems += _spec_problems(specs[var], ch, where)

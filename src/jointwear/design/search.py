@@ -200,9 +200,8 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
     say = echo if echo is not None else (lambda _m: None)
     calls_before, made_before = ctx.n_evaluated, ctx.n_model_calls
     controls = build_controls(ctx.config, settings)
-    clearance = ctx.config.uncertainty.clearance
-    p_inf = clearance.infeasible_probability() if clearance is not None and clearance.infeasible_rule == "fail" else 0.0
-    space = CandidateSpace(ctx, controls, settings.n_population, settings.seed, p_inf)
+    space = CandidateSpace(ctx, controls, settings.n_population, settings.seed,
+                           ctx.config.uncertainty.infeasible_probability())
     sur = LifeSurrogate(ctx, np.asarray(reliability_result.design_x, dtype=float), seed=settings.seed)
     study_points = int(sur.x.shape[0])
 

@@ -12,12 +12,15 @@ checked by :func:`jointwear.design.checks.design_problems`, which needs the whol
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 from pydantic import Field, field_validator, model_validator
 
 from jointwear.schema import F, SIModel
 from jointwear.uncertainty.tolerances import IT_GRADES, it_tolerance
+
+if TYPE_CHECKING:
+    from jointwear.uncertainty.variables import ClearanceSpec, UncertaintySettings
 
 
 def _grade_key(grade: str) -> str:
@@ -131,9 +134,18 @@ class FitOption(SIModel):
 
 
 class FitControl(SIModel):
-    """The fit of the study's clearance (the ``[uncertainty.clearance]`` variable 'c')."""
+    """The fit of one of the study's random clearances (``[uncertainty.clearance]``)."""
 
+    variable: str | None = Field(None, description="Name of the clearance this fit sets; None = the study's only "
+                                 "random clearance.")
     options: list[FitOption] = Field(description="Candidate fits.")
+
+    def clearance(self, uncertainty: UncertaintySettings | None) -> ClearanceSpec | None:
+        """The random clearance this fit sets (None when there is none to set: see design.checks)."""
+        clearances = [] if uncertainty is None else uncertainty.clearances()
+        if self.variable is None:
+            return clearances[0] if len(clearances) == 1 else None
+        return next((c for c in clearances if c.name == self.variable), None)
 
     @field_validator("options")
     @classmethod
@@ -251,7 +263,7 @@ class DesignSettings(SIModel):
 
     targets: list[DesignTarget] = Field(description="Targets (the first is the headline; several allowed).")
     tolerances: list[ToleranceControl] = Field(default_factory=list, description="Grades of toleranced lengths.")
-    fit: FitControl | None = Field(None, description="Fits of the clearance joint.")
+    fit: FitControl | None = Field(None, description="Fits of one clearance joint.")
     properties: list[PropertyControl] = Field(default_factory=list, description="Material property classes.")
     materials: list[MaterialControl] = Field(default_factory=list, description="Candidate materials.")
     cost_model: CostModel = Field(default_factory=CostModel, description="Tolerance-cost relation for grades.")

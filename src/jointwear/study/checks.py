@@ -118,8 +118,9 @@ def design_warnings(config: StudyConfig) -> list[str]:
              for p in design.properties for c in p.classes]
     given += [(f"design.materials[{m.name}].options[{o.name}].variables.{name}", name, spec)
               for m in design.materials for o in m.options for name, spec in o.variables.items()]
-    if design.fit is not None and unc.clearance is not None:
-        given += [(f"design.fit.options[{o.name}]", "c", o) for o in design.fit.options]
+    fitted = None if design.fit is None else design.fit.clearance(unc)
+    if fitted is not None:
+        given += [(f"design.fit.options[{o.name}]", fitted.name, o) for o in design.fit.options]
     out = []
     reach = population_reach(config.reliability.n_mc)
     for where, name, spec in given:
@@ -189,19 +190,25 @@ def wear_mode_warnings(config: StudyConfig) -> list[str]:
 
 
 def clearance_warnings(config: StudyConfig) -> list[str]:
-    """A clearance whose normal lies so far below ``minimum`` that the truncation there moves the sampled mean
+    """Each clearance whose normal lies so far below ``minimum`` that the truncation there moves the sampled mean
     by more than ``TRUNCATED_MEAN_SHIFT_WARNING`` of the designed mean (the study then describes another fit)."""
-    clearance = None if config.uncertainty is None else config.uncertainty.clearance
-    if clearance is None or clearance.infeasible_rule != "truncate":
+    if config.uncertainty is None:
         return []
-    sampled = float(clearance.feasible().mean())
-    if abs(sampled - clearance.mean) <= TRUNCATED_MEAN_SHIFT_WARNING * clearance.mean:
-        return []
-    return [f"uncertainty.clearance: {clearance.infeasible_probability():.1%} of the clearance's normal "
-            f"(mean {clearance.mean * 1e6:.4g} um, std {clearance.std * 1e6:.4g} um) lies at or below its minimum "
-            f"({clearance.minimum * 1e6:.4g} um); the samples are truncated there, so their mean is "
-            f"{sampled * 1e6:.4g} um, not the designed {clearance.mean * 1e6:.4g} um: choose a fit whose spread "
-            "suits the clearance, or infeasible_rule = 'fail' to count those assemblies as failures"]
+    several = isinstance(config.uncertainty.clearance, list)
+    out = []
+    for clearance in config.uncertainty.clearances():
+        if clearance.infeasible_rule != "truncate":
+            continue
+        sampled = float(clearance.feasible().mean())
+        if abs(sampled - clearance.mean) <= TRUNCATED_MEAN_SHIFT_WARNING * clearance.mean:
+            continue
+        where = f"uncertainty.clearance[{clearance.name}]" if several else "uncertainty.clearance"
+        out.append(f"{where}: {clearance.infeasible_probability():.1%} of the clearance's normal "
+                   f"(mean {clearance.mean * 1e6:.4g} um, std {clearance.std * 1e6:.4g} um) lies at or below its "
+                   f"minimum ({clearance.minimum * 1e6:.4g} um); the samples are truncated there, so their mean is "
+                   f"{sampled * 1e6:.4g} um, not the designed {clearance.mean * 1e6:.4g} um: choose a fit whose "
+                   "spread suits the clearance, or infeasible_rule = 'fail' to count those assemblies as failures")
+    return out
 
 
 def out_problem(out: Path) -> str | None:

@@ -4,7 +4,7 @@ One true-model call maps a sample x of the random variables to the wear historie
 read at the cycle counts of the R(N) curve. The limit state of level k is G_k = ln N_f(x) - ln N_k with
 N_f the series-system life (:mod:`jointwear.study.limit_state`); one shared design serves the whole curve
 (:func:`jointwear.reliability.akmcs_multi`). Samples that cannot run are handled by the rule of
-``config.uncertainty.clearance.infeasible_rule`` (truncated clearance by default) and, for anything else
+each clearance's ``infeasible_rule`` (truncated clearance by default) and, for anything else
 (a linkage that cannot assemble, an integrator failure), by the reliability engine's NaN rule: a failed
 call counts as a failure of the mechanism, never as safe, and is reported.
 """
@@ -147,9 +147,9 @@ def study_context(config: StudyConfig, evaluator_factory: Callable[[WearModelCal
     names = [s.name for s in specs]
     labels = [s.label or s.name for s in specs]
     units = [target_display_unit(s.target) or "" for s in specs]
-    # The learning always runs on feasible samples (clearance above its minimum); under the 'fail' rule the
+    # The learning always runs on feasible samples (every clearance above its minimum); under the 'fail' rule the
     # infeasible probability mass is added to Pf afterwards (run_reliability), which is exact because the
-    # truncated distribution is the conditional one given feasibility.
+    # truncated distributions are the conditional ones given feasibility (the clearances independent).
     marginals = unc.marginals(feasible=True)
     rel = config.reliability
     limit = limit_state_from_config(config)
@@ -242,10 +242,9 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     pf_cov = np.asarray(engine.cov, dtype=float)
     n_mc = int(engine.n_mc)
     pf, pf_cov, n_mc = _meet_cov_target(ctx, engine, pf, pf_cov, n_mc)
-    clearance = ctx.config.uncertainty.clearance
-    if clearance is not None and clearance.infeasible_rule == "fail":
-        # 'fail' rule: a sample whose clearance is at or below the minimum is a failure at every N.
-        p_inf = clearance.infeasible_probability()
+    p_inf = ctx.config.uncertainty.infeasible_probability()
+    if p_inf > 0:
+        # 'fail' rule: a sample with a clearance at or below its minimum is a failure at every N.
         pf_feasible = pf
         pf = p_inf + (1.0 - p_inf) * pf_feasible
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -288,10 +287,9 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     design_x_model = ctx.split(design_x)[0]
     design_wear = ctx.wear(design_x_model)
     unc = ctx.config.uncertainty
-    infeasible = {}
-    if unc.clearance is not None:
-        infeasible = {"rule": unc.clearance.infeasible_rule, "minimum_clearance_m": unc.clearance.minimum,
-                      "probability_below_minimum": unc.clearance.infeasible_probability()}
+    infeasible = {"clearances": [{"name": c.name, "rule": c.infeasible_rule, "minimum_clearance_m": c.minimum,
+                                  "probability_below_minimum": c.infeasible_probability()} for c in unc.clearances()],
+                  "probability_failed_at_assembly": p_inf}
     infeasible["failed_calls"] = int(engine.n_failed_calls)
     with np.errstate(invalid="ignore"):  # a failed call's NaN row is no worn-away one
         infeasible["worn_away_calls"] = int(np.any(ctx.outputs(design_x_model) >= WORN_AWAY_WEAR, axis=1).sum())

@@ -26,8 +26,8 @@ def physical_marginal(ctx: StudyContext, i: int, marginal):
     """A shifted clearance keeps its physical floor: the normal with the shifted mean truncated at the
     configured minimum (shifting the truncated law as a whole would move the truncation point with it, below the
     floor, to negative clearances, and read the surrogate far outside its design)."""
-    clearance = ctx.config.uncertainty.clearance
-    if clearance is None or ctx.names[i] != "c" or "loc" not in marginal.kwds:
+    clearance = ctx.config.uncertainty.clearance_named(ctx.names[i])
+    if clearance is None or "loc" not in marginal.kwds:
         return marginal
     return clearance.model_copy(update={"mean": float(marginal.kwds["loc"])}).feasible()
 

@@ -71,8 +71,7 @@ def run_validation(ctx: StudyContext, reliability: ReliabilityResult, n_samples:
     fails = np.where(np.isnan(life)[:, None], True, life[:, None] <= levels[None, :])
     k = fails.sum(axis=0)
     pf_mc = k / n_samples
-    clearance = ctx.config.uncertainty.clearance
-    p_inf = clearance.infeasible_probability() if clearance is not None and clearance.infeasible_rule == "fail" else 0
+    p_inf = ctx.config.uncertainty.infeasible_probability()
     r_mc, lo, hi, agree = [], [], [], []
     r_sur = np.asarray(reliability.reliability, dtype=float)
     pf_sur = 1.0 - r_sur

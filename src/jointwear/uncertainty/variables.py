@@ -2,9 +2,10 @@
 
 A variable names a target field of the study config (a dotted path into the SI config, see
 ``jointwear.study.apply_sample``) and a distribution given by its mean and standard deviation
-(SI), plus bounds where the distribution needs them. The clearance is special: its standard deviation comes
-either from the paper's Table 5 as printed (1 nm, very likely a units slip) or from an ISO 286-2 fit, Eq. (40)
-(0.97 um for IT7/IT6 at 2 mm), and samples at or below a minimum clearance are handled by a named rule.
+(SI), plus bounds where the distribution needs them. A clearance (one, or one per clearance joint) is special: its
+standard deviation comes either from the paper's Table 5 as printed (1 nm, very likely a units slip) or from an
+ISO 286-2 fit, Eq. (40) (0.97 um for IT7/IT6 at 2 mm), and samples at or below a minimum clearance are handled by
+a named rule.
 Dependence between variables: ``correlation`` (a normal copula, :mod:`jointwear.uncertainty.copulas`).
 """
 
@@ -141,9 +142,15 @@ class RandomVariableSpec(SIModel):
 
 
 class ClearanceSpec(SIModel):
-    """The radial clearance of the clearance joint as a random variable."""
+    """The radial clearance of a clearance joint as a random variable (one table, or one per joint as
+    ``[[uncertainty.clearance]]``)."""
 
-    target: str = Field(description="Dotted path of the clearance in the SI config.")
+    name: str = Field("c", description="The variable's name (in correlations, results and the design's fit); "
+                      "each of several clearances needs its own, e.g. 'c_A'.")
+    label: str = Field("", description="Readable name for reports; default 'radial clearance', or "
+                       "'radial clearance <name>' for one of several.")
+    target: str = Field(description="Dotted path of the clearance in the SI config, e.g. "
+                        "'clearance_joints.A.clearance'.")
     mean: float = F(2e-6, unit="m", description="Designed radial clearance, m (Table 2: 1.002 mm - 1 mm).")
     source: Literal["iso286", "table5"] = Field(
         "iso286",
@@ -270,19 +277,21 @@ class CorrelationSpec(SIModel):
 class UncertaintySettings(SIModel):
     """The random inputs of a study (paper Tables 5-6, with the label fix of the user guide's baseline reading)."""
 
-    clearance: ClearanceSpec | None = None
+    clearance: ClearanceSpec | list[ClearanceSpec] | None = Field(
+        None, description="The radial clearance as an ISO 286 fit: one table, or one per clearance joint "
+        "([[uncertainty.clearance]], each with its own name).")
     variables: list[RandomVariableSpec] = Field(default_factory=list)
     correlation: CorrelationSpec | None = Field(
         None,
         description="Correlated variables (a normal copula; independent when absent), e.g. "
         "{ variables = ['l1', 'l2'], matrix = [[1, 0.5], [0.5, 1]] } or { pairs = [['l1', 'l2', 0.5]] }; "
-        "'c' is the clearance.")
+        "a clearance goes by its name ('c' unless named).")
     std_scale: dict[str, float] = Field(
         default_factory=dict,
         description="Factors on the standard deviations, by variable group (tolerance, bearing_material, "
         "journal_material, other) or by variable name (a name wins over its group); e.g. "
         "{ bearing_material = 0.5 } reads a table's spreads as two standard deviations. Alternative readings of "
-        "a source's scatter, without restating its variables. The clearance's spread comes from its fit grades "
+        "a source's scatter, without restating its variables. A clearance's spread comes from its fit grades "
         "and is not scaled.")
 
     @model_validator(mode="after")
@@ -300,12 +309,45 @@ class UncertaintySettings(SIModel):
     def _scale(self, spec: RandomVariableSpec) -> float:
         return float(self.std_scale.get(spec.name, self.std_scale.get(spec.group, 1.0)))
 
+    def clearances(self) -> list[ClearanceSpec]:
+        """The random clearances (none, one, or one per clearance joint)."""
+        if self.clearance is None:
+            return []
+        return list(self.clearance) if isinstance(self.clearance, list) else [self.clearance]
+
+    def clearance_named(self, name: str) -> ClearanceSpec | None:
+        """The random clearance called ``name`` (None when no clearance has that name)."""
+        return next((c for c in self.clearances() if c.name == name), None)
+
+    def infeasible_probability(self, replace: dict[str, ClearanceSpec] | None = None) -> float:
+        """Probability that an assembly has some clearance under the 'fail' rule at or below its minimum (those are
+        failures at every N): 1 - prod(1 - p_i) over the 'fail' clearances, the clearances taken as independent;
+        ``replace``: clearances by name in place of the configured ones (a design's fit)."""
+        keep = 1.0
+        for c in self.clearances():
+            c = (replace or {}).get(c.name, c)
+            if c.infeasible_rule == "fail":
+                keep *= 1.0 - c.infeasible_probability()
+        return 1.0 - keep
+
     @model_validator(mode="after")
     def _unique_names(self) -> UncertaintySettings:
-        names = [v.name for v in self.variables] + (["c"] if self.clearance else [])
+        clearances = [c.name for c in self.clearances()]
+        if len(clearances) > 1 and len(set(clearances)) < len(clearances):
+            repeated = sorted({n for n in clearances if clearances.count(n) > 1})
+            parts = [c.target.split(".") for c in self.clearances()]
+            hint = ", ".join(f"name = 'c_{p[1]}' for {'.'.join(p)}" for p in parts if len(p) == 3)
+            raise ValueError(f"clearance: each clearance needs its own name (given twice: {repeated})"
+                             + (f"; e.g. {hint}" if hint else ""))
+        names = [v.name for v in self.variables] + clearances
         duplicates = {n for n in names if names.count(n) > 1}
         if duplicates:
             raise ValueError(f"duplicate random variable names: {sorted(duplicates)}")
+        specs = self.all_specs()
+        for i, spec in enumerate(specs):
+            other = next((o for o in specs[:i] if o.target == spec.target), None)
+            if other is not None:
+                raise ValueError(f"the random variables '{other.name}' and '{spec.name}' both set {spec.target}")
         if self.correlation is not None:
             where = "correlation.pairs" if self.correlation.pairs is not None else "correlation.variables"
             unknown = [n for n in self.correlation.names() if n not in names]
@@ -313,6 +355,13 @@ class UncertaintySettings(SIModel):
                 raise ValueError(f"{where}: unknown variable(s) {unknown}; known: {names}")
             full = self.correlation.full_matrix(self.names())
             check_correlation(full, "correlation")
+            failing = [c.name for c in self.clearances() if c.infeasible_rule == "fail"]
+            index = {n: i for i, n in enumerate(self.names())}
+            pairs = [(a, b) for i, a in enumerate(failing) for b in failing[i + 1:] if full[index[a], index[b]] != 0]
+            if pairs:
+                raise ValueError(f"correlation: the clearances {pairs[0][0]!r} and {pairs[0][1]!r} both count an "
+                                 "assembly at or below their minimum as failed (infeasible_rule = 'fail'), so they "
+                                 "cannot be correlated; use infeasible_rule = 'truncate' on one of them")
             if self.correlation.measure == "spearman":
                 normal_copula(full, "spearman", "correlation")
         return self
@@ -321,15 +370,16 @@ class UncertaintySettings(SIModel):
         return [v.name for v in self.all_specs()]
 
     def all_specs(self) -> list[RandomVariableSpec]:
-        """Every variable as a spec (standard deviations scaled by ``std_scale``; not the clearance's), the
-        clearance (if any) second as in Table 5."""
+        """Every variable as a spec (standard deviations scaled by ``std_scale``; not the clearances'), the
+        clearances (if any) second as in Table 5."""
         specs = [v if self._scale(v) == 1.0 else v.model_copy(update={"std": v.std * self._scale(v)})
                  for v in self.variables]
-        if self.clearance is not None:
-            c = self.clearance
-            specs.insert(min(1, len(specs)), RandomVariableSpec(
-                name="c", label="radial clearance", target=c.target, group="tolerance",
-                mean=c.mean, std=c.std, unit="um", scale=1e6))
+        several = len(self.clearances()) > 1
+        at = min(1, len(specs))
+        specs[at:at] = [RandomVariableSpec(
+            name=c.name, label=c.label or ("radial clearance " + c.name if several else "radial clearance"),
+            target=c.target, group="tolerance", mean=c.mean, std=c.std, unit="um", scale=1e6)
+            for c in self.clearances()]
         return specs
 
     def marginals(self, feasible: bool = False) -> list:
@@ -337,8 +387,9 @@ class UncertaintySettings(SIModel):
         exceeding its minimum, whatever the rule)."""
         out = []
         for spec in self.all_specs():
-            if spec.name == "c" and self.clearance is not None:
-                out.append(self.clearance.feasible() if feasible else self.clearance.frozen())
+            clearance = self.clearance_named(spec.name)
+            if clearance is not None:
+                out.append(clearance.feasible() if feasible else clearance.frozen())
             else:
                 out.append(spec.frozen())
         return out

@@ -1,0 +1,139 @@
+"""Several random clearances, one ISO 286 fit per clearance joint ([[uncertainty.clearance]])."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from jointwear.config import config_from_dict, load_config, updated
+from jointwear.design import build_controls
+from jointwear.design.checks import design_problems
+from jointwear.design.settings import DesignSettings
+from jointwear.schema import ConfigError
+from jointwear.study.checks import clearance_warnings
+from jointwear.study.model_call import apply_sample
+
+SIX_BAR = "watt_six_bar_two_clearances"
+
+
+def _two_fits(rule_e: str = "truncate", mean_e: float = 20e-6) -> list[dict]:
+    return [{"name": "c_A", "target": "clearance_joints.A.clearance", "mean": 20e-6, "nominal_diameter": 4e-3,
+             "hole_grade": "IT7", "shaft_grade": "IT6", "minimum": 1e-6},
+            {"name": "c_E", "target": "clearance_joints.E.clearance", "mean": mean_e, "nominal_diameter": 4e-3,
+             "hole_grade": "IT8", "shaft_grade": "IT7", "minimum": 1e-6, "infeasible_rule": rule_e}]
+
+
+def _config(**kw):
+    data = load_config(SIX_BAR).model_dump()
+    data["uncertainty"]["clearance"] = _two_fits(**kw)
+    return config_from_dict(data)
+
+
+def test_each_fit_is_its_own_truncated_variable():
+    unc = _config().uncertainty
+    names = unc.names()
+    # the clearances come second, as the paper's Table 5 places its one clearance
+    assert names[:3] == ["l_OA", "c_A", "c_E"]
+    specs = {s.name: s for s in unc.all_specs()}
+    # Eq. (40), ISO 286-1 at 3-6 mm: IT8 18, IT7 12, IT6 8 um; sigma_c = sqrt(T_D^2 + T_d^2) / 12
+    assert specs["c_A"].std == pytest.approx(math.hypot(12e-6, 8e-6) / 12, rel=1e-12)
+    assert specs["c_E"].std == pytest.approx(math.hypot(18e-6, 12e-6) / 12, rel=1e-12)
+    assert specs["c_E"].label == "radial clearance c_E"
+    m = dict(zip(names, unc.marginals(feasible=True)))
+    for name in ("c_A", "c_E"):
+        assert m[name].cdf(1e-6) == 0.0 and m[name].support()[0] == pytest.approx(1e-6)
+        # far above the minimum the truncation leaves the normal: its mean to 1e-12
+        assert m[name].mean() == pytest.approx(20e-6, rel=1e-12)
+
+
+def test_a_sample_sets_every_clearance_joint():
+    cfg = _config()
+    names = cfg.uncertainty.names()
+    x = np.array([s.mean for s in cfg.uncertainty.all_specs()])
+    x[names.index("c_A")], x[names.index("c_E")] = 17e-6, 31e-6
+    sampled = apply_sample(cfg, [s.target for s in cfg.uncertainty.all_specs()], x)
+    joints = {j.name: j for j in sampled.clearance_joints}
+    assert joints["A"].bearing_radius - joints["A"].journal_radius == pytest.approx(17e-6, rel=1e-9)
+    assert joints["E"].bearing_radius - joints["E"].journal_radius == pytest.approx(31e-6, rel=1e-9)
+
+
+def test_fail_mass_of_several_clearances_against_direct_sampling():
+    # two 'fail' clearances close to their minimum: P(some clearance <= its minimum), independent normals
+    cfg = _config(rule_e="fail", mean_e=4e-6)
+    unc = updated(cfg, {"uncertainty.clearance.c_A.mean": 3e-6, "uncertainty.clearance.c_A.infeasible_rule": "fail"}
+                  ).uncertainty
+    p = unc.infeasible_probability()
+    rng = np.random.default_rng(7)
+    n = 2_000_000
+    below = np.zeros(n, dtype=bool)
+    for c in unc.clearances():
+        below |= rng.normal(c.mean, c.std, n) <= c.minimum
+    # binomial standard error of the sampled share; 5 of them
+    assert abs(below.mean() - p) < 5 * math.sqrt(p * (1 - p) / n)
+    assert 0.02 < p < 0.98  # the check has something to see
+    # only 'fail' clearances count
+    assert _config().uncertainty.infeasible_probability() == 0.0
+    one = _config(rule_e="fail", mean_e=4e-6).uncertainty
+    assert one.infeasible_probability() == pytest.approx(one.clearance_named("c_E").infeasible_probability(),
+                                                         rel=1e-15)
+
+
+@pytest.mark.parametrize("change,words", [
+    (lambda f: f[1].update(name="c_A"), ["each clearance needs its own name", "'c_E' for clearance_joints.E"]),
+    (lambda f: f[1].update(target="clearance_joints.A.clearance"), ["'c_A' and 'c_E' both set"]),
+    (lambda f: f[1].update(target="clearance_joints.Q.clearance"), ["uncertainty.clearance[c_E].target"]),
+])
+def test_a_wrong_list_names_the_field(change, words):
+    data = load_config(SIX_BAR).model_dump()
+    fits = _two_fits()
+    change(fits)
+    data["uncertainty"]["clearance"] = fits
+    with pytest.raises(ConfigError) as err:
+        config_from_dict(data)
+    for w in words:
+        assert w in str(err.value)
+
+
+def test_two_failing_clearances_cannot_be_correlated():
+    data = _config(rule_e="fail").model_dump()
+    data["uncertainty"]["clearance"][0]["infeasible_rule"] = "fail"
+    data["uncertainty"]["correlation"] = {"pairs": [["c_A", "c_E", 0.5]]}
+    with pytest.raises(ConfigError, match="'c_A' and 'c_E' both count an assembly"):
+        config_from_dict(data)
+    data["uncertainty"]["clearance"][0]["infeasible_rule"] = "truncate"
+    assert config_from_dict(data).uncertainty.copula() is not None
+
+
+def test_truncation_warning_names_the_clearance():
+    cfg = updated(_config(), {"uncertainty.clearance.c_E.mean": 1.5e-6})
+    (warning,) = clearance_warnings(cfg)
+    assert warning.startswith("uncertainty.clearance[c_E]: ")
+
+
+def _design(fit: dict) -> DesignSettings:
+    return DesignSettings.model_validate({"targets": [{"reliability": 0.9, "life_factor": 1.2}], "fit": fit})
+
+
+def test_the_design_fit_sets_the_clearance_it_names():
+    options = [{"name": "loose", "hole_grade": "IT9", "shaft_grade": "IT8", "cost": 0.0},
+               {"name": "tight", "hole_grade": "IT6", "shaft_grade": "IT5", "cost": 1.0, "mean": 2e-6}]
+    cfg = updated(_config(rule_e="fail"), {"design": _design({"options": options})})
+    assert design_problems(cfg) == ["design.fit.variable: the study has several random clearances (c_A, c_E); "
+                                    "name the one this fit sets"]
+    cfg = updated(cfg, {"design": _design({"variable": "c_B", "options": options})})
+    assert "design.fit.variable: 'c_B' is not a random clearance" in design_problems(cfg)[0]
+    cfg = updated(cfg, {"design": _design({"variable": "c_A", "options": options})})
+    assert design_problems(cfg) == []
+    loose, tight = build_controls(cfg)[0].options
+    # ISO 286-1 at 3-6 mm: IT9 30, IT8 18, IT6 8, IT5 5 um
+    assert loose.described["c_A"]["std"] == pytest.approx(math.hypot(30e-6, 18e-6) / 12, rel=1e-12)
+    assert set(tight.marginals) == {"c_A"}
+    # c_A keeps its 'truncate' rule; E's 'fail' mass counts whatever A's fit
+    p_e = cfg.uncertainty.clearance_named("c_E").infeasible_probability()
+    assert loose.infeasible_probability == pytest.approx(p_e, rel=1e-12)
+    # with c_A failing too, each option combines both: 1 - (1 - p_A)(1 - p_E)
+    cfg = updated(cfg, {"uncertainty.clearance.c_A.infeasible_rule": "fail"})
+    tight = build_controls(cfg)[0].options[1]
+    c = stats.norm(2e-6, math.hypot(8e-6, 5e-6) / 12)
+    assert tight.infeasible_probability == pytest.approx(1 - (1 - c.cdf(1e-6)) * (1 - p_e), rel=1e-12)
