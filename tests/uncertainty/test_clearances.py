@@ -137,3 +137,14 @@ def test_the_design_fit_sets_the_clearance_it_names():
     tight = build_controls(cfg)[0].options[1]
     c = stats.norm(2e-6, math.hypot(8e-6, 5e-6) / 12)
     assert tight.infeasible_probability == pytest.approx(1 - (1 - c.cdf(1e-6)) * (1 - p_e), rel=1e-12)
+
+
+def test_the_spec_of_a_clearance_says_how_it_is_sampled():
+    # 'truncate': the spec is the truncated normal the study samples; 'fail': the whole normal
+    unc = _config(rule_e="fail").uncertainty
+    specs = {s.name: s for s in unc.all_specs()}
+    assert (specs["c_A"].distribution, specs["c_A"].lower) == ("truncated_normal", 1e-6)
+    x = np.linspace(0.5e-6, 30e-6, 7)
+    np.testing.assert_allclose(specs["c_A"].frozen().cdf(x), unc.clearance_named("c_A").frozen().cdf(x),
+                               rtol=1e-12, atol=1e-300)
+    assert (specs["c_E"].distribution, specs["c_E"].lower) == ("normal", None)

@@ -40,6 +40,19 @@ def _settings_row(x: dict) -> tuple:
     return (e(x.get("name")), e(setting_text(x)), e(x.get("unit") or ""), flag, src)
 
 
+def _distribution_cell(v: dict) -> str:
+    """'normal', or e.g. 'truncated normal, >= 0.1' (bounds in the row's unit)."""
+    text = str(v["distribution"]).replace("_", " ")
+    lower, upper = v.get("lower"), v.get("upper")
+    if lower is not None and upper is not None:
+        return f"{text}, {format_number(lower)} to {format_number(upper)}"
+    if lower is not None:
+        return f"{text}, >= {format_number(lower)}"
+    if upper is not None:
+        return f"{text}, <= {format_number(upper)}"
+    return text
+
+
 def setting_text(record: dict) -> str:
     """A setting's value as entered: six significant digits (a length of 18.7805 mm read 18.78 with the report's
     usual four, a list of them 18.780500000000004), and a seed as the integer it is (not 2,025)."""
@@ -108,8 +121,8 @@ def settings_section(out: StudyOutputs, figs: Figures) -> str:
         parts.append(f"<h3>Random inputs ({len(variables)})</h3>")
         parts.append(table(
             ["variable", "name", "group", "distribution", "mean", "std", "COV", "unit", "sets"],
-            [(str(v["label"]), str(v["name"]), str(v["group"]).replace("_", " "), str(v["distribution"]).replace(
-                "_", " "), format_number(v["mean"]), format_number(v["std"]), format_number(v["cov"]),
+            [(str(v["label"]), str(v["name"]), str(v["group"]).replace("_", " "), _distribution_cell(v),
+              format_number(v["mean"]), format_number(v["std"]), format_number(v["cov"]),
               str(v["unit"]), str(v["target"])) for v in variables], cls="settings"))
     recs = list(cfg.get("settings") or [])
     ref = reference_of(cfg)

@@ -376,9 +376,11 @@ class UncertaintySettings(SIModel):
                  for v in self.variables]
         several = len(self.clearances()) > 1
         at = min(1, len(specs))
+        # as sampled: 'truncate' draws the normal truncated at the minimum, 'fail' the whole normal
         specs[at:at] = [RandomVariableSpec(
             name=c.name, label=c.label or ("radial clearance " + c.name if several else "radial clearance"),
-            target=c.target, group="tolerance", mean=c.mean, std=c.std, unit="um", scale=1e6)
+            target=c.target, group="tolerance", mean=c.mean, std=c.std, unit="um", scale=1e6,
+            **({"distribution": "truncated_normal", "lower": c.minimum} if c.infeasible_rule == "truncate" else {}))
             for c in self.clearances()]
         return specs
 
