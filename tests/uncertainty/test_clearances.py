@@ -7,7 +7,7 @@ import pytest
 from scipy import stats
 
 from jointwear.config import config_from_dict, load_config, updated
-from jointwear.design import build_controls
+from jointwear.design import build_controls, enumerate_candidates
 from jointwear.design.checks import design_problems
 from jointwear.design.settings import DesignSettings
 from jointwear.schema import ConfigError
@@ -126,17 +126,20 @@ def test_the_design_fit_sets_the_clearance_it_names():
     cfg = updated(cfg, {"design": _design({"variable": "c_A", "options": options})})
     assert design_problems(cfg) == []
     loose, tight = build_controls(cfg)[0].options
+    unc = cfg.uncertainty
     # ISO 286-1 at 3-6 mm: IT9 30, IT8 18, IT6 8, IT5 5 um
     assert loose.described["c_A"]["std"] == pytest.approx(math.hypot(30e-6, 18e-6) / 12, rel=1e-12)
     assert set(tight.marginals) == {"c_A"}
     # c_A keeps its 'truncate' rule; E's 'fail' mass counts whatever A's fit
     p_e = cfg.uncertainty.clearance_named("c_E").infeasible_probability()
-    assert loose.infeasible_probability == pytest.approx(p_e, rel=1e-12)
+    assert unc.infeasible_probability(replace={"c_A": loose.clearance}) == pytest.approx(p_e, rel=1e-12)
     # with c_A failing too, each option combines both: 1 - (1 - p_A)(1 - p_E)
     cfg = updated(cfg, {"uncertainty.clearance.c_A.infeasible_rule": "fail"})
-    tight = build_controls(cfg)[0].options[1]
+    controls = build_controls(cfg)
+    tight = next(c for c in enumerate_candidates(controls) if c.choices(controls)["fit"] == "tight")
     c = stats.norm(2e-6, math.hypot(8e-6, 5e-6) / 12)
-    assert tight.infeasible_probability == pytest.approx(1 - (1 - c.cdf(1e-6)) * (1 - p_e), rel=1e-12)
+    assert tight.infeasible_probability(controls, cfg.uncertainty) == pytest.approx(
+        1 - (1 - c.cdf(1e-6)) * (1 - p_e), rel=1e-12)
 
 
 def test_the_spec_of_a_clearance_says_how_it_is_sampled():
@@ -148,3 +151,32 @@ def test_the_spec_of_a_clearance_says_how_it_is_sampled():
     np.testing.assert_allclose(specs["c_A"].frozen().cdf(x), unc.clearance_named("c_A").frozen().cdf(x),
                                rtol=1e-12, atol=1e-300)
     assert (specs["c_E"].distribution, specs["c_E"].lower) == ("normal", None)
+
+
+def test_one_design_fit_per_clearance_combines_their_failed_assemblies():
+    fit_a = {"variable": "c_A", "options": [
+        {"name": "A loose", "hole_grade": "IT8", "shaft_grade": "IT7", "cost": 0.0},
+        {"name": "A tight", "hole_grade": "IT6", "shaft_grade": "IT5", "cost": 1.0, "mean": 3e-6}]}
+    fit_e = {"variable": "c_E", "options": [
+        {"name": "E loose", "hole_grade": "IT8", "shaft_grade": "IT7", "cost": 0.0, "mean": 3e-6},
+        {"name": "E tight", "hole_grade": "IT6", "shaft_grade": "IT5", "cost": 1.0}]}
+    cfg = updated(_config(rule_e="fail"), {"uncertainty.clearance.c_A.infeasible_rule": "fail",
+                                           "design": _design([fit_a, fit_e])})
+    assert design_problems(cfg) == []
+    controls = build_controls(cfg)
+    assert [c.name for c in controls] == ["fit c_A", "fit c_E"]
+    # ISO 286-1 at 3-6 mm: IT8 18, IT7 12, IT6 8, IT5 5 um; each clearance N(mean, sigma_c) below 1 um
+    def p(mean, t_hole, t_shaft):
+        return stats.norm(mean, math.hypot(t_hole, t_shaft) / 12).cdf(1e-6)
+
+    expected = {("A loose", "E loose"): (p(20e-6, 18e-6, 12e-6), p(3e-6, 18e-6, 12e-6)),
+                ("A tight", "E loose"): (p(3e-6, 8e-6, 5e-6), p(3e-6, 18e-6, 12e-6)),
+                ("A loose", "E tight"): (p(20e-6, 18e-6, 12e-6), p(20e-6, 8e-6, 5e-6)),
+                ("A tight", "E tight"): (p(3e-6, 8e-6, 5e-6), p(20e-6, 8e-6, 5e-6))}
+    for cand in enumerate_candidates(controls):
+        pa, pe = expected[tuple(cand.choices(controls).values())]
+        assert cand.infeasible_probability(controls, cfg.uncertainty) == pytest.approx(1 - (1 - pa) * (1 - pe),
+                                                                                      rel=1e-12)
+    # two fits of one clearance
+    twice = updated(cfg, {"design": _design([fit_a, {**fit_e, "variable": "c_A"}])})
+    assert any("variable 'c_A' is already set by design.fit[0]" in m for m in design_problems(twice))

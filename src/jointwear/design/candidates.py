@@ -25,7 +25,7 @@ from jointwear.config import StudyConfig
 from jointwear.design.cost import grade_costs
 from jointwear.design.settings import DesignSettings, PropertySpec
 from jointwear.uncertainty.tolerances import it_tolerance, length_sigma
-from jointwear.uncertainty.variables import ClearanceSpec, RandomVariableSpec
+from jointwear.uncertainty.variables import ClearanceSpec, RandomVariableSpec, UncertaintySettings
 
 
 @dataclass
@@ -36,7 +36,7 @@ class Option:
     cost: float
     marginals: dict
     described: dict = field(default_factory=dict)  # per variable: mean, std, lower, upper (SI)
-    infeasible_probability: float | None = None  # the clearance's mass below its minimum (fits only)
+    clearance: ClearanceSpec | None = None  # the clearance this option sets (fits only)
 
 
 @dataclass
@@ -96,18 +96,17 @@ def build_controls(config: StudyConfig, settings: DesignSettings | None = None) 
             options.append(Option(grade, cost, {t.variable: changed.frozen()},
                                   {t.variable: _described(changed)}))
         controls.append(Control(t.variable, "tolerance", options))
-    if settings.fit is not None:
+    fits = settings.fits()
+    for fit in fits:
         options = []
-        fitted = settings.fit.clearance(unc)
-        for f in settings.fit.options:
+        fitted = fit.clearance(unc)
+        for f in fit.options:
             c = fit_clearance(fitted, f.hole_grade, f.shaft_grade, f.mean)
-            # the other clearances' 'fail' mass stays whatever this fit
-            p_inf = unc.infeasible_probability(replace={c.name: c})
             options.append(Option(f.name, f.cost, {c.name: c.feasible()},
                                   {c.name: {"mean": c.mean, "std": c.std, "lower": c.minimum, "upper": None,
                                             "hole_grade": f.hole_grade, "shaft_grade": f.shaft_grade}},
-                                  infeasible_probability=p_inf))
-        controls.append(Control("fit", "fit", options))
+                                  clearance=c))
+        controls.append(Control("fit" if len(fits) == 1 else f"fit {fitted.name}", "fit", options))
     for p in settings.properties:
         spec = specs[p.variable]
         options = [Option(k.name, k.cost, {p.variable: spec_marginal(spec, k)}, {p.variable: _described(spec, k)})
@@ -144,10 +143,11 @@ class Candidate:
                 out[names.index(var)] = dist
         return out
 
-    def infeasible_probability(self, controls: list[Control]) -> float:
-        """Probability of an assembly with a clearance at or below its minimum under the 'fail' rule: the fit
-        option's (which counts the other clearances too; 0 without a 'fail' clearance)."""
-        return max([o.infeasible_probability or 0.0 for o in self.options(controls)] + [0.0])
+    def infeasible_probability(self, controls: list[Control], uncertainty: UncertaintySettings) -> float:
+        """Probability of an assembly with a clearance at or below its minimum under the 'fail' rule, each
+        clearance as this candidate's fits set it (the study's where no fit does)."""
+        chosen = {o.clearance.name: o.clearance for o in self.options(controls) if o.clearance is not None}
+        return uncertainty.infeasible_probability(replace=chosen)
 
     def distributions(self, controls: list[Control]) -> dict:
         out: dict = {}

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from jointwear.config import StudyConfig, target_display_unit, target_unit
+from jointwear.design.settings import FitControl
 from jointwear.uncertainty.tolerances import it_tolerance
 from jointwear.units import ANY_UNIT
 
@@ -48,22 +49,24 @@ def design_problems(config: StudyConfig) -> list[str]:
         claim(t.variable, f"design.tolerances[{i}]")
         nominal = t.nominal if t.nominal is not None else abs(specs[t.variable].mean)
         problems += _grade_problems(t.grades, nominal, f"design.tolerances[{i}]")
-    if d.fit is not None:
-        fitted = d.fit.clearance(unc)
-        names = [c.name for c in unc.clearances()]
+    fits = d.fits()
+    names = [c.name for c in unc.clearances()]
+    for i, fit in enumerate(fits):
+        where = "design.fit" if isinstance(d.fit, FitControl) else f"design.fit[{i}]"
+        fitted = fit.clearance(unc)
         if not names:
-            problems.append("design.fit: the fit needs a random clearance ([uncertainty.clearance])")
-        elif fitted is None and d.fit.variable is None:
-            problems.append(f"design.fit.variable: the study has several random clearances ({', '.join(names)}); "
+            problems.append(f"{where}: the fit needs a random clearance ([uncertainty.clearance])")
+        elif fitted is None and fit.variable is None:
+            problems.append(f"{where}.variable: the study has several random clearances ({', '.join(names)}); "
                             "name the one this fit sets")
         elif fitted is None:
-            problems.append(f"design.fit.variable: '{d.fit.variable}' is not a random clearance of "
+            problems.append(f"{where}.variable: '{fit.variable}' is not a random clearance of "
                             f"[uncertainty.clearance] (known: {', '.join(names)})")
         else:
-            claim(fitted.name, "design.fit")
-            for j, f in enumerate(d.fit.options):
+            claim(fitted.name, where)
+            for j, f in enumerate(fit.options):
                 problems += _grade_problems([f.hole_grade, f.shaft_grade], fitted.nominal_diameter,
-                                            f"design.fit.options[{j}]")
+                                            f"{where}.options[{j}]")
     for i, p in enumerate(d.properties):
         where = f"design.properties[{i}].variable"
         if not known(p.variable, where):
@@ -81,7 +84,9 @@ def design_problems(config: StudyConfig) -> list[str]:
                     problems.append(f"{where}: the clearance is set by a fit ([design.fit])")
                 elif known(var, where):
                     problems += _spec_problems(specs[var], ch, where)
-    names = ([t.variable for t in d.tolerances] + (["fit"] if d.fit else []) + [p.variable for p in d.properties]
+    fitted = [f.clearance(unc) for f in fits]
+    fit_names = ["fit"] if len(fits) == 1 else [f"fit {c.name}" for c in fitted if c is not None]
+    names = ([t.variable for t in d.tolerances] + fit_names + [p.variable for p in d.properties]
              + [m.name for m in d.materials])
     dup = sorted({n for n in names if names.count(n) > 1})
     if dup:

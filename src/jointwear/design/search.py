@@ -124,8 +124,7 @@ class CandidateSpace:
         return x, u
 
     def infeasible_probability(self, cand: Candidate) -> float:
-        fits = [c for c in self.controls if c.kind == "fit"]
-        return cand.infeasible_probability(self.controls) if fits else self.p_inf_default
+        return cand.infeasible_probability(self.controls, self.ctx.config.uncertainty)
 
 
 def estimate(space: CandidateSpace, sur: LifeSurrogate, cand: Candidate, log_target: float,

@@ -263,7 +263,8 @@ class DesignSettings(SIModel):
 
     targets: list[DesignTarget] = Field(description="Targets (the first is the headline; several allowed).")
     tolerances: list[ToleranceControl] = Field(default_factory=list, description="Grades of toleranced lengths.")
-    fit: FitControl | None = Field(None, description="Fits of one clearance joint.")
+    fit: FitControl | list[FitControl] | None = Field(
+        None, description="Fits of a clearance joint, or of several ([[design.fit]], each naming its `variable`).")
     properties: list[PropertyControl] = Field(default_factory=list, description="Material property classes.")
     materials: list[MaterialControl] = Field(default_factory=list, description="Candidate materials.")
     cost_model: CostModel = Field(default_factory=CostModel, description="Tolerance-cost relation for grades.")
@@ -311,9 +312,15 @@ class DesignSettings(SIModel):
             raise ValueError(f"{n} combinations exceed max_candidates = {self.max_candidates}")
         return self
 
+    def fits(self) -> list[FitControl]:
+        """The fit controls (none, one, or one per clearance)."""
+        if self.fit is None:
+            return []
+        return list(self.fit) if isinstance(self.fit, list) else [self.fit]
+
     def option_counts(self) -> list[int]:
         """Number of options of every control, in the order of the candidate enumeration."""
-        return ([len(t.grades) for t in self.tolerances] + ([len(self.fit.options)] if self.fit else [])
+        return ([len(t.grades) for t in self.tolerances] + [len(f.options) for f in self.fits()]
                 + [len(p.classes) for p in self.properties] + [len(m.options) for m in self.materials])
 
 

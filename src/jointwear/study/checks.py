@@ -118,9 +118,11 @@ def design_warnings(config: StudyConfig) -> list[str]:
              for p in design.properties for c in p.classes]
     given += [(f"design.materials[{m.name}].options[{o.name}].variables.{name}", name, spec)
               for m in design.materials for o in m.options for name, spec in o.variables.items()]
-    fitted = None if design.fit is None else design.fit.clearance(unc)
-    if fitted is not None:
-        given += [(f"design.fit.options[{o.name}]", fitted.name, o) for o in design.fit.options]
+    for fit in design.fits():
+        fitted = fit.clearance(unc)
+        if fitted is not None:
+            where = "design.fit" if fit is design.fit else f"design.fit[{fitted.name}]"
+            given += [(f"{where}.options[{o.name}]", fitted.name, o) for o in fit.options]
     out = []
     reach = population_reach(config.reliability.n_mc)
     for where, name, spec in given:
