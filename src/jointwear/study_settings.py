@@ -64,15 +64,12 @@ class ReliabilitySettings(SIModel):
     n_initial: int = Field(12, description="Latin hypercube initial design size (paper: 20 calls in all).")
     batch_size: int = Field(2, description="Points added per learning iteration (run in parallel).")
     u_threshold: float = Field(2.0, description="Stop learning when min U >= this (paper Eq. 46: 2).")
-    stopping: Literal["u", "error"] | None = Field(
-        None,
+    stopping: Literal["u", "error"] = Field(
+        "error",
         description="Learning stop: 'u' = min U >= u_threshold at every level (the paper's rule); 'error' = the "
         "estimated relative error of every level's Pf from the surrogate's sign uncertainty is below error_tol, "
-        "or min U >= u_threshold (the U rule keeps adding calls near levels with Pf ~ 0.5, where a population of "
-        "1e5 always has points on the limit state). None (default): 'error' for one judged joint, 'u' for several "
-        "(project choice: a series system's life has a kink where the error estimate is too small; on an analytic "
-        "two-joint system the life's 95 % interval held the exact life in 8 of 20 runs with 'error', in 19 of 20 "
-        "with 'u', which spends the budget; docs/study.md).")
+        "or min U >= u_threshold (project choice: the U rule keeps adding calls near levels with Pf ~ 0.5, where "
+        "a population of 1e5 always has points on the limit state).")
     noise: Literal["estimate", "none"] = Field(
         "estimate",
         description="Kriging of a noisy model: 'estimate' fits a nugget (noise variance) by maximum likelihood. The "
@@ -158,13 +155,6 @@ class ReliabilitySettings(SIModel):
         if self.cycles_step is not None:
             return self.cycles_step
         return max(1, (self.cycles_stop - self.cycles_start) // 10)
-
-    def learning_rule(self, judged_joints: int) -> Literal["u", "error"]:
-        """The learning's stopping rule: ``stopping``, or by default 'error' for one judged joint and 'u' for a
-        series system of several."""
-        if self.stopping is not None:
-            return self.stopping
-        return "u" if judged_joints > 1 else "error"
 
     def curve_cycles(self) -> list[int]:
         """The cycle counts of the R(N) curve (start to stop on its step, stop included) and the histogram levels."""

@@ -249,16 +249,3 @@ def test_curve_half_width_adds_the_monte_carlo_and_the_surrogate_parts():
     half = curve_half_width(pf, np.array([np.nan, 0.02, 0.01]), np.array([0.001, np.nan, 0.003]))
     # no COV where Pf = 0 and no error where none was estimated: each counts as 0
     np.testing.assert_allclose(half, [0.001, 1.96 * 0.02 * 0.1, 1.96 * 0.01 * 0.5 + 0.003], rtol=1e-15)
-
-
-def test_a_series_system_learns_with_the_u_rule_by_default():
-    # benchmarks/results/life_interval.json: on a two-joint series system the ESC rule stops before the kink of
-    # min(N_A, N_E) is learnt (interval coverage 8/20 at R = 0.9); the U rule spends the budget (19/20)
-    from jointwear.study_settings import ReliabilitySettings
-
-    rel = ReliabilitySettings()
-    assert (rel.learning_rule(1), rel.learning_rule(2)) == ("error", "u")
-    assert ReliabilitySettings(stopping="error").learning_rule(2) == "error"
-    assert ReliabilitySettings(stopping="u").learning_rule(1) == "u"
-    six_bar = load_config("watt_six_bar_two_clearances")
-    assert six_bar.reliability.learning_rule(len(limit_state_from_config(six_bar).joints)) == "u"

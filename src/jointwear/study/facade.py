@@ -732,7 +732,7 @@ def learning_stop_line(res: ReliabilityResult, settings) -> str:
     against the tolerance of the stopping rule, and what to do."""
     worst = res.largest_error()
     rule = (f"tolerance {settings.error_abs_tol:g} in R or {settings.error_tol:.0%} of Pf"
-            if settings.learning_rule(max(len(res.joints), 1)) == "error"
+            if settings.stopping == "error"
             else f"the learning's rule is min U >= {settings.u_threshold:g} at every level, stopping = 'u'")
     error = "" if worst is None else (
         f"; the surrogate's error estimate of R reaches {worst[0]:.3f} at {worst[1]:,.0f} cycles ({rule})")

@@ -235,7 +235,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         ctx.log_life, ctx.marginals, levels=ctx.log_levels(), n_mc=rel.n_mc, n_mc_max=rel.n_mc_max,
         n_initial=rel.n_initial, batch_size=rel.batch_size, u_threshold=rel.u_threshold,
         cov_target=rel.cov_target, pf_floor=rel.pf_floor, max_calls=rel.max_calls, seed=rel.seed, copula=ctx.copula,
-        evaluation=Evaluation(progress=progress), stopping=rel.learning_rule(len(ctx.limit_state.joints)), error_tol=rel.error_tol, error_abs_tol=rel.error_abs_tol,
+        evaluation=Evaluation(progress=progress), stopping=rel.stopping, error_tol=rel.error_tol, error_abs_tol=rel.error_abs_tol,
         kriging={"estimate_nugget": rel.noise == "estimate"})
     cycles = np.asarray(ctx.cycles, dtype=float)
     pf = np.asarray(engine.pf, dtype=float)
