@@ -82,8 +82,9 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
                      f"<b>{e(rel.governing_joint)}</b>. The system's life has a kink where two joints' lives "
                      "cross, and the surrogate's error estimate can be too small there: on an analytic two-joint "
                      "system the life's 95 % interval held the exact life in 8 of 20 runs at R = 0.9 with the "
-                     "default learning rule, in 19 of 20 with <code>reliability.stopping = \"u\"</code> "
-                     "(docs/study.md, \"How far to trust the life\"). Check it with <code>jointwear validate</code>."
+                     "default learning rule, in 19 of 20 with <code>reliability.stopping = \"u\"</code>, which "
+                     "did no better on the six-bar's true model (docs/study.md, \"How far to trust the life\"). "
+                     "Check it with <code>jointwear validate</code>."
                      "</p>")
     ref = reference_of(out.config)
     label = reference_label(ref)
