@@ -196,7 +196,7 @@ def run(config, workers, scheduler, resume, overwrite, out):
 @click.option("--label", "labels", multiple=True,
               help="A name for each study, in order (repeat the option; default: the studies' names).")
 @click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
-              help="Also write comparison.json, its CSV tables, comparison.md and the figure here.")
+              help="Also write comparison.json, its CSV tables, comparison.md, the figure and comparison.html here.")
 def compare(directories, target, labels, out):
     """Compare finished studies (their results folders; the first is the baseline): the life at the target with
     its 95 % interval, whether it differs beyond the errors, the nominal wear and the settings that differ."""

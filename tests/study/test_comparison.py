@@ -5,6 +5,7 @@ N = 0.1 scale, and its band at 0.09 scale and 0.11 scale (linear interpolation i
 from __future__ import annotations
 
 import json
+from html.parser import HTMLParser
 
 import numpy as np
 import pytest
@@ -88,6 +89,49 @@ def test_saved_comparison_reads_back_and_writes_its_tables(three, tmp_path):
     md = (tmp_path / "cmp" / "comparison.md").read_text()
     assert "| B | 200,000 | 180,000 \u2013 220,000 | 2.000 | longer |" in md
     assert md.count("| 40 | \u2014 | \u2014 |") == 3  # no wear mode, not validated: said so, not left blank
+
+
+class _Cells(HTMLParser):
+    """The text of every table cell, row by row, and the images' sources."""
+
+    def __init__(self):
+        super().__init__()
+        self.rows, self.images, self._cell = [], [], None
+
+    def handle_starttag(self, tag, attrs):
+        if tag == "tr":
+            self.rows.append([])
+        elif tag in ("td", "th"):
+            self._cell = ""
+        elif tag == "img":
+            self.images.append(dict(attrs)["src"])
+
+    def handle_endtag(self, tag):
+        if tag in ("td", "th"):
+            self.rows[-1].append(self._cell)
+            self._cell = None
+
+    def handle_data(self, data):
+        if self._cell is not None:
+            self._cell += data
+
+
+def test_the_comparison_page_holds_the_same_rows_and_the_curves(three, tmp_path):
+    comp = compare_studies(three, labels=["A", "B", "C"])
+    comp.save(tmp_path / "cmp")
+    page = _Cells()
+    page.feed((tmp_path / "cmp" / "comparison.html").read_text(encoding="utf-8"))
+    assert list(StudyComparison.COLUMNS) in page.rows
+    for row in comp.rows():  # the rows of comparison.md, cell for cell
+        assert list(row) in page.rows
+    assert ["B", "200,000", "180,000 \u2013 220,000", "2.000", "longer"] == page.rows[page.rows.index(
+        list(comp.rows()[1]))][:5]
+    assert ["wear.geometry_mode", "uniform", "profile", "uniform"] in page.rows
+    assert len(page.images) == 1 and page.images[0].startswith("data:image/png;base64,")
+    # written without figures: the page says so instead of showing an empty frame
+    comp.save(tmp_path / "nofig", figures=False)
+    text = (tmp_path / "nofig" / "comparison.html").read_text(encoding="utf-8")
+    assert "<img" not in text and "No figure of the curves" in text
 
 
 def test_labels_default_to_folders_where_names_repeat(tmp_path):

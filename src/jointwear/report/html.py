@@ -14,7 +14,7 @@ from pathlib import Path
 
 from .checks import reference_checks, reference_label, reference_of
 from .design_section import design_section
-from .markup import CSS, Figures, e, safe, section
+from .markup import Figures, e, html_page, safe, section
 from .read import read_outputs
 from .result_sections import (
     comparison_section,
@@ -98,32 +98,11 @@ def build_report(out_dir: Path | str, *, output: Path | str | None = None, title
         '<p class="lead">The study declares no reference results ([reference]); nothing is compared.</p>'])
     nav = "".join(f'<a href="#{e(sid)}">{e(t)}</a>' for sid, t, _b, _l in bodies)
     main = "".join(section(sid, t, b, lead=lead) for sid, t, b, lead in bodies)
-    from jointwear import __version__ as version
-
-    doc = f"""<!DOCTYPE html>
-<html lang="en">
-<head>
-<meta charset="utf-8">
-<meta name="viewport" content="width=device-width, initial-scale=1">
-<meta name="generator" content="jointwear {e(version)}">
-<title>{e(page_title)}</title>
-<style>{CSS}</style>
-</head>
-<body>
-<header><div class="wrap"><h1>{e(page_title)}</h1>
-<div class="sub">Wear of revolute clearance joints and wear reliability of a planar mechanism \u00b7 {e(sub)}</div>
-</div></header>
-<nav><div class="wrap">{nav}</div></nav>
-<main><div class="wrap">
-<section id="summary"><h2>Summary</h2>{summary}
+    body = f"""<section id="summary"><h2>Summary</h2>{summary}
 {summary_lead}</section>
-{main}
-</div></main>
-<footer>jointwear {e(version)} \u00b7 {figs.count} figures embedded \u00b7 self-contained page: no scripts, no external
-resources</footer>
-</body>
-</html>
-"""
+{main}"""
+    doc = html_page(page_title, "Wear of revolute clearance joints and wear reliability of a planar mechanism "
+                    f"\u00b7 {sub}", nav, body, f"{figs.count} figures embedded")
     path = Path(output) if output is not None else out_dir / "report.html"
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.name + ".tmp")

@@ -14,7 +14,8 @@ import numpy as np
 
 from .style import DPI, to_data_uri
 
-__all__ = ["e", "format_number", "figure_html", "missing", "cards", "table", "section", "safe", "Figures", "CSS"]
+__all__ = ["e", "format_number", "figure_html", "missing", "cards", "table", "section", "safe", "Figures", "CSS",
+           "html_page"]
 
 
 def e(x) -> str:
@@ -65,6 +66,35 @@ def figure_html(uri: str, caption: str, *, wide: bool = False) -> str:
     width = f' width="{round(px * 96 / DPI)}"' if px else ""
     return (f'<figure class="{cls}"><img src="{uri}"{width} alt="{e(caption)}">'
             f"<figcaption>{e(caption)}</figcaption></figure>")
+
+
+def html_page(title: str, sub: str, nav: str, body: str, footer: str) -> str:
+    """A self-contained page in the report's style: header (``title``, the line ``sub``), the navigation links
+    ``nav``, the sections ``body`` (HTML) and a footer that starts with ``footer``."""
+    from jointwear import __version__ as version
+
+    return f"""<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1">
+<meta name="generator" content="jointwear {e(version)}">
+<title>{e(title)}</title>
+<style>{CSS}</style>
+</head>
+<body>
+<header><div class="wrap"><h1>{e(title)}</h1>
+<div class="sub">{e(sub)}</div>
+</div></header>
+<nav><div class="wrap">{nav}</div></nav>
+<main><div class="wrap">
+{body}
+</div></main>
+<footer>jointwear {e(version)} \u00b7 {e(footer)} \u00b7 self-contained page: no scripts, no external
+resources</footer>
+</body>
+</html>
+"""
 
 
 def png_data_uri(path: Path) -> str | None:

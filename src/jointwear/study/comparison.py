@@ -77,12 +77,13 @@ class StudyComparison(StageResult):
         out["comparison_settings"] = settings
         return out
 
-    def markdown(self) -> str:
-        """The comparison as Markdown: a table of the studies, then the settings that differ."""
-        lines = [f"Life at R = {self.target:g}; the first study is the baseline.", "",
-                 "| study | life (cycles) | 95 % interval | ratio | against the baseline | max wear (mm) | "
-                 "model calls | wear mode | validated |",
-                 "|---|---|---|---|---|---|---|---|---|"]
+    #: the columns of :meth:`rows`
+    COLUMNS: ClassVar[tuple[str, ...]] = ("study", "life (cycles)", "95 % interval", "ratio", "against the baseline",
+                                          "max wear (mm)", "model calls", "wear mode", "validated")
+
+    def rows(self) -> list[tuple[str, ...]]:
+        """One row of text per study, in the order of :attr:`COLUMNS` (the Markdown and HTML tables)."""
+        out = []
         for s in self.studies:
             life = _cycles(s["life_cycles"]) if s["life_cycles"] is not None else s["status"].replace("_", " ")
             ratio = "\u2014" if s["life_ratio"] is None else f"{s['life_ratio']:.3f}"
@@ -93,33 +94,47 @@ class StudyComparison(StageResult):
                 mode += " (outside its range)"
             validated = ("\u2014" if s["validation_levels"] is None
                          else f"{s['validation_levels_agreeing']} of {s['validation_levels']} levels agree")
-            lines.append(f"| {s['label']} | {life} | {interval_cells(s['life_cycles_low'], s['life_cycles_high'])} | "
-                         f"{ratio} | {s['verdict']} | {wear} | {s['model_calls']} | {mode} | {validated} |")
+            out.append((s["label"], life, interval_cells(s["life_cycles_low"], s["life_cycles_high"]), ratio,
+                        s["verdict"], wear, str(s["model_calls"]), mode, validated))
+        return out
+
+    def setting_rows(self) -> list[tuple[str, ...]]:
+        """One row per setting that differs: its name (with its unit), then its value in each study."""
+        return [(d["name"] + (f" ({d['unit']})" if d.get("unit") else ""), *(_shown(v) for v in d["values"]))
+                for d in self.differences]
+
+    def markdown(self) -> str:
+        """The comparison as Markdown: a table of the studies, then the settings that differ."""
+        lines = [f"Life at R = {self.target:g}; the first study is the baseline.", "",
+                 "| " + " | ".join(self.COLUMNS) + " |", "|---" * len(self.COLUMNS) + "|"]
+        lines += ["| " + " | ".join(row) + " |" for row in self.rows()]
         if self.differences:
             lines += ["", "| setting | " + " | ".join(self.labels) + " |",
                       "|---" * (len(self.labels) + 1) + "|"]
-            for d in self.differences:
-                unit = f" ({d['unit']})" if d.get("unit") else ""
-                lines.append(f"| {d['name']}{unit} | " + " | ".join(_shown(v) for v in d["values"]) + " |")
+            lines += ["| " + " | ".join(row) + " |" for row in self.setting_rows()]
         else:
             lines += ["", "No setting differs between the studies."]
         return "\n".join(lines)
 
     def save(self, folder: Path | str, *, figures: bool = True) -> Path:
-        """Write ``comparison.json``, the CSV tables (:meth:`tables`), ``comparison.md`` and the figure of the
-        curves (``comparison_reliability.png``)."""
+        """Write ``comparison.json``, the CSV tables (:meth:`tables`), ``comparison.md``, the figure of the
+        curves (``comparison_reliability.png``) and the page ``comparison.html`` (the figure embedded)."""
+        from jointwear.report.comparison_page import write_comparison_page
+
         folder = Path(folder)
         folder.mkdir(parents=True, exist_ok=True)
         self.write_tables(folder)
         (folder / "comparison.md").write_text(self.markdown() + "\n", encoding="utf-8")
+        figure = folder / "comparison_reliability.png"
         if figures:
             from jointwear.report import figures as F
 
             save_figure(F.comparison_figure(self.curves, self.labels, target=self.target,
                                             lives=[(s["life_cycles"], s["life_cycles_low"], s["life_cycles_high"])
-                                                   for s in self.studies]),
-                        folder / "comparison_reliability.png")
-        return self.write(folder)
+                                                   for s in self.studies]), figure)
+        path = self.write(folder)
+        write_comparison_page(self, folder / "comparison.html", figure=figure if figures else None)
+        return path
 
 
 def compare_studies(studies: Sequence[Path | str | StudyResults], *, target: float | None = None,
