@@ -179,4 +179,4 @@ def test_one_design_fit_per_clearance_combines_their_failed_assemblies():
                                                                                       rel=1e-12)
     # two fits of one clearance
     twice = updated(cfg, {"design": _design([fit_a, {**fit_e, "variable": "c_A"}])})
-    assert any("variable 'c_A' is already set by design.fit[0]" in m for m in design_problems(twice))
+    assert design_problems(twice) == ["design.fit[1]: variable 'c_A' is already set by design.fit[0]"]

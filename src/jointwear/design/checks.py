@@ -85,7 +85,8 @@ def design_problems(config: StudyConfig) -> list[str]:
                 elif known(var, where):
                     problems += _spec_problems(specs[var], ch, where)
     fitted = [f.clearance(unc) for f in fits]
-    fit_names = ["fit"] if len(fits) == 1 else [f"fit {c.name}" for c in fitted if c is not None]
+    # two fits of one clearance are reported above, once
+    fit_names = ["fit"] if len(fits) == 1 else list(dict.fromkeys(f"fit {c.name}" for c in fitted if c is not None))
     names = ([t.variable for t in d.tolerances] + fit_names + [p.variable for p in d.properties]
              + [m.name for m in d.materials])
     dup = sorted({n for n in names if names.count(n) > 1})
