@@ -239,9 +239,8 @@ class LocalExecutor(_ExecutorBase):
     @property
     def threads_per_call(self) -> int:
         """Every core: a call alone (the sensitivity's one-at-a-time calls, the last of a batch) uses the idle ones,
-        and busy workers share them; a wear history runs at most `wear.lanes` threads (2), the same numbers
-        whatever it gets. On 2 cores whole studies took 8-11 % less time than with cores // workers
-        (benchmarks/results/executor_threads.json)."""
+        and busy workers share them; a wear history runs at most `wear.lanes` threads, the same numbers whatever it
+        gets (benchmarks/results/executor_threads.json)."""
         return available_cores()
 
     def submit(self, fn: Callable, /, *args: Any, **kwargs: Any) -> cf.Future:

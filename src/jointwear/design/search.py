@@ -94,14 +94,13 @@ class CandidateSpace:
     """Candidates' populations in the study's u space, built column by column (each option sets its own
     variables' columns, so a column is computed once per option, not once per candidate)."""
 
-    def __init__(self, ctx: StudyContext, controls: list[Control], n: int, seed: int, p_inf_default: float):
+    def __init__(self, ctx: StudyContext, controls: list[Control], n: int, seed: int):
         self.ctx, self.controls = ctx, controls
         self.names = list(ctx.names)
         self.z = np.random.default_rng(seed).standard_normal((n, len(self.names)))
         self.base_iso = IsoTransform(ctx.marginals)
         self.base_x = self.base_iso.to_x(self.z)
         self.base_u = self.z
-        self.p_inf_default = p_inf_default
         self._cols: dict = {}
 
     def _column(self, k: int, j: int, var: str):
@@ -122,6 +121,11 @@ class CandidateSpace:
                 i, xc, uc = self._column(k, j, var)
                 x[:, i], u[:, i] = xc, uc
         return x, u
+
+    @property
+    def p_inf_default(self) -> float:
+        """The study's own share of failed assemblies (its fits, 'fail' rule)."""
+        return self.ctx.config.uncertainty.infeasible_probability()
 
     def infeasible_probability(self, cand: Candidate) -> float:
         return cand.infeasible_probability(self.controls, self.ctx.config.uncertainty)
@@ -199,8 +203,7 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
     say = echo if echo is not None else (lambda _m: None)
     calls_before, made_before = ctx.n_evaluated, ctx.n_model_calls
     controls = build_controls(ctx.config, settings)
-    space = CandidateSpace(ctx, controls, settings.n_population, settings.seed,
-                           ctx.config.uncertainty.infeasible_probability())
+    space = CandidateSpace(ctx, controls, settings.n_population, settings.seed)
     sur = LifeSurrogate(ctx, np.asarray(reliability_result.design_x, dtype=float), seed=settings.seed)
     study_points = int(sur.x.shape[0])
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import datetime as _dt
 from pathlib import Path
 
-from .markup import e, figure_html, html_page, missing, png_data_uri, section, table
+from .markup import e, figure_html, html_page, missing, png_data_uri, section, table, write_page
 
 #: what the verdicts mean and what the intervals cover (docs/study.md, "How far to trust the life")
 READING = ("Two lives differ beyond their errors when their 95 % intervals do not overlap ('longer' or 'shorter' "
@@ -19,7 +19,6 @@ READING = ("Two lives differ beyond their errors when their 95 % intervals do no
 def write_comparison_page(comparison, path: Path | str, *, figure: Path | None = None) -> Path:
     """Write ``comparison`` (a :class:`jointwear.study.StudyComparison`) as an HTML page at ``path``, with the PNG
     ``figure`` of its curves embedded when given; returns the path."""
-    path = Path(path)
     uri = png_data_uri(figure) if figure is not None else None
     curves = (figure_html(uri, f"R(N) of each study with its 95 % band; the target R = {comparison.target:g} "
                                "and each life with its interval") if uri
@@ -39,9 +38,5 @@ def write_comparison_page(comparison, path: Path | str, *, figure: Path | None =
     body = "".join(section(sid, title, html, lead=lead) for sid, title, html, lead in sections)
     sub = (f"{len(comparison.studies)} studies at R = {comparison.target:g} \u00b7 generated "
            + _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"))
-    doc = html_page("jointwear comparison of studies", sub, nav, body, "1 figure embedded" if uri else "no figure")
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(doc, encoding="utf-8")
-    tmp.replace(path)
-    return path
+    return write_page(path, html_page("jointwear comparison of studies", sub, nav, body,
+                                      "1 figure embedded" if uri else "no figure"))

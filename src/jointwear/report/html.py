@@ -14,7 +14,7 @@ from pathlib import Path
 
 from .checks import reference_checks, reference_label, reference_of
 from .design_section import design_section
-from .markup import Figures, e, html_page, safe, section
+from .markup import Figures, e, html_page, safe, section, write_page
 from .read import read_outputs
 from .result_sections import (
     comparison_section,
@@ -103,9 +103,4 @@ def build_report(out_dir: Path | str, *, output: Path | str | None = None, title
 {main}"""
     doc = html_page(page_title, "Wear of revolute clearance joints and wear reliability of a planar mechanism "
                     f"\u00b7 {sub}", nav, body, f"{figs.count} figures embedded")
-    path = Path(output) if output is not None else out_dir / "report.html"
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(doc, encoding="utf-8")
-    tmp.replace(path)
-    return path
+    return write_page(output if output is not None else out_dir / "report.html", doc)

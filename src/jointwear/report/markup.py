@@ -15,7 +15,7 @@ import numpy as np
 from .style import DPI, to_data_uri
 
 __all__ = ["e", "format_number", "figure_html", "missing", "cards", "table", "section", "safe", "Figures", "CSS",
-           "html_page"]
+           "html_page", "write_page"]
 
 
 def e(x) -> str:
@@ -95,6 +95,16 @@ resources</footer>
 </body>
 </html>
 """
+
+
+def write_page(path: Path | str, doc: str) -> Path:
+    """Write the page ``doc`` at ``path`` through a temporary file, so a reader never sees half a page."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(doc, encoding="utf-8")
+    tmp.replace(path)
+    return path
 
 
 def png_data_uri(path: Path) -> str | None:
