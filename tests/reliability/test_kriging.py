@@ -82,3 +82,22 @@ def test_estimated_nugget_smooths_a_noisy_response():
     assert noisy.hyperparameters.nugget >= 1e-3  # noise variance / process variance ~ 0.01 / 0.5
     assert err_noisy < err_plain
     assert err_noisy < 0.1  # below the noise level: the smoother averages several noisy points
+
+
+@pytest.mark.parametrize("estimate_nugget", [False, True])
+def test_leave_one_out_is_the_refit_without_each_point(estimate_nugget):
+    # Dubrule's closed form is an identity: it must equal n refits on n - 1 points with the hyperparameters kept,
+    # to rounding (the variances once each refit's re-estimated sigma^2 is divided out).
+    rng = np.random.default_rng(3)
+    x, y = _data(3, 30)
+    y = y + 0.05 * rng.standard_normal(y.size)
+    full = KrigingSurrogate(seed=0, estimate_nugget=estimate_nugget).fit(x, y)
+    mean, var = full.leave_one_out()
+    for i in range(y.size):
+        keep = np.arange(y.size) != i
+        refit = KrigingSurrogate(seed=0, nugget=full.hyperparameters.nugget, hyperparameters=full.hyperparameters)
+        refit.fit(x[keep], y[keep], optimize=False)
+        m, v = refit.predict(x[i:i + 1])
+        assert m[0] == pytest.approx(mean[i], abs=1e-9 * np.ptp(y))
+        assert v[0] / refit.process_variance == pytest.approx(var[i] / full.process_variance, rel=1e-8, abs=1e-12)
+

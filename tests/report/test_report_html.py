@@ -191,6 +191,25 @@ def test_report_shows_the_validation_from_its_typed_result(tmp_path, nominal):
     assert page.count("data:image/png;base64") >= 2
 
 
+def test_the_report_warns_about_a_poor_fit(tmp_path, nominal):
+    """The life surrogate's Q^2 and scatter are shown; a poor fit (the two-fit six-bar's numbers) warns."""
+    from jointwear.study.reliability_results import SurrogateFit
+
+    d = make_fixture_dir(tmp_path / "r", nominal, which=("reliability",))
+    rel = ReliabilityResult.load(d)
+    rel.surrogate_fit = SurrogateFit(n_points=60, q2=0.002, rmse_log_life=0.33, noise_sd_log_life=0.18,
+                                     process_sd_log_life=0.5, relative_nugget=0.1, nugget_at_bound=True)
+    rel.write(d)
+    page = build_report(d).read_text(encoding="utf-8")
+    assert "The surrogate explains little" in page and "0.00" in page
+    assert ReliabilityResult.load(d).surrogate_fit == rel.surrogate_fit
+    rel.surrogate_fit = SurrogateFit(n_points=60, q2=0.94, rmse_log_life=0.04, noise_sd_log_life=0.025,
+                                     process_sd_log_life=0.45, relative_nugget=0.003, nugget_at_bound=False)
+    rel.write(d)
+    page = build_report(d).read_text(encoding="utf-8")
+    assert "The surrogate explains little" not in page and "0.94" in page
+
+
 def test_report_warns_when_uniform_mode_is_outside_its_range(tmp_path, nominal):
     d = make_fixture_dir(tmp_path / "w", nominal, which=("wear",))
     wear = WearSummary.load(d)

@@ -360,6 +360,43 @@ class KrigingSurrogate:
     def __call__(self, u: np.ndarray) -> np.ndarray:
         return self.predict(u, return_variance=False)[0]
 
+    @property
+    def training_outputs(self) -> np.ndarray:
+        """The outputs the surrogate was fitted to (a copy)."""
+        if self._y is None:
+            raise RuntimeError("fit first")
+        return self._y.copy()
+
+    @property
+    def noise_variance(self) -> float:
+        """Variance of the noise the fit attributes to the training outputs (output units squared): the relative
+        nugget times the process variance (0 up to the stabilising nugget for an interpolating fit)."""
+        if self._cond is None:
+            raise RuntimeError("fit first")
+        return self.hyperparameters.nugget * self._cond.sigma2 * self._ystd**2
+
+    @property
+    def process_variance(self) -> float:
+        """Variance sigma^2 of the Gaussian process Z (output units squared)."""
+        if self._cond is None:
+            raise RuntimeError("fit first")
+        return self._cond.sigma2 * self._ystd**2
+
+    def leave_one_out(self) -> tuple[np.ndarray, np.ndarray]:
+        """Leave-one-out prediction of every training output with the hyperparameters kept, in closed form
+        (Dubrule 1983, with the trend re-estimated): with C = R + nugget I and Q = C^-1 - C^-1 1 1^T C^-1 /
+        (1^T C^-1 1), the residual of output i is (Q y)_i / Q_ii = alpha_i / Q_ii and the variance of y_i given the
+        others sigma^2 / Q_ii. Returns the predictions (those of a refit without point i) and the variance of the
+        predicted mean (that variance less the noise's; with this fit's sigma^2, which a refit would re-estimate)."""
+        if self._cond is None:
+            raise RuntimeError("fit first")
+        c = self._cond
+        q_diag = np.einsum("ij,ij->i", c.chol_inv_t, c.chol_inv_t) - c.w * c.w / c.s1
+        ys = (self._y - self._ymean) / self._ystd
+        mean = (ys - c.alpha / q_diag) * self._ystd + self._ymean
+        var = c.sigma2 * np.maximum(1.0 / q_diag - self.hyperparameters.nugget, 0.0) * self._ystd**2
+        return mean, var
+
     # ------------------------------------------------------------- interop
     def to_openturns(self):
         """OpenTURNS ``GaussianProcessRegressionResult`` conditioned on the same data and hyperparameters

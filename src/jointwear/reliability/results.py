@@ -142,6 +142,13 @@ class MultiReliabilityResult:
         mu0 = self.surrogates[0].predict(u, return_variance=False)[0]
         return mu0[:, None] - (offsets[None, :] - offsets[0])
 
+    @property
+    def response_surrogate(self):
+        """The Kriging of the learned response of ``akmcs_multi(levels=...)``, which every level shifts."""
+        if self.levels is None:
+            raise ValueError("response_surrogate needs a result of akmcs_multi(levels=...)")
+        return self.surrogates[0].surrogate
+
     def response(self, u: np.ndarray) -> np.ndarray:
         """The learned response y(u) of ``akmcs_multi(levels=...)`` (the value every level is compared with)."""
         if self.levels is None:

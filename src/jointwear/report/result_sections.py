@@ -43,6 +43,18 @@ def _life_text(life: float | None, note: str) -> str:
     return "\u2014" if life is None else ("\u2264 " if "at most" in note else "") + f"{life:,.0f} cycles"
 
 
+def _surrogate_fit_cards(fit) -> list[tuple]:
+    """The life surrogate's leave-one-out Q^2 and the call-to-call scatter it estimated (none for an older
+    result)."""
+    if fit is None:
+        return []
+    return [("surrogate fit, Q\u00b2", "\u2014" if fit.q2 is None else f"{fit.q2:.2f}",
+             f"leave-one-out over the {fit.n_points} design points: the share of their ln N_f the inputs explain"),
+            ("scatter of a call's life", f"\u00b1{100 * fit.life_scatter:.2g} %",
+             "one standard deviation about the smooth surrogate, estimated by the fit (its nugget)"
+             + ("; at the top of its range" if fit.nugget_at_bound else ""))]
+
+
 def reliability_section(out: StudyOutputs, figs: Figures) -> str:
     rel = out.results.reliability
     if rel is None:
@@ -63,10 +75,13 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
         ("surrogate error of R", "\u2014" if worst is None else f"{worst[0]:.3f}",
          None if worst is None else f"largest estimate, at {worst[1]:,.0f} cycles"),
         ("max COV of Pf", "\u2014" if cov is None else f"{cov:.3g}", "over the levels with Pf \u2265 pf_floor"),
+        *_surrogate_fit_cards(rel.surrogate_fit),
         ("wall time", f"{rel.wall_seconds:.4g} s", None),
     ])]
+    fit_warning = "" if rel.surrogate_fit is None else rel.surrogate_fit.warning()
     parts += [warning(title, sentence) for title, sentence in (("Failed model calls.", rel.failed_calls_sentence()),
-                                                              ("Joints worn away.", rel.worn_away_sentence()))
+                                                              ("Joints worn away.", rel.worn_away_sentence()),
+                                                              ("The surrogate explains little.", fit_warning))
               if sentence]
     missed = curve_misses_life(rel, out.results.wear)
     if missed:
@@ -418,8 +433,10 @@ def summary_caveats(out: StudyOutputs) -> str:
             items.append(("reliability", "The learning did not converge",
                           f"{why}; the curve and the life carry more error than the settings ask for (the R(N) "
                           "band and the surrogate error of R say how much)"))
+        fit_warning = "" if rel.surrogate_fit is None else rel.surrogate_fit.warning()
         items += [("reliability", title, s) for title, s in (("Failed model calls", rel.failed_calls_sentence()),
-                                                             ("Joints worn away", rel.worn_away_sentence())) if s]
+                                                             ("Joints worn away", rel.worn_away_sentence()),
+                                                             ("The surrogate explains little", fit_warning)) if s]
     rows = [f'<li><a href="#{e(sid)}"><strong>{e(title)}</strong></a>: {e(sentence.rstrip("."))}.</li>'
             for sid, title, sentence in items]
     missed = None if rel is None else curve_misses_life(rel, wear)  # markup already

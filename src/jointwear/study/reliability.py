@@ -30,6 +30,7 @@ from jointwear.study.limit_state import (
     limit_state_from_config,
 )
 from jointwear.study.model_call import WORN_AWAY_WEAR, WearModelCall
+from jointwear.study.reliability_results import SurrogateFit
 from jointwear.study.results import ReliabilityResult
 
 
@@ -310,7 +311,8 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         quantity=ctx.limit_state.quantity, joints=joints,
         # 12 digits: the rpm entered comes back through rad/s as 399.99999999999994
         crank_speed_rpm=float(f"{abs(float(ctx.config.mechanism.crank_speed)) * 60 / (2 * math.pi):.12g}"),
-        engine=engine, infeasible=infeasible, learning_stop="" if engine.converged else str(engine.message))
+        engine=engine, infeasible=infeasible, learning_stop="" if engine.converged else str(engine.message),
+        surrogate_fit=SurrogateFit.of(engine.response_surrogate))
 
 
 def implied_wear(ctx: StudyContext, engine, pop: np.ndarray, cycles) -> np.ndarray:

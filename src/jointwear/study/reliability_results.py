@@ -16,7 +16,8 @@ from jointwear.study.limit_state import curve_half_width, life_interval
 from jointwear.study.stage_result import StageResult, save_figure
 from jointwear.units import column_name
 
-__all__ = ["ReliabilityResult", "SensitivityResult", "ValidationResult", "interval_cells", "interval_text"]
+__all__ = ["ReliabilityResult", "SensitivityResult", "SurrogateFit", "ValidationResult", "interval_cells",
+           "interval_text"]
 
 
 def interval_text(low: float | None, high: float | None) -> str:
@@ -37,6 +38,86 @@ def interval_cells(low: float | None, high: float | None) -> str:
 
 
 # ------------------------------------------------------------------------------------------------ reliability
+@dataclass(frozen=True)
+class SurrogateFit:
+    """How well the learned life surrogate (the Kriging of ln N_f behind R(N)) explains its own design points,
+    from the study's calls alone (no new model call).
+
+    ``q2``: the leave-one-out score 1 - sum (y_i - y_-i)^2 / sum (y_i - mean y)^2 of ln N_f over the ``n_points``
+    design points (each predicted by the surrogate without it, hyperparameters kept), ``rmse_log_life`` its root
+    mean square residual. ``noise_sd_log_life``: the call-to-call scatter of ln N_f the fit estimated (the nugget:
+    reliability.noise = 'estimate'), ``process_sd_log_life`` the spread of the smooth part it explains with the
+    inputs; ``relative_nugget`` their variance ratio and ``nugget_at_bound`` whether it sits at the top of the
+    range the fit may choose from (the scatter may then be larger than the fit allows).
+    """
+
+    n_points: int
+    q2: float | None
+    rmse_log_life: float | None
+    noise_sd_log_life: float
+    process_sd_log_life: float
+    relative_nugget: float
+    nugget_at_bound: bool
+
+    #: Below this Q^2 the inputs explain less of the design points' ln N_f than the model's scatter and the
+    #: surrogate's error leave unexplained (the definition of Q^2: half the variance).
+    Q2_FLOOR: ClassVar[float] = 0.5
+
+    @classmethod
+    def of(cls, surrogate) -> SurrogateFit:
+        """From a fitted :class:`~jointwear.reliability.KrigingSurrogate` of ln N_f."""
+        y = np.asarray(surrogate.training_outputs, dtype=float)
+        loo, _ = surrogate.leave_one_out()
+        ss_res = float(np.sum((y - loo) ** 2))
+        ss_tot = float(np.sum((y - y.mean()) ** 2))
+        return cls(n_points=int(y.size), q2=1.0 - ss_res / ss_tot if ss_tot > 0 else None,
+                   rmse_log_life=math.sqrt(ss_res / y.size) if y.size else None,
+                   noise_sd_log_life=math.sqrt(surrogate.noise_variance),
+                   process_sd_log_life=math.sqrt(surrogate.process_variance),
+                   relative_nugget=float(surrogate.hyperparameters.nugget),
+                   nugget_at_bound=bool(surrogate.estimate_nugget
+                                        and surrogate.hyperparameters.nugget >= 0.99 * max(surrogate.nugget_grid)))
+
+    @property
+    def life_scatter(self) -> float:
+        """One standard deviation of a call's life about the smooth surrogate, as a fraction: exp(noise_sd) - 1."""
+        return math.expm1(self.noise_sd_log_life)
+
+    @property
+    def poor(self) -> bool:
+        """Whether the inputs explain less than :attr:`Q2_FLOOR` of the design points' ln N_f."""
+        return self.q2 is not None and self.q2 < self.Q2_FLOOR
+
+    def warning(self) -> str:
+        """What a poor fit means for R(N) and what to do (empty when the fit is not poor)."""
+        if not self.poor and not self.nugget_at_bound:
+            return ""
+        what = (f"the life surrogate explains little of its {self.n_points} design points (leave-one-out Q^2 = "
+                f"{self.q2:.2f}, below {self.Q2_FLOOR:g}): the random inputs move the life less than a call's own "
+                f"scatter (about {100 * self.life_scatter:.0f} % in life) and the surrogate's error"
+                if self.poor else
+                f"the call-to-call scatter of the life (about {100 * self.life_scatter:.0f} %) sits at the top of the "
+                f"range the surrogate's noise estimate may take (relative nugget {self.relative_nugget:g})")
+        return (f"{what}, so R(N) may be too steep or too flat. Record more cycles per block (wear.record_cycles) "
+                "to lower the scatter, and check the curve against the true model with jointwear validate "
+                "(docs/study.md, 'How far to trust the life')")
+
+    def to_json(self) -> dict:
+        return {"n_points": self.n_points, "q2": self.q2, "rmse_log_life": self.rmse_log_life,
+                "noise_sd_log_life": self.noise_sd_log_life, "process_sd_log_life": self.process_sd_log_life,
+                "relative_nugget": self.relative_nugget, "nugget_at_bound": self.nugget_at_bound,
+                "life_scatter": self.life_scatter}
+
+    @classmethod
+    def from_json(cls, data: dict | None) -> SurrogateFit | None:
+        if not data:
+            return None
+        return cls(n_points=int(data["n_points"]), q2=data.get("q2"), rmse_log_life=data.get("rmse_log_life"),
+                   noise_sd_log_life=float(data["noise_sd_log_life"]),
+                   process_sd_log_life=float(data["process_sd_log_life"]),
+                   relative_nugget=float(data["relative_nugget"]), nugget_at_bound=bool(data["nugget_at_bound"]))
+
+
 @dataclass(repr=False, eq=False)  # StageResult compares by value
 class ReliabilityResult(StageResult):
     """The R(N) curve, the life at each target reliability and the wear distributions of a study.
@@ -93,6 +174,7 @@ class ReliabilityResult(StageResult):
     crank_speed_rpm: float | None = None
     infeasible: dict = field(default_factory=dict)
     learning_stop: str = ""
+    surrogate_fit: SurrogateFit | None = None
     provenance: dict = field(default_factory=provenance)
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
     engine: Any = field(repr=False, default=None, metadata={"json": False})
@@ -185,6 +267,7 @@ class ReliabilityResult(StageResult):
             "n_mc": self.n_mc,
             "converged": self.converged,
             "learning_stop": self.learning_stop,
+            "surrogate_fit": None if self.surrogate_fit is None else self.surrogate_fit.to_json(),
             "wall_seconds": self.wall_seconds,
             "variables": self.names,
             "variable_units": self.units,
@@ -229,7 +312,7 @@ class ReliabilityResult(StageResult):
             life_table=data.get("life_table", []), quantity=data.get("quantity", "bearing_max_depth"),
             joints=data.get("joints", []), crank_speed_rpm=data.get("crank_speed_rpm"),
             infeasible=data.get("infeasible", {}), learning_stop=data.get("learning_stop", ""),
-            provenance=data.get("provenance", {}),
+            surrogate_fit=SurrogateFit.from_json(data.get("surrogate_fit")), provenance=data.get("provenance", {}),
             extra={k: v for k, v in data.items() if k not in _RELIABILITY_KEYS})
 
     def tables(self) -> dict[str, dict[str, Any]]:
@@ -288,7 +371,8 @@ class ReliabilityResult(StageResult):
 
 _RELIABILITY_KEYS = frozenset({
     "curve", "life_at_target", "life_table", "quantity", "joints", "governing_joint", "allowance_mm",
-    "crank_speed_rpm", "model_calls", "failed_calls", "n_mc", "converged", "learning_stop", "wall_seconds",
+    "crank_speed_rpm", "model_calls", "failed_calls", "n_mc", "converged", "learning_stop", "surrogate_fit",
+    "wall_seconds",
     "variables", "variable_units", "histograms", "mean_max_wear_mm", "convergence", "design", "infeasible",
     "provenance"})
 

@@ -10,7 +10,6 @@ each design point's log life against its true value, with the Q^2 score.
 
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np
@@ -18,6 +17,7 @@ from scipy import stats
 
 from jointwear.study.limit_state import intervals_overlap, life_at
 from jointwear.study.reliability import StudyContext
+from jointwear.study.reliability_results import SurrogateFit
 from jointwear.study.results import ReliabilityResult, ValidationResult
 
 #: Offset of the validation samples' seed from the study's seed (the study's own draws use seed + 0..7).
@@ -31,30 +31,20 @@ def clopper_pearson(k: int, n: int, level: float = 0.95) -> tuple[float, float]:
 
 
 def leave_one_out(ctx: StudyContext, design_x: np.ndarray, seed: int) -> dict:
-    """Leave-one-out predictions of ln N_f at the design points (hyperparameters of the full fit kept, so each
-    refit is the Kriging predictor without that point)."""
+    """Leave-one-out predictions of ln N_f at the design points, from a Kriging fitted to all of them (its
+    hyperparameters kept: :meth:`~jointwear.reliability.KrigingSurrogate.leave_one_out`), with the fit's Q^2."""
     from jointwear.reliability import KrigingSurrogate
 
     u = ctx.iso().to_u(design_x)
     with np.errstate(divide="ignore", invalid="ignore"):
         y = np.log(ctx.life(design_x))
     ok = np.isfinite(y)
-    u, y = u[ok], y[ok]
-    estimate = ctx.config.reliability.noise == "estimate"
-    full = KrigingSurrogate(seed=seed, estimate_nugget=estimate).fit(u, y)
-    pred, sd = np.empty_like(y), np.empty_like(y)
-    for i in range(y.size):
-        keep = np.arange(y.size) != i
-        sur = KrigingSurrogate(seed=seed, estimate_nugget=estimate, hyperparameters=full.hyperparameters)
-        sur.fit(u[keep], y[keep], optimize=False)
-        mu, var = sur.predict(u[i:i + 1])
-        pred[i], sd[i] = float(mu[0]), math.sqrt(max(float(var[0]), 0.0))
-    ss_res = float(np.sum((y - pred) ** 2))
-    ss_tot = float(np.sum((y - y.mean()) ** 2))
-    return {"log_life_true": y.tolist(), "log_life_loo": pred.tolist(), "log_life_loo_sd": sd.tolist(),
-            "q2": 1.0 - ss_res / ss_tot if ss_tot > 0 else None,
-            "rmse_log_life": math.sqrt(ss_res / y.size) if y.size else None,
-            "n_points": int(y.size), "n_failed_points": int((~ok).sum())}
+    full = KrigingSurrogate(seed=seed, estimate_nugget=ctx.config.reliability.noise == "estimate").fit(u[ok], y[ok])
+    pred, var = full.leave_one_out()
+    fit = SurrogateFit.of(full)
+    return {"log_life_true": y[ok].tolist(), "log_life_loo": pred.tolist(), "log_life_loo_sd": np.sqrt(var).tolist(),
+            "q2": fit.q2, "rmse_log_life": fit.rmse_log_life, "n_points": fit.n_points,
+            "n_failed_points": int((~ok).sum())}
 
 
 def run_validation(ctx: StudyContext, reliability: ReliabilityResult, n_samples: int) -> ValidationResult:
