@@ -101,3 +101,13 @@ def test_leave_one_out_is_the_refit_without_each_point(estimate_nugget):
         assert m[0] == pytest.approx(mean[i], abs=1e-9 * np.ptp(y))
         assert v[0] / refit.process_variance == pytest.approx(var[i] / full.process_variance, rel=1e-8, abs=1e-12)
 
+
+
+def test_estimated_noise_is_the_noise_added():
+    # y = smooth + N(0, 0.2^2) at 200 points: the fit's noise SD must match 0.2 within 4 standard errors of an SD
+    # estimated from 200 residuals (0.2 * 4 / sqrt(2 * 200) = 0.04); an interpolating fit would say ~0.
+    rng = np.random.default_rng(5)
+    x = rng.uniform(-3, 3, (200, 2))
+    y = np.sin(x[:, 0]) + 0.3 * x[:, 1] + 0.2 * rng.standard_normal(200)
+    fit = KrigingSurrogate(seed=0, estimate_nugget=True).fit(x, y)
+    assert np.sqrt(fit.noise_variance) == pytest.approx(0.2, abs=0.04)

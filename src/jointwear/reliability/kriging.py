@@ -28,6 +28,7 @@ states in any unit (metres of wear, pascals) fit the same way.
 
 from __future__ import annotations
 
+import itertools
 import math
 import os
 import warnings
@@ -38,6 +39,10 @@ import numpy as np
 from scipy.linalg import cho_solve, solve_triangular
 
 __all__ = ["KrigingHyperparameters", "KrigingSurrogate", "ShiftedSurrogate", "blas_threads"]
+
+
+#: The large start of the relative nugget when it is estimated.
+NUGGET_START = 0.1
 
 
 def _optimizer():
@@ -163,13 +168,17 @@ class KrigingSurrogate:
     seed:
         Seed of the multistart points.
     estimate_nugget, nugget_grid:
-        For a noisy model: choose the relative nugget from ``nugget_grid`` by maximum likelihood (at the fitted
-        correlation lengths). Off by default (deterministic models are interpolated, as in DACE).
+        For a noisy model: estimate the relative nugget (noise variance over process variance) by maximum
+        likelihood jointly with the correlation lengths, within the range of ``nugget_grid`` and from a small and a
+        large start, then profile it over the grid at the fitted lengths. The range reaches 10, so that a model
+        whose scatter from call to call swamps its inputs' effect is fitted as such. Off by default
+        (deterministic models are interpolated, as in DACE).
     """
 
     nugget: float = 1e-10
     estimate_nugget: bool = False
-    nugget_grid: tuple[float, ...] = (1e-8, 1e-6, 1e-5, 1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1)
+    nugget_grid: tuple[float, ...] = (1e-8, 1e-6, 1e-5, 1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0, 3.0,
+                                      10.0)
     scale_bounds: tuple[float, float] = (0.01, 100.0)
     n_starts: int = 2
     seed: int | None = 0
@@ -279,12 +288,15 @@ class KrigingSurrogate:
         errors = []
         flags = ot.Log.Flags()
         ot.Log.Show(ot.Log.NONE)  # optimiser warnings (maximum evaluations reached...) are expected
+        # with the nugget estimated, every scale start also starts from a large nugget: from a small one alone the
+        # optimiser can end in a short-scale optimum that explains the noise as signal (docs/reliability.md)
+        nugget_starts = (max(self.nugget, 1e-3), NUGGET_START) if self.estimate_nugget else (self.nugget,)
         try:
-            for st in starts:
+            for st, nug0 in itertools.product(starts, nugget_starts):
                 cov = ot.SquaredExponential(list(map(float, st)), [1.0])
                 if self.estimate_nugget:
                     # optimise the nugget factor jointly with the correlation lengths (parameter index d)
-                    cov.setNuggetFactor(max(self.nugget, 1e-3))
+                    cov.setNuggetFactor(nug0)
                     cov.setActiveParameter(list(range(d)) + [d])
                     bounds = ot.Interval([lo] * d + [min(self.nugget_grid)], [hi] * d + [max(self.nugget_grid)])
                 else:
