@@ -62,7 +62,9 @@ def main() -> None:
     ap.add_argument("--out", type=Path, default=Path(__file__).parent / "results" / "noise_fit.json")
     args = ap.parse_args()
     record = json.loads(args.truth.read_text())
-    val = record["validation"]
+    # a benchmarks/validate.py record, or one that gives the true curve at top level (reliability_true_model)
+    val = record.get("validation") or {"reliability_mc": record["reliability_true_model"], "cycles": record["cycles"],
+                                       "n_samples": record.get("n_samples")}
     truth = np.array(val["reliability_mc"], dtype=float)
     trees = {"current": None, **dict(t.split("=", 1) for t in args.tree)}
     result = {"benchmark": "the learnt R(N) over study seeds against the true model sampled directly",
