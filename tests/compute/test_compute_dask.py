@@ -103,11 +103,11 @@ def test_worker_killed_mid_batch(tmp_path):
         while time.monotonic() < deadline:
             ls = lines()
             if sum(1 for ln in ls if ln[0] == "end") >= 3:
-                started = {(pid, key) for kind, pid, key in ls if kind == "start"}
                 ended = {(pid, key) for kind, pid, key in ls if kind == "end"}
-                running = sorted(started - ended)
+                # the latest started call has the most of its 0.25 s left: the kill lands inside it
+                running = [(pid, key) for kind, pid, key in ls if kind == "start" and (pid, key) not in ended]
                 if running:
-                    pid, key = running[0]
+                    pid, key = running[-1]
                     os.kill(int(pid), signal.SIGKILL)
                     killed.update(pid=pid, key=key)
                     return
@@ -125,6 +125,7 @@ def test_worker_killed_mid_batch(tmp_path):
     assert list(res.status) == ["ok"] * len(X)
     np.testing.assert_array_equal(res.Y, expected)  # the same results as serial, bit for bit
     assert stats.n_calls == len(X) and stats.n_repeated == 0 and stats.n_failed == 0
-    # the call that was running on the killed worker was run again on another worker process
+    # the call that was running on the killed worker was run again on another worker process (the killed one may
+    # have logged its end just before the signal landed, and died before it reported the result)
     reruns = [pid for kind, pid, key in lines() if kind == "end" and key == killed["key"]]
-    assert reruns and killed["pid"] not in reruns
+    assert any(pid != killed["pid"] for pid in reruns)
