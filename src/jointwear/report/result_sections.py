@@ -78,10 +78,10 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
         *_surrogate_fit_cards(rel.surrogate_fit),
         ("wall time", f"{rel.wall_seconds:.4g} s", None),
     ])]
-    fit_warning = "" if rel.surrogate_fit is None else rel.surrogate_fit.warning()
     parts += [warning(title, sentence) for title, sentence in (("Failed model calls.", rel.failed_calls_sentence()),
                                                               ("Joints worn away.", rel.worn_away_sentence()),
-                                                              ("The surrogate explains little.", fit_warning))
+                                                              ("The surrogate explains little.",
+                                                               rel.surrogate_fit_sentence()))
               if sentence]
     missed = curve_misses_life(rel, out.results.wear)
     if missed:
@@ -433,10 +433,10 @@ def summary_caveats(out: StudyOutputs) -> str:
             items.append(("reliability", "The learning did not converge",
                           f"{why}; the curve and the life carry more error than the settings ask for (the R(N) "
                           "band and the surrogate error of R say how much)"))
-        fit_warning = "" if rel.surrogate_fit is None else rel.surrogate_fit.warning()
         items += [("reliability", title, s) for title, s in (("Failed model calls", rel.failed_calls_sentence()),
                                                              ("Joints worn away", rel.worn_away_sentence()),
-                                                             ("The surrogate explains little", fit_warning)) if s]
+                                                             ("The surrogate explains little",
+                                                              rel.surrogate_fit_sentence())) if s]
     rows = [f'<li><a href="#{e(sid)}"><strong>{e(title)}</strong></a>: {e(sentence.rstrip("."))}.</li>'
             for sid, title, sentence in items]
     missed = None if rel is None else curve_misses_life(rel, wear)  # markup already

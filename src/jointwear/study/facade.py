@@ -405,8 +405,7 @@ class Study:
         from jointwear.report.checks import curve_misses_life
 
         missed = curve_misses_life(res, WearSummary.load_if_present(self.out))
-        fit_warning = "" if res.surrogate_fit is None else res.surrogate_fit.warning()
-        for sentence in (res.failed_calls_sentence(), res.worn_away_sentence(), fit_warning,
+        for sentence in (res.failed_calls_sentence(), res.worn_away_sentence(), res.surrogate_fit_sentence(),
                          missed and re.sub(r"</?code>", "", missed).rstrip(".")):
             if sentence:
                 self.warn(f"reliability: {sentence}")

@@ -64,10 +64,12 @@ class SurrogateFit:
     Q2_FLOOR: ClassVar[float] = 0.5
 
     @classmethod
-    def of(cls, surrogate) -> SurrogateFit:
-        """From a fitted :class:`~jointwear.reliability.KrigingSurrogate` of ln N_f."""
+    def of(cls, surrogate, loo: np.ndarray | None = None) -> SurrogateFit:
+        """From a fitted :class:`~jointwear.reliability.KrigingSurrogate` of ln N_f; ``loo``: its leave-one-out
+        predictions when the caller already has them."""
         y = np.asarray(surrogate.training_outputs, dtype=float)
-        loo, _ = surrogate.leave_one_out()
+        if loo is None:
+            loo, _ = surrogate.leave_one_out()
         ss_res = float(np.sum((y - loo) ** 2))
         ss_tot = float(np.sum((y - y.mean()) ** 2))
         return cls(n_points=int(y.size), q2=1.0 - ss_res / ss_tot if ss_tot > 0 else None,
@@ -194,6 +196,11 @@ class ReliabilityResult(StageResult):
         return (f"{self.failed_calls} of {self.model_calls} model calls failed{common}. A failed call counts as a "
                 "failure where it was drawn but is left out of the surrogate, so if failures come with high wear the "
                 "curve is too high (unconservative): the reasons are in reliability.json (infeasible.failure_reasons)")
+
+    def surrogate_fit_sentence(self) -> str:
+        """What a poor life surrogate means and what to do (:meth:`SurrogateFit.warning`; empty when its fit is
+        fine or was not recorded)."""
+        return "" if self.surrogate_fit is None else self.surrogate_fit.warning()
 
     def worn_away_sentence(self) -> str:
         """How many model calls wore a joint away (their life ends where the history stopped; empty when none)."""

@@ -41,7 +41,7 @@ def leave_one_out(ctx: StudyContext, design_x: np.ndarray, seed: int) -> dict:
     ok = np.isfinite(y)
     full = KrigingSurrogate(seed=seed, estimate_nugget=ctx.config.reliability.noise == "estimate").fit(u[ok], y[ok])
     pred, var = full.leave_one_out()
-    fit = SurrogateFit.of(full)
+    fit = SurrogateFit.of(full, loo=pred)
     return {"log_life_true": y[ok].tolist(), "log_life_loo": pred.tolist(), "log_life_loo_sd": np.sqrt(var).tolist(),
             "q2": fit.q2, "rmse_log_life": fit.rmse_log_life, "n_points": fit.n_points,
             "n_failed_points": int((~ok).sum())}
