@@ -32,6 +32,9 @@ Sections
   over the curve, its wall time, the deposit's own wall time, and how much its sub-step iteration amplifies rounding.
 - profile_rig_rocking (only with --only, about a minute): what sets the integrator's steps on the pendulum rig: the
   eye's rocking on the pin (docs/verification.md, case 7) on each mode's geometry after 0, 1e4 and 1e5 revolutions.
+- profile_rig_rounding (only with --only, about 30 s): profile mode on the rig to 1e5 revolutions with the admissible
+  set's corners rounded 0.2 (the default), 0.4 and 0.8 c0: steps per simulated cycle and max depth (issue 14 item 1:
+  is the rounding, which sets the pocket's rocking frequency, a lever on the cost?).
 - profile_jammed_shift (only with --only, about a minute): the profile preset's rod length x 1.2 in both geometry modes
   until the step budget stops it: why the step size collapses there (docs/dynamics.md).
 - profile_convergence (only with --only, long: about 10 minutes on 2 cores): profile mode (geometry_mode = "profile")
@@ -696,6 +699,30 @@ def bench_profile_rig_rocking(n_values=(0, 10_000, 100_000)) -> dict:
     return out
 
 
+def bench_profile_rig_rounding(roundings=(0.2, 0.4, 0.8), n_cycles: int = 100_000) -> dict:
+    """Profile mode on the rig with the corner rounding of the admissible set (fraction of c0) varied: wall time,
+    steps per simulated cycle and max depth at ``n_cycles`` revolutions, one process."""
+    import jointwear.wear.history as history
+
+    cfg = load_config(str(RIG))
+    model = build_model(cfg)
+    s = base_settings(cfg).model_copy(update={"geometry_mode": "profile"})
+    wear_history(model, s, 2 * s.block_cycles)  # compile
+    default, out = history.PROFILE_ROUNDING, {}
+    try:
+        for rho in roundings:
+            history.PROFILE_ROUNDING = rho
+            t0 = time.perf_counter()
+            res = wear_history(model, s, n_cycles)
+            out[str(rho)] = {"wall_seconds": time.perf_counter() - t0,
+                             "steps_per_simulated_cycle": sum(b.n_steps for b in res.blocks) / res.n_simulated_cycles,
+                             "max_depth_um": float(res.joints[0].bearing_wear.max() * 1e6)}
+            print(rho, out[str(rho)], file=sys.stderr)
+    finally:
+        history.PROFILE_ROUNDING = default
+    return {"cycles": n_cycles, "roundings_of_c0": out}
+
+
 def bench_profile_jammed_shift(factor: float = 1.2, n_cycles: int = 400_000) -> dict:
     """The profile preset's most extreme sensitivity shift, rod length x 1.2 (hundreds of sigma), in each geometry
     mode until the step budget stops its history: the linkage's Grashof slack, the steps of every call, the stop's
@@ -873,6 +900,8 @@ def main(argv=None) -> int:
             data["profile_study"] = bench_profile_study()
         elif sec == "profile_rig_rocking":
             data["profile_rig_rocking"] = bench_profile_rig_rocking()
+        elif sec == "profile_rig_rounding":
+            data["profile_rig_rounding"] = bench_profile_rig_rounding()
         elif sec == "profile_jammed_shift":
             data["profile_jammed_shift"] = bench_profile_jammed_shift()
         elif sec == "profile_wing_convergence":

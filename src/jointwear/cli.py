@@ -122,6 +122,26 @@ def wear(config, cycles, out):
 
 @main.command()
 @config_argument
+@click.option("--replicates", type=click.IntRange(min=2), default=8, show_default=True,
+              help="Histories per setting, each from another start phase.")
+@click.option("--factor", type=click.FloatRange(min=1.0, min_open=True), default=2.0, show_default=True,
+              help="Refinement factor of every setting.")
+@click.option("--tolerance", type=click.FloatRange(min=0.0, max=1.0, min_open=True, max_open=True), default=0.02,
+              show_default=True, help="Relative change of the nominal life that counts as converged.")
+@click.option("--only", "only", multiple=True,
+              help="A refinement to run (repeatable; default all): record_cycles, settle_cycles, block, n_grid, "
+                   "tolerance, profile_smoothing_deg, profile_substep_cycles.")
+@click.option("--cycles", type=click.IntRange(min=1), default=None,
+              help="Cycles of each history [default: wear.cycles, else the end of the R(N) curve].")
+@out_option
+def converge(config, replicates, factor, tolerance, only, cycles, out):
+    """Whether the nominal wear history is converged in its numerical settings (each refined, with replicates);
+    write convergence.json and convergence.csv."""
+    open_study(config, out).converge(replicates, factor, tolerance, list(only) or None, cycles)
+
+
+@main.command()
+@config_argument
 @compute_options
 @out_option
 def reliability(config, workers, scheduler, resume, overwrite, out):

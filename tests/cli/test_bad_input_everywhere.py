@@ -86,7 +86,8 @@ SECTION_CASES = [
     ("toml", "malformed-toml", JIN.replace("[mechanism]", "[mechanism", 1), "malformed TOML"),
 ]
 
-CONFIG_COMMANDS = ["simulate", "wear", "reliability", "sensitivity", "validate", "run", "check", "design"]
+CONFIG_COMMANDS = ["simulate", "wear", "converge", "reliability", "sensitivity", "validate", "run", "check",
+                   "design"]
 ALL_COMMANDS = [*CONFIG_COMMANDS, "report", "presets", "compare"]
 
 
@@ -145,6 +146,8 @@ ARGUMENT_CASES = [
     ("simulate", ["--cycles", "0"], "--cycles"),
     ("simulate", ["--settle", "-1"], "--settle"),
     ("wear", ["--cycles", "abc"], "--cycles"),
+    ("converge", ["--replicates", "1"], "--replicates"),
+    ("converge", ["--only", "bogus"], "only"),
     ("reliability", ["--workers", "0"], "--workers"),
     ("sensitivity", ["--workers", "two"], "--workers"),
     ("validate", ["--samples", "0"], "--samples"),

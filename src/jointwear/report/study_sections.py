@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from jointwear.study.convergence import Z95
 from jointwear.wear.angles import angle_text
 
 from . import figures as F
@@ -14,7 +15,8 @@ from .markup import Figures, cards, e, format_number, missing, table
 from .read import StudyOutputs, joint_series
 from .style import scale_to_unit
 
-__all__ = ["settings_section", "dynamics_section", "wear_section", "allowance_mm", "not_run"]
+__all__ = ["settings_section", "dynamics_section", "wear_section", "convergence_section", "allowance_mm",
+           "not_run"]
 
 
 def not_run(out: StudyOutputs, stage: str, what: str) -> str:
@@ -330,3 +332,32 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
                                                             format_number(p["depth_mm"])) for p in wear.peaks],
                            cls="kv"))
     return "".join(parts)
+
+
+def convergence_section(out: StudyOutputs) -> str:
+    """The nominal history's convergence in its numerical settings (``jointwear converge``)."""
+    conv = out.results.convergence
+    life = conv.measure == "life"
+    scale, unit = (1.0, "cycles") if life else (1e3, "mm")
+    what = "nominal life" if life else "final wear"
+    head = cards([
+        (what, f"{format_number(conv.baseline['mean'] * scale)} {unit}",
+         f"mean of {conv.replicates} histories from other start phases"),
+        ("start-to-start scatter", f"{100 * conv.scatter:.1f} %", "standard deviation / mean of those histories"),
+        ("resolution", f"\u00b1{100 * conv.resolution:.1f} %",
+         f"95 % interval of a change with {conv.replicates} replicates (tolerance \u00b1{100 * conv.tolerance:g} %)"),
+    ])
+    rows = []
+    for r in conv.refinements:
+        changed = "; ".join(f"{k} {format_number(a)} \u2192 {format_number(b)}" for k, (a, b) in r["changed"].items())
+        rows.append([r["name"], changed, format_number(r["mean"] * scale),
+                     f"{100 * r['change']:+.1f} % \u00b1 {100 * Z95 * r['change_se']:.1f} %", r["verdict"]])
+    body = table(["setting", "refined", f"{what} ({unit})", "change (95 %)", "verdict"], rows)
+    lead = (f"<p>The nominal history to {conv.cycles:,} cycles with the study's wear settings and with each "
+            f"numerical setting refined {conv.factor:g}x, {conv.replicates} histories each. A change is "
+            "<em>converged</em> when its 95 % interval lies inside the tolerance, <em>not converged</em> when it "
+            "lies outside, <em>no change detected</em> when it holds zero but the replicates cannot resolve the "
+            "tolerance, <em>undecided</em> otherwise. A refinement that changes nothing at one factor may still "
+            "matter at a larger one (docs/wear.md, \u201cIs my history converged?\u201d).</p>")
+    warns = "".join(warning("Convergence:", s) for s in conv.sentences())
+    return head + warns + lead + body

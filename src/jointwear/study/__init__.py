@@ -2,6 +2,7 @@
 mechanism, behind one object (:class:`Study`), with typed results that :func:`load_results` reads back."""
 
 from jointwear.study.comparison import StudyComparison, compare_studies
+from jointwear.study.convergence import WearConvergence, run_convergence
 from jointwear.study.facade import WEAR_MODEL_TAG, Study
 from jointwear.study.limit_state import LimitState, life_at, life_from_history, limit_state_from_config
 from jointwear.study.model_call import WearModelCall, apply_sample
@@ -26,7 +27,8 @@ from jointwear.study.sensitivity import run_sensitivity
 
 __all__ = [
     "WEAR_MODEL_TAG", "LimitState", "ReliabilityResult", "SensitivityResult", "SimulationSummary", "Study",
-    "StudyComparison", "StudyContext", "StudyResults", "ValidationResult", "WearModelCall", "WearSummary",
-    "WearSurrogates", "apply_sample", "compare_studies", "cycles_to_hours", "life_at", "life_from_history",
-    "limit_state_from_config", "load_results", "population", "run_reliability", "run_sensitivity", "study_context",
+    "StudyComparison", "StudyContext", "StudyResults", "ValidationResult", "WearConvergence", "WearModelCall",
+    "WearSummary", "WearSurrogates", "apply_sample", "compare_studies", "cycles_to_hours", "life_at",
+    "life_from_history", "limit_state_from_config", "load_results", "population", "run_convergence",
+    "run_reliability", "run_sensitivity", "study_context",
 ]

@@ -32,6 +32,7 @@ from jointwear.study.checks import (
     out_problem,
     scheduler_problem,
 )
+from jointwear.study.convergence import WearConvergence
 from jointwear.study.limit_state import (
     joint_allowance,
     limit_state_from_config,
@@ -376,6 +377,65 @@ class Study:
         if result.uniform_out_of_range:
             self.warn(f"wear: uniform mode is outside its range here (conformity {result.conformity:.3g} > 1: the "
                       'journal fits into its own wear); wear.geometry_mode = "profile" follows it (docs/wear.md)')
+        return result
+
+    @_quiet
+    def converge(self, replicates: int = 8, factor: float = 2.0, tolerance: float = 0.02,
+                 only: list[str] | None = None, cycles: int | None = None) -> WearConvergence:
+        """Whether the nominal wear history is converged in its numerical settings on this mechanism.
+
+        Runs the nominal history with the config's wear settings and with each numerical setting refined by
+        ``factor`` (recorded and settling cycles per block, block, angular grid, integrator tolerances; in profile
+        mode also the running-in length and the deposit's sub-step), ``replicates`` runs each from other start
+        phases, and judges each change of the nominal life against ``tolerance`` with its 95 % interval
+        (docs/wear.md, "Is my history converged?").
+
+        Parameters
+        ----------
+        replicates : int
+            Runs per setting (>= 2); a chaotic contact needs more to tell a change from its scatter.
+        factor : float
+            Refinement factor (> 1) of every setting.
+        tolerance : float
+            Relative change of the nominal life that counts as converged.
+        only : list of str, optional
+            The refinements to run (default all): ``record_cycles``, ``settle_cycles``, ``block``, ``n_grid``,
+            ``tolerance`` and, in profile mode, ``profile_smoothing_deg`` and ``profile_substep_cycles``.
+        cycles : int, optional
+            Cycles of each history (default ``wear.cycles``, else the end of the R(N) curve).
+
+        Returns
+        -------
+        WearConvergence
+            Also written to ``convergence.json`` and ``convergence.csv``.
+        """
+        from jointwear.compute import Progress
+        from jointwear.study.convergence import Z95, chosen_refinements, run_convergence
+        from jointwear.wear.settings import check_cycles
+
+        if cycles is not None:
+            check_cycles(cycles, "cycles")
+        chosen_refinements(self.config, replicates, factor, tolerance, only)
+        self._prepare({"wear"})
+        n = check_cycles(cycles if cycles is not None else nominal_wear_cycles(self.config), "cycles")
+        with Progress(total=None, description="histories") as bar:
+            def advance(done: int, total: int) -> None:
+                bar.update(completed=done, total=total)
+
+            result = run_convergence(self.config, n, replicates=replicates, factor=factor, tolerance=tolerance,
+                                     only=only, progress=advance)
+        result.save(self.out)
+        what = "nominal life" if result.measure == "life" else "final wear"
+        mean = result.baseline["mean"]
+        value = f"{mean:,.0f} cycles" if result.measure == "life" else f"{mean * 1e3:.4g} mm"
+        self.echo(f"converge: {what} {value}, scatter {100 * result.scatter:.1f} % over {result.replicates} start "
+                  f"phases; each setting refined {result.factor:g}x ({result.wall_seconds:.0f} s):")
+        for r in result.refinements:
+            self.echo(f"  {r['name']:<24} {100 * r['change']:+6.1f} % +- {100 * Z95 * r['change_se']:4.1f} %  "
+                      f"{r['verdict']}")
+        self.echo(f"converge: -> {self.out / result.FILE}")
+        for sentence in result.sentences():
+            self.warn(f"converge: {sentence}")
         return result
 
     @_quiet

@@ -100,9 +100,10 @@ class SurrogateFit:
                 if self.poor else
                 f"the call-to-call scatter of the life (about {100 * self.life_scatter:.0f} %) sits at the top of the "
                 f"range the surrogate's noise estimate may take (relative nugget {self.relative_nugget:g})")
-        return (f"{what}, so R(N) may be too steep or too flat. Record more cycles per block (wear.record_cycles) "
-                "to lower the scatter, and check the curve against the true model with jointwear validate "
-                "(docs/study.md, 'How far to trust the life')")
+        return (f"{what}, so R(N) may be too steep or too flat. Check the wear history's settings with jointwear "
+                "converge (more cycles recorded per block, wear.record_cycles, lower a scatter that comes from "
+                "sampling few cycles, not one that comes from the history's path), and the curve against the true "
+                "model with jointwear validate (docs/study.md, 'How far to trust the life')")
 
     def to_json(self) -> dict:
         return {"n_points": self.n_points, "q2": self.q2, "rmse_log_life": self.rmse_log_life,

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
+from jointwear.study.convergence import WearConvergence
 from jointwear.study.io import file_labels, provenance, read_json
 from jointwear.study.reliability_results import ReliabilityResult, SensitivityResult, ValidationResult
 from jointwear.study.stage_result import StageResult, save_figure
@@ -417,6 +418,7 @@ class StudyResults:
     sensitivity: SensitivityResult | None = None
     validation: ValidationResult | None = None
     design: DesignResult | None = None
+    convergence: WearConvergence | None = None
     errors: dict[str, str] = field(default_factory=dict)
 
     def __repr__(self) -> str:
@@ -431,13 +433,13 @@ class StudyResults:
     @property
     def stages(self) -> list[str]:
         """The stages with a result in the folder."""
-        return [s for s in ("simulate", "wear", "reliability", "sensitivity", "validation", "design")
+        return [s for s in ("simulate", "wear", "convergence", "reliability", "sensitivity", "validation", "design")
                 if getattr(self, s) is not None]
 
 
 STAGE_TYPES: dict[str, type] = {"simulate": SimulationSummary, "wear": WearSummary,
-                                "reliability": ReliabilityResult, "sensitivity": SensitivityResult,
-                                "validation": ValidationResult}
+                                "convergence": WearConvergence, "reliability": ReliabilityResult,
+                                "sensitivity": SensitivityResult, "validation": ValidationResult}
 
 
 def load_results(folder: Path | str) -> StudyResults:

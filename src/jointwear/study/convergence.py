@@ -1,0 +1,308 @@
+"""Is the wear history converged in its numerical settings on *this* mechanism? (``jointwear converge``)
+
+The nominal wear history is run with the study's wear settings (the baseline) and with each numerical setting
+refined by a factor (more recorded and settling cycles per block, shorter blocks, a finer angular grid, tighter
+integrator tolerances; in profile mode also the running-in length and the deposit's sub-step), each as several
+replicates that differ only in the start phase (the first block's settling, as benchmarks/wear.py does). The
+measure is the study's nominal life (the first judged joint to reach its allowance, the limit state of the
+reliability stage), or the first judged joint's wear at the history's end when no allowance is set.
+
+A refinement's change of the mean is judged against the tolerance with its 95 % interval (1.96 standard errors of
+the difference of two means): *converged* when the interval lies inside +-tolerance, *not converged* when it lies
+outside, *undecided* otherwise (more replicates tell). A chaotic contact makes every run another sample of the
+cycle-to-cycle scatter: the replicates' scatter is reported, and it is the noise the reliability stage's
+Kriging estimates.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+import statistics
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, ClassVar
+
+import numpy as np
+
+from jointwear.config import StudyConfig
+from jointwear.schema import ConfigError
+from jointwear.study.io import provenance
+from jointwear.study.limit_state import limit_state_from_config
+from jointwear.study.model_call import quantity_history
+from jointwear.study.stage_result import StageResult
+
+#: relative change of the nominal life that counts as converged (the criterion of the wear convergence studies,
+#: docs/wear.md)
+DEFAULT_TOLERANCE = 0.02
+#: start-phase step between replicates (cycles of the first block's settling), as benchmarks/wear.py
+REPLICATE_PHASE_STEP = 0.05
+#: 95 % two-sided normal quantile for the change's interval
+Z95 = 1.96
+
+REFINEMENT_NAMES = ("record_cycles", "settle_cycles", "block", "n_grid", "tolerance", "profile_smoothing_deg",
+                    "profile_substep_cycles")
+
+
+@dataclass(frozen=True)
+class Refinement:
+    """One numerical setting refined: its name, what it means, and the WearSettings fields it changes."""
+
+    name: str
+    description: str
+    update: dict[str, Any]
+
+
+def refinements(config: StudyConfig, factor: float) -> list[Refinement]:
+    """Each numerical wear setting of ``config`` refined by ``factor`` (> 1); the profile-mode settings only in
+    profile mode."""
+    s, sim = config.wear, config.simulation
+    f = float(factor)
+    out = [Refinement("record_cycles", "steady cycles recorded per block x factor",
+                      {"record_cycles": max(s.record_cycles + 1, int(round(s.record_cycles * f)))}),
+           Refinement("settle_cycles", "cycles settled after each geometry update x factor",
+                      {"settle_cycles": s.settle_cycles * f if s.settle_cycles > 0 else 1.0})]
+    if s.block_rule == "fixed":
+        out.append(Refinement("block", "block (cycles between geometry updates) / factor",
+                              {"block_cycles": max(1, int(s.block_cycles / f))}))
+    else:
+        out.append(Refinement("block", "adaptive blocks / factor and their rate tolerance / factor",
+                              {"rate_tolerance": s.rate_tolerance / f,
+                               "initial_block": max(1, int(s.initial_block / f)),
+                               "min_block": max(1, int(s.min_block / f)), "max_block": max(1, int(s.max_block / f))}))
+    out.append(Refinement("n_grid", "angular grid cells x factor", {"n_grid": int(round(s.n_grid * f))}))
+    rtol = s.rtol if s.rtol is not None else sim.rtol
+    atol = s.atol if s.atol is not None else sim.atol
+    out.append(Refinement("tolerance", "integrator rtol and atol / factor", {"rtol": rtol / f, "atol": atol / f}))
+    if s.geometry_mode == "profile":
+        out.append(Refinement("profile_smoothing_deg", "running-in length / factor",
+                              {"profile_smoothing_deg": s.profile_smoothing_deg / f}))
+        out.append(Refinement("profile_substep_cycles", "deposit sub-step / factor",
+                              {"profile_substep_cycles": s.profile_substep_cycles / f}))
+    return out
+
+
+def change_verdict(change: float, standard_error: float, tolerance: float) -> str:
+    """The verdict on a relative change with its standard error, from its 95 % interval change +- 1.96 SE:
+    'converged' (inside +-tolerance), 'not converged' (outside it), 'no change detected' (holds 0 but reaches past
+    the tolerance: the replicates cannot resolve the tolerance), 'undecided' (neither: a change, of uncertain size
+    against the tolerance)."""
+    low, high = change - Z95 * standard_error, change + Z95 * standard_error
+    if -tolerance <= low and high <= tolerance:
+        return "converged"
+    if low > tolerance or high < -tolerance:
+        return "not converged"
+    if low <= 0.0 <= high:
+        return "no change detected"
+    return "undecided"
+
+
+def replicates_to_resolve(scatter: float, tolerance: float) -> int:
+    """Replicates per setting whose 95 % interval of a change is +-tolerance when both settings scatter by
+    ``scatter`` (standard deviation / mean): n = 2 (1.96 scatter / tolerance)^2."""
+    return max(2, math.ceil(2.0 * (Z95 * scatter / tolerance) ** 2))
+
+
+@dataclass(repr=False, eq=False)
+class WearConvergence(StageResult):
+    """The nominal wear history's convergence in its numerical settings (``jointwear converge``).
+
+    ``measure``: 'life' (the nominal life, cycles: the first judged joint to reach its allowance, extrapolated
+    linearly past the history's end as the reliability stage does) or 'wear' (the first judged joint's wear
+    quantity at the history's end, m, when no allowance is set). ``baseline``: the replicates' values, mean,
+    standard deviation and ``scatter`` (standard deviation / mean). Each of ``refinements``: ``name``,
+    ``description``, ``changed`` ({field: [baseline, refined]}), ``values``, ``mean``, ``std``, ``change`` (relative
+    change of the mean), ``change_se`` (its standard error) and ``verdict``.
+    """
+
+    FILE: ClassVar[str] = "convergence.json"
+
+    measure: str
+    unit: str
+    cycles: int
+    replicates: int
+    factor: float
+    tolerance: float
+    baseline: dict
+    refinements: list[dict]
+    joints: list[str] = field(default_factory=list)
+    quantity: str = ""
+    wall_seconds: float = 0.0
+    settings: dict = field(default_factory=dict)
+    files: list[str] = field(default_factory=list)
+    provenance: dict = field(default_factory=dict)
+    extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
+
+    @property
+    def scatter(self) -> float:
+        """Start-to-start scatter of the baseline: standard deviation / mean of its replicates."""
+        return float(self.baseline["scatter"])
+
+    def verdicts(self) -> dict[str, str]:
+        """Each refinement's verdict by name."""
+        return {r["name"]: r["verdict"] for r in self.refinements}
+
+    @property
+    def converged(self) -> bool:
+        """Whether every refinement's verdict is 'converged'."""
+        return all(v == "converged" for v in self.verdicts().values())
+
+    def sentences(self) -> list[str]:
+        """A warning for each refinement that is not converged or undecided, saying what to do."""
+        out = []
+        what = "the nominal life" if self.measure == "life" else "the final wear"
+        for r in self.refinements:
+            if r["verdict"] in ("converged", "no change detected"):
+                continue
+            fields_ = ", ".join(f"wear.{k} {_fmt(a)} -> {_fmt(b)}" for k, (a, b) in r["changed"].items())
+            text = (f"with {fields_} {what} moves by {100 * r['change']:+.1f} % "
+                    f"(+-{100 * Z95 * r['change_se']:.1f} %, 95 %)")
+            if r["verdict"] == "not converged":
+                out.append(f"{text}: not converged within {100 * self.tolerance:g} %; refine that setting in [wear]")
+            elif r["verdict"] == "undecided":
+                out.append(f"{text}: whether beyond {100 * self.tolerance:g} % needs more replicates (about "
+                           f"{self.replicates_needed} for this scatter)")
+        if any(r["verdict"] == "no change detected" for r in self.refinements):
+            out.append(f"the {self.replicates} replicates resolve changes of about +-{100 * self.resolution:.1f} % "
+                       f"(95 %), not +-{100 * self.tolerance:g} %: the nominal history scatters by "
+                       f"{100 * self.scatter:.1f} % from start to start; about {self.replicates_needed} replicates "
+                       "would resolve the tolerance")
+        return out
+
+    @property
+    def resolution(self) -> float:
+        """Half-width of the 95 % interval of a change between two settings that scatter as the baseline."""
+        return Z95 * self.scatter * math.sqrt(2.0 / self.replicates)
+
+    @property
+    def replicates_needed(self) -> int:
+        """Replicates per setting that would resolve the tolerance at the baseline's scatter."""
+        return replicates_to_resolve(self.scatter, self.tolerance)
+
+    def tables(self) -> dict[str, dict[str, list]]:
+        unit = "cycles" if self.measure == "life" else "mm"
+        scale = 1.0 if self.measure == "life" else 1e3
+        rows = [{"name": "baseline", "description": "the study's wear settings", "changed": "",
+                 **self.baseline, "change": 0.0, "change_se": 0.0, "verdict": ""}] + self.refinements
+        return {"convergence": {
+            "setting": [r["name"] for r in rows],
+            "changed": [r["changed"] if isinstance(r["changed"], str) else
+                        "; ".join(f"{k} {_fmt(a)} -> {_fmt(b)}" for k, (a, b) in r["changed"].items()) for r in rows],
+            f"mean_{self.measure}_{unit}": [r["mean"] * scale for r in rows],
+            f"std_{self.measure}_{unit}": [r["std"] * scale for r in rows],
+            "change_pct": [100 * r["change"] for r in rows],
+            "change_95_pct": [100 * Z95 * r["change_se"] for r in rows],
+            "verdict": [r["verdict"] for r in rows],
+        }}
+
+    def save(self, folder) -> Path:
+        """Write ``convergence.json`` and ``convergence.csv``."""
+        self.files = [self.FILE, *self.write_tables(folder)]
+        return self.write(folder)
+
+
+def _fmt(value) -> str:
+    return f"{value:.4g}" if isinstance(value, float) else str(value)
+
+
+def _summary(values: Sequence[float]) -> dict:
+    v = [float(x) for x in values]
+    mean = statistics.fmean(v)
+    std = statistics.stdev(v) if len(v) > 1 else 0.0
+    return {"values": v, "mean": mean, "std": std, "scatter": std / abs(mean) if mean else math.nan}
+
+
+def nominal_measure(config: StudyConfig):
+    """(measure, function of a WearResult -> its value): the nominal life when every judged joint has an
+    allowance, else the first judged joint's wear quantity at the history's end."""
+    limit = limit_state_from_config(config)
+
+    def outputs(res) -> tuple[np.ndarray, np.ndarray]:
+        by_index = {jw.index: jw for jw in res.joints}
+        cycles = by_index[limit.joints[0]].history_cycles
+        cycles = cycles[cycles > 0]
+        return cycles, np.concatenate([quantity_history(by_index[j], limit.quantity, cycles) for j in limit.joints])
+
+    if any(a is None for a in limit.allowances):
+        def wear_at_end(res) -> float:
+            _, y = outputs(res)
+            return float(y[len(y) // len(limit.joints) - 1])
+        return "wear", wear_at_end, limit
+
+    def life(res) -> float:
+        cycles, y = outputs(res)
+        n = float(limit.life(cycles, y[None, :])[0])
+        return min(n, float(res.stopped_at)) if res.stopped_at is not None else n
+    return "life", life, limit
+
+
+def chosen_refinements(config: StudyConfig, replicates: int, factor: float, tolerance: float,
+                       only: Sequence[str] | None = None) -> list[Refinement]:
+    """The refinements a convergence check runs, its arguments checked (ConfigError naming the argument)."""
+    if isinstance(replicates, bool) or not isinstance(replicates, numbers.Integral) or replicates < 2:
+        raise ConfigError(f"replicates: a whole number >= 2 (a change needs their scatter), got {replicates!r}")
+    if isinstance(factor, bool) or not (isinstance(factor, numbers.Real) and 1.0 < factor < math.inf):
+        raise ConfigError(f"factor: a refinement factor > 1, got {factor!r}")
+    if isinstance(tolerance, bool) or not (isinstance(tolerance, numbers.Real) and 0.0 < tolerance < 1.0):
+        raise ConfigError(f"tolerance: a relative change in (0, 1), got {tolerance!r}")
+    chosen = refinements(config, factor)
+    if only:
+        unknown = sorted(set(only) - {r.name for r in chosen})
+        if unknown:
+            raise ConfigError(f"only: unknown or not applicable refinement(s) {', '.join(unknown)}; choose from "
+                              f"{', '.join(r.name for r in chosen)}")
+        chosen = [r for r in chosen if r.name in set(only)]
+    return chosen
+
+
+def run_convergence(config: StudyConfig, cycles: int, *, replicates: int = 8, factor: float = 2.0,
+                    tolerance: float = DEFAULT_TOLERANCE, only: Sequence[str] | None = None,
+                    progress: Callable[[int, int], Any] | None = None) -> WearConvergence:
+    """The nominal history to ``cycles`` with the config's wear settings and with each refinement, ``replicates``
+    runs each (start phases settle0 + 0.05 k); ``only``: the refinements to run (names of
+    :data:`REFINEMENT_NAMES`); ``progress(done, total)`` after each history."""
+    from jointwear.mechanism import build_model
+    from jointwear.wear import wear_history
+
+    chosen = chosen_refinements(config, replicates, factor, tolerance, only)
+    measure, value_of, limit = nominal_measure(config)
+    model = build_model(config)
+    s = config.wear
+    settle0 = s.settle_cycles_initial if s.settle_cycles_initial is not None else config.simulation.settle_cycles
+    total, done = replicates * (1 + len(chosen)), 0
+    t0 = time.perf_counter()
+
+    def runs(update: dict) -> list[float]:
+        nonlocal done
+        out = []
+        for k in range(replicates):
+            v = s.model_copy(update={**update, "settle_cycles_initial": settle0 + REPLICATE_PHASE_STEP * k})
+            out.append(value_of(wear_history(model, v, cycles)))
+            done += 1
+            if progress is not None:
+                progress(done, total)
+        return out
+
+    base = _summary(runs({}))
+    rows = []
+    for r in chosen:
+        row = _summary(runs(r.update))
+        row.pop("scatter")
+        change = row["mean"] / base["mean"] - 1.0
+        se = math.sqrt(row["std"] ** 2 / replicates + base["std"] ** 2 / replicates) / abs(base["mean"])
+        rows.append({"name": r.name, "description": r.description,
+                     "changed": {k: [getattr(s, k) if getattr(s, k) is not None else _resolved(config, k), v]
+                                 for k, v in r.update.items()},
+                     **row, "change": change, "change_se": se, "verdict": change_verdict(change, se, tolerance)})
+    return WearConvergence(measure=measure, unit="cycles" if measure == "life" else "m", cycles=int(cycles),
+                           replicates=replicates, factor=float(factor), tolerance=float(tolerance), baseline=base,
+                           refinements=rows, joints=list(limit.names), quantity=limit.quantity,
+                           wall_seconds=time.perf_counter() - t0, settings=s.model_dump(mode="json"),
+                           provenance=provenance())
+
+
+def _resolved(config: StudyConfig, name: str):
+    """A wear setting left to the simulation's (rtol, atol) as the history uses it."""
+    return getattr(config.simulation, name)
