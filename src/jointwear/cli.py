@@ -133,11 +133,14 @@ def wear(config, cycles, out):
                    "tolerance, profile_smoothing_deg, profile_substep_cycles.")
 @click.option("--cycles", type=click.IntRange(min=1), default=None,
               help="Cycles of each history [default: wear.cycles, else the end of the R(N) curve].")
+@compute_options
 @out_option
-def converge(config, replicates, factor, tolerance, only, cycles, out):
+def converge(config, replicates, factor, tolerance, only, cycles, workers, scheduler, resume, overwrite, out):
     """Whether the nominal wear history is converged in its numerical settings (each refined, with replicates);
-    write convergence.json and convergence.csv."""
-    open_study(config, out).converge(replicates, factor, tolerance, list(only) or None, cycles)
+    write convergence.json and convergence.csv. Its histories go through the executor and the study's evaluation
+    store, so an interrupted check resumes."""
+    open_study(config, out, workers, scheduler, resume, overwrite).converge(replicates, factor, tolerance,
+                                                                          list(only) or None, cycles)
 
 
 @main.command()

@@ -131,3 +131,27 @@ def test_the_command_writes_its_result(rig, tmp_path, capsys):
     res = WearConvergence.load(out)
     assert [r["name"] for r in res.refinements] == ["n_grid"] and res.cycles == 1000
     assert (out / "convergence.csv").read_text(encoding="utf-8").splitlines()[0].startswith("setting,changed,")
+
+
+def test_histories_run_on_workers_and_resume_from_the_store(rig, tmp_path):
+    """The Study runs the histories on worker processes, the same to the last bit as one after the other in this
+    process, and keeps them in the study's evaluation store: a second check reads them back."""
+    import sqlite3
+
+    from jointwear import Study
+    from jointwear.study.facade import CONVERGENCE_TAG
+
+    profile = updated(rig, {"wear.geometry_mode": "profile", "wear.cycles": 1000})
+    serial = run_convergence(profile, 1000, replicates=2, only=["n_grid"])
+    study = Study(profile, out=tmp_path, workers=2)
+    first = study.converge(replicates=2, only=["n_grid"])
+    assert first.baseline["values"] == serial.baseline["values"]
+    assert first.refinements[0]["values"] == serial.refinements[0]["values"]
+
+    def stored() -> int:
+        with sqlite3.connect(tmp_path / "evaluations.sqlite") as db:
+            return db.execute("SELECT COUNT(*) FROM calls WHERE tag = ?", (CONVERGENCE_TAG,)).fetchone()[0]
+
+    assert stored() == 4
+    again = Study(profile, out=tmp_path, workers=2).converge(replicates=2, only=["n_grid"])
+    assert stored() == 4 and again.baseline == first.baseline and again.refinements == first.refinements

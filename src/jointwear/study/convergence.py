@@ -153,8 +153,13 @@ class WearConvergence(StageResult):
         """A warning for each refinement that is not converged or undecided, saying what to do."""
         out = []
         what = "the nominal life" if self.measure == "life" else "the final wear"
+        failed = [(name, r.get("failed", 0)) for name, r in (("baseline", self.baseline),
+                                                              *((r["name"], r) for r in self.refinements))]
+        if any(n for _, n in failed):
+            out.append("histories failed (" + ", ".join(f"{name}: {n} of {self.replicates}" for name, n in failed if n)
+                       + "): their reasons are in the study's log and evaluation store; the rest are judged")
         for r in self.refinements:
-            if r["verdict"] in ("converged", "no change detected"):
+            if r["verdict"] in ("converged", "no change detected", "too few histories"):
                 continue
             fields_ = ", ".join(f"wear.{k} {_fmt(a)} -> {_fmt(b)}" for k, (a, b) in r["changed"].items())
             text = (f"with {fields_} {what} moves by {100 * r['change']:+.1f} % "
@@ -194,6 +199,7 @@ class WearConvergence(StageResult):
             f"std_{self.measure}_{unit}": [r["std"] * scale for r in rows],
             "change_pct": [100 * r["change"] for r in rows],
             "change_95_pct": [100 * Z95 * r["change_se"] for r in rows],
+            "failed_histories": [r.get("failed", 0) for r in rows],
             "verdict": [r["verdict"] for r in rows],
         }}
 
@@ -208,10 +214,12 @@ def _fmt(value) -> str:
 
 
 def _summary(values: Sequence[float]) -> dict:
-    v = [float(x) for x in values]
-    mean = statistics.fmean(v)
+    """Mean, standard deviation and scatter of the finite values; ``failed``: the histories that gave none."""
+    v = [float(x) for x in values if math.isfinite(x)]
+    mean = statistics.fmean(v) if v else math.nan
     std = statistics.stdev(v) if len(v) > 1 else 0.0
-    return {"values": v, "mean": mean, "std": std, "scatter": std / abs(mean) if mean else math.nan}
+    return {"values": v, "failed": len(values) - len(v), "mean": mean, "std": std,
+            "scatter": std / abs(mean) if mean else math.nan}
 
 
 def nominal_measure(config: StudyConfig):
@@ -257,45 +265,70 @@ def chosen_refinements(config: StudyConfig, replicates: int, factor: float, tole
     return chosen
 
 
+@dataclass
+class ConvergenceCall:
+    """One history of the check, a plain picklable object so that worker processes and Dask workers can run it:
+    the input row (refinement code, factor, replicate k) -> (the measure,). Code -1 is the baseline, else the index
+    of the refinement in :data:`REFINEMENT_NAMES`; replicate k starts from the phase settle0 + 0.05 k."""
+
+    base: dict
+    cycles: int
+    threads: int | None = None
+
+    def settings(self, config: StudyConfig, x) -> Any:
+        """The WearSettings of the row ``x``."""
+        code, factor, k = int(x[0]), float(x[1]), int(x[2])
+        update = {} if code < 0 else next(r.update for r in refinements(config, factor)
+                                          if r.name == REFINEMENT_NAMES[code])
+        s = config.wear
+        settle0 = s.settle_cycles_initial if s.settle_cycles_initial is not None else config.simulation.settle_cycles
+        return s.model_copy(update={**update, "settle_cycles_initial": settle0 + REPLICATE_PHASE_STEP * k})
+
+    def __call__(self, x: np.ndarray):
+        from jointwear.config import config_from_dict
+        from jointwear.mechanism import build_model
+        from jointwear.wear import wear_history
+
+        config = config_from_dict(self.base, source="convergence")
+        _, value_of, _ = nominal_measure(config)
+        res = wear_history(build_model(config), self.settings(config, x), self.cycles, threads=self.threads)
+        return np.array([value_of(res)]), "ok"
+
+
 def run_convergence(config: StudyConfig, cycles: int, *, replicates: int = 8, factor: float = 2.0,
-                    tolerance: float = DEFAULT_TOLERANCE, only: Sequence[str] | None = None,
-                    progress: Callable[[int, int], Any] | None = None) -> WearConvergence:
+                    tolerance: float = DEFAULT_TOLERANCE, only: Sequence[str] | None = None, threads: int | None = None,
+                    evaluator_factory: Callable[[ConvergenceCall], Callable] | None = None) -> WearConvergence:
     """The nominal history to ``cycles`` with the config's wear settings and with each refinement, ``replicates``
     runs each (start phases settle0 + 0.05 k); ``only``: the refinements to run (names of
-    :data:`REFINEMENT_NAMES`); ``progress(done, total)`` after each history."""
-    from jointwear.mechanism import build_model
-    from jointwear.wear import wear_history
-
+    :data:`REFINEMENT_NAMES`). ``evaluator_factory(call)`` returns what evaluates the rows, X (n, 3) -> Y (n, 1)
+    with NaN for a failed history (a :class:`jointwear.compute.Evaluator`: workers, store, progress); default:
+    one after the other in this process. ``threads``: most threads of one history (its lanes)."""
     chosen = chosen_refinements(config, replicates, factor, tolerance, only)
-    measure, value_of, limit = nominal_measure(config)
-    model = build_model(config)
-    s = config.wear
-    settle0 = s.settle_cycles_initial if s.settle_cycles_initial is not None else config.simulation.settle_cycles
-    total, done = replicates * (1 + len(chosen)), 0
+    measure, _, limit = nominal_measure(config)
+    call = ConvergenceCall(config.model_dump(), int(cycles), threads)
+    evaluate = evaluator_factory(call) if evaluator_factory is not None else (
+        lambda X: np.array([call(x)[0] for x in X]))
+    codes = [-1] + [REFINEMENT_NAMES.index(r.name) for r in chosen]
+    X = np.array([[c, float(factor), k] for c in codes for k in range(replicates)], dtype=float)
     t0 = time.perf_counter()
-
-    def runs(update: dict) -> list[float]:
-        nonlocal done
-        out = []
-        for k in range(replicates):
-            v = s.model_copy(update={**update, "settle_cycles_initial": settle0 + REPLICATE_PHASE_STEP * k})
-            out.append(value_of(wear_history(model, v, cycles)))
-            done += 1
-            if progress is not None:
-                progress(done, total)
-        return out
-
-    base = _summary(runs({}))
+    Y = np.asarray(evaluate(X), dtype=float).reshape(len(codes), replicates)
+    base = _summary(Y[0])
     rows = []
-    for r in chosen:
-        row = _summary(runs(r.update))
+    s = config.wear
+    for r, values in zip(chosen, Y[1:]):
+        row = _summary(values)
         row.pop("scatter")
-        change = row["mean"] / base["mean"] - 1.0
-        se = math.sqrt(row["std"] ** 2 / replicates + base["std"] ** 2 / replicates) / abs(base["mean"])
+        n_b, n_r = len(base["values"]), len(row["values"])
+        if n_b >= 2 and n_r >= 2:
+            change = row["mean"] / base["mean"] - 1.0
+            se = math.sqrt(row["std"] ** 2 / n_r + base["std"] ** 2 / n_b) / abs(base["mean"])
+            verdict = change_verdict(change, se, tolerance)
+        else:
+            change, se, verdict = math.nan, math.nan, "too few histories"
         rows.append({"name": r.name, "description": r.description,
                      "changed": {k: [getattr(s, k) if getattr(s, k) is not None else _resolved(config, k), v]
                                  for k, v in r.update.items()},
-                     **row, "change": change, "change_se": se, "verdict": change_verdict(change, se, tolerance)})
+                     **row, "change": change, "change_se": se, "verdict": verdict})
     return WearConvergence(measure=measure, unit="cycles" if measure == "life" else "m", cycles=int(cycles),
                            replicates=replicates, factor=float(factor), tolerance=float(tolerance), baseline=base,
                            refinements=rows, joints=list(limit.names), quantity=limit.quantity,

@@ -55,6 +55,8 @@ from jointwear.wear.angles import angle_text
 
 #: Tag of the true-model calls in the evaluation store (shared by the CLI and the Python API).
 WEAR_MODEL_TAG = "wear_model"
+#: Tag of the convergence check's histories in the evaluation store.
+CONVERGENCE_TAG = "wear_convergence"
 STAGES = ("simulate", "wear", "reliability", "sensitivity")
 
 logger = logging.getLogger("jointwear")
@@ -409,21 +411,21 @@ class Study:
         WearConvergence
             Also written to ``convergence.json`` and ``convergence.csv``.
         """
-        from jointwear.compute import Progress
+        from jointwear import compute
         from jointwear.study.convergence import Z95, chosen_refinements, run_convergence
         from jointwear.wear.settings import check_cycles
 
         if cycles is not None:
             check_cycles(cycles, "cycles")
         chosen_refinements(self.config, replicates, factor, tolerance, only)
-        self._prepare({"wear"})
+        self._prepare({"wear"}, store_reuse=True)
         n = check_cycles(cycles if cycles is not None else nominal_wear_cycles(self.config), "cycles")
-        with Progress(total=None, description="histories") as bar:
-            def advance(done: int, total: int) -> None:
-                bar.update(completed=done, total=total)
-
-            result = run_convergence(self.config, n, replicates=replicates, factor=factor, tolerance=tolerance,
-                                     only=only, progress=advance)
+        with self._compute(reuse=True, description="histories") as (executor, store, progress):
+            result = run_convergence(
+                self.config, n, replicates=replicates, factor=factor, tolerance=tolerance, only=only,
+                threads=executor.threads_per_call, evaluator_factory=lambda call: compute.Evaluator(
+                    call, executor, store, timeout=self.config.compute.call_timeout, tag=CONVERGENCE_TAG,
+                    n_outputs=1, progress=progress))
         result.save(self.out)
         what = "nominal life" if result.measure == "life" else "final wear"
         mean = result.baseline["mean"]
@@ -622,10 +624,11 @@ class Study:
             raise ConfigError(self._store_message(problem))
 
     @contextlib.contextmanager
-    def _session(self, *, reuse: bool) -> Iterator:
-        """The study context with its evaluator: executor, evaluation store and progress display."""
+    def _compute(self, *, reuse: bool, description: str = "model calls") -> Iterator:
+        """The executor of model calls, the study's evaluation store and a progress display: (executor, store,
+        progress)."""
         from jointwear import compute
-        from jointwear.study.reliability import store_digest, study_context
+        from jointwear.study.reliability import store_digest
 
         try:
             store = compute.EvaluationStore.open(self.out, store_digest(self.config), **self._store_mode(reuse))
@@ -637,19 +640,28 @@ class Study:
         except Exception as exc:  # noqa: BLE001 - a bad address or an unreachable cluster is a user error
             store.close()
             raise ConfigError(f"compute: cannot start the executor: {' '.join(str(exc).split())}") from None
-        progress = compute.Progress(total=None, description="model calls")
-        self._progress = progress
+        progress = compute.Progress(total=None, description=description)
         try:
             with executor, progress:
-                ctx = study_context(self.config, lambda call: compute.Evaluator(
-                    call, executor, store, timeout=self.config.compute.call_timeout, tag=WEAR_MODEL_TAG,
-                    n_outputs=call.n_outputs, progress=progress), threads=executor.threads_per_call)
-                if self._context is not None:
-                    ctx.evaluator.adopt(self._context.evaluator)
-                self._context = ctx
-                yield ctx
+                yield executor, store, progress
         finally:
             store.close()
+
+    @contextlib.contextmanager
+    def _session(self, *, reuse: bool) -> Iterator:
+        """The study context with its evaluator: executor, evaluation store and progress display."""
+        from jointwear import compute
+        from jointwear.study.reliability import study_context
+
+        with self._compute(reuse=reuse) as (executor, store, progress):
+            self._progress = progress
+            ctx = study_context(self.config, lambda call: compute.Evaluator(
+                call, executor, store, timeout=self.config.compute.call_timeout, tag=WEAR_MODEL_TAG,
+                n_outputs=call.n_outputs, progress=progress), threads=executor.threads_per_call)
+            if self._context is not None:
+                ctx.evaluator.adopt(self._context.evaluator)
+            self._context = ctx
+            yield ctx
 
     def _progress_callback(self, record) -> None:
         import numpy as np
