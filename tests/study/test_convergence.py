@@ -112,9 +112,10 @@ def test_the_report_shows_the_check_and_its_warning(two_blocks, tmp_path):
     from jointwear.report.html import build_report
 
     two_blocks.save(tmp_path)
-    assert load_results(tmp_path).convergence == two_blocks
+    assert load_results(tmp_path).wear_convergence == two_blocks
     page = build_report(tmp_path).read_text(encoding="utf-8")
-    assert 'id="convergence"' in page and "not converged within 2 %" in page
+    assert 'id="wear-convergence"' in page and "not converged within 2 %" in page
+    assert "The wear history is not converged" in page  # a caveat beside the summary's numbers
     assert "block_cycles 5,000 \u2192 2,500" in page
 
 
@@ -130,7 +131,7 @@ def test_the_command_writes_its_result(rig, tmp_path, capsys):
     assert "n_grid" in text and "converged" in text
     res = WearConvergence.load(out)
     assert [r["name"] for r in res.refinements] == ["n_grid"] and res.cycles == 1000
-    assert (out / "convergence.csv").read_text(encoding="utf-8").splitlines()[0].startswith("setting,changed,")
+    assert (out / "wear_convergence.csv").read_text(encoding="utf-8").splitlines()[0].startswith("setting,changed,")
 
 
 def test_histories_run_on_workers_and_resume_from_the_store(rig, tmp_path):

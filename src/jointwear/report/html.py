@@ -60,9 +60,9 @@ def build_report(out_dir: Path | str, *, output: Path | str | None = None, title
          f"Journal motion and contact force in the revolute clearance joint{'s' if several else ''}."),
         ("wear", "Wear of the joints" if several else "Wear of the joint", lambda: wear_section(out, figs),
          "Archard wear on the bearing; angles in the bearing frame, 0 deg at the leftmost point, clockwise."),
-        *([("convergence", "Convergence of the wear history", lambda: convergence_section(out),
+        *([("wear-convergence", "Convergence of the wear history", lambda: convergence_section(out),
             "Whether the nominal history is converged in its numerical settings on this mechanism "
-            "(jointwear converge).")] if out.results.convergence is not None else []),
+            "(jointwear converge).")] if out.results.wear_convergence is not None else []),
         ("reliability", "Wear reliability", lambda: reliability_section(out, figs),
          "Limit state G = ln N_f(x) \u2212 ln N: failure when the wear life N_f, the cycles at which the max wear "
          "reaches the allowance \u03b4\u2080 (read from each model call's wear history, extrapolated linearly past "

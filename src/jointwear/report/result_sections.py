@@ -426,6 +426,12 @@ def summary_caveats(out: StudyOutputs) -> str:
                           "answer"))
         items += [("wear", "Worn away", s) for s in wear.worn_away()]
         items += [("wear", "Worn through", s) for s in wear.worn_through()]
+    conv = out.results.wear_convergence
+    if conv is not None and conv.not_converged():
+        items.append(("wear-convergence", "The wear history is not converged",
+                      f"refining {', '.join(conv.not_converged())} moves the nominal "
+                      f"{'life' if conv.measure == 'life' else 'wear'} by more than "
+                      f"{100 * conv.tolerance:g} %; refine it in [wear] and run the study again"))
     if rel is not None:
         if not rel.converged:
             why = ("its budget of model calls ended" if rel.stopped_by_budget or not rel.learning_stop

@@ -336,7 +336,7 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
 
 def convergence_section(out: StudyOutputs) -> str:
     """The nominal history's convergence in its numerical settings (``jointwear converge``)."""
-    conv = out.results.convergence
+    conv = out.results.wear_convergence
     life = conv.measure == "life"
     scale, unit = (1.0, "cycles") if life else (1e3, "mm")
     what = "nominal life" if life else "final wear"

@@ -117,7 +117,7 @@ class WearConvergence(StageResult):
     change of the mean), ``change_se`` (its standard error) and ``verdict``.
     """
 
-    FILE: ClassVar[str] = "convergence.json"
+    FILE: ClassVar[str] = "wear_convergence.json"
 
     measure: str
     unit: str
@@ -143,6 +143,10 @@ class WearConvergence(StageResult):
     def verdicts(self) -> dict[str, str]:
         """Each refinement's verdict by name."""
         return {r["name"]: r["verdict"] for r in self.refinements}
+
+    def not_converged(self) -> list[str]:
+        """The refinements whose change lies outside the tolerance (verdict 'not converged')."""
+        return [r["name"] for r in self.refinements if r["verdict"] == "not converged"]
 
     @property
     def converged(self) -> bool:
@@ -191,7 +195,7 @@ class WearConvergence(StageResult):
         scale = 1.0 if self.measure == "life" else 1e3
         rows = [{"name": "baseline", "description": "the study's wear settings", "changed": "",
                  **self.baseline, "change": 0.0, "change_se": 0.0, "verdict": ""}] + self.refinements
-        return {"convergence": {
+        return {"wear_convergence": {
             "setting": [r["name"] for r in rows],
             "changed": [r["changed"] if isinstance(r["changed"], str) else
                         "; ".join(f"{k} {_fmt(a)} -> {_fmt(b)}" for k, (a, b) in r["changed"].items()) for r in rows],
@@ -204,7 +208,7 @@ class WearConvergence(StageResult):
         }}
 
     def save(self, folder) -> Path:
-        """Write ``convergence.json`` and ``convergence.csv``."""
+        """Write ``wear_convergence.json`` and ``wear_convergence.csv``."""
         self.files = [self.FILE, *self.write_tables(folder)]
         return self.write(folder)
 

@@ -409,7 +409,7 @@ class Study:
         Returns
         -------
         WearConvergence
-            Also written to ``convergence.json`` and ``convergence.csv``.
+            Also written to ``wear_convergence.json`` and ``wear_convergence.csv``.
         """
         from jointwear import compute
         from jointwear.study.convergence import Z95, chosen_refinements, run_convergence

@@ -418,7 +418,7 @@ class StudyResults:
     sensitivity: SensitivityResult | None = None
     validation: ValidationResult | None = None
     design: DesignResult | None = None
-    convergence: WearConvergence | None = None
+    wear_convergence: WearConvergence | None = None
     errors: dict[str, str] = field(default_factory=dict)
 
     def __repr__(self) -> str:
@@ -433,12 +433,13 @@ class StudyResults:
     @property
     def stages(self) -> list[str]:
         """The stages with a result in the folder."""
-        return [s for s in ("simulate", "wear", "convergence", "reliability", "sensitivity", "validation", "design")
+        return [s for s in ("simulate", "wear", "wear_convergence", "reliability", "sensitivity", "validation",
+                          "design")
                 if getattr(self, s) is not None]
 
 
 STAGE_TYPES: dict[str, type] = {"simulate": SimulationSummary, "wear": WearSummary,
-                                "convergence": WearConvergence, "reliability": ReliabilityResult,
+                                "wear_convergence": WearConvergence, "reliability": ReliabilityResult,
                                 "sensitivity": SensitivityResult, "validation": ValidationResult}
 
 

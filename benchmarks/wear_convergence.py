@@ -1,6 +1,6 @@
 """`jointwear converge` on the presets: is each preset's nominal wear history converged in its numerical settings?
 
-    python benchmarks/convergence.py [--replicates 8] [--out FILE]
+    python benchmarks/wear_convergence.py [--replicates 8] [--out FILE]
 
 Runs :func:`jointwear.study.convergence.run_convergence` (the engine of `jointwear converge`) on
 - the default preset (jin2025_flapping_wing), every refinement 2x, 16 replicates;
@@ -8,7 +8,7 @@ Runs :func:`jointwear.study.convergence.run_convergence` (the engine of `jointwe
   2x, 4x, 8x and 16x (one sampled cycle per block in the preset), with the given replicates;
 - the pendulum rig (tests/wear/rigs/pendulum.toml) in profile mode to 10,000 revolutions: a steady load, so the
   replicates agree and the verdicts are decisive.
-Writes benchmarks/results/convergence.json (docs/wear.md, "Is my history converged?").
+Writes benchmarks/results/wear_convergence.json (docs/wear.md, "Is my history converged?").
 """
 
 from __future__ import annotations
@@ -44,7 +44,7 @@ def one(config, cycles: int, **kw) -> dict:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--replicates", type=int, default=8)
-    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results" / "convergence.json")
+    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results" / "wear_convergence.json")
     args = ap.parse_args(argv)
     rec: dict = {"benchmark": "jointwear converge on the presets", "date": dt.date.today().isoformat(),
                  "machine": provenance()}
