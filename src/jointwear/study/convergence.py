@@ -9,9 +9,9 @@ reliability stage), or the first judged joint's wear at the history's end when n
 
 A refinement's change of the mean is judged against the tolerance with its 95 % interval (1.96 standard errors of
 the difference of two means): *converged* when the interval lies inside +-tolerance, *not converged* when it lies
-outside, *undecided* otherwise (more replicates tell). A chaotic contact makes every run another sample of the
-cycle-to-cycle scatter: the replicates' scatter is reported, and it is the noise the reliability stage's
-Kriging estimates.
+outside, *no change detected* when it holds zero but reaches past the tolerance, *undecided* otherwise (more
+replicates tell). A chaotic contact makes every run another sample of the cycle-to-cycle scatter: the replicates'
+scatter is reported, and it is the noise the reliability stage's Kriging estimates.
 """
 
 from __future__ import annotations
@@ -112,9 +112,10 @@ class WearConvergence(StageResult):
     ``measure``: 'life' (the nominal life, cycles: the first judged joint to reach its allowance, extrapolated
     linearly past the history's end as the reliability stage does) or 'wear' (the first judged joint's wear
     quantity at the history's end, m, when no allowance is set). ``baseline``: the replicates' values, mean,
-    standard deviation and ``scatter`` (standard deviation / mean). Each of ``refinements``: ``name``,
-    ``description``, ``changed`` ({field: [baseline, refined]}), ``values``, ``mean``, ``std``, ``change`` (relative
-    change of the mean), ``change_se`` (its standard error) and ``verdict``.
+    standard deviation, ``scatter`` (standard deviation / mean) and ``failed`` (histories that failed, left out).
+    Each of ``refinements``: ``name``, ``description``, ``changed`` ({field: [baseline, refined]}), ``values``,
+    ``failed``, ``mean``, ``std``, ``change`` (relative change of the mean), ``change_se`` (its standard error) and
+    ``verdict`` (:func:`change_verdict`, or 'too few histories' when fewer than two of either ran).
     """
 
     FILE: ClassVar[str] = "wear_convergence.json"
