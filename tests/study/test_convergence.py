@@ -103,7 +103,7 @@ def test_two_blocks_of_a_growing_clearance_are_not_converged(two_blocks):
     assert row["verdict"] == "not converged", row
     assert row["changed"] == {"block_cycles": [5000, 2500]}
     (sentence,) = two_blocks.sentences()
-    assert "not converged within 2 %" in sentence and "wear.block_cycles 5000 -> 2500" in sentence
+    assert "not converged within 2 %" in sentence and "wear.block_cycles 5,000 -> 2,500" in sentence
     assert WearConvergence.from_json(json.loads(json.dumps(two_blocks.to_json()))) == two_blocks
 
 

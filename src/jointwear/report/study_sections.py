@@ -349,8 +349,7 @@ def convergence_section(out: StudyOutputs) -> str:
     ])
     rows = []
     for r in conv.refinements:
-        changed = "; ".join(f"{k} {format_number(a)} \u2192 {format_number(b)}" for k, (a, b) in r["changed"].items())
-        rows.append([r["name"], changed, format_number(r["mean"] * scale),
+        rows.append([r["name"], conv.changed_text(r, arrow="\u2192"), format_number(r["mean"] * scale),
                      f"{100 * r['change']:+.1f} % \u00b1 {100 * Z95 * r['change_se']:.1f} %", r["verdict"]])
     body = table(["setting", "refined", f"{what} ({unit})", "change (95 %)", "verdict"], rows)
     lead = (f"<p>The nominal history to {conv.cycles:,} cycles with the study's wear settings and with each "

@@ -166,7 +166,7 @@ class WearConvergence(StageResult):
         for r in self.refinements:
             if r["verdict"] in ("converged", "no change detected", "too few histories"):
                 continue
-            fields_ = ", ".join(f"wear.{k} {_fmt(a)} -> {_fmt(b)}" for k, (a, b) in r["changed"].items())
+            fields_ = self.changed_text(r, prefix="wear.", sep=", ")
             text = (f"with {fields_} {what} moves by {100 * r['change']:+.1f} % "
                     f"(+-{100 * Z95 * r['change_se']:.1f} %, 95 %)")
             if r["verdict"] == "not converged":
@@ -181,6 +181,11 @@ class WearConvergence(StageResult):
                        "would resolve the tolerance")
         return out
 
+    @staticmethod
+    def changed_text(row: dict, *, arrow: str = "->", prefix: str = "", sep: str = "; ") -> str:
+        """The settings a refinement changed, as text: 'record_cycles 1 -> 2; ...'."""
+        return sep.join(f"{prefix}{k} {_fmt(a)} {arrow} {_fmt(b)}" for k, (a, b) in row["changed"].items())
+
     @property
     def resolution(self) -> float:
         """Half-width of the 95 % interval of a change between two settings that scatter as the baseline."""
@@ -194,12 +199,11 @@ class WearConvergence(StageResult):
     def tables(self) -> dict[str, dict[str, list]]:
         unit = "cycles" if self.measure == "life" else "mm"
         scale = 1.0 if self.measure == "life" else 1e3
-        rows = [{"name": "baseline", "description": "the study's wear settings", "changed": "",
+        rows = [{"name": "baseline", "description": "the study's wear settings", "changed": {},
                  **self.baseline, "change": 0.0, "change_se": 0.0, "verdict": ""}] + self.refinements
         return {"wear_convergence": {
             "setting": [r["name"] for r in rows],
-            "changed": [r["changed"] if isinstance(r["changed"], str) else
-                        "; ".join(f"{k} {_fmt(a)} -> {_fmt(b)}" for k, (a, b) in r["changed"].items()) for r in rows],
+            "changed": [self.changed_text(r) for r in rows],
             f"mean_{self.measure}_{unit}": [r["mean"] * scale for r in rows],
             f"std_{self.measure}_{unit}": [r["std"] * scale for r in rows],
             "change_pct": [100 * r["change"] for r in rows],
@@ -215,7 +219,7 @@ class WearConvergence(StageResult):
 
 
 def _fmt(value) -> str:
-    return f"{value:.4g}" if isinstance(value, float) else str(value)
+    return f"{value:.4g}" if isinstance(value, float) else f"{value:,}" if isinstance(value, int) else str(value)
 
 
 def _summary(values: Sequence[float]) -> dict:
