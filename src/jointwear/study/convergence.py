@@ -11,7 +11,7 @@ A refinement's change of the mean is judged against the tolerance with its 95 % 
 the difference of two means): *converged* when the interval lies inside +-tolerance, *not converged* when it lies
 outside, *no change detected* when it holds zero but reaches past the tolerance, *undecided* otherwise (more
 replicates tell). A chaotic contact makes every run another sample of the cycle-to-cycle scatter: the replicates'
-scatter is reported, and it is the noise the reliability stage's Kriging estimates.
+scatter is reported: the same kind of scatter the reliability stage's Kriging estimates as noise between its calls.
 """
 
 from __future__ import annotations
