@@ -137,8 +137,8 @@ def wear(config, cycles, out):
 @out_option
 def converge(config, replicates, factor, tolerance, only, cycles, workers, scheduler, resume, overwrite, out):
     """Whether the nominal wear history is converged in its numerical settings (each refined, with replicates);
-    write wear_convergence.json and wear_convergence.csv. Its histories go through the executor and the study's evaluation
-    store, so an interrupted check resumes."""
+    write wear_convergence.json and wear_convergence.csv. Its histories go through the executor and an evaluation
+    store of their own (wear_convergence.sqlite), so an interrupted check resumes."""
     open_study(config, out, workers, scheduler, resume, overwrite).converge(replicates, factor, tolerance,
                                                                           list(only) or None, cycles)
 

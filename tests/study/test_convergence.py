@@ -14,6 +14,7 @@ from jointwear.cli import main_entry
 from jointwear.config import load_config, updated
 from jointwear.schema import ConfigError
 from jointwear.study.convergence import (
+    STORE_FILE,
     Z95,
     WearConvergence,
     change_verdict,
@@ -150,9 +151,19 @@ def test_histories_run_on_workers_and_resume_from_the_store(rig, tmp_path):
     assert first.refinements[0]["values"] == serial.refinements[0]["values"]
 
     def stored() -> int:
-        with sqlite3.connect(tmp_path / "evaluations.sqlite") as db:
+        with sqlite3.connect(tmp_path / STORE_FILE) as db:
             return db.execute("SELECT COUNT(*) FROM calls WHERE tag = ?", (CONVERGENCE_TAG,)).fetchone()[0]
 
     assert stored() == 4
+    assert not (tmp_path / "evaluations.sqlite").exists()  # the study's own store is left alone
     again = Study(profile, out=tmp_path, workers=2).converge(replicates=2, only=["n_grid"])
     assert stored() == 4 and again.baseline == first.baseline and again.refinements == first.refinements
+    # another history length is another row, not the stored one
+    longer = Study(profile, out=tmp_path, workers=2).converge(replicates=2, only=["n_grid"], cycles=1500)
+    assert stored() == 8 and longer.cycles == 1500 and longer.baseline["values"] != first.baseline["values"]
+    # another wear model is refused with what to do; --overwrite starts afresh
+    other = updated(profile, {"wear.n_grid": 360})
+    with pytest.raises(ConfigError, match="overwrite"):
+        Study(other, out=tmp_path, workers=2).converge(replicates=2, only=["n_grid"])
+    Study(other, out=tmp_path, workers=2, overwrite=True).converge(replicates=2, only=["n_grid"])
+    assert stored() == 4

@@ -274,15 +274,28 @@ def chosen_refinements(config: StudyConfig, replicates: int, factor: float, tole
     return chosen
 
 
+#: the file of the check's evaluation store in the output folder (apart from the study's evaluations.sqlite, so
+#: that neither refuses nor discards the other's calls)
+STORE_FILE = "wear_convergence.sqlite"
+
+
 @dataclass
 class ConvergenceCall:
     """One history of the check, a plain picklable object so that worker processes and Dask workers can run it:
-    the input row (refinement code, factor, replicate k) -> (the measure,). Code -1 is the baseline, else the index
-    of the refinement in :data:`REFINEMENT_NAMES`; replicate k starts from the phase settle0 + 0.05 k."""
+    the input row (refinement code, factor, replicate k, cycles) -> (the measure,). Code -1 is the baseline, else
+    the index of the refinement in :data:`REFINEMENT_NAMES`; replicate k starts from the phase settle0 + 0.05 k."""
 
     base: dict
-    cycles: int
     threads: int | None = None
+
+    def identity(self) -> dict:
+        """What a history's measure depends on besides its row: the model sections of the config and the limit
+        state (the key of the check's evaluation store)."""
+        from jointwear.study.model_call import WearModelCall
+
+        rel = self.base.get("reliability") or {}
+        return {"model": {k: self.base[k] for k in WearModelCall.MODEL_SECTIONS},
+                "limit": {k: rel.get(k) for k in ("quantity", "joints", "allowance", "allowances")}}
 
     def settings(self, config: StudyConfig, x) -> Any:
         """The WearSettings of the row ``x``."""
@@ -300,7 +313,7 @@ class ConvergenceCall:
 
         config = config_from_dict(self.base, source="convergence")
         _, value_of, _ = nominal_measure(config)
-        res = wear_history(build_model(config), self.settings(config, x), self.cycles, threads=self.threads)
+        res = wear_history(build_model(config), self.settings(config, x), int(x[3]), threads=self.threads)
         return np.array([value_of(res)]), "ok"
 
 
@@ -309,16 +322,16 @@ def run_convergence(config: StudyConfig, cycles: int, *, replicates: int = 8, fa
                     evaluator_factory: Callable[[ConvergenceCall], Callable] | None = None) -> WearConvergence:
     """The nominal history to ``cycles`` with the config's wear settings and with each refinement, ``replicates``
     runs each (start phases settle0 + 0.05 k); ``only``: the refinements to run (names of
-    :data:`REFINEMENT_NAMES`). ``evaluator_factory(call)`` returns what evaluates the rows, X (n, 3) -> Y (n, 1)
+    :data:`REFINEMENT_NAMES`). ``evaluator_factory(call)`` returns what evaluates the rows, X (n, 4) -> Y (n, 1)
     with NaN for a failed history (a :class:`jointwear.compute.Evaluator`: workers, store, progress); default:
     one after the other in this process. ``threads``: most threads of one history (its lanes)."""
     chosen = chosen_refinements(config, replicates, factor, tolerance, only)
     measure, _, limit = nominal_measure(config)
-    call = ConvergenceCall(config.model_dump(), int(cycles), threads)
+    call = ConvergenceCall(config.model_dump(), threads)
     evaluate = evaluator_factory(call) if evaluator_factory is not None else (
         lambda X: np.array([call(x)[0] for x in X]))
     codes = [-1] + [REFINEMENT_NAMES.index(r.name) for r in chosen]
-    X = np.array([[c, float(factor), k] for c in codes for k in range(replicates)], dtype=float)
+    X = np.array([[c, float(factor), k, int(cycles)] for c in codes for k in range(replicates)], dtype=float)
     t0 = time.perf_counter()
     Y = np.asarray(evaluate(X), dtype=float).reshape(len(codes), replicates)
     base = _summary(Y[0])

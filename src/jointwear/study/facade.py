@@ -55,7 +55,7 @@ from jointwear.wear.angles import angle_text
 
 #: Tag of the true-model calls in the evaluation store (shared by the CLI and the Python API).
 WEAR_MODEL_TAG = "wear_model"
-#: Tag of the convergence check's histories in the evaluation store.
+#: Tag of the convergence check's histories in its evaluation store (``convergence.STORE_FILE``).
 CONVERGENCE_TAG = "wear_convergence"
 STAGES = ("simulate", "wear", "reliability", "sensitivity")
 
@@ -409,18 +409,21 @@ class Study:
         Returns
         -------
         WearConvergence
-            Also written to ``wear_convergence.json`` and ``wear_convergence.csv``.
+            Also written to ``wear_convergence.json`` and ``wear_convergence.csv``; each history is kept in
+            ``wear_convergence.sqlite`` as it ends, so a check resumes (``overwrite=True`` starts it afresh).
         """
         from jointwear import compute
-        from jointwear.study.convergence import Z95, chosen_refinements, run_convergence
+        from jointwear.study.convergence import STORE_FILE, Z95, ConvergenceCall, chosen_refinements, run_convergence
         from jointwear.wear.settings import check_cycles
 
         if cycles is not None:
             check_cycles(cycles, "cycles")
         chosen_refinements(self.config, replicates, factor, tolerance, only)
-        self._prepare({"wear"}, store_reuse=True)
+        self._prepare({"wear"})
         n = check_cycles(cycles if cycles is not None else nominal_wear_cycles(self.config), "cycles")
-        with self._compute(reuse=True, description="histories") as (executor, store, progress):
+        digest = compute.config_hash(ConvergenceCall(self.config.model_dump()).identity())
+        with self._compute(reuse=True, description="histories", store_file=STORE_FILE, digest=digest) as (
+                executor, store, progress):
             result = run_convergence(
                 self.config, n, replicates=replicates, factor=factor, tolerance=tolerance, only=only,
                 threads=executor.threads_per_call, evaluator_factory=lambda call: compute.Evaluator(
@@ -624,17 +627,30 @@ class Study:
             raise ConfigError(self._store_message(problem))
 
     @contextlib.contextmanager
-    def _compute(self, *, reuse: bool, description: str = "model calls") -> Iterator:
-        """The executor of model calls, the study's evaluation store and a progress display: (executor, store,
-        progress)."""
+    def _compute(self, *, reuse: bool, description: str = "model calls", store_file: str | None = None,
+                 digest: str | None = None) -> Iterator:
+        """The executor of model calls, an evaluation store and a progress display: (executor, store, progress).
+        The store is the study's (``evaluations.sqlite``), or ``store_file`` in the output folder keyed by
+        ``digest`` (resumed unless ``overwrite``)."""
         from jointwear import compute
         from jointwear.study.reliability import store_digest
 
         try:
-            store = compute.EvaluationStore.open(self.out, store_digest(self.config), **self._store_mode(reuse))
+            if store_file is None:
+                store = compute.EvaluationStore.open(self.out, store_digest(self.config), **self._store_mode(reuse))
+                self._store_opened = True
+            else:
+                store = compute.EvaluationStore.open(self.out / store_file, digest, resume=not self.overwrite,
+                                                     overwrite=self.overwrite)
+        except compute.ConfigChangedError as exc:
+            if store_file is None:
+                raise ConfigError(self._store_message(exc)) from None
+            raise ConfigError(f"out: {self.out / store_file} holds histories of another wear model (its mechanism, "
+                              "clearance_joints, simulation, wear or limit-state settings changed): start the check "
+                              "afresh with --overwrite (overwrite=True in Python), or use a new output folder"
+                              ) from None
         except compute.StoreError as exc:
             raise ConfigError(self._store_message(exc)) from None
-        self._store_opened = True
         try:
             executor = compute.make_executor(workers=self.workers, scheduler=self.scheduler)
         except Exception as exc:  # noqa: BLE001 - a bad address or an unreachable cluster is a user error
