@@ -167,3 +167,20 @@ def test_histories_run_on_workers_and_resume_from_the_store(rig, tmp_path):
         Study(other, out=tmp_path, workers=2).converge(replicates=2, only=["n_grid"])
     Study(other, out=tmp_path, workers=2, overwrite=True).converge(replicates=2, only=["n_grid"])
     assert stored() == 4
+
+
+def test_without_an_allowance_the_measure_is_the_final_wear(rig):
+    # no allowance anywhere (no [reliability] allowance, no bushing wall for the 0.01 D rule): the first judged
+    # joint's max bearing depth at the history's end, as the history itself reports it
+    from jointwear.mechanism import build_model
+    from jointwear.study.convergence import nominal_measure
+    from jointwear.wear import wear_history
+
+    bare = updated(rig, {"clearance_joints.0.bearing_outer_radius": None})
+    measure, value_of, _ = nominal_measure(bare)
+    assert measure == "wear"
+    res = wear_history(build_model(bare), bare.wear, 500)
+    assert value_of(res) == pytest.approx(res.joints[0].bearing_wear.max(), rel=1e-12)
+    conv = run_convergence(bare, 500, replicates=2, only=["n_grid"])
+    assert conv.measure == "wear" and conv.unit == "m"
+    assert "mean_wear_mm" in conv.tables()["wear_convergence"]
