@@ -115,7 +115,8 @@ class WearConvergence(StageResult):
     standard deviation, ``scatter`` (standard deviation / mean) and ``failed`` (histories that failed, left out).
     Each of ``refinements``: ``name``, ``description``, ``changed`` ({field: [baseline, refined]}), ``values``,
     ``failed``, ``mean``, ``std``, ``change`` (relative change of the mean), ``change_se`` (its standard error) and
-    ``verdict`` (:func:`change_verdict`, or 'too few histories' when fewer than two of either ran).
+    ``verdict`` (:func:`change_verdict`; 'too few histories' when fewer than two of either ran, 'no wear' when the
+    baseline's measure is zero).
     """
 
     FILE: ClassVar[str] = "wear_convergence.json"
@@ -164,7 +165,7 @@ class WearConvergence(StageResult):
             out.append("histories failed (" + ", ".join(f"{name}: {n} of {self.replicates}" for name, n in failed if n)
                        + "): their reasons are in the study's log and evaluation store; the rest are judged")
         for r in self.refinements:
-            if r["verdict"] in ("converged", "no change detected", "too few histories"):
+            if r["verdict"] in ("converged", "no change detected", "too few histories", "no wear"):
                 continue
             fields_ = self.changed_text(r, prefix="wear.", sep=", ")
             text = (f"with {fields_} {what} moves by {100 * r['change']:+.1f} % "
@@ -341,12 +342,14 @@ def run_convergence(config: StudyConfig, cycles: int, *, replicates: int = 8, fa
         row = _summary(values)
         row.pop("scatter")
         n_b, n_r = len(base["values"]), len(row["values"])
-        if n_b >= 2 and n_r >= 2:
+        if n_b < 2 or n_r < 2:
+            change, se, verdict = math.nan, math.nan, "too few histories"
+        elif base["mean"] == 0.0:  # a joint that never wears: no relative change
+            change, se, verdict = math.nan, math.nan, "no wear"
+        else:
             change = row["mean"] / base["mean"] - 1.0
             se = math.sqrt(row["std"] ** 2 / n_r + base["std"] ** 2 / n_b) / abs(base["mean"])
             verdict = change_verdict(change, se, tolerance)
-        else:
-            change, se, verdict = math.nan, math.nan, "too few histories"
         rows.append({"name": r.name, "description": r.description,
                      "changed": {k: [getattr(s, k) if getattr(s, k) is not None else _resolved(config, k), v]
                                  for k, v in r.update.items()},
