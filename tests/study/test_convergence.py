@@ -158,9 +158,12 @@ def test_histories_run_on_workers_and_resume_from_the_store(rig, tmp_path):
     assert not (tmp_path / "evaluations.sqlite").exists()  # the study's own store is left alone
     again = Study(profile, out=tmp_path, workers=2).converge(replicates=2, only=["n_grid"])
     assert stored() == 4 and again.baseline == first.baseline and again.refinements == first.refinements
+    # another factor runs only the refinement again: the baseline is read back
+    Study(profile, out=tmp_path, workers=2).converge(replicates=2, only=["n_grid"], factor=4.0)
+    assert stored() == 6
     # another history length is another row, not the stored one
     longer = Study(profile, out=tmp_path, workers=2).converge(replicates=2, only=["n_grid"], cycles=1500)
-    assert stored() == 8 and longer.cycles == 1500 and longer.baseline["values"] != first.baseline["values"]
+    assert stored() == 10 and longer.cycles == 1500 and longer.baseline["values"] != first.baseline["values"]
     # another wear model is refused with what to do; --overwrite starts afresh
     other = updated(profile, {"wear.n_grid": 360})
     with pytest.raises(ConfigError, match="overwrite"):

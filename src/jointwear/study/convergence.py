@@ -332,7 +332,9 @@ def run_convergence(config: StudyConfig, cycles: int, *, replicates: int = 8, fa
     evaluate = evaluator_factory(call) if evaluator_factory is not None else (
         lambda X: np.array([call(x)[0] for x in X]))
     codes = [-1] + [REFINEMENT_NAMES.index(r.name) for r in chosen]
-    X = np.array([[c, float(factor), k, int(cycles)] for c in codes for k in range(replicates)], dtype=float)
+    # the baseline's rows carry factor 1 (it refines nothing), so a check with another factor reads them back
+    X = np.array([[c, float(factor) if c >= 0 else 1.0, k, int(cycles)] for c in codes for k in range(replicates)],
+                 dtype=float)
     t0 = time.perf_counter()
     Y = np.asarray(evaluate(X), dtype=float).reshape(len(codes), replicates)
     base = _summary(Y[0])
