@@ -55,13 +55,15 @@ def test_toml_example_runs_the_whole_study(tmp_path):
     proc = subprocess.run(["bash", str(EXAMPLES / "study_from_toml.sh"), str(_small_config(tmp_path)), str(out)],
                           capture_output=True, text=True, timeout=900, env=_env(), cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr[-3000:]
-    for name in ("simulate.json", "wear.json", "reliability.json", "sensitivity.json", "report.html",
+    for name in ("wear_convergence.json", "simulate.json", "wear.json", "reliability.json", "sensitivity.json",
+                 "report.html",
                  "reliability_curve.csv", "life_table.csv", "design_points.csv", "sensitivity.csv"):
         assert (out / name).is_file(), name
     rel = json.loads((out / "reliability.json").read_text())
     assert [row["target"] for row in rel["life_table"]] == [0.9, 0.99]
     assert rel["curve"]["cycles"] == [100000, 200000, 300000]  # the user's bounds, nothing from the paper
     html = re.sub(r"data:image/png;base64,[A-Za-z0-9+/=]+", "", (out / "report.html").read_text())
+    assert 'id="wear-convergence"' in html  # the check run before the study is in its report
     assert not re.search(r"\bJin\b|Drones", html)  # a report about the user's study, not the reference paper
 
 
