@@ -3,7 +3,8 @@
     python benchmarks/wear_convergence.py [--replicates 8] [--out FILE]
 
 Runs :func:`jointwear.study.convergence.run_convergence` (the engine of `jointwear converge`) on
-- the default preset (jin2025_flapping_wing), every refinement 2x, 16 replicates;
+- the default preset (jin2025_flapping_wing), every refinement 2x, 16 replicates, and its record length and
+  settling 8x;
 - the six-bar preset (watt_six_bar_two_clearances), every refinement 2x, then `record_cycles` alone refined
   2x, 4x, 8x and 16x (one sampled cycle per block in the preset), with the given replicates;
 - the pendulum rig (tests/wear/rigs/pendulum.toml) in profile mode to 10,000 revolutions: a steady load, so the
@@ -51,6 +52,8 @@ def entries(replicates: int) -> dict:
     n6 = nominal_wear_cycles(six)
     out = {
         "default_2x": lambda: one(default, nominal_wear_cycles(default), replicates=16),
+        "default_record_settle_8x": lambda: one(default, nominal_wear_cycles(default), replicates=16, factor=8,
+                                                only=["record_cycles", "settle_cycles"]),
         "six_bar_2x": lambda: one(six, n6, replicates=replicates),
         "six_bar_record": lambda: {str(f): one(six, n6, replicates=replicates, factor=f, only=["record_cycles"])
                                    for f in (2, 4, 8, 16)},
