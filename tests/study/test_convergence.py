@@ -15,6 +15,7 @@ from jointwear.config import load_config, updated
 from jointwear.schema import ConfigError
 from jointwear.study.convergence import (
     STORE_FILE,
+    STORE_TAG,
     Z95,
     WearConvergence,
     change_verdict,
@@ -141,7 +142,6 @@ def test_histories_run_on_workers_and_resume_from_the_store(rig, tmp_path):
     import sqlite3
 
     from jointwear import Study
-    from jointwear.study.facade import CONVERGENCE_TAG
 
     profile = updated(rig, {"wear.geometry_mode": "profile", "wear.cycles": 1000})
     serial = run_convergence(profile, 1000, replicates=2, only=["n_grid"])
@@ -152,7 +152,7 @@ def test_histories_run_on_workers_and_resume_from_the_store(rig, tmp_path):
 
     def stored() -> int:
         with sqlite3.connect(tmp_path / STORE_FILE) as db:
-            return db.execute("SELECT COUNT(*) FROM calls WHERE tag = ?", (CONVERGENCE_TAG,)).fetchone()[0]
+            return db.execute("SELECT COUNT(*) FROM calls WHERE tag = ?", (STORE_TAG,)).fetchone()[0]
 
     assert stored() == 4
     assert not (tmp_path / "evaluations.sqlite").exists()  # the study's own store is left alone

@@ -278,6 +278,8 @@ def chosen_refinements(config: StudyConfig, replicates: int, factor: float, tole
 #: the file of the check's evaluation store in the output folder (apart from the study's evaluations.sqlite, so
 #: that neither refuses nor discards the other's calls)
 STORE_FILE = "wear_convergence.sqlite"
+#: the tag of its histories in that store
+STORE_TAG = "wear_convergence"
 
 
 @dataclass

@@ -55,8 +55,6 @@ from jointwear.wear.angles import angle_text
 
 #: Tag of the true-model calls in the evaluation store (shared by the CLI and the Python API).
 WEAR_MODEL_TAG = "wear_model"
-#: Tag of the convergence check's histories in its evaluation store (``convergence.STORE_FILE``).
-CONVERGENCE_TAG = "wear_convergence"
 STAGES = ("simulate", "wear", "reliability", "sensitivity")
 
 logger = logging.getLogger("jointwear")
@@ -413,7 +411,14 @@ class Study:
             ``wear_convergence.sqlite`` as it ends, so a check resumes (``overwrite=True`` starts it afresh).
         """
         from jointwear import compute
-        from jointwear.study.convergence import STORE_FILE, Z95, ConvergenceCall, chosen_refinements, run_convergence
+        from jointwear.study.convergence import (
+            STORE_FILE,
+            STORE_TAG,
+            Z95,
+            ConvergenceCall,
+            chosen_refinements,
+            run_convergence,
+        )
         from jointwear.wear.settings import check_cycles
 
         if cycles is not None:
@@ -427,7 +432,7 @@ class Study:
             result = run_convergence(
                 self.config, n, replicates=replicates, factor=factor, tolerance=tolerance, only=only,
                 threads=executor.threads_per_call, evaluator_factory=lambda call: compute.Evaluator(
-                    call, executor, store, timeout=self.config.compute.call_timeout, tag=CONVERGENCE_TAG,
+                    call, executor, store, timeout=self.config.compute.call_timeout, tag=STORE_TAG,
                     n_outputs=1, progress=progress))
         result.save(self.out)
         what = "nominal life" if result.measure == "life" else "final wear"
@@ -642,14 +647,12 @@ class Study:
             else:
                 store = compute.EvaluationStore.open(self.out / store_file, digest, resume=not self.overwrite,
                                                      overwrite=self.overwrite)
-        except compute.ConfigChangedError as exc:
-            if store_file is None:
-                raise ConfigError(self._store_message(exc)) from None
-            raise ConfigError(f"out: {self.out / store_file} holds histories of another wear model (its mechanism, "
-                              "clearance_joints, simulation, wear or limit-state settings changed): start the check "
-                              "afresh with --overwrite (overwrite=True in Python), or use a new output folder"
-                              ) from None
         except compute.StoreError as exc:
+            if store_file is not None and isinstance(exc, compute.ConfigChangedError):
+                raise ConfigError(f"out: {self.out / store_file} holds histories of another wear model (its "
+                                  "mechanism, clearance_joints, simulation, wear or limit-state settings changed): "
+                                  "start the check afresh with --overwrite (overwrite=True in Python), or use a new "
+                                  "output folder") from None
             raise ConfigError(self._store_message(exc)) from None
         try:
             executor = compute.make_executor(workers=self.workers, scheduler=self.scheduler)

@@ -172,9 +172,6 @@ def store_digest(config: StudyConfig) -> str:
     (:meth:`WearModelCall.identity`), so a study resumed with other learning or report settings reuses its calls."""
     from jointwear.compute import config_hash
 
-    rel = config.reliability
-    if rel.cycles_start is None or rel.cycles_stop is None:  # no R(N) curve: only the nominal histories of converge
-        return config_hash({"base": config.model_dump()})
     return config_hash(model_call(config).identity())
 
 
