@@ -52,3 +52,41 @@ def test_result_hooks_continue_from_the_learned_surrogate():
 def test_levels_must_be_finite():
     with pytest.raises(ValueError, match="levels"):
         akmcs_multi(lambda x: x[:, 0], [stats.norm()], levels=[np.nan])
+
+
+def test_esc_errors_stay_finite_where_the_relative_bound_is_unbounded():
+    from scipy.special import ndtr
+
+    from jointwear.reliability import esc_errors
+    z = 1.959963984540054
+    # one predicted failure, uncertain (U = 0.1), and 3 uncertain predicted-safe candidates among 1000
+    u = np.full(1000, np.inf)
+    u[:4] = [0.1, 0.5, 1.0, 2.0]
+    fail = np.zeros(1000, dtype=bool)
+    fail[0] = True
+    p = ndtr(-u[:4])
+    n_fs = p[0] + z * np.sqrt(p[0] * (1 - p[0]))  # the ESC counts (Wang & Shafieezadeh 2019), by hand
+    n_sf = p[1:].sum() + z * np.sqrt((p[1:] * (1 - p[1:])).sum())
+    assert n_fs > 1.0  # so the relative bound n_fs / (n_f - n_fs) is unbounded
+    rel, absolute = esc_errors(u, fail)
+    assert rel == np.inf
+    assert absolute == pytest.approx(max(n_fs, n_sf) / 1000, rel=1e-12)  # the true Pf lies in [n_f -/+ ...] / n
+    # every sign certain and no failure predicted: nothing can be misclassified
+    assert esc_errors(np.full(10, np.inf), np.zeros(10, dtype=bool)) == (np.inf, 0.0)
+    # a bounded relative error: the absolute one is relative x Pf
+    fail[:200] = True
+    rel, absolute = esc_errors(u, fail)
+    assert np.isfinite(rel) and absolute == pytest.approx(rel * 0.2, rel=1e-12)
+
+
+def test_a_level_far_in_the_tail_gets_a_finite_absolute_error():
+    # y = x1 + x2; at the level -6 (Pf = 1.1e-5) the surrogate predicts a handful of failures at most among
+    # 20,000 candidates, where the relative ESC bound is unbounded or large; its absolute error is the
+    # misclassified fraction's bound, which cannot exceed the share of uncertain candidates (< 1)
+    levels = np.array([-6.0, 0.0])
+    res = akmcs_multi(lambda x: x[:, 0] + x[:, 1], [stats.norm(), stats.norm()], levels=levels,
+                      n_mc=20_000, seed=3, pf_floor=1e-3)
+    assert np.all(np.isfinite(res.error_absolute)) and np.all(res.error_absolute < 0.01)
+    assert res.error_estimate[0] == np.inf  # the case in point (else this test checks nothing new)
+    assert np.isfinite(res.error_estimate[1])
+    assert res.error_absolute[1] == pytest.approx(res.error_estimate[1] * res.pf[1], rel=1e-12)

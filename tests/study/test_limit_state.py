@@ -249,3 +249,6 @@ def test_curve_half_width_adds_the_monte_carlo_and_the_surrogate_parts():
     half = curve_half_width(pf, np.array([np.nan, 0.02, 0.01]), np.array([0.001, np.nan, 0.003]))
     # no COV where Pf = 0 and no error where none was estimated: each counts as 0
     np.testing.assert_allclose(half, [0.001, 1.96 * 0.02 * 0.1, 1.96 * 0.01 * 0.5 + 0.003], rtol=1e-15)
+    # an unbounded error estimate leaves R anywhere in [0, 1]: a half-width of 1, not of 1.8e308
+    assert curve_half_width(np.array([0.2]), np.array([0.01]), np.array([np.inf]))[0] == pytest.approx(
+        1.0 + 1.96 * 0.01 * 0.2, rel=1e-15)

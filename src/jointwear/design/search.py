@@ -390,14 +390,9 @@ def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: C
     p_inf = space.infeasible_probability(cand)
     pf_feasible = float(np.asarray(eng.pf)[0])
     cov = float(np.asarray(eng.cov)[0])
-    rel_err = float(np.asarray(eng.error_estimate)[0])
     pf = p_inf + (1.0 - p_inf) * pf_feasible
-    # the bound: the surrogate's own (ESC) error plus the 95 % Monte Carlo half-width
-    if math.isfinite(rel_err):
-        sur_err = (1.0 - p_inf) * rel_err * pf_feasible
-    else:  # no predicted failure: the absolute ESC bound of the final surrogate over a population
-        mu, var = eng.surrogates[0].predict(space.z)  # the verification learns in the candidate's own u space
-        sur_err = (1.0 - p_inf) * esc_absolute_error(mu, np.sqrt(np.maximum(var, 0.0)))
+    # the bound: the surrogate's own (ESC) absolute error plus the 95 % Monte Carlo half-width
+    sur_err = (1.0 - p_inf) * float(np.asarray(eng.error_absolute)[0])
     mc_err = _Z95 * (1.0 - p_inf) * (cov * pf_feasible if math.isfinite(cov) else 0.0)
     reliability = 1.0 - pf
     error = sur_err + mc_err

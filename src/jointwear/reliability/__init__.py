@@ -19,7 +19,7 @@ from .inputs import (
     sample,
 )
 from .kriging import KrigingSurrogate, ShiftedSurrogate, blas_threads
-from .learning import esc_absolute_error, esc_error
+from .learning import esc_absolute_error, esc_error, esc_errors
 from .methods import form, importance_sampling, monte_carlo, sorm, subset_simulation
 from .results import (
     IterationRecord,
@@ -48,6 +48,7 @@ __all__ = [
     "check_marginals",
     "esc_absolute_error",
     "esc_error",
+    "esc_errors",
     "form",
     "importance_sampling",
     "monte_carlo",

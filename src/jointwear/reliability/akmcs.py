@@ -37,8 +37,7 @@ from .evaluation import Evaluation, evaluation_or_default
 from .inputs import IsoTransform, check_marginals
 from .kriging import KrigingSurrogate, ShiftedSurrogate
 from .learning import (
-    absolute_error,
-    esc_error,
+    esc_errors,
     needs_optimisation,
     select_batch,
     u_function,
@@ -163,6 +162,7 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
         kg = np.array(known_g).reshape(len(known_idx), m) if known_idx else np.empty((0, m))
         pf = np.empty(m)
         err = np.empty(m)
+        err_abs = np.empty(m)
         for j in range(m):
             if j < n_fit:
                 mu0, var = surrogates[j].predict(u_pop[idx])
@@ -175,7 +175,7 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
                 U[kidx, j] = np.inf
                 fail[kidx, j] = ~(kg[:, j] >= 0)  # NaN -> failure (conservative)
             pf[j] = fail[:, j].mean()
-            err[j] = esc_error(U[:, j], fail[:, j], known)
+            err[j], err_abs[j] = esc_errors(U[:, j], fail[:, j], known)
         if need_full:
             active_idx = np.flatnonzero(U.min(axis=1) < u_active)
             n_sweeps += 1
@@ -203,7 +203,7 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
         if stopping == "error":
             learned |= err <= error_tol
             if error_abs_tol is not None:
-                learned |= absolute_error(err, pf) <= error_abs_tol
+                learned |= err_abs <= error_abs_tol
         if learned.all():
             # the last fit may have reused hyperparameters: re-optimise once before accepting
             stale = np.array([n_at_opt[j] != int(np.isfinite(design_g[:, j]).sum()) for j in range(n_fit)])
@@ -259,19 +259,20 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
         common_pop = {}
     if multi:
         below = pf_col < pf_floor
-        err_ok = (err <= error_tol) | ((absolute_error(err, pf_col) <= error_abs_tol) if error_abs_tol is not None
-                                      else False)
+        err_ok = (err <= error_tol) | ((err_abs <= error_abs_tol) if error_abs_tol is not None else False)
         col_ok = (min_u >= u_threshold) | (err_ok if stopping == "error" else False)
         col_ok = col_ok & (below | (cov_col < cov_target))
         return MultiReliabilityResult(pf=pf_col, cov=cov_col, beta=np.atleast_1d(pf_to_beta(pf_col)),
                                       converged=converged, column_converged=col_ok, below_floor=below,
                                       design_g=design_g, surrogates=surrogates if levels is None
                                       else [ShiftedSurrogate(surrogates[0], o) for o in offsets],
-                                      min_u=min_u, error_estimate=err, levels=levels, **common)
+                                      min_u=min_u, error_estimate=err, error_absolute=err_abs,
+                                      levels=levels, **common)
     return ReliabilityResult(method="akmcs", pf=float(pf_col[0]), cov=float(cov_col[0]), beta=pf_to_beta(pf_col[0]),
                              converged=converged, design_g=design_g[:, 0], surrogate=surrogates[0],
-                             error_estimate=float(err[0]), details={"min_u": float(min_u[0]), "n_full_sweeps": n_sweeps,
-                                                                  "mean_active": n_active_sum / max(iteration, 1), **common_pop}, **common)
+                             error_estimate=float(err[0]), error_absolute=float(err_abs[0]),
+                             details={"min_u": float(min_u[0]), "n_full_sweeps": n_sweeps,
+                                      "mean_active": n_active_sum / max(iteration, 1), **common_pop}, **common)
 
 
 def akmcs(

@@ -12,9 +12,9 @@ from scipy.cluster.vq import kmeans2
 from scipy.special import ndtr
 
 __all__ = [
-    "absolute_error",
     "esc_absolute_error",
     "esc_error",
+    "esc_errors",
     "needs_optimisation",
     "select_batch",
     "u_function",
@@ -23,38 +23,36 @@ __all__ = [
 _Z95 = 1.959963984540054
 
 
-def absolute_error(relative, pf) -> np.ndarray:
-    """Absolute Pf error from a relative one; infinite where Pf = 0 and the relative error is infinite (no
-    estimate), instead of the NaN of inf * 0."""
-    relative = np.asarray(relative, dtype=float)
-    pf = np.asarray(pf, dtype=float)
-    out = np.full(np.broadcast(relative, pf).shape, np.inf)
-    return np.multiply(relative, pf, out=out, where=~(np.isinf(relative) & (pf == 0)))
-
-
 def esc_error(u: np.ndarray, fail: np.ndarray, known: np.ndarray | None = None, z: float = _Z95) -> float:
     """Estimated maximum relative error of Pf from the surrogate's sign uncertainty (ESC criterion).
 
     ``u``: U values of the candidates; ``fail``: predicted failure flags; ``known``: candidates whose sign
     is known exactly (evaluated). Returns +inf when no candidate is predicted to fail.
     """
+    return esc_errors(u, fail, known, z)[0]
+
+
+def esc_errors(u: np.ndarray, fail: np.ndarray, known: np.ndarray | None = None,
+               z: float = _Z95) -> tuple[float, float]:
+    """The ESC estimates of Pf = mean(fail), (relative, absolute). Relative: max(n_fs / (n_f - n_fs),
+    n_sf / (n_f + n_sf)) (Wang & Shafieezadeh 2019), +inf when the predicted failures n_f do not exceed the bound
+    n_fs on those that are safe. Absolute: relative x n_f / n, and where the relative one is unbounded (a level
+    with no or a handful of predicted failures) the bound on the misclassified fraction, max(n_fs, n_sf) / n,
+    which stays finite: the true Pf lies within [n_f - n_fs, n_f + n_sf] / n."""
     n_f, n_fs, n_sf = esc_counts(u, fail, known, z)
-    if n_f - n_fs <= 0:
-        return math.inf
-    return max(n_fs / (n_f - n_fs), n_sf / (n_f + n_sf))
+    n = max(int(np.size(fail)), 1)
+    if n_f - n_fs > 0:
+        rel = max(n_fs / (n_f - n_fs), n_sf / (n_f + n_sf))
+        return rel, rel * n_f / n
+    return math.inf, max(n_fs, n_sf) / n
 
 
 def esc_absolute_error(mu: np.ndarray, sd: np.ndarray, z: float = _Z95) -> float:
     """Estimated maximum absolute error of Pf = P[mu <= 0] (and so of R) over a population from the surrogate's
-    mean ``mu`` and standard deviation ``sd``: ``esc_error`` x Pf, the form of the R(N) curve's error estimate;
-    when no candidate is predicted to fail (or the relative bound is unbounded), the larger of the two
-    misclassification bounds over the population size."""
+    mean ``mu`` and standard deviation ``sd``: :func:`esc_errors`' absolute estimate, the form of the R(N) curve's
+    error estimate."""
     fail = mu <= 0.0
-    n_f, n_fs, n_sf = esc_counts(u_function(mu, sd), fail, None, z)
-    n = max(int(fail.size), 1)
-    if n_f - n_fs > 0:
-        return max(n_fs / (n_f - n_fs), n_sf / (n_f + n_sf)) * n_f / n
-    return max(n_fs, n_sf) / n
+    return esc_errors(u_function(mu, sd), fail, None, z)[1]
 
 
 def esc_counts(u: np.ndarray, fail: np.ndarray, known: np.ndarray | None, z: float) -> tuple[float, float, float]:

@@ -91,6 +91,7 @@ class ReliabilityResult:
     surrogate: Any = None
     n_mc: int = 0
     error_estimate: float = float("nan")
+    error_absolute: float = float("nan")  # the ESC estimate of the absolute error of pf (learning.esc_errors)
     design_point_u: np.ndarray | None = None
     design_point_x: np.ndarray | None = None
     alpha: np.ndarray | None = None
@@ -125,7 +126,8 @@ class MultiReliabilityResult:
     history: list[IterationRecord]
     surrogates: list
     min_u: np.ndarray
-    error_estimate: np.ndarray
+    error_estimate: np.ndarray  # relative ESC error of each column's pf (+inf where unbounded)
+    error_absolute: np.ndarray  # absolute ESC error of each column's pf, finite (learning.esc_errors)
     n_mc: int
     message: str = ""
     wall_seconds: float = 0.0

@@ -182,8 +182,8 @@ def curve_half_width(pf, pf_cov, pf_error=None) -> np.ndarray:
     pf = np.asarray(pf, dtype=float)
     cov = np.asarray(pf_cov, dtype=float)
     half = 1.96 * np.where(np.isfinite(cov), cov, 0.0) * pf
-    if pf_error is not None:
-        half = half + np.nan_to_num(np.asarray(pf_error, dtype=float))
+    if pf_error is not None:  # an unbounded estimate leaves R anywhere in [0, 1]
+        half = half + np.nan_to_num(np.asarray(pf_error, dtype=float), posinf=1.0)
     return half
 
 

@@ -253,7 +253,8 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     reliability = 1.0 - pf
     targets = rel.targets
     lives = [life_at(cycles, reliability, t) for t in targets]
-    pf_error = _absolute_error(engine.error_estimate, pf)
+    # the surrogate's absolute error of Pf among feasible samples; the infeasible share is exact
+    pf_error = (1.0 - p_inf) * np.asarray(engine.error_absolute, dtype=float)
     half = curve_half_width(pf, pf_cov, pf_error)
     life_table = []
     for t, n in zip(targets, lives):
@@ -387,11 +388,6 @@ def _meet_cov_target(ctx: StudyContext, engine, pf, pf_cov, n_mc):
     seed = rel.seed + 7
     pf_new, cov_new = engine.estimate_on(lambda m, start: iso.to_u(ctx.sample(m, seed + start)), n)
     return pf_new, cov_new, n
-
-
-def _absolute_error(relative, pf: np.ndarray) -> np.ndarray:
-    """The surrogate's absolute Pf error estimate; NaN where Pf = 0 (its relative error is undefined there)."""
-    return np.multiply(np.asarray(relative, dtype=float), pf, out=np.full_like(pf, np.nan), where=pf > 0)
 
 
 def _at(value, index: int) -> float:
