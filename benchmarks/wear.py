@@ -35,6 +35,10 @@ Sections
 - profile_rig_rounding (only with --only, about 30 s): profile mode on the rig to 1e5 revolutions with the admissible
   set's corners rounded 0.2 (the default), 0.4 and 0.8 c0: steps per simulated cycle and max depth (issue 14 item 1:
   is the rounding, which sets the pocket's rocking frequency, a lever on the cost?).
+- profile_rig_step_drivers (only with --only, about 20 s): what the rig's steps do not depend on: the unworn bore and
+  profile mode's pocket after 2e4 revolutions with the Young's moduli x4 and /4 (the contact's normal mode) and
+  without friction (which sustains the rocking), and with the implicit Radau IIA integrator: steps and rejected
+  steps per cycle.
 - profile_jammed_shift (only with --only, about a minute): the profile preset's rod length x 1.2 in both geometry modes
   until the step budget stops it: why the step size collapses there (docs/dynamics.md).
 - profile_convergence (only with --only, long: about 10 minutes on 2 cores): profile mode (geometry_mode = "profile")
@@ -723,6 +727,44 @@ def bench_profile_rig_rounding(roundings=(0.2, 0.4, 0.8), n_cycles: int = 100_00
     return {"cycles": n_cycles, "roundings_of_c0": out}
 
 
+def bench_profile_rig_step_drivers(n_cycles: int = 20_000) -> dict:
+    """What sets the rig's steps, by elimination: 3 cycles after 3 settling cycles on the unworn bore and on profile
+    mode's geometry after ``n_cycles`` revolutions, with the Young's moduli x4 and /4 (the contact's normal mode
+    1.6x faster or slower; the rocking unchanged), without friction (the rocking no longer sustained) and with the
+    implicit Radau IIA integrator. Steps and rejected steps per cycle, wall time per cycle, the mean penetration and
+    the normal force's standard deviation."""
+    from jointwear.config import updated
+    from jointwear.wear.history import update_geometry
+
+    cfg = load_config(str(RIG))
+    s = base_settings(cfg).model_copy(update={"geometry_mode": "profile"})
+    model = build_model(cfg)
+    g0 = model.initial_geometry()
+    j = wear_history(model, s, n_cycles).joints[0]
+    worn = [update_geometry(g0[0], s, j.bearing_wear, j.journal_wear, j.history_clearance_growth[-1])[0]]
+    moduli = ("clearance_joints.0.bearing_material.youngs_modulus_GPa",
+              "clearance_joints.0.journal_material.youngs_modulus_GPa")
+    variants = {"as_is": {}, "youngs_moduli_x4": dict.fromkeys(moduli, 4 * 207.0),
+                "youngs_moduli_div4": dict.fromkeys(moduli, 207.0 / 4), "no_friction": {
+                    "clearance_joints.0.friction.law": "none"}, "radau5": {"simulation.method": "radau5"}}
+    out = {"cycles_worn": n_cycles}
+    for name, changes in variants.items():
+        m = build_model(updated(cfg, changes)) if changes else model
+        for label, geometry in (("unworn", None), ("profile_worn", worn)):
+            t0 = time.perf_counter()
+            r = simulate(m, 3, geometry=geometry, settle_cycles=3, rtol=s.rtol, atol=s.atol)
+            wall = time.perf_counter() - t0
+            tr = r.joints[0]
+            per = r.n_cycles + r.settle_cycles
+            out.setdefault(name, {})[label] = {
+                "steps_per_cycle": r.n_steps / per, "rejected_per_cycle": r.n_rejected / per,
+                "wall_seconds_per_cycle": wall / per,
+                "mean_penetration_um": float(np.mean(tr.penetration) * 1e6),
+                "normal_force_std_n": float(np.std(tr.force_normal))}
+            print(name, label, {k: round(v, 2) for k, v in out[name][label].items()}, file=sys.stderr)
+    return out
+
+
 def bench_profile_jammed_shift(factor: float = 1.2, n_cycles: int = 400_000) -> dict:
     """The profile preset's most extreme sensitivity shift, rod length x 1.2 (hundreds of sigma), in each geometry
     mode until the step budget stops its history: the linkage's Grashof slack, the steps of every call, the stop's
@@ -902,6 +944,8 @@ def main(argv=None) -> int:
             data["profile_rig_rocking"] = bench_profile_rig_rocking()
         elif sec == "profile_rig_rounding":
             data["profile_rig_rounding"] = bench_profile_rig_rounding()
+        elif sec == "profile_rig_step_drivers":
+            data["profile_rig_step_drivers"] = bench_profile_rig_step_drivers()
         elif sec == "profile_jammed_shift":
             data["profile_jammed_shift"] = bench_profile_jammed_shift()
         elif sec == "profile_wing_convergence":
