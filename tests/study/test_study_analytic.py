@@ -4,6 +4,8 @@ The wear model is replaced by an analytic law with the structure of Archard's (w
 to k / H and to the number of cycles), so the exact R(N) is known by brute-force Monte Carlo.
 """
 
+import json
+
 import numpy as np
 import pytest
 from analytic_wear import RATE, AnalyticWear
@@ -11,6 +13,7 @@ from analytic_wear import RATE, AnalyticWear
 from jointwear import compute
 from jointwear.config import load_config, updated
 from jointwear.study import life_at, population, run_reliability, study_context
+from jointwear.study.io import strict
 
 
 @pytest.fixture(scope="module")
@@ -58,6 +61,10 @@ def test_life_and_histograms_are_consistent(study):
     low, high = res.life_interval()
     assert low <= life_at(res.cycles, 1.0 - pf_ref, cfg.reliability.target_reliability) <= high, (low, high)
     assert res.life_table[0]["cycles_low"] == low and res.life_table[0]["cycles_high"] == high
+    # every level's error estimate is finite, and the results read back from their JSON give the same interval
+    assert np.all(np.isfinite(res.pf_error))
+    back = type(res).from_json(json.loads(json.dumps(strict(res.to_json()), allow_nan=False)))
+    assert back.life_interval() == (low, high)
     # Mean max wear from the surrogate vs the exact mean RATE * N * E[scale] (Monte Carlo, 1e6 samples).
     x = population(ctx.marginals, 1_000_000, seed=5)
     exact = RATE * model.scale(x).mean() * np.asarray(res.mean_max_wear_mm["cycles"]) * 1e3
