@@ -484,7 +484,14 @@ def test_a_series_system_is_told_that_its_interval_may_be_too_narrow(tmp_path, n
     rel.save(d, figures=False)
     page = build_report(d).read_text(encoding="utf-8")
     assert "Series system of 2 joints" in page and "<b>A</b>" in page
-    assert "held the exact life in 8 of 20 runs" in page and "<code>jointwear validate</code>" in page
+    assert "held the exact life in 7 of 20 runs" in page and "<code>jointwear validate</code>" in page
+    # and the summary says so beside the headline life, naming the shares
+    assert ("<strong>A series system</strong></a>: the failures at the life are shared between judged joints "
+            "(A 70 %, E 30 %)") in page
+    # a second joint that governs under 10 % of the failures leaves the kink in the tail: no caveat
+    rel.joints[0]["governing_share"], rel.joints[1]["governing_share"] = [0.95] * n, [0.05] * n
+    assert rel.series_sentence() == ""
+    assert rel.governing_shares() == {"A": 0.95, "E": 0.05} and rel.governing_joint == "A"
 
 
 def test_the_summary_carries_the_caveats_of_the_sections_below(tmp_path, nominal):

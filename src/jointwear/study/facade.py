@@ -476,7 +476,7 @@ class Study:
 
         missed = curve_misses_life(res, WearSummary.load_if_present(self.out))
         for sentence in (res.failed_calls_sentence(), res.worn_away_sentence(), res.surrogate_fit_sentence(),
-                         missed and re.sub(r"</?code>", "", missed).rstrip(".")):
+                         res.series_sentence(), missed and re.sub(r"</?code>", "", missed).rstrip(".")):
             if sentence:
                 self.warn(f"reliability: {sentence}")
         return res

@@ -182,6 +182,10 @@ class ReliabilityResult(StageResult):
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
     engine: Any = field(repr=False, default=None, metadata={"json": False})
 
+    #: a second judged joint governing at least this share of the failures at the life puts the kink of the
+    #: series system's life inside the population (project choice)
+    SERIES_SHARE: ClassVar[float] = 0.1
+
     @property
     def stopped_by_budget(self) -> bool:
         """Whether the learning ended on its budget of model calls (``reliability.max_calls``)."""
@@ -250,10 +254,31 @@ class ReliabilityResult(StageResult):
             return None
         if len(self.joints) == 1:
             return self.joints[0]["name"]
+        shares = self.governing_shares()
+        return max(shares, key=shares.get)
+
+    def governing_shares(self) -> dict[str, float]:
+        """Each judged joint's share of the system's failures at the headline life (or at the end of the curve
+        when the target is not reached)."""
         n = self.life_cycles if self.life_cycles is not None else float(self.cycles[-1])
         k = int(np.argmin(np.abs(np.asarray(self.cycles, dtype=float) - n)))
-        shares = [np.nan_to_num(np.asarray(j["governing_share"], dtype=float))[k] for j in self.joints]
-        return self.joints[int(np.argmax(shares))]["name"]
+        return {j["name"]: float(np.nan_to_num(np.asarray(j.get("governing_share", [1.0] * len(self.cycles)),
+                                                          dtype=float))[k]) for j in self.joints}
+
+    def series_sentence(self) -> str:
+        """With several judged joints sharing the failures at the life (a second one governs at least
+        :attr:`SERIES_SHARE` of them): the system's life min_j N_f,j has a kink where their lives cross, where the
+        surrogate can be confidently wrong and its interval too narrow (docs/study.md). Empty otherwise."""
+        if len(self.joints) < 2:
+            return ""
+        shares = sorted(self.governing_shares().items(), key=lambda kv: -kv[1])
+        if shares[1][1] < self.SERIES_SHARE:
+            return ""
+        split = ", ".join(f"{name} {100 * share:.0f} %" for name, share in shares if share > 0)
+        return (f"the failures at the life are shared between judged joints ({split}): the mechanism's life, the "
+                "smaller of theirs, has a kink where their lives cross, where the surrogate can be confidently wrong "
+                "and the life's interval too narrow. Check the curve against the true model with jointwear validate "
+                "(docs/study.md, 'How far to trust the life')")
 
     def to_json(self) -> dict:
         low, high = self.life_interval()
