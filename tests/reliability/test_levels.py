@@ -90,3 +90,25 @@ def test_a_level_far_in_the_tail_gets_a_finite_absolute_error():
     assert res.error_estimate[0] == np.inf  # the case in point (else this test checks nothing new)
     assert np.isfinite(res.error_estimate[1])
     assert res.error_absolute[1] == pytest.approx(res.error_estimate[1] * res.pf[1], rel=1e-12)
+
+
+def test_estimate_on_integrates_a_gaussian_noise_of_the_response():
+    # y = x1 + x2 learned (nearly exactly), read with a noise e ~ N(0, s^2) added: P(y + e < t) = Phi(t / sqrt(2 + s^2))
+    from jointwear.reliability import failure_probability
+
+    levels = np.array([-2.0, 0.0])
+    res = akmcs_multi(lambda x: x[:, 0] + x[:, 1], [stats.norm(), stats.norm()], levels=levels,
+                      n_mc=20_000, seed=1, pf_floor=1e-3)
+    s, n = 0.8, 200_000
+    rng = np.random.default_rng(2)
+    pf, cov = res.estimate_on(lambda m, start: rng.standard_normal((m, 2)), n, chunk=70_000, noise_sd=s)
+    exact = stats.norm.cdf(levels / np.sqrt(2.0 + s * s))
+    assert np.all(np.abs(pf - exact) <= 3 * cov * exact)  # 3 sigma of the estimate
+    # the COV is that of a mean of probabilities: below the crude Monte Carlo one of the same population
+    assert np.all(cov < mc_cov(pf, n))
+    # without noise, the indicator: the crude estimate and its COV
+    pf0, cov0 = res.estimate_on(lambda m, start: np.random.default_rng(3).standard_normal((m, 2)), 10_000)
+    np.testing.assert_allclose(cov0, mc_cov(pf0, 10_000), rtol=1e-12)
+    np.testing.assert_array_equal(failure_probability(np.array([-1.0, 0.0, 2.0, np.nan])), [1.0, 0.0, 0.0, 1.0])
+    np.testing.assert_allclose(failure_probability(np.array([-1.0, 0.0, np.nan]), 0.5),
+                               [stats.norm.cdf(2.0), 0.5, 1.0], rtol=1e-15)

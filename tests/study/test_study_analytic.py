@@ -274,3 +274,58 @@ def test_a_failed_call_keeps_the_models_own_reason_and_is_counted():
     assert res.failed_calls == len(reasons) > 0
     assert all("math domain error" in r for r in reasons.values()), reasons
     assert f"{res.failed_calls} of {res.model_calls} model calls failed" in res.failed_calls_sentence()
+
+
+class ScatteredWear(AnalyticWear):
+    """The analytic wear times exp(s z(x)), z(x) a standard normal drawn from the bits of x: a deterministic model
+    whose life scatters from one input to the next like a chaotic contact's (docs/reliability.md, 'A noisy
+    model'). Its exact R(N) draws z independently of x."""
+
+    def __init__(self, names, cycles, s):
+        super().__init__(names, cycles)
+        self.s = s
+
+    def z(self, x):
+        import hashlib
+
+        rows = np.ascontiguousarray(np.atleast_2d(x), dtype=float)
+        return np.array([np.random.default_rng(int.from_bytes(hashlib.blake2b(r.tobytes(), digest_size=8).digest(),
+                                                              "little")).standard_normal() for r in rows])
+
+    def __call__(self, x):
+        return RATE * self.cycles * self.scale(x)[0] * np.exp(self.s * self.z(x)[0]), "ok"
+
+
+def test_the_curve_integrates_the_life_scatter():
+    # the scatter (13 % in ln N) is as large as the inputs' own (k_b and H_b: ~13 %): a curve that read the
+    # Kriging's mean alone would be far too steep (0.992 against the exact 0.963 at its first level)
+    s = 0.13
+    cfg = updated(load_config(), {
+        "reliability.cycles_start": 300_000, "reliability.cycles_stop": 520_000, "reliability.cycles_step": 40_000,
+        "reliability.histogram_cycles": [380_000, 420_000], "reliability.n_mc": 50_000, "reliability.max_calls": 60})
+    holder = {}
+
+    def factory(call):
+        holder["model"] = ScatteredWear([v.name for v in cfg.uncertainty.all_specs()], call.cycles, s)
+        return compute.Evaluator(holder["model"], None, None, n_outputs=len(call.cycles))
+
+    ctx = study_context(cfg, factory)
+    res = run_reliability(ctx)
+    model = holder["model"]
+    # the Kriging's noise is the scatter: 60 noisy points estimate a variance to ~18 % (sqrt(2 / 60)), so its
+    # standard deviation to ~9 %; 25 % is about 3 of those
+    assert res.engine.noise_sd == pytest.approx(s, rel=0.25)
+    x = population(ctx.marginals, 400_000, seed=99)
+    z = np.random.default_rng(5).standard_normal(x.shape[0])
+    wear = RATE * (model.scale(x) * np.exp(s * z))[:, None] * res.cycles[None, :]
+    r_exact = 1.0 - np.mean(wear > cfg.reliability.allowance, axis=0)
+    se = np.sqrt(r_exact * (1.0 - r_exact) / x.shape[0])
+    # at every level the exact curve lies in the curve's own 95 % band, up to 3 standard errors of the reference
+    assert np.all(np.abs(res.reliability - r_exact) <= res.half_width + 3 * se), (res.reliability, r_exact)
+    low, high = res.life_interval()
+    assert low <= life_at(res.cycles, r_exact, cfg.reliability.target_reliability) <= high
+    # the histograms' wear carries the same scatter: P(wear > allowance) is 1 - R(N) up to the Monte Carlo noise
+    # of two populations (4 standard errors of their difference)
+    n_h, n_mc = res.histograms["n_population"], res.n_mc
+    for p_hist, p_curve in zip(res.histograms["exceedance"], res.histograms["one_minus_reliability"]):
+        assert abs(p_hist - p_curve) <= 4 * np.sqrt(p_curve * (1 - p_curve) * (1 / n_h + 1 / n_mc)) + 1e-12

@@ -26,6 +26,7 @@ from .results import (
     MultiReliabilityResult,
     ReliabilityResult,
     cov_population,
+    failure_probability,
     population_size,
 )
 
@@ -49,6 +50,7 @@ __all__ = [
     "esc_absolute_error",
     "esc_error",
     "esc_errors",
+    "failure_probability",
     "form",
     "importance_sampling",
     "monte_carlo",

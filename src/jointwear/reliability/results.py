@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy.special import ndtri
+from scipy.special import ndtr, ndtri
 
 __all__ = [
     "IterationRecord",
@@ -34,6 +34,14 @@ def mc_cov(pf: float | np.ndarray, n: int) -> float | np.ndarray:
     with np.errstate(divide="ignore", invalid="ignore"):
         c = np.where(pf > 0, np.sqrt((1.0 - pf) / (max(n - 1, 1) * pf)), np.inf)
     return float(c) if c.ndim == 0 else c
+
+
+def failure_probability(g, noise_sd: float = 0.0) -> np.ndarray:
+    """P(G < 0 | x) of each sample whose limit state is the surrogate's mean ``g`` plus Gaussian noise of standard
+    deviation ``noise_sd``: Phi(-g / noise_sd), the indicator g < 0 when noise_sd = 0. A NaN g is a failure."""
+    g = np.asarray(g, dtype=float)
+    p = ndtr(-g / noise_sd) if noise_sd > 0 else (g < 0).astype(float)
+    return np.where(np.isnan(g), 1.0, p)
 
 
 def cov_population(pf: float, cov_target: float) -> float:
@@ -157,20 +165,38 @@ class MultiReliabilityResult:
             raise ValueError("response() needs a result of akmcs_multi(levels=...)")
         return self.surrogates[0].predict(u, return_variance=False)[0] + self.levels[0]
 
-    def estimate_on(self, draw_u: Callable[[int, int], np.ndarray], n: int,
-                    chunk: int = 200_000) -> tuple[np.ndarray, np.ndarray]:
+    @property
+    def noise_sd(self) -> float:
+        """Standard deviation of the noise the shared Kriging of ``akmcs_multi(levels=...)`` estimated on the
+        response (0 for separate limit states)."""
+        if self.levels is None:
+            return 0.0
+        return float(np.sqrt(max(self.response_surrogate.noise_variance, 0.0)))
+
+    def estimate_on(self, draw_u: Callable[[int, int], np.ndarray], n: int, chunk: int = 200_000,
+                    noise_sd: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
         """Pf and its Monte Carlo COV of every column on a new population of ``n`` points, classified by the
         final surrogates (no model call): AK-MCS's population growth, for a caller whose learning ended on
         its call budget. ``draw_u(m, start)`` returns rows ``start .. start + m`` of the population (u space),
-        drawn ``chunk`` rows at a time to bound the memory."""
-        fails = np.zeros(len(self.surrogates))
+        drawn ``chunk`` rows at a time to bound the memory. With ``noise_sd`` > 0 each point fails with
+        probability Phi(-g / noise_sd) (:func:`failure_probability`: the response's scatter is part of the
+        model) and the COV is that of the mean of those probabilities."""
+        total = np.zeros(len(self.surrogates))
+        total_sq = np.zeros(len(self.surrogates))
         done = 0
         while done < n:
             m = min(chunk, n - done)
-            fails += np.count_nonzero(self.predict(draw_u(m, done)) < 0, axis=0)
+            p = failure_probability(self.predict(draw_u(m, done)), noise_sd)
+            total += p.sum(axis=0)
+            total_sq += (p * p).sum(axis=0)
             done += m
-        pf = fails / n
-        return pf, np.atleast_1d(mc_cov(pf, n))
+        pf = total / n
+        if noise_sd <= 0:
+            return pf, np.atleast_1d(mc_cov(pf, n))
+        var = np.maximum(total_sq / n - pf * pf, 0.0) * n / max(n - 1, 1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            cov = np.where(pf > 0, np.sqrt(var / n) / pf, np.inf)
+        return pf, cov
 
     def __repr__(self) -> str:
         return (

@@ -242,7 +242,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     pf = np.asarray(engine.pf, dtype=float)
     pf_cov = np.asarray(engine.cov, dtype=float)
     n_mc = int(engine.n_mc)
-    pf, pf_cov, n_mc = _meet_cov_target(ctx, engine, pf, pf_cov, n_mc)
+    pf, pf_cov, n_mc = _curve_estimate(ctx, engine, pf, pf_cov, n_mc, life_scatter_sd(ctx, engine))
     p_inf = ctx.config.uncertainty.infeasible_probability()
     if p_inf > 0:
         # 'fail' rule: a sample with a clearance at or below its minimum is a failure at every N.
@@ -321,10 +321,16 @@ def implied_wear(ctx: StudyContext, engine, pop: np.ndarray, cycles) -> np.ndarr
     surrogate: a N / N_f(x), with a the allowance (sampled when random) and N_f from the R(N) model.
 
     Exact at the allowance (wear(x, N) > a exactly when N_f(x) < N, the failure event of R(N)), and the
-    wear's own value elsewhere as far as the history grows linearly in N (docs/wear.md). With several judged
-    joints N_f is the system's life, so this is the wear of the first joint scaled to the system's failure.
+    wear's own value elsewhere as far as the history grows linearly in N (docs/wear.md). With a call-to-call
+    scatter of the life (``life_scatter_sd``), each row's ln N_f carries its own draw of it, as R(N) does. With
+    several judged joints N_f is the system's life, so this is the wear of the first joint scaled to the system's
+    failure.
     """
     log_life = engine.response(ctx.iso().to_u(pop))
+    scatter = life_scatter_sd(ctx, engine)
+    if scatter > 0:  # each row's own draw of the call-to-call scatter, as R(N) integrates it
+        log_life = log_life + scatter * np.random.default_rng(ctx.config.reliability.seed + 11).standard_normal(
+            log_life.shape[0])
     _, draw = ctx.split(pop)
     a = ctx.limit_state.reference_allowance if draw is None else draw
     n = np.asarray(cycles, dtype=float)
@@ -371,22 +377,36 @@ def _joint_breakdown(ctx: StudyContext, engine, design_x: np.ndarray, pop: np.nd
     return rows
 
 
-def _meet_cov_target(ctx: StudyContext, engine, pf, pf_cov, n_mc):
-    """Grow the Monte Carlo population on the final surrogate until COV(Pf) < target at every level above
-    the floor (AK-MCS Step 6). The engine does this itself when its learning converges; when the call budget
-    ends the learning first, the population is grown here, on the last surrogate (no model call)."""
+def life_scatter_sd(ctx: StudyContext, engine) -> float:
+    """The call-to-call scatter of ln N_f that R(N) integrates: the Kriging's noise estimate when the study
+    estimates one (``reliability.noise = "estimate"``), else 0."""
+    return engine.noise_sd if ctx.config.reliability.noise == "estimate" else 0.0
+
+
+def _curve_estimate(ctx: StudyContext, engine, pf, pf_cov, n_mc, scatter_sd: float):
+    """Pf(N) of the curve from the final surrogate. With a call-to-call scatter of the life, each sample fails at N
+    with probability Phi((ln N - mu(x)) / s) (``failure_probability``), on a population of the engine's size drawn
+    afresh; without one, the engine's own estimate. Then the population grows until COV(Pf) < target at every level
+    above the floor (AK-MCS Step 6; the engine does it itself when its learning converges, not when the call
+    budget ends it). The crude Monte Carlo size suffices for the smoothed estimate too, whose variance is smaller."""
     from jointwear.reliability import population_size
 
     rel = ctx.config.reliability
+    iso = ctx.iso()
+    seed = rel.seed + 7
+
+    def draw(m, start):
+        return iso.to_u(ctx.sample(m, seed + start))
+
+    if scatter_sd > 0:
+        pf, pf_cov = engine.estimate_on(draw, n_mc, noise_sd=scatter_sd)
     need = (pf >= rel.pf_floor) & ~(pf_cov < rel.cov_target)
     if not need.any():
         return pf, pf_cov, n_mc
     n = population_size(pf[need].min(), rel.cov_target, rel.n_mc_max)
     if n <= n_mc:
         return pf, pf_cov, n_mc
-    iso = ctx.iso()
-    seed = rel.seed + 7
-    pf_new, cov_new = engine.estimate_on(lambda m, start: iso.to_u(ctx.sample(m, seed + start)), n)
+    pf_new, cov_new = engine.estimate_on(draw, n, noise_sd=scatter_sd)
     return pf_new, cov_new, n
 
 

@@ -7,8 +7,8 @@ import time
 
 import numpy as np
 
-from jointwear.reliability import esc_absolute_error
-from jointwear.study.reliability import StudyContext, WearSurrogates, population
+from jointwear.reliability import esc_absolute_error, failure_probability
+from jointwear.study.reliability import StudyContext, WearSurrogates, life_scatter_sd, population
 from jointwear.study.results import ReliabilityResult, SensitivityResult
 
 
@@ -49,10 +49,17 @@ def archard_exponent(ctx: StudyContext, i: int) -> int | None:
     return {"wear_coefficient": 1, "hardness": -1}.get(parts[3])
 
 
+def survival(margin: np.ndarray, scatter_sd: float) -> float:
+    """R over a population from the life surrogate's margins ln N_f - ln N, the life's call-to-call scatter
+    integrated as R(N) integrates it (``failure_probability``)."""
+    return float(1.0 - np.mean(failure_probability(margin, scatter_sd)))
+
+
 def archard_check(ctx: StudyContext, i: int, shifted, exponent: int, pop: np.ndarray, margin: np.ndarray,
                   margin_sd: np.ndarray, factor: float, r_surrogate: float, error: float, cycles: float,
-                  learned: tuple[float, float]) -> dict:
-    """The shifted reliability by Archard's law, against the surrogate's.
+                  learned: tuple[float, float], scatter_sd: float = 0.0) -> dict:
+    """The shifted reliability by Archard's law, against the surrogate's (``scatter_sd``: the life's call-to-call
+    scatter, integrated as R(N) integrates it).
 
     The judged depth is proportional to (k / H) of its body, so a sample whose variable i moves from x_i to
     x_i' (paired by quantile) has its life divided by (x_i' / x_i)^exponent; the life itself comes from the
@@ -80,7 +87,7 @@ def archard_check(ctx: StudyContext, i: int, shifted, exponent: int, pop: np.nda
     x_shifted = shifted.ppf(np.clip(ctx.marginals[i].cdf(x), 1e-15, 1 - 1e-15))
     with np.errstate(divide="ignore", invalid="ignore"):
         moved = margin - exponent * np.log(x_shifted / x)
-    r_exact = float(np.mean(moved > 0))
+    r_exact = survival(moved, scatter_sd)
     error_archard = esc_absolute_error(moved, margin_sd)
     rel = ctx.config.reliability
 
@@ -143,7 +150,8 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
         return mu, np.sqrt(np.maximum(var, 0.0))
 
     margin_nominal_pop, margin_sd_nominal_pop = log_life_margin(pop)
-    r_nominal = float(np.mean(margin_nominal_pop > 0))
+    scatter = life_scatter_sd(ctx, engine)
+    r_nominal = survival(margin_nominal_pop, scatter)
     r_nominal_error = esc_absolute_error(margin_nominal_pop, margin_sd_nominal_pop)
     wear_model = WearSurrogates(ctx, np.asarray(reliability.design_x), [sens_cycles], seed=rel.seed)
 
@@ -181,11 +189,12 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
                 q = np.clip(ctx.marginals[i].cdf(pop[:, i]), 1e-15, 1 - 1e-15)
                 shifted_pop[:, i] = shifted.ppf(q)
             mu, sd = log_life_margin(shifted_pop)
-            r = float(np.mean(mu > 0))
+            r = survival(mu, scatter)
             error = esc_absolute_error(mu, sd)
             if exponents[i] is not None:
                 check = archard_check(ctx, i, shifted, exponents[i], pop, margin_nominal_pop, margin_sd_nominal_pop,
-                                      factor, r, error, sens_cycles, (min(ctx.cycles), max(ctx.cycles)))
+                                      factor, r, error, sens_cycles, (min(ctx.cycles), max(ctx.cycles)),
+                                      scatter_sd=scatter)
                 archard_checks.append(check)
                 if check["consistent"] is not None:
                     # the judged body's k or H: Archard's exact scaling of the nominal population, where the
@@ -213,7 +222,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
         rho = shifted_wear / base_wear
         # wear x rho <=> life / rho (the wear grows linearly in N): failure where ln N_f - ln rho < ln N_s
         mu = margin_nominal_pop - math.log(rho)
-        r = float(np.mean(mu > 0))
+        r = survival(mu, scatter)
         # the surrogate's error only (rho comes from two true-model calls)
         entry.update(reliability=r, wear_ratio=rho, error_estimate=esc_absolute_error(mu, margin_sd_nominal_pop))
         rules.append(entry)
@@ -223,7 +232,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
                              reliability_nominal=r_nominal)
     sobol = sobol_indices(lambda x: wear_model.predict(x)[:, 0] * 1e3, ctx.marginals,
                           ctx.names, n_base=sens.sobol_base_samples, seed=rel.seed)
-    deriv = reliability_derivatives(pop, margin_nominal_pop <= 0, ctx.marginals, ctx.names)
+    deriv = reliability_derivatives(pop, failure_probability(margin_nominal_pop, scatter), ctx.marginals, ctx.names)
     groups = {}
     specs = ctx.config.uncertainty.all_specs()
     for spec in specs:
