@@ -21,6 +21,7 @@ def test_the_monte_carlo_half_width_is_the_exact_interval(k, n):
 class _Space:
     def __init__(self, n):
         self.u = np.zeros((n, 2))
+        self.scatter = np.random.default_rng(0).standard_normal(n)
 
     def population(self, cand):
         return self.u, self.u
@@ -31,6 +32,8 @@ class _Space:
 
 class _Surrogate:
     """Every point predicted far above the target with a tiny variance; ``share`` of them outside the design."""
+
+    scatter_sd = 0.0
 
     def __init__(self, share):
         self.share = share
@@ -113,3 +116,27 @@ def test_a_target_outside_the_studys_curve_is_told(n_star, side):
     sentence = res.target_outside_curve_sentence()
     assert (sentence == "") if side is None else sentence.startswith(
         f"the target life {n_star:,.0f} cycles lies {side} the study's R(N) curve (800,000 to 2,000,000 cycles)")
+
+
+class _ScatteredSurrogate(_Surrogate):
+    """Every point's mean life exactly at ln N* + 0.1, the life scattering by s = 0.2 about it."""
+
+    scatter_sd = 0.2
+
+    def __init__(self):
+        super().__init__(0.0)
+
+    def predict(self, u):
+        return np.full(u.shape[0], 10.1), np.full(u.shape[0], 1e-3)
+
+
+def test_a_candidate_integrates_the_life_scatter():
+    # each sample survives N* with probability Phi(0.1 / 0.2) exactly; the mean alone would read R = 1
+    n = 20_000
+    est = estimate(_Space(n), _ScatteredSurrogate(), None, log_target=10.0, reliability_target=0.6)
+    assert est.reliability == pytest.approx(stats.norm.cdf(0.5), rel=1e-12)
+    # the life at R* = 0.6: the 40 % quantile of ln N = 10.1 + 0.2 z over the space's draws of z (exactly, on them)
+    assert est.life_cycles == pytest.approx(np.exp(np.quantile(10.1 + 0.2 * _Space(n).scatter, 0.4)), rel=1e-12)
+    # and close to the closed form exp(10.1 + 0.2 Phi^-1(0.4)) within ~3 standard errors of the quantile
+    # (sqrt(p (1 - p) / n) / phi(Phi^-1(p)) x 0.2 = 1.8e-3)
+    assert est.life_cycles == pytest.approx(np.exp(10.1 + 0.2 * stats.norm.ppf(0.4)), rel=5e-3)

@@ -31,7 +31,7 @@ from scipy import stats
 from jointwear.design.candidates import Candidate, Control, build_controls, enumerate_candidates
 from jointwear.design.results import DesignResult, verification_verdict
 from jointwear.design.settings import DesignSettings
-from jointwear.reliability import IsoTransform, KrigingSurrogate, akmcs_multi, esc_absolute_error
+from jointwear.reliability import IsoTransform, KrigingSurrogate, akmcs_multi, esc_absolute_error, failure_probability
 from jointwear.study.limit_state import life_at
 from jointwear.study.reliability import StudyContext
 
@@ -49,9 +49,11 @@ class Estimate:
     outside_fraction: float
 
 
-def monte_carlo_half_width(k: int, n: int) -> float:
+def monte_carlo_half_width(k: float, n: int) -> float:
     """The larger side of the exact (Clopper-Pearson) 95 % interval of a proportion k / n: unlike the normal
-    approximation it is not 0 when every sample lies on one side (R = 1 of 10 samples: 0.31)."""
+    approximation it is not 0 when every sample lies on one side (R = 1 of 10 samples: 0.31). ``k`` may be an
+    expected count (a sum of survival probabilities), whose estimate varies less than a count's: the bound is then
+    conservative."""
     p = k / n
     lo = 0.0 if k == 0 else float(stats.beta.ppf(0.025, k, n - k + 1))
     hi = 1.0 if k == n else float(stats.beta.ppf(0.975, k + 1, n - k))
@@ -85,6 +87,12 @@ class LifeSurrogate:
         mu, var = self.model.predict(u)
         return mu, np.sqrt(np.maximum(var, 0.0))
 
+    @property
+    def scatter_sd(self) -> float:
+        """The call-to-call scatter of ln N_f the Kriging estimated as its noise (0 without a noise estimate), which
+        a candidate's R(N*) integrates as the study's R(N) does (docs/reliability.md, 'A noisy model')."""
+        return float(np.sqrt(max(self.model.noise_variance, 0.0))) if self.estimate_nugget else 0.0
+
     def outside(self, u: np.ndarray) -> np.ndarray:
         """Rows outside the box spanned by the design (the surrogate extrapolates there)."""
         return np.any((u < self.lo) | (u > self.hi), axis=1)
@@ -98,6 +106,8 @@ class CandidateSpace:
         self.ctx, self.controls = ctx, controls
         self.names = list(ctx.names)
         self.z = np.random.default_rng(seed).standard_normal((n, len(self.names)))
+        # each row's draw of the life's call-to-call scatter (common to every candidate, as z is)
+        self.scatter = np.random.default_rng(seed + 1).standard_normal(n)
         self.base_iso = IsoTransform(ctx.marginals)
         self.base_x = self.base_iso.to_x(self.z)
         self.base_u = self.z
@@ -139,7 +149,9 @@ def estimate(space: CandidateSpace, sur: LifeSurrogate, cand: Candidate, log_tar
     p_inf = space.infeasible_probability(cand)
     n = mu.size
     g = mu - log_target
-    k = int(np.count_nonzero(g > 0))
+    scatter = sur.scatter_sd
+    # surviving samples; with the life's scatter, their expected number (a mean of probabilities)
+    k = int(np.count_nonzero(g > 0)) if scatter == 0 else float(n - failure_probability(g, scatter).sum())
     r_feasible = k / n
     # 'fail' rule: an infeasible clearance is a failure at every N (the learning runs on the feasible part)
     reliability = (1.0 - p_inf) * r_feasible
@@ -150,7 +162,8 @@ def estimate(space: CandidateSpace, sur: LifeSurrogate, cand: Candidate, log_tar
     # with a variance that need not say so (a far PTFE option read R = 1.0000 +/- 0.0000, its own study 0.9 at 1.8x)
     error = min(sur_err + mc_err + (1.0 - p_inf) * outside, 1.0)  # R is a probability: no error exceeds 1
     level = 1.0 - reliability_target / (1.0 - p_inf)
-    life = float(np.exp(np.quantile(mu, level))) if 0.0 < level < 1.0 else None
+    log_life = mu if scatter == 0 else mu + scatter * space.scatter
+    life = float(np.exp(np.quantile(log_life, level))) if 0.0 < level < 1.0 else None
     return Estimate(reliability, error, sur_err, life, outside)
 
 
@@ -390,6 +403,12 @@ def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: C
     p_inf = space.infeasible_probability(cand)
     pf_feasible = float(np.asarray(eng.pf)[0])
     cov = float(np.asarray(eng.cov)[0])
+    scatter = eng.noise_sd if rel.noise == "estimate" else 0.0
+    if scatter > 0:  # the life's call-to-call scatter, integrated as the study's R(N) does
+        rng = np.random.default_rng(seed + 23)
+        pf_arr, cov_arr = eng.estimate_on(lambda m, start: rng.standard_normal((m, len(marginals))), eng.n_mc,
+                                          noise_sd=scatter)
+        pf_feasible, cov = float(pf_arr[0]), float(cov_arr[0])
     pf = p_inf + (1.0 - p_inf) * pf_feasible
     # the bound: the surrogate's own (ESC) absolute error plus the 95 % Monte Carlo half-width
     sur_err = (1.0 - p_inf) * float(np.asarray(eng.error_absolute)[0])
