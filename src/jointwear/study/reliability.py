@@ -275,7 +275,8 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
                   "max_wear_mm": [(wear_all[:2000, j] * 1e3).tolist() for j in hist_cols],
                   "n_samples_shown": 2000, "n_population": int(n_hist),
                   "joint": ctx.limit_state.names[0], "quantity": ctx.limit_state.quantity,
-                  "model": "the life surrogate of R(N): wear(x, N) = allowance x N / N_f(x) (linear growth)",
+                  "model": "the life surrogate of R(N): wear(x, N) = allowance x N / N_f(x) (linear growth), ln N_f "
+                           "its mean plus a draw of the life's call-to-call scatter",
                   "exceedance": [float(np.mean(wear_all[:, j] > a0)) for j in hist_cols],
                   "one_minus_reliability": [float(pf[ctx.cycles.index(c)]) for c in hist_levels]}
     mean_max = {"cycles": wear_levels, "mean": (wear_all.mean(axis=0) * 1e3).tolist(),
