@@ -51,8 +51,8 @@ def _surrogate_fit_cards(fit) -> list[tuple]:
     return [("surrogate fit, Q\u00b2", "\u2014" if fit.q2 is None else f"{fit.q2:.2f}",
              f"leave-one-out over the {fit.n_points} design points: the share of their ln N_f the inputs explain"),
             ("scatter of a call's life", f"\u00b1{100 * fit.life_scatter:.2g} %",
-             "one standard deviation about the smooth surrogate, estimated by the fit (its nugget)"
-             + ("; at the top of its range" if fit.nugget_at_bound else ""))]
+             "one standard deviation about the smooth surrogate, estimated by the fit (its nugget); R(N) counts it "
+             "as part of each mechanism's life" + ("; at the top of its range" if fit.nugget_at_bound else ""))]
 
 
 def reliability_section(out: StudyOutputs, figs: Figures) -> str:
