@@ -73,9 +73,10 @@ class ReliabilitySettings(SIModel):
     noise: Literal["estimate", "none"] = Field(
         "estimate",
         description="Kriging of a noisy model: 'estimate' fits a nugget (noise variance) by maximum likelihood. The "
-        "clearance-joint dynamics is chaotic, so the wear life of one call scatters by ~0.5 % between nearly equal "
-        "inputs (docs/wear.md); interpolating that scatter stalls the learning (project choice). 'none' = DACE "
-        "interpolation, as in the paper.")
+        "clearance-joint dynamics is chaotic, so the wear life of one call scatters between nearly equal inputs "
+        "(1.9 % on the flapping wing, 13 % on the six-bar; docs/wear.md); interpolating that scatter stalls the "
+        "learning, and R(N) counts it as part of each mechanism's life (docs/reliability.md, 'A noisy model'; project "
+        "choice). 'none' = DACE interpolation, as in the paper, with no scatter in R(N).")
     error_tol: float = Field(0.02, description="Relative Pf error tolerance of the 'error' stopping rule (project choice).")
     error_abs_tol: float = Field(
         0.01, description="A level also counts as learned when its estimated absolute Pf error is below this "
