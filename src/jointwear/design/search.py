@@ -33,7 +33,7 @@ from jointwear.design.results import DesignResult, verification_verdict
 from jointwear.design.settings import DesignSettings
 from jointwear.reliability import IsoTransform, KrigingSurrogate, akmcs_multi, esc_absolute_error, failure_probability
 from jointwear.study.limit_state import life_at
-from jointwear.study.reliability import StudyContext
+from jointwear.study.reliability import StudyContext, life_scatter_sd
 
 _Z95 = 1.959963984540054
 
@@ -403,7 +403,7 @@ def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: C
     p_inf = space.infeasible_probability(cand)
     pf_feasible = float(np.asarray(eng.pf)[0])
     cov = float(np.asarray(eng.cov)[0])
-    scatter = eng.noise_sd if rel.noise == "estimate" else 0.0
+    scatter = life_scatter_sd(ctx, eng)
     if scatter > 0:  # the life's call-to-call scatter, integrated as the study's R(N) does
         rng = np.random.default_rng(seed + 23)
         pf_arr, cov_arr = eng.estimate_on(lambda m, start: rng.standard_normal((m, len(marginals))), eng.n_mc,

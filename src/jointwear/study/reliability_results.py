@@ -262,8 +262,7 @@ class ReliabilityResult(StageResult):
         when the target is not reached)."""
         n = self.life_cycles if self.life_cycles is not None else float(self.cycles[-1])
         k = int(np.argmin(np.abs(np.asarray(self.cycles, dtype=float) - n)))
-        return {j["name"]: float(np.nan_to_num(np.asarray(j.get("governing_share", [1.0] * len(self.cycles)),
-                                                          dtype=float))[k]) for j in self.joints}
+        return {j["name"]: float(np.nan_to_num(np.asarray(j["governing_share"], dtype=float))[k]) for j in self.joints}
 
     def series_sentence(self) -> str:
         """With several judged joints sharing the failures at the life (a second one governs at least
