@@ -26,6 +26,27 @@ def test_prediction_matches_openturns(d, n):
     np.testing.assert_allclose(var, var_ot, rtol=1e-4, atol=1e-6 * np.var(y))
 
 
+@pytest.mark.parametrize("estimate_nugget", [False, True])
+def test_posterior_covariance_matches_openturns(estimate_nugget):
+    x, y = _data(3, 30)
+    if estimate_nugget:  # a noisy response: the fit finds a nugget of order 0.2^2 / var(y)
+        y = y + 0.2 * np.random.default_rng(3).standard_normal(y.size)
+    k = KrigingSurrogate(nugget=1e-8, n_starts=1, estimate_nugget=estimate_nugget).fit(x, y)
+    xt = np.random.default_rng(1).uniform(-3, 3, (6, 3))
+    cov = k.posterior_covariance(xt)
+    np.testing.assert_allclose(np.diag(cov), k.predict(xt)[1], rtol=1e-9, atol=1e-12 * np.var(y))
+    # OpenTURNS' conditional covariance is that of a noisy observation: the latent one plus the noise variance
+    import openturns as ot
+
+    cov_ot = np.array(ot.GaussianProcessConditionalCovariance(k.to_openturns()).getConditionalCovariance(
+        ot.Sample(xt))) * np.var(y) - k.noise_variance * np.eye(6)  # OpenTURNS works on y / std(y)
+    if estimate_nugget:
+        assert k.noise_variance > 1e-3 * np.var(y)  # the case tests the nugget's part
+    # off the diagonal the two agree to ~1e-12: the round-off bound of the variances of
+    # test_prediction_matches_openturns covers that with room
+    np.testing.assert_allclose(cov, cov_ot, rtol=1e-4, atol=1e-6 * np.var(y))
+
+
 def test_prediction_interpolates_and_chunks():
     x, y = _data(3, 30)
     k = KrigingSurrogate(n_starts=1, chunk_size=7, n_threads=2).fit(x, y)

@@ -112,3 +112,37 @@ def test_estimate_on_integrates_a_gaussian_noise_of_the_response():
     np.testing.assert_array_equal(failure_probability(np.array([-1.0, 0.0, 2.0, np.nan])), [1.0, 0.0, 0.0, 1.0])
     np.testing.assert_allclose(failure_probability(np.array([-1.0, 0.0, np.nan]), 0.5),
                                [stats.norm.cdf(2.0), 0.5, 1.0], rtol=1e-15)
+
+
+def _exact_spread(mu, sigma, shift, s):
+    """Standard deviation of Phi((shift - g) / s) for g ~ N(mu, sigma^2): E[P] = Phi(h), E[P^2] = P(X1 < h, X2 < h)
+    with correlation rho = b^2 / (1 + b^2), h = a / sqrt(1 + b^2), a = (shift - mu) / s, b = sigma / s; for equal
+    limits P(X1 < h, X2 < h) = Phi(h) - 2 T(h, sqrt((1 - rho) / (1 + rho))) (Owen's T)."""
+    from scipy.special import owens_t
+
+    a, b = (shift - mu) / s, sigma / s
+    h, rho = a / np.sqrt(1 + b * b), b * b / (1 + b * b)
+    second = stats.norm.cdf(h) - 2 * owens_t(h, np.sqrt((1 - rho) / (1 + rho)))
+    return np.sqrt(second - stats.norm.cdf(h) ** 2)
+
+
+@pytest.mark.parametrize("noise_sd", [0.5, 0.0])
+def test_posterior_spread_of_pf_keeps_the_correlation_of_the_errors(noise_sd):
+    # m points of equal posterior N(mu, sigma^2): fully correlated errors move Pf as one point's, independent ones
+    # average out by sqrt(m). Exact standard deviations (_exact_spread; the indicator's sqrt(p (1 - p)) without
+    # noise); tolerance 5 %, ~8 standard errors of a standard deviation from 20,000 draws (1 / sqrt(2 x 20,000))
+    from jointwear.reliability import posterior_failure_spread
+
+    mu, sigma, m, n = 0.3, 0.4, 40, 20_000
+    shifts = np.array([-0.2, 0.3, 0.9])
+    mean = np.full(m, mu)
+    if noise_sd > 0:
+        one = _exact_spread(mu, sigma, shifts, noise_sd)
+    else:
+        p = stats.norm.cdf((shifts - mu) / sigma)
+        one = np.sqrt(p * (1 - p))
+    rng = np.random.default_rng(4)
+    together = posterior_failure_spread(mean, np.full((m, m), sigma**2), shifts, noise_sd, n, rng)  # rank 1
+    np.testing.assert_allclose(together, one, rtol=0.05)
+    apart = posterior_failure_spread(mean, sigma**2 * np.eye(m), shifts, noise_sd, n, rng)
+    np.testing.assert_allclose(apart, one / np.sqrt(m), rtol=0.05)

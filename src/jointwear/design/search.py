@@ -33,7 +33,7 @@ from jointwear.design.results import DesignResult, verification_verdict
 from jointwear.design.settings import DesignSettings
 from jointwear.reliability import IsoTransform, KrigingSurrogate, akmcs_multi, esc_absolute_error, failure_probability
 from jointwear.study.limit_state import life_at
-from jointwear.study.reliability import StudyContext, life_scatter_sd
+from jointwear.study.reliability import POSTERIOR_POINTS, StudyContext, life_scatter_sd, posterior_pf_error
 
 _Z95 = 1.959963984540054
 
@@ -410,8 +410,11 @@ def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: C
                                           noise_sd=scatter)
         pf_feasible, cov = float(pf_arr[0]), float(cov_arr[0])
     pf = p_inf + (1.0 - p_inf) * pf_feasible
-    # the bound: the surrogate's own (ESC) absolute error plus the 95 % Monte Carlo half-width
-    sur_err = (1.0 - p_inf) * float(np.asarray(eng.error_absolute)[0])
+    # the bound: the surrogate's own absolute error (the larger of ESC's and its posterior spread, as the study's
+    # band) plus the 95 % Monte Carlo half-width
+    u_posterior = np.random.default_rng(seed + 29).standard_normal((POSTERIOR_POINTS, len(marginals)))
+    sur_err = (1.0 - p_inf) * max(float(np.asarray(eng.error_absolute)[0]),
+                                  float(posterior_pf_error(eng, u_posterior, scatter, seed + 31)[0]))
     mc_err = _Z95 * (1.0 - p_inf) * (cov * pf_feasible if math.isfinite(cov) else 0.0)
     reliability = 1.0 - pf
     error = sur_err + mc_err

@@ -28,6 +28,7 @@ from .results import (
     cov_population,
     failure_probability,
     population_size,
+    posterior_failure_spread,
 )
 
 __all__ = [
@@ -56,6 +57,7 @@ __all__ = [
     "monte_carlo",
     "cov_population",
     "population_size",
+    "posterior_failure_spread",
     "problems",
     "sample",
     "sorm",

@@ -372,6 +372,24 @@ class KrigingSurrogate:
     def __call__(self, u: np.ndarray) -> np.ndarray:
         return self.predict(u, return_variance=False)[0]
 
+    def posterior_covariance(self, u: np.ndarray) -> np.ndarray:
+        """Covariance of the Gaussian process at the points ``u`` (m, d) given the training data, that of the
+        latent response without the noise: sigma^2 [R(u, u) - r^T C^-1 r + t t^T / (1^T C^-1 1)], r the correlations
+        with the training points, C = R + nugget I, t = 1 - r^T C^-1 1 (ordinary Kriging with the trend estimated;
+        its diagonal is :meth:`predict`'s variance). Shape (m, m); m^2 memory, for a sample of a population."""
+        if self._cond is None:
+            raise RuntimeError("fit first")
+        c = self._cond
+        a = np.atleast_2d(np.asarray(u, dtype=float)) / self.hyperparameters.scale
+        r = _corr(a, c.x)
+        v = r @ c.chol_inv_t
+        t = 1.0 - r @ c.w
+        cov = _corr(a, a)
+        cov -= v @ v.T
+        cov += np.outer(t, t) / c.s1
+        cov *= c.sigma2 * self._ystd**2
+        return cov
+
     @property
     def training_outputs(self) -> np.ndarray:
         """The outputs the surrogate was fitted to (a copy)."""

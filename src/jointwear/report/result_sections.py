@@ -96,7 +96,7 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
         parts.append(f"<p>Series system of {len(rel.joints)} joints; the joint that governs: "
                      f"<b>{e(rel.governing_joint)}</b>. The system's life has a kink where two joints' lives "
                      "cross, and the surrogate's error estimate can be too small there: on an analytic two-joint "
-                     "system the life's 95 % interval held the exact life in 7 of 20 runs at R = 0.9 with the "
+                     "system the life's 95 % interval held the exact life in 13 of 20 runs at R = 0.9 with the "
                      "default learning rule, in 20 of 20 with <code>reliability.stopping = \"u\"</code>, which "
                      "did no better on the six-bar's true model (docs/study.md, \"How far to trust the life\"). "
                      "Check it with <code>jointwear validate</code>."

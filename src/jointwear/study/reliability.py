@@ -242,7 +242,8 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     pf = np.asarray(engine.pf, dtype=float)
     pf_cov = np.asarray(engine.cov, dtype=float)
     n_mc = int(engine.n_mc)
-    pf, pf_cov, n_mc = _curve_estimate(ctx, engine, pf, pf_cov, n_mc, life_scatter_sd(ctx, engine))
+    scatter_sd = life_scatter_sd(ctx, engine)
+    pf, pf_cov, n_mc = _curve_estimate(ctx, engine, pf, pf_cov, n_mc, scatter_sd)
     p_inf = ctx.config.uncertainty.infeasible_probability()
     if p_inf > 0:
         # 'fail' rule: a sample with a clearance at or below its minimum is a failure at every N.
@@ -253,8 +254,11 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     reliability = 1.0 - pf
     targets = rel.targets
     lives = [life_at(cycles, reliability, t) for t in targets]
-    # the surrogate's absolute error of Pf among feasible samples; the infeasible share is exact
-    pf_error = (1.0 - p_inf) * np.asarray(engine.error_absolute, dtype=float)
+    # the surrogate's absolute error of Pf among feasible samples (the infeasible share is exact): the larger of
+    # ESC's count of misclassified samples and the spread of Pf over the Kriging's posterior
+    u_posterior = ctx.iso().to_u(ctx.sample(POSTERIOR_POINTS, rel.seed + 13))
+    pf_error = (1.0 - p_inf) * np.maximum(np.asarray(engine.error_absolute, dtype=float),
+                                          posterior_pf_error(engine, u_posterior, scatter_sd, rel.seed + 17))
     half = curve_half_width(pf, pf_cov, pf_error)
     life_table = []
     for t, n in zip(targets, lives):
@@ -382,6 +386,22 @@ def life_scatter_sd(ctx: StudyContext, engine) -> float:
     """The call-to-call scatter of ln N_f that R(N) integrates: the Kriging's noise estimate when the study
     estimates one (``reliability.noise = "estimate"``), else 0."""
     return engine.noise_sd if ctx.config.reliability.noise == "estimate" else 0.0
+
+
+#: population points of the posterior spread of Pf (its covariance takes POSTERIOR_POINTS^2 x 8 bytes: 72 MB), and
+#: the conditional simulations on them (the spread's own sampling error: 1 / sqrt(2 x 400) = 3.5 %)
+POSTERIOR_POINTS = 3000
+POSTERIOR_DRAWS = 400
+
+
+def posterior_pf_error(engine, u: np.ndarray, scatter_sd: float, seed: int) -> np.ndarray:
+    """95 % half-width of each level's Pf over the Kriging's posterior, 1.96 x its standard deviation
+    (``MultiReliabilityResult.posterior_pf_sd``) at ``u`` (POSTERIOR_POINTS points of the population, u space),
+    each failing with the life's scatter ``scatter_sd`` as R(N) counts it. The surrogate's errors are correlated
+    between the points: they move the whole curve, which ESC's count of misclassified points, made for a curve
+    that classifies each point, does not see once R(N) integrates the scatter (docs/reliability.md, "The
+    surrogate's error of R(N)")."""
+    return 1.96 * engine.posterior_pf_sd(u, scatter_sd, POSTERIOR_DRAWS, seed=seed)
 
 
 def _curve_estimate(ctx: StudyContext, engine, pf, pf_cov, n_mc, scatter_sd: float):
