@@ -113,6 +113,11 @@ def test_reliability_result_round_trip_and_tables(tmp_path):
     # each input column named as a config key with its SI unit, a plain number bare
     assert (tmp_path / "design_points.csv").read_text().splitlines()[0] == "a_Pa,b,life_cycles"
     assert back.units == ["Pa", ""]
+    assert back.pf_error_esc is None  # a result without ESC's part (written before it) reads back without it
+    res.pf_error_esc = np.array([0.001, 0.004, 0.01])
+    res.save(tmp_path, figures=False)
+    np.testing.assert_array_equal(load_results(tmp_path).reliability.pf_error_esc, res.pf_error_esc)
+    assert "pf_error_esc" in (tmp_path / "reliability_curve.csv").read_text().splitlines()[0].split(",")
 
 
 def test_the_study_inputs_carry_their_si_units():

@@ -55,6 +55,17 @@ def _surrogate_fit_cards(fit) -> list[tuple]:
              "as part of each mechanism's life" + ("; at the top of its range" if fit.nugget_at_bound else ""))]
 
 
+def _esc_part(rel, cycles: float) -> str:
+    """ESC's part of the error estimate at ``cycles`` (the learning's own measure), when the result has it."""
+    if rel.pf_error_esc is None:
+        return ""
+    k = min(range(len(rel.cycles)), key=lambda i: abs(float(rel.cycles[i]) - cycles))
+    esc, total = float(rel.pf_error_esc[k]), float(rel.pf_error[k])
+    if esc < total:
+        return f"; set by the Kriging's posterior spread (ESC's count alone: {esc:.3f})"
+    return "; set by ESC's count of misclassified samples"
+
+
 def reliability_section(out: StudyOutputs, figs: Figures) -> str:
     rel = out.results.reliability
     if rel is None:
@@ -73,7 +84,7 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
             "stopped by the budget of model calls" if rel.stopped_by_budget or not rel.learning_stop
             else rel.learning_stop)),
         ("surrogate error of R", "\u2014" if worst is None else f"{worst[0]:.3f}",
-         None if worst is None else f"largest estimate, at {worst[1]:,.0f} cycles"),
+         None if worst is None else f"largest estimate, at {worst[1]:,.0f} cycles{_esc_part(rel, worst[1])}"),
         ("max COV of Pf", "\u2014" if cov is None else f"{cov:.3g}", "over the levels with Pf \u2265 pf_floor"),
         *_surrogate_fit_cards(rel.surrogate_fit),
         ("wall time", f"{rel.wall_seconds:.4g} s", None),

@@ -256,9 +256,10 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     lives = [life_at(cycles, reliability, t) for t in targets]
     # the surrogate's absolute error of Pf among feasible samples (the infeasible share is exact): the larger of
     # ESC's count of misclassified samples and the spread of Pf over the Kriging's posterior
+    pf_error_esc = (1.0 - p_inf) * np.asarray(engine.error_absolute, dtype=float)
     u_posterior = ctx.iso().to_u(ctx.sample(POSTERIOR_POINTS, rel.seed + 13))
-    pf_error = (1.0 - p_inf) * np.maximum(np.asarray(engine.error_absolute, dtype=float),
-                                          posterior_pf_error(engine, u_posterior, scatter_sd, rel.seed + 17))
+    pf_error = np.maximum(pf_error_esc,
+                          (1.0 - p_inf) * posterior_pf_error(engine, u_posterior, scatter_sd, rel.seed + 17))
     half = curve_half_width(pf, pf_cov, pf_error)
     life_table = []
     for t, n in zip(targets, lives):
@@ -307,7 +308,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     return ReliabilityResult(
         cycles=cycles, reliability=reliability, pf=pf, pf_cov=pf_cov,
         below_floor=pf < rel.pf_floor, target=targets[0],
-        pf_error=pf_error,
+        pf_error=pf_error, pf_error_esc=pf_error_esc,
         life_cycles=lives[0], life_hours=life_table[0]["hours"], life_table=life_table,
         model_calls=int(engine.n_calls), failed_calls=int(engine.n_failed_calls), n_mc=n_mc,
         converged=bool(engine.converged), wall_seconds=time.perf_counter() - t0, names=ctx.names, units=ctx.units,

@@ -127,7 +127,9 @@ class ReliabilityResult(StageResult):
 
     Arrays over the curve's ``cycles``: ``reliability``, ``pf``, ``pf_cov`` (coefficient of variation of the
     Monte Carlo estimate of Pf on the surrogate), ``pf_error`` (the surrogate's own absolute error estimate;
-    ``pf_error_estimate`` in reliability.json and the CSV), ``below_floor`` (levels whose COV need not meet the
+    ``pf_error_estimate`` in reliability.json and the CSV: the larger of ESC's and the Kriging's posterior spread,
+    docs/reliability.md "The surrogate's error of R(N)"), ``pf_error_esc`` (ESC's part alone, the measure the
+    learning stops on; None in results written before it), ``below_floor`` (levels whose COV need not meet the
     target; ``cov_waived_below_pf_floor`` in the JSON). ``life_cycles`` / ``life_hours``: the life at the first
     target (``life_at_target`` in the JSON). ``life_table``: [{``target``, ``cycles``, ``hours``, ``status``,
     ``cycles_low``, ``cycles_high``}]: the life is None where it lies outside the curve, and ``status`` says on
@@ -178,6 +180,7 @@ class ReliabilityResult(StageResult):
     infeasible: dict = field(default_factory=dict)
     learning_stop: str = ""
     surrogate_fit: SurrogateFit | None = None
+    pf_error_esc: np.ndarray | None = None
     provenance: dict = field(default_factory=provenance)
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
     engine: Any = field(repr=False, default=None, metadata={"json": False})
@@ -285,6 +288,8 @@ class ReliabilityResult(StageResult):
             "curve": {"cycles": np.asarray(self.cycles).tolist(), "reliability": np.asarray(self.reliability).tolist(),
                       "pf": np.asarray(self.pf).tolist(), "pf_cov": np.asarray(self.pf_cov).tolist(),
                       "pf_error_estimate": np.asarray(self.pf_error).tolist(),
+                      **({} if self.pf_error_esc is None else
+                         {"pf_error_esc": np.asarray(self.pf_error_esc).tolist()}),
                       "cov_waived_below_pf_floor": np.asarray(self.below_floor).tolist()},
             "life_at_target": {"target": self.target, "cycles": self.life_cycles, "hours": self.life_hours,
                                "cycles_low": low, "cycles_high": high},
@@ -330,6 +335,7 @@ class ReliabilityResult(StageResult):
             pf_cov=arr(c.get("pf_cov", [None] * len(c["cycles"]))),
             below_floor=np.asarray(c.get("cov_waived_below_pf_floor", [False] * len(c["cycles"])), dtype=bool),
             pf_error=arr(c.get("pf_error_estimate", [np.nan] * len(c["cycles"]))),
+            pf_error_esc=arr(c["pf_error_esc"]) if "pf_error_esc" in c else None,
             target=life.get("target"), life_cycles=life.get("cycles"), life_hours=life.get("hours"),
             model_calls=data.get("model_calls", 0), failed_calls=data.get("failed_calls", 0),
             n_mc=data.get("n_mc", 0), converged=data.get("converged", False),
@@ -353,7 +359,9 @@ class ReliabilityResult(StageResult):
         ``design_points`` (the true-model calls: inputs in SI, each column named with its unit as a config key,
         ``Rj_m``; the life each gave)."""
         curve = {"cycles": np.asarray(self.cycles, dtype=np.int64), "reliability": self.reliability, "pf": self.pf,
-                 "pf_cov": self.pf_cov, "pf_error_estimate": self.pf_error, "half_width_95": self.half_width}
+                 "pf_cov": self.pf_cov, "pf_error_estimate": self.pf_error,
+                 **({} if self.pf_error_esc is None else {"pf_error_esc": self.pf_error_esc}),
+                 "half_width_95": self.half_width}
         for j in self.joints if len(self.joints) > 1 else []:
             curve[f"reliability_{j['name']}"] = j["reliability"]
             curve[f"governing_share_{j['name']}"] = j["governing_share"]
