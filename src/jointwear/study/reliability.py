@@ -258,8 +258,9 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     # ESC's count of misclassified samples and the spread of Pf over the Kriging's posterior
     pf_error_esc = (1.0 - p_inf) * np.asarray(engine.error_absolute, dtype=float)
     u_posterior = ctx.iso().to_u(ctx.sample(POSTERIOR_POINTS, rel.seed + 13))
-    pf_error = np.maximum(pf_error_esc,
-                          (1.0 - p_inf) * posterior_pf_error(engine, u_posterior, scatter_sd, rel.seed + 17))
+    # fmax: a level without an ESC estimate (NaN) keeps the posterior one
+    pf_error = np.fmax(pf_error_esc,
+                       (1.0 - p_inf) * posterior_pf_error(engine, u_posterior, scatter_sd, rel.seed + 17))
     half = curve_half_width(pf, pf_cov, pf_error)
     life_table = []
     for t, n in zip(targets, lives):
