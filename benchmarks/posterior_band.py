@@ -4,7 +4,7 @@
 
 A Kriging of the default study's size (54 noisy points in 13 dimensions, the noise estimated) and the study's
 band settings: the posterior covariance at POSTERIOR_POINTS population points, then the spread of Pf at 14 levels
-over POSTERIOR_DRAWS conditional simulations (``posterior_pf_error`` as the study calls it, split into its two
+over POSTERIOR_DRAWS conditional simulations (``surrogate_pf_error``'s posterior part, split into its two
 parts). Medians of wall and CPU time, and their ratio to a reference in the same process: the Kriging's mean and
 variance on 200,000 points (the study's Monte Carlo population). Writes JSON.
 """
@@ -52,7 +52,7 @@ def main() -> None:
     u = rng.standard_normal((POSTERIOR_POINTS, d))
     shifts = np.linspace(-0.3, 0.3, levels)
     mean = k.predict(u, return_variance=False)[0] - 13.0
-    noise_sd = float(np.sqrt(k.noise_variance))
+    noise_sd = k.noise_sd
     cov = k.posterior_covariance(u)
     population = rng.standard_normal((200_000, d))
     out = {

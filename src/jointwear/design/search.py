@@ -33,7 +33,7 @@ from jointwear.design.results import DesignResult, verification_verdict
 from jointwear.design.settings import DesignSettings
 from jointwear.reliability import IsoTransform, KrigingSurrogate, akmcs_multi, esc_absolute_error, failure_probability
 from jointwear.study.limit_state import life_at
-from jointwear.study.reliability import POSTERIOR_POINTS, StudyContext, life_scatter_sd, posterior_pf_error
+from jointwear.study.reliability import POSTERIOR_POINTS, StudyContext, life_scatter_sd, surrogate_pf_error
 
 _Z95 = 1.959963984540054
 
@@ -91,7 +91,7 @@ class LifeSurrogate:
     def scatter_sd(self) -> float:
         """The call-to-call scatter of ln N_f the Kriging estimated as its noise (0 without a noise estimate), which
         a candidate's R(N*) integrates as the study's R(N) does (docs/reliability.md, 'A noisy model')."""
-        return float(np.sqrt(max(self.model.noise_variance, 0.0))) if self.estimate_nugget else 0.0
+        return self.model.noise_sd if self.estimate_nugget else 0.0
 
     def outside(self, u: np.ndarray) -> np.ndarray:
         """Rows outside the box spanned by the design (the surrogate extrapolates there)."""
@@ -413,8 +413,7 @@ def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: C
     # the bound: the surrogate's own absolute error (the larger of ESC's and its posterior spread, as the study's
     # band) plus the 95 % Monte Carlo half-width
     u_posterior = np.random.default_rng(seed + 29).standard_normal((POSTERIOR_POINTS, len(marginals)))
-    sur_err = (1.0 - p_inf) * max(float(np.asarray(eng.error_absolute)[0]),
-                                  float(posterior_pf_error(eng, u_posterior, scatter, seed + 31)[0]))
+    sur_err = (1.0 - p_inf) * float(surrogate_pf_error(eng, u_posterior, scatter, seed + 31)[0])
     mc_err = _Z95 * (1.0 - p_inf) * (cov * pf_feasible if math.isfinite(cov) else 0.0)
     reliability = 1.0 - pf
     error = sur_err + mc_err

@@ -406,6 +406,11 @@ class KrigingSurrogate:
         return self.hyperparameters.nugget * self._cond.sigma2 * self._ystd**2
 
     @property
+    def noise_sd(self) -> float:
+        """Standard deviation of that noise (output units)."""
+        return float(np.sqrt(max(self.noise_variance, 0.0)))
+
+    @property
     def process_variance(self) -> float:
         """Variance sigma^2 of the Gaussian process Z (output units squared)."""
         if self._cond is None:

@@ -198,7 +198,7 @@ class MultiReliabilityResult:
         response (0 for separate limit states)."""
         if self.levels is None:
             return 0.0
-        return float(np.sqrt(max(self.response_surrogate.noise_variance, 0.0)))
+        return self.response_surrogate.noise_sd
 
     def estimate_on(self, draw_u: Callable[[int, int], np.ndarray], n: int, chunk: int = 200_000,
                     noise_sd: float = 0.0) -> tuple[np.ndarray, np.ndarray]:

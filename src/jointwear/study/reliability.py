@@ -258,9 +258,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     # ESC's count of misclassified samples and the spread of Pf over the Kriging's posterior
     pf_error_esc = (1.0 - p_inf) * np.asarray(engine.error_absolute, dtype=float)
     u_posterior = ctx.iso().to_u(ctx.sample(POSTERIOR_POINTS, rel.seed + 13))
-    # fmax: a level without an ESC estimate (NaN) keeps the posterior one
-    pf_error = np.fmax(pf_error_esc,
-                       (1.0 - p_inf) * posterior_pf_error(engine, u_posterior, scatter_sd, rel.seed + 17))
+    pf_error = (1.0 - p_inf) * surrogate_pf_error(engine, u_posterior, scatter_sd, rel.seed + 17)
     half = curve_half_width(pf, pf_cov, pf_error)
     life_table = []
     for t, n in zip(targets, lives):
@@ -396,14 +394,16 @@ POSTERIOR_POINTS = 3000
 POSTERIOR_DRAWS = 400
 
 
-def posterior_pf_error(engine, u: np.ndarray, scatter_sd: float, seed: int) -> np.ndarray:
-    """95 % half-width of each level's Pf over the Kriging's posterior, 1.96 x its standard deviation
-    (``MultiReliabilityResult.posterior_pf_sd``) at ``u`` (POSTERIOR_POINTS points of the population, u space),
-    each failing with the life's scatter ``scatter_sd`` as R(N) counts it. The surrogate's errors are correlated
-    between the points: they move the whole curve, which ESC's count of misclassified points, made for a curve
-    that classifies each point, does not see once R(N) integrates the scatter (docs/reliability.md, "The
-    surrogate's error of R(N)")."""
-    return 1.96 * engine.posterior_pf_sd(u, scatter_sd, POSTERIOR_DRAWS, seed=seed)
+def surrogate_pf_error(engine, u: np.ndarray, scatter_sd: float, seed: int) -> np.ndarray:
+    """The surrogate's absolute error of each level's Pf: the larger of ESC's (``engine.error_absolute``) and the
+    95 % half-width of Pf over the Kriging's posterior, 1.96 x its standard deviation
+    (``MultiReliabilityResult.posterior_pf_sd``) at ``u`` (POSTERIOR_POINTS points of the population, u space), each
+    failing with the life's scatter ``scatter_sd`` as R(N) counts it. The surrogate's errors are correlated between
+    the points: they move the whole curve, which ESC's count of misclassified points, made for a curve that
+    classifies each point, does not see once R(N) integrates the scatter (docs/reliability.md, "The surrogate's
+    error of R(N)"). fmax: a level without an ESC estimate (NaN) keeps the posterior one."""
+    return np.fmax(np.asarray(engine.error_absolute, dtype=float),
+                   1.96 * engine.posterior_pf_sd(u, scatter_sd, POSTERIOR_DRAWS, seed=seed))
 
 
 def _curve_estimate(ctx: StudyContext, engine, pf, pf_cov, n_mc, scatter_sd: float):
