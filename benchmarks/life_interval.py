@@ -8,8 +8,11 @@ levels is not counted against the interval):
 - ``smooth``: the flapping-wing preset's 13 inputs, wear = RATE N (k_b / k0) (H0 / H_b) (1 + 0.05 (c - c0) / 1 um)
   (Archard's structure; one joint, a smooth log life);
 - ``series``: the Watt six-bar's two clearance joints A and E, each wearing RATE_j N k_j / k0 with its own random
-  wear coefficient: a series system, whose life min(N_A, N_E) has a kink where the two joints' lives cross;
-- ``series_u_rule``: the same with the paper's learning rule (``stopping = "u"``), which spends the call budget.
+  wear coefficient: a series system, whose life min(N_A, N_E) has a kink where the two joints' lives cross; learnt
+  one Kriging per joint (``reliability.surrogate = "per_joint"``, the default);
+- ``series_system_life``: the same learnt with one Kriging of the system's log life (``"system_life"``);
+- ``series_system_life_u_rule``: that with the paper's learning rule (``stopping = "u"``), which spends the call
+  budget.
 
 For each seed of the study: the life and interval at each target, the brute-force life (1e6 samples), whether
 the interval holds it and by how many half-widths the life misses it. Writes JSON.
@@ -72,7 +75,7 @@ def smooth_config(seed: int):
         "reliability.seed": seed})
 
 
-def series_config(seed: int, stopping: str = "error"):
+def series_config(seed: int, stopping: str = "error", surrogate: str = "per_joint"):
     name = "watt_six_bar_two_clearances"
     data = tomllib.loads((resources.files("jointwear.presets") / f"{name}.toml").read_text(encoding="utf-8"))
     data["uncertainty"] = {"variables": [
@@ -82,13 +85,16 @@ def series_config(seed: int, stopping: str = "error"):
          "std": 1.5e-5, "group": "bearing_material"}]}
     data["reliability"] = {"allowance_mm": 0.03, "cycles_start": 100_000, "cycles_stop": 300_000,
                            "cycles_step": 50_000, "n_mc": 50_000, "noise": "none", "error_abs_tol": 0.002,
-                           "max_calls": 60, "target_reliability": [0.9, 0.5], "seed": seed, "stopping": stopping}
+                           "max_calls": 60, "target_reliability": [0.9, 0.5], "seed": seed, "stopping": stopping,
+                           "surrogate": surrogate}
     data.pop("sensitivity", None)
     return config_from_dict(data)
 
 
 def one_run(case: str, seed: int, n_truth: int) -> dict:
-    cfg = smooth_config(seed) if case == "smooth" else series_config(seed, "u" if case == "series_u_rule" else "error")
+    cfg = (smooth_config(seed) if case == "smooth" else
+           series_config(seed, "u" if case.endswith("u_rule") else "error",
+                         "system_life" if "system_life" in case else "per_joint"))
     holder = {}
 
     def factory(call):
@@ -127,7 +133,7 @@ def main() -> None:
     args = ap.parse_args()
     load_before = os.getloadavg()[0]
     cases = {}
-    for case in ("smooth", "series", "series_u_rule"):
+    for case in ("smooth", "series", "series_system_life", "series_system_life_u_rule"):
         runs = [one_run(case, seed, args.truth_samples) for seed in range(args.seeds)]
         summary = {}
         for t in sorted({r["target"] for run in runs for r in run["lives"]}):

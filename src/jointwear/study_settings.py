@@ -78,6 +78,12 @@ class ReliabilitySettings(SIModel):
         "learning, and R(N) counts it as part of each mechanism's life (docs/reliability.md, 'A noisy model'; project "
         "choice). 'none' = DACE interpolation, as in the paper, with no scatter in R(N).")
     error_tol: float = Field(0.02, description="Relative Pf error tolerance of the 'error' stopping rule (project choice).")
+    surrogate: Literal["per_joint", "system_life"] = Field(
+        "per_joint",
+        description="With several judged joints: 'per_joint' learns one Kriging of each joint's log life and judges a "
+        "sample by the joint that fails first (AK-SYS, Fauriat & Gayton 2014; project choice: each joint's life is "
+        "smooth where the system's, their minimum, has a kink); 'system_life' one Kriging of the system's log life. "
+        "One judged joint: the same either way.")
     error_abs_tol: float = Field(
         0.01, description="A level also counts as learned when its estimated absolute Pf error is below this "
         "(project choice: 0.01 in R).")

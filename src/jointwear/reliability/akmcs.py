@@ -50,13 +50,21 @@ from .results import (
     pf_to_beta,
     population_size,
 )
+from .system import SeriesSurrogate
 
 __all__ = ["akmcs", "akmcs_multi"]
 
 
+def log_scales(surrogate) -> np.ndarray:
+    """The log correlation lengths of a surrogate (of every component of a series system's), to tell when a refit
+    moved them."""
+    parts = getattr(surrogate, "components", [surrogate])
+    return np.concatenate([np.log(p.hyperparameters.scale) for p in parts])
+
+
 def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch_size, u_threshold, cov_target,
          stopping, error_tol, max_calls, seed, evaluation, pf_floor, kriging, refit_growth, full_sweep_every=10,
-         keep_population=False, levels=None, error_abs_tol=None, copula=None):
+         keep_population=False, levels=None, error_abs_tol=None, copula=None, system=None):
     t_start = time.perf_counter()
     marginals = check_marginals(marginals)
     d = len(marginals)
@@ -80,16 +88,31 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
         levels = np.asarray(levels, dtype=float).reshape(-1)
         if levels.size < 1 or not np.all(np.isfinite(levels)):
             raise ValueError("levels must be a non-empty sequence of finite numbers")
+    if system not in (None, "series"):
+        raise ValueError(f"system must be None (one response) or 'series' (its components' minimum); got {system!r}")
+    if system is not None and levels is None:
+        raise ValueError("system='series' needs levels (the thresholds its response is compared with)")
     evaluation = evaluation_or_default(evaluation)
     progress = evaluation.progress
-    ev = evaluation.caller_for(g, d, n_outputs=None if (levels is not None or not multi) else "auto")
-    shift = (lambda y: y[:, :1] - levels[None, :]) if levels is not None else (lambda y: y)
+    ev = evaluation.caller_for(g, d, n_outputs=None if (levels is not None and system is None) or not multi
+                               else "auto")
+
+    def shift(y):
+        """The limit states' values (n, m) from g's outputs."""
+        if system is not None:  # the components' responses (n, J); the system's is their minimum, NaN if any is
+            return np.min(y, axis=1, keepdims=True) - levels[None, :]
+        if levels is not None:
+            return y[:, :1] - levels[None, :]
+        return y
 
     u_pop = rng.standard_normal((n_mc, d))
     lhs = qmc.LatinHypercube(d=d, seed=rng).random(n_initial)
     design_u = (2.0 * lhs - 1.0) * initial_bound
     G0 = np.asarray(ev.evaluate(transform.to_x(design_u)), dtype=float)
-    G0 = shift(G0 if G0.ndim == 2 else G0[:, None])
+    G0 = G0 if G0.ndim == 2 else G0[:, None]
+    # what the surrogates are fitted to: each component's margin at the first level (series), else the columns
+    design_fit = G0 - levels[0] if system is not None else None
+    G0 = shift(G0)
     if multi and G0.ndim == 2 and G0.shape[1] < 1:
         raise ValueError("g returned zero columns")
     if not np.isfinite(G0).any():
@@ -105,8 +128,11 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
     # With `levels`, every column is the same response shifted by a constant: one Kriging serves them all
     # (ordinary Kriging is shift-equivariant), fitted on column 0 + levels[0].
     n_fit = 1 if levels is not None else m
-    surrogates = [KrigingSurrogate(seed=(None if seed is None else int(seed) * 1000 + j), **kriging)
-                  for j in range(n_fit)]
+    if system is not None:
+        surrogates = [SeriesSurrogate(design_fit.shape[1], seed=seed, **kriging)]
+    else:
+        surrogates = [KrigingSurrogate(seed=(None if seed is None else int(seed) * 1000 + j), **kriging)
+                      for j in range(n_fit)]
     offsets = (levels - levels[0]) if levels is not None else np.zeros(m)
     n_at_opt = [0] * n_fit  # training size at the last hyperparameter optimisation
 
@@ -139,10 +165,13 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
             if n_ok < 2:
                 raise ValueError(f"column {j}: fewer than 2 finite g values in the design; cannot fit Kriging")
             optimize = needs_optimisation(force_opt[j], n_at_opt[j], n_ok, refit_growth)
-            surrogates[j].fit(design_u[ok], design_g[ok, j], optimize=optimize)
+            if system is not None:  # each component on its own finite rows
+                surrogates[j].fit(design_u, design_fit, optimize=optimize)
+            else:
+                surrogates[j].fit(design_u[ok], design_g[ok, j], optimize=optimize)
             if optimize:
                 n_at_opt[j] = n_ok
-                sc = np.log(surrogates[j].hyperparameters.scale)
+                sc = log_scales(surrogates[j])
                 if sweep_scales[j] is None or np.max(np.abs(sc - sweep_scales[j])) > 0.2:
                     need_full = True  # the surrogate may have changed everywhere
         force_opt[:] = False
@@ -179,7 +208,7 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
         if need_full:
             active_idx = np.flatnonzero(U.min(axis=1) < u_active)
             n_sweeps += 1
-            sweep_scales = [np.log(sur.hyperparameters.scale) for sur in surrogates]
+            sweep_scales = [log_scales(sur) for sur in surrogates]
             need_full = False
             since_full = 0
         else:
@@ -237,8 +266,10 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
             message = "no candidate left to evaluate"
             break
         new_u = u_pop[sel]
-        Gn = np.asarray(ev.evaluate(transform.to_x(new_u)), dtype=float)
-        Gn = shift(Gn.reshape(sel.size, -1)).reshape(sel.size, m)
+        Gn = np.asarray(ev.evaluate(transform.to_x(new_u)), dtype=float).reshape(sel.size, -1)
+        if system is not None:
+            design_fit = np.vstack([design_fit, Gn - levels[0]])
+        Gn = shift(Gn).reshape(sel.size, m)
         design_u = np.vstack([design_u, new_u])
         design_g = np.vstack([design_g, Gn])
         known_idx.extend(int(i) for i in sel)
@@ -371,6 +402,7 @@ def akmcs_multi(
     refit_growth: float = 0.1,
     levels=None,
     error_abs_tol: float | None = None,
+    system: str | None = None,
 ) -> MultiReliabilityResult:
     """AK-MCS for m limit states sharing one design (e.g. one model call -> the limit state at m cycle counts).
 
@@ -385,6 +417,11 @@ def akmcs_multi(
     One Kriging serves every level (ordinary Kriging is shift-equivariant, so separate fits would agree),
     which costs one fit per iteration instead of m and gives Pf monotone in the level.
 
+    ``system="series"`` (with ``levels``): g returns the responses of a series system's J components, shape
+    (n, J), and the system's response is their minimum (it fails when its first component fails). One Kriging per
+    component, judged by the component with the smallest mean (AK-SYS, :class:`SeriesSurrogate`): the minimum's
+    kinks, where two components' responses cross, are then learnt from smooth components.
+
     ``error_abs_tol`` (with ``stopping="error"``): a level also counts as learned when its estimated absolute
     Pf error (relative ESC error x Pf) is below this, so a curve's small-Pf levels need not be resolved to a
     relative accuracy that matters nowhere on the curve.
@@ -393,4 +430,4 @@ def akmcs_multi(
                 initial_bound=initial_bound, batch_size=batch_size, u_threshold=u_threshold, cov_target=cov_target,
                 stopping=stopping, error_tol=error_tol, max_calls=max_calls, seed=seed, evaluation=evaluation,
                 pf_floor=pf_floor, kriging=kriging, refit_growth=refit_growth, levels=levels,
-                error_abs_tol=error_abs_tol, copula=copula)
+                error_abs_tol=error_abs_tol, copula=copula, system=system)

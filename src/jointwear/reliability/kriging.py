@@ -38,7 +38,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.linalg import cho_solve, solve_triangular
 
-__all__ = ["KrigingHyperparameters", "KrigingSurrogate", "ShiftedSurrogate", "blas_threads"]
+__all__ = ["KrigingHyperparameters", "KrigingSurrogate", "ShiftedSurrogate", "blas_threads", "gaussian_draws"]
 
 
 #: The large start of the relative nugget when it is estimated.
@@ -390,6 +390,12 @@ class KrigingSurrogate:
         cov *= c.sigma2 * self._ystd**2
         return cov
 
+    def posterior_draws(self, u: np.ndarray, n_draws: int, rng: np.random.Generator) -> np.ndarray:
+        """``n_draws`` joint draws of the latent response at the points ``u`` from the Gaussian process given the
+        training data (its mean and :meth:`posterior_covariance`), shape (m, n_draws)."""
+        u = np.atleast_2d(np.asarray(u, dtype=float))
+        return gaussian_draws(self.predict(u, return_variance=False)[0], self.posterior_covariance(u), n_draws, rng)
+
     @property
     def training_outputs(self) -> np.ndarray:
         """The outputs the surrogate was fitted to (a copy)."""
@@ -463,6 +469,27 @@ class KrigingSurrogate:
         mean = np.array(res.getMetaModel()(s), dtype=float).ravel()
         var = np.array(ot.GaussianProcessConditionalCovariance(res).getConditionalMarginalVariance(s)).ravel()
         return mean * self._ystd + self._ymean, var * self._ystd**2
+
+
+def gaussian_draws(mean: np.ndarray, cov: np.ndarray, n_draws: int, rng: np.random.Generator) -> np.ndarray:
+    """``n_draws`` draws of N(mean, cov), shape (m, n_draws): mean + L z with L the Cholesky factor of cov, the
+    diagonal raised by a jitter (1e-10 of its mean, up to 1e-4) where round-off leaves a smooth process's covariance
+    barely definite."""
+    mean = np.asarray(mean, dtype=float)
+    cov = np.asarray(cov, dtype=float)
+    scale = max(float(np.mean(np.diag(cov))), np.finfo(float).tiny)
+    diagonal = np.diag_indices(mean.size)
+    for jitter in (1e-10, 1e-8, 1e-6, 1e-4):
+        work = cov.copy()
+        work[diagonal] += jitter * scale
+        try:
+            chol = np.linalg.cholesky(work)
+            break
+        except np.linalg.LinAlgError:
+            continue
+    else:
+        raise np.linalg.LinAlgError("gaussian_draws: the covariance is not positive semi-definite")
+    return mean[:, None] + chol @ rng.standard_normal((mean.size, n_draws))
 
 
 class ShiftedSurrogate:

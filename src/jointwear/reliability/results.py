@@ -10,6 +10,8 @@ from typing import Any
 import numpy as np
 from scipy.special import ndtr, ndtri
 
+from .kriging import gaussian_draws
+
 __all__ = [
     "IterationRecord",
     "MultiReliabilityResult",
@@ -53,22 +55,13 @@ def posterior_failure_spread(mean: np.ndarray, cov: np.ndarray, shifts, noise_sd
     misclassified points, it keeps the correlation of the surrogate's errors between the points, which moves a
     smoothed Pf (``noise_sd`` > 0) as a whole. Returns one value per shift."""
     rng = np.random.default_rng() if rng is None else rng
-    mean = np.asarray(mean, dtype=float)
-    cov = np.asarray(cov, dtype=float)
-    scale = max(float(np.mean(np.diag(cov))), np.finfo(float).tiny)
-    diagonal = np.diag_indices(mean.size)
-    for jitter in (1e-10, 1e-8, 1e-6, 1e-4):  # round-off leaves a smooth process's covariance barely definite
-        work = cov.copy()
-        work[diagonal] += jitter * scale
-        try:
-            chol = np.linalg.cholesky(work)
-            break
-        except np.linalg.LinAlgError:
-            continue
-    else:
-        raise np.linalg.LinAlgError("posterior_failure_spread: the covariance is not positive semi-definite")
-    g = mean[:, None] + chol @ rng.standard_normal((mean.size, n_draws))
-    return np.array([failure_probability(g - shift, noise_sd).mean(axis=0).std(ddof=1) for shift in shifts])
+    return failure_spread(gaussian_draws(mean, cov, n_draws, rng), shifts, noise_sd)
+
+
+def failure_spread(draws: np.ndarray, shifts, noise_sd: float = 0.0) -> np.ndarray:
+    """Standard deviation over the columns of ``draws`` (m points, one column per posterior draw of g) of
+    Pf_k = mean_i P(g_i - shifts[k] < 0) (:func:`failure_probability`), one value per shift."""
+    return np.array([failure_probability(draws - shift, noise_sd).mean(axis=0).std(ddof=1) for shift in shifts])
 
 
 def cov_population(pf: float, cov_target: float) -> float:
@@ -231,11 +224,9 @@ class MultiReliabilityResult:
         m^2 memory), each point failing with probability Phi(-g / noise_sd) (:func:`posterior_failure_spread`)."""
         if self.levels is None:
             raise ValueError("posterior_pf_sd needs a result of akmcs_multi(levels=...)")
-        u = np.atleast_2d(np.asarray(u, dtype=float))
-        mean = self.surrogates[0].predict(u, return_variance=False)[0]
         offsets = np.array([s.offset for s in self.surrogates])
-        return posterior_failure_spread(mean, self.response_surrogate.posterior_covariance(u), offsets - offsets[0],
-                                        noise_sd, n_draws, np.random.default_rng(seed))
+        draws = self.response_surrogate.posterior_draws(u, n_draws, np.random.default_rng(seed))
+        return failure_spread(draws, offsets - offsets[0], noise_sd)
 
     def __repr__(self) -> str:
         return (

@@ -131,6 +131,17 @@ class StudyContext:
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.log(self.life(X))
 
+    def log_joint_lives(self, X: np.ndarray) -> np.ndarray:
+        """ln N_f,j(x) of every judged joint, shape (n, J); NaN for failed calls: the components of the series
+        system whose minimum is :meth:`log_life`."""
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.log(self.joint_lives(X))
+
+    @property
+    def per_joint(self) -> bool:
+        """Whether the life is learnt one Kriging per judged joint (several joints, ``reliability.surrogate``)."""
+        return len(self.limit_state.joints) > 1 and self.config.reliability.surrogate == "per_joint"
+
     def log_levels(self) -> np.ndarray:
         return np.log(np.asarray(self.cycles, dtype=float))
 
@@ -233,7 +244,8 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     rel = ctx.config.reliability
     t0 = time.perf_counter()
     engine = akmcs_multi(
-        ctx.log_life, ctx.marginals, levels=ctx.log_levels(), n_mc=rel.n_mc, n_mc_max=rel.n_mc_max,
+        ctx.log_joint_lives if ctx.per_joint else ctx.log_life, ctx.marginals, levels=ctx.log_levels(),
+        system="series" if ctx.per_joint else None, n_mc=rel.n_mc, n_mc_max=rel.n_mc_max,
         n_initial=rel.n_initial, batch_size=rel.batch_size, u_threshold=rel.u_threshold,
         cov_target=rel.cov_target, pf_floor=rel.pf_floor, max_calls=rel.max_calls, seed=rel.seed, copula=ctx.copula,
         evaluation=Evaluation(progress=progress), stopping=rel.stopping, error_tol=rel.error_tol, error_abs_tol=rel.error_abs_tol,
@@ -345,10 +357,11 @@ def implied_wear(ctx: StudyContext, engine, pop: np.ndarray, cycles) -> np.ndarr
 def _joint_breakdown(ctx: StudyContext, engine, design_x: np.ndarray, pop: np.ndarray,
                      system_reliability: np.ndarray) -> list[dict]:
     """Each judged joint's allowance and, with several joints, its own R(N) and its share of the system's
-    failures at every level, from a Kriging of its log life fitted on the final design (no learning).
+    failures at every level, from the Kriging of its log life: the learnt one of a per-joint study, else one fitted
+    on the final design (no learning).
 
-    A joint alone is at least as reliable as the series system; its own Kriging, not refined by the learning, can
-    read lower than the system's R within its error, so a joint's R is reported no lower than the system's."""
+    A joint alone is at least as reliable as the series system; a Kriging not refined by the learning can read lower
+    than the system's R within its error, so a joint's R is reported no lower than the system's."""
     limit = ctx.limit_state
     rows = [{"name": n, "allowance_mm": a * 1e3} for n, a in zip(limit.names, limit.allowances)]
     if len(limit.joints) == 1:
@@ -358,19 +371,21 @@ def _joint_breakdown(ctx: StudyContext, engine, design_x: np.ndarray, pop: np.nd
     from jointwear.reliability import KrigingSurrogate
 
     iso = ctx.iso()
-    u_design = iso.to_u(design_x)
     u_pop = iso.to_u(pop)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        log_lives = np.log(ctx.joint_lives(design_x))
-    predicted = []
-    for k in range(len(limit.joints)):
-        y = log_lives[:, k]
-        ok = np.isfinite(y)
-        sur = KrigingSurrogate(seed=ctx.config.reliability.seed + 100 + k).fit(u_design[ok], y[ok])
-        predicted.append(sur.predict(u_pop, return_variance=False)[0])
-    pred = np.column_stack(predicted)  # (n, J) ln N_f,j
-    governing = np.argmin(pred, axis=1)
     levels = ctx.log_levels()
+    if ctx.per_joint:  # the learnt components, fitted on each joint's margin at the first level
+        pred = engine.response_surrogate.component_predictions(u_pop)[0] + levels[0]
+    else:
+        u_design = iso.to_u(design_x)
+        log_lives = ctx.log_joint_lives(design_x)
+        predicted = []
+        for k in range(len(limit.joints)):
+            y = log_lives[:, k]
+            ok = np.isfinite(y)
+            sur = KrigingSurrogate(seed=ctx.config.reliability.seed + 100 + k).fit(u_design[ok], y[ok])
+            predicted.append(sur.predict(u_pop, return_variance=False)[0])
+        pred = np.column_stack(predicted)  # (n, J) ln N_f,j
+    governing = np.argmin(pred, axis=1)
     for k, row in enumerate(rows):
         fails_k = pred[:, k][:, None] < levels[None, :]
         row["reliability"] = np.maximum(1.0 - fails_k.mean(axis=0), system_reliability).tolist()

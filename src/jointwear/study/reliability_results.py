@@ -48,7 +48,10 @@ class SurrogateFit:
     mean square residual. ``noise_sd_log_life``: the call-to-call scatter of ln N_f the fit estimated (the nugget:
     reliability.noise = 'estimate'), ``process_sd_log_life`` the spread of the smooth part it explains with the
     inputs; ``relative_nugget`` their variance ratio and ``nugget_at_bound`` whether it sits at the top of the
-    range the fit may choose from (the scatter may then be larger than the fit allows).
+    range the fit may choose from (the scatter may then be larger than the fit allows). With one Kriging per judged
+    joint (``reliability.surrogate = 'per_joint'``) each design point's ln N_f and its prediction are the minimum over
+    the joints, the two standard deviations weight each joint's by its share of the design points it governs, and
+    the nugget is the largest joint's.
     """
 
     n_points: int
@@ -72,13 +75,14 @@ class SurrogateFit:
             loo, _ = surrogate.leave_one_out()
         ss_res = float(np.sum((y - loo) ** 2))
         ss_tot = float(np.sum((y - y.mean()) ** 2))
+        parts = getattr(surrogate, "components", [surrogate])  # a per-joint study's: every joint's Kriging
         return cls(n_points=int(y.size), q2=1.0 - ss_res / ss_tot if ss_tot > 0 else None,
                    rmse_log_life=math.sqrt(ss_res / y.size) if y.size else None,
                    noise_sd_log_life=math.sqrt(surrogate.noise_variance),
                    process_sd_log_life=math.sqrt(surrogate.process_variance),
-                   relative_nugget=float(surrogate.hyperparameters.nugget),
-                   nugget_at_bound=bool(surrogate.estimate_nugget
-                                        and surrogate.hyperparameters.nugget >= 0.99 * max(surrogate.nugget_grid)))
+                   relative_nugget=max(float(p.hyperparameters.nugget) for p in parts),
+                   nugget_at_bound=any(p.estimate_nugget and p.hyperparameters.nugget >= 0.99 * max(p.nugget_grid)
+                                       for p in parts))
 
     @property
     def life_scatter(self) -> float:

@@ -1,0 +1,129 @@
+"""A series system's surrogate: one Kriging per component, the system's response their minimum (AK-SYS).
+
+A series system fails when its first component fails: y(u) = min_j y_j(u). Each y_j is smooth where the system's
+response has a kink (where two components' responses cross), and one Kriging of the minimum is confidently wrong
+there. AK-SYS (Fauriat & Gayton, Reliab. Eng. Syst. Saf. 123 (2014) 137-144) keeps one Kriging per component and
+judges a point by the component with the smallest mean: the system's mean is min_j mu_j and its Kriging variance
+that component's, so Echard's U and the ESC error of AK-MCS apply unchanged. One call evaluates every component, so
+the components cost no extra call.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .kriging import KrigingSurrogate
+
+__all__ = ["SeriesSurrogate"]
+
+
+class SeriesSurrogate:
+    """Kriging of each component response of a series system; the system's response is their minimum.
+
+    ``n_components`` Krigings, each fitted on the rows where its own response is finite; ``kriging``: keyword
+    arguments of every :class:`KrigingSurrogate` (a component's seed is ``seed`` * 100 + j)."""
+
+    def __init__(self, n_components: int, seed: int | None = 0, **kriging):
+        if n_components < 1:
+            raise ValueError(f"n_components must be at least 1; got {n_components}")
+        self.components = [KrigingSurrogate(seed=None if seed is None else int(seed) * 100 + j, **kriging)
+                           for j in range(n_components)]
+        self._y: np.ndarray | None = None
+
+    def fit(self, x: np.ndarray, y: np.ndarray, *, optimize: bool = True) -> SeriesSurrogate:
+        """Fit every component to its column of ``y`` (n, J) on its finite rows; ``optimize=False`` keeps the
+        correlation lengths."""
+        x = np.atleast_2d(np.asarray(x, dtype=float))
+        y = np.asarray(y, dtype=float).reshape(x.shape[0], -1)
+        if y.shape[1] != len(self.components):
+            raise ValueError(f"SeriesSurrogate.fit: y has {y.shape[1]} columns for {len(self.components)} components")
+        for j, component in enumerate(self.components):
+            ok = np.isfinite(y[:, j])
+            if ok.sum() < 2:
+                raise ValueError(f"component {j}: fewer than 2 finite responses; cannot fit Kriging")
+            component.fit(x[ok], y[ok, j], optimize=optimize)
+        self._y = y
+        return self
+
+    def component_predictions(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Mean and Kriging variance of every component at ``u``, each of shape (m, J)."""
+        preds = [c.predict(u) for c in self.components]
+        return np.column_stack([p[0] for p in preds]), np.column_stack([p[1] for p in preds])
+
+    def predict(self, u: np.ndarray, *, return_variance: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
+        """The system's mean min_j mu_j(u) and the Kriging variance of the component that attains it (AK-SYS)."""
+        u = np.atleast_2d(np.asarray(u, dtype=float))
+        if not return_variance:
+            return np.column_stack([c.predict(u, return_variance=False)[0] for c in self.components]).min(axis=1), None
+        mean, var = self.component_predictions(u)
+        governing = np.argmin(mean, axis=1)
+        rows = np.arange(mean.shape[0])
+        return mean[rows, governing], var[rows, governing]
+
+    def __call__(self, u: np.ndarray) -> np.ndarray:
+        return self.predict(u, return_variance=False)[0]
+
+    def posterior_draws(self, u: np.ndarray, n_draws: int, rng: np.random.Generator) -> np.ndarray:
+        """Joint draws of the system's latent response at ``u``: the minimum over the components of each one's own
+        posterior draws (the components' Krigings are independent), shape (m, n_draws)."""
+        u = np.atleast_2d(np.asarray(u, dtype=float))
+        draws = self.components[0].posterior_draws(u, n_draws, rng)
+        for component in self.components[1:]:
+            np.minimum(draws, component.posterior_draws(u, n_draws, rng), out=draws)
+        return draws
+
+    # ----------------------------------------------------------- what the study's fit report reads
+    @property
+    def training_outputs(self) -> np.ndarray:
+        """The system's response min_j y_j on the rows where every component's is finite."""
+        if self._y is None:
+            raise RuntimeError("fit first")
+        return self._y[self._complete].min(axis=1)
+
+    @property
+    def _complete(self) -> np.ndarray:
+        return np.isfinite(self._y).all(axis=1)
+
+    def governing_shares(self) -> np.ndarray:
+        """Each component's share of the complete training rows where its response is the smallest."""
+        y = self._y[self._complete]
+        return np.bincount(np.argmin(y, axis=1), minlength=len(self.components)) / max(y.shape[0], 1)
+
+    def _weighted(self, values) -> float:
+        """The mean of per-component values weighted by :meth:`governing_shares`."""
+        return float(np.dot(self.governing_shares(), np.asarray(values, dtype=float)))
+
+    @property
+    def noise_variance(self) -> float:
+        """The call-to-call scatter of the system's response: each component's noise variance weighted by its
+        share of the design points it governs (the scatter of the component that fails first)."""
+        return self._weighted([c.noise_variance for c in self.components])
+
+    @property
+    def noise_sd(self) -> float:
+        return math.sqrt(max(self.noise_variance, 0.0))
+
+    @property
+    def process_variance(self) -> float:
+        """The components' process variances weighted as :attr:`noise_variance`."""
+        return self._weighted([c.process_variance for c in self.components])
+
+    def leave_one_out(self) -> tuple[np.ndarray, np.ndarray]:
+        """Leave-one-out prediction of the system's response on the complete rows: the minimum of the components'
+        own (:meth:`KrigingSurrogate.leave_one_out`), and the variance of the component that attains it."""
+        complete = self._complete
+        means, variances = [], []
+        for j, c in enumerate(self.components):
+            loo, var = c.leave_one_out()
+            rows = np.isfinite(self._y[:, j])
+            full_mean = np.full(self._y.shape[0], np.nan)
+            full_var = np.full(self._y.shape[0], np.nan)
+            full_mean[rows], full_var[rows] = loo, var
+            means.append(full_mean[complete])
+            variances.append(full_var[complete])
+        mean, var = np.column_stack(means), np.column_stack(variances)
+        governing = np.argmin(mean, axis=1)
+        rows = np.arange(mean.shape[0])
+        return mean[rows, governing], var[rows, governing]
