@@ -5,8 +5,7 @@ import pytest
 from scipy import stats
 from scipy.special import ndtr
 
-from jointwear.reliability import KrigingSurrogate, akmcs_multi, problems
-from jointwear.reliability.system import SeriesSurrogate
+from jointwear.reliability import KrigingSurrogate, SeriesSurrogate, akmcs_multi, problems
 
 
 def four_branch_components(x: np.ndarray, k: float = 6.0) -> np.ndarray:
@@ -100,3 +99,60 @@ def test_system_needs_levels_and_a_known_rule():
         akmcs_multi(four_branch_components, [stats.norm(), stats.norm()], system="series")
     with pytest.raises(ValueError, match="system must be"):
         akmcs_multi(four_branch_components, [stats.norm(), stats.norm()], levels=[0.0], system="parallel")
+
+
+def test_leave_one_out_is_the_minimum_of_each_joints_refit_without_the_point():
+    # the system's leave-one-out prediction of a design point: each component refitted without it (hyperparameters
+    # kept; Dubrule's identity, test_kriging.py), then the smallest; the first component's row 4 is lost (NaN), so
+    # that row is left out of the system's rows and of that component's fit
+    rng = np.random.default_rng(5)
+    x = rng.uniform(-2, 2, (20, 2))
+    y = np.column_stack([x[:, 0] + 0.5 * x[:, 1] ** 2, 1.0 - x[:, 1]])
+    y[4, 0] = np.nan
+    sur = SeriesSurrogate(2, seed=0).fit(x, y)
+    loo, _ = sur.leave_one_out()
+    complete = np.flatnonzero(np.isfinite(y).all(axis=1))
+    assert loo.size == complete.size == 19
+    np.testing.assert_array_equal(sur.training_outputs, y[complete].min(axis=1))
+    for k, i in enumerate(complete):
+        refits = []
+        for j, c in enumerate(sur.components):
+            keep = np.isfinite(y[:, j]) & (np.arange(20) != i)
+            refit = KrigingSurrogate(seed=0, nugget=c.hyperparameters.nugget, hyperparameters=c.hyperparameters)
+            refit.fit(x[keep], y[keep, j], optimize=False)
+            refits.append(refit.predict(x[i:i + 1], return_variance=False)[0][0])
+        assert loo[k] == pytest.approx(min(refits), abs=1e-9 * np.nanmax(np.abs(y)))
+
+
+def test_noise_of_the_system_weights_each_joints_by_the_points_it_governs():
+    rng = np.random.default_rng(8)
+    x = rng.uniform(-3, 3, (120, 1))
+    # component 0 governs where x < 0 (noise 0.1), component 1 where x > 0 (noise 0.3)
+    y = np.column_stack([x[:, 0] + 0.1 * rng.standard_normal(120), -x[:, 0] + 0.3 * rng.standard_normal(120)])
+    sur = SeriesSurrogate(2, seed=0, estimate_nugget=True).fit(x, y)
+    w = sur.governing_shares()
+    assert w.sum() == pytest.approx(1.0)
+    assert w[0] == pytest.approx(np.mean(y[:, 0] < y[:, 1]))
+    expected = w[0] * sur.components[0].noise_variance + w[1] * sur.components[1].noise_variance
+    assert sur.noise_variance == pytest.approx(expected, rel=1e-12)
+    # each component's estimate is its own noise (4 standard errors of an SD from 120 residuals: 0.26 relative)
+    assert sur.components[0].noise_sd == pytest.approx(0.1, rel=0.26)
+    assert sur.components[1].noise_sd == pytest.approx(0.3, rel=0.26)
+
+
+def test_a_system_governed_everywhere_by_one_component_learns_as_that_component_alone():
+    # the second component exceeds the first by far over the whole +-5 sigma design box: the series system is its
+    # first component, and its Kriging (same seed as akmcs_multi's single one) makes the same choices to the bit
+    def g(x):  # a rough first component (a noise-like term, its nugget estimated): the multistart's seed matters
+        first = x[:, 0] + 0.5 * np.sin(3 * x[:, 1]) + 2.5 + 0.1 * np.sin(37 * x[:, 0] * x[:, 1])
+        return np.column_stack([first, 100.0 + x[:, 0]])
+
+    marginals = [stats.norm(), stats.norm()]
+    kwargs = dict(levels=[-0.5, 0.0, 0.5], seed=3, n_mc=20_000, pf_floor=0.0, max_calls=40,
+                  kriging={"estimate_nugget": True})
+    series = akmcs_multi(g, marginals, system="series", **kwargs)
+    alone = akmcs_multi(lambda x: g(x)[:, 0], marginals, **kwargs)
+    assert series.n_calls == alone.n_calls
+    np.testing.assert_array_equal(series.design_u, alone.design_u)
+    np.testing.assert_array_equal(series.pf, alone.pf)
+    np.testing.assert_array_equal(series.error_absolute, alone.error_absolute)

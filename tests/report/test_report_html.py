@@ -474,17 +474,26 @@ def test_the_life_is_shown_with_its_interval(tmp_path, nominal):
     assert f"{low5:,.0f} \u2013 {high5:,.0f}" in page  # the life table's column
 
 
-def test_a_series_system_is_told_that_its_interval_may_be_too_narrow(tmp_path, nominal):
-    d = make_fixture_dir(tmp_path / "s", nominal, which=("reliability",))
+def two_joint_result(folder, nominal):
+    """The fixture's reliability result as a series system of joints A and E, which govern 70 and 30 % of the
+    failures at every level."""
+    d = make_fixture_dir(folder, nominal, which=("reliability",))
     rel = ReliabilityResult.load(d)
     n = len(rel.cycles)
     rel.joints = [
         {"name": "A", "allowance_mm": 0.03, "reliability": list(rel.reliability), "governing_share": [0.7] * n},
         {"name": "E", "allowance_mm": 0.03, "reliability": [1.0] * n, "governing_share": [0.3] * n}]
+    return d, rel
+
+
+def test_a_series_system_is_told_that_its_interval_may_be_too_narrow(tmp_path, nominal):
+    d, rel = two_joint_result(tmp_path / "s", nominal)
+    n = len(rel.cycles)
     rel.save(d, figures=False)
     page = build_report(d).read_text(encoding="utf-8")
     assert "Series system of 2 joints" in page and "<b>A</b>" in page
     assert "held the exact life in 13 of 20 runs" in page and "<code>jointwear validate</code>" in page
+    assert rel.life_surrogate == "system_life"  # a result written before the choice: one Kriging of the life
     # and the summary says so beside the headline life, naming the shares
     assert ("<strong>A series system</strong></a>: the failures at the life are shared between judged joints "
             "(A 70 %, E 30 %)") in page
@@ -492,6 +501,17 @@ def test_a_series_system_is_told_that_its_interval_may_be_too_narrow(tmp_path, n
     rel.joints[0]["governing_share"], rel.joints[1]["governing_share"] = [0.95] * n, [0.05] * n
     assert rel.series_sentence() == ""
     assert rel.governing_shares() == {"A": 0.95, "E": 0.05} and rel.governing_joint == "A"
+
+
+def test_a_series_system_learnt_per_joint_carries_no_kink_caveat(tmp_path, nominal):
+    d, rel = two_joint_result(tmp_path / "p", nominal)
+    rel.life_surrogate = "per_joint"
+    assert rel.series_sentence() == ""
+    rel.save(d, figures=False)
+    assert ReliabilityResult.load(d).life_surrogate == "per_joint"
+    page = build_report(d).read_text(encoding="utf-8")
+    assert "learnt one Kriging per joint" in page and "held the exact life in 20 of 20 runs at R = 0.9" in page
+    assert "are shared between judged joints" not in page
 
 
 def test_the_summary_carries_the_caveats_of_the_sections_below(tmp_path, nominal):

@@ -151,20 +151,24 @@ def assert_series_pf_matches_brute_force(res, x):
     return pf_ref
 
 
-def test_series_system_reliability_against_brute_force():
+@pytest.mark.parametrize("surrogate", ["per_joint", "system_life"])
+def test_series_system_reliability_against_brute_force(surrogate):
     cfg = config_from_dict(_six_bar({"n_mc": 50_000, "noise": "none", "error_abs_tol": 0.002, "max_calls": 60,
-                                     "target_reliability": [0.9, 0.5]}))
+                                     "target_reliability": [0.9, 0.5], "surrogate": surrogate}))
     ctx = study_context(cfg, lambda call: compute.Evaluator(TwoJointWear(call.cycles), None, None,
                                                             n_outputs=call.n_outputs))
     res = run_reliability(ctx)
     pf_ref = assert_series_pf_matches_brute_force(res, population(ctx.marginals, 1_000_000, seed=3))
     assert [row["target"] for row in res.life_table] == [0.9, 0.5]
-    # Each life has its interval. It need not hold the brute-force life here: on this kinked limit state (the
-    # min of two joints' lives) the learning stops after 12 calls with a Kriging variance too small near the
-    # kink, and the brute-force life lies ~1.5 half-widths away (docs/reliability.md, "How far to trust the life")
     for row in res.life_table:
         assert row["cycles_low"] < row["cycles"] < row["cycles_high"]
-    assert life_at(res.cycles, 1.0 - pf_ref, 0.9) > 0
+        truth = life_at(res.cycles, 1.0 - pf_ref, row["target"])
+        if surrogate == "per_joint":
+            # each joint's log life is linear in its input: the interval holds the brute-force life (20 and 18 of 20
+            # seeds at R = 0.9 and 0.5 in benchmarks/results/life_interval.json; this seed's holds at both). One
+            # Kriging of the system's life need not:
+            # near the kink of min(N_A, N_E) it stops after ~14 calls with a variance too small (13 and 8 of 20)
+            assert row["cycles_low"] <= truth <= row["cycles_high"], (row, truth)
     # joint A wears faster at the mean point, so it governs most failures at the headline life
     assert res.governing_joint == "A"
     assert [j["name"] for j in res.joints] == ["A", "E"]

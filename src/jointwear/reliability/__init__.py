@@ -30,6 +30,7 @@ from .results import (
     population_size,
     posterior_failure_spread,
 )
+from .system import SeriesSurrogate
 
 __all__ = [
     "Evaluation",
@@ -40,6 +41,7 @@ __all__ = [
     "Marginal",
     "MultiReliabilityResult",
     "ReliabilityResult",
+    "SeriesSurrogate",
     "ShiftedSurrogate",
     "akis",
     "akmcs",

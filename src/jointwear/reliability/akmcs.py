@@ -6,7 +6,8 @@ Algorithm (standard-normal space u, x = T(u)):
 2. Initial design: ``n_initial`` Latin hypercube points, uniform in [-b, b]^d with b = ``initial_bound`` = 5
    (for normal inputs exactly the paper's [mu - 5 sigma, mu + 5 sigma]; for other marginals the same
    probability content), evaluated with the model.
-3. Fit one ordinary Kriging per limit state (constant trend, Gaussian correlation; :mod:`.kriging`).
+3. Fit one ordinary Kriging per limit state (constant trend, Gaussian correlation; :mod:`.kriging`); for a
+   series system one per component, the system judged by its weakest (AK-SYS, :mod:`.system`).
 4. Predict mean mu and standard deviation s on the population; U = |mu| / s; Pf = share of candidates with
    mu < 0 (evaluated candidates use their true value; a failed call counts as failure).
 5. Learning stop (``stopping``):

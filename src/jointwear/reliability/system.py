@@ -23,12 +23,14 @@ class SeriesSurrogate:
     """Kriging of each component response of a series system; the system's response is their minimum.
 
     ``n_components`` Krigings, each fitted on the rows where its own response is finite; ``kriging``: keyword
-    arguments of every :class:`KrigingSurrogate` (a component's seed is ``seed`` * 100 + j)."""
+    arguments of every :class:`KrigingSurrogate`. Component j's seed is ``seed`` * 1000 + j, that of column j of
+    ``akmcs_multi``: where one component governs at every design point, its Kriging is the one a single Kriging of
+    the system's response would be."""
 
     def __init__(self, n_components: int, seed: int | None = 0, **kriging):
         if n_components < 1:
             raise ValueError(f"n_components must be at least 1; got {n_components}")
-        self.components = [KrigingSurrogate(seed=None if seed is None else int(seed) * 100 + j, **kriging)
+        self.components = [KrigingSurrogate(seed=None if seed is None else int(seed) * 1000 + j, **kriging)
                            for j in range(n_components)]
         self._y: np.ndarray | None = None
 

@@ -330,7 +330,8 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         # 12 digits: the rpm entered comes back through rad/s as 399.99999999999994
         crank_speed_rpm=float(f"{abs(float(ctx.config.mechanism.crank_speed)) * 60 / (2 * math.pi):.12g}"),
         engine=engine, infeasible=infeasible, learning_stop="" if engine.converged else str(engine.message),
-        surrogate_fit=SurrogateFit.of(engine.response_surrogate))
+        surrogate_fit=SurrogateFit.of(engine.response_surrogate),
+        life_surrogate="per_joint" if ctx.per_joint else "system_life")
 
 
 def implied_wear(ctx: StudyContext, engine, pop: np.ndarray, cycles) -> np.ndarray:

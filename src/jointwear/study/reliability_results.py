@@ -140,7 +140,9 @@ class ReliabilityResult(StageResult):
     which side ('in_curve', 'beyond_curve': longer than the curve, 'before_curve': shorter than its first level);
     ``cycles_low`` / ``cycles_high`` bound its 95 % interval (:meth:`life_interval`; None on a side outside the
     curve). ``joints``: each judged joint's allowance and, with several, its own R(N) and its share of the
-    system's failures (``governing_share``).
+    system's failures (``governing_share``). ``life_surrogate``: how the life was learnt, 'per_joint' (one Kriging
+    per judged joint, several joints) or 'system_life' (one Kriging of the mechanism's log life; results written
+    before the choice existed read as that).
 
     Units: ``design_x`` are the true-model inputs in SI (columns in the order of ``names``, units in ``units``: a
     hardness in Pa, "" for a plain number),
@@ -185,6 +187,7 @@ class ReliabilityResult(StageResult):
     learning_stop: str = ""
     surrogate_fit: SurrogateFit | None = None
     pf_error_esc: np.ndarray | None = None
+    life_surrogate: str = "system_life"
     provenance: dict = field(default_factory=provenance)
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
     engine: Any = field(repr=False, default=None, metadata={"json": False})
@@ -274,8 +277,9 @@ class ReliabilityResult(StageResult):
     def series_sentence(self) -> str:
         """With several judged joints sharing the failures at the life (a second one governs at least
         :attr:`SERIES_SHARE` of them): the system's life min_j N_f,j has a kink where their lives cross, where the
-        surrogate can be confidently wrong and its interval too narrow (docs/study.md). Empty otherwise."""
-        if len(self.joints) < 2:
+        surrogate can be confidently wrong and its interval too narrow (docs/study.md). Empty otherwise, and when the
+        life was learnt one Kriging per joint, each smooth across the kink."""
+        if len(self.joints) < 2 or self.life_surrogate == "per_joint":
             return ""
         shares = sorted(self.governing_shares().items(), key=lambda kv: -kv[1])
         if shares[1][1] < self.SERIES_SHARE:
@@ -308,6 +312,7 @@ class ReliabilityResult(StageResult):
             "n_mc": self.n_mc,
             "converged": self.converged,
             "learning_stop": self.learning_stop,
+            "life_surrogate": self.life_surrogate,
             "surrogate_fit": None if self.surrogate_fit is None else self.surrogate_fit.to_json(),
             "wall_seconds": self.wall_seconds,
             "variables": self.names,
@@ -355,6 +360,7 @@ class ReliabilityResult(StageResult):
             joints=data.get("joints", []), crank_speed_rpm=data.get("crank_speed_rpm"),
             infeasible=data.get("infeasible", {}), learning_stop=data.get("learning_stop", ""),
             surrogate_fit=SurrogateFit.from_json(data.get("surrogate_fit")), provenance=data.get("provenance", {}),
+            life_surrogate=data.get("life_surrogate", "system_life"),
             extra={k: v for k, v in data.items() if k not in _RELIABILITY_KEYS})
 
     def tables(self) -> dict[str, dict[str, Any]]:
@@ -416,7 +422,7 @@ class ReliabilityResult(StageResult):
 _RELIABILITY_KEYS = frozenset({
     "curve", "life_at_target", "life_table", "quantity", "joints", "governing_joint", "allowance_mm",
     "crank_speed_rpm", "model_calls", "failed_calls", "n_mc", "converged", "learning_stop", "surrogate_fit",
-    "wall_seconds",
+    "wall_seconds", "life_surrogate",
     "variables", "variable_units", "histograms", "mean_max_wear_mm", "convergence", "design", "infeasible",
     "provenance"})
 

@@ -32,14 +32,22 @@ def clopper_pearson(k: int, n: int, level: float = 0.95) -> tuple[float, float]:
 
 def leave_one_out(ctx: StudyContext, design_x: np.ndarray, seed: int) -> dict:
     """Leave-one-out predictions of ln N_f at the design points, from a Kriging fitted to all of them (its
-    hyperparameters kept: :meth:`~jointwear.reliability.KrigingSurrogate.leave_one_out`), with the fit's Q^2."""
-    from jointwear.reliability import KrigingSurrogate
+    hyperparameters kept: :meth:`~jointwear.reliability.KrigingSurrogate.leave_one_out`), with the fit's Q^2; one
+    Kriging per judged joint when the study learns them so (the smallest joint's prediction)."""
+    from jointwear.reliability import KrigingSurrogate, SeriesSurrogate
 
     u = ctx.iso().to_u(design_x)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        y = np.log(ctx.life(design_x))
-    ok = np.isfinite(y)
-    full = KrigingSurrogate(seed=seed, estimate_nugget=ctx.config.reliability.noise == "estimate").fit(u[ok], y[ok])
+    estimate_nugget = ctx.config.reliability.noise == "estimate"
+    if ctx.per_joint:
+        lives = ctx.log_joint_lives(design_x)
+        ok = np.isfinite(lives).all(axis=1)
+        y = lives.min(axis=1)
+        full = SeriesSurrogate(lives.shape[1], seed=seed, estimate_nugget=estimate_nugget).fit(u, lives)
+    else:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            y = np.log(ctx.life(design_x))
+        ok = np.isfinite(y)
+        full = KrigingSurrogate(seed=seed, estimate_nugget=estimate_nugget).fit(u[ok], y[ok])
     pred, var = full.leave_one_out()
     fit = SurrogateFit.of(full, loo=pred)
     return {"log_life_true": y[ok].tolist(), "log_life_loo": pred.tolist(), "log_life_loo_sd": np.sqrt(var).tolist(),
