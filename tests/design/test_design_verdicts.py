@@ -34,6 +34,7 @@ class _Surrogate:
     """Every point predicted far above the target with a tiny variance; ``share`` of them outside the design."""
 
     scatter_sd = 0.0
+    per_joint = False
 
     def __init__(self, share):
         self.share = share

@@ -6,6 +6,7 @@ from scipy import stats
 from scipy.special import ndtr
 
 from jointwear.reliability import KrigingSurrogate, SeriesSurrogate, akmcs_multi, problems
+from jointwear.reliability.system import series_failure_probability
 
 
 def four_branch_components(x: np.ndarray, k: float = 6.0) -> np.ndarray:
@@ -156,3 +157,55 @@ def test_a_system_governed_everywhere_by_one_component_learns_as_that_component_
     np.testing.assert_array_equal(series.design_u, alone.design_u)
     np.testing.assert_array_equal(series.pf, alone.pf)
     np.testing.assert_array_equal(series.error_absolute, alone.error_absolute)
+
+
+def test_series_failure_probability_is_that_of_independent_scatters():
+    # margins g_j with independent scatters: the product formula against the minimum sampled directly (1e6 draws,
+    # 4 standard errors); a component without scatter fails exactly where its margin is negative
+    g = np.array([0.1, 0.2, 0.05])
+    tau = np.array([0.3, 0.05, 0.0])
+    p = float(series_failure_probability([g[0], g[1], g[2]], tau))
+    assert p == pytest.approx(1.0 - ndtr(0.1 / 0.3) * ndtr(0.2 / 0.05))
+    e = np.random.default_rng(0).standard_normal((1_000_000, 3)) * tau
+    sampled = np.mean((g + e).min(axis=1) < 0)
+    assert p == pytest.approx(sampled, abs=4 * np.sqrt(p * (1 - p) / 1e6))
+    assert float(series_failure_probability([np.array(-0.01), np.array(5.0)], [0.0, 0.3])) == 1.0
+    assert float(series_failure_probability([np.array(np.nan), np.array(5.0)], [0.1, 0.1])) == 1.0
+
+
+def test_a_noisy_series_systems_pf_takes_each_components_own_scatter():
+    # y_A = 3 + u1 + N(0, 0.3^2), y_B = 3 - 0.8 u2 + 0.4 u1 + N(0, 0.03^2): the exact Pf of min(y_A, y_B) < t by
+    # brute force (1e6 draws of u and of both scatters) within the curve's 95 % band (Monte Carlo plus the
+    # surrogate's error, the larger of ESC's and its posterior spread's). Each component's noise estimate is its
+    # own scatter. With the scatter left out (the indicator of the mean), the level t = 1.5 falls outside the band.
+    tau = np.array([0.3, 0.03])
+    rng = np.random.default_rng(0)
+
+    def g(x):
+        return (np.column_stack([3.0 + x[:, 0], 3.0 - 0.8 * x[:, 1] + 0.4 * x[:, 0]])
+                + rng.standard_normal((x.shape[0], 2)) * tau)
+
+    levels = np.array([0.5, 1.0, 1.5])
+    z = np.random.default_rng(99).standard_normal((1_000_000, 4))
+    y = np.column_stack([3.0 + z[:, 0], 3.0 - 0.8 * z[:, 1] + 0.4 * z[:, 0]]) + z[:, 2:] * tau
+    exact = np.array([np.mean(y.min(axis=1) < t) for t in levels])
+    res = akmcs_multi(g, [stats.norm(), stats.norm()], levels=levels, system="series", seed=0, n_mc=50_000,
+                      pf_floor=0.0, max_calls=60, kriging={"estimate_nugget": True})
+    sur = res.response_surrogate
+    # 60 noisy points: the noise SD within ~30 % (4 standard errors of an SD from ~60 residuals is 37 %)
+    np.testing.assert_allclose(sur.scatter_sds, tau, rtol=0.37)
+
+    def draw(m, start):
+        return np.random.default_rng(1000 + start).standard_normal((m, 2))
+
+    pf, cov = res.estimate_on(draw, 200_000, noise_sd=res.noise_sd)
+    spread = res.posterior_pf_sd(draw(3000, 5), res.noise_sd, 400, 3)
+    band = 1.96 * cov * pf + np.fmax(res.error_absolute, 1.96 * spread)
+    assert np.all(np.abs(pf - exact) <= band), (pf, exact, band)
+    mean_only = res.failure_probabilities(draw(200_000, 0), 0.0).mean(axis=0)
+    assert abs(mean_only[2] - exact[2]) > band[2], (mean_only, exact, band)
+    # the noisy response drawn point by point fails as often as the product formula says
+    u = draw(200_000, 0)
+    drawn = sur.response_draws(u, np.random.default_rng(4).standard_normal((u.shape[0], 2)))
+    formula = sur.failure_probability(u, [1.0])[:, 0].mean()
+    assert np.mean(drawn < 1.0) == pytest.approx(formula, abs=4 * np.sqrt(formula * (1 - formula) / u.shape[0]))

@@ -31,7 +31,14 @@ from scipy import stats
 from jointwear.design.candidates import Candidate, Control, build_controls, enumerate_candidates
 from jointwear.design.results import DesignResult, verification_verdict
 from jointwear.design.settings import DesignSettings
-from jointwear.reliability import IsoTransform, KrigingSurrogate, akmcs_multi, esc_absolute_error, failure_probability
+from jointwear.reliability import (
+    IsoTransform,
+    KrigingSurrogate,
+    SeriesSurrogate,
+    akmcs_multi,
+    esc_absolute_error,
+    failure_probability,
+)
 from jointwear.study.limit_state import life_at
 from jointwear.study.reliability import POSTERIOR_POINTS, StudyContext, life_scatter_sd, surrogate_pf_error
 
@@ -61,7 +68,8 @@ def monte_carlo_half_width(k: float, n: int) -> float:
 
 
 class LifeSurrogate:
-    """Kriging of ln N_f(x) on the true-model design, in the study's standard-normal space."""
+    """Kriging of ln N_f(x) on the true-model design, in the study's standard-normal space; one per judged joint
+    when the study learns its life so (:class:`~jointwear.reliability.SeriesSurrogate`)."""
 
     def __init__(self, ctx: StudyContext, design_x: np.ndarray, seed: int):
         self.ctx = ctx
@@ -73,11 +81,22 @@ class LifeSurrogate:
 
     def fit(self) -> None:
         u = self.iso.to_u(self.x)
-        y = self.ctx.log_life(self.x)
+        lives = self.ctx.log_joint_lives(self.x)
+        with np.errstate(invalid="ignore"):
+            y = lives.min(axis=1)
         ok = np.isfinite(y) & np.all(np.isfinite(u), axis=1)
         self.u_design = u[ok]
         self.lo, self.hi = self.u_design.min(axis=0), self.u_design.max(axis=0)
-        self.model = KrigingSurrogate(seed=self.seed, estimate_nugget=self.estimate_nugget).fit(u[ok], y[ok])
+        if self.per_joint:
+            self.model = SeriesSurrogate(lives.shape[1], seed=self.seed, estimate_nugget=self.estimate_nugget).fit(
+                u[ok], lives[ok])
+        else:
+            self.model = KrigingSurrogate(seed=self.seed, estimate_nugget=self.estimate_nugget).fit(u[ok], y[ok])
+
+    @property
+    def per_joint(self) -> bool:
+        """Whether the life is learnt one Kriging per judged joint (as the study learns it)."""
+        return self.ctx.per_joint
 
     def add(self, x_new: np.ndarray) -> None:
         self.x = np.vstack([self.x, np.atleast_2d(x_new)])
@@ -108,10 +127,22 @@ class CandidateSpace:
         self.z = np.random.default_rng(seed).standard_normal((n, len(self.names)))
         # each row's draw of the life's call-to-call scatter (common to every candidate, as z is)
         self.scatter = np.random.default_rng(seed + 1).standard_normal(n)
+        self._seed = seed
+        self._scatter_joints: np.ndarray | None = None
         self.base_iso = IsoTransform(ctx.marginals)
         self.base_x = self.base_iso.to_x(self.z)
         self.base_u = self.z
         self._cols: dict = {}
+
+    def scatter_draws(self, n_joints: int) -> np.ndarray:
+        """Each row's draws of every judged joint's scatter, shape (n, n_joints): the first joint's is
+        :attr:`scatter`, so that one joint draws as before (common to every candidate)."""
+        if n_joints == 1:
+            return self.scatter[:, None]
+        if self._scatter_joints is None or self._scatter_joints.shape[1] != n_joints - 1:
+            self._scatter_joints = np.random.default_rng(self._seed + 2).standard_normal(
+                (self.scatter.size, n_joints - 1))
+        return np.column_stack([self.scatter, self._scatter_joints])
 
     def _column(self, k: int, j: int, var: str):
         key = (k, j, var)
@@ -151,7 +182,12 @@ def estimate(space: CandidateSpace, sur: LifeSurrogate, cand: Candidate, log_tar
     g = mu - log_target
     scatter = sur.scatter_sd
     # surviving samples; with the life's scatter, their expected number (a mean of probabilities)
-    k = int(np.count_nonzero(g > 0)) if scatter == 0 else float(n - failure_probability(g, scatter).sum())
+    if scatter == 0:
+        k = int(np.count_nonzero(g > 0))
+    elif sur.per_joint:  # each joint with its own scatter
+        k = float(n - sur.model.failure_probability(u, [log_target]).sum())
+    else:
+        k = float(n - failure_probability(g, scatter).sum())
     r_feasible = k / n
     # 'fail' rule: an infeasible clearance is a failure at every N (the learning runs on the feasible part)
     reliability = (1.0 - p_inf) * r_feasible
@@ -162,7 +198,12 @@ def estimate(space: CandidateSpace, sur: LifeSurrogate, cand: Candidate, log_tar
     # with a variance that need not say so (a far PTFE option read R = 1.0000 +/- 0.0000, its own study 0.9 at 1.8x)
     error = min(sur_err + mc_err + (1.0 - p_inf) * outside, 1.0)  # R is a probability: no error exceeds 1
     level = 1.0 - reliability_target / (1.0 - p_inf)
-    log_life = mu if scatter == 0 else mu + scatter * space.scatter
+    if scatter == 0:
+        log_life = mu
+    elif sur.per_joint:
+        log_life = sur.model.response_draws(u, space.scatter_draws(len(sur.model.components)))
+    else:
+        log_life = mu + scatter * space.scatter
     life = float(np.exp(np.quantile(log_life, level))) if 0.0 < level < 1.0 else None
     return Estimate(reliability, error, sur_err, life, outside)
 
@@ -383,7 +424,8 @@ def _cheapest_meeting(est: dict, order: list[int], k: int, reliability: float) -
 def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: CandidateSpace, target: dict,
            max_calls: int, seed: int, stopping: str = "u") -> tuple[dict, np.ndarray]:
     """The chosen design's own reliability study at N*: AK-MCS on the true model (through the study's evaluator
-    and store) with the candidate's input distributions and the study's reliability settings. Returns the
+    and store) with the candidate's input distributions and the study's reliability settings (one Kriging per judged
+    joint when the study learns its life so). Returns the
     verdict and the study's design points (true-model inputs).
 
     Its initial design has at least 2 d + 2 points (the engine's default, Echard et al. 2011) even where the
@@ -395,7 +437,8 @@ def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: C
     before, made_before = ctx.n_evaluated, ctx.n_model_calls
     n_initial = min(max(rel.n_initial, 2 * len(marginals) + 2), max_calls)
     eng = akmcs_multi(
-        ctx.log_life, marginals, levels=np.array([target["log_life"]]), n_mc=rel.n_mc, n_mc_max=rel.n_mc_max,
+        ctx.log_joint_lives if ctx.per_joint else ctx.log_life, marginals, levels=np.array([target["log_life"]]),
+        system="series" if ctx.per_joint else None, n_mc=rel.n_mc, n_mc_max=rel.n_mc_max,
         n_initial=n_initial, batch_size=rel.batch_size, u_threshold=rel.u_threshold,
         cov_target=rel.cov_target, pf_floor=rel.pf_floor, max_calls=max_calls,
         seed=rel.seed + 17 + seed, stopping=stopping, error_tol=rel.error_tol,

@@ -11,6 +11,7 @@ import numpy as np
 from scipy.special import ndtr, ndtri
 
 from .kriging import gaussian_draws
+from .system import series_failure_probability
 
 __all__ = [
     "IterationRecord",
@@ -193,6 +194,21 @@ class MultiReliabilityResult:
             return 0.0
         return self.response_surrogate.noise_sd
 
+    def failure_probabilities(self, u: np.ndarray, noise_sd: float = 0.0) -> np.ndarray:
+        """Each point's probability of failure at every column, shape (n, m): the surrogates' mean plus a Gaussian
+        scatter of standard deviation ``noise_sd`` (:func:`failure_probability`; the indicator of mu < 0 for 0). A
+        series system's surrogate (``system="series"``) takes each component's own scatter instead when
+        ``noise_sd`` > 0 (:meth:`SeriesSurrogate.failure_probability`)."""
+        if noise_sd > 0 and self.levels is not None and hasattr(self.response_surrogate, "failure_probability"):
+            return self.response_surrogate.failure_probability(u, self._level_shifts())
+        return failure_probability(self.predict(u), noise_sd)
+
+    def _level_shifts(self) -> np.ndarray:
+        """Each level's threshold on the response the shared Kriging of ``levels=`` is fitted to (the first
+        level's margin)."""
+        offsets = np.array([s.offset for s in self.surrogates])
+        return offsets - offsets[0]
+
     def estimate_on(self, draw_u: Callable[[int, int], np.ndarray], n: int, chunk: int = 200_000,
                     noise_sd: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
         """Pf and its Monte Carlo COV of every column on a new population of ``n`` points, classified by the
@@ -200,13 +216,13 @@ class MultiReliabilityResult:
         its call budget. ``draw_u(m, start)`` returns rows ``start .. start + m`` of the population (u space),
         drawn ``chunk`` rows at a time to bound the memory. With ``noise_sd`` > 0 each point fails with
         probability Phi(-g / noise_sd) (:func:`failure_probability`: the response's scatter is part of the
-        model) and the COV is that of the mean of those probabilities."""
+        model; :meth:`failure_probabilities`) and the COV is that of the mean of those probabilities."""
         total = np.zeros(len(self.surrogates))
         total_sq = np.zeros(len(self.surrogates))
         done = 0
         while done < n:
             m = min(chunk, n - done)
-            p = failure_probability(self.predict(draw_u(m, done)), noise_sd)
+            p = self.failure_probabilities(draw_u(m, done), noise_sd)
             total += p.sum(axis=0)
             total_sq += (p * p).sum(axis=0)
             done += m
@@ -221,12 +237,17 @@ class MultiReliabilityResult:
     def posterior_pf_sd(self, u: np.ndarray, noise_sd: float = 0.0, n_draws: int = 400, seed: int = 0) -> np.ndarray:
         """The Kriging's own uncertainty of every column's Pf: its standard deviation over the posterior of the
         shared Kriging of ``akmcs_multi(levels=...)`` at the points ``u`` (a sample of the population, m points:
-        m^2 memory), each point failing with probability Phi(-g / noise_sd) (:func:`posterior_failure_spread`)."""
+        m^2 memory), each point failing with probability Phi(-g / noise_sd) (:func:`posterior_failure_spread`); a
+        series system's, from its components' draws, each with its own scatter when ``noise_sd`` > 0."""
         if self.levels is None:
             raise ValueError("posterior_pf_sd needs a result of akmcs_multi(levels=...)")
-        offsets = np.array([s.offset for s in self.surrogates])
-        draws = self.response_surrogate.posterior_draws(u, n_draws, np.random.default_rng(seed))
-        return failure_spread(draws, offsets - offsets[0], noise_sd)
+        shifts = self._level_shifts()
+        sur, rng = self.response_surrogate, np.random.default_rng(seed)
+        if noise_sd > 0 and hasattr(sur, "failure_probability"):  # a series system: each component's own scatter
+            draws = sur.posterior_component_draws(u, n_draws, rng)
+            return np.array([series_failure_probability(draws - shift, sur.scatter_sds).mean(axis=0).std(ddof=1)
+                             for shift in shifts])
+        return failure_spread(sur.posterior_draws(u, n_draws, rng), shifts, noise_sd)
 
     def __repr__(self) -> str:
         return (

@@ -13,10 +13,23 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy.special import ndtr
 
 from .kriging import KrigingSurrogate
 
-__all__ = ["SeriesSurrogate"]
+__all__ = ["SeriesSurrogate", "series_failure_probability"]
+
+
+def series_failure_probability(margins, scatter_sds) -> np.ndarray:
+    """P(min_j (g_j + e_j) < 0) = 1 - prod_j Phi(g_j / tau_j) for components' margins ``margins[j]`` (any shape,
+    one array per component) and independent scatters e_j ~ N(0, tau_j^2); a component with tau_j = 0 survives
+    exactly where g_j >= 0, and a NaN margin is a failure."""
+    survive = 1.0
+    for g, tau in zip(margins, scatter_sds):
+        g = np.asarray(g, dtype=float)
+        p = ndtr(g / tau) if tau > 0 else (g >= 0).astype(float)
+        survive = survive * np.where(np.isnan(g), 0.0, p)
+    return 1.0 - survive
 
 
 class SeriesSurrogate:
@@ -49,10 +62,11 @@ class SeriesSurrogate:
         self._y = y
         return self
 
-    def component_predictions(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Mean and Kriging variance of every component at ``u``, each of shape (m, J)."""
-        preds = [c.predict(u) for c in self.components]
-        return np.column_stack([p[0] for p in preds]), np.column_stack([p[1] for p in preds])
+    def component_predictions(self, u: np.ndarray, *, variance: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
+        """Mean and Kriging variance (None with ``variance=False``) of every component at ``u``, each (m, J)."""
+        preds = [c.predict(u, return_variance=variance) for c in self.components]
+        return (np.column_stack([p[0] for p in preds]),
+                np.column_stack([p[1] for p in preds]) if variance else None)
 
     def predict(self, u: np.ndarray, *, return_variance: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
         """The system's mean min_j mu_j(u) and the Kriging variance of the component that attains it (AK-SYS)."""
@@ -67,14 +81,37 @@ class SeriesSurrogate:
     def __call__(self, u: np.ndarray) -> np.ndarray:
         return self.predict(u, return_variance=False)[0]
 
-    def posterior_draws(self, u: np.ndarray, n_draws: int, rng: np.random.Generator) -> np.ndarray:
-        """Joint draws of the system's latent response at ``u``: the minimum over the components of each one's own
-        posterior draws (the components' Krigings are independent), shape (m, n_draws)."""
+    def posterior_component_draws(self, u: np.ndarray, n_draws: int, rng: np.random.Generator) -> np.ndarray:
+        """Joint draws of every component's latent response at ``u`` from its own posterior (the components'
+        Krigings are independent), shape (J, m, n_draws)."""
         u = np.atleast_2d(np.asarray(u, dtype=float))
-        draws = self.components[0].posterior_draws(u, n_draws, rng)
-        for component in self.components[1:]:
-            np.minimum(draws, component.posterior_draws(u, n_draws, rng), out=draws)
-        return draws
+        return np.stack([c.posterior_draws(u, n_draws, rng) for c in self.components])
+
+    def posterior_draws(self, u: np.ndarray, n_draws: int, rng: np.random.Generator) -> np.ndarray:
+        """Joint draws of the system's latent response at ``u``: the minimum over the components of their
+        :meth:`posterior_component_draws`, shape (m, n_draws)."""
+        return self.posterior_component_draws(u, n_draws, rng).min(axis=0)
+
+    # ----------------------------------------------------------- a noisy model: each component's own scatter
+    @property
+    def scatter_sds(self) -> np.ndarray:
+        """Each component's call-to-call scatter: its Kriging's noise standard deviation."""
+        return np.array([c.noise_sd for c in self.components])
+
+    def failure_probability(self, u: np.ndarray, thresholds) -> np.ndarray:
+        """P(min_j (y_j(u) + e_j) < t_k) at every point and threshold, shape (n, K): each component's mean plus its
+        own scatter e_j (:attr:`scatter_sds`), independent from component to component
+        (:func:`series_failure_probability`). A single scatter for the system would be wrong where the components
+        scatter differently, and where two of them lie near a threshold together (each may fail)."""
+        mean = self.component_predictions(u, variance=False)[0]
+        t = np.asarray(thresholds, dtype=float).reshape(1, -1)
+        return series_failure_probability([mean[:, j:j + 1] - t for j in range(mean.shape[1])], self.scatter_sds)
+
+    def response_draws(self, u: np.ndarray, z: np.ndarray) -> np.ndarray:
+        """One draw of the system's noisy response per point: min_j (mu_j(u) + tau_j z_j) for standard normal
+        draws ``z`` of shape (n, J)."""
+        mean = self.component_predictions(u, variance=False)[0]
+        return (mean + np.asarray(z, dtype=float) * self.scatter_sds[None, :]).min(axis=1)
 
     # ----------------------------------------------------------- what the study's fit report reads
     @property
@@ -99,8 +136,9 @@ class SeriesSurrogate:
 
     @property
     def noise_variance(self) -> float:
-        """The call-to-call scatter of the system's response: each component's noise variance weighted by its
-        share of the design points it governs (the scatter of the component that fails first)."""
+        """One number for the call-to-call scatter of the system's response (the study's fit report): each
+        component's noise variance weighted by its share of the design points it governs. R(N) takes each
+        component's own (:meth:`failure_probability`)."""
         return self._weighted([c.noise_variance for c in self.components])
 
     @property

@@ -344,11 +344,16 @@ def implied_wear(ctx: StudyContext, engine, pop: np.ndarray, cycles) -> np.ndarr
     several judged joints N_f is the system's life, so this is the wear of the first joint scaled to the system's
     failure.
     """
-    log_life = engine.response(ctx.iso().to_u(pop))
+    u = ctx.iso().to_u(pop)
     scatter = life_scatter_sd(ctx, engine)
-    if scatter > 0:  # each row's own draw of the call-to-call scatter, as R(N) integrates it
-        log_life = log_life + scatter * np.random.default_rng(ctx.config.reliability.seed + 11).standard_normal(
-            log_life.shape[0])
+    rng = np.random.default_rng(ctx.config.reliability.seed + 11)
+    if scatter > 0 and ctx.per_joint:  # each joint's own draw of its scatter, the first joint's to fail
+        sur = engine.response_surrogate
+        log_life = sur.response_draws(u, rng.standard_normal((u.shape[0], len(sur.components)))) + engine.levels[0]
+    elif scatter > 0:  # each row's own draw of the call-to-call scatter, as R(N) integrates it
+        log_life = engine.response(u) + scatter * rng.standard_normal(u.shape[0])
+    else:
+        log_life = engine.response(u)
     _, draw = ctx.split(pop)
     a = ctx.limit_state.reference_allowance if draw is None else draw
     n = np.asarray(cycles, dtype=float)
