@@ -4,6 +4,9 @@ delta_max(x, N) = RATE * N * (k_b / k_b0) * (H_b0 / H_b) * (1 + 0.05 (c - c0) / 
 to k / H and to the number of cycles, so the exact reliability follows from brute-force Monte Carlo.
 """
 
+import tomllib
+from importlib import resources
+
 import numpy as np
 
 RATE = 7.1e-11  # m per cycle at the nominal point: the paper's mean slope (paper-notes: 7.1e-8 mm/cycle)
@@ -27,3 +30,45 @@ class AnalyticWear:
 
     def life(self, x):
         return ALLOWANCE / (RATE * self.scale(x))
+
+
+RATES_TWO_JOINTS = {"A": 1.2e-10, "E": 1.0e-10}  # m per cycle of the six-bar's joints A and E at k = 1e-4
+
+
+class TwoJointWear:
+    """The six-bar's joints A and E, each wearing q_j(x, N) = RATE_j N k_j / 1e-4 with its own random wear
+    coefficient (x = (k_A, k_E)); outputs joint after joint. A series system whose life min(N_A, N_E) has a kink."""
+
+    def __init__(self, cycles):
+        self.cycles = np.asarray(cycles, dtype=float)
+
+    def __call__(self, x):
+        x = np.atleast_1d(x)
+        a = RATES_TWO_JOINTS["A"] * self.cycles * x[0] / 1e-4
+        e = RATES_TWO_JOINTS["E"] * self.cycles * x[1] / 1e-4
+        return np.concatenate([a, e]), "ok"
+
+    @staticmethod
+    def life(x, allowance=ALLOWANCE):
+        """N_f = min_j allowance / (RATE_j k_j / 1e-4), for rows x = (k_A, k_E)."""
+        x = np.atleast_2d(x)
+        return np.minimum(allowance / (RATES_TWO_JOINTS["A"] * x[:, 0] / 1e-4),
+                          allowance / (RATES_TWO_JOINTS["E"] * x[:, 1] / 1e-4))
+
+
+def two_joint_six_bar(reliability: dict | None = None) -> dict:
+    """The six-bar preset's config data with only k_A and k_E random (TwoJointWear's inputs), allowance 0.03 mm, a
+    curve over 100,000-300,000 cycles (``reliability`` overrides; a None value leaves the key out)."""
+    data = tomllib.loads((resources.files("jointwear.presets") / "watt_six_bar_two_clearances.toml").read_text(
+        encoding="utf-8"))
+    data["uncertainty"] = {"variables": [
+        {"name": "k_A", "target": "clearance_joints.A.bearing_material.wear_coefficient", "mean": 1e-4,
+         "std": 1e-5, "group": "bearing_material"},
+        {"name": "k_E", "target": "clearance_joints.E.bearing_material.wear_coefficient", "mean": 1e-4,
+         "std": 1.5e-5, "group": "bearing_material"},
+    ]}
+    rel = {"allowance_mm": 0.03, "cycles_start": 100_000, "cycles_stop": 300_000, "cycles_step": 50_000,
+           **(reliability or {})}
+    data["reliability"] = {k: v for k, v in rel.items() if v is not None}
+    data.pop("sensitivity", None)
+    return data

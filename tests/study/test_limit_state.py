@@ -6,11 +6,10 @@ joints, so its exact R(N) is known by brute-force Monte Carlo.
 
 from __future__ import annotations
 
-import tomllib
-from importlib import resources
-
 import numpy as np
 import pytest
+from analytic_wear import TwoJointWear
+from analytic_wear import two_joint_six_bar as _six_bar
 
 from jointwear import compute
 from jointwear.config import config_from_dict, load_config
@@ -25,22 +24,6 @@ from jointwear.study.limit_state import (
     limit_state_problems,
 )
 
-SIX = "watt_six_bar_two_clearances"
-
-
-def _six_bar(reliability: dict | None = None) -> dict:
-    data = tomllib.loads((resources.files("jointwear.presets") / f"{SIX}.toml").read_text(encoding="utf-8"))
-    data["uncertainty"] = {"variables": [
-        {"name": "k_A", "target": "clearance_joints.A.bearing_material.wear_coefficient", "mean": 1e-4,
-         "std": 1e-5, "group": "bearing_material"},
-        {"name": "k_E", "target": "clearance_joints.E.bearing_material.wear_coefficient", "mean": 1e-4,
-         "std": 1.5e-5, "group": "bearing_material"},
-    ]}
-    rel = {"allowance_mm": 0.03, "cycles_start": 100_000, "cycles_stop": 300_000, "cycles_step": 50_000,
-           **(reliability or {})}
-    data["reliability"] = {k: v for k, v in rel.items() if v is not None}  # None: leave the key out
-    data.pop("sensitivity", None)
-    return data
 
 
 def test_life_is_the_first_joint_to_fail():
@@ -119,27 +102,11 @@ def test_targets_must_be_probabilities():
         config_from_dict(_six_bar({"target_reliability": [0.9, 1.2]}))
 
 
-RATES = {"A": 1.2e-10, "E": 1.0e-10}  # m per cycle at the nominal wear coefficients
-
-
-class TwoJointWear:
-    """q_j(x, N) = RATE_j * N * k_j / k0 for the six-bar's joints A and E (outputs joint after joint)."""
-
-    def __init__(self, cycles):
-        self.cycles = np.asarray(cycles, dtype=float)
-
-    def __call__(self, x):
-        x = np.atleast_1d(x)
-        a = RATES["A"] * self.cycles * x[0] / 1e-4
-        e = RATES["E"] * self.cycles * x[1] / 1e-4
-        return np.concatenate([a, e]), "ok"
-
-
 def assert_series_pf_matches_brute_force(res, x):
     """The study's Pf at every level with Pf > 1e-3 against the exact series-system Pf of TwoJointWear over the
     population ``x`` (1e6 samples)."""
     n = res.cycles[None, :]
-    fail = (RATES["A"] * n * x[:, :1] / 1e-4 > 3e-5) | (RATES["E"] * n * x[:, 1:] / 1e-4 > 3e-5)
+    fail = TwoJointWear.life(x)[:, None] < n
     pf_ref = fail.mean(axis=0)
     for k in range(len(res.cycles)):
         if pf_ref[k] < 1e-3:
