@@ -14,7 +14,13 @@ from analytic_wear import two_joint_six_bar as _six_bar
 from jointwear import compute
 from jointwear.config import config_from_dict, load_config
 from jointwear.schema import ConfigError
-from jointwear.study import LimitState, limit_state_from_config, population, run_reliability, study_context
+from jointwear.study import (
+    LimitState,
+    limit_state_from_config,
+    population,
+    run_reliability,
+    study_context,
+)
 from jointwear.study.checks import config_problems
 from jointwear.study.limit_state import (
     curve_half_width,
@@ -23,7 +29,6 @@ from jointwear.study.limit_state import (
     life_interval,
     limit_state_problems,
 )
-
 
 
 def test_life_is_the_first_joint_to_fail():
