@@ -72,3 +72,27 @@ def two_joint_six_bar(reliability: dict | None = None) -> dict:
     data["reliability"] = {k: v for k, v in rel.items() if v is not None}
     data.pop("sensitivity", None)
     return data
+
+
+class NoisyTwoJointWear(TwoJointWear):
+    """TwoJointWear whose call scatters as chaotic dynamics does: each joint's wear rate times exp(tau_j eps_j), eps_j
+    standard normal and independent, drawn afresh at every call (so its life scatters by tau_j in ln N)."""
+
+    TAUS = (0.15, 0.02)
+
+    def __init__(self, cycles, seed=0):
+        super().__init__(cycles)
+        self.rng = np.random.default_rng(seed)
+
+    def __call__(self, x):
+        a, e = np.split(super().__call__(x)[0], 2)
+        eps = self.rng.standard_normal(2)
+        return np.concatenate([a * np.exp(self.TAUS[0] * eps[0]), e * np.exp(self.TAUS[1] * eps[1])]), "ok"
+
+    @classmethod
+    def survival(cls, x, cycles, eps, allowances=(ALLOWANCE, ALLOWANCE)):
+        """Whether each row survives ``cycles`` with its scatter draws ``eps`` (n, 2), each joint with its allowance."""
+        x = np.atleast_2d(x)
+        life_a = allowances[0] / (RATES_TWO_JOINTS["A"] * x[:, 0] / 1e-4) * np.exp(-cls.TAUS[0] * eps[:, 0])
+        life_e = allowances[1] / (RATES_TWO_JOINTS["E"] * x[:, 1] / 1e-4) * np.exp(-cls.TAUS[1] * eps[:, 1])
+        return np.minimum(life_a, life_e) > cycles

@@ -149,9 +149,21 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
         mu, var = engine.surrogates[col].predict(iso.to_u(x))
         return mu, np.sqrt(np.maximum(var, 0.0))
 
-    margin_nominal_pop, margin_sd_nominal_pop = log_life_margin(pop)
     scatter = life_scatter_sd(ctx, engine)
-    r_nominal = survival(margin_nominal_pop, scatter)
+    log_levels = ctx.log_levels()
+
+    def failure_at_level(x, margin, log_shift=0.0):
+        """Each row's probability of failure at N_s with its life divided by exp(log_shift), the life's scatter
+        integrated as R(N) integrates it: each judged joint's own in a per-joint study, else ``failure_probability``
+        of the margin."""
+        if ctx.per_joint and scatter > 0:
+            threshold = log_levels[col] - log_levels[0] + log_shift
+            return engine.response_surrogate.failure_probability(iso.to_u(x), [threshold])[:, 0]
+        return failure_probability(margin - log_shift, scatter)
+
+    margin_nominal_pop, margin_sd_nominal_pop = log_life_margin(pop)
+    fail_nominal = failure_at_level(pop, margin_nominal_pop)
+    r_nominal = float(1.0 - fail_nominal.mean())
     r_nominal_error = esc_absolute_error(margin_nominal_pop, margin_sd_nominal_pop)
     wear_model = WearSurrogates(ctx, np.asarray(reliability.design_x), [sens_cycles], seed=rel.seed)
 
@@ -189,7 +201,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
                 q = np.clip(ctx.marginals[i].cdf(pop[:, i]), 1e-15, 1 - 1e-15)
                 shifted_pop[:, i] = shifted.ppf(q)
             mu, sd = log_life_margin(shifted_pop)
-            r = survival(mu, scatter)
+            r = float(1.0 - failure_at_level(shifted_pop, mu).mean())
             error = esc_absolute_error(mu, sd)
             if exponents[i] is not None:
                 check = archard_check(ctx, i, shifted, exponents[i], pop, margin_nominal_pop, margin_sd_nominal_pop,
@@ -222,7 +234,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
         rho = shifted_wear / base_wear
         # wear x rho <=> life / rho (the wear grows linearly in N): failure where ln N_f - ln rho < ln N_s
         mu = margin_nominal_pop - math.log(rho)
-        r = survival(mu, scatter)
+        r = float(1.0 - failure_at_level(pop, margin_nominal_pop, math.log(rho)).mean())
         # the surrogate's error only (rho comes from two true-model calls)
         entry.update(reliability=r, wear_ratio=rho, error_estimate=esc_absolute_error(mu, margin_sd_nominal_pop))
         rules.append(entry)
@@ -232,7 +244,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
                              reliability_nominal=r_nominal)
     sobol = sobol_indices(lambda x: wear_model.predict(x)[:, 0] * 1e3, ctx.marginals,
                           ctx.names, n_base=sens.sobol_base_samples, seed=rel.seed)
-    deriv = reliability_derivatives(pop, failure_probability(margin_nominal_pop, scatter), ctx.marginals, ctx.names)
+    deriv = reliability_derivatives(pop, fail_nominal, ctx.marginals, ctx.names)
     groups = {}
     specs = ctx.config.uncertainty.all_specs()
     for spec in specs:
