@@ -32,6 +32,12 @@ def series_failure_probability(margins, scatter_sds) -> np.ndarray:
     return 1.0 - survive
 
 
+def governing(mean: np.ndarray, var: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each row's smallest component mean (n, J) -> (n,) and the variance of the component that attains it."""
+    rows, j = np.arange(mean.shape[0]), np.argmin(mean, axis=1)
+    return mean[rows, j], var[rows, j]
+
+
 class SeriesSurrogate:
     """Kriging of each component response of a series system; the system's response is their minimum.
 
@@ -73,10 +79,7 @@ class SeriesSurrogate:
         u = np.atleast_2d(np.asarray(u, dtype=float))
         if not return_variance:
             return np.column_stack([c.predict(u, return_variance=False)[0] for c in self.components]).min(axis=1), None
-        mean, var = self.component_predictions(u)
-        governing = np.argmin(mean, axis=1)
-        rows = np.arange(mean.shape[0])
-        return mean[rows, governing], var[rows, governing]
+        return governing(*self.component_predictions(u))
 
     def __call__(self, u: np.ndarray) -> np.ndarray:
         return self.predict(u, return_variance=False)[0]
@@ -163,7 +166,4 @@ class SeriesSurrogate:
             full_mean[rows], full_var[rows] = loo, var
             means.append(full_mean[complete])
             variances.append(full_var[complete])
-        mean, var = np.column_stack(means), np.column_stack(variances)
-        governing = np.argmin(mean, axis=1)
-        rows = np.arange(mean.shape[0])
-        return mean[rows, governing], var[rows, governing]
+        return governing(np.column_stack(means), np.column_stack(variances))
