@@ -363,8 +363,9 @@ def implied_wear(ctx: StudyContext, engine, pop: np.ndarray, cycles) -> np.ndarr
 def _joint_breakdown(ctx: StudyContext, engine, design_x: np.ndarray, pop: np.ndarray,
                      system_reliability: np.ndarray) -> list[dict]:
     """Each judged joint's allowance and, with several joints, its own R(N) and its share of the system's
-    failures at every level, from the Kriging of its log life: the learnt one of a per-joint study, else one fitted
-    on the final design (no learning).
+    failures at every level, from the Kriging of its log life: the learnt one of a per-joint study (with that joint's
+    own scatter when the study estimates one), else one fitted on the final design (no learning). The share goes to
+    the joint with the shortest predicted life.
 
     A joint alone is at least as reliable as the series system; a Kriging not refined by the learning can read lower
     than the system's R within its error, so a joint's R is reported no lower than the system's."""
@@ -374,7 +375,7 @@ def _joint_breakdown(ctx: StudyContext, engine, design_x: np.ndarray, pop: np.nd
         rows[0]["reliability"] = [float(r) for r in system_reliability]
         rows[0]["governing_share"] = [1.0] * len(ctx.cycles)
         return rows
-    from jointwear.reliability import KrigingSurrogate
+    from jointwear.reliability import KrigingSurrogate, failure_probability
 
     iso = ctx.iso()
     u_pop = iso.to_u(pop)
@@ -392,8 +393,11 @@ def _joint_breakdown(ctx: StudyContext, engine, design_x: np.ndarray, pop: np.nd
             predicted.append(sur.predict(u_pop, return_variance=False)[0])
         pred = np.column_stack(predicted)  # (n, J) ln N_f,j
     governing = np.argmin(pred, axis=1)
+    # a per-joint study with the life's scatter: each joint fails with its own (as the system's R(N) counts it)
+    scatter = life_scatter_sd(ctx, engine)
+    taus = engine.response_surrogate.scatter_sds if ctx.per_joint and scatter > 0 else np.zeros(len(rows))
     for k, row in enumerate(rows):
-        fails_k = pred[:, k][:, None] < levels[None, :]
+        fails_k = failure_probability(pred[:, k][:, None] - levels[None, :], float(taus[k]))
         row["reliability"] = np.maximum(1.0 - fails_k.mean(axis=0), system_reliability).tolist()
         system_fail = pred.min(axis=1)[:, None] < levels[None, :]
         n_sys = system_fail.sum(axis=0)
