@@ -506,12 +506,19 @@ def test_a_series_system_is_told_that_its_interval_may_be_too_narrow(tmp_path, n
 def test_a_series_system_learnt_per_joint_carries_no_kink_caveat(tmp_path, nominal):
     d, rel = two_joint_result(tmp_path / "p", nominal)
     rel.life_surrogate = "per_joint"
+    fit = {"n_points": 60, "q2": 0.71, "rmse_log_life": 0.1, "relative_nugget": 0.1, "nugget_at_bound": False,
+           "process_sd_log_life": 0.4}
+    rel.joints[0]["surrogate_fit"] = {**fit, "noise_sd_log_life": 0.14}
+    rel.joints[1]["surrogate_fit"] = {**fit, "noise_sd_log_life": 0.02}
     assert rel.series_sentence() == ""
     rel.save(d, figures=False)
     assert ReliabilityResult.load(d).life_surrogate == "per_joint"
     page = build_report(d).read_text(encoding="utf-8")
     assert "learnt one Kriging per joint" in page and "held the exact life in 20 of 20 runs at R = 0.9" in page
     assert "are shared between judged joints" not in page
+    # each joint's share of the failures and its own fit: Q^2 and the scatter of a call's life, exp(0.14) - 1 = 15 %
+    assert "<td>A</td><td>70 %</td><td>0.71</td><td>\u00b115 %</td>" in page
+    assert "<td>E</td><td>30 %</td><td>0.71</td><td>\u00b12 %</td>" in page
 
 
 def test_the_summary_carries_the_caveats_of_the_sections_below(tmp_path, nominal):

@@ -249,6 +249,9 @@ def test_a_noisy_series_systems_reliability_and_sensitivity_take_each_joints_sca
                                                             n_outputs=call.n_outputs))
     res = run_reliability(ctx)
     assert res.life_surrogate == "per_joint" and cfg.reliability.noise == "estimate"
+    # each joint's own fit reports its own scatter: 60 noisy calls, 4 standard errors of an SD (37 %)
+    for joint, tau in zip(res.joints, NoisyTwoJointWear.TAUS):
+        assert joint["surrogate_fit"]["noise_sd_log_life"] == pytest.approx(tau, rel=0.37), joint
     eps = np.random.default_rng(6).standard_normal((1_000_000, 2))
 
     def exact(marginals):

@@ -6,7 +6,7 @@ from __future__ import annotations
 import datetime as _dt
 from collections.abc import Mapping, Sequence
 
-from jointwear.study.reliability_results import interval_cells, interval_text
+from jointwear.study.reliability_results import SurrogateFit, interval_cells, interval_text
 
 from . import figures as F
 from .checks import (
@@ -43,16 +43,39 @@ def _life_text(life: float | None, note: str) -> str:
     return "\u2014" if life is None else ("\u2264 " if "at most" in note else "") + f"{life:,.0f} cycles"
 
 
+def _q2_text(fit) -> str:
+    return "\u2014" if fit.q2 is None else f"{fit.q2:.2f}"
+
+
+def _scatter_text(fit) -> str:
+    return f"\u00b1{100 * fit.life_scatter:.2g} %"
+
+
 def _surrogate_fit_cards(fit) -> list[tuple]:
     """The life surrogate's leave-one-out Q^2 and the call-to-call scatter it estimated (none for an older
     result)."""
     if fit is None:
         return []
-    return [("surrogate fit, Q\u00b2", "\u2014" if fit.q2 is None else f"{fit.q2:.2f}",
+    return [("surrogate fit, Q\u00b2", _q2_text(fit),
              f"leave-one-out over the {fit.n_points} design points: the share of their ln N_f the inputs explain"),
-            ("scatter of a call's life", f"\u00b1{100 * fit.life_scatter:.2g} %",
+            ("scatter of a call's life", _scatter_text(fit),
              "one standard deviation about the smooth surrogate, estimated by the fit (its nugget); R(N) counts it "
              "as part of each mechanism's life" + ("; at the top of its range" if fit.nugget_at_bound else ""))]
+
+
+def _joint_fit_table(rel) -> str:
+    """Per judged joint of a per-joint study: its share of the failures at the life and how well its own Kriging
+    explains its life (Q^2, the call-to-call scatter it estimated); empty for a result without them."""
+    shares = rel.governing_shares()
+    rows = []
+    for joint in rel.joints:
+        fit = SurrogateFit.from_json(joint.get("surrogate_fit"))
+        if fit is None:
+            return ""
+        rows.append((joint["name"], f"{100 * shares.get(joint['name'], 0.0):.0f} %",
+                     _q2_text(fit), _scatter_text(fit)))
+    return table(["joint", "share of the failures at the life", "Q\u00b2 of its life",
+                  "scatter of a call's life"], rows, cls="kv")
 
 
 def _esc_part(rel, cycles: float) -> str:
@@ -110,6 +133,7 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
                      "that fails first. On an analytic two-joint system the life's 95 % interval held the exact life "
                      "in 20 of 20 runs at R = 0.9 and 18 of 20 at R = 0.5 (docs/study.md, \"How far to trust the "
                      "life\").</p>")
+        parts.append(_joint_fit_table(rel))
     elif len(rel.joints) > 1:
         parts.append(f"<p>Series system of {len(rel.joints)} joints; the joint that governs: "
                      f"<b>{e(rel.governing_joint)}</b>. The system's life has a kink where two joints' lives "

@@ -364,8 +364,8 @@ def _joint_breakdown(ctx: StudyContext, engine, design_x: np.ndarray, pop: np.nd
                      system_reliability: np.ndarray) -> list[dict]:
     """Each judged joint's allowance and, with several joints, its own R(N) and its share of the system's
     failures at every level, from the Kriging of its log life: the learnt one of a per-joint study (with that joint's
-    own scatter when the study estimates one), else one fitted on the final design (no learning). The share goes to
-    the joint with the shortest predicted life.
+    own scatter when the study estimates one, and its ``surrogate_fit``), else one fitted on the final design (no
+    learning). The share goes to the joint with the shortest predicted life.
 
     A joint alone is at least as reliable as the series system; a Kriging not refined by the learning can read lower
     than the system's R within its error, so a joint's R is reported no lower than the system's."""
@@ -404,6 +404,8 @@ def _joint_breakdown(ctx: StudyContext, engine, design_x: np.ndarray, pop: np.nd
         share = np.where(n_sys > 0, (system_fail & (governing == k)[:, None]).sum(axis=0) / np.maximum(n_sys, 1),
                          np.nan)
         row["governing_share"] = share.tolist()
+        if ctx.per_joint:  # how well that joint's own Kriging explains its life, and the scatter it estimated
+            row["surrogate_fit"] = SurrogateFit.of(engine.response_surrogate.components[k]).to_json()
     return rows
 
 
