@@ -39,13 +39,14 @@ class TwoJointWear:
     """The six-bar's joints A and E, each wearing q_j(x, N) = RATE_j N k_j / 1e-4 with its own random wear
     coefficient (x = (k_A, k_E)); outputs joint after joint. A series system whose life min(N_A, N_E) has a kink."""
 
-    def __init__(self, cycles):
+    def __init__(self, cycles, rates=None):
         self.cycles = np.asarray(cycles, dtype=float)
+        self.rates = dict(RATES_TWO_JOINTS if rates is None else rates)
 
     def __call__(self, x):
         x = np.atleast_1d(x)
-        a = RATES_TWO_JOINTS["A"] * self.cycles * x[0] / 1e-4
-        e = RATES_TWO_JOINTS["E"] * self.cycles * x[1] / 1e-4
+        a = self.rates["A"] * self.cycles * x[0] / 1e-4
+        e = self.rates["E"] * self.cycles * x[1] / 1e-4
         return np.concatenate([a, e]), "ok"
 
     @staticmethod

@@ -209,3 +209,28 @@ def test_a_noisy_series_systems_pf_takes_each_components_own_scatter():
     drawn = sur.response_draws(u, np.random.default_rng(4).standard_normal((u.shape[0], 2)))
     formula = sur.failure_probability(u, [1.0])[:, 0].mean()
     assert np.mean(drawn < 1.0) == pytest.approx(formula, abs=4 * np.sqrt(formula * (1 - formula) / u.shape[0]))
+
+
+def test_a_component_that_never_fails_is_not_fitted_and_predicts_infinity():
+    # the second component's response is +inf everywhere but at one point (fewer than 2 finite): not fitted; the
+    # system is the first component alone, its draws and leave-one-out included
+    rng = np.random.default_rng(6)
+    x = rng.uniform(-2, 2, (15, 2))
+    y = np.column_stack([x[:, 0] + 1.0, np.full(15, np.inf)])
+    y[3, 1] = 0.5
+    sur = SeriesSurrogate(2, seed=0).fit(x, y)
+    alone = KrigingSurrogate(seed=0).fit(x, y[:, 0])
+    assert list(sur.fitted) == [True, False] and sur.fitted_components == [sur.components[0]]
+    u = rng.uniform(-2, 2, (30, 2))
+    for got, want in zip(sur.predict(u), alone.predict(u)):
+        np.testing.assert_array_equal(got, want)
+    assert np.all(np.isposinf(sur.component_predictions(u)[0][:, 1]))
+    np.testing.assert_array_equal(sur.posterior_draws(u, 5, np.random.default_rng(1)),
+                                  alone.posterior_draws(u, 5, np.random.default_rng(1)))
+    np.testing.assert_array_equal(sur.leave_one_out()[0], alone.leave_one_out()[0])
+    assert list(sur.scatter_sds) == [alone.noise_sd, 0.0]
+    # the one design point where the unfitted component's response is the smaller counts as governed by it
+    assert sur.governing_shares()[1] == pytest.approx(np.mean(y[:, 1] < y[:, 0]))
+    assert sur.noise_variance == pytest.approx(sur.governing_shares()[0] * alone.noise_variance, rel=1e-12)
+    with pytest.raises(ValueError, match="no component has 2 finite responses"):
+        SeriesSurrogate(1).fit(x, np.full((15, 1), np.inf))

@@ -272,3 +272,28 @@ def test_a_noisy_series_systems_reliability_and_sensitivity_take_each_joints_sca
     rule = next(r for r in sens.rules if r["variable"] == "k_A" and round(r["factor"], 3) == 0.8)
     r_shift = exact(marginals)
     assert abs(rule["reliability"] - r_shift) <= rule["error_estimate"] + 0.003 + reference, (rule, r_shift)
+
+
+def test_a_judged_joint_that_does_not_wear_leaves_the_study_to_the_others():
+    # joint E does not wear (rate 0: its life is +inf at every call): learnt per joint, its Kriging is not fitted and
+    # the study is joint A's own, to the bit (the same Kriging seed and data as a study judging A alone)
+    def study(joints):
+        cfg = config_from_dict(_six_bar({"n_mc": 20_000, "noise": "none", "max_calls": 30, "joints": joints}))
+
+        def factory(call):
+            wear = TwoJointWear(call.cycles, {"A": 1.2e-10, "E": 0.0})
+
+            def judged(x):  # the judged joints' histories only, joint after joint
+                out, status = wear(x)
+                return out.reshape(2, -1)[list(call.joints)].ravel(), status
+
+            return compute.Evaluator(judged, None, None, n_outputs=call.n_outputs)
+
+        return run_reliability(study_context(cfg, factory))
+
+    both, alone = study(["A", "E"]), study(["A"])
+    assert both.life_surrogate == "per_joint" and not both.engine.response_surrogate.fitted[1]
+    np.testing.assert_array_equal(both.reliability, alone.reliability)
+    assert both.model_calls == alone.model_calls and both.life_cycles == alone.life_cycles
+    e = next(j for j in both.joints if j["name"] == "E")
+    assert e["reliability"] == [1.0] * len(both.cycles) and "surrogate_fit" not in e

@@ -59,7 +59,7 @@ __all__ = ["akmcs", "akmcs_multi"]
 def log_scales(surrogate) -> np.ndarray:
     """The log correlation lengths of a surrogate (of every component of a series system's), to tell when a refit
     moved them."""
-    parts = getattr(surrogate, "components", [surrogate])
+    parts = getattr(surrogate, "fitted_components", [surrogate])
     return np.concatenate([np.log(p.hyperparameters.scale) for p in parts])
 
 
@@ -173,7 +173,8 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
             if optimize:
                 n_at_opt[j] = n_ok
                 sc = log_scales(surrogates[j])
-                if sweep_scales[j] is None or np.max(np.abs(sc - sweep_scales[j])) > 0.2:
+                if (sweep_scales[j] is None or sc.shape != sweep_scales[j].shape
+                        or np.max(np.abs(sc - sweep_scales[j])) > 0.2):
                     need_full = True  # the surrogate may have changed everywhere
         force_opt[:] = False
         # ---- predict on the population (all of it, or the active set)

@@ -44,13 +44,15 @@ class SeriesSurrogate:
     ``n_components`` Krigings, each fitted on the rows where its own response is finite; ``kriging``: keyword
     arguments of every :class:`KrigingSurrogate`. Component j's seed is ``seed`` * 1000 + j, that of column j of
     ``akmcs_multi``: where one component governs at every design point, its Kriging is the one a single Kriging of
-    the system's response would be."""
+    the system's response would be. A component with fewer than two finite responses (a joint that does not wear
+    has a +inf life: it never fails) is not fitted and predicts +inf; ``fitted`` says which are."""
 
     def __init__(self, n_components: int, seed: int | None = 0, **kriging):
         if n_components < 1:
             raise ValueError(f"n_components must be at least 1; got {n_components}")
         self.components = [KrigingSurrogate(seed=None if seed is None else int(seed) * 1000 + j, **kriging)
                            for j in range(n_components)]
+        self.fitted = np.ones(n_components, dtype=bool)
         self._y: np.ndarray | None = None
 
     def fit(self, x: np.ndarray, y: np.ndarray, *, optimize: bool = True) -> SeriesSurrogate:
@@ -62,15 +64,29 @@ class SeriesSurrogate:
             raise ValueError(f"SeriesSurrogate.fit: y has {y.shape[1]} columns for {len(self.components)} components")
         for j, component in enumerate(self.components):
             ok = np.isfinite(y[:, j])
-            if ok.sum() < 2:
-                raise ValueError(f"component {j}: fewer than 2 finite responses; cannot fit Kriging")
-            component.fit(x[ok], y[ok, j], optimize=optimize)
+            self.fitted[j] = ok.sum() >= 2
+            if self.fitted[j]:
+                component.fit(x[ok], y[ok, j], optimize=optimize)
+        if not self.fitted.any():
+            raise ValueError("no component has 2 finite responses to fit a Kriging to (a response is +inf where the "
+                             "component never fails, NaN where its call failed)")
         self._y = y
         return self
 
+    @property
+    def fitted_components(self) -> list[KrigingSurrogate]:
+        """The components' Krigings that were fitted (those with a finite response somewhere)."""
+        return [c for c, f in zip(self.components, self.fitted) if f]
+
+    def _per_component(self, value, fill):
+        """``value(component)`` of every fitted component, ``fill`` for the others."""
+        return [value(c) if f else fill for c, f in zip(self.components, self.fitted)]
+
     def component_predictions(self, u: np.ndarray, *, variance: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
         """Mean and Kriging variance (None with ``variance=False``) of every component at ``u``, each (m, J)."""
-        preds = [c.predict(u, return_variance=variance) for c in self.components]
+        u = np.atleast_2d(np.asarray(u, dtype=float))
+        never = (np.full(u.shape[0], np.inf), np.zeros(u.shape[0]))
+        preds = self._per_component(lambda c: c.predict(u, return_variance=variance), never)
         return (np.column_stack([p[0] for p in preds]),
                 np.column_stack([p[1] for p in preds]) if variance else None)
 
@@ -78,7 +94,7 @@ class SeriesSurrogate:
         """The system's mean min_j mu_j(u) and the Kriging variance of the component that attains it (AK-SYS)."""
         u = np.atleast_2d(np.asarray(u, dtype=float))
         if not return_variance:
-            return np.column_stack([c.predict(u, return_variance=False)[0] for c in self.components]).min(axis=1), None
+            return self.component_predictions(u, variance=False)[0].min(axis=1), None
         return governing(*self.component_predictions(u))
 
     def __call__(self, u: np.ndarray) -> np.ndarray:
@@ -88,7 +104,8 @@ class SeriesSurrogate:
         """Joint draws of every component's latent response at ``u`` from its own posterior (the components'
         Krigings are independent), shape (J, m, n_draws)."""
         u = np.atleast_2d(np.asarray(u, dtype=float))
-        return np.stack([c.posterior_draws(u, n_draws, rng) for c in self.components])
+        never = np.full((u.shape[0], n_draws), np.inf)
+        return np.stack(self._per_component(lambda c: c.posterior_draws(u, n_draws, rng), never))
 
     def posterior_draws(self, u: np.ndarray, n_draws: int, rng: np.random.Generator) -> np.ndarray:
         """Joint draws of the system's latent response at ``u``: the minimum over the components of their
@@ -99,7 +116,7 @@ class SeriesSurrogate:
     @property
     def scatter_sds(self) -> np.ndarray:
         """Each component's call-to-call scatter: its Kriging's noise standard deviation."""
-        return np.array([c.noise_sd for c in self.components])
+        return np.array(self._per_component(lambda c: c.noise_sd, 0.0))
 
     def failure_probability(self, u: np.ndarray, thresholds) -> np.ndarray:
         """P(min_j (y_j(u) + e_j) < t_k) at every point and threshold, shape (n, K): each component's mean plus its
@@ -126,7 +143,8 @@ class SeriesSurrogate:
 
     @property
     def _complete(self) -> np.ndarray:
-        return np.isfinite(self._y).all(axis=1)
+        """The rows where every fitted component's response is finite."""
+        return np.isfinite(self._y[:, self.fitted]).all(axis=1)
 
     def governing_shares(self) -> np.ndarray:
         """Each component's share of the complete training rows where its response is the smallest."""
@@ -142,7 +160,7 @@ class SeriesSurrogate:
         """One number for the call-to-call scatter of the system's response (the study's fit report): each
         component's noise variance weighted by its share of the design points it governs. R(N) takes each
         component's own (:meth:`failure_probability`)."""
-        return self._weighted([c.noise_variance for c in self.components])
+        return self._weighted(self._per_component(lambda c: c.noise_variance, 0.0))
 
     @property
     def noise_sd(self) -> float:
@@ -151,7 +169,7 @@ class SeriesSurrogate:
     @property
     def process_variance(self) -> float:
         """The components' process variances weighted as :attr:`noise_variance`."""
-        return self._weighted([c.process_variance for c in self.components])
+        return self._weighted(self._per_component(lambda c: c.process_variance, 0.0))
 
     def leave_one_out(self) -> tuple[np.ndarray, np.ndarray]:
         """Leave-one-out prediction of the system's response on the complete rows: the minimum of the components'
@@ -159,11 +177,11 @@ class SeriesSurrogate:
         complete = self._complete
         means, variances = [], []
         for j, c in enumerate(self.components):
-            loo, var = c.leave_one_out()
-            rows = np.isfinite(self._y[:, j])
-            full_mean = np.full(self._y.shape[0], np.nan)
-            full_var = np.full(self._y.shape[0], np.nan)
-            full_mean[rows], full_var[rows] = loo, var
+            full_mean = np.full(self._y.shape[0], np.inf if not self.fitted[j] else np.nan)
+            full_var = np.zeros(self._y.shape[0]) if not self.fitted[j] else np.full(self._y.shape[0], np.nan)
+            if self.fitted[j]:
+                rows = np.isfinite(self._y[:, j])
+                full_mean[rows], full_var[rows] = c.leave_one_out()
             means.append(full_mean[complete])
             variances.append(full_var[complete])
         return governing(np.column_stack(means), np.column_stack(variances))

@@ -66,14 +66,14 @@ def _surrogate_fit_cards(fit) -> list[tuple]:
 def _joint_fit_table(rel) -> str:
     """Per judged joint of a per-joint study: its share of the failures at the life and how well its own Kriging
     explains its life (Q^2, the call-to-call scatter it estimated); empty for a result without them."""
+    if not any(joint.get("surrogate_fit") for joint in rel.joints):
+        return ""
     shares = rel.governing_shares()
     rows = []
-    for joint in rel.joints:
+    for joint in rel.joints:  # a joint without a fit had fewer than two finite lives (one that does not wear)
         fit = SurrogateFit.from_json(joint.get("surrogate_fit"))
-        if fit is None:
-            return ""
         rows.append((joint["name"], f"{100 * shares.get(joint['name'], 0.0):.0f} %",
-                     _q2_text(fit), _scatter_text(fit)))
+                     "not fitted" if fit is None else _q2_text(fit), "\u2014" if fit is None else _scatter_text(fit)))
     return table(["joint", "share of the failures at the life", "Q\u00b2 of its life",
                   "scatter of a call's life"], rows, cls="kv")
 

@@ -404,7 +404,7 @@ def _joint_breakdown(ctx: StudyContext, engine, design_x: np.ndarray, pop: np.nd
         share = np.where(n_sys > 0, (system_fail & (governing == k)[:, None]).sum(axis=0) / np.maximum(n_sys, 1),
                          np.nan)
         row["governing_share"] = share.tolist()
-        if ctx.per_joint:  # how well that joint's own Kriging explains its life, and the scatter it estimated
+        if ctx.per_joint and engine.response_surrogate.fitted[k]:  # how well its own Kriging explains its life
             row["surrogate_fit"] = SurrogateFit.of(engine.response_surrogate.components[k]).to_json()
     return rows
 

@@ -75,7 +75,7 @@ class SurrogateFit:
             loo, _ = surrogate.leave_one_out()
         ss_res = float(np.sum((y - loo) ** 2))
         ss_tot = float(np.sum((y - y.mean()) ** 2))
-        parts = getattr(surrogate, "components", [surrogate])  # a per-joint study's: every joint's Kriging
+        parts = getattr(surrogate, "fitted_components", [surrogate])  # a per-joint study's: every joint's Kriging
         return cls(n_points=int(y.size), q2=1.0 - ss_res / ss_tot if ss_tot > 0 else None,
                    rmse_log_life=math.sqrt(ss_res / y.size) if y.size else None,
                    noise_sd_log_life=math.sqrt(surrogate.noise_variance),
