@@ -425,8 +425,7 @@ def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: C
            max_calls: int, seed: int, stopping: str = "u") -> tuple[dict, np.ndarray]:
     """The chosen design's own reliability study at N*: AK-MCS on the true model (through the study's evaluator
     and store) with the candidate's input distributions and the study's reliability settings (one Kriging per judged
-    joint when the study learns its life so). Returns the
-    verdict and the study's design points (true-model inputs).
+    joint when the study learns its life so). Returns the verdict and the study's design points (true-model inputs).
 
     Its initial design has at least 2 d + 2 points (the engine's default, Echard et al. 2011) even where the
     study's own is smaller: with fewer points than about twice the dimension, the Kriging variance after a
