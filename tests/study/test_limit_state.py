@@ -297,3 +297,37 @@ def test_a_judged_joint_that_does_not_wear_leaves_the_study_to_the_others():
     assert both.model_calls == alone.model_calls and both.life_cycles == alone.life_cycles
     e = next(j for j in both.joints if j["name"] == "E")
     assert e["reliability"] == [1.0] * len(both.cycles) and "surrogate_fit" not in e
+
+
+def test_validation_checks_each_joints_own_reliability(tmp_path):
+    # the validation's samples give each joint's R(N) too (no new call): against brute force on 1e6 samples within
+    # the exact 95 % interval of the 2,000 (3 standard errors of the reference added); the study's own R of each joint
+    # (from its learnt Kriging) lies in that interval at every level but at most one, and within 0.03 of it (the
+    # interval's largest half-width at 2,000 samples, 0.022, plus the learning's tolerance, 0.002, rounded up)
+    from jointwear.study.results import ValidationResult
+    from jointwear.study.validation import run_validation
+
+    cfg = config_from_dict(_six_bar({"n_mc": 50_000, "noise": "none", "error_abs_tol": 0.002, "max_calls": 60}))
+    ctx = study_context(cfg, lambda call: compute.Evaluator(TwoJointWear(call.cycles), None, None,
+                                                            n_outputs=call.n_outputs))
+    res = run_reliability(ctx)
+    val = run_validation(ctx, res, 2000)
+    assert [j["name"] for j in val.joints] == ["A", "E"]
+    x = population(ctx.marginals, 1_000_000, seed=3)
+    allowance = 3e-5
+    for j, rate, col in zip(val.joints, (1.2e-10, 1.0e-10), (0, 1)):
+        exact = np.mean(allowance / (rate * x[:, col:col + 1] / 1e-4) > res.cycles[None, :], axis=0)
+        ref = 3 * np.sqrt(exact * (1 - exact) / 1e6)
+        assert np.all((np.array(j["ci_low"]) - ref <= exact) & (exact <= np.array(j["ci_high"]) + ref)), (j, exact)
+        assert j["levels_within_interval"] >= len(res.cycles) - 1 and j["largest_difference"] < 0.03, j
+    val.save(tmp_path, figures=False)
+    back = ValidationResult.load(tmp_path)
+    assert back.joints == val.joints
+    assert (tmp_path / "validation_joints.csv").read_text().count("\n") == 2 * len(res.cycles) + 1
+    # and the report's validation section gives each joint's check
+    from jointwear.report import build_report
+
+    res.save(tmp_path, figures=False)
+    page = build_report(tmp_path).read_text(encoding="utf-8")
+    a = val.joints[0]
+    assert f"<td>A</td><td>{a['largest_difference']:.3f}</td><td>{a['levels_within_interval']} of 5</td>" in page

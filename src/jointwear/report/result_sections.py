@@ -392,6 +392,13 @@ def validation_section(out: StudyOutputs, figs: Figures) -> str:
             "whose wear life is longer, with an exact (Clopper-Pearson) 95 % interval. A level agrees when the "
             "two estimates differ by less than the sum of their 95 % half-widths (the surrogate's: its Monte "
             "Carlo interval plus its own error estimate).</p>")
+    if val.joints:
+        body += ("<p>Each judged joint's own R(N) on the same samples (the share whose life at that joint is longer) "
+                 "against the study's R(N) of that joint:</p>"
+                 + table(["joint", "largest difference in R", "levels where the study's R lies in the exact 95 % "
+                          "interval"], [(j["name"], f"{j['largest_difference']:.3f}",
+                                         f"{j['levels_within_interval']} of {len(val.cycles)}") for j in val.joints],
+                         cls="kv"))
     return head + lead + body + f'<div class="grid">{fig1}{fig2}</div>'
 
 

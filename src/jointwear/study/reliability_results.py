@@ -520,6 +520,8 @@ class ValidationResult(StageResult):
     the true model's curve (``cycles``) with the interval where its exact 95 % bounds cross the target
     (``cycles_low``, ``cycles_high``), the surrogate's life and interval (``surrogate_cycles``,
     ``surrogate_cycles_low``, ``surrogate_cycles_high``) and whether the two intervals overlap (``agree``).
+    ``joints`` (several judged joints): each joint's own R(N) on the same samples against the study's
+    (:func:`jointwear.study.validation.joint_checks`).
     """
 
     FILE: ClassVar[str] = "validation.json"
@@ -539,6 +541,7 @@ class ValidationResult(StageResult):
     seed: int | None = None
     cross_validation: dict = field(default_factory=dict)
     life_table: list[dict] = field(default_factory=list)
+    joints: list[dict] = field(default_factory=list)
     provenance: dict = field(default_factory=provenance)
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
 
@@ -568,6 +571,12 @@ class ValidationResult(StageResult):
         if cv.get("log_life_true"):
             out["cross_validation"] = {"log_life_true": cv["log_life_true"], "log_life_loo": cv["log_life_loo"],
                                        "log_life_loo_sd": cv["log_life_loo_sd"]}
+        if self.joints:  # one row per joint and level
+            out["validation_joints"] = {
+                "joint": [j["name"] for j in self.joints for _ in self.cycles],
+                "cycles": np.tile(self.cycles, len(self.joints)),
+                **{key: np.concatenate([np.asarray(j[key], dtype=float) for j in self.joints])
+                   for key in ("reliability_mc", "ci_low", "ci_high", "reliability_surrogate")}}
         return out
 
     def save(self, folder: Path | str, *, figures: bool = True) -> Path:
