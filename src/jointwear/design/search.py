@@ -435,9 +435,9 @@ def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: C
     marginals = cand.marginals(controls, ctx.names, ctx.marginals)
     before, made_before = ctx.n_evaluated, ctx.n_model_calls
     n_initial = min(max(rel.n_initial, 2 * len(marginals) + 2), max_calls)
+    g, system = ctx.learnt_response
     eng = akmcs_multi(
-        ctx.log_joint_lives if ctx.per_joint else ctx.log_life, marginals, levels=np.array([target["log_life"]]),
-        system="series" if ctx.per_joint else None, n_mc=rel.n_mc, n_mc_max=rel.n_mc_max,
+        g, marginals, levels=np.array([target["log_life"]]), system=system, n_mc=rel.n_mc, n_mc_max=rel.n_mc_max,
         n_initial=n_initial, batch_size=rel.batch_size, u_threshold=rel.u_threshold,
         cov_target=rel.cov_target, pf_floor=rel.pf_floor, max_calls=max_calls,
         seed=rel.seed + 17 + seed, stopping=stopping, error_tol=rel.error_tol,

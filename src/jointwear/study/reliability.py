@@ -142,6 +142,12 @@ class StudyContext:
         """Whether the life is learnt one Kriging per judged joint (several joints, ``reliability.surrogate``)."""
         return len(self.limit_state.joints) > 1 and self.config.reliability.surrogate == "per_joint"
 
+    @property
+    def learnt_response(self) -> tuple[Callable[[np.ndarray], np.ndarray], str | None]:
+        """What the reliability engine learns and how (its ``g`` and ``system``): each judged joint's ln N_f,j as a
+        series system in a per-joint study, else the mechanism's ln N_f."""
+        return (self.log_joint_lives, "series") if self.per_joint else (self.log_life, None)
+
     def log_levels(self) -> np.ndarray:
         return np.log(np.asarray(self.cycles, dtype=float))
 
@@ -243,9 +249,9 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
 
     rel = ctx.config.reliability
     t0 = time.perf_counter()
+    g, system = ctx.learnt_response
     engine = akmcs_multi(
-        ctx.log_joint_lives if ctx.per_joint else ctx.log_life, ctx.marginals, levels=ctx.log_levels(),
-        system="series" if ctx.per_joint else None, n_mc=rel.n_mc, n_mc_max=rel.n_mc_max,
+        g, ctx.marginals, levels=ctx.log_levels(), system=system, n_mc=rel.n_mc, n_mc_max=rel.n_mc_max,
         n_initial=rel.n_initial, batch_size=rel.batch_size, u_threshold=rel.u_threshold,
         cov_target=rel.cov_target, pf_floor=rel.pf_floor, max_calls=rel.max_calls, seed=rel.seed, copula=ctx.copula,
         evaluation=Evaluation(progress=progress), stopping=rel.stopping, error_tol=rel.error_tol, error_abs_tol=rel.error_abs_tol,
