@@ -27,6 +27,7 @@ from .results import (
     ReliabilityResult,
     cov_population,
     failure_probability,
+    failure_spread,
     population_size,
     posterior_failure_spread,
 )
@@ -54,6 +55,7 @@ __all__ = [
     "esc_error",
     "esc_errors",
     "failure_probability",
+    "failure_spread",
     "form",
     "importance_sampling",
     "monte_carlo",

@@ -393,12 +393,15 @@ def validation_section(out: StudyOutputs, figs: Figures) -> str:
             "two estimates differ by less than the sum of their 95 % half-widths (the surrogate's: its Monte "
             "Carlo interval plus its own error estimate).</p>")
     if val.joints:
+        n = len(val.cycles)
+        banded = all("levels_agree" in j for j in val.joints)  # results written before the joints had a band
         body += ("<p>Each judged joint's own R(N) on the same samples (the share whose life at that joint is longer) "
-                 "against the study's R(N) of that joint:</p>"
+                 "against the study's R(N) of that joint" + (", agreeing at a level by the same rule as the "
+                 "mechanism's curve" if banded else "") + ":</p>"
                  + table(["joint", "largest difference in R", "levels where the study's R lies in the exact 95 % "
-                          "interval"], [(j["name"], f"{j['largest_difference']:.3f}",
-                                         f"{j['levels_within_interval']} of {len(val.cycles)}") for j in val.joints],
-                         cls="kv"))
+                          "interval"] + (["levels in agreement"] if banded else []),
+                         [(j["name"], f"{j['largest_difference']:.3f}", f"{j['levels_within_interval']} of {n}")
+                          + ((f"{j['levels_agree']} of {n}",) if banded else ()) for j in val.joints], cls="kv"))
     return head + lead + body + f'<div class="grid">{fig1}{fig2}</div>'
 
 

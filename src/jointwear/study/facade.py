@@ -535,8 +535,9 @@ class Study:
                     f"({interval_text(row['cycles_low'], row['cycles_high'])}), surrogate "
                     f"{'-' if row['surrogate_cycles'] is None else format(row['surrogate_cycles'], ',.0f')}"
                     f"{'' if row['agree'] else ' (the intervals do not overlap)'}")
+        joints = "".join(f", joint {j['name']} at {j['levels_agree']}" for j in result.joints if "levels_agree" in j)
         self.echo(f"validate: {result.n_samples:,} true-model samples ({result.model_calls:,} new calls), "
-                  f"agreement at {agree} of {len(result.agreement)} levels{life}, cross-validation Q2 = "
+                  f"agreement at {agree} of {len(result.agreement)} levels{joints}{life}, cross-validation Q2 = "
                   f"{result.cross_validation.get('q2', float('nan')):.3f} -> {self.out / result.FILE}")
         self._refresh_report()
         return result

@@ -321,7 +321,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     # the model's own reason for a call that returned NaN, where the engine only saw the NaN
     infeasible["failure_reasons"] = {str(k): ctx.failure_reason(design_x_model[int(k)]) or v
                                      for k, v in engine.failure_reasons.items()}
-    joints = _joint_breakdown(ctx, engine, design_x, pop, reliability)
+    joints = _joint_breakdown(ctx, engine, design_x, pop, reliability, half, u_posterior, rel.seed + 19)
     return ReliabilityResult(
         cycles=cycles, reliability=reliability, pf=pf, pf_cov=pf_cov,
         below_floor=pf < rel.pf_floor, target=targets[0],
@@ -367,46 +367,58 @@ def implied_wear(ctx: StudyContext, engine, pop: np.ndarray, cycles) -> np.ndarr
 
 
 def _joint_breakdown(ctx: StudyContext, engine, design_x: np.ndarray, pop: np.ndarray,
-                     system_reliability: np.ndarray) -> list[dict]:
-    """Each judged joint's allowance and, with several joints, its own R(N) and its share of the system's
-    failures at every level, from the Kriging of its log life: the learnt one of a per-joint study (with that joint's
-    own scatter when the study estimates one, and its ``surrogate_fit``), else one fitted on the final design (no
-    learning). The share goes to the joint with the shortest predicted life.
+                     system_reliability: np.ndarray, system_half_width: np.ndarray, u_posterior: np.ndarray,
+                     seed: int) -> list[dict]:
+    """Each judged joint's allowance and, with several joints, its own R(N) with its 95 % half-width and its share
+    of the system's failures at every level, from the Kriging of its log life: the learnt one of a per-joint study
+    (with that joint's own scatter when the study estimates one, and its ``surrogate_fit``), else one fitted on the
+    final design (no learning). The share goes to the joint with the shortest predicted life.
 
+    The half-width (``half_width_95``) is the system curve's rule for one joint: 1.96 x (the Monte Carlo standard
+    error of its Pf on ``pop`` + the standard deviation of its Pf over its Kriging's posterior at ``u_posterior``).
     A joint alone is at least as reliable as the series system; a Kriging not refined by the learning can read lower
     than the system's R within its error, so a joint's R is reported no lower than the system's."""
     limit = ctx.limit_state
     rows = [{"name": n, "allowance_mm": a * 1e3} for n, a in zip(limit.names, limit.allowances)]
     if len(limit.joints) == 1:
         rows[0]["reliability"] = [float(r) for r in system_reliability]
+        rows[0]["half_width_95"] = [float(h) for h in system_half_width]
         rows[0]["governing_share"] = [1.0] * len(ctx.cycles)
         return rows
-    from jointwear.reliability import KrigingSurrogate, failure_probability
+    from jointwear.reliability import KrigingSurrogate, failure_probability, failure_spread
 
     iso = ctx.iso()
     u_pop = iso.to_u(pop)
     levels = ctx.log_levels()
+    rng = np.random.default_rng(seed)
     if ctx.per_joint:  # the learnt components, fitted on each joint's margin at the first level
-        pred = engine.response_surrogate.component_predictions(u_pop)[0] + levels[0]
+        sur = engine.response_surrogate
+        pred = sur.component_predictions(u_pop, variance=False)[0] + levels[0]
+        draws = sur.posterior_component_draws(u_posterior, POSTERIOR_DRAWS, rng) + levels[0]
     else:
         u_design = iso.to_u(design_x)
         log_lives = ctx.log_joint_lives(design_x)
-        predicted = []
+        predicted, drawn = [], []
         for k in range(len(limit.joints)):
             y = log_lives[:, k]
             ok = np.isfinite(y)
             sur = KrigingSurrogate(seed=ctx.config.reliability.seed + 100 + k).fit(u_design[ok], y[ok])
             predicted.append(sur.predict(u_pop, return_variance=False)[0])
+            drawn.append(sur.posterior_draws(u_posterior, POSTERIOR_DRAWS, rng))
         pred = np.column_stack(predicted)  # (n, J) ln N_f,j
+        draws = np.stack(drawn)  # (J, m, draws)
     governing = np.argmin(pred, axis=1)
     # a per-joint study with the life's scatter: each joint fails with its own (as the system's R(N) counts it)
     scatter = life_scatter_sd(ctx, engine)
     taus = engine.response_surrogate.scatter_sds if ctx.per_joint and scatter > 0 else np.zeros(len(rows))
+    system_fail = pred.min(axis=1)[:, None] < levels[None, :]
+    n_sys = system_fail.sum(axis=0)
     for k, row in enumerate(rows):
         fails_k = failure_probability(pred[:, k][:, None] - levels[None, :], float(taus[k]))
         row["reliability"] = np.maximum(1.0 - fails_k.mean(axis=0), system_reliability).tolist()
-        system_fail = pred.min(axis=1)[:, None] < levels[None, :]
-        n_sys = system_fail.sum(axis=0)
+        mc_sd = fails_k.std(axis=0, ddof=1) / math.sqrt(fails_k.shape[0])
+        posterior_sd = failure_spread(draws[k], levels, float(taus[k]))
+        row["half_width_95"] = (1.96 * (mc_sd + posterior_sd)).tolist()
         share = np.where(n_sys > 0, (system_fail & (governing == k)[:, None]).sum(axis=0) / np.maximum(n_sys, 1),
                          np.nan)
         row["governing_share"] = share.tolist()

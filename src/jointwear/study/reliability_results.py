@@ -374,6 +374,8 @@ class ReliabilityResult(StageResult):
                  "half_width_95": self.half_width}
         for j in self.joints if len(self.joints) > 1 else []:
             curve[f"reliability_{j['name']}"] = j["reliability"]
+            if "half_width_95" in j:  # results written before the joints had a band have none
+                curve[f"half_width_95_{j['name']}"] = j["half_width_95"]
             curve[f"governing_share_{j['name']}"] = j["governing_share"]
         intervals = [self.life_interval(r["target"]) for r in self.life_table]
         out = {"reliability_curve": curve, "life_table": {
@@ -575,8 +577,10 @@ class ValidationResult(StageResult):
             out["validation_joints"] = {
                 "joint": [j["name"] for j in self.joints for _ in self.cycles],
                 "cycles": np.tile(self.cycles, len(self.joints)),
-                **{key: np.concatenate([np.asarray(j[key], dtype=float) for j in self.joints])
-                   for key in ("reliability_mc", "ci_low", "ci_high", "reliability_surrogate")}}
+                **{key: np.concatenate([np.asarray(j[key], dtype=bool if key == "agreement" else float)
+                                     for j in self.joints])
+                   for key in ("reliability_mc", "ci_low", "ci_high", "reliability_surrogate", "surrogate_half_width",
+                               "agreement") if all(key in j for j in self.joints)}}
         return out
 
     def save(self, folder: Path | str, *, figures: bool = True) -> Path:

@@ -100,7 +100,9 @@ def joint_checks(ctx: StudyContext, reliability: ReliabilityResult, x: np.ndarra
     """Each judged joint's own R(N) on the validation's samples (their calls read back, no new one): the share of
     feasible samples whose joint life is longer, with its exact 95 % interval, beside the study's R(N) of that joint
     (``reliability.joints``), the largest difference and the levels where the study's lies inside the interval. A
-    failed call counts as a failure of every joint."""
+    level agrees (``agreement``, ``levels_agree``) as the system's curve does: the two differ by less than the sum of
+    their 95 % half-widths (the study's: ``half_width_95`` of the joint; results written without it have no
+    agreement). A failed call counts as a failure of every joint."""
     lives = ctx.joint_lives(x)
     n = lives.shape[0]
     out = []
@@ -111,10 +113,17 @@ def joint_checks(ctx: StudyContext, reliability: ReliabilityResult, x: np.ndarra
         lo = np.array([1.0 - hi for _, hi in bounds])
         hi = np.array([1.0 - lo_ for lo_, _ in bounds])
         r_sur = np.asarray(row.get("reliability", [np.nan] * levels.size), dtype=float)
-        out.append({"name": row["name"], "reliability_mc": r_mc.tolist(), "ci_low": lo.tolist(),
-                    "ci_high": hi.tolist(), "reliability_surrogate": r_sur.tolist(),
-                    "largest_difference": float(np.nanmax(np.abs(r_sur - r_mc))),
-                    "levels_within_interval": int(np.sum((r_sur >= lo) & (r_sur <= hi)))})
+        check = {"name": row["name"], "reliability_mc": r_mc.tolist(), "ci_low": lo.tolist(),
+                 "ci_high": hi.tolist(), "reliability_surrogate": r_sur.tolist(),
+                 "largest_difference": float(np.nanmax(np.abs(r_sur - r_mc))),
+                 "levels_within_interval": int(np.sum((r_sur >= lo) & (r_sur <= hi)))}
+        if "half_width_95" in row:
+            half_sur = np.asarray(row["half_width_95"], dtype=float)
+            half_mc = np.maximum(r_mc - lo, hi - r_mc)
+            agree = np.abs(r_sur - r_mc) <= half_mc + half_sur
+            check.update({"surrogate_half_width": half_sur.tolist(), "agreement": agree.tolist(),
+                          "levels_agree": int(agree.sum())})
+        out.append(check)
     return out
 
 
