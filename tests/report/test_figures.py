@@ -139,6 +139,24 @@ def test_the_reliability_band_adds_the_surrogates_error_to_the_monte_carlo_half_
     assert "95 % band (COV of Pf + surrogate error)" in [t.get_text() for t in both.axes[0].get_legend().get_texts()]
 
 
+def test_a_series_systems_figure_draws_each_joints_own_curve_with_its_band():
+    """Each joint's R(N) dashed, named in the legend, with a band of its own half-width; none without joints."""
+    cyc, rel = [1e5, 2e5, 3e5], [0.9, 0.7, 0.5]
+    joints = {"A": ([0.95, 0.8, 0.6], [0.01, 0.02, 0.04]), "E": ([0.99, 0.9, 0.8], None)}
+    fig = F.reliability_curve_figure(cyc, rel, pf_cov=[0.02] * 3, joints=joints)
+    ax = fig.axes[0]
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert "joint A alone" in labels and "joint E alone" in labels and "the mechanism" in labels
+    dashed = {line.get_label(): line.get_ydata() for line in ax.lines if line.get_linestyle() == "--"}
+    np.testing.assert_array_equal(dashed["joint A alone"], [0.95, 0.8, 0.6])
+    (_, joint_band) = ax.collections  # the mechanism's band, then joint A's (E has no half-width)
+    v = joint_band.get_paths()[0].vertices
+    ys = v[np.isclose(v[:, 0], 300.0), 1]
+    assert ys.max() - ys.min() == pytest.approx(0.08)
+    alone = F.reliability_curve_figure(cyc, rel).axes[0].get_legend().get_texts()
+    assert "the mechanism" not in [t.get_text() for t in alone]
+
+
 def test_a_figure_drawn_here_supersedes_the_stage_file_it_names_exactly(tmp_path):
     """validation.png was listed again among the figures 'the sections above do not show': its key also names
     cross_validation.png, which sorts first, so drawing the validation figure superseded the wrong file."""

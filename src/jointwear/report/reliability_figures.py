@@ -36,6 +36,10 @@ Array = Sequence[float] | np.ndarray
 
 
 # --------------------------------------------------------------------------------------------- reliability
+#: each joint's own R(N) beside the mechanism's (none near the target's colour)
+JOINT_COLORS = (COLORS[2], COLORS[5], COLORS[4], COLORS[3])
+
+
 def _band(ax, n, rel, half, color: str, label: str | None = None) -> None:
     """R -/+ half (clipped to [0, 1]) as a shaded band over the curve's levels n (thousands of cycles)."""
     ax.fill_between(n, np.clip(rel - half, 0, 1), np.clip(rel + half, 0, 1), color=color, alpha=0.2, lw=0,
@@ -64,12 +68,14 @@ def reliability_curve_figure(
     reference: Mapping[float, float] | None = None,
     reference_life: float | None = None,
     reference_label: str = "reference",
+    joints: Mapping[str, tuple[Array, Array | None]] | None = None,
 ) -> Figure:
     """R(N) with a 95 % band, the Monte Carlo half-width 1.96 COV Pf plus the surrogate's error estimate
     ``pf_error`` (absolute, in R) when given, the target line, the life at the target with its 95 % interval
     ``life_interval`` (cycles; an end that is None is drawn to the curve's end) and, when given, a
     cited reference's points ``reference`` {cycles: R} and life ``reference_life`` (cycles at the target),
-    labelled ``reference_label``."""
+    labelled ``reference_label``, and each joint's own R(N) of a series system ``joints`` {name: (R, its 95 %
+    half-width or None)}, dashed."""
     n = kilo_cycles(cycles)
     rel = require_array(reliability)
     fig, ax = figure()
@@ -78,7 +84,13 @@ def reliability_curve_figure(
                                 None if pf_error is None else require_array(pf_error))
         _band(ax, n, rel, half, COLORS[0],
               "95 % band (COV of Pf" + ("" if pf_error is None else " + surrogate error") + ")")
-    ax.plot(n, rel, color=COLORS[0], marker="o", ms=3, label="this study")
+    ax.plot(n, rel, color=COLORS[0], marker="o", ms=3, label="this study" if not joints else "the mechanism")
+    for k, (name, (r_joint, half_joint)) in enumerate((joints or {}).items()):
+        color = JOINT_COLORS[k % len(JOINT_COLORS)]
+        r_joint = require_array(r_joint)
+        if half_joint is not None:
+            _band(ax, n, r_joint, require_array(half_joint), color)
+        ax.plot(n, r_joint, color=color, ls="--", lw=1.2, label=f"joint {name} alone")
     if reference:
         ks = sorted(reference)
         ax.plot(np.array(ks) / 1e3, [reference[k] for k in ks], "x", color=PAPER_COLOR, ms=7, mew=1.8,

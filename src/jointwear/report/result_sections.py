@@ -152,9 +152,11 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
         lambda: F.reliability_curve_figure(rel.cycles, rel.reliability, pf_cov=rel.pf_cov, pf_error=rel.pf_error,
                                            target=rel.target, life_cycles=life,
                                            life_interval=None if note else interval, reference=ref_r or None,
-                                           reference_life=ref_life, reference_label=label),
+                                           reference_life=ref_life, reference_label=label,
+                                           joints=rel.joint_curves() or None),
         "Reliability R(N) with a 95 % band (the Monte Carlo half-width from the COV of Pf plus the surrogate's error "
         "estimate, as the validation combines them), the target and the life"
+        + ("; dashed: each judged joint's own R(N) with its band" if len(rel.joints) > 1 else "")
         + (f"; crosses: the values of the reference ({label})." if ref_r else "."),
         png_keys=("reliability_curve",)))
     conv = rel.convergence

@@ -363,6 +363,15 @@ class ReliabilityResult(StageResult):
             life_surrogate=data.get("life_surrogate", "system_life"),
             extra={k: v for k, v in data.items() if k not in _RELIABILITY_KEYS})
 
+    def joint_curves(self) -> dict[str, tuple[np.ndarray, np.ndarray | None]]:
+        """Each judged joint's own R(N) and its 95 % half-width (None in results written without it), with several
+        judged joints; empty with one."""
+        if len(self.joints) < 2:
+            return {}
+        return {j["name"]: (np.asarray(j["reliability"], dtype=float),
+                            None if "half_width_95" not in j else np.asarray(j["half_width_95"], dtype=float))
+                for j in self.joints}
+
     def tables(self) -> dict[str, dict[str, Any]]:
         """``reliability_curve`` (R, Pf, its COV and error and R's 95 % half-width at every level; each joint's R
         and share with several), ``life_table`` (the life at each target and its 95 % interval) and
@@ -406,8 +415,8 @@ class ReliabilityResult(StageResult):
 
             save_figure(F.reliability_curve_figure(
                 self.cycles, self.reliability, pf_cov=self.pf_cov, pf_error=self.pf_error, target=self.target,
-                life_cycles=self.life_cycles, life_interval=None if self.life_cycles is None else self.life_interval()),
-                folder / "reliability_curve.png")
+                life_cycles=self.life_cycles, life_interval=None if self.life_cycles is None else self.life_interval(),
+                joints=self.joint_curves() or None), folder / "reliability_curve.png")
             h = self.histograms
             if h.get("cycles"):
                 limit = self.joints[0]["allowance_mm"] if self.joints else None
