@@ -97,3 +97,12 @@ class NoisyTwoJointWear(TwoJointWear):
         life_a = allowances[0] / (RATES_TWO_JOINTS["A"] * x[:, 0] / 1e-4) * np.exp(-cls.TAUS[0] * eps[:, 0])
         life_e = allowances[1] / (RATES_TWO_JOINTS["E"] * x[:, 1] / 1e-4) * np.exp(-cls.TAUS[1] * eps[:, 1])
         return np.minimum(life_a, life_e) > cycles
+
+    @classmethod
+    def share_of_a(cls, x, cycles, eps, allowances=(ALLOWANCE, ALLOWANCE)):
+        """Joint A's share of the failures at ``cycles``: the failed rows whose A life is the shorter."""
+        x = np.atleast_2d(x)
+        life_a = allowances[0] / (RATES_TWO_JOINTS["A"] * x[:, 0] / 1e-4) * np.exp(-cls.TAUS[0] * eps[:, 0])
+        life_e = allowances[1] / (RATES_TWO_JOINTS["E"] * x[:, 1] / 1e-4) * np.exp(-cls.TAUS[1] * eps[:, 1])
+        failed = np.minimum(life_a, life_e) <= cycles
+        return float(np.mean(life_a[failed] < life_e[failed]))

@@ -372,7 +372,8 @@ def _joint_breakdown(ctx: StudyContext, engine, design_x: np.ndarray, pop: np.nd
     """Each judged joint's allowance and, with several joints, its own R(N) with its 95 % half-width and its share
     of the system's failures at every level, from the Kriging of its log life: the learnt one of a per-joint study
     (with that joint's own scatter when the study estimates one, and its ``surrogate_fit``), else one fitted on the
-    final design (no learning). The share goes to the joint with the shortest predicted life.
+    final design (no learning). The share goes to the joint with the shortest life: the predicted one, plus a draw
+    of each joint's own scatter when the study counts it.
 
     The half-width (``half_width_95``) is the system curve's rule for one joint: 1.96 x (the Monte Carlo standard
     error of its Pf on ``pop`` + the standard deviation of its Pf over its Kriging's posterior at ``u_posterior``).
@@ -407,11 +408,13 @@ def _joint_breakdown(ctx: StudyContext, engine, design_x: np.ndarray, pop: np.nd
             drawn.append(sur.posterior_draws(u_posterior, POSTERIOR_DRAWS, rng))
         pred = np.column_stack(predicted)  # (n, J) ln N_f,j
         draws = np.stack(drawn)  # (J, m, draws)
-    governing = np.argmin(pred, axis=1)
-    # a per-joint study with the life's scatter: each joint fails with its own (as the system's R(N) counts it)
+    # a per-joint study with the life's scatter: each joint fails with its own (as the system's R(N) counts it), and
+    # a failure goes to the joint whose drawn life is the shortest
     scatter = life_scatter_sd(ctx, engine)
     taus = engine.response_surrogate.scatter_sds if ctx.per_joint and scatter > 0 else np.zeros(len(rows))
-    system_fail = pred.min(axis=1)[:, None] < levels[None, :]
+    drawn = pred + rng.standard_normal(pred.shape) * taus[None, :] if np.any(taus > 0) else pred
+    governing = np.argmin(drawn, axis=1)
+    system_fail = drawn.min(axis=1)[:, None] < levels[None, :]
     n_sys = system_fail.sum(axis=0)
     for k, row in enumerate(rows):
         fails_k = failure_probability(pred[:, k][:, None] - levels[None, :], float(taus[k]))
