@@ -119,14 +119,10 @@ class StudyConfig(SIModel):
         if self.uncertainty is None:
             return self
         data = self.model_dump()
-        clearances = [c.name for c in self.uncertainty.clearances()]
-        several = isinstance(self.uncertainty.clearance, list)
         for spec in self.uncertainty.all_specs():
             problem = target_error(data, spec.target)
             if problem:
-                where = (f"uncertainty.variables[{spec.name}]" if spec.name not in clearances
-                         else f"uncertainty.clearance[{spec.name}]" if several else "uncertainty.clearance")
-                raise ValueError(f"{where}.target: {problem}")
+                raise ValueError(f"{self.uncertainty.field_of(spec.name)}.target: {problem}")
         return self
 
     @model_validator(mode="after")

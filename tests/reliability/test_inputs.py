@@ -54,8 +54,13 @@ def test_dimension_mismatch():
 
 
 def test_all_nan_raises_and_nan_policy_raise():
-    with pytest.raises(ValueError, match="NaN"):
+    from jointwear.reliability import AllCallsFailedError
+
+    # a typed error, so that a caller that knows its model (the study) can say why its calls failed
+    with pytest.raises(AllCallsFailedError, match="NaN"):
         akmcs(lambda x: np.full(len(x), np.nan), NORM2)
+    with pytest.raises(AllCallsFailedError, match="first batch"):
+        monte_carlo(lambda x: np.full(len(x), np.nan), NORM2, 100)
     with pytest.raises(ValueError, match="nan_policy='raise'"):
         akmcs(lambda x: np.where(x[:, 0] > 1, np.nan, _lin(x)), NORM2, evaluation=Evaluation(nan_policy="raise"))
 

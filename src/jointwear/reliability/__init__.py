@@ -9,7 +9,7 @@ every method takes. See ``docs/reliability.md`` for the methods, choices, NaN ru
 from . import problems
 from .akis import akis
 from .akmcs import akmcs, akmcs_multi
-from .evaluation import Evaluation, LimitStateCaller
+from .evaluation import AllCallsFailedError, Evaluation, LimitStateCaller
 from .inputs import (
     IsoTransform,
     Marginal,
@@ -34,6 +34,7 @@ from .results import (
 from .system import SeriesSurrogate
 
 __all__ = [
+    "AllCallsFailedError",
     "Evaluation",
     "IsoTransform",
     "IterationRecord",

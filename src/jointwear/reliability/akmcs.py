@@ -34,7 +34,7 @@ import numpy as np
 from scipy.stats import qmc
 
 from .checks import check_positive, check_positive_int
-from .evaluation import Evaluation, evaluation_or_default
+from .evaluation import AllCallsFailedError, Evaluation, evaluation_or_default
 from .inputs import IsoTransform, check_marginals
 from .kriging import KrigingSurrogate, ShiftedSurrogate
 from .learning import (
@@ -118,7 +118,7 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
         raise ValueError("g returned zero columns")
     if not np.isfinite(G0).any():
         reason = next(iter(getattr(ev, "failure_reasons", {}).values()), "g returned NaN")
-        raise ValueError(
+        raise AllCallsFailedError(
             f"g returned NaN (or failed) for every one of the {n_initial} initial design points ({reason}); "
             "check g and that it expects X with one column per marginal "
             f"({d} marginals given)"

@@ -6,7 +6,7 @@ row by row) is a *failed call*. It is counted in ``n_failed_calls``, its reason 
 ``failure_reasons`` (index into the design), it is **counted as a failure (g < 0)** - conservative - and it
 is excluded from any Kriging training set. It is never counted as safe. With ``nan_policy="raise"`` the
 first NaN raises ``ValueError`` instead. If *every* point of the first batch fails, the limit state is
-considered broken and ``ValueError`` is raised with the first reason.
+considered broken and :class:`AllCallsFailedError` (a ``ValueError``) is raised with the first reason.
 """
 
 from __future__ import annotations
@@ -20,9 +20,14 @@ import numpy as np
 
 from .checks import check_positive_int
 
-__all__ = ["Evaluation", "LimitStateCaller"]
+__all__ = ["AllCallsFailedError", "Evaluation", "LimitStateCaller"]
 
 NAN_POLICIES = ("failure", "raise")
+
+
+class AllCallsFailedError(ValueError):
+    """Every point of a method's first batch failed (NaN or an error): there is nothing to learn from, so the
+    method stops; a caller that knows its model can say why (the message gives the first reason it saw)."""
 
 
 class ExecutorLike(Protocol):

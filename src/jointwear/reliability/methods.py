@@ -17,7 +17,7 @@ import numpy as np
 from scipy.special import ndtr
 
 from .checks import check_positive, check_positive_int
-from .evaluation import Evaluation, evaluation_or_default
+from .evaluation import AllCallsFailedError, Evaluation, evaluation_or_default
 from .inputs import IsoTransform, check_marginals
 from .results import ReliabilityResult, mc_cov, pf_to_beta
 
@@ -43,8 +43,8 @@ def _failed(gv: np.ndarray) -> np.ndarray:
 def _first_batch_check(gv: np.ndarray, ev, d: int) -> None:
     if gv.size and not np.isfinite(gv).any():
         reason = next(iter(getattr(ev, "failure_reasons", {}).values()), "g returned NaN")
-        raise ValueError(f"g returned NaN (or failed) for every point of the first batch ({reason}); check g and "
-                         f"that it expects X with one column per marginal ({d} marginals given)")
+        raise AllCallsFailedError(f"g returned NaN (or failed) for every point of the first batch ({reason}); check "
+                                  f"g and that it expects X with one column per marginal ({d} marginals given)")
 
 
 def _common(ev, transform, t0, keep=True):

@@ -170,7 +170,8 @@ def config_warnings(config: StudyConfig) -> list[str]:
                        f"deviations from the value drawn at its target {spec.target} ({drawn:.6g}{unit}): the "
                        "simulate and wear stages run the drawn mechanism, the reliability stages one around the mean; "
                        "give both the same value unless the shift is meant")
-    return out + clearance_warnings(config) + wear_mode_warnings(config) + design_warnings(config)
+    return (out + random_input_warnings(config) + clearance_warnings(config) + wear_mode_warnings(config)
+            + design_warnings(config))
 
 
 def wear_mode_warnings(config: StudyConfig) -> list[str]:
@@ -224,6 +225,92 @@ def out_problem(out: Path) -> str | None:
     if not os.access(existing, os.W_OK | os.X_OK):
         return f"out: cannot write to '{out}': '{existing}' is not writable"
     return None
+
+
+#: a random variable's ends checked by :func:`random_input_warnings`, in standard deviations from its mean
+SIGMA_ENDS = 3.0
+
+
+def _unbuilt(config: StudyConfig, targets: list[str], x: list[float]) -> str | None:
+    """Why the model of ``config`` with ``targets`` set to ``x`` (SI) cannot be built, as a model call would
+    record it (None when it builds)."""
+    from jointwear.mechanism import build_model
+    from jointwear.study.model_call import apply_sample
+
+    try:
+        build_model(apply_sample(config, targets, x))
+    except ConfigError as exc:
+        return "; ".join(exc.problems)
+    except (ValueError, ArithmeticError) as exc:  # a number the model cannot use: a call would fail the same way
+        return " ".join(str(exc).split())
+    return None
+
+
+def _unit_hint(config: StudyConfig, target: str, value: float) -> str:
+    """' (a unit slip? ...)' when ``value`` is orders of magnitude from the value drawn at ``target``, else ''."""
+    from jointwear.config import target_display_unit
+    from jointwear.uncertainty.targets import target_value
+    from jointwear.units import suffixes_of
+
+    drawn = target_value(config.model_dump(), target)
+    unit = target_display_unit(target)
+    if not unit or not drawn or 1e-2 < abs(value / drawn) < 1e2:
+        return ""
+    return (f"; the config itself has {drawn:.6g} {unit} there: give the variable's numbers in their unit with a "
+            f"suffix ({', '.join('mean_' + s for s in suffixes_of(unit))})")
+
+
+def random_input_problems(config: StudyConfig) -> list[str]:
+    """The random variables at whose means the model cannot be built (every call of the study would fail), each
+    with the model's own reason; checked all at their means, then each alone to name the culprits."""
+    from jointwear.config import target_display_unit
+
+    unc = config.uncertainty
+    if unc is None or not unc.all_specs():
+        return []
+    specs = unc.all_specs()
+    means = [float(m.mean()) for m in unc.marginals(feasible=True)]  # the distributions as the study samples them
+    together = _unbuilt(config, [s.target for s in specs], means)
+    if together is None:
+        return []
+    out = []
+    for spec, mean in zip(specs, means):
+        reason = _unbuilt(config, [spec.target], [mean])
+        if reason is not None:
+            unit = target_display_unit(spec.target) or ""
+            out.append(f"{unc.field_of(spec.name)}: at its mean, {mean:.6g} {unit}".rstrip()
+                       + f", the model cannot be built, so every model call would fail: {reason}"
+                       + _unit_hint(config, spec.target, mean))
+    return out or [f"uncertainty: with every random variable at its mean ({', '.join(unc.names())}) the model "
+                   f"cannot be built, so every model call would fail: {together}"]
+
+
+def random_input_warnings(config: StudyConfig) -> list[str]:
+    """Each random variable at whose +-``SIGMA_ENDS`` sigma end (the others at their means) the model cannot be
+    built: those samples fail, and the study counts them as failures of the mechanism."""
+    from scipy.stats import norm
+
+    from jointwear.config import target_display_unit
+
+    unc = config.uncertainty
+    if unc is None or not unc.all_specs() or random_input_problems(config):
+        return []
+    specs, marginals = unc.all_specs(), unc.marginals(feasible=True)
+    targets = [s.target for s in specs]
+    means = [float(m.mean()) for m in marginals]
+    out = []
+    for i, (spec, marginal) in enumerate(zip(specs, marginals)):
+        for sign in (-1.0, 1.0):
+            end = float(marginal.ppf(norm.cdf(sign * SIGMA_ENDS)))  # the same tail share of any distribution
+            reason = _unbuilt(config, targets, means[:i] + [end] + means[i + 1:])
+            if reason is not None:
+                unit = target_display_unit(spec.target) or ""
+                out.append(f"{unc.field_of(spec.name)}: at its {'+' if sign > 0 else '-'}{SIGMA_ENDS:g} sigma end, "
+                           f"{end:.6g} {unit}".rstrip() + f", the model cannot be built: {reason}; the samples beyond "
+                           "it fail, and the study counts them as failures of the mechanism (narrow the "
+                           "distribution, or bound it: truncated_normal)")
+                break
+    return out
 
 
 def check_runs(config: StudyConfig) -> list[str]:

@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from jointwear.config import StudyConfig, config_from_dict, load_config
-from jointwear.reliability import cov_population
+from jointwear.reliability import AllCallsFailedError, cov_population
 from jointwear.schema import ConfigError
 from jointwear.study.checks import (
     check_runs,
@@ -30,6 +30,7 @@ from jointwear.study.checks import (
     config_warnings,
     nominal_wear_cycles,
     out_problem,
+    random_input_problems,
     scheduler_problem,
 )
 from jointwear.study.convergence import WearConvergence
@@ -187,7 +188,7 @@ class Study:
                 raise ConfigError(problem)
             problems.append(problem)
         if not problems and not self._checked:
-            problems += check_runs(self.config)
+            problems += check_runs(self.config) or random_input_problems(self.config)
         if problems:
             raise ConfigError.from_problems(problems, self._source_label)
         found = [] if self._checked else config_warnings(self.config)
@@ -681,7 +682,20 @@ class Study:
             if self._context is not None:
                 ctx.evaluator.adopt(self._context.evaluator)
             self._context = ctx
-            yield ctx
+            try:
+                yield ctx
+            except AllCallsFailedError as exc:
+                raise ConfigError(self._all_failed_message(ctx, exc)) from None
+
+    def _all_failed_message(self, ctx, exc: Exception) -> str:
+        """One line for a learning whose first model calls all failed: the engine's message knows only its g, the
+        store knows why the first call failed (the reason comes first, so the line leads with what to fix)."""
+        reasons = list(ctx.call_failures.values())
+        if not reasons:
+            return f"reliability: every model call of the initial design failed: {' '.join(str(exc).split())}"
+        return (f"reliability: every one of the first {len(reasons)} model calls failed, so the study cannot learn; "
+                f"the first call's stored reason: {' '.join(reasons[0].split())} (every call's reason is kept in "
+                f"{self.out / 'evaluations.sqlite'})")
 
     def _progress_callback(self, record) -> None:
         import numpy as np

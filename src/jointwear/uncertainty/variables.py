@@ -315,6 +315,13 @@ class UncertaintySettings(SIModel):
             return []
         return list(self.clearance) if isinstance(self.clearance, list) else [self.clearance]
 
+    def field_of(self, name: str) -> str:
+        """Where the config gives the random variable ``name``, as messages name it: 'uncertainty.variables[l2]',
+        'uncertainty.clearance', or 'uncertainty.clearance[c_A]' for one of several clearances."""
+        if self.clearance_named(name) is None:
+            return f"uncertainty.variables[{name}]"
+        return f"uncertainty.clearance[{name}]" if isinstance(self.clearance, list) else "uncertainty.clearance"
+
     def clearance_named(self, name: str) -> ClearanceSpec | None:
         """The random clearance called ``name`` (None when no clearance has that name)."""
         return next((c for c in self.clearances() if c.name == name), None)
