@@ -238,12 +238,58 @@ def _did_you_mean(loc: tuple[Any, ...]) -> str:
     return f" (did you mean {close[0]}?)" if close else ""
 
 
+#: error types that say the input has another shape than a union's branch (a table where a list is expected ...)
+SHAPE_ERRORS = frozenset({"list_type", "tuple_type", "dict_type", "model_type", "model_attributes_type", "set_type",
+                          "float_type", "int_type", "string_type", "bool_type", "float_parsing", "int_parsing"})
+
+
+def _branch_at(loc: tuple[Any, ...]) -> int | None:
+    """Where a union's branch tag ('function-after[..., ClearanceSpec]', 'list[...]', 'float') sits in an error's
+    location: a key that is no field there but names a type of the union (None when there is none)."""
+    for i, key in enumerate(loc):
+        found = walk_schema(StudyConfig, loc[:i]) if isinstance(key, str) else None
+        models = found[0] if found else []
+        if not isinstance(key, str) or any(key in m.model_fields for m in models):
+            continue
+        if re.fullmatch(r"[\w-]+\[.*\]", key) or key in {m.__name__ for m in models} or key in ("float", "int",
+                                                                                                "str", "bool"):
+            return i
+    return None
+
+
+def _matching_branches(errors: list[dict]) -> list[dict]:
+    """A union's errors from the branches that fit the input's shape only (a table given for
+    ``ClearanceSpec | list[ClearanceSpec]``: not 'Input should be a valid list'), with the branch tags dropped from
+    the locations; every branch's when none fits."""
+    while True:
+        tagged = [(e, i) for e in errors if (i := _branch_at(tuple(e.get("loc", ())))) is not None]
+        if not tagged:
+            return errors
+        err, i = tagged[0]
+        prefix = tuple(err["loc"][:i])
+        group = [(e, j) for e, j in tagged if j == i and tuple(e["loc"][:i]) == prefix]
+        branches: dict[str, list[dict]] = {}
+        for e, _ in group:
+            branches.setdefault(e["loc"][i], []).append(e)
+        fits = {tag for tag, errs in branches.items()
+                if not all(len(e["loc"]) == i + 1 and e.get("type") in SHAPE_ERRORS for e in errs)}
+        members = {id(e) for e, _ in group}
+        if fits:
+            errors = [e if id(e) not in members else {**e, "loc": prefix + tuple(e["loc"][i + 1:])}
+                      for e in errors if id(e) not in members or e["loc"][i] in fits]
+        else:  # no branch takes this shape: one error that lists the shapes they take
+            shapes = [e["msg"].removeprefix("Input should be ") for e, _ in group]
+            one = {**err, "loc": prefix, "msg": "Input should be " + " or ".join(dict.fromkeys(shapes))}
+            errors = [one if e is err else e for e in errors if e is err or id(e) not in members]
+
+
 def validation_problems(exc: ValidationError) -> list[str]:
     """Every problem of a pydantic validation error as 'field.path: message (got value)'.
 
-    An unknown key usually also causes a "missing" error for the key it misspells: unknown keys come first.
+    An unknown key usually also causes a "missing" error for the key it misspells: unknown keys come first. Of a
+    union (one table or a list of tables), only the branch that fits the input's shape is reported.
     """
-    errors = sorted(exc.errors(), key=lambda e: e.get("type") != "extra_forbidden")
+    errors = sorted(_matching_branches(exc.errors()), key=lambda e: e.get("type") != "extra_forbidden")
     out = []
     for err in errors:
         where = _loc(tuple(err.get("loc", ())))

@@ -13,6 +13,7 @@ Everything in SI (metres); grade names like ``"IT7"``.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 
 # Upper bounds (mm, inclusive) of the ISO 286-1 nominal size ranges, and the
@@ -30,12 +31,18 @@ _IT_UM = {
 #: the grades tabulated (nominal sizes up to 120 mm)
 IT_GRADES = tuple(_IT_UM)
 
+#: what a fit written with its letters (H8/f7) means here: only the grades set the clearance's spread
+FIT_LETTERS = ("fit letters (H, f, g, ...) are not modelled: they set the mean clearance, which is given as the "
+               "clearance's mean (mean_um); see docs/tutorial.md, 'The random inputs'")
+
 
 def it_tolerance(grade: str, nominal_size: float) -> float:
     """Standard tolerance (m) of an ISO 286-1 grade for a nominal size (m)."""
     key = grade.upper().replace(" ", "")
     if key not in _IT_UM:
-        raise ValueError(f"unknown ISO 286 tolerance grade {grade!r}; known: {', '.join(_IT_UM)}")
+        lettered = re.fullmatch(r"(?!IT)[A-Z]{1,2}(\d{1,2})", key)  # 'H8', 'f7': a fit's letter and its grade
+        hint = f"; the grade is the IT number (IT{lettered[1]}), and {FIT_LETTERS}" if lettered else ""
+        raise ValueError(f"unknown ISO 286 tolerance grade {grade!r}; known: {', '.join(_IT_UM)}{hint}")
     size_mm = nominal_size * 1e3
     if not (0.0 < size_mm <= _SIZE_UPPER_MM[-1]):
         raise ValueError(f"nominal size {size_mm:g} mm outside the tabulated range (0, 120] mm")

@@ -12,6 +12,7 @@ Dependence between variables: ``correlation`` (a normal copula, :mod:`jointwear.
 from __future__ import annotations
 
 import math
+import re
 from typing import Any, Literal
 
 import numpy as np
@@ -20,7 +21,7 @@ from scipy import optimize, special, stats
 
 from jointwear.schema import F, SIModel
 from jointwear.uncertainty.copulas import check_correlation, normal_copula
-from jointwear.uncertainty.tolerances import clearance_from_fit, it_tolerance
+from jointwear.uncertainty.tolerances import FIT_LETTERS, clearance_from_fit, it_tolerance
 
 DistributionName = Literal["normal", "lognormal", "uniform", "truncated_normal", "weibull", "gumbel", "gamma", "beta"]
 
@@ -168,6 +169,18 @@ class ClearanceSpec(SIModel):
         "truncate",
         description="'truncate': the clearance distribution is truncated at `minimum` (parts that would "
         "interfere are rejected at assembly); 'fail': such samples are kept and counted as failures.")
+
+    @model_validator(mode="before")
+    @classmethod
+    def _no_fit(cls, data: Any) -> Any:
+        """A fit written as ISO letters (``fit = "H8/f7"``) is not a key; say what to write instead."""
+        if isinstance(data, dict) and "fit" in data:
+            grades = re.findall(r"[A-Za-z]{1,2}(\d{1,2})", str(data["fit"]))
+            given = (f" (for {data['fit']!r}: hole_grade = 'IT{grades[0]}', shaft_grade = 'IT{grades[1]}')"
+                     if len(grades) == 2 else "")
+            raise ValueError(f"fit: not a setting of the clearance: give the grades as hole_grade and shaft_grade, "
+                             f"the IT numbers{given}; {FIT_LETTERS}")
+        return data
 
     @field_validator("hole_grade", "shaft_grade")
     @classmethod
