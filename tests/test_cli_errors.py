@@ -188,6 +188,16 @@ def test_check_and_presets_and_version(tmp_path, capsys):
     assert "jointwear" in capsys.readouterr().out
 
 
+def test_check_says_whether_each_value_comes_from_the_config_or_is_a_default(capsys):
+    """docs/cli.md promised where each value comes from; check printed each field's description instead."""
+    assert main_entry(["check", "jin2025_flapping_wing"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert "mechanism.crank_speed = 480 rpm    # the config" in lines
+    assert "simulation.max_steps = 50000000    # jointwear default: Safety limit on accepted+rejected steps per call." \
+        in lines
+    assert all(line.split("    # ")[1].startswith(("the config", "jointwear default")) for line in lines)
+
+
 def test_a_config_extends_a_preset(tmp_path, capsys):
     from jointwear.config import load_config
 

@@ -235,8 +235,9 @@ def compare(directories, target, labels, out):
 @click.argument("config", required=True)
 def check(config):
     """Check CONFIG whole (every section and cross-section rule, the nominal mechanism runs) and print every
-    setting resolved, with its unit and where its value comes from."""
-    from jointwear.report.settings import settings_records
+    setting resolved, with its unit and where its value comes from: the config, or jointwear's default (and where
+    that default comes from)."""
+    from jointwear.report.settings import origin, settings_records
     from jointwear.study import Study
 
     study = Study(config, out=Path("."), echo=lambda line: None)  # its warnings are printed last, below
@@ -246,7 +247,8 @@ def check(config):
         source = " ".join(str(rec["source"]).split())
         value = rec["value"]
         shown = f"{value:.6g}" if isinstance(value, float) else repr(value)
-        click.echo(f"{rec['name']} = {shown}{unit}" + (f"    # {source}" if source else ""))
+        note = f"{origin(rec)}: {source}" if source and not rec["explicit"] else origin(rec)
+        click.echo(f"{rec['name']} = {shown}{unit}    # {note}")
     for warning in found:
         say(f"check: warning: {warning}")
     say(f"check: {config} is a valid study config for the stages {', '.join(study.stages)}")

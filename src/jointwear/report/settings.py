@@ -44,7 +44,7 @@ from typing import Any
 
 from jointwear.units import PA_PER_HB
 
-__all__ = ["settings_records", "settings_dump", "write_settings", "is_paper_open", "random_variables"]
+__all__ = ["settings_records", "settings_dump", "write_settings", "is_paper_open", "random_variables", "origin"]
 
 _OPEN = re.compile(
     r"paper[- ]notes|paper (is )?silent|paper gives no|not (fixed|given|stated) (by|in) the paper|project choice|"
@@ -160,6 +160,12 @@ def settings_records(model: Any, prefix: str = "", *, explicit: bool = True,
             "explicit": here,
         })
     return out
+
+
+def origin(record: Mapping) -> str:
+    """Where a setting's value comes from, by its record's ``explicit``: 'the config' or 'jointwear default' (a dash
+    for a record written before ``explicit`` was)."""
+    return {True: "the config", False: "jointwear default"}.get(record.get("explicit"), "\u2014")
 
 
 def _variable_units(config: Any) -> dict[str, str | None]:

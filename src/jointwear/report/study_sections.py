@@ -13,6 +13,7 @@ from . import figures as F
 from .checks import reference_label, reference_of, reference_values, second_peak
 from .markup import Figures, cards, e, format_number, missing, table
 from .read import StudyOutputs, joint_series
+from .settings import origin
 from .style import scale_to_unit
 
 __all__ = ["settings_section", "dynamics_section", "wear_section", "convergence_section", "allowance_mm",
@@ -145,9 +146,7 @@ def settings_section(out: StudyOutputs, figs: Figures) -> str:
         parts.append("</details>")
     else:
         # no reference: the study's own values; where a default comes from is documented in docs/config.md
-        given = {True: "the config", False: "jointwear default"}
-        rows = [(str(x.get("name")), setting_text(x), str(x.get("unit") or ""),
-                 given.get(x.get("explicit"), "\u2014")) for x in recs]
+        rows = [(str(x.get("name")), setting_text(x), str(x.get("unit") or ""), origin(x)) for x in recs]
         n_set = sum(x.get("explicit") is True for x in recs)
         parts.append(f"<h3>Settings of this study ({len(recs)}, {n_set} given in the config)</h3>")
         parts.append("<p>Values not given in the config are jointwear's defaults; <code>jointwear check CONFIG</code> "
