@@ -186,3 +186,27 @@ def test_a_folder_recorded_in_other_display_units_is_the_same_model(tmp_path):
     assert _changed_settings(tmp_path, dump["settings"]) == []
     harder = settings_dump(updated(cfg, {"clearance_joints.A.bearing_material.hardness_HB": 400.0}))
     assert _changed_settings(tmp_path, harder["settings"]) == ["clearance_joints[0].bearing_material.hardness"]
+
+
+def test_a_resume_refused_for_another_model_lists_every_changed_setting(tmp_path, capsys):
+    """The refusal named only wear.block_cycles when the curve's end had changed too (its calls' identity holds the
+    curve's cycle counts), and its line began 'error: out: ...'."""
+    import numpy as np
+
+    from jointwear.cli import main_entry
+    from jointwear.compute import EvaluationStore
+    from jointwear.compute.store import CallRecord
+    from jointwear.report.settings import write_settings
+    from jointwear.study.reliability import store_digest
+
+    before = load_config()
+    write_settings(tmp_path, before)  # as the interrupted study left them: its config beside a store with a call
+    with EvaluationStore.open(tmp_path, store_digest(before)) as store:
+        store.put("wear_model", CallRecord(x=np.zeros(2), status="ok", reason=None, outputs=np.ones(2), wall_s=1.0))
+    config = tmp_path / "changed.toml"
+    config.write_text('extends = "jin2025_flapping_wing"\n[wear]\nblock_cycles = 20000\n[reliability]\n'
+                      'cycles_stop = 500000\nmax_calls = 99\n', encoding="utf-8")
+    assert main_entry(["reliability", str(config), "--out", str(tmp_path), "--resume", "--workers", "1"]) == 2
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert line.startswith(f"error: {tmp_path}: the evaluation store there holds calls of another wear model "
+                           "(changed: wear.block_cycles, reliability.cycles_stop). Resume with"), line

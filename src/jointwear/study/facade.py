@@ -615,13 +615,15 @@ class Study:
         if isinstance(exc, compute.ConfigChangedError):
             from jointwear.report.settings import settings_dump
 
-            changed = _changed_settings(self.out, settings_dump(self.config)["settings"], with_results=False)
-            named = f" (changed: {', '.join(changed[:5])}{' ...' if len(changed) > 5 else ''})" if changed else ""
-            return (f"out: the evaluation store in {self.out} holds calls of another wear model{named}: the "
-                    f"{', '.join(WearModelCall.MODEL_SECTIONS)} sections, the random variables' targets or the "
-                    "curve's cycle counts changed since it was written. Resume with the model it was written for, "
-                    "or use a new output folder (--out; out= in Python). The learning, sensitivity, design and "
-                    "report settings may change on resume.")
+            changed = _changed_settings(self.out, settings_dump(self.config)["settings"], with_results=False,
+                                        of_calls=True)
+            named = f" (changed: {', '.join(changed)})" if changed else (
+                f" (the {', '.join(WearModelCall.MODEL_SECTIONS)} sections, the random variables' targets or the "
+                "curve's cycle counts changed)")
+            # the folder leads, as a config file leads its problems: 'out:' read as a stray word before it
+            return (f"{self.out}: the evaluation store there holds calls of another wear model{named}. Resume with "
+                    "the config they were made with, or use a new output folder (--out; out= in Python); the "
+                    "learning, sensitivity, design and report settings may change on resume.")
         return str(exc)
 
     def _refuse_store(self, reuse: bool) -> None:
@@ -784,8 +786,10 @@ class Study:
                       'wear.geometry_mode = "profile" before deciding (docs/wear.md)')
 
 
-def _changed_settings(out: Path, settings: list[dict], *, with_results: bool = True) -> list[str]:
-    """The settings of the wear model (``WearModelCall.MODEL_SECTIONS``) whose values differ from those recorded in
+def _changed_settings(out: Path, settings: list[dict], *, with_results: bool = True,
+                      of_calls: bool = False) -> list[str]:
+    """The settings of the wear model (``WearModelCall.MODEL_SECTIONS``; ``of_calls``: every setting the model
+    calls' identity depends on, ``WearModelCall.depends_on``) whose values differ from those recorded in
     ``out/config.json`` by an earlier study whose results are still there (``with_results=False``: whose config is
     there, e.g. beside its evaluation store); empty when there is none or it had this model (the learning,
     sensitivity and report settings may change between runs in one folder)."""
@@ -803,7 +807,8 @@ def _changed_settings(out: Path, settings: list[dict], *, with_results: bool = T
     now = {r["name"]: _in_si(json.loads(json.dumps(r.get("value"), default=str)), r.get("unit")) for r in settings}
     names = list(now) + [name for name in before if name not in now]
     model = tuple(WearModelCall.MODEL_SECTIONS)
-    return [name for name in names if name.split(".")[0].split("[")[0] in model
+    return [name for name in names if (WearModelCall.depends_on(name) if of_calls
+                                       else name.split(".")[0].split("[")[0] in model)
             and not same_value(now.get(name), before.get(name), rtol=1e-12)]  # a display unit there and back
 
 

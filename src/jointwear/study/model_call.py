@@ -85,6 +85,11 @@ class WearModelCall:
     """
 
     MODEL_SECTIONS: ClassVar[tuple[str, ...]] = ("mechanism", "clearance_joints", "simulation", "wear")
+    #: the other settings a call's identity depends on (the history's cycle counts, the judged joints, their
+    #: quantity; and every random variable's target), as config.json names them
+    CALL_SETTINGS: ClassVar[tuple[str, ...]] = ("reliability.cycles_start", "reliability.cycles_stop",
+                                                "reliability.cycles_step", "reliability.histogram_cycles",
+                                                "reliability.joints", "reliability.quantity")
 
     base: dict
     targets: list[str]
@@ -104,6 +109,13 @@ class WearModelCall:
         larger budget reads back every call it made."""
         return {"model": {k: self.base[k] for k in self.MODEL_SECTIONS}, "targets": list(self.targets),
                 "cycles": list(self.cycles), "joints": list(self.joints), "quantity": self.quantity}
+
+    @classmethod
+    def depends_on(cls, name: str) -> bool:
+        """Whether the calls' identity (the evaluation store's key) depends on the setting ``name``, as config.json
+        names it ('wear.block_cycles', 'uncertainty.variables[0].target')."""
+        return (name.split(".")[0].split("[")[0] in cls.MODEL_SECTIONS or name in cls.CALL_SETTINGS
+                or (name.startswith("uncertainty.") and name.endswith(".target")))
 
     def __call__(self, x: np.ndarray):
         from jointwear.mechanism import build_model
