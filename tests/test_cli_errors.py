@@ -44,6 +44,10 @@ CASES = [
      ["bearing_material.youngs_modulus", "1e+06 Pa", "a unit slip?", "youngs_modulus_GPa"]),
     ("hardness_HB = 350.0", "hardness_Pa = 120.0", ["bearing_material.hardness", "1e+06 Pa", "a unit slip?"]),
     ("wear_coefficient = 1.2e-3", "wear_coefficient = 2.0", ["bearing_material.wear_coefficient", "less than 1"]),
+    # a bad value given with a unit suffix is shown as written, then in SI (it was only '-6.8649e+07' for -7 HB)
+    ("std_HB = 30.5", "std_HB = -7.0", ["uncertainty.variables[", "must be > 0 (got -7 HB = -6.8649e+07 Pa)"]),
+    ("hardness_HB = 350.0", "hardness_HB = -5.0", ["bearing_material.hardness", "(got -5 HB = -4.9035e+07 Pa)"]),
+    ("length_mm = 6.0", "length_mm = -6.0", ["crank.length", "(got -6 mm = -0.006 m)"]),
 ]
 
 

@@ -49,7 +49,7 @@ from jointwear.mechanism.settings import (
     SliderCrankConfig,
 )
 from jointwear.reference import AcceptanceBand, ReferenceData, ReferenceValue
-from jointwear.schema import ConfigError, F, SIModel, field_units, path_unit, walk_schema
+from jointwear.schema import ConfigError, F, FieldValueError, SIModel, field_units, path_unit, walk_schema
 from jointwear.study_settings import (
     ComputeSettings,
     ReliabilitySettings,
@@ -283,8 +283,34 @@ def _matching_branches(errors: list[dict]) -> list[dict]:
             errors = [one if e is err else e for e in errors if e is err or id(e) not in members]
 
 
-def validation_problems(exc: ValidationError) -> list[str]:
-    """Every problem of a pydantic validation error as 'field.path: message (got value)'.
+def _as_written(table: Any, field: Any) -> str | None:
+    """'-7 HB' when ``table`` (a section as the config wrote it) gives ``field`` with a unit suffix, else None."""
+    if not isinstance(table, Mapping) or not isinstance(field, str):
+        return None
+    for key, value in table.items():
+        split = split_unit_key(key, frozenset((field,)))
+        if split and isinstance(value, (int, float)) and not isinstance(value, bool):
+            return f"{value:g} {split[1]}"
+    return None
+
+
+def _table_at(data: Any, loc: tuple[Any, ...]) -> Any:
+    """The raw table at an error's location in the data the config was validated from (None where it is not)."""
+    node = data
+    for key in loc:
+        if isinstance(node, Mapping) and key not in node and node.get("type") == key:
+            continue  # a discriminated union's tag: the table itself
+        try:
+            node = node[key]
+        except (KeyError, IndexError, TypeError):
+            return None
+    return node
+
+
+def validation_problems(exc: ValidationError, data: Any = None) -> list[str]:
+    """Every problem of a pydantic validation error as 'field.path: message (got value)'; with the ``data`` that
+    was validated, a value the config gave with a unit suffix is shown as written, then in SI ('got -7 HB =
+    -6.8649e+07 Pa').
 
     An unknown key usually also causes a "missing" error for the key it misspells: unknown keys come first. Of a
     union (one table or a list of tables), only the branch that fits the input's shape is reported.
@@ -292,14 +318,24 @@ def validation_problems(exc: ValidationError) -> list[str]:
     errors = sorted(_matching_branches(exc.errors()), key=lambda e: e.get("type") != "extra_forbidden")
     out = []
     for err in errors:
-        where = _loc(tuple(err.get("loc", ())))
+        loc = tuple(err.get("loc", ()))
+        where = _loc(loc)
         msg = err.get("msg", "invalid").removeprefix("Value error, ")
         inp = err.get("input")
         shown = ""
-        unit = _unit_at(tuple(err.get("loc", ()))) if isinstance(inp, float) else ""
-        if err.get("type") not in ("missing", "extra_forbidden") and isinstance(inp, (int, float, str)) \
+        unit = _unit_at(loc) if isinstance(inp, float) else ""
+        written = _as_written(_table_at(data, loc[:-1]), loc[-1]) if isinstance(inp, float) and loc else None
+        problem = (err.get("ctx") or {}).get("error")
+        if isinstance(problem, FieldValueError):  # a section's rule on one field: its raw table is the input
+            written = _as_written(inp, problem.field)
+            msg, shown = problem.message, f" (got {problem.value:g})"
+            if written:
+                shown = f" (got {written} = {problem.value:g} {SUFFIXES[written.split()[1]][1]})"
+        elif err.get("type") not in ("missing", "extra_forbidden") and isinstance(inp, (int, float, str)) \
                 and not isinstance(inp, bool):
             shown = f" (got {inp!r}{', SI units' if unit is None else f' {unit}' if unit else ''})"
+            if written:
+                shown = f" (got {written} = {inp:g} {unit})"
         if err.get("type") == "extra_forbidden":
             msg = "unknown key (not a setting of this section)" + _did_you_mean(tuple(err.get("loc", ())))
         bound = next((v for k, v in (err.get("ctx") or {}).items() if k in ("ge", "gt", "le", "lt")), None)
@@ -327,7 +363,7 @@ def config_from_dict(data: dict[str, Any], source: str = "config") -> StudyConfi
     try:
         return StudyConfig.model_validate(data)
     except ValidationError as exc:
-        raise ConfigError.from_problems(validation_problems(exc), source) from None
+        raise ConfigError.from_problems(validation_problems(exc, data), source) from None
 
 
 def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "config") -> StudyConfig:

@@ -34,6 +34,15 @@ class ConfigError(ValueError):
         return cls(head + "; ".join(problems) + count, problems)
 
 
+class FieldValueError(ValueError):
+    """A bad value of one field, found by a section's own rule: ``message`` says why, and the config boundary shows
+    ``value`` as the config wrote it (``std_HB = -7``, not its -6.86e7 Pa; jointwear.config.validation_problems)."""
+
+    def __init__(self, field: str, value: float, message: str):
+        super().__init__(f"{message} (got {value:g})")
+        self.field, self.value, self.message = field, value, message
+
+
 def F(default: Any = ..., *, unit: str | None = None, unit_of: str | None = None, description: str, **kw: Any) -> Any:
     """A pydantic Field with its SI unit recorded in the JSON schema (the config reference and the unit-suffix
     check read it). ``unit_of``: the field's unit is set by its context (e.g. "the target"), so any suffix is

@@ -19,7 +19,7 @@ import numpy as np
 from pydantic import Field, field_validator, model_validator
 from scipy import optimize, special, stats
 
-from jointwear.schema import F, SIModel
+from jointwear.schema import F, FieldValueError, SIModel
 from jointwear.uncertainty.copulas import check_correlation, normal_copula
 from jointwear.uncertainty.tolerances import FIT_LETTERS, clearance_from_fit, it_tolerance
 
@@ -78,9 +78,9 @@ class RandomVariableSpec(SIModel):
     def _parameters(self) -> RandomVariableSpec:
         name, dist = self.name, self.distribution
         if self.std <= 0:
-            raise ValueError(f"std of variable {name!r} must be > 0 (got {self.std:g})")
+            raise FieldValueError("std", self.std, f"std of variable {name!r} must be > 0")
         if dist in ("lognormal", "weibull", "gamma") and self.mean <= 0:
-            raise ValueError(f"{dist} variable {name!r} needs a positive mean (got {self.mean:g})")
+            raise FieldValueError("mean", self.mean, f"{dist} variable {name!r} needs a positive mean")
         needs = _BOUNDS.get(dist)
         for field in ("lower", "upper"):
             if needs is None and getattr(self, field) is not None:
