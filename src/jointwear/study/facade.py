@@ -331,8 +331,7 @@ class Study:
         result = SimulationSummary.from_simulation(res, self.config.name)
         result.save(self.out)
         self.echo(f"simulate: {n} cycle{'' if n == 1 else 's'}, {result.steps_per_cycle:.0f} steps/cycle, "
-                  f"{result.wall_seconds_per_cycle * 1e3:.1f} ms/cycle; mean contact force "
-                  f"{result.contact_force_mean_N if result.contact_force_mean_N is not None else float('nan'):.4g} N"
+                  f"{result.wall_seconds_per_cycle * 1e3:.1f} ms/cycle; mean contact force {force_line(result)}"
                   f" -> {self.out / result.FILE}")
         for sentence in result.outside_hertz() + result.whirls():
             self.warn(f"simulate: {sentence}")
@@ -865,6 +864,16 @@ def learning_stop_line(res: ReliabilityResult, settings) -> str:
     else:
         advice = ""
     return f"the learning stopped before its stopping rule was met ({reason}){error}{advice}"
+
+
+def force_line(result: SimulationSummary) -> str:
+    """'6.843 N', or each joint's when there are several: 'A 6.676 N, E 1.02 N' (the headline is the first's)."""
+    def newtons(value: float | None) -> str:
+        return f"{value if value is not None else float('nan'):.4g} N"
+
+    if len(result.joints) <= 1:
+        return newtons(result.contact_force_mean_N)
+    return ", ".join(f"{j['name']} {newtons(j.get('contact_force_mean_N'))}" for j in result.joints)
 
 
 def wear_line(result: WearSummary) -> str:
