@@ -3,13 +3,16 @@ R(N) is known by brute force, repeated over seeds.
 
     python benchmarks/life_interval.py [--seeds 20] [--out benchmarks/results/life_interval.json]
 
-Two cases, each with an exact life read on the same levels as the study's (so that the straight line between
-levels is not counted against the interval):
+Cases, each with the exact life read at the same 256 points of the curve as the study's own life
+(``jointwear.study.limit_state.curve_cycles``); the life a straight line between the levels would read is recorded
+beside it (``straight_line_life``, ``straight_line_held``), the reading before the curve was estimated between
+its levels:
 - ``smooth``: the flapping-wing preset's 13 inputs, wear = RATE N (k_b / k0) (H0 / H_b) (1 + 0.05 (c - c0) / 1 um)
   (Archard's structure; one joint, a smooth log life);
 - ``series``: the Watt six-bar's two clearance joints A and E, each wearing RATE_j N k_j / k0 with its own random
   wear coefficient: a series system, whose life min(N_A, N_E) has a kink where the two joints' lives cross; learnt
   one Kriging per joint (``reliability.surrogate = "per_joint"``, the default);
+- ``series_coarse``: the same with levels 100,000 cycles apart (100,000-400,000) instead of 50,000;
 - ``series_system_life``: the same learnt with one Kriging of the system's log life (``"system_life"``);
 - ``series_system_life_u_rule``: that with the paper's learning rule (``stopping = "u"``), which spends the call
   budget.
@@ -36,6 +39,7 @@ from jointwear import compute
 from jointwear.config import config_from_dict, load_config, updated
 from jointwear.study import life_at, population, run_reliability, study_context
 from jointwear.study.io import provenance
+from jointwear.study.limit_state import curve_cycles, life_interval
 
 # the tests' analytic wear model (Archard's structure; its exact R(N) by brute force)
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
@@ -75,7 +79,7 @@ def smooth_config(seed: int):
         "reliability.seed": seed})
 
 
-def series_config(seed: int, stopping: str = "error", surrogate: str = "per_joint"):
+def series_config(seed: int, stopping: str = "error", surrogate: str = "per_joint", step: int = 50_000):
     name = "watt_six_bar_two_clearances"
     data = tomllib.loads((resources.files("jointwear.presets") / f"{name}.toml").read_text(encoding="utf-8"))
     data["uncertainty"] = {"variables": [
@@ -83,8 +87,8 @@ def series_config(seed: int, stopping: str = "error", surrogate: str = "per_join
          "std": 1e-5, "group": "bearing_material"},
         {"name": "k_E", "target": "clearance_joints.E.bearing_material.wear_coefficient", "mean": 1e-4,
          "std": 1.5e-5, "group": "bearing_material"}]}
-    data["reliability"] = {"allowance_mm": 0.03, "cycles_start": 100_000, "cycles_stop": 300_000,
-                           "cycles_step": 50_000, "n_mc": 50_000, "noise": "none", "error_abs_tol": 0.002,
+    data["reliability"] = {"allowance_mm": 0.03, "cycles_start": 100_000, "cycles_stop": 300_000 if step < 100_000
+                           else 400_000, "cycles_step": step, "n_mc": 50_000, "noise": "none", "error_abs_tol": 0.002,
                            "max_calls": 60, "target_reliability": [0.9, 0.5], "seed": seed, "stopping": stopping,
                            "surrogate": surrogate}
     data.pop("sensitivity", None)
@@ -94,7 +98,8 @@ def series_config(seed: int, stopping: str = "error", surrogate: str = "per_join
 def one_run(case: str, seed: int, n_truth: int) -> dict:
     cfg = (smooth_config(seed) if case == "smooth" else
            series_config(seed, "u" if case.endswith("u_rule") else "error",
-                         "system_life" if "system_life" in case else "per_joint"))
+                         "system_life" if "system_life" in case else "per_joint",
+                         100_000 if case.endswith("coarse") else 50_000))
     holder = {}
 
     def factory(call):
@@ -107,20 +112,24 @@ def one_run(case: str, seed: int, n_truth: int) -> dict:
     res = run_reliability(ctx)
     wall = time.perf_counter() - t0
     x = population(ctx.marginals, n_truth, seed=10_000 + seed)
-    levels = np.asarray(res.cycles, dtype=float)
-    pf_true = (smooth_pf(holder["model"], x, levels, cfg.reliability.allowance) if case == "smooth"
-               else SeriesWear.pf(x, levels, cfg.reliability.allowance))
+    fine = curve_cycles(np.asarray(res.cycles, dtype=float))
+    pf_true = (smooth_pf(holder["model"], x, fine, cfg.reliability.allowance) if case == "smooth"
+               else SeriesWear.pf(x, fine, cfg.reliability.allowance))
     rows = []
     for row in res.life_table:
         t = float(row["target"])
-        truth = life_at(res.cycles, 1.0 - pf_true, t)
+        truth = life_at(fine, 1.0 - pf_true, t)
         low, high = res.life_interval(t)
         life = row["cycles"]
         half = None if None in (low, high, life) else (high - low) / 2
         held = None if None in (low, high, truth) else bool(low <= truth <= high)
         miss = None if half is None or truth is None or not half else abs(truth - life) / half
+        # the reading on straight lines between the levels (life and interval), for comparison
+        s_low, s_high = life_interval(res.cycles, res.reliability, res.half_width, t)
         rows.append({"target": t, "life": life, "low": low, "high": high, "truth": truth, "held": held,
-                     "miss_in_half_widths": miss})
+                     "miss_in_half_widths": miss, "straight_line_life": life_at(res.cycles, res.reliability, t),
+                     "straight_line_low": s_low, "straight_line_high": s_high,
+                     "straight_line_held": None if None in (s_low, s_high, truth) else bool(s_low <= truth <= s_high)})
     return {"seed": seed, "model_calls": int(res.model_calls), "converged": bool(res.converged),
             "wall_seconds": wall, "lives": rows}
 
@@ -133,13 +142,15 @@ def main() -> None:
     args = ap.parse_args()
     load_before = os.getloadavg()[0]
     cases = {}
-    for case in ("smooth", "series", "series_system_life", "series_system_life_u_rule"):
+    for case in ("smooth", "series", "series_coarse", "series_system_life", "series_system_life_u_rule"):
         runs = [one_run(case, seed, args.truth_samples) for seed in range(args.seeds)]
         summary = {}
         for t in sorted({r["target"] for run in runs for r in run["lives"]}):
             rows = [r for run in runs for r in run["lives"] if r["target"] == t and r["held"] is not None]
             misses = [r["miss_in_half_widths"] for r in rows if r["miss_in_half_widths"] is not None]
+            straight = [r["straight_line_held"] for r in rows if r.get("straight_line_held") is not None]
             summary[str(t)] = {"runs": len(rows), "held": sum(r["held"] for r in rows),
+                               "straight_line_held": sum(straight),
                                "coverage": sum(r["held"] for r in rows) / len(rows) if rows else None,
                                "median_miss_in_half_widths": float(np.median(misses)) if misses else None,
                                "largest_miss_in_half_widths": float(np.max(misses)) if misses else None}

@@ -132,3 +132,16 @@ def test_estimated_noise_is_the_noise_added():
     y = np.sin(x[:, 0]) + 0.3 * x[:, 1] + 0.2 * rng.standard_normal(200)
     fit = KrigingSurrogate(seed=0, estimate_nugget=True).fit(x, y)
     assert np.sqrt(fit.noise_variance) == pytest.approx(0.2, abs=0.04)
+
+
+def test_gaussian_draws_of_an_indefinite_covariance_take_its_nearest_psd_one():
+    """Round-off beyond the jitter (an interpolating Kriging's covariance near its data) no longer stops the draws:
+    they follow V max(lambda, 0) V^T, whose covariance the sample reproduces (4 standard errors of a sample
+    covariance of 20,000 draws: 4 x sqrt(2 / 20,000) of a unit variance)."""
+    from jointwear.reliability.kriging import gaussian_draws
+
+    cov = np.array([[1.0, 1.02], [1.02, 1.0]])  # eigenvalues 2.02 and -0.02: 2 % of its diagonal, past the jitter
+    draws = gaussian_draws(np.zeros(2), cov, 20_000, np.random.default_rng(0))
+    eigenvalues, vectors = np.linalg.eigh(cov)
+    nearest = (vectors * np.clip(eigenvalues, 0, None)) @ vectors.T
+    np.testing.assert_allclose(np.cov(draws), nearest, atol=4 * np.sqrt(2 / 20_000) * 2.02)

@@ -14,6 +14,7 @@ from jointwear import compute
 from jointwear.config import load_config, updated
 from jointwear.study import life_at, population, run_reliability, study_context
 from jointwear.study.io import strict
+from jointwear.study.limit_state import curve_cycles
 
 
 @pytest.fixture(scope="module")
@@ -52,14 +53,16 @@ def test_reliability_curve_matches_brute_force_monte_carlo(study):
 
 def test_life_and_histograms_are_consistent(study):
     cfg, ctx, res, model = study
-    life = life_at(res.cycles, res.reliability, cfg.reliability.target_reliability)
+    life = res.life(cfg.reliability.target_reliability)
     assert life == res.life_cycles
-    # the life's 95 % interval (the band R -/+ (1.96 COV Pf + ESC error) crossing the target) holds the life of
-    # the brute-force curve read on the same levels: the interpolation between levels is the same on both sides
+    # the life's 95 % interval (the band R -/+ (1.96 COV Pf + surrogate error) crossing the target, on the curve
+    # between its levels) holds the life of the brute-force curve read at the same points
+    fine = np.asarray(res.life_curve["cycles"])
+    np.testing.assert_array_equal(fine, curve_cycles(res.cycles))
     x = population(ctx.marginals, 1_000_000, seed=99)
-    pf_ref = np.mean(RATE * model.scale(x)[:, None] * res.cycles[None, :] > cfg.reliability.allowance, axis=0)
+    pf_ref = np.mean(RATE * model.scale(x)[:, None] * fine[None, :] > cfg.reliability.allowance, axis=0)
     low, high = res.life_interval()
-    assert low <= life_at(res.cycles, 1.0 - pf_ref, cfg.reliability.target_reliability) <= high, (low, high)
+    assert low <= life_at(fine, 1.0 - pf_ref, cfg.reliability.target_reliability) <= high, (low, high)
     assert res.life_table[0]["cycles_low"] == low and res.life_table[0]["cycles_high"] == high
     # every level's error estimate is finite, and the results read back from their JSON give the same interval
     assert np.all(np.isfinite(res.pf_error))

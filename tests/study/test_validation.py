@@ -66,6 +66,9 @@ def test_life_check_reads_both_curves_and_says_when_their_intervals_miss():
         cycles = np.linspace(0.0, 2e5, 11)
         reliability = 1.0 - cycles / 1e6
 
+        def life(self, target):
+            return life_at(self.cycles, self.reliability, target)
+
         def life_interval(self, target):
             return life_at(self.cycles, self.reliability - 0.01, target), life_at(
                 self.cycles, self.reliability + 0.01, target)

@@ -39,7 +39,6 @@ from jointwear.reliability import (
     esc_absolute_error,
     failure_probability,
 )
-from jointwear.study.limit_state import life_at
 from jointwear.study.reliability import POSTERIOR_POINTS, StudyContext, life_scatter_sd, surrogate_pf_error
 
 _Z95 = 1.959963984540054
@@ -239,8 +238,7 @@ def _row(cand: Candidate, controls: list[Control], est: Estimate) -> dict:
 def baseline_life(ctx: StudyContext, reliability_result, target: float, space: CandidateSpace,
                   sur: LifeSurrogate) -> float | None:
     """Today's life at R*: the study's R(N) curve where it reaches R*, else the surrogate's quantile."""
-    life = life_at(np.asarray(reliability_result.cycles, dtype=float),
-                   np.asarray(reliability_result.reliability, dtype=float), target)
+    life = reliability_result.life(target)
     if life is not None:
         return float(life)
     mu, _ = sur.predict(space.base_u)

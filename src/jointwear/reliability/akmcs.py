@@ -300,7 +300,7 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
                                       design_g=design_g, surrogates=surrogates if levels is None
                                       else [ShiftedSurrogate(surrogates[0], o) for o in offsets],
                                       min_u=min_u, error_estimate=err, error_absolute=err_abs,
-                                      levels=levels, **common)
+                                      levels=levels, population_u=u_pop if keep_population else None, **common)
     return ReliabilityResult(method="akmcs", pf=float(pf_col[0]), cov=float(cov_col[0]), beta=pf_to_beta(pf_col[0]),
                              converged=converged, design_g=design_g[:, 0], surrogate=surrogates[0],
                              error_estimate=float(err[0]), error_absolute=float(err_abs[0]),
@@ -405,6 +405,7 @@ def akmcs_multi(
     levels=None,
     error_abs_tol: float | None = None,
     system: str | None = None,
+    keep_population: bool = False,
 ) -> MultiReliabilityResult:
     """AK-MCS for m limit states sharing one design (e.g. one model call -> the limit state at m cycle counts).
 
@@ -427,9 +428,12 @@ def akmcs_multi(
     ``error_abs_tol`` (with ``stopping="error"``): a level also counts as learned when its estimated absolute
     Pf error (relative ESC error x Pf) is below this, so a curve's small-Pf levels need not be resolved to a
     relative accuracy that matters nowhere on the curve.
+
+    ``keep_population``: keep the final population (u space, ``population_u``), which the learning classified: the
+    curve between its levels is estimated there (:meth:`MultiReliabilityResult.estimate_on`, ``thresholds``).
     """
     return _run(g, marginals, multi=True, n_mc=n_mc, n_mc_max=n_mc_max, n_initial=n_initial,
                 initial_bound=initial_bound, batch_size=batch_size, u_threshold=u_threshold, cov_target=cov_target,
                 stopping=stopping, error_tol=error_tol, max_calls=max_calls, seed=seed, evaluation=evaluation,
                 pf_floor=pf_floor, kriging=kriging, refit_growth=refit_growth, levels=levels,
-                error_abs_tol=error_abs_tol, copula=copula, system=system)
+                error_abs_tol=error_abs_tol, copula=copula, system=system, keep_population=keep_population)

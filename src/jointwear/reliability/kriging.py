@@ -474,7 +474,8 @@ class KrigingSurrogate:
 def gaussian_draws(mean: np.ndarray, cov: np.ndarray, n_draws: int, rng: np.random.Generator) -> np.ndarray:
     """``n_draws`` draws of N(mean, cov), shape (m, n_draws): mean + L z with L the Cholesky factor of cov, the
     diagonal raised by a jitter (1e-10 of its mean, up to 1e-4) where round-off leaves a smooth process's covariance
-    barely definite."""
+    barely definite; beyond that (an interpolating Kriging's covariance near its data, whose round-off exceeds its
+    tiny variance), L = V sqrt(max(lambda, 0)) from its eigen-decomposition, the nearest PSD covariance."""
     mean = np.asarray(mean, dtype=float)
     cov = np.asarray(cov, dtype=float)
     scale = max(float(np.mean(np.diag(cov))), np.finfo(float).tiny)
@@ -488,7 +489,8 @@ def gaussian_draws(mean: np.ndarray, cov: np.ndarray, n_draws: int, rng: np.rand
         except np.linalg.LinAlgError:
             continue
     else:
-        raise np.linalg.LinAlgError("gaussian_draws: the covariance is not positive semi-definite")
+        eigenvalues, vectors = np.linalg.eigh(cov)
+        chol = vectors * np.sqrt(np.clip(eigenvalues, 0.0, None))[None, :]
     return mean[:, None] + chol @ rng.standard_normal((mean.size, n_draws))
 
 

@@ -59,6 +59,10 @@ def posterior_failure_spread(mean: np.ndarray, cov: np.ndarray, shifts, noise_sd
     return failure_spread(gaussian_draws(mean, cov, n_draws, rng), shifts, noise_sd)
 
 
+#: failure probabilities held at once by :meth:`MultiReliabilityResult.estimate_on` (8 bytes each: 40 MB)
+MAX_PROBABILITIES = 5_000_000
+
+
 def failure_spread(draws: np.ndarray, shifts, noise_sd: float = 0.0) -> np.ndarray:
     """Standard deviation over the columns of ``draws`` (m points, one column per posterior draw of g) of
     Pf_k = mean_i P(g_i - shifts[k] < 0) (:func:`failure_probability`), one value per shift."""
@@ -163,15 +167,17 @@ class MultiReliabilityResult:
     method: str = "akmcs_multi"
     #: the thresholds of ``akmcs_multi(levels=...)`` (column k is y - levels[k]); None for separate limit states
     levels: np.ndarray | None = None
+    #: the final population (u space) of ``akmcs_multi(keep_population=True)``, else None
+    population_u: np.ndarray | None = None
 
-    def predict(self, u: np.ndarray) -> np.ndarray:
-        """The surrogates' mean of every column at standard-normal points ``u``, shape (n, m)."""
+    def predict(self, u: np.ndarray, shifts=None) -> np.ndarray:
+        """The surrogates' mean of every column at standard-normal points ``u``, shape (n, m); with ``levels=``,
+        of the first level's margin less each of ``shifts`` instead of each level's (:meth:`_level_shifts`)."""
         if self.levels is None:
             return np.column_stack([s.predict(u, return_variance=False)[0] for s in self.surrogates])
         # one response shifted per level: a single Kriging prediction serves every column
-        offsets = np.array([s.offset for s in self.surrogates])
         mu0 = self.surrogates[0].predict(u, return_variance=False)[0]
-        return mu0[:, None] - (offsets[None, :] - offsets[0])
+        return mu0[:, None] - (self._level_shifts() if shifts is None else np.asarray(shifts, dtype=float))[None, :]
 
     @property
     def response_surrogate(self):
@@ -194,37 +200,51 @@ class MultiReliabilityResult:
             return 0.0
         return self.response_surrogate.noise_sd
 
-    def failure_probabilities(self, u: np.ndarray, noise_sd: float = 0.0) -> np.ndarray:
+    def failure_probabilities(self, u: np.ndarray, noise_sd: float = 0.0, thresholds=None) -> np.ndarray:
         """Each point's probability of failure at every column, shape (n, m): the surrogates' mean plus a Gaussian
         scatter of standard deviation ``noise_sd`` (:func:`failure_probability`; the indicator of mu < 0 for 0). A
         series system's surrogate (``system="series"``) takes each component's own scatter instead when
-        ``noise_sd`` > 0 (:meth:`SeriesSurrogate.failure_probability`)."""
-        if noise_sd > 0 and self.levels is not None and hasattr(self.response_surrogate, "failure_probability"):
-            return self.response_surrogate.failure_probability(u, self._level_shifts())
-        return failure_probability(self.predict(u), noise_sd)
+        ``noise_sd`` > 0 (:meth:`SeriesSurrogate.failure_probability`). ``thresholds``: with ``levels=``, other
+        thresholds on the response than the levels (one column each): the curve between its levels, no call."""
+        if thresholds is None and self.levels is None:
+            return failure_probability(self.predict(u), noise_sd)
+        shifts = self._level_shifts(thresholds)
+        if noise_sd > 0 and hasattr(self.response_surrogate, "failure_probability"):
+            return self.response_surrogate.failure_probability(u, shifts)
+        return failure_probability(self.predict(u, shifts), noise_sd)
 
-    def _level_shifts(self) -> np.ndarray:
-        """Each level's threshold on the response the shared Kriging of ``levels=`` is fitted to (the first
-        level's margin)."""
+    def _level_shifts(self, thresholds=None) -> np.ndarray:
+        """Each level's (or each of ``thresholds``') threshold on the response the shared Kriging of ``levels=``
+        is fitted to (the first level's margin)."""
+        if self.levels is None:
+            raise ValueError("thresholds need a result of akmcs_multi(levels=...)")
+        if thresholds is not None:
+            return np.asarray(thresholds, dtype=float).reshape(-1) - self.levels[0]
         offsets = np.array([s.offset for s in self.surrogates])
         return offsets - offsets[0]
 
     def estimate_on(self, draw_u: Callable[[int, int], np.ndarray], n: int, chunk: int = 200_000,
-                    noise_sd: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+                    noise_sd: float = 0.0, thresholds=None) -> tuple[np.ndarray, np.ndarray]:
         """Pf and its Monte Carlo COV of every column on a new population of ``n`` points, classified by the
         final surrogates (no model call): AK-MCS's population growth, for a caller whose learning ended on
         its call budget. ``draw_u(m, start)`` returns rows ``start .. start + m`` of the population (u space),
         drawn ``chunk`` rows at a time to bound the memory. With ``noise_sd`` > 0 each point fails with
         probability Phi(-g / noise_sd) (:func:`failure_probability`: the response's scatter is part of the
-        model; :meth:`failure_probabilities`) and the COV is that of the mean of those probabilities."""
-        total = np.zeros(len(self.surrogates))
-        total_sq = np.zeros(len(self.surrogates))
+        model; :meth:`failure_probabilities`) and the COV is that of the mean of those probabilities.
+        ``thresholds``: Pf at other thresholds on the response than the levels (:meth:`failure_probabilities`),
+        on the same population."""
+        n_columns = len(self.surrogates) if thresholds is None else np.size(thresholds)
+        rows = max(1_000, MAX_PROBABILITIES // n_columns)  # the population is drawn by chunk whatever the columns
+        total = np.zeros(n_columns)
+        total_sq = np.zeros(n_columns)
         done = 0
         while done < n:
             m = min(chunk, n - done)
-            p = self.failure_probabilities(draw_u(m, done), noise_sd)
-            total += p.sum(axis=0)
-            total_sq += (p * p).sum(axis=0)
+            u = draw_u(m, done)
+            for start in range(0, m, rows):
+                p = self.failure_probabilities(u[start:start + rows], noise_sd, thresholds)
+                total += p.sum(axis=0)
+                total_sq += (p * p).sum(axis=0)
             done += m
         pf = total / n
         if noise_sd <= 0:
@@ -234,14 +254,16 @@ class MultiReliabilityResult:
             cov = np.where(pf > 0, np.sqrt(var / n) / pf, np.inf)
         return pf, cov
 
-    def posterior_pf_sd(self, u: np.ndarray, noise_sd: float = 0.0, n_draws: int = 400, seed: int = 0) -> np.ndarray:
+    def posterior_pf_sd(self, u: np.ndarray, noise_sd: float = 0.0, n_draws: int = 400, seed: int = 0,
+                        thresholds=None) -> np.ndarray:
         """The Kriging's own uncertainty of every column's Pf: its standard deviation over the posterior of the
         shared Kriging of ``akmcs_multi(levels=...)`` at the points ``u`` (a sample of the population, m points:
         m^2 memory), each point failing with probability Phi(-g / noise_sd) (:func:`posterior_failure_spread`); a
-        series system's, from its components' draws, each with its own scatter when ``noise_sd`` > 0."""
+        series system's, from its components' draws, each with its own scatter when ``noise_sd`` > 0.
+        ``thresholds``: at other thresholds on the response than the levels."""
         if self.levels is None:
             raise ValueError("posterior_pf_sd needs a result of akmcs_multi(levels=...)")
-        shifts = self._level_shifts()
+        shifts = self._level_shifts(thresholds)
         sur, rng = self.response_surrogate, np.random.default_rng(seed)
         if noise_sd > 0 and hasattr(sur, "failure_probability"):  # a series system: each component's own scatter
             draws = sur.posterior_component_draws(u, n_draws, rng)

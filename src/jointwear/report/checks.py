@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from jointwear.study.limit_state import life_at, nominal_lives
+from jointwear.study.limit_state import nominal_lives
 from jointwear.study.results import ReliabilityResult, SensitivityResult, StudyResults, WearSummary
 
 from .markup import format_number
@@ -175,8 +175,8 @@ def life_with_note(rel: ReliabilityResult, target: float) -> tuple[float | None,
     life = None if row is None else row.get("cycles")
     note = ""
     if life is None and row is None:
-        life = life_at(rel.cycles, rel.reliability, target)
-        note = "interpolated on the R(N) curve" if life is not None else ""
+        life = rel.life(target)
+        note = "read on the R(N) curve" if life is not None else ""
     status = None if row is None else row.get("status")
     if status == "before_curve" or (rel.cycles.size and rel.reliability[0] < target and life is not None
                                     and life <= rel.cycles[0]):

@@ -69,28 +69,39 @@ def reliability_curve_figure(
     reference_life: float | None = None,
     reference_label: str = "reference",
     joints: Mapping[str, tuple[Array, Array | None]] | None = None,
+    fine: tuple[Array, Array, Array] | None = None,
 ) -> Figure:
     """R(N) with a 95 % band, the Monte Carlo half-width 1.96 COV Pf plus the surrogate's error estimate
     ``pf_error`` (absolute, in R) when given, the target line, the life at the target with its 95 % interval
     ``life_interval`` (cycles; an end that is None is drawn to the curve's end) and, when given, a
     cited reference's points ``reference`` {cycles: R} and life ``reference_life`` (cycles at the target),
     labelled ``reference_label``, and each joint's own R(N) of a series system ``joints`` {name: (R, its 95 %
-    half-width or None)}, dashed."""
+    half-width or None)}, dashed (on ``fine``'s cycles when as long). ``fine``: (cycles, R, 95 % half-width) of
+    the curve between its levels too, where the life is read: the line and the band follow it, the levels marked
+    on it."""
     n = kilo_cycles(cycles)
     rel = require_array(reliability)
     fig, ax = figure()
-    if pf_cov is not None:
-        half = curve_half_width(1.0 - rel, require_array(pf_cov),
-                                None if pf_error is None else require_array(pf_error))
-        _band(ax, n, rel, half, COLORS[0],
-              "95 % band (COV of Pf" + ("" if pf_error is None else " + surrogate error") + ")")
-    ax.plot(n, rel, color=COLORS[0], marker="o", ms=3, label="this study" if not joints else "the mechanism")
+    label = "this study" if not joints else "the mechanism"
+    band_label = "95 % band (COV of Pf" + ("" if pf_error is None else " + surrogate error") + ")"
+    if fine is not None:
+        n_fine, r_fine, half_fine = kilo_cycles(fine[0]), require_array(fine[1]), require_array(fine[2])
+        _band(ax, n_fine, r_fine, half_fine, COLORS[0], band_label)
+        ax.plot(n_fine, r_fine, color=COLORS[0], label=label)
+        ax.plot(n, rel, "o", color=COLORS[0], ms=3)
+    else:
+        if pf_cov is not None:
+            half = curve_half_width(1.0 - rel, require_array(pf_cov),
+                                    None if pf_error is None else require_array(pf_error))
+            _band(ax, n, rel, half, COLORS[0], band_label)
+        ax.plot(n, rel, color=COLORS[0], marker="o", ms=3, label=label)
     for k, (name, (r_joint, half_joint)) in enumerate((joints or {}).items()):
         color = JOINT_COLORS[k % len(JOINT_COLORS)]
         r_joint = require_array(r_joint)
+        x = n_fine if fine is not None and r_joint.size == n_fine.size else n  # a joint's curve where it was read
         if half_joint is not None:
-            _band(ax, n, r_joint, require_array(half_joint), color)
-        ax.plot(n, r_joint, color=color, ls="--", lw=1.2, label=f"joint {name} alone")
+            _band(ax, x, r_joint, require_array(half_joint), color)
+        ax.plot(x, r_joint, color=color, ls="--", lw=1.2, label=f"joint {name} alone")
     if reference:
         ks = sorted(reference)
         ax.plot(np.array(ks) / 1e3, [reference[k] for k in ks], "x", color=PAPER_COLOR, ms=7, mew=1.8,

@@ -153,7 +153,7 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
                                            target=rel.target, life_cycles=life,
                                            life_interval=None if note else interval, reference=ref_r or None,
                                            reference_life=ref_life, reference_label=label,
-                                           joints=rel.joint_curves() or None),
+                                           joints=rel.joint_curves() or None, fine=rel.fine_curve()),
         "Reliability R(N) with a 95 % band (the Monte Carlo half-width from the COV of Pf plus the surrogate's error "
         "estimate, as the validation combines them), the target and the life"
         + ("; dashed: each judged joint's own R(N) with its band" if len(rel.joints) > 1 else "")

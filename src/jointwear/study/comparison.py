@@ -17,7 +17,7 @@ import numpy as np
 
 from jointwear.schema import ConfigError
 from jointwear.study.io import provenance
-from jointwear.study.limit_state import intervals_overlap, life_at, life_status
+from jointwear.study.limit_state import intervals_overlap, life_status
 from jointwear.study.reliability_results import interval_cells
 from jointwear.study.results import StudyResults, load_results
 from jointwear.study.stage_result import StageResult, save_figure
@@ -207,7 +207,7 @@ def _default_labels(loaded: list[StudyResults]) -> list[str]:
 
 def _row(res: StudyResults, label: str, target: float) -> dict:
     rel = res.reliability
-    life = life_at(rel.cycles, rel.reliability, target)
+    life = rel.life(target)
     low, high = rel.life_interval(target)
     hours = None if life is None or not rel.crank_speed_rpm else life / (rel.crank_speed_rpm * 60.0)
     wear = res.wear

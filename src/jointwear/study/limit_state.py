@@ -160,6 +160,25 @@ def life_from_history(cycles, wear, allowance) -> np.ndarray:
     return out
 
 
+#: points of the curve where the life is read, at least (its levels included). A straight line between points
+#: misses a curved R(N) by the square of their spacing: between levels 100,000 cycles apart, 8 points per interval
+#: still read a life 0.6 % short on the two-joint analytic model; 256 over the curve leave about 0.01 %
+LIFE_CURVE_POINTS = 256
+
+
+def curve_cycles(levels, subdivisions: int | None = None) -> np.ndarray:
+    """The curve's levels with ``subdivisions - 1`` evenly spaced cycle counts between each two (sorted); by default
+    as many as give :data:`LIFE_CURVE_POINTS` points over the curve."""
+    levels = np.asarray(levels, dtype=float)
+    if levels.size < 2:
+        return levels.copy()
+    if subdivisions is None:
+        subdivisions = -(-LIFE_CURVE_POINTS // (levels.size - 1))
+    steps = np.linspace(0.0, 1.0, subdivisions + 1)[:-1]
+    inner = (levels[:-1, None] + steps[None, :] * np.diff(levels)[:, None]).ravel()
+    return np.append(inner, levels[-1])
+
+
 def life_at(cycles, reliability, target: float) -> float | None:
     """First cycle count where R(N) falls to ``target``, by linear interpolation of R(N); None when that
     crossing is not inside the curve (see :func:`life_status`)."""

@@ -23,6 +23,7 @@ from jointwear.config import StudyConfig, target_display_unit
 from jointwear.schema import ConfigError
 from jointwear.study.limit_state import (
     LimitState,
+    curve_cycles,
     curve_half_width,
     life_at,
     life_interval,
@@ -255,32 +256,37 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         n_initial=rel.n_initial, batch_size=rel.batch_size, u_threshold=rel.u_threshold,
         cov_target=rel.cov_target, pf_floor=rel.pf_floor, max_calls=rel.max_calls, seed=rel.seed, copula=ctx.copula,
         evaluation=Evaluation(progress=progress), stopping=rel.stopping, error_tol=rel.error_tol, error_abs_tol=rel.error_abs_tol,
-        kriging={"estimate_nugget": rel.noise == "estimate"})
+        kriging={"estimate_nugget": rel.noise == "estimate"}, keep_population=rel.noise == "none")
     cycles = np.asarray(ctx.cycles, dtype=float)
-    pf = np.asarray(engine.pf, dtype=float)
-    pf_cov = np.asarray(engine.cov, dtype=float)
-    n_mc = int(engine.n_mc)
+    # the curve is estimated between its levels too (no call), and the life read there: R(N) is curved between
+    # levels, and a straight line between them moved the life by more than its interval on a coarse curve
+    fine = curve_cycles(cycles)
+    at_levels = np.searchsorted(fine, cycles)
     scatter_sd = life_scatter_sd(ctx, engine)
-    pf, pf_cov, n_mc = _curve_estimate(ctx, engine, pf, pf_cov, n_mc, scatter_sd)
+    pf_fine, cov_fine, n_mc = _curve_estimate(ctx, engine, np.log(fine), at_levels, int(engine.n_mc), scatter_sd)
     p_inf = ctx.config.uncertainty.infeasible_probability()
     if p_inf > 0:
         # 'fail' rule: a sample with a clearance at or below its minimum is a failure at every N.
-        pf_feasible = pf
-        pf = p_inf + (1.0 - p_inf) * pf_feasible
+        pf_feasible = pf_fine
+        pf_fine = p_inf + (1.0 - p_inf) * pf_feasible
         with np.errstate(divide="ignore", invalid="ignore"):
-            pf_cov = np.where(pf > 0, pf_cov * (1.0 - p_inf) * pf_feasible / pf, pf_cov)
+            cov_fine = np.where(pf_fine > 0, cov_fine * (1.0 - p_inf) * pf_feasible / pf_fine, cov_fine)
+    pf, pf_cov = pf_fine[at_levels], cov_fine[at_levels]
     reliability = 1.0 - pf
     targets = rel.targets
-    lives = [life_at(cycles, reliability, t) for t in targets]
     # the surrogate's absolute error of Pf among feasible samples (the infeasible share is exact): the larger of
     # ESC's count of misclassified samples and the spread of Pf over the Kriging's posterior
     pf_error_esc = (1.0 - p_inf) * np.asarray(engine.error_absolute, dtype=float)
     u_posterior = ctx.iso().to_u(ctx.sample(POSTERIOR_POINTS, rel.seed + 13))
-    pf_error = (1.0 - p_inf) * surrogate_pf_error(engine, u_posterior, scatter_sd, rel.seed + 17)
-    half = curve_half_width(pf, pf_cov, pf_error)
+    error_fine = (1.0 - p_inf) * surrogate_pf_error(engine, u_posterior, scatter_sd, rel.seed + 17, fine)
+    pf_error = error_fine[at_levels]
+    half_fine = curve_half_width(pf_fine, cov_fine, error_fine)
+    life_curve = {"cycles": fine.tolist(), "reliability": (1.0 - pf_fine).tolist(),
+                  "half_width_95": half_fine.tolist()}
+    lives = [life_at(fine, 1.0 - pf_fine, t) for t in targets]
     life_table = []
     for t, n in zip(targets, lives):
-        low, high = life_interval(cycles, reliability, half, t)
+        low, high = life_interval(fine, 1.0 - pf_fine, half_fine, t)
         life_table.append({"target": t, "cycles": n, "hours": None if n is None else cycles_to_hours(n, ctx.config),
                            "status": life_status(reliability, t), "cycles_low": low, "cycles_high": high})
 
@@ -321,12 +327,12 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     # the model's own reason for a call that returned NaN, where the engine only saw the NaN
     infeasible["failure_reasons"] = {str(k): ctx.failure_reason(design_x_model[int(k)]) or v
                                      for k, v in engine.failure_reasons.items()}
-    joints = _joint_breakdown(ctx, engine, design_x, pop, reliability, half, u_posterior, rel.seed + 19)
+    joints = _joint_breakdown(ctx, engine, design_x, pop, life_curve, at_levels, u_posterior, rel.seed + 19)
     return ReliabilityResult(
         cycles=cycles, reliability=reliability, pf=pf, pf_cov=pf_cov,
         below_floor=pf < rel.pf_floor, target=targets[0],
         pf_error=pf_error, pf_error_esc=pf_error_esc,
-        life_cycles=lives[0], life_hours=life_table[0]["hours"], life_table=life_table,
+        life_cycles=lives[0], life_hours=life_table[0]["hours"], life_table=life_table, life_curve=life_curve,
         model_calls=int(engine.n_calls), failed_calls=int(engine.n_failed_calls), n_mc=n_mc,
         converged=bool(engine.converged), wall_seconds=time.perf_counter() - t0, names=ctx.names, units=ctx.units,
         histograms=histograms, mean_max_wear_mm=mean_max, convergence=convergence,
@@ -366,31 +372,35 @@ def implied_wear(ctx: StudyContext, engine, pop: np.ndarray, cycles) -> np.ndarr
     return np.asarray(a, dtype=float).reshape(-1, 1) * n[None, :] * np.exp(-log_life)[:, None]
 
 
-def _joint_breakdown(ctx: StudyContext, engine, design_x: np.ndarray, pop: np.ndarray,
-                     system_reliability: np.ndarray, system_half_width: np.ndarray, u_posterior: np.ndarray,
-                     seed: int) -> list[dict]:
+def _joint_breakdown(ctx: StudyContext, engine, design_x: np.ndarray, pop: np.ndarray, life_curve: dict,
+                     at_levels: np.ndarray, u_posterior: np.ndarray, seed: int) -> list[dict]:
     """Each judged joint's allowance and, with several joints, its own R(N) with its 95 % half-width and its share
     of the system's failures at every level, from the Kriging of its log life: the learnt one of a per-joint study
     (with that joint's own scatter when the study estimates one, and its ``surrogate_fit``), else one fitted on the
     final design (no learning). The share goes to the joint with the shortest life: the predicted one, plus a draw
-    of each joint's own scatter when the study counts it.
+    of each joint's own scatter when the study counts it. Its R and half-width are also given on the system's
+    ``life_curve`` (``curve``), of which the levels are the points ``at_levels``.
 
     The half-width (``half_width_95``) is the system curve's rule for one joint: 1.96 x (the Monte Carlo standard
-    error of its Pf on ``pop`` + the standard deviation of its Pf over its Kriging's posterior at ``u_posterior``).
+    error of its Pf on ``pop`` + the standard deviation of its Pf over its Kriging's posterior at ``u_posterior``,
+    drawn at POSTERIOR_SUBDIVISIONS points per interval and interpolated between).
     A joint alone is at least as reliable as the series system; a Kriging not refined by the learning can read lower
     than the system's R within its error, so a joint's R is reported no lower than the system's."""
     limit = ctx.limit_state
+    fine = np.asarray(life_curve["cycles"], dtype=float)
+    system_fine = np.asarray(life_curve["reliability"], dtype=float)
     rows = [{"name": n, "allowance_mm": a * 1e3} for n, a in zip(limit.names, limit.allowances)]
     if len(limit.joints) == 1:
-        rows[0]["reliability"] = [float(r) for r in system_reliability]
-        rows[0]["half_width_95"] = [float(h) for h in system_half_width]
+        rows[0]["reliability"] = system_fine[at_levels].tolist()
+        rows[0]["half_width_95"] = np.asarray(life_curve["half_width_95"])[at_levels].tolist()
         rows[0]["governing_share"] = [1.0] * len(ctx.cycles)
         return rows
-    from jointwear.reliability import KrigingSurrogate, failure_probability, failure_spread
+    from jointwear.reliability import KrigingSurrogate, failure_spread
 
     iso = ctx.iso()
     u_pop = iso.to_u(pop)
     levels = ctx.log_levels()
+    coarse = curve_cycles(ctx.cycles, POSTERIOR_SUBDIVISIONS)
     rng = np.random.default_rng(seed)
     if ctx.per_joint:  # the learnt components, fitted on each joint's margin at the first level
         sur = engine.response_surrogate
@@ -417,17 +427,35 @@ def _joint_breakdown(ctx: StudyContext, engine, design_x: np.ndarray, pop: np.nd
     system_fail = drawn.min(axis=1)[:, None] < levels[None, :]
     n_sys = system_fail.sum(axis=0)
     for k, row in enumerate(rows):
-        fails_k = failure_probability(pred[:, k][:, None] - levels[None, :], float(taus[k]))
-        row["reliability"] = np.maximum(1.0 - fails_k.mean(axis=0), system_reliability).tolist()
-        mc_sd = fails_k.std(axis=0, ddof=1) / math.sqrt(fails_k.shape[0])
-        posterior_sd = failure_spread(draws[k], levels, float(taus[k]))
-        row["half_width_95"] = (1.96 * (mc_sd + posterior_sd)).tolist()
+        pf, mc_sd = failure_mean_and_sd(pred[:, k], np.log(fine), float(taus[k]))
+        posterior_sd = np.interp(fine, coarse, failure_spread(draws[k], np.log(coarse), float(taus[k])))
+        r_fine = np.maximum(1.0 - pf, system_fine)
+        half_fine = 1.96 * (mc_sd + posterior_sd)
+        row["reliability"] = r_fine[at_levels].tolist()
+        row["half_width_95"] = half_fine[at_levels].tolist()
+        row["curve"] = {"reliability": r_fine.tolist(), "half_width_95": half_fine.tolist()}
         share = np.where(n_sys > 0, (system_fail & (governing == k)[:, None]).sum(axis=0) / np.maximum(n_sys, 1),
                          np.nan)
         row["governing_share"] = share.tolist()
         if ctx.per_joint and engine.response_surrogate.fitted[k]:  # how well its own Kriging explains its life
             row["surrogate_fit"] = SurrogateFit.of(engine.response_surrogate.components[k]).to_json()
     return rows
+
+
+def failure_mean_and_sd(log_life: np.ndarray, thresholds: np.ndarray, scatter_sd: float = 0.0,
+                        block: int = 16) -> tuple[np.ndarray, np.ndarray]:
+    """Pf at each of ``thresholds`` (ln N) over the samples' ``log_life`` (each failing with probability
+    Phi((ln N - ln N_f) / scatter_sd), the indicator ln N_f < ln N without a scatter) and the Monte Carlo standard
+    error of that mean, a ``block`` of thresholds at a time (n x block probabilities held)."""
+    from jointwear.reliability import failure_probability
+
+    n = log_life.size
+    pf, sd = [], []
+    for start in range(0, len(thresholds), block):
+        p = failure_probability(log_life[:, None] - thresholds[None, start:start + block], scatter_sd)
+        pf.append(p.mean(axis=0))
+        sd.append(p.std(axis=0, ddof=1) / math.sqrt(n))
+    return np.concatenate(pf), np.concatenate(sd)
 
 
 def life_scatter_sd(ctx: StudyContext, engine) -> float:
@@ -440,26 +468,38 @@ def life_scatter_sd(ctx: StudyContext, engine) -> float:
 #: the conditional simulations on them (the spread's own sampling error: 1 / sqrt(2 x 400) = 3.5 %)
 POSTERIOR_POINTS = 3000
 POSTERIOR_DRAWS = 400
+#: points per interval between two levels where the posterior spread of Pf is drawn for the life's curve
+POSTERIOR_SUBDIVISIONS = 4
 
 
-def surrogate_pf_error(engine, u: np.ndarray, scatter_sd: float, seed: int) -> np.ndarray:
+def surrogate_pf_error(engine, u: np.ndarray, scatter_sd: float, seed: int, cycles=None) -> np.ndarray:
     """The surrogate's absolute error of each level's Pf: the larger of ESC's (``engine.error_absolute``) and the
     95 % half-width of Pf over the Kriging's posterior, 1.96 x its standard deviation
     (``MultiReliabilityResult.posterior_pf_sd``) at ``u`` (POSTERIOR_POINTS points of the population, u space), each
     failing with the life's scatter ``scatter_sd`` as R(N) counts it. The surrogate's errors are correlated between
     the points: they move the whole curve, which ESC's count of misclassified points, made for a curve that
     classifies each point, does not see once R(N) integrates the scatter (docs/reliability.md, "The surrogate's
-    error of R(N)"). fmax: a level without an ESC estimate (NaN) keeps the posterior one."""
-    return np.fmax(np.asarray(engine.error_absolute, dtype=float),
-                   1.96 * engine.posterior_pf_sd(u, scatter_sd, POSTERIOR_DRAWS, seed=seed))
+    error of R(N)"). fmax: a level without an ESC estimate (NaN) keeps the posterior one. ``cycles``: at these cycle
+    counts instead of the levels (:func:`curve_cycles`), both parts interpolated between where they are known."""
+    esc = np.asarray(engine.error_absolute, dtype=float)
+    if cycles is None:
+        return np.fmax(esc, 1.96 * engine.posterior_pf_sd(u, scatter_sd, POSTERIOR_DRAWS, seed=seed))
+    # the posterior's spread is smooth in N: drawn at POSTERIOR_SUBDIVISIONS points per interval, interpolated between
+    cycles = np.asarray(cycles, dtype=float)
+    coarse = curve_cycles(np.exp(engine.levels), POSTERIOR_SUBDIVISIONS)
+    spread = engine.posterior_pf_sd(u, scatter_sd, POSTERIOR_DRAWS, seed=seed, thresholds=np.log(coarse))
+    return np.fmax(np.interp(cycles, np.exp(engine.levels), esc), 1.96 * np.interp(cycles, coarse, spread))
 
 
-def _curve_estimate(ctx: StudyContext, engine, pf, pf_cov, n_mc, scatter_sd: float):
-    """Pf(N) of the curve from the final surrogate. With a call-to-call scatter of the life, each sample fails at N
-    with probability Phi((ln N - mu(x)) / s) (``failure_probability``), on a population of the engine's size drawn
-    afresh; without one, the engine's own estimate. Then the population grows until COV(Pf) < target at every level
-    above the floor (AK-MCS Step 6; the engine does it itself when its learning converges, not when the call
-    budget ends it). The crude Monte Carlo size suffices for the smoothed estimate too, whose variance is smaller."""
+def _curve_estimate(ctx: StudyContext, engine, thresholds: np.ndarray, at_levels: np.ndarray, n_mc: int,
+                    scatter_sd: float):
+    """Pf and its COV at each of ``thresholds`` (ln N; the curve's levels are ``thresholds[at_levels]``) from the
+    final surrogate (no call): on the engine's own population, which its learning classified, or, with a
+    call-to-call scatter of the life, on one of its size drawn afresh, each sample failing at N with probability
+    Phi((ln N - mu(x)) / s) (``failure_probability``). Then the
+    population grows until COV(Pf) < target at every level above the floor (AK-MCS Step 6; the engine does it itself
+    when its learning converges, not when the call budget ends it). The crude Monte Carlo size suffices for the
+    smoothed estimate too, whose variance is smaller. Returns (pf, cov, population size)."""
     from jointwear.reliability import population_size
 
     rel = ctx.config.reliability
@@ -469,15 +509,18 @@ def _curve_estimate(ctx: StudyContext, engine, pf, pf_cov, n_mc, scatter_sd: flo
     def draw(m, start):
         return iso.to_u(ctx.sample(m, seed + start))
 
-    if scatter_sd > 0:
-        pf, pf_cov = engine.estimate_on(draw, n_mc, noise_sd=scatter_sd)
-    need = (pf >= rel.pf_floor) & ~(pf_cov < rel.cov_target)
+    if scatter_sd > 0 or engine.population_u is None:
+        pf, pf_cov = engine.estimate_on(draw, n_mc, noise_sd=scatter_sd, thresholds=thresholds)
+    else:  # the population the learning classified (AK-MCS's own estimate at the levels)
+        pf, pf_cov = engine.estimate_on(lambda m, start: engine.population_u[start:start + m], n_mc,
+                                        thresholds=thresholds)
+    need = (pf[at_levels] >= rel.pf_floor) & ~(pf_cov[at_levels] < rel.cov_target)
     if not need.any():
         return pf, pf_cov, n_mc
-    n = population_size(pf[need].min(), rel.cov_target, rel.n_mc_max)
+    n = population_size(pf[at_levels][need].min(), rel.cov_target, rel.n_mc_max)
     if n <= n_mc:
         return pf, pf_cov, n_mc
-    pf_new, cov_new = engine.estimate_on(draw, n, noise_sd=scatter_sd)
+    pf_new, cov_new = engine.estimate_on(draw, n, noise_sd=scatter_sd, thresholds=thresholds)
     return pf_new, cov_new, n
 
 

@@ -12,7 +12,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from jointwear.study.io import provenance
-from jointwear.study.limit_state import curve_half_width, life_interval
+from jointwear.study.limit_state import curve_half_width, life_at, life_interval
 from jointwear.study.stage_result import StageResult, save_figure
 from jointwear.units import column_name
 
@@ -188,6 +188,7 @@ class ReliabilityResult(StageResult):
     surrogate_fit: SurrogateFit | None = None
     pf_error_esc: np.ndarray | None = None
     life_surrogate: str = "system_life"
+    life_curve: dict = field(default_factory=dict)
     provenance: dict = field(default_factory=provenance)
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
     engine: Any = field(repr=False, default=None, metadata={"json": False})
@@ -231,12 +232,31 @@ class ReliabilityResult(StageResult):
         """The 95 % half-width of R at each level (:func:`~jointwear.study.limit_state.curve_half_width`)."""
         return curve_half_width(self.pf, self.pf_cov, self.pf_error)
 
+    def _life_curve(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(cycles, R, 95 % half-width) where the life is read: :attr:`life_curve` (the curve between its levels
+        too), else, in results written without it, the levels."""
+        c = self.life_curve
+        if c.get("cycles"):
+            return tuple(np.asarray(c[k], dtype=float) for k in ("cycles", "reliability", "half_width_95"))
+        return np.asarray(self.cycles, dtype=float), np.asarray(self.reliability, dtype=float), self.half_width
+
+    def fine_curve(self) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        """(cycles, R, 95 % half-width) of :attr:`life_curve`, the curve between its levels too; None in results
+        written without it."""
+        return self._life_curve() if self.life_curve.get("cycles") else None
+
+    def life(self, target: float | None = None) -> float | None:
+        """The life (cycles) at ``target`` (default: the first target): where R(N) falls to it, read on
+        :attr:`life_curve` (:func:`~jointwear.study.limit_state.life_at`); None outside the curve."""
+        cycles, r, _ = self._life_curve()
+        return life_at(cycles, r, self.target if target is None else target)
+
     def life_interval(self, target: float | None = None) -> tuple[float | None, float | None]:
         """The 95 % interval (cycles) of the life at ``target`` (default: the first target), where the band
-        R -/+ :attr:`half_width` crosses it (:func:`~jointwear.study.limit_state.life_interval`). It is the error
-        of the estimate of R(N) for this wear model, not the scatter of the wear model itself."""
-        return life_interval(self.cycles, self.reliability, self.half_width,
-                             self.target if target is None else target)
+        R -/+ its 95 % half-width crosses it (:func:`~jointwear.study.limit_state.life_interval`) on
+        :attr:`life_curve`. It is the error of the estimate of R(N) for this wear model, not the scatter of the wear
+        model itself."""
+        return life_interval(*self._life_curve(), self.target if target is None else target)
 
     def largest_error(self) -> tuple[float, float] | None:
         """(error, cycles): the surrogate's largest error estimate of R over the curve's levels whose COV counts
@@ -302,6 +322,7 @@ class ReliabilityResult(StageResult):
             "life_at_target": {"target": self.target, "cycles": self.life_cycles, "hours": self.life_hours,
                                "cycles_low": low, "cycles_high": high},
             "life_table": self.life_table,
+            "life_curve": self.life_curve,
             "quantity": self.quantity,
             "joints": self.joints,
             "governing_joint": self.governing_joint,
@@ -360,17 +381,22 @@ class ReliabilityResult(StageResult):
             joints=data.get("joints", []), crank_speed_rpm=data.get("crank_speed_rpm"),
             infeasible=data.get("infeasible", {}), learning_stop=data.get("learning_stop", ""),
             surrogate_fit=SurrogateFit.from_json(data.get("surrogate_fit")), provenance=data.get("provenance", {}),
-            life_surrogate=data.get("life_surrogate", "system_life"),
+            life_surrogate=data.get("life_surrogate", "system_life"), life_curve=data.get("life_curve", {}),
             extra={k: v for k, v in data.items() if k not in _RELIABILITY_KEYS})
 
     def joint_curves(self) -> dict[str, tuple[np.ndarray, np.ndarray | None]]:
         """Each judged joint's own R(N) and its 95 % half-width (None in results written without it), with several
-        judged joints; empty with one."""
+        judged joints, on :attr:`life_curve`'s cycles where the result has it (:meth:`fine_curve`), else at the
+        levels; empty with one."""
         if len(self.joints) < 2:
             return {}
-        return {j["name"]: (np.asarray(j["reliability"], dtype=float),
-                            None if "half_width_95" not in j else np.asarray(j["half_width_95"], dtype=float))
-                for j in self.joints}
+        out = {}
+        for j in self.joints:  # on the life's curve where the joint has it, else at the levels
+            source = j["curve"] if "curve" in j and self.fine_curve() is not None else j
+            half = source.get("half_width_95")
+            out[j["name"]] = (np.asarray(source["reliability"], dtype=float),
+                              None if half is None else np.asarray(half, dtype=float))
+        return out
 
     def tables(self) -> dict[str, dict[str, Any]]:
         """``reliability_curve`` (R, Pf, its COV and error and R's 95 % half-width at every level; each joint's R
@@ -416,7 +442,7 @@ class ReliabilityResult(StageResult):
             save_figure(F.reliability_curve_figure(
                 self.cycles, self.reliability, pf_cov=self.pf_cov, pf_error=self.pf_error, target=self.target,
                 life_cycles=self.life_cycles, life_interval=None if self.life_cycles is None else self.life_interval(),
-                joints=self.joint_curves() or None), folder / "reliability_curve.png")
+                joints=self.joint_curves() or None, fine=self.fine_curve()), folder / "reliability_curve.png")
             h = self.histograms
             if h.get("cycles"):
                 limit = self.joints[0]["allowance_mm"] if self.joints else None
@@ -433,7 +459,7 @@ class ReliabilityResult(StageResult):
 _RELIABILITY_KEYS = frozenset({
     "curve", "life_at_target", "life_table", "quantity", "joints", "governing_joint", "allowance_mm",
     "crank_speed_rpm", "model_calls", "failed_calls", "n_mc", "converged", "learning_stop", "surrogate_fit",
-    "wall_seconds", "life_surrogate",
+    "wall_seconds", "life_surrogate", "life_curve",
     "variables", "variable_units", "histograms", "mean_max_wear_mm", "convergence", "design", "infeasible",
     "provenance"})
 

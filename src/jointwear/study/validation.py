@@ -15,7 +15,7 @@ import time
 import numpy as np
 from scipy import stats
 
-from jointwear.study.limit_state import intervals_overlap, life_at
+from jointwear.study.limit_state import curve_cycles, intervals_overlap, life_at
 from jointwear.study.reliability import StudyContext
 from jointwear.study.reliability_results import SurrogateFit
 from jointwear.study.results import ReliabilityResult, ValidationResult
@@ -65,35 +65,40 @@ def run_validation(ctx: StudyContext, reliability: ReliabilityResult, n_samples:
     calls = ctx.n_model_calls - before  # new calls only: a resumed validation reads its samples back
     failed = np.isnan(life)
     levels = np.asarray(ctx.cycles, dtype=float)
-    # a failed call counts as a failure of the mechanism (the engine's rule): never as safe
-    fails = np.where(np.isnan(life)[:, None], True, life[:, None] <= levels[None, :])
-    k = fails.sum(axis=0)
-    pf_mc = k / n_samples
     p_inf = ctx.config.uncertainty.infeasible_probability()
-    r_mc, lo, hi, agree = [], [], [], []
+    r_mc, lo, hi = true_reliability(life, levels, p_inf)
     r_sur = np.asarray(reliability.reliability, dtype=float)
-    pf_sur = 1.0 - r_sur
-    half_sur = reliability.half_width
-    for j in range(levels.size):
-        c_lo, c_hi = clopper_pearson(int(k[j]), n_samples)
-        # the 'fail' rule adds the infeasible mass exactly: Pf = p + (1 - p) Pf(feasible)
-        pf_j, pf_lo, pf_hi = (p_inf + (1 - p_inf) * v for v in (pf_mc[j], c_lo, c_hi))
-        r_mc.append(1.0 - pf_j)
-        lo.append(1.0 - pf_hi)
-        hi.append(1.0 - pf_lo)
-        half_mc = max(pf_j - pf_lo, pf_hi - pf_j)
-        agree.append(bool(abs(pf_j - pf_sur[j]) <= half_mc + half_sur[j]))
+    half_mc = np.maximum(r_mc - lo, hi - r_mc)
+    agree = (np.abs(r_mc - r_sur) <= half_mc + reliability.half_width).tolist()
     cv = leave_one_out(ctx, np.asarray(reliability.design_x), seed=rel.seed)
-    life_table = [life_check(levels, r_mc, lo, hi, reliability, float(row["target"]))
-                  for row in reliability.life_table]
+    # the true model's life is read between the levels too, where the study reads its own (each sample's life is
+    # known: its curve is exact at any N)
+    fine = curve_cycles(levels)
+    true_fine = true_reliability(life, fine, p_inf)
+    life_table = [life_check(fine, *true_fine, reliability, float(row["target"])) for row in reliability.life_table]
     joints = joint_checks(ctx, reliability, x, levels) if len(ctx.limit_state.joints) > 1 else []
     return ValidationResult(
-        cycles=levels, reliability_mc=r_mc, ci_low=lo, ci_high=hi, reliability_surrogate=r_sur,
+        cycles=levels, reliability_mc=r_mc.tolist(), ci_low=lo.tolist(), ci_high=hi.tolist(),
+        reliability_surrogate=r_sur,
         surrogate_error=reliability.pf_error,  # NaN where not estimated, not 0
         surrogate_cov=reliability.pf_cov,
         agreement=agree, n_samples=int(n_samples), model_calls=int(calls), failed_calls=int(failed.sum()),
         seed=int(rel.seed + SEED_OFFSET), cross_validation=cv, life_table=life_table, joints=joints,
         wall_seconds=time.perf_counter() - t0)
+
+
+def true_reliability(life: np.ndarray, cycles: np.ndarray, p_inf: float = 0.0
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """R at each of ``cycles`` of the true model sampled directly (the share of samples whose ``life`` is longer),
+    with its exact 95 % interval (low, high). A failed call (NaN life) counts as a failure of the mechanism (the
+    engine's rule): never as safe. The 'fail' rule adds the infeasible mass ``p_inf`` exactly: Pf = p + (1 - p)
+    Pf(feasible)."""
+    n = life.size
+    fails = np.where(np.isnan(life)[:, None], True, life[:, None] <= np.asarray(cycles, dtype=float)[None, :])
+    k = fails.sum(axis=0)
+    bounds = np.array([clopper_pearson(int(f), n) for f in k]).reshape(-1, 2)
+    pf, pf_lo, pf_hi = (p_inf + (1.0 - p_inf) * v for v in (k / n, bounds[:, 0], bounds[:, 1]))
+    return 1.0 - pf, 1.0 - pf_hi, 1.0 - pf_lo
 
 
 def joint_checks(ctx: StudyContext, reliability: ReliabilityResult, x: np.ndarray, levels: np.ndarray) -> list[dict]:
@@ -104,14 +109,9 @@ def joint_checks(ctx: StudyContext, reliability: ReliabilityResult, x: np.ndarra
     their 95 % half-widths (the study's: ``half_width_95`` of the joint; results written without it have no
     agreement). A failed call counts as a failure of every joint."""
     lives = ctx.joint_lives(x)
-    n = lives.shape[0]
     out = []
     for k, row in enumerate(reliability.joints):
-        fails = np.where(np.isnan(lives[:, k])[:, None], True, lives[:, k][:, None] <= levels[None, :]).sum(axis=0)
-        bounds = [clopper_pearson(int(f), n) for f in fails]
-        r_mc = 1.0 - fails / n
-        lo = np.array([1.0 - hi for _, hi in bounds])
-        hi = np.array([1.0 - lo_ for lo_, _ in bounds])
+        r_mc, lo, hi = true_reliability(lives[:, k], levels)
         r_sur = np.asarray(row.get("reliability", [np.nan] * levels.size), dtype=float)
         check = {"name": row["name"], "reliability_mc": r_mc.tolist(), "ci_low": lo.tolist(),
                  "ci_high": hi.tolist(), "reliability_surrogate": r_sur.tolist(),
@@ -132,7 +132,7 @@ def life_check(levels, r_mc, ci_low, ci_high, reliability: ReliabilityResult, ta
     cross the target, beside the surrogate's life and interval; ``agree`` when the two intervals overlap (an
     end outside the curve reaches as far as it may)."""
     life, low, high = (life_at(levels, r, target) for r in (r_mc, ci_low, ci_high))
-    s_life = life_at(reliability.cycles, reliability.reliability, target)
+    s_life = reliability.life(target)
     s_low, s_high = reliability.life_interval(target)
     return {"target": target, "cycles": life, "cycles_low": low, "cycles_high": high, "surrogate_cycles": s_life,
             "surrogate_cycles_low": s_low, "surrogate_cycles_high": s_high,
