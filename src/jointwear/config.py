@@ -441,20 +441,37 @@ def _is_number(value: Any) -> bool:
 
 
 def _target_path(data: dict[str, Any], path: str, source: str) -> tuple[str, str | None] | None:
-    """(target, suffix) when ``path`` is a random variable's kind of target (a point's coordinate, a clearance
-    joint's ``clearance``), or one with a unit suffix on its last key (``clearance_um``); else None."""
+    """(target, suffix) when ``path`` is a random variable's kind of target that is not a key of a table (a
+    point's coordinate, a clearance joint's ``clearance``), or one with a unit suffix on its last key
+    (``clearance_um``); else None: a table's key is set as written, and the schema checks its suffix as in a file
+    (a variable's ``std_GPa`` on a length is refused there, by the target's unit)."""
+    head, _, last = path.rpartition(".")
+    if _is_table_key(data, head, last):
+        return None
     if target_error(data, path) is None:
         return path, None
-    head, _, last = path.rpartition(".")
     for suffix in sorted(SUFFIXES, key=len, reverse=True):
         if last.endswith("_" + suffix) and head:
             base = last[: -len(suffix) - 1]
+            if _is_table_key(data, head, base):
+                return None
             if target_error(data, f"{head}.{base}") is None:
                 problem = suffix_problem(last, base, suffix, target_unit(f"{head}.{base}"))
                 if problem:
                     raise ConfigError(f"{source}: {head}.{problem}")
                 return f"{head}.{base}", suffix
     return None
+
+
+def _is_table_key(data: dict[str, Any], head: str, key: str) -> bool:
+    """Whether ``head`` walks to a table (a dict) that holds ``key``."""
+    node: Any = data
+    try:
+        for part in head.split(".") if head else []:
+            node = node[_list_index(node, part)] if isinstance(node, list) else node[part]
+    except (KeyError, IndexError, ValueError, TypeError):
+        return False
+    return isinstance(node, dict) and key in node
 
 
 def _missing(node: Any, key: str, walked: list[str]) -> str:

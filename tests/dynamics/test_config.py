@@ -94,6 +94,23 @@ def test_a_random_variable_takes_the_unit_of_its_target():
         with_std("std_mm", 9.0)
 
 
+@pytest.mark.parametrize("change, message", [
+    ({"uncertainty.variables.l1.std_GPa": 1.0}, r"variables\[l1\]\.std_GPa: std is in m, and '_GPa' is a suffix of Pa"),
+    ({"uncertainty.variables.k_b.std_HB": 1.0}, r"variables\[k_b\]\.std_HB: std is a plain number"),
+    ({"uncertainty.variables.HB_b.mean_mm": 200.0}, r"variables\[HB_b\]\.mean_mm: mean is in Pa"),
+])
+def test_updated_checks_a_variables_suffix_as_a_file_does(change, message):
+    """updated() set `l1.std_GPa = 1` as a 1e9 m crank-length std (a file refused it): it goes through the schema's
+    own check by the target's unit now."""
+    from jointwear.config import updated
+
+    base = load_config("flores_slider_crank")
+    with pytest.raises(ConfigError, match=message):
+        updated(base, change)
+    hb = {v.name: v for v in updated(base, {"uncertainty.variables.HB_b.std_HB": 10.0}).uncertainty.variables}
+    assert hb["HB_b"].std == pytest.approx(10.0 * PA_PER_HB)
+
+
 @pytest.mark.parametrize("section, key, value, message", [
     (("reliability",), "target_reliability", "0.9",
      r"reliability: target_reliability: a number is expected, not the string '0.9' \(write it without quotes\)"),
