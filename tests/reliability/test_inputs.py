@@ -154,3 +154,17 @@ def test_process_pool_executor_batch():
                   evaluation=Evaluation(executor=pool))
     base = akmcs(p.g, p.marginals, n_mc=20_000, seed=2, batch_size=3, stopping="error")
     assert r.pf == base.pf and r.n_calls == base.n_calls  # same algorithm, different place of the calls
+
+
+def test_sizes_take_an_integral_float_as_the_docs_write_them():
+    """docs/reliability.md writes `n=1e5`, `n_mc=1e5`: they were refused ('n must be an integer >= 2; got 100000.0')."""
+    from jointwear.reliability import importance_sampling, sample
+
+    assert monte_carlo(_lin, NORM2, n=2e3, batch=1e3).n_mc == 2000
+    assert sample(NORM2, 1e2, seed=0).shape == (100, 2)
+    assert importance_sampling(_lin, NORM2, n=1e3).n_calls >= 1000  # plus the FORM calls
+    for bad in (2500.5, float("nan"), float("inf"), True, "1000"):
+        with pytest.raises(ValueError, match=r"n must be an integer >= 2"):
+            monte_carlo(_lin, NORM2, n=bad)
+    with pytest.raises(ValueError, match=r"n must be an integer >= 0; got 10.5"):
+        sample(NORM2, 10.5)

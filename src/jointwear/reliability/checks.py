@@ -11,8 +11,11 @@ __all__ = ["check_positive", "check_positive_int"]
 
 
 def check_positive_int(name: str, value: Any, minimum: int = 1) -> int:
-    """``value`` as an int, or ValueError naming ``name`` when it is not an integer >= ``minimum``."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
+    """``value`` as an int, or ValueError naming ``name`` when it is not an integer >= ``minimum``.
+
+    An integral float counts (``n=1e5``, as sizes are written in the docs and papers); 1e5 + 0.5 does not."""
+    integral_float = isinstance(value, (float, np.floating)) and np.isfinite(value) and float(value).is_integer()
+    if isinstance(value, bool) or not (isinstance(value, (int, np.integer)) or integral_float) or value < minimum:
         raise ValueError(f"{name} must be an integer >= {minimum}; got {value!r}")
     return int(value)
 

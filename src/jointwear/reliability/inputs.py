@@ -29,6 +29,8 @@ import numpy as np
 from scipy import stats
 from scipy.special import ndtr, ndtri
 
+from .checks import check_positive_int
+
 __all__ = ["Marginal", "as_marginal", "check_marginals", "check_copula", "IsoTransform", "sample"]
 
 
@@ -300,10 +302,9 @@ def sample(marginals: Sequence, n: int, seed: Any = None, copula: Any = None) ->
     u ~ N(0, I) from that generator, mapped by :class:`IsoTransform` (OpenTURNS' transform of the copula).
     """
     marginals = check_marginals(marginals)
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
-        raise ValueError(f"n must be an integer >= 0; got {n!r}")
+    n = check_positive_int("n", n, 0)
     rng = np.random.default_rng(seed)
     cop = check_copula(copula, len(marginals))
     if cop is None:
-        return np.column_stack([as_marginal(m).rvs(int(n), rng) for m in marginals])
-    return IsoTransform(marginals, cop).to_x(rng.standard_normal((int(n), len(marginals))))
+        return np.column_stack([as_marginal(m).rvs(n, rng) for m in marginals])
+    return IsoTransform(marginals, cop).to_x(rng.standard_normal((n, len(marginals))))
