@@ -214,3 +214,13 @@ def test_results_compare_by_value():
     b.reliability[1] = 0.81
     assert a != b
     assert a != "a string" and a != _reliability_result().__dict__
+
+
+def test_equality_ignores_the_runs_metadata():
+    """The same curve computed twice compared unequal: the wall time and the provenance's time of writing differ."""
+    a, b = _reliability_result(), _reliability_result()
+    b.wall_seconds = a.wall_seconds + 7.0
+    b.provenance = {**a.provenance, "written_at": "2030-01-01T00:00:00+00:00", "machine": "another"}
+    assert a == b
+    b.life_table = [dict(row, cycles=1.0) for row in b.life_table]
+    assert a != b  # what the run found still counts

@@ -75,15 +75,19 @@ class StageResult:
     """Shared save/load of the stage results: the JSON holds every field not marked ``json=False``."""
 
     FILE: ClassVar[str] = ""
+    #: fields that record how a run went, not what it found: equality ignores them
+    RUN_METADATA: ClassVar[frozenset[str]] = frozenset(
+        {"wall_seconds", "wall_seconds_per_cycle", "simulation_seconds", "provenance"})
     __hash__ = None  # mutable, compared by value
 
     def __eq__(self, other: object) -> bool:
         """Field by field, arrays by value (the dataclass comparison raised 'the truth value of an array is
-        ambiguous'); fields kept out of the JSON (the learning engine) are not compared."""
+        ambiguous'). Run metadata (``RUN_METADATA``: wall times, provenance with its time of writing) and fields
+        kept out of the JSON (the learning engine) are not compared, so the same curve computed twice is equal."""
         if type(other) is not type(self):
             return NotImplemented
         return all(same_value(getattr(self, f.name), getattr(other, f.name))
-                   for f in fields(self) if f.metadata.get("json", True))
+                   for f in fields(self) if f.metadata.get("json", True) and f.name not in self.RUN_METADATA)
 
     def __repr__(self) -> str:
         """One line per field, long values summarised (``short_repr``); subclasses are dataclasses with repr=False."""
