@@ -224,3 +224,16 @@ def test_equality_ignores_the_runs_metadata():
     assert a == b
     b.life_table = [dict(row, cycles=1.0) for row in b.life_table]
     assert a != b  # what the run found still counts
+
+
+def test_a_life_target_outside_0_1_or_not_a_number_is_refused_by_name():
+    """life_interval(1.5) returned (None, None) and life_interval("0.9") raised numpy's UFuncTypeError."""
+    from jointwear.schema import ConfigError
+
+    res = _reliability_result()
+    for bad in (1.5, 0.0, 1.0, -0.1, "0.9", True, float("nan")):
+        with pytest.raises(ConfigError, match=r"life_interval: target: a reliability in \(0, 1\)"):
+            res.life_interval(bad)
+        with pytest.raises(ConfigError, match=r"life: target: a reliability in \(0, 1\)"):
+            res.life(bad)
+    assert res.life(np.float64(0.9)) == res.life() and res.life_interval(0.9) == res.life_interval()

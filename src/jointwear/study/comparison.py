@@ -18,7 +18,7 @@ import numpy as np
 from jointwear.schema import ConfigError
 from jointwear.study.io import provenance
 from jointwear.study.limit_state import intervals_overlap, life_status
-from jointwear.study.reliability_results import interval_cells
+from jointwear.study.reliability_results import interval_cells, reliability_target
 from jointwear.study.results import StudyResults, load_results
 from jointwear.study.stage_result import StageResult, save_figure
 
@@ -168,10 +168,8 @@ def compare_studies(studies: Sequence[Path | str | StudyResults], *, target: flo
             why = f" ({res.errors['reliability']})" if "reliability" in res.errors else ""
             raise ConfigError(f"compare: '{res.folder}' has no reliability result{why}: run "
                               f"`jointwear reliability --out {res.folder}` (or `run`) first")
-    if target is None:
-        target = float(loaded[0].reliability.target)
-    if isinstance(target, bool) or not isinstance(target, (int, float)) or not 0.0 < target < 1.0:
-        raise ConfigError(f"compare: target: a reliability in (0, 1) (got {target!r})")
+    target = (float(loaded[0].reliability.target) if target is None
+              else reliability_target(target, "compare: target"))
     if labels is None:
         labels = _default_labels(loaded)
     elif len(labels) != len(loaded) or len(set(labels)) != len(labels):

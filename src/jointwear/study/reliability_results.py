@@ -4,6 +4,7 @@ against the true model; each with ``save(folder)`` (JSON, CSV tables, figures) a
 from __future__ import annotations
 
 import math
+import numbers
 from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -11,13 +12,22 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from jointwear.schema import ConfigError
 from jointwear.study.io import provenance
 from jointwear.study.limit_state import curve_half_width, life_at, life_interval
 from jointwear.study.stage_result import StageResult, save_figure
 from jointwear.units import column_name
 
 __all__ = ["ReliabilityResult", "SensitivityResult", "SurrogateFit", "ValidationResult", "interval_cells",
-           "interval_text"]
+           "interval_text", "reliability_target"]
+
+
+def reliability_target(value: Any, where: str) -> float:
+    """``value`` as a float when it is a reliability in (0, 1), else ConfigError naming ``where`` (a target read
+    outside that range returned (None, None), and a string ended in numpy's UFuncTypeError)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not 0.0 < float(value) < 1.0:
+        raise ConfigError(f"{where}: a reliability in (0, 1) (got {value!r})")
+    return float(value)
 
 
 def interval_text(low: float | None, high: float | None) -> str:
@@ -248,15 +258,17 @@ class ReliabilityResult(StageResult):
     def life(self, target: float | None = None) -> float | None:
         """The life (cycles) at ``target`` (default: the first target): where R(N) falls to it, read on
         :attr:`life_curve` (:func:`~jointwear.study.limit_state.life_at`); None outside the curve."""
+        target = self.target if target is None else reliability_target(target, "life: target")
         cycles, r, _ = self._life_curve()
-        return life_at(cycles, r, self.target if target is None else target)
+        return life_at(cycles, r, target)
 
     def life_interval(self, target: float | None = None) -> tuple[float | None, float | None]:
         """The 95 % interval (cycles) of the life at ``target`` (default: the first target), where the band
         R -/+ its 95 % half-width crosses it (:func:`~jointwear.study.limit_state.life_interval`) on
         :attr:`life_curve`. It is the error of the estimate of R(N) for this wear model, not the scatter of the wear
         model itself."""
-        return life_interval(*self._life_curve(), self.target if target is None else target)
+        target = self.target if target is None else reliability_target(target, "life_interval: target")
+        return life_interval(*self._life_curve(), target)
 
     def largest_error(self) -> tuple[float, float] | None:
         """(error, cycles): the surrogate's largest error estimate of R over the curve's levels whose COV counts
