@@ -88,7 +88,8 @@ def test_saved_comparison_reads_back_and_writes_its_tables(three, tmp_path):
     assert (tmp_path / "cmp" / "comparison_reliability.png").stat().st_size > 10_000
     md = (tmp_path / "cmp" / "comparison.md").read_text()
     assert "| B | 200,000 | 180,000 \u2013 220,000 | 2.000 | longer |" in md
-    assert md.count("| 40 | \u2014 | \u2014 |") == 3  # no wear mode, not validated: said so, not left blank
+    # no wear stage ran: the mode is the config's; not validated: said so, not left blank
+    assert md.count("| 40 | uniform | \u2014 |") == 2 and md.count("| 40 | profile | \u2014 |") == 1
 
 
 class _Cells(HTMLParser):
@@ -145,6 +146,9 @@ def test_labels_default_to_folders_where_names_repeat(tmp_path):
 def test_bad_inputs_name_what_is_wrong(three, tmp_path):
     with pytest.raises(ConfigError, match="two or more"):
         compare_studies(three[:1])
+    for single in (str(three[0]), three[0]):  # a str was read letter by letter: "no study folder 'b'"
+        with pytest.raises(ConfigError, match=r"compare: studies: a list of two or more .*single folder '.*a'"):
+            compare_studies(single)
     (tmp_path / "empty").mkdir()
     with pytest.raises(ConfigError, match="'.*empty' has no reliability result"):
         compare_studies([three[0], tmp_path / "empty"])
@@ -175,3 +179,34 @@ def test_a_validated_study_shows_how_many_levels_agree(three):
     comp = compare_studies(three[:2])
     assert [(s["validation_levels_agreeing"], s["validation_levels"]) for s in comp.studies] == [(None, None), (4, 5)]
     assert "| 4 of 5 levels agree |" in comp.markdown()
+
+
+def _with_variables(folder, variables):
+    """Add the settings of random variables [(name, std)] to the study's config.json, in that order."""
+    data = json.loads((folder / "config.json").read_text())
+    for i, (name, std) in enumerate(variables):
+        data["settings"] += [{"name": f"uncertainty.variables[{i}].name", "value": name, "unit": None},
+                             {"name": f"uncertainty.variables[{i}].std", "value": std, "unit": "HB"}]
+    (folder / "config.json").write_text(json.dumps(data))
+    return folder
+
+
+def test_settings_name_a_variable_by_its_name_and_match_by_it(tmp_path):
+    """The table said `uncertainty.variables[3].std (HB)`; two studies that list their variables in another order
+    compared them by position."""
+    a = _with_variables(_study(tmp_path / "a", "a", 1e6), [("HB_b", 10.0), ("HB_j", 20.0)])
+    b = _with_variables(_study(tmp_path / "b", "b", 1e6), [("HB_j", 20.0), ("HB_b", 12.0)])
+    comp = compare_studies([a, b])
+    assert [(d["name"], d["values"]) for d in comp.differences] == [("uncertainty.variables[HB_b].std", [10.0, 12.0])]
+    assert comp.setting_rows() == [("uncertainty.variables[HB_b].std (HB)", "10", "12")]
+
+
+def test_a_comparison_shows_its_table_in_a_shell_and_a_notebook(three):
+    comp = compare_studies(three[:2])
+    text = repr(comp)
+    assert text.startswith("StudyComparison of 2 studies") and comp.markdown() in text
+    assert "<list of" not in text
+    cells = _Cells()
+    cells.feed(comp._repr_html_())
+    assert list(StudyComparison.COLUMNS) in cells.rows and all(list(row) in cells.rows for row in comp.rows())
+    assert ["wear.geometry_mode", "uniform", "profile"] in cells.rows

@@ -16,6 +16,18 @@ READING = ("Two lives differ beyond their errors when their 95 % intervals do no
            "studies that differ in those (for example the wear mode) are compared as they stand.")
 
 
+def lives_table(comparison) -> str:
+    """The table of the studies' lives (the rows of ``comparison.md``) as HTML."""
+    return table(list(comparison.COLUMNS), comparison.rows(), cls="kv")
+
+
+def settings_table(comparison) -> str:
+    """The settings that differ between the studies as an HTML table (or a sentence saying none does)."""
+    if not comparison.differences:
+        return "<p>No setting differs between the studies.</p>"
+    return table(["setting", *comparison.labels], comparison.setting_rows(), cls="settings")
+
+
 def write_comparison_page(comparison, path: Path | str, *, figure: Path | None = None) -> Path:
     """Write ``comparison`` (a :class:`jointwear.study.StudyComparison`) as an HTML page at ``path``, with the PNG
     ``figure`` of its curves embedded when given; returns the path."""
@@ -23,11 +35,10 @@ def write_comparison_page(comparison, path: Path | str, *, figure: Path | None =
     curves = (figure_html(uri, f"R(N) of each study with its 95 % band; the target R = {comparison.target:g} "
                                "and each life with its interval") if uri
               else missing("No figure of the curves (written without figures)."))
-    settings = (table(["setting", *comparison.labels], comparison.setting_rows(), cls="settings")
-                if comparison.differences else "<p>No setting differs between the studies.</p>")
+    settings = settings_table(comparison)
     sections = [
         ("lives", f"Life at R = {comparison.target:g}",
-         table(list(comparison.COLUMNS), comparison.rows(), cls="kv") + f'<p class="lead">{e(READING)}</p>',
+         lives_table(comparison) + f'<p class="lead">{e(READING)}</p>',
          f"The first study, {comparison.labels[0]}, is the baseline."),
         ("curves", "Reliability R(N)", curves, ""),
         ("settings", "Settings that differ", settings, "In the units of the config files."),

@@ -8,6 +8,8 @@ overlap. The intervals cover the error of each study's estimate of R(N), not the
 
 from __future__ import annotations
 
+import html
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -64,6 +66,17 @@ class StudyComparison(StageResult):
     @property
     def labels(self) -> list[str]:
         return [s["label"] for s in self.studies]
+
+    def __repr__(self) -> str:
+        """The table of :meth:`markdown` (the field-by-field repr showed ``studies=<list of 2>``)."""
+        return f"StudyComparison of {len(self.studies)} studies\n{self.markdown()}"
+
+    def _repr_html_(self) -> str:
+        """The comparison's tables in a notebook: the lives, then the settings that differ."""
+        from jointwear.report.comparison_page import lives_table, settings_table
+
+        return (f"<p>Life at R = {self.target:g}; the first study, {html.escape(self.labels[0])}, is the "
+                f"baseline.</p>{lives_table(self)}{settings_table(self)}")
 
     def tables(self) -> dict[str, dict[str, Any]]:
         """``comparison`` (one row per study) and ``comparison_settings`` (one row per setting that differs, a
@@ -160,6 +173,9 @@ def compare_studies(studies: Sequence[Path | str | StudyResults], *, target: flo
         Fewer than two studies, a folder without a reliability result, a target outside (0, 1), or labels that
         do not match the studies one to one.
     """
+    if isinstance(studies, (str, Path, StudyResults)):  # a str is a sequence too: 'base' read as folders b, a, s, e
+        raise ConfigError(f"compare: studies: a list of two or more study folders, the baseline first (got the single "
+                          f"{_one(studies)}; e.g. compare_studies(['base', 'other']))")
     loaded = [s if isinstance(s, StudyResults) else _load(s) for s in studies]
     if len(loaded) < 2:
         raise ConfigError(f"compare: needs two or more study folders (got {len(loaded)})")
@@ -187,6 +203,11 @@ def compare_studies(studies: Sequence[Path | str | StudyResults], *, target: flo
     return StudyComparison(target=float(target), studies=rows, differences=_differences(loaded), curves=curves)
 
 
+def _one(study: Path | str | StudyResults) -> str:
+    folder = study.folder if isinstance(study, StudyResults) else study
+    return f"folder '{folder}'"
+
+
 def _load(folder: Path | str) -> StudyResults:
     try:
         return load_results(folder)
@@ -211,7 +232,8 @@ def _row(res: StudyResults, label: str, target: float) -> dict:
     wear = res.wear
     val = res.validation
     return {
-        "label": label, "geometry_mode": None if wear is None else wear.geometry_mode,
+        "label": label,
+        "geometry_mode": wear.geometry_mode if wear is not None else _setting(res, "wear.geometry_mode"),
         "life_cycles": life, "life_cycles_low": low, "life_cycles_high": high, "life_hours": hours,
         "status": life_status(rel.reliability, target), "life_ratio": None, "verdict": "",
         "model_calls": int(rel.model_calls), "converged": bool(rel.converged),
@@ -227,7 +249,11 @@ def _row(res: StudyResults, label: str, target: float) -> dict:
 def _differences(loaded: list[StudyResults]) -> list[dict]:
     """The settings (config.json's resolved ``settings``) whose values differ, in the order the first study that
     has each lists them."""
-    per_study = [{s["name"]: s for s in (r.config or {}).get("settings", [])} for r in loaded]
+    per_study = []
+    for res in loaded:
+        settings = (res.config or {}).get("settings", [])
+        items = _item_names(settings)
+        per_study.append({_by_name(s["name"], items): s for s in settings})
     names: list[str] = []
     for settings in per_study:
         names += [n for n in settings if n not in names and n not in _NOT_SETTINGS]
@@ -238,6 +264,29 @@ def _differences(loaded: list[StudyResults]) -> list[dict]:
             unit = next((s[name].get("unit") for s in per_study if name in s), None)
             out.append({"name": name, "unit": unit, "values": values})
     return out
+
+
+def _setting(res: StudyResults, name: str) -> Any:
+    """The value config.json records for a setting (None when it records none): the wear mode of a study whose
+    wear stage did not run."""
+    return next((s.get("value") for s in (res.config or {}).get("settings", []) if s.get("name") == name), None)
+
+
+def _item_names(settings: list[dict]) -> dict[str, str]:
+    """'uncertainty.variables[3]' -> 'HB_b': the name of every item of a list that has one."""
+    return {s["name"][: -len(".name")]: s["value"] for s in settings
+            if re.fullmatch(r".*\[\d+\]\.name", s["name"]) and isinstance(s.get("value"), str) and s["value"]}
+
+
+def _by_name(setting: str, items: dict[str, str]) -> str:
+    """'uncertainty.variables[3].std' -> 'uncertainty.variables[HB_b].std': list items by their names, so that
+    studies listing their variables in another order compare by name, not by position."""
+    out, last = [], 0
+    for m in re.finditer(r"\[\d+\]", setting):
+        name = items.get(setting[: m.end()])
+        out.append(setting[last: m.start()] + (f"[{name}]" if name else m.group(0)))
+        last = m.end()
+    return "".join(out) + setting[last:]
 
 
 def _same(a: Any, b: Any) -> bool:
