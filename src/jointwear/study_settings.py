@@ -83,7 +83,8 @@ class ReliabilitySettings(SIModel):
         description="With several judged joints: 'per_joint' learns one Kriging of each joint's log life and judges a "
         "sample by the joint that fails first (AK-SYS, Fauriat & Gayton 2014; project choice: each joint's life is "
         "smooth where the system's, their minimum, has a kink); 'system_life' one Kriging of the system's log life. "
-        "One judged joint: the same either way.")
+        "One judged joint: one Kriging of its log life whichever is set (that joint's life is the system's), and "
+        "reliability.json's life_surrogate names what was learnt: 'system_life'.")
     error_abs_tol: float = Field(
         0.01, description="A level also counts as learned when its estimated absolute Pf error is below this "
         "(project choice: 0.01 in R).")

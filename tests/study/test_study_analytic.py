@@ -336,3 +336,20 @@ def test_the_curve_integrates_the_life_scatter():
     n_h, n_mc = res.histograms["n_population"], res.n_mc
     for p_hist, p_curve in zip(res.histograms["exceedance"], res.histograms["one_minus_reliability"]):
         assert abs(p_hist - p_curve) <= 4 * np.sqrt(p_curve * (1 - p_curve) * (1 / n_h + 1 / n_mc)) + 1e-12
+
+
+def test_one_judged_joint_learns_the_system_life_and_the_config_and_docs_say_so(study):
+    """reliability.json said 'system_life' while the config said 'per_joint' and its description 'the same either
+    way': with one joint the JSON names what was learnt, and the setting's description and the docs say that."""
+    from pathlib import Path
+
+    from jointwear.study_settings import ReliabilitySettings
+
+    cfg, _ctx, res, _model = study
+    assert len(res.joints) == 1 and cfg.reliability.surrogate == "per_joint"
+    assert res.life_surrogate == res.to_json()["life_surrogate"] == "system_life"
+    said = "life_surrogate names what was learnt: 'system_life'"
+    assert said in ReliabilitySettings.model_fields["surrogate"].description
+    docs = Path(__file__).resolve().parents[2] / "docs"
+    assert "`system_life` with one judged joint" in (docs / "user-guide.md").read_text(encoding="utf-8")
+    assert "`life_surrogate` says `\"system_life\"`" in (docs / "reliability.md").read_text(encoding="utf-8")
