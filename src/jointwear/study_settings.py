@@ -107,6 +107,10 @@ class ReliabilitySettings(SIModel):
                 raise ValueError(f"target_reliability must be in (0, 1) (got {t:g})")
         if isinstance(self.target_reliability, list) and not self.target_reliability:
             raise ValueError("target_reliability: give at least one target")
+        repeated = [t for i, t in enumerate(self.targets) if t in self.targets[:i]]
+        if repeated:
+            raise ValueError(f"target_reliability: {repeated[0]:g} given twice (each target once: the life table "
+                             "has a row per target)")
         if self.allowance is not None and not self.allowance > 0:
             raise ValueError(f"allowance must be > 0 m (got {self.allowance:g})")
         for name, a in self.allowances.items():

@@ -231,3 +231,12 @@ def test_a_budget_below_the_initial_design_is_refused_by_the_schema():
     with pytest.raises(ConfigError, match=r"max_calls \(10\) must be >= n_initial \(12\)"):
         updated(load_config(), {"reliability.max_calls": 10})
     assert updated(load_config(), {"reliability.max_calls": 10, "reliability.n_initial": 10}).reliability.max_calls == 10
+
+
+def test_a_target_reliability_given_twice_is_refused_by_name():
+    """`target_reliability = [0.9, 0.9]` passed check: the life table had the same row twice."""
+    from jointwear.config import updated
+
+    with pytest.raises(ConfigError, match=r"reliability: target_reliability: 0.9 given twice"):
+        updated(load_config(), {"reliability.target_reliability": [0.9, 0.5, 0.9]})
+    assert updated(load_config(), {"reliability.target_reliability": [0.9, 0.5]}).reliability.targets == [0.9, 0.5]
