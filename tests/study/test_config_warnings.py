@@ -114,3 +114,18 @@ def test_a_wear_setting_its_mode_does_not_read_is_warned(changes, unread):
         return
     (warning,) = warnings
     assert warning.startswith(unread) and warning.endswith("so the setting changes nothing")
+
+
+def test_an_allowance_the_joint_cannot_be_checked_against_and_many_clearances_deep_is_warned():
+    """flores_slider_crank gives no bearing wall: `allowance_mm = 5` on its 0.5 mm clearance passed check without a
+    word (with a wall, an allowance at or beyond it is refused)."""
+    from jointwear.study.checks import ALLOWANCE_CLEARANCE_WARNING
+
+    base = load_config("flores_slider_crank")
+    clearance = base.clearance_joints[0].clearance
+    (warning,) = config_warnings(updated(base, {"reliability.allowance_mm": 5.0}))
+    assert warning.startswith("reliability.allowance: 5 mm for joint B is 10 times its clearance (0.5 mm)")
+    assert "clearance_joints.B.bearing_outer_radius" in warning
+    assert config_warnings(updated(base, {"reliability.allowance": 0.9 * ALLOWANCE_CLEARANCE_WARNING * clearance})) == []
+    walled = updated(base, {"clearance_joints.B.bearing_outer_radius_mm": 20.0, "reliability.allowance_mm": 5.0})
+    assert config_warnings(walled) == []  # checked against its 10 mm wall instead, and within it

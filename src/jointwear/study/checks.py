@@ -14,7 +14,7 @@ from urllib.parse import urlsplit
 
 from jointwear.config import StudyConfig
 from jointwear.schema import ConfigError
-from jointwear.study.limit_state import limit_state_problems
+from jointwear.study.limit_state import limit_state_from_config, limit_state_problems, wearable_stock
 
 RELIABILITY_STAGES = frozenset({"reliability", "sensitivity"})
 SCHEDULER_SCHEMES = ("tcp", "tls", "inproc", "ws", "wss", "ucx")
@@ -89,6 +89,10 @@ MEAN_SHIFT_WARNING_SIGMAS = 3.0
 
 #: a design specification this many times larger or smaller than its variable's mean is worth a warning
 DESIGN_SCALE_WARNING = 100.0
+
+#: an allowance this many times the joint's clearance, on a joint whose bearing wall is not given to check it
+#: against, is worth a warning (the presets' largest is 15, on a joint whose wall is given: jin2025_flapping_wing)
+ALLOWANCE_CLEARANCE_WARNING = 5.0
 
 #: a truncation at the minimum clearance that moves the sampled clearance's mean by this share is worth a warning
 TRUNCATED_MEAN_SHIFT_WARNING = 0.1
@@ -171,7 +175,30 @@ def config_warnings(config: StudyConfig) -> list[str]:
                        "simulate and wear stages run the drawn mechanism, the reliability stages one around the mean; "
                        "give both the same value unless the shift is meant")
     return (out + random_input_warnings(config) + clearance_warnings(config) + wear_mode_warnings(config)
-            + design_warnings(config))
+            + design_warnings(config) + allowance_warnings(config))
+
+
+def allowance_warnings(config: StudyConfig) -> list[str]:
+    """Each judged joint whose allowance cannot be checked against what the joint can wear (no
+    ``bearing_outer_radius``, so no :func:`~jointwear.study.limit_state.wearable_stock`; an allowance at or beyond
+    it is refused by :func:`~jointwear.study.limit_state.limit_state_problems`) and is at least
+    ``ALLOWANCE_CLEARANCE_WARNING`` times the joint's clearance: the sign of a unit slip (5 mm meant as 5 um)."""
+    if limit_state_problems(config):
+        return []
+    rel = config.reliability
+    state = limit_state_from_config(config)
+    out = []
+    for i, name, allowance in zip(state.joints, state.names, state.allowances):
+        joint = config.clearance_joints[i]
+        if wearable_stock(rel.quantity, joint) is not None or allowance < ALLOWANCE_CLEARANCE_WARNING * joint.clearance:
+            continue
+        where = f"reliability.allowances.{name}" if name in rel.allowances else "reliability.allowance"
+        out.append(f"{where}: {allowance * 1e3:.6g} mm for joint {name} is {allowance / joint.clearance:.3g} times "
+                   f"its clearance ({joint.clearance * 1e3:.6g} mm), and without clearance_joints.{name}."
+                   "bearing_outer_radius it cannot be checked against the bearing's wall: a unit slip? (without a "
+                   "suffix the allowance is in m: allowance_mm, allowance_um); give the outer radius to have it "
+                   "checked")
+    return out
 
 
 def wear_mode_warnings(config: StudyConfig) -> list[str]:
