@@ -216,6 +216,29 @@ def test_progress_shows_in_a_notebook_whose_stderr_is_no_terminal(monkeypatch):
     assert not Progress(total=3).enabled
 
 
+def test_progress_off_a_terminal_writes_a_plain_line_at_its_interval(monkeypatch, capsys):
+    """Under nohup, in CI or into a file the reliability stage printed nothing until it ended, while the tutorial
+    promised a progress line: a plain line now, at most every PLAIN_INTERVAL seconds, and one at the end."""
+    monkeypatch.delenv("JOINTWEAR_PROGRESS", raising=False)
+    X = np.arange(10.0).reshape(5, 2)
+    with Progress(description="reliability", plain_interval=0.0) as progress:  # captured stderr: not a terminal
+        progress.update(pf=1.234e-3)
+        Evaluator(smooth_model, progress=progress).evaluate(X)
+    assert progress.plain and not progress.enabled
+    lines = capsys.readouterr().err.splitlines()
+    assert lines[0].startswith("reliability 0  pf=0.001234  elapsed 0:00:0")
+    assert lines[-1].startswith("reliability 5/5  pf=0.001234  elapsed 0:00:0") and len(lines) >= 3
+    with Progress(description="reliability") as progress:  # work shorter than the interval: nothing
+        Evaluator(smooth_model, progress=progress).evaluate(X)
+    assert Progress.PLAIN_INTERVAL >= 10 and capsys.readouterr().err == ""
+    for silent in ({"enabled": False}, {}):
+        if not silent:
+            monkeypatch.setenv("JOINTWEAR_PROGRESS", "0")
+        with Progress(plain_interval=0.0, **silent) as progress:
+            Evaluator(smooth_model, progress=progress).evaluate(X + 100.0)
+        assert not progress.plain and capsys.readouterr().err == ""
+
+
 def test_make_executor_arguments():
     assert isinstance(make_executor(1), SerialExecutor)
     with pytest.raises(ValueError, match="workers must be >= 1"):

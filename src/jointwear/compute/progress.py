@@ -1,6 +1,7 @@
 """A small progress display for long work: model calls done / total, free-text fields (current Pf,
-COV, ...), elapsed time and time left. Built on ``rich.progress``; silent when the output is neither a
-terminal nor a Jupyter notebook, when disabled, or when ``JOINTWEAR_PROGRESS=0``.
+COV, ...), elapsed time and time left. Built on ``rich.progress`` on a terminal or in a Jupyter notebook;
+elsewhere (nohup, CI, a log file) a plain line at most every ``PLAIN_INTERVAL`` seconds; silent when disabled
+or when ``JOINTWEAR_PROGRESS=0``.
 
     with Progress(total=None, description="AK-MCS") as progress:
         evaluator = Evaluator(model, executor, store, progress=progress)
@@ -12,6 +13,7 @@ from __future__ import annotations
 
 import os
 import sys
+import time
 from typing import Any
 
 __all__ = ["Progress"]
@@ -42,11 +44,16 @@ class Progress:
     batch's size) adds to the total. A study that knows its budget passes ``total`` (or sets it later
     with :meth:`update`), and :meth:`expect` then leaves it alone.
 
-    ``enabled=None`` shows the display only on a terminal (``sys.stderr.isatty()``) or in a Jupyter notebook
-    (rich draws it there as a live cell output), unless the
-    environment variable ``JOINTWEAR_PROGRESS`` is ``0`` (never) or ``1`` (always). The counters
+    ``enabled=None`` shows the display on a terminal (``sys.stderr.isatty()``) or in a Jupyter notebook
+    (rich draws it there as a live cell output); elsewhere (:attr:`plain`) it writes a plain line to stderr at
+    most every ``plain_interval`` seconds (default :attr:`PLAIN_INTERVAL`; nothing for work shorter than that), and
+    one more at the end when it wrote any. The environment variable ``JOINTWEAR_PROGRESS`` set to ``0`` (never) or
+    ``1`` (the rich display always) overrides this; ``enabled=False`` is silent. The counters
     (:attr:`completed`, :attr:`total`, :attr:`fields`) are kept even when nothing is shown.
     """
+
+    #: seconds between two plain progress lines off a terminal (a log file of a day-long study stays short)
+    PLAIN_INTERVAL = 30.0
 
     def __init__(
         self,
@@ -56,19 +63,25 @@ class Progress:
         enabled: bool | None = None,
         console=None,
         transient: bool = False,
+        plain_interval: float | None = None,
     ) -> None:
         self.description = description
         self.completed = 0
         self._auto_total = total is None
         self.total: int | None = None if total is None else int(total)
         self.fields: dict[str, Any] = {}
+        self.plain = False
         if enabled is None:
             env = os.environ.get("JOINTWEAR_PROGRESS", "").strip()
             if env in ("0", "1"):
                 enabled = env == "1"
             else:
                 enabled = console.is_terminal if console is not None else (sys.stderr.isatty() or _in_notebook())
+                self.plain = not enabled
         self.enabled = bool(enabled)
+        self.plain_interval = self.PLAIN_INTERVAL if plain_interval is None else float(plain_interval)
+        self._started = self._last_line = time.monotonic()
+        self._lines = 0
         self._rich = None
         self._task = None
         self._console = console
@@ -76,6 +89,7 @@ class Progress:
 
     # -- context manager ----------------------------------------------------------------------------
     def start(self) -> "Progress":
+        self._started = self._last_line = time.monotonic()
         if self.enabled and self._rich is None:
             from rich.console import Console
             from rich.progress import (
@@ -114,6 +128,8 @@ class Progress:
             self._rich.stop()
             self._rich = None
             self._task = None
+        if self.plain and self._lines:  # the log ends with where the work ended
+            self._plain_line()
 
     def __enter__(self) -> "Progress":
         return self.start()
@@ -122,7 +138,21 @@ class Progress:
         self.stop()
 
     # -- updates ------------------------------------------------------------------------------------
+    def _plain_line(self) -> None:
+        """'model calls 12/60  Pf(300k)=0.0123  elapsed 0:01:02' on stderr (or the console's file)."""
+        self._last_line = time.monotonic()
+        self._lines += 1
+        elapsed = int(self._last_line - self._started)
+        done = f"{self.completed}/{self.total}" if self.total else str(self.completed)
+        info = _format_fields(self.fields)
+        line = "  ".join(p for p in (f"{self.description} {done}", info,
+                                     f"elapsed {elapsed // 3600}:{elapsed // 60 % 60:02d}:{elapsed % 60:02d}") if p)
+        out = self._console.file if self._console is not None else sys.stderr
+        print(line, file=out, flush=True)
+
     def _refresh(self) -> None:
+        if self.plain and time.monotonic() - self._last_line >= self.plain_interval:
+            self._plain_line()
         if self._rich is not None:
             self._rich.update(
                 self._task,
