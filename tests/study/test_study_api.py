@@ -58,7 +58,7 @@ def test_a_config_from_python_is_not_labelled_a_preset(tmp_path):
 
 def test_a_folder_with_results_of_another_wear_model_is_warned(tmp_path):
     """A stage run into a folder that holds another model's results: the report would mix the two, so the stage
-    says so; another budget (a learning setting) is the same model and says nothing."""
+    moves them aside and says so; another budget (a learning setting) changes no result there and says nothing."""
     lines: list[str] = []
     jointwear.Study(None, out=tmp_path, echo=lines.append).simulate(cycles=1)
     assert lines[0].startswith("simulate: 1 cycle, ")  # not "1 cycles"
@@ -68,7 +68,8 @@ def test_a_folder_with_results_of_another_wear_model_is_warned(tmp_path):
     loaded = updated(load_config(), {"mechanism.rod_force": (0.0, -0.05)})
     jointwear.Study(loaded, out=tmp_path, echo=lines.append).simulate(cycles=1)
     (warning,) = [line for line in lines if line.startswith("out:")]
-    assert "holds results of another wear model (changed: mechanism.rod_force)" in warning
+    assert warning.startswith("out: moved the results of simulate (with their tables and figures) to ")
+    assert "(changed: mechanism.rod_force)" in warning
 
 
 def test_a_bushing_worn_through_is_warned(tmp_path):

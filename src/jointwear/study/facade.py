@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import contextlib
 import functools
-import json
 import logging
 import numbers
 import re
@@ -52,6 +51,7 @@ from jointwear.study.results import (
     load_results,
 )
 from jointwear.study.stage_result import same_value
+from jointwear.study.superseded import DEPENDS_ON, changed_settings, move_aside, section, stale_stages
 from jointwear.wear.angles import angle_text
 
 #: Tag of the true-model calls in the evaluation store (shared by the CLI and the Python API).
@@ -232,12 +232,23 @@ class Study:
 
         source = "preset" if self._preset else "python" if self.source is None else str(self.source)
         dump = settings_dump(self.config, preset=self.config.name if self._preset else None, source=source)
-        changed = _changed_settings(self.out, dump["settings"])
-        if changed:
-            self.warn(f"out: {self.out} holds results of another wear model (changed: {', '.join(changed[:3])}"
-                      f"{f' and {len(changed) - 3} more' if len(changed) > 3 else ''}); the results this study "
-                      "writes replace theirs, and the report reads both: use a new output folder to keep them apart")
+        self._supersede(dump["settings"])
         write_dump(self.out, dump)
+
+    def _supersede(self, settings: list[dict]) -> None:
+        """Move aside the results in ``out`` computed with other values of the settings they depend on than
+        ``settings`` (config.json, about to be rewritten, is the only record of them), and say which and why."""
+        changed = changed_settings(self.out, settings) or []
+        stale = stale_stages(self.out, changed)
+        if not stale:
+            return
+        relevant = [name for name in changed if any(section(name) in DEPENDS_ON[stage] for stage in stale)]
+        report = ", and report.html" if (self.out / "report.html").is_file() else ""
+        where = move_aside(self.out, stale)
+        self.warn(f"out: moved the results of {', '.join(stale)} (with their tables and figures{report}) to {where}: "
+                  f"they were computed with other settings (changed: {', '.join(relevant[:3])}"
+                  f"{f' and {len(relevant) - 3} more' if len(relevant) > 3 else ''}), so they count as not run "
+                  "until their stages run again")
 
     def _hold_folder(self) -> None:
         """Claim ``out`` for this process until its outermost stage ends, so that a second study started in the
@@ -614,8 +625,7 @@ class Study:
         if isinstance(exc, compute.ConfigChangedError):
             from jointwear.report.settings import settings_dump
 
-            changed = _changed_settings(self.out, settings_dump(self.config)["settings"], with_results=False,
-                                        of_calls=True)
+            changed = _changed_settings(self.out, settings_dump(self.config)["settings"], of_calls=True)
             named = f" (changed: {', '.join(changed)})" if changed else (
                 f" (the {', '.join(WearModelCall.MODEL_SECTIONS)} sections, the random variables' targets or the "
                 "curve's cycle counts changed)")
@@ -785,43 +795,13 @@ class Study:
                       'wear.geometry_mode = "profile" before deciding (docs/wear.md)')
 
 
-def _changed_settings(out: Path, settings: list[dict], *, with_results: bool = True,
-                      of_calls: bool = False) -> list[str]:
+def _changed_settings(out: Path, settings: list[dict], *, of_calls: bool = False) -> list[str]:
     """The settings of the wear model (``WearModelCall.MODEL_SECTIONS``; ``of_calls``: every setting the model
     calls' identity depends on, ``WearModelCall.depends_on``) whose values differ from those recorded in
-    ``out/config.json`` by an earlier study whose results are still there (``with_results=False``: whose config is
-    there, e.g. beside its evaluation store); empty when there is none or it had this model (the learning,
-    sensitivity and report settings may change between runs in one folder)."""
-    from jointwear.study.results import STAGE_TYPES
-
-    recorded = out / "config.json"
-    results = any((out / cls.FILE).is_file() for cls in STAGE_TYPES.values())
-    if not recorded.is_file() or (with_results and not results):
-        return []
-    try:
-        before = {r["name"]: _in_si(r.get("value"), r.get("unit"))
-                  for r in json.loads(recorded.read_text(encoding="utf-8"))["settings"]}
-    except (OSError, ValueError, KeyError, TypeError):
-        return []
-    now = {r["name"]: _in_si(json.loads(json.dumps(r.get("value"), default=str)), r.get("unit")) for r in settings}
-    names = list(now) + [name for name in before if name not in now]
+    ``out/config.json`` by an earlier study (empty when there is none, or it had this model)."""
+    changed = changed_settings(out, settings) or []
     model = tuple(WearModelCall.MODEL_SECTIONS)
-    return [name for name in names if (WearModelCall.depends_on(name) if of_calls
-                                       else name.split(".")[0].split("[")[0] in model)
-            and not same_value(now.get(name), before.get(name), rtol=1e-12)]  # a display unit there and back
-
-
-def _in_si(value: Any, unit: str | None) -> Any:
-    """A recorded setting in SI, so that a folder written with other display units (a hardness once shown in GPa,
-    now in HB) compares by value."""
-    from jointwear.units import SUFFIXES, UnitError, to_si
-
-    if not unit or unit not in SUFFIXES:
-        return value
-    try:
-        return to_si(value, unit)
-    except UnitError:
-        return value
+    return [name for name in changed if (WearModelCall.depends_on(name) if of_calls else section(name) in model)]
 
 
 def _empty_store(out: Path) -> bool:

@@ -1,0 +1,90 @@
+"""Stages run again in a folder that holds results: what is kept, what is moved aside, and how the lines count calls.
+
+One small study of the slider-crank benchmark (20 learning calls, 4 validation samples, a design with 15
+verification calls) is run once into a base folder, its design first on the fresh folder; each test works on a copy.
+"""
+
+from __future__ import annotations
+
+import shutil
+
+import pytest
+
+import jointwear
+from jointwear.config import load_config, updated
+
+SMALL = {
+    "extends": "flores_slider_crank",
+    "reliability": {"max_calls": 20, "n_mc": 50_000},
+    "sensitivity": {"sobol_base_samples": 256},
+    "design": {"refine_max_calls": 5, "verification_max_calls": 15,
+               "targets": [{"reliability": 0.9, "life_factor": 1.1}],
+               "tolerances": [{"variable": "l2", "grades": ["IT9", "IT10", "IT11"]}],
+               "properties": [{"variable": "k_b", "classes": [{"name": "standard", "cost": 0.0},
+                                                             {"name": "coated", "mean": 0.8e-4, "std": 0.8e-5,
+                                                              "cost": 2.0}]}]},
+}
+# the files each stage writes here, but for the moved stages': what a folder keeps when those are moved aside
+SIMULATE_FILES = {"simulate.json", "simulate.npz", "simulate_joints.csv", "orbit_B.png", "force_B.png"}
+WEAR_FILES = {"wear.json", "wear_history.csv", "wear_journal_profile.csv", "wear_profile.csv", "wear_polar.png",
+              "wear_history.png", "wear_vs_angle.png"}
+
+
+@pytest.fixture(scope="module")
+def base(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("study") / "base"
+    lines: list[str] = []
+    study = jointwear.Study(SMALL, out=folder, workers=1, echo=lines.append)
+    design = study.design()
+    design_lines = list(lines)
+    study.simulate()
+    study.wear()
+    study.sensitivity()
+    study.validate(n_samples=4)
+    study.report()
+    return folder, design, design_lines
+
+
+def _copy(base, tmp_path):
+    return shutil.copytree(base[0], tmp_path / "copy")
+
+
+def _results_files(folder) -> set[str]:
+    return {p.name for p in folder.iterdir() if p.suffix in (".json", ".csv", ".png", ".npz", ".html")}
+
+
+def test_a_rerun_with_other_reliability_settings_moves_aside_what_the_old_curve_gave(base, tmp_path):
+    """Another allowance re-learns R(N): the sensitivity, validation and design of the old curve were left beside
+    it, read as current by load_results (validation.all_agree of the old curve), compare_studies and the report."""
+    folder = _copy(base, tmp_path)
+    lines: list[str] = []
+    changed = updated(load_config(folder), {"reliability.allowance_mm": 0.08})
+    jointwear.Study(changed, out=folder, workers=1, resume=True, echo=lines.append).reliability()
+    (told,) = [line for line in lines if line.startswith("out: ")]
+    assert told.startswith("out: moved the results of reliability, sensitivity, validation, design (with their "
+                           "tables and figures, and report.html) to ")
+    assert "(changed: reliability.allowance)" in told
+    results = jointwear.load_results(folder)
+    assert results.stages == ["simulate", "wear", "reliability"]
+    assert _results_files(folder) == {"config.json"} | SIMULATE_FILES | WEAR_FILES | {
+        "reliability.json", "reliability_curve.csv", "life_table.csv", "design_points.csv", "reliability_curve.png",
+        "wear_histograms.png", "convergence.png"}
+    (aside,) = (folder / "superseded").iterdir()
+    assert {"sensitivity.json", "validation.json", "design.json", "report.html"} <= {p.name for p in aside.iterdir()}
+    page = jointwear.Study(changed, out=folder, echo=lines.append).report().read_text()
+    assert "Validation against the true model" not in page
+
+
+def test_a_wear_model_change_moves_aside_every_result_but_the_dynamics(base, tmp_path):
+    """Every result built on the wear history goes with its tables and figures (none is left for the report to show
+    as current); the dynamics do not depend on the wear settings and stay."""
+    folder = _copy(base, tmp_path)
+    lines: list[str] = []
+    cfg = load_config(folder)
+    jointwear.Study(updated(cfg, {"wear.record_cycles": cfg.wear.record_cycles + 1}), out=folder, workers=1,
+                    echo=lines.append).wear()
+    (told,) = [line for line in lines if line.startswith("out: ")]
+    assert "results of wear, reliability, sensitivity, validation, design (" in told
+    assert "(changed: wear.record_cycles)" in told
+    assert _results_files(folder) == {"config.json"} | SIMULATE_FILES | WEAR_FILES
+    assert jointwear.load_results(folder).stages == ["simulate", "wear"]
