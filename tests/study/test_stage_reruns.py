@@ -12,6 +12,7 @@ import pytest
 
 import jointwear
 from jointwear.config import load_config, updated
+from jointwear.design.results import DesignResult
 
 SMALL = {
     "extends": "flores_slider_crank",
@@ -51,6 +52,18 @@ def _copy(base, tmp_path):
 
 def _results_files(folder) -> set[str]:
     return {p.name for p in folder.iterdir() if p.suffix in (".json", ".csv", ".png", ".npz", ".html")}
+
+
+def test_design_on_a_fresh_folder_tells_the_reliability_stage_it_runs_first(base):
+    """design() on a fresh folder learned R(N) in silence (no line, no 'stopped before its stopping rule') and then
+    said '35 model calls (15 run now)' although all 35 ran in that call; its result's provenance was {}."""
+    folder, design, lines = base
+    (rel,) = [line for line in lines if line.startswith("reliability: 20 model calls")]
+    assert "read back" not in rel  # all run now
+    assert any(line.startswith("reliability: the learning stopped before its stopping rule") for line in lines)
+    (told,) = [line for line in lines if line.startswith("design: ") and " model calls" in line]
+    assert f"; {design.model_calls} model calls -> " in told and "run now" not in told
+    assert design.provenance and design.provenance == DesignResult.load(folder).provenance
 
 
 def test_a_rerun_with_other_reliability_settings_moves_aside_what_the_old_curve_gave(base, tmp_path):

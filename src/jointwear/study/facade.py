@@ -468,19 +468,28 @@ class Study:
         ReliabilityResult
             The curve, the life table and the model calls spent; also written to ``reliability.json``.
         """
-        from jointwear.study.reliability import run_reliability
-
         self._prepare({"reliability"}, store_reuse=False)
         with self._session(reuse=False) as ctx:
-            res = run_reliability(ctx, progress=self._progress_callback)
-            new = ctx.n_model_calls
+            return self._learn(ctx)
+
+    def _learn(self, ctx) -> ReliabilityResult:
+        """Run the reliability stage in ``ctx``, write its result and tell it (the same when another stage needs
+        it first): the calls made, read back, the life, and what the user must know about the curve."""
+        from jointwear.study.reliability import run_reliability
+
+        before = ctx.n_model_calls
+        res = run_reliability(ctx, progress=self._progress_callback)
+        new = ctx.n_model_calls - before
+        recorded = ReliabilityResult.load_if_present(self.out)
+        if new == 0 and recorded is not None and recorded.model_calls == res.model_calls and same_value(
+                recorded.reliability, res.reliability):
+            res.wall_seconds = recorded.wall_seconds  # a replay of the stored calls: the study's own time
         self._reliability = res
         res.save(self.out)
         life = life_text(res.life_table[0])
         governing = f", governed by joint {res.governing_joint}" if len(res.joints) > 1 else ""
-        reused = f" ({new} new, {res.model_calls - new} read back from the store)" if new < res.model_calls else ""
-        self.echo(f"reliability: {res.model_calls} model calls{reused}, n_mc = {res.n_mc:,}, life at R = {res.target}: "
-                  f"{life}{governing} -> {self.out / res.FILE}")
+        self.echo(f"reliability: {res.model_calls} model calls{_reused(new, res.model_calls)}, n_mc = {res.n_mc:,}, "
+                  f"life at R = {res.target}: {life}{governing} -> {self.out / res.FILE}")
         if not res.converged:
             self.warn(f"reliability: {learning_stop_line(res, self.config.reliability)}")
         from jointwear.report.checks import curve_misses_life
@@ -598,17 +607,10 @@ class Study:
 
     def _learned(self, ctx) -> ReliabilityResult:
         """The reliability result of this study: the one in memory, else learned again from the evaluation store
-        (the learning is deterministic, so the stored calls are replayed and no call is repeated)."""
-        from jointwear.study.reliability import run_reliability
-
+        (the learning is deterministic, so the stored calls are replayed and no call is repeated) and told as the
+        stage tells it when run alone."""
         if self._reliability is None:
-            replay = run_reliability(ctx, progress=self._progress_callback)
-            recorded = ReliabilityResult.load_if_present(self.out)
-            if recorded is not None and recorded.model_calls == replay.model_calls and same_value(
-                    recorded.reliability, replay.reliability):
-                replay.wall_seconds = recorded.wall_seconds  # the study's own time, not the replay's
-            replay.save(self.out)
-            self._reliability = replay
+            self._learn(ctx)
         return self._reliability
 
     # --------------------------------------------------------------------------------------- model calls
@@ -737,32 +739,27 @@ class Study:
             Also written to ``design.json``.
         """
         from jointwear.design import design_problems, run_design
-        from jointwear.study.reliability import run_reliability
 
         problems = design_problems(self.config)
         if problems:
             raise ConfigError.from_problems(problems, self._source_label)
         self._prepare({"reliability"}, store_reuse=True)
         with self._session(reuse=True) as ctx:
-            rel = self._reliability
-            if rel is None:
-                rel = run_reliability(ctx, progress=self._progress_callback)
-                self._reliability = rel
-                rel.save(self.out)
-            result = run_design(ctx, rel, echo=self.echo)
+            result = run_design(ctx, self._learned(ctx), echo=self.echo)
+            new = ctx.n_model_calls  # this call's, the reliability stage's when it ran first here too
         result.save(self.out)
+        calls = f"{result.model_calls} model calls{_reused(new, result.model_calls)} -> {self.out / result.FILE}"
         chosen = result.chosen
         if chosen is None:
             self.echo(f"design: no candidate reaches {result.target_life_cycles:,.0f} cycles at "
-                      f"R = {result.target_reliability:g}; {result.model_calls} model calls -> {self.out / result.FILE}")
+                      f"R = {result.target_reliability:g}; {calls}")
             return result
         picks = ", ".join(f"{k} {v}" for k, v in chosen["choices"].items())
         life = chosen.get("life_at_target_cycles")
         life = "" if life is None else f", a life of {life:,.0f} cycles at R = {result.target_reliability:g}"
         self.echo(f"design: {picks} (cost {chosen['cost']:.3g}): on the surrogate R = "
                   f"{chosen['reliability_at_target_life']:.4f} +/- {chosen['reliability_error']:.4f} at the target "
-                  f"{result.target_life_cycles:,.0f} cycles{life}; {result.model_calls} model calls "
-                  f"({result.calls.get('run_now', 0)} run now) -> {self.out / result.FILE}")
+                  f"{result.target_life_cycles:,.0f} cycles{life}; {calls}")
         sentence = result.verification_sentence()
         (self.echo if result.verdict() in ("meets", "within_error") else self.warn)(f"design: {sentence}")
         every = result.chosen_every_target
@@ -862,6 +859,11 @@ def wear_line(result: WearSummary) -> str:
         return f"{result.max_wear_mm:.3g} mm at {angle_text(result.max_wear_angle_deg)} deg"
     return ", ".join(f"{j['name']} {j['max_wear_mm']:.3g} mm at {angle_text(j['max_wear_angle_deg'])} deg"
                      for j in result.joints)
+
+
+def _reused(new: int, total: int) -> str:
+    """' (3 new, 17 read back from the store)' when fewer than ``total`` calls ran now; '' when all did."""
+    return f" ({new} new, {total - new} read back from the store)" if new < total else ""
 
 
 def life_text(row: dict) -> str:

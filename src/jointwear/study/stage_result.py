@@ -153,6 +153,8 @@ class StageResult:
         payload = self.to_json()
         if not payload.get("provenance"):  # a result built without its machine's record gets this one's
             payload["provenance"] = provenance()
+            if hasattr(self, "provenance"):  # and the result returned says what its file says
+                self.provenance = payload["provenance"]
         return write_json(Path(folder) / self.FILE, payload)
 
 
