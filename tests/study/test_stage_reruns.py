@@ -66,6 +66,21 @@ def test_design_on_a_fresh_folder_tells_the_reliability_stage_it_runs_first(base
     assert design.provenance and design.provenance == DesignResult.load(folder).provenance
 
 
+def test_calls_read_back_from_the_store_are_not_counted_as_new(base, tmp_path):
+    """A fresh Study's sensitivity printed '9 extra model calls' although the store held all of them."""
+    folder = _copy(base, tmp_path)
+    lines: list[str] = []
+    study = jointwear.Study(SMALL, out=folder, workers=1, echo=lines.append)
+    sens = study.sensitivity()
+    assert sens.extra_model_calls > 0
+    assert any(line.startswith("reliability: 20 model calls (0 new, 20 read back from the store)") for line in lines)
+    (told,) = [line for line in lines if line.startswith("sensitivity: ")]
+    assert f"; {sens.extra_model_calls} extra model calls (0 new, {sens.extra_model_calls} read back " in told
+    study.validate(n_samples=4)
+    assert any(line.startswith("validate: 4 true-model samples (0 new, 4 read back from the store), ")
+               for line in lines)
+
+
 def test_a_rerun_with_other_reliability_settings_moves_aside_what_the_old_curve_gave(base, tmp_path):
     """Another allowance re-learns R(N): the sensitivity, validation and design of the old curve were left beside
     it, read as current by load_results (validation.all_agree of the old curve), compare_studies and the report."""

@@ -516,9 +516,13 @@ class Study:
 
         self._prepare({"reliability", "sensitivity"}, store_reuse=True)
         with self._session(reuse=True) as ctx:
-            sens = run_sensitivity(ctx, self._learned(ctx))
+            learned = self._learned(ctx)
+            before = ctx.n_model_calls
+            sens = run_sensitivity(ctx, learned)
+            new = ctx.n_model_calls - before
         sens.save(self.out)
-        self.echo(f"sensitivity: ranking {ranking_line(sens)}; {sens.extra_model_calls} extra model calls "
+        extra = sens.extra_model_calls
+        self.echo(f"sensitivity: ranking {ranking_line(sens)}; {extra} extra model calls{_reused(new, extra)} "
                   f"-> {self.out / sens.FILE}")
         return sens
 
@@ -556,7 +560,7 @@ class Study:
                     f"{'-' if row['surrogate_cycles'] is None else format(row['surrogate_cycles'], ',.0f')}"
                     f"{'' if row['agree'] else ' (the intervals do not overlap)'}")
         joints = "".join(f", joint {j['name']} at {j['levels_agree']}" for j in result.joints if "levels_agree" in j)
-        self.echo(f"validate: {result.n_samples:,} true-model samples ({result.model_calls:,} new calls), "
+        self.echo(f"validate: {result.n_samples:,} true-model samples{_reused(result.model_calls, result.n_samples)}, "
                   f"agreement at {agree} of {len(result.agreement)} levels{joints}{life}, cross-validation Q2 = "
                   f"{result.cross_validation.get('q2', float('nan')):.3f} -> {self.out / result.FILE}")
         self._refresh_report()
