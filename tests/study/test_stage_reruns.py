@@ -116,3 +116,16 @@ def test_a_wear_model_change_moves_aside_every_result_but_the_dynamics(base, tmp
     assert "(changed: wear.record_cycles)" in told
     assert _results_files(folder) == {"config.json"} | SIMULATE_FILES | WEAR_FILES
     assert jointwear.load_results(folder).stages == ["simulate", "wear"]
+
+
+def test_a_resumed_run_keeps_the_nominal_results_it_finds_current(base, tmp_path):
+    """run --resume recomputed simulate and the nominal wear history (a long one in profile mode) every time."""
+    folder = _copy(base, tmp_path)
+    wear_before = (folder / "wear.json").read_bytes()
+    (folder / "simulate.json").unlink()
+    lines: list[str] = []
+    jointwear.Study(SMALL, out=folder, workers=1, resume=True, echo=lines.append).run()
+    assert any(line.startswith("simulate: 2 cycles, ") for line in lines)  # its result was gone: run
+    assert f"wear: the result for this config is already in {folder / 'wear.json'} (resume): not run again" in lines
+    assert (folder / "wear.json").read_bytes() == wear_before
+    assert not [line for line in lines if line.startswith("out: ")]

@@ -598,8 +598,10 @@ class Study:
         if stochastic:
             self._refuse_store(reuse=False)
         with self._stage_scope():  # the folder stays this run's between its stages
-            self.simulate()
-            self.wear()
+            if not self._current("simulate"):
+                self.simulate()
+            if not self._current("wear"):
+                self.wear()
             if stochastic:
                 self.reliability()
                 self.sensitivity()
@@ -608,6 +610,24 @@ class Study:
             path = self.report()
         self.echo(f"run: done in {time.perf_counter() - t0:.0f} s -> {path}")
         return load_results(self.out)
+
+    def _current(self, stage: str) -> bool:
+        """Whether a resumed run finds ``stage``'s result (simulate or wear, which no store keeps) already computed
+        for this config and its cycle counts, and says so: a long profile-mode history is not run again. A result
+        computed with other settings is no longer there (:meth:`_supersede`)."""
+        if not self.resume:
+            return False
+        self._prepare({stage})
+        if stage == "simulate":
+            res, sim = SimulationSummary.load_if_present(self.out), self.config.simulation
+            current = res is not None and (res.cycles, res.settle_cycles) == (sim.cycles, sim.settle_cycles)
+        else:
+            res = WearSummary.load_if_present(self.out)
+            current = res is not None and (res.cycles_requested or res.cycles) == nominal_wear_cycles(self.config)
+        if current:
+            self.echo(f"{stage}: the result for this config is already in {self.out / res.FILE} (resume): not run "
+                      "again")
+        return current
 
     def _learned(self, ctx) -> ReliabilityResult:
         """The reliability result of this study: the one in memory, else learned again from the evaluation store
