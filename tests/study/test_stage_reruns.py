@@ -13,6 +13,7 @@ import pytest
 import jointwear
 from jointwear.config import load_config, updated
 from jointwear.design.results import DesignResult
+from jointwear.schema import ConfigError
 
 SMALL = {
     "extends": "flores_slider_crank",
@@ -129,3 +130,14 @@ def test_a_resumed_run_keeps_the_nominal_results_it_finds_current(base, tmp_path
     assert f"wear: the result for this config is already in {folder / 'wear.json'} (resume): not run again" in lines
     assert (folder / "wear.json").read_bytes() == wear_before
     assert not [line for line in lines if line.startswith("out: ")]
+
+
+def test_arguments_are_named_as_the_caller_gave_them(tmp_path, capsys):
+    with pytest.raises(ConfigError, match=r"^out: must be the output folder, a str or pathlib.Path \(got None\)"):
+        jointwear.Study(SMALL, out=None)
+    with pytest.raises(ConfigError, match=r"^n_samples: must be a whole number >= 1 \(got -3\)"):
+        jointwear.Study(SMALL, out=tmp_path).validate(n_samples=-3)
+    from jointwear.cli import main_entry
+
+    assert main_entry(["validate", "flores_slider_crank", "--samples", "-3", "--out", str(tmp_path)]) == 2
+    assert "'--samples'" in capsys.readouterr().err

@@ -12,6 +12,7 @@ import contextlib
 import functools
 import logging
 import numbers
+import os
 import re
 import sqlite3
 import time
@@ -122,6 +123,8 @@ class Study:
         # a preset is named (or the default); a StudyConfig or a mapping comes from Python, not from a preset
         self._preset = config is None or (isinstance(config, str) and not config.endswith(".toml")
                                           and not Path(config).exists())
+        if isinstance(out, bytes) or not isinstance(out, (str, os.PathLike)) or not str(out):
+            raise ConfigError(f"out: must be the output folder, a str or pathlib.Path (got {out!r})")
         self.out = Path(out)
         if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
             raise ConfigError(f"workers: must be a whole number >= 1 (got {workers!r})")
@@ -546,7 +549,8 @@ class Study:
         from jointwear.study.validation import run_validation
 
         if isinstance(n_samples, bool) or not isinstance(n_samples, int) or n_samples < 1:
-            raise ConfigError(f"samples: must be a whole number >= 1 (got {n_samples!r})")
+            # the CLI's --samples is checked by click, so this message is read from Python only
+            raise ConfigError(f"n_samples: must be a whole number >= 1 (got {n_samples!r})")
         self._prepare({"reliability"}, store_reuse=True)
         with self._session(reuse=True) as ctx:
             result = run_validation(ctx, self._learned(ctx), n_samples)
