@@ -388,3 +388,33 @@ def test_validation_checks_each_joints_own_reliability(tmp_path):
     a = val.joints[0]
     assert (f"<td>A</td><td>{a['largest_difference']:.3f}</td><td>{a['levels_within_interval']} of 5</td>"
             f"<td>{a['levels_agree']} of 5</td>") in page
+
+
+def test_the_sobol_indices_name_their_joint_and_each_judged_joint_has_its_own(tmp_path):
+    """The Sobol' indices of the max wear were the first judged joint's alone, unnamed. On TwoJointWear joint A's
+    wear depends on k_A alone and E's on k_E alone: each joint's total index is 1 for its own coefficient and 0 for
+    the other's (to the Kriging's and the 256-sample bootstrap's error: 0.05)."""
+    import html
+
+    from jointwear.report.result_sections import sobol_by_joint_part
+    from jointwear.study import run_sensitivity
+
+    data = _six_bar({"n_mc": 20_000, "noise": "none", "max_calls": 30})
+    data["sensitivity"] = {"cycles": 200_000, "sobol_base_samples": 256}
+    cfg = config_from_dict(data)
+    ctx = study_context(cfg, lambda call: compute.Evaluator(TwoJointWear(call.cycles), None, None,
+                                                            n_outputs=call.n_outputs))
+    sens = run_sensitivity(ctx, run_reliability(ctx))
+    sobol = sens.sobol
+    assert sobol["joint"] == "A" and sobol["output"] == "max bearing wear depth of joint A at 200,000 cycles"
+    assert list(sobol["by_joint"]) == ["A", "E"] and sobol["by_joint"]["A"]["ST"] == sobol["ST"]
+    for joint, own in (("A", 0), ("E", 1)):
+        st = sobol["by_joint"][joint]["ST"]
+        assert st[own] == pytest.approx(1.0, abs=0.05) and st[1 - own] == pytest.approx(0.0, abs=0.05), (joint, st)
+    assert [v["ST"] for v in sens.variables] == sobol["ST"]
+    part = html.unescape(sobol_by_joint_part(sobol, {"k_A": "k of A"}))
+    assert "ST of joint A's wear" in part and "ST of joint E's wear" in part and "k of A" in part
+    sens.save(tmp_path, figures=False)
+    from jointwear.study import SensitivityResult
+
+    assert SensitivityResult.load(tmp_path).sobol["by_joint"]["E"]["joint"] == "E"

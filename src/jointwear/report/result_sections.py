@@ -219,8 +219,9 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
             low_label=f"mean \u00d7 {lo_f:g}", high_label=f"mean \u00d7 {hi_f:g}"),
             f"Sensitivity of the reliability: {title}.", png_keys=("tornado",)))
     parts.append("</div>")
-    optional = [("elasticity_mean", "elasticity of R to the mean, (\u03bc/R) dR/d\u03bc"), ("S1", "Sobol' S1 (\u00b1 95 %)"),
-                ("ST", "Sobol' ST (\u00b1 95 %)")]
+    of_joint = f" of joint {sens.sobol['joint']}" if sens.sobol.get("joint") else ""  # whose wear the indices are of
+    optional = [("elasticity_mean", "elasticity of R to the mean, (\u03bc/R) dR/d\u03bc"),
+                ("S1", f"Sobol' S1{of_joint} (\u00b1 95 %)"), ("ST", f"Sobol' ST{of_joint} (\u00b1 95 %)")]
     extra_cols = [(k, h) for k, h in optional if any(v.get(k) is not None for v in sens.variables)]
     has_err = any(v.get("reliability_low_error") is not None for v in sens.variables)
     rows = []
@@ -267,10 +268,32 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
                                                       ST_conf=sob.get("ST_conf"), output=output),
                                f"First-order and total Sobol' indices of the {output}, on the surrogate.",
                                png_keys=("sobol",), wide=True))
+        parts.append(sobol_by_joint_part(sob, labels))
     else:
         parts.append(figs.draw(None, "Sobol' indices", png_keys=("sobol",),
                                missing_text="Sobol' indices: not computed in this result."))
     return "".join(parts)
+
+
+def sobol_by_joint_part(sobol: Mapping, labels: Mapping[str, str]) -> str:
+    """With several judged joints, the total Sobol' index of each joint's wear, a column per joint (the figure and
+    the table above are the first joint's); empty otherwise."""
+    by_joint = sobol.get("by_joint") or {}
+    if len(by_joint) < 2:
+        return ""
+    names = [str(n) for n in sobol["names"]]
+    rows = []
+    for k, name in enumerate(names):
+        cells = []
+        for indices in by_joint.values():
+            half = (indices.get("ST_conf") or [None] * len(names))[k]
+            text = format_number(indices["ST"][k], 3)
+            cells.append(text if half is None else f"{text} \u00b1 {format_number(float(half), 2)}")
+        rows.append((labels.get(name, name), name, *cells))
+    head = ["variable", "name", *(f"ST of joint {joint}'s wear (\u00b1 95 %)" for joint in by_joint)]
+    return (f"<h3>Sobol' total index of each judged joint's wear</h3><p>The figure and the table above are of the "
+            f"{e(str(sobol.get('output') or 'first joint'))}; here each judged joint's own wear, on its own "
+            "surrogate.</p>" + table(head, rows, cls="num"))
 
 
 def _index_text(sobol: Mapping, variable: Mapping, key: str) -> str:

@@ -4,12 +4,31 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import dataclass, fields
 
 import numpy as np
 
 from jointwear.reliability import esc_absolute_error, failure_probability
 from jointwear.study.reliability import StudyContext, WearSurrogates, life_scatter_sd, population
 from jointwear.study.results import ReliabilityResult, SensitivityResult
+
+
+@dataclass
+class JudgedJointView(StudyContext):
+    """The study context with ``wear`` of one judged joint, ``joint``, by default: WearSurrogates reads the wear of
+    the first judged joint (``ctx.wear(x)``), and the Sobol' indices are wanted for each."""
+
+    joint: int = 0
+
+    @classmethod
+    def of(cls, ctx: StudyContext, joint: int) -> StudyContext:
+        """``ctx`` itself for the first judged joint, else a view of it sharing its evaluator and inputs."""
+        if joint == 0:
+            return ctx
+        return cls(**{f.name: getattr(ctx, f.name) for f in fields(ctx)}, joint=joint)
+
+    def wear(self, X: np.ndarray, joint: int | None = None) -> np.ndarray:
+        return super().wear(X, self.joint if joint is None else joint)
 
 
 def sensitivity_level(ctx: StudyContext, reliability: ReliabilityResult) -> int:
@@ -165,7 +184,6 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
     fail_nominal = failure_at_level(pop, margin_nominal_pop)
     r_nominal = float(1.0 - fail_nominal.mean())
     r_nominal_error = esc_absolute_error(margin_nominal_pop, margin_sd_nominal_pop)
-    wear_model = WearSurrogates(ctx, np.asarray(reliability.design_x), [sens_cycles], seed=rel.seed)
 
     n_model = len(ctx.targets)
     means = np.array([m.mean() for m in ctx.marginals[:n_model]])
@@ -242,8 +260,15 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
 
     table = mean_shift_table(reliability_of, ctx.marginals, ctx.names, ctx.labels, factors=tuple(sens.factors),
                              reliability_nominal=r_nominal)
-    sobol = sobol_indices(lambda x: wear_model.predict(x)[:, 0] * 1e3, ctx.marginals,
-                          ctx.names, n_base=sens.sobol_base_samples, seed=rel.seed)
+    by_joint = {}
+    for j, joint in enumerate(ctx.limit_state.names):
+        wear_model = WearSurrogates(JudgedJointView.of(ctx, j), np.asarray(reliability.design_x), [sens_cycles],
+                                    seed=rel.seed)
+        indices = sobol_indices(lambda x, m=wear_model: m.predict(x)[:, 0] * 1e3, ctx.marginals,
+                                ctx.names, n_base=sens.sobol_base_samples, seed=rel.seed)
+        by_joint[joint] = {**indices.as_dict(), "joint": joint,
+                           "output": f"{ctx.limit_state.label} of joint {joint} at {sens_cycles:,} cycles"}
+    sobol = next(iter(by_joint.values()))  # the headline: the first judged joint's, as before
     deriv = reliability_derivatives(pop, fail_nominal, ctx.marginals, ctx.names)
     groups = {}
     specs = ctx.config.uncertainty.all_specs()
@@ -274,7 +299,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
             # the elasticity of R, (mu / R) dR/dmu = -(Pf / R) x the Pf elasticity the derivatives hold
             "elasticity_mean": (float(-deriv.elasticity_mean[k] * deriv.pf / (1.0 - deriv.pf))
                                 if 0.0 < deriv.pf < 1.0 else 0.0),
-            "S1": float(sobol.S1[k]), "ST": float(sobol.ST[k]),
+            "S1": float(sobol["S1"][k]), "ST": float(sobol["ST"][k]),
         })
     return SensitivityResult(**{
         "cycles": sens_cycles, "factors": list(sens.factors), "reliability_nominal": r_nominal,
@@ -286,6 +311,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
             "Sobol' indices and reliability derivatives assume independent inputs: they are computed on the "
             "marginals without the copula; the mean shifts keep it."],
         "extra_model_calls": ctx.n_evaluated - known_before,
-        "sobol": sobol.as_dict(), "derivatives": deriv.as_dict(), "n_population": n_pop,
+        "sobol": {**sobol, **({"by_joint": by_joint} if len(by_joint) > 1 else {})},
+        "derivatives": deriv.as_dict(), "n_population": n_pop,
         "wall_seconds": time.perf_counter() - t0,
     })
