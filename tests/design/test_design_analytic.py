@@ -92,6 +92,8 @@ def test_verification_confirms_and_matches_the_exact_value(setup, design):
     assert ver["confirmed"] and ver["reliability_at_target_life"] >= R_STAR
     # its own error bound plus 3 s.e. of the reference
     assert abs(ver["reliability_at_target_life"] - exact[best]) <= ver["error"] + 3 * np.sqrt(exact[best] * (1 - exact[best]) / 1e6)
+    # the study's, the refinement's and the verification's inputs: here the session evaluated nothing else
+    assert design.model_calls == sum(design.calls[k] for k in ("study", "refinement", "verification"))
     assert design.model_calls == ctx.n_evaluated
     assert design.calls["verification"] <= cfg.design.verification_max_calls
 

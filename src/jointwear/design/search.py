@@ -393,7 +393,8 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
     # today's design (the study's own distributions) on the final surrogate, for comparison with the choice
     mu_today, _ = sur.predict(space.base_u)
     today = (1.0 - space.p_inf_default) * float(np.mean(mu_today > targets[0]["log_life"]))
-    total_calls = ctx.n_evaluated
+    # the inputs the design rests on; the session's other stages (sensitivity, validation) evaluated more
+    total_calls = study_points + refine_calls + verification_calls
     return DesignResult(
         target_life_cycles=head["target_life_cycles"], target_reliability=head["target_reliability"],
         chosen=head["chosen"], pareto=head["pareto"], verification=verification,
@@ -404,7 +405,7 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
         targets=[{k: v for k, v in row.items() if k not in ("rows", "chosen_index")} for row in per_target],
         controls=[c.to_json() for c in controls], candidates=head["rows"],
         calls={"study": study_points, "refinement": int(refine_calls), "verification": int(verification_calls),
-               "new_in_this_stage": int(total_calls - calls_before),
+               "new_in_this_stage": int(ctx.n_evaluated - calls_before),
                "run_now": int(ctx.n_model_calls - made_before)},
         refinement={"iterations": iterations, "model_calls": int(refine_calls),
                     "undecided_left": len(left), "undecided_other_than_choice": len(others),

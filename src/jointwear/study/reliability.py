@@ -217,18 +217,19 @@ def population(marginals: Sequence, n: int, seed: int, copula: Any = None) -> np
 
 
 class WearSurrogates:
-    """Kriging of ln q(x, N) of the first judged joint at a few cycle counts, fitted once on the final design
-    (no learning): the Sobol' indices of the wear. The reliability and the wear distributions come from the
-    learned life surrogate.
+    """Kriging of ln q(x, N) of judged joint ``joint`` (the first by default) at a few cycle counts, fitted once on
+    the final design (no learning): the Sobol' indices of the wear. The reliability and the wear distributions
+    come from the learned life surrogate.
     """
 
-    def __init__(self, ctx: StudyContext, design_x: np.ndarray, cycles: Sequence[int], seed: int = 0):
+    def __init__(self, ctx: StudyContext, design_x: np.ndarray, cycles: Sequence[int], seed: int = 0,
+                 joint: int = 0):
         from jointwear.reliability import KrigingSurrogate
 
         self.cycles = list(cycles)
         self.iso = ctx.iso()
         x_model, _ = ctx.split(design_x)
-        wear = ctx.wear(x_model)
+        wear = ctx.wear(x_model, joint)
         cols = [ctx.history_cycles.index(c) for c in self.cycles]
         u = self.iso.to_u(design_x)
         self.surrogates = []

@@ -151,8 +151,10 @@ class ReliabilityResult(StageResult):
     ``cycles_low`` / ``cycles_high`` bound its 95 % interval (:meth:`life_interval`; None on a side outside the
     curve). ``joints``: each judged joint's allowance and, with several, its own R(N) and its share of the
     system's failures (``governing_share``). ``life_surrogate``: how the life was learnt, 'per_joint' (one Kriging
-    per judged joint, several joints) or 'system_life' (one Kriging of the mechanism's log life; results written
-    before the choice existed read as that).
+    per judged joint, several joints) or 'system_life' (one Kriging of the mechanism's log life, which with one
+    judged joint is that joint's; results written before the choice existed read as that). ``life_curve``: R(N)
+    and its 95 % half-width at 256 points over the curve (its levels among them), where :meth:`life` and
+    :meth:`life_interval` read the life.
 
     Units: ``design_x`` are the true-model inputs in SI (columns in the order of ``names``, units in ``units``: a
     hardness in Pa, "" for a plain number),
@@ -550,7 +552,8 @@ class SensitivityResult(StageResult):
             s = self.sobol
             if s.get("names"):
                 save_figure(F.sobol_figure(s["names"], s["S1"], s["ST"], S1_conf=s.get("S1_conf"),
-                                        ST_conf=s.get("ST_conf"), output=f"wear at {self.cycles:,} cycles"),
+                                        ST_conf=s.get("ST_conf"),
+                                        output=s.get("output") or f"wear at {self.cycles:,} cycles"),
                          folder / "sensitivity_sobol.png")
         return path
 

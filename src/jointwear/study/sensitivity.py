@@ -4,31 +4,12 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, fields
 
 import numpy as np
 
 from jointwear.reliability import esc_absolute_error, failure_probability
 from jointwear.study.reliability import StudyContext, WearSurrogates, life_scatter_sd, population
 from jointwear.study.results import ReliabilityResult, SensitivityResult
-
-
-@dataclass
-class JudgedJointView(StudyContext):
-    """The study context with ``wear`` of one judged joint, ``joint``, by default: WearSurrogates reads the wear of
-    the first judged joint (``ctx.wear(x)``), and the Sobol' indices are wanted for each."""
-
-    joint: int = 0
-
-    @classmethod
-    def of(cls, ctx: StudyContext, joint: int) -> StudyContext:
-        """``ctx`` itself for the first judged joint, else a view of it sharing its evaluator and inputs."""
-        if joint == 0:
-            return ctx
-        return cls(**{f.name: getattr(ctx, f.name) for f in fields(ctx)}, joint=joint)
-
-    def wear(self, X: np.ndarray, joint: int | None = None) -> np.ndarray:
-        return super().wear(X, self.joint if joint is None else joint)
 
 
 def sensitivity_level(ctx: StudyContext, reliability: ReliabilityResult) -> int:
@@ -262,8 +243,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
                              reliability_nominal=r_nominal)
     by_joint = {}
     for j, joint in enumerate(ctx.limit_state.names):
-        wear_model = WearSurrogates(JudgedJointView.of(ctx, j), np.asarray(reliability.design_x), [sens_cycles],
-                                    seed=rel.seed)
+        wear_model = WearSurrogates(ctx, np.asarray(reliability.design_x), [sens_cycles], seed=rel.seed, joint=j)
         indices = sobol_indices(lambda x, m=wear_model: m.predict(x)[:, 0] * 1e3, ctx.marginals,
                                 ctx.names, n_base=sens.sobol_base_samples, seed=rel.seed)
         by_joint[joint] = {**indices.as_dict(), "joint": joint,
