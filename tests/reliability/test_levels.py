@@ -49,6 +49,28 @@ def test_result_hooks_continue_from_the_learned_surrogate():
     assert cov[0] < 0.05 and population_size(0.0, 0.05, 10**6) == 10**6
 
 
+def test_the_curve_between_the_levels_comes_from_the_same_surrogate_and_population(monkeypatch):
+    # y = x1 + x2, levels -2 and 0: Pf at thresholds between them (no call), on the engine's own population
+    # (keep_population), equals the engine's own estimate at the levels to the bit and the exact Phi(t / sqrt 2)
+    # between them within 3 standard errors; held 40 probabilities per row block, the same sums as one block
+    levels = np.array([-2.0, 0.0])
+    res = akmcs_multi(lambda x: x[:, 0] + x[:, 1], [stats.norm(), stats.norm()], levels=levels,
+                      n_mc=20_000, seed=1, pf_floor=1e-3, keep_population=True)
+    assert res.population_u.shape == (res.n_mc, 2)
+    thresholds = np.linspace(-2.0, 0.0, 9)
+    pop = res.population_u
+    pf, cov = res.estimate_on(lambda m, start: pop[start:start + m], res.n_mc, thresholds=thresholds)
+    np.testing.assert_array_equal(pf[[0, -1]], res.pf)
+    exact = stats.norm.cdf(thresholds / np.sqrt(2.0))
+    assert np.all(np.abs(pf - exact) <= 3 * cov * exact), (pf, exact)
+    assert np.all(np.diff(pf) > 0)
+    from jointwear.reliability import results
+
+    monkeypatch.setattr(results, "MAX_PROBABILITIES", 40_000)  # 4,444 rows of 9 thresholds per block
+    blocked, _ = res.estimate_on(lambda m, start: pop[start:start + m], res.n_mc, thresholds=thresholds)
+    np.testing.assert_allclose(blocked, pf, rtol=1e-12)
+
+
 def test_levels_must_be_finite():
     with pytest.raises(ValueError, match="levels"):
         akmcs_multi(lambda x: x[:, 0], [stats.norm()], levels=[np.nan])
