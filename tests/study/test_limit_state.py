@@ -418,3 +418,13 @@ def test_the_sobol_indices_name_their_joint_and_each_judged_joint_has_its_own(tm
     from jointwear.study import SensitivityResult
 
     assert SensitivityResult.load(tmp_path).sobol["by_joint"]["E"]["joint"] == "E"
+
+
+def test_an_interval_end_outside_the_curve_is_said_plainly():
+    from jointwear.study.reliability_results import interval_text
+
+    assert interval_text(1.0e5, 2.0e5) == "95 % interval 100,000-200,000 cycles"
+    assert interval_text(None, 311_404) == (
+        "95 % interval up to 311,404 cycles (its low end lies before the curve's first cycle count)")
+    assert interval_text(1.0e5, None).endswith("(its high end lies beyond the curve's last cycle count)")
+    assert interval_text(None, None) == "95 % interval wider than the curve"

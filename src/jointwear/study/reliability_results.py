@@ -35,9 +35,9 @@ def interval_text(low: float | None, high: float | None) -> str:
     if low is None and high is None:
         return "95 % interval wider than the curve"
     if low is None:
-        return f"95 % interval up to {high:,.0f} cycles (its low end before the curve)"
+        return f"95 % interval up to {high:,.0f} cycles (its low end lies before the curve's first cycle count)"
     if high is None:
-        return f"95 % interval from {low:,.0f} cycles (its high end beyond the curve)"
+        return f"95 % interval from {low:,.0f} cycles (its high end lies beyond the curve's last cycle count)"
     return f"95 % interval {low:,.0f}-{high:,.0f} cycles"
 
 
