@@ -60,3 +60,11 @@ def test_a_pin_worn_away_stops_the_history_instead_of_raising(dry_steel):
     allowance = 1.05 * out[~after][-1]  # not reached before the stop
     life = life_from_history(cycles, out[None, :], allowance)[0]
     assert res.stopped_at <= life < res.stopped_at + 100_000
+
+
+def test_an_infeasible_sample_gives_its_reason_once(dry_steel):
+    # a hardness of 72 Pa (a unit slip) cannot build the model: the call fails with the schema's reason, named once
+    call = WearModelCall(dry_steel.model_dump(), ["clearance_joints.B.bearing_material.hardness"], [100_000])
+    out, status = call(np.array([72.0]))
+    assert np.all(np.isnan(out)) and status.startswith("infeasible sample: clearance_joints")
+    assert "sample: sample:" not in status and "hardness" in status

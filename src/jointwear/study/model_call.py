@@ -124,8 +124,8 @@ class WearModelCall:
         try:
             cfg = apply_sample(self.base, self.targets, x)
             model = build_model(cfg)  # the assembly check of a general linkage
-        except ConfigError as exc:
-            return np.full(self.n_outputs, np.nan), f"infeasible sample: {exc}"
+        except ConfigError as exc:  # the sample's own config names itself 'sample:' already
+            return np.full(self.n_outputs, np.nan), f"infeasible sample: {str(exc).removeprefix('sample: ')}"
         res = wear_history(model, cfg.wear, max(self.cycles), threads=self.threads)
         gone = np.asarray(self.cycles, dtype=float) > (np.inf if res.stopped_at is None else res.stopped_at)
         return np.concatenate([np.where(gone, WORN_AWAY_WEAR, quantity_history(res.joints[j], self.quantity,
