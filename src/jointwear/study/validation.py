@@ -68,8 +68,7 @@ def run_validation(ctx: StudyContext, reliability: ReliabilityResult, n_samples:
     p_inf = ctx.config.uncertainty.infeasible_probability()
     r_mc, lo, hi = true_reliability(life, levels, p_inf)
     r_sur = np.asarray(reliability.reliability, dtype=float)
-    half_mc = np.maximum(r_mc - lo, hi - r_mc)
-    agree = (np.abs(r_mc - r_sur) <= half_mc + reliability.half_width).tolist()
+    agree = agreement(r_mc, lo, hi, r_sur, reliability.half_width).tolist()
     cv = leave_one_out(ctx, np.asarray(reliability.design_x), seed=rel.seed)
     # the true model's life is read between the levels too, where the study reads its own (each sample's life is
     # known: its curve is exact at any N)
@@ -101,6 +100,13 @@ def true_reliability(life: np.ndarray, cycles: np.ndarray, p_inf: float = 0.0
     return 1.0 - pf, 1.0 - pf_hi, 1.0 - pf_lo
 
 
+def agreement(r_mc, ci_low, ci_high, r_surrogate, half_surrogate) -> np.ndarray:
+    """Where the true model's R (with its exact interval [``ci_low``, ``ci_high``]) and the surrogate's agree: they
+    differ by less than the sum of their 95 % half-widths, the exact interval's its larger side."""
+    half_mc = np.maximum(r_mc - ci_low, ci_high - r_mc)
+    return np.abs(np.asarray(r_mc) - np.asarray(r_surrogate)) <= half_mc + np.asarray(half_surrogate)
+
+
 def joint_checks(ctx: StudyContext, reliability: ReliabilityResult, x: np.ndarray, levels: np.ndarray) -> list[dict]:
     """Each judged joint's own R(N) on the validation's samples (their calls read back, no new one): the share of
     feasible samples whose joint life is longer, with its exact 95 % interval, beside the study's R(N) of that joint
@@ -119,8 +125,7 @@ def joint_checks(ctx: StudyContext, reliability: ReliabilityResult, x: np.ndarra
                  "levels_within_interval": int(np.sum((r_sur >= lo) & (r_sur <= hi)))}
         if "half_width_95" in row:
             half_sur = np.asarray(row["half_width_95"], dtype=float)
-            half_mc = np.maximum(r_mc - lo, hi - r_mc)
-            agree = np.abs(r_sur - r_mc) <= half_mc + half_sur
+            agree = agreement(r_mc, lo, hi, r_sur, half_sur)
             check.update({"surrogate_half_width": half_sur.tolist(), "agreement": agree.tolist(),
                           "levels_agree": int(agree.sum())})
         out.append(check)
