@@ -156,9 +156,8 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
         """Each row's probability of failure at N_s with its life divided by exp(log_shift), the life's scatter
         integrated as R(N) integrates it: each judged joint's own in a per-joint study, else ``failure_probability``
         of the margin."""
-        if ctx.per_joint and scatter > 0:
-            threshold = log_levels[col] - log_levels[0] + log_shift
-            return engine.response_surrogate.failure_probability(iso.to_u(x), [threshold])[:, 0]
+        if ctx.per_joint and scatter > 0:  # the engine's own rule (each joint's scatter), not the one margin's
+            return engine.failure_probabilities(iso.to_u(x), scatter, [log_levels[col] + log_shift])[:, 0]
         return failure_probability(margin - log_shift, scatter)
 
     margin_nominal_pop, margin_sd_nominal_pop = log_life_margin(pop)
