@@ -126,22 +126,21 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
              interval_cells(*rel.life_interval(float(r["target"]))),
              "\u2014" if r.get("hours") is None else f"{r['hours']:,.2f}",
              str(r.get("status", "")).replace("_", " ")) for r in rel.life_table], cls="kv"))
-    if len(rel.joints) > 1 and rel.life_surrogate == "per_joint":
-        parts.append(f"<p>Series system of {len(rel.joints)} joints; the joint that governs: "
-                     f"<b>{e(rel.governing_joint)}</b>. The system's life has a kink where two joints' lives "
-                     "cross; the life was learnt one Kriging per joint, each smooth there, and judged by the joint "
-                     "that fails first. On an analytic two-joint system the life's 95 % interval held the exact life "
-                     "in 19 of 20 runs at R = 0.9 and 18 of 20 at R = 0.5 (docs/study.md, \"How far to trust the "
-                     "life\").</p>")
-        parts.append(_joint_fit_table(rel))
-    elif len(rel.joints) > 1:
-        parts.append(f"<p>Series system of {len(rel.joints)} joints; the joint that governs: "
-                     f"<b>{e(rel.governing_joint)}</b>. The system's life has a kink where two joints' lives "
-                     "cross, and one Kriging of the system's life (<code>reliability.surrogate = "
-                     "\"system_life\"</code>) can be confidently wrong there: on an analytic two-joint system the "
-                     "life's 95 % interval held the exact life in 13 of 20 runs at R = 0.9, and in 19 of 20 learnt one "
-                     "Kriging per joint (<code>\"per_joint\"</code>, the default; docs/study.md, \"How far to trust "
-                     "the life\"). Check it with <code>jointwear validate</code>.</p>")
+    if len(rel.joints) > 1:
+        series = (f"<p>Series system of {len(rel.joints)} joints; the joint that governs: "
+                  f"<b>{e(rel.governing_joint)}</b>. The system's life has a kink where two joints' lives cross")
+        if rel.life_surrogate == "per_joint":
+            parts.append(series + "; the life was learnt one Kriging per joint, each smooth there, and judged by the "
+                         "joint that fails first. On an analytic two-joint system the life's 95 % interval held the "
+                         "exact life in 19 of 20 runs at R = 0.9 and 18 of 20 at R = 0.5 (docs/study.md, \"How far to "
+                         "trust the life\").</p>")
+            parts.append(_joint_fit_table(rel))
+        else:
+            parts.append(series + ", and one Kriging of the system's life (<code>reliability.surrogate = "
+                         "\"system_life\"</code>) can be confidently wrong there: on an analytic two-joint system "
+                         "the life's 95 % interval held the exact life in 13 of 20 runs at R = 0.9, and in 19 of 20 "
+                         "learnt one Kriging per joint (<code>\"per_joint\"</code>, the default; docs/study.md, "
+                         "\"How far to trust the life\"). Check it with <code>jointwear validate</code>.</p>")
     ref = reference_of(out.config)
     label = reference_label(ref)
     ref_r = {float(v["cycles"]): float(v["value"]) for v in reference_values(ref, "reliability")}
