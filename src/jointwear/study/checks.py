@@ -314,7 +314,8 @@ def random_input_problems(config: StudyConfig) -> list[str]:
 
 def random_input_warnings(config: StudyConfig) -> list[str]:
     """Each random variable at whose +-``SIGMA_ENDS`` sigma end (the others at their means) the model cannot be
-    built: those samples fail, and the study counts them as failures of the mechanism."""
+    built: those samples' calls fail. A failed call counts as a failure where the learning draws it, but the rest of
+    the population there is classified by the surrogate's extrapolation (docs/study.md), so R(N) may read high."""
     from scipy.stats import norm
 
     from jointwear.config import target_display_unit
@@ -334,8 +335,9 @@ def random_input_warnings(config: StudyConfig) -> list[str]:
                 unit = target_display_unit(spec.target) or ""
                 out.append(f"{unc.field_of(spec.name)}: at its {'+' if sign > 0 else '-'}{SIGMA_ENDS:g} sigma end, "
                            f"{end:.6g} {unit}".rstrip() + f", the model cannot be built: {reason}; the samples beyond "
-                           "it fail, and the study counts them as failures of the mechanism (narrow the "
-                           "distribution, or bound it: truncated_normal)")
+                           "it fail, and the study counts them as failures only where its model calls fall (the "
+                           "surrogate extrapolates over the rest, so R(N) may read high): narrow the distribution, "
+                           "or bound it (truncated_normal)")
                 break
     return out
 
