@@ -78,6 +78,10 @@ class ReliabilitySettings(SIModel):
         "learning, and R(N) counts it as part of each mechanism's life (docs/reliability.md, 'A noisy model'; project "
         "choice). 'none' = DACE interpolation, as in the paper, with no scatter in R(N).")
     error_tol: float = Field(0.02, description="Relative Pf error tolerance of the 'error' stopping rule (project choice).")
+    hold_iterations: int = Field(
+        3, description="The learning stops only when its rule has held on this many successive designs (project "
+        "choice: a Kriging of a dozen points can be sure of itself where it is wrong; docs/reliability.md). 1 = stop "
+        "on the first design where it holds, as the paper does.")
     surrogate: Literal["per_joint", "system_life"] = Field(
         "per_joint",
         description="With several judged joints: 'per_joint' learns one Kriging of each joint's log life and judges a "
@@ -90,7 +94,7 @@ class ReliabilitySettings(SIModel):
         "(project choice: 0.01 in R).")
     cov_target: float = Field(0.05, description="Required COV of Pf at every N with Pf > pf_floor (paper: 0.05).")
     pf_floor: float = Field(1e-3, description="Levels with Pf below this need not meet the COV target.")
-    max_calls: int = Field(60, description="Budget of true-model calls for the reliability analysis.")
+    max_calls: int = Field(80, description="Budget of true-model calls for the reliability analysis.")
     seed: int = Field(2025, description="Seed of every random draw of the study.")
 
     @field_validator("u_threshold", "cov_target", "pf_floor")
@@ -125,7 +129,7 @@ class ReliabilitySettings(SIModel):
             raise ValueError("cycles_start must be > 0")
         if self.cycles_step is not None and self.cycles_step <= 0:
             raise ValueError("cycles_step must be > 0")
-        for name in ("n_mc", "n_mc_max", "n_initial", "batch_size", "max_calls"):
+        for name in ("n_mc", "n_mc_max", "n_initial", "batch_size", "max_calls", "hold_iterations"):
             if getattr(self, name) <= 0:
                 raise ValueError(f"{name} must be > 0")
         if self.n_mc_max < self.n_mc:

@@ -97,3 +97,45 @@ def test_progress_callback_and_history():
     assert recs == r.history
     assert [h.n_calls for h in r.history] == sorted(h.n_calls for h in r.history)
     assert all(np.isfinite(h.pf) for h in r.history)
+
+
+def _archard_api_example():
+    """examples/api_example.py's limit state (DELTA_0 - k / H q N, three inputs, Pf about 0.26)."""
+    k0, h0, n_cycles, delta0 = 1e-4, 1.96e9, 400_000, 0.03e-3
+    q0 = 0.0285e-3 / (k0 / h0 * n_cycles)
+    marginals = [stats.norm(k0, 0.05 * k0), stats.norm(h0, 0.05 * h0), stats.lognorm(s=0.04, scale=q0)]
+    return marginals, lambda x: delta0 - x[:, 0] / x[:, 1] * x[:, 2] * n_cycles
+
+
+def test_the_stop_must_hold_on_successive_designs():
+    """A Kriging of a dozen points can be sure of itself where it is wrong: on this 3-input limit state the ESC stop
+    holds on the initial design or one batch later while Pf is 3.4 % off (seed 3). Held on three successive designs
+    (the default), Pf on the same population is within the requested error_tol of the true g's: the tolerance is the
+    one asked for (benchmarks/esc_calibration.py: 30 of 30 seeds within it, 10 of 30 with hold_iterations=1)."""
+    marginals, g = _archard_api_example()
+    from jointwear.reliability import IsoTransform
+
+    def actual_error(r):
+        true_pf = np.mean(g(IsoTransform(marginals).to_x(r.details["population_u"])) < 0)
+        return abs(r.pf / true_pf - 1.0)
+
+    once = akmcs(g, marginals, seed=3, hold_iterations=1, keep_population=True)
+    held = akmcs(g, marginals, seed=3, keep_population=True)
+    assert once.converged and held.converged
+    assert actual_error(once) > 0.01  # the case the rule is for: a stop on the first hold misses error_tol
+    assert actual_error(held) <= 0.01
+    # the rule held on each of the last three designs (each a larger one), and not only there by accident
+    designs = sorted({rec.n_calls for rec in held.history})
+    assert held.n_calls >= once.n_calls + 2
+    last = [max((rec for rec in held.history if rec.n_calls == n), key=lambda rec: rec.iteration) for n in designs[-3:]]
+    assert all(rec.error <= 0.01 or rec.min_u >= 2.0 for rec in last)
+
+
+def test_a_budget_spent_while_confirming_is_not_a_convergence():
+    marginals, g = _archard_api_example()
+    once = akmcs(g, marginals, seed=3, hold_iterations=1)
+    r = akmcs(g, marginals, seed=3, max_calls=once.n_calls + 1)
+    assert not r.converged
+    assert "while confirming the learning stop" in r.message and f"max_calls={once.n_calls + 1}" in r.message
+    with pytest.raises(ValueError, match="hold_iterations"):
+        akmcs(g, marginals, hold_iterations=0)

@@ -439,7 +439,7 @@ def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: C
         g, marginals, levels=np.array([target["log_life"]]), system=system, n_mc=rel.n_mc, n_mc_max=rel.n_mc_max,
         n_initial=n_initial, batch_size=rel.batch_size, u_threshold=rel.u_threshold,
         cov_target=rel.cov_target, pf_floor=rel.pf_floor, max_calls=max_calls,
-        seed=rel.seed + 17 + seed, stopping=stopping, error_tol=rel.error_tol,
+        seed=rel.seed + 17 + seed, stopping=stopping, error_tol=rel.error_tol, hold_iterations=rel.hold_iterations,
         error_abs_tol=rel.error_abs_tol, kriging={"estimate_nugget": rel.noise == "estimate"})
     p_inf = space.infeasible_probability(cand)
     pf_feasible = float(np.asarray(eng.pf)[0])

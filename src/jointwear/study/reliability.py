@@ -256,7 +256,8 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         g, ctx.marginals, levels=ctx.log_levels(), system=system, n_mc=rel.n_mc, n_mc_max=rel.n_mc_max,
         n_initial=rel.n_initial, batch_size=rel.batch_size, u_threshold=rel.u_threshold,
         cov_target=rel.cov_target, pf_floor=rel.pf_floor, max_calls=rel.max_calls, seed=rel.seed, copula=ctx.copula,
-        evaluation=Evaluation(progress=progress), stopping=rel.stopping, error_tol=rel.error_tol, error_abs_tol=rel.error_abs_tol,
+        evaluation=Evaluation(progress=progress), stopping=rel.stopping, error_tol=rel.error_tol,
+        error_abs_tol=rel.error_abs_tol, hold_iterations=rel.hold_iterations,
         kriging={"estimate_nugget": rel.noise == "estimate"}, keep_population=rel.noise == "none")
     cycles = np.asarray(ctx.cycles, dtype=float)
     # the curve is estimated between its levels too (no call), and the life read there: R(N) is curved between
