@@ -26,16 +26,14 @@ from pathlib import Path
 import numpy as np
 from scipy import stats
 
-from jointwear.reliability import IsoTransform, akmcs
+from jointwear.reliability import IsoTransform, akmcs, problems
 from jointwear.study.io import provenance
 
 
 def archard_case():
     """examples/api_example.py's limit state: DELTA_0 - k / H q N, three inputs, Pf about 0.26."""
-    k0, h0, n_cycles, delta0 = 1e-4, 1.96e9, 400_000, 0.03e-3
-    q0 = 0.0285e-3 / (k0 / h0 * n_cycles)
-    marginals = [stats.norm(k0, 0.05 * k0), stats.norm(h0, 0.05 * h0), stats.lognorm(s=0.04, scale=q0)]
-    return marginals, lambda x: delta0 - x[:, 0] / x[:, 1] * x[:, 2] * n_cycles
+    p = problems.archard_wear()
+    return list(p.marginals), p.g
 
 
 def linear_case():

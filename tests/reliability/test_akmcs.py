@@ -100,11 +100,8 @@ def test_progress_callback_and_history():
 
 
 def _archard_api_example():
-    """examples/api_example.py's limit state (DELTA_0 - k / H q N, three inputs, Pf about 0.26)."""
-    k0, h0, n_cycles, delta0 = 1e-4, 1.96e9, 400_000, 0.03e-3
-    q0 = 0.0285e-3 / (k0 / h0 * n_cycles)
-    marginals = [stats.norm(k0, 0.05 * k0), stats.norm(h0, 0.05 * h0), stats.lognorm(s=0.04, scale=q0)]
-    return marginals, lambda x: delta0 - x[:, 0] / x[:, 1] * x[:, 2] * n_cycles
+    p = problems.archard_wear()
+    return list(p.marginals), p.g
 
 
 def test_the_stop_must_hold_on_successive_designs():
@@ -139,3 +136,11 @@ def test_a_budget_spent_while_confirming_is_not_a_convergence():
     assert "while confirming the learning stop" in r.message and f"max_calls={once.n_calls + 1}" in r.message
     with pytest.raises(ValueError, match="hold_iterations"):
         akmcs(g, marginals, hold_iterations=0)
+
+
+def test_archard_wear_reference_is_its_monte_carlo():
+    p = problems.archard_wear()
+    x = np.column_stack([m.rvs(size=400_000, random_state=np.random.default_rng(i)) for i, m in enumerate(p.marginals)])
+    pf = np.mean(p.g(x) < 0)
+    # 4 standard errors of a 4e5-sample Monte Carlo (7e-4 at Pf = 0.26)
+    assert abs(pf - p.pf_ref) < 4.0 * np.sqrt(p.pf_ref * (1 - p.pf_ref) / x.shape[0])
