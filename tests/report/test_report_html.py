@@ -3,6 +3,7 @@ study's cited reference only when the study declares one."""
 
 from __future__ import annotations
 
+import html
 import json
 import re
 import shutil
@@ -549,6 +550,18 @@ def test_the_summary_carries_the_caveats_of_the_sections_below(tmp_path, nominal
     page = build_report(d).read_text(encoding="utf-8")
     start = page.index('<section id="summary">')
     assert summary in page[start:page.index("</section>", start)]
+
+
+def test_a_budget_spent_while_confirming_the_stop_says_so(tmp_path, nominal):
+    """The card said only 'stopped by the budget of model calls' where the rule had held and was being confirmed."""
+    d = make_fixture_dir(tmp_path / "h", nominal, which=("wear", "reliability"))
+    rel = ReliabilityResult.load(d)
+    rel.converged = False
+    rel.learning_stop = ("max_calls=80 reached while confirming the learning stop (it held on 1 of the 3 successive "
+                         "designs hold_iterations asks for)")
+    rel.save(d, figures=False)
+    page = html.unescape(build_report(d).read_text(encoding="utf-8"))
+    assert "reached while confirming the learning stop (it held on 1 of the 3" in page
 
 
 def test_sobol_indices_carry_their_intervals_and_the_nominal_r_says_its_population(tmp_path, nominal):
