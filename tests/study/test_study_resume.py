@@ -288,6 +288,13 @@ def test_a_learning_stopped_by_its_budget_is_told_with_its_error(quick_config, r
     u_rule = learning_stop_line(res, settings.model_copy(update={"stopping": "u"}))
     assert "(the learning's rule is min U >= 2 at every level, stopping = 'u')" in u_rule
     assert "tolerance" not in u_rule
+    # a budget spent while the rule was being confirmed on successive designs (hold_iterations) says that
+    res.learning_stop = ("max_calls=14 reached while confirming the learning stop (it held on 2 of the 3 successive "
+                         "designs hold_iterations asks for)")
+    confirming = learning_stop_line(res, settings)
+    assert confirming.startswith("the learning's stopping rule held but was not yet confirmed when it stopped "
+                                 "(max_calls=14 reached while confirming")
+    assert "raise reliability.max_calls and run again with --resume" in confirming
 
 
 def test_a_population_that_hit_n_mc_max_says_how_large_it_must_be(quick_config, reference_dir):
