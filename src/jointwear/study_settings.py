@@ -74,7 +74,7 @@ class ReliabilitySettings(SIModel):
         "estimate",
         description="Kriging of a noisy model: 'estimate' fits a nugget (noise variance) by maximum likelihood. The "
         "clearance-joint dynamics is chaotic, so the wear life of one call scatters between nearly equal inputs "
-        "(1.9 % on the flapping wing, 13 % on the six-bar; docs/wear.md); interpolating that scatter stalls the "
+        "(2 % on the flapping wing, 13 % on the six-bar; docs/wear.md); interpolating that scatter stalls the "
         "learning, and R(N) counts it as part of each mechanism's life (docs/reliability.md, 'A noisy model'; project "
         "choice). 'none' = DACE interpolation, as in the paper, with no scatter in R(N).")
     error_tol: float = Field(0.02, description="Relative Pf error tolerance of the 'error' stopping rule (project choice).")
