@@ -129,3 +129,14 @@ def test_an_allowance_the_joint_cannot_be_checked_against_and_many_clearances_de
     assert config_warnings(updated(base, {"reliability.allowance": 0.9 * ALLOWANCE_CLEARANCE_WARNING * clearance})) == []
     walled = updated(base, {"clearance_joints.B.bearing_outer_radius_mm": 20.0, "reliability.allowance_mm": 5.0})
     assert config_warnings(walled) == []  # checked against its 10 mm wall instead, and within it
+
+
+def test_a_budget_that_cannot_confirm_the_stop_is_warned():
+    """max_calls = 14 with n_initial = 12 and batches of 2: the stop, held first on the initial design, needs two more
+    designs (16 calls) to be confirmed, so the learning could only end on its budget."""
+    base = load_config("jin2025_flapping_wing")
+    tight = updated(base, {"reliability.max_calls": 14})
+    (warning,) = [w for w in config_warnings(tight) if w.startswith("reliability.max_calls")]
+    assert "needs at least 16" in warning and "hold_iterations = 3" in warning
+    assert not [w for w in config_warnings(updated(base, {"reliability.max_calls": 16})) if "max_calls" in w]
+    assert not [w for w in config_warnings(updated(tight, {"reliability.hold_iterations": 2})) if "max_calls" in w]

@@ -53,7 +53,7 @@ def test_a_learning_whose_first_calls_all_fail_ends_in_one_line_with_the_stored_
 
     monkeypatch.setattr(WearModelCall, "__call__", cannot_run)
     cfg = tmp_path / "small.toml"
-    cfg.write_text('extends = "jin2025_flapping_wing"\n[reliability]\nn_initial = 4\nmax_calls = 6\nn_mc = 2000\n',
+    cfg.write_text('extends = "jin2025_flapping_wing"\n[reliability]\nn_initial = 4\nmax_calls = 8\nn_mc = 2000\n',
                    encoding="utf-8")
     code = main_entry(["reliability", str(cfg), "--out", str(tmp_path / "o"), "--workers", "1"])
     lines = capsys.readouterr().err.strip().splitlines()

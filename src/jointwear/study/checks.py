@@ -175,7 +175,20 @@ def config_warnings(config: StudyConfig) -> list[str]:
                        "simulate and wear stages run the drawn mechanism, the reliability stages one around the mean; "
                        "give both the same value unless the shift is meant")
     return (out + random_input_warnings(config) + clearance_warnings(config) + wear_mode_warnings(config)
-            + design_warnings(config) + allowance_warnings(config))
+            + design_warnings(config) + allowance_warnings(config) + budget_warnings(config))
+
+
+def budget_warnings(config: StudyConfig) -> list[str]:
+    """A call budget too small for the learning ever to stop on its rule: the rule can first hold on the initial
+    design, and each of the ``hold_iterations`` - 1 designs that must confirm it adds a batch."""
+    rel = config.reliability
+    needed = rel.n_initial + rel.batch_size * (rel.hold_iterations - 1)
+    if config.uncertainty is None or rel.max_calls >= needed:
+        return []
+    return [f"reliability.max_calls: {rel.max_calls} calls cannot confirm the learning's stop, which needs at least "
+            f"{needed} (n_initial = {rel.n_initial}, then {rel.hold_iterations - 1} batches of {rel.batch_size} for "
+            f"hold_iterations = {rel.hold_iterations}): the learning will end on its budget, unconverged; raise "
+            "max_calls, or lower hold_iterations"]
 
 
 def allowance_warnings(config: StudyConfig) -> list[str]:
