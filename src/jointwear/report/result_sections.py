@@ -104,7 +104,7 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
         ("true-model calls", format_number(rel.model_calls), "for the whole curve"),
         ("Monte Carlo population", format_number(rel.n_mc), "n_mc"),
         ("learning converged", "yes" if rel.converged else "NO", None if rel.converged else (
-            rel.learning_stop if "confirming" in rel.learning_stop  # the rule held, but not on enough designs
+            rel.learning_stop if rel.stopped_while_confirming
             else "stopped by the budget of model calls" if rel.stopped_by_budget or not rel.learning_stop
             else rel.learning_stop)),
         ("surrogate error of R", "\u2014" if worst is None else f"{worst[0]:.3f}",

@@ -868,7 +868,7 @@ def learning_stop_line(res: ReliabilityResult, settings) -> str:
                 "reliability.pf_floor above that Pf if so small a Pf need not be known that well")
     else:
         advice = ""
-    if "confirming" in reason:  # the rule held on the last designs, fewer of them than hold_iterations asks for
+    if res.stopped_while_confirming:
         return f"the learning's stopping rule held but was not yet confirmed when it stopped ({reason}){error}{advice}"
     return f"the learning stopped before its stopping rule was met ({reason}){error}{advice}"
 

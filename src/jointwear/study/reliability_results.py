@@ -214,6 +214,12 @@ class ReliabilityResult(StageResult):
         """Whether the learning ended on its budget of model calls (``reliability.max_calls``)."""
         return "max_calls" in self.learning_stop
 
+    @property
+    def stopped_while_confirming(self) -> bool:
+        """Whether the budget ended while the learning's rule held but on fewer successive designs than
+        ``reliability.hold_iterations`` asks for (:func:`~jointwear.reliability.akmcs`'s message)."""
+        return self.stopped_by_budget and "while confirming" in self.learning_stop
+
     def failed_calls_sentence(self) -> str:
         """What failed model calls mean for the curve (empty when none failed): they count as failures where they
         were drawn but teach the surrogate nothing, so where failures come with high wear R(N) is too high."""
