@@ -133,13 +133,13 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
         if rel.life_surrogate == "per_joint":
             parts.append(series + "; the life was learnt one Kriging per joint, each smooth there, and judged by the "
                          "joint that fails first. On an analytic two-joint system the life's 95 % interval held the "
-                         "exact life in 19 of 20 runs at R = 0.9 and 18 of 20 at R = 0.5 (docs/study.md, \"How far to "
+                         "exact life in 18 of 20 runs at R = 0.9 and 20 of 20 at R = 0.5 (docs/study.md, \"How far to "
                          "trust the life\").</p>")
             parts.append(_joint_fit_table(rel))
         else:
             parts.append(series + ", and one Kriging of the system's life (<code>reliability.surrogate = "
                          "\"system_life\"</code>) can be confidently wrong there: on an analytic two-joint system "
-                         "the life's 95 % interval held the exact life in 13 of 20 runs at R = 0.9, and in 19 of 20 "
+                         "the life's 95 % interval held the exact life in 9 of 20 runs at R = 0.9, and in 18 of 20 "
                          "learnt one Kriging per joint (<code>\"per_joint\"</code>, the default; docs/study.md, "
                          "\"How far to trust the life\"). Check it with <code>jointwear validate</code>.</p>")
     ref = reference_of(out.config)
