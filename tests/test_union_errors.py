@@ -14,10 +14,13 @@ PRESET = (resources.files("jointwear.presets") / "jin2025_flapping_wing.toml").r
 @pytest.mark.parametrize("old, new, expected", [
     ('hole_grade = "IT7"', 'hole_grade = "H7"',
      "uncertainty.clearance.hole_grade: unknown ISO 286 tolerance grade 'H7'; known: IT5, IT6, IT7, IT8, IT9, IT10, "
-     "IT11; the grade is the IT number (IT7), and fit letters (H, f, g, ...) are not modelled"),
-    ('hole_grade = "IT7"\nshaft_grade = "IT6"', 'fit = "H7/g6"',
-     "uncertainty.clearance: fit: not a setting of the clearance: give the grades as hole_grade and shaft_grade, the "
-     "IT numbers (for 'H7/g6': hole_grade = 'IT7', shaft_grade = 'IT6')"),
+     "IT11; the grade is the IT number (IT7); a fit with its letters is written as the clearance's fit "
+     "(fit = \"H8/f7\")"),
+    ('hole_grade = "IT7"\nshaft_grade = "IT6"', 'fit = "H7/g6"',  # beside the preset's mean of 2 um
+     "uncertainty.clearance: mean = 2 um contradicts fit 'H7/g6', which gives 5 um at 2 mm: give the fit, or the "
+     "grades and the mean, not both"),
+    ('hole_grade = "IT7"\nshaft_grade = "IT6"', 'fit = "H7/k6"',
+     "uncertainty.clearance: fit 'H7/k6': only clearance fits are modelled, bores D, E, F, G, H on pins d, e, f, g, h"),
     ('target = "clearance_joints.0.clearance"\n', "", "uncertainty.clearance.target: Field required"),
 ])
 def test_a_mistake_in_the_clearance_table_is_one_problem_on_its_field(tmp_path, capsys, old, new, expected):

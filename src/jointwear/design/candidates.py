@@ -70,14 +70,6 @@ def _described(spec: RandomVariableSpec, change: PropertySpec | None = None) -> 
             "upper": None if change is None else change.upper}
 
 
-def fit_clearance(clearance: ClearanceSpec, hole_grade: str, shaft_grade: str, mean: float | None) -> ClearanceSpec:
-    """The study's clearance under another fit (ISO 286-2 sigma from the two grades, Eq. 40)."""
-    update = {"source": "iso286", "hole_grade": hole_grade, "shaft_grade": shaft_grade}
-    if mean is not None:
-        update["mean"] = mean
-    return clearance.model_copy(update=update)
-
-
 def build_controls(config: StudyConfig, settings: DesignSettings | None = None) -> list[Control]:
     """The controls of ``settings`` (default ``config.design``) as options over the study's random variables
     (the config is assumed checked by :func:`jointwear.design.checks.design_problems`)."""
@@ -101,10 +93,10 @@ def build_controls(config: StudyConfig, settings: DesignSettings | None = None) 
         options = []
         fitted = fit.clearance(unc)
         for f in fit.options:
-            c = fit_clearance(fitted, f.hole_grade, f.shaft_grade, f.mean)
+            c = f.applied_to(fitted)
             options.append(Option(f.name, f.cost, {c.name: c.feasible()},
                                   {c.name: {"mean": c.mean, "std": c.std, "lower": c.minimum, "upper": None,
-                                            "hole_grade": f.hole_grade, "shaft_grade": f.shaft_grade}},
+                                            "hole_grade": c.hole_grade, "shaft_grade": c.shaft_grade}},
                                   clearance=c))
         controls.append(Control("fit" if len(fits) == 1 else f"fit {fitted.name}", "fit", options))
     for p in settings.properties:

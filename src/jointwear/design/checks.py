@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from jointwear.config import StudyConfig, target_display_unit, target_unit
 from jointwear.design.settings import FitControl
-from jointwear.uncertainty.tolerances import it_tolerance
+from jointwear.uncertainty.tolerances import iso_fit, it_tolerance
 from jointwear.units import ANY_UNIT
 
 
@@ -65,8 +65,19 @@ def design_problems(config: StudyConfig) -> list[str]:
         else:
             claim(fitted.name, where)
             for j, f in enumerate(fit.options):
-                problems += _grade_problems([f.hole_grade, f.shaft_grade], fitted.nominal_diameter,
-                                            f"{where}.options[{j}]")
+                if f.fit is not None:
+                    try:
+                        mean = iso_fit(f.fit, fitted.nominal_diameter).mean_clearance
+                    except ValueError as exc:
+                        problems.append(f"{where}.options[{j}].fit: {exc}")
+                        continue
+                    if not mean > fitted.minimum:
+                        problems.append(f"{where}.options[{j}].fit: {f.fit} gives a mean clearance of "
+                                        f"{mean * 1e6:g} um, not above the clearance's minimum "
+                                        f"({fitted.minimum * 1e6:g} um)")
+                else:
+                    problems += _grade_problems([f.hole_grade, f.shaft_grade], fitted.nominal_diameter,
+                                                f"{where}.options[{j}]")
     for i, p in enumerate(d.properties):
         where = f"design.properties[{i}].variable"
         if not known(p.variable, where):

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Literal
 from pydantic import Field, field_validator, model_validator
 
 from jointwear.schema import F, SIModel
-from jointwear.uncertainty.tolerances import IT_GRADES, it_tolerance
+from jointwear.uncertainty.tolerances import IT_GRADES, iso_fit, it_tolerance
 
 if TYPE_CHECKING:
     from jointwear.uncertainty.variables import ClearanceSpec, UncertaintySettings
@@ -111,18 +111,23 @@ class ToleranceControl(SIModel):
 
 
 class FitOption(SIModel):
-    """One fit of the clearance joint: the bore and pin grades (sigma_c from ISO 286-2, Eq. 40) and its cost."""
+    """One fit of the clearance joint and its cost: its ISO 286 letters (``fit = "H8/f7"``, which set both grades and
+    the mean clearance at the clearance's nominal diameter), or its two grades (sigma_c from ISO 286-2, Eq. 40)."""
 
-    name: str = Field(description="Label, e.g. 'H7/g6'.")
-    hole_grade: str = Field(description="Bore grade, e.g. 'IT7'.")
-    shaft_grade: str = Field(description="Pin grade, e.g. 'IT6'.")
-    mean: float | None = F(None, unit="m", description="Designed mean radial clearance, m; None = the study's.")
+    name: str | None = Field(None, description="Label; default the fit's letters, e.g. 'H7/g6'.")
+    fit: str | None = Field(None, description="The fit with its ISO 286 letters, bore/pin, e.g. 'H8/f7': sets the "
+                            "grades and the mean clearance (the middle of the fit's limits) at the clearance's nominal "
+                            "diameter. None = give hole_grade and shaft_grade.")
+    hole_grade: str | None = Field(None, description="Bore grade, e.g. 'IT7' (without `fit`).")
+    shaft_grade: str | None = Field(None, description="Pin grade, e.g. 'IT6' (without `fit`).")
+    mean: float | None = F(None, unit="m", description="Designed mean radial clearance, m, without `fit`; None = the "
+                           "study's.")
     cost: float = Field(description="Relative cost (user-given; >= 0).")
 
     @field_validator("hole_grade", "shaft_grade")
     @classmethod
-    def _grade(cls, grade: str) -> str:
-        return _grade_name(grade)
+    def _grade(cls, grade: str | None) -> str | None:
+        return None if grade is None else _grade_name(grade)
 
     @model_validator(mode="after")
     def _check(self) -> FitOption:
@@ -130,7 +135,32 @@ class FitOption(SIModel):
             raise ValueError(f"cost must be >= 0 (got {self.cost:g})")
         if self.mean is not None and not self.mean > 0:
             raise ValueError(f"mean must be > 0 m (got {self.mean:g})")
+        if self.fit is not None:
+            given = [k for k in ("hole_grade", "shaft_grade", "mean") if getattr(self, k) is not None]
+            if given:
+                raise ValueError(f"fit {self.fit!r} sets {', '.join(given)}: give the fit, or the grades (and the "
+                                 "mean), not both")
+            self.__dict__["fit"] = iso_fit(self.fit, 1e-3).name  # the letters checked here, the size by design.checks
+        elif self.hole_grade is None or self.shaft_grade is None:
+            raise ValueError("give the fit's letters (fit = 'H7/g6') or both hole_grade and shaft_grade")
+        if self.name is None:
+            self.__dict__["name"] = self.fit or f"{self.hole_grade}/{self.shaft_grade}"
         return self
+
+    def applied_to(self, clearance: ClearanceSpec) -> ClearanceSpec:
+        """The study's random clearance under this fit (validated as a config's clearance is)."""
+        from jointwear.uncertainty.variables import ClearanceSpec
+
+        data = clearance.model_dump()
+        for derived in ("mean", "hole_grade", "shaft_grade"):
+            data.pop(derived, None)
+        data["source"] = "iso286"
+        if self.fit is not None:
+            data["fit"] = self.fit
+        else:
+            data.update(fit=None, hole_grade=self.hole_grade, shaft_grade=self.shaft_grade,
+                        mean=self.mean if self.mean is not None else clearance.mean)
+        return ClearanceSpec.model_validate(data)
 
 
 class FitControl(SIModel):

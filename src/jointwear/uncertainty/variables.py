@@ -12,16 +12,15 @@ Dependence between variables: ``correlation`` (a normal copula, :mod:`jointwear.
 from __future__ import annotations
 
 import math
-import re
 from typing import Any, Literal
 
 import numpy as np
-from pydantic import Field, field_validator, model_validator
+from pydantic import Field, SerializerFunctionWrapHandler, field_validator, model_serializer, model_validator
 from scipy import optimize, special, stats
 
 from jointwear.schema import F, FieldValueError, SIModel
 from jointwear.uncertainty.copulas import check_correlation, normal_copula
-from jointwear.uncertainty.tolerances import FIT_LETTERS, clearance_from_fit, it_tolerance
+from jointwear.uncertainty.tolerances import clearance_from_fit, iso_fit, it_tolerance
 
 DistributionName = Literal["normal", "lognormal", "uniform", "truncated_normal", "weibull", "gumbel", "gamma", "beta"]
 
@@ -149,17 +148,25 @@ class ClearanceSpec(SIModel):
     name: str = Field("c", description="The variable's name (in correlations, results and the design's fit); "
                       "each of several clearances needs its own, e.g. 'c_A'.")
     label: str = Field("", description="Readable name for reports; default 'radial clearance', or "
-                       "'radial clearance <name>' for one of several.")
+                       "'radial clearance <name>' for one of several, followed by the fit's letters when `fit` is "
+                       "given.")
     target: str = Field(description="Dotted path of the clearance in the SI config, e.g. "
                         "'clearance_joints.A.clearance'.")
-    mean: float = F(2e-6, unit="m", description="Designed radial clearance, m (Table 2: 1.002 mm - 1 mm).")
+    mean: float = F(2e-6, unit="m", description="Designed radial clearance, m (Table 2: 1.002 mm - 1 mm); set by "
+                    "`fit` when that is given.")
+    fit: str | None = Field(
+        None, description="The fit with its ISO 286 letters, bore/pin, e.g. 'H7/g6' (clearance fits: bores D-H on "
+        "pins d-h, nominal diameters up to 120 mm). It sets hole_grade, shaft_grade and the mean (the middle of the "
+        "fit's limits, ISO 286-2) at nominal_diameter; None = give them yourself.")
     source: Literal["iso286", "table5"] = Field(
         "iso286",
         description="'table5': sigma as printed in Table 5 (1e-6 mm = 1 nm, very likely a units slip); "
         "'iso286': sigma_c = sqrt(T_D^2 + T_d^2)/12, Eq. (40), from the grades below.")
     nominal_diameter: float = F(2e-3, unit="m", description="Nominal fit diameter, m (journal diameter 2 mm).")
-    hole_grade: str = Field("IT7", description="Bearing bore grade (usual H7 bore; ISO 286-2).")
-    shaft_grade: str = Field("IT6", description="Journal grade (usual h6/g6 shaft; ISO 286-2).")
+    hole_grade: str = Field("IT7", description="Bearing bore grade (usual H7 bore; ISO 286-2); set by `fit` when "
+                            "that is given.")
+    shaft_grade: str = Field("IT6", description="Journal grade (usual h6/g6 shaft; ISO 286-2); set by `fit` when "
+                             "that is given.")
     table5_std: float = F(1e-9, unit="m", description="Table 5 as printed: 1e-6 mm.")
     minimum: float = F(
         1e-7, unit="m",
@@ -170,18 +177,6 @@ class ClearanceSpec(SIModel):
         description="'truncate': the clearance distribution is truncated at `minimum` (parts that would "
         "interfere are rejected at assembly); 'fail': such samples are kept and counted as failures.")
 
-    @model_validator(mode="before")
-    @classmethod
-    def _no_fit(cls, data: Any) -> Any:
-        """A fit written as ISO letters (``fit = "H8/f7"``) is not a key; say what to write instead."""
-        if isinstance(data, dict) and "fit" in data:
-            grades = re.findall(r"[A-Za-z]{1,2}(\d{1,2})", str(data["fit"]))
-            given = (f" (for {data['fit']!r}: hole_grade = 'IT{grades[0]}', shaft_grade = 'IT{grades[1]}')"
-                     if len(grades) == 2 else "")
-            raise ValueError(f"fit: not a setting of the clearance: give the grades as hole_grade and shaft_grade, "
-                             f"the IT numbers{given}; {FIT_LETTERS}")
-        return data
-
     @field_validator("hole_grade", "shaft_grade")
     @classmethod
     def _known_grade(cls, grade: str) -> str:
@@ -189,7 +184,9 @@ class ClearanceSpec(SIModel):
         return grade
 
     @model_validator(mode="after")
-    def _above_minimum(self) -> ClearanceSpec:
+    def _fit_and_minimum(self) -> ClearanceSpec:
+        if self.fit is not None:
+            self._apply_fit()
         if not self.minimum > 0:
             raise ValueError(f"minimum of the clearance must be > 0 m (got {self.minimum:g})")
         if not self.mean > self.minimum:
@@ -197,6 +194,36 @@ class ClearanceSpec(SIModel):
                              f"({self.minimum * 1e6:g} um), the smallest clearance the clearance-joint model "
                              "describes (a unit slip? mean_um, mean_mm)")
         return self
+
+    def _apply_fit(self) -> None:
+        """Set the grades and the mean from `fit`; the same values given beside it are accepted, others refused."""
+        if self.source != "iso286":
+            raise ValueError(f"fit {self.fit!r} sets the spread from its grades (source = 'iso286'), not from Table 5 "
+                             "(source = 'table5'): give one of them")
+        fit = iso_fit(self.fit, self.nominal_diameter)
+        derived = {"hole_grade": fit.hole_grade, "shaft_grade": fit.shaft_grade, "mean": fit.mean_clearance}
+        for name, value in derived.items():
+            given = getattr(self, name)
+            same = (math.isclose(given, value, rel_tol=1e-9) if name == "mean"
+                    else given.upper().replace(" ", "") == value)
+            if name in self.model_fields_set and not same:
+                shown = (f"{given * 1e6:g} um" if name == "mean" else repr(given),
+                         f"{value * 1e6:g} um" if name == "mean" else repr(value))
+                raise ValueError(f"{name} = {shown[0]} contradicts fit {self.fit!r}, which gives {shown[1]} at "
+                                 f"{self.nominal_diameter * 1e3:g} mm: give the fit, or the grades and the mean, not "
+                                 "both")
+            self.__dict__[name] = value  # validated once here: the config is immutable afterwards
+        self.__dict__["fit"] = fit.name
+
+    @model_serializer(mode="wrap")
+    def _without_derived(self, handler: SerializerFunctionWrapHandler) -> dict:
+        """A fit's grades and mean are left out of the written config, so that it reads back from the fit (and a
+        changed nominal diameter moves them)."""
+        data = handler(self)
+        if self.fit is not None and isinstance(data, dict):
+            for name in ("mean", "hole_grade", "shaft_grade"):
+                data.pop(name, None)
+        return data
 
     @property
     def std(self) -> float:
@@ -398,7 +425,8 @@ class UncertaintySettings(SIModel):
         at = min(1, len(specs))
         # as sampled: 'truncate' draws the normal truncated at the minimum, 'fail' the whole normal
         specs[at:at] = [RandomVariableSpec(
-            name=c.name, label=c.label or ("radial clearance " + c.name if several else "radial clearance"),
+            name=c.name, label=c.label or ("radial clearance " + c.name if several else "radial clearance")
+            + (f" ({c.fit})" if c.fit and not c.label else ""),
             target=c.target, group="tolerance", mean=c.mean, std=c.std, unit="um", scale=1e6,
             **({"distribution": "truncated_normal", "lower": c.minimum} if c.infeasible_rule == "truncate" else {}))
             for c in self.clearances()]
