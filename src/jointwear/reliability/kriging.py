@@ -36,7 +36,7 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.linalg import cho_solve, solve_triangular
+from scipy.linalg import cho_solve, lapack, solve_triangular
 
 __all__ = ["KrigingHyperparameters", "KrigingSurrogate", "ShiftedSurrogate", "blas_threads", "gaussian_draws"]
 
@@ -472,26 +472,21 @@ class KrigingSurrogate:
 
 
 def gaussian_draws(mean: np.ndarray, cov: np.ndarray, n_draws: int, rng: np.random.Generator) -> np.ndarray:
-    """``n_draws`` draws of N(mean, cov), shape (m, n_draws): mean + L z with L the Cholesky factor of cov, the
-    diagonal raised by a jitter (1e-10 of its mean, up to 1e-4) where round-off leaves a smooth process's covariance
-    barely definite; beyond that (an interpolating Kriging's covariance near its data, whose round-off exceeds its
-    tiny variance), L = V sqrt(max(lambda, 0)) from its eigen-decomposition, the nearest PSD covariance."""
+    """``n_draws`` draws of N(mean, cov), shape (m, n_draws): mean + P L z with P L L^T P^T = cov the pivoted Cholesky
+    factorisation (LAPACK dpstrf), its columns stopped at the numerical rank r, where the largest remaining pivot
+    falls below m eps times the largest diagonal (Higham, Accuracy and Stability of Numerical Algorithms, 10.3).
+    A Kriging's posterior covariance over a population is numerically of low rank (r ~ 10-100 of m = 3000) and,
+    after round-off, barely definite or slightly indefinite: the pivoted factor needs no jitter and costs O(m^2 r)."""
     mean = np.asarray(mean, dtype=float)
     cov = np.asarray(cov, dtype=float)
-    scale = max(float(np.mean(np.diag(cov))), np.finfo(float).tiny)
-    diagonal = np.diag_indices(mean.size)
-    for jitter in (1e-10, 1e-8, 1e-6, 1e-4):
-        work = cov.copy()
-        work[diagonal] += jitter * scale
-        try:
-            chol = np.linalg.cholesky(work)
-            break
-        except np.linalg.LinAlgError:
-            continue
-    else:
-        eigenvalues, vectors = np.linalg.eigh(cov)
-        chol = vectors * np.sqrt(np.clip(eigenvalues, 0.0, None))[None, :]
-    return mean[:, None] + chol @ rng.standard_normal((mean.size, n_draws))
+    m = mean.size
+    factor, piv, rank, info = lapack.dpstrf(cov, lower=1)
+    if info < 0:
+        raise ValueError(f"gaussian_draws: LAPACK dpstrf rejected argument {-info}")
+    chol = np.zeros((m, rank))
+    chol[piv[:rank] - 1] = np.tril(factor[:rank, :rank])  # the pivoted rows first, then the rest of the columns
+    chol[piv[rank:] - 1] = factor[rank:, :rank]
+    return mean[:, None] + chol @ rng.standard_normal((rank, n_draws))
 
 
 class ShiftedSurrogate:
