@@ -22,7 +22,7 @@ from jointwear.study.io import provenance
 from jointwear.study.limit_state import intervals_overlap, life_status
 from jointwear.study.reliability_results import interval_cells, reliability_target
 from jointwear.study.results import StudyResults, load_results
-from jointwear.study.stage_result import StageResult, save_figure
+from jointwear.study.stage_result import StageResult, same_value, save_figure
 
 __all__ = ["StudyComparison", "compare_studies", "life_verdict"]
 
@@ -260,7 +260,7 @@ def _differences(loaded: list[StudyResults]) -> list[dict]:
     out = []
     for name in names:
         values = [s[name]["value"] if name in s else None for s in per_study]
-        if any(not _same(values[0], v) for v in values[1:]):
+        if any(not same_value(values[0], v, rtol=1e-12) for v in values[1:]):  # a value read back through a unit
             unit = next((s[name].get("unit") for s in per_study if name in s), None)
             out.append({"name": name, "unit": unit, "values": values})
     return out
@@ -287,15 +287,6 @@ def _by_name(setting: str, items: dict[str, str]) -> str:
         out.append(setting[last: m.start()] + (f"[{name}]" if name else m.group(0)))
         last = m.end()
     return "".join(out) + setting[last:]
-
-
-def _same(a: Any, b: Any) -> bool:
-    """Equal settings; floats within 1e-12 of each other (a value read back through another unit)."""
-    if isinstance(a, float) and isinstance(b, float):
-        return a == b or abs(a - b) <= 1e-12 * max(abs(a), abs(b))
-    if isinstance(a, list) and isinstance(b, list):
-        return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b))
-    return a == b
 
 
 def _cycles(value: float | None) -> str:
