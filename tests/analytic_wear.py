@@ -21,6 +21,11 @@ class AnalyticWear:
         self.i_k, self.i_h, self.i_c = names.index("k_b"), names.index("HB_b"), names.index("c")
         self.cycles = np.asarray(cycles, dtype=float)
 
+    @property
+    def inputs(self) -> tuple[int, int, int]:
+        """The columns of x the model reads (k_b, HB_b, c)."""
+        return self.i_k, self.i_h, self.i_c
+
     def scale(self, x):
         x = np.atleast_2d(x)
         return (x[:, self.i_k] / 1.2e-3) * (350 * 9.807e6 / x[:, self.i_h]) * (1 + 0.05 * (x[:, self.i_c] - 2e-6) / 1e-6)

@@ -60,9 +60,11 @@ def exact_reliabilities(ctx, model, controls, candidates, life, n=1_000_000, see
         return np.array([float(np.mean(model.life(t.to_x(z)) > life)) for t in iso])
     columns: dict = {}  # (column, id of its marginal) -> (marginal, values); keeping the marginal keeps its id unique
     out = []
+    x = np.zeros_like(z)  # only the columns the model reads are filled
     for cand in candidates:
-        x = np.empty_like(z)
         for i, m in enumerate(cand.marginals(controls, ctx.names, ctx.marginals)):
+            if i not in model.inputs:
+                continue
             key = (i, id(m))
             if key not in columns:
                 columns[key] = (m, IsoTransform([m]).to_x(z[:, [i]])[:, 0])
