@@ -14,6 +14,7 @@ from jointwear.config import load_config, updated
 from jointwear.design import build_controls
 from jointwear.design.checks import design_problems
 from jointwear.design.settings import DesignSettings, FitOption
+from jointwear.report.settings import origin, settings_records
 from jointwear.schema import ConfigError
 from jointwear.uncertainty.tolerances import iso_fit
 from jointwear.uncertainty.variables import ClearanceSpec
@@ -85,6 +86,10 @@ def test_a_study_config_takes_a_fit_and_a_change_of_size_moves_its_mean():
     cfg = updated(base, {"uncertainty.clearance": {**data, "fit": "H7/g6"}})
     assert cfg.uncertainty.clearance.mean == pytest.approx(5 * UM, abs=1e-12)  # H7/g6 at 2 mm: 2-18 um diametral
     assert "radial clearance (H7/g6)" in [s.label for s in cfg.uncertainty.all_specs()]  # as the report names it
+    # `jointwear check` and the report's settings table say where each value comes from
+    records = {r["name"]: r for r in settings_records(cfg)}
+    assert [origin(records[f"uncertainty.clearance.{k}"]) for k in ("fit", "mean", "hole_grade", "minimum")] == [
+        "the config", "set by fit 'H7/g6'", "set by fit 'H7/g6'", "the config"]
     moved = updated(cfg, {"uncertainty.clearance.nominal_diameter_mm": 4.0})
     assert moved.uncertainty.clearance.mean == pytest.approx(7 * UM, abs=1e-12)  # 3-6 mm: 4-24 um
     freed = updated(cfg, {"uncertainty.clearance.fit": None, "uncertainty.clearance.mean_um": 3.0,

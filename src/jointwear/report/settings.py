@@ -12,7 +12,8 @@ Contract (every key optional; the report lists whatever is there)::
      "settings": [{"name": "clearance_joints[0].friction.mu_d", "value": 0.1, "unit": null,
                    "source": "<the field's docstring: where the value comes from>",
                    "paper_open": true, "description": "...",
-                   "explicit": false}, ...],           # given in the config (true) or a default (false)
+                   "explicit": false,                  # given in the config (true) or a default (false)
+                   "derived_from": "fit 'H7/g6'"}, ...],  # only for a value another setting sets
      "allowance_mm": 0.03,                           # the limit state's allowable wear (every joint) and
      "allowances_mm": {"E": 0.04},                   # per-joint overrides, from [reliability]
      "reference": null | {"citation": "...", "label": "Jin et al. 2025", "note": "...",
@@ -124,6 +125,7 @@ def settings_records(model: Any, prefix: str = "", *, explicit: bool = True,
     out: list[dict] = []
     fields = type(model).model_fields
     given = getattr(model, "model_fields_set", set())
+    derived = model.derived_settings() if callable(getattr(model, "derived_settings", None)) else {}
     for name, info in fields.items():
         value = getattr(model, name)
         full = f"{prefix}.{name}" if prefix else name
@@ -157,14 +159,17 @@ def settings_records(model: Any, prefix: str = "", *, explicit: bool = True,
             "source": extra.get("source") or desc,
             "paper_open": is_paper_open(desc, extra),
             "description": desc if extra.get("source") else "",
-            "explicit": here,
+            "explicit": here or (explicit and name in derived),
+            **({"derived_from": derived[name]} if explicit and name in derived else {}),
         })
     return out
 
 
 def origin(record: Mapping) -> str:
     """Where a setting's value comes from, by its record's ``explicit``: 'the config' or 'jointwear default' (a dash
-    for a record written before ``explicit`` was)."""
+    for a record written before ``explicit`` was), or what in the config set it ("set by fit 'H7/g6'")."""
+    if record.get("derived_from"):
+        return f"set by {record['derived_from']}"
     return {True: "the config", False: "jointwear default"}.get(record.get("explicit"), "\u2014")
 
 

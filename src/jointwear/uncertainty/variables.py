@@ -215,6 +215,12 @@ class ClearanceSpec(SIModel):
             self.__dict__[name] = value  # validated once here: the config is immutable afterwards
         self.__dict__["fit"] = fit.name
 
+    def derived_settings(self) -> dict[str, str]:
+        """The settings `fit` sets, each with what set it (``jointwear check`` and the report say so)."""
+        if self.fit is None:
+            return {}
+        return dict.fromkeys(("mean", "hole_grade", "shaft_grade"), f"fit {self.fit!r}")
+
     @model_serializer(mode="wrap")
     def _without_derived(self, handler: SerializerFunctionWrapHandler) -> dict:
         """A fit's grades and mean are left out of the written config, so that it reads back from the fit (and a
