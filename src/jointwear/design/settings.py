@@ -17,20 +17,15 @@ from typing import TYPE_CHECKING, Literal
 from pydantic import Field, field_validator, model_validator
 
 from jointwear.schema import F, SIModel
-from jointwear.uncertainty.tolerances import IT_GRADES, iso_fit, it_tolerance
+from jointwear.uncertainty.tolerances import IT_GRADES, grade_key, iso_fit, it_tolerance
 
 if TYPE_CHECKING:
     from jointwear.uncertainty.variables import ClearanceSpec, UncertaintySettings
 
 
-def _grade_key(grade: str) -> str:
-    """Normalised ISO 286 grade name ('it 7' -> 'IT7')."""
-    return str(grade).upper().replace(" ", "")
-
-
 def _grade_name(grade: str) -> str:
-    """:func:`_grade_key`; raises ValueError naming the known grades."""
-    key = _grade_key(grade)
+    """:func:`~jointwear.uncertainty.tolerances.grade_key`; raises ValueError naming the known grades."""
+    key = grade_key(grade)
     it_tolerance(key, 1e-3)  # raises for an unknown grade
     return key
 
@@ -89,7 +84,7 @@ class ToleranceControl(SIModel):
     def _grades(cls, grades: list[str]) -> list[str]:
         if not grades:
             raise ValueError("give at least one grade")
-        names = [_grade_key(g) for g in grades]
+        names = [grade_key(g) for g in grades]
         unknown = [g for g, name in zip(grades, names) if name not in IT_GRADES]
         if unknown:
             raise ValueError(f"unknown ISO 286 tolerance grades {unknown}; known: {', '.join(IT_GRADES)} (the table "
@@ -152,7 +147,7 @@ class FitOption(SIModel):
         from jointwear.uncertainty.variables import ClearanceSpec
 
         data = clearance.model_dump()
-        for derived in ("mean", "hole_grade", "shaft_grade"):
+        for derived in ClearanceSpec.FIT_SETS:
             data.pop(derived, None)
         data["source"] = "iso286"
         if self.fit is not None:

@@ -152,6 +152,7 @@ def settings_records(model: Any, prefix: str = "", *, explicit: bool = True,
             unit = "HB"
         shown, shown_unit = _display(_plain(value), unit)
         desc = info.description or ""
+        set_by = derived.get(name) if explicit else None
         out.append({
             "name": full,
             "value": shown,
@@ -159,8 +160,8 @@ def settings_records(model: Any, prefix: str = "", *, explicit: bool = True,
             "source": extra.get("source") or desc,
             "paper_open": is_paper_open(desc, extra),
             "description": desc if extra.get("source") else "",
-            "explicit": here or (explicit and name in derived),
-            **({"derived_from": derived[name]} if explicit and name in derived else {}),
+            "explicit": here or set_by is not None,
+            **({"derived_from": set_by} if set_by else {}),
         })
     return out
 

@@ -54,9 +54,14 @@ def _size_range(nominal_size: float) -> int:
     return next(i for i, upper in enumerate(_SIZE_UPPER_MM) if size_mm <= upper)
 
 
+def grade_key(grade: str) -> str:
+    """Normalised ISO 286 grade name ('it 7' -> 'IT7'), as the tables name it."""
+    return str(grade).upper().replace(" ", "")
+
+
 def it_tolerance(grade: str, nominal_size: float) -> float:
     """Standard tolerance (m) of an ISO 286-1 grade for a nominal size (m)."""
-    key = grade.upper().replace(" ", "")
+    key = grade_key(grade)
     if key not in _IT_UM:
         lettered = re.fullmatch(r"(?!IT)[A-Z]{1,2}(\d{1,2})", key)  # 'H8', 'f7': a fit's letter and its grade
         hint = (f"; the grade is the IT number (IT{lettered[1]}); a fit with its letters is written as the "

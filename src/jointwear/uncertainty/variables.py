@@ -12,7 +12,7 @@ Dependence between variables: ``correlation`` (a normal copula, :mod:`jointwear.
 from __future__ import annotations
 
 import math
-from typing import Any, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 from pydantic import Field, SerializerFunctionWrapHandler, field_validator, model_serializer, model_validator
@@ -20,7 +20,7 @@ from scipy import optimize, special, stats
 
 from jointwear.schema import F, FieldValueError, SIModel
 from jointwear.uncertainty.copulas import check_correlation, normal_copula
-from jointwear.uncertainty.tolerances import clearance_from_fit, iso_fit, it_tolerance
+from jointwear.uncertainty.tolerances import clearance_from_fit, grade_key, iso_fit, it_tolerance
 
 DistributionName = Literal["normal", "lognormal", "uniform", "truncated_normal", "weibull", "gumbel", "gamma", "beta"]
 
@@ -177,6 +177,9 @@ class ClearanceSpec(SIModel):
         description="'truncate': the clearance distribution is truncated at `minimum` (parts that would "
         "interfere are rejected at assembly); 'fail': such samples are kept and counted as failures.")
 
+    #: the settings a `fit` sets
+    FIT_SETS: ClassVar[tuple[str, ...]] = ("mean", "hole_grade", "shaft_grade")
+
     @field_validator("hole_grade", "shaft_grade")
     @classmethod
     def _known_grade(cls, grade: str) -> str:
@@ -205,7 +208,7 @@ class ClearanceSpec(SIModel):
         for name, value in derived.items():
             given = getattr(self, name)
             same = (math.isclose(given, value, rel_tol=1e-9) if name == "mean"
-                    else given.upper().replace(" ", "") == value)
+                    else grade_key(given) == value)
             if name in self.model_fields_set and not same:
                 shown = (f"{given * 1e6:g} um" if name == "mean" else repr(given),
                          f"{value * 1e6:g} um" if name == "mean" else repr(value))
@@ -219,15 +222,15 @@ class ClearanceSpec(SIModel):
         """The settings `fit` sets, each with what set it (``jointwear check`` and the report say so)."""
         if self.fit is None:
             return {}
-        return dict.fromkeys(("mean", "hole_grade", "shaft_grade"), f"fit {self.fit!r}")
+        return dict.fromkeys(self.FIT_SETS, f"fit {self.fit!r}")
 
     @model_serializer(mode="wrap")
     def _without_derived(self, handler: SerializerFunctionWrapHandler) -> dict:
         """A fit's grades and mean are left out of the written config, so that it reads back from the fit (and a
         changed nominal diameter moves them)."""
         data = handler(self)
-        if self.fit is not None and isinstance(data, dict):
-            for name in ("mean", "hole_grade", "shaft_grade"):
+        if isinstance(data, dict):
+            for name in self.derived_settings():
                 data.pop(name, None)
         return data
 
@@ -432,7 +435,7 @@ class UncertaintySettings(SIModel):
         # as sampled: 'truncate' draws the normal truncated at the minimum, 'fail' the whole normal
         specs[at:at] = [RandomVariableSpec(
             name=c.name, label=c.label or ("radial clearance " + c.name if several else "radial clearance")
-            + (f" ({c.fit})" if c.fit and not c.label else ""),
+            + (f" ({c.fit})" if c.fit else ""),
             target=c.target, group="tolerance", mean=c.mean, std=c.std, unit="um", scale=1e6,
             **({"distribution": "truncated_normal", "lower": c.minimum} if c.infeasible_rule == "truncate" else {}))
             for c in self.clearances()]
