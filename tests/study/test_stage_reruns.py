@@ -119,17 +119,35 @@ def test_a_wear_model_change_moves_aside_every_result_but_the_dynamics(base, tmp
     assert jointwear.load_results(folder).stages == ["simulate", "wear"]
 
 
-def test_a_resumed_run_keeps_the_nominal_results_it_finds_current(base, tmp_path):
-    """run --resume recomputed simulate and the nominal wear history (a long one in profile mode) every time."""
+def test_a_resumed_run_keeps_the_results_it_finds_current(base, tmp_path):
+    """run --resume recomputed simulate and the nominal wear history (a long one in profile mode) every time, and
+    replayed the whole learning from the store to write the same curve and sensitivity again."""
     folder = _copy(base, tmp_path)
-    wear_before = (folder / "wear.json").read_bytes()
+    kept = {name: (folder / name).read_bytes() for name in ("wear.json", "reliability.json", "sensitivity.json")}
     (folder / "simulate.json").unlink()
     lines: list[str] = []
     jointwear.Study(SMALL, out=folder, workers=1, resume=True, echo=lines.append).run()
     assert any(line.startswith("simulate: 2 cycles, ") for line in lines)  # its result was gone: run
-    assert f"wear: the result for this config is already in {folder / 'wear.json'} (resume): not run again" in lines
-    assert (folder / "wear.json").read_bytes() == wear_before
+    for name, content in kept.items():
+        stage = name.removesuffix(".json")
+        assert f"{stage}: the result for this config is already in {folder / name} (resume): not run again" in lines
+        assert (folder / name).read_bytes() == content
     assert not [line for line in lines if line.startswith("out: ")]
+
+
+def test_a_resumed_run_replays_the_learning_for_a_missing_sensitivity(base, tmp_path):
+    """Without its sensitivity the curve is learnt again from the stored calls (the sensitivity needs the
+    surrogate): no call is made, and the curve comes out as it was."""
+    folder = _copy(base, tmp_path)
+    curve = jointwear.load_results(folder).reliability.reliability
+    (folder / "sensitivity.json").unlink()
+    lines: list[str] = []
+    jointwear.Study(SMALL, out=folder, workers=1, resume=True, echo=lines.append).run()
+    assert not [line for line in lines if line.startswith(("reliability: the result", "sensitivity: the result"))]
+    assert any(line.startswith("reliability: ") and "(0 new, " in line for line in lines)
+    assert any(line.startswith("sensitivity: ranking ") for line in lines)
+    assert (folder / "sensitivity.json").is_file()
+    assert list(jointwear.load_results(folder).reliability.reliability) == list(curve)
 
 
 def test_arguments_are_named_as_the_caller_gave_them(tmp_path, capsys):

@@ -43,6 +43,7 @@ from jointwear.study.limit_state import (
 from jointwear.study.model_call import WearModelCall
 from jointwear.study.reliability_results import interval_text
 from jointwear.study.results import (
+    STAGE_TYPES,
     ReliabilityResult,
     SensitivityResult,
     SimulationSummary,
@@ -493,6 +494,12 @@ class Study:
         governing = f", governed by joint {res.governing_joint}" if len(res.joints) > 1 else ""
         self.echo(f"reliability: {res.model_calls} model calls{_reused(new, res.model_calls)}, n_mc = {res.n_mc:,}, "
                   f"life at R = {res.target}: {life}{governing} -> {self.out / res.FILE}")
+        self._tell_warnings(res)
+        return res
+
+    def _tell_warnings(self, res: ReliabilityResult) -> None:
+        """What the user must know about a reliability curve: an unconverged learning, failed or worn-away calls, a
+        poor fit, a series system's governing joints, a curve that misses the life."""
         if not res.converged:
             self.warn(f"reliability: {learning_stop_line(res, self.config.reliability)}")
         from jointwear.report.checks import curve_misses_life
@@ -502,7 +509,6 @@ class Study:
                          res.series_sentence(), missed and re.sub(r"</?code>", "", missed).rstrip(".")):
             if sentence:
                 self.warn(f"reliability: {sentence}")
-        return res
 
     @_quiet
     def sensitivity(self) -> SensitivityResult:
@@ -607,31 +613,45 @@ class Study:
             if not self._current("wear"):
                 self.wear()
             if stochastic:
-                self.reliability()
-                self.sensitivity()
+                if not self._current("reliability", "sensitivity"):
+                    self.reliability()
+                    self.sensitivity()
             else:
                 self.echo("run: no [uncertainty] section: reliability and sensitivity skipped")
             path = self.report()
         self.echo(f"run: done in {time.perf_counter() - t0:.0f} s -> {path}")
         return load_results(self.out)
 
-    def _current(self, stage: str) -> bool:
-        """Whether a resumed run finds ``stage``'s result (simulate or wear, which no store keeps) already computed
-        for this config and its cycle counts, and says so: a long profile-mode history is not run again. A result
-        computed with other settings is no longer there (:meth:`_supersede`)."""
+    def _current(self, *stages: str) -> bool:
+        """Whether a resumed run finds the results of ``stages`` already computed for this config (a result computed
+        with other settings is no longer there: :meth:`_supersede`), and says so: a long profile-mode history is not
+        run again, nor is the learning replayed from the store to give the curve and the sensitivity it gave."""
         if not self.resume:
             return False
-        self._prepare({stage})
-        if stage == "simulate":
-            res, sim = SimulationSummary.load_if_present(self.out), self.config.simulation
-            current = res is not None and (res.cycles, res.settle_cycles) == (sim.cycles, sim.settle_cycles)
-        else:
-            res = WearSummary.load_if_present(self.out)
-            current = res is not None and (res.cycles_requested or res.cycles) == nominal_wear_cycles(self.config)
-        if current:
+        self._prepare(set(stages))
+        found = [self._found(stage) for stage in stages]
+        if any(res is None for res in found):
+            return False
+        for stage, res in zip(stages, found):
             self.echo(f"{stage}: the result for this config is already in {self.out / res.FILE} (resume): not run "
                       "again")
-        return current
+            if stage == "reliability":
+                self._tell_warnings(res)
+        return True
+
+    def _found(self, stage: str):
+        """``stage``'s result in ``out`` if it was computed for this config's cycle counts (None otherwise)."""
+        res = STAGE_TYPES[stage].load_if_present(self.out)
+        if res is None:
+            return None
+        if stage == "simulate":
+            sim = self.config.simulation
+            current = (res.cycles, res.settle_cycles) == (sim.cycles, sim.settle_cycles)
+        elif stage == "wear":
+            current = (res.cycles_requested or res.cycles) == nominal_wear_cycles(self.config)
+        else:
+            current = True
+        return res if current else None
 
     def _learned(self, ctx) -> ReliabilityResult:
         """The reliability result of this study: the one in memory, else learned again from the evaluation store
