@@ -132,6 +132,8 @@ def test_a_resumed_run_keeps_the_results_it_finds_current(base, tmp_path):
         stage = name.removesuffix(".json")
         assert f"{stage}: the result for this config is already in {folder / name} (resume): not run again" in lines
         assert (folder / name).read_bytes() == content
+    # a kept result's warnings are told as when it was computed (this slider-crank's uniform wear conforms)
+    assert any(line.startswith("wear: uniform mode is outside its range here") for line in lines)
     assert not [line for line in lines if line.startswith("out: ")]
 
 

@@ -348,8 +348,7 @@ class Study:
         self.echo(f"simulate: {n} cycle{'' if n == 1 else 's'}, {result.steps_per_cycle:.0f} steps/cycle, "
                   f"{result.wall_seconds_per_cycle * 1e3:.1f} ms/cycle; mean contact force {force_line(result)}"
                   f" -> {self.out / result.FILE}")
-        for sentence in result.outside_hertz() + result.whirls():
-            self.warn(f"simulate: {sentence}")
+        self._tell("simulate", result)
         return result
 
     @_quiet
@@ -386,12 +385,7 @@ class Study:
         self.echo(f"wear: max bearing wear {wear_line(result)} after {ran} "
                   f"(history {res.wall_seconds:.1f} s, stage {time.perf_counter() - t0:.1f} s) "
                   f"-> {self.out / result.FILE}")
-        placed = nominal_life_outside_curve(self.config, result.joints)
-        for sentence in result.worn_away() + result.worn_through() + result.whirls() + ([placed] if placed else []):
-            self.warn(f"wear: {sentence}")
-        if result.uniform_out_of_range:
-            self.warn(f"wear: uniform mode is outside its range here (conformity {result.conformity:.3g} > 1: the "
-                      'journal fits into its own wear); wear.geometry_mode = "profile" follows it (docs/wear.md)')
+        self._tell("wear", result)
         return result
 
     @_quiet
@@ -494,21 +488,34 @@ class Study:
         governing = f", governed by joint {res.governing_joint}" if len(res.joints) > 1 else ""
         self.echo(f"reliability: {res.model_calls} model calls{_reused(new, res.model_calls)}, n_mc = {res.n_mc:,}, "
                   f"life at R = {res.target}: {life}{governing} -> {self.out / res.FILE}")
-        self._tell_warnings(res)
+        self._tell("reliability", res)
         return res
 
-    def _tell_warnings(self, res: ReliabilityResult) -> None:
-        """What the user must know about a reliability curve: an unconverged learning, failed or worn-away calls, a
-        poor fit, a series system's governing joints, a curve that misses the life."""
-        if not res.converged:
-            self.warn(f"reliability: {learning_stop_line(res, self.config.reliability)}")
-        from jointwear.report.checks import curve_misses_life
+    def _tell(self, stage: str, res) -> None:
+        """Warn of what the user must know about ``stage``'s result, whether computed now or kept by a resumed run:
+        contacts outside Hertz's range and whirls (simulate); a joint worn away or through, a nominal life off the
+        curve, uniform mode outside its range (wear); an unconverged learning, failed or worn-away calls, a poor fit,
+        a series system's governing joints, a curve that misses the life (reliability)."""
+        sentences: list[str] = []
+        if stage == "simulate":
+            sentences = res.outside_hertz() + res.whirls()
+        elif stage == "wear":
+            placed = nominal_life_outside_curve(self.config, res.joints)
+            sentences = res.worn_away() + res.worn_through() + res.whirls() + ([placed] if placed else [])
+            if res.uniform_out_of_range:
+                sentences.append(f"uniform mode is outside its range here (conformity {res.conformity:.3g} > 1: the "
+                                 'journal fits into its own wear); wear.geometry_mode = "profile" follows it '
+                                 "(docs/wear.md)")
+        elif stage == "reliability":
+            from jointwear.report.checks import curve_misses_life
 
-        missed = curve_misses_life(res, WearSummary.load_if_present(self.out))
-        for sentence in (res.failed_calls_sentence(), res.worn_away_sentence(), res.surrogate_fit_sentence(),
-                         res.series_sentence(), missed and re.sub(r"</?code>", "", missed).rstrip(".")):
+            missed = curve_misses_life(res, WearSummary.load_if_present(self.out))
+            sentences = [learning_stop_line(res, self.config.reliability) if not res.converged else None,
+                         res.failed_calls_sentence(), res.worn_away_sentence(), res.surrogate_fit_sentence(),
+                         res.series_sentence(), missed and re.sub(r"</?code>", "", missed).rstrip(".")]
+        for sentence in sentences:
             if sentence:
-                self.warn(f"reliability: {sentence}")
+                self.warn(f"{stage}: {sentence}")
 
     @_quiet
     def sensitivity(self) -> SensitivityResult:
@@ -635,8 +642,7 @@ class Study:
         for stage, res in zip(stages, found):
             self.echo(f"{stage}: the result for this config is already in {self.out / res.FILE} (resume): not run "
                       "again")
-            if stage == "reliability":
-                self._tell_warnings(res)
+            self._tell(stage, res)
         return True
 
     def _found(self, stage: str):
