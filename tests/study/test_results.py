@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "wear"))
@@ -29,7 +30,8 @@ def test_wear_summary_save_and_load(tmp_path):
         assert k in d
     assert d["cycles"] == 50_000
     assert set(d["profile"]) == {"angle_deg", "depth_mm", "contact_force_mean_N", "sliding_mm_per_deg_per_cycle",
-                                 "contact_area_mean_mm2"}
+                                 "contact_area_mean_mm2", "body_angle_deg", "contact_time_s_per_cycle",
+                                 "depth_rate_mm_per_cycle"}
     assert all(len(v) == 360 for v in d["profile"].values())
     assert set(d["history"]) == {"cycles", "max_wear_mm"} and d["history"]["cycles"][-1] == 50_000
     assert d["peaks"][0]["depth_mm"] == pytest.approx(d["max_wear_mm"])
@@ -55,6 +57,13 @@ def test_wear_summary_save_and_load(tmp_path):
     force = np.asarray(s.profile["contact_force_mean_N"], dtype=float)
     assert np.isnan(force).any()
     np.testing.assert_array_equal(np.asarray(back.profile["contact_force_mean_N"]), force)
+    # a folder read back gives every column of its CSV (the last three were computed from the history in memory)
+    csv = pd.read_csv(tmp_path / "wear_profile.csv")
+    frame = back.frame("wear_profile")
+    assert list(frame.columns) == list(csv.columns) == list(s.frame("wear_profile").columns)
+    # the CSV writes 10 significant digits (study.io.write_csv)
+    np.testing.assert_allclose(frame.to_numpy(dtype=float), csv.to_numpy(dtype=float), rtol=1e-9, atol=0,
+                               equal_nan=True)
 
 
 def test_several_joints_write_their_files_under_their_names(tmp_path):
@@ -179,7 +188,7 @@ def test_a_result_prints_short_with_every_field(tmp_path):
         text = repr(res)
         assert len(text) < 3000 and text.startswith(type(res).__name__ + "(")
         assert all(f"\n    {f.name}=" in text for f in fields(res) if f.repr)
-    assert "profile=<dict of 5: angle_deg, depth_mm" in repr(s)
+    assert "profile=<dict of 8: angle_deg, depth_mm" in repr(s)
     assert f"reliability={np.array2string(rel.reliability, precision=4, separator=', ')}" in repr(rel)
     expected = f"StudyResults(folder={str(tmp_path)!r}, name=None, stages=['wear', 'reliability'])"
     assert repr(load_results(tmp_path)) == expected

@@ -168,17 +168,22 @@ class SimulationSummary(StageResult):
 
 # ------------------------------------------------------------------------------------------------------- wear
 #: per-cell columns of a joint's wear profile besides the depth (wear.json ``profile`` and wear_profile.csv)
-_PANEL_KEYS = ("contact_force_mean_N", "sliding_mm_per_deg_per_cycle", "contact_area_mean_mm2")
+_PANEL_KEYS = ("contact_force_mean_N", "sliding_mm_per_deg_per_cycle", "contact_area_mean_mm2", "body_angle_deg",
+               "contact_time_s_per_cycle", "depth_rate_mm_per_cycle")
 
 
 def _profile_panels(jw, order) -> dict[str, list[float]]:
-    """Mean contact force, sliding distance per degree of bearing and mean contact area of each bearing cell
-    over the last simulated cycles, in the profile's angle order."""
+    """Mean contact force, sliding distance per degree of bearing, mean contact area, the cell's angle in the
+    bearing body's frame, contact time and depth rate of each bearing cell over the last simulated cycles, in the
+    profile's angle order (kept in wear.json, so that a folder read back gives the CSV's every column)."""
     d = jw.diagnostics
     cell_deg = 360.0 / jw.theta.size
     return {"contact_force_mean_N": d.force_mean[order].tolist(),
             "sliding_mm_per_deg_per_cycle": (d.slip_distance[order] * 1e3 / cell_deg).tolist(),
-            "contact_area_mean_mm2": (d.area_mean[order] * 1e6).tolist()}
+            "contact_area_mean_mm2": (d.area_mean[order] * 1e6).tolist(),
+            "body_angle_deg": np.degrees(jw.theta[order]).tolist(),
+            "contact_time_s_per_cycle": d.contact_time[order].tolist(),
+            "depth_rate_mm_per_cycle": (d.bearing[order] * 1e3).tolist()}
 
 def _last_slope_mm(cycles: np.ndarray, depth_m: np.ndarray) -> float | None:
     """Growth of a depth history over its last segment, mm per cycle (None with fewer than two points)."""
@@ -354,9 +359,8 @@ class WearSummary(StageResult):
         """Per joint: ``wear_history`` (the maximum depths and the clearance growth against cycles),
         ``wear_journal_profile`` and ``wear_profile`` (depth and the per-cycle contact quantities round the bearing);
         with several joints each name ends in the joint's (``wear_profile_A``)."""
-        res = self.history_result
         out: dict[str, dict[str, Any]] = {}
-        for k, (joint, sfx) in enumerate(zip(self.joints, self._suffixes())):
+        for joint, sfx in zip(self.joints, self._suffixes()):
             h = joint["history"]
             out[f"wear_history{sfx}"] = {
                 "cycles": h["cycles"], "max_bearing_wear_mm": h["max_wear_mm"],
@@ -366,12 +370,6 @@ class WearSummary(StageResult):
             prof = joint["profile"]
             cols = {"angle_deg": prof["angle_deg"], "bearing_depth_mm": prof["depth_mm"],
                     **{key: prof[key] for key in _PANEL_KEYS if key in prof}}
-            if res is not None:
-                jw = res.joints[k]
-                o = np.argsort(jw.angle_deg)
-                cols.update({"body_angle_deg": np.degrees(jw.theta[o]),
-                             "contact_time_s_per_cycle": jw.diagnostics.contact_time[o],
-                             "depth_rate_mm_per_cycle": jw.diagnostics.bearing[o] * 1e3})
             out[f"wear_profile{sfx}"] = cols
         return out
 
