@@ -144,3 +144,27 @@ def test_command_line_ranking_shows_groups_and_unresolved_neighbours():
     assert ranking_line(sens) == "tolerance: l2 > lBC > l1 | bearing_material: k_b ~ HB_b > E_b"
     assert ranking_line(SimpleNamespace(shifts_move_reliability=True, ranking_by_group={"tolerance": ["c"]},
                                         unresolved_pairs=[])) == "tolerance: c"
+
+
+def test_the_variance_ranking_is_told_beside_the_mean_shifts():
+    """The command line said 'ranking tolerance: l_crank > c' from the +-20 % mean shifts (a change of the nominal
+    design by hundreds of the length's standard deviations) while the Sobol' indices gave the clearance 200 times the
+    crank's share of the wear's variance: the line and the report now say what each ranking measures."""
+    from types import SimpleNamespace
+
+    from jointwear.report.result_sections import ranking_meaning
+    from jointwear.study import SensitivityResult
+    from jointwear.study.facade import variance_line
+
+    sens = SimpleNamespace(sobol={"names": ["l_crank", "c", "E_b"], "ST": [2.6e-4, 0.05, 0.012],
+                                  "output": "max bearing wear depth of joint B at 150,000 cycles"},
+                           factors=[0.8, 1.2])
+    sens.variance_ranking = lambda floor=0.01: SensitivityResult.variance_ranking(sens, floor)
+    assert sens.variance_ranking() == [("c", 0.05), ("E_b", 0.012)]
+    assert variance_line(sens) == "c 0.05 > E_b 0.012 (the others < 0.01)"
+    text = ranking_meaning(sens)
+    assert "moves to 80 % and 120 % of its value: a change of the nominal design" in text
+    assert "(Sobol&#x27; ST, below): c 0.05, E_b 0.012." in text or "(Sobol' ST, below): c 0.05, E_b 0.012." in text
+    sens.sobol = {}
+    assert sens.variance_ranking() == [] and variance_line(sens) == ""
+    assert "Sobol' ST" not in ranking_meaning(sens).replace("&#x27;", "'")

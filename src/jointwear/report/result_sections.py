@@ -252,12 +252,9 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
         rrows.append(row)
     head = ["group", "this study (largest change of R first; \u2248: the difference is within the surrogate's "
             "error estimate of the two reliabilities)"]
-    if ref:
-        parts.append(f"<h3>Ranking beside the reference's ({e(reference_label(ref))})</h3>")
-        parts.append(table(head + [reference_label(ref)], rrows, cls="kv"))
-    else:
-        parts.append("<h3>Ranking</h3>")
-        parts.append(table(head, rrows, cls="kv"))
+    parts.append(f"<h3>Ranking beside the reference's ({e(reference_label(ref))})</h3>" if ref else "<h3>Ranking</h3>")
+    parts.append(ranking_meaning(sens))
+    parts.append(table(head + [reference_label(ref)] if ref else head, rrows, cls="kv"))
     parts.append(far_shift_part(sens, labels))
     parts.append(archard_check_part(sens))
     sob = sens.sobol
@@ -306,6 +303,22 @@ def _index_text(sobol: Mapping, variable: Mapping, key: str) -> str:
         return text
     half = conf[names.index(str(variable["name"]))]
     return text if half is None else f"{text} \u00b1 {format_number(float(half), 2)}"
+
+
+def ranking_meaning(sens) -> str:
+    """What the ranking measures, and what it does not: the change of R when one mean moves by a fixed fraction is
+    a change of the nominal design (for a toleranced length, many of its standard deviations), not of the
+    variable's scatter, whose share in the scatter of the wear the Sobol' indices give."""
+    lo_f, hi_f = sens.factors
+    ranked = sens.variance_ranking()
+    output = str(sens.sobol.get("output") or "wear")
+    by_variance = (f" By share of the variance of the {output} (Sobol' ST, below): "
+                   + ", ".join(f"{name} {format_number(st, 2)}" for name, st in ranked) + "." if ranked else "")
+    text = (f"The ranking is of the change of R when one mean alone moves to {lo_f * 100:g} % and {hi_f * 100:g} % "
+            "of its value: a change of the nominal design (for a toleranced length, many standard deviations of its "
+            "tolerance), not of the variable's scatter. Which scatter drives the scatter of the wear is what the "
+            "Sobol' indices tell." + by_variance)
+    return f"<p>{e(text)}</p>"
 
 
 def far_shift_part(sens, labels: Mapping[str, str]) -> str:

@@ -538,7 +538,11 @@ class Study:
             new = ctx.n_model_calls - before
         sens.save(self.out)
         extra = sens.extra_model_calls
-        self.echo(f"sensitivity: ranking {ranking_line(sens)}; {extra} extra model calls{_reused(new, extra)} "
+        variance, output = variance_line(sens), sens.sobol.get("output") or "wear"
+        self.echo(f"sensitivity: ranking by R at each mean x {sens.factors[0]:g} and x {sens.factors[1]:g} (a change "
+                  f"of the nominal design, not of its scatter): {ranking_line(sens)}"
+                  f"{f'; by share of the variance of the {output} (Sobol ST): {variance}' if variance else ''}; "
+                  f"{extra} extra model calls{_reused(new, extra)} "
                   f"-> {self.out / sens.FILE}")
         return sens
 
@@ -931,6 +935,13 @@ def life_text(row: dict) -> str:
         return f"{row['cycles']:,.0f} cycles = {row['hours']:.2f} h{interval}"
     return {"beyond_curve": "beyond the curve's last level (extend cycles_stop)",
             "before_curve": "before the curve's first level (lower cycles_start)"}.get(row.get("status"), "not reached")
+
+
+def variance_line(sens: SensitivityResult, floor: float = 0.01) -> str:
+    """:meth:`SensitivityResult.variance_ranking` as text: 'c 0.95 > l1 0.04 (the others < 0.01)'."""
+    ranked = sens.variance_ranking(floor)
+    text = " > ".join(f"{name} {st:.2g}" for name, st in ranked)
+    return f"{text} (the others < {floor:g})" if text and len(ranked) < len(sens.sobol.get("names") or []) else text
 
 
 def ranking_line(sens: SensitivityResult) -> str:

@@ -522,6 +522,14 @@ class SensitivityResult(StageResult):
         r0 = self.reliability_nominal
         return any(abs(v["reliability_low"] - r0) > 0 or abs(v["reliability_high"] - r0) > 0 for v in self.variables)
 
+    def variance_ranking(self, floor: float = 0.01) -> list[tuple[str, float]]:
+        """The variables whose scatter drives the scatter of the (first judged joint's) wear: (name, total Sobol'
+        index) of those with an index of at least ``floor``, largest first; empty without indices. The ranking of the
+        mean shifts measures something else: a change of the nominal design, not of a variable's scatter."""
+        names, totals = self.sobol.get("names") or [], self.sobol.get("ST") or []
+        ranked = [(str(n), float(st)) for n, st in zip(names, totals) if st is not None and float(st) >= floor]
+        return sorted(ranked, key=lambda item: -item[1])
+
     @classmethod
     def from_json(cls, data: dict) -> SensitivityResult:
         data = dict(data)
