@@ -190,8 +190,10 @@ class GeneralBodyConfig(SIModel):
     )
     axis: tuple[str, str] | None = F(
         None,
-        description="Two of the body's points defining its x axis (first -> second); sets the frame in which "
-        "bearing angles are reported. Default: the global x axis of the drawing.",
+        description="Two of the body's points defining its x axis (first -> second): the frame of the body's own "
+        "angles (a bearing's body_angle_deg in wear_profile.csv). The reported wear angles are directions at the "
+        "bearing body's mean pose (docs/wear.md, 'Angle convention') and do not depend on it. Default: the global "
+        "x axis of the drawing.",
     )
     force: Vec2 = F((0.0, 0.0), unit="N", description="Constant external force at the centre of mass.")
     torque: float = F(0.0, unit="N m", description="Constant external torque (CCW positive).")
