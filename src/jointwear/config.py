@@ -159,6 +159,12 @@ def target_display_unit(path: str) -> str | None:
     return None if unit == ANY_UNIT else unit
 
 
+def display_unit(target: str) -> str | None:
+    """The unit a random variable's numbers are shown in: its target's SI unit, except a hardness, which is
+    entered and quoted in HB ("HB" here; :func:`jointwear.units.to_display` converts)."""
+    return "HB" if target.rsplit(".", 1)[-1] == "hardness" else target_display_unit(target)
+
+
 def _suffixed_by_target(data: Any) -> list[tuple[str, dict, str | None]]:
     """(where, raw table, SI unit of the target) of every table whose numbers take their variable's target's unit:
     the random variables, and the design's property classes and material options."""

@@ -182,3 +182,30 @@ def convert_keys(data: dict[str, Any], fields: set[str] | frozenset[str],
 def fmt_mm(x: float) -> str:
     """Format a length in m as mm for messages."""
     return f"{x * 1e3:.6g} mm"
+
+
+def to_display(value: Any, unit: str | None) -> tuple[Any, str | None]:
+    """An SI value (a number, or lists and tables of them) in the units users read: mm, GPa or MPa, HB (``unit`` =
+    "HB": a hardness, entered and quoted in HB), rpm, deg; any other unit as it is."""
+    def conv(v, f):
+        if isinstance(v, dict):  # a table of named values, e.g. the points of a body
+            return {k: conv(x, f) for k, x in v.items()}
+        if isinstance(v, (list, tuple)):
+            return [conv(x, f) for x in v]
+        if isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v):
+            return v * f
+        return v
+
+    if unit == "m":
+        return conv(value, 1e3), "mm"
+    if unit == "Pa":
+        mag = max((abs(x) for x in (value if isinstance(value, (list, tuple)) else [value])
+                   if isinstance(x, (int, float))), default=0)
+        return (conv(value, 1e-9), "GPa") if mag >= 1e9 else (conv(value, 1e-6), "MPa")
+    if unit == "HB":
+        return conv(value, 1.0 / PA_PER_HB), "HB"
+    if unit == "rad/s":
+        return conv(value, 60 / (2 * math.pi)), "rpm"
+    if unit == "rad":
+        return conv(value, 180 / math.pi), "deg"
+    return value, unit

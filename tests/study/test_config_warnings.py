@@ -21,16 +21,19 @@ def test_a_clearance_mean_far_from_the_drawn_gap_is_warned_with_its_distance():
     sigmas = MEAN_SHIFT_WARNING_SIGMAS + 1.0
     shifted = updated(base, {"uncertainty.clearance.mean": spec.mean + sigmas * spec.std})
     (warning,) = config_warnings(shifted)
-    assert f"the mean of 'c' ({spec.mean + sigmas * spec.std:.6g} m) is {sigmas:,.0f} standard deviations" in warning
+    # in the units users read (mm for a length), as check lists the settings
+    assert (f"the mean of 'c' ({(spec.mean + sigmas * spec.std) * 1e3:.6g} mm) is {sigmas:,.0f} standard deviations"
+            in warning)
     inside = updated(base, {"uncertainty.clearance.mean": spec.mean + (MEAN_SHIFT_WARNING_SIGMAS - 0.5) * spec.std})
     assert config_warnings(inside) == []
 
 
 @pytest.mark.parametrize("path, value, where", [
-    # a hardness class given without its suffix: 120 Pa, not 120 HB
-    ("design.properties.0.classes.2.mean", 120.0, "design.properties[HB_b].classes[hard]: its mean (120 Pa) is"),
+    # a hardness class given without its suffix: 120 Pa, not 120 HB (shown in HB, as check lists a hardness)
+    ("design.properties.0.classes.2.mean", 120.0,
+     f"design.properties[HB_b].classes[hard]: its mean ({120.0 / 9.807e6:.6g} HB) is"),
     # a fit's clearance in mm where um was meant: 531 times the study's
-    ("design.fit.options.1.mean", 2e-3, "design.fit.options[H6/g5]: its mean (0.002 m) is 1e+03 times"),
+    ("design.fit.options.1.mean", 2e-3, "design.fit.options[H6/g5]: its mean (2 mm) is 1e+03 times"),
 ])
 def test_a_design_specification_orders_of_magnitude_off_is_warned(path, value, where):
     """A unit slip in [design] passed check and design silently; a real alternative differs by a factor of a few."""
@@ -140,3 +143,15 @@ def test_a_budget_that_cannot_confirm_the_stop_is_warned():
     assert "needs at least 16" in warning and "hold_iterations = 3" in warning
     assert not [w for w in config_warnings(updated(base, {"reliability.max_calls": 16})) if "max_calls" in w]
     assert not [w for w in config_warnings(updated(tight, {"reliability.hold_iterations": 2})) if "max_calls" in w]
+
+
+def test_a_hardness_is_told_in_hb_as_it_is_given():
+    """The warning gave a hardness entered as mean_HB in Pa ('8.8263e+09 Pa'), while check lists it in HB."""
+    base = load_config()
+    spec = next(s for s in base.uncertainty.all_specs() if s.target.endswith("bearing_material.hardness"))
+    index = [v.name for v in base.uncertainty.variables].index(spec.name)
+    shifted = updated(base, {f"uncertainty.variables[{index}].mean_HB": 900.0})
+    (warning,) = [w for w in config_warnings(shifted) if f"the mean of '{spec.name}'" in w]
+    assert f"the mean of '{spec.name}' (900 HB) is" in warning
+    drawn = base.clearance_joints[0].bearing_material.hardness
+    assert f"drawn at its target {spec.target} ({drawn / 9.807e6:.6g} HB)" in warning and " Pa" not in warning

@@ -15,7 +15,7 @@ from jointwear.study.checks import random_input_problems, random_input_warnings
 def test_a_clearance_mean_in_mm_is_a_problem_naming_the_variable_and_the_models_reason():
     cfg = updated(load_config(), {"uncertainty.clearance.mean_mm": 12.5})
     (problem,) = random_input_problems(cfg)
-    assert problem.startswith("uncertainty.clearance: at its mean, 0.0125 m, the model cannot be built")
+    assert problem.startswith("uncertainty.clearance: at its mean, 12.5 mm, the model cannot be built")
     assert "bearing_outer_radius" in problem and "mean_um" in problem
 
 
@@ -27,7 +27,8 @@ def test_a_hardness_mean_without_its_unit_is_refused_by_the_studys_check(tmp_pat
                         f"uncertainty.variables[{index}].std": 7.0})
     with pytest.raises(ConfigError) as exc:
         Study(bad, out=tmp_path / "o").check()
-    assert f"uncertainty.variables[{name}]: at its mean, 90 Pa, the model cannot be built" in str(exc.value)
+    assert (f"uncertainty.variables[{name}]: at its mean, {90.0 / 9.807e6:.6g} HB, the model cannot be built"
+            in str(exc.value))
     assert "hardness" in str(exc.value) and "mean_HB" in str(exc.value)
     assert not (tmp_path / "o").exists()
 

@@ -43,7 +43,8 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from jointwear.units import PA_PER_HB
+from jointwear.config import display_unit
+from jointwear.units import to_display
 
 __all__ = ["settings_records", "settings_dump", "write_settings", "is_paper_open", "random_variables", "origin"]
 
@@ -60,40 +61,6 @@ def is_paper_open(description: str | None, extra: Mapping | None = None) -> bool
     if extra and "paper_open" in extra:
         return bool(extra["paper_open"])
     return bool(description and _OPEN.search(description))
-
-
-def display_unit(target: str) -> str | None:
-    """The unit a random variable's numbers are shown in: its target's SI unit, except a hardness, which is
-    entered and quoted in HB ("HB" here; :func:`_display` converts)."""
-    from jointwear.config import target_display_unit
-
-    return "HB" if target.rsplit(".", 1)[-1] == "hardness" else target_display_unit(target)
-
-
-def _display(value: Any, unit: str | None) -> tuple[Any, str | None]:
-    """SI value -> report units (mm, GPa/MPa, HB for a hardness, rpm)."""
-    def conv(v, f):
-        if isinstance(v, dict):  # a table of named values, e.g. the points of a body
-            return {k: conv(x, f) for k, x in v.items()}
-        if isinstance(v, (list, tuple)):
-            return [conv(x, f) for x in v]
-        if isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v):
-            return v * f
-        return v
-
-    if unit == "m":
-        return conv(value, 1e3), "mm"
-    if unit == "Pa":
-        mag = max((abs(x) for x in (value if isinstance(value, (list, tuple)) else [value])
-                   if isinstance(x, (int, float))), default=0)
-        return (conv(value, 1e-9), "GPa") if mag >= 1e9 else (conv(value, 1e-6), "MPa")
-    if unit == "HB":
-        return conv(value, 1.0 / PA_PER_HB), "HB"
-    if unit == "rad/s":
-        return conv(value, 60 / (2 * math.pi)), "rpm"
-    if unit == "rad":
-        return conv(value, 180 / math.pi), "deg"
-    return value, unit
 
 
 def _plain(v: Any) -> Any:
@@ -150,7 +117,7 @@ def settings_records(model: Any, prefix: str = "", *, explicit: bool = True,
             unit = variable_units.get(variable)
         elif name == "hardness" and unit == "Pa":
             unit = "HB"
-        shown, shown_unit = _display(_plain(value), unit)
+        shown, shown_unit = to_display(_plain(value), unit)
         desc = info.description or ""
         set_by = derived.get(name) if explicit else None
         out.append({
@@ -274,7 +241,7 @@ def random_variables(config: Any) -> list[dict]:
         if spec.unit:
             factor, unit = spec.scale, spec.unit
         else:
-            shown, unit = _display(spec.mean, display_unit(spec.target))
+            shown, unit = to_display(spec.mean, display_unit(spec.target))
             factor = shown / spec.mean if spec.mean else 1.0  # one prefix for the mean, std and bounds
 
         def conv(v: float | None) -> float | None:

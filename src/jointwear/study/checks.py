@@ -20,6 +20,15 @@ RELIABILITY_STAGES = frozenset({"reliability", "sensitivity"})
 SCHEDULER_SCHEMES = ("tcp", "tls", "inproc", "ws", "wss", "ucx")
 
 
+
+def shown(value: float, target: str) -> str:
+    """A random variable's SI number as the user reads it, with its unit: '350 HB', '7.62 mm', '110 GPa'."""
+    from jointwear.config import display_unit
+    from jointwear.units import to_display
+
+    number, unit = to_display(value, display_unit(target))
+    return f"{number:.6g} {unit}" if unit else f"{number:.6g}"
+
 def scheduler_problem(address: str | None) -> str | None:
     """Why a Dask scheduler address cannot be used (None when it parses: scheme://host:port)."""
     if address is None:
@@ -112,7 +121,6 @@ def design_warnings(config: StudyConfig) -> list[str]:
     study's mean of their variable (a fit's mean against the clearance's): the sign of a unit slip, such as
     ``mean = 120`` meant in HB (read as 120 Pa) or ``mean_mm = 8.5`` meant in um. A real alternative material or fit
     differs by a factor of a few."""
-    from jointwear.config import target_display_unit
 
     design, unc = config.design, config.uncertainty
     if design is None or unc is None:
@@ -134,15 +142,14 @@ def design_warnings(config: StudyConfig) -> list[str]:
         if base is None or spec.mean is None or not base.mean or not spec.mean:
             continue
         ratio = abs(spec.mean / base.mean)
-        unit = target_display_unit(base.target)
-        unit = f" {unit}" if unit else ""
+        given, study_mean = shown(spec.mean, base.target), shown(base.mean, base.target)
         sigmas = abs(spec.mean - base.mean) / base.std if getattr(base, "std", None) else 0.0
         if not 1.0 / DESIGN_SCALE_WARNING <= ratio <= DESIGN_SCALE_WARNING:
-            out.append(f"{where}: its mean ({spec.mean:.6g}{unit}) is {ratio:.3g} times the study's mean of "
-                       f"'{name}' ({base.mean:.6g}{unit}): a unit slip? (a suffix gives the unit: mean_HB, mean_um)")
+            out.append(f"{where}: its mean ({given}) is {ratio:.3g} times the study's mean of "
+                       f"'{name}' ({study_mean}): a unit slip? (a suffix gives the unit: mean_HB, mean_um)")
         elif sigmas > reach:
-            out.append(f"{where}: its mean ({spec.mean:.6g}{unit}) lies {sigmas:.3g} of the study's standard "
-                       f"deviations from its mean of '{name}' ({base.mean:.6g}{unit}), beyond the {reach:.2g} its "
+            out.append(f"{where}: its mean ({given}) lies {sigmas:.3g} of the study's standard "
+                       f"deviations from its mean of '{name}' ({study_mean}), beyond the {reach:.2g} its "
                        f"population of {config.reliability.n_mc:,} reaches: the design judges it by extrapolation, and "
                        "a rejected option is never verified; widen the study's distribution of it to cover the "
                        "option, or run a study of the option (docs/design.md, 'Limits')")
@@ -154,7 +161,6 @@ def config_warnings(config: StudyConfig) -> list[str]:
     ``MEAN_SHIFT_WARNING_SIGMAS`` standard deviations from the value drawn at its target (the nominal stages
     (simulate, wear) run the drawn mechanism and the reliability stages sample around the mean, so they would
     describe two different mechanisms), and the design specifications of :func:`design_warnings`."""
-    from jointwear.config import target_display_unit
     from jointwear.uncertainty.targets import target_error, target_value
 
     unc = config.uncertainty
@@ -168,10 +174,9 @@ def config_warnings(config: StudyConfig) -> list[str]:
         drawn = target_value(data, spec.target)
         shift = (spec.mean - drawn) / spec.std
         if abs(shift) > MEAN_SHIFT_WARNING_SIGMAS:
-            unit = target_display_unit(spec.target)
-            unit = f" {unit}" if unit else ""
-            out.append(f"uncertainty: the mean of '{spec.name}' ({spec.mean:.6g}{unit}) is {abs(shift):,.0f} standard "
-                       f"deviations from the value drawn at its target {spec.target} ({drawn:.6g}{unit}): the "
+            out.append(f"uncertainty: the mean of '{spec.name}' ({shown(spec.mean, spec.target)}) is {abs(shift):,.0f} "
+                       f"standard deviations from the value drawn at its target {spec.target} "
+                       f"({shown(drawn, spec.target)}): the "
                        "simulate and wear stages run the drawn mechanism, the reliability stages one around the mean; "
                        "give both the same value unless the shift is meant")
     return (out + random_input_warnings(config) + clearance_warnings(config) + wear_mode_warnings(config)
@@ -296,14 +301,13 @@ def _unit_hint(config: StudyConfig, target: str, value: float) -> str:
     unit = target_display_unit(target)
     if not unit or not drawn or 1e-2 < abs(value / drawn) < 1e2:
         return ""
-    return (f"; the config itself has {drawn:.6g} {unit} there: give the variable's numbers in their unit with a "
+    return (f"; the config itself has {shown(drawn, target)} there: give the variable's numbers in their unit with a "
             f"suffix ({', '.join('mean_' + s for s in suffixes_of(unit))})")
 
 
 def random_input_problems(config: StudyConfig) -> list[str]:
     """The random variables at whose means the model cannot be built (every call of the study would fail), each
     with the model's own reason; checked all at their means, then each alone to name the culprits."""
-    from jointwear.config import target_display_unit
 
     unc = config.uncertainty
     if unc is None or not unc.all_specs():
@@ -317,8 +321,7 @@ def random_input_problems(config: StudyConfig) -> list[str]:
     for spec, mean in zip(specs, means):
         reason = _unbuilt(config, [spec.target], [mean])
         if reason is not None:
-            unit = target_display_unit(spec.target) or ""
-            out.append(f"{unc.field_of(spec.name)}: at its mean, {mean:.6g} {unit}".rstrip()
+            out.append(f"{unc.field_of(spec.name)}: at its mean, {shown(mean, spec.target)}"
                        + f", the model cannot be built, so every model call would fail: {reason}"
                        + _unit_hint(config, spec.target, mean))
     return out or [f"uncertainty: with every random variable at its mean ({', '.join(unc.names())}) the model "
@@ -331,7 +334,6 @@ def random_input_warnings(config: StudyConfig) -> list[str]:
     the population there is classified by the surrogate's extrapolation (docs/study.md), so R(N) may read high."""
     from scipy.stats import norm
 
-    from jointwear.config import target_display_unit
 
     unc = config.uncertainty
     if unc is None or not unc.all_specs() or random_input_problems(config):
@@ -345,9 +347,8 @@ def random_input_warnings(config: StudyConfig) -> list[str]:
             end = float(marginal.ppf(norm.cdf(sign * SIGMA_ENDS)))  # the same tail share of any distribution
             reason = _unbuilt(config, targets, means[:i] + [end] + means[i + 1:])
             if reason is not None:
-                unit = target_display_unit(spec.target) or ""
                 out.append(f"{unc.field_of(spec.name)}: at its {'+' if sign > 0 else '-'}{SIGMA_ENDS:g} sigma end, "
-                           f"{end:.6g} {unit}".rstrip() + f", the model cannot be built: {reason}; the samples beyond "
+                           f"{shown(end, spec.target)}, the model cannot be built: {reason}; the samples beyond "
                            "it fail, and the study counts them as failures only where its model calls fall (the "
                            "surrogate extrapolates over the rest, so R(N) may read high): narrow the distribution, "
                            "or bound it (truncated_normal)")
