@@ -216,6 +216,25 @@ def test_a_nominal_life_far_outside_the_curve_is_told_by_the_wear_stage(wear_per
     assert sentence == "" if words is None else words in sentence
 
 
+def test_the_wear_stage_tells_the_nominal_life():
+    """A designer had to divide the allowance by the history's slope by hand (the tutorial's recipe): the wear stage
+    now says when the nominal design reaches it. Exact on a linear history: 0.03 mm at 0.015 mm per 100k cycles is
+    200,000 cycles; with two judged joints, each its own."""
+    from jointwear.study.limit_state import nominal_life_line
+
+    cfg = config_from_dict(_six_bar({"joints": ["A"]}))  # allowance 0.03 mm
+    history = {"cycles": [50_000, 100_000], "max_wear_mm": [0.0075, 0.015]}
+    assert nominal_life_line(cfg, [{"name": "A", "history": history}]) == (
+        "the nominal design reaches its allowance (0.03 mm of bearing max depth) after about 200,000 cycles (read off "
+        "its wear history, extrapolated linearly past its end)")
+    both = config_from_dict(_six_bar({}))
+    slower = {"cycles": [50_000, 100_000], "max_wear_mm": [0.0025, 0.005]}  # 600,000 cycles
+    line = nominal_life_line(both, [{"name": "A", "history": history}, {"name": "E", "history": slower}])
+    assert "joint A's allowance (0.03 mm of bearing max depth) after about 200,000 cycles, joint E's (0.03 mm) after " \
+        "about 600,000 (read off" in line
+    assert nominal_life_line(cfg, [{"name": "A", "history": {"cycles": [0, 1], "max_wear_mm": [0.0, 0.0]}}]) == ""
+
+
 def test_life_interval_on_a_straight_curve_is_where_the_band_crosses():
     # R(N) = 1 - N / 1e6 with a band of +-0.01: the band crosses R = 0.9 at N = 90,000 and 110,000 exactly
     # (linear interpolation is exact on a straight line)

@@ -38,6 +38,7 @@ from jointwear.study.limit_state import (
     joint_allowance,
     limit_state_from_config,
     limit_state_problems,
+    nominal_life_line,
     nominal_life_outside_curve,
 )
 from jointwear.study.model_call import WearModelCall
@@ -385,6 +386,10 @@ class Study:
         self.echo(f"wear: max bearing wear {wear_line(result)} after {ran} "
                   f"(history {res.wall_seconds:.1f} s, stage {time.perf_counter() - t0:.1f} s) "
                   f"-> {self.out / result.FILE}")
+        if not nominal_life_outside_curve(self.config, result.joints):  # that warning gives the life itself
+            life = nominal_life_line(self.config, result.joints)
+            if life:
+                self.echo(f"wear: {life}")
         self._tell("wear", result)
         return result
 

@@ -259,6 +259,25 @@ def nominal_lives(joints: list[dict], allowances_mm: dict[str, float], quantity:
     return lives
 
 
+def nominal_life_line(config, joints: list[dict]) -> str:
+    """When the nominal design's wear history (``joints`` of wear.json) reaches each judged joint's allowance:
+    'the nominal design reaches its allowance (0.03 mm of bearing max depth) after about 148,749 cycles ...', one
+    clause per judged joint; empty without a limit state or where the history stops growing."""
+    if limit_state_problems(config):
+        return ""
+    ls = limit_state_from_config(config)
+    allowances = {name: a * 1e3 for name, a in zip(ls.names, ls.allowances)}
+    lives = {name: life for name, life in nominal_lives(joints, allowances, ls.quantity).items() if np.isfinite(life)}
+    if not lives:
+        return ""
+    measure = ls.quantity.replace("_", " ")
+    (first, life), *rest = lives.items()
+    whose = "its" if len(allowances) == 1 else f"joint {first}'s"
+    reached = (f"{whose} allowance ({allowances[first]:.3g} mm of {measure}) after about {life:,.0f} cycles"
+               + "".join(f", joint {name}'s ({allowances[name]:.3g} mm) after about {n:,.0f}" for name, n in rest))
+    return f"the nominal design reaches {reached} (read off its wear history, extrapolated linearly past its end)"
+
+
 def nominal_life_outside_curve(config, joints: list[dict]) -> str:
     """Where the nominal design's wear history (``joints`` of wear.json) reaches the allowance, when that lies more
     than ``CURVE_MISS_FACTOR`` times beyond the R(N) curve's last level or short of its first: the curve would then
