@@ -46,6 +46,23 @@ def test_bad_point_targets_are_named():
     assert "not a numeric field" in target_error(data, "mechanism.bodies.coupler.points.B")
 
 
+def test_a_target_typo_is_told_where_it_leaves_the_config_with_the_likely_fix():
+    """A target typo was told only "'...hardnes' is not a field of the config", where a key typo gets 'did you mean'."""
+    data = load_config("watt_six_bar_two_clearances").model_dump()
+    assert target_error(data, "clearance_joints.A.bearing_material.hardnes") == (
+        "'clearance_joints.A.bearing_material.hardnes' is not a field of the config: 'hardnes' is not in "
+        "clearance_joints.A.bearing_material (did you mean 'hardness'?)")
+    assert target_error(data, "mechanism.bodys.coupler.points.B.x").endswith(
+        ": 'bodys' is not in mechanism (did you mean 'bodies'?)")
+    named = [b["name"] for b in data["mechanism"]["bodies"]]
+    assert target_error(data, "mechanism.bodies.nobody.points.B.x").endswith(
+        f": 'nobody' is not in mechanism.bodies (it has: {', '.join(named)})")
+    assert target_error(data, "mechanism.bodies.coupler.points.B.z").endswith(
+        ": 'z' is not in mechanism.bodies.coupler.points.B (it has: x, y, 0, 1)")
+    assert target_error(data, "clearance_joints.A.width.x").endswith(
+        ": clearance_joints.A.width is a number, with no 'x' in it")
+
+
 def test_a_study_config_with_a_point_variable_validates_and_samples():
     data = load_config("watt_six_bar_two_clearances").model_dump()
     data["uncertainty"] = {"variables": [{"name": "yB", "target": "mechanism.bodies.coupler.points.B.y",

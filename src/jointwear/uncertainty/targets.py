@@ -10,6 +10,7 @@ The suffix ``.clearance`` on a clearance joint is a derived target: the bearing 
 
 from __future__ import annotations
 
+import difflib
 from typing import Any
 
 CLEARANCE_SUFFIX = ".clearance"
@@ -38,6 +39,31 @@ def _walk(data: Any, keys: list[str]) -> Any:
     return node
 
 
+def _missing_step(data: Any, keys: list[str]) -> str:
+    """Where a path leaves the config, with the keys it could take there (a typo's likely fix first):
+    ": 'hardnes' is not one of clearance_joints.A.bearing_material's keys (did you mean 'hardness'?)"."""
+    node, walked = data, []
+    for key in keys:
+        try:
+            node = node[_index(node, key)] if isinstance(node, (list, tuple)) else node[key]
+        except (KeyError, IndexError, ValueError, TypeError):
+            if isinstance(node, dict):
+                options = [str(k) for k in node]
+            elif isinstance(node, (list, tuple)) and len(node) == 2 and all(isinstance(v, (int, float)) for v in node):
+                options = [*_COORD, "0", "1"]  # a point's coordinates
+            elif isinstance(node, (list, tuple)):
+                options = [str(item["name"]) for item in node if isinstance(item, dict) and "name" in item]
+                options = options or [str(i) for i in range(len(node))]
+            else:
+                return f": {'.'.join(walked)} is a number, with no '{key}' in it"
+            where = ".".join(walked) or "the config"
+            close = difflib.get_close_matches(key, options, n=1)
+            hint = f" (did you mean '{close[0]}'?)" if close else f" (it has: {', '.join(options)})"
+            return f": '{key}' is not in {where}{hint}"
+        walked.append(key)
+    return ""
+
+
 def target_error(data: dict, path: str) -> str | None:
     """None if ``path`` names a numeric field of ``data`` (or a clearance joint + '.clearance'), else why not."""
     if path.endswith(CLEARANCE_SUFFIX):
@@ -51,7 +77,7 @@ def target_error(data: dict, path: str) -> str | None:
     try:
         value = _walk(data, path.split("."))
     except (KeyError, IndexError, ValueError, TypeError):
-        return f"'{path}' is not a field of the config"
+        return f"'{path}' is not a field of the config{_missing_step(data, path.split('.'))}"
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         return f"'{path}' is not a numeric field of the config"
     return None
