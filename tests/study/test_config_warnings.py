@@ -155,3 +155,23 @@ def test_a_hardness_is_told_in_hb_as_it_is_given():
     assert f"the mean of '{spec.name}' (900 HB) is" in warning
     drawn = base.clearance_joints[0].bearing_material.hardness
     assert f"drawn at its target {spec.target} ({drawn / 9.807e6:.6g} HB)" in warning and " Pa" not in warning
+
+
+@pytest.mark.parametrize("moved_mm, warned", [(1.0, True), (0.005, False)])
+def test_a_drawn_gap_the_assembly_closes_is_warned(tmp_path, moved_mm, warned):
+    """A point drawn 1.5 mm off its partner passed check silently (the assembly closes gaps up to closure_tolerance,
+    5 % of the median link size: 1.3 mm on this linkage of 26 mm) and changed the link; a drawing rounded to 0.01 mm
+    must not be warned (GAP_WARNING, 1e-3 of the link size: 0.026 mm here)."""
+    text = (Path(__file__).resolve().parents[2] / "examples" / "my_linkage.toml").read_text(encoding="utf-8")
+    drawn = 'points_mm = { C = [35.0, 20.0], B = [18.7805, 39.0244] }'
+    assert drawn in text
+    path = tmp_path / "moved.toml"
+    path.write_text(text.replace(drawn, f'points_mm = {{ C = [35.0, 20.0], B = [{18.7805 - moved_mm}, 39.0244] }}'),
+                    encoding="utf-8")
+    warnings = [w for w in config_warnings(load_config(path)) if w.startswith("mechanism.joints[")]
+    if warned:
+        assert warnings == ["mechanism.joints[2].connects: the drawn points rocker.B and coupler.B of revolute joint "
+                            "'B' are 1 mm apart; the assembly closes the gap, so the links it joins are up to that "
+                            "much off the drawing: draw the two points at the same place unless that is meant"]
+    else:
+        assert warnings == []

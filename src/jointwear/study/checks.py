@@ -160,12 +160,13 @@ def config_warnings(config: StudyConfig) -> list[str]:
     """What is legal but probably not meant: a random variable whose mean lies more than
     ``MEAN_SHIFT_WARNING_SIGMAS`` standard deviations from the value drawn at its target (the nominal stages
     (simulate, wear) run the drawn mechanism and the reliability stages sample around the mean, so they would
-    describe two different mechanisms), and the design specifications of :func:`design_warnings`."""
+    describe two different mechanisms), a drawn gap the assembly closes (:func:`drawing_warnings`), and the design
+    specifications of :func:`design_warnings`."""
     from jointwear.uncertainty.targets import target_error, target_value
 
     unc = config.uncertainty
     if unc is None:
-        return []
+        return drawing_warnings(config)
     data = config.model_dump()
     out = []
     for spec in unc.all_specs():
@@ -179,8 +180,25 @@ def config_warnings(config: StudyConfig) -> list[str]:
                        f"({shown(drawn, spec.target)}): the "
                        "simulate and wear stages run the drawn mechanism, the reliability stages one around the mean; "
                        "give both the same value unless the shift is meant")
-    return (out + random_input_warnings(config) + clearance_warnings(config) + wear_mode_warnings(config)
+    return (drawing_warnings(config) + out + random_input_warnings(config) + clearance_warnings(config)
+            + wear_mode_warnings(config)
             + design_warnings(config) + allowance_warnings(config) + budget_warnings(config))
+
+
+def drawing_warnings(config: StudyConfig) -> list[str]:
+    """The revolute joints of a general linkage whose two drawn points lie apart by more than ``GAP_WARNING`` of the
+    median link size but within ``closure_tolerance`` of it: the assembly closes such a gap without a word, so the
+    links it joins are not as drawn (a misplaced point, most likely)."""
+    from jointwear.mechanism.assembly import GAP_WARNING, drawn_link_size, joint_gaps
+
+    m = config.mechanism
+    if m.type != "general":
+        return []
+    size = drawn_link_size([b.points.values() for b in m.bodies])
+    return [f"mechanism.joints[{i}].connects: the drawn points {joint.connects[0]} and {joint.connects[1]} of revolute "
+            f"joint '{joint.name}' are {gap * 1e3:.4g} mm apart; the assembly closes the gap, so the links it joins "
+            "are up to that much off the drawing: draw the two points at the same place unless that is meant"
+            for i, joint, gap in joint_gaps(m) if GAP_WARNING * size < gap <= m.closure_tolerance * size]
 
 
 def budget_warnings(config: StudyConfig) -> list[str]:
