@@ -38,5 +38,7 @@ def test_a_soft_bushing_is_warned_and_a_bronze_one_is_not(tmp_path, modulus, war
     assert joint["contact_half_angle_deg"] == pytest.approx(math.degrees(expected), rel=1e-12)
     assert (joint["contact_half_angle_deg"] > math.degrees(HERTZ_HALF_ANGLE_LIMIT)) is warned
     assert any("Where the contact law holds" in m for m in messages) is warned
+    # and names what sets the width, where a unit slip would be (a modulus in MPa for GPa, a width in um for mm)
+    assert any("check clearance_joints.B.width and its materials' youngs_modulus" in m for m in messages) is warned
     page = study.report().read_text(encoding="utf-8")
     assert ("Outside the contact law" in page) is warned

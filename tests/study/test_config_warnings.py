@@ -1,6 +1,7 @@
 """Legal but probably unmeant: a random variable whose mean is far from the value drawn at its target."""
 
 import copy
+import math
 import sys
 from pathlib import Path
 
@@ -175,3 +176,21 @@ def test_a_drawn_gap_the_assembly_closes_is_warned(tmp_path, moved_mm, warned):
                             "much off the drawing: draw the two points at the same place unless that is meant"]
     else:
         assert warnings == []
+
+
+def test_a_mass_in_kg_where_g_was_meant_is_warned(tmp_path):
+    """'mass = 4.71' (kg) for the coupler's 4.71 g passed every check: the simulation ran 15x slower with a radius of
+    gyration of 0.37 mm on a 40 mm link. sqrt(I / m) = sqrt(628 g mm^2 / 4710 g) = 0.365 mm, 0.0091 of its size
+    (39.96 mm), below the 0.02 a link's material allows; as drawn it is 0.29, a uniform bar's."""
+    text = (Path(__file__).resolve().parents[2] / "examples" / "my_linkage.toml").read_text(encoding="utf-8")
+    assert "mass_g = 4.71\n" in text
+    path = tmp_path / "kg.toml"
+    path.write_text(text.replace("mass_g = 4.71\n", "mass = 4.71\n"), encoding="utf-8")
+    (warning,) = [w for w in config_warnings(load_config(path)) if w.startswith("mechanism.bodies[")]
+    size = math.hypot(18.7805 - 10.0, 39.0244)
+    assert warning == (f"mechanism.bodies[coupler]: its mass (4710 g) and inertia (628 g mm^2) give a radius of "
+                       f"gyration of {math.sqrt(628 / 4710):.3g} mm, {math.sqrt(628 / 4710) / size:.2g} times its "
+                       f"size ({size:.3g} mm; a uniform bar has 0.29): a unit slip? (a suffix gives the unit: mass_g, "
+                       "inertia_g_mm2)")
+    drawn = load_config(Path(__file__).resolve().parents[2] / "examples" / "my_linkage.toml")
+    assert not [w for w in config_warnings(drawn) if w.startswith("mechanism.bodies[")]

@@ -8,6 +8,7 @@ check that needs the model: the nominal mechanism runs.
 
 from __future__ import annotations
 
+import math
 import os
 from pathlib import Path
 from urllib.parse import urlsplit
@@ -166,7 +167,7 @@ def config_warnings(config: StudyConfig) -> list[str]:
 
     unc = config.uncertainty
     if unc is None:
-        return drawing_warnings(config)
+        return drawing_warnings(config) + inertia_warnings(config)
     data = config.model_dump()
     out = []
     for spec in unc.all_specs():
@@ -180,8 +181,8 @@ def config_warnings(config: StudyConfig) -> list[str]:
                        f"({shown(drawn, spec.target)}): the "
                        "simulate and wear stages run the drawn mechanism, the reliability stages one around the mean; "
                        "give both the same value unless the shift is meant")
-    return (drawing_warnings(config) + out + random_input_warnings(config) + clearance_warnings(config)
-            + wear_mode_warnings(config)
+    return (drawing_warnings(config) + inertia_warnings(config) + out + random_input_warnings(config)
+            + clearance_warnings(config) + wear_mode_warnings(config)
             + design_warnings(config) + allowance_warnings(config) + budget_warnings(config))
 
 
@@ -199,6 +200,37 @@ def drawing_warnings(config: StudyConfig) -> list[str]:
             f"joint '{joint.name}' are {gap * 1e3:.4g} mm apart; the assembly closes the gap, so the links it joins "
             "are up to that much off the drawing: draw the two points at the same place unless that is meant"
             for i, joint, gap in joint_gaps(m) if GAP_WARNING * size < gap <= m.closure_tolerance * size]
+
+
+#: Radii of gyration sqrt(I / m) outside these fractions of a link's drawn size are warned as a likely unit slip: a
+#: uniform bar has 0.29, a link's material cannot all lie within 2 % of its size of the centre of mass, and a
+#: flywheel on a crank reaches a few times the crank's length, not ten.
+GYRATION_RANGE = (0.02, 10.0)
+
+
+def inertia_warnings(config: StudyConfig) -> list[str]:
+    """The moving links whose mass and moment of inertia give a radius of gyration outside ``GYRATION_RANGE`` of
+    their drawn size (a general body: the largest distance between two of its points; a four-bar's or
+    slider-crank's link: its length): a mass given in kg where g was meant passed every check."""
+    m = config.mechanism
+    if m.type == "general":
+        links = [(f"mechanism.bodies[{b.name}]", b.mass, b.inertia,
+                  max((math.dist(p, q) for p in b.points.values() for q in b.points.values()), default=0.0))
+                 for b in m.bodies]
+    else:
+        links = [(f"mechanism.{name}", link.mass, link.inertia, link.length)
+                 for name in ("crank", "rod", "rocker") if (link := getattr(m, name, None)) is not None]
+    out = []
+    low, high = GYRATION_RANGE
+    for where, mass, inertia, size in links:
+        if size <= 0.0:
+            continue
+        k = math.sqrt(inertia / mass)
+        if not low * size <= k <= high * size:
+            out.append(f"{where}: its mass ({mass * 1e3:.4g} g) and inertia ({inertia * 1e9:.4g} g mm^2) give a radius "
+                       f"of gyration of {k * 1e3:.3g} mm, {k / size:.2g} times its size ({size * 1e3:.3g} mm; a "
+                       "uniform bar has 0.29): a unit slip? (a suffix gives the unit: mass_g, inertia_g_mm2)")
+    return out
 
 
 def budget_warnings(config: StudyConfig) -> list[str]:

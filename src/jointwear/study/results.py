@@ -80,7 +80,10 @@ class SimulationSummary(StageResult):
                 f"normal force ({j['normal_force_max_N']:.3g} N; Hertz half-width on the unworn radii), more than the "
                 f"{limit:.3g} deg to which the Hertz contact law holds: its forces, penetrations (up to "
                 f"{j['max_penetration_m'] * 1e6:.3g} um against a clearance of {j['clearance_m'] * 1e6:.3g} um) and "
-                "the wear laid on that width are indicative only (docs/dynamics.md, 'Where the contact law holds')"
+                "the wear laid on that width are indicative only (docs/dynamics.md, 'Where the contact law holds'). "
+                "The width grows as sqrt(load / (width x Young's modulus)): check clearance_joints."
+                f"{j['name']}.width and its materials' youngs_modulus for a unit slip (width_um for width_mm, "
+                "youngs_modulus_MPa for _GPa)"
                 for j in self.joints if (j.get("contact_half_angle_deg") or 0.0) > limit]
 
     def whirls(self) -> list[str]:
