@@ -42,6 +42,9 @@ def test_wear_summary_save_and_load(tmp_path):
     h = d["joints"][0]["history"]
     growth = (h["max_wear_mm"][-1] - h["max_wear_mm"][-2]) / (h["cycles"][-1] - h["cycles"][-2])
     assert d["joints"][0]["max_depth_growth_mm_per_cycle"] == pytest.approx(growth, rel=1e-12)
+    # the bearing body's mean orientation (the rod's on the flapping wing), under a name that fits any body
+    psi = math.degrees(r.joints[0].mean_orientation)
+    assert d["joints"][0]["bearing_mean_orientation_deg"] == d["joints"][0]["rod_mean_orientation_deg"] == psi
     assert {"jointwear", "numpy", "scipy", "numba", "openturns", "machine"} <= set(d["provenance"])
     # the code that wrote it, as the evaluation store records it: the git commit too when run from a checkout
     from jointwear.compute.store import code_version

@@ -283,7 +283,8 @@ class WearSummary(StageResult):
                 "bearing_radius_mm": jw.bearing_radius * 1e3,
                 "bearing_wall_mm": None if wall is None else wall * 1e3,
                 "allowance_mm": None if a is None else a * 1e3,
-                "rod_mean_orientation_deg": math.degrees(jw.mean_orientation),
+                "bearing_mean_orientation_deg": math.degrees(jw.mean_orientation),
+                "rod_mean_orientation_deg": math.degrees(jw.mean_orientation),  # its name in earlier files
                 "archard_volume_mm3": {"bearing": jw.volume_bearing * 1e9, "journal": jw.volume_journal * 1e9},
                 "conservation_rel_error": {"bearing": eb, "journal": ej},
                 # the peak of one block's wear-rate profile (the touching point's rate, which in profile mode moves
