@@ -256,6 +256,26 @@ def test_wear_card_shows_the_conformity_in_either_mode(tmp_path, nominal):
     assert card in page and "Uniform mode is outside its range" not in page
 
 
+def test_wear_card_shows_the_nominal_life(tmp_path, nominal):
+    """When the nominal history reaches the allowance, read off it as the wear stage prints it (limit_state.
+    nominal_lives: exact for the history's own points, linear between them and past its end)."""
+    from jointwear.study.limit_state import nominal_lives
+
+    d = make_fixture_dir(tmp_path / "n", nominal, which=("wear",))
+    wear = WearSummary.load(d)
+    joint = wear.joints[0]
+    life = nominal_lives([joint], {joint["name"]: joint["allowance_mm"]}, "bearing_max_depth")[joint["name"]]
+    page = build_report(d).read_text(encoding="utf-8")
+    card = f'<div class="card-label">nominal life</div><div class="card-value">{format_number(life)} cycles</div>'
+    assert card in page
+    # a history that reaches the allowance inside it: no extrapolation
+    h = joint["history"]
+    joint["allowance_mm"] = 0.5 * h["max_wear_mm"][-1]
+    wear.write(d)
+    page = build_report(d).read_text(encoding="utf-8")
+    assert "; read off the history</div>" in page and "; extrapolated linearly past the history" not in page
+
+
 def test_report_has_a_design_section_when_the_folder_has_a_design(tmp_path, nominal):
     import json
 

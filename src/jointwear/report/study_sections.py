@@ -7,6 +7,7 @@ import math
 import numpy as np
 
 from jointwear.study.convergence import Z95
+from jointwear.study.limit_state import nominal_lives
 from jointwear.wear.angles import angle_text
 
 from . import figures as F
@@ -269,6 +270,9 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
          "of the history; the stage also builds the model and draws its figures"),
         ("geometry mode", wear.geometry_mode, None),
     ]
+    life = nominal_life_card(wear, out.config, first)
+    if life is not None:
+        items.append(life)
     if wear.journal.get("max_wear_mm") is not None:
         items.append(("journal max wear", f"{wear.journal['max_wear_mm']:.4g} mm", "over the pin's circumference"))
     if wear.conformity is not None and math.isfinite(wear.conformity):
@@ -331,6 +335,22 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
                                                             format_number(p["depth_mm"])) for p in wear.peaks],
                            cls="kv"))
     return "".join(parts)
+
+
+def nominal_life_card(wear, config: dict, first: str):
+    """The card of the cycles at which the nominal history reaches the first joint's allowance, in the limit state's
+    measure (``config``: config.json's records; None without an allowance, or where the history stops growing)."""
+    joint = wear.joints[0] if wear.joints else {}
+    allowance = joint.get("allowance_mm")
+    if allowance is None:
+        return None
+    quantity = next((r.get("value") for r in config.get("settings") or [] if r.get("name") == "reliability.quantity"),
+                    "bearing_max_depth")
+    life = nominal_lives([joint], {str(joint.get("name")): allowance}, str(quantity)).get(str(joint.get("name")))
+    if life is None or not math.isfinite(life):
+        return None
+    how = "extrapolated linearly past the history's end" if life > wear.cycles else "read off the history"
+    return ("nominal life" + first, f"{format_number(life)} cycles", f"to the allowance of {allowance:.3g} mm; {how}")
 
 
 def convergence_section(out: StudyOutputs) -> str:
