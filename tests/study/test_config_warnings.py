@@ -194,3 +194,20 @@ def test_a_mass_in_kg_where_g_was_meant_is_warned(tmp_path):
                        "inertia_g_mm2)")
     drawn = load_config(Path(__file__).resolve().parents[2] / "examples" / "my_linkage.toml")
     assert not [w for w in config_warnings(drawn) if w.startswith("mechanism.bodies[")]
+
+
+def test_a_fit_given_by_its_letters_far_from_the_study_is_warned(tmp_path):
+    """docs/design.md promises a warning for a fit whose mean lies beyond the population's reach; a fit given by its
+    letters (its mean set by the ISO limits) was skipped, and the design chose H7/g6 on an extrapolation. H7/g6 at
+    the example's 4 mm pin gives 7 um (ISO 286-2: hole 0/+12, shaft -4/-12 um, radial (4 + 24) / 4), 10.8 of the
+    study's standard deviations below its 20 um."""
+    example = Path(__file__).resolve().parents[2] / "examples" / "my_linkage.toml"
+    path = tmp_path / "design.toml"
+    path.write_text(f'extends = "{example.as_posix()}"\n[[design.targets]]\nreliability = 0.9\nlife_factor = 1.1\n'
+                    '[[design.fit.options]]\nname = "IT7/IT6"\nhole_grade = "IT7"\nshaft_grade = "IT6"\ncost = 0.0\n'
+                    '[[design.fit.options]]\nfit = "H7/g6"\ncost = 0.3\n', encoding="utf-8")
+    cfg = load_config(path)
+    (warning,) = [w for w in config_warnings(cfg) if w.startswith("design.fit.options[H7/g6]")]
+    sigmas = (cfg.uncertainty.clearance.mean - 7e-6) / cfg.uncertainty.clearance.std
+    assert warning.startswith(f"design.fit.options[H7/g6]: its mean (0.007 mm) lies {sigmas:.3g} of the study's "
+                              "standard deviations from its mean of 'c' (0.02 mm)")

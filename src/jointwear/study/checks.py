@@ -117,6 +117,17 @@ def population_reach(n_mc: int) -> float:
     return float(norm.isf(0.5 / max(int(n_mc), 1)))
 
 
+def _fit_mean(option, clearance) -> float | None:
+    """The mean clearance a design's fit option gives the study's clearance: its letters' (the middle of the ISO
+    limits at the clearance's size), its own, or None (the study's mean kept; or letters the checks refuse)."""
+    if option.fit is None:
+        return option.mean
+    try:
+        return option.applied_to(clearance).mean
+    except ValueError:  # pydantic's ValidationError too: design.checks names the problem
+        return None
+
+
 def design_warnings(config: StudyConfig) -> list[str]:
     """Design specifications whose mean is more than ``DESIGN_SCALE_WARNING`` times larger or smaller than the
     study's mean of their variable (a fit's mean against the clearance's): the sign of a unit slip, such as
@@ -127,29 +138,29 @@ def design_warnings(config: StudyConfig) -> list[str]:
     if design is None or unc is None:
         return []
     specs = {spec.name: spec for spec in unc.all_specs()}
-    given = [(f"design.properties[{p.variable}].classes[{c.name}]", p.variable, c)
+    given = [(f"design.properties[{p.variable}].classes[{c.name}]", p.variable, c.mean)
              for p in design.properties for c in p.classes]
-    given += [(f"design.materials[{m.name}].options[{o.name}].variables.{name}", name, spec)
+    given += [(f"design.materials[{m.name}].options[{o.name}].variables.{name}", name, spec.mean)
               for m in design.materials for o in m.options for name, spec in o.variables.items()]
     for fit in design.fits():
         fitted = fit.clearance(unc)
         if fitted is not None:
             where = "design.fit" if fit is design.fit else f"design.fit[{fitted.name}]"
-            given += [(f"{where}.options[{o.name}]", fitted.name, o) for o in fit.options]
+            given += [(f"{where}.options[{o.name}]", fitted.name, _fit_mean(o, fitted)) for o in fit.options]
     out = []
     reach = population_reach(config.reliability.n_mc)
-    for where, name, spec in given:
+    for where, name, mean in given:
         base = specs.get(name)
-        if base is None or spec.mean is None or not base.mean or not spec.mean:
+        if base is None or mean is None or not base.mean or not mean:
             continue
-        ratio = abs(spec.mean / base.mean)
-        given, study_mean = shown(spec.mean, base.target), shown(base.mean, base.target)
-        sigmas = abs(spec.mean - base.mean) / base.std if getattr(base, "std", None) else 0.0
+        ratio = abs(mean / base.mean)
+        mean_text, study_mean = shown(mean, base.target), shown(base.mean, base.target)
+        sigmas = abs(mean - base.mean) / base.std if getattr(base, "std", None) else 0.0
         if not 1.0 / DESIGN_SCALE_WARNING <= ratio <= DESIGN_SCALE_WARNING:
-            out.append(f"{where}: its mean ({given}) is {ratio:.3g} times the study's mean of "
+            out.append(f"{where}: its mean ({mean_text}) is {ratio:.3g} times the study's mean of "
                        f"'{name}' ({study_mean}): a unit slip? (a suffix gives the unit: mean_HB, mean_um)")
         elif sigmas > reach:
-            out.append(f"{where}: its mean ({given}) lies {sigmas:.3g} of the study's standard "
+            out.append(f"{where}: its mean ({mean_text}) lies {sigmas:.3g} of the study's standard "
                        f"deviations from its mean of '{name}' ({study_mean}), beyond the {reach:.2g} its "
                        f"population of {config.reliability.n_mc:,} reaches: the design judges it by extrapolation, and "
                        "a rejected option is never verified; widen the study's distribution of it to cover the "
