@@ -190,6 +190,9 @@ def test_report_shows_the_validation_from_its_typed_result(tmp_path, nominal):
     assert 'id="validation"' in page and "1 of 2" in page and "0.970" in page
     assert "\u00b10.02" in page  # the widest half-width of the direct estimate, 0.82 - 0.8: what the check can see
     assert page.count("data:image/png;base64") >= 2
+    # the summary's caveats name the level that disagrees (the summary spoke only of the learning)
+    assert ("<strong>The true model disagrees with the curve</strong></a>: at 1 of 2 levels, not at 400,000 cycles: "
+            "true model 0.800 [0.780, 0.820], surrogate 0.812 (its error estimate 0.010)") in page
 
 
 def test_the_report_warns_about_a_poor_fit(tmp_path, nominal):

@@ -86,18 +86,14 @@ def test_life_check_reads_both_curves_and_says_when_their_intervals_miss():
 
 def test_the_validate_line_names_the_levels_that_disagree():
     """'agreement at 10 of 11 levels' did not say which level missed, nor by how much."""
-    from types import SimpleNamespace
-
-    from jointwear.study.facade import disagreement_text
-
-    res = SimpleNamespace(agreement=np.array([True, False, True, False]), cycles=np.array([1e4, 2e4, 3e4, 4e4]),
-                          reliability_mc=np.array([1.0, 0.683, 0.5, 0.2]), ci_low=np.array([0.9, 0.55, 0.4, 0.1]),
-                          ci_high=np.array([1.0, 0.797, 0.6, 0.3]), reliability_surrogate=np.array([1.0, 0.4985,
-                                                                                                     0.5, 0.45]),
-                          surrogate_error=np.array([0.0, 0.031, 0.01, np.nan]))
-    assert disagreement_text(res) == (" (not at 20,000 cycles: true model 0.683 [0.550, 0.797], surrogate 0.498 (its "
-                                      "error estimate 0.031), 40,000 cycles: true model 0.200 [0.100, 0.300], "
-                                      "surrogate 0.450)")
-    assert disagreement_text(res, shown=1).endswith("(its error estimate 0.031) and 1 more)")
+    res = ValidationResult(cycles=np.array([10_000, 20_000, 30_000, 40_000]),
+                           reliability_mc=np.array([1.0, 0.683, 0.5, 0.2]), ci_low=np.array([0.9, 0.55, 0.4, 0.1]),
+                           ci_high=np.array([1.0, 0.797, 0.6, 0.3]),
+                           reliability_surrogate=np.array([1.0, 0.4985, 0.5, 0.45]),
+                           surrogate_error=np.array([0.0, 0.031, 0.01, np.nan]), n_samples=60, model_calls=60,
+                           wall_seconds=1.0, agreement=np.array([True, False, True, False]))
+    assert res.disagreement() == ("not at 20,000 cycles: true model 0.683 [0.550, 0.797], surrogate 0.498 (its error "
+                                  "estimate 0.031), 40,000 cycles: true model 0.200 [0.100, 0.300], surrogate 0.450")
+    assert res.disagreement(shown=1).endswith("(its error estimate 0.031) and 1 more")
     res.agreement[:] = True
-    assert disagreement_text(res) == ""
+    assert res.disagreement() == ""

@@ -11,7 +11,6 @@ from __future__ import annotations
 import contextlib
 import functools
 import logging
-import math
 import numbers
 import os
 import re
@@ -587,7 +586,7 @@ class Study:
                     f"{'-' if row['surrogate_cycles'] is None else format(row['surrogate_cycles'], ',.0f')}"
                     f"{'' if row['agree'] else ' (the intervals do not overlap)'}")
         joints = "".join(f", joint {j['name']} at {j['levels_agree']}" for j in result.joints if "levels_agree" in j)
-        where = disagreement_text(result)
+        where = f" ({result.disagreement()})" if result.disagreement() else ""
         self.echo(f"validate: {result.n_samples:,} true-model samples{_reused(result.model_calls, result.n_samples)}, "
                   f"agreement at {agree} of {len(result.agreement)} levels{where}{joints}{life}, cross-validation Q2 = "
                   f"{result.cross_validation.get('q2', float('nan')):.3f} -> {self.out / result.FILE}")
@@ -949,25 +948,6 @@ def variance_line(sens: SensitivityResult, floor: float = 0.01) -> str:
     ranked = sens.variance_ranking(floor)
     text = " > ".join(f"{name} {st:.2g}" for name, st in ranked)
     return f"{text} (the others < {floor:g})" if text and len(ranked) < len(sens.sobol.get("names") or []) else text
-
-
-def disagreement_text(result: ValidationResult, shown: int = 3) -> str:
-    """' (not at 40,000 cycles: true model 0.683 [0.550, 0.797], surrogate 0.499 (its error estimate 0.031))': the
-    levels where the validation's interval and the curve's do not overlap (the first ``shown`` of them); '' where
-    all agree."""
-    missed = [k for k, ok in enumerate(result.agreement) if not ok]
-    if not missed:
-        return ""
-
-    def error(k):
-        e = float(result.surrogate_error[k])
-        return f" (its error estimate {e:.3f})" if math.isfinite(e) else ""
-
-    levels = ", ".join(f"{result.cycles[k]:,.0f} cycles: true model {result.reliability_mc[k]:.3f} "
-                       f"[{result.ci_low[k]:.3f}, {result.ci_high[k]:.3f}], surrogate "
-                       f"{result.reliability_surrogate[k]:.3f}{error(k)}" for k in missed[:shown])
-    more = f" and {len(missed) - shown} more" if len(missed) > shown else ""
-    return f" (not at {levels}{more})"
 
 
 def ranking_line(sens: SensitivityResult) -> str:

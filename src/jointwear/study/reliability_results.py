@@ -619,6 +619,24 @@ class ValidationResult(StageResult):
             setattr(self, name, np.array(getattr(self, name), dtype=float))
         self.agreement = np.array(self.agreement, dtype=bool)
 
+    def disagreement(self, shown: int = 3) -> str:
+        """'not at 40,000 cycles: true model 0.683 [0.550, 0.797], surrogate 0.499 (its error estimate 0.031)': the
+        levels where the true model's interval and the curve's do not overlap (the first ``shown`` of them); ''
+        where all agree."""
+        missed = [k for k, ok in enumerate(self.agreement) if not ok]
+        if not missed:
+            return ""
+
+        def error(k):
+            e = float(self.surrogate_error[k])
+            return f" (its error estimate {e:.3f})" if math.isfinite(e) else ""
+
+        levels = ", ".join(f"{self.cycles[k]:,.0f} cycles: true model {self.reliability_mc[k]:.3f} "
+                           f"[{self.ci_low[k]:.3f}, {self.ci_high[k]:.3f}], surrogate "
+                           f"{self.reliability_surrogate[k]:.3f}{error(k)}" for k in missed[:shown])
+        more = f" and {len(missed) - shown} more" if len(missed) > shown else ""
+        return f"not at {levels}{more}"
+
     @property
     def all_agree(self) -> bool:
         return bool(np.all(self.agreement))
