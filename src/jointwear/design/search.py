@@ -171,6 +171,17 @@ class CandidateSpace:
         return cand.infeasible_probability(self.controls, self.ctx.config.uncertainty)
 
 
+def surviving(sur: LifeSurrogate, u: np.ndarray, mu: np.ndarray, log_target: float) -> float:
+    """How many of the population points ``u`` (surrogate means ``mu`` of ln N_f) outlive the target: a count, or
+    with the life's call-to-call scatter the expected count, a sum of probabilities (each judged joint its own)."""
+    scatter = sur.scatter_sd
+    if scatter == 0:
+        return int(np.count_nonzero(mu > log_target))
+    if sur.per_joint:
+        return float(mu.size - sur.model.failure_probability(u, [log_target]).sum())
+    return float(mu.size - failure_probability(mu - log_target, scatter).sum())
+
+
 def estimate(space: CandidateSpace, sur: LifeSurrogate, cand: Candidate, log_target: float,
              reliability_target: float) -> Estimate:
     """R(N*) with its error bound, and the life at R*, of one candidate on the surrogate."""
@@ -180,13 +191,7 @@ def estimate(space: CandidateSpace, sur: LifeSurrogate, cand: Candidate, log_tar
     n = mu.size
     g = mu - log_target
     scatter = sur.scatter_sd
-    # surviving samples; with the life's scatter, their expected number (a mean of probabilities)
-    if scatter == 0:
-        k = int(np.count_nonzero(g > 0))
-    elif sur.per_joint:  # each joint with its own scatter
-        k = float(n - sur.model.failure_probability(u, [log_target]).sum())
-    else:
-        k = float(n - failure_probability(g, scatter).sum())
+    k = surviving(sur, u, mu, log_target)
     r_feasible = k / n
     # 'fail' rule: an infeasible clearance is a failure at every N (the learning runs on the feasible part)
     reliability = (1.0 - p_inf) * r_feasible
@@ -391,8 +396,9 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
                         "verdict": "not_verified", "rounds": [], "note": reason}
     others = [i for i, k in left if k == 0 and i != head["chosen_index"]]
     # today's design (the study's own distributions) on the final surrogate, for comparison with the choice
+    # read as every candidate is (with the life's scatter), so that the two compare
     mu_today, _ = sur.predict(space.base_u)
-    today = (1.0 - space.p_inf_default) * float(np.mean(mu_today > targets[0]["log_life"]))
+    today = (1.0 - space.p_inf_default) * surviving(sur, space.base_u, mu_today, targets[0]["log_life"]) / mu_today.size
     # the inputs the design rests on; the session's other stages (sensitivity, validation) evaluated more
     total_calls = study_points + refine_calls + verification_calls
     return DesignResult(
