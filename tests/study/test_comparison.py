@@ -210,3 +210,15 @@ def test_a_comparison_shows_its_table_in_a_shell_and_a_notebook(three):
     cells.feed(comp._repr_html_())
     assert list(StudyComparison.COLUMNS) in cells.rows and all(list(row) in cells.rows for row in comp.rows())
     assert ["wear.geometry_mode", "uniform", "profile"] in cells.rows
+
+
+def test_an_unconverged_study_says_so_in_the_table(three):
+    """The frame had `converged` but comparison.md and its page did not: a study whose learning stopped on its
+    budget looked as settled as the others."""
+    rel = json.loads((three[1] / "reliability.json").read_text())
+    rel["converged"] = False
+    (three[1] / "reliability.json").write_text(json.dumps(rel))
+    comp = compare_studies(three[:2])
+    calls = StudyComparison.COLUMNS.index("model calls")
+    assert [row[calls] for row in comp.rows()] == ["40", "40 (not converged)"]
+    assert "| 40 (not converged) |" in comp.markdown()

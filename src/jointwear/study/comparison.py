@@ -107,8 +107,9 @@ class StudyComparison(StageResult):
                 mode += " (outside its range)"
             validated = ("\u2014" if s["validation_levels"] is None
                          else f"{s['validation_levels_agreeing']} of {s['validation_levels']} levels agree")
+            calls = str(s["model_calls"]) + ("" if s.get("converged", True) else " (not converged)")
             out.append((s["label"], life, interval_cells(s["life_cycles_low"], s["life_cycles_high"]), ratio,
-                        s["verdict"], wear, str(s["model_calls"]), mode, validated))
+                        s["verdict"], wear, calls, mode, validated))
         return out
 
     def setting_rows(self) -> list[tuple[str, ...]]:
