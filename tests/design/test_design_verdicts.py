@@ -155,3 +155,22 @@ def test_todays_design_and_the_candidates_count_survivors_alike():
     assert surviving(_Surrogate(0.0), u, mu, 10.0) == n  # without scatter: a count
     est = estimate(_Space(n), sur, None, log_target=10.0, reliability_target=0.6)
     assert est.reliability == pytest.approx(surviving(sur, u, mu, 10.0) / n, rel=1e-15)
+
+
+def test_an_extrapolated_life_puts_no_candidate_off_the_pareto_front():
+    """A front of fits whose lives were extrapolations (69 % of their population outside the study's inputs, R
+    +/- 0.70) hid the one well-estimated alternative, which they 'dominated'. Such a life may still dominate
+    another extrapolated one, and a well-estimated life dominates anything."""
+    from jointwear.design.search import pareto_front
+
+    def row(name, cost, life, outside):
+        return {"choices": {"fit": name}, "cost": cost, "life_at_target_cycles": life,
+                "outside_design_fraction": outside}
+
+    far = [row("H7/g6 a", 0.3, 500_000.0, 0.69), row("H7/g6 b", 1.3, 510_000.0, 0.69)]
+    near = [row("IT7/IT6", 0.0, 400_000.0, 0.0), row("hardened", 2.0, 450_000.0, 0.0),
+            row("dominated", 2.5, 420_000.0, 0.0), row("far, dominated", 3.0, 505_000.0, 0.69)]
+    front = [r["choices"]["fit"] for r in pareto_front(far + near)]
+    assert front == ["IT7/IT6", "H7/g6 a", "H7/g6 b", "hardened"]
+    # without extrapolation, the front is the usual one
+    assert [r["choices"]["fit"] for r in pareto_front(near[:3])] == ["IT7/IT6", "hardened"]

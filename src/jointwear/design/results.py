@@ -8,6 +8,9 @@ from typing import Any, ClassVar
 
 from jointwear.study.stage_result import StageResult
 
+#: share of a candidate's population outside the study's inputs beyond which its estimate is called extrapolated
+EXTRAPOLATED_SHARE = 0.05
+
 
 def verification_verdict(reliability: float, error: float, target: float) -> str:
     """'meets' when R(N*) - error >= R*, 'within_error' when only R(N*) + error >= R*, else 'misses'."""

@@ -29,7 +29,7 @@ import numpy as np
 from scipy import stats
 
 from jointwear.design.candidates import Candidate, Control, build_controls, enumerate_candidates
-from jointwear.design.results import DesignResult, verification_verdict
+from jointwear.design.results import EXTRAPOLATED_SHARE, DesignResult, verification_verdict
 from jointwear.design.settings import DesignSettings
 from jointwear.reliability import (
     IsoTransform,
@@ -222,14 +222,19 @@ def _refine_point(space: CandidateSpace, sur: LifeSurrogate, cand: Candidate, lo
     return x[int(np.argmin(score))]
 
 
-def _pareto(rows: list[dict]) -> list[dict]:
-    """Candidates that no cheaper (or equally cheap) candidate matches in life at R*, cheapest first."""
-    front, best = [], -math.inf
+def pareto_front(rows: list[dict]) -> list[dict]:
+    """Candidates that no cheaper (or equally cheap) candidate matches in life at R*, cheapest first. A life read by
+    extrapolation (more than ``EXTRAPOLATED_SHARE`` of the candidate's population outside the study's inputs) puts
+    no candidate off the front: a well-estimated alternative stays on it beside the extrapolated one."""
+    front, best, best_trusted = [], -math.inf, -math.inf
     for row in sorted(rows, key=lambda r: (r["cost"], -(r["life_at_target_cycles"] or 0.0))):
         life = row["life_at_target_cycles"] or 0.0
-        if life > best:
+        trusted = (row.get("outside_design_fraction") or 0.0) <= EXTRAPOLATED_SHARE
+        if life > (best_trusted if trusted else best):
             front.append(row)
-            best = life
+        best = max(best, life)
+        if trusted:
+            best_trusted = max(best_trusted, life)
     return front
 
 
@@ -371,7 +376,7 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
             chosen["distributions"] = candidates[chosen_i].distributions(controls)
         per_target.append({"target_life_cycles": t["life_cycles"], "target_reliability": t["reliability"],
                            "life_factor": t["life_factor"], "baseline_life_cycles": t["baseline_life_cycles"],
-                           "chosen": chosen, "chosen_index": chosen_i, "pareto": _pareto(rows), "rows": rows,
+                           "chosen": chosen, "chosen_index": chosen_i, "pareto": pareto_front(rows), "rows": rows,
                            "undecided": sum(1 for _, kk in left if kk == k)})
 
     every = None

@@ -7,6 +7,7 @@ import html
 from collections.abc import Mapping
 from pathlib import Path
 
+from jointwear.design.results import EXTRAPOLATED_SHARE
 from jointwear.report.markup import figure_html
 from jointwear.report.study_sections import warning
 from jointwear.report.style import TARGET_COLOR, figure, label_axes, styled, to_data_uri
@@ -148,5 +149,3 @@ def _crank_rpm(out_dir: Path | str) -> float | None:
     return None if rel is None else rel.crank_speed_rpm
 
 
-#: share of a candidate's population outside the study's inputs beyond which its estimate is called extrapolated
-EXTRAPOLATED_SHARE = 0.05
