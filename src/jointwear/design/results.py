@@ -29,11 +29,12 @@ class DesignResult(StageResult):
     the share of the population outside the study design's region, which the surrogate may misclassify) and the
     share of the candidate's population outside the study design's region (``outside_design_fraction``).
     ``verification``: the chosen design's own AK-MCS study on the true model at N* (``reliability_at_target_life``,
-    ``error``, ``model_calls``, ``confirmed``: R + error >= R*). ``model_calls``: the distinct true-model inputs
-    the design rests on (study, refinement and verification; ``calls`` splits them). ``targets``: the same for
-    every target (the first is the headline). ``chosen_every_target``: with several targets, the cheapest candidate
-    that meets all of them at once (its R(N*) and error per target, in their order; None with one target or when
-    none does), which a drawing needs; each target's own choice may miss the others.
+    ``error``, ``model_calls``, ``confirmed``: R + error >= R*, i.e. not refuted; ``verdict`` 'meets' when
+    R - error >= R*). ``model_calls``: the distinct true-model inputs the design rests on (study, refinement and
+    verification; ``calls`` splits them). ``targets``: the same for every target (the first is the headline).
+    ``chosen_every_target``: with several targets, the cheapest candidate that meets all of them at once (its R(N*)
+    and error per target, in their order; None with one target or when none does), which a drawing needs; each
+    target's own choice may miss the others.
     """
 
     FILE: ClassVar[str] = "design.json"
