@@ -233,6 +233,10 @@ def test_the_wear_stage_tells_the_nominal_life():
     assert "joint A's allowance (0.03 mm of bearing max depth) after about 200,000 cycles, joint E's (0.03 mm) after " \
         "about 600,000 (read off" in line
     assert nominal_life_line(cfg, [{"name": "A", "history": {"cycles": [0, 1], "max_wear_mm": [0.0, 0.0]}}]) == ""
+    # inside the history, nothing is extrapolated
+    longer = {"cycles": [100_000, 300_000], "max_wear_mm": [0.015, 0.045]}
+    assert nominal_life_line(cfg, [{"name": "A", "history": longer}]).endswith(
+        "after about 200,000 cycles (read off its wear history)")
 
 
 def test_life_interval_on_a_straight_curve_is_where_the_band_crosses():

@@ -275,7 +275,10 @@ def nominal_life_line(config, joints: list[dict]) -> str:
     whose = "its" if len(allowances) == 1 else f"joint {first}'s"
     reached = (f"{whose} allowance ({allowances[first]:.3g} mm of {measure}) after about {life:,.0f} cycles"
                + "".join(f", joint {name}'s ({allowances[name]:.3g} mm) after about {n:,.0f}" for name, n in rest))
-    return f"the nominal design reaches {reached} (read off its wear history, extrapolated linearly past its end)"
+    end = max((max(j.get("history", {}).get("cycles") or [0.0]) for j in joints), default=0.0)
+    how = ("read off its wear history, extrapolated linearly past its end" if max(lives.values()) > end
+           else "read off its wear history")
+    return f"the nominal design reaches {reached} ({how})"
 
 
 def nominal_life_outside_curve(config, joints: list[dict]) -> str:
