@@ -222,3 +222,32 @@ def test_an_unconverged_study_says_so_in_the_table(three):
     calls = StudyComparison.COLUMNS.index("model calls")
     assert [row[calls] for row in comp.rows()] == ["40", "40 (not converged)"]
     assert "| 40 (not converged) |" in comp.markdown()
+
+
+def _on_curve(folder, reliability):
+    """The study in ``folder`` with its R(N) curve replaced by ``reliability`` at 21 levels from 800,000 to 1,200,000
+    cycles (its band stays +-0.01)."""
+    rel = json.loads((folder / "reliability.json").read_text())
+    cycles = np.linspace(8e5, 1.2e6, 21)
+    r = reliability(cycles)
+    rel["curve"].update(cycles=cycles.tolist(), reliability=r.tolist(), pf=(1.0 - r).tolist())
+    rel.pop("life_curve", None)
+    (folder / "reliability.json").write_text(json.dumps(rel))
+    return folder
+
+
+def test_a_life_before_one_curve_is_shorter_than_a_life_inside_another(tmp_path):
+    """A uniform-mode study whose R was already below the target at its curve's first level (800,000 cycles) beside
+    a profile-mode life of 1,146,710 (1,141,693-1,152,113) read 'within the errors': both missing ends of the first
+    interval counted as unbounded. Before the curve, its high end is at most the first level."""
+    early = _on_curve(_study(tmp_path / "early", "pin", 1e6), lambda n: np.full(n.size, 0.5))
+    later = _on_curve(_study(tmp_path / "later", "pin profile", 1e6, mode="profile"), lambda n: 1.0 - n / 1e7)
+    comp = compare_studies([early, later])
+    assert comp.studies[0]["status"] == "before_curve"
+    assert (comp.studies[0]["life_cycles_low"], comp.studies[0]["life_cycles_high"]) == (None, None)
+    assert comp.studies[1]["life_cycles"] == pytest.approx(1e6, rel=1e-9)  # 1 - N / 1e7 = 0.9, band 0.9-1.1 M
+    assert comp.studies[1]["verdict"] == "longer"
+    assert compare_studies([later, early]).studies[1]["verdict"] == "shorter"
+    # beyond its curve (R above the target to 1.2 M), a life is at least the last level: longer than 0.9-1.1 M
+    beyond = _on_curve(_study(tmp_path / "beyond", "pin beyond", 1e6), lambda n: np.full(n.size, 0.95))
+    assert compare_studies([later, beyond]).studies[1]["verdict"] == "longer"

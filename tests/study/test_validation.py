@@ -15,7 +15,7 @@ from jointwear import compute
 from jointwear.config import load_config, updated
 from jointwear.study import ValidationResult, run_reliability, study_context
 from jointwear.study.io import strict
-from jointwear.study.limit_state import life_at
+from jointwear.study.limit_state import interval_reach, life_at
 from jointwear.study.validation import clopper_pearson, life_check, run_validation
 
 
@@ -73,6 +73,9 @@ def test_life_check_reads_both_curves_and_says_when_their_intervals_miss():
             return life_at(self.cycles, self.reliability - 0.01, target), life_at(
                 self.cycles, self.reliability + 0.01, target)
 
+        def life_reach(self, target):
+            return interval_reach(self.cycles, self.reliability, np.full(self.cycles.size, 0.01), target)
+
     sur = Surrogate()
     # the true curve 0.02 lower (life 8e4) with exact bounds +-0.005: 7.5e4-8.5e4, no overlap with 9e4-1.1e5
     r = sur.reliability - 0.02
@@ -97,3 +100,22 @@ def test_the_validate_line_names_the_levels_that_disagree():
     assert res.disagreement(shown=1).endswith("(its error estimate 0.031) and 1 more")
     res.agreement[:] = True
     assert res.disagreement() == ""
+
+
+def test_a_true_life_before_the_curve_does_not_agree_with_a_life_inside_it():
+    """The true model's R below the target already at the first level (its life before 800,000 cycles) against a
+    surrogate life of 1,000,000 (900,000-1,100,000): the missing ends counted as unbounded made them 'agree'."""
+    from types import SimpleNamespace
+
+    levels = np.linspace(8e5, 1.2e6, 5)
+    r_mc = np.full(5, 0.5)
+    sur = SimpleNamespace(life=lambda t: 1e6, life_interval=lambda t: (9e5, 1.1e6), life_reach=lambda t: (9e5, 1.1e6))
+    check = life_check(levels, r_mc, r_mc - 0.05, r_mc + 0.05, sur, 0.9)
+    assert (check["cycles"], check["cycles_low"], check["cycles_high"]) == (None, None, None)
+    assert check["agree"] is False
+    # a true life beyond the curve (R above the target to 1.2 M) does not agree with 0.9-1.1 M either
+    high = np.full(5, 0.97)
+    assert life_check(levels, high, high - 0.02, high + 0.02, sur, 0.9)["agree"] is False
+    # and one whose band reaches the surrogate's interval does
+    straight = 1.0 - levels / 1e7
+    assert life_check(levels, straight, straight - 0.01, straight + 0.01, sur, 0.9)["agree"] is True

@@ -32,7 +32,8 @@ _NOT_SETTINGS = {"name", "citation", "description"}
 
 def life_verdict(low: float | None, high: float | None, base_low: float | None, base_high: float | None) -> str:
     """'longer' or 'shorter' when the interval [low, high] lies wholly above or below the baseline's
-    [base_low, base_high], else 'within the errors' (an end outside its curve, None, reaches as far as it may)."""
+    [base_low, base_high], else 'within the errors' (an end that is None reaches as far as it may: give the ends of
+    :func:`~jointwear.study.limit_state.interval_reach` to bound one outside its curve by its side)."""
     if intervals_overlap(low, high, base_low, base_high):
         return "within the errors"
     return "shorter" if high is not None and base_low is not None and high < base_low else "longer"
@@ -193,9 +194,9 @@ def compare_studies(studies: Sequence[Path | str | StudyResults], *, target: flo
         raise ConfigError(f"compare: labels: one distinct label per study ({len(loaded)}; got {list(labels)!r})")
     rows = [_row(res, str(label), float(target)) for res, label in zip(loaded, labels)]
     base = rows[0]
+    reach = [res.reliability.life_reach(float(target)) for res in loaded]  # an end outside its curve, bounded
     for i, row in enumerate(rows):
-        row["verdict"] = "baseline" if i == 0 else life_verdict(
-            row["life_cycles_low"], row["life_cycles_high"], base["life_cycles_low"], base["life_cycles_high"])
+        row["verdict"] = "baseline" if i == 0 else life_verdict(*reach[i], *reach[0])
         row["life_ratio"] = (row["life_cycles"] / base["life_cycles"]
                              if row["life_cycles"] is not None and base["life_cycles"] else None)
     curves = [{"cycles": np.asarray(r.reliability.cycles, dtype=float).tolist(),

@@ -217,6 +217,27 @@ def life_interval(cycles, reliability, half_width, target: float) -> tuple[float
     return life_at(cycles, r - half, target), life_at(cycles, r + half, target)
 
 
+def interval_reach(cycles, reliability, half_width, target: float) -> tuple[float, float]:
+    """:func:`life_interval`'s ends as numbers, for comparing two intervals: an end outside the curve becomes the
+    bound its side gives. Before the first level a low end reaches -inf and a high end at most that level; beyond
+    the last level a low end is at least that level and a high end reaches +inf. (A life before one curve and inside
+    another read 'within the errors' when both missing ends counted as unbounded.)"""
+    r, h = np.asarray(reliability, dtype=float), np.asarray(half_width, dtype=float)
+    return bounded_ends(cycles, r - h, r + h, target, *life_interval(cycles, reliability, half_width, target))
+
+
+def bounded_ends(cycles, lower, upper, target: float, low: float | None, high: float | None) -> tuple[float, float]:
+    """The ends ``low``, ``high`` of a life interval read where the curves ``lower`` and ``upper`` (R's bounds at
+    the levels ``cycles``) cross ``target``, with an end outside the curve (None) replaced by the bound its side
+    gives (:func:`interval_reach`)."""
+    c, lo_r, up_r = (np.asarray(a, dtype=float) for a in (cycles, lower, upper))
+    if low is None:
+        low = -math.inf if lo_r[0] <= target else float(c[-1])
+    if high is None:
+        high = float(c[0]) if up_r[0] <= target else math.inf
+    return low, high
+
+
 def intervals_overlap(low: float | None, high: float | None, other_low: float | None,
                       other_high: float | None) -> bool:
     """Whether two life intervals share a point; an end that is None (outside its curve) reaches as far as it

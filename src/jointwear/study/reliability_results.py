@@ -14,7 +14,7 @@ import numpy as np
 
 from jointwear.schema import ConfigError
 from jointwear.study.io import provenance
-from jointwear.study.limit_state import curve_half_width, life_at, life_interval
+from jointwear.study.limit_state import curve_half_width, interval_reach, life_at, life_interval
 from jointwear.study.stage_result import StageResult, save_figure
 from jointwear.units import column_name
 
@@ -277,6 +277,12 @@ class ReliabilityResult(StageResult):
         model itself."""
         target = self.target if target is None else reliability_target(target, "life_interval: target")
         return life_interval(*self._life_curve(), target)
+
+    def life_reach(self, target: float | None = None) -> tuple[float, float]:
+        """:meth:`life_interval` with an end outside the curve given as the bound its side allows (the first level,
+        the last, or an infinity: :func:`~jointwear.study.limit_state.interval_reach`), for comparing lives."""
+        target = self.target if target is None else reliability_target(target, "life_reach: target")
+        return interval_reach(*self._life_curve(), target)
 
     def largest_error(self) -> tuple[float, float] | None:
         """(error, cycles): the surrogate's largest error estimate of R over the curve's levels whose COV counts

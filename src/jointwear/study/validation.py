@@ -15,7 +15,7 @@ import time
 import numpy as np
 from scipy import stats
 
-from jointwear.study.limit_state import curve_cycles, intervals_overlap, life_at
+from jointwear.study.limit_state import bounded_ends, curve_cycles, intervals_overlap, life_at
 from jointwear.study.reliability import StudyContext
 from jointwear.study.reliability_results import SurrogateFit
 from jointwear.study.results import ReliabilityResult, ValidationResult
@@ -135,10 +135,12 @@ def joint_checks(ctx: StudyContext, reliability: ReliabilityResult, x: np.ndarra
 def life_check(levels, r_mc, ci_low, ci_high, reliability: ReliabilityResult, target: float) -> dict:
     """The life at ``target`` read on the true model's curve, with the interval where its exact 95 % bounds
     cross the target, beside the surrogate's life and interval; ``agree`` when the two intervals overlap (an
-    end outside the curve reaches as far as it may)."""
+    end outside its curve bounded by its side: :func:`~jointwear.study.limit_state.interval_reach`)."""
     life, low, high = (life_at(levels, r, target) for r in (r_mc, ci_low, ci_high))
     s_life = reliability.life(target)
     s_low, s_high = reliability.life_interval(target)
+    # an end outside its curve is bounded by its side (before the first level, beyond the last), not unbounded
+    ends = bounded_ends(levels, ci_low, ci_high, target, low, high)
     return {"target": target, "cycles": life, "cycles_low": low, "cycles_high": high, "surrogate_cycles": s_life,
             "surrogate_cycles_low": s_low, "surrogate_cycles_high": s_high,
-            "agree": intervals_overlap(low, high, s_low, s_high)}
+            "agree": intervals_overlap(*ends, *reliability.life_reach(target))}
