@@ -211,3 +211,23 @@ def test_a_fit_given_by_its_letters_far_from_the_study_is_warned(tmp_path):
     sigmas = (cfg.uncertainty.clearance.mean - 7e-6) / cfg.uncertainty.clearance.std
     assert warning.startswith(f"design.fit.options[H7/g6]: its mean (0.007 mm) lies {sigmas:.3g} of the study's "
                               "standard deviations from its mean of 'c' (0.02 mm)")
+
+
+def test_a_config_without_a_wear_length_checks_and_takes_the_callers(tmp_path):
+    """The tutorial's first stage (a mechanism and its clearance joints, no [wear] cycles and no R(N) curve) could
+    not be checked, simulated or worn, even with --cycles: the wear length was a problem of every command."""
+    from jointwear.cli import main_entry
+    from jointwear.schema import ConfigError
+    from jointwear.study import Study
+
+    rig = Path(__file__).resolve().parents[1] / "wear" / "rigs" / "pendulum.toml"
+    cfg = load_config(rig)
+    assert cfg.uncertainty is None and cfg.wear.cycles is None
+    (warning,) = [w for w in Study(cfg, out=tmp_path / "c").check() if w.startswith("wear.cycles")]
+    assert "the wear stage will need the number of cycles" in warning and "--cycles N" in warning
+    for stage in ("wear", "run"):  # refused before anything is written
+        with pytest.raises(ConfigError, match=r"^wear\.cycles: give the number of cycles"):
+            getattr(Study(cfg, out=tmp_path / stage, echo=lambda s: None), stage)()
+        assert not (tmp_path / stage).exists()
+    assert main_entry(["wear", str(rig), "--cycles", "500", "--out", str(tmp_path / "cli")]) == 0
+    assert (tmp_path / "cli" / "wear.json").is_file()

@@ -72,9 +72,6 @@ def config_problems(config: StudyConfig, stages: frozenset[str] | set[str]) -> l
                 problems.append(f"sensitivity.cycles: {c} is not one of the R(N) curve's cycle counts {grid}")
     elif "wear" in stages and not config.clearance_joints:
         problems.append("clearance_joints: the wear stage needs at least one clearance joint")
-    if "wear" in stages and nominal_wear_cycles(config) is None:
-        problems.append("wear.cycles: give the number of cycles of the nominal wear history ([wear] cycles) or an "
-                        "R(N) curve ([reliability] cycles_stop) whose end it defaults to")
     problem = scheduler_problem(config.compute.scheduler)
     if problem:
         problems.append(problem)
@@ -178,7 +175,7 @@ def config_warnings(config: StudyConfig) -> list[str]:
 
     unc = config.uncertainty
     if unc is None:
-        return drawing_warnings(config) + inertia_warnings(config)
+        return drawing_warnings(config) + inertia_warnings(config) + wear_length_warnings(config)
     data = config.model_dump()
     out = []
     for spec in unc.all_specs():
@@ -195,6 +192,20 @@ def config_warnings(config: StudyConfig) -> list[str]:
     return (drawing_warnings(config) + inertia_warnings(config) + out + random_input_warnings(config)
             + clearance_warnings(config) + wear_mode_warnings(config)
             + design_warnings(config) + allowance_warnings(config) + budget_warnings(config))
+
+
+#: what the wear stage says when it has no length for the nominal history
+WEAR_CYCLES_MISSING = ("wear.cycles: give the number of cycles of the nominal wear history ([wear] cycles, or "
+                       "--cycles N / cycles=N for one run) or an R(N) curve ([reliability] cycles_stop) whose end it "
+                       "defaults to")
+
+
+def wear_length_warnings(config: StudyConfig) -> list[str]:
+    """A config with clearance joints but no length for the nominal wear history: the wear stage then needs the
+    caller's (``--cycles``); check and simulate run without it."""
+    if config.clearance_joints and nominal_wear_cycles(config) is None:
+        return [WEAR_CYCLES_MISSING.replace("give the number", "the wear stage will need the number")]
+    return []
 
 
 def drawing_warnings(config: StudyConfig) -> list[str]:

@@ -25,6 +25,7 @@ from jointwear.config import StudyConfig, config_from_dict, load_config
 from jointwear.reliability import AllCallsFailedError, cov_population
 from jointwear.schema import ConfigError
 from jointwear.study.checks import (
+    WEAR_CYCLES_MISSING,
     check_runs,
     config_problems,
     config_warnings,
@@ -375,8 +376,8 @@ class Study:
 
         if cycles is not None:
             check_cycles(cycles, "cycles")
+        n = check_cycles(self._wear_cycles(cycles), "cycles")  # refused before anything is written
         self._prepare({"wear"})
-        n = check_cycles(cycles if cycles is not None else nominal_wear_cycles(self.config), "cycles")
         t0 = time.perf_counter()
         res = wear_history(build_model(self.config), self.config.wear, n, progress=progress)
         result = WearSummary.from_history(res, self.config, self._allowances())
@@ -392,6 +393,13 @@ class Study:
                 self.echo(f"wear: {life}")
         self._tell("wear", result)
         return result
+
+    def _wear_cycles(self, cycles: int | None) -> int:
+        """The nominal history's length: the caller's, else the config's (``wear.cycles``, else the curve's end)."""
+        n = cycles if cycles is not None else nominal_wear_cycles(self.config)
+        if n is None:
+            raise ConfigError(WEAR_CYCLES_MISSING)
+        return n
 
     @_quiet
     def converge(self, replicates: int = 8, factor: float = 2.0, tolerance: float = 0.02,
@@ -438,8 +446,8 @@ class Study:
         if cycles is not None:
             check_cycles(cycles, "cycles")
         chosen_refinements(self.config, replicates, factor, tolerance, only)
+        n = check_cycles(self._wear_cycles(cycles), "cycles")
         self._prepare({"wear"})
-        n = check_cycles(cycles if cycles is not None else nominal_wear_cycles(self.config), "cycles")
         digest = compute.config_hash(ConvergenceCall(self.config.model_dump()).identity())
         with self._compute(reuse=True, description="histories", store_file=STORE_FILE, digest=digest) as (
                 executor, store, progress):
@@ -621,6 +629,7 @@ class Study:
         """
         t0 = time.perf_counter()
         stochastic = "reliability" in self.stages
+        self._wear_cycles(None)  # a run without a wear length is refused before any stage writes
         self.check(self.stages)
         if stochastic:
             self._refuse_store(reuse=False)
