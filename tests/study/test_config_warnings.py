@@ -231,3 +231,16 @@ def test_a_config_without_a_wear_length_checks_and_takes_the_callers(tmp_path):
         assert not (tmp_path / stage).exists()
     assert main_entry(["wear", str(rig), "--cycles", "500", "--out", str(tmp_path / "cli")]) == 0
     assert (tmp_path / "cli" / "wear.json").is_file()
+
+
+def test_a_block_as_long_as_the_history_is_warned():
+    """block_cycles = 5,000,000 on the pump's 2,000,000-cycle history ran one straight block (its nominal life 4.5 %
+    off the converged one) and converge's halved block, still longer than the history, read 'converged'."""
+    base = load_config(Path(__file__).resolve().parents[2] / "examples" / "piston_pump.toml")
+    n = base.wear.cycles or base.reliability.cycles_stop
+    assert not [w for w in config_warnings(base) if w.startswith("wear.block_cycles")]
+    (warning,) = [w for w in config_warnings(updated(base, {"wear.block_cycles": n}))
+                  if w.startswith("wear.block_cycles")]
+    assert warning.startswith(f"wear.block_cycles: {n:,} cycles is at least the nominal history's {n:,}")
+    shorter = updated(base, {"wear.block_cycles": n - 1})
+    assert not [w for w in config_warnings(shorter) if w.startswith("wear.block_cycles")]

@@ -175,7 +175,8 @@ def config_warnings(config: StudyConfig) -> list[str]:
 
     unc = config.uncertainty
     if unc is None:
-        return drawing_warnings(config) + inertia_warnings(config) + wear_length_warnings(config)
+        return (drawing_warnings(config) + inertia_warnings(config) + wear_length_warnings(config)
+                + block_warnings(config))
     data = config.model_dump()
     out = []
     for spec in unc.all_specs():
@@ -190,7 +191,7 @@ def config_warnings(config: StudyConfig) -> list[str]:
                        "simulate and wear stages run the drawn mechanism, the reliability stages one around the mean; "
                        "give both the same value unless the shift is meant")
     return (drawing_warnings(config) + inertia_warnings(config) + out + random_input_warnings(config)
-            + clearance_warnings(config) + wear_mode_warnings(config)
+            + clearance_warnings(config) + wear_mode_warnings(config) + block_warnings(config)
             + design_warnings(config) + allowance_warnings(config) + budget_warnings(config))
 
 
@@ -289,6 +290,17 @@ def allowance_warnings(config: StudyConfig) -> list[str]:
                    "suffix the allowance is in m: allowance_mm, allowance_um); give the outer radius to have it "
                    "checked")
     return out
+
+
+def block_warnings(config: StudyConfig) -> list[str]:
+    """A fixed block as long as the nominal history or longer: the whole history is then one straight block at the
+    unworn geometry's rate, and halving the block (``jointwear converge``) changes nothing while it stays that long."""
+    wear, n = config.wear, nominal_wear_cycles(config)
+    if wear.block_rule != "fixed" or n is None or wear.block_cycles < n:
+        return []
+    return [f"wear.block_cycles: {wear.block_cycles:,} cycles is at least the nominal history's {n:,}: the history is "
+            "one block, extrapolated straight at the unworn geometry's wear rate; take shorter blocks (jointwear "
+            "converge says which size is converged)"]
 
 
 def wear_mode_warnings(config: StudyConfig) -> list[str]:
