@@ -138,12 +138,19 @@ def test_command_line_ranking_shows_groups_and_unresolved_neighbours():
     from jointwear.study.facade import ranking_line
 
     sens = SimpleNamespace(
-        shifts_move_reliability=True,
+        shifts_move_reliability=True, reliability_nominal=0.944, cycles=360_000,
         ranking_by_group={"tolerance": ["l2", "lBC", "l1"], "bearing_material": ["k_b", "HB_b", "E_b"]},
         unresolved_pairs=[{"group": "bearing_material", "first": "k_b", "second": "HB_b"}])
     assert ranking_line(sens) == "tolerance: l2 > lBC > l1 | bearing_material: k_b ~ HB_b > E_b"
     assert ranking_line(SimpleNamespace(shifts_move_reliability=True, ranking_by_group={"tolerance": ["c"]},
-                                        unresolved_pairs=[])) == "tolerance: c"
+                                        unresolved_pairs=[], reliability_nominal=0.5, cycles=1)) == "tolerance: c"
+    # R = 0 at the sensitivity's level (a uniform-mode pump whose curve missed its life): the largest shift moved R
+    # by 4.7e-6, and the line ranked variables on that without a word
+    edge = SimpleNamespace(shifts_move_reliability=True, reliability_nominal=0.0, cycles=1_200_000,
+                           ranking_by_group={"tolerance": ["c"]}, unresolved_pairs=[],
+                           variables=[{"reliability_low": 0.0, "reliability_high": 4.7e-6}])
+    assert ranking_line(edge) == ("tolerance: c | (read with care: R = 0.000 at 1,200,000 cycles, where the largest "
+                                  "shift moves it by 4.7e-06; set sensitivity.cycles where R passes the target)")
 
 
 def test_the_variance_ranking_is_told_beside_the_mean_shifts():

@@ -959,6 +959,10 @@ def variance_line(sens: SensitivityResult, floor: float = 0.01) -> str:
     return f"{text} (the others < {floor:g})" if text and len(ranked) < len(sens.sobol.get("names") or []) else text
 
 
+#: a nominal reliability closer than this to 0 or 1 leaves the mean-shift ranking to a handful of samples
+EDGE_RELIABILITY = 0.01
+
+
 def ranking_line(sens: SensitivityResult) -> str:
     """Per group, the variables by their effect on R, '~' between neighbours the surrogate's error does not
     separate: 'tolerance: l2 ~ lBC > l1 | bearing_material: k_b ~ HB_b > ...'; 'none: ...' where no shift moves R."""
@@ -972,4 +976,9 @@ def ranking_line(sens: SensitivityResult) -> str:
         for a, b in zip(names, names[1:]):
             text += (" ~ " if (a, b) in ties else " > ") + b
         parts.append(f"{group}: {text}")
+    r0 = sens.reliability_nominal
+    if not EDGE_RELIABILITY < r0 < 1.0 - EDGE_RELIABILITY:  # almost every sample fails (or none): a few decide
+        largest = max(max(abs(v["reliability_low"] - r0), abs(v["reliability_high"] - r0)) for v in sens.variables)
+        parts.append(f"(read with care: R = {r0:.3f} at {sens.cycles:,} cycles, where the largest shift moves it by "
+                     f"{largest:.2g}; set sensitivity.cycles where R passes the target)")
     return " | ".join(parts)
