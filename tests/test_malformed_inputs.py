@@ -136,3 +136,12 @@ def test_wear_without_cycles_or_curve_names_the_field(tmp_path, capsys):
     code, err = run_cli(["wear", str(cfg), "--out", str(out)], capsys)
     assert code == 2 and "wear.cycles" in err and len(err.strip().splitlines()) == 1, err
     assert not out.exists()
+
+
+def test_a_value_the_validator_names_is_not_repeated(tmp_path, capsys):
+    """'wear.cycles: must be a whole number of cycles, got 400000.5 (got 400000.5)': the generic '(got ...)' repeated
+    what the validator had already said."""
+    cfg = tmp_path / "frac.toml"
+    cfg.write_text('extends = "flores_slider_crank"\n[wear]\ncycles = 400000.5\n')
+    code, err = run_cli(["check", str(cfg)], capsys)
+    assert code == 2 and err.strip().endswith("wear.cycles: must be a whole number of cycles, got 400000.5"), err

@@ -338,7 +338,7 @@ def validation_problems(exc: ValidationError, data: Any = None) -> list[str]:
             if written:
                 shown = f" (got {written} = {problem.value:g} {SUFFIXES[written.split()[1]][1]})"
         elif err.get("type") not in ("missing", "extra_forbidden") and isinstance(inp, (int, float, str)) \
-                and not isinstance(inp, bool):
+                and not isinstance(inp, bool) and f"got {inp!r}" not in msg:  # a validator that named the value
             shown = f" (got {inp!r}{', SI units' if unit is None else f' {unit}' if unit else ''})"
             if written:
                 shown = f" (got {written} = {inp:g} {unit})"
