@@ -978,7 +978,8 @@ def ranking_line(sens: SensitivityResult) -> str:
         parts.append(f"{group}: {text}")
     r0 = sens.reliability_nominal
     if not EDGE_RELIABILITY < r0 < 1.0 - EDGE_RELIABILITY:  # almost every sample fails (or none): a few decide
-        largest = max(max(abs(v["reliability_low"] - r0), abs(v["reliability_high"] - r0)) for v in sens.variables)
+        largest = max((max(abs(v["reliability_low"] - r0), abs(v["reliability_high"] - r0)) for v in sens.variables),
+                      default=0.0)
         parts.append(f"(read with care: R = {r0:.3f} at {sens.cycles:,} cycles, where the largest shift moves it by "
                      f"{largest:.2g}; set sensitivity.cycles where R passes the target)")
     return " | ".join(parts)
