@@ -249,3 +249,18 @@ def test_a_life_target_outside_0_1_or_not_a_number_is_refused_by_name():
         with pytest.raises(ConfigError, match=r"life: target: a reliability in \(0, 1\)"):
             res.life(bad)
     assert res.life(np.float64(0.9)) == res.life() and res.life_interval(0.9) == res.life_interval()
+
+
+def test_profile_mode_says_whether_uniform_mode_would_have_been_fair():
+    """In profile mode the command line said nothing of the conformity (only wear.json and the report did)."""
+    from types import SimpleNamespace
+
+    from jointwear.study.facade import profile_mode_line
+
+    assert profile_mode_line(SimpleNamespace(geometry_mode="profile", conformity=6.57)) == (
+        "profile mode follows the worn shape here, where uniform mode would be outside its range (conformity 6.57 > "
+        "1): this is the answer to trust")
+    assert profile_mode_line(SimpleNamespace(geometry_mode="profile", conformity=0.4)).startswith(
+        "uniform mode would be fair here too (conformity 0.4 <= 1")
+    assert profile_mode_line(SimpleNamespace(geometry_mode="uniform", conformity=6.57)) == ""
+    assert profile_mode_line(SimpleNamespace(geometry_mode="profile", conformity=float("nan"))) == ""

@@ -387,6 +387,8 @@ class Study:
         self.echo(f"wear: max bearing wear {wear_line(result)} after {ran} "
                   f"(history {res.wall_seconds:.1f} s, stage {time.perf_counter() - t0:.1f} s) "
                   f"-> {self.out / result.FILE}")
+        if profile_mode_line(result):
+            self.echo(f"wear: {profile_mode_line(result)}")
         if not nominal_life_outside_curve(self.config, result.joints):  # that warning gives the life itself
             life = nominal_life_line(self.config, result.joints)
             if life:
@@ -934,6 +936,18 @@ def wear_line(result: WearSummary) -> str:
         return f"{result.max_wear_mm:.3g} mm at {angle_text(result.max_wear_angle_deg)} deg"
     return ", ".join(f"{j['name']} {j['max_wear_mm']:.3g} mm at {angle_text(j['max_wear_angle_deg'])} deg"
                      for j in result.joints)
+
+
+def profile_mode_line(result: WearSummary) -> str:
+    """In profile mode, whether uniform mode would have been fair here (the conformity indicator, docs/wear.md "When
+    uniform mode is fair"); '' in uniform mode, which warns when it is outside its range."""
+    c = result.conformity
+    if result.geometry_mode != "profile" or c is None or not c == c:
+        return ""
+    if c > 1.0:
+        return (f"profile mode follows the worn shape here, where uniform mode would be outside its range "
+                f"(conformity {c:.3g} > 1): this is the answer to trust")
+    return f"uniform mode would be fair here too (conformity {c:.3g} <= 1: the worn arc within the contact patch)"
 
 
 def _reused(new: int, total: int) -> str:
