@@ -104,6 +104,18 @@ def test_bad_argument(tmp_path, capsys):
     assert code == 2 and len(err.strip().splitlines()) == 1 and "--cycles" in err
     code, err = _run(capsys, ["simulate", "--bogus"])
     assert code == 2 and "--bogus" in err
+    for bad, why in (("250.5", "is not a whole number of cycles"), ("5e2x", "is not a number of cycles")):
+        code, err = _run(capsys, ["wear", "--cycles", bad, "--out", str(tmp_path)])
+        assert code == 2 and f"'{bad}' {why}" in err, err
+
+
+def test_cycles_are_read_as_the_config_writes_them():
+    """The config accepts cycles = 4e5 and 400_000; the command line refused --cycles 4e5."""
+    from jointwear.cli import CycleCount
+
+    for text in ("400000", "4e5", "400_000", "4.0e5"):
+        assert CycleCount(1).convert(text, None, None) == 400_000
+    assert CycleCount(0).convert("0", None, None) == 0
 
 
 def test_console_script_exit_status(tmp_path):

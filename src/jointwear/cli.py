@@ -7,6 +7,7 @@ arguments end with exit status 2 and one plain line on stderr (no traceback); no
 
 from __future__ import annotations
 
+import math
 import sys
 from pathlib import Path
 
@@ -97,11 +98,35 @@ def main() -> None:
     """jointwear: non-uniform wear of revolute clearance joints and wear reliability of planar mechanisms."""
 
 
+class CycleCount(click.ParamType):
+    """A whole number of cycles, also written as a TOML config may write it: 4e5, 400_000."""
+
+    name = "cycles"
+
+    def __init__(self, minimum: int) -> None:
+        self.minimum = minimum
+
+    def convert(self, value, param, ctx) -> int:
+        if isinstance(value, int) and not isinstance(value, bool):
+            n = value
+        else:
+            try:
+                x = float(str(value).replace("_", ""))
+            except ValueError:
+                self.fail(f"{value!r} is not a number of cycles", param, ctx)
+            if not math.isfinite(x) or x != int(x):
+                self.fail(f"{value!r} is not a whole number of cycles", param, ctx)
+            n = int(x)
+        if n < self.minimum:
+            self.fail(f"{value!r} is below {self.minimum}", param, ctx)
+        return n
+
+
 @main.command()
 @config_argument
-@click.option("--cycles", type=click.IntRange(min=1), default=None,
+@click.option("--cycles", type=CycleCount(1), default=None,
               help="Crank cycles to record (default: simulation.cycles of the config).")
-@click.option("--settle", type=click.IntRange(min=0), default=None,
+@click.option("--settle", type=CycleCount(0), default=None,
               help="Cycles to settle before recording (default: simulation.settle_cycles).")
 @out_option
 def simulate(config: str | None, cycles: int | None, settle: int | None, out: Path) -> None:
@@ -111,7 +136,7 @@ def simulate(config: str | None, cycles: int | None, settle: int | None, out: Pa
 
 @main.command()
 @config_argument
-@click.option("--cycles", type=click.IntRange(min=1), default=None,
+@click.option("--cycles", type=CycleCount(1), default=None,
               help="Crank cycles of the wear history (default: wear.cycles of the config, else the end of its "
                    "R(N) curve).")
 @out_option
@@ -131,7 +156,7 @@ def wear(config, cycles, out):
 @click.option("--only", "only", multiple=True,
               help="A refinement to run (repeatable; default all): record_cycles, settle_cycles, block, n_grid, "
                    "tolerance, profile_smoothing_deg, profile_substep_cycles.")
-@click.option("--cycles", type=click.IntRange(min=1), default=None,
+@click.option("--cycles", type=CycleCount(1), default=None,
               help="Cycles of each history [default: wear.cycles, else the end of the R(N) curve].")
 @compute_options
 @out_option
