@@ -633,9 +633,11 @@ class Study:
         stochastic = "reliability" in self.stages
         self._wear_cycles(None)  # a run without a wear length is refused before any stage writes
         self.check(self.stages)
-        if stochastic:
-            self._refuse_store(reuse=False)
         with self._stage_scope():  # the folder stays this run's between its stages
+            if self.out.is_dir():  # a study running there is told as such, not as an earlier run's store
+                self._hold_folder()
+            if stochastic:
+                self._refuse_store(reuse=False)
             if not self._current("simulate"):
                 self.simulate()
             if not self._current("wear"):
