@@ -34,7 +34,9 @@ def compute_options(f):
 
 
 def say(msg: str) -> None:
-    click.echo(msg, err=True)
+    """A line on stderr, resolved when it is written: while a live progress line runs, rich has put its own stream
+    there and prints the line above the bar (click.echo reached the terminal past it, onto the bar's end)."""
+    print(msg, file=sys.stderr, flush=True)
 
 
 def open_study(config, out, workers=None, scheduler=None, resume=False, overwrite=False):
