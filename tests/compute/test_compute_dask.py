@@ -129,3 +129,13 @@ def test_worker_killed_mid_batch(tmp_path):
     # have logged its end just before the signal landed, and died before it reported the result)
     reruns = [pid for kind, pid, key in lines() if kind == "end" and key == killed["key"]]
     assert any(pid != killed["pid"] for pid in reruns)
+
+
+@pytest.mark.timeout(120)
+def test_a_cluster_without_workers_says_so():
+    """What the study prints while a cluster has no worker (the evaluator asks after a minute without a call)."""
+    with start_local_cluster(n_workers=0, processes=False) as c, DaskExecutor(c) as ex:
+        assert ex.idle_message() == (f"no Dask worker is connected to {ex.address}: the study waits for one (start "
+                                     f"`dask worker {ex.address}`; the calls made so far are in the evaluation store)")
+    with start_local_cluster(n_workers=1, threads_per_worker=1, processes=False) as c, DaskExecutor(c) as ex:
+        assert ex.idle_message() is None

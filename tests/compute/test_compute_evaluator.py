@@ -276,3 +276,39 @@ def test_compute_imports_no_other_stage_and_no_dask():
     modules = json.loads(out.stdout)
     assert all(m.startswith("jointwear.compute") for m in modules), modules  # a service: no stage imported
     assert not any(m.startswith("distributed") for m in modules)  # Dask is imported only when asked for
+
+
+class _StalledCluster:
+    """An executor whose calls complete only after ``delay`` seconds (a cluster whose workers are all gone, until a
+    new one connects), and that says why while it waits."""
+
+    kind = "dask"
+    n_workers = 1
+
+    def __init__(self, delay):
+        self.delay = delay
+        self.asked = 0
+
+    def submit(self, fn, *args):
+        import threading
+        from concurrent.futures import Future
+
+        fut = Future()
+        threading.Timer(self.delay, lambda: fut.set_result(fn(*args))).start()
+        return fut
+
+    def idle_message(self):
+        self.asked += 1
+        return "no Dask worker is connected to tcp://x:8786: the study waits for one"
+
+
+def test_a_cluster_without_workers_is_told_once_while_the_study_waits(monkeypatch, capsys):
+    """A Dask study whose workers were all killed waited with no line at all until a new worker connected."""
+    import jointwear.compute.evaluator as ev
+
+    monkeypatch.setattr(ev, "IDLE_CHECK_SECONDS", 0.1)
+    stalled = _StalledCluster(delay=0.8)
+    res = ev.Evaluator(smooth_model, stalled).evaluate(np.zeros((1, 2)))
+    assert res.Y.shape[0] == 1 and stalled.asked >= 3  # asked at every idle check
+    err = capsys.readouterr().err
+    assert err.count("compute: no Dask worker is connected to tcp://x:8786") == 1, err

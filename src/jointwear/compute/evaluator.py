@@ -30,6 +30,7 @@ front of the persistent store (so a resumed study is served what an earlier proc
 from __future__ import annotations
 
 import math
+import sys
 import time
 from collections import deque
 from collections.abc import Callable
@@ -54,6 +55,10 @@ from .executors import SerialExecutor
 from .store import CallRecord, EvaluationStore, row_bytes
 
 __all__ = ["BatchResult", "Evaluator", "run_call"]
+
+#: seconds without a completed call after which the executor is asked whether it can run any (a Dask cluster whose
+#: workers are all gone waits silently for a new one)
+IDLE_CHECK_SECONDS = 60.0
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -361,8 +366,16 @@ class Evaluator:
 
         try:
             submit_next()
+            told = False
             while in_flight:
-                done, _ = wait(list(in_flight), return_when=FIRST_COMPLETED)
+                done, _ = wait(list(in_flight), timeout=IDLE_CHECK_SECONDS, return_when=FIRST_COMPLETED)
+                if not done:  # a cluster left without workers waits for one: say so, once per stretch
+                    message = getattr(self.executor, "idle_message", lambda: None)()
+                    if message and not told:
+                        print(f"compute: {message}", file=sys.stderr, flush=True)
+                    told = told or bool(message)
+                    continue
+                told = False
                 for fut in done:
                     i, alone = in_flight.pop(fut)
                     try:

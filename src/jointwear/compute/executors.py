@@ -325,6 +325,17 @@ class DaskExecutor(_ExecutorBase):
         except Exception:  # pragma: no cover - scheduler gone
             return 1
 
+    def idle_message(self) -> str | None:
+        """Why no call completes, when the cluster can say: no worker connected (the study waits for one)."""
+        try:
+            workers = len(self.client.scheduler_info().get("workers", {}))
+        except Exception:  # noqa: BLE001 - a scheduler that does not answer says nothing either
+            return None
+        if workers:
+            return None
+        return (f"no Dask worker is connected to {self.address}: the study waits for one (start `dask worker "
+                f"{self.address}`; the calls made so far are in the evaluation store)")
+
     def submit(self, fn: Callable, /, *args: Any, **kwargs: Any) -> cf.Future:
         return self._executor.submit(fn, *args, **kwargs)
 
