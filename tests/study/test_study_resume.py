@@ -364,3 +364,22 @@ def test_a_curve_that_misses_the_life_is_told_in_the_terminal(quick_config, refe
     (told,) = [ln for ln in lines if "lies beyond this curve" in ln]
     assert told.startswith("reliability: The life at R = 0.9 lies beyond this curve") and "<code>" not in told
     assert "Raise reliability.cycles_stop" in told
+
+
+def test_an_unreachable_scheduler_is_refused_at_once_before_the_nominal_stages(quick_config, tmp_path):
+    """`run --scheduler tcp://...` at an address where nothing listens ran simulate and wear, then waited 30 s for
+    distributed's connect time-out (docs/compute.md promised it fails at once)."""
+    import socket
+
+    import jointwear
+    from jointwear.schema import ConfigError
+
+    with socket.socket() as s:  # a port nothing listens on once closed
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    out = tmp_path / "unreachable"
+    t0 = time.monotonic()
+    with pytest.raises(ConfigError, match=rf"^compute: cannot start the executor: cannot reach the Dask scheduler at "
+                                          rf"'tcp://127\.0\.0\.1:{port}'"):
+        jointwear.Study(quick_config, out=out, scheduler=f"tcp://127.0.0.1:{port}").run()
+    assert time.monotonic() - t0 < 10.0 and not out.exists()

@@ -47,6 +47,29 @@ def scheduler_problem(address: str | None) -> str | None:
     return None
 
 
+#: seconds to wait for a Dask scheduler's port before calling it unreachable (distributed itself waits 30 s)
+SCHEDULER_CONNECT_SECONDS = 5.0
+
+
+def scheduler_unreachable(address) -> str | None:
+    """Why nothing answers at a Dask scheduler address (a tcp:// or tls:// host whose port refuses or does not
+    answer within ``SCHEDULER_CONNECT_SECONDS``); None when it answers, or for anything that is not such an address
+    (a Client or cluster object, inproc://)."""
+    if not isinstance(address, str) or scheduler_problem(address) is not None:
+        return None
+    parts = urlsplit(address)
+    if parts.scheme not in ("tcp", "tls"):
+        return None
+    import socket
+
+    try:
+        socket.create_connection((parts.hostname, parts.port), timeout=SCHEDULER_CONNECT_SECONDS).close()
+    except OSError as exc:
+        return (f"cannot reach the Dask scheduler at '{address}' ({exc.strerror or exc}); start it with `dask "
+                "scheduler` and give its tcp:// address")
+    return None
+
+
 def nominal_wear_cycles(config: StudyConfig) -> int | None:
     """Cycles of the nominal wear history: ``wear.cycles``, else the end of the R(N) curve, else None."""
     if config.wear.cycles is not None:

@@ -33,6 +33,7 @@ from jointwear.study.checks import (
     out_problem,
     random_input_problems,
     scheduler_problem,
+    scheduler_unreachable,
 )
 from jointwear.study.convergence import WearConvergence
 from jointwear.study.limit_state import (
@@ -638,6 +639,9 @@ class Study:
                 self._hold_folder()
             if stochastic:
                 self._refuse_store(reuse=False)
+                unreachable = scheduler_unreachable(self.scheduler)  # before the nominal stages spend their time
+                if unreachable:
+                    raise ConfigError(f"compute: cannot start the executor: {unreachable}")
             if not self._current("simulate"):
                 self.simulate()
             if not self._current("wear"):
@@ -746,6 +750,10 @@ class Study:
                                   "start the check afresh with --overwrite (overwrite=True in Python), or use a new "
                                   "output folder") from None
             raise ConfigError(self._store_message(exc)) from None
+        unreachable = scheduler_unreachable(self.scheduler)  # in seconds, where distributed waits half a minute
+        if unreachable:
+            store.close()
+            raise ConfigError(f"compute: cannot start the executor: {unreachable}")
         try:
             executor = compute.make_executor(workers=self.workers, scheduler=self.scheduler)
         except Exception as exc:  # noqa: BLE001 - a bad address or an unreachable cluster is a user error
