@@ -8,6 +8,7 @@ arguments end with exit status 2 and one plain line on stderr (no traceback); no
 from __future__ import annotations
 
 import math
+import signal
 import sys
 from pathlib import Path
 
@@ -52,6 +53,8 @@ class JointwearGroup(click.Group):
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):  # type: ignore[override]
         if not standalone_mode:
             return super().main(args, prog_name, complete_var, standalone_mode=False, **extra)
+        # a batch scheduler ends a job with SIGTERM: stop as on Ctrl-C (the workers ended, the resume hint told)
+        signal.signal(signal.SIGTERM, _terminated)
         sys.exit(self.run(args, prog_name or "jointwear"))
 
     def run(self, args: list[str] | None = None, prog_name: str = "jointwear") -> int:
@@ -65,7 +68,7 @@ class JointwearGroup(click.Group):
         except click.exceptions.Abort:
             click.echo("error: aborted (a stage that makes model calls keeps those made in the output folder's "
                        "evaluation store: run the same command again with --resume to continue it)", err=True)
-            return 1
+            return 128 + signal.SIGTERM if _TERMINATED else 1
         except click.UsageError as exc:
             click.echo(f"error: {one_line(exc.format_message())}", err=True)
             return 2
@@ -76,6 +79,16 @@ class JointwearGroup(click.Group):
             click.echo(f"error: simulation failed: {one_line(str(exc))}", err=True)
             return 1
         return rv if isinstance(rv, int) else 0
+
+
+_TERMINATED = False
+
+
+def _terminated(signum, frame) -> None:
+    """SIGTERM: end as a Ctrl-C does (click turns the KeyboardInterrupt into Abort), with exit status 143."""
+    global _TERMINATED
+    _TERMINATED = True
+    raise KeyboardInterrupt
 
 
 def one_line(msg: str) -> str:

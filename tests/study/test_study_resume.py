@@ -383,3 +383,25 @@ def test_an_unreachable_scheduler_is_refused_at_once_before_the_nominal_stages(q
                                           rf"'tcp://127\.0\.0\.1:{port}'"):
         jointwear.Study(quick_config, out=out, scheduler=f"tcp://127.0.0.1:{port}").run()
     assert time.monotonic() - t0 < 10.0 and not out.exists()
+
+
+def test_a_study_ended_by_sigterm_says_how_to_resume(quick_config, tmp_path):
+    """A batch scheduler's SIGTERM at a time limit ended a study with no message but leaked-semaphore warnings (exit
+    143); it now ends as a Ctrl-C does: the calls made kept, the resume hint told, exit status 143 still."""
+    out = tmp_path / "term"
+    proc = subprocess.Popen(_cmd(quick_config, out), env=_env(), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                            start_new_session=True, text=True)
+    try:
+        t0 = time.monotonic()
+        while _stored_calls(out) < 1 and proc.poll() is None and time.monotonic() - t0 < 300:
+            time.sleep(0.05)
+        assert proc.poll() is None, "the study ended before it could be terminated"
+        proc.send_signal(signal.SIGTERM)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+    assert proc.returncode == 143, err
+    assert "error: aborted" in err and "--resume" in err and "leaked semaphore" not in err, err
+    assert _stored_calls(out) >= 1

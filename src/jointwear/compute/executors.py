@@ -153,8 +153,10 @@ def _worker_init(main_pid: int) -> None:
         ).start()
     if os.getppid() != main_pid and not _pid_alive(main_pid):  # the study died while we started
         os._exit(1)
-    # Ctrl-C goes to the study, which cancels the batch; workers are ended by the pool's shutdown.
+    # Ctrl-C goes to the study, which cancels the batch; workers are ended by the pool's shutdown (and a SIGTERM
+    # ends a worker, whatever handler the study has for its own).
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
 def _pid_alive(pid: int) -> bool:
