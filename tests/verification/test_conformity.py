@@ -36,3 +36,5 @@ def test_the_wear_stage_says_when_uniform_mode_is_out_of_range(rig_config, tmp_p
     lines.clear()
     Study(updated(cfg, {"wear.geometry_mode": "profile"}), out=tmp_path / "p", echo=lines.append).wear()
     assert lines and not any("outside its range" in line for line in lines), lines
+    # and says that its answer is the one to trust here (the conformity > 1)
+    assert any(line.startswith("wear: profile mode follows the worn shape here (conformity") for line in lines), lines

@@ -955,8 +955,8 @@ def profile_mode_line(result: WearSummary) -> str:
     if result.geometry_mode != "profile" or c is None or not c == c:
         return ""
     if c > 1.0:
-        return (f"profile mode follows the worn shape here, where uniform mode would be outside its range "
-                f"(conformity {c:.3g} > 1): this is the answer to trust")
+        return (f"profile mode follows the worn shape here (conformity {c:.3g} > 1: the journal fits into its own "
+                "wear, which uniform mode ignores): this is the answer to trust")
     return f"uniform mode would be fair here too (conformity {c:.3g} <= 1: the worn arc within the contact patch)"
 
 
