@@ -147,5 +147,3 @@ def _crank_rpm(out_dir: Path | str) -> float | None:
 
     rel = ReliabilityResult.load_if_present(out_dir)
     return None if rel is None else rel.crank_speed_rpm
-
-

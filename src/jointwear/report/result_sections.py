@@ -6,8 +6,6 @@ from __future__ import annotations
 import datetime as _dt
 from collections.abc import Mapping, Sequence
 
-import numpy as np
-
 from jointwear.study.reliability_results import SurrogateFit, interval_cells, interval_text
 
 from . import figures as F
@@ -536,11 +534,11 @@ def summary_caveats(out: StudyOutputs) -> str:
                                                               rel.surrogate_fit_sentence()),
                                                              ("A series system", rel.series_sentence())) if s]
     val = out.results.validation
-    if val is not None and val.disagreement():
+    missed = "" if val is None else val.disagreement()
+    if missed:
         items.append(("validation", "The true model disagrees with the curve",
-                      f"at {int(np.sum(~np.asarray(val.agreement, dtype=bool)))} of {len(val.agreement)} levels, "
-                      f"{val.disagreement()}; the levels share the validation's {val.n_samples:,} samples, so they "
-                      "are not independent checks"))
+                      f"at {int((~val.agreement).sum())} of {len(val.agreement)} levels, {missed}; the levels share "
+                      f"the validation's {val.n_samples:,} samples, so they are not independent checks"))
     rows = [f'<li><a href="#{e(sid)}"><strong>{e(title)}</strong></a>: {e(sentence.rstrip("."))}.</li>'
             for sid, title, sentence in items]
     missed = None if rel is None else curve_misses_life(rel, wear)  # markup already

@@ -270,7 +270,7 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
          "of the history; the stage also builds the model and draws its figures"),
         ("geometry mode", wear.geometry_mode, None),
     ]
-    life = nominal_life_card(wear, out.config, first)
+    life = nominal_life_card(wear, out.results.setting("reliability.quantity") or "bearing_max_depth", first)
     if life is not None:
         items.append(life)
     if wear.journal.get("max_wear_mm") is not None:
@@ -337,15 +337,13 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
     return "".join(parts)
 
 
-def nominal_life_card(wear, config: dict, first: str):
-    """The card of the cycles at which the nominal history reaches the first joint's allowance, in the limit state's
-    measure (``config``: config.json's records; None without an allowance, or where the history stops growing)."""
+def nominal_life_card(wear, quantity: str, first: str):
+    """The card of the cycles at which the nominal history reaches the first joint's allowance in the limit state's
+    measure ``quantity`` (None without an allowance, or where the history stops growing)."""
     joint = wear.joints[0] if wear.joints else {}
     allowance = joint.get("allowance_mm")
     if allowance is None:
         return None
-    quantity = next((r.get("value") for r in config.get("settings") or [] if r.get("name") == "reliability.quantity"),
-                    "bearing_max_depth")
     life = nominal_lives([joint], {str(joint.get("name")): allowance}, str(quantity)).get(str(joint.get("name")))
     if life is None or not math.isfinite(life):
         return None

@@ -21,7 +21,6 @@ RELIABILITY_STAGES = frozenset({"reliability", "sensitivity"})
 SCHEDULER_SCHEMES = ("tcp", "tls", "inproc", "ws", "wss", "ucx")
 
 
-
 def shown(value: float, target: str) -> str:
     """A random variable's SI number as the user reads it, with its unit: '350 HB', '7.62 mm', '110 GPa'."""
     from jointwear.config import display_unit
@@ -29,6 +28,7 @@ def shown(value: float, target: str) -> str:
 
     number, unit = to_display(value, display_unit(target))
     return f"{number:.6g} {unit}" if unit else f"{number:.6g}"
+
 
 def scheduler_problem(address: str | None) -> str | None:
     """Why a Dask scheduler address cannot be used (None when it parses: scheme://host:port)."""
@@ -153,7 +153,6 @@ def design_warnings(config: StudyConfig) -> list[str]:
     study's mean of their variable (a fit's mean against the clearance's): the sign of a unit slip, such as
     ``mean = 120`` meant in HB (read as 120 Pa) or ``mean_mm = 8.5`` meant in um. A real alternative material or fit
     differs by a factor of a few."""
-
     design, unc = config.design, config.uncertainty
     if design is None or unc is None:
         return []
@@ -440,7 +439,6 @@ def random_input_warnings(config: StudyConfig) -> list[str]:
     built: those samples' calls fail. A failed call counts as a failure where the learning draws it, but the rest of
     the population there is classified by the surrogate's extrapolation (docs/study.md), so R(N) may read high."""
     from scipy.stats import norm
-
 
     unc = config.uncertainty
     if unc is None or not unc.all_specs() or random_input_problems(config):

@@ -235,7 +235,7 @@ def _row(res: StudyResults, label: str, target: float) -> dict:
     val = res.validation
     return {
         "label": label,
-        "geometry_mode": wear.geometry_mode if wear is not None else _setting(res, "wear.geometry_mode"),
+        "geometry_mode": wear.geometry_mode if wear is not None else res.setting("wear.geometry_mode"),
         "life_cycles": life, "life_cycles_low": low, "life_cycles_high": high, "life_hours": hours,
         "status": life_status(rel.reliability, target), "life_ratio": None, "verdict": "",
         "model_calls": int(rel.model_calls), "converged": bool(rel.converged),
@@ -266,12 +266,6 @@ def _differences(loaded: list[StudyResults]) -> list[dict]:
             unit = next((s[name].get("unit") for s in per_study if name in s), None)
             out.append({"name": name, "unit": unit, "values": values})
     return out
-
-
-def _setting(res: StudyResults, name: str) -> Any:
-    """The value config.json records for a setting (None when it records none): the wear mode of a study whose
-    wear stage did not run."""
-    return next((s.get("value") for s in (res.config or {}).get("settings", []) if s.get("name") == name), None)
 
 
 def _item_names(settings: list[dict]) -> dict[str, str]:

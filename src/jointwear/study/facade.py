@@ -373,11 +373,8 @@ class Study:
         """
         from jointwear.mechanism import build_model
         from jointwear.wear import wear_history
-        from jointwear.wear.settings import check_cycles
 
-        if cycles is not None:
-            check_cycles(cycles, "cycles")
-        n = check_cycles(self._wear_cycles(cycles), "cycles")  # refused before anything is written
+        n = self._wear_cycles(cycles)  # refused before anything is written
         self._prepare({"wear"})
         t0 = time.perf_counter()
         res = wear_history(build_model(self.config), self.config.wear, n, progress=progress)
@@ -388,8 +385,9 @@ class Study:
         self.echo(f"wear: max bearing wear {wear_line(result)} after {ran} "
                   f"(history {res.wall_seconds:.1f} s, stage {time.perf_counter() - t0:.1f} s) "
                   f"-> {self.out / result.FILE}")
-        if profile_mode_line(result):
-            self.echo(f"wear: {profile_mode_line(result)}")
+        mode = profile_mode_line(result)
+        if mode:
+            self.echo(f"wear: {mode}")
         if not nominal_life_outside_curve(self.config, result.joints):  # that warning gives the life itself
             life = nominal_life_line(self.config, result.joints)
             if life:
@@ -398,11 +396,14 @@ class Study:
         return result
 
     def _wear_cycles(self, cycles: int | None) -> int:
-        """The nominal history's length: the caller's, else the config's (``wear.cycles``, else the curve's end)."""
+        """The nominal history's length: the caller's (checked), else the config's (``wear.cycles``, else the
+        curve's end)."""
+        from jointwear.wear.settings import check_cycles
+
         n = cycles if cycles is not None else nominal_wear_cycles(self.config)
         if n is None:
             raise ConfigError(WEAR_CYCLES_MISSING)
-        return n
+        return check_cycles(n, "cycles")
 
     @_quiet
     def converge(self, replicates: int = 8, factor: float = 2.0, tolerance: float = 0.02,
@@ -444,12 +445,9 @@ class Study:
             chosen_refinements,
             run_convergence,
         )
-        from jointwear.wear.settings import check_cycles
 
-        if cycles is not None:
-            check_cycles(cycles, "cycles")
+        n = self._wear_cycles(cycles)
         chosen_refinements(self.config, replicates, factor, tolerance, only)
-        n = check_cycles(self._wear_cycles(cycles), "cycles")
         self._prepare({"wear"})
         digest = compute.config_hash(ConvergenceCall(self.config.model_dump()).identity())
         with self._compute(reuse=True, description="histories", store_file=STORE_FILE, digest=digest) as (
@@ -597,7 +595,8 @@ class Study:
                     f"{'-' if row['surrogate_cycles'] is None else format(row['surrogate_cycles'], ',.0f')}"
                     f"{'' if row['agree'] else ' (the intervals do not overlap)'}")
         joints = "".join(f", joint {j['name']} at {j['levels_agree']}" for j in result.joints if "levels_agree" in j)
-        where = f" ({result.disagreement()})" if result.disagreement() else ""
+        missed = result.disagreement()
+        where = f" ({missed})" if missed else ""
         self.echo(f"validate: {result.n_samples:,} true-model samples{_reused(result.model_calls, result.n_samples)}, "
                   f"agreement at {agree} of {len(result.agreement)} levels{where}{joints}{life}, cross-validation Q2 = "
                   f"{result.cross_validation.get('q2', float('nan')):.3f} -> {self.out / result.FILE}")

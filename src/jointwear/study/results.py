@@ -432,6 +432,10 @@ class StudyResults:
         """The study's name, from its ``config.json`` (None when the folder has none)."""
         return (self.config or {}).get("name")
 
+    def setting(self, name: str) -> Any:
+        """The value ``config.json`` records for a setting, in its recorded units (None when it records none)."""
+        return next((s.get("value") for s in (self.config or {}).get("settings", []) if s.get("name") == name), None)
+
     @property
     def stages(self) -> list[str]:
         """The stages with a result in the folder."""
