@@ -19,9 +19,14 @@ CLEARANCE_SUFFIX = ".clearance"
 _COORD = {"x": 0, "y": 1}
 
 
+def _is_point(node: Any) -> bool:
+    """Whether ``node`` is a coordinate pair (its items addressed as x/y too)."""
+    return isinstance(node, (list, tuple)) and len(node) == 2 and all(isinstance(v, (int, float)) for v in node)
+
+
 def _index(node: list | tuple, key: str) -> int:
     """Position of `key` in a list/tuple: an integer, x/y for a coordinate pair, or the `name` of a table."""
-    if key in _COORD and len(node) == 2 and all(isinstance(v, (int, float)) for v in node):
+    if key in _COORD and _is_point(node):
         return _COORD[key]
     try:
         return int(key)
@@ -32,25 +37,30 @@ def _index(node: list | tuple, key: str) -> int:
         raise KeyError(key) from None
 
 
+def _step(node: Any, key: str) -> Any:
+    """The item ``key`` of a table, list or point."""
+    return node[_index(node, key)] if isinstance(node, (list, tuple)) else node[key]
+
+
 def _walk(data: Any, keys: list[str]) -> Any:
     node = data
     for key in keys:
-        node = node[_index(node, key)] if isinstance(node, (list, tuple)) else node[key]
+        node = _step(node, key)
     return node
 
 
 def _missing_step(data: Any, keys: list[str]) -> str:
     """Where a path leaves the config, with the keys it could take there (a typo's likely fix first):
-    ": 'hardnes' is not one of clearance_joints.A.bearing_material's keys (did you mean 'hardness'?)"."""
+    ": 'hardnes' is not in clearance_joints.A.bearing_material (did you mean 'hardness'?)"."""
     node, walked = data, []
     for key in keys:
         try:
-            node = node[_index(node, key)] if isinstance(node, (list, tuple)) else node[key]
+            node = _step(node, key)
         except (KeyError, IndexError, ValueError, TypeError):
             if isinstance(node, dict):
                 options = [str(k) for k in node]
-            elif isinstance(node, (list, tuple)) and len(node) == 2 and all(isinstance(v, (int, float)) for v in node):
-                options = [*_COORD, "0", "1"]  # a point's coordinates
+            elif _is_point(node):
+                options = [*_COORD, "0", "1"]
             elif isinstance(node, (list, tuple)):
                 options = [str(item["name"]) for item in node if isinstance(item, dict) and "name" in item]
                 options = options or [str(i) for i in range(len(node))]
