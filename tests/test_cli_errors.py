@@ -259,14 +259,15 @@ def test_an_extending_config_changes_one_named_entry_and_a_field_in_another_unit
 
 
 def test_an_interrupt_says_how_to_continue(tmp_path, capsys, monkeypatch):
-    """Ctrl-C printed only 'error: aborted'; the calls made are kept, and the message now says how to go on."""
+    """Ctrl-C printed only 'error: aborted'; the calls made are kept, and the message now says how to go on. The exit
+    status is the shell's for SIGINT (130), so a batch script can tell an interrupt from a failed study (1)."""
     import jointwear.study
 
     def interrupted(self, *args, **kwargs):
         raise KeyboardInterrupt
 
     monkeypatch.setattr(jointwear.study.Study, "reliability", interrupted)
-    assert main_entry(["reliability", "--out", str(tmp_path)]) == 1
+    assert main_entry(["reliability", "--out", str(tmp_path)]) == 130
     err = capsys.readouterr().err
     assert "error: aborted" in err and "again with --resume" in err
 

@@ -68,7 +68,7 @@ class JointwearGroup(click.Group):
         except click.exceptions.Abort:
             click.echo("error: aborted (a stage that makes model calls keeps those made in the output folder's "
                        "evaluation store: run the same command again with --resume to continue it)", err=True)
-            return 128 + signal.SIGTERM if _TERMINATED else 1
+            return 128 + (signal.SIGTERM if _TERMINATED else signal.SIGINT)  # the shell's convention: 143, 130
         except click.UsageError as exc:
             click.echo(f"error: {one_line(exc.format_message())}", err=True)
             return 2
