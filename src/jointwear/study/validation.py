@@ -30,29 +30,35 @@ def clopper_pearson(k: int, n: int, level: float = 0.95) -> tuple[float, float]:
     return float(ci.low), float(ci.high)
 
 
-def leave_one_out(ctx: StudyContext, design_x: np.ndarray, seed: int) -> dict:
-    """Leave-one-out predictions of ln N_f at the design points, from a Kriging fitted to all of them (its
-    hyperparameters kept: :meth:`~jointwear.reliability.KrigingSurrogate.leave_one_out`), with the fit's Q^2; one
-    Kriging per judged joint when the study learns them so (the smallest joint's prediction)."""
+def leave_one_out(ctx: StudyContext, reliability: ReliabilityResult, seed: int) -> dict:
+    """Leave-one-out predictions of ln N_f at the design points by the surrogate behind R(N) (its hyperparameters
+    kept: :meth:`~jointwear.reliability.KrigingSurrogate.leave_one_out`), with its Q^2 (the reliability stage's
+    ``surrogate_fit``); the smallest joint's prediction when the study learns one Kriging per joint. A result read
+    back from disk holds no surrogate: a Kriging is then fitted anew to the design points."""
     from jointwear.reliability import KrigingSurrogate, SeriesSurrogate
 
-    u = ctx.iso().to_u(design_x)
-    estimate_nugget = ctx.config.reliability.noise == "estimate"
-    if ctx.per_joint:
-        lives = ctx.log_joint_lives(design_x)
-        ok = np.isfinite(lives).all(axis=1)
-        y = lives.min(axis=1)
-        full = SeriesSurrogate(lives.shape[1], seed=seed, estimate_nugget=estimate_nugget).fit(u, lives)
+    design_x = np.asarray(reliability.design_x, dtype=float)
+    engine = reliability.engine
+    if engine is not None:
+        full, shift = engine.response_surrogate, float(engine.levels[0])  # fitted to ln N_f - ln N_1
     else:
-        with np.errstate(divide="ignore", invalid="ignore"):
-            y = np.log(ctx.life(design_x))
-        ok = np.isfinite(y)
-        full = KrigingSurrogate(seed=seed, estimate_nugget=estimate_nugget).fit(u[ok], y[ok])
+        u = ctx.iso().to_u(design_x)
+        estimate_nugget = ctx.config.reliability.noise == "estimate"
+        shift = 0.0
+        if ctx.per_joint:
+            lives = ctx.log_joint_lives(design_x)
+            full = SeriesSurrogate(lives.shape[1], seed=seed, estimate_nugget=estimate_nugget).fit(u, lives)
+        else:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                y = np.log(ctx.life(design_x))
+            ok = np.isfinite(y)
+            full = KrigingSurrogate(seed=seed, estimate_nugget=estimate_nugget).fit(u[ok], y[ok])
     pred, var = full.leave_one_out()
     fit = SurrogateFit.of(full, loo=pred)
-    return {"log_life_true": y[ok].tolist(), "log_life_loo": pred.tolist(), "log_life_loo_sd": np.sqrt(var).tolist(),
-            "q2": fit.q2, "rmse_log_life": fit.rmse_log_life, "n_points": fit.n_points,
-            "n_failed_points": int((~ok).sum())}
+    y = full.training_outputs
+    return {"log_life_true": (y + shift).tolist(), "log_life_loo": (pred + shift).tolist(),
+            "log_life_loo_sd": np.sqrt(var).tolist(), "q2": fit.q2, "rmse_log_life": fit.rmse_log_life,
+            "n_points": fit.n_points, "n_failed_points": int(design_x.shape[0] - y.size)}
 
 
 def run_validation(ctx: StudyContext, reliability: ReliabilityResult, n_samples: int) -> ValidationResult:
@@ -69,7 +75,7 @@ def run_validation(ctx: StudyContext, reliability: ReliabilityResult, n_samples:
     r_mc, lo, hi = true_reliability(life, levels, p_inf)
     r_sur = np.asarray(reliability.reliability, dtype=float)
     agree = agreement(r_mc, lo, hi, r_sur, reliability.half_width).tolist()
-    cv = leave_one_out(ctx, np.asarray(reliability.design_x), seed=rel.seed)
+    cv = leave_one_out(ctx, reliability, seed=rel.seed)
     # the true model's life is read between the levels too, where the study reads its own (each sample's life is
     # known: its curve is exact at any N)
     fine = curve_cycles(levels)
