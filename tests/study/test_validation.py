@@ -105,6 +105,23 @@ def test_the_validate_line_names_the_levels_that_disagree():
     assert res.disagreement() == ""
 
 
+def test_the_95_percent_test_of_the_difference_is_stricter_than_overlapping_intervals():
+    """Overlapping 95 % intervals were told as agreement at 95 %; a difference of 0.03 with a half-width of 0.02 on
+    each side overlaps (0.03 < 0.04) but fails the test of the difference, sqrt(0.02^2 + 0.02^2) = 0.028."""
+    res = ValidationResult(cycles=np.array([10_000, 20_000, 30_000]), reliability_mc=np.array([0.9, 0.9, 0.5]),
+                           ci_low=np.array([0.88, 0.88, 0.45]), ci_high=np.array([0.92, 0.92, 0.52]),
+                           reliability_surrogate=np.array([0.87, 0.88, 0.535]),
+                           surrogate_error=np.array([0.02, 0.02, 0.0]), surrogate_cov=np.array([0.0, 0.0, 0.0]),
+                           n_samples=1000, model_calls=1000, wall_seconds=1.0,
+                           agreement=np.array([True, True, True]))
+    # level 3: the true model's interval on the surrogate's side (0.02, not 0.05) is what the difference meets
+    assert res.differs_at_95().tolist() == [True, False, True]
+    assert res.differences_at_95() == "a 95 % test of the difference rejects 10,000 and 30,000 cycles"
+    # the curve's Monte Carlo half-width 1.96 COV Pf counts too: COV 0.1 at Pf 0.13 adds 0.025 (sqrt -> 0.037)
+    res.surrogate_cov = np.array([0.1, 0.0, 0.0])
+    assert res.differs_at_95().tolist() == [False, False, True]
+
+
 def test_a_true_life_before_the_curve_does_not_agree_with_a_life_inside_it():
     """The true model's R below the target already at the first level (its life before 800,000 cycles) against a
     surrogate life of 1,000,000 (900,000-1,100,000): the missing ends counted as unbounded made them 'agree'."""

@@ -597,8 +597,11 @@ class Study:
         joints = "".join(f", joint {j['name']} at {j['levels_agree']}" for j in result.joints if "levels_agree" in j)
         missed = result.disagreement()
         where = f" ({missed})" if missed else ""
+        strict = result.differences_at_95()
+        strict = f"; {strict}" if strict else ""
         self.echo(f"validate: {result.n_samples:,} true-model samples{_reused(result.model_calls, result.n_samples)}, "
-                  f"agreement at {agree} of {len(result.agreement)} levels{where}{joints}{life}, cross-validation Q2 = "
+                  f"agreement at {agree} of {len(result.agreement)} levels (overlapping 95 % intervals){where}{strict}"
+                  f"{joints}{life}, cross-validation Q2 = "
                   f"{result.cross_validation.get('q2', float('nan')):.3f} -> {self.out / result.FILE}")
         self._refresh_report()
         return result

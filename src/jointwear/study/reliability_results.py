@@ -586,7 +586,8 @@ class ValidationResult(StageResult):
     At every level of the curve: ``reliability_mc`` from ``n_samples`` true-model calls on fresh samples, its
     exact binomial 95 % interval [``ci_low``, ``ci_high``], the surrogate's ``reliability_surrogate`` with its
     error estimate (``surrogate_error``, absolute) and COV, and whether the two agree within their combined
-    95 % half-widths (``agreement``). ``cross_validation``: leave-one-out predictions of the design points'
+    95 % half-widths (``agreement``: the two intervals overlap; :meth:`differs_at_95` is the stricter 95 % test of
+    their difference). ``cross_validation``: leave-one-out predictions of the design points'
     log life against their true values, with Q^2. ``model_calls``: the true-model calls this run made (samples read
     back from the evaluation store are not counted). ``life_table``: at each target of the study, the life read on
     the true model's curve (``cycles``) with the interval where its exact 95 % bounds cross the target
@@ -642,6 +643,27 @@ class ValidationResult(StageResult):
                            f"{self.reliability_surrogate[k]:.3f}{error(k)}" for k in missed[:shown])
         more = f" and {len(missed) - shown} more" if len(missed) > shown else ""
         return f"not at {levels}{more}"
+
+    def differs_at_95(self) -> np.ndarray:
+        """Where a 95 % test of the difference rejects the surrogate's R: |R_true - R_surrogate| exceeds the root sum
+        of squares of the three 95 % half-widths (the true model's exact interval on the surrogate's side, the curve's
+        Monte Carlo 1.96 COV Pf, its error estimate), each error taken as independent. :attr:`agreement` asks only
+        that the two intervals overlap, a lenient test (about 99.4 % for two errors of equal width)."""
+        r, r_sur = self.reliability_mc, self.reliability_surrogate
+        true_half = np.where(r_sur > r, self.ci_high - r, r - self.ci_low)
+        cov = self.surrogate_cov if self.surrogate_cov.size == r.size else np.zeros_like(r)
+        mc_half = 1.96 * np.where(np.isfinite(cov), cov, 0.0) * (1.0 - r_sur)
+        error = np.nan_to_num(self.surrogate_error, nan=0.0, posinf=1.0)
+        return np.abs(r - r_sur) > np.sqrt(true_half**2 + mc_half**2 + error**2)
+
+    def differences_at_95(self) -> str:
+        """'a 95 % test of the difference rejects 950,000 and 1,000,000 cycles' where :meth:`differs_at_95`; ''
+        where it rejects none."""
+        levels = [f"{c:,.0f}" for c, d in zip(self.cycles, self.differs_at_95()) if d]
+        if not levels:
+            return ""
+        where = levels[0] if len(levels) == 1 else ", ".join(levels[:-1]) + f" and {levels[-1]}"
+        return f"a 95 % test of the difference rejects {where} cycles"
 
     @property
     def all_agree(self) -> bool:
