@@ -5,13 +5,20 @@ from scipy.integrate import solve_ivp
 
 from jointwear.contact.laws import LAW_CODES, hysteresis_factor, normal_force
 
+#: each law's hysteresis factor chi v_in as its source publishes it (docs/verification.md, case 6's table)
+PUBLISHED_CHI_V = {
+    "hunt_crossley": lambda cr: 3.0 * (1.0 - cr) / 2.0,  # Hunt and Crossley (1975)
+    "lankarani_nikravesh": lambda cr: 3.0 * (1.0 - cr**2) / 4.0,  # Lankarani and Nikravesh (1990)
+    "flores": lambda cr: 8.0 * (1.0 - cr) / (5.0 * cr),  # Flores et al. (2011)
+}
 
-def delivered_restitution(law: int, cr: float, k=1e10, nexp=1.5, mass=0.01, v_in=0.5) -> float:
-    """Exit speed / impact speed of a mass hitting a still surface with F = K d^n (1 + chi(cr, v_in) d_dot)
-    (independent of k, mass and v_in: the scaled equation has only cr as a parameter)."""
+
+def delivered_restitution(force, k=1e10, nexp=1.5, mass=0.01, v_in=0.5) -> float:
+    """Exit speed / impact speed of a mass hitting a still surface with the normal force ``force(d, d_dot)``
+    (for F = K d^n (1 + chi d_dot) independent of k, mass and v_in: the scaled equation has only cr as a parameter)."""
 
     def rhs(_, y):
-        f = normal_force(law, k, nexp, y[0], y[1], cr, v_in) if y[0] > 0.0 else 0.0
+        f = force(y[0], y[1]) if y[0] > 0.0 else 0.0
         return [y[1], -f / mass]
 
     def leaves(t, y):
@@ -23,10 +30,16 @@ def delivered_restitution(law: int, cr: float, k=1e10, nexp=1.5, mass=0.01, v_in
 
 
 @pytest.mark.parametrize("law", sorted(LAW_CODES))
-@pytest.mark.parametrize("cr", [0.99, 0.9, 0.7])
+@pytest.mark.parametrize("cr", [0.99, 0.9, 0.7, 0.5])
 def test_delivered_restitution_matches_the_declared_one_to_second_order(law, cr):
-    v_in = 0.5
-    e = delivered_restitution(LAW_CODES[law], cr, v_in=v_in)
+    k, nexp, v_in = 1e10, 1.5, 0.5
+    e = delivered_restitution(lambda d, v: normal_force(LAW_CODES[law], k, nexp, d, v, cr, v_in), k, nexp, v_in=v_in)
+    # the tool's force is the published law: the same impact with chi written from its source gives the same e (the
+    # two integrations share their settings, so only a different force moves e: Hunt-Crossley's and
+    # Lankarani-Nikravesh's differ by 0.028 at cr = 0.7; allowed 1e-6, the solves' rtol of 1e-11 leaves ~1e-9)
+    chi = PUBLISHED_CHI_V[law](cr) / v_in
+    published = delivered_restitution(lambda d, v: k * d**nexp * (1.0 + chi * v), k, nexp, v_in=v_in)
+    assert e == pytest.approx(published, abs=1e-6)
     # to first order in the dissipation, F = K d^n (1 + chi d_dot) with n = 3/2 returns 1 - e = (2/3) chi v_in
     # (Hunt and Crossley 1975): Hunt-Crossley's chi gives exactly 1 - cr, Lankarani-Nikravesh's (1 - cr^2)/2 ~
     # 1 - cr; the remainder is second order, bounded by 1.5 (1 - cr)^2 (measured 0.6-1.3 x (1 - cr)^2).
@@ -37,5 +50,3 @@ def test_delivered_restitution_matches_the_declared_one_to_second_order(law, cr)
         return
     first_order = 1.0 - 2.0 / 3.0 * hysteresis_factor(LAW_CODES[law], cr, v_in) * v_in
     assert abs(e - first_order) <= 1.5 * (1.0 - cr) ** 2
-    # hence against the declared value: the law's own first-order offset plus that remainder
-    assert abs(e - cr) <= abs(first_order - cr) + 1.5 * (1.0 - cr) ** 2
