@@ -74,3 +74,23 @@ def test_material_sets_several_variables_and_candidates_combine_every_option():
     m = last.marginals(controls, names, base)
     assert m[names.index("l2")].std() == pytest.approx(160e-6 / 6)
     assert m[names.index("E_b")] is base[names.index("E_b")]  # untouched variables keep the study's
+
+
+def test_todays_design_is_the_candidate_of_the_studys_own_distributions():
+    """The design's cost was told without today's (a manager read 4.15 as the change's price; it was +0.065), and a
+    choice that loosened two grades did not say so."""
+    from jointwear.design.candidates import SAME_DISTRIBUTION_RTOL, today_candidate
+
+    cfg = _config()
+    controls = build_controls(cfg)
+    # the preset's l2 scatter (24 um) is no ISO grade's (IT11/6 = 26.7 um: 10 % off); its fit is IT7/IT6, not an option
+    cand, unmatched = today_candidate(controls, cfg.uncertainty)
+    assert cand is None and unmatched == ["l2", "fit"]
+    # l2 written to two significant figures of IT11 / 6 (27 um: 1.2 % off) and the fit as option a's grades: today's
+    # design is IT11, a, standard, 40Cr
+    variables = [v.model_copy(update={"std": 27e-6}) if v.name == "l2" else v for v in cfg.uncertainty.variables]
+    clearance = cfg.uncertainty.clearance.model_copy(update={"hole_grade": "IT8", "shaft_grade": "IT7"})
+    unc = cfg.uncertainty.model_copy(update={"variables": variables, "clearance": clearance})
+    cand, unmatched = today_candidate(controls, unc)
+    assert unmatched == [] and cand.choices(controls) == {"l2": "IT11", "fit": "a", "HB_b": "standard", "pin": "40Cr"}
+    assert abs(27e-6 - 160e-6 / 6) / 27e-6 < SAME_DISTRIBUTION_RTOL < 0.1  # neighbouring grades differ by 60 %

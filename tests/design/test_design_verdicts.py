@@ -174,3 +174,22 @@ def test_an_extrapolated_life_puts_no_candidate_off_the_pareto_front():
     assert front == ["IT7/IT6", "H7/g6 a", "H7/g6 b", "hardened"]
     # without extrapolation, the front is the usual one
     assert [r["choices"]["fit"] for r in pareto_front(near[:3])] == ["IT7/IT6", "hardened"]
+
+
+def test_the_choice_is_told_against_todays_design():
+    res = DesignResult(target_life_cycles=1e6, target_reliability=0.9, chosen={
+        "choices": {"l1": "IT10", "fit": "H7/g6", "HB_b": "standard"}, "cost": 4.15}, pareto=[], verification=None,
+        model_calls=10, wall_seconds=1.0, baseline_choices={"l1": "IT9", "fit": "IT7/IT6", "HB_b": "standard"},
+        baseline_cost=4.083)
+    assert res.change_sentence() == ("against today's design (l1 IT9, fit IT7/IT6, HB_b standard, cost 4.083): cost "
+                                     "+0.067; changes l1 IT9 -> IT10, fit IT7/IT6 -> H7/g6")
+    res.chosen["choices"] = dict(res.baseline_choices)
+    assert res.change_sentence().endswith("is the choice: it meets the target as it is")
+    res.baseline_choices, res.baseline_unmatched = None, ["l2"]
+    assert res.change_sentence().startswith("today's design is not among the candidates (l2: ")
+    # no choice: the candidate nearest the target is named
+    res.chosen = None
+    res.candidates = [{"choices": {"l1": "IT8"}, "cost": 9.0, "reliability_at_target_life": 0.877,
+                       "reliability_error": 0.1}, {"choices": {"l1": "IT9"}, "cost": 5.0,
+                                                   "reliability_at_target_life": 0.8, "reliability_error": 0.1}]
+    assert res.nearest_sentence().startswith("the nearest is l1 IT8 (cost 9): R = 0.8770 +/- 0.1000")

@@ -161,3 +161,19 @@ def test_arguments_are_named_as_the_caller_gave_them(tmp_path, capsys):
 
     assert main_entry(["validate", "flores_slider_crank", "--samples", "-3", "--out", str(tmp_path)]) == 2
     assert "'--samples'" in capsys.readouterr().err
+
+
+def test_a_report_moved_aside_with_stale_results_is_built_again(tmp_path, monkeypatch):
+    """A changed [design] moved report.html aside with the stale design, and the design stage then left the folder
+    without a report, where docs/design.md says it rewrites it."""
+    from jointwear.study import Study
+
+    study = Study("jin2025_flapping_wing", out=tmp_path)
+    built = []
+    monkeypatch.setattr(Study, "report", lambda self: built.append(self.out))
+    study._refresh_report()
+    assert built == []  # no report in the folder: none is made
+    study._report_moved = True  # as _supersede leaves it when report.html was among what it moved
+    study._refresh_report()
+    study._refresh_report()
+    assert built == [tmp_path]  # built once; from then on it is in the folder

@@ -19,6 +19,7 @@ import itertools
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
+import numpy as np
 from scipy import stats
 
 from jointwear.config import StudyConfig
@@ -146,6 +147,38 @@ class Candidate:
         for option in self.options(controls):
             out.update(option.described)
         return out
+
+
+#: Largest relative difference of mean, standard deviation and support at which an option is read as the study's own
+#: distribution: a value written to two significant figures (8.7 um for IT9's 8.67 um); neighbouring ISO grades
+#: differ by 60 %.
+SAME_DISTRIBUTION_RTOL = 0.05
+
+
+def _distance(a, b) -> float:
+    """The largest relative difference of two frozen distributions' mean, standard deviation and support ends."""
+    left = np.array([a.mean(), a.std(), *a.support()], dtype=float)
+    right = np.array([b.mean(), b.std(), *b.support()], dtype=float)
+    same = left == right  # the infinite ends of two untruncated distributions
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rel = np.abs(left - right) / np.maximum(np.abs(left), np.abs(right))
+    return float(np.max(np.where(same, 0.0, np.nan_to_num(rel, nan=np.inf))))
+
+
+def today_candidate(controls: list[Control], uncertainty: UncertaintySettings) -> tuple[Candidate | None, list[str]]:
+    """Today's design among the candidates: for every control, the option nearest the study's own distributions
+    within ``SAME_DISTRIBUTION_RTOL``. Returns (that candidate, []) or (None, the controls none of whose options
+    sets the study's distributions)."""
+    study = {s.name: s.frozen() for s in uncertainty.all_specs()}
+    study.update({c.name: c.feasible() for c in uncertainty.clearances()})
+    picks, unmatched = [], []
+    for control in controls:
+        distance = [max(_distance(d, study[v]) for v, d in o.marginals.items()) for o in control.options]
+        best = int(np.argmin(distance))
+        if distance[best] > SAME_DISTRIBUTION_RTOL:
+            unmatched.append(control.name)
+        picks.append(best)
+    return (None, unmatched) if unmatched else (Candidate(tuple(picks)), [])
 
 
 def enumerate_candidates(controls: list[Control]) -> Iterator[Candidate]:

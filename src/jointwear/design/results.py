@@ -34,7 +34,9 @@ class DesignResult(StageResult):
     verification; ``calls`` splits them). ``targets``: the same for every target (the first is the headline).
     ``chosen_every_target``: with several targets, the cheapest candidate that meets all of them at once (its R(N*)
     and error per target, in their order; None with one target or when none does), which a drawing needs; each
-    target's own choice may miss the others.
+    target's own choice may miss the others. ``baseline_choices`` and ``baseline_cost``: today's design (the study's
+    own distributions) as options of the controls and its cost, None when some control has no option of the study's
+    distribution (``baseline_unmatched`` names them).
     """
 
     FILE: ClassVar[str] = "design.json"
@@ -59,6 +61,9 @@ class DesignResult(StageResult):
     provenance: dict = field(default_factory=dict)
     chosen_every_target: dict | None = None
     study_curve_cycles: list[float] = field(default_factory=list)  # first and last level of the study's R(N)
+    baseline_choices: dict | None = None  # today's design as options of the controls (None: not among them)
+    baseline_cost: float | None = None
+    baseline_unmatched: list[str] = field(default_factory=list)  # controls with no option of the study's distribution
 
     def target_outside_curve_sentence(self) -> str:
         """A target life outside the study's R(N) curve (empty when inside, or unknown): the learning refined the
@@ -78,6 +83,35 @@ class DesignResult(StageResult):
     def feasible(self) -> bool:
         """Whether some candidate reaches the headline target on the surrogate."""
         return self.chosen is not None
+
+    def change_sentence(self) -> str:
+        """What the choice changes against today's design and what that costs, or why today's design cannot be
+        compared ('' without a choice)."""
+        chosen = self.chosen
+        if chosen is None:
+            return ""
+        if self.baseline_choices is None:
+            which = " and ".join(self.baseline_unmatched) or "some control"
+            return (f"today's design is not among the candidates ({which}: the study's distribution is none of the "
+                    "options), so the change in cost is not known")
+        changes = [f"{k} {v} -> {chosen['choices'][k]}" for k, v in self.baseline_choices.items()
+                   if chosen["choices"].get(k) != v]
+        today = f"today's design ({', '.join(f'{k} {v}' for k, v in self.baseline_choices.items())}, cost " \
+                f"{self.baseline_cost:.4g})"
+        if not changes:
+            return f"{today} is the choice: it meets the target as it is"
+        delta = chosen["cost"] - self.baseline_cost
+        return f"against {today}: cost {delta:+.4g}; changes {', '.join(changes)}"
+
+    def nearest_sentence(self) -> str:
+        """With no choice: the candidate nearest the target (highest R(N*)), '' otherwise."""
+        rows = [r for r in self.candidates if r.get("reliability_at_target_life") is not None]
+        if self.chosen is not None or not rows:
+            return ""
+        best = max(rows, key=lambda r: (r["reliability_at_target_life"], -r["cost"]))
+        picks = ", ".join(f"{k} {v}" for k, v in best["choices"].items())
+        return (f"the nearest is {picks} (cost {best['cost']:.4g}): R = {best['reliability_at_target_life']:.4f} +/- "
+                f"{best['reliability_error']:.4f} at {self.target_life_cycles:,.0f} cycles")
 
     def undecided_sentence(self) -> str:
         """What candidates left undecided by the refinement mean for the choice (empty when none was left, or when

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
-from jointwear.design.candidates import Candidate, Control, build_controls, enumerate_candidates
+from jointwear.design.candidates import Candidate, Control, build_controls, enumerate_candidates, today_candidate
 from jointwear.design.results import EXTRAPOLATED_SHARE, DesignResult, verification_verdict
 from jointwear.design.settings import DesignSettings
 from jointwear.reliability import (
@@ -406,6 +406,7 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
     today = (1.0 - space.p_inf_default) * surviving(sur, space.base_u, mu_today, targets[0]["log_life"]) / mu_today.size
     # the inputs the design rests on; the session's other stages (sensitivity, validation) evaluated more
     total_calls = study_points + refine_calls + verification_calls
+    today_cand, unmatched = today_candidate(controls, ctx.config.uncertainty)
     return DesignResult(
         target_life_cycles=head["target_life_cycles"], target_reliability=head["target_reliability"],
         chosen=head["chosen"], pareto=head["pareto"], verification=verification,
@@ -423,7 +424,9 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
                     "budget": int(settings.refine_max_calls), "design_points": int(sur.x.shape[0])},
         n_population=settings.n_population, n_candidates=len(candidates), chosen_every_target=every,
         study_curve_cycles=[float(np.min(reliability_result.cycles)), float(np.max(reliability_result.cycles))]
-        if len(reliability_result.cycles) else [])
+        if len(reliability_result.cycles) else [],
+        baseline_choices=None if today_cand is None else today_cand.choices(controls),
+        baseline_cost=None if today_cand is None else today_cand.cost(controls), baseline_unmatched=unmatched)
 
 
 def _cheapest_meeting(est: dict, order: list[int], k: int, reliability: float) -> int | None:

@@ -76,19 +76,27 @@ def design_section(out_dir: Path | str, figs=None) -> str | None:
                  f"{_get(d, 'model_calls', 0)} true-model calls in all.</p>")
     chosen = _get(d, "chosen")
     if chosen is None:
-        parts.append('<p class="missing">No candidate reaches the target on the surrogate.</p>')
+        nearest = d.nearest_sentence()
+        parts.append('<p class="missing">No candidate reaches the target on the surrogate'
+                     f'{"; " + e(nearest) if nearest else ""}.</p>')
     else:
         costs = {c["name"]: {o["name"]: o.get("cost") for o in c.get("options", [])}
                  for c in _get(d, "controls") or []}
-        rows = "".join(f"<tr><td>{e(str(k))}</td><td>{e(str(v))}</td>"
-                       f"<td>{_fmt(costs.get(k, {}).get(v), '.4g')}</td></tr>" for k, v in chosen["choices"].items())
-        parts.append(f"<table><thead><tr><th>control</th><th>chosen option</th><th>its cost</th></tr></thead>"
-                     f"<tbody>{rows}</tbody></table>")
+        base = _get(d, "baseline_choices")
+        rows = "".join(f"<tr><td>{e(str(k))}</td>"
+                       + (f"<td>{e(str(base.get(k, '-')))}</td>" if base else "")
+                       + f"<td>{e(str(v))}</td><td>{_fmt(costs.get(k, {}).get(v), '.4g')}</td></tr>"
+                       for k, v in chosen["choices"].items())
+        today_head = "<th>today</th>" if base else ""
+        parts.append(f"<table><thead><tr><th>control</th>{today_head}<th>chosen option</th><th>its cost</th></tr>"
+                     f"</thead><tbody>{rows}</tbody></table>")
         life, rpm = chosen.get("life_at_target_cycles"), _crank_rpm(out_dir)
         hours = f" ({life / rpm / 60:,.2f} h)" if life and rpm else ""
         text = (f"Cost {chosen['cost']:.4g} (relative units: the sum of the options' costs); on the study's "
                 f"surrogate R(N*) = {chosen['reliability_at_target_life']:.4f} +/- "
                 f"{chosen.get('reliability_error', 0):.4f} and a life of {_fmt(life, ',.0f')} cycles{hours} at R*. ")
+        change = d.change_sentence()
+        text += change[:1].upper() + change[1:] + ". "
         sentence = d.verification_sentence()
         text += sentence[:1].upper() + sentence[1:] + "."
         cls = "" if d.verdict() in ("meets", "within_error") else ' class="warn"'  # misses, or not verified
@@ -98,7 +106,9 @@ def design_section(out_dir: Path | str, figs=None) -> str | None:
         meets = "No candidate meets every target at once." if every is None else (
             "The cheapest design that meets every target at once: "
             + ", ".join(f"{k} {v}" for k, v in every["choices"].items()) + f" (cost {every['cost']:.4g}; R(N*) "
-            + ", ".join(f"{r:.4f}" for r in every["reliability_at_target_life"]) + " at the targets in order).")
+            + ", ".join(f"{r:.4f} +/- {err:.4f}" for r, err in zip(every["reliability_at_target_life"],
+                                                                    every["reliability_error"]))
+            + " at the targets in order, on the surrogate: only the headline choice is verified on the true model).")
         parts.append('<p class="warn"><strong>The headline choice does not meet every target.</strong> '
                      f"{e(meets)}</p>")
     if undecided := d.undecided_sentence():

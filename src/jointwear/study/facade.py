@@ -152,6 +152,7 @@ class Study:
         self._reliability: ReliabilityResult | None = None
         self._depth = 0  # stages running now (one calls another); the folder is released when the last ends
         self._folder_lock = None
+        self._report_moved = False  # report.html moved aside with stale results: rebuilt after the next stage
 
     def __repr__(self) -> str:
         source = f", source={str(self.source)!r}" if self.source is not None else ""
@@ -251,6 +252,7 @@ class Study:
             return
         relevant = [name for name in changed if any(section(name) in DEPENDS_ON[stage] for stage in stale)]
         report = ", and report.html" if (self.out / "report.html").is_file() else ""
+        self._report_moved = self._report_moved or bool(report)  # the stage that follows builds it again
         where = move_aside(self.out, stale)
         self.warn(f"out: moved the results of {', '.join(stale)} (with their tables and figures{report}) to {where}: "
                   f"they were computed with other settings (changed: {', '.join(relevant[:3])}"
@@ -607,8 +609,10 @@ class Study:
         return result
 
     def _refresh_report(self) -> None:
-        """Rebuild a report already in the folder: it would go on without the stage that just wrote its result."""
-        if (self.out / "report.html").is_file():
+        """Rebuild a report already in the folder (or moved aside with the results a changed setting made stale): it
+        would go on without the stage that just wrote its result."""
+        if (self.out / "report.html").is_file() or self._report_moved:
+            self._report_moved = False
             self.report()
 
     def report(self) -> Path:
@@ -838,8 +842,9 @@ class Study:
         calls = f"{result.model_calls} model calls{_reused(new, result.model_calls)} -> {self.out / result.FILE}"
         chosen = result.chosen
         if chosen is None:
+            nearest = result.nearest_sentence()
             self.echo(f"design: no candidate reaches {result.target_life_cycles:,.0f} cycles at "
-                      f"R = {result.target_reliability:g}; {calls}")
+                      f"R = {result.target_reliability:g}{'; ' + nearest if nearest else ''}; {calls}")
             return result
         picks = ", ".join(f"{k} {v}" for k, v in chosen["choices"].items())
         life = chosen.get("life_at_target_cycles")
@@ -847,6 +852,7 @@ class Study:
         self.echo(f"design: {picks} (cost {chosen['cost']:.3g}): on the surrogate R = "
                   f"{chosen['reliability_at_target_life']:.4f} +/- {chosen['reliability_error']:.4f} at the target "
                   f"{result.target_life_cycles:,.0f} cycles{life}; {calls}")
+        self.echo(f"design: {result.change_sentence()}")
         sentence = result.verification_sentence()
         (self.echo if result.verdict() in ("meets", "within_error") else self.warn)(f"design: {sentence}")
         every = result.chosen_every_target
@@ -854,7 +860,10 @@ class Study:
             self.warn("design: the headline choice does not meet every target; " + (
                 "no candidate meets them all at once" if every is None else
                 f"the cheapest that does: {', '.join(f'{k} {v}' for k, v in every['choices'].items())} "
-                f"(cost {every['cost']:.3g})"))
+                f"(cost {every['cost']:.3g}; R(N*) "
+                + ", ".join(f"{r:.4f} +/- {err:.4f}" for r, err in zip(every["reliability_at_target_life"],
+                                                                    every["reliability_error"]))
+                + " at the targets in order, on the surrogate: not verified on the true model)"))
         self._warn_design_trust(chosen)
         for sentence in (result.undecided_sentence(), result.target_outside_curve_sentence()):
             if sentence:
