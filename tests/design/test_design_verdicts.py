@@ -176,6 +176,20 @@ def test_an_extrapolated_life_puts_no_candidate_off_the_pareto_front():
     assert [r["choices"]["fit"] for r in pareto_front(near[:3])] == ["IT7/IT6", "hardened"]
 
 
+def test_a_life_longer_within_the_studys_own_interval_does_not_enter_the_front():
+    """22 front rows, many only tightening grades for 25-150 cycles more (0.05 %), where the study's life interval is
+    +/- 1.2 %: a dearer design enters the front only beyond that resolution."""
+    from jointwear.design.search import pareto_front
+
+    rows = [{"choices": {"g": name}, "cost": cost, "life_at_target_cycles": life, "outside_design_fraction": 0.0}
+            for name, cost, life in (("IT11", 1.0, 400_000.0), ("IT10", 1.5, 400_150.0), ("IT9", 2.0, 404_000.0),
+                                     ("IT8", 3.0, 406_000.0))]
+    assert [r["choices"]["g"] for r in pareto_front(rows)] == ["IT11", "IT10", "IT9", "IT8"]
+    # at 1.2 %: IT10 (+0.04 %) and IT9 (+1.0 %) are not resolved from IT11; IT8 (+1.5 %) is, and no cheaper design
+    # lives as long
+    assert [r["choices"]["g"] for r in pareto_front(rows, resolution=0.012)] == ["IT11", "IT8"]
+
+
 def test_the_choice_is_told_against_todays_design():
     res = DesignResult(target_life_cycles=1e6, target_reliability=0.9, chosen={
         "choices": {"l1": "IT10", "fit": "H7/g6", "HB_b": "standard"}, "cost": 4.15}, pareto=[], verification=None,

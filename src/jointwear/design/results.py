@@ -36,7 +36,9 @@ class DesignResult(StageResult):
     and error per target, in their order; None with one target or when none does), which a drawing needs; each
     target's own choice may miss the others. ``baseline_choices`` and ``baseline_cost``: today's design (the study's
     own distributions) as options of the controls and its cost, None when some control has no option of the study's
-    distribution (``baseline_unmatched`` names them).
+    distribution (``baseline_unmatched`` names them). ``life_resolution``: the relative half-width of the study's own
+    life interval at R*; a dearer candidate enters the Pareto front only when its life at R* exceeds the best cheaper
+    one's by more than that.
     """
 
     FILE: ClassVar[str] = "design.json"
@@ -64,6 +66,7 @@ class DesignResult(StageResult):
     baseline_choices: dict | None = None  # today's design as options of the controls (None: not among them)
     baseline_cost: float | None = None
     baseline_unmatched: list[str] = field(default_factory=list)  # controls with no option of the study's distribution
+    life_resolution: float = 0.0  # relative: a dearer candidate enters the front only beyond it
 
     def target_outside_curve_sentence(self) -> str:
         """A target life outside the study's R(N) curve (empty when inside, or unknown): the learning refined the

@@ -222,16 +222,25 @@ def _refine_point(space: CandidateSpace, sur: LifeSurrogate, cand: Candidate, lo
     return x[int(np.argmin(score))]
 
 
-def pareto_front(rows: list[dict]) -> list[dict]:
-    """Candidates that no cheaper (or equally cheap) candidate matches in life at R*, cheapest first. A life read by
-    extrapolation (more than ``EXTRAPOLATED_SHARE`` of the candidate's population outside the study's inputs) puts
-    no candidate off the front: a well-estimated alternative stays on it beside the extrapolated one."""
-    front, best, best_trusted = [], -math.inf, -math.inf
+def pareto_front(rows: list[dict], resolution: float = 0.0) -> list[dict]:
+    """Candidates that no cheaper (or equally cheap) candidate matches in life at R*, cheapest first, each living
+    longer than the front's previous point by more than the relative ``resolution`` (the study's own life interval:
+    a longer life within it is not resolved). A life read by extrapolation (more than
+    ``EXTRAPOLATED_SHARE`` of the candidate's population outside the study's inputs) puts no candidate off the front:
+    a well-estimated alternative stays on it beside the extrapolated one."""
+    front = []
+    best, best_trusted = -math.inf, -math.inf  # the longest life of any cheaper candidate
+    shown, shown_trusted = -math.inf, -math.inf  # the longest life on the front so far
     for row in sorted(rows, key=lambda r: (r["cost"], -(r["life_at_target_cycles"] or 0.0))):
         life = row["life_at_target_cycles"] or 0.0
         trusted = (row.get("outside_design_fraction") or 0.0) <= EXTRAPOLATED_SHARE
-        if life > (best_trusted if trusted else best):
+        dominated = life <= (best_trusted if trusted else best)
+        resolved = life > (shown_trusted if trusted else shown) * (1.0 + resolution)
+        if not dominated and resolved:
             front.append(row)
+            shown = max(shown, life)
+            if trusted:
+                shown_trusted = max(shown_trusted, life)
         best = max(best, life)
         if trusted:
             best_trusted = max(best_trusted, life)
@@ -243,6 +252,16 @@ def _row(cand: Candidate, controls: list[Control], est: Estimate) -> dict:
             "life_at_target_cycles": est.life_cycles, "reliability_at_target_life": est.reliability,
             "reliability_error": est.error, "surrogate_error": est.surrogate_error,
             "outside_design_fraction": est.outside_fraction}
+
+
+def life_resolution(reliability_result, target: float) -> float:
+    """The relative half-width of the study's own 95 % life interval at ``target`` (0 where the curve does not give
+    it): the resolution of a life at R* on this surrogate."""
+    life = reliability_result.life(target)
+    low, high = reliability_result.life_interval(target)
+    if life is None or low is None or high is None or life <= 0:
+        return 0.0
+    return float((high - low) / (2.0 * life))
 
 
 def baseline_life(ctx: StudyContext, reliability_result, target: float, space: CandidateSpace,
@@ -369,6 +388,7 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
     per_target = []
     for k, t in enumerate(targets):
         rows = [_row(candidates[i], controls, est[(i, k)]) for i in range(len(candidates))]
+        resolution = life_resolution(reliability_result, t["reliability"])
         chosen_i = _cheapest_meeting(est, order, k, t["reliability"])
         chosen = None
         if chosen_i is not None:
@@ -376,7 +396,8 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
             chosen["distributions"] = candidates[chosen_i].distributions(controls)
         per_target.append({"target_life_cycles": t["life_cycles"], "target_reliability": t["reliability"],
                            "life_factor": t["life_factor"], "baseline_life_cycles": t["baseline_life_cycles"],
-                           "chosen": chosen, "chosen_index": chosen_i, "pareto": pareto_front(rows), "rows": rows,
+                           "chosen": chosen, "chosen_index": chosen_i, "pareto": pareto_front(rows, resolution),
+                           "life_resolution": resolution, "rows": rows,
                            "undecided": sum(1 for _, kk in left if kk == k)})
 
     every = None
@@ -426,7 +447,8 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
         study_curve_cycles=[float(np.min(reliability_result.cycles)), float(np.max(reliability_result.cycles))]
         if len(reliability_result.cycles) else [],
         baseline_choices=None if today_cand is None else today_cand.choices(controls),
-        baseline_cost=None if today_cand is None else today_cand.cost(controls), baseline_unmatched=unmatched)
+        baseline_cost=None if today_cand is None else today_cand.cost(controls), baseline_unmatched=unmatched,
+        life_resolution=head["life_resolution"])
 
 
 def _cheapest_meeting(est: dict, order: list[int], k: int, reliability: float) -> int | None:
