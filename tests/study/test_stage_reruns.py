@@ -77,6 +77,8 @@ def test_calls_read_back_from_the_store_are_not_counted_as_new(base, tmp_path):
     assert any(line.startswith("reliability: 20 model calls (0 new, 20 read back from the store)") for line in lines)
     (told,) = [line for line in lines if line.startswith("sensitivity: ")]
     assert f"; {sens.extra_model_calls} extra model calls (0 new, {sens.extra_model_calls} read back " in told
+    # the same stage again on the same Study: the same result ('0 extra model calls' counted this session's reads)
+    assert study.sensitivity() == sens
     study.validate(n_samples=4)
     assert any(line.startswith("validate: 4 true-model samples (0 new, 4 read back from the store), ")
                for line in lines)

@@ -168,11 +168,15 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
     n_model = len(ctx.targets)
     means = np.array([m.mean() for m in ctx.marginals[:n_model]])
     hist_col = ctx.history_cycles.index(sens_cycles)
-    known_before = ctx.n_evaluated
+    # the points this stage needs beyond the study's design, counted whether they are run now or read back, so the
+    # result is the same computed twice
+    design = {np.asarray(x[:n_model], dtype=float).tobytes() for x in np.atleast_2d(reliability.design_x)}
+    asked: set[bytes] = set()
 
     def true_wear(x_point: np.ndarray) -> float:
         """Wear at the sensitivity's cycle count by a true-model call (cached by the study context); with
         several judged joints, the inverse of the series-system life (the same ratio under linear growth)."""
+        asked.add(np.asarray(x_point[:n_model], dtype=float).tobytes())
         if len(ctx.limit_state.joints) > 1:
             x_full = x_point if not ctx.random_allowance else np.append(x_point, ctx.allowance)
             return float(1.0 / ctx.life(x_full[None, :])[0])
@@ -289,7 +293,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> Sensit
         "notes": [] if ctx.copula is None else [
             "Sobol' indices and reliability derivatives assume independent inputs: they are computed on the "
             "marginals without the copula; the mean shifts keep it."],
-        "extra_model_calls": ctx.n_evaluated - known_before,
+        "extra_model_calls": len(asked - design),
         "sobol": {**sobol, **({"by_joint": by_joint} if len(by_joint) > 1 else {})},
         "derivatives": deriv.as_dict(), "n_population": n_pop,
         "wall_seconds": time.perf_counter() - t0,
