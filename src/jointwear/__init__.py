@@ -12,7 +12,7 @@ try:
 except PackageNotFoundError:  # running from a source tree that is not installed
     __version__ = "0+unknown"
 
-__all__ = ["Study", "load_results", "load_config", "compare_studies", "__version__"]
+__all__ = ["Study", "load_results", "load_config", "compare_studies", "ConfigError", "__version__"]
 
 
 def __getattr__(name: str):
@@ -25,6 +25,10 @@ def __getattr__(name: str):
         from jointwear.config import load_config
 
         return load_config
+    if name == "ConfigError":  # what every boundary check raises: `except jointwear.ConfigError`
+        from jointwear.schema import ConfigError
+
+        return ConfigError
     raise AttributeError(f"module 'jointwear' has no attribute {name!r}")
 
 

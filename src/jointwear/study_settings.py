@@ -131,9 +131,9 @@ class ReliabilitySettings(SIModel):
             raise ValueError("cycles_step must be > 0")
         for name in ("n_mc", "n_mc_max", "n_initial", "batch_size", "max_calls", "hold_iterations"):
             if getattr(self, name) <= 0:
-                raise ValueError(f"{name} must be > 0")
+                raise ValueError(f"{name} must be > 0 (got {getattr(self, name)})")
         if self.n_mc_max < self.n_mc:
-            raise ValueError("n_mc_max must be >= n_mc")
+            raise ValueError(f"n_mc_max must be >= n_mc (got {self.n_mc_max:,} < {self.n_mc:,})")
         if self.max_calls < self.n_initial:
             raise ValueError(f"max_calls ({self.max_calls}) must be >= n_initial ({self.n_initial}): the initial "
                              "design alone makes n_initial model calls")

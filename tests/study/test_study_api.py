@@ -46,6 +46,26 @@ def test_a_warning_reaches_a_script_without_an_echo(tmp_path, caplog):
     assert len(found) == 1 and found[0] in caplog.records[0].getMessage()  # returned too, as `check` prints them
 
 
+def test_check_names_an_unknown_stage_and_gives_its_warnings_again(tmp_path, caplog):
+    """check(stages=['simulat', 'bogus']) returned [] as if all were well, and a second check() returned [] after a
+    first one that warned."""
+    study = jointwear.Study(updated(load_config(), {"uncertainty.clearance.mean": 2e-5}), out=tmp_path)
+    with pytest.raises(ConfigError, match="stages: 'simulat' is not a stage \\(did you mean 'simulate'\\?\\)"):
+        study.check(stages=["simulat", "bogus"])
+    with pytest.raises(ConfigError, match="stages: 'bogus' is not a stage \\(known: simulate, wear, "):
+        study.check(stages=["bogus"])
+    with caplog.at_level(logging.WARNING, logger="jointwear"):
+        first = study.check(stages="reliability")  # one stage by its name
+        assert len(first) == 1 and study.check() == first
+    assert len(caplog.records) == 1  # told once
+
+
+def test_resume_and_overwrite_together_are_refused(tmp_path):
+    """Both were accepted, and the run then did one of them."""
+    with pytest.raises(ConfigError, match="resume/overwrite: give one of them"):
+        jointwear.Study(out=tmp_path, resume=True, overwrite=True)
+
+
 def test_a_config_from_python_is_not_labelled_a_preset(tmp_path):
     data = {"extends": "jin2025_flapping_wing", "name": "mine"}
     jointwear.Study(data, out=tmp_path / "dict").simulate(cycles=1)

@@ -9,6 +9,7 @@ layer over this class, so a study started from one is continued by the other wit
 from __future__ import annotations
 
 import contextlib
+import difflib
 import functools
 import logging
 import numbers
@@ -134,6 +135,9 @@ class Study:
             raise ConfigError(f"workers: must be a whole number >= 1 (got {workers!r})")
         if scheduler is not None and workers is not None:
             raise ConfigError("workers/scheduler: give either local workers or a Dask scheduler, not both")
+        if resume and overwrite:
+            raise ConfigError("resume/overwrite: give one of them: resume continues the study in the folder, overwrite "
+                              "discards its evaluation store")
         # an argument wins over the config's compute section, whichever of the two the config names
         compute = self.config.compute
         given = workers is not None or scheduler is not None
@@ -153,6 +157,7 @@ class Study:
         self._depth = 0  # stages running now (one calls another); the folder is released when the last ends
         self._folder_lock = None
         self._report_moved = False  # report.html moved aside with stale results: rebuilt after the next stage
+        self._warnings: list[str] = []  # the config's warnings, found (and told) by its first check
 
     def __repr__(self) -> str:
         source = f", source={str(self.source)!r}" if self.source is not None else ""
@@ -165,20 +170,30 @@ class Study:
 
         Parameters
         ----------
-        stages : iterable of str, optional
-            The stages whose settings are checked (default: every stage the config can run, :attr:`stages`).
+        stages : str or iterable of str, optional
+            The stages whose settings are checked: 'simulate', 'wear', 'reliability', 'sensitivity', 'design'
+            (default: every stage the config can run, :attr:`stages`).
 
         Returns
         -------
         list of str
-            What is legal but probably not meant (also sent to ``echo``); only on the study's first check.
+            What is legal but probably not meant; sent to ``echo`` on the study's first check only.
 
         Raises
         ------
         jointwear.schema.ConfigError
             Every problem found, listed in one message that names each field.
         """
-        return self._check(stages)
+        known = (*STAGES, "design")
+        if isinstance(stages, str):
+            stages = (stages,)
+        for stage in [] if stages is None else stages:
+            if stage not in known:
+                hint = difflib.get_close_matches(str(stage), known, n=1)
+                raise ConfigError(f"stages: {stage!r} is not a stage"
+                                  + (f" (did you mean {hint[0]!r}?)" if hint else f" (known: {', '.join(known)})"))
+        self._check(stages)
+        return list(self._warnings)
 
     def _check(self, stages=None, out: Path | None = None) -> list[str]:
         """:meth:`check`, and with ``out`` whether that folder can be written, before the check that runs the
@@ -200,6 +215,7 @@ class Study:
         if problems:
             raise ConfigError.from_problems(problems, self._source_label)
         found = [] if self._checked else config_warnings(self.config)
+        self._warnings += found
         for warning in found:
             self.warn(f"check: warning: {warning}")
         self._checked |= stages
