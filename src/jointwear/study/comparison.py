@@ -49,7 +49,8 @@ class StudyComparison(StageResult):
     baseline (:func:`life_verdict`; 'baseline' for the first), ``model_calls``, ``converged``, the nominal
     ``max_wear_mm`` after ``wear_cycles``, ``uniform_out_of_range`` (uniform mode past its range: docs/wear.md) and,
     when the study was validated, ``validation_levels_agreeing`` of its ``validation_levels`` (the curve's levels
-    that agree with the true model sampled directly).
+    whose 95 % interval overlaps the true model's, sampled directly) and ``validation_levels_passing_95`` (those that
+    pass the 95 % test of the difference: :meth:`ValidationResult.differs_at_95`).
     ``differences``: every setting whose value differs between the studies (``name``, ``unit``, ``values`` in the
     order of ``studies``; None where a study has no such setting), in the units of the config files.
     ``curves``: each study's R(N) (``cycles``, ``reliability``, ``half_width``: the 95 % half-width of R).
@@ -106,10 +107,15 @@ class StudyComparison(StageResult):
             mode = s["geometry_mode"] or "\u2014"
             if s["uniform_out_of_range"]:
                 mode += " (outside its range)"
+            elif mode == "uniform" and s["max_wear_mm"] is None:
+                mode += " (its range not checked: no wear stage)"
             validated = ("\u2014" if s["validation_levels"] is None
-                         else f"{s['validation_levels_agreeing']} of {s['validation_levels']} levels agree")
+                         else f"{s['validation_levels_agreeing']} of {s['validation_levels']} levels agree "
+                              f"({s['validation_levels_passing_95']} by the 95 % test)")
             calls = str(s["model_calls"]) + ("" if s.get("converged", True) else " (not converged)")
-            out.append((s["label"], life, interval_cells(s["life_cycles_low"], s["life_cycles_high"]), ratio,
+            interval = ("\u2014" if s["life_cycles"] is None
+                        else interval_cells(s["life_cycles_low"], s["life_cycles_high"]))
+            out.append((s["label"], life, interval, ratio,
                         s["verdict"], wear, calls, mode, validated))
         return out
 
@@ -244,6 +250,7 @@ def _row(res: StudyResults, label: str, target: float) -> dict:
         "uniform_out_of_range": bool(wear is not None and wear.uniform_out_of_range),
         "validation_levels_agreeing": None if val is None else int(np.sum(val.agreement)),
         "validation_levels": None if val is None else int(len(val.agreement)),
+        "validation_levels_passing_95": None if val is None else int(np.sum(~val.differs_at_95())),
         "folder": str(res.folder),
     }
 

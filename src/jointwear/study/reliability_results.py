@@ -43,6 +43,8 @@ def interval_text(low: float | None, high: float | None) -> str:
 
 def interval_cells(low: float | None, high: float | None) -> str:
     """'374,429 \u2013 380,517' for a table cell; an end outside the curve said as such."""
+    if low is None and high is None:
+        return "wider than the curve"
     return (("before the curve" if low is None else f"{low:,.0f}") + " \u2013 "
             + ("beyond the curve" if high is None else f"{high:,.0f}"))
 
