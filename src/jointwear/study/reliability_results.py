@@ -649,8 +649,8 @@ class ValidationResult(StageResult):
     def differs_at_95(self) -> np.ndarray:
         """Where a 95 % test of the difference rejects the surrogate's R: ``abs(R_true - R_surrogate)`` exceeds the
         root sum of squares of the three 95 % half-widths (the true model's exact interval on the surrogate's side, the
-        curve's Monte Carlo 1.96 COV Pf, its error estimate), each error taken as independent. :attr:`agreement` asks only
-        that the two intervals overlap, a lenient test (about 99.4 % for two errors of equal width)."""
+        curve's Monte Carlo 1.96 COV Pf, its error estimate), each error taken as independent. :attr:`agreement`
+        asks only that the two intervals overlap, a lenient test (about 99.4 % for two errors of equal width)."""
         r, r_sur = self.reliability_mc, self.reliability_surrogate
         true_half = np.where(r_sur > r, self.ci_high - r, r - self.ci_low)
         cov = self.surrogate_cov if self.surrogate_cov.size == r.size else np.zeros_like(r)
