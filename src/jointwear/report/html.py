@@ -67,7 +67,7 @@ def build_report(out_dir: Path | str, *, output: Path | str | None = None, title
          "Limit state G = ln N_f(x) \u2212 ln N: failure when the wear life N_f, the cycles at which the max wear "
          "reaches the allowance \u03b4\u2080 (read from each model call's wear history, extrapolated linearly past "
          "its end), is below N; the same event as \u03b4max(x, N) > \u03b4\u2080. R(N) and its band between the "
-         "curve's levels are read off the surrogate at 256 points, where the life at each target is found."),
+         "curve's levels are read off the surrogate at 256 or more points, where the life at each target is found."),
         *([("validation", "Validation against the true model", lambda: validation_section(out, figs),
             "The R(N) curve checked against direct Monte Carlo of the true wear model.")]
           if out.results.validation is not None else []),

@@ -155,7 +155,7 @@ class ReliabilityResult(StageResult):
     system's failures (``governing_share``). ``life_surrogate``: how the life was learnt, 'per_joint' (one Kriging
     per judged joint, several joints) or 'system_life' (one Kriging of the mechanism's log life, which with one
     judged joint is that joint's; results written before the choice existed read as that). ``life_curve``: R(N)
-    and its 95 % half-width at 256 points over the curve (its levels among them), where :meth:`life` and
+    and its 95 % half-width at 256 or more points over the curve (its levels among them), where :meth:`life` and
     :meth:`life_interval` read the life.
 
     Units: ``design_x`` are the true-model inputs in SI (columns in the order of ``names``, units in ``units``: a
