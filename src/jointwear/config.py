@@ -344,6 +344,10 @@ def validation_problems(exc: ValidationError, data: Any = None) -> list[str]:
                 shown = f" (got {written} = {inp:g} {unit})"
         if err.get("type") == "extra_forbidden":
             msg = "unknown key (not a setting of this section)" + _did_you_mean(tuple(err.get("loc", ())))
+            if loc and loc[0] == "clearance_joints" and str(loc[-1]).split("_")[0] == "clearance":
+                # updated() and the random variables' targets take a joint's clearance; a table does not
+                msg += ("; a clearance joint's table gives bearing_radius and journal_radius (the clearance is their "
+                        "difference)")
         bound = next((v for k, v in (err.get("ctx") or {}).items() if k in ("ge", "gt", "le", "lt")), None)
         if unit == "Pa" and isinstance(bound, (int, float)) and bound:
             shown_bound = str(int(bound)) if float(bound).is_integer() else str(bound)  # as pydantic writes it

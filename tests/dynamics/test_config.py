@@ -168,6 +168,15 @@ def test_an_unknown_key_names_what_was_meant(section, key, hint):
     assert f"{key}: unknown key (not a setting of this section) ({hint})" in str(err.value)
 
 
+def test_a_clearance_in_a_joints_table_says_how_the_table_gives_it():
+    """updated(config, {'clearance_joints.B.clearance_mm': 0.4}) works; the same key in a table was only 'unknown'."""
+    cfg = load_config().model_dump()
+    cfg["clearance_joints"][0]["clearance_mm"] = 0.4
+    with pytest.raises(ConfigError, match="clearance_mm: unknown key .*; a clearance joint's table gives "
+                                          "bearing_radius and journal_radius"):
+        config_from_dict(cfg)
+
+
 def test_config_reference_markdown():
     md = config_reference_markdown()
     for key in ("assembly_branch", "v0_min", "baumgarte_alpha", "jin2025_flapping_wing", "hardness"):
