@@ -68,6 +68,21 @@ def test_another_target_is_read_on_each_curve(three):
     assert comp.studies[1]["status"] == "in_curve" and comp.studies[1]["verdict"] == "longer"
 
 
+def test_studies_that_differ_only_in_their_seeds_say_so(three):
+    """Seed 1 read 'shorter' than seed 2 (0.972) with nothing else changed: the verdict measured the learning's own
+    scatter, which the intervals do not hold. Where the calls ran (compute.*) is no difference."""
+    for folder, seed, workers in ((three[0], 2, 1), (three[2], 1, 2)):
+        path = folder / "config.json"
+        data = json.loads(path.read_text())
+        data["settings"] = [s for s in data["settings"] if s["name"] not in ("reliability.seed", "compute.workers")]
+        data["settings"] += [{"name": "reliability.seed", "value": seed}, {"name": "compute.workers", "value": workers}]
+        path.write_text(json.dumps(data))
+    comp = compare_studies([three[0], three[2]])
+    assert [d["name"] for d in comp.differences] == ["reliability.seed"]
+    assert "differ only in their seeds" in comp.seed_note() and comp.seed_note() in comp.markdown()
+    assert compare_studies(three[:2]).seed_note() == ""
+
+
 def test_a_life_outside_the_curve_has_no_interval_cell():
     """A life before the curve showed 'before the curve | before the curve \u2013 beyond the curve'."""
     from jointwear.study.reliability_results import interval_cells

@@ -135,7 +135,18 @@ class StudyComparison(StageResult):
             lines += ["| " + " | ".join(row) + " |" for row in self.setting_rows()]
         else:
             lines += ["", "No setting differs between the studies."]
+        if note := self.seed_note():
+            lines += ["", note]
         return "\n".join(lines)
+
+    def seed_note(self) -> str:
+        """When the studies differ only in their seeds: a verdict then measures the learning's own scatter, which
+        each life interval (the error of one learning's estimate) does not include; '' otherwise."""
+        if not self.differences or not all(d["name"].endswith(".seed") for d in self.differences):
+            return ""
+        return ("These studies differ only in their seeds: their lives differ by the learning's own scatter from "
+                "seed to seed, which each life's interval (the error of one learning's estimate) does not include, "
+                "so a 'longer' or 'shorter' here says how far that scatter reaches, not that one design lives longer.")
 
     def save(self, folder: Path | str, *, figures: bool = True) -> Path:
         """Write ``comparison.json``, the CSV tables (:meth:`tables`), ``comparison.md``, the figure of the
@@ -265,7 +276,8 @@ def _differences(loaded: list[StudyResults]) -> list[dict]:
         per_study.append({_by_name(s["name"], items): s for s in settings})
     names: list[str] = []
     for settings in per_study:
-        names += [n for n in settings if n not in names and n not in _NOT_SETTINGS]
+        # where the calls run (compute.*) does not change a result: serial, local workers and Dask give the same
+        names += [n for n in settings if n not in names and n not in _NOT_SETTINGS and not n.startswith("compute.")]
     out = []
     for name in names:
         values = [s[name]["value"] if name in s else None for s in per_study]
