@@ -207,3 +207,20 @@ def test_the_choice_is_told_against_todays_design():
                        "reliability_error": 0.1}, {"choices": {"l1": "IT9"}, "cost": 5.0,
                                                    "reliability_at_target_life": 0.8, "reliability_error": 0.1}]
     assert res.nearest_sentence().startswith("the nearest is l1 IT8 (cost 9): R = 0.8770 +/- 0.1000")
+
+
+def test_an_undecided_candidate_closer_to_the_target_than_its_population_resolves_is_told():
+    """Raising refine_max_calls and resuming left the same 7 candidates undecided: the cheapest read R = 0.8998
+    against R* = 0.9, 0.0002 away where 20,000 samples resolve +/- 0.0042 (Clopper-Pearson at 18,000 of 20,000)."""
+    near = {"choices": {"k_b": "screened"}, "cost": 4.35, "reliability_at_target_life": 0.8998,
+            "reliability_error": 0.0157, "surrogate_error": 0.005, "outside_design_fraction": 0.0}
+    chosen = {"choices": {"k_b": "PTFE"}, "cost": 5.75, "reliability_at_target_life": 0.997}
+    res = DesignResult(target_life_cycles=1e6, target_reliability=0.9, chosen=chosen, pareto=[], verification=None,
+                       model_calls=10, wall_seconds=1.0, candidates=[near, chosen], n_population=20_000,
+                       refinement={"undecided_left": 2, "undecided_other_than_choice": 1, "budget": 30})
+    assert res.undecided_sentence().endswith(
+        "; but the cheapest of them (k_b screened, cost 4.35, R(N*) 0.8998) lies 0.0002 from R*, closer than its "
+        "population of 20,000 resolves (+/- 0.0042): more calls cannot settle it; judge it by a reliability study of "
+        "that design")
+    near["reliability_at_target_life"] = 0.895  # 0.005 away: beyond the resolution, the refinement may settle it
+    assert res.undecided_sentence().endswith("run again with --resume (resume=True in Python)")

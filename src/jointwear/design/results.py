@@ -132,9 +132,34 @@ class DesignResult(StageResult):
                     + (" (it was not verified)" if self.verdict() == "not_verified" else " (its verdict above)"))
         start = ("no refinement was allowed (design.refine_max_calls = 0)" if ref.get("budget") == 0
                  else "the refinement's budget (design.refine_max_calls) ran out")
-        return (f"{start} with {others} candidate(s) no dearer than the choice still undecided (their estimate's "
+        text = (f"{start} with {others} candidate(s) no dearer than the choice still undecided (their estimate's "
                 "error spans the target): a cheaper one may meet it; raise design.refine_max_calls and run again "
                 "with --resume (resume=True in Python)")
+        return text + self._unresolvable()
+
+    def _unresolvable(self) -> str:
+        """'; but the cheapest of them, ..., lies closer to R* than its population resolves ...' when more
+        refinement calls cannot settle the cheapest undecided candidate ('' otherwise)."""
+        from jointwear.design.search import monte_carlo_half_width
+
+        chosen, r_star, n = self.chosen, self.target_reliability, self.n_population
+        if chosen is None or not n:
+            return ""
+        undecided = [r for r in self.candidates if r["cost"] <= chosen["cost"] and r["choices"] != chosen["choices"]
+                     and r.get("surrogate_error") is not None and abs(r["reliability_at_target_life"] - r_star)
+                     <= r["surrogate_error"] + (r.get("outside_design_fraction") or 0.0)]
+        if not undecided:
+            return ""
+        row = min(undecided, key=lambda r: r["cost"])
+        gap = abs(row["reliability_at_target_life"] - r_star)
+        resolution = monte_carlo_half_width(r_star * n, n)
+        if gap >= resolution:
+            return ""
+        picks = ", ".join(f"{k} {v}" for k, v in row["choices"].items())
+        return (f"; but the cheapest of them ({picks}, cost {row['cost']:.4g}, R(N*) "
+                f"{row['reliability_at_target_life']:.4f}) lies {gap:.2g} from R*, closer than its population of "
+                f"{n:,} resolves (+/- {resolution:.2g}): more calls cannot settle it; judge it by a reliability "
+                "study of that design")
 
     def verdict(self) -> str | None:
         """The verification's verdict on the choice: 'meets' (R(N*) - error >= R*), 'within_error' (only
