@@ -36,7 +36,18 @@ from jointwear.contact.settings import (
     FrictionConfig,
     MaterialConfig,
 )
-from jointwear.design.settings import DesignSettings
+from jointwear.design.settings import (
+    CostModel,
+    DesignSettings,
+    DesignTarget,
+    FitControl,
+    FitOption,
+    MaterialControl,
+    MaterialOption,
+    PropertyClass,
+    PropertyControl,
+    ToleranceControl,
+)
 from jointwear.mechanism.settings import (
     DriverConfig,
     FourBarConfig,
@@ -712,9 +723,19 @@ def config_reference_markdown() -> str:
         ("[[reference.values]]", ReferenceValue),
         ("reference.values.band", AcceptanceBand),
         ("design", DesignSettings),
+        ("[[design.targets]]", DesignTarget),
+        ("[[design.tolerances]]", ToleranceControl),
+        ("design.fit (or [[design.fit]])", FitControl),
+        ("[[design.fit.options]]", FitOption),
+        ("[[design.properties]]", PropertyControl),
+        ("[[design.properties.classes]]", PropertyClass),
+        ("[[design.materials]]", MaterialControl),
+        ("[[design.materials.options]]", MaterialOption),
+        ("design.cost_model", CostModel),
     ]
     for title, model in sections:
-        lines += [f"## {title}", "", (model.__doc__ or "").strip().splitlines()[0], "",
+        summary = " ".join((model.__doc__ or "").strip().split("\n\n")[0].split())  # the first paragraph, whole
+        lines += [f"## {title}", "", summary, "",
                   "| key | unit (SI) | default | description |", "|---|---|---|---|"]
         for fname, finfo in model.model_fields.items():
             extra = finfo.json_schema_extra if isinstance(finfo.json_schema_extra, dict) else {}
