@@ -8,6 +8,7 @@ import json
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 from report_fixtures import make_fixture_dir
 
@@ -106,6 +107,17 @@ def test_flapping_wing_checks_as_before(study_dir):
     assert [(c.quantity, c.status) for c in checks] == FORMER_STATUSES
     assert {c.band for c in checks} >= {"0.021-0.029 mm", "within 20 deg", "within 15 %", "\u00b10.15 absolute",
                                         "reported (no band)", "\u2264 80", "same order as the reference"}
+
+
+def test_a_pass_within_an_absolute_band_only_says_so(study_dir):
+    """R(520k) = 0.152 against the paper's 0.006 read 'pass' (+/- 0.15 absolute) with nothing beside it."""
+    results = load_results(study_dir)
+    rel = results.reliability
+    rel.reliability = np.where(np.asarray(rel.cycles) == 520_000, 0.152, rel.reliability)  # this study's curve
+    checks = {c.quantity: c for c in reference_checks(results)}
+    far = checks["reliability R(N) at 520,000 cycles"]
+    assert far.status == PASS and "times the reference's R: within the absolute band only" in far.note
+    assert "within the absolute band only" not in checks["reliability R(N) at 400,000 cycles"].note  # 0.804 / 0.739
 
 
 def test_bands_decide_the_status(tmp_path, nominal):
