@@ -187,7 +187,9 @@ class DesignResult(StageResult):
                                  "excluded, nor proven",
                  "misses": f"it misses R* = {self.target_reliability:g}"}[verdict]
         if ver.get("converged") is False:
-            text += "; its learning stopped on its budget of calls (design.verification_max_calls) before its tolerance"
+            text += ("; its learning stopped on its budget of calls (design.verification_max_calls) before its tolerance, "
+                     "so its error is the estimate of a Kriging that has not met its own stopping rule and may be too "
+                     "small (raise the budget and run again with --resume to settle it)")
         return text
 
     def tables(self) -> dict[str, dict[str, Any]]:
