@@ -94,3 +94,16 @@ def test_todays_design_is_the_candidate_of_the_studys_own_distributions():
     cand, unmatched = today_candidate(controls, unc)
     assert unmatched == [] and cand.choices(controls) == {"l2": "IT11", "fit": "a", "HB_b": "standard", "pin": "40Cr"}
     assert abs(27e-6 - 160e-6 / 6) / 27e-6 < SAME_DISTRIBUTION_RTOL < 0.1  # neighbouring grades differ by 60 %
+
+
+def test_a_fits_letters_take_grades_that_agree_as_the_studys_clearance_does():
+    """[uncertainty.clearance] accepted fit = 'H8/f7' with hole_grade = 'IT8'; a design option refused the same."""
+    from pydantic import ValidationError
+
+    from jointwear.design.settings import FitOption
+
+    assert FitOption(fit="H8/f7", hole_grade="IT8", shaft_grade="it7", cost=1.0).fit == "H8/f7"
+    with pytest.raises(ValidationError, match="fit 'H8/f7' sets hole_grade: give the fit, or the grades"):
+        FitOption(fit="H8/f7", hole_grade="IT7", cost=1.0)
+    with pytest.raises(ValidationError, match="fit 'H8/f7' sets mean"):
+        FitOption(fit="H8/f7", mean=20e-6, cost=1.0)

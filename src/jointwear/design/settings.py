@@ -131,11 +131,14 @@ class FitOption(SIModel):
         if self.mean is not None and not self.mean > 0:
             raise ValueError(f"mean must be > 0 m (got {self.mean:g})")
         if self.fit is not None:
-            given = [k for k in ("hole_grade", "shaft_grade", "mean") if getattr(self, k) is not None]
+            fit = iso_fit(self.fit, 1e-3)  # the letters checked here, the size by design.checks
+            # grades that agree with the letters are accepted, as [uncertainty.clearance] accepts them
+            given = [k for k in ("hole_grade", "shaft_grade") if getattr(self, k) not in (None, getattr(fit, k))]
+            given += ["mean"] if self.mean is not None else []  # it follows from the letters at the joint's size
             if given:
                 raise ValueError(f"fit {self.fit!r} sets {', '.join(given)}: give the fit, or the grades (and the "
                                  "mean), not both")
-            self.__dict__["fit"] = iso_fit(self.fit, 1e-3).name  # the letters checked here, the size by design.checks
+            self.__dict__["fit"] = fit.name
         elif self.hole_grade is None or self.shaft_grade is None:
             raise ValueError("give the fit's letters (fit = 'H7/g6') or both hole_grade and shaft_grade")
         if self.name is None:
