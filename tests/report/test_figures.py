@@ -175,3 +175,17 @@ def test_a_figure_drawn_here_supersedes_the_stage_file_it_names_exactly(tmp_path
     figs.draw(lambda: F.reliability_curve_figure([1, 2], [0.9, 0.5]), "validation", png_keys=("validation",))
     figs.draw(lambda: F.reliability_curve_figure([1, 2], [0.9, 0.5]), "cv", png_keys=("cross_validation",))
     assert figs.leftovers() == []
+
+
+@pytest.mark.parametrize("offset, guide, branch", [(0.0, 0.0, 1), (10.0, 30.0, 1), (-5.0, 90.0, -1)])
+def test_the_slider_crank_sketch_closes_its_loop_on_the_guide(offset, guide, branch):
+    """A slider-crank got no sketch ('drawn for four-bar and general linkages'): its rod keeps its length and its
+    slider B lies on the guide line offset * n + s u, on the side the assembly branch picks."""
+    fig = F.slider_crank_figure(50.0, 120.0, offset_mm=offset, guide_angle_deg=guide, branch=branch)
+    lines = {ln.get_label(): np.asarray(ln.get_xydata()) for ln in fig.axes[0].get_lines()}
+    a, b = lines["rod l2 = 120 mm"]
+    assert np.hypot(*(b - a)) == pytest.approx(120.0, rel=1e-12)
+    u = np.array([np.cos(np.deg2rad(guide)), np.sin(np.deg2rad(guide))])
+    n = np.array([-u[1], u[0]])
+    assert b @ n == pytest.approx(offset, abs=1e-9)
+    assert np.sign((b - a) @ u) == branch

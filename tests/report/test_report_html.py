@@ -115,7 +115,8 @@ def test_optional_results_absent(tmp_path: Path, nominal: Path):
     page = build_report(d).read_text()
     for what in ("Journal orbit: no series file (simulate.npz)", "Contact force: no series file",
                  "Convergence of Pf: not recorded", "Max wear histograms: none requested",
-                 "Sobol&#x27; indices: not computed", "Mechanism sketch: drawn for four-bar and general linkages"):
+                 "Sobol&#x27; indices: not computed",
+                 "Mechanism sketch: drawn for four-bar, slider-crank and general linkages"):
         assert what in page, what
     # no mean max wear: its checks say no data, the rest still compare
     checks = {c.quantity: c for c in reference_checks(load_results(d))}

@@ -48,6 +48,7 @@ from .style import (
 
 __all__ = [
     "mechanism_figure",
+    "slider_crank_figure",
     "linkage_figure",
     "orbit_figure",
     "contact_force_figure",
@@ -137,6 +138,58 @@ def mechanism_figure(
     label_axes(ax, "x", "mm", "y", "mm")
     ax.legend(loc="lower right")
     ax.set_title("Mechanism (crank-rocker)")
+    return fig
+
+
+def slider_crank_figure(
+    crank_mm: float,
+    rod_mm: float,
+    *,
+    offset_mm: float = 0.0,
+    guide_angle_deg: float = 0.0,
+    branch: int = 1,
+    crank_angle_deg: float = 45.0,
+    clearance_joint: str = "B",
+    n_ghosts: int = 12,
+) -> Figure:
+    """Sketch of the slider-crank: crank O-A about O = (0, 0), rod A-B, slider B on the guide line offset * n + s u
+    (u along ``guide_angle_deg``, n its normal), s = A.u + branch sqrt(l2^2 - (offset - A.n)^2); ghosts over a crank
+    turn, the bold linkage at ``crank_angle_deg``, the clearance joint ringed."""
+    gamma = np.deg2rad(guide_angle_deg)
+    u, n = np.array([np.cos(gamma), np.sin(gamma)]), np.array([-np.sin(gamma), np.cos(gamma)])
+
+    def pose(phi: float) -> tuple[np.ndarray, np.ndarray]:
+        a = crank_mm * np.array([np.cos(phi), np.sin(phi)])
+        s = a @ u + branch * np.sqrt(max(rod_mm**2 - (offset_mm - a @ n) ** 2, 0.0))
+        return a, offset_mm * n + s * u
+
+    fig, ax = figure(size="square")
+    o = np.zeros(2)
+    ends = []
+    for phi in np.linspace(0, 2 * np.pi, n_ghosts, endpoint=False):
+        a, b = pose(phi)
+        ends.append(b)
+        ax.plot(*np.c_[o, a, b], color="#BBBBBB", lw=0.7, zorder=1)
+    stroke = np.array([b @ u for b in ends])
+    reach = 0.15 * (stroke.max() - stroke.min() + crank_mm)
+    guide = [offset_mm * n + (stroke.min() - reach) * u, offset_mm * n + (stroke.max() + reach) * u]
+    ax.plot(*np.c_[guide[0], guide[1]], color="#666666", lw=1.0, ls="--", zorder=1, label="slider guide")
+    ax.add_patch(_circle(o, crank_mm, ls=":", ec="#999999"))
+    a, b = pose(np.deg2rad(crank_angle_deg))
+    ax.plot(*np.c_[o, a], color=COLORS[0], lw=3, label=f"crank l1 = {crank_mm:g} mm", zorder=3)
+    ax.plot(*np.c_[a, b], color=COLORS[1], lw=3, label=f"rod l2 = {rod_mm:g} mm", zorder=3)
+    ax.plot(*b, marker="s", ms=18, mfc=COLORS[2], mec="#333333", alpha=0.6, zorder=3, ls="none", label="slider")
+    pts = {"O": o, "A": a, "B": b}
+    for name, p in pts.items():
+        ax.plot(*p, marker="^" if name == "O" else "o", ms=9 if name == "O" else 6, color="#333333", zorder=4)
+        ax.annotate(name, p, xytext=(6, 4), textcoords="offset points", fontsize=10, fontweight="bold")
+    if clearance_joint in pts:
+        ax.plot(*pts[clearance_joint], marker="o", ms=16, mfc="none", mec=LIMIT_COLOR, mew=1.8, zorder=5,
+                label=f"clearance joint {clearance_joint}")
+    ax.set_aspect("equal", adjustable="datalim")
+    label_axes(ax, "x", "mm", "y", "mm")
+    ax.legend(loc="lower right")
+    ax.set_title("Mechanism (slider-crank)")
     return fig
 
 

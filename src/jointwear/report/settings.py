@@ -175,6 +175,11 @@ def _mechanism(config: Any) -> dict | None:
     mech = getattr(config, "mechanism", None)
     if mech is not None and getattr(mech, "type", None) == "general":
         return _general_mechanism(mech, getattr(config, "clearance_joints", []) or [])
+    if mech is not None and getattr(mech, "type", None) == "slider_crank":
+        joints = getattr(config, "clearance_joints", []) or []
+        return {"type": "slider_crank", "crank_mm": mech.crank.length * 1e3, "rod_mm": mech.rod.length * 1e3,
+                "offset_mm": mech.offset * 1e3, "guide_angle_deg": math.degrees(mech.guide_angle),
+                "branch": int(mech.assembly_branch), "clearance_joint": str(joints[0].joint) if joints else ""}
     if mech is None or getattr(mech, "type", None) != "four_bar":
         return None
     try:

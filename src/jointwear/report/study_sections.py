@@ -111,6 +111,13 @@ def settings_section(out: StudyOutputs, figs: Figures) -> str:
             branch=int(mech.get("branch", 1) or 1), clearance_joint=str(mech.get("clearance_joint", "A"))),
             "The mechanism at a crank angle of 45 deg, with ghosts over one crank turn; the clearance joint is ringed.",
             png_keys=("mechanism",)))
+    elif mech and mech.get("type") == "slider_crank":
+        parts.append(figs.draw(lambda: F.slider_crank_figure(
+            float(mech["crank_mm"]), float(mech["rod_mm"]), offset_mm=float(mech.get("offset_mm", 0.0)),
+            guide_angle_deg=float(mech.get("guide_angle_deg", 0.0)), branch=int(mech.get("branch", 1) or 1),
+            clearance_joint=str(mech.get("clearance_joint", "B"))),
+            "The mechanism at a crank angle of 45 deg, with ghosts over one crank turn; the clearance joint is ringed.",
+            png_keys=("mechanism",)))
     elif mech and mech.get("type") == "general" and mech.get("bodies"):
         parts.append(figs.draw(lambda: F.linkage_figure(mech),
                                "The mechanism as drawn in its config (t = 0): bodies with their centres of mass (+), "
@@ -118,7 +125,7 @@ def settings_section(out: StudyOutputs, figs: Figures) -> str:
                                png_keys=("mechanism",)))
     else:
         parts.append(figs.draw(None, "Mechanism sketch", png_keys=("mechanism",),
-                               missing_text="Mechanism sketch: drawn for four-bar and general linkages."))
+                               missing_text="Mechanism sketch: drawn for four-bar, slider-crank and general linkages."))
     parts.append("</div>")
     variables = cfg.get("random_variables") or []
     if variables:
