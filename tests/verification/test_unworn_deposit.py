@@ -25,12 +25,17 @@ def test_one_revolution_lays_the_closed_form_patch(one_rev, rig, pressure):
     cw = cycle_wear(tr, settings, 1.0, JointMaterials.from_trace(tr))
     n_force = rig.weight  # no friction: the contact is on the load line
     b = half_width(n_force, rig.r_b, rig.r_j, rig.hsum, rig.width)
-    # the largest half-width of the revolution; b ~ sqrt(F), and the load is steady to the contact's ringing
-    assert cw.max_half_width == pytest.approx(b, rel=0.015)
+    # the largest half-width of the revolution; b ~ sqrt(F), and after three settling revolutions the still rig's
+    # load is steady to 3e-6 (b within 1.5e-6, measured): 1e-4 leaves room for other hosts' rounding, and a load
+    # 0.02 % off fails
+    assert cw.max_half_width == pytest.approx(b, rel=1e-4)
     peak = deposit_per_rev(rig.kH_b, n_force, rig.slide_per_rev, b, rig.width, pressure)
-    # 0.5 %: the deposit is the time integral of the load, nonlinear in it only through b ~ sqrt(F) (second order
-    # in the ringing); 0.25 deg cells average a Hertz peak down by (0.0044 / 0.067)^2 / 24 = 0.02 %
-    assert cw.bearing.max() == pytest.approx(peak, rel=5e-3)
+    # the grid's cells (dtheta = 0.25 deg) average the peak cell over its width: nothing for a flat (uniform) top, a
+    # Hertz ellipse's by (dtheta / theta_b)^2 / 24 with theta_b = b / R_b (Taylor of the ellipse about its top);
+    # then the same 1e-4 as b
+    dtheta, theta_b = 2 * math.pi / settings.n_grid, b / rig.r_b
+    averaged = 0.0 if pressure == "uniform" else (dtheta / theta_b) ** 2 / 24
+    assert cw.bearing.max() == pytest.approx(peak * (1 - averaged), rel=1e-4)
     # width: the uniform patch is 2b wide at half its height (a symmetric wobble of the contact angle leaves the
     # half-height points in place); to one cell (the count of cells above half height) and the 1 % of b above
     if pressure == "uniform":
