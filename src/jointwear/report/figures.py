@@ -126,19 +126,24 @@ def mechanism_figure(
     ax.plot(*np.c_[o, a], color=COLORS[0], lw=3, label=f"crank l1 = {crank_mm:g} mm", zorder=3)
     ax.plot(*np.c_[a, b], color=COLORS[1], lw=3, label=f"rod l2 = {rod_mm:g} mm", zorder=3)
     ax.plot(*np.c_[b, pivot], color=COLORS[2], lw=3, label=f"rocker l_BC = {rocker_mm:g} mm", zorder=3)
-    pts = {"O": o, "A": a, "B": b, "C": pivot}
-    for name, p in pts.items():
-        ground = name in ("O", "C")
-        ax.plot(*p, marker="^" if ground else "o", ms=9 if ground else 6, color="#333333", zorder=4)
+    _finish_sketch(ax, {"O": o, "A": a, "B": b, "C": pivot}, ("O", "C"), clearance_joint, "crank-rocker")
+    return fig
+
+
+def _finish_sketch(ax, points: Mapping[str, np.ndarray], ground: Sequence[str], clearance_joint: str,
+                   kind: str) -> None:
+    """The named points of a sketch (ground ones as triangles), the clearance joint ringed, axes in mm."""
+    for name, p in points.items():
+        grounded = name in ground
+        ax.plot(*p, marker="^" if grounded else "o", ms=9 if grounded else 6, color="#333333", zorder=4)
         ax.annotate(name, p, xytext=(6, 4), textcoords="offset points", fontsize=10, fontweight="bold")
-    if clearance_joint in pts:
-        ax.plot(*pts[clearance_joint], marker="o", ms=16, mfc="none", mec=LIMIT_COLOR, mew=1.8, zorder=5,
+    if clearance_joint in points:
+        ax.plot(*points[clearance_joint], marker="o", ms=16, mfc="none", mec=LIMIT_COLOR, mew=1.8, zorder=5,
                 label=f"clearance joint {clearance_joint}")
     ax.set_aspect("equal", adjustable="datalim")
     label_axes(ax, "x", "mm", "y", "mm")
     ax.legend(loc="lower right")
-    ax.set_title("Mechanism (crank-rocker)")
-    return fig
+    ax.set_title(f"Mechanism ({kind})")
 
 
 def slider_crank_figure(
@@ -179,17 +184,7 @@ def slider_crank_figure(
     ax.plot(*np.c_[o, a], color=COLORS[0], lw=3, label=f"crank l1 = {crank_mm:g} mm", zorder=3)
     ax.plot(*np.c_[a, b], color=COLORS[1], lw=3, label=f"rod l2 = {rod_mm:g} mm", zorder=3)
     ax.plot(*b, marker="s", ms=18, mfc=COLORS[2], mec="#333333", alpha=0.6, zorder=3, ls="none", label="slider")
-    pts = {"O": o, "A": a, "B": b}
-    for name, p in pts.items():
-        ax.plot(*p, marker="^" if name == "O" else "o", ms=9 if name == "O" else 6, color="#333333", zorder=4)
-        ax.annotate(name, p, xytext=(6, 4), textcoords="offset points", fontsize=10, fontweight="bold")
-    if clearance_joint in pts:
-        ax.plot(*pts[clearance_joint], marker="o", ms=16, mfc="none", mec=LIMIT_COLOR, mew=1.8, zorder=5,
-                label=f"clearance joint {clearance_joint}")
-    ax.set_aspect("equal", adjustable="datalim")
-    label_axes(ax, "x", "mm", "y", "mm")
-    ax.legend(loc="lower right")
-    ax.set_title("Mechanism (slider-crank)")
+    _finish_sketch(ax, {"O": o, "A": a, "B": b}, ("O",), clearance_joint, "slider-crank")
     return fig
 
 
