@@ -132,9 +132,11 @@ def design_section(out_dir: Path | str, figs=None) -> str | None:
                        for r in _get(d, "pareto"))
         parts.append(f"<table><thead><tr>{header}</tr></thead><tbody>{body}</tbody></table>")
         if resolution := _get(d, "life_resolution"):
-            parts.append(f"<p>The front: each design costs more than the one above it and lives longer at R* by more "
-                         f"than {resolution:.1%}, the half-width of the study's own life interval (a longer life "
-                         "within it is not resolved).</p>")
+            parts.append(f"<p>The front: each well-estimated design costs more than the well-estimated one above it "
+                         f"and lives longer at R* by more than {resolution:.1%}, the half-width of the study's own life "
+                         "interval (a longer life within it is not resolved). Extrapolated designs (the last column "
+                         f"above {EXTRAPOLATED_SHARE:.0%}) stand beside them and push none of them off, so the front "
+                         "may step back in life where one of them stands.</p>")
         far = [r for r in _get(d, "pareto") + ([chosen] if chosen else [])
                if (r.get("outside_design_fraction") or 0.0) > EXTRAPOLATED_SHARE]
         if far:

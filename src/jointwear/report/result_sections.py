@@ -103,7 +103,9 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
         (f"life at R = {rel.target:g}", _life_text(life, note), "; ".join(life_notes) or None),
         ("true-model calls", format_number(rel.model_calls), "for the whole curve"),
         ("Monte Carlo population", format_number(rel.n_mc), "n_mc"),
-        ("learning converged", "yes" if rel.converged else "NO", None if rel.converged else (
+        ("learning converged", "yes" if rel.converged else "NO", (
+            "its stopping rule met (reliability.stopping: ESC's count, or min U); the error beside is the larger "
+            "estimate") if rel.converged else (
             rel.learning_stop if rel.stopped_while_confirming
             else "stopped by the budget of model calls" if rel.stopped_by_budget or not rel.learning_stop
             else rel.learning_stop)),
@@ -155,7 +157,7 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
                                            reference_life=ref_life, reference_label=label,
                                            joints=rel.joint_curves() or None, fine=rel.fine_curve()),
         "Reliability R(N) with a 95 % band (the Monte Carlo half-width from the COV of Pf plus the surrogate's error "
-        "estimate, as the validation combines them), the target and the life"
+        "estimate), the target and the life"
         + ("; dashed: each judged joint's own R(N) with its band" if len(rel.joints) > 1 else "")
         + (f"; crosses: the values of the reference ({label})." if ref_r else "."),
         png_keys=("reliability_curve",)))

@@ -247,8 +247,9 @@ def joints_wear_table(joints: list[dict]) -> str:
 _UNIFORM_WARNING = (
     '<p class="warn"><strong>Uniform mode is outside its range here.</strong> The worn pocket is wider than the '
     "contact patch (conformity {conformity} &gt; 1): the journal fits into its own wear, the pressure spreads and "
-    "the depth grows more slowly than uniform mode assumes. Run the study with "
-    '<code>wear.geometry_mode = "profile"</code> and trust that answer (docs/wear.md).</p>')
+    "the depth grows more slowly than uniform mode assumes: its depths are too deep and the lives from them too "
+    "short, by a factor only a profile-mode study tells (its interval does not include this error). Run the "
+    'study with <code>wear.geometry_mode = "profile"</code>, whose wear follows the pocket (docs/wear.md).</p>')
 
 
 def wear_section(out: StudyOutputs, figs: Figures) -> str:
@@ -269,7 +270,9 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
         second = ("\u2014", None) if sp is None else (f"{sp[1]:.4g} mm", f"at {angle_text(sp[0])} deg")
     first = f" (joint {wear.joints[0]['name']})" if len(wear.joints) > 1 else ""
     items = [
-        ("cycles simulated", format_number(wear.cycles), None),
+        ("cycles of the history", format_number(wear.cycles),
+         None if not wear.n_simulated_cycles or wear.n_simulated_cycles >= wear.cycles else
+         f"{format_number(wear.n_simulated_cycles)} of them simulated; the blocks between carry their rates"),
         ("max bearing wear" + first, f"{format_number(wear.max_wear_mm)} mm", None),
         ("at angle", f"{angle_text(wear.max_wear_angle_deg, 1)} deg", "0 deg = leftmost, clockwise"),
         ("second peak", *second),
