@@ -187,7 +187,8 @@ def wear_histograms_figure(
             vline(ax, reference_means[c], None, color=PAPER_COLOR, ls=":")
         if limit_mm is not None:
             vline(ax, limit_mm, None, color=LIMIT_COLOR, ls="--")
-        txt = f"n = {s.size:,}\nmean = {m:.4f} mm\nstd = {np.std(s):.4f} mm"
+        # the figure's own samples: the study's R(N) and means come from its whole population
+        txt = f"these n = {s.size:,} samples:\nmean = {m:.4f} mm\nstd = {np.std(s):.4f} mm"
         if reference_means and c in reference_means:
             txt += f"\n{reference_label} mean = {reference_means[c]:.4f} mm"
         if limit_mm is not None and s.size:

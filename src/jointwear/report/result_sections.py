@@ -501,8 +501,10 @@ def summary_cards(out: StudyOutputs, checks: Sequence[Check], ref: Mapping | Non
         items.append((f"life at R = {rel.target:g}", _life_text(life, note),
                       ref_note("life_cycles", target_reliability=rel.target)
                       or (None if life is None or note else interval_text(*rel.life_interval()))))
-        items.append(("true-model calls", format_number(rel.model_calls), ref_note("model_calls") or
-                      "reliability analysis"))
+        sens = out.results.sensitivity
+        extra = f"; {sens.extra_model_calls} more for the sensitivity" if sens and sens.extra_model_calls else ""
+        items.append(("true-model calls", format_number(rel.model_calls),
+                      (ref_note("model_calls") or "the whole R(N) curve") + extra))
     else:
         items.append(("life at the target R", "\u2014", "no reliability result"))
     return cards(items, cls="cards summary")
