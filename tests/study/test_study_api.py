@@ -100,7 +100,7 @@ def test_a_bushing_worn_through_is_warned(tmp_path):
     cj = own.clearance_joints[0]
     # (an allowance inside the wall: one beyond it is a check problem of the reliability stage)
     thin = updated(own, {"clearance_joints.B.bearing_outer_radius": cj.bearing_radius + 2e-6,
-                         "reliability.allowance_um": 1.0})
+                         "reliability.allowance_um": 0.3})
     lines: list[str] = []
     result = jointwear.Study(thin, out=tmp_path, echo=lines.append).wear(cycles=200_000)
     assert result.joints[0]["max_wear_mm"] > 2e-3  # deeper than the 2 um wall
@@ -110,6 +110,11 @@ def test_a_bushing_worn_through_is_warned(tmp_path):
     assert loaded.worn_through() == result.worn_through() and len(loaded.worn_through()) == 1
     html = jointwear.Study(thin, out=tmp_path, echo=lines.append).report().read_text()
     assert "<strong>Worn through.</strong> Joint B&#x27;s bearing wear" in html
+    # the journal, past the 0.3 um allowance too, is not what the limit state judges (bearing_max_depth): said so
+    assert result.joints[0]["journal"]["max_wear_mm"] > 0.3e-3
+    (unjudged,) = [line for line in lines if "which the limit state does not judge" in line]
+    assert "joint B's journal wears" in unjudged and "'journal_max_depth' or 'clearance_growth' would" in unjudged
+    assert "<strong>Worn past the allowance where it is not judged.</strong>" in html
 
 
 def test_study_results_have_the_name_their_repr_shows(tmp_path):

@@ -261,6 +261,8 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
         parts.append(_UNIFORM_WARNING.format(conformity=e(format_number(wear.conformity, 3))))
     parts += [warning("Worn away.", s) for s in wear.worn_away()]
     parts += [warning("Worn through.", s) for s in wear.worn_through()]
+    quantity = out.results.setting("reliability.quantity") or "bearing_max_depth"
+    parts += [warning("Worn past the allowance where it is not judged.", s) for s in wear.unjudged_wear(quantity)]
     parts += [warning("Friction-driven whirl.", s) for s in wear.whirls()]
     sp = second_peak(wear)
     floor = float(wear.settings.get("peak_prominence", 0.05)) * (wear.max_wear_mm or 0.0)

@@ -533,7 +533,8 @@ class Study:
             sentences = res.outside_hertz() + res.whirls()
         elif stage == "wear":
             placed = nominal_life_outside_curve(self.config, res.joints)
-            sentences = res.worn_away() + res.worn_through() + res.whirls() + ([placed] if placed else [])
+            sentences = (res.worn_away() + res.worn_through() + res.whirls() + ([placed] if placed else [])
+                         + res.unjudged_wear(self.config.reliability.quantity))
             if res.uniform_out_of_range:
                 sentences.append(f"uniform mode is outside its range here (conformity {res.conformity:.3g} > 1: the "
                                  'journal fits into its own wear); wear.geometry_mode = "profile" follows it '

@@ -353,6 +353,25 @@ class WearSummary(StageResult):
                 for j in self.joints
                 if j.get("bearing_wall_mm") is not None and j["max_wear_mm"] > j["bearing_wall_mm"]]
 
+    def unjudged_wear(self, quantity: str) -> list[str]:
+        """One sentence per joint whose part that the limit state ``quantity`` does not judge wears past the joint's
+        allowance: a journal deeper than the allowance under 'bearing_max_depth', a bearing under
+        'journal_max_depth' ('clearance_growth' judges both)."""
+        other = {"bearing_max_depth": ("journal", "journal_max_depth"),
+                 "journal_max_depth": ("bearing", "bearing_max_depth")}.get(quantity)
+        if other is None:
+            return []
+        part, setting = other
+        out = []
+        for j in self.joints:
+            allowance = j.get("allowance_mm")
+            depth = (j.get("journal") or {}).get("max_wear_mm") if part == "journal" else j.get("max_wear_mm")
+            if allowance and depth is not None and depth > allowance:
+                out.append(f"joint {j['name']}'s {part} wears {depth:.3g} mm within {self.cycles:,} cycles, past the "
+                           f"allowance of {allowance:.3g} mm, which the limit state does not judge "
+                           f"(reliability.quantity = '{quantity}'); '{setting}' or 'clearance_growth' would")
+        return out
+
     def _suffixes(self) -> list[str]:
         """Each joint's file-name suffix: none for a single joint, else its name made safe for a file name."""
         if len(self.joints) == 1:
