@@ -607,3 +607,15 @@ def test_sobol_indices_carry_their_intervals_and_the_nominal_r_says_its_populati
     assert "on the sensitivity&#x27;s population of 100,000" in page or "on the sensitivity's population of 100,000" \
         in page
     assert f"the R(N) curve, on its own population, reads {rel.reliability[2]:.4g} there" in page
+
+
+def test_an_elasticity_carries_its_interval_and_says_when_it_is_not_resolved():
+    """The crank length's elasticity +2.89 stood beside a mean shift whose R fell, without its error; the journal
+    radius's was pure noise (its derivative -12.6 +/- 445) and read like a number."""
+    from jointwear.report.result_sections import _elasticity_text
+
+    derivatives = {"names": ["l1", "Rj"], "dpf_dmean": [-454.0, -12.6], "dpf_dmean_se": [131.0, 445.0]}
+    resolved = _elasticity_text(derivatives, {"name": "l1", "elasticity_mean": 2.89})
+    assert resolved == "2.89 \u00b1 1.6"  # 1.96 x 2.89 x 131 / 454 = 1.63
+    assert _elasticity_text(derivatives, {"name": "Rj", "elasticity_mean": 0.0134}).endswith("(not resolved)")
+    assert _elasticity_text({}, {"name": "l1", "elasticity_mean": 2.89}) == "2.89"  # a result without errors

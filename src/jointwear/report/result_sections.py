@@ -222,7 +222,7 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
             f"Sensitivity of the reliability: {title}.", png_keys=("tornado",)))
     parts.append("</div>")
     of_joint = f" of joint {sens.sobol['joint']}" if sens.sobol.get("joint") else ""  # whose wear the indices are of
-    optional = [("elasticity_mean", "elasticity of R to the mean, (\u03bc/R) dR/d\u03bc"),
+    optional = [("elasticity_mean", "elasticity of R to the mean, (\u03bc/R) dR/d\u03bc (\u00b1 95 %)"),
                 ("S1", f"Sobol' S1{of_joint} (\u00b1 95 %)"), ("ST", f"Sobol' ST{of_joint} (\u00b1 95 %)")]
     extra_cols = [(k, h) for k, h in optional if any(v.get(k) is not None for v in sens.variables)]
     has_err = any(v.get("reliability_low_error") is not None for v in sens.variables)
@@ -234,7 +234,9 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
                 + format_number(v.get("reliability_high_error"), 3),) if has_err else ())
         rows.append((str(v.get("label") or v["name"]), str(v["name"]), str(v.get("group") or "").replace("_", " "),
                      format_number(v["reliability_low"], 3), format_number(v["reliability_high"], 3),
-                     format_number(swing, 3)) + err + tuple(_index_text(sens.sobol, v, k) for k, _h in extra_cols))
+                     format_number(swing, 3)) + err
+                    + tuple(_elasticity_text(sens.derivatives, v) if k == "elasticity_mean"
+                            else _index_text(sens.sobol, v, k) for k, _h in extra_cols))
     parts.append("<details><summary>Sensitivity as numbers</summary>")
     parts.append(table(["variable", "name", "group", f"R at mean \u00d7 {lo_f:g}", f"R at mean \u00d7 {hi_f:g}",
                         "largest change of R"] + (["surrogate error of R (low / high)"] if has_err else [])
@@ -293,6 +295,22 @@ def sobol_by_joint_part(sobol: Mapping, labels: Mapping[str, str]) -> str:
     return (f"<h3>Sobol' total index of each judged joint's wear</h3><p>The figure and the table above are of the "
             f"{e(str(sobol.get('output') or 'first joint'))}; here each judged joint's own wear, on its own "
             "surrogate.</p>" + table(head, rows, cls="num"))
+
+
+def _elasticity_text(derivatives: Mapping, variable: Mapping) -> str:
+    """The elasticity of R to a mean with its 95 % half-width, from the standard error of the derivative it scales
+    (1.96 SE); 'not resolved' when the half-width exceeds the value (a sign the samples cannot tell)."""
+    value = variable.get("elasticity_mean")
+    text = format_number(value, 3)
+    names = [str(n) for n in derivatives.get("names") or []]
+    if value is None or str(variable["name"]) not in names or not derivatives.get("dpf_dmean_se"):
+        return text
+    k = names.index(str(variable["name"]))
+    slope, se = derivatives["dpf_dmean"][k], derivatives["dpf_dmean_se"][k]
+    if not slope:
+        return text
+    half = 1.96 * abs(value) * se / abs(slope)
+    return f"{text} \u00b1 {format_number(half, 2)}" + (" (not resolved)" if half > abs(value) else "")
 
 
 def _index_text(sobol: Mapping, variable: Mapping, key: str) -> str:
