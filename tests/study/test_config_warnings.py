@@ -256,3 +256,37 @@ def test_a_block_as_long_as_the_history_is_warned():
     assert warning.startswith(f"wear.block_cycles: {n:,} cycles is at least the nominal history's {n:,}")
     shorter = updated(base, {"wear.block_cycles": n - 1})
     assert not [w for w in config_warnings(shorter) if w.startswith("wear.block_cycles")]
+
+
+def test_a_general_linkage_left_free_by_a_missing_joint_is_warned():
+    """A rocker-slider without its slider's prismatic joint passed check and simulated another mechanism; a pendulum
+    (a body meant to swing under its load) gets the same warning, which says so."""
+    from pathlib import Path
+
+    from jointwear.study.checks import mobility_warnings
+
+    rigs = Path(__file__).resolve().parents[1] / "wear" / "rigs"
+    (warning,) = mobility_warnings(load_config(rigs / "pendulum.toml"))
+    assert "keeps 1 degree of freedom after its drivers" in warning and "a joint is missing" in warning
+    assert mobility_warnings(load_config("watt_six_bar_two_clearances")) == []  # 3 x 5 - 2 x 7 - 1 driver = 0
+
+
+def test_gravity_in_mm_per_s2_is_warned():
+    from jointwear.study.checks import gravity_warnings
+
+    base = load_config("watt_six_bar_two_clearances")
+    assert gravity_warnings(base) == []
+    (warning,) = gravity_warnings(updated(base, {"mechanism.gravity": (0.0, -9806.65)}))
+    assert warning.startswith("mechanism.gravity: 9,806.65 m/s^2 is 1,000 g (a unit slip?")
+
+
+def test_a_coordinates_mean_shift_is_said_to_depend_on_the_origin():
+    """A rocker arm toleranced as its point D.y (55 mm from the origin) ranked first: x 1.2 moved D by 11 mm, 44 % of
+    the arm C-D, and the rank would change with the origin."""
+    from jointwear.study.sensitivity import coordinate_shift_sentence
+
+    targets = {"arm": "mechanism.bodies.rocker.points.D.y", "c": "clearance_joints.B.clearance",
+               "pivot": "mechanism.ground_points.C.x", "l1": "mechanism.crank.length"}
+    assert coordinate_shift_sentence(targets, (0.8, 1.2)).startswith("arm and pivot are coordinates of the drawing: "
+                                                                     "each mean x 0.8 / x 1.2 moves its point")
+    assert coordinate_shift_sentence({"l1": "mechanism.crank.length"}, (0.8, 1.2)) == ""

@@ -179,3 +179,15 @@ def test_a_report_moved_aside_with_stale_results_is_built_again(tmp_path, monkey
     study._refresh_report()
     study._refresh_report()
     assert built == [tmp_path]  # built once; from then on it is in the folder
+
+
+def test_a_wear_property_changed_leaves_the_dynamics_in_place(tmp_path):
+    """A changed wear coefficient moved the simulate results aside although the dynamics reads no wear property
+    (docs/user-guide.md says a wear change leaves them in place)."""
+    from jointwear.study.superseded import stale_stages
+
+    for name in ("simulate.json", "wear.json"):
+        (tmp_path / name).write_text("{}", encoding="utf-8")
+    assert stale_stages(tmp_path, ["clearance_joints[0].bearing_material.wear_coefficient",
+                                   "clearance_joints[1].journal_material.hardness"]) == ["wear"]
+    assert stale_stages(tmp_path, ["clearance_joints[0].bearing_material.youngs_modulus"]) == ["simulate", "wear"]

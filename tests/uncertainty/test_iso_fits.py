@@ -113,9 +113,11 @@ def test_a_design_chooses_between_fits_given_by_their_letters():
     assert d9.mean == pytest.approx(22.5 * UM, abs=1e-12)  # H9 0/+25, d9 -20/-45
     assert d9.std == pytest.approx(math.hypot(25, 25) / 12 * UM, rel=1e-12)
     assert (own.fit, own.hole_grade, own.mean) == (None, "IT8", cfg.uncertainty.clearance.mean)  # the study's mean
-    # a fit's letters with its grades, and a fit the table has no row for at the clearance's size, are refused
+    # a fit's letters with other grades, and a fit the table has no row for at the clearance's size, are refused
+    # (grades that agree with the letters are accepted, as [uncertainty.clearance] accepts them)
     with pytest.raises(ValueError, match="give the fit, or the grades"):
-        FitOption(fit="H7/g6", hole_grade="IT7", cost=0.0)
+        FitOption(fit="H7/g6", hole_grade="IT8", cost=0.0)
+    assert FitOption(fit="H7/g6", hole_grade="IT7", cost=0.0).hole_grade == "IT7"
     big = updated(cfg, {"uncertainty.clearance.nominal_diameter_mm": 150.0,  # Table 5's spread needs no grade
                         "uncertainty.clearance.source": "table5"})
     assert any("design.fit.options[0].fit: fit 'H7/h6': nominal size 150 mm outside the tabulated range" in p

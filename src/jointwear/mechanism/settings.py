@@ -373,13 +373,22 @@ class GeneralMechanismConfig(SIModel):
             if abs(ratio - round(ratio)) > 1e-9:
                 raise ValueError(f"drivers[{i}].speed: must be an integer multiple of the first driver's speed "
                                  f"(ratio {ratio:.6g}): the cycle is one revolution of the first driver")
-        n_free = len(names) - len(driven)
-        n_rows = sum(2 for j in self.joints if j.name not in {d.joint for d in self.drivers})
-        dof = 3 * n_free - n_rows
+        dof = self.free_degrees_of_freedom()
         if dof < 0:
+            n_free = len(names) - len(driven)
+            n_joints = len(self.joints) - len(self.drivers)
             raise ValueError(f"joints: the mechanism is over-constrained: {dof} degrees of freedom after the drivers "
-                             f"(3 x {n_free} free bodies - 2 x {n_rows // 2} joints); remove joints or add bodies")
+                             f"(3 x {n_free} free bodies - 2 x {n_joints} joints); remove joints or add bodies")
         return self
+
+    def free_degrees_of_freedom(self) -> int:
+        """Degrees of freedom left after the drivers (Gruebler): 3 per body not driven, less 2 per joint that is not
+        a driver's. Above 0, some bodies move only under their loads (a pendulum), or a joint is missing."""
+        driver_joints = {d.joint for d in self.drivers}
+        jmap = {j.name: j for j in self.joints}
+        driven = {end for d in self.drivers if d.joint in jmap
+                  for end in (r.split(".")[0] for r in jmap[d.joint].connects) if end != "ground"}
+        return 3 * (len(self.bodies) - len(driven)) - 2 * sum(1 for j in self.joints if j.name not in driver_joints)
 
 
 MechanismConfig = Annotated[FourBarConfig | SliderCrankConfig | GeneralMechanismConfig, Field(discriminator="type")]

@@ -7,6 +7,7 @@ import datetime as _dt
 from collections.abc import Mapping, Sequence
 
 from jointwear.study.reliability_results import SurrogateFit, interval_cells, interval_text
+from jointwear.study.sensitivity import coordinate_shift_sentence
 
 from . import figures as F
 from .checks import (
@@ -257,7 +258,8 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
     head = ["group", "this study (largest change of R first; \u2248: the difference is within the surrogate's "
             "error estimate of the two reliabilities)"]
     parts.append(f"<h3>Ranking beside the reference's ({e(reference_label(ref))})</h3>" if ref else "<h3>Ranking</h3>")
-    parts.append(ranking_meaning(sens))
+    targets = {str(v.get("name")): str(v.get("target") or "") for v in (out.config or {}).get("random_variables") or []}
+    parts.append(ranking_meaning(sens, targets))
     parts.append(table(head + [reference_label(ref)] if ref else head, rrows, cls="kv"))
     parts.append(far_shift_part(sens, labels))
     parts.append(archard_check_part(sens))
@@ -325,7 +327,7 @@ def _index_text(sobol: Mapping, variable: Mapping, key: str) -> str:
     return text if half is None else f"{text} \u00b1 {format_number(float(half), 2)}"
 
 
-def ranking_meaning(sens) -> str:
+def ranking_meaning(sens, targets: Mapping[str, str] | None = None) -> str:
     """What the ranking measures, and what it does not: the change of R when one mean moves by a fixed fraction is
     a change of the nominal design (for a toleranced length, many of its standard deviations), not of the
     variable's scatter, whose share in the scatter of the wear the Sobol' indices give."""
@@ -338,6 +340,8 @@ def ranking_meaning(sens) -> str:
             "of its value: a change of the nominal design (for a toleranced length, many standard deviations of its "
             "tolerance), not of the variable's scatter. Which scatter drives the scatter of the wear is what the "
             "Sobol' indices tell." + by_variance)
+    if coordinates := coordinate_shift_sentence(dict(targets or {}), tuple(sens.factors)):
+        text += " " + coordinates[:1].upper() + coordinates[1:] + "."
     return f"<p>{e(text)}</p>"
 
 

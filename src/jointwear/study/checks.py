@@ -199,8 +199,8 @@ def config_warnings(config: StudyConfig) -> list[str]:
 
     unc = config.uncertainty
     if unc is None:
-        return (drawing_warnings(config) + inertia_warnings(config) + wear_length_warnings(config)
-                + block_warnings(config))
+        return (drawing_warnings(config) + mobility_warnings(config) + gravity_warnings(config)
+                + inertia_warnings(config) + wear_length_warnings(config) + block_warnings(config))
     data = config.model_dump()
     out = []
     for spec in unc.all_specs():
@@ -215,7 +215,8 @@ def config_warnings(config: StudyConfig) -> list[str]:
                        "simulate and wear stages run the drawn mechanism, the reliability stages one around the mean "
                        "(R(N) does not follow a change of the drawn value alone); give both the same value unless the "
                        "shift is meant")
-    return (drawing_warnings(config) + inertia_warnings(config) + out + random_input_warnings(config)
+    return (drawing_warnings(config) + mobility_warnings(config) + gravity_warnings(config) + inertia_warnings(config)
+            + out + random_input_warnings(config)
             + clearance_warnings(config) + wear_mode_warnings(config) + block_warnings(config)
             + design_warnings(config) + allowance_warnings(config) + budget_warnings(config))
 
@@ -248,6 +249,31 @@ def drawing_warnings(config: StudyConfig) -> list[str]:
             f"joint '{joint.name}' are {gap * 1e3:.4g} mm apart; the assembly closes the gap, so the links it joins "
             "are up to that much off the drawing: draw the two points at the same place unless that is meant"
             for i, joint, gap in joint_gaps(m) if GAP_WARNING * size < gap <= m.closure_tolerance * size]
+
+
+def mobility_warnings(config: StudyConfig) -> list[str]:
+    """A general linkage that keeps degrees of freedom after its drivers: legal (a pendulum swings under its load),
+    but a forgotten joint gives the same, and a silently different mechanism."""
+    m = config.mechanism
+    if m.type != "general" or (dof := m.free_degrees_of_freedom()) <= 0:
+        return []
+    return [f"mechanism: the linkage keeps {dof} degree{'s' if dof > 1 else ''} of freedom after its drivers (3 per "
+            "free body, less 2 per joint): some bodies move only under their loads, as a pendulum does; if none "
+            "should, a joint is missing (a slider's prismatic joint, say)"]
+
+
+#: Gravity larger than this (m/s^2) is warned as a likely unit slip (mm/s^2 under an _m_s2 key): 10 g
+GRAVITY_WARNING = 10 * 9.80665
+
+
+def gravity_warnings(config: StudyConfig) -> list[str]:
+    """A gravity vector far larger than the earth's: most likely mm/s^2 written where m/s^2 was meant."""
+    gravity = getattr(config.mechanism, "gravity", None)
+    magnitude = 0.0 if gravity is None else math.hypot(*gravity)
+    if magnitude <= GRAVITY_WARNING:
+        return []
+    return [f"mechanism.gravity: {magnitude:,.6g} m/s^2 is {magnitude / 9.80665:,.0f} g (a unit slip? gravity_m_s2 "
+            "takes m/s^2, 9.80665 on earth)"]
 
 
 #: Radii of gyration sqrt(I / m) outside these fractions of a link's drawn size are warned as a likely unit slip: a

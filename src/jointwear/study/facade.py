@@ -561,7 +561,7 @@ class Study:
         SensitivityResult
             Also written to ``sensitivity.json``.
         """
-        from jointwear.study.sensitivity import run_sensitivity
+        from jointwear.study.sensitivity import coordinate_shift_sentence, run_sensitivity
 
         self._prepare({"reliability", "sensitivity"}, store_reuse=True)
         with self._session(reuse=True) as ctx:
@@ -577,6 +577,9 @@ class Study:
                   f"{f'; by share of the variance of the {output} (Sobol ST): {variance}' if variance else ''}; "
                   f"{extra} extra model calls{_reused(new, extra)} "
                   f"-> {self.out / sens.FILE}")
+        targets = {s.name: s.target for s in self.config.uncertainty.all_specs()}
+        if coordinates := coordinate_shift_sentence(targets, tuple(sens.factors)):
+            self.warn(f"sensitivity: {coordinates}")
         return sens
 
     @_quiet

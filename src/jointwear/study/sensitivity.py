@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 import time
 
 import numpy as np
@@ -10,6 +11,23 @@ import numpy as np
 from jointwear.reliability import esc_absolute_error, failure_probability
 from jointwear.study.reliability import StudyContext, WearSurrogates, life_scatter_sd, population
 from jointwear.study.results import ReliabilityResult, SensitivityResult
+
+#: a random variable's target that is a drawn point's coordinate (mechanism...points.D.y, ground_points.C.x)
+COORDINATE_TARGET = re.compile(r"(^|\.)(points|ground_points)\.[^.]+\.[xy]$")
+
+
+def coordinate_shift_sentence(targets: dict[str, str], factors: tuple[float, float]) -> str:
+    """For the random variables whose targets are drawn coordinates (name -> target): their mean shifts move a point
+    by a share of its distance from the drawing's origin, not of a link, so their ranking depends on where the
+    origin lies ('' when there is none)."""
+    names = [name for name, target in targets.items() if COORDINATE_TARGET.search(str(target))]
+    if not names:
+        return ""
+    which = " and ".join([", ".join(names[:-1]), names[-1]] if len(names) > 1 else names)
+    verb = "are coordinates" if len(names) > 1 else "is a coordinate"
+    return (f"{which} {verb} of the drawing: each mean x {factors[0]:g} / x {factors[1]:g} moves its point by that "
+            "share of its distance from the origin, not of a link's length, so its place in the mean-shift ranking "
+            "depends on where the origin is drawn (the Sobol' ranking does not)")
 
 
 def sensitivity_level(ctx: StudyContext, reliability: ReliabilityResult) -> int:

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import datetime as _dt
 import json
+import re
 from pathlib import Path
 from typing import Any
 
@@ -33,6 +34,8 @@ DEPENDS_ON: dict[str, tuple[str, ...]] = {
     "validation": _RELIABILITY,
     "design": (*_RELIABILITY, "design"),
 }
+#: settings of a section a stage depends on that the stage does not read: the dynamics reads no wear property
+NOT_READ_BY: dict[str, re.Pattern] = {"simulate": re.compile(r"_material\.(wear_coefficient|hardness)$")}
 # the figures each stage's save() draws (its JSON, tables and ``files`` are read off the result itself)
 _FIGURES: dict[str, tuple[str, ...]] = {
     "simulate": ("orbit_*.png", "force_*.png"),
@@ -85,9 +88,12 @@ def _result_type(stage: str) -> type:
 
 def stale_stages(folder: Path, changed: list[str]) -> list[str]:
     """The stages with a result in ``folder`` that depend on a setting in ``changed``, in the order of the study."""
-    sections = {section(name) for name in changed}
-    return [stage for stage, deps in DEPENDS_ON.items()
-            if sections & set(deps) and (Path(folder) / _result_type(stage).FILE).is_file()]
+    def reads(stage: str, name: str) -> bool:
+        ignored = NOT_READ_BY.get(stage)
+        return section(name) in DEPENDS_ON[stage] and not (ignored is not None and ignored.search(name))
+
+    return [stage for stage in DEPENDS_ON
+            if any(reads(stage, name) for name in changed) and (Path(folder) / _result_type(stage).FILE).is_file()]
 
 
 def result_files(folder: Path, stage: str) -> list[Path]:
