@@ -145,7 +145,8 @@ def _joint_gap_check(m, lref: float) -> None:
             raise AssemblyError(
                 f"joints[{i}].connects: the drawn points {j.connects[0]} and {j.connects[1]} of revolute joint "
                 f"'{j.name}' are {gap * 1e3:.4g} mm apart (allowed {m.closure_tolerance * lref * 1e3:.4g} mm = "
-                f"closure_tolerance x median link size): draw them at the same place"
+                f"closure_tolerance x median link size): draw them at the same place (a point mistyped, or a body's "
+                "points in other units than the rest: points_mm against points, which are in m)"
             )
 
 
