@@ -189,3 +189,24 @@ def test_the_slider_crank_sketch_closes_its_loop_on_the_guide(offset, guide, bra
     n = np.array([-u[1], u[0]])
     assert b @ n == pytest.approx(offset, abs=1e-9)
     assert np.sign((b - a) @ u) == branch
+
+
+def test_a_general_linkage_sketch_draws_a_slider_and_its_guide():
+    """A slider (a body of one point) had a legend entry but no mark, and its prismatic guide was not drawn."""
+    mech = {"ground_mm": {"O": [0.0, 0.0], "G": [80.0, 10.0]},
+            "bodies": [{"name": "crank", "points_mm": {"O": [0.0, 0.0], "A": [10.0, 0.0]}, "com_mm": [5.0, 0.0]},
+                       {"name": "rod", "points_mm": {"A": [10.0, 0.0], "B": [80.0, 10.0]}, "com_mm": [45.0, 5.0]},
+                       {"name": "slider", "points_mm": {"B": [80.0, 10.0]}, "com_mm": [80.0, 10.0]}],
+            "joints": [{"name": "O", "type": "revolute", "at_mm": [0.0, 0.0]},
+                       {"name": "B", "type": "revolute", "at_mm": [80.0, 10.0]},
+                       {"name": "P", "type": "prismatic", "at_mm": [80.0, 10.0], "direction": [2.0, 0.0]}],
+            "driven_joints": ["O"], "clearance_joints": ["B"]}
+    ax = F.linkage_figure(mech).axes[0]
+    (slider,) = [ln for ln in ax.get_lines() if ln.get_label() == "slider"]
+    assert slider.get_marker() == "s"
+    (guide,) = [ln for ln in ax.get_lines() if ln.get_linestyle() == "--"]
+    xy = np.asarray(guide.get_xydata())
+    assert np.allclose(xy.mean(axis=0), [80.0, 10.0]) and np.allclose(xy[:, 1], 10.0)  # through P, along x
+    # B and P drawn at one point: their names one under the other, not on top of each other
+    offsets = {t.get_text(): t.xyann for t in ax.texts}
+    assert offsets["B"] != offsets["P"]

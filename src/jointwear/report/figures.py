@@ -193,6 +193,9 @@ def linkage_figure(mech: Mapping) -> Figure:
     its points (a shaded polygon for three or more) with its centre of mass, ground points as triangles, revolute
     joints as dots and prismatic ones as squares, the driven joints and the clearance joints ringed."""
     fig, ax = figure(size="square")
+    drawn = np.array([p for b in mech.get("bodies", []) for p in b["points_mm"].values()]
+                     + list(mech.get("ground_mm", {}).values()), dtype=float).reshape(-1, 2)
+    span = float(np.ptp(drawn, axis=0).max()) if len(drawn) > 1 else 1.0
     for k, body in enumerate(mech.get("bodies", [])):
         pts = np.array(list(body["points_mm"].values()), dtype=float).reshape(-1, 2)
         color = COLORS[k % len(COLORS)]
@@ -200,18 +203,28 @@ def linkage_figure(mech: Mapping) -> Figure:
             from matplotlib.patches import Polygon
 
             ax.add_patch(Polygon(pts, closed=True, fc=color, ec=color, alpha=0.25, lw=2, zorder=2))
-        ax.plot(*pts.T, color=color, lw=3, zorder=3, label=body["name"])
+        # a body of one point (a slider block) is drawn as a block, as a line of one point would not show
+        ax.plot(*pts.T, color=color, lw=3, zorder=3, label=body["name"],
+                **({"marker": "s", "ms": 16, "alpha": 0.6} if len(pts) == 1 else {}))
         ax.plot(*np.asarray(body["com_mm"], dtype=float), marker="+", ms=9, mew=1.5, color=color, zorder=4)
     for name, p in mech.get("ground_mm", {}).items():
         ax.plot(*p, marker="^", ms=10, color="#333333", zorder=4)
     driven = set(mech.get("driven_joints", []))
     clearance = set(mech.get("clearance_joints", []))
+    labelled: list[tuple] = []
     for j in mech.get("joints", []):
         if j.get("at_mm") is None:
             continue
         p = np.asarray(j["at_mm"], dtype=float)
         ax.plot(*p, marker="s" if j.get("type") == "prismatic" else "o", ms=6, color="#333333", zorder=5)
-        ax.annotate(j["name"], p, xytext=(6, 4), textcoords="offset points", fontsize=10, fontweight="bold")
+        if j.get("direction") is not None:  # the sliding line, through the joint along its drawn direction
+            d = np.asarray(j["direction"], dtype=float)
+            d = 0.5 * span * d / (np.hypot(*d) or 1.0)
+            ax.plot(*np.c_[p - d, p + d], color="#666666", lw=1.0, ls="--", zorder=1)
+        stacked = labelled.count(tuple(np.round(p, 6)))  # joints drawn at one point: their names one under another
+        labelled.append(tuple(np.round(p, 6)))
+        ax.annotate(j["name"], p, xytext=(6, 4 - 13 * stacked), textcoords="offset points", fontsize=10,
+                    fontweight="bold")
         if j["name"] in driven:
             ax.plot(*p, marker="o", ms=13, mfc="none", mec="#333333", mew=1.2, ls="none", zorder=5)
         if j["name"] in clearance:

@@ -165,7 +165,9 @@ def _general_mechanism(mech: Any, joints: list) -> dict:
         "type": "general",
         "ground_mm": ground,
         "bodies": bodies,
-        "joints": [{"name": j.name, "type": j.type, "at_mm": points.get(j.connects[0])} for j in mech.joints],
+        "joints": [{"name": j.name, "type": j.type, "at_mm": points.get(j.connects[0]),
+                    **({"direction": [float(j.direction[0]), float(j.direction[1])]}
+                       if j.type == "prismatic" and j.direction is not None else {})} for j in mech.joints],
         "driven_joints": [d.joint for d in mech.drivers],
         "clearance_joints": [str(cj.joint) for cj in joints],
     }
