@@ -472,6 +472,20 @@ def test_failed_model_calls_and_a_worn_away_joint_are_warned(tmp_path, nominal):
     assert "Joints worn away" in page and f"3 of {rel.model_calls} model calls wore a joint away" in page
 
 
+def test_the_share_of_clearances_below_their_minimum_is_said_with_its_rule(tmp_path, nominal):
+    """2.5 % of the default study's clearances are rejected at assembly (rule 'truncate'); the report never said so."""
+    d = make_fixture_dir(tmp_path / "x", nominal, which=("wear", "reliability"))
+    rel = ReliabilityResult.load(d)
+    rel.infeasible = {"clearances": [{"name": "c", "rule": "truncate", "minimum_clearance_m": 1e-7,
+                                      "probability_below_minimum": 0.025286}]}
+    rel.save(d)
+    page = build_report(d).read_text(encoding="utf-8")
+    assert ("2.53 % of clearance c&#x27;s normal lies below its minimum (0.1 um): rejected at assembly, so R(N) is "
+            "that of the accepted assemblies") in page
+    rel.infeasible["clearances"][0].update(rule="fail", probability_below_minimum=0.0)
+    assert rel.truncation_sentence() == ""
+
+
 def test_the_life_table_keeps_a_target_near_1_and_the_numbers_give_the_surrogates_error(tmp_path, nominal):
     """A target of 0.99995 was shown as '1'; the R(N) table had no column for the surrogate's error of R."""
     d = make_fixture_dir(tmp_path / "t", nominal, which=("reliability",))

@@ -124,6 +124,8 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
     missed = curve_misses_life(rel, out.results.wear)
     if missed:
         parts.append(f'<p class="warn"><strong>The curve misses the life.</strong> {missed}</p>')
+    if truncated := rel.truncation_sentence():
+        parts.append(f"<p>{e(truncated[:1].upper() + truncated[1:])}.</p>")
     if len(rel.life_table) > 1:
         parts.append(table(["target R", "life (cycles)", "95 % interval (cycles)", "life (h)", "where"], [
             (format_number(r["target"], 6), format_number(r["cycles"]),

@@ -233,6 +233,21 @@ class ReliabilityResult(StageResult):
                 "failure where it was drawn but is left out of the surrogate, so if failures come with high wear the "
                 "curve is too high (unconservative): the reasons are in reliability.json (infeasible.failure_reasons)")
 
+    def truncation_sentence(self) -> str:
+        """The share of each random clearance's normal below its minimum and what its rule does with it ('' when
+        none is): 'truncate' rejects those assemblies, so R(N) is that of the parts accepted; 'fail' counts them as
+        failures at every N."""
+        parts = []
+        for c in self.infeasible.get("clearances") or []:
+            share = float(c.get("probability_below_minimum") or 0.0)
+            if share <= 0.0:
+                continue
+            what = ("rejected at assembly, so R(N) is that of the accepted assemblies" if c.get("rule") == "truncate"
+                    else "counted as failures at every N")
+            parts.append(f"{share * 100:.3g} % of clearance {c['name']}'s normal lies below its minimum "
+                         f"({float(c['minimum_clearance_m']) * 1e6:g} um): {what} (infeasible_rule = '{c.get('rule')}')")
+        return "; ".join(parts)
+
     def surrogate_fit_sentence(self) -> str:
         """What a poor life surrogate means and what to do (:meth:`SurrogateFit.warning`; empty when its fit is
         fine or was not recorded)."""
