@@ -245,7 +245,8 @@ class ReliabilityResult(StageResult):
             what = ("rejected at assembly, so R(N) is that of the accepted assemblies" if c.get("rule") == "truncate"
                     else "counted as failures at every N")
             parts.append(f"{share * 100:.3g} % of clearance {c['name']}'s normal lies below its minimum "
-                         f"({float(c['minimum_clearance_m']) * 1e6:g} um): {what} (infeasible_rule = '{c.get('rule')}')")
+                         f"({float(c['minimum_clearance_m']) * 1e6:g} um): {what} "
+                         f"(infeasible_rule = '{c.get('rule')}')")
         return "; ".join(parts)
 
     def surrogate_fit_sentence(self) -> str:
