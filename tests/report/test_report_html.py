@@ -633,3 +633,21 @@ def test_an_elasticity_carries_its_interval_and_says_when_it_is_not_resolved():
     assert resolved == "2.89 \u00b1 1.6"  # 1.96 x 2.89 x 131 / 454 = 1.63
     assert _elasticity_text(derivatives, {"name": "Rj", "elasticity_mean": 0.0134}).endswith("(not resolved)")
     assert _elasticity_text({}, {"name": "l1", "elasticity_mean": 2.89}) == "2.89"  # a result without errors
+
+
+def test_the_summary_carries_the_design_and_its_verification(tmp_path, nominal):
+    """A design study's summary showed neither the choice nor that its verification had stopped on its budget."""
+    from jointwear.design.results import DesignResult
+
+    d = make_fixture_dir(tmp_path / "x", nominal, which=("wear", "reliability"))
+    design = DesignResult(target_life_cycles=260_545.0, target_reliability=0.9,
+                          chosen={"choices": {"fit": "H7/g6"}, "cost": 4.148, "reliability_at_target_life": 0.95},
+                          pareto=[], verification={"reliability_at_target_life": 0.95, "error": 0.0034,
+                                                   "model_calls": 20, "converged": False},
+                          model_calls=54, wall_seconds=1.0, baseline_choices={"fit": "IT7/IT6"}, baseline_cost=4.083)
+    design.save(d)
+    page = build_report(d).read_text(encoding="utf-8")
+    summary = page[page.index("cards summary"):page.index("cards summary") + 3000]
+    assert "design for 260,545 cycles at R = 0.9" in summary and "cost 4.148" in summary
+    assert "verification: meets; today&#x27;s design 4.083 (+0.065)" in summary
+    assert "The choice&#x27;s verification stopped on its budget" in page

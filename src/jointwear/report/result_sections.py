@@ -531,6 +531,15 @@ def summary_cards(out: StudyOutputs, checks: Sequence[Check], ref: Mapping | Non
                       (ref_note("model_calls") or "the whole R(N) curve") + extra))
     else:
         items.append(("life at the target R", "\u2014", "no reliability result"))
+    design = out.results.design
+    if design is not None:
+        chosen = design.chosen
+        today = ("" if design.baseline_cost is None or chosen is None
+                 else f"; today's design {design.baseline_cost:.4g} ({chosen['cost'] - design.baseline_cost:+.4g})")
+        verdict = (design.verdict() or "").replace("_", " ")
+        items.append((f"design for {design.target_life_cycles:,.0f} cycles at R = {design.target_reliability:g}",
+                      "no candidate" if chosen is None else f"cost {chosen['cost']:.4g}",
+                      None if chosen is None else f"verification: {verdict}{today}"))
     return cards(items, cls="cards summary")
 
 
@@ -567,6 +576,13 @@ def summary_caveats(out: StudyOutputs) -> str:
                                                              ("The surrogate explains little",
                                                               rel.surrogate_fit_sentence()),
                                                              ("A series system", rel.series_sentence())) if s]
+    design = out.results.design
+    if design is not None and design.chosen is not None:
+        if design.verdict() != "meets":
+            items.append(("design", "The chosen design is not proven to meet the target",
+                          design.verification_sentence()))
+        elif (design.verification or {}).get("converged") is False:
+            items.append(("design", "The choice's verification stopped on its budget", design.verification_sentence()))
     val = out.results.validation
     missed = "" if val is None else val.disagreement()
     if missed:
