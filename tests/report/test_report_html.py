@@ -651,3 +651,12 @@ def test_the_summary_carries_the_design_and_its_verification(tmp_path, nominal):
     assert "design for 260,545 cycles at R = 0.9" in summary and "cost 4.148" in summary
     assert "verification: meets; today&#x27;s design 4.083 (+0.065)" in summary
     assert "The choice&#x27;s verification stopped on its budget" in page
+
+
+def test_a_reliability_result_plots_itself(tmp_path, nominal):
+    """A notebook user had to rebuild the report's R(N) figure from six fields (and drew it without its band)."""
+    d = make_fixture_dir(tmp_path / "x", nominal, which=("wear", "reliability"))
+    rel = ReliabilityResult.load(d)
+    ax = rel.plot().axes[0]
+    assert ax.get_title(loc="left").startswith("Reliability") and len(ax.collections) >= 1  # the band
+    assert any(ln.get_label() == "this study" for ln in ax.get_lines())

@@ -43,7 +43,9 @@ class Check:
 
     @property
     def rel_diff(self) -> float | None:
-        if self.reference in (None, 0) or self.ours is None:
+        """(ours - reference) / |reference|; None for an angle, whose origin is a convention (its note gives the
+        difference in degrees)."""
+        if self.reference in (None, 0) or self.ours is None or self.unit == "deg":
             return None
         return (self.ours - self.reference) / abs(self.reference)
 

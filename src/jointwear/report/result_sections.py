@@ -505,8 +505,10 @@ def summary_cards(out: StudyOutputs, checks: Sequence[Check], ref: Mapping | Non
         n_pass = sum(c.status == PASS for c in checks)
         n_fail = sum(c.status == FAIL for c in checks)
         n_banded = sum(c.status in (PASS, FAIL) for c in checks)
+        unbanded = sum(c.status == INFO for c in checks)
         items.append((f"checks against {reference_label(ref)}", f"{n_pass} / {n_banded}" if n_banded else "\u2014",
-                      f"{n_fail} outside the band" if n_banded else "no results yet"))
+                      (f"{n_fail} outside the band" + (f"; {unbanded} more without a band" if unbanded else ""))
+                      if n_banded else "no results yet"))
 
     def ref_note(quantity: str, **match) -> str | None:
         for v in reference_values(ref, quantity):

@@ -475,6 +475,16 @@ class ReliabilityResult(StageResult):
             out["design_points"] = cols
         return out
 
+    def plot(self):
+        """R(N) with its 95 % band, the target and the life with its interval, each judged joint's own curve beside
+        (the report's figure): a matplotlib ``Figure``, for a notebook or ``fig.savefig``."""
+        from jointwear.report import figures as F
+
+        return F.reliability_curve_figure(
+            self.cycles, self.reliability, pf_cov=self.pf_cov, pf_error=self.pf_error, target=self.target,
+            life_cycles=self.life_cycles, life_interval=None if self.life_cycles is None else self.life_interval(),
+            joints=self.joint_curves() or None, fine=self.fine_curve())
+
     def save(self, folder: Path | str, *, figures: bool = True) -> Path:
         """Write ``reliability.json``, the CSV tables (:meth:`tables`) and the figures."""
         folder = Path(folder)
@@ -483,10 +493,7 @@ class ReliabilityResult(StageResult):
         if figures:
             from jointwear.report import figures as F
 
-            save_figure(F.reliability_curve_figure(
-                self.cycles, self.reliability, pf_cov=self.pf_cov, pf_error=self.pf_error, target=self.target,
-                life_cycles=self.life_cycles, life_interval=None if self.life_cycles is None else self.life_interval(),
-                joints=self.joint_curves() or None, fine=self.fine_curve()), folder / "reliability_curve.png")
+            save_figure(self.plot(), folder / "reliability_curve.png")
             h = self.histograms
             if h.get("cycles"):
                 limit = self.joints[0]["allowance_mm"] if self.joints else None
