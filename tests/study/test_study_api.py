@@ -245,3 +245,16 @@ def test_simulate_names_the_joint_of_each_mean_contact_force(tmp_path):
     forces = ", ".join(f"{j['name']} {j['contact_force_mean_N']:.4g} N" for j in res.joints)
     assert [j["name"] for j in res.joints] == ["A", "E"]
     assert f"; mean contact force {forces} -> " in lines[0], lines[0]
+
+
+def test_the_learnings_progress_line_gives_its_budget(tmp_path):
+    """The bar's total grows batch by batch ('12/15'); the learning's call budget was nowhere on the line."""
+    from types import SimpleNamespace
+
+    from jointwear.compute import Progress
+
+    study = jointwear.Study(out=tmp_path)
+    study._context = SimpleNamespace(cycles=[300_000, 400_000])
+    study._progress = Progress(enabled=False)
+    study._progress_callback(SimpleNamespace(pf=[0.05, 0.2], cov=[0.01, 0.02], min_u=[1.5, 2.5]))
+    assert study._progress.fields["budget"] == f"{study.config.reliability.max_calls} calls"

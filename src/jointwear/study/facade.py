@@ -831,9 +831,10 @@ class Study:
         with np.errstate(invalid="ignore"):
             min_u = np.atleast_1d(record.min_u).astype(float)
             min_u = float(np.nanmin(min_u)) if np.isfinite(min_u).any() else float("nan")
+        # the bar's total grows batch by batch (the learning may stop before its budget): the budget is said beside
         self._progress.update(**{f"Pf({cycles[k] / 1e3:g}k)": f"{pf[min(k, pf.size - 1)]:.3g}",
-                                 "COV": f"{cov[min(k, cov.size - 1)]:.2g}", "min U": f"{min_u:.2f}"})
-
+                                 "COV": f"{cov[min(k, cov.size - 1)]:.2g}", "min U": f"{min_u:.2f}",
+                                 "budget": f"{self.config.reliability.max_calls} calls"})
 
     # ------------------------------------------------------------------------------------------- design
     @_quiet
