@@ -189,6 +189,12 @@ def cycle_wear(
         rate_b, vrate_b, g_level = share(bearing_bore)
         wb += rate_b * n_cycles
         vb = vrate_b * n_cycles
+        # the journal slides past the same shared pressure: its Archard volume is (k/H) sum_k N_k ds as the bore's,
+        # not (k/H) F ds, so its deposit takes the ratio of the two (on a round bore 1; up to 4/pi in a full pocket)
+        point = mat.kH_b * float(np.sum(F * np.abs(v) * dt))
+        if point > 0.0 and vb > 0.0:
+            wj *= vb / point
+            vj *= vb / point
     inv = 1.0 / n_cycles
     with np.errstate(invalid="ignore", divide="ignore"):
         fmean = np.where(diag[0] > 0, diag[1] / diag[0], np.nan)
