@@ -335,6 +335,17 @@ def test_a_noisy_series_systems_reliability_and_sensitivity_take_each_joints_sca
         truth = NoisyTwoJointWear.share_of_a(x_ref, cycles, eps, allowances=(3e-5, allowance_e))
         tol = 3 * np.sqrt(share * (1 - share) / (n_pop * res.pf[k])) + halves[k] / res.pf[k]
         assert abs(share - truth) <= tol, (cycles, share, truth, tol)
+    # the wear histograms are joint A's (their label): P(wear > A's allowance) is A's own 1 - R, not the system's
+    # (it read the system's: 0.39 where A's was 0.13); within A's band plus 3 standard errors of the histograms'
+    # population
+    hist, joint_a = res.histograms, res.joints[0]
+    assert hist["joint"] == "A"
+    for cycles, exceedance in zip(hist["cycles"], hist["exceedance"]):
+        k = list(res.cycles).index(cycles)
+        r_a = joint_a["reliability"][k]
+        noise = 3 * np.sqrt(r_a * (1 - r_a) / hist["n_population"])
+        assert abs(exceedance - (1 - r_a)) <= joint_a["half_width_95"][k] + noise, (cycles, exceedance, r_a)
+        assert exceedance < hist["one_minus_reliability"][hist["cycles"].index(cycles)]  # E fails too
     sens = run_sensitivity(ctx, res)
     assert abs(sens.reliability_nominal - r_exact) <= half + reference, (sens.reliability_nominal, r_exact)
     # a 0.8 shift of k_A, read on the surrogate: within its own error estimate, the Monte Carlo error of its 200,000

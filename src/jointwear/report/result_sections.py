@@ -178,7 +178,9 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
         (lambda: F.wear_histograms_figure(hist["cycles"], hist["max_wear_mm"], limit_mm=allowance_mm(out),
                                           reference_means=ref_mean or None, reference_label=label))
         if hist.get("cycles") else None,
-        "Distribution of the max wear over the random inputs; solid line: mean"
+        "Distribution of the max wear"
+        + (f" of joint {hist['joint']}" if len(rel.joints) > 1 and hist.get("joint") else "")
+        + " over the random inputs; solid line: mean"
         + (f", dotted: the mean the reference reports ({label})" if ref_mean else "")
         + ", dashed: the allowable wear.", png_keys=("histogram",), wide=True,
         missing_text="Max wear histograms: none requested ([reliability] histogram levels)."))

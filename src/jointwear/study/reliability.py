@@ -355,15 +355,17 @@ def implied_wear(ctx: StudyContext, engine, pop: np.ndarray, cycles) -> np.ndarr
     Exact at the allowance (wear(x, N) > a exactly when N_f(x) < N, the failure event of R(N)), and the
     wear's own value elsewhere as far as the history grows linearly in N (docs/wear.md). With a call-to-call
     scatter of the life (``life_scatter_sd``), each row's ln N_f carries its own draw of it, as R(N) does. With
-    several judged joints N_f is the system's life, so this is the wear of the first joint scaled to the system's
-    failure.
+    several judged joints learnt one Kriging each, N_f is the first joint's own life (its own scatter drawn), so the
+    wear is that joint's; learnt as one Kriging of the system's life, it is the first joint's wear scaled to the
+    system's failure (no joint's own life is known then).
     """
     u = ctx.iso().to_u(pop)
     scatter = life_scatter_sd(ctx, engine)
     rng = np.random.default_rng(ctx.config.reliability.seed + 11)
-    if scatter > 0 and ctx.per_joint:  # each joint's own draw of its scatter, the first joint's to fail
+    if ctx.per_joint:  # the first joint's own Kriging, with its own scatter
         sur = engine.response_surrogate
-        log_life = sur.response_draws(u, rng.standard_normal((u.shape[0], len(sur.components)))) + engine.levels[0]
+        mean = sur.component_predictions(u, variance=False)[0][:, 0]
+        log_life = mean + sur.scatter_sds[0] * rng.standard_normal(u.shape[0]) + engine.levels[0]
     elif scatter > 0:  # each row's own draw of the call-to-call scatter, as R(N) integrates it
         log_life = engine.response(u) + scatter * rng.standard_normal(u.shape[0])
     else:
