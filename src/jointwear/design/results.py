@@ -99,8 +99,9 @@ class DesignResult(StageResult):
                     "options), so the change in cost is not known")
         changes = [f"{k} {v} -> {chosen['choices'][k]}" for k, v in self.baseline_choices.items()
                    if chosen["choices"].get(k) != v]
-        today = f"today's design ({', '.join(f'{k} {v}' for k, v in self.baseline_choices.items())}, cost " \
-                f"{self.baseline_cost:.4g})"
+        r_today = self.baseline_reliability_at_target_life
+        today = (f"today's design ({', '.join(f'{k} {v}' for k, v in self.baseline_choices.items())}, cost "
+                 f"{self.baseline_cost:.4g}" + ("" if r_today is None else f", R(N*) {r_today:.4f}") + ")")
         if not changes:
             return f"{today} is the choice: it meets the target as it is"
         delta = chosen["cost"] - self.baseline_cost

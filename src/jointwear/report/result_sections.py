@@ -520,7 +520,8 @@ def summary_cards(out: StudyOutputs, checks: Sequence[Check], ref: Mapping | Non
         return None
 
     if wear is not None:
-        items.append((f"nominal max wear, {wear.cycles:,.0f} cycles", f"{wear.max_wear_mm:.4g} mm",
+        first = f" of joint {wear.joints[0]['name']}" if len(wear.joints) > 1 else ""  # the others: in its section
+        items.append((f"nominal max wear{first}, {wear.cycles:,.0f} cycles", f"{wear.max_wear_mm:.4g} mm",
                       ref_note("nominal_max_wear", cycles=wear.cycles)))
     else:
         items.append(("nominal max wear", "\u2014", "no wear result"))
