@@ -555,9 +555,12 @@ def test_a_series_system_learnt_per_joint_carries_no_kink_caveat(tmp_path, nomin
     page = build_report(d).read_text(encoding="utf-8")
     assert "learnt one Kriging per joint" in page and "held the exact life in 18 of 20 runs at R = 0.9" in page
     assert "are shared between judged joints" not in page
-    # each joint's share of the failures and its own fit: Q^2 and the scatter of a call's life, exp(0.14) - 1 = 15 %
-    assert "<td>A</td><td>70 %</td><td>0.71</td><td>\u00b115 %</td>" in page
-    assert "<td>E</td><td>30 %</td><td>0.71</td><td>\u00b12 %</td>" in page
+    # each joint's share of the failures, its own life (A's curve is the system's here; E's never falls to 0.9) and
+    # its own fit: Q^2 and the scatter of a call's life, exp(0.14) - 1 = 15 %
+    life_a = f"{rel.joint_lives()['A'][0]:,.0f}"
+    assert f"<td>A</td><td>70 %</td><td>{life_a}</td><td>0.71</td><td>\u00b115 %</td>" in page
+    assert "<td>E</td><td>30 %</td><td>beyond the curve</td><td>0.71</td><td>\u00b12 %</td>" in page
+    assert rel.joint_lives()["A"][0] == pytest.approx(rel.life(), rel=1e-12)
 
 
 def test_the_summary_carries_the_caveats_of_the_sections_below(tmp_path, nominal):

@@ -346,6 +346,13 @@ def test_a_noisy_series_systems_reliability_and_sensitivity_take_each_joints_sca
         noise = 3 * np.sqrt(r_a * (1 - r_a) / hist["n_population"])
         assert abs(exceedance - (1 - r_a)) <= joint_a["half_width_95"][k] + noise, (cycles, exceedance, r_a)
         assert exceedance < hist["one_minus_reliability"][hist["cycles"].index(cycles)]  # E fails too
+    # each joint's own life at R = 0.9: a series system fails first, so its life is no longer than either joint's
+    # (within the system's own interval)
+    lives = res.joint_lives()
+    assert set(lives) == {"A", "E"}
+    for name, (life, low, high) in lives.items():
+        assert life is not None and low <= life <= high, (name, life, low, high)
+        assert life >= res.life_interval()[0], (name, life, res.life_cycles)
     sens = run_sensitivity(ctx, res)
     assert abs(sens.reliability_nominal - r_exact) <= half + reference, (sens.reliability_nominal, r_exact)
     # a 0.8 shift of k_A, read on the surrogate: within its own error estimate, the Monte Carlo error of its 200,000

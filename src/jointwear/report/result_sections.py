@@ -70,13 +70,19 @@ def _joint_fit_table(rel) -> str:
     if not any(joint.get("surrogate_fit") for joint in rel.joints):
         return ""
     shares = rel.governing_shares()
+    lives, curves = rel.joint_lives(), rel.joint_curves()
     rows = []
     for joint in rel.joints:  # a joint without a fit had fewer than two finite lives (one that does not wear)
         fit = SurrogateFit.from_json(joint.get("surrogate_fit"))
+        life, low, high = lives.get(joint["name"], (None, None, None))
+        first_r = curves[joint["name"]][0][0] if joint["name"] in curves else 1.0
+        outside = "before the curve" if first_r < rel.target else "beyond the curve"
         rows.append((joint["name"], f"{100 * shares.get(joint['name'], 0.0):.0f} %",
+                     outside if life is None else f"{life:,.0f}"
+                     + ("" if low is None and high is None else f" ({interval_cells(low, high)})"),
                      "not fitted" if fit is None else _q2_text(fit), "\u2014" if fit is None else _scatter_text(fit)))
-    return table(["joint", "share of the failures at the life", "Q\u00b2 of its life",
-                  "scatter of a call's life"], rows, cls="kv")
+    return table(["joint", "share of the failures at the life", f"its own life at R = {rel.target:g} (95 %)",
+                  "Q\u00b2 of its life", "scatter of a call's life"], rows, cls="kv")
 
 
 def _esc_part(rel, cycles: float) -> str:

@@ -442,6 +442,23 @@ class ReliabilityResult(StageResult):
                               None if half is None else np.asarray(half, dtype=float))
         return out
 
+    def joint_lives(self, target: float | None = None) -> dict[str, tuple[float | None, float | None, float | None]]:
+        """Each judged joint's own life at ``target`` (default: the first target), as if it were the only one judged,
+        with its 95 % interval: (life, low, high) read on its own R(N) as :meth:`life` reads the system's (None
+        outside the curve, or where the result holds no band); empty with one judged joint."""
+        target = self.target if target is None else reliability_target(target, "joint_lives: target")
+        curves = self.joint_curves()
+        if not curves:
+            return {}
+        fine = self.fine_curve()
+        levels = np.asarray(self.cycles, dtype=float)
+        out = {}
+        for name, (r, half) in curves.items():  # on the life's curve where the joint has it, else at the levels
+            cycles = fine[0] if fine is not None and len(fine[0]) == len(r) else levels
+            low, high = (None, None) if half is None else life_interval(cycles, r, half, target)
+            out[name] = (life_at(cycles, r, target), low, high)
+        return out
+
     def tables(self) -> dict[str, dict[str, Any]]:
         """``reliability_curve`` (R, Pf, its COV and error and R's 95 % half-width at every level; each joint's R
         and share with several), ``life_table`` (the life at each target and its 95 % interval) and
