@@ -19,6 +19,17 @@ def verification_verdict(reliability: float, error: float, target: float) -> str
     return "within_error" if reliability + error >= target else "misses"
 
 
+def choices_text(choices: dict) -> str:
+    """A candidate's options as a reader reads them: 'l1 IT10, fit H7/g6, HB_b hardened'."""
+    return ", ".join(f"{k} {v}" for k, v in choices.items())
+
+
+def is_undecided(reliability: float, target: float, surrogate_error: float, outside_fraction: float) -> bool:
+    """Whether a candidate's R(N*) lies within the surrogate's error of R* (the share of its population outside the
+    study's inputs added, as that mass may be misclassified wholesale): only refinement calls can settle it."""
+    return abs(reliability - target) <= surrogate_error + outside_fraction
+
+
 @dataclass(repr=False, eq=False)  # StageResult compares by value
 class DesignResult(StageResult):
     """The cheapest controls that reach N* cycles at reliability R*, and the Pareto front of cost vs life at R*.
@@ -100,12 +111,34 @@ class DesignResult(StageResult):
         changes = [f"{k} {v} -> {chosen['choices'][k]}" for k, v in self.baseline_choices.items()
                    if chosen["choices"].get(k) != v]
         r_today = self.baseline_reliability_at_target_life
-        today = (f"today's design ({', '.join(f'{k} {v}' for k, v in self.baseline_choices.items())}, cost "
+        today = (f"today's design ({choices_text(self.baseline_choices)}, cost "
                  f"{self.baseline_cost:.4g}" + ("" if r_today is None else f", R(N*) {r_today:.4f}") + ")")
         if not changes:
             return f"{today} is the choice: it meets the target as it is"
-        delta = chosen["cost"] - self.baseline_cost
-        return f"against {today}: cost {delta:+.4g}; changes {', '.join(changes)}"
+        return f"against {today}: cost {self.cost_change:+.4g}; changes {', '.join(changes)}"
+
+    @property
+    def cost_change(self) -> float | None:
+        """The choice's cost less today's design's (None without either)."""
+        if self.chosen is None or self.baseline_cost is None:
+            return None
+        return self.chosen["cost"] - self.baseline_cost
+
+    def every_target_sentence(self) -> str:
+        """With several targets, when the headline choice misses one: the cheapest design that meets them all at once,
+        read on the surrogate (its R(N*) and error per target; only the headline choice is verified), or that none
+        does; '' otherwise."""
+        every = self.chosen_every_target
+        if len(self.targets) < 2 or self.chosen is None or (every is not None
+                                                             and every["choices"] == self.chosen["choices"]):
+            return ""
+        if every is None:
+            return "no candidate meets every target at once"
+        errors = ", ".join(f"{r:.4f} +/- {err:.4f}" for r, err in zip(every["reliability_at_target_life"],
+                                                                     every["reliability_error"]))
+        return (f"the cheapest design that meets every target at once: {choices_text(every['choices'])} (cost "
+                f"{every['cost']:.4g}; R(N*) {errors} at the targets in order, on the surrogate: only the headline "
+                "choice is verified on the true model)")
 
     def nearest_sentence(self) -> str:
         """With no choice: the candidate nearest the target (highest R(N*)), '' otherwise."""
@@ -113,9 +146,9 @@ class DesignResult(StageResult):
         if self.chosen is not None or not rows:
             return ""
         best = max(rows, key=lambda r: (r["reliability_at_target_life"], -r["cost"]))
-        picks = ", ".join(f"{k} {v}" for k, v in best["choices"].items())
-        return (f"the nearest is {picks} (cost {best['cost']:.4g}): R = {best['reliability_at_target_life']:.4f} +/- "
-                f"{best['reliability_error']:.4f} at {self.target_life_cycles:,.0f} cycles")
+        return (f"the nearest is {choices_text(best['choices'])} (cost {best['cost']:.4g}): R = "
+                f"{best['reliability_at_target_life']:.4f} +/- {best['reliability_error']:.4f} at "
+                f"{self.target_life_cycles:,.0f} cycles")
 
     def undecided_sentence(self) -> str:
         """What candidates left undecided by the refinement mean for the choice (empty when none was left, or when
@@ -146,18 +179,18 @@ class DesignResult(StageResult):
         chosen, r_star, n = self.chosen, self.target_reliability, self.n_population
         if chosen is None or not n:
             return ""
-        undecided = [r for r in self.candidates if r["cost"] <= chosen["cost"] and r["choices"] != chosen["choices"]
-                     and r.get("surrogate_error") is not None and abs(r["reliability_at_target_life"] - r_star)
-                     <= r["surrogate_error"] + (r.get("outside_design_fraction") or 0.0)]
-        if not undecided:
+        left = [r for r in self.candidates if r["cost"] <= chosen["cost"] and r["choices"] != chosen["choices"]
+                and r.get("surrogate_error") is not None
+                and is_undecided(r["reliability_at_target_life"], r_star, r["surrogate_error"],
+                              r.get("outside_design_fraction") or 0.0)]
+        if not left:
             return ""
-        row = min(undecided, key=lambda r: r["cost"])
+        row = min(left, key=lambda r: r["cost"])
         gap = abs(row["reliability_at_target_life"] - r_star)
         resolution = monte_carlo_half_width(r_star * n, n)
         if gap >= resolution:
             return ""
-        picks = ", ".join(f"{k} {v}" for k, v in row["choices"].items())
-        return (f"; but the cheapest of them ({picks}, cost {row['cost']:.4g}, R(N*) "
+        return (f"; but the cheapest of them ({choices_text(row['choices'])}, cost {row['cost']:.4g}, R(N*) "
                 f"{row['reliability_at_target_life']:.4f}) lies {gap:.2g} from R*, closer than its population of "
                 f"{n:,} resolves (+/- {resolution:.2g}): more calls cannot settle it; judge it by a reliability "
                 "study of that design")
@@ -188,9 +221,9 @@ class DesignResult(StageResult):
                                  "excluded, nor proven",
                  "misses": f"it misses R* = {self.target_reliability:g}"}[verdict]
         if ver.get("converged") is False:
-            text += ("; its learning stopped on its budget of calls (design.verification_max_calls) before its tolerance, "
-                     "so its error is the estimate of a Kriging that has not met its own stopping rule and may be too "
-                     "small (raise the budget and run again with --resume to settle it)")
+            text += ("; its learning stopped on its budget of calls (design.verification_max_calls) before its "
+                     "tolerance, so its error is the estimate of a Kriging that has not met its own stopping rule and "
+                     "may be too small (raise the budget and run again with --resume to settle it)")
         return text
 
     def tables(self) -> dict[str, dict[str, Any]]:

@@ -29,7 +29,7 @@ import numpy as np
 from scipy import stats
 
 from jointwear.design.candidates import Candidate, Control, build_controls, enumerate_candidates, today_candidate
-from jointwear.design.results import EXTRAPOLATED_SHARE, DesignResult, verification_verdict
+from jointwear.design.results import EXTRAPOLATED_SHARE, DesignResult, is_undecided, verification_verdict
 from jointwear.design.settings import DesignSettings
 from jointwear.reliability import (
     IsoTransform,
@@ -324,8 +324,7 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
                 if candidates[i].cost(controls) > chosen_cost:
                     break
                 e = est[(i, k)]
-                # the population's mass outside the design region may be misclassified wholesale
-                if abs(e.reliability - t["reliability"]) <= e.surrogate_error + e.outside_fraction:
+                if is_undecided(e.reliability, t["reliability"], e.surrogate_error, e.outside_fraction):
                     out.append((i, k))
         return out
 

@@ -101,16 +101,9 @@ def design_section(out_dir: Path | str, figs=None) -> str | None:
         text += sentence[:1].upper() + sentence[1:] + "."
         cls = "" if d.verdict() in ("meets", "within_error") else ' class="warn"'  # misses, or not verified
         parts.append(f"<p{cls}>{e(text)}</p>")
-    targets, every = _get(d, "targets") or [], _get(d, "chosen_every_target")
-    if len(targets) > 1 and chosen is not None and (every is None or every["choices"] != chosen["choices"]):
-        meets = "No candidate meets every target at once." if every is None else (
-            "The cheapest design that meets every target at once: "
-            + ", ".join(f"{k} {v}" for k, v in every["choices"].items()) + f" (cost {every['cost']:.4g}; R(N*) "
-            + ", ".join(f"{r:.4f} +/- {err:.4f}" for r, err in zip(every["reliability_at_target_life"],
-                                                                    every["reliability_error"]))
-            + " at the targets in order, on the surrogate: only the headline choice is verified on the true model).")
+    if every := d.every_target_sentence():
         parts.append('<p class="warn"><strong>The headline choice does not meet every target.</strong> '
-                     f"{e(meets)}</p>")
+                     f"{e(every[:1].upper() + every[1:])}.</p>")
     if undecided := d.undecided_sentence():
         parts.append(warning("Candidates left undecided.", undecided))
     if outside := d.target_outside_curve_sentence():

@@ -6,6 +6,7 @@ from __future__ import annotations
 import datetime as _dt
 from collections.abc import Mapping, Sequence
 
+from jointwear.study.limit_state import life_status
 from jointwear.study.reliability_results import SurrogateFit, interval_cells, interval_text
 from jointwear.study.sensitivity import coordinate_shift_sentence
 
@@ -75,8 +76,8 @@ def _joint_fit_table(rel) -> str:
     for joint in rel.joints:  # a joint without a fit had fewer than two finite lives (one that does not wear)
         fit = SurrogateFit.from_json(joint.get("surrogate_fit"))
         life, low, high = lives.get(joint["name"], (None, None, None))
-        first_r = curves[joint["name"]][0][0] if joint["name"] in curves else 1.0
-        outside = "before the curve" if first_r < rel.target else "beyond the curve"
+        status = life_status(curves[joint["name"]][0], rel.target) if joint["name"] in curves else "beyond_curve"
+        outside = status.replace("_", " the ")  # before the curve, beyond the curve
         rows.append((joint["name"], f"{100 * shares.get(joint['name'], 0.0):.0f} %",
                      outside if life is None else f"{life:,.0f}"
                      + ("" if low is None and high is None else f" ({interval_cells(low, high)})"),
@@ -545,8 +546,8 @@ def summary_cards(out: StudyOutputs, checks: Sequence[Check], ref: Mapping | Non
     design = out.results.design
     if design is not None:
         chosen = design.chosen
-        today = ("" if design.baseline_cost is None or chosen is None
-                 else f"; today's design {design.baseline_cost:.4g} ({chosen['cost'] - design.baseline_cost:+.4g})")
+        today = ("" if design.cost_change is None
+                 else f"; today's design {design.baseline_cost:.4g} ({design.cost_change:+.4g})")
         verdict = (design.verdict() or "").replace("_", " ")
         items.append((f"design for {design.target_life_cycles:,.0f} cycles at R = {design.target_reliability:g}",
                       "no candidate" if chosen is None else f"cost {chosen['cost']:.4g}",

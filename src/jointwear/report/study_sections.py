@@ -282,7 +282,7 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
          "of the history; the stage also builds the model and draws its figures"),
         ("geometry mode", wear.geometry_mode, None),
     ]
-    life = nominal_life_card(wear, out.results.setting("reliability.quantity") or "bearing_max_depth", first)
+    life = nominal_life_card(wear, quantity, first)
     if life is not None:
         items.append(life)
     if wear.journal.get("max_wear_mm") is not None:

@@ -851,6 +851,7 @@ class Study:
             Also written to ``design.json``.
         """
         from jointwear.design import design_problems, run_design
+        from jointwear.design.results import choices_text
 
         problems = design_problems(self.config)
         if problems:
@@ -867,7 +868,7 @@ class Study:
             self.echo(f"design: no candidate reaches {result.target_life_cycles:,.0f} cycles at "
                       f"R = {result.target_reliability:g}{'; ' + nearest if nearest else ''}; {calls}")
             return result
-        picks = ", ".join(f"{k} {v}" for k, v in chosen["choices"].items())
+        picks = choices_text(chosen["choices"])
         life = chosen.get("life_at_target_cycles")
         life = "" if life is None else f", a life of {life:,.0f} cycles at R = {result.target_reliability:g}"
         self.echo(f"design: {picks} (cost {chosen['cost']:.3g}): on the surrogate R = "
@@ -876,15 +877,8 @@ class Study:
         self.echo(f"design: {result.change_sentence()}")
         sentence = result.verification_sentence()
         (self.echo if result.verdict() in ("meets", "within_error") else self.warn)(f"design: {sentence}")
-        every = result.chosen_every_target
-        if len(result.targets) > 1 and (every is None or every["choices"] != chosen["choices"]):
-            self.warn("design: the headline choice does not meet every target; " + (
-                "no candidate meets them all at once" if every is None else
-                f"the cheapest that does: {', '.join(f'{k} {v}' for k, v in every['choices'].items())} "
-                f"(cost {every['cost']:.3g}; R(N*) "
-                + ", ".join(f"{r:.4f} +/- {err:.4f}" for r, err in zip(every["reliability_at_target_life"],
-                                                                    every["reliability_error"]))
-                + " at the targets in order, on the surrogate: not verified on the true model)"))
+        if every := result.every_target_sentence():
+            self.warn(f"design: the headline choice does not meet every target; {every}")
         self._warn_design_trust(chosen)
         for sentence in (result.undecided_sentence(), result.target_outside_curve_sentence()):
             if sentence:

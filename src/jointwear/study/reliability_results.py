@@ -432,14 +432,22 @@ class ReliabilityResult(StageResult):
         """Each judged joint's own R(N) and its 95 % half-width (None in results written without it), with several
         judged joints, on :attr:`life_curve`'s cycles where the result has it (:meth:`fine_curve`), else at the
         levels; empty with one."""
+        return {name: (r, half) for name, _cycles, r, half in self._joint_points()}
+
+    def _joint_points(self) -> list[tuple[str, np.ndarray, np.ndarray, np.ndarray | None]]:
+        """(name, cycles, R, 95 % half-width or None) of each judged joint with several, on :attr:`life_curve`'s
+        cycles where the joint has its curve there, else at the levels."""
         if len(self.joints) < 2:
-            return {}
-        out = {}
-        for j in self.joints:  # on the life's curve where the joint has it, else at the levels
-            source = j["curve"] if "curve" in j and self.fine_curve() is not None else j
+            return []
+        fine = self.fine_curve()
+        out = []
+        for j in self.joints:
+            on_fine = "curve" in j and fine is not None
+            source = j["curve"] if on_fine else j
             half = source.get("half_width_95")
-            out[j["name"]] = (np.asarray(source["reliability"], dtype=float),
-                              None if half is None else np.asarray(half, dtype=float))
+            out.append((j["name"], fine[0] if on_fine else np.asarray(self.cycles, dtype=float),
+                        np.asarray(source["reliability"], dtype=float),
+                        None if half is None else np.asarray(half, dtype=float)))
         return out
 
     def joint_lives(self, target: float | None = None) -> dict[str, tuple[float | None, float | None, float | None]]:
@@ -447,14 +455,8 @@ class ReliabilityResult(StageResult):
         with its 95 % interval: (life, low, high) read on its own R(N) as :meth:`life` reads the system's (None
         outside the curve, or where the result holds no band); empty with one judged joint."""
         target = self.target if target is None else reliability_target(target, "joint_lives: target")
-        curves = self.joint_curves()
-        if not curves:
-            return {}
-        fine = self.fine_curve()
-        levels = np.asarray(self.cycles, dtype=float)
         out = {}
-        for name, (r, half) in curves.items():  # on the life's curve where the joint has it, else at the levels
-            cycles = fine[0] if fine is not None and len(fine[0]) == len(r) else levels
+        for name, cycles, r, half in self._joint_points():
             low, high = (None, None) if half is None else life_interval(cycles, r, half, target)
             out[name] = (life_at(cycles, r, target), low, high)
         return out
@@ -694,7 +696,7 @@ class ValidationResult(StageResult):
         r, r_sur = self.reliability_mc, self.reliability_surrogate
         true_half = np.where(r_sur > r, self.ci_high - r, r - self.ci_low)
         cov = self.surrogate_cov if self.surrogate_cov.size == r.size else np.zeros_like(r)
-        mc_half = 1.96 * np.where(np.isfinite(cov), cov, 0.0) * (1.0 - r_sur)
+        mc_half = curve_half_width(1.0 - r_sur, cov)  # the curve's Monte Carlo part alone
         error = np.nan_to_num(self.surrogate_error, nan=0.0, posinf=1.0)
         return np.abs(r - r_sur) > np.sqrt(true_half**2 + mc_half**2 + error**2)
 
