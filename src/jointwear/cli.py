@@ -169,8 +169,8 @@ def wear(config, cycles, out):
 @click.option("--tolerance", type=click.FloatRange(min=0.0, max=1.0, min_open=True, max_open=True), default=0.02,
               show_default=True, help="Relative change of the nominal life that counts as converged.")
 @click.option("--only", "only", multiple=True,
-              help="A refinement to run (repeatable; default all): record_cycles, settle_cycles, block, n_grid, "
-                   "tolerance, profile_smoothing_deg, profile_substep_cycles.")
+              help="A refinement to run (repeatable or comma separated; default all): record_cycles, "
+                   "settle_cycles, block, n_grid, tolerance, profile_smoothing_deg, profile_substep_cycles.")
 @click.option("--cycles", type=CycleCount(1), default=None,
               help="Cycles of each history [default: wear.cycles, else the end of the R(N) curve].")
 @compute_options
@@ -179,8 +179,9 @@ def converge(config, replicates, factor, tolerance, only, cycles, workers, sched
     """Whether the nominal wear history is converged in its numerical settings (each refined, with replicates);
     write wear_convergence.json and wear_convergence.csv. Its histories go through the executor and an evaluation
     store of their own (wear_convergence.sqlite), so an interrupted check resumes."""
+    chosen = [name.strip() for item in only for name in item.split(",") if name.strip()]
     open_study(config, out, workers, scheduler, resume, overwrite).converge(replicates, factor, tolerance,
-                                                                          list(only) or None, cycles)
+                                                                          chosen or None, cycles)
 
 
 @main.command()

@@ -8,6 +8,7 @@ import json
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from jointwear.cli import main_entry
@@ -187,3 +188,60 @@ def test_without_an_allowance_the_measure_is_the_final_wear(rig):
     conv = run_convergence(bare, 500, replicates=2, only=["n_grid"])
     assert conv.measure == "wear" and conv.unit == "m"
     assert "mean_wear_mm" in conv.tables()["wear_convergence"]
+
+
+def test_each_judged_joint_is_judged_on_its_own():
+    """A setting that moves only the joint that does not govern the nominal life (E, twice A's life) leaves the
+    nominal life where it was, but E's own R(N), and so the system's, moves: the setting is not converged."""
+    from jointwear.study.convergence import REFINEMENT_NAMES
+
+    six_bar = load_config("watt_six_bar_two_clearances")
+    block = REFINEMENT_NAMES.index("block")
+
+    def fake(_call):
+        def evaluate(X):
+            k = X[:, 2]
+            life_a = 1e5 * (1 + 1e-3 * k)
+            life_e = 2e5 * (1 + 1e-3 * k) * np.where(X[:, 0] == block, 1.10, 1.0)  # +10 % with the block halved
+            return np.column_stack([np.minimum(life_a, life_e), life_a, life_e])
+        return evaluate
+
+    res = run_convergence(six_bar, 2000, replicates=3, only=["n_grid", "block"], evaluator_factory=fake)
+    assert res.joints == ["A", "E"] and set(res.baseline["joints"]) == {"A", "E"}
+    rows = {r["name"]: r for r in res.refinements}
+    assert rows["n_grid"]["verdict"] == "converged"
+    assert rows["block"]["system_verdict"] == "converged"  # A governs and did not move
+    assert rows["block"]["joints"]["E"]["change"] == pytest.approx(0.10)
+    assert rows["block"]["joints"]["E"]["verdict"] == "not converged"
+    assert rows["block"]["verdict"] == "not converged" and res.not_converged() == ["block"]
+    (sentence,) = res.sentences()
+    assert "joint E's own nominal life moves by +10.0 %" in sentence
+    table = res.tables()["wear_convergence"]
+    by_setting = dict(zip(table["setting"], zip(table["E_verdict"], table["E_change_pct"])))
+    assert by_setting["baseline"] == ("", 0.0) and by_setting["n_grid"][0] == "converged"
+    assert by_setting["block"][0] == "not converged" and by_setting["block"][1] == pytest.approx(10.0)
+    assert WearConvergence.from_json(json.loads(json.dumps(res.to_json()))) == res
+
+
+def test_a_two_joint_history_gives_the_system_and_each_joint():
+    # the values are the nominal life (the first joint to reach its allowance) and each joint's own, as the
+    # reliability stage's limit state reads them from the same history
+    from jointwear.mechanism import build_model
+    from jointwear.study.convergence import ConvergenceCall, nominal_measure
+    from jointwear.study.limit_state import life_from_history
+    from jointwear.study.model_call import quantity_history
+    from jointwear.wear import wear_history
+
+    six_bar = updated(load_config("watt_six_bar_two_clearances"), {"wear.block_cycles": 500})
+    measure, value_of, limit = nominal_measure(six_bar)
+    res = wear_history(build_model(six_bar), six_bar.wear, 2000)
+    values = value_of(res)
+    cycles = res.joints[0].history_cycles
+    cycles = cycles[cycles > 0]
+    lives = [float(life_from_history(cycles, quantity_history(res.joints[j], limit.quantity, cycles)[None, :], a)[0])
+             for j, a in zip(limit.joints, limit.allowances)]
+    assert measure == "life" and len(values) == 3
+    assert values[1:] == pytest.approx(lives, rel=1e-12) and values[0] == min(lives)
+    # a store of the system's measure alone is another store
+    assert "outputs" in ConvergenceCall(six_bar.model_dump()).identity()
+    assert "outputs" not in ConvergenceCall(load_config(str(RIG)).model_dump()).identity()

@@ -572,9 +572,10 @@ def summary_caveats(out: StudyOutputs) -> str:
         items += [("wear", "Worn through", s) for s in wear.worn_through()]
     conv = out.results.wear_convergence
     if conv is not None and conv.not_converged():
+        own = " or a joint's own" if conv.baseline.get("joints") else ""
         items.append(("wear-convergence", "The wear history is not converged",
                       f"refining {', '.join(conv.not_converged())} moves the nominal "
-                      f"{'life' if conv.measure == 'life' else 'wear'} by more than "
+                      f"{'life' if conv.measure == 'life' else 'wear'}{own} by more than "
                       f"{100 * conv.tolerance:g} %; refine it in [wear] and run the study again"))
     if rel is not None:
         if not rel.converged:

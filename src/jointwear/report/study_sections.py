@@ -377,15 +377,26 @@ def convergence_section(out: StudyOutputs) -> str:
          f"95 % interval of a change with {conv.replicates} replicates (tolerance \u00b1{100 * conv.tolerance:g} %)"),
     ])
     rows = []
+    several = bool(conv.baseline.get("joints"))
     for r in conv.refinements:
-        rows.append([r["name"], conv.changed_text(r, arrow="\u2192"), format_number(r["mean"] * scale),
-                     f"{100 * r['change']:+.1f} % \u00b1 {100 * Z95 * r['change_se']:.1f} %", r["verdict"]])
-    body = table(["setting", "refined", f"{what} ({unit})", "change (95 %)", "verdict"], rows)
+        row = [r["name"], conv.changed_text(r, arrow="\u2192"), format_number(r["mean"] * scale),
+               f"{100 * r['change']:+.1f} % \u00b1 {100 * Z95 * r['change_se']:.1f} %"]
+        if several:
+            row += [r.get("system_verdict", r["verdict"]), "; ".join(
+                f"{joint} {100 * j['change']:+.1f} % \u00b1 {100 * Z95 * j['change_se']:.1f} % {verdict}"
+                for joint, _, j, _, verdict in conv.subjects(r)[1:])]
+        rows.append(row + [r["verdict"]])
+    heads = ["setting", "refined", f"{what} ({unit})", "change (95 %)"]
+    heads += [f"{what} verdict", "each joint's own (95 %)"] if several else []
+    body = table(heads + ["verdict"], rows)
     lead = (f"<p>The nominal history to {conv.cycles:,} cycles with the study's wear settings and with each "
             f"numerical setting refined {conv.factor:g}x, {conv.replicates} histories each. A change is "
             "<em>converged</em> when its 95 % interval lies inside the tolerance, <em>not converged</em> when it "
             "lies outside, <em>no change detected</em> when it holds zero but the replicates cannot resolve the "
             "tolerance, <em>undecided</em> otherwise. A refinement that changes nothing at one factor may still "
-            "matter at a larger one (docs/wear.md, \u201cIs my history converged?\u201d).</p>")
+            "matter at a larger one (docs/wear.md, \u201cIs my history converged?\u201d)."
+            + (" With several judged joints each joint's own measure is judged too, and a setting's verdict is the "
+               "worst of them: a joint that does not govern the nominal life still sets its share of R(N)."
+               if several else "") + "</p>")
     warns = "".join(warning("Convergence:", s) for s in conv.sentences())
     return head + warns + lead + body

@@ -5,7 +5,9 @@ refined by a factor (more recorded and settling cycles per block, shorter blocks
 integrator tolerances; in profile mode also the running-in length and the deposit's sub-step), each as several
 replicates that differ only in the start phase (the first block's settling, as benchmarks/wear.py does). The
 measure is the study's nominal life (the first judged joint to reach its allowance, the limit state of the
-reliability stage), or the first judged joint's wear at the history's end when no allowance is set.
+reliability stage), or the first judged joint's wear at the history's end when no allowance is set. With several
+judged joints each joint's own measure is judged too: a setting that moves a joint which does not govern the nominal
+life still moves that joint's R(N), and so the system's.
 
 A refinement's change of the mean is judged against the tolerance with its 95 % interval (1.96 standard errors of
 the difference of two means): *converged* when the interval lies inside +-tolerance, *not converged* when it lies
@@ -99,6 +101,16 @@ def change_verdict(change: float, standard_error: float, tolerance: float) -> st
     return "undecided"
 
 
+#: how much a verdict says against convergence: a refinement's verdict over the system and its joints is the worst
+VERDICT_SEVERITY = {"no wear": 0, "converged": 0, "no change detected": 1, "too few histories": 2, "undecided": 3,
+                    "not converged": 4}
+
+
+def worst_verdict(verdicts: Sequence[str]) -> str:
+    """The verdict that says most against convergence (the first of equals)."""
+    return max(verdicts, key=VERDICT_SEVERITY.__getitem__)
+
+
 def replicates_to_resolve(scatter: float, tolerance: float) -> int:
     """Replicates per setting whose 95 % interval of a change is +-tolerance when both settings scatter by
     ``scatter`` (standard deviation / mean): n = 2 (1.96 scatter / tolerance)^2."""
@@ -117,6 +129,10 @@ class WearConvergence(StageResult):
     ``failed``, ``mean``, ``std``, ``change`` (relative change of the mean), ``change_se`` (its standard error) and
     ``verdict`` (:func:`change_verdict`; 'too few histories' when fewer than two of either ran, 'no wear' when the
     baseline's measure is zero).
+
+    With several judged joints, ``baseline['joints']`` and each refinement's ``joints`` hold the same per joint
+    (each joint's own life, or its own wear at the end), the refinement's ``system_verdict`` is the nominal
+    measure's own, and its ``verdict`` the worst of them all (:func:`worst_verdict`).
     """
 
     FILE: ClassVar[str] = "wear_convergence.json"
@@ -155,31 +171,53 @@ class WearConvergence(StageResult):
         """Whether every refinement's verdict is 'converged'."""
         return all(v == "converged" for v in self.verdicts().values())
 
+    def subjects(self, row: dict) -> list[tuple[str, str, dict, dict, str]]:
+        """(joint, what, the row's values, the baseline's, verdict) of the nominal measure (joint '') and of each
+        judged joint's own (several joints only)."""
+        what = "the nominal life" if self.measure == "life" else "the final wear"
+        own = "nominal life" if self.measure == "life" else "final wear"
+        joints = row.get("joints") or {}
+        base = self.baseline.get("joints") or {}
+        return [("", what, row, self.baseline, row.get("system_verdict", row["verdict"]))] + [
+            (name, f"joint {name}'s own {own}", j, base.get(name, {}), j["verdict"]) for name, j in joints.items()]
+
+    def governs(self, row: dict, joint: str) -> bool:
+        """Whether ``joint``'s own measure is the nominal one in every history of the baseline and of ``row``."""
+        own, base = row["joints"][joint], self.baseline["joints"][joint]
+        return own["values"] == row["values"] and base["values"] == self.baseline["values"]
+
     def sentences(self) -> list[str]:
         """A warning for each refinement that is not converged or undecided, saying what to do."""
         out = []
-        what = "the nominal life" if self.measure == "life" else "the final wear"
         failed = [(name, r.get("failed", 0)) for name, r in (("baseline", self.baseline),
                                                               *((r["name"], r) for r in self.refinements))]
         if any(n for _, n in failed):
             out.append("histories failed (" + ", ".join(f"{name}: {n} of {self.replicates}" for name, n in failed if n)
                        + "): their reasons are in the study's log and evaluation store; the rest are judged")
+        unresolved = []
         for r in self.refinements:
-            if r["verdict"] in ("converged", "no change detected", "too few histories", "no wear"):
-                continue
             fields_ = self.changed_text(r, prefix="wear.", sep=", ")
-            text = (f"with {fields_} {what} moves by {100 * r['change']:+.1f} % "
-                    f"(+-{100 * Z95 * r['change_se']:.1f} %, 95 %)")
-            if r["verdict"] == "not converged":
-                out.append(f"{text}: not converged within {100 * self.tolerance:g} %; refine that setting in [wear]")
-            elif r["verdict"] == "undecided":
-                out.append(f"{text}: whether beyond {100 * self.tolerance:g} % needs more replicates (about "
-                           f"{self.replicates_needed} for this scatter)")
-        if any(r["verdict"] == "no change detected" for r in self.refinements):
-            out.append(f"the {self.replicates} replicates resolve changes of about +-{100 * self.resolution:.1f} % "
-                       f"(95 %), not +-{100 * self.tolerance:g} %: the nominal history scatters by "
-                       f"{100 * self.scatter:.1f} % from start to start; about {self.replicates_needed} replicates "
-                       "would resolve the tolerance")
+            for joint, what, values, base, verdict in self.subjects(r):
+                if joint and self.governs(r, joint):
+                    continue  # the nominal measure's sentence says it
+                text = (f"with {fields_} {what} moves by {100 * values['change']:+.1f} % "
+                        f"(+-{100 * Z95 * values['change_se']:.1f} %, 95 %)")
+                if verdict == "not converged":
+                    out.append(f"{text}: not converged within {100 * self.tolerance:g} %; refine that setting in "
+                               "[wear]")
+                elif verdict == "undecided":
+                    out.append(f"{text}: whether beyond {100 * self.tolerance:g} % needs more replicates (about "
+                               f"{replicates_to_resolve(base.get('scatter', self.scatter), self.tolerance)} for this "
+                               "scatter)")
+                elif verdict == "no change detected":
+                    unresolved.append(base.get("scatter", self.scatter))
+        if unresolved:
+            scatter = max(unresolved)
+            out.append(f"the {self.replicates} replicates resolve changes of about "
+                       f"+-{100 * _resolution(scatter, self.replicates):.1f} % (95 %), not "
+                       f"+-{100 * self.tolerance:g} %: the nominal history scatters by {100 * scatter:.1f} % from "
+                       f"start to start; about {replicates_to_resolve(scatter, self.tolerance)} replicates would "
+                       "resolve the tolerance")
         return out
 
     @staticmethod
@@ -190,7 +228,7 @@ class WearConvergence(StageResult):
     @property
     def resolution(self) -> float:
         """Half-width of the 95 % interval of a change between two settings that scatter as the baseline."""
-        return Z95 * self.scatter * math.sqrt(2.0 / self.replicates)
+        return _resolution(self.scatter, self.replicates)
 
     @property
     def replicates_needed(self) -> int:
@@ -200,9 +238,12 @@ class WearConvergence(StageResult):
     def tables(self) -> dict[str, dict[str, list]]:
         unit = "cycles" if self.measure == "life" else "mm"
         scale = 1.0 if self.measure == "life" else 1e3
+        base_joints = {name: {**j, "change": 0.0, "change_se": 0.0, "verdict": ""}
+                       for name, j in (self.baseline.get("joints") or {}).items()}
         rows = [{"name": "baseline", "description": "the study's wear settings", "changed": {},
-                 **self.baseline, "change": 0.0, "change_se": 0.0, "verdict": ""}] + self.refinements
-        return {"wear_convergence": {
+                 **self.baseline, "joints": base_joints, "change": 0.0, "change_se": 0.0, "verdict": ""}]
+        rows += self.refinements
+        table = {
             "setting": [r["name"] for r in rows],
             "changed": [self.changed_text(r) for r in rows],
             f"mean_{self.measure}_{unit}": [r["mean"] * scale for r in rows],
@@ -211,12 +252,24 @@ class WearConvergence(StageResult):
             "change_95_pct": [100 * Z95 * r["change_se"] for r in rows],
             "failed_histories": [r.get("failed", 0) for r in rows],
             "verdict": [r["verdict"] for r in rows],
-        }}
+        }
+        for name in self.joints if base_joints else ():
+            each = [r["joints"][name] for r in rows]
+            table[f"{name}_mean_{self.measure}_{unit}"] = [j["mean"] * scale for j in each]
+            table[f"{name}_change_pct"] = [100 * j["change"] for j in each]
+            table[f"{name}_change_95_pct"] = [100 * Z95 * j["change_se"] for j in each]
+            table[f"{name}_verdict"] = [j["verdict"] for j in each]
+        return {"wear_convergence": table}
 
     def save(self, folder) -> Path:
         """Write ``wear_convergence.json`` and ``wear_convergence.csv``."""
         self.files = [self.FILE, *self.write_tables(folder)]
         return self.write(folder)
+
+
+def _resolution(scatter: float, replicates: int) -> float:
+    """Half-width of the 95 % interval of a change between two settings that scatter by ``scatter``."""
+    return Z95 * scatter * math.sqrt(2.0 / replicates)
 
 
 def _fmt(value) -> str:
@@ -233,27 +286,36 @@ def _summary(values: Sequence[float]) -> dict:
 
 
 def nominal_measure(config: StudyConfig):
-    """(measure, function of a WearResult -> its value): the nominal life when every judged joint has an
-    allowance, else the first judged joint's wear quantity at the history's end."""
+    """(measure, function of a WearResult -> its values, limit state): the nominal life when every judged joint
+    has an allowance, else the first judged joint's wear quantity at the history's end. The values are the nominal
+    measure followed, with several judged joints, by each joint's own (its life, or its wear at the end)."""
     limit = limit_state_from_config(config)
+    several = len(limit.joints) > 1
 
     def outputs(res) -> tuple[np.ndarray, np.ndarray]:
         by_index = {jw.index: jw for jw in res.joints}
         cycles = by_index[limit.joints[0]].history_cycles
         cycles = cycles[cycles > 0]
-        return cycles, np.concatenate([quantity_history(by_index[j], limit.quantity, cycles) for j in limit.joints])
+        return cycles, np.stack([quantity_history(by_index[j], limit.quantity, cycles) for j in limit.joints])
 
     if any(a is None for a in limit.allowances):
-        def wear_at_end(res) -> float:
+        def wear_at_end(res) -> np.ndarray:
             _, y = outputs(res)
-            return float(y[len(y) // len(limit.joints) - 1])
+            ends = y[:, -1]
+            return np.concatenate([ends[:1], ends]) if several else ends[:1]
         return "wear", wear_at_end, limit
 
-    def life(res) -> float:
+    def life(res) -> np.ndarray:
         cycles, y = outputs(res)
-        n = float(limit.life(cycles, y[None, :])[0])
-        return min(n, float(res.stopped_at)) if res.stopped_at is not None else n
+        lives = limit.joint_lives(cycles, y.reshape(1, -1))[0]
+        values = np.concatenate([[lives.min()], lives]) if several else lives[:1]
+        return np.minimum(values, float(res.stopped_at)) if res.stopped_at is not None else values
     return "life", life, limit
+
+
+def n_measures(limit) -> int:
+    """How many values a history gives: the nominal measure, and each judged joint's own when there are several."""
+    return 1 + len(limit.joints) if len(limit.joints) > 1 else 1
 
 
 def chosen_refinements(config: StudyConfig, replicates: int, factor: float, tolerance: float,
@@ -297,8 +359,11 @@ class ConvergenceCall:
         from jointwear.study.model_call import WearModelCall
 
         rel = self.base.get("reliability") or {}
-        return {"model": {k: self.base[k] for k in WearModelCall.MODEL_SECTIONS},
-                "limit": {k: rel.get(k) for k in ("quantity", "joints", "allowance", "allowances")}}
+        identity = {"model": {k: self.base[k] for k in WearModelCall.MODEL_SECTIONS},
+                    "limit": {k: rel.get(k) for k in ("quantity", "joints", "allowance", "allowances")}}
+        if len(rel.get("joints") or self.base.get("clearance_joints") or ()) > 1:
+            identity["outputs"] = "system and each joint"  # a store of the system's measure alone is not this one
+        return identity
 
     def settings(self, config: StudyConfig, x) -> Any:
         """The WearSettings of the row ``x``."""
@@ -317,7 +382,7 @@ class ConvergenceCall:
         config = config_from_dict(self.base, source="convergence")
         _, value_of, _ = nominal_measure(config)
         res = wear_history(build_model(config), self.settings(config, x), int(x[3]), threads=self.threads)
-        return np.array([value_of(res)]), "ok"
+        return np.asarray(value_of(res), dtype=float), "ok"
 
 
 def run_convergence(config: StudyConfig, cycles: int, *, replicates: int = 8, factor: float = 2.0,
@@ -338,31 +403,46 @@ def run_convergence(config: StudyConfig, cycles: int, *, replicates: int = 8, fa
     X = np.array([[c, float(factor) if c >= 0 else 1.0, k, int(cycles)] for c in codes for k in range(replicates)],
                  dtype=float)
     t0 = time.perf_counter()
-    Y = np.asarray(evaluate(X), dtype=float).reshape(len(codes), replicates)
-    base = _summary(Y[0])
+    width = n_measures(limit)
+    Y = np.asarray(evaluate(X), dtype=float).reshape(len(codes), replicates, width)
+    names = list(limit.names) if width > 1 else []
+    base = _summary(Y[0, :, 0])
+    if names:
+        base["joints"] = {name: _summary(Y[0, :, 1 + j]) for j, name in enumerate(names)}
     rows = []
     s = config.wear
     for r, values in zip(chosen, Y[1:]):
-        row = _summary(values)
-        row.pop("scatter")
-        n_b, n_r = len(base["values"]), len(row["values"])
-        if n_b < 2 or n_r < 2:
-            change, se, verdict = math.nan, math.nan, "too few histories"
-        elif base["mean"] == 0.0:  # a joint that never wears: no relative change
-            change, se, verdict = math.nan, math.nan, "no wear"
-        else:
-            change = row["mean"] / base["mean"] - 1.0
-            se = math.sqrt(row["std"] ** 2 / n_r + base["std"] ** 2 / n_b) / abs(base["mean"])
-            verdict = change_verdict(change, se, tolerance)
+        row = _changed(values[:, 0], base, tolerance)
+        if names:
+            row["joints"] = {name: _changed(values[:, 1 + j], base["joints"][name], tolerance)
+                             for j, name in enumerate(names)}
+            row["system_verdict"] = row["verdict"]
+            row["verdict"] = worst_verdict([row["verdict"], *(j["verdict"] for j in row["joints"].values())])
         rows.append({"name": r.name, "description": r.description,
                      "changed": {k: [getattr(s, k) if getattr(s, k) is not None else _resolved(config, k), v]
-                                 for k, v in r.update.items()},
-                     **row, "change": change, "change_se": se, "verdict": verdict})
+                                 for k, v in r.update.items()}, **row})
     return WearConvergence(measure=measure, unit="cycles" if measure == "life" else "m", cycles=int(cycles),
                            replicates=replicates, factor=float(factor), tolerance=float(tolerance), baseline=base,
                            refinements=rows, joints=list(limit.names), quantity=limit.quantity,
                            wall_seconds=time.perf_counter() - t0, settings=s.model_dump(mode="json"),
                            provenance=provenance())
+
+
+def _changed(values: np.ndarray, base: dict, tolerance: float) -> dict:
+    """A refined setting's values against the baseline's summary: their summary, the relative change of the mean,
+    its standard error and the verdict."""
+    row = _summary(values)
+    row.pop("scatter")
+    n_b, n_r = len(base["values"]), len(row["values"])
+    if n_b < 2 or n_r < 2:
+        change, se, verdict = math.nan, math.nan, "too few histories"
+    elif base["mean"] == 0.0:  # a joint that never wears: no relative change
+        change, se, verdict = math.nan, math.nan, "no wear"
+    else:
+        change = row["mean"] / base["mean"] - 1.0
+        se = math.sqrt(row["std"] ** 2 / n_r + base["std"] ** 2 / n_b) / abs(base["mean"])
+        verdict = change_verdict(change, se, tolerance)
+    return {**row, "change": change, "change_se": se, "verdict": verdict}
 
 
 def _resolved(config: StudyConfig, name: str):

@@ -461,6 +461,7 @@ class Study:
             Z95,
             ConvergenceCall,
             chosen_refinements,
+            n_measures,
             run_convergence,
         )
 
@@ -474,7 +475,7 @@ class Study:
                 self.config, n, replicates=replicates, factor=factor, tolerance=tolerance, only=only,
                 threads=executor.threads_per_call, evaluator_factory=lambda call: compute.Evaluator(
                     call, executor, store, timeout=self.config.compute.call_timeout, tag=STORE_TAG,
-                    n_outputs=1, progress=progress))
+                    n_outputs=n_measures(limit_state_from_config(self.config)), progress=progress))
         result.save(self.out)
         what = "nominal life" if result.measure == "life" else "final wear"
         mean = result.baseline["mean"]
@@ -482,8 +483,10 @@ class Study:
         self.echo(f"converge: {what} {value}, scatter {100 * result.scatter:.1f} % over {result.replicates} start "
                   f"phases; each setting refined {result.factor:g}x ({result.wall_seconds:.0f} s):")
         for r in result.refinements:
-            self.echo(f"  {r['name']:<24} {100 * r['change']:+6.1f} % +- {100 * Z95 * r['change_se']:4.1f} %  "
-                      f"{r['verdict']}")
+            for joint, _, values, _, verdict in result.subjects(r):
+                name = f"  joint {joint}" if joint else r["name"]
+                self.echo(f"  {name:<24} {100 * values['change']:+6.1f} % +- {100 * Z95 * values['change_se']:4.1f} %"
+                          f"  {verdict}")
         self.echo(f"converge: -> {self.out / result.FILE}")
         for sentence in result.sentences():
             self.warn(f"converge: {sentence}")
