@@ -353,6 +353,11 @@ def test_a_noisy_series_systems_reliability_and_sensitivity_take_each_joints_sca
     for name, (life, low, high) in lives.items():
         assert life is not None and low <= life <= high, (name, life, low, high)
         assert life >= res.life_interval()[0], (name, life, res.life_cycles)
+    # and in life_table.csv, a column group per joint at every target
+    table = res.tables()["life_table"]
+    k = table["target_reliability"].index(res.target)
+    assert [table[f"life_cycles_A{s}"][k] for s in ("", "_low", "_high")] == list(lives["A"])
+    assert len(table["life_cycles_E"]) == len(table["target_reliability"])
     sens = run_sensitivity(ctx, res)
     assert abs(sens.reliability_nominal - r_exact) <= half + reference, (sens.reliability_nominal, r_exact)
     # a 0.8 shift of k_A, read on the surrogate: within its own error estimate, the Monte Carlo error of its 200,000

@@ -463,7 +463,8 @@ class ReliabilityResult(StageResult):
 
     def tables(self) -> dict[str, dict[str, Any]]:
         """``reliability_curve`` (R, Pf, its COV and error and R's 95 % half-width at every level; each joint's R
-        and share with several), ``life_table`` (the life at each target and its 95 % interval) and
+        and share with several), ``life_table`` (the life at each target and its 95 % interval; with several judged
+        joints each one's own, :meth:`joint_lives`) and
         ``design_points`` (the true-model calls: inputs in SI, each column named with its unit as a config key,
         ``Rj_m``; the life each gave)."""
         curve = {"cycles": np.asarray(self.cycles, dtype=np.int64), "reliability": self.reliability, "pf": self.pf,
@@ -476,13 +477,17 @@ class ReliabilityResult(StageResult):
                 curve[f"half_width_95_{j['name']}"] = j["half_width_95"]
             curve[f"governing_share_{j['name']}"] = j["governing_share"]
         intervals = [self.life_interval(r["target"]) for r in self.life_table]
-        out = {"reliability_curve": curve, "life_table": {
-            "target_reliability": [r["target"] for r in self.life_table],
-            "life_cycles": [r["cycles"] for r in self.life_table],
-            "life_hours": [r["hours"] for r in self.life_table],
-            "status": [r.get("status", "") for r in self.life_table],
-            "life_cycles_low": [low for low, _ in intervals],
-            "life_cycles_high": [high for _, high in intervals]}}
+        lives = {"target_reliability": [r["target"] for r in self.life_table],
+                 "life_cycles": [r["cycles"] for r in self.life_table],
+                 "life_hours": [r["hours"] for r in self.life_table],
+                 "status": [r.get("status", "") for r in self.life_table],
+                 "life_cycles_low": [low for low, _ in intervals],
+                 "life_cycles_high": [high for _, high in intervals]}
+        per_joint = [self.joint_lives(r["target"]) for r in self.life_table]
+        for name in per_joint[0] if per_joint else ():
+            for suffix, i in (("", 0), ("_low", 1), ("_high", 2)):
+                lives[f"life_cycles_{name}{suffix}"] = [row[name][i] for row in per_joint]
+        out = {"reliability_curve": curve, "life_table": lives}
         x = np.atleast_2d(np.asarray(self.design_x, dtype=float))
         if x.size:
             names = self.names[:x.shape[1]]
