@@ -46,11 +46,33 @@ def test_verdict_from_the_95_interval(change, se, verdict):
 
 
 def test_replicates_that_resolve_the_tolerance():
-    # n = 2 (1.96 s / tol)^2: at that n the interval of a change between two such settings is +-tol
+    # the least n with t_0.975(2n - 2) s sqrt(2 / n) <= tol: at that n the interval of a change between two such
+    # settings is +-tol; the normal quantile's 2 (1.96 s / tol)^2 = 49 falls short (t_0.975(96) = 1.985)
+    from scipy import stats
+
     n = replicates_to_resolve(0.05, 0.02)
-    assert n == math.ceil(2 * (1.96 * 0.05 / 0.02) ** 2) == 49
-    assert Z95 * 0.05 * math.sqrt(2 / n) <= 0.02 < Z95 * 0.05 * math.sqrt(2 / (n - 1))
+    half = [stats.t.ppf(0.975, 2 * m - 2) * 0.05 * math.sqrt(2 / m) for m in (n, n - 1)]
+    assert half[0] <= 0.02 < half[1]
+    assert n == 50 > math.ceil(2 * (Z95 * 0.05 / 0.02) ** 2)
     assert replicates_to_resolve(0.0, 0.02) == 2
+
+
+def test_a_change_from_few_replicates_takes_students_quantile():
+    # two replicates each with equal scatter: Welch's degrees of freedom are 2, the 95 % half-width t_0.975(2) =
+    # 4.303 standard errors (1.96 would cover about 81 % of such intervals, not 95 %)
+    from jointwear.study.convergence import welch_dof
+
+    assert welch_dof(1.0, 2, 1.0, 2) == pytest.approx(2.0)
+    assert welch_dof(1.0, 8, 0.0, 8) == pytest.approx(7.0)  # only one side scatters: its n - 1
+    assert welch_dof(0.0, 2, 0.0, 2) == math.inf
+    base = {"values": [99.0, 101.0], "mean": 100.0, "std": math.sqrt(2.0)}
+    conv = run_convergence(load_config(str(RIG)), 500, replicates=2, only=["n_grid"],
+                           evaluator_factory=lambda _call: lambda X: np.where(X[:, :1] < 0, 100 + (2 * X[:, 2:3] - 1),
+                                                                              102 + (2 * X[:, 2:3] - 1)))
+    row = conv.refinements[0]
+    assert conv.baseline["mean"] == base["mean"] and row["change"] == pytest.approx(0.02)
+    assert row["change_95"] == pytest.approx(4.302653 * row["change_se"], rel=1e-6)
+    assert row["verdict"] == "no change detected"  # +2 % +- 5.4 %: with 1.96 SE (+-2.5 %) it read 'undecided'
 
 
 def test_each_setting_is_refined_by_the_factor(rig):
@@ -98,7 +120,7 @@ def test_a_steady_conformal_load_is_converged(rig):
 def two_blocks(rig):
     # uniform mode grows the rig's clearance 48x over 1e5 revolutions (docs/wear.md); with the geometry updated only
     # twice in 10,000 revolutions, halving the block changes the life by ~30 %
-    return run_convergence(updated(rig, {"wear.block_cycles": 5000}), 10_000, replicates=2, only=["block"])
+    return run_convergence(updated(rig, {"wear.block_cycles": 5000}), 10_000, replicates=3, only=["block"])
 
 
 def test_two_blocks_of_a_growing_clearance_are_not_converged(two_blocks):

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from jointwear.study.convergence import Z95
+from jointwear.study.convergence import half_width
 from jointwear.study.limit_state import nominal_lives
 from jointwear.wear.angles import angle_text
 
@@ -380,10 +380,10 @@ def convergence_section(out: StudyOutputs) -> str:
     several = bool(conv.baseline.get("joints"))
     for r in conv.refinements:
         row = [r["name"], conv.changed_text(r, arrow="\u2192"), format_number(r["mean"] * scale),
-               f"{100 * r['change']:+.1f} % \u00b1 {100 * Z95 * r['change_se']:.1f} %"]
+               f"{100 * r['change']:+.1f} % \u00b1 {100 * half_width(r):.1f} %"]
         if several:
             row += [r.get("system_verdict", r["verdict"]), "; ".join(
-                f"{joint} {100 * j['change']:+.1f} % \u00b1 {100 * Z95 * j['change_se']:.1f} % {verdict}"
+                f"{joint} {100 * j['change']:+.1f} % \u00b1 {100 * half_width(j):.1f} % {verdict}"
                 for joint, _, j, _, verdict in conv.subjects(r)[1:])]
         rows.append(row + [r["verdict"]])
     heads = ["setting", "refined", f"{what} ({unit})", "change (95 %)"]

@@ -9,9 +9,10 @@ reliability stage), or the first judged joint's wear at the history's end when n
 judged joints each joint's own measure is judged too: a setting that moves a joint which does not govern the nominal
 life still moves that joint's R(N), and so the system's.
 
-A refinement's change of the mean is judged against the tolerance with its 95 % interval (1.96 standard errors of
-the difference of two means): *converged* when the interval lies inside +-tolerance, *not converged* when it lies
-outside, *no change detected* when it holds zero but reaches past the tolerance, *undecided* otherwise (more
+A refinement's change of the mean is judged against the tolerance with its 95 % interval (Welch's: the Student t
+quantile at the Welch-Satterthwaite degrees of freedom times the standard error of the difference of two means; a
+few replicates estimate their scatter poorly, and 1.96 standard errors would claim more than 95 %): *converged*
+when the interval lies inside +-tolerance, *not converged* when it lies outside, *no change detected* when it holds zero but reaches past the tolerance, *undecided* otherwise (more
 replicates tell). A chaotic contact makes every run another sample of the cycle-to-cycle scatter: the replicates'
 scatter is reported: the same kind of scatter the reliability stage's Kriging estimates as noise between its calls.
 """
@@ -28,6 +29,7 @@ from pathlib import Path
 from typing import Any, ClassVar
 
 import numpy as np
+from scipy import stats
 
 from jointwear.config import StudyConfig
 from jointwear.schema import ConfigError
@@ -41,7 +43,7 @@ from jointwear.study.stage_result import StageResult
 DEFAULT_TOLERANCE = 0.02
 #: start-phase step between replicates (cycles of the first block's settling), as benchmarks/wear.py
 REPLICATE_PHASE_STEP = 0.05
-#: 95 % two-sided normal quantile for the change's interval
+#: 95 % two-sided normal quantile: the change's interval with many replicates
 Z95 = 1.96
 
 REFINEMENT_NAMES = ("record_cycles", "settle_cycles", "block", "n_grid", "tolerance", "profile_smoothing_deg",
@@ -86,12 +88,24 @@ def refinements(config: StudyConfig, factor: float) -> list[Refinement]:
     return out
 
 
-def change_verdict(change: float, standard_error: float, tolerance: float) -> str:
-    """The verdict on a relative change with its standard error, from its 95 % interval change +- 1.96 SE:
+def t95(dof: float) -> float:
+    """The two-sided 95 % quantile of Student's t with ``dof`` degrees of freedom (1.96 as dof -> inf)."""
+    return float(stats.t.ppf(0.975, dof)) if math.isfinite(dof) else float(stats.norm.ppf(0.975))
+
+
+def welch_dof(std_a: float, n_a: int, std_b: float, n_b: int) -> float:
+    """Welch-Satterthwaite degrees of freedom of the difference of two means (inf when neither scatters)."""
+    va, vb = std_a ** 2 / n_a, std_b ** 2 / n_b
+    den = (va ** 2 / (n_a - 1) if va else 0.0) + (vb ** 2 / (n_b - 1) if vb else 0.0)
+    return (va + vb) ** 2 / den if den > 0.0 else math.inf
+
+
+def change_verdict(change: float, standard_error: float, tolerance: float, quantile: float = Z95) -> str:
+    """The verdict on a relative change with its standard error, from its 95 % interval change +- quantile SE:
     'converged' (inside +-tolerance), 'not converged' (outside it), 'no change detected' (holds 0 but reaches past
     the tolerance: the replicates cannot resolve the tolerance), 'undecided' (neither: a change, of uncertain size
     against the tolerance)."""
-    low, high = change - Z95 * standard_error, change + Z95 * standard_error
+    low, high = change - quantile * standard_error, change + quantile * standard_error
     if -tolerance <= low and high <= tolerance:
         return "converged"
     if low > tolerance or high < -tolerance:
@@ -113,8 +127,11 @@ def worst_verdict(verdicts: Sequence[str]) -> str:
 
 def replicates_to_resolve(scatter: float, tolerance: float) -> int:
     """Replicates per setting whose 95 % interval of a change is +-tolerance when both settings scatter by
-    ``scatter`` (standard deviation / mean): n = 2 (1.96 scatter / tolerance)^2."""
-    return max(2, math.ceil(2.0 * (Z95 * scatter / tolerance) ** 2))
+    ``scatter`` (standard deviation / mean): the least n with t_0.975(2n - 2) scatter sqrt(2 / n) <= tolerance."""
+    n = max(2, math.ceil(2.0 * (Z95 * scatter / tolerance) ** 2))  # the normal quantile's n: a lower bound
+    while _resolution(scatter, n) > tolerance:
+        n += 1
+    return n
 
 
 @dataclass(repr=False, eq=False)
@@ -126,8 +143,8 @@ class WearConvergence(StageResult):
     quantity at the history's end, m, when no allowance is set). ``baseline``: the replicates' values, mean,
     standard deviation, ``scatter`` (standard deviation / mean) and ``failed`` (histories that failed, left out).
     Each of ``refinements``: ``name``, ``description``, ``changed`` ({field: [baseline, refined]}), ``values``,
-    ``failed``, ``mean``, ``std``, ``change`` (relative change of the mean), ``change_se`` (its standard error) and
-    ``verdict`` (:func:`change_verdict`; 'too few histories' when fewer than two of either ran, 'no wear' when the
+    ``failed``, ``mean``, ``std``, ``change`` (relative change of the mean), ``change_se`` (its standard error),
+    ``change_95`` (its 95 % half-width, Welch's) and ``verdict`` (:func:`change_verdict`; 'too few histories' when fewer than two of either ran, 'no wear' when the
     baseline's measure is zero).
 
     With several judged joints, ``baseline['joints']`` and each refinement's ``joints`` hold the same per joint
@@ -201,7 +218,7 @@ class WearConvergence(StageResult):
                 if joint and self.governs(r, joint):
                     continue  # the nominal measure's sentence says it
                 text = (f"with {fields_} {what} moves by {100 * values['change']:+.1f} % "
-                        f"(+-{100 * Z95 * values['change_se']:.1f} %, 95 %)")
+                        f"(+-{100 * half_width(values):.1f} %, 95 %)")
                 if verdict == "not converged":
                     out.append(f"{text}: not converged within {100 * self.tolerance:g} %; refine that setting in "
                                "[wear]")
@@ -238,10 +255,11 @@ class WearConvergence(StageResult):
     def tables(self) -> dict[str, dict[str, list]]:
         unit = "cycles" if self.measure == "life" else "mm"
         scale = 1.0 if self.measure == "life" else 1e3
-        base_joints = {name: {**j, "change": 0.0, "change_se": 0.0, "verdict": ""}
+        base_joints = {name: {**j, "change": 0.0, "change_se": 0.0, "change_95": 0.0, "verdict": ""}
                        for name, j in (self.baseline.get("joints") or {}).items()}
         rows = [{"name": "baseline", "description": "the study's wear settings", "changed": {},
-                 **self.baseline, "joints": base_joints, "change": 0.0, "change_se": 0.0, "verdict": ""}]
+                 **self.baseline, "joints": base_joints, "change": 0.0, "change_se": 0.0, "change_95": 0.0,
+                 "verdict": ""}]
         rows += self.refinements
         table = {
             "setting": [r["name"] for r in rows],
@@ -249,7 +267,7 @@ class WearConvergence(StageResult):
             f"mean_{self.measure}_{unit}": [r["mean"] * scale for r in rows],
             f"std_{self.measure}_{unit}": [r["std"] * scale for r in rows],
             "change_pct": [100 * r["change"] for r in rows],
-            "change_95_pct": [100 * Z95 * r["change_se"] for r in rows],
+            "change_95_pct": [100 * half_width(r) for r in rows],
             "failed_histories": [r.get("failed", 0) for r in rows],
             "verdict": [r["verdict"] for r in rows],
         }
@@ -257,7 +275,7 @@ class WearConvergence(StageResult):
             each = [r["joints"][name] for r in rows]
             table[f"{name}_mean_{self.measure}_{unit}"] = [j["mean"] * scale for j in each]
             table[f"{name}_change_pct"] = [100 * j["change"] for j in each]
-            table[f"{name}_change_95_pct"] = [100 * Z95 * j["change_se"] for j in each]
+            table[f"{name}_change_95_pct"] = [100 * half_width(j) for j in each]
             table[f"{name}_verdict"] = [j["verdict"] for j in each]
         return {"wear_convergence": table}
 
@@ -267,9 +285,16 @@ class WearConvergence(StageResult):
         return self.write(folder)
 
 
+def half_width(row: dict) -> float:
+    """The half-width of a change's 95 % interval (``change_95``; 1.96 standard errors in a result written before
+    it was kept)."""
+    return float(row.get("change_95", Z95 * row["change_se"]))
+
+
 def _resolution(scatter: float, replicates: int) -> float:
-    """Half-width of the 95 % interval of a change between two settings that scatter by ``scatter``."""
-    return Z95 * scatter * math.sqrt(2.0 / replicates)
+    """Half-width of the 95 % interval of a change between two settings of ``replicates`` histories each that
+    scatter by ``scatter``: t_0.975(2n - 2) scatter sqrt(2 / n)."""
+    return t95(2 * replicates - 2) * scatter * math.sqrt(2.0 / replicates)
 
 
 def _fmt(value) -> str:
@@ -435,14 +460,15 @@ def _changed(values: np.ndarray, base: dict, tolerance: float) -> dict:
     row.pop("scatter")
     n_b, n_r = len(base["values"]), len(row["values"])
     if n_b < 2 or n_r < 2:
-        change, se, verdict = math.nan, math.nan, "too few histories"
+        change, se, q, verdict = math.nan, math.nan, math.nan, "too few histories"
     elif base["mean"] == 0.0:  # a joint that never wears: no relative change
-        change, se, verdict = math.nan, math.nan, "no wear"
+        change, se, q, verdict = math.nan, math.nan, math.nan, "no wear"
     else:
         change = row["mean"] / base["mean"] - 1.0
         se = math.sqrt(row["std"] ** 2 / n_r + base["std"] ** 2 / n_b) / abs(base["mean"])
-        verdict = change_verdict(change, se, tolerance)
-    return {**row, "change": change, "change_se": se, "verdict": verdict}
+        q = t95(welch_dof(row["std"], n_r, base["std"], n_b))
+        verdict = change_verdict(change, se, tolerance, q)
+    return {**row, "change": change, "change_se": se, "change_95": q * se, "verdict": verdict}
 
 
 def _resolved(config: StudyConfig, name: str):

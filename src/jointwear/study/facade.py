@@ -458,9 +458,9 @@ class Study:
         from jointwear.study.convergence import (
             STORE_FILE,
             STORE_TAG,
-            Z95,
             ConvergenceCall,
             chosen_refinements,
+            half_width,
             n_measures,
             run_convergence,
         )
@@ -485,7 +485,7 @@ class Study:
         for r in result.refinements:
             for joint, _, values, _, verdict in result.subjects(r):
                 name = f"  joint {joint}" if joint else r["name"]
-                self.echo(f"  {name:<24} {100 * values['change']:+6.1f} % +- {100 * Z95 * values['change_se']:4.1f} %"
+                self.echo(f"  {name:<24} {100 * values['change']:+6.1f} % +- {100 * half_width(values):4.1f} %"
                           f"  {verdict}")
         self.echo(f"converge: -> {self.out / result.FILE}")
         for sentence in result.sentences():
