@@ -258,3 +258,16 @@ def test_the_learnings_progress_line_gives_its_budget(tmp_path):
     study._progress = Progress(enabled=False)
     study._progress_callback(SimpleNamespace(pf=[0.05, 0.2], cov=[0.01, 0.02], min_u=[1.5, 2.5]))
     assert study._progress.fields["budget"] == f"{study.config.reliability.max_calls} calls"
+
+
+def test_a_mechanism_without_an_allowance_simulates_and_wears(tmp_path):
+    # no bushing wall and no [reliability] allowance: the dynamics and the wear need none (simulate crashed on the
+    # report settings' allowance); `check` accepted the config, so the stages must too
+    rig = Path(__file__).resolve().parents[1] / "wear" / "rigs" / "pendulum.toml"
+    bare = updated(load_config(str(rig)), {"clearance_joints.0.bearing_outer_radius": None, "wear.cycles": 500})
+    assert bare.reliability.allowance is None
+    study = jointwear.Study(bare, out=tmp_path)
+    study.simulate(cycles=1, settle=0)
+    study.wear()
+    saved = json.loads((tmp_path / "config.json").read_text(encoding="utf-8"))
+    assert "allowance_mm" not in saved

@@ -271,12 +271,14 @@ def _allowances(config: Any) -> dict:
     except Exception:  # not a StudyConfig, or a limit state the study itself will reject with its own message
         return {}
     names = list(getattr(limit, "names", []) or [])
-    allowances = [float(f"{float(a) * 1e3:.12g}") for a in getattr(limit, "allowances", ())]
-    if not allowances or not all(math.isfinite(a) for a in allowances):
+    # a joint without an allowance (no [reliability] allowance, no bushing wall) has none to report
+    allowances = [float(f"{float(a) * 1e3:.12g}") if a is not None else math.nan
+                  for a in getattr(limit, "allowances", ())]
+    if not allowances:
         return {}
-    out: dict[str, Any] = {"allowance_mm": allowances[0]}
-    if len(names) == len(allowances):
-        out["allowances_mm"] = dict(zip(names, allowances))
+    out: dict[str, Any] = {"allowance_mm": allowances[0]} if math.isfinite(allowances[0]) else {}
+    if len(names) == len(allowances) and any(math.isfinite(a) for a in allowances):
+        out["allowances_mm"] = {n: a for n, a in zip(names, allowances) if math.isfinite(a)}
     return out
 
 
