@@ -99,14 +99,18 @@ def test_slider_crank_forward_dynamics_and_reactions(sc):
         assert _rel(res.q[i], ref["q"], angles=True) < 1e-9  # issue 2 acceptance
         assert _rel(res.qd[i], ref["qd"]) < 1e-9
         assert _rel(res.qdd[i], ref["qdd"]) < 1e-9
-        FA, FB, _ = slider_crank_reactions(t, cfg.mechanism)
+        FA, FB, N = slider_crank_reactions(t, cfg.mechanism)
         scale = max(np.abs(FA).max(), np.abs(FB).max())
         assert np.max(np.abs(-res.reaction("A")[i] - FA)) / scale < 1e-6  # issue 2 acceptance
         # joint B: body_i = slider, body_j = rod -> multiplier = force on rod by slider
         assert np.max(np.abs(res.reaction("B")[i] - FB)) / scale < 1e-6
+        # joint P: body_i = ground (the guide), body_j = slider: the guide's force on the slider along the guide's
+        # normal (+y for the horizontal guide; the sign was flipped)
+        assert abs(res.reaction("P")[i][1] - N) / scale < 1e-6
         lam = model.inverse_dynamics(t, ref["q"], ref["qd"], ref["qdd"])
         assert np.max(np.abs(-lam["A"] - FA)) / scale < 1e-6
         assert np.max(np.abs(lam["B"] - FB)) / scale < 1e-6
+        assert abs(lam["P"][1] - N) / scale < 1e-6
 
 
 @pytest.mark.parametrize("branch", [1, -1])

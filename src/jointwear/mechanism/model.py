@@ -317,9 +317,9 @@ class MechanismModel:
     def inverse_dynamics(self, t: float, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> dict[str, np.ndarray]:
         """Reaction forces of the ideal joints from a known motion (ideal mechanism, no contact forces).
 
-        Solves J^T lam = f - M qdd in the least-squares sense. Returns, per joint name, the force
-        exerted on body_j by body_i (N, global frame): (lam_x, lam_y) for revolute joints,
-        (torque, normal force) for prismatic joints.
+        Solves J^T lam = f - M qdd in the least-squares sense. Returns, per joint name, what body_i exerts on
+        body_j (:meth:`reactions`): the force (N, global x and y) of a revolute joint; the moment (N m) and the
+        force along the guide's normal (N) of a prismatic one.
         """
         ideal = self.ideal() if self.clearance_joints else self
         arrays = ideal.kernel_arrays()
@@ -328,5 +328,19 @@ class MechanismModel:
         m[2::3] = arrays["bpar"][:, 1]
         f = arrays["fext"].ravel()
         lam, *_ = np.linalg.lstsq(jac.T, f - m * qdd, rcond=None)
-        return {j.name: lam[2 * k: 2 * k + 2] for k, j in enumerate(ideal.joints)}
+        return ideal.reactions(lam)
+
+    def reactions(self, lam: np.ndarray) -> dict[str, np.ndarray]:
+        """The ideal joints' reactions, by name, from their multipliers lam (..., 2 n_joints): what body_i exerts on
+        body_j. Revolute: the force (x, y), N. Prismatic: the moment, N m, and the force along the guide's normal n
+        (the sliding direction turned 90 degrees counter-clockwise), N; its constraint row carries +n for body_j, so
+        the force is -lam there."""
+        lam = np.asarray(lam, dtype=float)
+        out = {}
+        for k, j in enumerate(self.joints):
+            pair = lam[..., 2 * k: 2 * k + 2].copy()
+            if j.kind == "prismatic":
+                pair[..., 1] *= -1.0
+            out[j.name] = pair
+        return out
 

@@ -133,7 +133,7 @@ class SimulationResult:
     body_names: list[str]
     free_body_names: list[str]
     multipliers: np.ndarray  # (steps, n_constraints): lam of the ideal joints (M qdd + J^T lam = f)
-    joint_names: list[str]
+    joint_names: list[str]  # the ideal joints, in the multipliers' order
     joints: list[ContactTrace]
     state_end: SimulationState
     n_steps: int  # accepted steps over the whole call (settling included)
@@ -145,6 +145,7 @@ class SimulationResult:
     wall_seconds: float
     status: str = "ok"
     extra: dict = field(default_factory=dict)
+    prismatic: list[str] = field(default_factory=list)  # the ideal joints that are prismatic
     _cart_fn: object = field(default=None, repr=False)  # () -> (q, qd, qdd), evaluated on first access
     _cart: tuple | None = field(default=None, repr=False)
 
@@ -183,9 +184,13 @@ class SimulationResult:
         return self.qdd[:, 3 * i: 3 * i + 3]
 
     def reaction(self, joint: str) -> np.ndarray:
-        """(steps, 2) multipliers of an ideal joint: force on body_j by body_i (revolute)."""
+        """(steps, 2) what body_i exerts on body_j through an ideal joint (as ``Model.reactions``): the force (x, y),
+        N, of a revolute joint; the moment, N m, and the force along the guide's normal, N, of a prismatic one."""
         k = self.joint_names.index(joint)
-        return self.multipliers[:, 2 * k: 2 * k + 2]
+        pair = self.multipliers[:, 2 * k: 2 * k + 2].copy()
+        if joint in self.prismatic:
+            pair[:, 1] *= -1.0  # its constraint row carries +n for body_j
+        return pair
 
     @property
     def steps_per_cycle(self) -> float:

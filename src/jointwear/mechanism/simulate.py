@@ -389,7 +389,8 @@ def _package(model, geometry, cat, free_phi, joint_angles, cart, state_end, coun
         ))
     return SimulationResult(
         t=t, crank_angle=crank_angle, body_angles=angles, body_names=names, free_body_names=free,
-        _cart_fn=cart, multipliers=cat["rec_lam"], joint_names=[j.name for j in model.joints], joints=traces,
+        _cart_fn=cart, multipliers=cat["rec_lam"], joint_names=[j.name for j in model.joints],
+        prismatic=[j.name for j in model.joints if j.kind == "prismatic"], joints=traces,
         state_end=state_end, n_steps=int(counters[1]), n_rejected=int(counters[2]), n_recorded_steps=t.size - 1,
         n_cycles=n_cycles, settle_cycles=settle, period=period, wall_seconds=wall,
     )
