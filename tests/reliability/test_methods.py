@@ -67,3 +67,36 @@ def test_monte_carlo_lognormal():
     _accept(r.pf, r.cov, p.pf_ref)
     r2 = monte_carlo(p.g, p.marginals, 10_000, cov_target=0.05, seed=0)
     assert r2.cov < 0.05 and r2.n_calls > 10_000
+
+
+def test_form_without_a_design_point_gives_no_pf():
+    # g = 10 + u1^2 >= 10 everywhere: Pf = 0 and there is no design point; FORM gave Pf = 0.49 with an empty message
+    g = lambda x: 10.0 + x[:, 0] ** 2  # noqa: E731
+    r = form(g, [stats.norm(), stats.norm()], max_iter=20)
+    assert not r.converged and np.isnan(r.pf) and np.isnan(r.beta)
+    assert "never reached g = 0" in r.message
+    with pytest.raises(ValueError, match="SORM needs FORM's design point"):
+        sorm(g, [stats.norm(), stats.norm()], form_result=r)
+
+
+def test_a_failure_indicator_is_refused():
+    # a Kriging of 0/1 values overshoots below 0 and invents failures (it read Pf 2.2e-4 for an event of Pf 0)
+    from jointwear.reliability import akmcs
+
+    with pytest.raises(ValueError, match="booleans"):
+        akmcs(lambda x: x.sum(axis=1) < 3, [stats.norm(), stats.norm()], seed=1)
+    with pytest.raises(ValueError, match="booleans"):
+        monte_carlo(lambda x: x.sum(axis=1) < 3, [stats.norm(), stats.norm()], n=1000)
+
+
+def test_akmcs_says_when_it_found_no_failure_or_stopped_on_min_u_alone():
+    from jointwear.reliability import akmcs
+
+    never = akmcs(lambda x: 10.0 + x[:, 0] ** 2, [stats.norm(), stats.norm()], n_mc_max=100_000, seed=1)
+    assert never.pf == 0 and not never.converged and "no failure among 100,000 candidates" in never.message
+    # a series system whose ESC estimate rose again after the learning's min U stop (seed 4: 0.068 against 0.01)
+    both = akmcs(lambda x: np.minimum(2.5 - x[:, 0], 2.5 - x[:, 1]), [stats.norm(), stats.norm()], seed=4)
+    if both.converged and both.error_estimate > 0.01:
+        assert "above error_tol=0.01" in both.message
+    else:
+        assert both.message == "converged"

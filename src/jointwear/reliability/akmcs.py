@@ -264,10 +264,16 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
             if not need.any():
                 converged = True
                 message = "converged"
+                if stopping == "error" and (err > error_tol).any():  # stopped by min U, the error rule unmet
+                    message += (f" on min U >= {u_threshold:g}, with the error estimate {err.max():.3g} above "
+                                f"error_tol={error_tol:g}")
                 break
             if n_pop >= n_mc_max:
                 message = (f"COV target {cov_target} not met with the maximum population n_mc_max={n_mc_max} "
                            f"(pf={pf[need].min():.3g})")
+                if (pf[need] == 0).any():
+                    message += (f": no failure among {n_pop:,} candidates, so Pf is below about 3 / {n_pop:,} "
+                                "(or g is never negative)")
                 break
             new_n = max(population_size(p, cov_target, n_mc_max, grow_from=n_pop) for p in pf[need])
             u_pop = np.vstack([u_pop, rng.standard_normal((new_n - n_pop, d))])

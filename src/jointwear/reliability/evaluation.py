@@ -37,7 +37,7 @@ class ExecutorLike(Protocol):
 def _call_rows(g: Callable, x: np.ndarray) -> tuple[np.ndarray | None, str | None]:
     """Run g on a block of rows in a worker; never raises (the reason is returned instead)."""
     try:
-        return np.asarray(g(x), dtype=float), None
+        return np.asarray(g(x)), None  # its dtype is checked where it is shaped
     except Exception as exc:  # a failing model call is data, not a crash
         return None, f"{type(exc).__name__}: {exc}"
 
@@ -102,6 +102,9 @@ class LimitStateCaller:
 
     # -- shape handling
     def _shape_output(self, G: np.ndarray, n: int) -> np.ndarray:
+        if np.asarray(G).dtype == bool:  # an indicator has no margin to learn: a Kriging of 0/1 invents failures
+            raise ValueError("g returned booleans (a failure indicator); return the limit-state value itself, "
+                             "failure where g < 0 (e.g. 3 - x.sum(axis=1) rather than x.sum(axis=1) > 3)")
         G = np.asarray(G, dtype=float)
         if self.n_outputs is None:
             if G.shape == (n, 1):

@@ -196,9 +196,16 @@ def form(
         g_origin = float(_g_u(ev, transform, np.zeros((1, d)))[0])
     beta = float(np.linalg.norm(u)) * (1.0 if g_origin >= 0 else -1.0)
     pf = float(ndtr(-beta))
+    message = ""
+    if not converged:
+        message = (f"FORM did not converge in {max_iter} iterations: g = {gu:.4g} at the last point (|u| = "
+                   f"{np.linalg.norm(u):.4g}) against g = {scale_g:.4g} at the start")
+        if abs(gu) > 1e-3 * scale_g:  # not on the limit state: no design point, and Phi(-|u|) means nothing
+            message += "; the search never reached g = 0 (a g that is never 0 has no design point), so pf is NaN"
+            pf, beta = math.nan, math.nan
     gn = float(np.linalg.norm(grad))
     alpha = -grad / gn
-    res = ReliabilityResult(method="form", pf=pf, cov=float("nan"), beta=beta, converged=converged,
+    res = ReliabilityResult(method="form", pf=pf, cov=float("nan"), beta=beta, converged=converged, message=message,
                             design_point_u=u.copy(), design_point_x=transform.to_x(u[None, :])[0], alpha=alpha,
                             details={"grad_u": grad, "iterations": history, "g_at_design_point": gu},
                             **_common(ev, transform, t0))
@@ -225,6 +232,8 @@ def sorm(
     evaluation = evaluation_or_default(evaluation)
     if form_result is None:
         form_result = form(g, marginals, copula=copula, evaluation=evaluation, **form_kwargs)
+    if not math.isfinite(form_result.beta):
+        raise ValueError(f"SORM needs FORM's design point: {form_result.message}")
     _, transform, ev = _setup(g, marginals, evaluation, nan_policy="raise", copula=copula)
     d = len(marginals)
     u = form_result.design_point_u
