@@ -271,3 +271,17 @@ def test_a_mechanism_without_an_allowance_simulates_and_wears(tmp_path):
     study.wear()
     saved = json.loads((tmp_path / "config.json").read_text(encoding="utf-8"))
     assert "allowance_mm" not in saved
+
+
+def test_a_folder_whose_lock_cannot_be_written_is_a_config_error(tmp_path, monkeypatch):
+    # `run` claims the folder before the stages' own writability check: a read-only folder gave a PermissionError
+    # traceback (an immutable folder refuses even root, so the lock's failure is simulated here)
+    import filelock
+
+    def refuse(self, *args, **kwargs):
+        raise PermissionError(1, "Operation not permitted")
+
+    monkeypatch.setattr(filelock.FileLock, "acquire", refuse)
+    (tmp_path / "config.json").write_text("{}", encoding="utf-8")  # an existing folder, as in the report
+    with pytest.raises(ConfigError, match="^out: cannot write to .*Operation not permitted"):
+        jointwear.Study(out=tmp_path).run()
