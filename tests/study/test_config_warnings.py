@@ -290,3 +290,20 @@ def test_a_coordinates_mean_shift_is_said_to_depend_on_the_origin():
     assert coordinate_shift_sentence(targets, (0.8, 1.2)).startswith("arm and pivot are coordinates of the drawing: "
                                                                      "each mean x 0.8 / x 1.2 moves its point")
     assert coordinate_shift_sentence({"l1": "mechanism.crank.length"}, (0.8, 1.2)) == ""
+
+
+@pytest.mark.parametrize("changes, warned", [
+    ({}, None),                                                            # the pump's 8 mm pin at 8 mm
+    ({"uncertainty.clearance.nominal_diameter": 2e-3}, "std 1.46 um"),     # the paper's 2 mm on an 8 mm pin
+    ({"uncertainty.clearance.nominal_diameter": 8.5e-3}, None),            # same ISO 286 size range (6-10 mm)
+])
+def test_a_fit_taken_at_another_diameter_than_its_journals_is_warned(changes, warned):
+    # ISO 286-2: IT7/IT6 are 15/9 um at 6-10 mm, 10/6 um at 1-3 mm: sigma_c = sqrt(T_D^2 + T_d^2) / 12 = 1.46 / 0.97 um
+    pump = load_config(str(Path(__file__).resolve().parents[2] / "examples" / "piston_pump.toml"))
+    notes = [w for w in config_warnings(updated(pump, changes)) if "nominal_diameter" in w]
+    if warned is None:
+        assert notes == []
+    else:
+        (note,) = notes
+        assert "while the journal of clearance_joints.B is 8 mm in diameter" in note and warned in note
+        assert "set nominal_diameter_mm = 8" in note

@@ -374,24 +374,60 @@ def wear_mode_warnings(config: StudyConfig) -> list[str]:
 
 def clearance_warnings(config: StudyConfig) -> list[str]:
     """Each clearance whose normal lies so far below ``minimum`` that the truncation there moves the sampled mean
-    by more than ``TRUNCATED_MEAN_SHIFT_WARNING`` of the designed mean (the study then describes another fit)."""
+    by more than ``TRUNCATED_MEAN_SHIFT_WARNING`` of the designed mean (the study then describes another fit), and
+    each whose ISO 286 tolerances are taken at a nominal diameter that gives other ones than its journal's
+    (:func:`nominal_diameter_warning`)."""
     if config.uncertainty is None:
         return []
     several = isinstance(config.uncertainty.clearance, list)
+    data = config.model_dump()
     out = []
     for clearance in config.uncertainty.clearances():
+        where = f"uncertainty.clearance[{clearance.name}]" if several else "uncertainty.clearance"
+        if (diameter := nominal_diameter_warning(data, clearance)) is not None:
+            out.append(f"{where}.{diameter}")
         if clearance.infeasible_rule != "truncate":
             continue
         sampled = float(clearance.feasible().mean())
         if abs(sampled - clearance.mean) <= TRUNCATED_MEAN_SHIFT_WARNING * clearance.mean:
             continue
-        where = f"uncertainty.clearance[{clearance.name}]" if several else "uncertainty.clearance"
         out.append(f"{where}: {clearance.infeasible_probability():.1%} of the clearance's normal "
                    f"(mean {clearance.mean * 1e6:.4g} um, std {clearance.std * 1e6:.4g} um) lies at or below its "
                    f"minimum ({clearance.minimum * 1e6:.4g} um); the samples are truncated there, so their mean is "
                    f"{sampled * 1e6:.4g} um, not the designed {clearance.mean * 1e6:.4g} um: choose a fit whose "
                    "spread suits the clearance, or infeasible_rule = 'fail' to count those assemblies as failures")
     return out
+
+
+def nominal_diameter_warning(data: dict, clearance) -> str | None:
+    """'nominal_diameter: ...' when the clearance's ISO 286 spread (and a fit's mean) at its nominal diameter differ
+    by more than 1 % from those at its joint's journal diameter 2 R_j: the default, 2 mm, is the reference paper's
+    pin, and a diameter in another size range of ISO 286-2 has other tolerances."""
+    from jointwear.uncertainty.targets import CLEARANCE_SUFFIX, target_error, target_value
+    from jointwear.uncertainty.tolerances import clearance_from_fit, iso_fit
+
+    if clearance.source != "iso286" or not clearance.target.endswith(CLEARANCE_SUFFIX) or target_error(
+            data, clearance.target):
+        return None
+    joint = clearance.target[: -len(CLEARANCE_SUFFIX)]
+    journal = 2.0 * target_value(data, f"{joint}.journal_radius")
+    try:
+        at_journal = (iso_fit(clearance.fit, journal).mean_clearance if clearance.fit is not None
+                      else clearance.mean)
+        std = clearance_from_fit(journal, clearance.hole_grade, clearance.shaft_grade, at_journal).std
+    except ValueError:  # outside ISO 286's sizes: the fit's own check says so
+        return None
+    if abs(std - clearance.std) <= 0.01 * clearance.std and abs(at_journal - clearance.mean) <= 0.01 * clearance.mean:
+        return None
+    given = ("" if "nominal_diameter" in clearance.model_fields_set
+             else " (not given: the default, the reference paper's pin)")
+    mean = (f", mean {clearance.mean * 1e6:.4g} um" if clearance.fit is not None else "")
+    mean_there = (f", mean {at_journal * 1e6:.4g} um" if clearance.fit is not None else "")
+    nominal = f"{clearance.nominal_diameter * 1e3:g} mm"
+    return (f"nominal_diameter: {nominal}{given}, while the journal of {joint} is {journal * 1e3:.4g} mm in diameter: "
+            f"the clearance takes the tolerances of {nominal} (std {clearance.std * 1e6:.3g} um{mean}), at "
+            f"{journal * 1e3:.4g} mm they are std {std * 1e6:.3g} um"
+            f"{mean_there}; set nominal_diameter_mm = {journal * 1e3:.6g} unless the fit's size is meant to differ")
 
 
 def out_problem(out: Path) -> str | None:

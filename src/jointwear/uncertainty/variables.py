@@ -162,7 +162,9 @@ class ClearanceSpec(SIModel):
         "iso286",
         description="'table5': sigma as printed in Table 5 (1e-6 mm = 1 nm, very likely a units slip); "
         "'iso286': sigma_c = sqrt(T_D^2 + T_d^2)/12, Eq. (40), from the grades below.")
-    nominal_diameter: float = F(2e-3, unit="m", description="Nominal fit diameter, m (journal diameter 2 mm).")
+    nominal_diameter: float = F(2e-3, unit="m", description="Nominal fit diameter, m: the journal's diameter, whose "
+                                "ISO 286 size range sets the tolerances. Default: the reference paper's 2 mm pin "
+                                "(`check` warns when it gives other tolerances than the joint's journal).")
     hole_grade: str = Field("IT7", description="Bearing bore grade (usual H7 bore; ISO 286-2); set by `fit` when "
                             "that is given.")
     shaft_grade: str = Field("IT6", description="Journal grade (usual h6/g6 shaft; ISO 286-2); set by `fit` when "
