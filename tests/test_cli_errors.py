@@ -42,6 +42,9 @@ CASES = [
     # a GPa value given in Pa (on the tutorial's linkage the journal's preload then failed to assemble: a traceback)
     ("youngs_modulus_GPa = 120.0", "youngs_modulus_Pa = 3.0",
      ["bearing_material.youngs_modulus", "1e+06 Pa", "a unit slip?", "youngs_modulus_GPa"]),
+    # and a GPa value given in Pa under a GPa key: 1.2e20 Pa, above any solid (diamond: 1.2e12 Pa)
+    ("youngs_modulus_GPa = 120.0", "youngs_modulus_GPa = 120e9",
+     ["bearing_material.youngs_modulus", "1.5e+12 Pa", "a unit slip?"]),
     ("hardness_HB = 350.0", "hardness_Pa = 120.0", ["bearing_material.hardness", "1e+06 Pa", "a unit slip?"]),
     ("wear_coefficient = 1.2e-3", "wear_coefficient = 2.0", ["bearing_material.wear_coefficient", "less than 1"]),
     # a bad value given with a unit suffix is shown as written, then in SI (it was only '-6.8649e+07' for -7 HB)

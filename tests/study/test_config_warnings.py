@@ -307,3 +307,44 @@ def test_a_fit_taken_at_another_diameter_than_its_journals_is_warned(changes, wa
         (note,) = notes
         assert "while the journal of clearance_joints.B is 8 mm in diameter" in note and warned in note
         assert "set nominal_diameter_mm = 8" in note
+
+
+@pytest.mark.parametrize("old, new, start, words", [
+    # the bushing's radii in metres under plain keys: a 4 m pin on a 40 mm linkage
+    ("journal_radius_mm = 2.0", "journal_radius = 2.0", "clearance_joints[0]:", ["journal_radius 2,000 mm"]),
+    # the coupler's centre of mass 10x off its drawing: hypot(143.90 - 18.78, 195.12 - 39.02) = 200.1 mm from its
+    # nearer point B, on a 40 mm bar
+    ("com_mm = [14.3902, 19.5122]", "com_mm = [143.902, 195.122]", "mechanism.bodies[coupler].com:",
+     ["200.1 mm from the nearest of the body's points", "(40 mm)"]),
+])
+def test_lengths_out_of_scale_with_the_drawing_are_warned(tmp_path, old, new, start, words):
+    text = (Path(__file__).resolve().parents[2] / "examples" / "my_linkage.toml").read_text(encoding="utf-8")
+    assert old in text
+    path = tmp_path / "slip.toml"
+    text = text.replace(old, new)
+    if "journal_radius = 2.0" in text:  # keep the joint legal: the bore and the wall in metres too
+        text = (text.replace("bearing_radius_mm = 2.02", "bearing_radius = 2.02")
+                .replace("bearing_outer_radius_mm = 3.0", "bearing_outer_radius = 3.0"))
+    path.write_text(text, encoding="utf-8")
+    (warning,) = [w for w in config_warnings(load_config(path)) if w.startswith(start)]
+    assert all(word in warning for word in words), warning
+
+
+def test_a_mechanism_that_does_not_run_names_the_unit_slip_first(tmp_path, monkeypatch):
+    # an inertia in kg m^2 under a plain key (628 for 628 g mm^2) exhausts the step budget after 40 s: the error
+    # stopped `check` before its warnings, so the gyration radius that says why was never shown
+    import jointwear.mechanism as mechanism
+    from jointwear.study.checks import check_runs
+
+    def exhausted(*args, **kwargs):
+        raise mechanism.SimulationError("step budget exhausted at t = 9.2e-06 s")
+
+    monkeypatch.setattr(mechanism, "simulate", exhausted)
+    text = (Path(__file__).resolve().parents[2] / "examples" / "my_linkage.toml").read_text(encoding="utf-8")
+    path = tmp_path / "inertia.toml"
+    path.write_text(text.replace("inertia_g_mm2 = 628.0", "inertia = 628.0"), encoding="utf-8")
+    (problem,) = check_runs(load_config(path))
+    assert "does not run: step budget exhausted" in problem
+    assert "; check first mechanism.bodies[coupler]: its mass (4.71 g) and inertia (6.28e+11 g mm^2)" in problem
+    drawn = load_config(Path(__file__).resolve().parents[2] / "examples" / "my_linkage.toml")
+    assert "check first" not in check_runs(drawn)[0]

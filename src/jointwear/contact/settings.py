@@ -20,9 +20,9 @@ class MaterialConfig(SIModel):
 
     name: str = F("", description="Material name, for reports only.")
     youngs_modulus: float = F(
-        unit="Pa", ge=1e6,
-        description="Young's modulus E (key e.g. youngs_modulus_GPa), at least 1 MPa (a soft rubber): a smaller value "
-        "is a unit slip.",
+        unit="Pa", ge=1e6, le=1.5e12,
+        description="Young's modulus E (key e.g. youngs_modulus_GPa), from 1 MPa (a soft rubber) to 1.5 TPa (above "
+        "diamond's 1.2 TPa): a value outside is a unit slip.",
     )
     poissons_ratio: float = F(gt=-1.0, lt=0.5, description="Poisson's ratio nu, in (-1, 0.5).")
     hardness: float = F(

@@ -199,7 +199,7 @@ def config_warnings(config: StudyConfig) -> list[str]:
 
     unc = config.uncertainty
     if unc is None:
-        return (drawing_warnings(config) + mobility_warnings(config) + gravity_warnings(config)
+        return (drawing_warnings(config) + size_warnings(config) + mobility_warnings(config) + gravity_warnings(config)
                 + inertia_warnings(config) + wear_length_warnings(config) + block_warnings(config))
     data = config.model_dump()
     out = []
@@ -215,8 +215,8 @@ def config_warnings(config: StudyConfig) -> list[str]:
                        "simulate and wear stages run the drawn mechanism, the reliability stages one around the mean "
                        "(R(N) does not follow a change of the drawn value alone); give both the same value unless the "
                        "shift is meant")
-    return (drawing_warnings(config) + mobility_warnings(config) + gravity_warnings(config) + inertia_warnings(config)
-            + out + random_input_warnings(config)
+    return (drawing_warnings(config) + size_warnings(config) + mobility_warnings(config) + gravity_warnings(config)
+            + inertia_warnings(config) + out + random_input_warnings(config)
             + clearance_warnings(config) + wear_mode_warnings(config) + block_warnings(config)
             + design_warnings(config) + allowance_warnings(config) + budget_warnings(config))
 
@@ -249,6 +249,38 @@ def drawing_warnings(config: StudyConfig) -> list[str]:
             f"joint '{joint.name}' are {gap * 1e3:.4g} mm apart; the assembly closes the gap, so the links it joins "
             "are up to that much off the drawing: draw the two points at the same place unless that is meant"
             for i, joint, gap in joint_gaps(m) if GAP_WARNING * size < gap <= m.closure_tolerance * size]
+
+
+def size_warnings(config: StudyConfig) -> list[str]:
+    """Lengths out of scale with the drawing, most likely a unit slip (metres under a _mm key, or the reverse): a
+    clearance joint's journal, bore or width larger than the largest link, and a general body's centre of mass
+    farther from every point of the body than the body is long."""
+    m = config.mechanism
+    if m.type == "general":
+        spans = {b.name: max((math.dist(p, q) for p in b.points.values() for q in b.points.values()), default=0.0)
+                 for b in m.bodies}
+    else:
+        spans = {name: link.length for name in ("crank", "rod", "rocker") if (link := getattr(m, name, None))}
+    largest = max(spans.values(), default=0.0)
+    out = []
+    for i, cj in enumerate(config.clearance_joints):
+        sizes = {"journal_radius": cj.journal_radius, "bearing_radius": cj.bearing_radius, "width": cj.width,
+                 "bearing_outer_radius": cj.bearing_outer_radius}
+        too_big = [f"{name} {value * 1e3:,.4g} mm" for name, value in sizes.items()
+                   if value is not None and largest > 0.0 and value > largest]
+        if too_big:
+            out.append(f"clearance_joints[{i}]: {', '.join(too_big)}, larger than the mechanism's largest link "
+                       f"({largest * 1e3:.4g} mm): a unit slip? (a suffix gives the unit: journal_radius_mm)")
+    if m.type == "general":
+        for b in m.bodies:
+            if len(b.points) < 2 or spans[b.name] <= 0.0:
+                continue
+            nearest = min(math.dist(b.com, q) for q in b.points.values())
+            if nearest > spans[b.name]:
+                out.append(f"mechanism.bodies[{b.name}].com: {nearest * 1e3:.4g} mm from the nearest of the body's "
+                           f"points, farther than the body is long ({spans[b.name] * 1e3:.4g} mm): a unit slip or a "
+                           "misplaced point? (com is in global coordinates, as the points are)")
+    return out
 
 
 def mobility_warnings(config: StudyConfig) -> list[str]:
@@ -530,18 +562,24 @@ def check_runs(config: StudyConfig) -> list[str]:
     """The nominal mechanism assembles and its dynamics starts (a hundredth of a cycle)."""
     from jointwear.mechanism import SimulationError, build_model, simulate
 
+    # a unit slip is the likeliest cause of a mechanism that does not run: said first, since the stage stops here
+    slips = size_warnings(config) + inertia_warnings(config) + gravity_warnings(config)
+    first = f"; check first {slips[0]}" + (f" (and {len(slips) - 1} more such warnings)" if len(slips) > 1 else "") if (
+        slips) else ""
     try:
         model = build_model(config)
     except ConfigError as exc:
-        return [str(exc)]
+        return [f"{exc}{first}"]
     try:
         simulate(model, 0.01, settle_cycles=0)
     except SimulationError as exc:
-        return [f"simulation: the nominal mechanism does not run: {' '.join(str(exc).split())}"]
+        return [f"simulation: the nominal mechanism does not run: {' '.join(str(exc).split())}{first}"]
     except (ValueError, ArithmeticError) as exc:  # the start: journals preloaded by their contact law, assembled
         moduli = ", ".join(f"clearance_joints.{cj.name}.{side}.youngs_modulus = "
                            f"{getattr(cj, side).youngs_modulus:.3g} Pa" for cj in config.clearance_joints
                            for side in ("bearing_material", "journal_material"))
+        look = (f"{slips[0]}" if slips else
+                f"look first at the clearance joints' radii and materials ({moduli})")
         return [f"simulation: the nominal mechanism does not start ({exc}); the journals start pressed into their "
-                f"bores by their contact law, so look first at the clearance joints' radii and materials ({moduli})"]
+                f"bores by their contact law, so {look}"]
     return []
