@@ -321,6 +321,9 @@ BAD = [
     ("duplicate-joint", edit('name = "F"\nconnects', 'name = "E"\nconnects'), "duplicate joint name"),
     ("over-constrained", edit('[[mechanism.drivers]]', '[[mechanism.joints]]\nname = "X"\n'
                               'connects = ["ground.O", "coupler.A"]\n\n[[mechanism.drivers]]'), "over-constrained"),
+    # a second driver on a linkage of one degree of freedom: the message says which to remove
+    ("two-drivers", edit('speed_rpm = 120.0', 'speed_rpm = 120.0\n\n[[mechanism.drivers]]\njoint = "F"\n'
+                         'speed_rpm = 120.0'), "each of the 2 drivers takes a degree of freedom, and the linkage has 1"),
     ("gap-in-drawing", edit("B = [10.0, 35.0] }\naxis", "B = [10.0, 40.0] }\naxis"), "joints[2].connects"),
     # crank 25 mm: the first loop is no longer a crank-rocker
     ("cannot-assemble", edit("points_mm = { O = [0.0, 0.0], A = [10.0, 0.0] }",

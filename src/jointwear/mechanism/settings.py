@@ -377,8 +377,12 @@ class GeneralMechanismConfig(SIModel):
         if dof < 0:
             n_free = len(names) - len(driven)
             n_joints = len(self.joints) - len(self.drivers)
+            mobility = dof + len(self.drivers)  # each driver prescribes a body (3) in place of a joint (2)
+            fix = ("remove joints or add bodies" if len(self.drivers) == 1 or mobility < 1 else
+                   f"each of the {len(self.drivers)} drivers takes a degree of freedom, and the linkage has "
+                   f"{mobility}: remove {len(self.drivers) - mobility} driver(s), or remove joints or add bodies")
             raise ValueError(f"joints: the mechanism is over-constrained: {dof} degrees of freedom after the drivers "
-                             f"(3 x {n_free} free bodies - 2 x {n_joints} joints); remove joints or add bodies")
+                             f"(3 x {n_free} free bodies - 2 x {n_joints} joints); {fix}")
         return self
 
     def free_degrees_of_freedom(self) -> int:
