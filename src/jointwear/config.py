@@ -351,8 +351,9 @@ def validation_problems(exc: ValidationError, data: Any = None) -> list[str]:
         elif err.get("type") not in ("missing", "extra_forbidden") and isinstance(inp, (int, float, str)) \
                 and not isinstance(inp, bool) and f"got {inp!r}" not in msg:  # a validator that named the value
             shown = f" (got {inp!r}{', SI units' if unit is None else f' {unit}' if unit else ''})"
-            if written:
-                shown = f" (got {written} = {inp:g} {unit})"
+            if written:  # as written, and in SI where the field's unit is known here
+                shown = f" (got {written} = {inp:g}{f' {unit}' if unit else ''})" if unit is not None else (
+                    f" (got {written})")
         if err.get("type") == "extra_forbidden":
             msg = "unknown key (not a setting of this section)" + _did_you_mean(tuple(err.get("loc", ())))
             if loc and loc[0] == "clearance_joints" and str(loc[-1]).split("_")[0] == "clearance":
