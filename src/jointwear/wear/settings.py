@@ -55,7 +55,7 @@ class WearSettings(SIModel):
             "patch on a round bore is Johnson's half-width; kernels.share_load): a journal resting in a "
             "pocket worn to its own shape loads the whole worn arc with a cos-shaped pressure, the conformal wear of "
             "Kauzlarich and Williams (2001) that docs/verification.md checks. 'touch': at the single bore point that "
-            "touches (admissible_set's map), spread over the patch and the running-in length (the earlier rule)."
+            "touches (admissible_set's map), spread over the patch and the running-in length (47 % too deep on the conformal rig)."
         ),
     )
     profile_smoothing_deg: float = Field(
