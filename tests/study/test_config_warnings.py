@@ -348,3 +348,16 @@ def test_a_mechanism_that_does_not_run_names_the_unit_slip_first(tmp_path, monke
     assert "; check first mechanism.bodies[coupler]: its mass (4.71 g) and inertia (6.28e+11 g mm^2)" in problem
     drawn = load_config(Path(__file__).resolve().parents[2] / "examples" / "my_linkage.toml")
     assert "check first" not in check_runs(drawn)[0]
+
+
+def test_a_nominal_history_that_ends_before_the_curve_is_warned():
+    # the six-bar preset's wear.cycles (450k) inherited under a curve moved to 800k-2M: the nominal wear was that of
+    # 450k cycles and the nominal life an extrapolation, in silence
+    six = load_config("watt_six_bar_two_clearances")
+    assert not [w for w in config_warnings(six) if w.startswith("wear.cycles")]
+    moved = updated(six, {"reliability.cycles_start": 800_000, "reliability.cycles_stop": 2_000_000,
+                          "reliability.cycles_step": 200_000, "reliability.histogram_cycles": [1_200_000],
+                          "sensitivity.cycles": 1_200_000})
+    (warning,) = [w for w in config_warnings(moved) if w.startswith("wear.cycles")]
+    assert "ends at 450,000 cycles, before the R(N) curve's first level (800,000)" in warning
+    assert "set wear.cycles = 2,000,000" in warning

@@ -217,7 +217,8 @@ def config_warnings(config: StudyConfig) -> list[str]:
                        "shift is meant")
     return (drawing_warnings(config) + size_warnings(config) + mobility_warnings(config) + gravity_warnings(config)
             + inertia_warnings(config) + out + random_input_warnings(config)
-            + clearance_warnings(config) + wear_mode_warnings(config) + block_warnings(config)
+            + clearance_warnings(config) + wear_length_warnings(config) + wear_mode_warnings(config)
+            + block_warnings(config)
             + design_warnings(config) + allowance_warnings(config) + budget_warnings(config))
 
 
@@ -232,6 +233,13 @@ def wear_length_warnings(config: StudyConfig) -> list[str]:
     caller's (``--cycles``); check and simulate run without it."""
     if config.clearance_joints and nominal_wear_cycles(config) is None:
         return [WEAR_CYCLES_MISSING.replace("give the number", "the wear stage will need the number")]
+    start, stop = config.reliability.cycles_start, config.reliability.cycles_stop
+    n = config.wear.cycles
+    if config.clearance_joints and n is not None and start is not None and n < start:
+        return [f"wear.cycles: the nominal history ends at {n:,} cycles, before the R(N) curve's first level "
+                f"({start:,}): the nominal wear the report shows is that of {n:,} cycles and the nominal life is "
+                f"extrapolated past the history's end; set wear.cycles = {stop:,}, the curve's end (inherited from "
+                "a preset, it may be the preset's)"]
     return []
 
 
