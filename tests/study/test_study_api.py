@@ -258,6 +258,12 @@ def test_the_learnings_progress_line_gives_its_budget(tmp_path):
     study._progress = Progress(enabled=False)
     study._progress_callback(SimpleNamespace(pf=[0.05, 0.2], cov=[0.01, 0.02], min_u=[1.5, 2.5]))
     assert study._progress.fields["budget"] == f"{study.config.reliability.max_calls} calls"
+    # the validation's samples that follow are counted on their own, without the learning's Pf, COV, min U, budget
+    study._progress.update(completed=23)
+    study._progress_phase("validation samples", 30)
+    progress = study._progress
+    assert (progress.description, progress.completed, progress.total, progress.fields) == (
+        "validation samples", 0, 30, {})
 
 
 def test_a_mechanism_without_an_allowance_simulates_and_wears(tmp_path):

@@ -611,7 +611,9 @@ class Study:
             raise ConfigError(f"n_samples: must be a whole number >= 1 (got {n_samples!r})")
         self._prepare({"reliability"}, store_reuse=True)
         with self._session(reuse=True) as ctx:
-            result = run_validation(ctx, self._learned(ctx), n_samples)
+            learned = self._learned(ctx)
+            self._progress_phase("validation samples", n_samples)
+            result = run_validation(ctx, learned, n_samples)
         result.save(self.out)
         agree = sum(result.agreement)
         life = ""
@@ -825,6 +827,12 @@ class Study:
         return (f"reliability: every one of the first {len(reasons)} model calls failed, so the study cannot learn; "
                 f"the first call's stored reason: {' '.join(reasons[0].split())} (every call's reason is kept in "
                 f"{self.out / 'evaluations.sqlite'})")
+
+    def _progress_phase(self, description: str, total: int | None = None) -> None:
+        """The progress display starts another phase of model calls (the validation's samples after the learning):
+        its counter from 0, its own total, and none of the learning's fields (its Pf, COV, min U and budget)."""
+        self._progress.update(description=description, completed=0, total=total,
+                              **dict.fromkeys(list(self._progress.fields)))
 
     def _progress_callback(self, record) -> None:
         import numpy as np
