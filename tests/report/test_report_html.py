@@ -346,10 +346,14 @@ def test_far_shifts_show_how_they_were_read_and_why_a_shifted_mechanism_failed(t
     page = build_report(d).read_text(encoding="utf-8")
     assert "Shifts outside the learned region" in page and "wear \u00d7 1.17" in page
     assert "could not be built or run" in page and "joint A&#x27;s points are 2 mm apart" in page
+    # the command line says it too (the result's sentence): only the report did
+    assert sens.unbuilt_shifts_sentence().startswith(
+        f"the shifted mechanism could not be built or run for {name} x 0.8 (the shifted mechanism could not run")
     sens.rules = [sens.rules[1]]
     sens.write(d)
     page = build_report(d).read_text(encoding="utf-8")
     assert "Shifts outside the learned region" in page and "could not be built or run" not in page
+    assert sens.unbuilt_shifts_sentence() == ""
 
 
 def test_the_archard_check_is_shown_and_a_disagreement_warned(tmp_path: Path, nominal: Path):

@@ -585,6 +585,8 @@ class Study:
         targets = {s.name: s.target for s in self.config.uncertainty.all_specs()}
         if coordinates := coordinate_shift_sentence(targets, tuple(sens.factors)):
             self.warn(f"sensitivity: {coordinates}")
+        if unbuilt := sens.unbuilt_shifts_sentence():
+            self.warn(f"sensitivity: {unbuilt}")
         return sens
 
     @_quiet

@@ -577,6 +577,20 @@ class SensitivityResult(StageResult):
         r0 = self.reliability_nominal
         return any(abs(v["reliability_low"] - r0) > 0 or abs(v["reliability_high"] - r0) > 0 for v in self.variables)
 
+    def unbuilt_shifts_sentence(self) -> str:
+        """The mean shifts whose shifted nominal mechanism could not be built or run (their R is counted as 0, which
+        measures the mechanism's failure to work, not the wear's sensitivity); empty when there are none."""
+        failed = [r for r in self.rules if r.get("rule") == "separable_scaling" and r.get("wear_ratio") is None]
+        if not failed:
+            return ""
+        def why(reason) -> str:  # the model's own words, without the wrapping the rule's record adds
+            text = " ".join(str(reason or "").split())
+            return text.split("infeasible sample: ", 1)[-1]
+
+        shifts = "; ".join(f"{r['variable']} x {float(r['factor']):g} ({why(r.get('reason'))})" for r in failed)
+        return (f"the shifted mechanism could not be built or run for {shifts}: its R is counted as 0, which measures "
+                "the mechanism's failure to work, not the wear's sensitivity; read those ranks with that in mind")
+
     def variance_ranking(self, floor: float = 0.01) -> list[tuple[str, float]]:
         """The variables whose scatter drives the scatter of the (first judged joint's) wear: (name, total Sobol'
         index) of those with an index of at least ``floor``, largest first; empty without indices. The ranking of the
