@@ -291,3 +291,12 @@ def test_a_folder_whose_lock_cannot_be_written_is_a_config_error(tmp_path, monke
     (tmp_path / "config.json").write_text("{}", encoding="utf-8")  # an existing folder, as in the report
     with pytest.raises(ConfigError, match="^out: cannot write to .*Operation not permitted"):
         jointwear.Study(out=tmp_path).run()
+
+
+def test_uniform_modes_range_is_told_per_joint(tmp_path):
+    # two joints: the line gave one conformity (the first joint's) without naming it
+    six = updated(load_config("watt_six_bar_two_clearances"), {"wear.cycles": 20_000, "wear.block_cycles": 5_000})
+    lines: list[str] = []
+    jointwear.Study(six, out=tmp_path, echo=lines.append).wear()
+    (line,) = [line for line in lines if line.startswith("wear: uniform mode is outside its range here")]
+    assert " at joint A, " in line and " at joint E > 1" in line

@@ -541,9 +541,11 @@ class Study:
             sentences = (res.worn_away() + res.worn_through() + res.whirls() + ([placed] if placed else [])
                          + res.unjudged_wear(self.config.reliability.quantity))
             if res.uniform_out_of_range:
-                sentences.append(f"uniform mode is outside its range here (conformity {res.conformity:.3g} > 1: the "
-                                 'journal fits into its own wear); wear.geometry_mode = "profile" follows it '
-                                 "(docs/wear.md)")
+                outside = [j for j in res.joints if j.get("uniform_mode_valid") is False]
+                conformity = (f"conformity {res.conformity:.3g}" if len(res.joints) < 2 else "conformity " + ", ".join(
+                    f"{j['conformity']:.3g} at joint {j['name']}" for j in outside))
+                sentences.append(f"uniform mode is outside its range here ({conformity} > 1: the journal fits into its "
+                                 'own wear); wear.geometry_mode = "profile" follows it (docs/wear.md)')
         elif stage == "reliability":
             from jointwear.report.checks import curve_misses_life
 
