@@ -228,6 +228,15 @@ class WearConvergence(StageResult):
                                "scatter)")
                 elif verdict == "no change detected":
                     unresolved.append(base.get("scatter", self.scatter))
+        if self.measure == "life":
+            first = self.refinements[0] if self.refinements else None
+            beyond = [(what, base["mean"]) for joint, what, _, base, _ in (self.subjects(first) if first else [])
+                      if base.get("mean", 0.0) > self.cycles and not (joint and self.governs(first, joint))]
+            if beyond:
+                lives = ", ".join(f"{what} {mean:,.0f}" for what, mean in beyond)
+                out.append(f"{lives} cycles lie beyond the histories' end ({self.cycles:,} cycles): extrapolated "
+                           "linearly, so this judges the extrapolation's slope; --cycles near the life judges the "
+                           "history there")
         if unresolved:
             scatter = max(unresolved)
             out.append(f"the {self.replicates} replicates resolve changes of about "
