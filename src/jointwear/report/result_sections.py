@@ -436,8 +436,7 @@ def validation_section(out: StudyOutputs, figs: Figures) -> str:
     agree = sum(bool(a) for a in val.agreement)
     cv = val.cross_validation
     q2 = cv.get("q2")
-    resolution = max((max(r - lo, hi - r) for r, lo, hi in zip(val.reliability_mc, val.ci_low, val.ci_high)),
-                     default=float("nan"))
+    resolution = val.resolution
     head = cards([
         ("true-model samples", f"{val.n_samples:,}", f"{val.model_calls:,} new model calls"),
         ("levels in agreement", f"{agree} of {len(val.agreement)}", "their 95 % intervals overlap (a lenient test)"),

@@ -50,7 +50,8 @@ class StudyComparison(StageResult):
     ``max_wear_mm`` after ``wear_cycles``, ``uniform_out_of_range`` (uniform mode past its range: docs/wear.md) and,
     when the study was validated, ``validation_levels_agreeing`` of its ``validation_levels`` (the curve's levels
     whose 95 % interval overlaps the true model's, sampled directly) and ``validation_levels_passing_95`` (those that
-    pass the 95 % test of the difference: :meth:`ValidationResult.differs_at_95`).
+    pass the 95 % test of the difference: :meth:`ValidationResult.differs_at_95`), with its ``validation_samples`` and
+    the ``validation_resolution`` in R they give (:attr:`ValidationResult.resolution`).
     ``differences``: every setting whose value differs between the studies (``name``, ``unit``, ``values`` in the
     order of ``studies``; None where a study has no such setting), in the units of the config files.
     ``curves``: each study's R(N) (``cycles``, ``reliability``, ``half_width``: the 95 % half-width of R).
@@ -111,7 +112,9 @@ class StudyComparison(StageResult):
                 mode += " (its range not checked: no wear stage)"
             validated = ("\u2014" if s["validation_levels"] is None
                          else f"{s['validation_levels_agreeing']} of {s['validation_levels']} levels agree "
-                              f"({s['validation_levels_passing_95']} by the 95 % test)")
+                              f"({s['validation_levels_passing_95']} by the 95 % test"
+                              + (f"; {s['validation_samples']:,} samples resolve R to "
+                                 f"\u00b1{s['validation_resolution']:.2g})" if s.get("validation_samples") else ")"))
             calls = str(s["model_calls"]) + ("" if s.get("converged", True) else " (not converged)")
             interval = ("\u2014" if s["life_cycles"] is None
                         else interval_cells(s["life_cycles_low"], s["life_cycles_high"]))
@@ -262,6 +265,8 @@ def _row(res: StudyResults, label: str, target: float) -> dict:
         "validation_levels_agreeing": None if val is None else int(np.sum(val.agreement)),
         "validation_levels": None if val is None else int(len(val.agreement)),
         "validation_levels_passing_95": None if val is None else int(np.sum(~val.differs_at_95())),
+        "validation_samples": None if val is None else int(val.n_samples),
+        "validation_resolution": None if val is None else float(val.resolution),
         "folder": str(res.folder),
     }
 

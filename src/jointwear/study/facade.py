@@ -633,7 +633,8 @@ class Study:
         strict = result.differences_at_95()
         strict = f"; {strict}" if strict else ""
         self.echo(f"validate: {result.n_samples:,} true-model samples{_reused(result.model_calls, result.n_samples)}, "
-                  f"agreement at {agree} of {len(result.agreement)} levels (overlapping 95 % intervals){where}{strict}"
+                  f"agreement at {agree} of {len(result.agreement)} levels (overlapping 95 % intervals; these samples "
+                  f"resolve R to +-{result.resolution:.2g}){where}{strict}"
                   f"{joints}{life}, cross-validation Q2 = "
                   f"{result.cross_validation.get('q2', float('nan')):.3f} -> {self.out / result.FILE}")
         self._refresh_report()

@@ -707,6 +707,13 @@ class ValidationResult(StageResult):
         more = f" and {len(missed) - shown} more" if len(missed) > shown else ""
         return f"not at {levels}{more}"
 
+    @property
+    def resolution(self) -> float:
+        """The widest 95 % half-width of the direct estimate of R over the levels: differences from the surrogate
+        smaller than this cannot be seen with these samples."""
+        return max((max(r - lo, hi - r) for r, lo, hi in zip(self.reliability_mc, self.ci_low, self.ci_high)),
+                   default=float("nan"))
+
     def differs_at_95(self) -> np.ndarray:
         """Where a 95 % test of the difference rejects the surrogate's R: ``abs(R_true - R_surrogate)`` exceeds the
         root sum of squares of the three 95 % half-widths (the true model's exact interval on the surrogate's side, the
