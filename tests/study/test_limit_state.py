@@ -464,6 +464,14 @@ def test_the_sobol_indices_name_their_joint_and_each_judged_joint_has_its_own(tm
     from jointwear.study import SensitivityResult
 
     assert SensitivityResult.load(tmp_path).sobol["by_joint"]["E"]["joint"] == "E"
+    # sensitivity.csv gives each joint's own indices too (it gave the first joint's alone)
+    import csv
+
+    with open(tmp_path / "sensitivity.csv", encoding="utf-8", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert {"ST_A", "ST_E", "S1_A", "S1_E"} <= set(rows[0])
+    st_e = [float(row["ST_E"]) for row in rows]
+    assert st_e == pytest.approx(sobol["by_joint"]["E"]["ST"], rel=1e-9)
 
 
 def test_an_interval_end_outside_the_curve_is_said_plainly():

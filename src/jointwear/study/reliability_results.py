@@ -613,10 +613,16 @@ class SensitivityResult(StageResult):
         return super().from_json(data)
 
     def tables(self) -> dict[str, dict[str, Any]]:
-        """``sensitivity``: one row per variable (its unit, the shifted reliabilities, derivatives, Sobol')."""
+        """``sensitivity``: one row per variable (its unit, the shifted reliabilities, derivatives, Sobol'; with
+        several judged joints also each joint's own Sobol' indices of its wear, ``S1_<joint>`` and ``ST_<joint>``)."""
         keys = ["name", "label", "group", "unit", "reliability_low", "reliability_high", "reliability_low_error",
                 "reliability_high_error", "dR_dmean", "dR_dstd", "elasticity_mean", "S1", "ST"]
-        return {"sensitivity": {k: [v.get(k) for v in self.variables] for k in keys}}
+        table = {k: [v.get(k) for v in self.variables] for k in keys}
+        for joint, indices in (self.sobol.get("by_joint") or {}).items():
+            by_name = dict(zip(indices.get("names") or [], zip(indices.get("S1") or [], indices.get("ST") or [])))
+            table[f"S1_{joint}"] = [by_name.get(v["name"], (None, None))[0] for v in self.variables]
+            table[f"ST_{joint}"] = [by_name.get(v["name"], (None, None))[1] for v in self.variables]
+        return {"sensitivity": table}
 
     def save(self, folder: Path | str, *, figures: bool = True) -> Path:
         """Write ``sensitivity.json``, ``sensitivity.csv`` (:meth:`tables`) and the figures."""
