@@ -280,3 +280,13 @@ def test_a_life_before_one_curve_is_shorter_than_a_life_inside_another(tmp_path)
     # beyond its curve (R above the target to 1.2 M), a life is at least the last level: longer than 0.9-1.1 M
     beyond = _on_curve(_study(tmp_path / "beyond", "pin beyond", 1e6), lambda n: np.full(n.size, 0.95))
     assert compare_studies([later, beyond]).studies[1]["verdict"] == "longer"
+
+
+def test_the_nominal_wear_names_each_joint_with_several(three):
+    # two joints: the column gave the first joint's depth, unnamed
+    comp = compare_studies(three[:2])
+    comp.studies[0].update(max_wear_mm=0.02524, wear_cycles=450_000, max_wear_mm_by_joint={"A": 0.02524})
+    comp.studies[1].update(max_wear_mm=0.008318, wear_cycles=450_000,
+                           max_wear_mm_by_joint={"A": 0.008318, "E": 0.001954})
+    wear = [row[comp.COLUMNS.index("max wear (mm)")] for row in comp.rows()]
+    assert wear == ["0.02524 at 450,000", "0.008318 (A), 0.001954 (E) at 450,000"]

@@ -47,7 +47,7 @@ class StudyComparison(StageResult):
     (``life_cycles``, ``life_cycles_low``, ``life_cycles_high``: its 95 % interval; ``life_hours``; ``status``:
     'in_curve', 'beyond_curve' or 'before_curve'), ``life_ratio`` (to the baseline's life), ``verdict`` against the
     baseline (:func:`life_verdict`; 'baseline' for the first), ``model_calls``, ``converged``, the nominal
-    ``max_wear_mm`` after ``wear_cycles``, ``uniform_out_of_range`` (uniform mode past its range: docs/wear.md) and,
+    ``max_wear_mm`` after ``wear_cycles`` (the first joint's; ``max_wear_mm_by_joint``: every joint's), ``uniform_out_of_range`` (uniform mode past its range: docs/wear.md) and,
     when the study was validated, ``validation_levels_agreeing`` of its ``validation_levels`` (the curve's levels
     whose 95 % interval overlaps the true model's, sampled directly) and ``validation_levels_passing_95`` (those that
     pass the 95 % test of the difference: :meth:`ValidationResult.differs_at_95`), with its ``validation_samples`` and
@@ -103,8 +103,11 @@ class StudyComparison(StageResult):
         for s in self.studies:
             life = _cycles(s["life_cycles"]) if s["life_cycles"] is not None else s["status"].replace("_", " ")
             ratio = "\u2014" if s["life_ratio"] is None else f"{s['life_ratio']:.3f}"
+            by_joint = s.get("max_wear_mm_by_joint") or {}
             wear = ("\u2014" if s["max_wear_mm"] is None
-                    else f"{s['max_wear_mm']:.4g} at {s['wear_cycles']:,}")
+                    else f"{s['max_wear_mm']:.4g} at {s['wear_cycles']:,}" if len(by_joint) < 2
+                    else ", ".join(f"{value:.4g} ({name})" for name, value in by_joint.items())
+                    + f" at {s['wear_cycles']:,}")
             mode = s["geometry_mode"] or "\u2014"
             if s["uniform_out_of_range"]:
                 mode += " (outside its range)"
@@ -260,6 +263,7 @@ def _row(res: StudyResults, label: str, target: float) -> dict:
         "status": life_status(rel.reliability, target), "life_ratio": None, "verdict": "",
         "model_calls": int(rel.model_calls), "converged": bool(rel.converged),
         "max_wear_mm": None if wear is None else float(wear.max_wear_mm),
+        "max_wear_mm_by_joint": {} if wear is None else {j["name"]: float(j["max_wear_mm"]) for j in wear.joints},
         "wear_cycles": None if wear is None else int(wear.cycles),
         "uniform_out_of_range": bool(wear is not None and wear.uniform_out_of_range),
         "validation_levels_agreeing": None if val is None else int(np.sum(val.agreement)),
