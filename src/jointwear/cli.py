@@ -292,7 +292,8 @@ def check(config):
         click.echo(f"{rec['name']} = {shown}{unit}    # {note}")
     for warning in found:
         say(f"check: warning: {warning}")
-    say(f"check: {config} is a valid study config for the stages {', '.join(study.stages)}")
+    checks = "; converge and validate check it" if "reliability" in study.stages else "; converge checks it"
+    say(f"check: {config} is a valid study config for the stages {', '.join(study.stages)}{checks}")
 
 
 @main.command()
