@@ -292,7 +292,7 @@ def check(config):
         click.echo(f"{rec['name']} = {shown}{unit}    # {note}")
     for warning in found:
         say(f"check: warning: {warning}")
-    checks = "; converge and validate check it" if "reliability" in study.stages else "; converge checks it"
+    checks = "; converge and validate run on it too" if "reliability" in study.stages else "; converge runs on it too"
     say(f"check: {config} is a valid study config for the stages {', '.join(study.stages)}{checks}")
 
 
