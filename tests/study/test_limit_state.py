@@ -214,6 +214,11 @@ def test_a_nominal_life_far_outside_the_curve_is_told_by_the_wear_stage(wear_per
     history = {"cycles": [50_000, 100_000], "max_wear_mm": [wear_per_100k_mm / 2, wear_per_100k_mm]}
     sentence = nominal_life_outside_curve(cfg, [{"name": "A", "history": history}])
     assert sentence == "" if words is None else words in sentence
+    if words is not None:  # with two judged joints, the life told is the one that reaches its allowance first
+        both = config_from_dict(_six_bar({}))
+        slower = {"cycles": history["cycles"], "max_wear_mm": [w / 2 for w in history["max_wear_mm"]]}
+        two = nominal_life_outside_curve(both, [{"name": "A", "history": history}, {"name": "E", "history": slower}])
+        assert "allowance (joint A's, the first to reach its own) after about" in two
 
 
 def test_the_wear_stage_tells_the_nominal_life():

@@ -315,6 +315,7 @@ def nominal_life_outside_curve(config, joints: list[dict]) -> str:
     life = min(lives.values(), default=float("nan"))
     if not np.isfinite(life):
         return ""
+    whose = "" if len(lives) < 2 else f" (joint {min(lives, key=lives.get)}'s, the first to reach its own)"
     first, last = rel.cycles_start, rel.cycles_stop
     if life > CURVE_MISS_FACTOR * last:
         where, reads = f"{life / last:.1f} times the R(N) curve's last level ({last:,} cycles)", "close to 1"
@@ -322,6 +323,6 @@ def nominal_life_outside_curve(config, joints: list[dict]) -> str:
         where, reads = f"{first / life:.1f} times short of the R(N) curve's first level ({first:,} cycles)", "near 0"
     else:
         return ""
-    return (f"the nominal design reaches its allowance after about {life:,.0f} cycles (its wear history, extrapolated "
-            f"linearly past its end), {where}: the curve will read R {reads} at every level; put it round the nominal "
+    return (f"the nominal design reaches its allowance{whose} after about {life:,.0f} cycles (its wear history, "
+            f"extrapolated linearly past its end), {where}: the curve will read R {reads} at every level; put it round the nominal "
             "life (reliability.cycles_start, cycles_stop), about 0.6 to 1.5 times it")
