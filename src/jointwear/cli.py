@@ -290,10 +290,27 @@ def check(config):
         shown = f"{value:.6g}" if isinstance(value, float) else repr(value)
         note = f"{origin(rec)}: {source}" if source and not rec["explicit"] else origin(rec)
         click.echo(f"{rec['name']} = {shown}{unit}    # {note}")
+    if extends := _extends(config):
+        say(f"check: '# the config' marks the values of {config} and of the config it extends ({extends})")
     for warning in found:
         say(f"check: warning: {warning}")
     checks = "; converge and validate run on it too" if "reliability" in study.stages else "; converge runs on it too"
     say(f"check: {config} is a valid study config for the stages {', '.join(study.stages)}{checks}")
+
+
+def _extends(config: str) -> str | None:
+    """The ``extends`` of a TOML file given by its path (None for a preset, a folder, or no extends)."""
+    import tomllib
+
+    path = Path(config)
+    if path.suffix != ".toml" or not path.is_file():
+        return None
+    try:
+        with path.open("rb") as f:
+            base = tomllib.load(f).get("extends")
+    except (OSError, tomllib.TOMLDecodeError):
+        return None
+    return base if isinstance(base, str) else None
 
 
 @main.command()

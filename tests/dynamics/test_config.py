@@ -249,3 +249,18 @@ def test_a_target_reliability_given_twice_is_refused_by_name():
     with pytest.raises(ConfigError, match=r"reliability: target_reliability: 0.9 given twice"):
         updated(load_config(), {"reliability.target_reliability": [0.9, 0.5, 0.9]})
     assert updated(load_config(), {"reliability.target_reliability": [0.9, 0.5]}).reliability.targets == [0.9, 0.5]
+
+
+def test_check_says_that_the_config_marks_inherited_values_too(tmp_path, capsys):
+    # a file that extends another: its settings printed '# the config' for the base's values, which the file never
+    # wrote (a preset's wear.cycles, inherited, was taken for the user's own)
+    from pathlib import Path
+
+    from jointwear.cli import main_entry
+
+    rig = Path(__file__).resolve().parents[1] / "wear" / "rigs" / "pendulum.toml"
+    path = tmp_path / "rig.toml"
+    path.write_text(f'extends = "{rig.as_posix()}"\n\n[wear]\ncycles = 1000\n', encoding="utf-8")
+    assert main_entry(["check", str(path)]) == 0
+    err = capsys.readouterr().err
+    assert f"'# the config' marks the values of {path} and of the config it extends ({rig.as_posix()})" in err
