@@ -290,3 +290,22 @@ def test_the_nominal_wear_names_each_joint_with_several(three):
                            max_wear_mm_by_joint={"A": 0.008318, "E": 0.001954})
     wear = [row[comp.COLUMNS.index("max wear (mm)")] for row in comp.rows()]
     assert wear == ["0.02524 at 450,000", "0.008318 (A), 0.001954 (E) at 450,000"]
+
+
+def test_a_setting_shown_in_other_units_by_each_study_is_compared_in_one(three):
+    # config.json shows a modulus in the unit that suits its magnitude: 3 GPa in one study, 700 MPa in another; the
+    # table put both under the first's unit ('3 | 700 (GPa)') and read 1 GPa against 1000 MPa as a difference
+    def modulus(folder, value, unit):
+        data = json.loads((folder / "config.json").read_text())
+        data["settings"].append({"name": "clearance_joints[0].bearing_material.youngs_modulus", "value": value,
+                                 "unit": unit})
+        (folder / "config.json").write_text(json.dumps(data))
+
+    modulus(three[0], 3.0, "GPa")
+    modulus(three[1], 700.0, "MPa")
+    modulus(three[2], 3000.0, "MPa")
+    comp = compare_studies(three)
+    (row,) = [d for d in comp.differences if d["name"].endswith("youngs_modulus")]
+    assert row["unit"] == "GPa" and row["values"] == pytest.approx([3.0, 0.7, 3.0])
+    same = compare_studies([three[0], three[2]])
+    assert not [d for d in same.differences if d["name"].endswith("youngs_modulus")]

@@ -23,6 +23,7 @@ from jointwear.study.limit_state import intervals_overlap, life_status
 from jointwear.study.reliability_results import interval_cells, reliability_target
 from jointwear.study.results import StudyResults, load_results
 from jointwear.study.stage_result import StageResult, same_value, save_figure
+from jointwear.units import SUFFIXES
 
 __all__ = ["StudyComparison", "compare_studies", "life_verdict"]
 
@@ -47,7 +48,8 @@ class StudyComparison(StageResult):
     (``life_cycles``, ``life_cycles_low``, ``life_cycles_high``: its 95 % interval; ``life_hours``; ``status``:
     'in_curve', 'beyond_curve' or 'before_curve'), ``life_ratio`` (to the baseline's life), ``verdict`` against the
     baseline (:func:`life_verdict`; 'baseline' for the first), ``model_calls``, ``converged``, the nominal
-    ``max_wear_mm`` after ``wear_cycles`` (the first joint's; ``max_wear_mm_by_joint``: every joint's), ``uniform_out_of_range`` (uniform mode past its range: docs/wear.md) and,
+    ``max_wear_mm`` after ``wear_cycles`` (the first joint's; ``max_wear_mm_by_joint``: every joint's),
+    ``uniform_out_of_range`` (uniform mode past its range: docs/wear.md) and,
     when the study was validated, ``validation_levels_agreeing`` of its ``validation_levels`` (the curve's levels
     whose 95 % interval overlaps the true model's, sampled directly) and ``validation_levels_passing_95`` (those that
     pass the 95 % test of the difference: :meth:`ValidationResult.differs_at_95`), with its ``validation_samples`` and
@@ -289,11 +291,28 @@ def _differences(loaded: list[StudyResults]) -> list[dict]:
         names += [n for n in settings if n not in names and n not in _NOT_SETTINGS and not n.startswith("compute.")]
     out = []
     for name in names:
-        values = [s[name]["value"] if name in s else None for s in per_study]
+        # each study shows a value in the unit that suits its magnitude (0.7 GPa but 700 MPa): one unit for the row
+        unit = next((s[name].get("unit") for s in per_study if name in s), None)
+        values = [_in_unit(s[name]["value"], s[name].get("unit"), unit) if name in s else None for s in per_study]
         if any(not same_value(values[0], v, rtol=1e-12) for v in values[1:]):  # a value read back through a unit
-            unit = next((s[name].get("unit") for s in per_study if name in s), None)
             out.append({"name": name, "unit": unit, "values": values})
     return out
+
+
+def _in_unit(value: Any, unit: str | None, target: str | None) -> Any:
+    """``value`` given in ``unit`` expressed in ``target`` (units of :data:`jointwear.units.SUFFIXES` of one
+    dimension; anything else as it is)."""
+    if unit == target or unit not in SUFFIXES or target not in SUFFIXES or SUFFIXES[unit][1] != SUFFIXES[target][1]:
+        return value
+    factor = SUFFIXES[unit][0] / SUFFIXES[target][0]
+
+    def conv(v):
+        if isinstance(v, dict):
+            return {k: conv(x) for k, x in v.items()}
+        if isinstance(v, (list, tuple)):
+            return [conv(x) for x in v]
+        return v * factor if isinstance(v, (int, float)) and not isinstance(v, bool) else v
+    return conv(value)
 
 
 def _item_names(settings: list[dict]) -> dict[str, str]:
