@@ -312,3 +312,31 @@ def test_a_cluster_without_workers_is_told_once_while_the_study_waits(monkeypatc
     assert res.Y.shape[0] == 1 and stalled.asked >= 3  # asked at every idle check
     err = capsys.readouterr().err
     assert err.count("compute: no Dask worker is connected to tcp://x:8786") == 1, err
+
+
+def test_a_callers_own_alarm_survives_the_call_time_out():
+    """The per-call limit is a SIGALRM timer in the main thread: it replaced a script's own alarm and then cancelled
+    it, so a study bounded by signal.alarm ran to its end."""
+    import signal
+    import time
+
+    class Mine(BaseException):  # as KeyboardInterrupt: not a model error, so not turned into a failed call
+        pass
+
+    def mine(signum, frame):
+        raise Mine()
+
+    old = signal.signal(signal.SIGALRM, mine)
+    try:
+        # the caller's alarm falls after the call: it is still pending afterwards, less the call's time
+        signal.setitimer(signal.ITIMER_REAL, 5.0)
+        assert run_call(lambda x: x, np.array([1.0]), timeout=30.0)["status"] == "ok"
+        left = signal.getitimer(signal.ITIMER_REAL)[0]
+        assert 4.0 < left <= 5.0 and signal.getsignal(signal.SIGALRM) is mine
+        # the caller's alarm falls within the call: theirs fires, not the call's time-out
+        signal.setitimer(signal.ITIMER_REAL, 0.2)
+        with pytest.raises(Mine):
+            run_call(lambda x: (time.sleep(2.0), x)[1], np.array([1.0]), timeout=30.0)
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0.0)
+        signal.signal(signal.SIGALRM, old)
