@@ -667,3 +667,28 @@ def test_a_reliability_result_plots_itself(tmp_path, nominal):
     ax = rel.plot().axes[0]
     assert ax.get_title(loc="left").startswith("Reliability") and len(ax.collections) >= 1  # the band
     assert any(ln.get_label() == "this study" for ln in ax.get_lines())
+
+
+def test_a_validated_life_that_disagrees_is_flagged_beside_the_headline(tmp_path, nominal):
+    """The summary showed the life at R = 0.9 without a flag while the validation's own life at that target had a
+    95 % interval apart from the curve's (398,667 against 376,184 cycles on a 200-sample validation)."""
+    from jointwear.study.results import ValidationResult
+
+    d = make_fixture_dir(tmp_path / "v", nominal, which=("reliability",))
+    rel = ReliabilityResult.load(d)
+    life = rel.life()
+
+    def validate(agree: bool) -> str:
+        ValidationResult(cycles=[360_000, 400_000], reliability_mc=[0.95, 0.8], ci_low=[0.94, 0.78],
+                         ci_high=[0.96, 0.82], reliability_surrogate=[0.948, 0.805], surrogate_error=[0.005, 0.01],
+                         n_samples=200, model_calls=200, wall_seconds=1.0, agreement=[True, True],
+                         life_table=[{"target": rel.target, "cycles": 1.06 * life, "cycles_low": 1.02 * life,
+                                      "cycles_high": 1.09 * life, "surrogate_cycles": life, "agree": agree}]).save(d)
+        return html.unescape(build_report(d).read_text(encoding="utf-8"))
+
+    page = validate(False)
+    assert "the validation's true model disagrees (caveats below)" in page
+    assert (f"The true model's life disagrees with the curve's</strong></a>: at R = {rel.target:g} the true model's "
+            f"life is {1.06 * life:,.0f} cycles") in page
+    page = validate(True)
+    assert "true model disagrees (caveats below)" not in page and "The true model's life disagrees" not in page

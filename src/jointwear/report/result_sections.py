@@ -533,9 +533,12 @@ def summary_cards(out: StudyOutputs, checks: Sequence[Check], ref: Mapping | Non
         items.append(("nominal max wear", "\u2014", "no wear result"))
     if rel is not None:
         life, note = life_with_note(rel, rel.target)
+        disagrees = validated_life_disagreement(out.results.validation, rel) is not None
         items.append((f"life at R = {rel.target:g}", _life_text(life, note),
-                      ref_note("life_cycles", target_reliability=rel.target)
-                      or (None if life is None or note else interval_text(*rel.life_interval()))))
+                      ("the validation's true model disagrees (caveats below); " if disagrees else "")
+                      + (ref_note("life_cycles", target_reliability=rel.target)
+                         or ("" if life is None or note else interval_text(*rel.life_interval())))
+                      or None))
         sens = out.results.sensitivity
         extra = f"; {sens.extra_model_calls} more for the sensitivity" if sens and sens.extra_model_calls else ""
         items.append(("true-model calls", format_number(rel.model_calls),
@@ -552,6 +555,22 @@ def summary_cards(out: StudyOutputs, checks: Sequence[Check], ref: Mapping | Non
                       "no candidate" if chosen is None else f"cost {chosen['cost']:.4g}",
                       None if chosen is None else f"verification: {verdict}{today}"))
     return cards(items, cls="cards summary")
+
+
+def validated_life_disagreement(val, rel) -> str | None:
+    """'at R = 0.9 the true model's life is 398,667 cycles (383,602-407,581), the curve's 376,184 (...): ...' when
+    the validation's life at the study's target and the curve's have 95 % intervals that do not overlap (None
+    otherwise, and without a validation)."""
+    if val is None or rel is None:
+        return None
+    row = next((r for r in val.life_table if r.get("target") == rel.target), None)
+    if row is None or row.get("agree") is not False or row.get("cycles") is None:
+        return None
+    curve = "-" if row.get("surrogate_cycles") is None else f"{row['surrogate_cycles']:,.0f}"
+    return (f"at R = {rel.target:g} the true model's life is {row['cycles']:,.0f} cycles "
+            f"({interval_text(row.get('cycles_low'), row.get('cycles_high'))}), the curve's {curve} "
+            f"({interval_text(*rel.life_interval())}): the 95 % intervals do not overlap, so the life above carries "
+            f"more error than its interval says (the validation's {val.n_samples:,} samples)")
 
 
 def summary_caveats(out: StudyOutputs) -> str:
@@ -598,13 +617,18 @@ def summary_caveats(out: StudyOutputs) -> str:
     val = out.results.validation
     missed = "" if val is None else val.disagreement()
     if missed:
+        strict = int(val.differs_at_95().sum())
+        also = (f"; the 95 % test of the difference rejects {strict} levels" if strict > (~val.agreement).sum()
+                else "")
         items.append(("validation", "The true model disagrees with the curve",
-                      f"at {int((~val.agreement).sum())} of {len(val.agreement)} levels, {missed}; the levels share "
-                      f"the validation's {val.n_samples:,} samples, so they are not independent checks"))
+                      f"at {int((~val.agreement).sum())} of {len(val.agreement)} levels, {missed}{also}; the levels "
+                      f"share the validation's {val.n_samples:,} samples, so they are not independent checks"))
     elif val is not None and val.differs_at_95().any():
         items.append(("validation", "The curve passes the lenient check only",
                       f"its 95 % interval overlaps the true model's at every level, but "
                       f"{val.differences_at_95()}: the curve's error estimate there is smaller than its error"))
+    if (life := validated_life_disagreement(val, rel)) is not None:
+        items.append(("validation", "The true model's life disagrees with the curve's", life))
     rows = [f'<li><a href="#{e(sid)}"><strong>{e(title)}</strong></a>: {e(sentence.rstrip("."))}.</li>'
             for sid, title, sentence in items]
     missed = None if rel is None else curve_misses_life(rel, wear)  # markup already
