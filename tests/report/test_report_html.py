@@ -578,6 +578,7 @@ def test_the_summary_carries_the_caveats_of_the_sections_below(tmp_path, nominal
     rel.converged, rel.learning_stop = True, ""
     rel.save(d, figures=False)
     wear.geometry_mode, wear.uniform_mode_valid = "profile", True
+    wear.joints[0]["journal"]["max_wear_mm"] = 0.5 * wear.joints[0]["allowance_mm"]  # judged or not, within it
     wear.write(d)
     assert summary_caveats(read_outputs(d)) == ""
     rel.converged, rel.learning_stop, rel.failed_calls = False, "max_calls (60) reached", 2
@@ -692,3 +693,27 @@ def test_a_validated_life_that_disagrees_is_flagged_beside_the_headline(tmp_path
             f"life is {1.06 * life:,.0f} cycles") in page
     page = validate(True)
     assert "true model disagrees (caveats below)" not in page and "The true model's life disagrees" not in page
+
+
+def test_a_wear_history_whose_contact_outgrows_hertz_and_an_unjudged_journal_are_told(tmp_path, nominal):
+    """The wear stage said nothing of a soft bushing's contact past the Hertz law's range (only simulate did), and
+    the summary left out a journal worn past the allowance that the limit state does not judge."""
+    import math
+
+    from jointwear.contact.geometry import HERTZ_HALF_ANGLE_LIMIT
+
+    d = make_fixture_dir(tmp_path / "w", nominal, which=("wear", "config"))
+    wear = WearSummary.load(d)
+    joint = wear.joints[0]
+    radius_um = joint["bearing_radius_mm"] * 1e3
+    joint["max_half_width_um"] = 1.5 * HERTZ_HALF_ANGLE_LIMIT * radius_um  # 26 deg each side
+    (sentence,) = wear.outside_hertz()
+    assert f"reaches {math.degrees(1.5 * HERTZ_HALF_ANGLE_LIMIT):.3g} deg each side" in sentence
+    assert "its worn volume stands" in sentence
+    joint["journal"]["max_wear_mm"] = 2.0 * joint["allowance_mm"]
+    wear.write(d)
+    page = html.unescape(build_report(d).read_text(encoding="utf-8"))
+    assert "Outside the contact law's range</strong></a>: joint" in page
+    assert "Wear the limit state does not judge</strong></a>: joint" in page
+    joint["max_half_width_um"] = 0.5 * HERTZ_HALF_ANGLE_LIMIT * radius_um
+    assert wear.outside_hertz() == []

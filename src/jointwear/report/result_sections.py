@@ -588,6 +588,12 @@ def summary_caveats(out: StudyOutputs) -> str:
                           "answer"))
         items += [("wear", "Worn away", s) for s in wear.worn_away()]
         items += [("wear", "Worn through", s) for s in wear.worn_through()]
+        told = {s.split("'s contact", 1)[0] for s in (sim.outside_hertz() if sim is not None else [])}
+        items += [("wear", "Outside the contact law's range", s) for s in wear.outside_hertz()
+                  if s.split("'s contact", 1)[0] not in told]
+        quantity = rel.quantity if rel is not None else out.results.setting("reliability.quantity")
+        if quantity:
+            items += [("wear", "Wear the limit state does not judge", s) for s in wear.unjudged_wear(quantity)]
     conv = out.results.wear_convergence
     if conv is not None and conv.not_converged():
         own = " or a joint's own" if conv.baseline.get("joints") else ""

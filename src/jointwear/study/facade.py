@@ -538,7 +538,8 @@ class Study:
             sentences = res.outside_hertz() + res.whirls()
         elif stage == "wear":
             placed = nominal_life_outside_curve(self.config, res.joints)
-            sentences = (res.worn_away() + res.worn_through() + res.whirls() + ([placed] if placed else [])
+            sentences = (res.worn_away() + res.worn_through() + res.outside_hertz() + res.whirls()
+                         + ([placed] if placed else [])
                          + res.unjudged_wear(self.config.reliability.quantity))
             if res.uniform_out_of_range:
                 outside = [j for j in res.joints if j.get("uniform_mode_valid") is False]

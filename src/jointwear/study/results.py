@@ -38,6 +38,12 @@ def whirl_sentence(joint: str, revolutions: float, force_N: float | None = None)
             "of the two the run is in (docs/dynamics.md, 'Friction-driven whirl')")
 
 
+#: what a contact wider than the Hertz law's range means when the bushing really is soft (no unit slip)
+SOFT_CONTACT_NOTE = ("A bushing that really is that soft (a polymer) lies outside what the point-contact law describes "
+                     "(no line or conformal law is implemented): its worn volume stands, as it does not depend on the "
+                     "contact law, but its depth profile and the life read from it are indicative")
+
+
 @dataclass(repr=False, eq=False)  # StageResult compares by value
 class SimulationSummary(StageResult):
     """The dynamics of the nominal mechanism over a few crank cycles (``jointwear simulate``).
@@ -83,7 +89,7 @@ class SimulationSummary(StageResult):
                 "the wear laid on that width are indicative only (docs/dynamics.md, 'Where the contact law holds'). "
                 "The width grows as sqrt(load / (width x Young's modulus)): check clearance_joints."
                 f"{j['name']}.width and its materials' youngs_modulus for a unit slip (width_um for width_mm, "
-                "youngs_modulus_MPa for _GPa)"
+                "youngs_modulus_MPa for _GPa). " + SOFT_CONTACT_NOTE
                 for j in self.joints if (j.get("contact_half_angle_deg") or 0.0) > limit]
 
     def whirls(self) -> list[str]:
@@ -343,6 +349,23 @@ class WearSummary(StageResult):
         """Whether the history ran in uniform mode where the worn pocket outgrew the contact patch (conformity > 1),
         so that profile mode's answer is the one to trust (docs/wear.md)."""
         return self.geometry_mode == "uniform" and self.uniform_mode_valid is False
+
+    def outside_hertz(self) -> list[str]:
+        """One sentence per joint whose contact, at the largest force of the history's last recorded cycles, is too
+        wide for the Hertz reading of the contact law (Johnson's half-width on the current radii; the dynamics stage
+        says the same of its own cycles: docs/dynamics.md, "Where the contact law holds")."""
+        from jointwear.contact.geometry import HERTZ_HALF_ANGLE_LIMIT
+
+        out = []
+        for j in self.joints:
+            radius_um = (j.get("bearing_radius_mm") or 0.0) * 1e3
+            width = j.get("max_half_width_um") or 0.0
+            if radius_um > 0.0 and width / radius_um > HERTZ_HALF_ANGLE_LIMIT:
+                out.append(f"joint {j['name']}'s contact reaches {math.degrees(width / radius_um):.3g} deg each side "
+                           f"in the history's last recorded cycles (Johnson's half-width {width:.4g} um on a "
+                           f"{radius_um / 1e3:.4g} mm bore), more than the {math.degrees(HERTZ_HALF_ANGLE_LIMIT):.3g} "
+                           f"deg to which the Hertz contact law holds. {SOFT_CONTACT_NOTE}")
+        return out
 
     def worn_through(self) -> list[str]:
         """One sentence per joint whose bearing wear is deeper than its bushing wall (bearing_outer_radius -
