@@ -33,7 +33,8 @@ class MaterialConfig(SIModel):
     wear_coefficient: float = F(
         ge=0, lt=1, description="Dimensionless Archard wear coefficient k, 0 <= k < 1 (paper Eq. 29; baseline reading "
         "of Table 2): a probability per asperity encounter, about 1e-2 for dry mild steel at most; 0 for a side that "
-        "does not wear.",
+        "does not wear. From a handbook's specific wear rate K in mm^3/(N m): k = K x 1e-9 x H in Pa (k / H is K in "
+        "m^2/N), e.g. POM on steel, K = 2e-6 at H = 170 MPa: k = 3.4e-7.",
     )
 
     @property
