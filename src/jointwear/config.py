@@ -424,6 +424,8 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
     if not isinstance(changes, Mapping):
         raise TypeError(f"updated: changes must be a mapping of dotted paths to values (got {type(changes).__name__})")
     data = config.model_dump()
+    changed: dict[int, set[str]] = {}  # id of a table -> the fields the changes set in it
+    fitted: list[dict] = []  # the clearance tables given a fit
     for given, value in changes.items():
         path = re.sub(r"\[([^\]]+)\]", r".\1", given)  # clearance_joints[0] as the messages write it
         *parents, last = path.split(".")
@@ -455,7 +457,20 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
         if split is not None:  # the suffixed key replaces the SI one; the validation converts it
             node.pop(split[0])
         node[last] = value  # an unknown key is reported by the validation
+        changed.setdefault(id(node), set()).update(_unit_stems(last))
+        if last == "fit" and value is not None and parents[:2] == ["uncertainty", "clearance"]:
+            fitted.append(node)
+    for node in fitted:
+        _drop_fit_sets(node, changed[id(node)])
     return config_from_dict(data, source)
+
+
+def _drop_fit_sets(table: dict[str, Any], keep: set[str]) -> None:
+    """A clearance table given a fit: drop the mean and grades the fit sets (ClearanceSpec.FIT_SETS), in any unit,
+    except those in ``keep`` (given with the fit, which the schema then checks against it): kept from before, they
+    would contradict the new fit."""
+    for key in [k for k in table if _unit_stems(k) & set(ClearanceSpec.FIT_SETS) and not _unit_stems(k) & keep]:
+        del table[key]
 
 
 def _is_number(value: Any) -> bool:
@@ -558,6 +573,8 @@ def merge_tables(base: dict[str, Any], override: dict[str, Any], where: str = ""
         path = f"{where}.{key}" if where else key
         for other in [k for k in out if k != key and _unit_stems(k) & _unit_stems(key)]:
             del out[other]
+        if key == "fit" and isinstance(value, str) and where.startswith("uncertainty.clearance"):
+            _drop_fit_sets(out, {stem for k in override for stem in _unit_stems(k)})
         current = out.get(key)
         if isinstance(value, dict) and isinstance(current, dict):
             out[key] = merge_tables(current, value, path)

@@ -180,3 +180,25 @@ def test_one_design_fit_per_clearance_combines_their_failed_assemblies():
     # two fits of one clearance
     twice = updated(cfg, {"design": _design([fit_a, {**fit_e, "variable": "c_A"}])})
     assert design_problems(twice) == ["design.fit[1]: variable 'c_A' is already set by design.fit[0]"]
+
+
+def test_a_fit_given_over_a_config_with_grades_and_a_mean_replaces_them(tmp_path):
+    """A sweep over fits could not start from a config that gives the grades and the mean: updated() and a file that
+    extends it kept them, and the fit was refused as contradicting them. H7/e7 at the 4 mm pin: hole 0/+12 um,
+    shaft -20/-32 um (ISO 286-2, 3-6 mm), a radial clearance of (20 + 44) / 4 = 16 um."""
+    from pathlib import Path
+
+    example = Path(__file__).resolve().parents[2] / "examples" / "my_linkage.toml"
+    base = load_config(example)
+    assert base.uncertainty.clearance.fit is None and base.uncertainty.clearance.mean == pytest.approx(20e-6)
+    fitted = updated(base, {"uncertainty.clearance.fit": "H7/e7"})
+    clearance = fitted.uncertainty.clearance
+    assert (clearance.fit, clearance.hole_grade, clearance.shaft_grade) == ("H7/e7", "IT7", "IT7")
+    assert clearance.mean == pytest.approx(16e-6)
+    # a mean given with the fit is still checked against it
+    with pytest.raises(ConfigError, match="contradicts fit 'H7/e7'"):
+        updated(base, {"uncertainty.clearance.fit": "H7/e7", "uncertainty.clearance.mean_um": 5.0})
+    # and a file that extends the example takes the fit the same way
+    path = tmp_path / "fit.toml"
+    path.write_text(f'extends = "{example.as_posix()}"\n\n[uncertainty.clearance]\nfit = "H7/e7"\n', encoding="utf-8")
+    assert load_config(path).uncertainty.clearance == clearance

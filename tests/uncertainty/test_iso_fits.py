@@ -79,11 +79,13 @@ def test_a_clearance_given_by_its_fit_takes_the_grades_the_mean_and_the_spread()
 
 def test_a_study_config_takes_a_fit_and_a_change_of_size_moves_its_mean():
     base = load_config("jin2025_flapping_wing")
+    # a fit given in a change replaces the preset's own mean and grades (it sets them); one given beside it is checked
     with pytest.raises(ConfigError, match=r"uncertainty\.clearance: mean = 2 um contradicts fit 'H7/g6'"):
-        updated(base, {"uncertainty.clearance.fit": "H7/g6"})  # beside the preset's own mean
+        updated(base, {"uncertainty.clearance.fit": "H7/g6", "uncertainty.clearance.mean_um": 2.0})
+    cfg = updated(base, {"uncertainty.clearance.fit": "H7/g6"})
     data = base.uncertainty.clearance.model_dump()
     data.pop("mean")
-    cfg = updated(base, {"uncertainty.clearance": {**data, "fit": "H7/g6"}})
+    assert updated(base, {"uncertainty.clearance": {**data, "fit": "H7/g6"}}) == cfg
     assert cfg.uncertainty.clearance.mean == pytest.approx(5 * UM, abs=1e-12)  # H7/g6 at 2 mm: 2-18 um diametral
     assert "radial clearance (H7/g6)" in [s.label for s in cfg.uncertainty.all_specs()]  # as the report names it
     # `jointwear check` and the report's settings table say where each value comes from
