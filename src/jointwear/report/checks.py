@@ -271,10 +271,12 @@ def _ranking_check(sens: SensitivityResult | None, v: Mapping) -> Check:
     unresolved = unresolved_pairs(sens)
     tied = [f"{labels[a]} \u2248 {labels[b]}" for a, b in zip(names, names[1:])
             if (a, b) in unresolved and a in ref_rank and b in ref_rank]
+    tied_top = len(ours_rank) > 1 and (ours_rank[0], ours_rank[1]) in unresolved
     not_here = [n for n in ref_rank if n not in names]
     note = (f"ours: {' > '.join(labels[n] for n in ours_rank)} | reference: "
             f"{' > '.join(labels.get(n, n) for n in ref_rank)}"
-            + ("" if same else (" (same most influential)" if top else " (differs)"))
+            + ("" if same else (" (same most influential" + (", not resolved from the next" if top and tied_top
+                                                               else "") + ")" if top else " (differs)"))
             + (f"; not resolved within the surrogate's error: {', '.join(tied)}" if tied else "")
             + (f"; not in this study: {', '.join(not_here)}" if not_here else ""))
     status = PASS if same and band is not None else INFO

@@ -345,7 +345,8 @@ def ranking_meaning(sens, targets: Mapping[str, str] | None = None) -> str:
     lo_f, hi_f = sens.factors
     ranked = sens.variance_ranking()
     output = str(sens.sobol.get("output") or "wear")
-    by_variance = (f" By share of the variance of the {output} (Sobol' ST, below): "
+    by_variance = (f" By total-effect Sobol' index of the {output} (ST, below: a variable's share of the variance "
+                   "with all its interactions, so the indices add up to 1 or more): "
                    + ", ".join(f"{name} {format_number(st, 2)}" for name, st in ranked) + "." if ranked else "")
     text = (f"The ranking is of the change of R when one mean alone moves to {lo_f * 100:g} % and {hi_f * 100:g} % "
             "of its value: a change of the nominal design (for a toleranced length, many standard deviations of its "

@@ -582,7 +582,7 @@ class Study:
         variance, output = variance_line(sens), sens.sobol.get("output") or "wear"
         self.echo(f"sensitivity: ranking by R at each mean x {sens.factors[0]:g} and x {sens.factors[1]:g} (a change "
                   f"of the nominal design, not of its scatter): {ranking_line(sens)}"
-                  f"{f'; by share of the variance of the {output} (Sobol ST): {variance}' if variance else ''}; "
+                  f"{f'; by total-effect Sobol index ST of the {output}: {variance}' if variance else ''}; "
                   f"{extra} extra model calls{_reused(new, extra)} "
                   f"-> {self.out / sens.FILE}")
         targets = {s.name: s.target for s in self.config.uncertainty.all_specs()}

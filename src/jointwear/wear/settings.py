@@ -132,7 +132,7 @@ class WearSettings(SIModel):
         ge=1,
         description=(
             "Block size of the 'fixed' rule. Default 10,000 (40 samples to 400k cycles): the run-to-run scatter of "
-            "the max wear at 400k cycles is about 1.4 % (4.4 % with 20,000-cycle blocks), and halving the block "
+            "the max wear at 400k cycles is about 3 % (8 runs each at rtol 1e-6 and 5e-7), and halving the block "
             "changes the mean by less than the 2 % acceptance (benchmarks/wear.py, docs/wear.md)."
         ),
     )
