@@ -333,6 +333,8 @@ def reference_checks(results: StudyResults, reference: Mapping | None = None) ->
         elif q == "mean_max_wear":
             title = f"mean of the max wear at {n:,.0f} cycles"
             ours = means.get(n)
+            note = ("over the random inputs, read from the life surrogate as allowance x N / N_f (linear growth), "
+                    "not from the nominal history" if ours is not None else "")
         elif q == "reliability":
             title, digits = f"reliability R(N) at {n:,.0f} cycles", 3
             ours = None if rel is None else _interp_at(rel.cycles, rel.reliability, n)

@@ -318,19 +318,19 @@ def validation_figure(
     ci_low: Array,
     ci_high: Array,
     reliability_surrogate: Array,
-    surrogate_error: Array | None = None,
+    surrogate_half_width: Array | None = None,
     *,
     n_samples: int | None = None,
 ) -> Figure:
-    """The surrogate's R(N) with its error estimate against the true model sampled directly (exact binomial
-    95 % interval)."""
+    """The surrogate's R(N) with its 95 % band (Monte Carlo plus its error estimate: the band the agreement test
+    reads) against the true model sampled directly (exact binomial 95 % interval)."""
     n = kilo_cycles(cycles)
     r_mc, r_sur = require_array(reliability_mc), require_array(reliability_surrogate)
     fig, ax = figure()
-    if surrogate_error is not None:
-        err = np.nan_to_num(require_array(surrogate_error))
-        ax.fill_between(n, np.clip(r_sur - err, 0, 1), np.clip(r_sur + err, 0, 1), color=COLORS[0], alpha=0.2, lw=0,
-                        label="surrogate error estimate")
+    if surrogate_half_width is not None:
+        half = np.nan_to_num(require_array(surrogate_half_width))
+        ax.fill_between(n, np.clip(r_sur - half, 0, 1), np.clip(r_sur + half, 0, 1), color=COLORS[0], alpha=0.2,
+                        lw=0, label="surrogate's 95 % band (Monte Carlo + error estimate)")
     ax.plot(n, r_sur, color=COLORS[0], marker="o", ms=3, label="surrogate (the study's R(N))")
     lo, hi = require_array(ci_low), require_array(ci_high)
     ax.errorbar(n, r_mc, yerr=[np.clip(r_mc - lo, 0, None), np.clip(hi - r_mc, 0, None)], fmt="s", ms=4,

@@ -176,7 +176,8 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
     parts.append(figs.draw(
         (lambda: F.convergence_figure(conv["n_calls"], conv["pf"], cov=conv.get("cov"))) if conv.get("n_calls")
         else None,
-        f"Convergence of the failure probability{at} against the number of true-model calls.",
+        f"Convergence of the failure probability{at} against the number of true-model calls; its band is the "
+        "Monte Carlo part alone (1.96 COV of Pf), not the surrogate's error estimate.",
         png_keys=("convergence",), missing_text="Convergence of Pf: not recorded in this result."))
     parts.append("</div>")
     hist = rel.histograms
@@ -187,7 +188,13 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
         if hist.get("cycles") else None,
         "Distribution of the max wear"
         + (f" of joint {hist['joint']}" if len(rel.joints) > 1 and hist.get("joint") else "")
-        + " over the random inputs; solid line: mean"
+        + " over the random inputs"
+        + (f" at {', '.join(f'{c:,.0f}' for c in hist['cycles'])} cycles" if hist.get("cycles") else "")
+        + (f", {hist['n_samples_shown']:,} of {hist['n_population']:,} samples, the wear read from the life "
+           "surrogate (the curve and the tables read its whole Monte Carlo population, so the means and exceedances "
+           "shown here differ from theirs by the sampling)"
+           if hist.get("n_samples_shown") and hist.get("n_population") else "")
+        + "; solid line: mean"
         + (f", dotted: the mean the reference reports ({label})" if ref_mean else "")
         + ", dashed: the allowable wear.", png_keys=("histogram",), wide=True,
         missing_text="Max wear histograms: none requested ([reliability] histogram levels)."))
@@ -457,7 +464,7 @@ def validation_section(out: StudyOutputs, figs: Figures) -> str:
     body = table(["cycles", "R, true model", "exact 95 % CI", "R, surrogate", "surrogate error (95 %)",
                   "intervals overlap", "95 % test"], rows)
     fig1 = figs.draw(lambda: F.validation_figure(val.cycles, val.reliability_mc, val.ci_low, val.ci_high,
-                                                 val.reliability_surrogate, val.surrogate_error,
+                                                 val.reliability_surrogate, val.surrogate_half_width,
                                                  n_samples=val.n_samples),
                      "R(N): the surrogate against the true model sampled directly", png_keys=("validation",))
     fig2 = ""
