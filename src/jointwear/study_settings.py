@@ -48,7 +48,8 @@ class ReliabilitySettings(SIModel):
     cycles_stop: int | None = Field(
         None, description="Last cycle count of the R(N) curve (required by the reliability stages).")
     cycles_step: int | None = Field(
-        None, description="Spacing of the R(N) curve; None = (stop - start) / 10.")
+        None, description="Spacing of the R(N) curve; None = (stop - start) / 10. cycles_stop is always a level, so a "
+        "step that does not divide the span leaves a shorter last interval (the histogram levels are added too).")
     target_reliability: float | list[float] = Field(
         0.9, description="Target reliability, or several (a life table): the life is the first N with "
         "R(N) <= target. The first target is the headline.")
