@@ -720,6 +720,14 @@ class ValidationResult(StageResult):
         return max((max(r - lo, hi - r) for r, lo, hi in zip(self.reliability_mc, self.ci_low, self.ci_high)),
                    default=float("nan"))
 
+    @property
+    def surrogate_half_width(self) -> np.ndarray:
+        """The curve's 95 % half-width at each level as the agreement test reads it: Monte Carlo 1.96 COV Pf plus
+        its error estimate (:func:`~jointwear.study.limit_state.curve_half_width`)."""
+        r_sur = np.asarray(self.reliability_surrogate, dtype=float)
+        cov = self.surrogate_cov if self.surrogate_cov.size == r_sur.size else np.zeros_like(r_sur)
+        return curve_half_width(1.0 - r_sur, cov, np.nan_to_num(self.surrogate_error, nan=0.0))
+
     def differs_at_95(self) -> np.ndarray:
         """Where a 95 % test of the difference rejects the surrogate's R: ``abs(R_true - R_surrogate)`` exceeds the
         root sum of squares of the three 95 % half-widths (the true model's exact interval on the surrogate's side, the
