@@ -191,6 +191,7 @@ def test_report_shows_the_validation_from_its_typed_result(tmp_path, nominal):
     assert 'id="validation"' in page and "1 of 2" in page and "0.970" in page
     assert "\u00b10.02" in page  # the widest half-width of the direct estimate, 0.82 - 0.8: what the check can see
     assert page.count("data:image/png;base64") >= 2
+    assert "could not be drawn" not in page  # a figure that fails falls back to the stage's PNG, silently
     # the summary's caveats name the level that disagrees (the summary spoke only of the learning)
     assert ("<strong>The true model disagrees with the curve</strong></a>: at 1 of 2 levels, not at 400,000 cycles: "
             "true model 0.800 [0.780, 0.820], surrogate 0.812 (its error estimate 0.010)") in page
@@ -717,3 +718,23 @@ def test_a_wear_history_whose_contact_outgrows_hertz_and_an_unjudged_journal_are
     assert "Wear the limit state does not judge</strong></a>: joint" in page
     joint["max_half_width_um"] = 0.5 * HERTZ_HALF_ANGLE_LIMIT * radius_um
     assert wear.outside_hertz() == []
+
+
+def test_the_validation_figure_draws_the_band_the_agreement_test_reads():
+    # the figure drew the error estimate alone (0.01 at 400k) while the test reads the 95 % band, Monte Carlo
+    # 1.96 COV Pf plus that estimate: 1.96 x 0.05 x 0.2 + 0.01 = 0.0296
+    import numpy as np
+
+    from jointwear.report import figures as F
+    from jointwear.study.results import ValidationResult
+
+    val = ValidationResult(cycles=[360_000, 400_000], reliability_mc=[0.95, 0.8], ci_low=[0.94, 0.78],
+                           ci_high=[0.96, 0.82], reliability_surrogate=[0.95, 0.8], surrogate_error=[0.005, 0.01],
+                           surrogate_cov=np.array([0.1, 0.05]), n_samples=2000, model_calls=2000, wall_seconds=1.0,
+                           agreement=[True, True])
+    assert val.surrogate_half_width == pytest.approx([1.96 * 0.1 * 0.05 + 0.005, 1.96 * 0.05 * 0.2 + 0.01])
+    fig = F.validation_figure(val.cycles, val.reliability_mc, val.ci_low, val.ci_high, val.reliability_surrogate,
+                              val.surrogate_half_width, n_samples=val.n_samples)
+    band = fig.axes[0].collections[0].get_paths()[0].vertices[:, 1]
+    assert band.max() == pytest.approx(0.95 + val.surrogate_half_width[0])
+    assert band.min() == pytest.approx(0.8 - val.surrogate_half_width[1])

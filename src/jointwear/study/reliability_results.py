@@ -787,7 +787,7 @@ class ValidationResult(StageResult):
             from jointwear.report import figures as F
 
             save_figure(F.validation_figure(self.cycles, self.reliability_mc, self.ci_low, self.ci_high,
-                                         self.reliability_surrogate, self.surrogate_error,
+                                         self.reliability_surrogate, self.surrogate_half_width,
                                          n_samples=self.n_samples), folder / "validation.png")
             if cv.get("log_life_true"):
                 save_figure(F.cross_validation_figure(cv["log_life_true"], cv["log_life_loo"], cv["log_life_loo_sd"],
