@@ -182,14 +182,16 @@ def test_report_of_a_folder_without_results_exits_2(tmp_path, capsys):
     assert code == 2 and "report takes the results folder of a study" in err and "--out DIR" in err
 
 
-def test_report_takes_its_folder_as_directory_or_as_out_like_every_command(tmp_path, capsys):
+def test_report_takes_its_folder_as_directory_or_as_out_like_every_command(tmp_path, capsys, monkeypatch):
     """`report --out DIR` names the folder as the other commands do; both at once must agree."""
     code, err = _run(capsys, ["report", "--out", str(tmp_path)])
     assert code == 2 and "no study results" in err  # read from --out: the same check as the positional folder
     code, err = _run(capsys, ["report", str(tmp_path), "--out", str(tmp_path / "other")])
     assert code == 2 and "two results directories" in err and len(err.strip().splitlines()) == 1
+    # neither: the other commands' default, results (a plain `jointwear report` after `jointwear run`)
+    monkeypatch.chdir(tmp_path)
     code, err = _run(capsys, ["report"])
-    assert code == 2 and "DIRECTORY or --out DIR" in err
+    assert code == 2 and "'results' is not a directory with study results" in err
 
 
 def test_check_and_presets_and_version(tmp_path, capsys):
@@ -273,6 +275,18 @@ def test_an_interrupt_says_how_to_continue(tmp_path, capsys, monkeypatch):
     assert main_entry(["reliability", "--out", str(tmp_path)]) == 130
     err = capsys.readouterr().err
     assert "error: aborted" in err and "again with --resume" in err
+    # a stage without model calls has no store and no --resume to point to
+    monkeypatch.setattr(jointwear.study.Study, "wear", interrupted)
+    assert main_entry(["wear", "--out", str(tmp_path)]) == 130
+    err = capsys.readouterr().err
+    assert "error: aborted" in err and "--resume" not in err
+
+
+def test_a_bare_command_prints_the_help(capsys):
+    # `jointwear` alone squashed its help into one 'error: Usage: ...' line and exited 2
+    assert main_entry([]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("Usage: jointwear [OPTIONS] COMMAND [ARGS]...") and "Commands:" in out
 
 
 def test_a_mechanism_that_cannot_start_is_a_problem_naming_the_joints_materials(monkeypatch):

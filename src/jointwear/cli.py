@@ -26,11 +26,16 @@ out_option = click.option(
 def compute_options(f):
     """--workers, --scheduler, --resume, --overwrite: where model calls run and what happens to a store."""
     f = click.option("--workers", type=click.IntRange(min=1), default=None,
-                     help="Local worker processes for model calls (default: compute.workers, else all cores).")(f)
+                     help="Local worker processes for model calls (default: compute.workers, else all cores; "
+                          "not with --scheduler).")(f)
     f = click.option("--scheduler", default=None, metavar="ADDRESS",
-                     help="Dask scheduler address (tcp://host:8786) to run model calls on a cluster.")(f)
-    f = click.option("--resume", is_flag=True, help="Resume an interrupted study in --out (no call is repeated).")(f)
-    f = click.option("--overwrite", is_flag=True, help="Discard an earlier study's evaluation store in --out.")(f)
+                     help="Dask scheduler address (tcp://host:8786) to run model calls on a cluster (the "
+                          "jointwear[cluster] extra; not with --workers).")(f)
+    f = click.option("--resume", is_flag=True,
+                     help="Continue the study whose model calls are stored in --out (no call is repeated; not with "
+                          "--overwrite).")(f)
+    f = click.option("--overwrite", is_flag=True,
+                     help="Discard the model calls stored in --out and start afresh (not with --resume).")(f)
     return f
 
 
@@ -60,15 +65,23 @@ class JointwearGroup(click.Group):
     def run(self, args: list[str] | None = None, prog_name: str = "jointwear") -> int:
         from jointwear.mechanism.simulate import SimulationError
 
+        given = list(sys.argv[1:] if args is None else args)
         try:
-            rv = super().main(args=args, prog_name=prog_name, standalone_mode=False)
+            rv = super().main(args=given, prog_name=prog_name, standalone_mode=False)
         except ConfigError as exc:
             click.echo(f"error: {one_line(str(exc))}", err=True)
             return 2
         except click.exceptions.Abort:
-            click.echo("error: aborted (a stage that makes model calls keeps those made in the output folder's "
-                       "evaluation store: run the same command again with --resume to continue it)", err=True)
+            command = next((a for a in given if not a.startswith("-")), None)
+            if command in RESUMABLE:
+                click.echo("error: aborted (the model calls made so far are kept in the output folder's evaluation "
+                           "store: run the same command again with --resume to continue it)", err=True)
+            else:
+                click.echo("error: aborted", err=True)
             return 128 + (signal.SIGTERM if _TERMINATED else signal.SIGINT)  # the shell's convention: 143, 130
+        except click.exceptions.NoArgsIsHelpError as exc:  # bare `jointwear`: the help, as `jointwear --help`
+            click.echo(exc.ctx.get_help())
+            return 0
         except click.UsageError as exc:
             click.echo(f"error: {one_line(exc.format_message())}", err=True)
             return 2
@@ -82,6 +95,8 @@ class JointwearGroup(click.Group):
 
 
 _TERMINATED = False
+#: the commands that keep their model calls in a store and take --resume
+RESUMABLE = frozenset({"run", "reliability", "sensitivity", "validate", "design", "converge"})
 
 
 def _terminated(signum, frame) -> None:
@@ -170,7 +185,8 @@ def wear(config, cycles, out):
               show_default=True, help="Relative change of the nominal life that counts as converged.")
 @click.option("--only", "only", multiple=True,
               help="A refinement to run (repeatable or comma separated; default all): record_cycles, "
-                   "settle_cycles, block, n_grid, tolerance, profile_smoothing_deg, profile_substep_cycles.")
+                   "settle_cycles, block, n_grid, tolerance; in profile mode also profile_smoothing_deg, "
+                   "profile_substep_cycles.")
 @click.option("--cycles", type=CycleCount(1), default=None,
               help="Cycles of each history [default: wear.cycles, else the end of the R(N) curve].")
 @compute_options
@@ -222,14 +238,14 @@ def validate(config, samples, workers, scheduler, resume, overwrite, out):
 @main.command()
 @click.argument("directory", type=click.Path(path_type=Path), required=False)
 @click.option("--out", "out", type=click.Path(path_type=Path), default=None,
-              help="The results folder, as the other commands name it (same as DIRECTORY).")
+              help="The results folder, as the other commands name it (same as DIRECTORY; default: results).")
 def report(directory, out):
     """Build DIRECTORY/report.html from the results of a study (DIRECTORY or --out DIR)."""
     from jointwear.report.html import build_report
     from jointwear.study import load_results
 
     if directory is None and out is None:
-        raise ConfigError("report: missing the results directory: give it as DIRECTORY or --out DIR")
+        out = Path("results")  # the other commands' default --out
     if directory is not None and out is not None and directory.resolve() != out.resolve():
         raise ConfigError(f"report: two results directories, '{directory}' and --out '{out}': give one")
     directory = directory if directory is not None else out

@@ -300,3 +300,14 @@ def test_uniform_modes_range_is_told_per_joint(tmp_path):
     jointwear.Study(six, out=tmp_path, echo=lines.append).wear()
     (line,) = [line for line in lines if line.startswith("wear: uniform mode is outside its range here")]
     assert " at joint A, " in line and " at joint E > 1" in line
+
+
+def test_a_wear_length_given_to_the_stage_silences_the_configs_missing_one(tmp_path):
+    # `wear --cycles 2000` on a config without wear.cycles still warned that the wear stage would need them
+    rig = Path(__file__).resolve().parents[1] / "wear" / "rigs" / "pendulum.toml"
+    config = load_config(str(rig))
+    assert config.wear.cycles is None and config.reliability.cycles_stop is None
+    lines: list[str] = []
+    jointwear.Study(config, out=tmp_path / "given", echo=lines.append).wear(cycles=500)
+    assert not [line for line in lines if "will need the number" in line]
+    assert [w for w in jointwear.Study(config, out=tmp_path / "check").check() if "will need the number" in w]

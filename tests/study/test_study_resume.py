@@ -383,6 +383,12 @@ def test_an_unreachable_scheduler_is_refused_at_once_before_the_nominal_stages(q
                                           rf"'tcp://127\.0\.0\.1:{port}'"):
         jointwear.Study(quick_config, out=out, scheduler=f"tcp://127.0.0.1:{port}").run()
     assert time.monotonic() - t0 < 10.0 and not out.exists()
+    # and a single stage that makes model calls writes nothing either (reliability rewrote config.json, converge
+    # made its folder, lock and store)
+    for stage in ("reliability", "converge"):
+        with pytest.raises(ConfigError, match=r"^compute: cannot start the executor"):
+            getattr(jointwear.Study(quick_config, out=out, scheduler=f"tcp://127.0.0.1:{port}"), stage)()
+        assert not out.exists(), stage
 
 
 def test_a_study_ended_by_sigterm_says_how_to_resume(quick_config, tmp_path):

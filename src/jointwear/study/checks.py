@@ -228,11 +228,15 @@ WEAR_CYCLES_MISSING = ("wear.cycles: give the number of cycles of the nominal we
                        "defaults to")
 
 
+#: how the warning of a config without a wear length begins
+WEAR_CYCLES_NEEDED = "wear.cycles: the wear stage will need the number"
+
+
 def wear_length_warnings(config: StudyConfig) -> list[str]:
     """A config with clearance joints but no length for the nominal wear history: the wear stage then needs the
     caller's (``--cycles``); check and simulate run without it."""
     if config.clearance_joints and nominal_wear_cycles(config) is None:
-        return [WEAR_CYCLES_MISSING.replace("give the number", "the wear stage will need the number")]
+        return [WEAR_CYCLES_MISSING.replace("wear.cycles: give the number", WEAR_CYCLES_NEEDED)]
     start, stop = config.reliability.cycles_start, config.reliability.cycles_stop
     n = config.wear.cycles
     if config.clearance_joints and n is not None and start is not None and n < start:

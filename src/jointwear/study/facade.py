@@ -27,6 +27,7 @@ from jointwear.reliability import AllCallsFailedError, cov_population
 from jointwear.schema import ConfigError
 from jointwear.study.checks import (
     WEAR_CYCLES_MISSING,
+    WEAR_CYCLES_NEEDED,
     check_runs,
     config_problems,
     config_warnings,
@@ -158,6 +159,8 @@ class Study:
         self._folder_lock = None
         self._report_moved = False  # report.html moved aside with stale results: rebuilt after the next stage
         self._warnings: list[str] = []  # the config's warnings, found (and told) by its first check
+        self._scheduler_reached: str | None = None  # the scheduler address that answered
+        self._cycles_given = False  # a wear length given to the stage: the config's need not give one
 
     def __repr__(self) -> str:
         source = f", source={str(self.source)!r}" if self.source is not None else ""
@@ -217,6 +220,8 @@ class Study:
         found = [] if self._checked else config_warnings(self.config)
         self._warnings += found
         for warning in found:
+            if self._cycles_given and warning.startswith(WEAR_CYCLES_NEEDED):
+                continue  # the stage was given its length
             self.warn(f"check: warning: {warning}")
         self._checked |= stages
         return found
@@ -235,13 +240,16 @@ class Study:
             return ("simulate", "wear")
         return STAGES + (("design",) if self.config.design is not None else ())
 
-    def _prepare(self, stages, store_reuse: bool | None = None) -> None:
+    def _prepare(self, stages, store_reuse: bool | None = None, *, calls: bool = False) -> None:
         """Check the whole config (every rule of every stage it declares, so that a bad config is refused by
         any command), make sure the output folder can be written and, for a stage that makes model calls
-        (``store_reuse`` given), that its evaluation store can be opened; then record the resolved config."""
+        (``store_reuse`` given, or ``calls``), that its scheduler answers and its evaluation store can be opened;
+        then record the resolved config. Nothing is written before these checks pass."""
         declared = set(self.stages) - ({"design"} if "design" not in stages else set())
         self._check(set(stages) | declared, out=self.out)
         self._warn_design_problems(stages)
+        if store_reuse is not None or calls:
+            self._reach_scheduler()
         try:
             self.out.mkdir(parents=True, exist_ok=True)
             probe = self.out / ".jointwear-write-test"
@@ -395,6 +403,7 @@ class Study:
         from jointwear.wear import wear_history
 
         n = self._wear_cycles(cycles)  # refused before anything is written
+        self._cycles_given = cycles is not None
         self._prepare({"wear"})
         t0 = time.perf_counter()
         res = wear_history(build_model(self.config), self.config.wear, n, progress=progress)
@@ -469,7 +478,7 @@ class Study:
 
         n = self._wear_cycles(cycles)
         chosen_refinements(self.config, replicates, factor, tolerance, only)
-        self._prepare({"wear"})
+        self._prepare({"wear"}, calls=True)
         digest = compute.config_hash(ConvergenceCall(self.config.model_dump()).identity())
         with self._compute(reuse=True, description="histories", store_file=STORE_FILE, digest=digest) as (
                 executor, store, progress):
@@ -678,9 +687,7 @@ class Study:
                 self._hold_folder()
             if stochastic:
                 self._refuse_store(reuse=False)
-                unreachable = scheduler_unreachable(self.scheduler)  # before the nominal stages spend their time
-                if unreachable:
-                    raise ConfigError(f"compute: cannot start the executor: {unreachable}")
+                self._reach_scheduler()  # before the nominal stages spend their time
             if not self._current("simulate"):
                 self.simulate()
             if not self._current("wear"):
@@ -789,10 +796,11 @@ class Study:
                                   "start the check afresh with --overwrite (overwrite=True in Python), or use a new "
                                   "output folder") from None
             raise ConfigError(self._store_message(exc)) from None
-        unreachable = scheduler_unreachable(self.scheduler)  # in seconds, where distributed waits half a minute
-        if unreachable:
+        try:
+            self._reach_scheduler()
+        except ConfigError:
             store.close()
-            raise ConfigError(f"compute: cannot start the executor: {unreachable}")
+            raise
         try:
             executor = compute.make_executor(workers=self.workers, scheduler=self.scheduler)
         except Exception as exc:  # noqa: BLE001 - a bad address or an unreachable cluster is a user error
@@ -804,6 +812,16 @@ class Study:
                 yield executor, store, progress
         finally:
             store.close()
+
+    def _reach_scheduler(self) -> None:
+        """Refuse a Dask scheduler that does not answer (in seconds, where distributed waits half a minute); once
+        reached, it is not asked again by this study."""
+        if self.scheduler is None or self._scheduler_reached == self.scheduler:
+            return
+        unreachable = scheduler_unreachable(self.scheduler)
+        if unreachable:
+            raise ConfigError(f"compute: cannot start the executor: {unreachable}")
+        self._scheduler_reached = self.scheduler
 
     @contextlib.contextmanager
     def _session(self, *, reuse: bool) -> Iterator:
