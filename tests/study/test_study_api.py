@@ -146,7 +146,7 @@ def test_a_design_section_left_behind_by_a_variation_only_stops_the_design_stage
     ("wear", {"cycles": "1000"}, "cycles must be a positive whole number of cycles, got '1000'"),  # was accepted
 ])
 def test_a_stage_argument_is_checked_before_anything_is_written(tmp_path, stage, kwargs, message):
-    with pytest.raises(ValueError, match=message):
+    with pytest.raises(ConfigError, match=message):  # as every check at the boundary (it was a plain ValueError)
         getattr(jointwear.Study(None, out=tmp_path / "out"), stage)(**kwargs)
     assert not (tmp_path / "out").exists()
 

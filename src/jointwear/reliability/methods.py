@@ -303,8 +303,9 @@ def subset_simulation(
 
     Intermediate thresholds are the p0-quantiles of g; every level runs n p0 chains of length 1/p0 in
     parallel, so each MCMC step is one vectorised call of g with n p0 rows. COV by Au & Beck's formula with
-    the chain correlation factor gamma estimated from the indicator autocorrelation. ``n_calls`` is
-    n + (levels - 1) n (1 - p0).
+    the chain correlation factor gamma estimated from the indicator autocorrelation; it takes the levels as
+    uncorrelated, so it is a lower bound. ``n_calls`` is at most n + (levels - 1) n (1 - p0) (a proposal that moves
+    no component is not evaluated).
     """
     t0 = time.perf_counter()
     n = check_positive_int("n_per_level", n_per_level, 10)

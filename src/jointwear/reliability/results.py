@@ -78,7 +78,8 @@ def cov_population(pf: float, cov_target: float) -> float:
 def population_size(pf: float, cov_target: float, n_max: int, *, grow_from: int = 0) -> int:
     """Monte Carlo population that brings COV(Pf) below ``cov_target`` at ``pf``: 10 % over the size the COV
     formula asks for, at least 20 % more than ``grow_from`` (the current population), at most ``n_max``. At
-    pf = 0 (no failure seen, the COV is infinite) it doubles ``grow_from``, or takes ``n_max`` from nothing."""
+    pf = 0 (no failure seen, the COV is infinite) it takes 2.2 ``grow_from`` (double, and the 10 %), or ``n_max`` from
+    nothing."""
     if pf > 0:
         target = cov_population(pf, cov_target) + 1.0
     else:
@@ -105,8 +106,9 @@ class ReliabilityResult:
     """Result of every reliability method (fields not used by a method are None/NaN).
 
     ``pf``: failure probability P[g(X) < 0]; ``cov``: its coefficient of variation (sampling methods; NaN for
-    FORM/SORM); ``beta``: generalised reliability index -Phi^-1(pf); ``n_calls``: points evaluated (the length
-    of ``design_x``); ``n_failed_calls``: calls that returned NaN/raised (counted as failures, see the NaN rule).
+    FORM/SORM); ``beta``: generalised reliability index -Phi^-1(pf); ``n_calls``: the limit state's evaluations
+    (the length of ``design_x``, plus FORM's for the methods that start from it: ``sorm``, ``importance_sampling``,
+    ``akis``); ``n_failed_calls``: calls that returned NaN/raised (counted as failures, see the NaN rule).
     """
 
     method: str

@@ -366,10 +366,13 @@ class Study:
         from jointwear.mechanism import simulate as run_simulation
         from jointwear.wear.settings import check_cycles
 
-        n = check_cycles(cycles if cycles is not None else self.config.simulation.cycles, "cycles")
+        try:  # an argument's problem is a ConfigError, as every check at the boundary
+            n = check_cycles(cycles if cycles is not None else self.config.simulation.cycles, "cycles")
+        except ValueError as exc:
+            raise ConfigError(str(exc)) from None
         if settle is not None and not (isinstance(settle, numbers.Integral) and not isinstance(settle, bool)
                                        and settle >= 0):
-            raise ValueError(f"settle must be a whole number of cycles >= 0, got {settle!r}")
+            raise ConfigError(f"settle must be a whole number of cycles >= 0, got {settle!r}")
         self._prepare({"simulate"})
         model = build_model(self.config)
         run_simulation(model, 0.01, settle_cycles=0)  # compile (or load) the kernels so the timing excludes it
@@ -432,7 +435,10 @@ class Study:
         n = cycles if cycles is not None else nominal_wear_cycles(self.config)
         if n is None:
             raise ConfigError(WEAR_CYCLES_MISSING)
-        return check_cycles(n, "cycles")
+        try:
+            return check_cycles(n, "cycles")
+        except ValueError as exc:
+            raise ConfigError(str(exc)) from None
 
     @_quiet
     def converge(self, replicates: int = 8, factor: float = 2.0, tolerance: float = 0.02,

@@ -283,7 +283,8 @@ class ReliabilityResult(StageResult):
 
     def life(self, target: float | None = None) -> float | None:
         """The life (cycles) at ``target`` (default: the first target): where R(N) falls to it, read on
-        :attr:`life_curve` (:func:`~jointwear.study.limit_state.life_at`); None outside the curve."""
+        :attr:`life_curve` (:func:`~jointwear.study.limit_state.life_at`); None outside the curve. A target outside
+        (0, 1) raises :class:`~jointwear.schema.ConfigError`."""
         target = self.target if target is None else reliability_target(target, "life: target")
         cycles, r, _ = self._life_curve()
         return life_at(cycles, r, target)
@@ -292,7 +293,7 @@ class ReliabilityResult(StageResult):
         """The 95 % interval (cycles) of the life at ``target`` (default: the first target), where the band
         R -/+ its 95 % half-width crosses it (:func:`~jointwear.study.limit_state.life_interval`) on
         :attr:`life_curve`. It is the error of the estimate of R(N) for this wear model, not the scatter of the wear
-        model itself."""
+        model itself. A target outside (0, 1) raises :class:`~jointwear.schema.ConfigError`."""
         target = self.target if target is None else reliability_target(target, "life_interval: target")
         return life_interval(*self._life_curve(), target)
 
