@@ -16,7 +16,15 @@ import click
 
 from jointwear.schema import ConfigError
 
-config_argument = click.argument("config", required=False, default=None)
+#: what every command's help says of its CONFIG argument
+CONFIG_HELP = ("CONFIG is a TOML file or a preset name (jointwear presets); without it, the jin2025_flapping_wing "
+               "preset.")
+
+
+def config_argument(f):
+    """The optional CONFIG argument, and its meaning at the end of the command's help."""
+    f.__doc__ = f"{(f.__doc__ or '').rstrip()}\n\n{CONFIG_HELP}"
+    return click.argument("config", required=False, default=None)(f)
 out_option = click.option(
     "--out", "out", type=click.Path(file_okay=False, path_type=Path), default=Path("results"), show_default=True,
     help="Output directory (created if missing).",
@@ -160,7 +168,8 @@ class CycleCount(click.ParamType):
               help="Cycles to settle before recording (default: simulation.settle_cycles).")
 @out_option
 def simulate(config: str | None, cycles: int | None, settle: int | None, out: Path) -> None:
-    """Simulate the mechanism with its clearance joints; write simulate.json, simulate.npz and figures."""
+    """Simulate the mechanism with its clearance joints; write simulate.json, simulate_joints.csv,
+    simulate.npz and figures."""
     open_study(config, out).simulate(cycles=cycles, settle=settle)
 
 
@@ -274,12 +283,14 @@ def run(config, workers, scheduler, resume, overwrite, out):
 @click.option("--target", type=click.FloatRange(min=0.0, max=1.0, min_open=True, max_open=True), default=None,
               help="Target reliability (default: the first study's first target).")
 @click.option("--label", "labels", multiple=True,
-              help="A name for each study, in order (repeat the option; default: the studies' names).")
+              help="A name for each study, in order, each its own (repeat the option once per study; default: "
+                   "the studies' names).")
 @click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Also write comparison.json, its CSV tables, comparison.md, the figure and comparison.html here.")
 def compare(directories, target, labels, out):
-    """Compare finished studies (their results folders; the first is the baseline): the life at the target with
-    its 95 % interval, whether it differs beyond the errors, the nominal wear and the settings that differ."""
+    """Compare two or more finished studies (their results folders; the first is the baseline): the life at the
+    target with its 95 % interval, whether it differs beyond the errors, the nominal wear and the settings that
+    differ."""
     from jointwear.study import compare_studies
 
     result = compare_studies(list(directories), target=target, labels=list(labels) or None)
