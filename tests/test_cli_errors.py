@@ -303,3 +303,12 @@ def test_a_mechanism_that_cannot_start_is_a_problem_naming_the_joints_materials(
     (problem,) = check_runs(load_config("jin2025_flapping_wing"))
     assert "does not start (assembly did not converge at t = 0 s)" in problem
     assert "clearance_joints.A.bearing_material.youngs_modulus = 1.2e+11 Pa" in problem
+
+
+@pytest.mark.parametrize("command", ["simulate", "wear", "reliability", "run", "converge", "validate", "design"])
+def test_every_commands_help_says_what_config_is(capsys, command):
+    # a mistyped `simulate --cycles 2e0 FILE` ran the default preset; no help page said CONFIG defaults to it
+    from jointwear.cli import CONFIG_HELP
+
+    assert main_entry([command, "--help"]) == 0
+    assert " ".join(CONFIG_HELP.split()) in " ".join(capsys.readouterr().out.split())
