@@ -7,6 +7,7 @@ arguments end with exit status 2 and one plain line on stderr (no traceback); no
 
 from __future__ import annotations
 
+import inspect
 import math
 import signal
 import sys
@@ -23,7 +24,7 @@ CONFIG_HELP = ("CONFIG is a TOML file or a preset name (jointwear presets); with
 
 def config_argument(f):
     """The optional CONFIG argument, and its meaning at the end of the command's help."""
-    f.__doc__ = f"{(f.__doc__ or '').rstrip()}\n\n{CONFIG_HELP}"
+    f.__doc__ = f"{inspect.cleandoc(f.__doc__ or '')}\n\n{CONFIG_HELP}"
     return click.argument("config", required=False, default=None)(f)
 out_option = click.option(
     "--out", "out", type=click.Path(file_okay=False, path_type=Path), default=Path("results"), show_default=True,
@@ -203,7 +204,8 @@ def wear(config, cycles, out):
 def converge(config, replicates, factor, tolerance, only, cycles, workers, scheduler, resume, overwrite, out):
     """Whether the nominal wear history is converged in its numerical settings (each refined, with replicates);
     write wear_convergence.json and wear_convergence.csv. Its histories go through the executor and an evaluation
-    store of their own (wear_convergence.sqlite), so an interrupted check resumes."""
+    store of their own (wear_convergence.sqlite), always continued (an interrupted check resumes without --resume;
+    --overwrite starts it afresh)."""
     chosen = [name.strip() for item in only for name in item.split(",") if name.strip()]
     open_study(config, out, workers, scheduler, resume, overwrite).converge(replicates, factor, tolerance,
                                                                           chosen or None, cycles)
@@ -223,9 +225,10 @@ def reliability(config, workers, scheduler, resume, overwrite, out):
 @compute_options
 @out_option
 def sensitivity(config, workers, scheduler, resume, overwrite, out):
-    """Reliability sensitivity to every variable (mean shifts, Sobol', derivatives); write sensitivity.json.
+    """Reliability sensitivity to every variable (mean shifts, Sobol', derivatives); write sensitivity.json,
+    sensitivity.csv and figures.
 
-    Re-uses the evaluations of a reliability study in the same --out folder.
+    Re-uses the evaluations of a reliability study in the same --out folder (no --resume needed).
     """
     open_study(config, out, workers, scheduler, resume, overwrite).sensitivity()
 
@@ -237,9 +240,10 @@ def sensitivity(config, workers, scheduler, resume, overwrite, out):
 @compute_options
 @out_option
 def validate(config, samples, workers, scheduler, resume, overwrite, out):
-    """Check the R(N) curve against the true wear model sampled directly; write validation.json.
+    """Check the R(N) curve against the true wear model sampled directly; write validation.json, its CSV tables
+    and figures.
 
-    Re-uses the evaluations of a reliability study in the same --out folder.
+    Re-uses the evaluations of a reliability study in the same --out folder (no --resume needed).
     """
     open_study(config, out, workers, scheduler, resume, overwrite).validate(n_samples=samples)
 
@@ -358,7 +362,7 @@ def design(config, workers, scheduler, resume, overwrite, out):
     """The cheapest controls (grades, fit, material specifications) that reach the [design] target life at the
     target reliability, the Pareto front of cost vs life, and the choice verified; write design.json.
 
-    Re-uses the evaluations of a reliability study in the same --out folder.
+    Re-uses the evaluations of a reliability study in the same --out folder (no --resume needed).
     """
     open_study(config, out, workers, scheduler, resume, overwrite).design()
 
