@@ -126,3 +126,16 @@ def test_a_setting_is_shown_as_entered():
         == "{B: [18.7805, -2.5]}"
     assert setting_text({"name": "clearance_joints[0].bearing_radius", "value": 18.7805}) == "18.7805"
     assert setting_text({"name": "reliability.pf_floor", "value": 1e-3}) == "0.001"
+
+
+def test_a_random_inputs_mean_beside_the_value_drawn_at_its_target():
+    # the preset's E_j samples around Table 6's 210 GPa while the nominal mechanism runs Table 2's 211 GPa: a shift of
+    # under 0.1 standard deviations, not warned, and the report's random inputs showed 210 with nothing beside it
+    from jointwear.config import load_config
+    from jointwear.report.settings import random_variables
+    from jointwear.report.study_sections import mean_cell
+
+    rows = {v["name"]: v for v in random_variables(load_config("jin2025_flapping_wing"))}
+    assert (rows["E_j"]["mean"], rows["E_j"]["drawn"], rows["E_j"]["unit"]) == (210.0, 211.0, "GPa")
+    assert mean_cell(rows["E_j"]) == "210 (drawn: 211)"
+    assert [n for n, v in rows.items() if "drawn" in mean_cell(v)] == ["E_j"]

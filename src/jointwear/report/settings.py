@@ -238,11 +238,16 @@ def settings_dump(config: Any, *sections: tuple[str, Any], preset: str | None = 
 
 def random_variables(config: Any) -> list[dict]:
     """The study's random inputs in report units: ``name``, ``label``, ``group``, ``distribution``, ``target``,
-    ``mean``, ``std``, ``cov`` (std / |mean|), ``lower``, ``upper``, ``unit``. The unit is the variable's own display
-    unit (``unit`` and ``scale``) when it gives one, else its target's, shown as the settings are (mm, MPa, ...)."""
+    ``mean``, ``std``, ``cov`` (std / |mean|), ``lower``, ``upper``, ``unit`` and ``drawn`` (the value the config
+    draws at the target, which the nominal stages run; None where it cannot be read). The unit is the variable's own
+    display unit (``unit`` and ``scale``) when it gives one, else its target's, shown as the settings are (mm, MPa,
+    ...)."""
+    from jointwear.uncertainty.targets import target_error, target_value
+
     unc = getattr(config, "uncertainty", None)
     if unc is None or not hasattr(unc, "all_specs"):
         return []
+    data = config.model_dump() if hasattr(config, "model_dump") else {}
     rows = []
     for spec in unc.all_specs():
         if spec.unit:
@@ -257,7 +262,9 @@ def random_variables(config: Any) -> list[dict]:
         rows.append({"name": spec.name, "label": spec.label or spec.name, "group": spec.group,
                      "distribution": spec.distribution, "target": spec.target, "mean": conv(spec.mean),
                      "std": conv(spec.std), "cov": spec.std / abs(spec.mean) if spec.mean else None,
-                     "lower": conv(spec.lower), "upper": conv(spec.upper), "unit": unit or ""})
+                     "lower": conv(spec.lower), "upper": conv(spec.upper), "unit": unit or "",
+                     "drawn": None if not data or target_error(data, spec.target) else conv(target_value(data,
+                                                                                                       spec.target))})
     return rows
 
 

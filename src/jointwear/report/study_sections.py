@@ -44,6 +44,15 @@ def _settings_row(x: dict) -> tuple:
     return (e(x.get("name")), e(setting_text(x)), e(x.get("unit") or ""), flag, src)
 
 
+def mean_cell(v: dict) -> str:
+    """A random input's mean, and the value drawn at its target where that differs (the nominal stages run the
+    drawn one; a shift under 0.1 standard deviations is not warned, but shown here)."""
+    mean, drawn = v.get("mean"), v.get("drawn")
+    if drawn is None or mean is None or abs(drawn - mean) <= 1e-9 * max(abs(mean), abs(drawn)):
+        return format_number(mean)
+    return f"{format_number(mean)} (drawn: {format_number(drawn)})"
+
+
 def _distribution_cell(v: dict) -> str:
     """'normal', or e.g. 'truncated normal, >= 0.1' (bounds in the row's unit)."""
     text = str(v["distribution"]).replace("_", " ")
@@ -133,7 +142,7 @@ def settings_section(out: StudyOutputs, figs: Figures) -> str:
         parts.append(table(
             ["variable", "name", "group", "distribution", "mean", "std", "COV", "unit", "sets"],
             [(str(v["label"]), str(v["name"]), str(v["group"]).replace("_", " "), _distribution_cell(v),
-              format_number(v["mean"]), format_number(v["std"]), format_number(v["cov"]),
+              mean_cell(v), format_number(v["std"]), format_number(v["cov"]),
               str(v["unit"]), str(v["target"])) for v in variables], cls="settings"))
     recs = list(cfg.get("settings") or [])
     ref = reference_of(cfg)
