@@ -184,28 +184,39 @@ def fmt_mm(x: float) -> str:
     return f"{x * 1e3:.6g} mm"
 
 
+def scaled(value: Any, factor: float) -> Any:
+    """A number, or (nested) lists and tables of them, times ``factor``; anything else (a name, a flag, an infinite
+    value) as it is."""
+    if isinstance(value, dict):  # a table of named values, e.g. the points of a body
+        return {k: scaled(x, factor) for k, x in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [scaled(x, factor) for x in value]
+    if isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value):
+        return value * factor
+    return value
+
+
+def in_unit(value: Any, unit: str | None, target: str | None) -> Any:
+    """``value`` given in ``unit`` expressed in ``target`` (suffixes of :data:`SUFFIXES` of one dimension; anything
+    else as it is)."""
+    if unit == target or unit not in SUFFIXES or target not in SUFFIXES or SUFFIXES[unit][1] != SUFFIXES[target][1]:
+        return value
+    return scaled(value, SUFFIXES[unit][0] / SUFFIXES[target][0])
+
+
 def to_display(value: Any, unit: str | None) -> tuple[Any, str | None]:
     """An SI value (a number, or lists and tables of them) in the units users read: mm, GPa or MPa, HB (``unit`` =
     "HB": a hardness, entered and quoted in HB), rpm, deg; any other unit as it is."""
-    def conv(v, f):
-        if isinstance(v, dict):  # a table of named values, e.g. the points of a body
-            return {k: conv(x, f) for k, x in v.items()}
-        if isinstance(v, (list, tuple)):
-            return [conv(x, f) for x in v]
-        if isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v):
-            return v * f
-        return v
-
     if unit == "m":
-        return conv(value, 1e3), "mm"
+        return scaled(value, 1e3), "mm"
     if unit == "Pa":
         mag = max((abs(x) for x in (value if isinstance(value, (list, tuple)) else [value])
                    if isinstance(x, (int, float))), default=0)
-        return (conv(value, 1e-9), "GPa") if mag >= 1e9 else (conv(value, 1e-6), "MPa")
+        return (scaled(value, 1e-9), "GPa") if mag >= 1e9 else (scaled(value, 1e-6), "MPa")
     if unit == "HB":
-        return conv(value, 1.0 / PA_PER_HB), "HB"
+        return scaled(value, 1.0 / PA_PER_HB), "HB"
     if unit == "rad/s":
-        return conv(value, 60 / (2 * math.pi)), "rpm"
+        return scaled(value, 60 / (2 * math.pi)), "rpm"
     if unit == "rad":
-        return conv(value, 180 / math.pi), "deg"
+        return scaled(value, 180 / math.pi), "deg"
     return value, unit

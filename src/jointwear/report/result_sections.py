@@ -368,10 +368,10 @@ def far_shift_part(sens, labels: Mapping[str, str]) -> str:
     """The mean shifts too far from the population for the surrogate (SensitivityResult.rules, rule
     ``separable_scaling``): read from true-model runs of the shifted nominal mechanism, and flagged where that
     mechanism could not be built or run (R = 0 then measures that, not the wear's sensitivity)."""
-    far = [r for r in sens.rules if r.get("rule") == "separable_scaling"]
+    far = sens.far_shifts()
     if not far:
         return ""
-    failed = [r for r in far if r.get("wear_ratio") is None]  # the shifted mechanism did not run
+    failed = sens.unbuilt_shifts()  # the shifted mechanism did not run
     rows, classes = [], []
     for r in far:
         name = str(r["variable"])
@@ -596,9 +596,8 @@ def summary_caveats(out: StudyOutputs) -> str:
                           "answer"))
         items += [("wear", "Worn away", s) for s in wear.worn_away()]
         items += [("wear", "Worn through", s) for s in wear.worn_through()]
-        told = {s.split("'s contact", 1)[0] for s in (sim.outside_hertz() if sim is not None else [])}
-        items += [("wear", "Outside the contact law's range", s) for s in wear.outside_hertz()
-                  if s.split("'s contact", 1)[0] not in told]
+        told = sim.outside_hertz_joints() if sim is not None else []
+        items += [("wear", "Outside the contact law's range", s) for s in wear.outside_hertz(skip=told)]
         quantity = rel.quantity if rel is not None else out.results.setting("reliability.quantity")
         if quantity:
             items += [("wear", "Wear the limit state does not judge", s) for s in wear.unjudged_wear(quantity)]

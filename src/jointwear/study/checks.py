@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 import os
 from pathlib import Path
+from typing import Any
 from urllib.parse import urlsplit
 
 from jointwear.config import StudyConfig
@@ -197,10 +198,11 @@ def config_warnings(config: StudyConfig) -> list[str]:
     specifications of :func:`design_warnings`."""
     from jointwear.uncertainty.targets import target_error, target_value
 
+    mechanism = (drawing_warnings(config) + size_warnings(config) + mobility_warnings(config)
+                 + gravity_warnings(config) + inertia_warnings(config))
     unc = config.uncertainty
     if unc is None:
-        return (drawing_warnings(config) + size_warnings(config) + mobility_warnings(config) + gravity_warnings(config)
-                + inertia_warnings(config) + wear_length_warnings(config) + block_warnings(config))
+        return mechanism + wear_length_warnings(config) + block_warnings(config)
     data = config.model_dump()
     out = []
     for spec in unc.all_specs():
@@ -215,10 +217,8 @@ def config_warnings(config: StudyConfig) -> list[str]:
                        "simulate and wear stages run the drawn mechanism, the reliability stages one around the mean "
                        "(R(N) does not follow a change of the drawn value alone); give both the same value unless the "
                        "shift is meant")
-    return (drawing_warnings(config) + size_warnings(config) + mobility_warnings(config) + gravity_warnings(config)
-            + inertia_warnings(config) + out + random_input_warnings(config)
-            + clearance_warnings(config) + wear_length_warnings(config) + wear_mode_warnings(config)
-            + block_warnings(config)
+    return (mechanism + out + random_input_warnings(config) + clearance_warnings(config)
+            + wear_length_warnings(config) + wear_mode_warnings(config) + block_warnings(config)
             + design_warnings(config) + allowance_warnings(config) + budget_warnings(config))
 
 
@@ -263,17 +263,24 @@ def drawing_warnings(config: StudyConfig) -> list[str]:
             for i, joint, gap in joint_gaps(m) if GAP_WARNING * size < gap <= m.closure_tolerance * size]
 
 
+def drawn_links(mechanism) -> list[tuple[str, Any, float]]:
+    """The moving links as (where the config names it, its settings, its drawn size): a general body's size is the
+    largest distance between two of its points, a four-bar's or slider-crank's link's its length."""
+    if mechanism.type == "general":
+        return [(f"mechanism.bodies[{b.name}]", b,
+                 max((math.dist(p, q) for p in b.points.values() for q in b.points.values()), default=0.0))
+                for b in mechanism.bodies]
+    return [(f"mechanism.{name}", link, link.length)
+            for name in ("crank", "rod", "rocker") if (link := getattr(mechanism, name, None)) is not None]
+
+
 def size_warnings(config: StudyConfig) -> list[str]:
     """Lengths out of scale with the drawing, most likely a unit slip (metres under a _mm key, or the reverse): a
     clearance joint's journal, bore or width larger than the largest link, and a general body's centre of mass
     farther from every point of the body than the body is long."""
     m = config.mechanism
-    if m.type == "general":
-        spans = {b.name: max((math.dist(p, q) for p in b.points.values() for q in b.points.values()), default=0.0)
-                 for b in m.bodies}
-    else:
-        spans = {name: link.length for name in ("crank", "rod", "rocker") if (link := getattr(m, name, None))}
-    largest = max(spans.values(), default=0.0)
+    links = drawn_links(m)
+    largest = max((size for _, _, size in links), default=0.0)
     out = []
     for i, cj in enumerate(config.clearance_joints):
         sizes = {"journal_radius": cj.journal_radius, "bearing_radius": cj.bearing_radius, "width": cj.width,
@@ -284,14 +291,14 @@ def size_warnings(config: StudyConfig) -> list[str]:
             out.append(f"clearance_joints[{i}]: {', '.join(too_big)}, larger than the mechanism's largest link "
                        f"({largest * 1e3:.4g} mm): a unit slip? (a suffix gives the unit: journal_radius_mm)")
     if m.type == "general":
-        for b in m.bodies:
-            if len(b.points) < 2 or spans[b.name] <= 0.0:
+        for where, b, size in links:
+            if len(b.points) < 2 or size <= 0.0:
                 continue
             nearest = min(math.dist(b.com, q) for q in b.points.values())
-            if nearest > spans[b.name]:
-                out.append(f"mechanism.bodies[{b.name}].com: {nearest * 1e3:.4g} mm from the nearest of the body's "
-                           f"points, farther than the body is long ({spans[b.name] * 1e3:.4g} mm): a unit slip or a "
-                           "misplaced point? (com is in global coordinates, as the points are)")
+            if nearest > size:
+                out.append(f"{where}.com: {nearest * 1e3:.4g} mm from the nearest of the body's points, farther than "
+                           f"the body is long ({size * 1e3:.4g} mm): a unit slip or a misplaced point? (com is in "
+                           "global coordinates, as the points are)")
     return out
 
 
@@ -330,19 +337,12 @@ def inertia_warnings(config: StudyConfig) -> list[str]:
     """The moving links whose mass and moment of inertia give a radius of gyration outside ``GYRATION_RANGE`` of
     their drawn size (a general body: the largest distance between two of its points; a four-bar's or
     slider-crank's link: its length): a mass given in kg where g was meant passed every check."""
-    m = config.mechanism
-    if m.type == "general":
-        links = [(f"mechanism.bodies[{b.name}]", b.mass, b.inertia,
-                  max((math.dist(p, q) for p in b.points.values() for q in b.points.values()), default=0.0))
-                 for b in m.bodies]
-    else:
-        links = [(f"mechanism.{name}", link.mass, link.inertia, link.length)
-                 for name in ("crank", "rod", "rocker") if (link := getattr(m, name, None)) is not None]
     out = []
     low, high = GYRATION_RANGE
-    for where, mass, inertia, size in links:
+    for where, link, size in drawn_links(config.mechanism):
         if size <= 0.0:
             continue
+        mass, inertia = link.mass, link.inertia
         k = math.sqrt(inertia / mass)
         if not low * size <= k <= high * size:
             out.append(f"{where}: its mass ({mass * 1e3:.4g} g) and inertia ({inertia * 1e9:.4g} g mm^2) give a radius "
@@ -570,26 +570,38 @@ def random_input_warnings(config: StudyConfig) -> list[str]:
     return out
 
 
+def unit_slip_warnings(config: StudyConfig) -> list[str]:
+    """The warnings that name a likely unit slip of the mechanism: the likeliest cause of one that does not run."""
+    return size_warnings(config) + inertia_warnings(config) + gravity_warnings(config)
+
+
+def _first_unit_slip(config: StudyConfig) -> str:
+    """'; check first <the first unit-slip warning> (and N more such warnings)', or '' without one: said with the
+    failure, since the stage stops there before the warnings are told."""
+    slips = unit_slip_warnings(config)
+    if not slips:
+        return ""
+    return f"; check first {slips[0]}" + (f" (and {len(slips) - 1} more such warnings)" if len(slips) > 1 else "")
+
+
 def check_runs(config: StudyConfig) -> list[str]:
     """The nominal mechanism assembles and its dynamics starts (a hundredth of a cycle)."""
     from jointwear.mechanism import SimulationError, build_model, simulate
 
-    # a unit slip is the likeliest cause of a mechanism that does not run: said first, since the stage stops here
-    slips = size_warnings(config) + inertia_warnings(config) + gravity_warnings(config)
-    first = f"; check first {slips[0]}" + (f" (and {len(slips) - 1} more such warnings)" if len(slips) > 1 else "") if (
-        slips) else ""
     try:
         model = build_model(config)
     except ConfigError as exc:
-        return [f"{exc}{first}"]
+        return [f"{exc}{_first_unit_slip(config)}"]
     try:
         simulate(model, 0.01, settle_cycles=0)
     except SimulationError as exc:
-        return [f"simulation: the nominal mechanism does not run: {' '.join(str(exc).split())}{first}"]
+        return [f"simulation: the nominal mechanism does not run: {' '.join(str(exc).split())}"
+                f"{_first_unit_slip(config)}"]
     except (ValueError, ArithmeticError) as exc:  # the start: journals preloaded by their contact law, assembled
         moduli = ", ".join(f"clearance_joints.{cj.name}.{side}.youngs_modulus = "
                            f"{getattr(cj, side).youngs_modulus:.3g} Pa" for cj in config.clearance_joints
                            for side in ("bearing_material", "journal_material"))
+        slips = unit_slip_warnings(config)
         look = (f"{slips[0]}" if slips else
                 f"look first at the clearance joints' radii and materials ({moduli})")
         return [f"simulation: the nominal mechanism does not start ({exc}); the journals start pressed into their "

@@ -23,7 +23,7 @@ from jointwear.study.limit_state import intervals_overlap, life_status
 from jointwear.study.reliability_results import interval_cells, reliability_target
 from jointwear.study.results import StudyResults, load_results
 from jointwear.study.stage_result import StageResult, same_value, save_figure
-from jointwear.units import SUFFIXES
+from jointwear.units import in_unit
 
 __all__ = ["StudyComparison", "compare_studies", "life_verdict"]
 
@@ -293,26 +293,10 @@ def _differences(loaded: list[StudyResults]) -> list[dict]:
     for name in names:
         # each study shows a value in the unit that suits its magnitude (0.7 GPa but 700 MPa): one unit for the row
         unit = next((s[name].get("unit") for s in per_study if name in s), None)
-        values = [_in_unit(s[name]["value"], s[name].get("unit"), unit) if name in s else None for s in per_study]
+        values = [in_unit(s[name]["value"], s[name].get("unit"), unit) if name in s else None for s in per_study]
         if any(not same_value(values[0], v, rtol=1e-12) for v in values[1:]):  # a value read back through a unit
             out.append({"name": name, "unit": unit, "values": values})
     return out
-
-
-def _in_unit(value: Any, unit: str | None, target: str | None) -> Any:
-    """``value`` given in ``unit`` expressed in ``target`` (units of :data:`jointwear.units.SUFFIXES` of one
-    dimension; anything else as it is)."""
-    if unit == target or unit not in SUFFIXES or target not in SUFFIXES or SUFFIXES[unit][1] != SUFFIXES[target][1]:
-        return value
-    factor = SUFFIXES[unit][0] / SUFFIXES[target][0]
-
-    def conv(v):
-        if isinstance(v, dict):
-            return {k: conv(x) for k, x in v.items()}
-        if isinstance(v, (list, tuple)):
-            return [conv(x) for x in v]
-        return v * factor if isinstance(v, (int, float)) and not isinstance(v, bool) else v
-    return conv(value)
 
 
 def _item_names(settings: list[dict]) -> dict[str, str]:

@@ -12,9 +12,10 @@ life still moves that joint's R(N), and so the system's.
 A refinement's change of the mean is judged against the tolerance with its 95 % interval (Welch's: the Student t
 quantile at the Welch-Satterthwaite degrees of freedom times the standard error of the difference of two means; a
 few replicates estimate their scatter poorly, and 1.96 standard errors would claim more than 95 %): *converged*
-when the interval lies inside +-tolerance, *not converged* when it lies outside, *no change detected* when it holds zero but reaches past the tolerance, *undecided* otherwise (more
-replicates tell). A chaotic contact makes every run another sample of the cycle-to-cycle scatter: the replicates'
-scatter is reported: the same kind of scatter the reliability stage's Kriging estimates as noise between its calls.
+when the interval lies inside +-tolerance, *not converged* when it lies outside, *no change detected* when it holds
+zero but reaches past the tolerance, *undecided* otherwise (more replicates tell). A chaotic contact makes every
+run another sample of the cycle-to-cycle scatter: the replicates' scatter is reported: the same kind of scatter the
+reliability stage's Kriging estimates as noise between its calls.
 """
 
 from __future__ import annotations
@@ -144,8 +145,8 @@ class WearConvergence(StageResult):
     standard deviation, ``scatter`` (standard deviation / mean) and ``failed`` (histories that failed, left out).
     Each of ``refinements``: ``name``, ``description``, ``changed`` ({field: [baseline, refined]}), ``values``,
     ``failed``, ``mean``, ``std``, ``change`` (relative change of the mean), ``change_se`` (its standard error),
-    ``change_95`` (its 95 % half-width, Welch's) and ``verdict`` (:func:`change_verdict`; 'too few histories' when fewer than two of either ran, 'no wear' when the
-    baseline's measure is zero).
+    ``change_95`` (its 95 % half-width, Welch's) and ``verdict`` (:func:`change_verdict`; 'too few histories' when
+    fewer than two of either ran, 'no wear' when the baseline's measure is zero).
 
     With several judged joints, ``baseline['joints']`` and each refinement's ``joints`` hold the same per joint
     (each joint's own life, or its own wear at the end), the refinement's ``system_verdict`` is the nominal
@@ -324,7 +325,7 @@ def nominal_measure(config: StudyConfig):
     has an allowance, else the first judged joint's wear quantity at the history's end. The values are the nominal
     measure followed, with several judged joints, by each joint's own (its life, or its wear at the end)."""
     limit = limit_state_from_config(config)
-    several = len(limit.joints) > 1
+    several = n_measures(limit) > 1
 
     def outputs(res) -> tuple[np.ndarray, np.ndarray]:
         by_index = {jw.index: jw for jw in res.joints}
@@ -395,9 +396,16 @@ class ConvergenceCall:
         rel = self.base.get("reliability") or {}
         identity = {"model": {k: self.base[k] for k in WearModelCall.MODEL_SECTIONS},
                     "limit": {k: rel.get(k) for k in ("quantity", "joints", "allowance", "allowances")}}
-        if len(rel.get("joints") or self.base.get("clearance_joints") or ()) > 1:
+        if self.n_outputs > 1:
             identity["outputs"] = "system and each joint"  # a store of the system's measure alone is not this one
         return identity
+
+    @property
+    def n_outputs(self) -> int:
+        """The values a history gives (:func:`n_measures`), as the evaluator stores them."""
+        from jointwear.config import config_from_dict
+
+        return n_measures(limit_state_from_config(config_from_dict(self.base, source="convergence")))
 
     def settings(self, config: StudyConfig, x) -> Any:
         """The WearSettings of the row ``x``."""

@@ -364,12 +364,8 @@ class Study:
         """
         from jointwear.mechanism import build_model
         from jointwear.mechanism import simulate as run_simulation
-        from jointwear.wear.settings import check_cycles
 
-        try:  # an argument's problem is a ConfigError, as every check at the boundary
-            n = check_cycles(cycles if cycles is not None else self.config.simulation.cycles, "cycles")
-        except ValueError as exc:
-            raise ConfigError(str(exc)) from None
+        n = _cycles_argument(cycles if cycles is not None else self.config.simulation.cycles)
         if settle is not None and not (isinstance(settle, numbers.Integral) and not isinstance(settle, bool)
                                        and settle >= 0):
             raise ConfigError(f"settle must be a whole number of cycles >= 0, got {settle!r}")
@@ -430,15 +426,10 @@ class Study:
     def _wear_cycles(self, cycles: int | None) -> int:
         """The nominal history's length: the caller's (checked), else the config's (``wear.cycles``, else the
         curve's end)."""
-        from jointwear.wear.settings import check_cycles
-
         n = cycles if cycles is not None else nominal_wear_cycles(self.config)
         if n is None:
             raise ConfigError(WEAR_CYCLES_MISSING)
-        try:
-            return check_cycles(n, "cycles")
-        except ValueError as exc:
-            raise ConfigError(str(exc)) from None
+        return _cycles_argument(n)
 
     @_quiet
     def converge(self, replicates: int = 8, factor: float = 2.0, tolerance: float = 0.02,
@@ -478,7 +469,6 @@ class Study:
             ConvergenceCall,
             chosen_refinements,
             half_width,
-            n_measures,
             run_convergence,
         )
 
@@ -492,7 +482,7 @@ class Study:
                 self.config, n, replicates=replicates, factor=factor, tolerance=tolerance, only=only,
                 threads=executor.threads_per_call, evaluator_factory=lambda call: compute.Evaluator(
                     call, executor, store, timeout=self.config.compute.call_timeout, tag=STORE_TAG,
-                    n_outputs=n_measures(limit_state_from_config(self.config)), progress=progress))
+                    n_outputs=call.n_outputs, progress=progress))
         result.save(self.out)
         what = "nominal life" if result.measure == "life" else "final wear"
         mean = result.baseline["mean"]
@@ -556,12 +546,8 @@ class Study:
             sentences = (res.worn_away() + res.worn_through() + res.outside_hertz() + res.whirls()
                          + ([placed] if placed else [])
                          + res.unjudged_wear(self.config.reliability.quantity))
-            if res.uniform_out_of_range:
-                outside = [j for j in res.joints if j.get("uniform_mode_valid") is False]
-                conformity = (f"conformity {res.conformity:.3g}" if len(res.joints) < 2 else "conformity " + ", ".join(
-                    f"{j['conformity']:.3g} at joint {j['name']}" for j in outside))
-                sentences.append(f"uniform mode is outside its range here ({conformity} > 1: the journal fits into its "
-                                 'own wear); wear.geometry_mode = "profile" follows it (docs/wear.md)')
+            if uniform := res.uniform_range_sentence():
+                sentences.append(uniform)
         elif stage == "reliability":
             from jointwear.report.checks import curve_misses_life
 
@@ -1027,6 +1013,17 @@ def profile_mode_line(result: WearSummary) -> str:
         return (f"profile mode follows the worn shape here (conformity {c:.3g} > 1: the journal fits into its own "
                 "wear, which uniform mode ignores): this is the answer to trust")
     return f"uniform mode would be fair here too (conformity {c:.3g} <= 1: the worn arc within the contact patch)"
+
+
+def _cycles_argument(value) -> int:
+    """A stage's cycle count checked (:func:`~jointwear.wear.settings.check_cycles`): its problem is a ConfigError,
+    as every check at the boundary."""
+    from jointwear.wear.settings import check_cycles
+
+    try:
+        return check_cycles(value, "cycles")
+    except ValueError as exc:
+        raise ConfigError(str(exc)) from None
 
 
 def _reused(new: int, total: int) -> str:

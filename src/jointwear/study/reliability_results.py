@@ -578,12 +578,23 @@ class SensitivityResult(StageResult):
         r0 = self.reliability_nominal
         return any(abs(v["reliability_low"] - r0) > 0 or abs(v["reliability_high"] - r0) > 0 for v in self.variables)
 
+    def far_shifts(self) -> list[dict]:
+        """The rules of the mean shifts too far for the surrogate, read from true-model runs of the shifted nominal
+        mechanism (rule ``separable_scaling``)."""
+        return [r for r in self.rules if r.get("rule") == "separable_scaling"]
+
+    def unbuilt_shifts(self) -> list[dict]:
+        """Those of :meth:`far_shifts` whose shifted mechanism could not be built or run (no wear ratio; their R is
+        counted as 0)."""
+        return [r for r in self.far_shifts() if r.get("wear_ratio") is None]
+
     def unbuilt_shifts_sentence(self) -> str:
         """The mean shifts whose shifted nominal mechanism could not be built or run (their R is counted as 0, which
         measures the mechanism's failure to work, not the wear's sensitivity); empty when there are none."""
-        failed = [r for r in self.rules if r.get("rule") == "separable_scaling" and r.get("wear_ratio") is None]
+        failed = self.unbuilt_shifts()
         if not failed:
             return ""
+
         def why(reason) -> str:  # the model's own words, without the wrapping the rule's record adds
             text = " ".join(str(reason or "").split())
             return text.split("infeasible sample: ", 1)[-1]

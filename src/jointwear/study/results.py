@@ -10,6 +10,7 @@ report and notebooks read results. The reliability stages' results live in
 from __future__ import annotations
 
 import math
+from collections.abc import Collection
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, ClassVar
@@ -76,12 +77,20 @@ class SimulationSummary(StageResult):
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
     trace: Any = field(default=None, repr=False, metadata={"json": False})
 
-    def outside_hertz(self) -> list[str]:
-        """One sentence per joint whose contact at its largest normal force is too wide for the Hertz reading of the
-        contact law (contact.geometry.HERTZ_HALF_ANGLE_LIMIT; docs/dynamics.md, "Where the contact law holds")."""
+    def outside_hertz_joints(self) -> list[str]:
+        """The joints whose contact at its largest normal force is too wide for the Hertz reading of the contact law
+        (contact.geometry.HERTZ_HALF_ANGLE_LIMIT; docs/dynamics.md, "Where the contact law holds")."""
         from jointwear.contact.geometry import HERTZ_HALF_ANGLE_LIMIT
 
         limit = math.degrees(HERTZ_HALF_ANGLE_LIMIT)
+        return [j["name"] for j in self.joints if (j.get("contact_half_angle_deg") or 0.0) > limit]
+
+    def outside_hertz(self) -> list[str]:
+        """One sentence per joint of :meth:`outside_hertz_joints`."""
+        from jointwear.contact.geometry import HERTZ_HALF_ANGLE_LIMIT
+
+        limit = math.degrees(HERTZ_HALF_ANGLE_LIMIT)
+        wide = self.outside_hertz_joints()
         return [f"joint {j['name']}'s contact is {j['contact_half_angle_deg']:.3g} deg wide each side at its largest "
                 f"normal force ({j['normal_force_max_N']:.3g} N; Hertz half-width on the unworn radii), more than the "
                 f"{limit:.3g} deg to which the Hertz contact law holds: its forces, penetrations (up to "
@@ -90,7 +99,7 @@ class SimulationSummary(StageResult):
                 "The width grows as sqrt(load / (width x Young's modulus)): check clearance_joints."
                 f"{j['name']}.width and its materials' youngs_modulus for a unit slip (width_um for width_mm, "
                 "youngs_modulus_MPa for _GPa). " + SOFT_CONTACT_NOTE
-                for j in self.joints if (j.get("contact_half_angle_deg") or 0.0) > limit]
+                for j in self.joints if j["name"] in wide]
 
     def whirls(self) -> list[str]:
         """One sentence per joint in a friction-driven whirl (docs/dynamics.md, "Friction-driven whirl")."""
@@ -350,14 +359,27 @@ class WearSummary(StageResult):
         so that profile mode's answer is the one to trust (docs/wear.md)."""
         return self.geometry_mode == "uniform" and self.uniform_mode_valid is False
 
-    def outside_hertz(self) -> list[str]:
+    def uniform_range_sentence(self) -> str:
+        """What to do when uniform mode ran outside its range (:attr:`uniform_out_of_range`), with each joint's
+        conformity past 1 when there are several; '' otherwise."""
+        if not self.uniform_out_of_range:
+            return ""
+        conformity = (f"conformity {self.conformity:.3g}" if len(self.joints) < 2 else "conformity " + ", ".join(
+            f"{j['conformity']:.3g} at joint {j['name']}" for j in self.joints if j.get("uniform_mode_valid") is False))
+        return (f"uniform mode is outside its range here ({conformity} > 1: the journal fits into its own wear); "
+                'wear.geometry_mode = "profile" follows it (docs/wear.md)')
+
+    def outside_hertz(self, skip: Collection[str] = ()) -> list[str]:
         """One sentence per joint whose contact, at the largest force of the history's last recorded cycles, is too
         wide for the Hertz reading of the contact law (Johnson's half-width on the current radii; the dynamics stage
-        says the same of its own cycles: docs/dynamics.md, "Where the contact law holds")."""
+        says the same of its own cycles: docs/dynamics.md, "Where the contact law holds"); ``skip``: joints already
+        told of."""
         from jointwear.contact.geometry import HERTZ_HALF_ANGLE_LIMIT
 
         out = []
         for j in self.joints:
+            if j["name"] in skip:
+                continue
             radius_um = (j.get("bearing_radius_mm") or 0.0) * 1e3
             width = j.get("max_half_width_um") or 0.0
             if radius_um > 0.0 and width / radius_um > HERTZ_HALF_ANGLE_LIMIT:
