@@ -264,3 +264,24 @@ def test_profile_mode_says_whether_uniform_mode_would_have_been_fair():
         "uniform mode would be fair here too (conformity 0.4 <= 1")
     assert profile_mode_line(SimpleNamespace(geometry_mode="uniform", conformity=6.57)) == ""
     assert profile_mode_line(SimpleNamespace(geometry_mode="profile", conformity=float("nan"))) == ""
+
+
+def test_every_stage_result_saves_with_the_same_signature():
+    import inspect
+
+    from jointwear.study.stage_result import StageResult
+
+    def subclasses(cls):
+        for sub in cls.__subclasses__():
+            yield sub
+            yield from subclasses(sub)
+
+    import jointwear.study  # noqa: F401  (registers every stage result)
+
+    savers = [c for c in subclasses(StageResult) if "save" in vars(c)]
+    assert len(savers) >= 6
+    for cls in savers:
+        params = inspect.signature(cls.save).parameters
+        assert list(params)[:2] == ["self", "folder"], cls.__name__
+        assert params.get("figures") is not None and params["figures"].kind is inspect.Parameter.KEYWORD_ONLY, \
+            cls.__name__

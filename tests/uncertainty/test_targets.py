@@ -102,3 +102,9 @@ def test_a_moved_point_is_reassembled_not_refused_as_a_drawing_gap():
     data["mechanism"]["bodies"][1]["points"]["A"] = (0.0120, 0.0)  # coupler.A 2 mm from crank.A
     with pytest.raises(ConfigError, match="draw them at the same place"):
         build_model(apply_sample(data, ["clearance_joints.B.clearance"], [20e-6]))
+
+
+def test_a_sample_of_the_wrong_length_is_refused():
+    base = load_config("watt_six_bar_two_clearances")
+    with pytest.raises(ConfigError, match="2 values for 1 targets"):
+        apply_sample(base, ["mechanism.ground_points.C.x"], [0.0301, 0.02])

@@ -289,8 +289,9 @@ class WearConvergence(StageResult):
             table[f"{name}_verdict"] = [j["verdict"] for j in each]
         return {"wear_convergence": table}
 
-    def save(self, folder) -> Path:
-        """Write ``wear_convergence.json`` and ``wear_convergence.csv``."""
+    def save(self, folder: Path | str, *, figures: bool = True) -> Path:
+        """Write ``wear_convergence.json`` and ``wear_convergence.csv`` (``figures``: taken as every stage result's
+        ``save`` takes it; this stage draws none, the report draws its table)."""
         self.files = [self.FILE, *self.write_tables(folder)]
         return self.write(folder)
 

@@ -668,7 +668,9 @@ class Study:
         Returns
         -------
         StudyResults
-            The typed result of every stage that ran.
+            Every stage's typed result, read back from ``out`` as :func:`load_results` gives it (the reliability's
+            learning ``engine`` with its surrogates is not written, so it is None here; :meth:`reliability` returns
+            it).
         """
         t0 = time.perf_counter()
         stochastic = "reliability" in self.stages

@@ -27,11 +27,13 @@ def apply_sample(base: StudyConfig | dict, targets: Sequence[str], x: Sequence[f
     A target that moves a drawn point of a general linkage moves it away from its joint partner's point: the
     drawing's closure tolerance admits that move on top of the drawing's own gaps (the drawing was checked on the
     base config), and the assembly closes the loop with every other link as drawn (or says why it cannot).
-    Raises ConfigError when the sample gives an invalid config (whether a general linkage assembles is checked
-    when the model is built).
+    Raises ConfigError when ``x`` and ``targets`` differ in length or the sample gives an invalid config (whether a
+    general linkage assembles is checked when the model is built).
     """
     from jointwear.mechanism.assembly import drawn_link_size
 
+    if len(x) != len(targets):  # zip would drop the surplus silently
+        raise ConfigError(f"uncertainty: a sample of {len(x)} values for {len(targets)} targets")
     data = base.model_dump() if isinstance(base, StudyConfig) else copy.deepcopy(base)
     mech = data.get("mechanism") or {}
     size = drawn_link_size([b["points"].values() for b in mech["bodies"]]) if mech.get("type") == "general" else None
