@@ -81,14 +81,17 @@ class ClearanceJoint:
 
     @property
     def name(self) -> str:
+        """The clearance joint's name in the config."""
         return self.spec.name
 
     @property
     def bearing_body(self) -> str:
+        """Name of the body that holds the bore."""
         return self.spec.bearing_body
 
     @property
     def journal_body(self) -> str:
+        """Name of the body that holds the pin."""
         return self.spec.journal_body
 
 
@@ -110,14 +113,17 @@ class MechanismModel:
     # ---- topology ---------------------------------------------------------------------------
     @property
     def free_bodies(self) -> list[Body]:
+        """The bodies the dynamics moves (every body without a driver), in their order in q."""
         return [b for b in self.bodies if b.driver is None]
 
     @property
     def driven_bodies(self) -> list[Body]:
+        """The bodies with a prescribed motion."""
         return [b for b in self.bodies if b.driver is not None]
 
     @property
     def body_names(self) -> list[str]:
+        """Every body's name, free and driven."""
         return [b.name for b in self.bodies]
 
     @property
@@ -132,10 +138,12 @@ class MechanismModel:
 
     @property
     def crank(self) -> Body | None:
+        """The first driven body (None without one)."""
         d = self.driven_bodies
         return d[0] if d else None
 
     def body(self, name: str) -> Body:
+        """The body named ``name`` (KeyError if none)."""
         for b in self.bodies:
             if b.name == name:
                 return b
@@ -159,6 +167,7 @@ class MechanismModel:
 
     @property
     def n_dof(self) -> int:
+        """Degrees of freedom left by the ideal joints: 3 per free body - 2 per joint (drivers not counted)."""
         return 3 * len(self.free_bodies) - 2 * len(self.joints)
 
     # ---- variants ---------------------------------------------------------------------------
@@ -182,6 +191,7 @@ class MechanismModel:
 
     # ---- kernel arrays ----------------------------------------------------------------------
     def kernel_arrays(self, geometry: list[ClearanceGeometry] | None = None) -> dict[str, np.ndarray]:
+        """The model as the compiled kernel's flat arrays (bodies, joints, drivers, clearance geometry)."""
         free, driven = self.free_bodies, self.driven_bodies
         nb = len(free)
         bpar = np.array([[b.mass, b.inertia] for b in free], dtype=float).reshape(nb, 2)

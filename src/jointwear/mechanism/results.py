@@ -62,6 +62,7 @@ class ContactTrace:
 
     @property
     def duration(self) -> float:
+        """Time the trace covers, s (the sum of its steps' weights)."""
         return float(self.dt_weight.sum())
 
     @property
@@ -77,6 +78,7 @@ class ContactTrace:
 
     @property
     def contact_fraction(self) -> float:
+        """Fraction of the time the journal touches the bearing."""
         return float(np.sum(self.dt_weight * self.in_contact) / self.duration)
 
     @property
@@ -168,10 +170,12 @@ class SimulationResult:
 
     @property
     def qd(self) -> np.ndarray:
+        """(steps, 3 n) velocities x', y', phi' of the free bodies, in their order (m/s, rad/s)."""
         return self._cartesian()[1]
 
     @property
     def qdd(self) -> np.ndarray:
+        """(steps, 3 n) accelerations of the free bodies, in their order (m/s^2, rad/s^2)."""
         return self._cartesian()[2]
 
     def body_pose(self, name: str) -> np.ndarray:
@@ -180,6 +184,7 @@ class SimulationResult:
         return self.q[:, 3 * i: 3 * i + 3]
 
     def body_acceleration(self, name: str) -> np.ndarray:
+        """(steps, 3) x'', y'', phi'' of a free body."""
         i = self.free_body_names.index(name)
         return self.qdd[:, 3 * i: 3 * i + 3]
 
@@ -194,6 +199,7 @@ class SimulationResult:
 
     @property
     def steps_per_cycle(self) -> float:
+        """Recorded integrator steps per cycle (NaN without a cycle)."""
         return self.n_recorded_steps / self.n_cycles if self.n_cycles else float("nan")
 
 

@@ -70,6 +70,7 @@ class StudyComparison(StageResult):
 
     @property
     def labels(self) -> list[str]:
+        """Each study's label, in the order given."""
         return [s["label"] for s in self.studies]
 
     def __repr__(self) -> str:

@@ -263,6 +263,8 @@ class WearConvergence(StageResult):
         return replicates_to_resolve(self.scatter, self.tolerance)
 
     def tables(self) -> dict[str, dict[str, list]]:
+        """``wear_convergence``: one row per setting (the baseline first) with the mean measure, its change against
+        the baseline and that change's 95 % half-width, the verdict, and the same for each judged joint."""
         unit = "cycles" if self.measure == "life" else "mm"
         scale = 1.0 if self.measure == "life" else 1e3
         base_joints = {name: {**j, "change": 0.0, "change_se": 0.0, "change_95": 0.0, "verdict": ""}

@@ -36,6 +36,7 @@ class LimitState:
 
     @property
     def label(self) -> str:
+        """The judged quantity as the report names it."""
         return QUANTITY_LABELS[self.quantity]
 
     def joint_lives(self, history_cycles, outputs: np.ndarray, allowance_draw=None) -> np.ndarray:

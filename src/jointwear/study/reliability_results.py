@@ -122,6 +122,7 @@ class SurrogateFit:
                 "model with jointwear validate (docs/study.md, 'How far to trust the life')")
 
     def to_json(self) -> dict:
+        """The fit's statistics as ``reliability.json`` stores them."""
         return {"n_points": self.n_points, "q2": self.q2, "rmse_log_life": self.rmse_log_life,
                 "noise_sd_log_life": self.noise_sd_log_life, "process_sd_log_life": self.process_sd_log_life,
                 "relative_nugget": self.relative_nugget, "nugget_at_bound": self.nugget_at_bound,
@@ -356,6 +357,7 @@ class ReliabilityResult(StageResult):
                 "(docs/study.md, 'How far to trust the life')")
 
     def to_json(self) -> dict:
+        """The result as ``reliability.json`` stores it (the engine is not written)."""
         low, high = self.life_interval()
         return {
             "curve": {"cycles": np.asarray(self.cycles).tolist(), "reliability": np.asarray(self.reliability).tolist(),
@@ -763,6 +765,7 @@ class ValidationResult(StageResult):
 
     @property
     def all_agree(self) -> bool:
+        """Whether the surrogate's R agrees with the direct Monte Carlo's at every level (``agreement``)."""
         return bool(np.all(self.agreement))
 
     def tables(self) -> dict[str, dict[str, Any]]:

@@ -95,6 +95,7 @@ class StageResult:
         return "\n".join([f"{type(self).__name__}(", *rows, ")"])
 
     def to_json(self) -> dict:
+        """The fields written to the stage's JSON file (a field with ``metadata={"json": False}`` is not)."""
         out = {f.name: getattr(self, f.name) for f in fields(self) if f.metadata.get("json", True)}
         for key, value in getattr(self, "extra", {}).items():
             out.setdefault(key, value)
@@ -150,6 +151,8 @@ class StageResult:
         return [write_csv(Path(folder) / f"{stem}.csv", columns).name for stem, columns in self.tables().items()]
 
     def write(self, folder: Path | str) -> Path:
+        """Write the stage's JSON file (``FILE``) in ``folder``, with this machine's provenance when the result has
+        none; its path."""
         payload = self.to_json()
         if not payload.get("provenance"):  # a result built without its machine's record gets this one's
             payload["provenance"] = provenance()

@@ -83,10 +83,12 @@ class JointWear:
 
     @property
     def max_bearing_wear(self) -> float:
+        """Deepest point of the worn bearing at the history's end, m."""
         return float(self.bearing_wear.max())
 
     @property
     def max_wear_angle_deg(self) -> float:
+        """Report angle (deg, as :attr:`angle_deg`) of the deepest point of the worn bearing."""
         return float(self.angle_deg[int(np.argmax(self.bearing_wear))])
 
     def max_wear_at(self, n_cycles):
@@ -129,6 +131,7 @@ class WearResult:
 
     @property
     def cycles(self) -> np.ndarray:
+        """Cycle counts of the history points (joint 0's; every joint shares them)."""
         return self.joints[0].history_cycles
 
     @property
@@ -137,18 +140,22 @@ class WearResult:
         return self.joints[0].history_max_bearing
 
     def max_wear_at(self, n_cycles, joint: int = 0):
+        """Max bearing depth (m) of joint ``joint`` at any cycle count(s) (:meth:`JointWear.max_wear_at`)."""
         return self.joints[joint].max_wear_at(n_cycles)
 
     @property
     def bearing_profile(self) -> np.ndarray:
+        """Joint 0's bearing wear depth (m) at every grid angle at the history's end."""
         return self.joints[0].bearing_wear
 
     @property
     def journal_profile(self) -> np.ndarray:
+        """Joint 0's journal wear depth (m) at every grid angle at the history's end."""
         return self.joints[0].journal_wear
 
     @property
     def peaks(self) -> list[dict]:
+        """Joint 0's wear peaks (:attr:`JointWear.peaks`)."""
         return self.joints[0].peaks
 
     @property
@@ -158,6 +165,7 @@ class WearResult:
 
     @property
     def uniform_mode_valid(self) -> bool:
+        """Joint 0's :attr:`JointWear.uniform_mode_valid`."""
         return self.joints[0].uniform_mode_valid
 
 
