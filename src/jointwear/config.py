@@ -426,6 +426,7 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
     data = config.model_dump()
     changed: dict[int, set[str]] = {}  # id of a table -> the fields the changes set in it
     fitted: list[dict] = []  # the clearance tables given a fit
+    correlated: list[dict] = []  # the correlation table, when entries of it are given
     for given, value in changes.items():
         path = re.sub(r"\[([^\]]+)\]", r".\1", given)  # clearance_joints[0] as the messages write it
         *parents, last = path.split(".")
@@ -460,8 +461,13 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
         changed.setdefault(id(node), set()).update(_unit_stems(last))
         if last == "fit" and value is not None and parents[:2] == ["uncertainty", "clearance"]:
             fitted.append(node)
+        if parents == ["uncertainty", "correlation"] and last in CORRELATION_ENTRIES:
+            correlated.append(node)
     for node in fitted:
         _drop_fit_sets(node, changed[id(node)])
+    for node in correlated:  # the entries changed replace the base's other form
+        for key in CORRELATION_ENTRIES - changed[id(node)]:
+            node.pop(key, None)
     return config_from_dict(data, source)
 
 
@@ -563,11 +569,16 @@ def _read_source(source: str | Path) -> tuple[dict[str, Any], str, Path | None]:
     return _parse_toml(text, str(path)), str(path), path.parent
 
 
+#: a correlation's entries, in either of its two forms: a variation that gives them replaces the base's
+CORRELATION_ENTRIES = frozenset(("pairs", "variables", "matrix"))
+
+
 def merge_tables(base: dict[str, Any], override: dict[str, Any], where: str = "") -> dict[str, Any]:
     """``override`` laid over ``base``: tables merge key by key, anything else (numbers, strings, arrays and
     arrays of tables) replaces the base's value. A key replaces the base's key for the same field in another unit
     (``hardness_MPa`` over ``hardness_HB``), and a table over an array of named tables changes the entries it names
-    (``[clearance_joints.B.bearing_material]`` over the base's ``[[clearance_joints]]``)."""
+    (``[clearance_joints.B.bearing_material]`` over the base's ``[[clearance_joints]]``). A correlation's entries
+    (pairs, or variables and matrix) replace the base's, in whichever form."""
     out = dict(base)
     for key, value in override.items():
         path = f"{where}.{key}" if where else key
@@ -575,6 +586,9 @@ def merge_tables(base: dict[str, Any], override: dict[str, Any], where: str = ""
             del out[other]
         if key == "fit" and isinstance(value, str) and where.startswith("uncertainty.clearance"):
             _drop_fit_sets(out, {stem for k in override for stem in _unit_stems(k)})
+        if where == "uncertainty" and key == "correlation" and isinstance(value, dict) and isinstance(
+                out.get(key), dict) and CORRELATION_ENTRIES & value.keys():
+            out[key] = {k: v for k, v in out[key].items() if k not in CORRELATION_ENTRIES}  # its entries in one form
         current = out.get(key)
         if isinstance(value, dict) and isinstance(current, dict):
             out[key] = merge_tables(current, value, path)

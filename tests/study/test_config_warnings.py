@@ -361,3 +361,24 @@ def test_a_nominal_history_that_ends_before_the_curve_is_warned():
     (warning,) = [w for w in config_warnings(moved) if w.startswith("wear.cycles")]
     assert "ends at 450,000 cycles, before the R(N) curve's first level (800,000)" in warning
     assert "set wear.cycles = 2,000,000" in warning
+
+
+def test_a_pin_radius_drawn_apart_from_a_clearance_that_holds_its_scatter_is_warned():
+    """c = (D - d) / 2 already holds the pin's scatter: with R_j independent of c, the bore R_j + c scattered by
+    3.70 um in the slider-crank instead of its IT8 grade's 2.75 um (33 um / 12)."""
+    import numpy as np
+
+    from jointwear.reliability import sample
+
+    base = load_config("flores_slider_crank")
+    independent = updated(base, {"uncertainty.correlation": None})
+    (warning,) = config_warnings(independent)
+    assert "bore radius R_j + c scatters by 3.7 um, not the hole grade's 2.75 um" in warning
+    rho = float(warning.rsplit(", ", 1)[1].rstrip("]"))
+    assert rho == pytest.approx(-1.75 / 3.2596, abs=1e-3)
+    # the correlation it gives draws the bore with the hole grade's spread (4e5 samples: std to about 0.2 %)
+    unc = updated(base, {"uncertainty.correlation": {"pairs": [["Rj", "c", rho]]}}).uncertainty
+    x = sample(unc.marginals(), 400_000, seed=1, copula=unc.copula())
+    names = unc.names()
+    bore = x[:, names.index("Rj")] + x[:, names.index("c")]
+    assert np.std(bore) == pytest.approx(33e-6 / 12, rel=0.01)

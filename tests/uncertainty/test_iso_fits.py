@@ -31,6 +31,13 @@ UM = 1e-6
     ("E9/e8", 100.0, (72, 159), (-126, -72)),  # 80-120 mm: E9 +72/+159, e8 -72/-126
     ("H8/f7", 6.0, (0, 18), (-22, -10)),     # 3-6 mm (6 is its upper bound)
     ("H8/f7", 6.01, (0, 22), (-28, -13)),    # just over 6 mm: the 6-10 mm row
+    # every other range bound belongs to the range it closes, also when 1e-3 x size rounds above it (18 mm)
+    ("H7/h6", 3.0, (0, 10), (-6, 0)),
+    ("H7/h6", 10.0, (0, 15), (-9, 0)),
+    ("H7/h6", 18.0, (0, 18), (-11, 0)),
+    ("H7/h6", 30.0, (0, 21), (-13, 0)),
+    ("H7/h6", 80.0, (0, 30), (-19, 0)),
+    ("H7/h6", 120.0, (0, 35), (-22, 0)),
 ])
 def test_the_limits_of_a_fit_are_iso_286_2s(fit, size_mm, hole_um, shaft_um):
     f = iso_fit(fit, size_mm * 1e-3)
@@ -50,6 +57,9 @@ def test_the_limits_of_a_fit_are_iso_286_2s(fit, size_mm, hole_um, shaft_um):
     ("H7", 10.0, "not written as ISO 286 letters"),
     ("H14/g6", 10.0, "unknown ISO 286 tolerance grade 'IT14'"),
     ("H7/g6", 150.0, "outside the tabulated range"),
+    ("H11/c11", 10.0, "'c' gives a clearance fit whose deviations are not tabulated"),  # ISO 286: a-c, cd, ef, fg
+    ("C11/h11", 10.0, "'C' gives a clearance fit whose deviations are not tabulated"),
+    ("H01/h6", 10.0, "grade IT01 is not tabulated"),  # IT01 is a grade of its own, not IT1
 ])
 def test_a_fit_outside_the_model_is_refused_saying_why(fit, size_mm, message):
     with pytest.raises(ValueError, match=message):

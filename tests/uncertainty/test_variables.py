@@ -132,3 +132,44 @@ def test_std_scale_reads_a_tables_spreads_another_way():
 
     with pytest.raises(ConfigError, match="std_scale.no_such_group"):
         config_from_dict(data)
+
+
+def test_a_variation_gives_its_correlation_in_either_form_over_the_base():
+    """The slider-crank preset correlates its pin and clearance by pairs; a variation's variables + matrix (in a file
+    that extends it, or through updated) was refused as giving both forms."""
+    from jointwear.config import load_config, updated
+
+    matrix = [[1.0, 0.5], [0.5, 1.0]]
+    extended = load_config({"extends": "flores_slider_crank",
+                            "uncertainty": {"correlation": {"variables": ["l1", "l2"], "matrix": matrix}}})
+    changed = updated("flores_slider_crank", {"uncertainty.correlation.variables": ["l1", "l2"],
+                                              "uncertainty.correlation.matrix": matrix})
+    for config in (extended, changed):
+        corr = config.uncertainty.correlation
+        assert corr.pairs is None and corr.variables == ["l1", "l2"] and corr.matrix == matrix
+    # a setting beside the entries keeps them
+    spearman = updated("flores_slider_crank", {"uncertainty.correlation.measure": "spearman"}).uncertainty.correlation
+    assert spearman.pairs == [("Rj", "c", -0.537)] and spearman.measure == "spearman"
+
+
+def test_a_spread_scaled_past_its_distribution_is_refused_naming_the_scale():
+    """A beta of HB_b 120 +- 12 in [100, 150] scaled by 2.5 (std 30 > sqrt(20 x 30) = 24.5) built a marginal of NaN
+    mean, and check blamed the units."""
+    from jointwear.config import updated
+    from jointwear.schema import ConfigError
+
+    beta = {"distribution": "beta", "mean_HB": 120.0, "std_HB": 12.0, "lower_HB": 100.0, "upper_HB": 150.0}
+    base = updated("jin2025_flapping_wing", {f"uncertainty.variables.HB_b.{k}": v for k, v in beta.items()})
+    assert updated(base, {"uncertainty.std_scale": {"bearing_material": 2.0}})  # std 24 < 24.5: still a beta
+    with pytest.raises(ConfigError, match=r"std_scale.bearing_material: scaled by 2.5, variable 'HB_b' is invalid"):
+        updated(base, {"uncertainty.std_scale": {"bearing_material": 2.5}})
+
+
+def test_a_nominal_diameter_outside_the_tables_is_named():
+    from jointwear.config import updated
+    from jointwear.schema import ConfigError
+
+    for changes in ({"uncertainty.clearance.nominal_diameter_mm": 200.0},
+                    {"uncertainty.clearance.nominal_diameter_mm": 200.0, "uncertainty.clearance.fit": "H7/g6"}):
+        with pytest.raises(ConfigError, match=r"uncertainty.clearance: nominal_diameter: nominal size 200 mm outside"):
+            updated("jin2025_flapping_wing", changes)

@@ -430,6 +430,8 @@ def clearance_warnings(config: StudyConfig) -> list[str]:
         where = f"uncertainty.clearance[{clearance.name}]" if several else "uncertainty.clearance"
         if (diameter := nominal_diameter_warning(data, clearance)) is not None:
             out.append(f"{where}.{diameter}")
+        if (pin := pin_scatter_warning(config.uncertainty, clearance)) is not None:
+            out.append(f"{where}: {pin}")
         if clearance.infeasible_rule != "truncate":
             continue
         sampled = float(clearance.feasible().mean())
@@ -441,6 +443,34 @@ def clearance_warnings(config: StudyConfig) -> list[str]:
                    f"{sampled * 1e6:.4g} um, not the designed {clearance.mean * 1e6:.4g} um: choose a fit whose "
                    "spread suits the clearance, or infeasible_rule = 'fail' to count those assemblies as failures")
     return out
+
+
+def pin_scatter_warning(uncertainty, clearance) -> str | None:
+    """The pin radius drawn with the spread of the clearance's own shaft grade (T_d / 12, within 5 %) and independent
+    of the clearance: c = (D - d) / 2 already holds the pin's scatter, so the bore radius R_j + c scatters by
+    sqrt(s_Rj^2 + s_c^2) instead of the hole grade's T_D / 12. A bore and a pin made apart are drawn right with
+    corr(R_j, c) = -s_Rj / s_c (Var(R_b) = s_c^2 - s_Rj^2 = (T_D / 12)^2); clearances matched at assembly are not
+    warned of unless their pin's spread is the shaft grade's."""
+    from jointwear.uncertainty.targets import CLEARANCE_SUFFIX
+    from jointwear.uncertainty.tolerances import it_tolerance
+
+    if clearance.source != "iso286" or not clearance.target.endswith(CLEARANCE_SUFFIX):
+        return None
+    radius = clearance.target[: -len(CLEARANCE_SUFFIX)] + ".journal_radius"
+    pin = next((v for v in uncertainty.all_specs() if v.target == radius), None)
+    if pin is None:
+        return None
+    shaft = it_tolerance(clearance.shaft_grade, clearance.nominal_diameter) / 12.0
+    correlation = uncertainty.correlation_matrix([pin.name, clearance.name])
+    if abs(pin.std - shaft) > 0.05 * shaft or (correlation is not None and correlation[0, 1] != 0.0):
+        return None
+    rho = -pin.std / clearance.std
+    return (f"the pin radius '{pin.name}' scatters by {pin.std * 1e6:.3g} um, its shaft grade's "
+            f"({clearance.shaft_grade} / 12), which the clearance's spread already holds: drawn independently, the "
+            f"bore radius R_j + c scatters by {math.hypot(pin.std, clearance.std) * 1e6:.3g} um, not the hole grade's "
+            f"{math.sqrt(max(clearance.std ** 2 - pin.std ** 2, 0.0)) * 1e6:.3g} um; for a bore and a pin made "
+            f"apart correlate them: [uncertainty.correlation] pairs = [['{pin.name}', '{clearance.name}', "
+            f"{rho:.3g}]]")
 
 
 def nominal_diameter_warning(data: dict, clearance) -> str | None:

@@ -3,7 +3,8 @@
 * ISO 286-1 standard tolerance grades IT5-IT11 for nominal sizes up to 120 mm
   (Table 1 of ISO 286-1:2010, values in micrometres).
 * Clearance of a hole/shaft fit, Eq. (39)-(40) of Jin et al. (2025):
-  c = (D - d) / 2, mu_c = (T_D + T_d + 2 es) / 2 ... with the usual 3-sigma-per-side
+  c = (D - d) / 2, mu_c = (T_D + T_d - 2 es) / 4 for an H bore (EI = 0) on a pin of upper deviation es <= 0, with
+  the usual 3-sigma-per-side
   reading sigma_D = T_D / 6, sigma_d = T_d / 6, hence sigma_c = sqrt(T_D^2 + T_d^2) / 12.
 * Symmetric length tolerance, Eq. (41): the 6-sigma rule sigma_L = T / 6.
 * A clearance fit written with its letters (``"H7/g6"``): the fundamental deviations of ISO 286-2 for holes D-H and
@@ -44,11 +45,13 @@ _CLEARANCE_DEVIATION_UM = {
 }
 #: the fit letters modelled: clearance fits, holes D-H on shafts d-h
 FIT_LETTERS = tuple(_CLEARANCE_DEVIATION_UM)
+#: ISO 286 clearance-fit letters not tabulated here (their deviations grow faster with the size; larger clearances)
+UNTABULATED_CLEARANCE_LETTERS = ("a", "b", "c", "cd", "ef", "fg")
 
 
 def _size_range(nominal_size: float) -> int:
     """Index of the ISO 286-1 size range (over one bound, up to and including the next) of a size in m."""
-    size_mm = nominal_size * 1e3
+    size_mm = round(nominal_size * 1e3, 9)  # 18 mm given in mm arrives as 18.000000000000004 mm, over the bound
     if not (0.0 < size_mm <= _SIZE_UPPER_MM[-1]):
         raise ValueError(f"nominal size {size_mm:g} mm outside the tabulated range (0, 120] mm")
     return next(i for i, upper in enumerate(_SIZE_UPPER_MM) if size_mm <= upper)
@@ -130,9 +133,17 @@ def iso_fit(fit: str, nominal_diameter: float) -> IsoFit:
     known = ", ".join(FIT_LETTERS)
     if hole != hole.upper() or shaft != shaft.lower():
         raise ValueError(f"fit {fit!r}: the bore's letter is upper case and the pin's lower case, e.g. 'H7/g6'")
-    if hole.lower() not in FIT_LETTERS or shaft not in FIT_LETTERS:
-        raise ValueError(f"fit {fit!r}: only clearance fits are modelled, bores {known.upper()} on pins {known} "
-                         "(other letters give transition or interference fits, which have no clearance to wear)")
+    for letter in (hole, shaft):
+        if letter.lower() in UNTABULATED_CLEARANCE_LETTERS:
+            raise ValueError(f"fit {fit!r}: the letter {letter!r} gives a clearance fit whose deviations are not "
+                             f"tabulated here (bores {known.upper()} on pins {known} are); give the clearance by its "
+                             "grades and its mean instead")
+        if letter.lower() not in FIT_LETTERS:
+            raise ValueError(f"fit {fit!r}: only clearance fits are modelled, bores {known.upper()} on pins {known} "
+                             f"('{letter}' gives a transition or interference fit, which has no clearance to wear)")
+    for digits in (hole_it, shaft_it):
+        if digits.startswith("0"):  # IT01 and IT0 are grades of their own, not IT1
+            raise ValueError(f"fit {fit!r}: grade IT{digits} is not tabulated; known: {', '.join(IT_GRADES)}")
     hole_grade, shaft_grade = f"IT{int(hole_it)}", f"IT{int(shaft_it)}"
     try:
         t_hole, t_shaft = it_tolerance(hole_grade, nominal_diameter), it_tolerance(shaft_grade, nominal_diameter)

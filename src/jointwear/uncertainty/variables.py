@@ -15,7 +15,14 @@ import math
 from typing import Any, ClassVar, Literal
 
 import numpy as np
-from pydantic import Field, SerializerFunctionWrapHandler, field_validator, model_serializer, model_validator
+from pydantic import (
+    Field,
+    SerializerFunctionWrapHandler,
+    ValidationError,
+    field_validator,
+    model_serializer,
+    model_validator,
+)
 from scipy import optimize, special, stats
 
 from jointwear.schema import F, FieldValueError, SIModel
@@ -190,6 +197,11 @@ class ClearanceSpec(SIModel):
 
     @model_validator(mode="after")
     def _fit_and_minimum(self) -> ClearanceSpec:
+        if self.source == "iso286":
+            try:
+                it_tolerance(self.hole_grade, self.nominal_diameter)
+            except ValueError as exc:  # the grades are known (checked by field): the size is outside the tables
+                raise ValueError(f"nominal_diameter: {exc}") from None
         if self.fit is not None:
             self._apply_fit()
         if not self.minimum > 0:
@@ -355,6 +367,16 @@ class UncertaintySettings(SIModel):
                                  f"variable ({', '.join(sorted(names))})")
             if not (math.isfinite(factor) and factor > 0):
                 raise ValueError(f"std_scale.{key}: must be a positive number (got {factor!r})")
+        for v in self.variables:  # a scaled spread must still fit its distribution (a beta's bounds, a Weibull's)
+            factor = self._scale(v)
+            if factor != 1.0:
+                try:
+                    RandomVariableSpec.model_validate({**v.model_dump(), "std": v.std * factor})
+                except ValidationError as exc:
+                    key = v.name if v.name in self.std_scale else v.group
+                    reason = exc.errors()[0]["msg"].removeprefix("Value error, ")
+                    raise ValueError(f"std_scale.{key}: scaled by {factor:g}, variable {v.name!r} is invalid: "
+                                     f"{reason}") from None
         return self
 
     def _scale(self, spec: RandomVariableSpec) -> float:
