@@ -103,10 +103,6 @@ class BatchResult:
         return int((~self.ok).sum())
 
     @property
-    def wall_per_call(self) -> np.ndarray:
-        return np.array([r.wall_s for r in self.records], dtype=np.float64)
-
-    @property
     def failures(self) -> list[tuple[int, str, str | None]]:
         """(row index, status, reason) of every failed row."""
         return [(i, r.status, r.reason) for i, r in enumerate(self.records) if r.status != OK]

@@ -404,11 +404,6 @@ class EvaluationStore:
     def meta(self) -> dict[str, str]:
         return dict(self.conn.execute("SELECT key, value FROM meta").fetchall())
 
-    def set_meta(self, key: str, value: str) -> None:
-        if key in ("config_hash", "format"):
-            raise ValueError(f"meta key {key!r} is managed by the store")
-        self.conn.execute("INSERT OR REPLACE INTO meta (key, value) VALUES (?, ?)", (key, str(value)))
-
     # -- calls --------------------------------------------------------------------------------------
     def put(self, tag: str, record: CallRecord) -> None:
         """Store one completed call and commit it at once."""

@@ -26,7 +26,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import stats
 
 from jointwear.design.candidates import Candidate, Control, build_controls, enumerate_candidates, today_candidate
 from jointwear.design.results import EXTRAPOLATED_SHARE, DesignResult, is_undecided, verification_verdict
@@ -40,6 +39,7 @@ from jointwear.reliability import (
     failure_probability,
 )
 from jointwear.study.reliability import POSTERIOR_POINTS, StudyContext, life_scatter_sd, surrogate_pf_error
+from jointwear.study.validation import clopper_pearson
 
 _Z95 = 1.959963984540054
 
@@ -60,10 +60,8 @@ def monte_carlo_half_width(k: float, n: int) -> float:
     approximation it is not 0 when every sample lies on one side (R = 1 of 10 samples: 0.31). ``k`` may be an
     expected count (a sum of survival probabilities), whose estimate varies less than a count's: the bound is then
     conservative."""
-    p = k / n
-    lo = 0.0 if k == 0 else float(stats.beta.ppf(0.025, k, n - k + 1))
-    hi = 1.0 if k == n else float(stats.beta.ppf(0.975, k + 1, n - k))
-    return max(p - lo, hi - p)
+    lo, hi = clopper_pearson(k, n)
+    return max(k / n - lo, hi - k / n)
 
 
 class LifeSurrogate:

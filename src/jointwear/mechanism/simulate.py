@@ -12,7 +12,8 @@ from numba import njit
 
 from jointwear.contact.geometry import ClearanceGeometry
 from jointwear.mechanism import kernel as K
-from jointwear.mechanism.fast import natural_angles
+from jointwear.mechanism.fast import fast_layout, natural_angles, to_cartesian_point, to_natural
+from jointwear.mechanism.fast import to_cartesian as natural_to_cartesian
 from jointwear.mechanism.initial import initial_state
 from jointwear.mechanism.model import MechanismModel
 from jointwear.mechanism.results import (
@@ -72,7 +73,6 @@ class Runner:
     """Kernel arrays, work arrays and the coordinate set (mode 0: Cartesian, 1: natural four-bar)."""
 
     def __init__(self, model: MechanismModel, geometry, rtol, atol, fast: bool | None = None):
-        from jointwear.mechanism.fast import fast_layout
         from jointwear.mechanism.tree import atol_vector as tree_atol_vector
         from jointwear.mechanism.tree import tree_layout
         from jointwear.mechanism.tree import work_arrays as tree_work_arrays
@@ -123,7 +123,6 @@ class Runner:
             from jointwear.mechanism.tree import to_tree
 
             return to_tree(self.tree, np.asarray(y_cart, dtype=float))
-        from jointwear.mechanism.fast import to_natural
 
         return to_natural(self.model, self.lay, y_cart)
 
@@ -136,9 +135,8 @@ class Runner:
             from jointwear.mechanism.tree import to_cartesian as tree_to_cartesian
 
             return tree_to_cartesian(self.tree, self.a["dpar"], t, Y, Ydd)
-        from jointwear.mechanism.fast import to_cartesian
 
-        return to_cartesian(self.model, self.lay, Y, Ydd, phi_ref)
+        return natural_to_cartesian(self.model, self.lay, Y, Ydd, phi_ref)
 
     def to_cartesian_state(self, t: float, y: np.ndarray, phi_ref: dict[str, float]) -> np.ndarray:
         """One internal state at t -> the Cartesian (q, qd), angles on the branch of phi_ref."""
@@ -149,7 +147,6 @@ class Runner:
 
             q, qd, _ = tree_to_cartesian(self.tree, self.a["dpar"], np.array([t]), y[None, :])
             return np.concatenate([q[0], qd[0]])
-        from jointwear.mechanism.fast import to_cartesian_point
 
         return np.concatenate(to_cartesian_point(self.model, self.lay, y, phi_ref))
 

@@ -257,11 +257,6 @@ class WearConvergence(StageResult):
         """Half-width of the 95 % interval of a change between two settings that scatter as the baseline."""
         return _resolution(self.scatter, self.replicates)
 
-    @property
-    def replicates_needed(self) -> int:
-        """Replicates per setting that would resolve the tolerance at the baseline's scatter."""
-        return replicates_to_resolve(self.scatter, self.tolerance)
-
     def tables(self) -> dict[str, dict[str, list]]:
         """``wear_convergence``: one row per setting (the baseline first) with the mean measure, its change against
         the baseline and that change's 95 % half-width, the verdict, and the same for each judged joint."""

@@ -24,10 +24,14 @@ from jointwear.study.results import ReliabilityResult, ValidationResult
 SEED_OFFSET = 1000
 
 
-def clopper_pearson(k: int, n: int, level: float = 0.95) -> tuple[float, float]:
-    """Exact binomial confidence interval of a proportion k / n."""
-    ci = stats.binomtest(int(k), int(n)).proportion_ci(confidence_level=level, method="exact")
-    return float(ci.low), float(ci.high)
+def clopper_pearson(k: float, n: int, level: float = 0.95) -> tuple[float, float]:
+    """Exact (Clopper-Pearson) confidence interval of a proportion k / n: the beta quantiles
+    B(a/2; k, n - k + 1) and B(1 - a/2; k + 1, n - k), as ``scipy.stats.binomtest(k, n).proportion_ci(method="exact")``
+    for a count, and continued to an expected count ``k`` (a sum of probabilities)."""
+    a = 1.0 - level
+    low = 0.0 if k <= 0 else float(stats.beta.ppf(a / 2, k, n - k + 1))
+    high = 1.0 if k >= n else float(stats.beta.ppf(1 - a / 2, k + 1, n - k))
+    return low, high
 
 
 def leave_one_out(ctx: StudyContext, reliability: ReliabilityResult, seed: int) -> dict:

@@ -38,11 +38,6 @@ def body_angle_from_report(phi_deg, mean_orientation: float = 0.0):
     return float(theta) if np.ndim(theta) == 0 else theta
 
 
-def global_direction(theta_body, mean_orientation: float = 0.0):
-    """Global direction (rad, CCW from +x) of body-frame angles laid at the mean orientation (for polar plots)."""
-    return np.asarray(theta_body, dtype=float) + mean_orientation
-
-
 def circular_mean(angles, weights=None) -> float:
     """Weighted circular mean (rad, in (-pi, pi]) of angles (rad)."""
     a = np.asarray(angles, dtype=float)
