@@ -19,7 +19,7 @@ from scipy import stats
 
 from jointwear.config import load_config
 from jointwear.report.settings import write_settings
-from jointwear.study.results import ReliabilityResult, SensitivityResult
+from jointwear.study.results import ReliabilityCurve, SensitivityResult
 
 PRESET = "jin2025_flapping_wing"
 ALL = ("simulate", "wear", "reliability", "sensitivity", "config")
@@ -38,7 +38,7 @@ def nominal_run(folder: Path) -> Path:
     return folder
 
 
-def reliability_result(*, optional: bool = True) -> ReliabilityResult:
+def reliability_result(*, optional: bool = True) -> ReliabilityCurve:
     """R(N) of a max wear growing as 7.12e-8 mm per cycle with an 8.2 % normal scatter, against 0.03 mm."""
     cyc = np.arange(300_000, 560_001, 10_000, dtype=float)
     mean, allowance = 7.12e-8 * cyc, 0.03
@@ -51,7 +51,7 @@ def reliability_result(*, optional: bool = True) -> ReliabilityResult:
     rng = np.random.default_rng(7)
     calls = np.arange(12, 39)
     pf400 = float(1 - stats.norm.cdf((allowance - 7.12e-8 * 4e5) / (0.082 * 7.12e-8 * 4e5)))
-    return ReliabilityResult(
+    return ReliabilityCurve(
         cycles=cyc, reliability=rel, pf=pf, pf_cov=cov, below_floor=np.zeros(cyc.size, bool),
         pf_error=0.2 * pf, target=0.9, life_cycles=life, life_hours=life / 480 / 60, model_calls=38,
         failed_calls=0, n_mc=n_mc, converged=True, wall_seconds=212.4, names=[v[0] for v in SENS_VARS],

@@ -17,7 +17,7 @@ from jointwear import load_results
 from jointwear.report import build_report
 from jointwear.report.checks import FAIL, NA, PASS, reference_checks
 from jointwear.report.markup import format_number
-from jointwear.study.results import ReliabilityResult, SensitivityResult, WearSummary
+from jointwear.study.results import ReliabilityCurve, SensitivityResult, WearSummary
 
 SECTIONS = ("summary", "comparison", "study", "dynamics", "wear", "reliability", "sensitivity", "files")
 
@@ -71,7 +71,7 @@ def test_comparison_flags_out_of_band(tmp_path: Path, nominal: Path):
     wear = WearSummary.load(d)
     wear.max_wear_mm, wear.max_wear_angle_deg = 0.05, 200.0
     wear.write(d)
-    rel = ReliabilityResult.load(d)
+    rel = ReliabilityCurve.load(d)
     rel.reliability = np.ones_like(rel.reliability)
     rel.life_table, rel.life_cycles = [], None
     rel.write(d)
@@ -202,13 +202,13 @@ def test_the_report_warns_about_a_poor_fit(tmp_path, nominal):
     from jointwear.study.reliability_results import SurrogateFit
 
     d = make_fixture_dir(tmp_path / "r", nominal, which=("reliability",))
-    rel = ReliabilityResult.load(d)
+    rel = ReliabilityCurve.load(d)
     rel.surrogate_fit = SurrogateFit(n_points=60, q2=0.002, rmse_log_life=0.33, noise_sd_log_life=0.18,
                                      process_sd_log_life=0.5, relative_nugget=0.1, nugget_at_bound=True)
     rel.write(d)
     page = build_report(d).read_text(encoding="utf-8")
     assert "The surrogate explains little" in page and "0.00" in page
-    assert ReliabilityResult.load(d).surrogate_fit == rel.surrogate_fit
+    assert ReliabilityCurve.load(d).surrogate_fit == rel.surrogate_fit
     rel.surrogate_fit = SurrogateFit(n_points=60, q2=0.94, rmse_log_life=0.04, noise_sd_log_life=0.025,
                                      process_sd_log_life=0.45, relative_nugget=0.003, nugget_at_bound=False)
     rel.write(d)
@@ -386,7 +386,7 @@ def test_a_curve_that_misses_the_life_says_where_the_nominal_design_reaches_the_
     life has no warning."""
     d = make_fixture_dir(tmp_path / "m", nominal, which=("wear", "reliability"))
     assert "The curve misses the life" not in build_report(d).read_text(encoding="utf-8")
-    wear, rel = WearSummary.load(d), ReliabilityResult.load(d)
+    wear, rel = WearSummary.load(d), ReliabilityCurve.load(d)
     n, h = (np.asarray(wear.history[k], dtype=float) for k in ("cycles", "max_wear_mm"))
     allowance = 0.5 * h[-1]  # reached half-way through the history: the crossing is inside it
     rel.joints = [{"name": wear.joints[0]["name"], "allowance_mm": allowance}]
@@ -462,7 +462,7 @@ def test_failed_model_calls_and_a_worn_away_joint_are_warned(tmp_path, nominal):
     d = make_fixture_dir(tmp_path / "x", nominal, which=("wear", "reliability"))
     page = build_report(d).read_text(encoding="utf-8")
     assert "Failed model calls" not in page and "Worn away" not in page
-    rel, wear = ReliabilityResult.load(d), WearSummary.load(d)
+    rel, wear = ReliabilityCurve.load(d), WearSummary.load(d)
     rel.failed_calls = 9
     rel.infeasible = {"failed_calls": 9, "failure_reasons": {"3": "ValueError: boom", "5": "ValueError: boom"},
                       "worn_away_calls": 3}
@@ -480,7 +480,7 @@ def test_failed_model_calls_and_a_worn_away_joint_are_warned(tmp_path, nominal):
 def test_the_share_of_clearances_below_their_minimum_is_said_with_its_rule(tmp_path, nominal):
     """2.5 % of the default study's clearances are rejected at assembly (rule 'truncate'); the report never said so."""
     d = make_fixture_dir(tmp_path / "x", nominal, which=("wear", "reliability"))
-    rel = ReliabilityResult.load(d)
+    rel = ReliabilityCurve.load(d)
     rel.infeasible = {"clearances": [{"name": "c", "rule": "truncate", "minimum_clearance_m": 1e-7,
                                       "probability_below_minimum": 0.025286}]}
     rel.save(d)
@@ -494,7 +494,7 @@ def test_the_share_of_clearances_below_their_minimum_is_said_with_its_rule(tmp_p
 def test_the_life_table_keeps_a_target_near_1_and_the_numbers_give_the_surrogates_error(tmp_path, nominal):
     """A target of 0.99995 was shown as '1'; the R(N) table had no column for the surrogate's error of R."""
     d = make_fixture_dir(tmp_path / "t", nominal, which=("reliability",))
-    rel = ReliabilityResult.load(d)
+    rel = ReliabilityCurve.load(d)
     rel.life_table = [{"target": 0.9, "cycles": 370_000.0, "hours": 12.8, "status": "in_curve"},
                       {"target": 0.99995, "cycles": 300_000.0, "hours": 10.4, "status": "in_curve"}]
     rel.save(d)
@@ -506,7 +506,7 @@ def test_the_life_is_shown_with_its_interval(tmp_path, nominal):
     """The reliability card, the life table and the summary give the life's 95 % interval, the one the result
     computes (where the band R -/+ half-width crosses the target)."""
     d = make_fixture_dir(tmp_path / "i", nominal, which=("reliability",))
-    rel = ReliabilityResult.load(d)
+    rel = ReliabilityCurve.load(d)
     rel.life_table = [{"target": 0.9, "cycles": rel.life_cycles, "hours": 12.8, "status": "in_curve"},
                       {"target": 0.5, "cycles": 450_000.0, "hours": 15.6, "status": "in_curve"}]
     rel.save(d, figures=False)
@@ -522,7 +522,7 @@ def two_joint_result(folder, nominal):
     """The fixture's reliability result as a series system of joints A and E, which govern 70 and 30 % of the
     failures at every level."""
     d = make_fixture_dir(folder, nominal, which=("reliability",))
-    rel = ReliabilityResult.load(d)
+    rel = ReliabilityCurve.load(d)
     n = len(rel.cycles)
     rel.joints = [
         {"name": "A", "allowance_mm": 0.03, "reliability": list(rel.reliability), "governing_share": [0.7] * n},
@@ -556,7 +556,7 @@ def test_a_series_system_learnt_per_joint_carries_no_kink_caveat(tmp_path, nomin
     rel.joints[1]["surrogate_fit"] = {**fit, "noise_sd_log_life": 0.02}
     assert rel.series_sentence() == ""
     rel.save(d, figures=False)
-    assert ReliabilityResult.load(d).life_surrogate == "per_joint"
+    assert ReliabilityCurve.load(d).life_surrogate == "per_joint"
     page = build_report(d).read_text(encoding="utf-8")
     assert "learnt one Kriging per joint" in page and "held the exact life in 18 of 20 runs at R = 0.9" in page
     assert "are shared between judged joints" not in page
@@ -575,7 +575,7 @@ def test_the_summary_carries_the_caveats_of_the_sections_below(tmp_path, nominal
     from jointwear.report.result_sections import summary_caveats
 
     d = make_fixture_dir(tmp_path / "c", nominal, which=("wear", "reliability"))
-    rel, wear = ReliabilityResult.load(d), WearSummary.load(d)
+    rel, wear = ReliabilityCurve.load(d), WearSummary.load(d)
     rel.converged, rel.learning_stop = True, ""
     rel.save(d, figures=False)
     wear.geometry_mode, wear.uniform_mode_valid = "profile", True
@@ -602,7 +602,7 @@ def test_the_summary_carries_the_caveats_of_the_sections_below(tmp_path, nominal
 def test_a_budget_spent_while_confirming_the_stop_says_so(tmp_path, nominal):
     """The card said only 'stopped by the budget of model calls' where the rule had held and was being confirmed."""
     d = make_fixture_dir(tmp_path / "h", nominal, which=("wear", "reliability"))
-    rel = ReliabilityResult.load(d)
+    rel = ReliabilityCurve.load(d)
     rel.converged = False
     rel.learning_stop = ("max_calls=80 reached while confirming the learning stop (it held on 1 of the 3 successive "
                          "designs hold_iterations asks for)")
@@ -615,7 +615,7 @@ def test_sobol_indices_carry_their_intervals_and_the_nominal_r_says_its_populati
     """ST read below S1 with no interval shown (0.493 < 0.505 on 256 base samples, within +/- 0.18); the
     sensitivity's nominal R (0.969) differed from the curve's (0.9684) with no word of their two populations."""
     d = make_fixture_dir(tmp_path / "s", nominal, which=("wear", "reliability", "sensitivity"))
-    rel, sens = ReliabilityResult.load(d), SensitivityResult.load(d)
+    rel, sens = ReliabilityCurve.load(d), SensitivityResult.load(d)
     names = sens.sobol["names"]
     for v in sens.variables:
         k = names.index(v["name"])
@@ -665,7 +665,7 @@ def test_the_summary_carries_the_design_and_its_verification(tmp_path, nominal):
 def test_a_reliability_result_plots_itself(tmp_path, nominal):
     """A notebook user had to rebuild the report's R(N) figure from six fields (and drew it without its band)."""
     d = make_fixture_dir(tmp_path / "x", nominal, which=("wear", "reliability"))
-    rel = ReliabilityResult.load(d)
+    rel = ReliabilityCurve.load(d)
     ax = rel.plot().axes[0]
     assert ax.get_title(loc="left").startswith("Reliability") and len(ax.collections) >= 1  # the band
     assert any(ln.get_label() == "this study" for ln in ax.get_lines())
@@ -677,7 +677,7 @@ def test_a_validated_life_that_disagrees_is_flagged_beside_the_headline(tmp_path
     from jointwear.study.results import ValidationResult
 
     d = make_fixture_dir(tmp_path / "v", nominal, which=("reliability",))
-    rel = ReliabilityResult.load(d)
+    rel = ReliabilityCurve.load(d)
     life = rel.life()
 
     def validate(agree: bool) -> str:

@@ -13,7 +13,7 @@ import pytest
 import jointwear
 from jointwear.cli import main_entry
 from jointwear.schema import ConfigError
-from jointwear.study import ReliabilityResult, StudyComparison, ValidationResult, compare_studies
+from jointwear.study import ReliabilityCurve, StudyComparison, ValidationResult, compare_studies
 from jointwear.study.comparison import life_verdict
 
 
@@ -22,7 +22,7 @@ def _study(folder, name, scale, mode="uniform", rpm=480.0):
     and a config.json whose settings list the wear mode."""
     cycles = np.linspace(0.0, 4e5, 21)
     rel = 1.0 - cycles / scale
-    res = ReliabilityResult(
+    res = ReliabilityCurve(
         cycles=cycles, reliability=rel, pf=1.0 - rel, pf_cov=np.zeros(21), below_floor=np.zeros(21, dtype=bool),
         pf_error=np.full(21, 0.01), target=0.9, life_cycles=0.1 * scale, life_hours=0.1 * scale / (rpm * 60),
         model_calls=40, failed_calls=0, n_mc=1000, converged=True, wall_seconds=1.0, names=["a"], units=[""],

@@ -14,7 +14,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "wear"))
 from wear_synthetic import FakeModel, fake_simulate  # noqa: E402
 
 from jointwear.config import config_from_dict, load_config  # noqa: E402
-from jointwear.study import ReliabilityResult, WearSummary, load_results  # noqa: E402
+from jointwear.study import ReliabilityCurve, WearSummary, load_results  # noqa: E402
 from jointwear.study.io import file_labels, strict, write_json  # noqa: E402
 from jointwear.study.reliability import study_context  # noqa: E402
 from jointwear.wear import WearSettings, wear_history  # noqa: E402
@@ -94,7 +94,7 @@ def test_json_is_strict(tmp_path):
 def _reliability_result():
     cycles = np.array([1e5, 2e5, 3e5])
     rel = np.array([0.99, 0.8, 0.3])
-    return ReliabilityResult(
+    return ReliabilityCurve(
         cycles=cycles, reliability=rel, pf=1 - rel, pf_cov=np.array([np.inf, 0.02, 0.01]),
         below_floor=np.array([False, False, False]), pf_error=np.array([0.001, 0.01, 0.01]), target=0.9,
         life_cycles=1.45e5, life_hours=1.0, model_calls=20, failed_calls=0, n_mc=1000, converged=True,

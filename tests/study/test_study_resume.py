@@ -269,10 +269,10 @@ def test_a_learning_stopped_by_its_budget_is_told_with_its_error(quick_config, r
     import numpy as np
 
     from jointwear.study.facade import learning_stop_line
-    from jointwear.study.results import ReliabilityResult
+    from jointwear.study.results import ReliabilityCurve
 
     assert not expected["converged"] and expected["learning_stop"].startswith("max_calls=14 reached")
-    res = ReliabilityResult.load(reference_dir)
+    res = ReliabilityCurve.load(reference_dir)
     err = np.asarray(res.pf_error, dtype=float)
     counted = np.isfinite(err) & ~np.asarray(res.below_floor)
     k = np.flatnonzero(counted)[np.argmax(err[counted])]
@@ -303,9 +303,9 @@ def test_a_population_that_hit_n_mc_max_says_how_large_it_must_be(quick_config, 
     import numpy as np
 
     from jointwear.study.facade import learning_stop_line
-    from jointwear.study.results import ReliabilityResult
+    from jointwear.study.results import ReliabilityCurve
 
-    res = ReliabilityResult.load(reference_dir)
+    res = ReliabilityCurve.load(reference_dir)
     settings = load_config(quick_config).reliability
     res.learning_stop = "COV target 0.05 not met with the maximum population n_mc_max=200000 (pf=0.00103)"
     res.pf = np.full(len(res.cycles), 0.5)
@@ -353,9 +353,9 @@ def test_a_curve_that_misses_the_life_is_told_in_the_terminal(quick_config, refe
 
     import jointwear
     from jointwear.study import reliability
-    from jointwear.study.results import ReliabilityResult
+    from jointwear.study.results import ReliabilityCurve
 
-    res = ReliabilityResult.load(reference_dir)
+    res = ReliabilityCurve.load(reference_dir)
     res.life_table = [dict(res.life_table[0], cycles=None, hours=None, status="beyond_curve")]
     res.reliability = np.ones_like(res.reliability)
     monkeypatch.setattr(reliability, "run_reliability", lambda ctx, progress=None: res)

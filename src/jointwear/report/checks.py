@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from jointwear.study.limit_state import nominal_lives
-from jointwear.study.results import ReliabilityResult, SensitivityResult, StudyResults, WearSummary
+from jointwear.study.results import ReliabilityCurve, SensitivityResult, StudyResults, WearSummary
 
 from .markup import format_number
 
@@ -154,7 +154,7 @@ def second_peak(wear: WearSummary) -> tuple[float, float] | None:
     return float(ang[i]), float(dep[i])
 
 
-def _mean_max_wear(rel: ReliabilityResult, levels) -> dict[float, float]:
+def _mean_max_wear(rel: ReliabilityCurve, levels) -> dict[float, float]:
     """The study's mean of the max wear (mm) at each of ``levels`` (cycles) where it has one."""
     m = rel.mean_max_wear_mm
     out: dict[float, float] = {}
@@ -165,12 +165,12 @@ def _mean_max_wear(rel: ReliabilityResult, levels) -> dict[float, float]:
     return out
 
 
-def _life_row(rel: ReliabilityResult, target: float) -> dict | None:
+def _life_row(rel: ReliabilityCurve, target: float) -> dict | None:
     """The life table's row of ``target`` (None when the table has none)."""
     return next((r for r in rel.life_table if abs(float(r["target"]) - target) < 1e-12), None)
 
 
-def life_with_note(rel: ReliabilityResult, target: float) -> tuple[float | None, str]:
+def life_with_note(rel: ReliabilityCurve, target: float) -> tuple[float | None, str]:
     """The study's life at ``target`` (cycles) and a note on how it was read: from the life table, else
     interpolated on the curve; 'at most' when R is below the target at the curve's first level."""
     row = _life_row(rel, target)
@@ -188,7 +188,7 @@ def life_with_note(rel: ReliabilityResult, target: float) -> tuple[float | None,
     return life, note
 
 
-def curve_misses_life(rel: ReliabilityResult, wear: WearSummary | None) -> str | None:
+def curve_misses_life(rel: ReliabilityCurve, wear: WearSummary | None) -> str | None:
     """Why and how to move an R(N) curve that does not contain the life at its headline target (the life table
     says 'before_curve' or 'beyond_curve'), or None when it does. Where the judged quantity is the bearing's max
     depth, the nominal design's own crossing of the allowance (its wear history; the first judged joint to cross
@@ -216,7 +216,7 @@ def curve_misses_life(rel: ReliabilityResult, wear: WearSummary | None) -> str |
     return text + "."
 
 
-def _life_hours(rel: ReliabilityResult, target: float) -> float | None:
+def _life_hours(rel: ReliabilityCurve, target: float) -> float | None:
     row = _life_row(rel, target)
     if row is not None and row.get("hours") is not None:
         return float(row["hours"])

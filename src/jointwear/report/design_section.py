@@ -152,7 +152,7 @@ def design_section(out_dir: Path | str, figs=None) -> str | None:
 
 def _crank_rpm(out_dir: Path | str) -> float | None:
     """The crank speed the study recorded in reliability.json (to give lives in hours), None without it."""
-    from jointwear.study.results import ReliabilityResult
+    from jointwear.study.results import ReliabilityCurve
 
-    rel = ReliabilityResult.load_if_present(out_dir)
+    rel = ReliabilityCurve.load_if_present(out_dir)
     return None if rel is None else rel.crank_speed_rpm

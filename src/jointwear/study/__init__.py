@@ -15,7 +15,7 @@ from jointwear.study.reliability import (
     study_context,
 )
 from jointwear.study.results import (
-    ReliabilityResult,
+    ReliabilityCurve,
     SensitivityResult,
     SimulationSummary,
     StudyResults,
@@ -26,9 +26,20 @@ from jointwear.study.results import (
 from jointwear.study.sensitivity import run_sensitivity
 
 __all__ = [
-    "WEAR_MODEL_TAG", "LimitState", "ReliabilityResult", "SensitivityResult", "SimulationSummary", "Study",
+    "WEAR_MODEL_TAG", "LimitState", "ReliabilityCurve", "SensitivityResult", "SimulationSummary", "Study",
     "StudyComparison", "StudyContext", "StudyResults", "ValidationResult", "WearConvergence", "WearModelCall",
     "WearSummary", "WearSurrogates", "apply_sample", "compare_studies", "cycles_to_hours", "life_at",
     "life_from_history", "limit_state_from_config", "load_results", "population", "run_convergence",
     "run_reliability", "run_sensitivity", "study_context",
 ]
+
+
+def __getattr__(name: str):
+    """``ReliabilityResult``: the former name of :class:`ReliabilityCurve` (the engines' result keeps that name)."""
+    if name == "ReliabilityResult":
+        import warnings
+
+        warnings.warn("jointwear.study.ReliabilityResult is now ReliabilityCurve (jointwear.reliability's "
+                      "ReliabilityResult is the engines' result)", DeprecationWarning, stacklevel=2)
+        return ReliabilityCurve
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -1,7 +1,7 @@
 """Finished studies side by side: the life at one target reliability with its 95 % interval, whether two lives
 differ beyond their errors, the nominal wear and the settings that differ (``jointwear compare``).
 
-Two lives differ beyond their errors when their 95 % intervals (:meth:`ReliabilityResult.life_interval`) do not
+Two lives differ beyond their errors when their 95 % intervals (:meth:`ReliabilityCurve.life_interval`) do not
 overlap. The intervals cover the error of each study's estimate of R(N), not the wear model's assumptions
 (docs/study.md, "How far to trust the life"): two studies that differ in those are compared as they stand.
 """

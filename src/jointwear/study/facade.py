@@ -49,7 +49,7 @@ from jointwear.study.model_call import WearModelCall
 from jointwear.study.reliability_results import interval_text
 from jointwear.study.results import (
     STAGE_TYPES,
-    ReliabilityResult,
+    ReliabilityCurve,
     SensitivityResult,
     SimulationSummary,
     StudyResults,
@@ -154,7 +154,7 @@ class Study:
         self._design_told = False
         self._store_opened = False
         self._context = None
-        self._reliability: ReliabilityResult | None = None
+        self._reliability: ReliabilityCurve | None = None
         self._depth = 0  # stages running now (one calls another); the folder is released when the last ends
         self._folder_lock = None
         self._report_moved = False  # report.html moved aside with stale results: rebuilt after the next stage
@@ -500,19 +500,19 @@ class Study:
         return result
 
     @_quiet
-    def reliability(self) -> ReliabilityResult:
+    def reliability(self) -> ReliabilityCurve:
         """The reliability curve R(N) and the life at each target reliability (AK-MCS on the true wear model).
 
         Returns
         -------
-        ReliabilityResult
+        ReliabilityCurve
             The curve, the life table and the model calls spent; also written to ``reliability.json``.
         """
         self._prepare({"reliability"}, store_reuse=False)
         with self._session(reuse=False) as ctx:
             return self._learn(ctx)
 
-    def _learn(self, ctx) -> ReliabilityResult:
+    def _learn(self, ctx) -> ReliabilityCurve:
         """Run the reliability stage in ``ctx``, write its result and tell it (the same when another stage needs
         it first): the calls made, read back, the life, and what the user must know about the curve."""
         from jointwear.study.reliability import run_reliability
@@ -520,7 +520,7 @@ class Study:
         before = ctx.n_model_calls
         res = run_reliability(ctx, progress=self._progress_callback)
         new = ctx.n_model_calls - before
-        recorded = ReliabilityResult.load_if_present(self.out)
+        recorded = ReliabilityCurve.load_if_present(self.out)
         if new == 0 and recorded is not None and recorded.model_calls == res.model_calls and same_value(
                 recorded.reliability, res.reliability):
             res.wall_seconds = recorded.wall_seconds  # a replay of the stored calls: the study's own time
@@ -726,7 +726,7 @@ class Study:
             current = True
         return res if current else None
 
-    def _learned(self, ctx) -> ReliabilityResult:
+    def _learned(self, ctx) -> ReliabilityCurve:
         """The reliability result of this study: the one in memory, else learned again from the evaluation store
         (the learning is deterministic, so the stored calls are replayed and no call is repeated) and told as the
         stage tells it when run alone."""
@@ -956,7 +956,7 @@ def _empty_store(out: Path) -> bool:
         return False
 
 
-def learning_stop_line(res: ReliabilityResult, settings) -> str:
+def learning_stop_line(res: ReliabilityCurve, settings) -> str:
     """What an unconverged learning means for the curve: why it stopped, the surrogate's largest error estimate of R
     against the tolerance of the stopping rule, and what to do."""
     worst = res.largest_error()

@@ -32,7 +32,7 @@ from jointwear.study.limit_state import (
 )
 from jointwear.study.model_call import WORN_AWAY_WEAR, WearModelCall
 from jointwear.study.reliability_results import SurrogateFit
-from jointwear.study.results import ReliabilityResult
+from jointwear.study.results import ReliabilityCurve
 
 
 def cycles_to_hours(cycles: float, config: StudyConfig) -> float:
@@ -245,7 +245,7 @@ class WearSurrogates:
         return np.column_stack([np.exp(s.predict(u, return_variance=False)[0]) for s in self.surrogates])
 
 
-def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> ReliabilityResult:
+def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> ReliabilityCurve:
     """R(N) over the curve's cycle counts from one shared AK-MCS design (paper Sections 5-6.2)."""
     from jointwear.reliability import Evaluation, akmcs_multi
 
@@ -330,7 +330,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     infeasible["failure_reasons"] = {str(k): ctx.failure_reason(design_x_model[int(k)]) or v
                                      for k, v in engine.failure_reasons.items()}
     joints = _joint_breakdown(ctx, engine, design_x, pop, life_curve, at_levels, u_posterior, rel.seed + 19)
-    return ReliabilityResult(
+    return ReliabilityCurve(
         cycles=cycles, reliability=reliability, pf=pf, pf_cov=pf_cov,
         below_floor=pf < rel.pf_floor, target=targets[0],
         pf_error=pf_error, pf_error_esc=pf_error_esc,

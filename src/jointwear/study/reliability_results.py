@@ -18,7 +18,7 @@ from jointwear.study.limit_state import curve_half_width, interval_reach, life_a
 from jointwear.study.stage_result import StageResult, save_figure
 from jointwear.units import column_name
 
-__all__ = ["ReliabilityResult", "SensitivityResult", "SurrogateFit", "ValidationResult", "interval_cells",
+__all__ = ["ReliabilityCurve", "SensitivityResult", "SurrogateFit", "ValidationResult", "interval_cells",
            "interval_text", "reliability_target"]
 
 
@@ -139,7 +139,7 @@ class SurrogateFit:
 
 
 @dataclass(repr=False, eq=False)  # StageResult compares by value
-class ReliabilityResult(StageResult):
+class ReliabilityCurve(StageResult):
     """The R(N) curve, the life at each target reliability and the wear distributions of a study.
 
     Arrays over the curve's ``cycles``: ``reliability``, ``pf``, ``pf_cov`` (coefficient of variation of the
@@ -398,7 +398,7 @@ class ReliabilityResult(StageResult):
         }
 
     @classmethod
-    def from_json(cls, data: dict) -> ReliabilityResult:
+    def from_json(cls, data: dict) -> ReliabilityCurve:
         c = data["curve"]
         life = data.get("life_at_target", {})
         design = data.get("design", {})
@@ -702,7 +702,7 @@ class ValidationResult(StageResult):
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
 
     def __post_init__(self) -> None:
-        """The curves as arrays (as ReliabilityResult's), built or read back from JSON (lists with null holes)."""
+        """The curves as arrays (as ReliabilityCurve's), built or read back from JSON (lists with null holes)."""
         self.cycles = np.array(self.cycles, dtype=np.int64)  # copies: never a view of the reliability's arrays
         for name in ("reliability_mc", "ci_low", "ci_high", "reliability_surrogate", "surrogate_error",
                      "surrogate_cov"):

@@ -19,13 +19,13 @@ import numpy as np
 
 from jointwear.study.convergence import WearConvergence
 from jointwear.study.io import file_labels, provenance, read_json
-from jointwear.study.reliability_results import ReliabilityResult, SensitivityResult, ValidationResult
+from jointwear.study.reliability_results import ReliabilityCurve, SensitivityResult, ValidationResult
 from jointwear.study.stage_result import StageResult, save_figure
 
 if TYPE_CHECKING:
     from jointwear.design.results import DesignResult
 
-__all__ = ["StageResult", "SimulationSummary", "WearSummary", "ReliabilityResult", "SensitivityResult",
+__all__ = ["StageResult", "SimulationSummary", "WearSummary", "ReliabilityCurve", "SensitivityResult",
            "ValidationResult", "StudyResults", "STAGE_TYPES", "load_results"]
 
 
@@ -480,7 +480,7 @@ class StudyResults:
     config: dict | None = None
     simulate: SimulationSummary | None = None
     wear: WearSummary | None = None
-    reliability: ReliabilityResult | None = None
+    reliability: ReliabilityCurve | None = None
     sensitivity: SensitivityResult | None = None
     validation: ValidationResult | None = None
     design: DesignResult | None = None
@@ -509,7 +509,7 @@ class StudyResults:
 
 
 STAGE_TYPES: dict[str, type] = {"simulate": SimulationSummary, "wear": WearSummary,
-                                "wear_convergence": WearConvergence, "reliability": ReliabilityResult,
+                                "wear_convergence": WearConvergence, "reliability": ReliabilityCurve,
                                 "sensitivity": SensitivityResult, "validation": ValidationResult}
 
 

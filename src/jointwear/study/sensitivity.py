@@ -10,7 +10,7 @@ import numpy as np
 
 from jointwear.reliability import esc_absolute_error, failure_probability
 from jointwear.study.reliability import StudyContext, WearSurrogates, life_scatter_sd, population
-from jointwear.study.results import ReliabilityResult, SensitivityResult
+from jointwear.study.results import ReliabilityCurve, SensitivityResult
 
 #: a random variable's target that is a drawn point's coordinate (mechanism...points.D.y, ground_points.C.x)
 COORDINATE_TARGET = re.compile(r"(^|\.)(points|ground_points)\.[^.]+\.[xy]$")
@@ -30,7 +30,7 @@ def coordinate_shift_sentence(targets: dict[str, str], factors: tuple[float, flo
             "depends on where the origin is drawn (the Sobol' ranking does not)")
 
 
-def sensitivity_level(ctx: StudyContext, reliability: ReliabilityResult) -> int:
+def sensitivity_level(ctx: StudyContext, reliability: ReliabilityCurve) -> int:
     """The cycle count of the sensitivity study: the configured one, else the curve level whose reliability is
     nearest the (first) target reliability."""
     configured = ctx.config.sensitivity.cycles
@@ -126,7 +126,7 @@ def failure_reason(ctx: StudyContext, x_point: np.ndarray) -> str:
     return " ".join(str(failures[0][2]).split()) if failures and failures[0][2] else "no reason recorded"
 
 
-def run_sensitivity(ctx: StudyContext, reliability: ReliabilityResult) -> SensitivityResult:
+def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> SensitivityResult:
     """Mean shifts (paper Figs. 22-24), Sobol' indices and reliability derivatives at one cycle count.
 
     Re-uses the reliability study's surrogate; see docs/study.md ("Sensitivity") for the three rules:

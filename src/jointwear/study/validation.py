@@ -18,7 +18,7 @@ from scipy import stats
 from jointwear.study.limit_state import bounded_ends, curve_cycles, intervals_overlap, life_at
 from jointwear.study.reliability import StudyContext
 from jointwear.study.reliability_results import SurrogateFit
-from jointwear.study.results import ReliabilityResult, ValidationResult
+from jointwear.study.results import ReliabilityCurve, ValidationResult
 
 #: Offset of the validation samples' seed from the study's seed (the study's own draws use seed + 0..7).
 SEED_OFFSET = 1000
@@ -34,7 +34,7 @@ def clopper_pearson(k: float, n: int, level: float = 0.95) -> tuple[float, float
     return low, high
 
 
-def leave_one_out(ctx: StudyContext, reliability: ReliabilityResult, seed: int) -> dict:
+def leave_one_out(ctx: StudyContext, reliability: ReliabilityCurve, seed: int) -> dict:
     """Leave-one-out predictions of ln N_f at the design points by the surrogate behind R(N) (its hyperparameters
     kept: :meth:`~jointwear.reliability.KrigingSurrogate.leave_one_out`), with its Q^2 (the reliability stage's
     ``surrogate_fit``); the smallest joint's prediction when the study learns one Kriging per joint. A result read
@@ -65,7 +65,7 @@ def leave_one_out(ctx: StudyContext, reliability: ReliabilityResult, seed: int) 
             "n_points": fit.n_points, "n_failed_points": int(design_x.shape[0] - y.size)}
 
 
-def run_validation(ctx: StudyContext, reliability: ReliabilityResult, n_samples: int) -> ValidationResult:
+def run_validation(ctx: StudyContext, reliability: ReliabilityCurve, n_samples: int) -> ValidationResult:
     """The true model on ``n_samples`` fresh samples against the surrogate's R(N)."""
     t0 = time.perf_counter()
     rel = ctx.config.reliability
@@ -117,7 +117,7 @@ def agreement(r_mc, ci_low, ci_high, r_surrogate, half_surrogate) -> np.ndarray:
     return np.abs(np.asarray(r_mc) - np.asarray(r_surrogate)) <= half_mc + np.asarray(half_surrogate)
 
 
-def joint_checks(ctx: StudyContext, reliability: ReliabilityResult, x: np.ndarray, levels: np.ndarray) -> list[dict]:
+def joint_checks(ctx: StudyContext, reliability: ReliabilityCurve, x: np.ndarray, levels: np.ndarray) -> list[dict]:
     """Each judged joint's own R(N) on the validation's samples (their calls read back, no new one): the share of
     feasible samples whose joint life is longer, with its exact 95 % interval, beside the study's R(N) of that joint
     (``reliability.joints``), the largest difference and the levels where the study's lies inside the interval. A
@@ -142,7 +142,7 @@ def joint_checks(ctx: StudyContext, reliability: ReliabilityResult, x: np.ndarra
     return out
 
 
-def life_check(levels, r_mc, ci_low, ci_high, reliability: ReliabilityResult, target: float) -> dict:
+def life_check(levels, r_mc, ci_low, ci_high, reliability: ReliabilityCurve, target: float) -> dict:
     """The life at ``target`` read on the true model's curve, with the interval where its exact 95 % bounds
     cross the target, beside the surrogate's life and interval; ``agree`` when the two intervals overlap (an
     end outside its curve bounded by its side: :func:`~jointwear.study.limit_state.interval_reach`)."""
