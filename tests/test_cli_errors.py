@@ -312,3 +312,18 @@ def test_every_commands_help_says_what_config_is(capsys, command):
 
     assert main_entry([command, "--help"]) == 0
     assert " ".join(CONFIG_HELP.split()) in " ".join(capsys.readouterr().out.split())
+
+
+def test_a_failed_simulation_exits_1_in_one_line(tmp_path, capsys):
+    cfg = tmp_path / "few_steps.toml"
+    cfg.write_text('extends = "jin2025_flapping_wing"\n[simulation]\nmax_steps = 1000\n', encoding="utf-8")
+    assert main_entry(["simulate", str(cfg), "--out", str(tmp_path / "out")]) == 1
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("error: simulation failed: step budget exhausted") and "\n" not in err
+
+
+def test_the_help_does_not_load_the_compiled_kernels():
+    """`jointwear --help` imported numba (0.3 s of every command's start) to name the simulation's error."""
+    code = ("import sys\nfrom jointwear.cli import main_entry\ntry:\n    main_entry(['--help'])\nexcept SystemExit:\n"
+            "    pass\nassert 'numba' not in sys.modules, 'numba imported'\n")
+    subprocess.run([sys.executable, "-c", code], check=True, capture_output=True)

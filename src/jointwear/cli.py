@@ -72,8 +72,6 @@ class JointwearGroup(click.Group):
         sys.exit(self.run(args, prog_name or "jointwear"))
 
     def run(self, args: list[str] | None = None, prog_name: str = "jointwear") -> int:
-        from jointwear.mechanism.simulate import SimulationError
-
         given = list(sys.argv[1:] if args is None else args)
         try:
             rv = super().main(args=given, prog_name=prog_name, standalone_mode=False)
@@ -97,7 +95,11 @@ class JointwearGroup(click.Group):
         except click.ClickException as exc:
             click.echo(f"error: {one_line(exc.format_message())}", err=True)
             return exc.exit_code if exc.exit_code else 2
-        except SimulationError as exc:
+        except RuntimeError as exc:
+            from jointwear.mechanism.results import SimulationError  # here: importing it loads numba (0.3 s per command)
+
+            if not isinstance(exc, SimulationError):
+                raise
             click.echo(f"error: simulation failed: {one_line(str(exc))}", err=True)
             return 1
         return rv if isinstance(rv, int) else 0
