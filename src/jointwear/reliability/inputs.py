@@ -138,8 +138,13 @@ class Marginal:
         if self.affine is not None:
             mu, sd = self.affine
             return (x - mu) / sd
-        p = np.asarray(self.cdf(x), dtype=float)
-        return np.where(p < 0.5, ndtri(np.clip(p, 1e-300, 1.0)), -ndtri(np.clip(self.sf(x), 1e-300, 1.0)))
+        xs = np.atleast_1d(np.asarray(x, dtype=float))
+        p = np.asarray(self.cdf(xs), dtype=float)
+        z = ndtri(np.clip(p, 1e-300, 1.0))
+        upper = p >= 0.5  # the upper tail through sf, computed there only
+        if np.any(upper):
+            z[upper] = -ndtri(np.clip(np.asarray(self.sf(xs[upper]), dtype=float), 1e-300, 1.0))
+        return z.reshape(np.shape(x))
 
     def from_normal(self, z: np.ndarray) -> np.ndarray:
         if self.affine is not None:
@@ -276,6 +281,11 @@ class IsoTransform:
         for i, m in enumerate(self._m):
             x[:, i] = m.from_normal(z[:, i])
         return x
+
+    def normal_score(self, i: int, values: np.ndarray) -> np.ndarray:
+        """Phi^-1(F_i(values)) of input i alone: its column of :meth:`to_u` when the inputs are independent (a
+        population with one column changed is mapped by that column only)."""
+        return self._m[i].to_normal(np.asarray(values, dtype=float))
 
     def to_u(self, x: np.ndarray) -> np.ndarray:
         """Standard-normal points from physical points (rows)."""

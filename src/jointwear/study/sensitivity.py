@@ -161,25 +161,26 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
 
     iso = ctx.iso()
 
-    def log_life_margin(x):
-        """ln N_f(x) - ln N_s from the learned life surrogate (failure where < 0) and its Kriging standard
-        deviation."""
-        mu, var = engine.surrogates[col].predict(iso.to_u(x))
+    def log_life_margin(u):
+        """ln N_f - ln N_s at the standard-normal points u from the learned life surrogate (failure where < 0) and
+        its Kriging standard deviation."""
+        mu, var = engine.surrogates[col].predict(u)
         return mu, np.sqrt(np.maximum(var, 0.0))
 
     scatter = life_scatter_sd(ctx, engine)
     log_levels = ctx.log_levels()
 
-    def failure_at_level(x, margin, log_shift=0.0):
+    def failure_at_level(u, margin, log_shift=0.0):
         """Each row's probability of failure at N_s with its life divided by exp(log_shift), the life's scatter
         integrated as R(N) integrates it: each judged joint's own in a per-joint study, else ``failure_probability``
         of the margin."""
         if ctx.per_joint and scatter > 0:  # the engine's own rule (each joint's scatter), not the one margin's
-            return engine.failure_probabilities(iso.to_u(x), scatter, [log_levels[col] + log_shift])[:, 0]
+            return engine.failure_probabilities(u, scatter, [log_levels[col] + log_shift])[:, 0]
         return failure_probability(margin - log_shift, scatter)
 
-    margin_nominal_pop, margin_sd_nominal_pop = log_life_margin(pop)
-    fail_nominal = failure_at_level(pop, margin_nominal_pop)
+    u_pop = iso.to_u(pop)
+    margin_nominal_pop, margin_sd_nominal_pop = log_life_margin(u_pop)
+    fail_nominal = failure_at_level(u_pop, margin_nominal_pop)
     r_nominal = float(1.0 - fail_nominal.mean())
     r_nominal_error = esc_absolute_error(margin_nominal_pop, margin_sd_nominal_pop)
 
@@ -214,14 +215,16 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
         shift = shifted.mean() - ctx.marginals[i].mean()
         sigma = ctx.marginals[i].std()
         if abs(shift) <= sens.surrogate_shift_limit * sigma:
-            shifted_pop = pop.copy()
-            if ctx.copula is None:
-                shifted_pop[:, i] = population([shifted], n_pop, rel.seed + 3 + i)[:, 0]
+            if ctx.copula is None:  # independent inputs: one column drawn anew, and mapped alone
+                shifted_u = u_pop.copy()
+                shifted_u[:, i] = iso.normal_score(i, population([shifted], n_pop, rel.seed + 3 + i)[:, 0])
             else:  # dependent inputs: move the column by quantile so the copula is kept
+                shifted_pop = pop.copy()
                 q = np.clip(ctx.marginals[i].cdf(pop[:, i]), 1e-15, 1 - 1e-15)
                 shifted_pop[:, i] = shifted.ppf(q)
-            mu, sd = log_life_margin(shifted_pop)
-            r = float(1.0 - failure_at_level(shifted_pop, mu).mean())
+                shifted_u = iso.to_u(shifted_pop)
+            mu, sd = log_life_margin(shifted_u)
+            r = float(1.0 - failure_at_level(shifted_u, mu).mean())
             error = esc_absolute_error(mu, sd)
             if exponents[i] is not None:
                 check = archard_check(ctx, i, shifted, exponents[i], pop, margin_nominal_pop, margin_sd_nominal_pop,
@@ -254,7 +257,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
         rho = shifted_wear / base_wear
         # wear x rho <=> life / rho (the wear grows linearly in N): failure where ln N_f - ln rho < ln N_s
         mu = margin_nominal_pop - math.log(rho)
-        r = float(1.0 - failure_at_level(pop, margin_nominal_pop, math.log(rho)).mean())
+        r = float(1.0 - failure_at_level(u_pop, margin_nominal_pop, math.log(rho)).mean())
         # the surrogate's error only (rho comes from two true-model calls)
         entry.update(reliability=r, wear_ratio=rho, error_estimate=esc_absolute_error(mu, margin_sd_nominal_pop))
         rules.append(entry)
