@@ -156,8 +156,8 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
     # Full sweeps happen after every hyperparameter optimisation, every `full_sweep_every` iterations, after
     # the population grows and always before a stop is accepted, so the stopping decision is exact.
     u_active = u_threshold + 1.5
-    U = np.full((u_pop.shape[0], m), np.inf)
-    fail = np.zeros((u_pop.shape[0], m), dtype=bool)
+    U = np.full((u_pop.shape[0], m), np.inf, order="F")  # column-major: each level's error reads a column
+    fail = np.zeros((u_pop.shape[0], m), dtype=bool, order="F")
     active_idx = np.arange(u_pop.shape[0])
     need_full = True
     since_full = 0
@@ -187,8 +187,8 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
         # ---- predict on the population (all of it, or the active set)
         n_pop = u_pop.shape[0]
         if U.shape[0] < n_pop:  # the population grew
-            U = np.vstack([U, np.full((n_pop - U.shape[0], m), np.inf)])
-            fail = np.vstack([fail, np.zeros((n_pop - fail.shape[0], m), dtype=bool)])
+            U = np.asfortranarray(np.vstack([U, np.full((n_pop - U.shape[0], m), np.inf)]))
+            fail = np.asfortranarray(np.vstack([fail, np.zeros((n_pop - fail.shape[0], m), dtype=bool)]))
             need_full = True
         if since_full >= full_sweep_every:
             need_full = True

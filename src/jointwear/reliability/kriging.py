@@ -101,7 +101,7 @@ class _Conditioned:
     x: np.ndarray  # (n, d) training inputs divided by the scales
     x_sq: np.ndarray  # (n,) squared norms of x
     chol: np.ndarray  # (n, n) lower Cholesky factor of R + nugget I
-    chol_inv_t: np.ndarray  # (n, n) L^-T, so that r @ L^-T = (L^-1 r)^T
+    chol_inv_t: np.ndarray | None  # (n, n) L^-T, so that r @ L^-T = (L^-1 r)^T; set for the chosen fit only
     alpha: np.ndarray  # R^-1 (y - beta)
     w: np.ndarray  # R^-1 1
     s1: float  # 1^T R^-1 1
@@ -133,12 +133,11 @@ def _condition(x_scaled: np.ndarray, y: np.ndarray, nugget: float) -> _Condition
     sigma2 = max(float(resid @ alpha) / n, 1e-300)
     # concentrated (profile) log-likelihood, up to a constant
     loglik = -0.5 * n * math.log(sigma2) - float(np.sum(np.log(np.diag(chol))))
-    chol_inv_t = solve_triangular(chol, np.eye(n), lower=True).T.copy()
     return _Conditioned(
         x=x_scaled,
         x_sq=np.sum(x_scaled * x_scaled, axis=1),
         chol=chol,
-        chol_inv_t=chol_inv_t,
+        chol_inv_t=None,
         alpha=alpha,
         w=w,
         s1=s1,
@@ -229,6 +228,17 @@ class KrigingSurrogate:
             if not candidates:
                 candidates.append(np.full(d, 0.5 * (np.ptp(x, axis=0).mean() + 1e-12)))
 
+        with blas_threads(1):  # matrices of the design's size: BLAS threads cost more than they save (40x)
+            cond, scale, nug = self._choose(x, ys, candidates)
+            cond.chol_inv_t = solve_triangular(cond.chol, np.eye(cond.chol.shape[0]), lower=True).T.copy()
+        self._cond = cond
+        self.hyperparameters = KrigingHyperparameters(scale=np.array(scale, dtype=float), nugget=nug)
+        return self
+
+    def _choose(self, x: np.ndarray, ys: np.ndarray, candidates: list[np.ndarray]
+                ) -> tuple[_Conditioned, np.ndarray, float]:
+        """The most likely of the candidate correlation lengths, each with the smallest nugget that conditions it
+        (and, with the nugget estimated, the most likely nugget of the grid at the chosen lengths)."""
         best: tuple[_Conditioned, np.ndarray, float] | None = None
         for scale in candidates:
             nug = self._nugget_found.get(tuple(np.asarray(scale, dtype=float)), self.nugget) if self.estimate_nugget \
@@ -260,10 +270,7 @@ class KrigingSurrogate:
                     continue
                 if cond.loglik > best[0].loglik + 1e-9:
                     best = (cond, best[1], nug)
-        cond, scale, nug = best
-        self._cond = cond
-        self.hyperparameters = KrigingHyperparameters(scale=np.array(scale, dtype=float), nugget=nug)
-        return self
+        return best
 
     def _fit_openturns(self, x: np.ndarray, ys: np.ndarray, n_starts: int) -> list[np.ndarray]:
         import openturns as ot
