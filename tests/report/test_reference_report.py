@@ -16,8 +16,8 @@ from jointwear import load_results
 from jointwear.config import load_config
 from jointwear.report import build_report
 from jointwear.report import figures as F
-from jointwear.report.checks import FAIL, INFO, NA, PASS, reference_checks
 from jointwear.report.compare import comparison_markdown, main
+from jointwear.report.reference_checks import FAIL, INFO, NA, PASS, reference_checks
 
 STAGES = ("simulate", "wear", "reliability", "sensitivity")
 

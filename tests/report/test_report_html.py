@@ -15,8 +15,8 @@ from report_fixtures import make_fixture_dir
 
 from jointwear import load_results
 from jointwear.report import build_report
-from jointwear.report.checks import FAIL, NA, PASS, reference_checks
 from jointwear.report.markup import format_number
+from jointwear.report.reference_checks import FAIL, NA, PASS, reference_checks
 from jointwear.study.results import ReliabilityCurve, SensitivityResult, WearSummary
 
 SECTIONS = ("summary", "comparison", "study", "dynamics", "wear", "reliability", "sensitivity", "files")

@@ -5,7 +5,7 @@ docs/paper-comparison.md).
 
 The reference is the one in the folder's settings JSON (``config.json``, key ``reference``: the config's
 ``[reference]``). Same numbers, bands and statuses as the report's comparison section
-(:func:`jointwear.report.checks.reference_checks`). A study without a reference has nothing to compare: the
+(:func:`jointwear.report.reference_checks.reference_checks`). A study without a reference has nothing to compare: the
 command says so and exits with status 1.
 """
 
@@ -16,8 +16,8 @@ from pathlib import Path
 
 from jointwear.study.results import load_results
 
-from .checks import FAIL, NA, PASS, reference_checks, reference_label, reference_of
 from .markup import format_number
+from .reference_checks import FAIL, NA, PASS, reference_checks, reference_label, reference_of
 
 
 def comparison_markdown(out_dir: Path | str) -> str:

@@ -12,10 +12,10 @@ from __future__ import annotations
 import datetime as _dt
 from pathlib import Path
 
-from .checks import reference_checks, reference_label, reference_of
 from .design_section import design_section
 from .markup import Figures, e, html_page, safe, section, write_page
 from .read import read_outputs
+from .reference_checks import reference_checks, reference_label, reference_of
 from .result_sections import (
     comparison_section,
     files_section,

@@ -11,7 +11,9 @@ from jointwear.study.reliability_results import SurrogateFit, interval_cells, in
 from jointwear.study.sensitivity import coordinate_shift_sentence
 
 from . import figures as F
-from .checks import (
+from .markup import Figures, cards, e, format_number, missing, table
+from .read import StudyOutputs
+from .reference_checks import (
     FAIL,
     INFO,
     NA,
@@ -28,8 +30,6 @@ from .checks import (
     reference_values,
     unresolved_pairs,
 )
-from .markup import Figures, cards, e, format_number, missing, table
-from .read import StudyOutputs
 from .study_sections import allowance_mm, not_run, warning
 
 __all__ = ["reliability_section", "sensitivity_section", "validation_section", "comparison_section",

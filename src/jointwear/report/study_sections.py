@@ -11,9 +11,9 @@ from jointwear.study.limit_state import nominal_lives
 from jointwear.wear.angles import angle_text
 
 from . import figures as F
-from .checks import reference_label, reference_of, reference_values, second_peak
 from .markup import Figures, cards, e, format_number, missing, table
 from .read import StudyOutputs, joint_series
+from .reference_checks import reference_label, reference_of, reference_values, second_peak
 from .settings import origin
 from .style import scale_to_unit
 

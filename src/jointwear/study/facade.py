@@ -549,7 +549,7 @@ class Study:
             if uniform := res.uniform_range_sentence():
                 sentences.append(uniform)
         elif stage == "reliability":
-            from jointwear.report.checks import curve_misses_life
+            from jointwear.report.reference_checks import curve_misses_life
 
             missed = curve_misses_life(res, WearSummary.load_if_present(self.out))
             sentences = [learning_stop_line(res, self.config.reliability) if not res.converged else None,
