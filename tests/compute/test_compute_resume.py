@@ -213,3 +213,21 @@ def test_resume_with_changed_config_is_refused(tmp_path):
         EvaluationStore.open(tmp_path, config_hash({"seed": 2}), resume=True)
     with EvaluationStore.open(tmp_path, config_hash({"seed": 1}), resume=True) as store:
         assert store.stats().n_sessions == 2
+
+
+@pytest.mark.parametrize("damage", ["junk", "truncated"])
+def test_a_damaged_store_is_named_before_anything_is_written(tmp_path, damage):
+    """A store overwritten or cut short ended a resumed study in a 52-line sqlite3 traceback."""
+    from jointwear.compute import EvaluationStore, StoreError
+
+    good = tmp_path / "good"
+    with EvaluationStore.open(good, "abc") as store:
+        for i in range(50):
+            store.conn.execute("INSERT OR REPLACE INTO meta (key, value) VALUES (?, ?)", (f"k{i}", "x" * 200))
+    db = tmp_path / "bad" / "evaluations.sqlite"
+    db.parent.mkdir()
+    db.write_bytes(b"junk\n" if damage == "junk" else (good / "evaluations.sqlite").read_bytes()[:6000])
+    expected = f"the evaluation store {db} cannot be read"
+    assert expected in str(EvaluationStore.refusal(db.parent, "abc", resume=True))
+    with pytest.raises(StoreError, match="cannot be read"):
+        EvaluationStore.open(db.parent, "abc", resume=True)

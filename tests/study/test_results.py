@@ -285,3 +285,17 @@ def test_every_stage_result_saves_with_the_same_signature():
         assert list(params)[:2] == ["self", "folder"], cls.__name__
         assert params.get("figures") is not None and params["figures"].kind is inspect.Parameter.KEYWORD_ONLY, \
             cls.__name__
+
+
+def test_a_stage_killed_while_drawing_leaves_no_json_that_reads_as_whole(tmp_path, monkeypatch):
+    """A crash after reliability.json but before its figures left the figures missing for good: a resume takes the
+    JSON as a finished stage. The JSON is written last."""
+    import jointwear.study.reliability_results as rr
+
+    def killed(fig, path):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(rr, "save_figure", killed)
+    with pytest.raises(KeyboardInterrupt):
+        _reliability_result().save(tmp_path)
+    assert (tmp_path / "reliability_curve.csv").is_file() and not (tmp_path / "reliability.json").exists()

@@ -301,8 +301,8 @@ class EvaluationStore:
         try:
             with contextlib.closing(sqlite3.connect(f"file:{db}?mode=ro", uri=True, timeout=5)) as con:
                 meta = dict(con.execute("SELECT key, value FROM meta").fetchall())
-        except sqlite3.Error:
-            return None  # not readable as a store yet (killed before its first commit): open() decides
+        except sqlite3.Error as exc:
+            return _damaged_error(db, exc)  # else not readable as a store yet (killed before its first commit)
         return _meta_error(db, meta, config_hash) if "config_hash" in meta else None
 
     @classmethod
@@ -372,6 +372,11 @@ class EvaluationStore:
                 (_now(), mode, version, os.getpid()),
             )
             conn.execute("COMMIT")
+        except sqlite3.DatabaseError as exc:
+            conn.close()
+            if (damaged := _damaged_error(db, exc)) is not None:
+                raise damaged from None
+            raise
         except BaseException:
             if conn.in_transaction:
                 conn.execute("ROLLBACK")
@@ -511,3 +516,12 @@ class EvaluationStore:
             total_wall_s=float(wall or 0.0),
             n_sessions=int(n_sessions),
         )
+
+
+def _damaged_error(db: Path, exc: sqlite3.Error) -> StoreError | None:
+    """The error of a store file that is not a database or is damaged (named, without a traceback); None for any
+    other sqlite error (a lock held past the timeout is not the file's fault)."""
+    if getattr(exc, "sqlite_errorname", None) not in ("SQLITE_NOTADB", "SQLITE_CORRUPT"):
+        return None
+    return StoreError(f"the evaluation store {db} cannot be read ({exc}): move it away to start afresh "
+                      "(--overwrite; overwrite=True in Python), or restore it")

@@ -243,10 +243,9 @@ class DesignResult(StageResult):
         """Write ``design.json``, the front and every candidate (:meth:`tables`) and the front's figure."""
         folder = Path(folder)
         self.write_tables(folder)
-        path = self.write(folder)
         if figures and self.pareto:
             from jointwear.report.design_section import design_pareto_figure
             from jointwear.report.style import savefig
 
             savefig(design_pareto_figure(self), folder / "design_pareto.png")
-        return path
+        return self.write(folder)  # last: a result whose JSON is there is whole

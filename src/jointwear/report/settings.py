@@ -297,7 +297,6 @@ def write_settings(out_dir: Path | str, config: Any, *sections: tuple[str, Any],
 
 def write_dump(out_dir: Path | str, dump: dict, *, filename: str = "config.json") -> Path:
     """Write a :func:`settings_dump` already made to ``out_dir / filename``; returns the path."""
-    path = Path(out_dir) / filename
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(dump, indent=1, default=str), encoding="utf-8")
-    return path
+    from jointwear.study.io import write_text_atomic
+
+    return write_text_atomic(Path(out_dir) / filename, json.dumps(dump, indent=1, default=str))

@@ -6,6 +6,7 @@ import csv
 import datetime as _dt
 import json
 import math
+import os
 import platform
 import re
 from collections import Counter
@@ -34,12 +35,20 @@ def strict(obj: Any) -> Any:
     return obj
 
 
-def write_json(path: Path, payload: Mapping) -> Path:
-    """Write ``payload`` as strict, indented JSON (NaN and infinities become null)."""
+def write_text_atomic(path: Path, text: str) -> Path:
+    """Write ``text`` to ``path`` through a temporary file renamed over it: a process killed while writing leaves
+    the old file or the new one, never half of one (a study's records are read back on resume)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(strict(payload), indent=1, allow_nan=False) + "\n", encoding="utf-8")
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(text, encoding="utf-8")
+    os.replace(tmp, path)
     return path
+
+
+def write_json(path: Path, payload: Mapping) -> Path:
+    """Write ``payload`` as strict, indented JSON (NaN and infinities become null), atomically."""
+    return write_text_atomic(path, json.dumps(strict(payload), indent=1, allow_nan=False) + "\n")
 
 
 def read_json(path: Path) -> dict:

@@ -516,7 +516,6 @@ class ReliabilityCurve(StageResult):
         """Write ``reliability.json``, the CSV tables (:meth:`tables`) and the figures."""
         folder = Path(folder)
         self.write_tables(folder)
-        path = self.write(folder)
         if figures:
             from jointwear.report import figures as F
 
@@ -531,7 +530,7 @@ class ReliabilityCurve(StageResult):
                 save_figure(F.convergence_figure(conv["n_calls"], conv["pf"], cov=conv.get("cov"),
                                               label=f"Pf at {conv.get('cycles'):,} cycles"),
                          folder / "convergence.png")
-        return path
+        return self.write(folder)  # last: a result whose JSON is there is whole
 
 
 _RELIABILITY_KEYS = frozenset({
@@ -642,7 +641,6 @@ class SensitivityResult(StageResult):
         """Write ``sensitivity.json``, ``sensitivity.csv`` (:meth:`tables`) and the figures."""
         folder = Path(folder)
         self.write_tables(folder)
-        path = self.write(folder)
         if figures:
             from jointwear.report import figures as F
 
@@ -658,7 +656,7 @@ class SensitivityResult(StageResult):
                                         ST_conf=s.get("ST_conf"),
                                         output=s.get("output") or f"wear at {self.cycles:,} cycles"),
                          folder / "sensitivity_sobol.png")
-        return path
+        return self.write(folder)  # last: a result whose JSON is there is whole
 
 
 # ------------------------------------------------------------------------------------------------- validation
@@ -797,7 +795,6 @@ class ValidationResult(StageResult):
         folder = Path(folder)
         self.write_tables(folder)
         cv = self.cross_validation
-        path = self.write(folder)
         if figures:
             from jointwear.report import figures as F
 
@@ -807,4 +804,4 @@ class ValidationResult(StageResult):
             if cv.get("log_life_true"):
                 save_figure(F.cross_validation_figure(cv["log_life_true"], cv["log_life_loo"], cv["log_life_loo_sd"],
                                                    q2=cv.get("q2")), folder / "cross_validation.png")
-        return path
+        return self.write(folder)  # last: a result whose JSON is there is whole

@@ -154,11 +154,10 @@ class SimulationSummary(StageResult):
         """Write ``simulate.json``, ``simulate_joints.csv`` (:meth:`tables`), ``simulate.npz`` (series) and the
         figures."""
         folder = Path(folder)
-        path = self.write(folder)
         self.write_tables(folder)
         res = self.trace
         if res is None:
-            return path
+            return self.write(folder)
         data: dict[str, np.ndarray] = {"t_s": res.t, "crank_angle_rad": res.crank_angle,
                                        "body_angles_rad": res.body_angles}
         for tr in res.joints:
@@ -181,7 +180,7 @@ class SimulationSummary(StageResult):
                 save_figure(F.contact_force_figure(np.degrees(res.crank_angle), tr.contact_force,
                                                 mean_N=tr.mean_force, title=f"Contact force, joint {tr.name}"),
                          folder / f"force_{label}.png")
-        return path
+        return self.write(folder)  # last: a result whose JSON is there is whole
 
 
 # ------------------------------------------------------------------------------------------------------- wear
