@@ -18,6 +18,7 @@ from jointwear.mechanism.model import (
 )
 from jointwear.mechanism.results import (
     ContactTrace,
+    SimulationCancelled,
     SimulationError,
     SimulationResult,
     SimulationState,
@@ -35,6 +36,7 @@ __all__ = [
     "Driver",
     "Joint",
     "MechanismModel",
+    "SimulationCancelled",
     "SimulationError",
     "SimulationResult",
     "SimulationState",

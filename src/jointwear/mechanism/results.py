@@ -206,3 +206,7 @@ class SimulationResult:
 class SimulationError(RuntimeError):
     """The integrator could not proceed (step-size underflow or step budget exhausted)."""
 
+
+class SimulationCancelled(Exception):
+    """The simulation was stopped by its ``cancel`` event (a block whose result is no longer needed)."""
+

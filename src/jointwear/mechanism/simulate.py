@@ -18,6 +18,7 @@ from jointwear.mechanism.initial import initial_state
 from jointwear.mechanism.model import MechanismModel
 from jointwear.mechanism.results import (
     ContactTrace,
+    SimulationCancelled,
     SimulationError,
     SimulationResult,
     SimulationState,
@@ -184,7 +185,7 @@ class Runner:
 def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeometry] | None = None,
              settle_cycles: float | None = None, rtol: float | None = None, atol: float | None = None,
              state0: SimulationState | None = None, *, record: bool = True,
-             fast: bool | None = None) -> SimulationResult:
+             fast: bool | None = None, cancel: threading.Event | None = None) -> SimulationResult:
     """Integrate the mechanism: settle_cycles crank cycles (discarded), then n_cycles recorded.
 
     geometry: one ClearanceGeometry per clearance joint (default: unworn). state0: continue from a
@@ -194,6 +195,8 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
     (jointwear.mechanism.fast), else the joint-coordinate tree kernel when the ideal joints form a forest
     (jointwear.mechanism.tree), else the general Cartesian kernel; True requires the
     four-bar kernel, False forces the Cartesian kernel.
+    cancel: an event another thread may set; the simulation then stops at its next record chunk and raises
+    SimulationCancelled (a wear history's look-ahead block after the joint is worn away).
     """
     wall0 = time.perf_counter()
     if not (np.isfinite(n_cycles) and n_cycles >= 0):
@@ -240,6 +243,8 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
     chunks = []
     first = True
     while True:
+        if cancel is not None and cancel.is_set():
+            raise SimulationCancelled(f"cancelled at t = {t:.6g} s")
         counters[0] = 0
         rec = run.buffers(est + 1 if first else est)
         if first:  # the first sample is the state at the start of the recorded window
@@ -261,8 +266,13 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
         chunks.append({k: (v[..., :n] if k == "rec_c" else v[:n]) for k, v in rec.items()})
         if t >= t_end:
             break
+    # joined one series at a time, each chunk's part dropped as it is joined: the record is held once, not twice;
+    # the fast kernels' multipliers are not recorded (filled with NaN below), so not joined
+    unrecorded = ("rec_lam",) if run.mode in (1, 2) else ()
     cat = chunks[0] if len(chunks) == 1 else {
-        k: np.concatenate([c[k] for c in chunks], axis=-1 if k == "rec_c" else 0) for k in chunks[0]}
+        k: np.concatenate([c.pop(k) for c in chunks], axis=-1 if k == "rec_c" else 0)
+        for k in list(chunks[0]) if k not in unrecorded}
+    del chunks, rec
     ref = phi_ref if settle == 0 else None
     Y, Ydd = cat["rec_y"], cat["rec_acc"]
     if run.mode == 2:
@@ -271,7 +281,7 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
         tree_angles = body_angles(run.tree, Y)
         free_phi = {n: tree_angles[:, i] for i, n in enumerate(free_names)}
         joint_angles = {}
-        cat["rec_lam"] = np.full((Y.shape[0], 2 * len(model.joints)), np.nan)
+        cat["rec_lam"] = np.broadcast_to(np.nan, (Y.shape[0], 2 * len(model.joints)))  # read-only, no memory
         rec_t = cat["rec_t"]
 
         def cart():
@@ -279,7 +289,7 @@ def simulate(model: MechanismModel, n_cycles: float, geometry: list[ClearanceGeo
     elif run.mode == 1:
         angles = natural_angles(run.lay, Y, ref)
         joint_angles = {0: _fast_joint_angles(model, run, cat["rec_t"], angles[run.lay.rod])}
-        cat["rec_lam"] = np.full((Y.shape[0], 2 * len(model.joints)), np.nan)
+        cat["rec_lam"] = np.broadcast_to(np.nan, (Y.shape[0], 2 * len(model.joints)))  # read-only, no memory
         free_phi = {n: angles[n] for n in free_names}
 
         def cart():

@@ -16,8 +16,10 @@ paper's Monte Carlo means are linear in cycles), so `max_wear_at(N)` interpolate
 from __future__ import annotations
 
 import dataclasses
+import inspect
 import math
 import os
+import threading
 import time
 from collections import deque
 from concurrent.futures import ThreadPoolExecutor
@@ -199,6 +201,8 @@ def wear_history(
     n_cycles = check_cycles(n_cycles, "cycles")
     if simulate is None:
         from jointwear.mechanism import simulate as simulate  # noqa: PLW0127
+    # set when the history stops: a look-ahead block still in flight is not needed (a simulate that takes it)
+    cancel = threading.Event() if "cancel" in inspect.signature(simulate).parameters else None
     geoms0 = list(geometry) if geometry is not None else list(model.initial_geometry())
     nj = len(geoms0)
     if nj == 0:
@@ -242,7 +246,7 @@ def wear_history(
     def run_block(geoms, state, settle):
         t0 = time.perf_counter()
         res = simulate(model, rec, geometry=geoms, settle_cycles=settle, state0=state,
-                       rtol=settings.rtol, atol=settings.atol)
+                       rtol=settings.rtol, atol=settings.atol, **({"cancel": cancel} if cancel is not None else {}))
         return res, time.perf_counter() - t0
 
     threads = lane_threads(lanes, threads)
@@ -259,11 +263,11 @@ def wear_history(
                 else:  # first block of a lane: from rest; lane j settles j / lanes cycle longer (another phase)
                     settle = settle0 + lane / lanes if lane > 0 else settle0
                 job = (geoms, state, settle)
-                fut = pool.submit(run_block, *job) if pool is not None else run_block(*job)
+                fut = pool.submit(run_block, *job) if pool is not None else job  # serial: run when its turn comes
                 inflight.append((lane, upd, geoms, list(growth), settle, fut))
                 k_next += 1
             lane, upd, geoms, growth_used, settle, fut = inflight.popleft()
-            res, dt_sim = fut.result() if pool is not None else fut
+            res, dt_sim = fut.result() if pool is not None else run_block(*fut)
             sim_seconds += dt_sim
             sim_cycles += float(res.n_cycles) + float(res.settle_cycles)
             n_steps += int(res.n_steps)
@@ -314,11 +318,14 @@ def wear_history(
             hist_c.append(done)
             if progress is not None:
                 progress(done, n_cycles)
+            del res, fut  # the block's record, before the next block is waited for
             gone = [(i, why) for i in range(nj) if (why := used_up(geoms0[i], settings, wj[i], growth[i]))]
             if gone and done < n_cycles:
                 stopped_at, stop_reason = done, f"joint {model.clearance_joints[gone[0][0]].name}: {gone[0][1]}"
                 break
     finally:
+        if cancel is not None:
+            cancel.set()
         if pool is not None:
             for item in inflight:
                 item[-1].cancel()
