@@ -99,5 +99,5 @@ def test_no_block_is_run_or_left_running_past_the_stop(dry_steel, threads):
     assert events[0] is not None and events[0].is_set()  # the stop is told to any block still in flight
     if threads == 1:
         assert len(finished) == blocks and not cancelled  # nothing simulated past the stop
-    else:  # the other lane's block was in flight: cancelled, or finished before the stop was known
-        assert len(finished) + len(cancelled) == blocks + 1
+    else:  # the other lane's block: not started (its future cancelled), cancelled running, or done before the stop
+        assert blocks <= len(finished) + len(cancelled) <= blocks + 1 and len(finished) <= blocks + 1
