@@ -327,3 +327,12 @@ def test_the_help_does_not_load_the_compiled_kernels():
     code = ("import sys\nfrom jointwear.cli import main_entry\ntry:\n    main_entry(['--help'])\nexcept SystemExit:\n"
             "    pass\nassert 'numba' not in sys.modules, 'numba imported'\n")
     subprocess.run([sys.executable, "-c", code], check=True, capture_output=True)
+
+
+def test_a_config_saved_with_a_byte_order_mark_loads(tmp_path):
+    """Notepad's 'UTF-8 with BOM' gave 'malformed TOML: Invalid statement (at line 1, column 1)'."""
+    from jointwear.config import load_config
+
+    path = tmp_path / "bom.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + 'extends = "jin2025_flapping_wing"\nname = "bom"\n'.encode())
+    assert load_config(path).name == "bom"

@@ -563,7 +563,7 @@ def _read_source(source: str | Path) -> tuple[dict[str, Any], str, Path | None]:
     except OSError as exc:
         raise ConfigError(f"config: cannot read file '{path}': {exc.strerror or exc}") from None
     try:
-        text = raw.decode("utf-8")
+        text = raw.decode("utf-8-sig")  # a byte-order mark (Windows editors) is not TOML
     except UnicodeDecodeError:
         raise ConfigError(f"config: file '{path}' is not UTF-8 text (expected TOML)") from None
     return _parse_toml(text, str(path)), str(path), path.parent

@@ -231,3 +231,14 @@ def test_a_damaged_store_is_named_before_anything_is_written(tmp_path, damage):
     assert expected in str(EvaluationStore.refusal(db.parent, "abc", resume=True))
     with pytest.raises(StoreError, match="cannot be read"):
         EvaluationStore.open(db.parent, "abc", resume=True)
+
+
+def test_a_store_in_a_folder_named_with_a_hash_sign_is_checked_before_a_resume(tmp_path):
+    """'file:.../o #1/evaluations.sqlite?mode=ro' opened another path: the read-only check passed, and a resume with a
+    changed model moved results aside and rewrote config.json before the store refused it."""
+    from jointwear.compute import ConfigChangedError, EvaluationStore
+
+    folder = tmp_path / "o #1 100%"
+    EvaluationStore.open(folder, "abc").close()
+    assert isinstance(EvaluationStore.refusal(folder, "other", resume=True), ConfigChangedError)
+    assert EvaluationStore.refusal(folder, "abc", resume=True) is None

@@ -299,3 +299,9 @@ def test_a_stage_killed_while_drawing_leaves_no_json_that_reads_as_whole(tmp_pat
     with pytest.raises(KeyboardInterrupt):
         _reliability_result().save(tmp_path)
     assert (tmp_path / "reliability_curve.csv").is_file() and not (tmp_path / "reliability.json").exists()
+
+
+def test_file_labels_differ_on_a_case_insensitive_file_system():
+    from jointwear.study.io import file_labels
+
+    assert file_labels(["A", "a", "B"]) == ["A_0", "a_1", "B"]  # orbit_A.png and orbit_a.png: one file on macOS

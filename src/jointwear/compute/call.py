@@ -149,9 +149,7 @@ def run_pickled(blob: bytes, x: np.ndarray, timeout: float | None) -> dict:
 
 
 def dumps_model(model: Callable) -> bytes:
-    try:
-        import cloudpickle
+    """The model as bytes for the workers: cloudpickle, so that closures, lambdas and ``__main__`` functions go too."""
+    import cloudpickle
 
-        return cloudpickle.dumps(model)
-    except ImportError:  # pragma: no cover - cloudpickle comes with dask
-        return pickle.dumps(model)
+    return cloudpickle.dumps(model)

@@ -299,7 +299,7 @@ class EvaluationStore:
         if not resume:
             return None if overwrite else _exists_error(db)
         try:
-            with contextlib.closing(sqlite3.connect(f"file:{db}?mode=ro", uri=True, timeout=5)) as con:
+            with contextlib.closing(sqlite3.connect(read_only_uri(db), uri=True, timeout=5)) as con:
                 meta = dict(con.execute("SELECT key, value FROM meta").fetchall())
         except sqlite3.Error as exc:
             return _damaged_error(db, exc)  # else not readable as a store yet (killed before its first commit)
@@ -525,3 +525,9 @@ def _damaged_error(db: Path, exc: sqlite3.Error) -> StoreError | None:
         return None
     return StoreError(f"the evaluation store {db} cannot be read ({exc}): move it away to start afresh "
                       "(--overwrite; overwrite=True in Python), or restore it")
+
+
+def read_only_uri(db: str | os.PathLike) -> str:
+    """SQLite's URI of ``db`` opened read-only: the path as a file URI, so that a '#', '?' or '%' in a folder's name
+    (and a Windows drive or share) is not read as part of the URI."""
+    return Path(db).resolve().as_uri() + "?mode=ro"

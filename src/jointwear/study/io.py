@@ -60,10 +60,11 @@ def read_json(path: Path) -> dict:
 
 def file_labels(names: Sequence[str]) -> list[str]:
     """Each name as part of a file name: characters other than letters, digits, '.', '-' and '_' become '_' (a joint
-    named 'crank pin/rod' -> 'crank_pin_rod'); where two names give the same label, each gets its position appended."""
+    named 'crank pin/rod' -> 'crank_pin_rod'); where two names give the same label, also in another case ('A' and
+    'a': one file on macOS and Windows), each gets its position appended."""
     labels = [re.sub(r"[^A-Za-z0-9._-]", "_", str(name)) or "_" for name in names]
-    counts = Counter(labels)
-    return [f"{label}_{k}" if counts[label] > 1 else label for k, label in enumerate(labels)]
+    counts = Counter(label.casefold() for label in labels)
+    return [f"{label}_{k}" if counts[label.casefold()] > 1 else label for k, label in enumerate(labels)]
 
 
 def write_csv(path: Path, columns: Mapping[str, Sequence]) -> Path:
