@@ -219,6 +219,10 @@ def test_configs_are_frozen_and_updated_revalidates():
         cfg.clearance_joints[0].journal_radius = 1.003e-3
     with pytest.raises(ConfigError, match="rod .* and rocker .* cannot close the loop"):
         updated(cfg, {"mechanism.rocker_pivot": (0.0115, 0.08)})
+    # the sensitivity's rod x 0.8: Grashof's sum named with the lengths of the preset (6, 38 x 0.8, 12, 39.702 mm)
+    with pytest.raises(ConfigError, match=r"shortest \+ longest, here 45.702 mm, stays below the other two, here "
+                                          r"42.4 mm"):
+        updated(cfg, {"mechanism.rod.length": 0.8 * cfg.mechanism.rod.length})
     with pytest.raises(ConfigError, match=r"clearance_joints\[0\].journal_radius"):
         updated(cfg, {"clearance_joints.0.journal_radius": 1.003e-3})
     with pytest.raises(ConfigError, match="no such setting"):

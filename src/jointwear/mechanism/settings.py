@@ -93,12 +93,16 @@ class FourBarConfig(SIModel):
         d = math.hypot(self.rocker_pivot[0] - self.crank_pivot[0], self.rocker_pivot[1] - self.crank_pivot[1])
         lo, hi = d - l1, d + l1  # range of |AC| over a full crank turn
         need_lo, need_hi = abs(l2 - l3), l2 + l3
+        links = (l1, l2, l3, d)
         if not (lo > need_lo and hi < need_hi and d > l1):
             raise ValueError(
                 f"links rod ({fmt_mm(l2)}) and rocker ({fmt_mm(l3)}) cannot close the loop for every crank angle: "
                 f"the distance from crank pin A to rocker pivot C ranges over [{fmt_mm(max(lo, 0))}, {fmt_mm(hi)}] "
                 f"(crank {fmt_mm(l1)}, pivots {fmt_mm(d)} apart) but must stay strictly inside "
-                f"[{fmt_mm(need_lo)}, {fmt_mm(need_hi)}]"
+                f"[{fmt_mm(need_lo)}, {fmt_mm(need_hi)}]: the crank cannot turn a full revolution (Grashof: a crank "
+                f"turns fully when it is the shortest link and shortest + longest, here "
+                f"{fmt_mm(min(links) + max(links))}, stays below the other two, here "
+                f"{fmt_mm(sum(links) - min(links) - max(links))})"
             )
         return self
 
