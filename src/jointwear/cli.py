@@ -38,8 +38,8 @@ def compute_options(f):
                      help="Local worker processes for model calls (default: compute.workers, else all cores; "
                           "not with --scheduler).")(f)
     f = click.option("--scheduler", default=None, metavar="ADDRESS",
-                     help="Dask scheduler address (tcp://host:8786) to run model calls on a cluster (the "
-                          "jointwear[cluster] extra; not with --workers).")(f)
+                     help="Dask scheduler address (tcp://host:8786, or host:8786) to run model calls on a cluster "
+                          "(the 'cluster' extra; not with --workers).")(f)
     f = click.option("--resume", is_flag=True,
                      help="Continue the study whose model calls are stored in --out (no call is repeated; not with "
                           "--overwrite).")(f)
@@ -73,18 +73,20 @@ class JointwearGroup(click.Group):
 
     def run(self, args: list[str] | None = None, prog_name: str = "jointwear") -> int:
         given = list(sys.argv[1:] if args is None else args)
+
+        def resume_hint() -> str:
+            if next((a for a in given if not a.startswith("-")), None) not in RESUMABLE:
+                return ""
+            return (" (the model calls made so far are kept in the output folder's evaluation store: run the same "
+                    "command again with --resume to continue it)")
+
         try:
             rv = super().main(args=given, prog_name=prog_name, standalone_mode=False)
         except ConfigError as exc:
             click.echo(f"error: {one_line(str(exc))}", err=True)
             return 2
         except click.exceptions.Abort:
-            command = next((a for a in given if not a.startswith("-")), None)
-            if command in RESUMABLE:
-                click.echo("error: aborted (the model calls made so far are kept in the output folder's evaluation "
-                           "store: run the same command again with --resume to continue it)", err=True)
-            else:
-                click.echo("error: aborted", err=True)
+            click.echo(f"error: aborted{resume_hint()}", err=True)
             return 128 + (signal.SIGTERM if _TERMINATED else signal.SIGINT)  # the shell's convention: 143, 130
         except click.exceptions.NoArgsIsHelpError as exc:  # bare `jointwear`: the help, as `jointwear --help`
             click.echo(exc.ctx.get_help())
@@ -96,12 +98,20 @@ class JointwearGroup(click.Group):
             click.echo(f"error: {one_line(exc.format_message())}", err=True)
             return exc.exit_code if exc.exit_code else 2
         except RuntimeError as exc:
-            from jointwear.mechanism.results import SimulationError  # here: importing it loads numba (0.3 s per command)
+            # imported here: it loads numba (0.3 s of every command's start)
+            from jointwear.mechanism.results import SimulationError
 
             if not isinstance(exc, SimulationError):
                 raise
             click.echo(f"error: simulation failed: {one_line(str(exc))}", err=True)
             return 1
+        except BaseException as exc:  # a lost Dask scheduler is one (see SchedulerLostError)
+            from jointwear.compute.executors import SchedulerLostError  # here: importing it loads numpy
+
+            if not isinstance(exc, SchedulerLostError):
+                raise
+            click.echo(f"error: {one_line(str(exc))}{resume_hint()}", err=True)
+            return 2
         return rv if isinstance(rv, int) else 0
 
 

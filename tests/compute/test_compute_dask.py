@@ -139,3 +139,146 @@ def test_a_cluster_without_workers_says_so():
                                      f"`dask worker {ex.address}`; the calls made so far are in the evaluation store)")
     with start_local_cluster(n_workers=1, threads_per_worker=1, processes=False) as c, DaskExecutor(c) as ex:
         assert ex.idle_message() is None
+
+
+@pytest.mark.timeout(60)
+def test_workers_with_another_jointwear_are_refused():
+    """A worker running another jointwear version, or none, is refused at connection, naming it and both versions."""
+    import distributed
+
+    import jointwear
+    from jointwear.schema import ConfigError
+
+    def other_version():
+        import jointwear
+
+        jointwear.__version__ = "0.0.0-other"
+
+    def no_jointwear():
+        import sys
+
+        sys.modules["jointwear"] = None  # `import jointwear` fails from now on
+
+    with start_local_cluster(n_workers=2, threads_per_worker=1, processes=True) as c:
+        with distributed.Client(c, set_as_default=False) as client:
+            other, missing = sorted(client.scheduler_info()["workers"])
+            client.run(other_version, workers=[other])
+            client.run(no_jointwear, workers=[missing])
+        with pytest.raises(ConfigError) as err:
+            DaskExecutor(c)
+    message = str(err.value)
+    assert "\n" not in message
+    assert jointwear.__version__ in message
+    assert f"{other} runs jointwear 0.0.0-other" in message
+    assert f"{missing} cannot import jointwear" in message
+
+
+def slept_model(x):
+    time.sleep(0.2)
+    return x.copy(), "ok"
+
+
+@pytest.mark.timeout(60)
+def test_a_lost_scheduler_ends_the_batch_and_keeps_the_calls_done(tmp_path):
+    """Stopping the scheduler mid-batch raises SchedulerLostError at once; the calls completed before are stored."""
+    import dask
+
+    from jointwear.compute.executors import SchedulerLostError
+
+    X = np.arange(40.0)[:, None]
+    # a short connect time-out: the cluster's own close does not wait half a minute for its stopped scheduler
+    with dask.config.set({"distributed.comm.timeouts.connect": "2s"}), \
+            start_local_cluster(n_workers=1, threads_per_worker=1, processes=True) as c, \
+            EvaluationStore.open(tmp_path, "dask-lost") as store:
+        ex = DaskExecutor(c.scheduler_address, timeout=5)
+        ev = Evaluator(slept_model, ex, store)
+        ev.evaluate(X[:2])  # the worker is up and has run calls
+        threading.Timer(0.5, lambda: c.sync(c.scheduler.close)).start()
+        t0 = time.monotonic()
+        with pytest.raises(SchedulerLostError) as err, ex:  # the executor's shutdown does not raise either
+            ev.evaluate(X[2:])
+        assert time.monotonic() - t0 < 4  # not after the client's 5 s of reconnection attempts
+        assert c.scheduler_address in str(err.value)
+        assert 2 <= store.stats().n_calls < len(X)
+        assert ex.address == c.scheduler_address and ex.idle_message() is None  # no AttributeError once closed
+
+
+def test_the_cli_says_the_scheduler_was_lost_and_how_to_resume(monkeypatch, capsys, tmp_path):
+    from jointwear.cli import main_entry
+    from jointwear.compute.executors import SchedulerLostError
+    from jointwear.study import Study
+
+    def lost(self):
+        raise SchedulerLostError("tcp://10.0.0.5:8786")
+
+    monkeypatch.setattr(Study, "reliability", lost)
+    code = main_entry(["reliability", "flores_slider_crank", "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2
+    assert err == ("error: the Dask scheduler at tcp://10.0.0.5:8786 was lost: it stopped, or the network to it "
+                   "failed (the model calls made so far are kept in the output folder's evaluation store: run the "
+                   "same command again with --resume to continue it)")
+
+
+class _Silent(threading.Thread):
+    """A TCP server that accepts connections and never says anything."""
+
+    def __init__(self):
+        import socket
+
+        super().__init__(daemon=True)
+        self.sock = socket.create_server(("127.0.0.1", 0))
+        self.port = self.sock.getsockname()[1]
+        self.conns = []
+
+    def run(self):
+        while True:
+            try:
+                self.conns.append(self.sock.accept()[0])
+            except OSError:
+                return
+
+
+@pytest.mark.timeout(60)
+def test_a_port_that_is_not_a_scheduler_fails_in_seconds(monkeypatch):
+    """A port that accepts TCP but is no Dask scheduler (a silent server, an HTTP server like the dashboard) is
+    refused within the probe's time-out, naming the address, by the executor and by the study's check."""
+    import http.server
+
+    from jointwear.compute import executors
+    from jointwear.study import checks
+
+    monkeypatch.setattr(executors, "SCHEDULER_ANSWER_SECONDS", 1.0, raising=False)
+    monkeypatch.setattr(checks, "SCHEDULER_CONNECT_SECONDS", 1.0)
+    silent = _Silent()
+    silent.start()
+    web = http.server.ThreadingHTTPServer(("127.0.0.1", 0), http.server.SimpleHTTPRequestHandler)
+    threading.Thread(target=web.serve_forever, daemon=True).start()
+    try:
+        for port in (silent.port, web.server_address[1]):
+            address = f"tcp://127.0.0.1:{port}"
+            t0 = time.monotonic()
+            with pytest.raises(ConnectionError, match=f"nothing at {address} answered as a Dask scheduler"):
+                DaskExecutor(address)
+            assert checks.scheduler_unreachable(f"127.0.0.1:{port}").startswith(f"nothing at {address} answered")
+            assert time.monotonic() - t0 < 8
+    finally:
+        web.shutdown()
+        silent.sock.close()
+
+
+@pytest.mark.timeout(60)
+def test_a_bare_host_port_is_a_tcp_address(cluster):
+    from jointwear.schema import ConfigError
+    from jointwear.study import Study
+    from jointwear.study.checks import scheduler_problem, scheduler_unreachable
+
+    bare = cluster.scheduler_address.removeprefix("tcp://")
+    assert scheduler_problem(bare) is None and scheduler_unreachable(bare) is None
+    with make_executor(scheduler=bare) as ex:
+        assert ex.address == cluster.scheduler_address
+    assert "is not a Dask scheduler address" in scheduler_problem("http://127.0.0.1:8786")
+    # a bad address given as the argument is the argument's fault, not the config's
+    with pytest.raises(ConfigError) as err:
+        Study("flores_slider_crank", out="unused", scheduler="http://127.0.0.1:8786").check()
+    assert str(err.value).startswith("scheduler: 'http://127.0.0.1:8786' is not a Dask scheduler address")

@@ -15,7 +15,8 @@ The failure rule (one bad call never ends a batch):
   has killed its worker ``max_attempts`` times (default 2) it is ``"failed"`` (reason ``"the worker
   process died ..."``); calls that merely shared the pool with it are run again, not failed;
 - on Dask, the scheduler re-runs the tasks of a lost worker; a task that keeps killing workers ends as
-  ``KilledWorker`` -> status ``"failed"``;
+  ``KilledWorker`` -> status ``"failed"``; a lost scheduler ends the batch with
+  :class:`~jointwear.compute.executors.SchedulerLostError` (the calls completed before are stored);
 
 A failed call is stored like a good one (with its reason and wall time) and its outputs are NaN in
 :attr:`BatchResult.Y`. What a study does with failed calls is the study's rule; the evaluator only
@@ -262,7 +263,7 @@ class Evaluator:
 
     def evaluate(self, X) -> BatchResult:
         """Evaluate every row of ``X`` (shape (n, d); a 1-D array is one row). Never raises for a
-        failed model call; raises only for a broken setup (unpicklable model, closed store)."""
+        failed model call; raises only for a broken setup (unpicklable model, closed store, lost Dask scheduler)."""
         t0 = time.perf_counter()
         X = np.array(X, dtype=np.float64)
         if X.ndim == 1:
@@ -342,6 +343,7 @@ class Evaluator:
         suspects: deque[int] = deque()
         deaths: dict[int, int] = {}
         in_flight: dict[Any, tuple[int, bool]] = {}  # future -> (row, ran alone)
+        check_alive = getattr(self.executor, "check_alive", lambda: None)
 
         def submit(i: int) -> Any:
             while True:
@@ -366,6 +368,7 @@ class Evaluator:
             while in_flight:
                 done, _ = wait(list(in_flight), timeout=IDLE_CHECK_SECONDS, return_when=FIRST_COMPLETED)
                 if not done:  # a cluster left without workers waits for one: say so, once per stretch
+                    check_alive()
                     message = getattr(self.executor, "idle_message", lambda: None)()
                     if message and not told:
                         print(f"compute: {message}", file=sys.stderr, flush=True)
@@ -377,6 +380,8 @@ class Evaluator:
                     try:
                         rec = self._record(X[i], fut.result())
                     except (BrokenProcessPool, CancelledError) as exc:
+                        # a lost Dask scheduler cancels every task: the batch ends (the calls done are stored)
+                        check_alive()
                         # a worker process died (segfault, out of memory, os._exit) under this call
                         # or under another one in the same pool
                         if not alone:
@@ -395,8 +400,9 @@ class Evaluator:
                     records[i] = self._completed(X[i], rec)
                 submit_next()
         except BaseException:
-            for fut in in_flight:
-                fut.cancel()
+            if not getattr(self.executor, "lost", False):  # a lost scheduler's tasks are cancelled already
+                for fut in in_flight:
+                    fut.cancel()
             raise
 
     def _infra_failure(self, x: np.ndarray, reason: str) -> CallRecord:

@@ -27,9 +27,12 @@ from typing import Any, Callable
 __all__ = [
     "DaskExecutor",
     "LocalExecutor",
+    "SchedulerLostError",
     "SerialExecutor",
     "available_cores",
     "make_executor",
+    "scheduler_not_answering",
+    "scheduler_url",
     "start_local_cluster",
     "unguarded_main_script",
 ]
@@ -64,6 +67,9 @@ class _ExecutorBase(cf.Executor):
 
     def restart(self) -> None:
         """Replace broken workers (only local process pools can break)."""
+
+    def check_alive(self) -> None:
+        """Raise when the executor can run no more calls and never will again (only a Dask scheduler can be lost)."""
 
     def __repr__(self) -> str:
         return f"<{type(self).__name__} kind={self.kind} n_workers={self.n_workers}>"
@@ -283,13 +289,107 @@ class LocalExecutor(_ExecutorBase):
 # Dask distributed
 
 
+#: seconds a Dask scheduler address has to answer Dask's handshake (distributed's own connect timeout does not bound
+#: a port that accepts connections and says nothing, such as the dashboard's)
+SCHEDULER_ANSWER_SECONDS = 5.0
+
+
+class SchedulerLostError(BaseException):
+    """The Dask scheduler went away during a batch (it stopped, or the network to it failed).
+
+    A BaseException, as Ctrl-C is: code that records an ``Exception`` from a limit state as a failed sample (the
+    reliability engine's) must not turn every later call into a failure; the study ends instead."""
+
+    def __init__(self, address: str) -> None:
+        super().__init__(f"the Dask scheduler at {address} was lost: it stopped, or the network to it failed")
+        self.address = address
+
+
+def scheduler_url(address: str) -> str:
+    """A scheduler address with its scheme: a bare ``host:port`` is ``tcp://host:port``, as Dask reads it."""
+    address = address.strip()
+    return address if "://" in address else f"tcp://{address}"
+
+
+def scheduler_not_answering(address: str, timeout: float = SCHEDULER_ANSWER_SECONDS) -> str | None:
+    """Why ``address`` does not answer as a Dask scheduler within ``timeout`` seconds (None when it does)."""
+    import asyncio
+    import threading
+
+    from distributed.comm import connect
+
+    async def identity():
+        comm = await connect(address, timeout=timeout)
+        try:
+            await comm.write({"op": "identity", "reply": True})
+            return await comm.read()
+        finally:
+            comm.abort()
+
+    outcome: dict[str, Any] = {}
+
+    def ask() -> None:
+        try:
+            outcome["reply"] = asyncio.run(asyncio.wait_for(identity(), timeout))
+        except BaseException as exc:  # noqa: BLE001 - reported below
+            outcome["error"] = exc
+
+    # a thread of its own: the caller may be inside a running event loop (a notebook)
+    thread = threading.Thread(target=ask, name="jointwear-scheduler-probe", daemon=True)
+    thread.start()
+    thread.join(timeout + 2.0)
+    error, reply = outcome.get("error"), outcome.get("reply")
+    if isinstance(error, (TimeoutError, asyncio.TimeoutError)) or not outcome:
+        return (f"nothing at {address} answered as a Dask scheduler within {timeout:g} s (a stopped scheduler, or "
+                "another service's port such as the dashboard's; `dask scheduler` listens on 8786 by default)")
+    if error is not None:
+        return f"cannot reach the Dask scheduler at {address}: {' '.join(str(error).split()) or type(error).__name__}"
+    kind = reply.get("type") if isinstance(reply, dict) else None
+    if kind != "Scheduler":
+        return f"{address} is not a Dask scheduler (it answered as {kind or 'something else'})"
+    return None
+
+
+def _jointwear_version() -> str | None:
+    """The jointwear version of the process it runs in (None: jointwear cannot be imported there)."""
+    try:
+        import jointwear
+    except Exception:  # noqa: BLE001 - any failure to import means the same to the study
+        return None
+    return getattr(jointwear, "__version__", None)
+
+
+# sent to the workers by value (as functions of __main__ are), so a worker without jointwear answers None instead of
+# failing to load the function
+_jointwear_version.__module__ = "__main__"
+
+
+def _version_problem(workers: dict[str, Any], mine: str) -> str | None:
+    """Which workers (address -> version, None or an error) do not run jointwear ``mine``, in one line."""
+    bad = []
+    for address, theirs in sorted(workers.items()):
+        if isinstance(theirs, BaseException):
+            bad.append(f"{address} did not answer ({' '.join(str(theirs).split()) or type(theirs).__name__})")
+        elif theirs is None:
+            bad.append(f"{address} cannot import jointwear")
+        elif theirs != mine:
+            bad.append(f"{address} runs jointwear {theirs}")
+    if not bad:
+        return None
+    return (f"Dask workers must run this study's jointwear {mine}: {'; '.join(bad)} (install jointwear {mine} on "
+            "the workers, or stop those workers)")
+
+
 class DaskExecutor(_ExecutorBase):
     """Calls run on a Dask distributed cluster, through ``Client.get_executor()``.
 
-    ``scheduler`` is an address (``"tcp://10.0.0.5:8786"``), a ``distributed.Client`` (not closed on
-    exit) or a cluster object (``LocalCluster``; a client is made and closed on exit). Tasks are
-    submitted with ``pure=False``. When a worker dies mid-task, the scheduler re-runs its tasks on the
-    remaining workers (up to ``distributed.scheduler.allowed-failures`` times per task, default 3).
+    ``scheduler`` is an address (``"tcp://10.0.0.5:8786"``; a bare ``host:port`` means tcp), a
+    ``distributed.Client`` (not closed on exit) or a cluster object (``LocalCluster``; a client is made and
+    closed on exit). Every connected worker must run this process's jointwear version (a
+    :class:`~jointwear.schema.ConfigError` otherwise). Tasks are submitted with ``pure=False``. When a worker
+    dies mid-task, the scheduler re-runs its tasks on the remaining workers (up to
+    ``distributed.scheduler.allowed-failures`` times per task, default 3); when the scheduler is lost,
+    :class:`SchedulerLostError`.
     """
 
     kind = "dask"
@@ -299,12 +399,18 @@ class DaskExecutor(_ExecutorBase):
             import distributed
         except ImportError as exc:
             raise ImportError(
-                'a Dask scheduler was given but Dask is not installed: pip install "jointwear[cluster]"'
+                'a Dask scheduler was given but Dask is not installed: python -m pip install -e ".[cluster]" in '
+                "jointwear's source folder"
             ) from exc
         if isinstance(scheduler, distributed.Client):
             self.client = scheduler
             self._owns_client = False
         else:
+            if isinstance(scheduler, str):
+                scheduler = scheduler_url(scheduler)
+                problem = scheduler_not_answering(scheduler, min(timeout, SCHEDULER_ANSWER_SECONDS))
+                if problem:
+                    raise ConnectionError(f"{problem}; start it with `dask scheduler` and give its tcp:// address")
             try:
                 self.client = distributed.Client(scheduler, timeout=timeout, set_as_default=False)
             except OSError as exc:
@@ -313,12 +419,40 @@ class DaskExecutor(_ExecutorBase):
                     "`dask scheduler` and give its tcp:// address"
                 ) from exc
             self._owns_client = True
+        self._address = self.client.scheduler.address
+        try:
+            self._check_workers()
+        except BaseException:
+            if self._owns_client:
+                self.client.close()
+            raise
         self._executor = self.client.get_executor(pure=False)
         self._shutdown = False
 
+    def _check_workers(self) -> None:
+        """Refuse workers that run another jointwear (their results would join the store) or none (they die on the
+        first call, and the study would wait for a worker forever)."""
+        from jointwear import __version__
+        from jointwear.schema import ConfigError
+
+        problem = _version_problem(self.client.run(_jointwear_version, on_error="return"), __version__)
+        if problem:
+            raise ConfigError(problem)
+
     @property
     def address(self) -> str:
-        return self.client.scheduler.address
+        """The scheduler's address (kept: a closed client no longer has it)."""
+        return self._address
+
+    @property
+    def lost(self) -> bool:
+        """True once the connection to the scheduler has gone (its tasks are cancelled then), unless shut down."""
+        return not self._shutdown and self.client.status != "running"
+
+    def check_alive(self) -> None:
+        """Raise :class:`SchedulerLostError` when the scheduler is gone."""
+        if self.lost:
+            raise SchedulerLostError(self.address)
 
     @property
     def n_workers(self) -> int:
@@ -339,20 +473,40 @@ class DaskExecutor(_ExecutorBase):
                 f"{self.address}`; the calls made so far are in the evaluation store)")
 
     def submit(self, fn: Callable, /, *args: Any, **kwargs: Any) -> cf.Future:
+        self.check_alive()
         return self._executor.submit(fn, *args, **kwargs)
 
     def map(self, fn: Callable, *iterables, timeout=None, chunksize: int = 1):
+        self.check_alive()
         return self._executor.map(fn, *iterables, timeout=timeout)
 
     def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
         if self._shutdown:
             return
+        lost = self.lost
         self._shutdown = True
         try:
-            self._executor.shutdown(wait=wait and not cancel_futures)
+            if not lost:  # a lost client's tasks are cancelled already, and it can send nothing
+                self._executor.shutdown(wait=wait and not cancel_futures)
         finally:
             if self._owns_client:
-                self.client.close()
+                self._close_client(quiet=lost)
+
+    def _close_client(self, quiet: bool) -> None:
+        if not quiet:
+            self.client.close()
+            return
+        import logging
+
+        # closing a client that is still trying to reconnect logs the attempts it cuts short, tracebacks included;
+        # the study has already said that the scheduler was lost
+        log = logging.getLogger("distributed.client")
+        level = log.level
+        log.setLevel(logging.CRITICAL)
+        try:
+            self.client.close()
+        finally:
+            log.setLevel(level)
 
 
 def make_executor(

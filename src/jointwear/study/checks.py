@@ -32,13 +32,15 @@ def shown(value: float, target: str) -> str:
 
 
 def scheduler_problem(address: str | None) -> str | None:
-    """Why a Dask scheduler address cannot be used (None when it parses: scheme://host:port)."""
+    """Why a Dask scheduler address cannot be used (None when it parses: scheme://host:port, or host:port for tcp)."""
     if address is None:
         return None
-    parts = urlsplit(address)
+    from jointwear.compute.executors import scheduler_url
+
+    parts = urlsplit(scheduler_url(address))
     if parts.scheme not in SCHEDULER_SCHEMES:
         return (f"compute.scheduler: '{address}' is not a Dask scheduler address "
-                f"(expected e.g. tcp://host:8786; schemes {', '.join(SCHEDULER_SCHEMES)})")
+                f"(expected e.g. tcp://host:8786 or host:8786; schemes {', '.join(SCHEDULER_SCHEMES)})")
     try:
         port = parts.port
     except ValueError:
@@ -48,27 +50,35 @@ def scheduler_problem(address: str | None) -> str | None:
     return None
 
 
-#: seconds to wait for a Dask scheduler's port before calling it unreachable (distributed itself waits 30 s)
+#: seconds to wait for a Dask scheduler's port, then for its answer, before calling it unreachable (distributed itself
+#: waits 30 s for the port, and for ever for the answer of a port that accepts and says nothing)
 SCHEDULER_CONNECT_SECONDS = 5.0
 
 
 def scheduler_unreachable(address) -> str | None:
-    """Why nothing answers at a Dask scheduler address (a tcp:// or tls:// host whose port refuses or does not
-    answer within ``SCHEDULER_CONNECT_SECONDS``); None when it answers, or for anything that is not such an address
-    (a Client or cluster object, inproc://)."""
+    """Why nothing answers as a Dask scheduler at an address (a tcp:// or tls:// host whose port refuses, does not
+    answer within ``SCHEDULER_CONNECT_SECONDS``, or is another service's); None when a scheduler answers, or for
+    anything that is not such an address (a Client or cluster object, inproc://)."""
     if not isinstance(address, str) or scheduler_problem(address) is not None:
         return None
+    from jointwear.compute.executors import scheduler_not_answering, scheduler_url
+
+    address = scheduler_url(address)
     parts = urlsplit(address)
     if parts.scheme not in ("tcp", "tls"):
         return None
     import socket
 
-    try:
+    try:  # a refused port is told at once (distributed retries it until its time-out)
         socket.create_connection((parts.hostname, parts.port), timeout=SCHEDULER_CONNECT_SECONDS).close()
     except OSError as exc:
         return (f"cannot reach the Dask scheduler at '{address}' ({exc.strerror or exc}); start it with `dask "
                 "scheduler` and give its tcp:// address")
-    return None
+    try:
+        import distributed  # noqa: F401 - without it the executor says how to install it
+    except ImportError:
+        return None
+    return scheduler_not_answering(address, SCHEDULER_CONNECT_SECONDS)
 
 
 def nominal_wear_cycles(config: StudyConfig) -> int | None:

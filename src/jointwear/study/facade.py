@@ -207,8 +207,11 @@ class Study:
         problems = config_problems(self.config, stages | self._checked)
         if isinstance(self.scheduler, str) and self.scheduler != self.config.compute.scheduler:
             problem = scheduler_problem(self.scheduler)
-            if problem:
-                problems.append(problem.replace("compute.scheduler", "scheduler"))
+            if problem:  # the argument's, told as such when alone (not as the config's, as `out` below)
+                problem = problem.replace("compute.scheduler", "scheduler")
+                if not problems:
+                    raise ConfigError(problem)
+                problems.append(problem)
         if out is not None and (problem := out_problem(out)):
             if not problems:
                 raise ConfigError(problem)
