@@ -382,3 +382,17 @@ def test_a_pin_radius_drawn_apart_from_a_clearance_that_holds_its_scatter_is_war
     names = unc.names()
     bore = x[:, names.index("Rj")] + x[:, names.index("c")]
     assert np.std(bore) == pytest.approx(33e-6 / 12, rel=0.01)
+
+
+def test_a_target_the_curve_cannot_estimate_to_its_cov_is_warned_with_the_settings_it_needs():
+    """R = 0.9999 with the defaults: Pf = 1e-4 lies below pf_floor = 1e-3, where the COV target is waived, and check
+    said nothing; the user found the settings by hand."""
+    base = load_config()
+    (warning,) = config_warnings(updated(base, {"reliability.target_reliability": [0.9, 0.9999]}))
+    cov = math.sqrt((1 - 1e-4) / (1e-4 * base.reliability.n_mc))  # COV^2 = (1 - Pf) / (n Pf) at the first population
+    assert warning.startswith("reliability.target_reliability: the life at R = 0.9999 reads the curve at Pf = 0.0001")
+    assert f"COV may reach {cov:.2g}" in warning and "n_mc_max >= 3,999,600" in warning
+    tuned = {"reliability.target_reliability": [0.9, 0.9999], "reliability.pf_floor": 1e-4,
+             "reliability.n_mc_max": 4_000_000}
+    assert config_warnings(updated(base, tuned)) == []
+    assert config_warnings(updated(base, {"reliability.target_reliability": 0.999})) == []  # 399,600 samples suffice

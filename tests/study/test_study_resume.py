@@ -316,6 +316,10 @@ def test_a_population_that_hit_n_mc_max_says_how_large_it_must_be(quick_config, 
     assert line.startswith("the Monte Carlo population reached its maximum before the COV of Pf met its target")
     assert f"at Pf = 0.00103 needs about {n:,.0f} samples" in line and "subset" not in line
     assert "raise reliability.n_mc_max" in line and "reliability.pf_floor" in line
+    # a level below pf_floor, whose COV is waived, is not the one named (it asked for 2.2e17 samples at 1.8e-15)
+    res.pf[0], res.pf_cov[0] = 1.8e-15, 1.0
+    res.below_floor = np.arange(len(res.cycles)) == 0
+    assert f"at Pf = 0.00103 needs about {n:,.0f} samples" in learning_stop_line(res, settings)
 
 
 def test_a_second_study_in_a_folder_in_use_is_refused(quick_config, tmp_path):

@@ -229,7 +229,7 @@ def config_warnings(config: StudyConfig) -> list[str]:
                        "shift is meant")
     return (mechanism + out + random_input_warnings(config) + clearance_warnings(config)
             + wear_length_warnings(config) + wear_mode_warnings(config) + block_warnings(config)
-            + design_warnings(config) + allowance_warnings(config) + budget_warnings(config))
+            + design_warnings(config) + allowance_warnings(config) + budget_warnings(config) + target_warnings(config))
 
 
 #: what the wear stage says when it has no length for the nominal history
@@ -372,6 +372,32 @@ def budget_warnings(config: StudyConfig) -> list[str]:
             f"{needed} (n_initial = {rel.n_initial}, then {rel.hold_iterations - 1} batches of {rel.batch_size} for "
             f"hold_iterations = {rel.hold_iterations}): the learning will end on its budget, unconverged; raise "
             "max_calls, or lower hold_iterations"]
+
+
+def target_warnings(config: StudyConfig) -> list[str]:
+    """Each target reliability whose Pf = 1 - R the curve cannot estimate to its COV target: below ``pf_floor``
+    (the COV target is waived there), or needing more samples than ``n_mc_max`` (COV^2 = (1 - Pf) / (n Pf))."""
+    from jointwear.reliability.results import cov_population
+
+    rel = config.reliability
+    if config.uncertainty is None:
+        return []
+    out = []
+    for target in rel.targets:
+        pf = 1.0 - target
+        needed = cov_population(pf, rel.cov_target)
+        waived = pf < rel.pf_floor * (1.0 - 1e-9)  # (1 - 0.9999 is 9.9999999999998e-05) not grown for: may stay at n_mc
+        if not waived and needed <= rel.n_mc_max * (1.0 + 1e-9):
+            continue
+        cov = math.sqrt((1.0 - pf) / (pf * (rel.n_mc if waived else rel.n_mc_max)))
+        why = (f"below pf_floor = {rel.pf_floor:g}, where the COV target is waived" if waived
+               else f"beyond n_mc_max = {rel.n_mc_max:,}")
+        out.append(f"reliability.target_reliability: the life at R = {target:g} reads the curve at Pf = {pf:.3g}, "
+                   f"{why}: its Monte Carlo COV may reach {cov:.2g} (target {rel.cov_target:g}), and its interval "
+                   f"widens with it. For it, set pf_floor <= {pf:.3g} and n_mc_max >= {needed:,.0f}, and a "
+                   "cycles_start early enough for the curve to reach that R (a validation of N samples cannot test "
+                   "R above about 1 - 3.7 / N)")
+    return out
 
 
 def allowance_warnings(config: StudyConfig) -> list[str]:

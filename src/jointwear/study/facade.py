@@ -976,7 +976,8 @@ def learning_stop_line(res: ReliabilityCurve, settings) -> str:
         advice = ("; raise reliability.max_calls and run again with --resume (resume=True in Python) to continue it "
                   "(the calls made are read back)")
     elif "n_mc_max" in reason:
-        unmet = [float(p) for p, c in zip(res.pf, res.pf_cov) if p > 0 and c >= settings.cov_target]
+        unmet = [float(p) for p, c, waived in zip(res.pf, res.pf_cov, res.below_floor)  # not those pf_floor waives
+                 if p > 0 and c >= settings.cov_target and not waived]
         need = "" if not unmet else (
             f"; a COV of {settings.cov_target:g} at Pf = {min(unmet):.3g} needs about "
             f"{cov_population(min(unmet), settings.cov_target):,.0f} samples")
