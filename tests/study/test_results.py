@@ -305,3 +305,13 @@ def test_file_labels_differ_on_a_case_insensitive_file_system():
     from jointwear.study.io import file_labels
 
     assert file_labels(["A", "a", "B"]) == ["A_0", "a_1", "B"]  # orbit_A.png and orbit_a.png: one file on macOS
+
+
+def test_an_interval_outside_the_curve_says_on_which_side():
+    """The life table read 'wider than the curve' for an interval wholly before the curve's first level (R = 0.9999
+    on the default curve)."""
+    from jointwear.study.reliability_results import interval_cells
+
+    assert interval_cells(None, None, reach=(-math.inf, 2e5)) == "before the curve"
+    assert interval_cells(None, None, reach=(5.6e5, math.inf)) == "beyond the curve"
+    assert interval_cells(None, None, reach=(-math.inf, math.inf)) == "wider than the curve"

@@ -139,3 +139,20 @@ def test_a_true_life_before_the_curve_does_not_agree_with_a_life_inside_it():
     # and one whose band reaches the surrogate's interval does
     straight = 1.0 - levels / 1e7
     assert life_check(levels, straight, straight - 0.01, straight + 0.01, sur, 0.9)["agree"] is True
+
+
+def test_a_target_beyond_what_the_samples_resolve_is_not_tested():
+    """800 samples read R = 1 [0.9954, 1] at every early level; the life at R = 0.999 was still given (an
+    interpolation between R = 1 and the first failure) and called in agreement."""
+    from types import SimpleNamespace
+
+    levels = np.linspace(2e5, 4e5, 11)
+    r_mc = np.where(levels < 3.2e5, 1.0, 0.99)
+    sur = SimpleNamespace(life=lambda t: 2.9e5, life_interval=lambda t: (2.85e5, 3.0e5),
+                          life_reach=lambda t: (2.85e5, 3.0e5))
+    resolved = 0.025 ** (1 / 800)  # Clopper-Pearson's lower bound of R with no failure in 800
+    check = life_check(levels, r_mc, r_mc - 0.005, r_mc, sur, 0.999, n_samples=800)
+    assert check["cycles"] is None and check["agree"] is None
+    assert check["note"] == f"not testable: 800 samples resolve R up to {resolved:.4g}" and resolved < 0.999
+    assert check["surrogate_cycles"] == 2.9e5
+    assert life_check(levels, r_mc, r_mc - 0.005, r_mc, sur, 0.99, n_samples=800)["agree"] is not None

@@ -136,7 +136,7 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
     if len(rel.life_table) > 1:
         parts.append(table(["target R", "life (cycles)", "95 % interval (cycles)", "life (h)", "where"], [
             (format_number(r["target"], 6), format_number(r["cycles"]),
-             interval_cells(*rel.life_interval(float(r["target"]))),
+             interval_cells(*rel.life_interval(float(r["target"])), reach=rel.life_reach(float(r["target"]))),
              "\u2014" if r.get("hours") is None else f"{r['hours']:,.2f}",
              str(r.get("status", "")).replace("_", " ")) for r in rel.life_table], cls="kv"))
     if len(rel.joints) > 1:
@@ -432,9 +432,10 @@ def _validated_life_card(row: Mapping) -> tuple[str, str, str]:
     """The life at the headline target on the true model's curve, beside the surrogate's."""
     value = "\u2014" if row.get("cycles") is None else f"{row['cycles']:,.0f} cycles"
     surrogate = ("\u2014" if row.get("surrogate_cycles") is None else f"{row['surrogate_cycles']:,.0f}")
-    note = (f"true model, {interval_text(row.get('cycles_low'), row.get('cycles_high'))}; surrogate {surrogate}, "
+    true_model = row.get("note") or f"true model, {interval_text(row.get('cycles_low'), row.get('cycles_high'))}"
+    note = (f"{true_model}; surrogate {surrogate}, "
             f"{interval_text(row.get('surrogate_cycles_low'), row.get('surrogate_cycles_high'))}"
-            + ("" if row.get("agree", True) else ": the intervals do not overlap"))
+            + (": the intervals do not overlap" if row.get("agree") is False else ""))
     return (f"life at R = {row['target']:g}", value, note)
 
 

@@ -632,6 +632,8 @@ class Study:
                     f"({interval_text(row['cycles_low'], row['cycles_high'])}), surrogate "
                     f"{'-' if row['surrogate_cycles'] is None else format(row['surrogate_cycles'], ',.0f')}"
                     f"{'' if row['agree'] else ' (the intervals do not overlap)'}")
+        elif result.life_table and result.life_table[0].get("note"):
+            life = f", life at R = {result.life_table[0]['target']:g}: {result.life_table[0]['note']}"
         joints = "".join(f", joint {j['name']} at {j['levels_agree']}" for j in result.joints if "levels_agree" in j)
         missed = result.disagreement()
         where = f" ({missed})" if missed else ""

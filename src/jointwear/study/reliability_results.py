@@ -41,9 +41,12 @@ def interval_text(low: float | None, high: float | None) -> str:
     return f"95 % interval {low:,.0f}-{high:,.0f} cycles"
 
 
-def interval_cells(low: float | None, high: float | None) -> str:
-    """'374,429 \u2013 380,517' for a table cell; an end outside the curve said as such."""
+def interval_cells(low: float | None, high: float | None, reach: tuple[float, float] | None = None) -> str:
+    """'374,429 \u2013 380,517' for a table cell; an end outside the curve said as such (with both outside, ``reach``
+    (:meth:`ReliabilityCurve.life_reach`) tells an interval before or beyond the curve from one wider than it)."""
     if low is None and high is None:
+        if reach is not None and math.isinf(reach[0]) != math.isinf(reach[1]):
+            return "before the curve" if math.isinf(reach[0]) else "beyond the curve"
         return "wider than the curve"
     return (("before the curve" if low is None else f"{low:,.0f}") + " \u2013 "
             + ("beyond the curve" if high is None else f"{high:,.0f}"))
@@ -775,7 +778,8 @@ class ValidationResult(StageResult):
             "ci_high": self.ci_high, "reliability_surrogate": self.reliability_surrogate,
             "surrogate_error": self.surrogate_error, "agreement": self.agreement}}
         if self.life_table:
-            out["validation_life"] = {key: [row.get(key) for row in self.life_table] for key in self.life_table[0]}
+            keys = dict.fromkeys(key for row in self.life_table for key in row)  # an untestable row adds its note
+            out["validation_life"] = {key: [row.get(key) for row in self.life_table] for key in keys}
         cv = self.cross_validation
         if cv.get("log_life_true"):
             out["cross_validation"] = {"log_life_true": cv["log_life_true"], "log_life_loo": cv["log_life_loo"],

@@ -84,7 +84,8 @@ def run_validation(ctx: StudyContext, reliability: ReliabilityCurve, n_samples: 
     # known: its curve is exact at any N)
     fine = curve_cycles(levels)
     true_fine = true_reliability(life, fine, p_inf)
-    life_table = [life_check(fine, *true_fine, reliability, float(row["target"])) for row in reliability.life_table]
+    life_table = [life_check(fine, *true_fine, reliability, float(row["target"]), n_samples=int(n_samples))
+                  for row in reliability.life_table]
     joints = joint_checks(ctx, reliability, x, levels) if len(ctx.limit_state.joints) > 1 else []
     return ValidationResult(
         cycles=levels, reliability_mc=r_mc.tolist(), ci_low=lo.tolist(), ci_high=hi.tolist(),
@@ -142,13 +143,22 @@ def joint_checks(ctx: StudyContext, reliability: ReliabilityCurve, x: np.ndarray
     return out
 
 
-def life_check(levels, r_mc, ci_low, ci_high, reliability: ReliabilityCurve, target: float) -> dict:
+def life_check(levels, r_mc, ci_low, ci_high, reliability: ReliabilityCurve, target: float,
+               n_samples: int | None = None) -> dict:
     """The life at ``target`` read on the true model's curve, with the interval where its exact 95 % bounds
     cross the target, beside the surrogate's life and interval; ``agree`` when the two intervals overlap (an
-    end outside its curve bounded by its side: :func:`~jointwear.study.limit_state.interval_reach`)."""
-    life, low, high = (life_at(levels, r, target) for r in (r_mc, ci_low, ci_high))
+    end outside its curve bounded by its side: :func:`~jointwear.study.limit_state.interval_reach`).
+
+    A target above what ``n_samples`` samples resolve (R = 1 observed reads as R >= 0.025^(1/n), about 1 - 3.7 / n)
+    is not testable: the true model's life and ``agree`` are None and ``note`` says why."""
     s_life = reliability.life(target)
     s_low, s_high = reliability.life_interval(target)
+    resolved = 1.0 if n_samples is None else clopper_pearson(n_samples, n_samples)[0]
+    if target > resolved:
+        return {"target": target, "cycles": None, "cycles_low": None, "cycles_high": None, "surrogate_cycles": s_life,
+                "surrogate_cycles_low": s_low, "surrogate_cycles_high": s_high, "agree": None,
+                "note": f"not testable: {n_samples:,} samples resolve R up to {resolved:.4g}"}
+    life, low, high = (life_at(levels, r, target) for r in (r_mc, ci_low, ci_high))
     # an end outside its curve is bounded by its side (before the first level, beyond the last), not unbounded
     ends = bounded_ends(levels, ci_low, ci_high, target, low, high)
     return {"target": target, "cycles": life, "cycles_low": low, "cycles_high": high, "surrogate_cycles": s_life,
