@@ -340,3 +340,27 @@ def test_a_callers_own_alarm_survives_the_call_time_out():
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0.0)
         signal.signal(signal.SIGALRM, old)
+
+
+def test_a_call_that_timed_out_in_an_earlier_session_runs_again(tmp_path):
+    """A job suspended (Ctrl-Z, a laptop asleep) past the time-out stored a 'timeout' that every resume reused: the
+    sensitivity's shift read as a failed mechanism, R 0.908 -> 0, and the ranking changed."""
+    delay = {"s": 0.6}
+    calls = []
+
+    def paused(x):
+        calls.append(1)
+        time.sleep(delay["s"])
+        return np.array([x.sum()]), "ok"
+
+    X = np.array([[1.0, 2.0]])
+    with EvaluationStore.open(tmp_path, config_hash({"case": "pause"})) as store:
+        ev = Evaluator(paused, store=store, timeout=0.3)
+        assert list(ev.evaluate(X).status) == ["timeout"]
+        assert list(ev.evaluate(X).status) == ["timeout"] and len(calls) == 1  # this session's outcome is kept
+    delay["s"] = 0.0
+    with EvaluationStore.open(tmp_path, config_hash({"case": "pause"}), resume=True) as store:
+        res = Evaluator(paused, store=store, timeout=0.3).evaluate(X)
+        assert list(res.status) == ["ok"] and res.n_evaluated == 1 and res.Y[0, 0] == 3.0
+    with EvaluationStore.open(tmp_path, config_hash({"case": "pause"}), resume=True) as store:
+        assert Evaluator(paused, store=store, timeout=0.3).evaluate(X).n_evaluated == 0  # the latest outcome, ok

@@ -47,6 +47,10 @@ def base(tmp_path_factory):
     return folder, design, design_lines
 
 
+def _small_config():
+    return load_config(SMALL)
+
+
 def _copy(base, tmp_path):
     return shutil.copytree(base[0], tmp_path / "copy")
 
@@ -119,6 +123,25 @@ def test_a_wear_model_change_moves_aside_every_result_but_the_dynamics(base, tmp
     assert "(changed: wear.record_cycles)" in told
     assert _results_files(folder) == {"config.json"} | SIMULATE_FILES | WEAR_FILES
     assert jointwear.load_results(folder).stages == ["simulate", "wear"]
+
+
+@pytest.mark.parametrize("damage", ["missing", "cut short"])
+def test_results_whose_record_of_settings_is_lost_are_moved_aside(base, tmp_path, damage):
+    """A study killed while it rewrote config.json, resumed with another target, kept its old life at R = 0.9 as
+    current under the new record that says 0.5: without a readable record every result counts as stale."""
+    folder = _copy(base, tmp_path)
+    record = folder / "config.json"
+    if damage == "missing":
+        record.unlink()
+    else:
+        record.write_text(record.read_text()[: len(record.read_text()) // 3])
+    lines: list[str] = []
+    changed = updated(_small_config(), {"reliability.target_reliability": 0.5})
+    jointwear.Study(changed, out=folder, workers=1, resume=True, echo=lines.append).reliability()
+    (told,) = [line for line in lines if line.startswith("out: ")]
+    assert told.startswith("out: moved the results of simulate, wear, reliability, sensitivity, validation, design")
+    assert "config.json, the record of their settings, is missing or cannot be read" in told
+    assert jointwear.load_results(folder).reliability.target == 0.5
 
 
 def test_a_resumed_run_keeps_the_results_it_finds_current(base, tmp_path):

@@ -21,7 +21,8 @@ The failure rule (one bad call never ends a batch):
 A failed call is stored like a good one (with its reason and wall time) and its outputs are NaN in
 :attr:`BatchResult.Y`. What a study does with failed calls is the study's rule; the evaluator only
 records them. Calls already in the store (same tag, bit-identical input row) are served from it and
-never run again; failed calls too, unless ``retry_failed=True``.
+never run again; failed calls too, unless ``retry_failed=True``; a call that timed out in an earlier session is
+run again (its time-out measured that machine's load, or a pause of the job, not the model).
 
 The evaluator is the one cache of model calls: it keeps every outcome it has run or read in memory (so a
 row asked for again is served without a store look-up and without counting again in the progress), in
@@ -287,7 +288,9 @@ class Evaluator:
 
         if self.store is not None and uniq:
             for i, rec in zip(uniq, self.store.get_many(self.tag, [X[i] for i in uniq])):
-                if self._reusable(rec):
+                # an earlier session's time-out is run again: it measured that machine's load and pauses (a
+                # suspended job's clock runs on), not the model
+                if self._reusable(rec) and rec.status != TIMEOUT:
                     records[i] = rec
         todo = [i for i in uniq if i not in records]
         reused = np.array([owner[i] != i or i in records for i in range(n)], dtype=bool)

@@ -273,18 +273,22 @@ class Study:
     def _supersede(self, settings: list[dict]) -> None:
         """Move aside the results in ``out`` computed with other values of the settings they depend on than
         ``settings`` (config.json, about to be rewritten, is the only record of them), and say which and why."""
-        changed = changed_settings(self.out, settings) or []
-        stale = stale_stages(self.out, changed)
+        changed = changed_settings(self.out, settings)
+        unrecorded = changed is None  # no readable config.json: the results' settings are unknown, all count as changed
+        stale = stale_stages(self.out, [s["name"] for s in settings] if unrecorded else changed)
         if not stale:
             return
-        relevant = [name for name in changed if any(section(name) in DEPENDS_ON[stage] for stage in stale)]
         report = ", and report.html" if (self.out / "report.html").is_file() else ""
         self._report_moved = self._report_moved or bool(report)  # the stage that follows builds it again
         where = move_aside(self.out, stale)
+        if unrecorded:
+            why = "config.json, the record of their settings, is missing or cannot be read"
+        else:
+            relevant = [name for name in changed if any(section(name) in DEPENDS_ON[stage] for stage in stale)]
+            why = (f"they were computed with other settings (changed: {', '.join(relevant[:3])}"
+                   f"{f' and {len(relevant) - 3} more' if len(relevant) > 3 else ''})")
         self.warn(f"out: moved the results of {', '.join(stale)} (with their tables and figures{report}) to {where}: "
-                  f"they were computed with other settings (changed: {', '.join(relevant[:3])}"
-                  f"{f' and {len(relevant) - 3} more' if len(relevant) > 3 else ''}), so they count as not run "
-                  "until their stages run again")
+                  f"{why}, so they count as not run until their stages run again")
 
     def _hold_folder(self) -> None:
         """Claim ``out`` for this process until its outermost stage ends, so that a second study started in the
