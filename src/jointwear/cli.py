@@ -69,6 +69,9 @@ class JointwearGroup(click.Group):
             return super().main(args, prog_name, complete_var, standalone_mode=False, **extra)
         # a batch scheduler ends a job with SIGTERM: stop as on Ctrl-C (the workers ended, the resume hint told)
         signal.signal(signal.SIGTERM, _terminated)
+        for stream in (sys.stdout, sys.stderr):  # a dash or a degree sign must not end a run on a cp437 console
+            if hasattr(stream, "reconfigure"):
+                stream.reconfigure(errors="replace")
         sys.exit(self.run(args, prog_name or "jointwear"))
 
     def run(self, args: list[str] | None = None, prog_name: str = "jointwear") -> int:

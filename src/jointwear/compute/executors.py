@@ -41,9 +41,10 @@ __all__ = [
 def available_cores() -> int:
     """The number of CPU cores this process may run on (the affinity mask, not the machine's count)."""
     try:
-        return max(1, len(os.sched_getaffinity(0)))
+        cores = max(1, len(os.sched_getaffinity(0)))
     except (AttributeError, OSError):  # pragma: no cover - not Linux
-        return max(1, os.cpu_count() or 1)
+        cores = max(1, os.cpu_count() or 1)
+    return min(cores, 61) if sys.platform == "win32" else cores  # Windows' process pools take at most 61
 
 
 class _ExecutorBase(cf.Executor):
@@ -117,6 +118,13 @@ _PR_SET_PDEATHSIG = 1
 
 def _exit_when_gone(main_pid: int) -> None:
     """Block until process ``main_pid`` has ended, then end this process at once."""
+    import multiprocessing
+    from multiprocessing.connection import wait
+
+    parent = multiprocessing.parent_process()
+    if parent is not None and parent.pid == main_pid:  # spawned by the study (Windows, macOS): its sentinel
+        wait([parent.sentinel])  # (os.kill(pid, 0) on Windows sends CTRL_C_EVENT to a console group)
+        os._exit(1)
     try:
         import select
 

@@ -45,6 +45,7 @@ __all__ = [
     "StoreStats",
     "code_version",
     "config_hash",
+    "read_only_uri",
     "row_key",
 ]
 

@@ -955,11 +955,13 @@ def _changed_settings(out: Path, settings: list[dict], *, of_calls: bool = False
 def _empty_store(out: Path) -> bool:
     """Whether ``out`` holds an evaluation store with no call in it (a study stopped before its first call:
     nothing to lose by reopening it)."""
+    from jointwear.compute.store import read_only_uri
+
     db = out / "evaluations.sqlite"
     if not db.exists():
         return False
     try:
-        with contextlib.closing(sqlite3.connect(f"file:{db}?mode=ro", uri=True, timeout=5)) as con:
+        with contextlib.closing(sqlite3.connect(read_only_uri(db), uri=True, timeout=5)) as con:
             return int(con.execute("select count(*) from calls").fetchone()[0]) == 0
     except sqlite3.Error:
         return False
