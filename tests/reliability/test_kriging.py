@@ -157,3 +157,19 @@ def test_gaussian_draws_of_a_low_rank_covariance_left_indefinite_by_round_off():
     cov = np.array([[1.0, 1.02], [1.02, 1.0]])  # eigenvalues 2.02 and -0.02
     draws = gaussian_draws(np.zeros(2), cov, 20_000, np.random.default_rng(0))
     assert np.abs(np.cov(draws) - cov).max() <= 2 * 0.02 * 1.02 + 4 * np.sqrt(2 / 20_000) * 2.02
+
+
+def test_posterior_draws_do_not_depend_on_the_blas_threads():
+    """The posterior spread of Pf moved by one unit in the last place between 1 and 2 BLAS threads (the threaded
+    product of the factor and the normal draws); docs/compute.md promises numbers independent of the threads."""
+    from threadpoolctl import threadpool_limits
+
+    from jointwear.reliability.kriging import gaussian_draws
+
+    a = np.random.default_rng(0).standard_normal((3000, 1500))  # a rank of 1500: threaded products split it
+    cov = a @ a.T / 1500
+    draws = []
+    for threads in (1, 2):
+        with threadpool_limits(limits=threads, user_api="blas"):
+            draws.append(gaussian_draws(np.zeros(3000), cov, 400, np.random.default_rng(1)))
+    np.testing.assert_array_equal(draws[0], draws[1])

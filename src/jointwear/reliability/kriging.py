@@ -494,7 +494,8 @@ def gaussian_draws(mean: np.ndarray, cov: np.ndarray, n_draws: int, rng: np.rand
     chol = np.zeros((m, rank))
     chol[piv[:rank] - 1] = np.tril(factor[:rank, :rank])  # the pivoted rows first, then the rest of the columns
     chol[piv[rank:] - 1] = factor[rank:, :rank]
-    return mean[:, None] + chol @ rng.standard_normal((rank, n_draws))
+    with blas_threads(1):  # a threaded product's last bits follow the thread count; the docs promise they do not
+        return mean[:, None] + chol @ rng.standard_normal((rank, n_draws))
 
 
 class ShiftedSurrogate:
