@@ -402,7 +402,7 @@ def test_a_curve_that_misses_the_life_says_where_the_nominal_design_reaches_the_
 
 def test_sensitivity_at_a_level_where_no_shift_moves_r_says_it_ranks_nothing(tmp_path, nominal):
     """R = 0 at the sensitivity's level whatever the shift: the report warns, the CLI's ranking line says none."""
-    from jointwear.study.facade import ranking_line
+    from jointwear.study.stage_lines import ranking_line
 
     d = make_fixture_dir(tmp_path / "s", nominal, which=("sensitivity",))
     sens = SensitivityResult.load(d)

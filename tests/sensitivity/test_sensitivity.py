@@ -135,7 +135,7 @@ def test_esc_absolute_error_bounds_the_misclassification_of_a_known_gaussian_sur
 def test_command_line_ranking_shows_groups_and_unresolved_neighbours():
     from types import SimpleNamespace
 
-    from jointwear.study.facade import ranking_line
+    from jointwear.study.stage_lines import ranking_line
 
     sens = SimpleNamespace(
         shifts_move_reliability=True, reliability_nominal=0.944, cycles=360_000,
@@ -161,7 +161,7 @@ def test_the_variance_ranking_is_told_beside_the_mean_shifts():
 
     from jointwear.report.result_sections import ranking_meaning
     from jointwear.study import SensitivityResult
-    from jointwear.study.facade import variance_line
+    from jointwear.study.stage_lines import variance_line
 
     sens = SimpleNamespace(sobol={"names": ["l_crank", "c", "E_b"], "ST": [2.6e-4, 0.05, 0.012],
                                   "output": "max bearing wear depth of joint B at 150,000 cycles"},

@@ -184,7 +184,7 @@ def test_the_wear_line_names_each_joint_of_a_series_system():
     """The terminal's wear line: one joint as before; several, each by name (the second joint was not shown)."""
     from types import SimpleNamespace
 
-    from jointwear.study.facade import wear_line
+    from jointwear.study.stage_lines import wear_line
 
     one = SimpleNamespace(joints=[{"name": "A"}], max_wear_mm=0.02661, max_wear_angle_deg=359.9999)
     assert wear_line(one) == "0.0266 mm at 0 deg"

@@ -255,7 +255,7 @@ def test_profile_mode_says_whether_uniform_mode_would_have_been_fair():
     """In profile mode the command line said nothing of the conformity (only wear.json and the report did)."""
     from types import SimpleNamespace
 
-    from jointwear.study.facade import profile_mode_line
+    from jointwear.study.stage_lines import profile_mode_line
 
     assert profile_mode_line(SimpleNamespace(geometry_mode="profile", conformity=6.57)) == (
         "profile mode follows the worn shape here (conformity 6.57 > 1: the journal fits into its own wear, which "

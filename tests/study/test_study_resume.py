@@ -268,7 +268,7 @@ def test_a_learning_stopped_by_its_budget_is_told_with_its_error(quick_config, r
     surrogate's largest error estimate of R over the levels whose COV counts, where it is, and what to do."""
     import numpy as np
 
-    from jointwear.study.facade import learning_stop_line
+    from jointwear.study.stage_lines import learning_stop_line
     from jointwear.study.results import ReliabilityCurve
 
     assert not expected["converged"] and expected["learning_stop"].startswith("max_calls=14 reached")
@@ -302,7 +302,7 @@ def test_a_population_that_hit_n_mc_max_says_how_large_it_must_be(quick_config, 
     setting offers; the shortfall was the Monte Carlo population (Pf = 0.00103 needs about 388,000 samples)."""
     import numpy as np
 
-    from jointwear.study.facade import learning_stop_line
+    from jointwear.study.stage_lines import learning_stop_line
     from jointwear.study.results import ReliabilityCurve
 
     res = ReliabilityCurve.load(reference_dir)

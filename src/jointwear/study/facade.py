@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from jointwear.config import StudyConfig, config_from_dict, load_config
-from jointwear.reliability import AllCallsFailedError, cov_population
+from jointwear.reliability import AllCallsFailedError
 from jointwear.schema import ConfigError
 from jointwear.study.checks import (
     WEAR_CYCLES_MISSING,
@@ -57,9 +57,18 @@ from jointwear.study.results import (
     WearSummary,
     load_results,
 )
+from jointwear.study.stage_lines import (
+    force_line,
+    learning_stop_line,
+    life_text,
+    profile_mode_line,
+    ranking_line,
+    reused_text,
+    variance_line,
+    wear_line,
+)
 from jointwear.study.stage_result import same_value
 from jointwear.study.superseded import DEPENDS_ON, changed_settings, move_aside, section, stale_stages
-from jointwear.wear.angles import angle_text
 
 #: Tag of the true-model calls in the evaluation store (shared by the CLI and the Python API).
 WEAR_MODEL_TAG = "wear_model"
@@ -535,7 +544,7 @@ class Study:
         res.save(self.out)
         life = life_text(res.life_table[0])
         governing = f", governed by joint {res.governing_joint}" if len(res.joints) > 1 else ""
-        self.echo(f"reliability: {res.model_calls} model calls{_reused(new, res.model_calls)}, n_mc = {res.n_mc:,}, "
+        self.echo(f"reliability: {res.model_calls} model calls{reused_text(new, res.model_calls)}, n_mc = {res.n_mc:,}, "
                   f"life at R = {res.target}: {life}{governing} -> {self.out / res.FILE}")
         self._tell("reliability", res)
         return res
@@ -591,7 +600,7 @@ class Study:
         self.echo(f"sensitivity: ranking by R at each mean x {sens.factors[0]:g} and x {sens.factors[1]:g} (a change "
                   f"of the nominal design, not of its scatter): {ranking_line(sens)}"
                   f"{f'; by total-effect Sobol index ST of the {output}: {variance}' if variance else ''}; "
-                  f"{extra} extra model calls{_reused(new, extra)} "
+                  f"{extra} extra model calls{reused_text(new, extra)} "
                   f"-> {self.out / sens.FILE}")
         targets = {s.name: s.target for s in self.config.uncertainty.all_specs()}
         if coordinates := coordinate_shift_sentence(targets, tuple(sens.factors)):
@@ -643,7 +652,7 @@ class Study:
         where = f" ({missed})" if missed else ""
         strict = result.differences_at_95()
         strict = f"; {strict}" if strict else ""
-        self.echo(f"validate: {result.n_samples:,} true-model samples{_reused(result.model_calls, result.n_samples)}, "
+        self.echo(f"validate: {result.n_samples:,} true-model samples{reused_text(result.model_calls, result.n_samples)}, "
                   f"agreement at {agree} of {len(result.agreement)} levels (overlapping 95 % intervals; these samples "
                   f"resolve R to +-{result.resolution:.2g}){where}{strict}"
                   f"{joints}{life}, cross-validation Q2 = "
@@ -901,7 +910,7 @@ class Study:
             result = run_design(ctx, self._learned(ctx), echo=self.echo)
             new = ctx.n_model_calls  # this call's, the reliability stage's when it ran first here too
         result.save(self.out)
-        calls = f"{result.model_calls} model calls{_reused(new, result.model_calls)} -> {self.out / result.FILE}"
+        calls = f"{result.model_calls} model calls{reused_text(new, result.model_calls)} -> {self.out / result.FILE}"
         chosen = result.chosen
         if chosen is None:
             nearest = result.nearest_sentence()
@@ -967,68 +976,6 @@ def _empty_store(out: Path) -> bool:
         return False
 
 
-def learning_stop_line(res: ReliabilityCurve, settings) -> str:
-    """What an unconverged learning means for the curve: why it stopped, the surrogate's largest error estimate of R
-    against the tolerance of the stopping rule, and what to do."""
-    worst = res.largest_error()
-    rule = (f"tolerance {settings.error_abs_tol:g} in R or {settings.error_tol:.0%} of Pf"
-            if settings.stopping == "error"
-            else f"the learning's rule is min U >= {settings.u_threshold:g} at every level, stopping = 'u'")
-    error = "" if worst is None else (
-        f"; the surrogate's error estimate of R reaches {worst[0]:.3f} at {worst[1]:,.0f} cycles ({rule})")
-    cov = res.largest_cov()
-    if cov is not None and cov >= settings.cov_target:  # the criterion left when the surrogate's error is met
-        error += f"; the COV of Pf reaches {cov:.3g} (target {settings.cov_target:g})"
-    reason = res.learning_stop or "not converged"
-    if res.stopped_by_budget:
-        advice = ("; raise reliability.max_calls and run again with --resume (resume=True in Python) to continue it "
-                  "(the calls made are read back)")
-    elif "n_mc_max" in reason:
-        unmet = [float(p) for p, c, waived in zip(res.pf, res.pf_cov, res.below_floor)  # not those pf_floor waives
-                 if p > 0 and c >= settings.cov_target and not waived]
-        need = "" if not unmet else (
-            f"; a COV of {settings.cov_target:g} at Pf = {min(unmet):.3g} needs about "
-            f"{cov_population(min(unmet), settings.cov_target):,.0f} samples")
-        return (f"the Monte Carlo population reached its maximum before the COV of Pf met its target ({reason})"
-                f"{error}{need}; raise reliability.n_mc_max (a larger population costs no model call), or raise "
-                "reliability.pf_floor above that Pf if so small a Pf need not be known that well")
-    else:
-        advice = ""
-    if res.stopped_while_confirming:
-        return f"the learning's stopping rule held but was not yet confirmed when it stopped ({reason}){error}{advice}"
-    return f"the learning stopped before its stopping rule was met ({reason}){error}{advice}"
-
-
-def force_line(result: SimulationSummary) -> str:
-    """'6.843 N', or each joint's when there are several: 'A 6.676 N, E 1.02 N' (the headline is the first's)."""
-    def newtons(value: float | None) -> str:
-        return f"{value if value is not None else float('nan'):.4g} N"
-
-    if len(result.joints) <= 1:
-        return newtons(result.contact_force_mean_N)
-    return ", ".join(f"{j['name']} {newtons(j.get('contact_force_mean_N'))}" for j in result.joints)
-
-
-def wear_line(result: WearSummary) -> str:
-    """'0.0266 mm at 125 deg', or each joint's when there are several: 'A 0.0287 mm at 108 deg, E 0.0033 mm ...'."""
-    if len(result.joints) <= 1:
-        return f"{result.max_wear_mm:.3g} mm at {angle_text(result.max_wear_angle_deg)} deg"
-    return ", ".join(f"{j['name']} {j['max_wear_mm']:.3g} mm at {angle_text(j['max_wear_angle_deg'])} deg"
-                     for j in result.joints)
-
-
-def profile_mode_line(result: WearSummary) -> str:
-    """In profile mode, whether uniform mode would have been fair here (the conformity indicator, docs/wear.md "When
-    uniform mode is fair"); '' in uniform mode, which warns when it is outside its range."""
-    c = result.conformity
-    if result.geometry_mode != "profile" or c is None or not c == c:
-        return ""
-    if c > 1.0:
-        return (f"profile mode follows the worn shape here (conformity {c:.3g} > 1: the journal fits into its own "
-                "wear, which uniform mode ignores): this is the answer to trust")
-    return f"uniform mode would be fair here too (conformity {c:.3g} <= 1: the worn arc within the contact patch)"
-
-
 def _cycles_argument(value) -> int:
     """A stage's cycle count checked (:func:`~jointwear.wear.settings.check_cycles`): its problem is a ConfigError,
     as every check at the boundary."""
@@ -1038,52 +985,3 @@ def _cycles_argument(value) -> int:
         return check_cycles(value, "cycles")
     except ValueError as exc:
         raise ConfigError(str(exc)) from None
-
-
-def _reused(new: int, total: int) -> str:
-    """' (3 new, 17 read back from the store)' when fewer than ``total`` calls ran now; '' when all did."""
-    return f" ({new} new, {total - new} read back from the store)" if new < total else ""
-
-
-def life_text(row: dict) -> str:
-    """'377,433 cycles = 13.11 h (95 % interval 374,429-380,517 cycles)', or where the life lies when it is
-    outside the curve."""
-    if row["cycles"] is not None:
-        interval = (f" ({interval_text(row['cycles_low'], row['cycles_high'])})"
-                    if "cycles_low" in row and "cycles_high" in row else "")
-        return f"{row['cycles']:,.0f} cycles = {row['hours']:.2f} h{interval}"
-    return {"beyond_curve": "beyond the curve's last level (extend cycles_stop)",
-            "before_curve": "before the curve's first level (lower cycles_start)"}.get(row.get("status"), "not reached")
-
-
-def variance_line(sens: SensitivityResult, floor: float = 0.01) -> str:
-    """:meth:`SensitivityResult.variance_ranking` as text: 'c 0.95 > l1 0.04 (the others < 0.01)'."""
-    ranked = sens.variance_ranking(floor)
-    text = " > ".join(f"{name} {st:.2g}" for name, st in ranked)
-    return f"{text} (the others < {floor:g})" if text and len(ranked) < len(sens.sobol.get("names") or []) else text
-
-
-#: a nominal reliability closer than this to 0 or 1 leaves the mean-shift ranking to a handful of samples
-EDGE_RELIABILITY = 0.01
-
-
-def ranking_line(sens: SensitivityResult) -> str:
-    """Per group, the variables by their effect on R, '~' between neighbours the surrogate's error does not
-    separate: 'tolerance: l2 ~ lBC > l1 | bearing_material: k_b ~ HB_b > ...'; 'none: ...' where no shift moves R."""
-    if not sens.shifts_move_reliability:
-        return (f"none: no mean shift changes R at {sens.cycles:,} cycles (R = {sens.reliability_nominal:.3f} "
-                "whatever the shift; put the R(N) curve where R passes the target, or set sensitivity.cycles)")
-    ties = {(p["first"], p["second"]) for p in sens.unresolved_pairs}
-    parts = []
-    for group, names in sens.ranking_by_group.items():
-        text = names[0] if names else ""
-        for a, b in zip(names, names[1:]):
-            text += (" ~ " if (a, b) in ties else " > ") + b
-        parts.append(f"{group}: {text}")
-    r0 = sens.reliability_nominal
-    if not EDGE_RELIABILITY < r0 < 1.0 - EDGE_RELIABILITY:  # almost every sample fails (or none): a few decide
-        largest = max((max(abs(v["reliability_low"] - r0), abs(v["reliability_high"] - r0)) for v in sens.variables),
-                      default=0.0)
-        parts.append(f"(read with care: R = {r0:.3f} at {sens.cycles:,} cycles, where the largest shift moves it by "
-                     f"{largest:.2g}; set sensitivity.cycles where R passes the target)")
-    return " | ".join(parts)

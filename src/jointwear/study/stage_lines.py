@@ -1,0 +1,120 @@
+"""The one-line texts the study's stages print (and the report reuses): forces, wear, lives, why a learning stopped,
+the sensitivity's rankings."""
+
+from __future__ import annotations
+
+from jointwear.reliability import cov_population
+from jointwear.study.reliability_results import ReliabilityCurve, SensitivityResult, interval_text
+from jointwear.study.results import SimulationSummary, WearSummary
+from jointwear.wear.angles import angle_text
+
+
+def learning_stop_line(res: ReliabilityCurve, settings) -> str:
+    """What an unconverged learning means for the curve: why it stopped, the surrogate's largest error estimate of R
+    against the tolerance of the stopping rule, and what to do."""
+    worst = res.largest_error()
+    rule = (f"tolerance {settings.error_abs_tol:g} in R or {settings.error_tol:.0%} of Pf"
+            if settings.stopping == "error"
+            else f"the learning's rule is min U >= {settings.u_threshold:g} at every level, stopping = 'u'")
+    error = "" if worst is None else (
+        f"; the surrogate's error estimate of R reaches {worst[0]:.3f} at {worst[1]:,.0f} cycles ({rule})")
+    cov = res.largest_cov()
+    if cov is not None and cov >= settings.cov_target:  # the criterion left when the surrogate's error is met
+        error += f"; the COV of Pf reaches {cov:.3g} (target {settings.cov_target:g})"
+    reason = res.learning_stop or "not converged"
+    if res.stopped_by_budget:
+        advice = ("; raise reliability.max_calls and run again with --resume (resume=True in Python) to continue it "
+                  "(the calls made are read back)")
+    elif "n_mc_max" in reason:
+        unmet = [float(p) for p, c, waived in zip(res.pf, res.pf_cov, res.below_floor)  # not those pf_floor waives
+                 if p > 0 and c >= settings.cov_target and not waived]
+        need = "" if not unmet else (
+            f"; a COV of {settings.cov_target:g} at Pf = {min(unmet):.3g} needs about "
+            f"{cov_population(min(unmet), settings.cov_target):,.0f} samples")
+        return (f"the Monte Carlo population reached its maximum before the COV of Pf met its target ({reason})"
+                f"{error}{need}; raise reliability.n_mc_max (a larger population costs no model call), or raise "
+                "reliability.pf_floor above that Pf if so small a Pf need not be known that well")
+    else:
+        advice = ""
+    if res.stopped_while_confirming:
+        return f"the learning's stopping rule held but was not yet confirmed when it stopped ({reason}){error}{advice}"
+    return f"the learning stopped before its stopping rule was met ({reason}){error}{advice}"
+
+
+def force_line(result: SimulationSummary) -> str:
+    """'6.843 N', or each joint's when there are several: 'A 6.676 N, E 1.02 N' (the headline is the first's)."""
+    def newtons(value: float | None) -> str:
+        return f"{value if value is not None else float('nan'):.4g} N"
+
+    if len(result.joints) <= 1:
+        return newtons(result.contact_force_mean_N)
+    return ", ".join(f"{j['name']} {newtons(j.get('contact_force_mean_N'))}" for j in result.joints)
+
+
+def wear_line(result: WearSummary) -> str:
+    """'0.0266 mm at 125 deg', or each joint's when there are several: 'A 0.0287 mm at 108 deg, E 0.0033 mm ...'."""
+    if len(result.joints) <= 1:
+        return f"{result.max_wear_mm:.3g} mm at {angle_text(result.max_wear_angle_deg)} deg"
+    return ", ".join(f"{j['name']} {j['max_wear_mm']:.3g} mm at {angle_text(j['max_wear_angle_deg'])} deg"
+                     for j in result.joints)
+
+
+def profile_mode_line(result: WearSummary) -> str:
+    """In profile mode, whether uniform mode would have been fair here (the conformity indicator, docs/wear.md "When
+    uniform mode is fair"); '' in uniform mode, which warns when it is outside its range."""
+    c = result.conformity
+    if result.geometry_mode != "profile" or c is None or not c == c:
+        return ""
+    if c > 1.0:
+        return (f"profile mode follows the worn shape here (conformity {c:.3g} > 1: the journal fits into its own "
+                "wear, which uniform mode ignores): this is the answer to trust")
+    return f"uniform mode would be fair here too (conformity {c:.3g} <= 1: the worn arc within the contact patch)"
+
+
+def reused_text(new: int, total: int) -> str:
+    """' (3 new, 17 read back from the store)' when fewer than ``total`` calls ran now; '' when all did."""
+    return f" ({new} new, {total - new} read back from the store)" if new < total else ""
+
+
+def life_text(row: dict) -> str:
+    """'377,433 cycles = 13.11 h (95 % interval 374,429-380,517 cycles)', or where the life lies when it is
+    outside the curve."""
+    if row["cycles"] is not None:
+        interval = (f" ({interval_text(row['cycles_low'], row['cycles_high'])})"
+                    if "cycles_low" in row and "cycles_high" in row else "")
+        return f"{row['cycles']:,.0f} cycles = {row['hours']:.2f} h{interval}"
+    return {"beyond_curve": "beyond the curve's last level (extend cycles_stop)",
+            "before_curve": "before the curve's first level (lower cycles_start)"}.get(row.get("status"), "not reached")
+
+
+def variance_line(sens: SensitivityResult, floor: float = 0.01) -> str:
+    """:meth:`SensitivityResult.variance_ranking` as text: 'c 0.95 > l1 0.04 (the others < 0.01)'."""
+    ranked = sens.variance_ranking(floor)
+    text = " > ".join(f"{name} {st:.2g}" for name, st in ranked)
+    return f"{text} (the others < {floor:g})" if text and len(ranked) < len(sens.sobol.get("names") or []) else text
+
+
+#: a nominal reliability closer than this to 0 or 1 leaves the mean-shift ranking to a handful of samples
+EDGE_RELIABILITY = 0.01
+
+
+def ranking_line(sens: SensitivityResult) -> str:
+    """Per group, the variables by their effect on R, '~' between neighbours the surrogate's error does not
+    separate: 'tolerance: l2 ~ lBC > l1 | bearing_material: k_b ~ HB_b > ...'; 'none: ...' where no shift moves R."""
+    if not sens.shifts_move_reliability:
+        return (f"none: no mean shift changes R at {sens.cycles:,} cycles (R = {sens.reliability_nominal:.3f} "
+                "whatever the shift; put the R(N) curve where R passes the target, or set sensitivity.cycles)")
+    ties = {(p["first"], p["second"]) for p in sens.unresolved_pairs}
+    parts = []
+    for group, names in sens.ranking_by_group.items():
+        text = names[0] if names else ""
+        for a, b in zip(names, names[1:]):
+            text += (" ~ " if (a, b) in ties else " > ") + b
+        parts.append(f"{group}: {text}")
+    r0 = sens.reliability_nominal
+    if not EDGE_RELIABILITY < r0 < 1.0 - EDGE_RELIABILITY:  # almost every sample fails (or none): a few decide
+        largest = max((max(abs(v["reliability_low"] - r0), abs(v["reliability_high"] - r0)) for v in sens.variables),
+                      default=0.0)
+        parts.append(f"(read with care: R = {r0:.3f} at {sens.cycles:,} cycles, where the largest shift moves it by "
+                     f"{largest:.2g}; set sensitivity.cycles where R passes the target)")
+    return " | ".join(parts)
