@@ -80,6 +80,7 @@ def test_esc_errors_stay_finite_where_the_relative_bound_is_unbounded():
     from scipy.special import ndtr
 
     from jointwear.reliability import esc_errors
+
     z = 1.959963984540054
     # one predicted failure, uncertain (U = 0.1), and 3 uncertain predicted-safe candidates among 1000
     u = np.full(1000, np.inf)
@@ -99,6 +100,30 @@ def test_esc_errors_stay_finite_where_the_relative_bound_is_unbounded():
     fail[:200] = True
     rel, absolute = esc_errors(u, fail)
     assert np.isfinite(rel) and absolute == pytest.approx(rel * 0.2, rel=1e-12)
+
+def test_esc_relative_error_is_the_larger_of_the_two_bounds():
+    """The relative ESC error is max(n_fs / (n_f - n_fs), n_sf / (n_f + n_sf)) (Wang & Shafieezadeh 2019), here
+    dominated by the predicted-safe term (guards n_sf / (n_f - n_sf), 0.18 instead of 0.13 here). Counts by hand
+    from the same formulas: rounding only (rel 1e-12)."""
+    from scipy.special import ndtr
+
+    from jointwear.reliability import esc_errors
+
+    z = 1.959963984540054
+    u = np.full(1000, np.inf)
+    fail = np.zeros(1000, dtype=bool)
+    fail[:200] = True
+    u[0] = 0.5  # one uncertain predicted failure
+    u[200:260] = 0.3  # 60 uncertain predicted-safe candidates
+    pf, ps = ndtr(-u[:1]), ndtr(-u[200:260])
+    n_f = 200.0
+    n_fs = pf.sum() + z * np.sqrt((pf * (1 - pf)).sum())
+    n_sf = ps.sum() + z * np.sqrt((ps * (1 - ps)).sum())
+    expected = max(n_fs / (n_f - n_fs), n_sf / (n_f + n_sf))
+    assert expected == pytest.approx(n_sf / (n_f + n_sf), rel=1e-12)  # the case in point: the safe-side term wins
+    rel, absolute = esc_errors(u, fail)
+    assert rel == pytest.approx(expected, rel=1e-12)
+    assert absolute == pytest.approx(expected * 0.2, rel=1e-12)
 
 
 def test_a_level_far_in_the_tail_gets_a_finite_absolute_error():

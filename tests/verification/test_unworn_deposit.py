@@ -45,3 +45,15 @@ def test_one_revolution_lays_the_closed_form_patch(one_rev, rig, pressure):
     # Archard volume of the revolution, (k/H) N s: 0.2 % for the load's mean over the ringing
     assert worn_area(cw.bearing, rig.r_b) * rig.width == pytest.approx(rig.kH_b * n_force * rig.slide_per_rev,
                                                                        rel=2e-3)
+
+
+def test_contact_area_diagnostic_is_the_closed_form_strip(one_rev, rig):
+    """CycleWear.area_mean is the time-mean contact area 2 b L (Johnson's strip of half-width b over the width L) in
+    every cell the contact visits on the still rig; guards an area of b L. Tolerance: the 1e-4 the half-width gets
+    above (b steady to 1.5e-6 over the revolution)."""
+    tr = one_rev.joints[0]
+    cw = cycle_wear(tr, WearSettings(n_grid=1440), 1.0, JointMaterials.from_trace(tr))
+    b = half_width(rig.weight, rig.r_b, rig.r_j, rig.hsum, rig.width)
+    visited = np.isfinite(cw.area_mean)
+    assert visited.any()
+    np.testing.assert_allclose(cw.area_mean[visited], 2 * b * rig.width, rtol=1e-4)

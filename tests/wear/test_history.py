@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 import pytest
-from wear_synthetic import FakeModel, fake_simulate
+from wear_synthetic import FakeModel, FakeResult, fake_simulate, make_trace
 
 from jointwear.wear import WearSettings, wear_history
 from jointwear.wear.angles import angle_text, body_angle_from_report, report_angle_deg
@@ -198,3 +198,61 @@ def test_a_round_side_needs_no_touch_map():
     out = np.empty_like(theta)
     map_touch_angles(theta, np.arange(n), out)
     np.testing.assert_array_equal(out, theta)
+
+
+def test_max_sum_growth_adds_the_journal_depth():
+    """uniform_growth='max_sum' grows the clearance by max bearing + max journal depth (paper Eq. 35-37); guards a
+    growth that drops the journal term. Same sums as the loop's: rounding only (rtol 1e-12)."""
+    from jointwear.contact.geometry import ClearanceGeometry
+
+    g0 = 1e-6
+    s = WearSettings(geometry_mode="uniform", uniform_growth="max_sum", n_grid=360, lanes=1)
+    r = wear_history(FakeModel(), s, 100_000, simulate=fake_simulate,
+                     geometry=[ClearanceGeometry(1.002e-3, 1.0e-3, clearance_growth=g0)])
+    j = r.joints[0]
+    assert j.history_max_journal[-1] > 0.0  # the journal wears: the check below is not vacuous
+    np.testing.assert_allclose(j.history_clearance_growth, g0 + j.history_max_bearing + j.history_max_journal,
+                               rtol=1e-12, atol=0)
+
+
+def test_a_short_last_block_wears_the_journal_for_its_own_cycles():
+    """The last block of 401,000 cycles in blocks of 10,000 is 1,000 cycles long: the journal gains its rate x 1,000
+    (guards a journal deposit that counts the full block). The first 40 blocks equal those of a 400,000-cycle run
+    (the fake dynamics is deterministic), so the difference is the last rate x 1,000: same arithmetic, rtol 1e-12."""
+    s = WearSettings(geometry_mode="uniform", n_grid=360, lanes=1, block_cycles=10_000)
+    a = wear_history(FakeModel(), s, 400_000, simulate=fake_simulate)
+    b = wear_history(FakeModel(), s, 401_000, simulate=fake_simulate)
+    assert b.blocks[-1].size == 1_000 and len(b.blocks) == 41
+    ja, jb = a.joints[0], b.joints[0]
+    rate = jb.diagnostics.journal
+    assert rate.max() > 0.0
+    np.testing.assert_allclose(jb.journal_wear, ja.journal_wear + rate * 1_000, rtol=1e-12, atol=0)
+    eb, ej = conservation_error(jb)
+    assert ej < CONS_TOL
+
+
+def _scaled_simulate(factor):
+    """A fake dynamics whose force (hence the Archard volume rate, linear in it) is factor^k in block k."""
+    def simulate(model, n_cycles, geometry=None, settle_cycles=None, rtol=None, atol=None, state0=None):
+        k = len(model.calls)
+        model.calls.append(k)
+        joints = [make_trace(n_cycles, model.steps_per_cycle, rate_scale=factor ** k) for _ in geometry]
+        return FakeResult(joints, state_end=k + 1, n_steps=n_cycles * model.steps_per_cycle, n_cycles=n_cycles,
+                          settle_cycles=settle_cycles or 0.0)
+    return simulate
+
+
+@pytest.mark.parametrize(("times_tol", "second"), [(1.5, 8_000), (2.5, 4_000)])
+def test_adaptive_block_halves_only_past_twice_the_tolerance(times_tol, second):
+    """The adaptive rule halves the block when the volume rate changes by more than 2 x rate_tolerance, keeps it
+    between 1x and 2x (guards a halving threshold of 1 x tolerance), and never goes below min_block. The force is
+    scaled exactly, so the recorded change is times_tol x tolerance to rounding (rel 1e-9: far from both thresholds)."""
+    tol = 0.02
+    s = WearSettings(geometry_mode="uniform", n_grid=360, block_rule="adaptive", initial_block=8_000,
+                     min_block=3_000, max_block=80_000, rate_tolerance=tol)
+    r = wear_history(FakeModel(), s, 24_000, simulate=_scaled_simulate(1.0 + times_tol * tol))
+    sizes = [b.size for b in r.blocks]
+    assert r.blocks[1].rate_change == pytest.approx(times_tol * tol, rel=1e-9)
+    assert sizes[:2] == [8_000, second]
+    if times_tol > 2.0:
+        assert min(sizes) == 3_000  # 8000 -> 4000 -> 3000 (floored), not 2000
