@@ -101,6 +101,7 @@ def test_esc_errors_stay_finite_where_the_relative_bound_is_unbounded():
     rel, absolute = esc_errors(u, fail)
     assert np.isfinite(rel) and absolute == pytest.approx(rel * 0.2, rel=1e-12)
 
+
 def test_esc_relative_error_is_the_larger_of_the_two_bounds():
     """The relative ESC error is max(n_fs / (n_f - n_fs), n_sf / (n_f + n_sf)) (Wang & Shafieezadeh 2019), here
     dominated by the predicted-safe term (guards n_sf / (n_f - n_sf), 0.18 instead of 0.13 here). Counts by hand
