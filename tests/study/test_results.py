@@ -315,3 +315,14 @@ def test_an_interval_outside_the_curve_says_on_which_side():
     assert interval_cells(None, None, reach=(-math.inf, 2e5)) == "before the curve"
     assert interval_cells(None, None, reach=(5.6e5, math.inf)) == "beyond the curve"
     assert interval_cells(None, None, reach=(-math.inf, math.inf)) == "wider than the curve"
+
+
+def test_the_command_line_gives_every_targets_life():
+    """Only the headline target's life was printed; a second target (R = 0.9999) appeared in the table alone."""
+    from jointwear.study.stage_lines import other_lives_line
+
+    res = _reliability_result()
+    res.life_table[1]["status"] = "beyond_curve"
+    assert other_lives_line(res) == "R = 0.99: beyond the curve's last level (extend cycles_stop)"
+    res.life_table = res.life_table[:1]
+    assert other_lives_line(res) == ""

@@ -61,6 +61,7 @@ from jointwear.study.stage_lines import (
     force_line,
     learning_stop_line,
     life_text,
+    other_lives_line,
     profile_mode_line,
     ranking_line,
     reused_text,
@@ -544,8 +545,10 @@ class Study:
         res.save(self.out)
         life = life_text(res.life_table[0])
         governing = f", governed by joint {res.governing_joint}" if len(res.joints) > 1 else ""
-        self.echo(f"reliability: {res.model_calls} model calls{reused_text(new, res.model_calls)}, n_mc = {res.n_mc:,}, "
-                  f"life at R = {res.target}: {life}{governing} -> {self.out / res.FILE}")
+        self.echo(f"reliability: {res.model_calls} model calls{reused_text(new, res.model_calls)}, "
+                  f"n_mc = {res.n_mc:,}, life at R = {res.target}: {life}{governing} -> {self.out / res.FILE}")
+        if others := other_lives_line(res):
+            self.echo(f"reliability: the other targets' lives: {others}")
         self._tell("reliability", res)
         return res
 
@@ -652,7 +655,8 @@ class Study:
         where = f" ({missed})" if missed else ""
         strict = result.differences_at_95()
         strict = f"; {strict}" if strict else ""
-        self.echo(f"validate: {result.n_samples:,} true-model samples{reused_text(result.model_calls, result.n_samples)}, "
+        reused = reused_text(result.model_calls, result.n_samples)
+        self.echo(f"validate: {result.n_samples:,} true-model samples{reused}, "
                   f"agreement at {agree} of {len(result.agreement)} levels (overlapping 95 % intervals; these samples "
                   f"resolve R to +-{result.resolution:.2g}){where}{strict}"
                   f"{joints}{life}, cross-validation Q2 = "

@@ -87,6 +87,12 @@ def life_text(row: dict) -> str:
             "before_curve": "before the curve's first level (lower cycles_start)"}.get(row.get("status"), "not reached")
 
 
+def other_lives_line(res: ReliabilityCurve) -> str:
+    """The lives at the targets after the headline, '' with one target: 'R = 0.99: 301,544 cycles = 10.47 h (95 %
+    interval ...); R = 0.999: before the curve's first level (lower cycles_start)'."""
+    return "; ".join(f"R = {row['target']:g}: {life_text(row)}" for row in res.life_table[1:])
+
+
 def variance_line(sens: SensitivityResult, floor: float = 0.01) -> str:
     """:meth:`SensitivityResult.variance_ranking` as text: 'c 0.95 > l1 0.04 (the others < 0.01)'."""
     ranked = sens.variance_ranking(floor)
