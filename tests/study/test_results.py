@@ -326,3 +326,15 @@ def test_the_command_line_gives_every_targets_life():
     assert other_lives_line(res) == "R = 0.99: beyond the curve's last level (extend cycles_stop)"
     res.life_table = res.life_table[:1]
     assert other_lives_line(res) == ""
+
+
+def test_a_target_in_the_posterior_points_thin_tail_is_told():
+    """R = 0.999 leaves about 3 failures among the 3,000 points where the Kriging's posterior spread of Pf is drawn:
+    that part of the life's interval rested on about nothing, and nothing said so."""
+    from jointwear.study.stage_lines import POSTERIOR_TAIL_POINTS, posterior_tail_line
+
+    res = _reliability_result()  # targets 0.9 and 0.99: 300 and 30 expected failures among 3,000
+    assert 0.01 * 3000 >= POSTERIOR_TAIL_POINTS and posterior_tail_line(res, 3000) == ""
+    res.life_table = [*res.life_table, {"target": 0.999, "cycles": None, "hours": None}]
+    line = posterior_tail_line(res, 3000)
+    assert line.startswith("at R = 0.999 the Kriging's posterior spread of Pf") and "about 3 fail" in line

@@ -62,6 +62,7 @@ from jointwear.study.stage_lines import (
     learning_stop_line,
     life_text,
     other_lives_line,
+    posterior_tail_line,
     profile_mode_line,
     ranking_line,
     reused_text,
@@ -569,11 +570,13 @@ class Study:
                 sentences.append(uniform)
         elif stage == "reliability":
             from jointwear.report.reference_checks import curve_misses_life
+            from jointwear.study.reliability import POSTERIOR_POINTS
 
             missed = curve_misses_life(res, WearSummary.load_if_present(self.out))
             sentences = [learning_stop_line(res, self.config.reliability) if not res.converged else None,
                          res.failed_calls_sentence(), res.worn_away_sentence(), res.surrogate_fit_sentence(),
-                         res.series_sentence(), missed and re.sub(r"</?code>", "", missed).rstrip(".")]
+                         res.series_sentence(), missed and re.sub(r"</?code>", "", missed).rstrip("."),
+                         posterior_tail_line(res, POSTERIOR_POINTS)]
         for sentence in sentences:
             if sentence:
                 self.warn(f"{stage}: {sentence}")

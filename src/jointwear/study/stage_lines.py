@@ -93,6 +93,24 @@ def other_lives_line(res: ReliabilityCurve) -> str:
     return "; ".join(f"R = {row['target']:g}: {life_text(row)}" for row in res.life_table[1:])
 
 
+#: fewer expected failures than this among the posterior's points leave its spread of Pf coarse at a target
+POSTERIOR_TAIL_POINTS = 20
+
+
+def posterior_tail_line(res: ReliabilityCurve, posterior_points: int) -> str:
+    """'' unless a target's Pf = 1 - R leaves fewer than ``POSTERIOR_TAIL_POINTS`` expected failures among the
+    ``posterior_points`` population points on which the Kriging's posterior spread of Pf is drawn (R = 0.999: 3 of
+    3,000); then which targets, and that ESC's part of the interval, counted on the whole population, is the one to
+    lean on there."""
+    thin = [row["target"] for row in res.life_table if (1.0 - row["target"]) * posterior_points < POSTERIOR_TAIL_POINTS]
+    if not thin:
+        return ""
+    shown = ", ".join(f"{t:g}" for t in thin)
+    return (f"at R = {shown} the Kriging's posterior spread of Pf, one part of the life's interval, is drawn on "
+            f"{posterior_points:,} population points of which about {(1.0 - min(thin)) * posterior_points:.2g} fail: "
+            "that part is coarse there, and the interval rests on ESC's count over the whole population")
+
+
 def variance_line(sens: SensitivityResult, floor: float = 0.01) -> str:
     """:meth:`SensitivityResult.variance_ranking` as text: 'c 0.95 > l1 0.04 (the others < 0.01)'."""
     ranked = sens.variance_ranking(floor)
