@@ -465,9 +465,8 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
             correlated.append(node)
     for node in fitted:
         _drop_fit_sets(node, changed[id(node)])
-    for node in correlated:  # the entries changed replace the base's other form
-        for key in CORRELATION_ENTRIES - changed[id(node)]:
-            node.pop(key, None)
+    for node in correlated:
+        _drop_correlation_entries(node, changed[id(node)])
     return config_from_dict(data, source)
 
 
@@ -477,6 +476,13 @@ def _drop_fit_sets(table: dict[str, Any], keep: set[str]) -> None:
     would contradict the new fit."""
     for key in [k for k in table if _unit_stems(k) & set(ClearanceSpec.FIT_SETS) and not _unit_stems(k) & keep]:
         del table[key]
+
+
+def _drop_correlation_entries(table: dict[str, Any], keep: set[str]) -> None:
+    """A correlation table given entries (pairs, or variables and matrix): drop the others (CORRELATION_ENTRIES)
+    except those in ``keep``: kept from before, entries of the other form would be refused as giving both forms."""
+    for key in CORRELATION_ENTRIES - keep:
+        table.pop(key, None)
 
 
 def _is_number(value: Any) -> bool:
@@ -588,7 +594,8 @@ def merge_tables(base: dict[str, Any], override: dict[str, Any], where: str = ""
             _drop_fit_sets(out, {stem for k in override for stem in _unit_stems(k)})
         if where == "uncertainty" and key == "correlation" and isinstance(value, dict) and isinstance(
                 out.get(key), dict) and CORRELATION_ENTRIES & value.keys():
-            out[key] = {k: v for k, v in out[key].items() if k not in CORRELATION_ENTRIES}  # its entries in one form
+            out[key] = dict(out[key])  # the base's own table stays as it is
+            _drop_correlation_entries(out[key], set())
         current = out.get(key)
         if isinstance(value, dict) and isinstance(current, dict):
             out[key] = merge_tables(current, value, path)
