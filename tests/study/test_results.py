@@ -338,3 +338,22 @@ def test_a_target_in_the_posterior_points_thin_tail_is_told():
     res.life_table = [*res.life_table, {"target": 0.999, "cycles": None, "hours": None}]
     line = posterior_tail_line(res, 3000)
     assert line.startswith("at R = 0.999 the Kriging's posterior spread of Pf") and "about 3 fail" in line
+
+
+def test_a_life_read_in_the_populations_thin_tail_warns_in_python():
+    """life(0.99999) on a curve learnt with 1,000 samples read a Pf that about 0.01 failures estimate, in silence (the
+    stage's check warns only of the configured targets). Threshold: THIN_TAIL_FAILURES expected failures, n Pf."""
+    import warnings
+
+    res = _reliability_result()  # n_mc = 1000
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        res.life(0.9)  # 100 expected failures
+        res.life(1.0 - (res.THIN_TAIL_FAILURES + 1) / res.n_mc)
+    with pytest.warns(UserWarning, match=r"life at R = 0.99: the 1,000 Monte Carlo samples expect about 10 failures "
+                                         r"at Pf = 0.01 \(Monte Carlo COV 0.31\).*n_mc_max >= 2,000"):
+        res.life(0.99)
+    res.n_mc = 100_000
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        res.life(0.99)

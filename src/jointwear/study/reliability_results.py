@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import warnings
 from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -214,6 +215,8 @@ class ReliabilityCurve(StageResult):
     #: a second judged joint governing at least this share of the failures at the life puts the kink of the
     #: series system's life inside the population (project choice)
     SERIES_SHARE: ClassVar[float] = 0.1
+    #: fewer expected failures than this in the population leave the Monte Carlo COV of Pf above 0.22 (project choice)
+    THIN_TAIL_FAILURES: ClassVar[int] = 20
 
     @property
     def stopped_by_budget(self) -> bool:
@@ -290,8 +293,21 @@ class ReliabilityCurve(StageResult):
         :attr:`life_curve` (:func:`~jointwear.study.limit_state.life_at`); None outside the curve. A target outside
         (0, 1) raises :class:`~jointwear.schema.ConfigError`."""
         target = self.target if target is None else reliability_target(target, "life: target")
+        self._warn_thin_tail(target)
         cycles, r, _ = self._life_curve()
         return life_at(cycles, r, target)
+
+    def _warn_thin_tail(self, target: float) -> None:
+        """A UserWarning when the population's ``n_mc`` samples expect fewer than ``THIN_TAIL_FAILURES`` failures at
+        Pf = 1 - ``target``: the life there rests on a handful of failures (the stage's check warns of the
+        configured targets; this covers the ones a user reads afterwards)."""
+        expected = (1.0 - target) * self.n_mc
+        if self.n_mc and expected < self.THIN_TAIL_FAILURES:
+            warnings.warn(f"life at R = {target:g}: the {self.n_mc:,} Monte Carlo samples expect about {expected:.2g} "
+                          f"failures at Pf = {1.0 - target:.3g} (Monte Carlo COV "
+                          f"{math.sqrt(target / expected):.2g}): read life_interval, and for this target run the "
+                          f"study with pf_floor <= {1.0 - target:.3g} and n_mc_max >= "
+                          f"{math.ceil(self.THIN_TAIL_FAILURES / (1.0 - target)):,}", UserWarning, stacklevel=3)
 
     def life_interval(self, target: float | None = None) -> tuple[float | None, float | None]:
         """The 95 % interval (cycles) of the life at ``target`` (default: the first target), where the band
