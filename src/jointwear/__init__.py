@@ -6,6 +6,12 @@
 """
 
 from importlib.metadata import PackageNotFoundError, version
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # the names type checkers see; at run time __getattr__ imports them on first use
+    from jointwear.config import load_config
+    from jointwear.schema import ConfigError
+    from jointwear.study import Study, compare_studies, load_results
 
 try:
     __version__ = version("jointwear")
@@ -15,7 +21,7 @@ except PackageNotFoundError:  # running from a source tree that is not installed
 __all__ = ["Study", "load_results", "load_config", "compare_studies", "ConfigError", "__version__"]
 
 
-def __getattr__(name: str):
+def __getattr__(name: str) -> object:
     # the study pulls in numba and the reliability engine: import it on first use, not with the package
     if name in ("Study", "load_results", "compare_studies"):
         from jointwear import study

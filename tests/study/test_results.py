@@ -357,3 +357,25 @@ def test_a_life_read_in_the_populations_thin_tail_warns_in_python():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         res.life(0.99)
+
+
+def test_the_lazy_public_names_are_the_ones_type_checkers_see():
+    """jointwear and jointwear.design load their names on first use through __getattr__, which type checkers read as
+    returning Any (every `jointwear.Study(...)` was untyped): each lazy name must also be imported under
+    TYPE_CHECKING, and jointwear.design's __all__ must be a literal list that holds every lazy name."""
+    import ast
+    import inspect
+
+    import jointwear
+    import jointwear.design as design
+
+    for module, lazy in ((jointwear, {"Study", "load_results", "compare_studies", "load_config", "ConfigError"}),
+                         (design, set(design._LAZY))):
+        tree = ast.parse(inspect.getsource(module))
+        guarded = {alias.asname or alias.name for node in ast.walk(tree) if isinstance(node, ast.If)
+                   and getattr(node.test, "id", "") == "TYPE_CHECKING" for imp in node.body
+                   if isinstance(imp, ast.ImportFrom) for alias in imp.names}
+        assert lazy <= guarded, (module.__name__, lazy - guarded)
+        assert lazy <= set(module.__all__) and lazy <= set(dir(module))
+        for name in lazy:
+            assert getattr(module, name).__name__ == name

@@ -6,8 +6,16 @@ not import the study.
 """
 
 from importlib import import_module
+from typing import TYPE_CHECKING
 
 from jointwear.design.settings import DesignSettings
+
+if TYPE_CHECKING:  # the names type checkers see; at run time __getattr__ imports them on first use
+    from jointwear.design.candidates import Candidate, Control, Option, build_controls, enumerate_candidates
+    from jointwear.design.checks import design_problems
+    from jointwear.design.cost import grade_costs, tolerance_cost
+    from jointwear.design.results import DesignResult
+    from jointwear.design.search import run_design, verify
 
 _LAZY = {
     "Candidate": "candidates", "Control": "candidates", "Option": "candidates", "build_controls": "candidates",
@@ -15,10 +23,16 @@ _LAZY = {
     "tolerance_cost": "cost", "DesignResult": "results", "run_design": "search", "verify": "search",
 }
 
-__all__ = ["DesignSettings", *_LAZY]
+__all__ = ["DesignSettings", "Candidate", "Control", "Option", "build_controls", "enumerate_candidates",
+           "design_problems", "grade_costs", "tolerance_cost", "DesignResult", "run_design", "verify"]
 
 
-def __getattr__(name: str):
+def __getattr__(name: str) -> object:
     if name in _LAZY:
         return getattr(import_module(f"jointwear.design.{_LAZY[name]}"), name)
     raise AttributeError(f"module 'jointwear.design' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    # the lazily imported names too, so that tab completion offers them
+    return sorted(set(__all__) | set(globals()))

@@ -24,12 +24,12 @@ def series_failure_probability(margins, scatter_sds) -> np.ndarray:
     """P(min_j (g_j + e_j) < 0) = 1 - prod_j Phi(g_j / tau_j) for components' margins ``margins[j]`` (any shape,
     one array per component) and independent scatters e_j ~ N(0, tau_j^2); a component with tau_j = 0 survives
     exactly where g_j >= 0, and a NaN margin is a failure."""
-    survive = 1.0
+    survive: np.ndarray | float = 1.0
     for g, tau in zip(margins, scatter_sds):
         g = np.asarray(g, dtype=float)
         p = ndtr(g / tau) if tau > 0 else (g >= 0).astype(float)
         survive = survive * np.where(np.isnan(g), 0.0, p)
-    return 1.0 - survive
+    return np.asarray(1.0 - survive)
 
 
 def governing(mean: np.ndarray, var: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -18,9 +18,9 @@ import re
 import sqlite3
 import time
 import warnings
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, ParamSpec, TypeVar
 
 from jointwear.config import StudyConfig, config_from_dict, load_config
 from jointwear.reliability import AllCallsFailedError
@@ -76,22 +76,30 @@ from jointwear.study.superseded import DEPENDS_ON, changed_settings, move_aside,
 WEAR_MODEL_TAG = "wear_model"
 STAGES = ("simulate", "wear", "reliability", "sensitivity")
 
+if TYPE_CHECKING:
+    from jointwear.design.results import DesignResult
+
 logger = logging.getLogger("jointwear")
 LOG_FILE = "jointwear.log"
 
 
-def _quiet(stage):
+P = ParamSpec("P")
+R = TypeVar("R")
+
+
+def _quiet(stage: Callable[P, R]) -> Callable[P, R]:
     """Run a stage with warnings kept off the user's screen: every warning left after the numerics handled
     theirs goes to ``out/jointwear.log`` (with where it came from) and to the ``jointwear`` logger at DEBUG."""
 
     @functools.wraps(stage)
-    def wrapper(self, *args, **kwargs):
-        with self._stage_scope(), warnings.catch_warnings(record=True) as caught:
+    def wrapper(*args: P.args, **kwargs: P.kwargs) -> R:
+        self = args[0]
+        with self._stage_scope(), warnings.catch_warnings(record=True) as caught:  # type: ignore[attr-defined]
             warnings.simplefilter("default")
             try:
-                return stage(self, *args, **kwargs)
+                return stage(*args, **kwargs)
             finally:
-                self._log_warnings(stage.__name__, caught)
+                self._log_warnings(stage.__name__, caught)  # type: ignore[attr-defined]
 
     return wrapper
 
@@ -179,7 +187,7 @@ class Study:
         return f"Study({self.config.name!r}{source}, out={str(self.out)!r}{where})"
 
     # ----------------------------------------------------------------------------------------- checking
-    def check(self, stages=None) -> list[str]:
+    def check(self, stages: str | Iterable[str] | None = None) -> list[str]:
         """Check the whole config and that the nominal mechanism assembles and runs. Writes nothing.
 
         Parameters
@@ -894,7 +902,7 @@ class Study:
 
     # ------------------------------------------------------------------------------------------- design
     @_quiet
-    def design(self):
+    def design(self) -> DesignResult:
         """Uncertainty control (``[design]``): the cheapest controls that reach the target life.
 
         Finds the cheapest tolerance grades, fit and material specifications that reach the target life at the

@@ -9,7 +9,7 @@ import warnings
 from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
@@ -18,6 +18,9 @@ from jointwear.study.io import provenance
 from jointwear.study.limit_state import curve_half_width, interval_reach, life_at, life_interval
 from jointwear.study.stage_result import StageResult, save_figure
 from jointwear.units import column_name
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 __all__ = ["ReliabilityCurve", "SensitivityResult", "SurrogateFit", "ValidationResult", "interval_cells",
            "interval_text", "reliability_target"]
@@ -521,7 +524,7 @@ class ReliabilityCurve(StageResult):
             out["design_points"] = cols
         return out
 
-    def plot(self):
+    def plot(self) -> Figure:
         """R(N) with its 95 % band, the target and the life with its interval, each judged joint's own curve beside
         (the report's figure): a matplotlib ``Figure``, for a notebook or ``fig.savefig``."""
         from jointwear.report import figures as F

@@ -5,11 +5,14 @@ from __future__ import annotations
 import math
 from dataclasses import MISSING, fields
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
 from jointwear.study.io import provenance, read_json, write_csv, write_json
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 __all__ = ["StageResult", "same_value", "save_figure", "short_repr"]
 
@@ -135,7 +138,7 @@ class StageResult:
         units in the names."""
         return {}
 
-    def frame(self, table: str | None = None):
+    def frame(self, table: str | None = None) -> pd.DataFrame:
         """One of :meth:`tables` as a pandas DataFrame (the first when ``table`` is None), as its CSV file holds it."""
         import pandas as pd
 
