@@ -364,3 +364,27 @@ def test_a_call_that_timed_out_in_an_earlier_session_runs_again(tmp_path):
         assert list(res.status) == ["ok"] and res.n_evaluated == 1 and res.Y[0, 0] == 3.0
     with EvaluationStore.open(tmp_path, config_hash({"case": "pause"}), resume=True) as store:
         assert Evaluator(paused, store=store, timeout=0.3).evaluate(X).n_evaluated == 0  # the latest outcome, ok
+
+
+def test_an_installed_package_inside_a_users_repository_records_no_commit_of_it(tmp_path, monkeypatch):
+    """A wheel installed into a venv inside the user's own git project recorded that project's commit as
+    jointwear's version ('0.1.0+g<their commit>'): git describe ran in the installed package's folder."""
+    import importlib.util
+    import shutil
+    import subprocess
+
+    import jointwear
+    from jointwear.compute import store
+
+    repo = tmp_path / "user_project"
+    installed = repo / "venv" / "lib" / "python3" / "site-packages" / "jointwear" / "compute"
+    installed.mkdir(parents=True)
+    shutil.copy(store.__file__, installed / "store.py")
+    git = ["git", "-c", "user.name=u", "-c", "user.email=u@example.org"]
+    subprocess.run([*git, "init", "-q", str(repo)], check=True)
+    subprocess.run([*git, "-C", str(repo), "commit", "-q", "--allow-empty", "-m", "theirs"], check=True)
+    spec = importlib.util.spec_from_file_location("installed_store", installed / "store.py")
+    module = importlib.util.module_from_spec(spec)
+    monkeypatch.setitem(__import__("sys").modules, spec.name, module)  # its dataclasses look their module up
+    spec.loader.exec_module(module)
+    assert module.code_version() == jointwear.__version__

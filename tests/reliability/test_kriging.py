@@ -173,3 +173,14 @@ def test_posterior_draws_do_not_depend_on_the_blas_threads():
         with threadpool_limits(limits=threads, user_api="blas"):
             draws.append(gaussian_draws(np.zeros(3000), cov, 400, np.random.default_rng(1)))
     np.testing.assert_array_equal(draws[0], draws[1])
+
+
+def test_an_openturns_without_the_fitter_is_an_error_not_a_bad_design(monkeypatch):
+    """openturns 1.23-1.26 have no top-level GaussianProcessFitter: every fit 'failed' with a RuntimeWarning and
+    the Kriging ran on a guessed length scale for the whole study. A missing API is raised, not absorbed."""
+    import openturns as ot
+
+    monkeypatch.delattr(ot, "GaussianProcessFitter")
+    x = np.linspace(0.0, 1.0, 8)[:, None]
+    with pytest.raises(AttributeError, match="GaussianProcessFitter"):
+        KrigingSurrogate(n_starts=1).fit(x, np.sin(3.0 * x[:, 0]))

@@ -170,11 +170,13 @@ def code_version(with_git: bool = True) -> str:
         version = "unknown"
     if not with_git:
         return version
-    here = Path(__file__).resolve().parent
+    checkout = Path(__file__).resolve().parents[3]  # <checkout>/src/jointwear/compute
+    if not (checkout / ".git").exists():  # an installed package: a surrounding repository is not its source
+        return version
     try:
         out = subprocess.run(
             ["git", "describe", "--always", "--dirty"],
-            cwd=here,
+            cwd=checkout,
             capture_output=True,
             text=True,
             timeout=5,

@@ -220,6 +220,8 @@ class KrigingSurrogate:
                 try:
                     candidates.extend(self._fit_openturns(x, ys, n_starts))
                     break
+                except (AttributeError, ImportError, NameError):  # an OpenTURNS without the API: not a bad design
+                    raise
                 except Exception as exc:  # OpenTURNS can fail on ill-conditioned designs: keep last good fit
                     last_exc = exc
             else:
@@ -488,13 +490,13 @@ def gaussian_draws(mean: np.ndarray, cov: np.ndarray, n_draws: int, rng: np.rand
     mean = np.asarray(mean, dtype=float)
     cov = np.asarray(cov, dtype=float)
     m = mean.size
-    factor, piv, rank, info = lapack.dpstrf(cov, lower=1)
-    if info < 0:
-        raise ValueError(f"gaussian_draws: LAPACK dpstrf rejected argument {-info}")
-    chol = np.zeros((m, rank))
-    chol[piv[:rank] - 1] = np.tril(factor[:rank, :rank])  # the pivoted rows first, then the rest of the columns
-    chol[piv[rank:] - 1] = factor[rank:, :rank]
-    with blas_threads(1):  # a threaded product's last bits follow the thread count; the docs promise they do not
+    with blas_threads(1):  # a threaded factor's or product's last bits follow the thread count; the docs promise not
+        factor, piv, rank, info = lapack.dpstrf(cov, lower=1)
+        if info < 0:
+            raise ValueError(f"gaussian_draws: LAPACK dpstrf rejected argument {-info}")
+        chol = np.zeros((m, rank))
+        chol[piv[:rank] - 1] = np.tril(factor[:rank, :rank])  # the pivoted rows first, then the rest of the columns
+        chol[piv[rank:] - 1] = factor[rank:, :rank]
         return mean[:, None] + chol @ rng.standard_normal((rank, n_draws))
 
 

@@ -390,7 +390,9 @@ def subset_simulation(
         if progress is not None:
             progress({"level": level, "threshold": b, "pf": pf, "n_calls": getattr(ev, "n_calls", None)})
     cov = math.sqrt(delta2) if np.isfinite(delta2) else math.inf
-    msg = "" if converged else f"max_levels={max_levels} reached before the failure threshold; pf is an upper bound"
+    msg = ("the COV takes the levels as uncorrelated (Au & Beck 2001): a lower bound, so the 95 % interval is "
+           "narrower than the truth" if converged
+           else f"max_levels={max_levels} reached before the failure threshold; pf is an upper bound")
     return ReliabilityResult(method="subset_simulation", pf=pf, cov=cov, beta=pf_to_beta(pf), converged=converged,
                              details={"levels": levels}, message=msg, **_common(ev, transform, t0))
 
@@ -408,7 +410,8 @@ def importance_sampling(
     **form_kwargs,
 ) -> ReliabilityResult:
     """Importance sampling with a unit normal density centred at the FORM design point u*:
-    pf = mean(I[g < 0] phi(u) / phi(u - u*)). ``n_calls`` includes the FORM calls."""
+    pf = mean(I[g < 0] phi(u) / phi(u - u*)). ``n_calls`` includes the FORM calls. One centre: a failure region
+    far from u* is missed by both the estimate and its COV (its ``message`` says so)."""
     t0 = time.perf_counter()
     n = check_positive_int("n", n, 2)
     marginals = check_marginals(marginals)
@@ -426,6 +429,8 @@ def importance_sampling(
     pf, cov = is_estimate(_failed(gv), is_weights(u, ustar))
     common = _common(ev, transform, t0)
     common["n_calls"] += form_result.n_calls
+    msg = ("sampled around one design point: a failure region away from it is missed, and the COV does not see it "
+           "(several failure regions: subset_simulation or akmcs)")
     return ReliabilityResult(method="importance_sampling", pf=pf, cov=cov, beta=pf_to_beta(pf), converged=pf > 0,
                              design_point_u=ustar, design_point_x=form_result.design_point_x,
-                             alpha=form_result.alpha, details={"form": form_result}, **common)
+                             alpha=form_result.alpha, details={"form": form_result}, message=msg, **common)
