@@ -709,7 +709,7 @@ def test_a_wear_history_whose_contact_outgrows_hertz_and_an_unjudged_journal_are
     radius_um = joint["bearing_radius_mm"] * 1e3
     joint["max_half_width_um"] = 1.5 * HERTZ_HALF_ANGLE_LIMIT * radius_um  # 26 deg each side
     (sentence,) = wear.outside_hertz()
-    assert f"reaches {math.degrees(1.5 * HERTZ_HALF_ANGLE_LIMIT):.3g} deg each side" in sentence
+    assert f"is {math.degrees(1.5 * HERTZ_HALF_ANGLE_LIMIT):.3g} deg wide each side" in sentence
     assert "its worn volume stands" in sentence
     joint["journal"]["max_wear_mm"] = 2.0 * joint["allowance_mm"]
     wear.write(d)

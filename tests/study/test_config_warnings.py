@@ -396,3 +396,40 @@ def test_a_target_the_curve_cannot_estimate_to_its_cov_is_warned_with_the_settin
              "reliability.n_mc_max": 4_000_000}
     assert config_warnings(updated(base, tuned)) == []
     assert config_warnings(updated(base, {"reliability.target_reliability": 0.999})) == []  # 399,600 samples suffice
+
+
+def test_an_allowance_past_the_wall_is_refused_for_the_wear_stage_alone():
+    """Without an [uncertainty] section (stages simulate, wear) an allowance of 0.0202 mm on a 0.008 mm wall passed
+    check, though docs/cli.md says it is refused; the wear stage then drew an allowance the bushing cannot reach."""
+    from jointwear.study.checks import config_problems
+
+    base = load_config("jin2025_flapping_wing").model_copy(update={"uncertainty": None})
+    walled = updated(base, {"clearance_joints.A.bearing_outer_radius_mm": 1.01, "reliability.allowance_mm": 0.0202})
+    (problem,) = config_problems(walled, {"simulate", "wear"})
+    assert problem.startswith("reliability.allowance: 0.0202 mm for joint A is not less than its bearing wall")
+    assert config_problems(walled, {"simulate"}) == []
+    assert config_problems(updated(walled, {"reliability.allowance_mm": 0.005}), {"simulate", "wear"}) == []
+
+
+def test_a_static_friction_below_the_sliding_one_is_warned():
+    """mu_d = 0.6 given alone kept the default mu_s = 0.15 in silence: friction then rises with the slip speed."""
+    from jointwear.study.checks import friction_warnings
+
+    base = load_config("jin2025_flapping_wing")
+    (warning,) = friction_warnings(updated(base, {"clearance_joints.A.friction.mu_d": 0.6}))
+    assert warning.startswith("clearance_joints.A.friction.mu_s: 0.15 is below mu_d = 0.6")
+    assert warning in config_warnings(updated(base, {"clearance_joints.A.friction.mu_d": 0.6}))
+    assert friction_warnings(base) == []
+    assert friction_warnings(updated(base, {"clearance_joints.A.friction.mu_d": 0.6,
+                                            "clearance_joints.A.friction.law": "none"})) == []
+
+
+def test_a_contact_exponent_other_than_hertzs_is_refused_by_name():
+    """exponent = 3 with Hertz's K (N/m^1.5) sank the reference pin 79 um into its 2 um clearance, in silence."""
+    from jointwear.schema import ConfigError
+
+    base = load_config("jin2025_flapping_wing")
+    for bad in (1.0, 3.0, 1.4):
+        with pytest.raises(ConfigError, match=r"exponent: must be 1.5: the contact stiffness K is Hertz's"):
+            updated(base, {"clearance_joints.A.exponent": bad})
+    assert updated(base, {"clearance_joints.A.exponent": 1.5}) == base

@@ -379,3 +379,11 @@ def test_the_lazy_public_names_are_the_ones_type_checkers_see():
         assert lazy <= set(module.__all__) and lazy <= set(dir(module))
         for name in lazy:
             assert getattr(module, name).__name__ == name
+
+
+def test_a_hertz_half_width_past_half_the_bore_is_not_told_as_an_angle():
+    """A 1 MPa bushing's contact read '304 deg wide each side': Hertz's formula past its range, not a contact."""
+    from jointwear.study.results import half_angle_text
+
+    assert half_angle_text(12.34) == "12.3 deg wide each side"
+    assert half_angle_text(304.0) == "wider than the whole bore (Hertz's half-width reads 304 deg each side)"

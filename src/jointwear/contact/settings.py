@@ -84,13 +84,24 @@ class ClearanceJointConfig(SIModel):
         description="Normal force law: 'lankarani_nikravesh' (paper Eq. 16-18, D = 3K(1-cr^2)d^n/(4 v0)), "
         "'flores' (Flores et al. 2011, D = 8K(1-cr)d^n/(5 cr v0)), 'hunt_crossley' (D = 3K(1-cr)d^n/(2 v0)).",
     )
-    exponent: float = F(1.5, gt=0, description="Force exponent n of K d^n; 1.5 (Hertz, paper Eq. 16).")
+    exponent: float = F(1.5, gt=0, description="Force exponent n of K d^n; 1.5 (Hertz, paper Eq. 16), the only value "
+                        "consistent with the stiffness K, which is Hertz's in N/m^1.5 from the materials and radii.")
     restitution: float = F(0.9, gt=0, le=1, description="Coefficient of restitution cr (Table 4: 0.9).")
     v0_min: float = F(
         1e-4, unit="m/s", gt=0,
         description="Floor on the impact speed v0 in the damping term; paper silent, baseline reading 1e-4 m/s.",
     )
     friction: FrictionConfig = F(default_factory=FrictionConfig, description="Friction law parameters.")
+
+    @field_validator("exponent")
+    @classmethod
+    def _hertz_exponent(cls, v: float) -> float:
+        # another n with Hertz's K in N/m^1.5 has no units: n = 3 sank the reference pin 79 um into a 2 um clearance
+        if v != 1.5:
+            raise ValueError("must be 1.5: the contact stiffness K is Hertz's, in N/m^1.5 from the "
+                             "materials and radii (docs/dynamics.md), so K d^n with another exponent has no consistent "
+                             "units; jointwear takes no stiffness of its own")
+        return v
 
     @field_validator("journal_radius")
     @classmethod

@@ -1,7 +1,17 @@
 """The paper's one-at-a-time reliability sensitivity (Section 6.2.3, Figs. 22-24).
 
-Each variable's mean is moved to a fraction of its nominal value (80 % and 120 % in the paper) with the
-standard deviation kept, the others held at their nominal distributions, and the reliability recomputed.
+Each variable's mean is moved to a fraction of its nominal value (80 % and 120 % in the paper), the others held at
+their nominal distributions, and the reliability recomputed. How a law is moved depends on its family
+(:func:`shifted_marginal`):
+
+* a positive law whose support starts at zero (scipy's standard support [0, inf): the lognormal, gamma and
+  two-parameter Weibull the config builds, with loc = 0) is scaled, X -> factor x X: shape and coefficient of
+  variation kept, the standard deviation scaled with the mean, the support still starting at 0. Moving its loc
+  instead would put the support's lower end at (1 - factor) x mean below zero at factor < 1 (a negative wear
+  coefficient or hardness, which the model cannot take);
+* any other law (normal, Gumbel, uniform, truncated normal, beta) is translated by (factor - 1) x mean: shape and
+  standard deviation kept, bounds (a uniform's or beta's ends, a truncated normal's truncation points) moving with
+  it.
 The reliability function is supplied by the caller (in a wear study: the Kriging surrogate re-used and,
 where the shifted population leaves the design's region, enriched by active learning).
 """
@@ -25,16 +35,31 @@ def _shape_loc_scale(marginal) -> tuple[tuple, float, float]:
     return shapes, loc, scale
 
 
+def scales_with_mean(marginal) -> bool:
+    """Whether :func:`shifted_marginal` scales ``marginal`` (X -> factor x X) rather than translating it: its family's
+    standard support is [0, inf) (lognorm, gamma, weibull_min, expon, ...)."""
+    dist = marginal.dist
+    return float(dist.a) == 0.0 and float(dist.b) == float("inf")
+
+
 def shifted_marginal(marginal, factor: float):
     """The marginal with its mean multiplied by ``factor`` and its shape kept.
 
-    Location families (normal, truncated normal, uniform) are shifted by (factor - 1) * mean; a
-    truncated normal's truncation bound moves with it.
+    * Positive families whose standard support is [0, inf) (:func:`scales_with_mean`: the config's lognormal, gamma
+      and Weibull) are scaled, X -> factor x X: loc and scale both multiplied by ``factor``, so the coefficient of
+      variation is kept, the standard deviation scales with the mean and the support's lower end stays at
+      factor x loc (0 for the config's laws, built with loc = 0). Translating them instead would move that end to
+      (1 - factor) x mean below zero at factor < 1: with a 40 % COV, a x0.8 shift puts 0.1 % (gamma) to 1 % (Weibull)
+      of the samples at negative values, which the model cannot take. A law of such a family given with loc != 0
+      (the config builds none) is scaled all the same: its mean is still multiplied by ``factor`` exactly, its COV
+      kept, and a lower end >= 0 stays >= 0.
+    * Every other family (normal, Gumbel, uniform, truncated normal, beta) is translated by (factor - 1) x mean:
+      shape and standard deviation kept; its bounds (a uniform's or beta's ends, a truncated normal's truncation
+      points) move with it.
     """
     dist = marginal.dist
     shapes, loc, scale = _shape_loc_scale(marginal)
-    if dist.name == "lognorm":
-        # scale multiplies the mean of a lognormal at fixed s; this keeps the COV.
+    if scales_with_mean(marginal):
         return dist(*shapes, loc=loc * factor, scale=scale * factor)
     return dist(*shapes, loc=loc + (factor - 1.0) * marginal.mean(), scale=scale)
 

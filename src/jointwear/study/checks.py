@@ -15,8 +15,14 @@ from typing import Any
 from urllib.parse import urlsplit
 
 from jointwear.config import StudyConfig
+from jointwear.contact.settings import FrictionConfig
 from jointwear.schema import ConfigError
-from jointwear.study.limit_state import limit_state_from_config, limit_state_problems, wearable_stock
+from jointwear.study.limit_state import (
+    allowance_stock_problems,
+    limit_state_from_config,
+    limit_state_problems,
+    wearable_stock,
+)
 
 RELIABILITY_STAGES = frozenset({"reliability", "sensitivity"})
 SCHEDULER_SCHEMES = ("tcp", "tls", "inproc", "ws", "wss", "ucx")
@@ -106,6 +112,8 @@ def config_problems(config: StudyConfig, stages: frozenset[str] | set[str]) -> l
                 problems.append(f"sensitivity.cycles: {c} is not one of the R(N) curve's cycle counts {grid}")
     elif "wear" in stages and not config.clearance_joints:
         problems.append("clearance_joints: the wear stage needs at least one clearance joint")
+    elif "wear" in stages:
+        problems += allowance_stock_problems(config)
     problem = scheduler_problem(config.compute.scheduler)
     if problem:
         problems.append(problem)
@@ -209,7 +217,7 @@ def config_warnings(config: StudyConfig) -> list[str]:
     from jointwear.uncertainty.targets import target_error, target_value
 
     mechanism = (drawing_warnings(config) + size_warnings(config) + mobility_warnings(config)
-                 + gravity_warnings(config) + inertia_warnings(config))
+                 + gravity_warnings(config) + inertia_warnings(config) + friction_warnings(config))
     unc = config.uncertainty
     if unc is None:
         return mechanism + wear_length_warnings(config) + block_warnings(config)
@@ -230,6 +238,16 @@ def config_warnings(config: StudyConfig) -> list[str]:
     return (mechanism + out + random_input_warnings(config) + clearance_warnings(config)
             + wear_length_warnings(config) + wear_mode_warnings(config) + block_warnings(config)
             + design_warnings(config) + allowance_warnings(config) + budget_warnings(config) + target_warnings(config))
+
+
+def friction_warnings(config: StudyConfig) -> list[str]:
+    """Each clearance joint whose static friction coefficient is below its sliding one: friction then rises with the
+    slip speed, which few material pairs do, and setting mu_d alone keeps the default mu_s."""
+    default_mu_s = FrictionConfig.model_fields["mu_s"].default
+    return [f"clearance_joints.{cj.name}.friction.mu_s: {cj.friction.mu_s:g} is below mu_d = {cj.friction.mu_d:g}, so "
+            "friction rises from static to sliding; most material pairs have mu_s >= mu_d (mu_d given alone keeps the "
+            f"default mu_s = {default_mu_s:g})"
+            for cj in config.clearance_joints if cj.friction.law != "none" and cj.friction.mu_s < cj.friction.mu_d]
 
 
 #: what the wear stage says when it has no length for the nominal history

@@ -105,15 +105,26 @@ def limit_state_problems(config) -> list[str]:
         if n not in names_all:
             continue
         joint = config.clearance_joints[names_all.index(n)]
-        allowance = joint_allowance(rel, joint)
-        if allowance is None:
+        if joint_allowance(rel, joint) is None:
             problems.append(f"reliability.allowance: required for joint {n} (or give clearance_joints.{n}."
                             "bearing_outer_radius for the default 0.01 D)")
+    return problems + allowance_stock_problems(config, [n for n in chosen if n in names_all])
+
+
+def allowance_stock_problems(config, joints: list[str] | None = None) -> list[str]:
+    """Each allowance of ``joints`` (default: every clearance joint) at or beyond what its part can wear
+    (:func:`wearable_stock`): the part is worn through before the quantity reaches it. The wear stage draws and tells
+    the allowance too, so this holds without a reliability stage."""
+    rel = config.reliability
+    problems = []
+    for joint in config.clearance_joints:
+        if joints is not None and joint.name not in joints:
             continue
+        allowance = joint_allowance(rel, joint)
         stock = wearable_stock(rel.quantity, joint)
-        if stock is not None and allowance >= stock[0]:
-            where = f"reliability.allowances.{n}" if n in rel.allowances else "reliability.allowance"
-            problems.append(f"{where}: {allowance * 1e3:.6g} mm for joint {n} is not less than its {stock[1]} "
+        if allowance is not None and stock is not None and allowance >= stock[0]:
+            where = f"reliability.allowances.{joint.name}" if joint.name in rel.allowances else "reliability.allowance"
+            problems.append(f"{where}: {allowance * 1e3:.6g} mm for joint {joint.name} is not less than its {stock[1]} "
                             f"({stock[0] * 1e3:.6g} mm): the part is worn through before the "
                             f"{QUANTITY_LABELS[rel.quantity]} reaches it (a unit slip? without a suffix the allowance "
                             "is in m: allowance_mm, allowance_um)")

@@ -45,6 +45,14 @@ SOFT_CONTACT_NOTE = ("A bushing that really is that soft (a polymer) lies outsid
                      "contact law, but its depth profile and the life read from it are indicative")
 
 
+def half_angle_text(degrees: float) -> str:
+    """'12.3 deg wide each side', or, for a Hertz half-width past half the bore, that the formula reads it wider
+    than the bore (a contact cannot wrap beyond it)."""
+    if degrees > 180.0:
+        return f"wider than the whole bore (Hertz's half-width reads {degrees:.3g} deg each side)"
+    return f"{degrees:.3g} deg wide each side"
+
+
 @dataclass(repr=False, eq=False)  # StageResult compares by value
 class SimulationSummary(StageResult):
     """The dynamics of the nominal mechanism over a few crank cycles (``jointwear simulate``).
@@ -91,14 +99,16 @@ class SimulationSummary(StageResult):
 
         limit = math.degrees(HERTZ_HALF_ANGLE_LIMIT)
         wide = self.outside_hertz_joints()
-        return [f"joint {j['name']}'s contact is {j['contact_half_angle_deg']:.3g} deg wide each side at its largest "
+        return [f"joint {j['name']}'s contact is {half_angle_text(j['contact_half_angle_deg'])} at its largest "
                 f"normal force ({j['normal_force_max_N']:.3g} N; Hertz half-width on the unworn radii), more than the "
                 f"{limit:.3g} deg to which the Hertz contact law holds: its forces, penetrations (up to "
                 f"{j['max_penetration_m'] * 1e6:.3g} um against a clearance of {j['clearance_m'] * 1e6:.3g} um) and "
                 "the wear laid on that width are indicative only (docs/dynamics.md, 'Where the contact law holds'). "
-                "The width grows as sqrt(load / (width x Young's modulus)): check clearance_joints."
-                f"{j['name']}.width and its materials' youngs_modulus for a unit slip (width_um for width_mm, "
-                "youngs_modulus_MPa for _GPa). " + SOFT_CONTACT_NOTE
+                "The width grows as sqrt(load / (width x Young's modulus)): either the load is that large (check the "
+                "masses, inertias, crank speed and driving torques; the mean normal force is "
+                f"{j.get('contact_force_mean_N') or 0.0:.3g} N), or the contact is too narrow or soft (check "
+                f"clearance_joints.{j['name']}.width and its materials' youngs_modulus for a unit slip: width_um for "
+                "width_mm, youngs_modulus_MPa for _GPa). " + SOFT_CONTACT_NOTE
                 for j in self.joints if j["name"] in wide]
 
     def whirls(self) -> list[str]:
@@ -382,7 +392,7 @@ class WearSummary(StageResult):
             radius_um = (j.get("bearing_radius_mm") or 0.0) * 1e3
             width = j.get("max_half_width_um") or 0.0
             if radius_um > 0.0 and width / radius_um > HERTZ_HALF_ANGLE_LIMIT:
-                out.append(f"joint {j['name']}'s contact reaches {math.degrees(width / radius_um):.3g} deg each side "
+                out.append(f"joint {j['name']}'s contact is {half_angle_text(math.degrees(width / radius_um))} "
                            f"in the history's last recorded cycles (Johnson's half-width {width:.4g} um on a "
                            f"{radius_um / 1e3:.4g} mm bore), more than the {math.degrees(HERTZ_HALF_ANGLE_LIMIT):.3g} "
                            f"deg to which the Hertz contact law holds. {SOFT_CONTACT_NOTE}")
