@@ -715,6 +715,14 @@ def _written_config(path: Path) -> StudyConfig:
 # ---------------------------------------------------------------------------------------------
 # reference documentation
 # ---------------------------------------------------------------------------------------------
+def field_bounds(finfo) -> str:
+    """A field's numeric bounds as the validator holds them ('>= 16', '> 0, <= 1'; '' without any), in SI."""
+    symbols = {"ge": ">=", "gt": ">", "le": "<=", "lt": "<"}
+    parts = [f"{symbols[name]} {getattr(m, name):g}" for m in finfo.metadata for name in symbols
+             if isinstance(getattr(m, name, None), (int, float))]
+    return ", ".join(parts)
+
+
 def config_reference_markdown() -> str:
     """Markdown reference of every config section and field, generated from the pydantic models."""
     lines = [
@@ -787,6 +795,9 @@ def config_reference_markdown() -> str:
             else:
                 default = f"`{finfo.default!r}`"
             desc = (finfo.description or "").replace("|", "\\|")
+            bounds = field_bounds(finfo)
+            if bounds:
+                desc = f"{desc} Allowed: {bounds}."
             lines.append(f"| `{fname}` | {unit} | {default} | {desc} |")
         lines.append("")
     lines += ["## Presets", ""]

@@ -183,6 +183,11 @@ def test_config_reference_markdown():
         assert key in md
     for section in ("## wear", "## uncertainty", "## reliability", "## sensitivity", "## compute"):
         assert section in md
+    # the validators' bounds are told (n_grid < 16 was refused by a rule the reference did not give)
+    (row,) = [line for line in md.splitlines() if line.startswith("| `n_grid` |")]
+    assert row.endswith("Allowed: >= 16, <= 100000. |")
+    (row,) = [line for line in md.splitlines() if line.startswith("| `restitution` |")]
+    assert row.endswith("Allowed: > 0, <= 1. |")
 
 
 def test_docs_config_md_is_the_generated_reference():
