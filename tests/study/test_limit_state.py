@@ -195,6 +195,8 @@ def test_the_wear_line_names_each_joint_of_a_series_system():
     # three significant figures, not four decimals: a bronze bushing's 7.1e-5 mm read "0.0001 mm"
     bronze = SimpleNamespace(joints=[{}], max_wear_mm=7.1e-5, max_wear_angle_deg=12.0)
     assert wear_line(bronze) == "7.1e-05 mm at 12 deg"
+    # no wear has no place: a wear coefficient of 0 read "0 mm at 123 deg"
+    assert wear_line(SimpleNamespace(joints=[{}], max_wear_mm=0.0, max_wear_angle_deg=123.0)) == "0 mm (no wear)"
 
 
 @pytest.mark.parametrize("wear_per_100k_mm, words", [
@@ -242,6 +244,11 @@ def test_the_wear_stage_tells_the_nominal_life():
     longer = {"cycles": [100_000, 300_000], "max_wear_mm": [0.015, 0.045]}
     assert nominal_life_line(cfg, [{"name": "A", "history": longer}]).endswith(
         "after about 200,000 cycles (read off its wear history)")
+    # a tiny wear rate drawn straight far past the history: 5e17 cycles were printed to the cycle
+    crawl = {"cycles": [50_000, 100_000], "max_wear_mm": [0.5e-12, 1e-12]}
+    assert nominal_life_line(cfg, [{"name": "A", "history": crawl}]) == (
+        "the nominal design reaches its allowance (0.03 mm of bearing max depth) after more than 100,000,000 cycles "
+        "(read off its wear history, extrapolated linearly past its end)")
 
 
 def test_life_interval_on_a_straight_curve_is_where_the_band_crosses():

@@ -292,6 +292,10 @@ def nominal_lives(joints: list[dict], allowances_mm: dict[str, float], quantity:
     return lives
 
 
+#: a nominal life more than this many times the wear history's length is told as only that (project choice)
+NOMINAL_LIFE_FAR = 1000
+
+
 def nominal_life_line(config, joints: list[dict]) -> str:
     """When the nominal design's wear history (``joints`` of wear.json) reaches each judged joint's allowance:
     'the nominal design reaches its allowance (0.03 mm of bearing max depth) after about 148,749 cycles ...', one
@@ -304,11 +308,16 @@ def nominal_life_line(config, joints: list[dict]) -> str:
     if not lives:
         return ""
     measure = ls.quantity.replace("_", " ")
+    end = max((max(j.get("history", {}).get("cycles") or [0.0]) for j in joints), default=0.0)
+
+    def after(n: float) -> str:  # a straight line drawn far past the history says only that it is far
+        far = NOMINAL_LIFE_FAR * end
+        return f"after more than {far:,.0f}" if end > 0 and n > far else f"after about {n:,.0f}"
+
     (first, life), *rest = lives.items()
     whose = "its" if len(allowances) == 1 else f"joint {first}'s"
-    reached = (f"{whose} allowance ({allowances[first]:.3g} mm of {measure}) after about {life:,.0f} cycles"
-               + "".join(f", joint {name}'s ({allowances[name]:.3g} mm) after about {n:,.0f}" for name, n in rest))
-    end = max((max(j.get("history", {}).get("cycles") or [0.0]) for j in joints), default=0.0)
+    reached = (f"{whose} allowance ({allowances[first]:.3g} mm of {measure}) {after(life)} cycles"
+               + "".join(f", joint {name}'s ({allowances[name]:.3g} mm) {after(n)}" for name, n in rest))
     how = ("read off its wear history, extrapolated linearly past its end" if max(lives.values()) > end
            else "read off its wear history")
     return f"the nominal design reaches {reached} ({how})"

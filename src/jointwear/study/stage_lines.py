@@ -53,10 +53,12 @@ def force_line(result: SimulationSummary) -> str:
 
 def wear_line(result: WearSummary) -> str:
     """'0.0266 mm at 125 deg', or each joint's when there are several: 'A 0.0287 mm at 108 deg, E 0.0033 mm ...'."""
+    def depth_at(depth: float, angle: float) -> str:
+        return "0 mm (no wear)" if not depth else f"{depth:.3g} mm at {angle_text(angle)} deg"
+
     if len(result.joints) <= 1:
-        return f"{result.max_wear_mm:.3g} mm at {angle_text(result.max_wear_angle_deg)} deg"
-    return ", ".join(f"{j['name']} {j['max_wear_mm']:.3g} mm at {angle_text(j['max_wear_angle_deg'])} deg"
-                     for j in result.joints)
+        return depth_at(result.max_wear_mm, result.max_wear_angle_deg)
+    return ", ".join(f"{j['name']} {depth_at(j['max_wear_mm'], j['max_wear_angle_deg'])}" for j in result.joints)
 
 
 def profile_mode_line(result: WearSummary) -> str:
