@@ -241,7 +241,8 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
             f"Sensitivity of the reliability: {title}.", png_keys=("tornado",)))
     parts.append("</div>")
     of_joint = f" of joint {sens.sobol['joint']}" if sens.sobol.get("joint") else ""  # whose wear the indices are of
-    optional = [("elasticity_mean", "elasticity of R to the mean, (\u03bc/R) dR/d\u03bc (\u00b1 95 %)"),
+    optional = [("elasticity_mean", "elasticity of R to the mean, (\u03bc/R) dR/d\u03bc (\u00b1 95 % Monte Carlo "
+                 "error on the surrogate, not the surrogate's own error)"),
                 ("S1", f"Sobol' S1{of_joint} (\u00b1 95 %)"), ("ST", f"Sobol' ST{of_joint} (\u00b1 95 %)")]
     extra_cols = [(k, h) for k, h in optional if any(v.get(k) is not None for v in sens.variables)]
     has_err = any(v.get("reliability_low_error") is not None for v in sens.variables)
@@ -261,6 +262,13 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
                         "largest change of R"] + (["surrogate error of R (low / high)"] if has_err else [])
                        + [h for _k, h in extra_cols], rows, cls="num"))
     parts.append("</details>")
+    flagged = [str(v.get("label") or v["name"]) for v in sens.variables if v.get("slope_contradicts_shifts")]
+    if flagged:
+        parts.append(f'<p class="warn"><strong>Local slope contradicts the mean shifts</strong> for '
+                     f"{e(', '.join(flagged))}: the derivative at the nominal point has the opposite sign to the trend "
+                     "of R between the two shifted means (both beyond their errors). The slope reads the surrogate at "
+                     "the scale of the tolerance, where the wear need not be smooth; trust the mean shifts for the "
+                     "trend.</p>")
     ref = reference_of(out.config)
     labels = {str(v["name"]): str(v.get("label") or v["name"]) for v in sens.variables}
     ref_ranks = {group_key(v.get("group")): [labels.get(str(n), str(n)) for n in v.get("ranking") or []]
@@ -319,7 +327,12 @@ def sobol_by_joint_part(sobol: Mapping, labels: Mapping[str, str]) -> str:
 
 def _elasticity_text(derivatives: Mapping, variable: Mapping) -> str:
     """The elasticity of R to a mean with its 95 % half-width, from the standard error of the derivative it scales
-    (1.96 SE); 'not resolved' when the half-width exceeds the value (a sign the samples cannot tell)."""
+    (1.96 SE: the Monte Carlo error of the estimator on the surrogate, not the surrogate's own error); 'not resolved'
+    when the half-width exceeds the value (a sign the samples cannot tell); 'local slope contradicts the mean
+    shifts' when the study flagged it (``slope_contradicts_shifts``)."""
+    if variable.get("slope_contradicts_shifts"):
+        return _elasticity_text(derivatives, {**variable, "slope_contradicts_shifts": False}) + (
+            " (local slope contradicts the mean shifts)")
     value = variable.get("elasticity_mean")
     text = format_number(value, 3)
     names = [str(n) for n in derivatives.get("names") or []]

@@ -3,7 +3,9 @@
 * :func:`sobol_indices` - first-order and total Sobol' indices of a vectorised function (usually the
   Kriging surrogate of the max wear) under independent marginals, by SALib's Saltelli/Jansen estimators.
 * :func:`reliability_derivatives` - derivatives of Pf with respect to the mean and the standard deviation of
-  each normal input, from one Monte Carlo population (score-function / likelihood-ratio estimator).
+  each normal input (independent or in a Gaussian copula), from one Monte Carlo population (score-function /
+  likelihood-ratio estimator); :func:`fill_by_finite_differences` - those of the other inputs, by central
+  differences with common random numbers on a failure function of the population.
 * :func:`mean_shift_table` - the paper's one-at-a-time mean shifts (80 % / 120 %), given any function that
   returns the reliability for a list of marginals; :func:`unresolved_pairs` - neighbours of a ranking that the
   surrogate's error does not separate.
@@ -11,6 +13,7 @@
 
 from jointwear.sensitivity.derivatives import (
     ReliabilityDerivatives,
+    fill_by_finite_differences,
     reliability_derivatives,
 )
 from jointwear.sensitivity.mean_shift import (
@@ -25,6 +28,7 @@ __all__ = [
     "MeanShiftResult",
     "ReliabilityDerivatives",
     "SobolResult",
+    "fill_by_finite_differences",
     "mean_shift_table",
     "reliability_derivatives",
     "shifted_marginal",

@@ -119,6 +119,22 @@ def archard_check(ctx: StudyContext, i: int, shifted, exponent: int, pop: np.nda
                   "consistent": bool(abs(r_surrogate - r_exact) <= tolerance)}
 
 
+def slope_contradicts_shifts(dr_dmean: float, dr_dmean_se: float, r_nominal: float, r_shifted: tuple[float, float],
+                             errors: tuple[float, float], shifted_means: tuple[float, float]) -> bool:
+    """True when the local dR/dmu is resolved (|dR/dmu| > 1.96 SE) and of the opposite sign to a consistent mean-shift
+    trend: R at the two shifted means (``r_shifted``, at ``shifted_means``) on opposite sides of R nominal, each
+    beyond its error estimate. The local slope then reads a scale finer than the shifts (a wear that is not smooth
+    in the variable at its tolerance's scale), and the mean shifts are the trend to trust."""
+    (r_lo, r_hi), (e_lo, e_hi), (m_lo, m_hi) = r_shifted, errors, shifted_means
+    if not (math.isfinite(dr_dmean) and abs(dr_dmean) > 1.96 * dr_dmean_se) or m_lo == m_hi:
+        return False
+    below, above = r_lo - r_nominal, r_hi - r_nominal
+    if not (abs(below) > e_lo and abs(above) > e_hi and below * above < 0):
+        return False
+    trend = (r_hi - r_lo) / (m_hi - m_lo)
+    return bool(trend * dr_dmean < 0)
+
+
 def failure_reason(ctx: StudyContext, x_point: np.ndarray) -> str:
     """Why the true model failed at ``x_point``, as its evaluation recorded it (read back, not run again)."""
     evaluate = getattr(ctx.evaluator, "evaluate", None)  # a compute.Evaluator keeps the reasons; a bare callable not
@@ -142,8 +158,13 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
       the nominal point give the ratio rho of the max wear, and the reliability is P(rho * delta_max(x) <
       delta_0) over the nominal population. A shifted mechanism that cannot run (e.g. a rod too short to
       close the loop) has reliability 0, with its reason reported.
+
+    The reliability derivatives are the score estimator's for normal marginals (exact with the Gaussian copula) and
+    central differences with common random numbers on the surrogate for the others (``derivatives.FD_STEP``
+    sigma); ``slope_contradicts_shifts`` marks a local slope against a consistent mean-shift trend.
     """
     from jointwear.sensitivity import (
+        fill_by_finite_differences,
         mean_shift_table,
         reliability_derivatives,
         sobol_indices,
@@ -273,7 +294,25 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
         by_joint[joint] = {**indices.as_dict(), "joint": joint,
                            "output": f"{ctx.limit_state.label} of joint {joint} at {sens_cycles:,} cycles"}
     sobol = next(iter(by_joint.values()))  # the headline: the first judged joint's, as before
-    deriv = reliability_derivatives(pop, fail_nominal, ctx.marginals, ctx.names)
+    # normal marginals: the score (exact, with the copula's C^-1); the others: central differences with common random
+    # numbers on this population's failure probability, the perturbed column read on the surrogate as fail_nominal
+    # is (a value beyond the population's own range of that column is read at its end: the surrogate knows the
+    # model only through the marginal's normal score, which has no value beyond a bounded support)
+    deriv = reliability_derivatives(pop, fail_nominal, ctx.marginals, ctx.names, correlation=ctx.copula)
+    col_lo, col_hi = pop.min(axis=0), pop.max(axis=0)
+
+    def failure_of(x_shifted: np.ndarray, i: int) -> np.ndarray:
+        column = np.clip(x_shifted[:, i], col_lo[i], col_hi[i])
+        if ctx.copula is None:
+            u = u_pop.copy()
+            u[:, i] = iso.normal_score(i, column)
+        else:
+            moved = pop.copy()
+            moved[:, i] = column
+            u = iso.to_u(moved)
+        return failure_at_level(u, log_life_margin(u)[0])
+
+    deriv = fill_by_finite_differences(deriv, pop, failure_of, ctx.marginals)
     groups = {}
     specs = ctx.config.uncertainty.all_specs()
     for spec in specs:
@@ -291,6 +330,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
         lo, hi = table.reliability_low[k], table.reliability_high[k]
         swing_error[name] = lo_err if abs(lo - r_nominal) >= abs(hi - r_nominal) else hi_err
     unresolved = unresolved_pairs(ranking, dict(zip(ctx.names, table.swings())), swing_error, groups)
+    means_all = [m.mean() for m in ctx.marginals]
     variables = []
     for k, name in enumerate(ctx.names):
         variables.append({
@@ -300,6 +340,11 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
             "reliability_low": table.reliability_low[k], "reliability_high": table.reliability_high[k],
             "reliability_low_error": errors_low[k], "reliability_high_error": errors_high[k],
             "dR_dmean": float(-deriv.dpf_dmean[k]), "dR_dstd": float(-deriv.dpf_dstd[k]),
+            "derivative_method": deriv.method[k],
+            "slope_contradicts_shifts": slope_contradicts_shifts(
+                float(-deriv.dpf_dmean[k]), float(deriv.dpf_dmean_se[k]), r_nominal,
+                (table.reliability_low[k], table.reliability_high[k]), (errors_low[k], errors_high[k]),
+                (sens.factors[0] * means_all[k], sens.factors[1] * means_all[k])),
             # the elasticity of R, (mu / R) dR/dmu = -(Pf / R) x the Pf elasticity the derivatives hold
             "elasticity_mean": (float(-deriv.elasticity_mean[k] * deriv.pf / (1.0 - deriv.pf))
                                 if 0.0 < deriv.pf < 1.0 else 0.0),
@@ -312,8 +357,8 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
         "unresolved_pairs": unresolved,
         "rules": rules, "archard_checks": archard_checks,
         "notes": [] if ctx.copula is None else [
-            "Sobol' indices and reliability derivatives assume independent inputs: they are computed on the "
-            "marginals without the copula; the mean shifts keep it."],
+            "Sobol' indices assume independent inputs: they are computed on the marginals without the copula; the "
+            "mean shifts and the reliability derivatives keep it."],
         "extra_model_calls": len(asked - design),
         "sobol": {**sobol, **({"by_joint": by_joint} if len(by_joint) > 1 else {})},
         "derivatives": deriv.as_dict(), "n_population": n_pop,
