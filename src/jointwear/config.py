@@ -380,6 +380,23 @@ def available_presets() -> list[str]:
     return sorted(p.name[:-5] for p in files.iterdir() if p.name.endswith(".toml"))
 
 
+def non_string_key(tables: Any, path: str = "") -> str:
+    """Where a mapping of TOML tables has a key that is not a str ('1 at the top level', "2 in mechanism"), or ''."""
+    if isinstance(tables, Mapping):
+        for key, value in tables.items():
+            if not isinstance(key, str):
+                return f"{key!r} in {path}" if path else f"{key!r} at the top level"
+            found = non_string_key(value, f"{path}.{key}" if path else key)
+            if found:
+                return found
+    elif isinstance(tables, (list, tuple)):
+        for i, item in enumerate(tables):
+            found = non_string_key(item, f"{path}[{i}]")
+            if found:
+                return found
+    return ""
+
+
 def config_from_dict(data: dict[str, Any], source: str = "config") -> StudyConfig:
     """Validate a dict (as parsed from TOML) into a StudyConfig, raising ConfigError."""
     try:
@@ -685,6 +702,9 @@ def load_config(source: str | Path | None = None) -> StudyConfig:
     if isinstance(source, StudyConfig):
         return source
     if isinstance(source, Mapping):  # the tables of a TOML file, e.g. built in a notebook
+        bad = non_string_key(source)
+        if bad:
+            raise ConfigError(f"config: every key of the tables must be a str, as in a TOML file ({bad})")
         return config_from_dict(_extended(dict(source), "config", None), "config")
     if not isinstance(source, (str, Path)):
         raise ConfigError(f"config: expected a preset name, a TOML path, a StudyConfig or a mapping of TOML tables "

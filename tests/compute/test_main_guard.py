@@ -47,3 +47,12 @@ def test_serial_calls_need_no_guard(tmp_path):
     """)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "[4]"
+
+
+def test_a_script_read_from_stdin_is_refused_before_any_worker_starts():
+    """`python - < sweep.py` with workers: every worker died importing '<stdin>', and the study blamed the worker
+    processes only after all its initial calls had failed."""
+    body = 'from jointwear.compute import make_executor\n\nif __name__ == "__main__":\n    make_executor(2)\n'
+    done = subprocess.run([sys.executable, "-"], input=body, capture_output=True, text=True, timeout=120)
+    assert done.returncode != 0
+    assert "the main script (<stdin>) cannot be read again by the 2 worker processes" in done.stderr

@@ -100,3 +100,20 @@ def test_akmcs_says_when_it_found_no_failure_or_stopped_on_min_u_alone():
         assert "above error_tol=0.01" in both.message
     else:
         assert both.message == "converged"
+
+
+def test_a_seed_or_cov_target_of_the_wrong_kind_is_refused_by_name():
+    """akmcs(seed="a") ended in numpy's TypeError and monte_carlo(cov_target=0) in a ZeroDivisionError."""
+    from jointwear.reliability import akmcs, monte_carlo
+
+    def g(x):
+        return 3.0 - x.sum(axis=1)
+
+    marginals = [stats.norm(), stats.norm()]
+    for bad in ("a", -1, 1.5, True, np.random.default_rng(1)):
+        with pytest.raises(ValueError, match="^seed must be None or an integer >= 0"):
+            akmcs(g, marginals, seed=bad)
+    for bad in (0, -1, float("nan")):
+        with pytest.raises(ValueError, match="^cov_target must be a finite number > 0"):
+            monte_carlo(g, marginals, n=1000, cov_target=bad)
+    assert monte_carlo(g, marginals, n=1000, seed=np.int64(3)).pf == monte_carlo(g, marginals, n=1000, seed=3).pf

@@ -311,3 +311,31 @@ def test_a_wear_length_given_to_the_stage_silences_the_configs_missing_one(tmp_p
     jointwear.Study(config, out=tmp_path / "given", echo=lines.append).wear(cycles=500)
     assert not [line for line in lines if "will need the number" in line]
     assert [w for w in jointwear.Study(config, out=tmp_path / "check").check() if "will need the number" in w]
+
+
+@pytest.mark.parametrize("kwargs, needle", [
+    ({"overwrite": "false"}, "overwrite: must be True or False"),  # truthy: it discarded 40 stored calls
+    ({"resume": "no"}, "resume: must be True or False"),
+    ({"resume": 1}, "resume: must be True or False"),
+    ({"scheduler": 5}, "scheduler: must be a Dask scheduler's address"),  # refused only after the folder was written
+    ({"echo": 5}, "echo: must be a function"),  # the stage wrote its results, then raised TypeError
+])
+def test_a_study_argument_of_the_wrong_kind_is_refused_before_anything_is_written(tmp_path, kwargs, needle):
+    with pytest.raises(ConfigError, match=f"^{needle}"):
+        jointwear.Study("flores_slider_crank", out=tmp_path / "out", **kwargs)
+    assert not (tmp_path / "out").exists()
+
+
+def test_numpy_integers_count_as_whole_numbers_and_a_stage_list_must_be_one(tmp_path):
+    import numpy as np
+
+    study = jointwear.Study("flores_slider_crank", out=tmp_path / "out", workers=np.int64(2), resume=np.bool_(False))
+    assert study.workers == 2 and type(study.workers) is int and study.resume is False
+    with pytest.raises(ConfigError, match=r"^stages: a stage name or a list of them \(got 5\)"):
+        study.check(5)
+
+
+def test_a_mapping_with_a_key_that_is_not_a_string_is_refused_by_where():
+    for tables, where in (({1: 2}, "1 at the top level"), ({"mechanism": {3: 1}}, "3 in mechanism")):
+        with pytest.raises(ConfigError, match=rf"^config: every key of the tables must be a str.*\({where}\)"):
+            jointwear.load_config(tables)

@@ -277,7 +277,7 @@ def test_a_learning_stopped_by_its_budget_is_told_with_its_error(quick_config, r
     counted = np.isfinite(err) & ~np.asarray(res.below_floor)
     k = np.flatnonzero(counted)[np.argmax(err[counted])]
     line = learning_stop_line(res, load_config(quick_config).reliability)
-    assert f"reaches {err[k]:.3f} at {res.cycles[k]:,.0f} cycles (tolerance 0.01 in R or 2% of Pf)" in line
+    assert f"reaches {err[k]:.3f} at {res.cycles[k]:,.0f} cycles (tolerance 0.01 in R or 2 % of Pf)" in line
     assert "raise reliability.max_calls and run again with --resume (resume=True in Python)" in line
     # a COV above its target is named too: a line whose error estimate met its tolerance named nothing unmet
     settings = load_config(quick_config).reliability

@@ -229,6 +229,12 @@ class LocalExecutor(_ExecutorBase):
             raise RuntimeError(
                 f"{script} runs model calls in {self._workers} worker processes, which import it again: put the "
                 "study under `if __name__ == \"__main__\":` (or use workers=1 to run the calls in this process)")
+        main_path = getattr(sys.modules.get("__main__"), "__file__", None)
+        if main_path and not Path(main_path).is_file():
+            raise RuntimeError(  # python - < script.py: every worker would die importing '<stdin>'
+                f"the main script ({main_path}) cannot be read again by the {self._workers} worker processes, which "
+                "import it: save it to a file (with the study under `if __name__ == \"__main__\":`), or use workers=1 "
+                "to run the calls in this process")
         if mp_context is None:
             methods = multiprocessing.get_all_start_methods()
             mp_context = "forkserver" if "forkserver" in methods else "spawn"

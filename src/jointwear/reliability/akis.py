@@ -32,7 +32,7 @@ from dataclasses import replace
 import numpy as np
 from scipy.stats import qmc
 
-from .checks import check_positive, check_positive_int
+from .checks import check_positive, check_positive_int, check_seed
 from .evaluation import Evaluation, evaluation_or_default
 from .inputs import IsoTransform, check_marginals
 from .kriging import KrigingSurrogate
@@ -120,6 +120,7 @@ def akis(
     if ustar.size != d:
         raise ValueError(f"form_result has a {ustar.size}-dimensional design point but there are {d} marginals")
     n_form = int(form_result.n_calls)
+    seed = check_seed(seed)
     rng = np.random.default_rng(seed)
 
     # ---- initial design: FORM's distinct points + a Latin hypercube around u*

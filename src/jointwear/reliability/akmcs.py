@@ -38,7 +38,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 from scipy.stats import qmc
 
-from .checks import check_positive, check_positive_int
+from .checks import check_positive, check_positive_int, check_seed
 from .evaluation import AllCallsFailedError, Evaluation, evaluation_or_default
 from .inputs import IsoTransform, check_marginals
 from .kriging import KrigingSurrogate, ShiftedSurrogate
@@ -89,6 +89,7 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
     if not (0.0 <= pf_floor < 1.0):
         raise ValueError(f"pf_floor must be in [0, 1); got {pf_floor!r}")
 
+    seed = check_seed(seed)
     rng = np.random.default_rng(seed)
     transform = IsoTransform(marginals, copula)
     if levels is not None:

@@ -26,3 +26,13 @@ def check_positive(name: str, value: Any) -> float:
     if not (np.isfinite(v) and v > 0):
         raise ValueError(f"{name} must be a finite number > 0; got {value!r}")
     return v
+
+
+def check_seed(value: Any) -> int | None:
+    """``value`` as an int seed, None (fresh entropy), or ValueError naming ``seed``: the engines derive several
+    streams from it (seed x 1000 + j), so a Generator or a string is refused rather than half-used."""
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0:
+        raise ValueError(f"seed must be None or an integer >= 0; got {value!r}")
+    return int(value)

@@ -205,8 +205,8 @@ def check_marginals(marginals: Any) -> list:
         a = as_marginal(m)
         sd = a.std()
         if not (np.isfinite(sd) and sd > 0):
-            why = (" (scipy gives NaN for parameters outside a distribution's domain, e.g. scale <= 0)"
-                   if np.isnan(sd) else "")
+            why = (" (scipy gives NaN for parameters outside a distribution's domain, e.g. scale <= 0, and for a law "
+                   "without a variance, such as the Cauchy)" if np.isnan(sd) else "")
             raise ValueError(f"marginals[{i}] ({a.name}) has standard deviation {sd}; it must be finite and > 0{why}")
         out.append(m)
     return out

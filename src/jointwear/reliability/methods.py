@@ -16,7 +16,7 @@ from dataclasses import replace
 import numpy as np
 from scipy.special import ndtr
 
-from .checks import check_positive, check_positive_int
+from .checks import check_positive, check_positive_int, check_seed
 from .evaluation import AllCallsFailedError, Evaluation, evaluation_or_default
 from .inputs import IsoTransform, check_marginals
 from .results import ReliabilityResult, mc_cov, pf_to_beta
@@ -89,9 +89,11 @@ def monte_carlo(
     t0 = time.perf_counter()
     n = check_positive_int("n", n, 2)
     batch = check_positive_int("batch", batch)
+    cov_target = None if cov_target is None else check_positive("cov_target", cov_target)
     evaluation = evaluation_or_default(evaluation)
     progress = evaluation.progress
     marginals, transform, ev = _setup(g, marginals, evaluation, keep=keep_design, copula=copula)
+    seed = check_seed(seed)
     rng = np.random.default_rng(seed)
     d = len(marginals)
     n_done = n_fail = 0
@@ -319,6 +321,7 @@ def subset_simulation(
     progress = evaluation.progress
     marginals, transform, ev = _setup(g, marginals, evaluation, copula=copula)
     d = len(marginals)
+    seed = check_seed(seed)
     rng = np.random.default_rng(seed)
     u = rng.standard_normal((n, d))
     gv = _g_u(ev, transform, u)
@@ -421,6 +424,7 @@ def importance_sampling(
                            **form_kwargs)
     _, transform, ev = _setup(g, marginals, evaluation, copula=copula)
     d = len(marginals)
+    seed = check_seed(seed)
     rng = np.random.default_rng(seed)
     ustar = form_result.design_point_u
     u = ustar[None, :] + rng.standard_normal((n, d))

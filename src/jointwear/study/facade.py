@@ -22,6 +22,8 @@ from collections.abc import Callable, Iterable, Iterator, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, ParamSpec, TypeVar
 
+import numpy as np
+
 from jointwear.config import StudyConfig, config_from_dict, load_config
 from jointwear.reliability import AllCallsFailedError
 from jointwear.schema import ConfigError
@@ -81,6 +83,13 @@ if TYPE_CHECKING:
 
 logger = logging.getLogger("jointwear")
 LOG_FILE = "jointwear.log"
+
+
+def scheduler_given_as_accepted(scheduler: Any) -> bool:
+    """Whether ``scheduler`` is of a kind the executor takes: an address string, a ``distributed.Client`` or a
+    cluster object (anything with a ``scheduler_address``), checked before the study writes anything."""
+    return (isinstance(scheduler, str) or hasattr(scheduler, "scheduler_address")
+            or type(scheduler).__module__.split(".")[0] == "distributed")
 
 
 P = ParamSpec("P")
@@ -151,8 +160,18 @@ class Study:
         if isinstance(out, bytes) or not isinstance(out, (str, os.PathLike)) or not str(out):
             raise ConfigError(f"out: must be the output folder, a str or pathlib.Path (got {out!r})")
         self.out = Path(out)
-        if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        if workers is not None and (isinstance(workers, bool) or not isinstance(workers, numbers.Integral)
+                                    or workers < 1):
             raise ConfigError(f"workers: must be a whole number >= 1 (got {workers!r})")
+        workers = None if workers is None else int(workers)
+        if scheduler is not None and not scheduler_given_as_accepted(scheduler):
+            raise ConfigError(f"scheduler: must be a Dask scheduler's address (a str such as 'tcp://host:8786'), a "
+                              f"distributed.Client or a cluster object (got {scheduler!r})")
+        for name, flag in (("resume", resume), ("overwrite", overwrite)):
+            if not isinstance(flag, (bool, np.bool_)):  # "false" is truthy: it discarded the store
+                raise ConfigError(f"{name}: must be True or False (got {flag!r})")
+        if echo is not None and not callable(echo):
+            raise ConfigError(f"echo: must be a function given each line the stages tell, or None (got {echo!r})")
         if scheduler is not None and workers is not None:
             raise ConfigError("workers/scheduler: give either local workers or a Dask scheduler, not both")
         if resume and overwrite:
@@ -163,8 +182,8 @@ class Study:
         given = workers is not None or scheduler is not None
         self.workers = workers if given else compute.workers
         self.scheduler = scheduler if given else compute.scheduler
-        self.resume = resume
-        self.overwrite = overwrite
+        self.resume = bool(resume)
+        self.overwrite = bool(overwrite)
         self.echo = echo if echo is not None else logger.info
         # what needs the user's attention reaches them even without an echo: the logger's WARNING level is printed
         # by Python's last-resort handler when nothing else is configured
@@ -209,6 +228,8 @@ class Study:
         known = (*STAGES, "design")
         if isinstance(stages, str):
             stages = (stages,)
+        if stages is not None and not isinstance(stages, Iterable):
+            raise ConfigError(f"stages: a stage name or a list of them (got {stages!r})")
         for stage in [] if stages is None else stages:
             if stage not in known:
                 hint = difflib.get_close_matches(str(stage), known, n=1)
@@ -642,9 +663,10 @@ class Study:
         """
         from jointwear.study.validation import run_validation
 
-        if isinstance(n_samples, bool) or not isinstance(n_samples, int) or n_samples < 1:
+        if isinstance(n_samples, bool) or not isinstance(n_samples, numbers.Integral) or n_samples < 1:
             # the CLI's --samples is checked by click, so this message is read from Python only
             raise ConfigError(f"n_samples: must be a whole number >= 1 (got {n_samples!r})")
+        n_samples = int(n_samples)
         self._prepare({"reliability"}, store_reuse=True)
         with self._session(reuse=True) as ctx:
             learned = self._learned(ctx)

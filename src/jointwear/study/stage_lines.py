@@ -13,7 +13,7 @@ def learning_stop_line(res: ReliabilityCurve, settings) -> str:
     """What an unconverged learning means for the curve: why it stopped, the surrogate's largest error estimate of R
     against the tolerance of the stopping rule, and what to do."""
     worst = res.largest_error()
-    rule = (f"tolerance {settings.error_abs_tol:g} in R or {settings.error_tol:.0%} of Pf"
+    rule = (f"tolerance {settings.error_abs_tol:g} in R or {settings.error_tol * 100:.3g} % of Pf"
             if settings.stopping == "error"
             else f"the learning's rule is min U >= {settings.u_threshold:g} at every level, stopping = 'u'")
     error = "" if worst is None else (
