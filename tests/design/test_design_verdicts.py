@@ -210,7 +210,12 @@ def test_the_choice_is_told_against_todays_design():
     res.candidates = [{"choices": {"l1": "IT8"}, "cost": 9.0, "reliability_at_target_life": 0.877,
                        "reliability_error": 0.1}, {"choices": {"l1": "IT9"}, "cost": 5.0,
                                                    "reliability_at_target_life": 0.8, "reliability_error": 0.1}]
-    assert res.nearest_sentence().startswith("the nearest is l1 IT8 (cost 9): R = 0.8770 +/- 0.1000")
+    assert res.nearest_sentence() == ("the nearest is l1 IT9 (cost 5): R = 0.8000 +/- 0.1000 at 1,000,000 cycles, "
+                                      "as near as the highest, l1 IT8 (cost 9, R = 0.8770 +/- 0.1000), within their "
+                                      "errors")  # the strictly highest R cost 2.4 more for 0.003 against +-0.04
+    for row in res.candidates:
+        row["reliability_error"] = 0.01  # now the highest R is resolved from the cheaper one
+    assert res.nearest_sentence() == "the nearest is l1 IT8 (cost 9): R = 0.8770 +/- 0.0100 at 1,000,000 cycles"
 
 
 def test_an_undecided_candidate_closer_to_the_target_than_its_population_resolves_is_told():

@@ -214,3 +214,16 @@ def test_a_wear_property_changed_leaves_the_dynamics_in_place(tmp_path):
     assert stale_stages(tmp_path, ["clearance_joints[0].bearing_material.wear_coefficient",
                                    "clearance_joints[1].journal_material.hardness"]) == ["wear"]
     assert stale_stages(tmp_path, ["clearance_joints[0].bearing_material.youngs_modulus"]) == ["simulate", "wear"]
+
+
+def test_a_design_without_a_choice_rebuilds_the_report(base, tmp_path):
+    """When no candidate reached the target, design.json was written but report.html kept the old design (or none):
+    the branch returned before the report was rebuilt, as docs/design.md says design does."""
+    folder = _copy(base, tmp_path)
+    far = {**SMALL, "design": {**SMALL["design"], "targets": [{"reliability": 0.9, "life_factor": 20.0}]}}
+    lines: list[str] = []
+    result = jointwear.Study(far, out=folder, workers=1, echo=lines.append).design()
+    assert result.chosen is None
+    assert any(line.startswith("design: no candidate reaches") for line in lines)
+    page = (folder / "report.html").read_text(encoding="utf-8")
+    assert "No candidate reaches the target on the surrogate" in page

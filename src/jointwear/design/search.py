@@ -28,7 +28,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from jointwear.design.candidates import Candidate, Control, build_controls, enumerate_candidates, today_candidate
-from jointwear.design.results import EXTRAPOLATED_SHARE, DesignResult, is_undecided, verification_verdict
+from jointwear.design.results import (
+    EXTRAPOLATED_SHARE,
+    DesignResult,
+    choices_text,
+    is_undecided,
+    verification_verdict,
+)
 from jointwear.design.settings import DesignSettings
 from jointwear.reliability import (
     IsoTransform,
@@ -274,9 +280,11 @@ def baseline_life(ctx: StudyContext, reliability_result, target: float, space: C
 
 
 def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings | None = None, *,
-               echo: Callable[[str], None] | None = None) -> DesignResult:
+               echo: Callable[[str], None] | None = None,
+               on_phase: Callable[[str, int | None], None] | None = None) -> DesignResult:
     """The cheapest controls meeting each target and, with several, every target at once; the Pareto front of cost
-    vs life at R*; and the verification of the headline target's choice (see the module docstring)."""
+    vs life at R*; and the verification of the headline target's choice (see the module docstring). ``on_phase``
+    (description, budget of calls) is told when the refinement and each verification start (the progress display)."""
     t0 = time.perf_counter()
     settings = settings if settings is not None else ctx.config.design
     say = echo if echo is not None else (lambda _m: None)
@@ -340,7 +348,10 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
     refine_calls, refine_points, iterations, verification_calls = 0, 0, 0, 0
     verifications: list[dict] = []
     verified: dict[int, dict] = {}
+    phase = on_phase if on_phase is not None else (lambda _d, _n: None)
     while True:
+        if refine_points < settings.refine_max_calls and undecided(est):
+            phase("design refinement", settings.refine_max_calls - refine_points)
         while refine_points < settings.refine_max_calls:
             todo = undecided(est)
             if not todo:
@@ -361,14 +372,16 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
             sur.add(x_new)
             iterations += 1
             est.update(evaluate_all(_relevant(est) if len(candidates) > 2000 else range(len(candidates))))
-            say(f"design: refinement {iterations}: {len(todo)} undecided, {refine_calls} calls")
+            say(f"design: refinement {iterations}: {len(todo)} undecided, {refine_calls} "
+                f"call{'' if refine_calls == 1 else 's'}")
         if len(candidates) > 2000:
             est = evaluate_all(range(len(candidates)))
         head_i = _cheapest_meeting(est, order, 0, targets[0]["reliability"])
         budget = settings.verification_max_calls - verification_calls
         if not settings.verify or head_i is None or head_i in verified or budget <= 0:
             break
-        say(f"design: verifying {candidates[head_i].choices(controls)} with its own reliability study")
+        say(f"design: verifying {choices_text(candidates[head_i].choices(controls))} with its own reliability study")
+        phase("design verification", budget)
         ver, x_ver = verify(ctx, candidates[head_i], controls, space, targets[0], budget, settings.seed,
                             settings.verification_stopping)
         verification_calls += ver["new_model_calls"]

@@ -121,7 +121,7 @@ def design_section(out_dir: Path | str, figs=None) -> str | None:
         body = "".join("<tr>" + "".join(f"<td>{e(str(r['choices'][n]))}</td>" for n in names)
                        + f"<td>{r['cost']:.4g}</td><td>{_fmt(r.get('life_at_target_cycles'), ',.0f')}</td>"
                        f"<td>{r['reliability_at_target_life']:.4f}</td><td>{_fmt(r.get('reliability_error'), '.4f')}"
-                       f"</td><td>{_fmt(r.get('outside_design_fraction'), '.0%')}</td></tr>"
+                       f"</td><td>{_fmt(r.get('outside_design_fraction'), '.1%')}</td></tr>"
                        for r in _get(d, "pareto"))
         parts.append(f"<table><thead><tr>{header}</tr></thead><tbody>{body}</tbody></table>")
         if resolution := _get(d, "life_resolution"):

@@ -944,7 +944,7 @@ class Study:
             raise ConfigError.from_problems(problems, self._source_label)
         self._prepare({"reliability"}, store_reuse=True)
         with self._session(reuse=True) as ctx:
-            result = run_design(ctx, self._learned(ctx), echo=self.echo)
+            result = run_design(ctx, self._learned(ctx), echo=self.echo, on_phase=self._progress_phase)
             new = ctx.n_model_calls  # this call's, the reliability stage's when it ran first here too
         result.save(self.out)
         calls = f"{result.model_calls} model calls{reused_text(new, result.model_calls)} -> {self.out / result.FILE}"
@@ -953,6 +953,8 @@ class Study:
             nearest = result.nearest_sentence()
             self.echo(f"design: no candidate reaches {result.target_life_cycles:,.0f} cycles at "
                       f"R = {result.target_reliability:g}{'; ' + nearest if nearest else ''}; {calls}")
+            self._warn_design_trust({})
+            self._refresh_report()
             return result
         picks = choices_text(chosen["choices"])
         life = chosen.get("life_at_target_cycles")
