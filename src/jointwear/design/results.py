@@ -159,7 +159,8 @@ class DesignResult(StageResult):
                 f"{self.target_life_cycles:,.0f} cycles")
         if best is not top:
             text += (f", as near as the highest, {choices_text(top['choices'])} (cost {top['cost']:.4g}, R = "
-                     f"{top['reliability_at_target_life']:.4f} +/- {top['reliability_error']:.4f}), within their errors")
+                     f"{top['reliability_at_target_life']:.4f} +/- {top['reliability_error']:.4f}), within their "
+                     "errors")
         return text
 
     def undecided_sentence(self) -> str:
