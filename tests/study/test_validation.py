@@ -122,6 +122,27 @@ def test_the_95_percent_test_of_the_difference_is_stricter_than_overlapping_inte
     assert res.differs_at_95().tolist() == [False, False, True]
 
 
+
+def test_the_files_hold_the_95_percent_test_the_report_shows(tmp_path):
+    """The report's "95 % test" column was in neither validation.json nor validation.csv."""
+    import csv
+    import json
+
+    res = ValidationResult(cycles=np.array([10_000, 20_000]), reliability_mc=np.array([0.9, 0.9]),
+                           ci_low=np.array([0.88, 0.88]), ci_high=np.array([0.92, 0.92]),
+                           reliability_surrogate=np.array([0.87, 0.88]), surrogate_error=np.array([0.02, 0.02]),
+                           surrogate_cov=np.array([0.0, 0.0]), n_samples=1000, model_calls=1000, wall_seconds=1.0,
+                           agreement=np.array([True, True]))
+    res.save(tmp_path, figures=False)
+    data = json.loads((tmp_path / "validation.json").read_text(encoding="utf-8"))
+    assert data["differs_at_95"] == [True, False]
+    np.testing.assert_allclose(data["surrogate_half_width_95"], [0.02, 0.02])  # its error estimate, no MC part
+    with open(tmp_path / "validation.csv", encoding="utf-8", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert [row["differs_at_95"] for row in rows] == ["True", "False"]
+    assert ValidationResult.load(tmp_path) == res  # derived keys are not read back as data
+
+
 def test_a_true_life_before_the_curve_does_not_agree_with_a_life_inside_it():
     """The true model's R below the target already at the first level (its life before 800,000 cycles) against a
     surrogate life of 1,000,000 (900,000-1,100,000): the missing ends counted as unbounded made them 'agree'."""

@@ -795,7 +795,8 @@ class ValidationResult(StageResult):
         out = {"validation": {
             "cycles": self.cycles, "reliability_mc": self.reliability_mc, "ci_low": self.ci_low,
             "ci_high": self.ci_high, "reliability_surrogate": self.reliability_surrogate,
-            "surrogate_error": self.surrogate_error, "agreement": self.agreement}}
+            "surrogate_error": self.surrogate_error, "surrogate_half_width_95": self.surrogate_half_width,
+            "agreement": self.agreement, "differs_at_95": self.differs_at_95()}}
         if self.life_table:
             keys = dict.fromkeys(key for row in self.life_table for key in row)  # an untestable row adds its note
             out["validation_life"] = {key: [row.get(key) for row in self.life_table] for key in keys}
@@ -812,6 +813,12 @@ class ValidationResult(StageResult):
                    for key in ("reliability_mc", "ci_low", "ci_high", "reliability_surrogate", "surrogate_half_width",
                                "agreement") if all(key in j for j in self.joints)}}
         return out
+
+    def to_json(self) -> dict:
+        """The fields, and the two verdicts' inputs the report shows: the curve's 95 % half-width at each level
+        (:attr:`surrogate_half_width`) and the stricter test (:meth:`differs_at_95`); derived, so written fresh."""
+        return {**super().to_json(), "surrogate_half_width_95": self.surrogate_half_width.tolist(),
+                "differs_at_95": self.differs_at_95().tolist()}
 
     def save(self, folder: Path | str, *, figures: bool = True) -> Path:
         """Write ``validation.json``, the CSV tables (:meth:`tables`) and the figures."""
