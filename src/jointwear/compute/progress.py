@@ -37,6 +37,12 @@ def _in_notebook() -> bool:
     return bool(Console(stderr=True).is_jupyter)
 
 
+def _clock(seconds: float) -> str:
+    """'1:02:03' for 3,723 s."""
+    s = int(seconds)
+    return f"{s // 3600}:{s // 60 % 60:02d}:{s % 60:02d}"
+
+
 class Progress:
     """Progress of model calls.
 
@@ -139,14 +145,17 @@ class Progress:
 
     # -- updates ------------------------------------------------------------------------------------
     def _plain_line(self) -> None:
-        """'model calls 12/60  Pf(300k)=0.0123  elapsed 0:01:02' on stderr (or the console's file)."""
+        """'model calls 12/60  Pf(300k)=0.0123  elapsed 0:01:02  left 0:04:08' on stderr (or the console's file): the
+        phase's elapsed time, and the time left at its rate so far when it has a total."""
         self._last_line = time.monotonic()
         self._lines += 1
-        elapsed = int(self._last_line - self._started)
+        elapsed = self._last_line - self._started
         done = f"{self.completed}/{self.total}" if self.total else str(self.completed)
+        left = ""
+        if self.total and 0 < self.completed < self.total:
+            left = f"left {_clock(elapsed * (self.total - self.completed) / self.completed)}"
         info = _format_fields(self.fields)
-        line = "  ".join(p for p in (f"{self.description} {done}", info,
-                                     f"elapsed {elapsed // 3600}:{elapsed // 60 % 60:02d}:{elapsed % 60:02d}") if p)
+        line = "  ".join(p for p in (f"{self.description} {done}", info, f"elapsed {_clock(elapsed)}", left) if p)
         out = self._console.file if self._console is not None else sys.stderr
         print(line, file=out, flush=True)
 
@@ -183,6 +192,10 @@ class Progress:
     ) -> None:
         """Set counters and free-text fields (``progress.update(pf="1.2e-3", cov=0.04)``; a field set
         to None is removed)."""
+        if description is not None and description != self.description and completed == 0:
+            self._started = time.monotonic()  # another phase (validation samples after the learning): its own clock
+            if self._rich is not None:
+                self._rich.reset(self._task)
         if completed is not None:
             self.completed = int(completed)
         if total is not None:
