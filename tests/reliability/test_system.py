@@ -177,7 +177,7 @@ def test_a_noisy_series_systems_pf_takes_each_components_own_scatter():
     # y_A = 3 + u1 + N(0, 0.3^2), y_B = 3 - 0.8 u2 + 0.4 u1 + N(0, 0.03^2): the exact Pf of min(y_A, y_B) < t by
     # brute force (1e6 draws of u and of both scatters) within the curve's 95 % band (Monte Carlo plus the
     # surrogate's error, the larger of ESC's and its posterior spread's). Each component's noise estimate is its
-    # own scatter. With the scatter left out (the indicator of the mean), the level t = 1.5 falls outside the band.
+    # own scatter. With the scatter left out (the indicator of the mean), Pf reads low, far beyond that error.
     tau = np.array([0.3, 0.03])
     rng = np.random.default_rng(0)
 
@@ -202,8 +202,12 @@ def test_a_noisy_series_systems_pf_takes_each_components_own_scatter():
     spread = res.posterior_pf_sd(draw(3000, 5), res.noise_sd, 400, 3)
     band = 1.96 * cov * pf + np.fmax(res.error_absolute, 1.96 * spread)
     assert np.all(np.abs(pf - exact) <= band), (pf, exact, band)
+    # the scatter left out (the indicator of the mean) reads Pf low at the two upper levels, by 2-5x the error of the
+    # estimate that integrates it (by just about one band at t = 1.5: 0.98-1.10 of it across numpy / numba versions,
+    # too thin to assert)
     mean_only = res.failure_probabilities(draw(200_000, 0), 0.0).mean(axis=0)
-    assert abs(mean_only[2] - exact[2]) > band[2], (mean_only, exact, band)
+    assert np.all(mean_only[1:] < exact[1:]), (mean_only, exact)
+    assert np.all(np.abs(mean_only - exact)[1:] > 1.5 * np.abs(pf - exact)[1:]), (mean_only, pf, exact)
     # the noisy response drawn point by point fails as often as the product formula says
     u = draw(200_000, 0)
     drawn = sur.response_draws(u, np.random.default_rng(4).standard_normal((u.shape[0], 2)))
