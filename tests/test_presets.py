@@ -52,3 +52,14 @@ def test_slider_crank_reaches_its_allowance_inside_the_curve():
     hist = res.joints[0]
     life = float(np.interp(cfg.reliability.allowance, hist.history_max_bearing, hist.history_cycles))
     assert 1.3 * cfg.reliability.cycles_start < life < cfg.reliability.cycles_stop / 1.3
+
+
+@pytest.mark.parametrize("name", available_presets())
+def test_a_hardness_shown_in_hb_uses_the_packages_own_factor(name):
+    """The presets' scale 1.0196999e-7 was not 1 / PA_PER_HB: a 350 HB mean was shown as 350.0069 HB."""
+    from jointwear.units import PA_PER_HB
+
+    unc = load_config(name).uncertainty
+    for spec in [] if unc is None else unc.all_specs():
+        if spec.unit == "HB":
+            assert spec.scale * PA_PER_HB == pytest.approx(1.0, rel=1e-7), spec.name  # the scale's 8 digits

@@ -387,3 +387,11 @@ def test_a_hertz_half_width_past_half_the_bore_is_not_told_as_an_angle():
 
     assert half_angle_text(12.34) == "12.3 deg wide each side"
     assert half_angle_text(304.0) == "wider than the whole bore (Hertz's half-width reads 304 deg each side)"
+
+
+def test_a_life_of_minutes_keeps_three_figures_in_hours():
+    """The slider-crank's R = 0.99 life, 0.0957 h, was printed as 0.10 h (4 % off by its rounding)."""
+    from jointwear.study.stage_lines import life_text
+
+    assert life_text({"cycles": 28_713, "hours": 0.0957}) == "28,713 cycles = 0.0957 h"
+    assert life_text({"cycles": 376_184, "hours": 13.0619}) == "376,184 cycles = 13.06 h"

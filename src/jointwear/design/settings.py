@@ -74,7 +74,7 @@ class ToleranceControl(SIModel):
 
     variable: str = Field(description="Name of the random variable (a length, e.g. 'l2').")
     grades: list[str] = Field(description="Candidate ISO 286-1 grades, e.g. ['IT9', 'IT10', 'IT11'].")
-    nominal: float | None = F(None, unit="m", description="Nominal size for the IT table, m; None = the "
+    nominal: float | None = F(None, unit="m", description="Nominal size for the IT table; None = the "
                               "variable's mean.")
     costs: list[float] | None = Field(
         None, description="Relative cost of each grade (same order); None = the [design.cost_model] relation.")
@@ -115,7 +115,7 @@ class FitOption(SIModel):
                             "diameter. None = give hole_grade and shaft_grade.")
     hole_grade: str | None = Field(None, description="Bore grade, e.g. 'IT7' (without `fit`).")
     shaft_grade: str | None = Field(None, description="Pin grade, e.g. 'IT6' (without `fit`).")
-    mean: float | None = F(None, unit="m", description="Designed mean radial clearance, m, without `fit`; None = the "
+    mean: float | None = F(None, unit="m", description="Designed mean radial clearance, without `fit`; None = the "
                            "study's.")
     cost: float = Field(description="Relative cost (user-given; >= 0).")
 
@@ -188,11 +188,11 @@ class PropertySpec(SIModel):
     """A specification of one random material property: its mean and standard deviation (None = the study's)
     and optional acceptance limits that truncate the (normal) distribution (parts outside are rejected)."""
 
-    mean: float | None = F(None, unit_of="variable", description="Mean, SI (unit suffixes allowed: mean_HB, mean_GPa).")
-    std: float | None = F(None, unit_of="variable", description="Standard deviation, SI (> 0).")
-    lower: float | None = F(None, unit_of="variable", description="Lower acceptance limit, SI (truncates the "
+    mean: float | None = F(None, unit_of="variable", description="Mean; in SI without a unit suffix (mean_HB, mean_GPa, ...).")
+    std: float | None = F(None, unit_of="variable", description="Standard deviation (> 0); in SI without a unit suffix.")
+    lower: float | None = F(None, unit_of="variable", description="Lower acceptance limit (truncates the "
                             "distribution).")
-    upper: float | None = F(None, unit_of="variable", description="Upper acceptance limit, SI (truncates the "
+    upper: float | None = F(None, unit_of="variable", description="Upper acceptance limit (truncates the "
                             "distribution).")
 
     @model_validator(mode="after")

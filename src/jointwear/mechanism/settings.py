@@ -408,7 +408,7 @@ class SimulationConfig(SIModel):
     rtol: float = F(1e-6, gt=0, lt=1, description="Relative tolerance of the step-size control (project choice).")
     atol: float = F(
         1e-9, unit="m", gt=0,
-        description="Absolute tolerance on positions (m); angles use atol / length_ref, velocities atol * "
+        description="Absolute tolerance on positions; angles use atol / length_ref, velocities atol * "
         "omega_ref (docs/dynamics.md). Project choice, checked against tighter runs.",
     )
     max_step: float | None = F(

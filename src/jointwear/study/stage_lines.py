@@ -84,7 +84,9 @@ def life_text(row: dict) -> str:
     if row["cycles"] is not None:
         interval = (f" ({interval_text(row['cycles_low'], row['cycles_high'])})"
                     if "cycles_low" in row and "cycles_high" in row else "")
-        return f"{row['cycles']:,.0f} cycles = {row['hours']:.2f} h{interval}"
+        hours = row["hours"]  # a life of minutes keeps three figures: 0.0957 h, not 0.10 h
+        shown = f"{hours:.2f}" if hours >= 1 else f"{hours:.3g}"
+        return f"{row['cycles']:,.0f} cycles = {shown} h{interval}"
     return {"beyond_curve": "beyond the curve's last level (extend cycles_stop)",
             "before_curve": "before the curve's first level (lower cycles_start)"}.get(row.get("status"), "not reached")
 

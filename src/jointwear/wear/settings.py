@@ -256,7 +256,7 @@ class WearSettings(SIModel):
     atol: float | None = F(
         5e-10, unit="m",
         gt=0.0,
-        description="Integrator absolute tolerance on positions (m); None: the dynamics' default (1e-9 m). Halved "
+        description="Integrator absolute tolerance on positions; None: the dynamics' default (1e-9 m). Halved "
         "with rtol (see rtol).",
     )
 
