@@ -738,3 +738,12 @@ def test_the_validation_figure_draws_the_band_the_agreement_test_reads():
     band = fig.axes[0].collections[0].get_paths()[0].vertices[:, 1]
     assert band.max() == pytest.approx(0.95 + val.surrogate_half_width[0])
     assert band.min() == pytest.approx(0.8 - val.surrogate_half_width[1])
+
+
+def test_a_long_text_cell_wraps_in_a_table_of_numbers():
+    """A shift's reason (the Grashof message) kept its table of numbers on one line: the page grew 4,000 px wide and
+    the reason was cut in print. Cells longer than PROSE_CELL wrap; short ones stay on one line."""
+    from jointwear.report.markup import PROSE_CELL, table
+
+    html = table(["variable", "R", "reason"], [["l2", "0.0", "x" * (PROSE_CELL + 1)]], cls="num")
+    assert '<td>l2</td><td>0.0</td><td class="prose">' in html

@@ -134,14 +134,24 @@ def cards(items: Sequence[tuple[str, str, str | None]], *, cls: str = "cards") -
     return "".join(out)
 
 
+#: a cell longer than this is prose (a reason, a verdict): it wraps even in a table of numbers
+PROSE_CELL = 48
+
+
+def _prose(cell: object) -> str:
+    """' class="prose"' for a long text cell, which must wrap (a table of numbers keeps its cells on one line, and a
+    reason 900 characters long made the page 4,000 px wide and cut it in print)."""
+    return ' class="prose"' if len(str(cell)) > PROSE_CELL else ""
+
+
 def table(header: Sequence[str], rows: Sequence[Sequence[str]], *, cls: str = "",
           raw_cols: Sequence[int] = (), row_cls: Sequence[str] | None = None) -> str:
     """A table; cells are escaped except the columns in ``raw_cols`` (already HTML)."""
     out = [f'<table class="{cls}"><thead><tr>' + "".join(f"<th>{e(h)}</th>" for h in header) + "</tr></thead><tbody>"]
     for i, r in enumerate(rows):
         rc = f' class="{row_cls[i]}"' if row_cls and row_cls[i] else ""
-        out.append(f"<tr{rc}>" + "".join(f"<td>{c if j in raw_cols else e(c)}</td>" for j, c in enumerate(r))
-                   + "</tr>")
+        out.append(f"<tr{rc}>" + "".join(f"<td{_prose(c)}>{c if j in raw_cols else e(c)}</td>"
+                                          for j, c in enumerate(r)) + "</tr>")
     out.append("</tbody></table>")
     return "".join(out)
 
@@ -256,6 +266,8 @@ tbody tr:nth-child(even){background:#fafbfc}
 table.kv{width:auto;min-width:380px}
 table.num td,table.compare td:nth-child(2),table.compare td:nth-child(3),table.compare td:nth-child(4){
 font-variant-numeric:tabular-nums;white-space:nowrap}
+table td.prose{white-space:normal;min-width:16em}
+h2,h3{scroll-margin-top:80px}
 table.settings tr.open{background:#fff8e6}
 table.compare td:first-child{min-width:230px}
 table.compare tr.fail,table.num tr.bad{background:#fdf0ef}
