@@ -128,3 +128,14 @@ def test_a_local_slope_against_a_consistent_mean_shift_trend_is_flagged():
     text = _elasticity_text({"names": ["l2"], "dpf_dmean": [1002.0], "dpf_dmean_se": [102.0]},
                             {"name": "l2", "elasticity_mean": -5.0, "slope_contradicts_shifts": True})
     assert text.endswith("(local slope contradicts the mean shifts)") and text.startswith("-5")
+
+
+def test_a_copula_other_than_the_gaussian_leaves_every_derivative_to_the_finite_differences():
+    """The score (C^-1 z) holds for the Gaussian copula only: with a Clayton copula no variable gets it."""
+    x = np.random.default_rng(0).standard_normal((1000, 2))
+    failed = (x.sum(axis=1) > 2.0).astype(float)
+    marginals = [stats.norm(), stats.norm()]
+    res = reliability_derivatives(x, failed, marginals, ["a", "b"], correlation=ot.ClaytonCopula(2.0))
+    assert res.method == ["not_computed", "not_computed"] and np.isnan(res.dpf_dmean).all()
+    assert reliability_derivatives(x, failed, marginals, ["a", "b"], correlation=ot.NormalCopula(2)).method == [
+        "score", "score"]

@@ -64,9 +64,13 @@ class ReliabilityDerivatives:
         return {k: (v.tolist() if isinstance(v, np.ndarray) else v) for k, v in self.__dict__.items()}
 
 
+class NotGaussianCopula(ValueError):
+    """A copula other than the Gaussian: its score is not (C^-1 z)."""
+
+
 def copula_correlation(correlation: Any, dim: int) -> np.ndarray | None:
     """The Gaussian copula's correlation matrix from a matrix or an OpenTURNS copula (None: independent); raises
-    ``ValueError`` for another copula, whose score is not (C^-1 z)."""
+    :class:`NotGaussianCopula` for another copula."""
     if correlation is None:
         return None
     import openturns as ot
@@ -76,7 +80,7 @@ def copula_correlation(correlation: Any, dim: int) -> np.ndarray | None:
         if impl.hasIndependentCopula():
             return None
         if impl.getClassName() != "NormalCopula":
-            raise ValueError(f"correlation: a {impl.getClassName()} is not a Gaussian copula")
+            raise NotGaussianCopula(f"correlation: a {impl.getClassName()} is not a Gaussian copula")
         c = np.array(impl.getShapeMatrix(), dtype=float)
     else:
         from jointwear.uncertainty.copulas import check_correlation
@@ -112,12 +116,11 @@ def reliability_derivatives(x: np.ndarray, failed: np.ndarray, marginals: Sequen
     mu = np.array([m.mean() for m in ms])
     sd = np.array([m.std() for m in ms])
     normal = np.array([m.affine is not None for m in ms])
-    impl = getattr(correlation, "getImplementation", lambda: correlation)()
-    if hasattr(impl, "getClassName") and impl.getClassName() != "NormalCopula" and not impl.hasIndependentCopula():
-        normal[:] = False  # a non-Gaussian copula: no score here
-        c = None
-    else:
+    try:
         c = copula_correlation(correlation, d)
+    except NotGaussianCopula:  # no score here: every derivative is left to the finite differences
+        normal[:] = False
+        c = None
     pf = float(ind.mean())
     d_mean, d_std = np.full(d, np.nan), np.full(d, np.nan)
     se_mean, se_std = np.full(d, np.nan), np.full(d, np.nan)
