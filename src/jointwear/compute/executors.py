@@ -394,6 +394,13 @@ def _version_problem(workers: dict[str, Any], mine: str) -> str | None:
             "the workers, or stop those workers)")
 
 
+def scheduler_argument_accepted(scheduler: Any) -> bool:
+    """Whether ``scheduler`` is of a kind :class:`DaskExecutor` takes: an address string, a ``distributed.Client`` or
+    a cluster object (anything with a ``scheduler_address``)."""
+    return (isinstance(scheduler, str) or hasattr(scheduler, "scheduler_address")
+            or type(scheduler).__module__.split(".")[0] == "distributed")
+
+
 class DaskExecutor(_ExecutorBase):
     """Calls run on a Dask distributed cluster, through ``Client.get_executor()``.
 

@@ -326,13 +326,16 @@ def sobol_by_joint_part(sobol: Mapping, labels: Mapping[str, str]) -> str:
 
 
 def _elasticity_text(derivatives: Mapping, variable: Mapping) -> str:
+    """:func:`_elasticity_value`, with 'local slope contradicts the mean shifts' when the study flagged it
+    (``slope_contradicts_shifts``)."""
+    flag = " (local slope contradicts the mean shifts)" if variable.get("slope_contradicts_shifts") else ""
+    return _elasticity_value(derivatives, variable) + flag
+
+
+def _elasticity_value(derivatives: Mapping, variable: Mapping) -> str:
     """The elasticity of R to a mean with its 95 % half-width, from the standard error of the derivative it scales
     (1.96 SE: the Monte Carlo error of the estimator on the surrogate, not the surrogate's own error); 'not resolved'
-    when the half-width exceeds the value (a sign the samples cannot tell); 'local slope contradicts the mean
-    shifts' when the study flagged it (``slope_contradicts_shifts``)."""
-    if variable.get("slope_contradicts_shifts"):
-        return _elasticity_text(derivatives, {**variable, "slope_contradicts_shifts": False}) + (
-            " (local slope contradicts the mean shifts)")
+    when the half-width exceeds the value (a sign the samples cannot tell)."""
     value = variable.get("elasticity_mean")
     text = format_number(value, 3)
     names = [str(n) for n in derivatives.get("names") or []]

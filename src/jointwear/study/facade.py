@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Any, ParamSpec, TypeVar
 
 import numpy as np
 
+from jointwear.compute.executors import scheduler_argument_accepted
 from jointwear.config import StudyConfig, config_from_dict, load_config
 from jointwear.reliability import AllCallsFailedError
 from jointwear.schema import ConfigError
@@ -83,13 +84,6 @@ if TYPE_CHECKING:
 
 logger = logging.getLogger("jointwear")
 LOG_FILE = "jointwear.log"
-
-
-def scheduler_given_as_accepted(scheduler: Any) -> bool:
-    """Whether ``scheduler`` is of a kind the executor takes: an address string, a ``distributed.Client`` or a
-    cluster object (anything with a ``scheduler_address``), checked before the study writes anything."""
-    return (isinstance(scheduler, str) or hasattr(scheduler, "scheduler_address")
-            or type(scheduler).__module__.split(".")[0] == "distributed")
 
 
 P = ParamSpec("P")
@@ -164,7 +158,7 @@ class Study:
                                     or workers < 1):
             raise ConfigError(f"workers: must be a whole number >= 1 (got {workers!r})")
         workers = None if workers is None else int(workers)
-        if scheduler is not None and not scheduler_given_as_accepted(scheduler):
+        if scheduler is not None and not scheduler_argument_accepted(scheduler):  # checked before anything is written
             raise ConfigError(f"scheduler: must be a Dask scheduler's address (a str such as 'tcp://host:8786'), a "
                               f"distributed.Client or a cluster object (got {scheduler!r})")
         for name, flag in (("resume", resume), ("overwrite", overwrite)):
@@ -908,8 +902,6 @@ class Study:
                               **dict.fromkeys(list(self._progress.fields)))
 
     def _progress_callback(self, record) -> None:
-        import numpy as np
-
         cycles = self._context.cycles
         k = self.config.reliability.progress_level(cycles)
         pf = np.atleast_1d(record.pf)
