@@ -121,18 +121,19 @@ def test_a_steady_conformal_load_is_converged(rig):
 
 @pytest.fixture(scope="module")
 def two_blocks(rig):
-    # uniform mode grows the rig's clearance 48x over 1e5 revolutions (docs/wear.md); with the geometry updated only
-    # twice in 10,000 revolutions, halving the block changes the life by ~30 %
-    return run_convergence(updated(rig, {"wear.block_cycles": 5000}), 10_000, replicates=3, only=["block"])
+    # uniform mode grows the rig's clearance 48x over 1e5 revolutions (docs/wear.md). One block of 10,000 revolutions
+    # never updates the geometry; two nearly triple the life (+170 to +200 %, 95 % half-width 0.3-0.75 on numpy 1.26 /
+    # numba 0.59 and on the newest). Finer blocks change it by ~30 % only, inside the chaotic replicates' scatter.
+    return run_convergence(updated(rig, {"wear.block_cycles": 10_000}), 10_000, replicates=3, only=["block"])
 
 
 def test_two_blocks_of_a_growing_clearance_are_not_converged(two_blocks):
     row = two_blocks.refinements[0]
     assert row["verdict"] == "not converged", row
-    assert row["changed"] == {"block_cycles": [5000, 2500]}
+    assert row["changed"] == {"block_cycles": [10_000, 5000]}
     sentence, extrapolated = two_blocks.sentences()
     assert "beyond the histories' end (10,000 cycles)" in extrapolated
-    assert "not converged within 2 %" in sentence and "wear.block_cycles 5,000 -> 2,500" in sentence
+    assert "not converged within 2 %" in sentence and "wear.block_cycles 10,000 -> 5,000" in sentence
     assert WearConvergence.from_json(json.loads(json.dumps(two_blocks.to_json()))) == two_blocks
 
 
@@ -145,7 +146,7 @@ def test_the_report_shows_the_check_and_its_warning(two_blocks, tmp_path):
     page = build_report(tmp_path).read_text(encoding="utf-8")
     assert 'id="wear-convergence"' in page and "not converged within 2 %" in page
     assert "The wear history is not converged" in page  # a caveat beside the summary's numbers
-    assert "block_cycles 5,000 \u2192 2,500" in page
+    assert "block_cycles 10,000 \u2192 5,000" in page
 
 
 def test_the_command_writes_its_result(rig, tmp_path, capsys):
