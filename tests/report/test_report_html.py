@@ -41,6 +41,17 @@ def test_full_report_is_self_contained(full_report: Path):
     assert 'class="missing"' not in page  # full fixture: nothing missing
 
 
+def test_the_tables_of_numbers_are_printed_though_collapsed_on_screen(full_report: Path):
+    # Chromium 156 printing the default study's report: 14 pages without the print rule, and the R(N) and
+    # sensitivity tables absent from the PDF's text; 15 pages with it, both tables present
+    page = full_report.read_text(encoding="utf-8")
+    css = re.search(r"@media print\{(.*?)\}\s*</style>", page, re.S).group(1)
+    assert "details.numbers::details-content{content-visibility:visible" in css
+    numbers = re.findall(r'<details class="numbers"><summary>([^<]*)</summary>', page)
+    assert numbers == ["R(N) as numbers", "Sensitivity as numbers"]
+    assert re.search(r"<details( open)?><summary>All \d+ settings", page)  # the long settings table stays out
+
+
 def test_every_setting_and_paper_open_flag(full_report: Path, study_dir: Path):
     page = full_report.read_text(encoding="utf-8")
     cfg = json.loads((study_dir / "config.json").read_text())

@@ -280,5 +280,6 @@ table.compare tr.fail,table.num tr.bad{background:#fdf0ef}
 details{margin:8px 0}
 summary{cursor:pointer;color:var(--accent);font-weight:600}
 footer{color:var(--muted);font-size:12.5px;text-align:center;padding:10px 0 30px}
-@media print{nav{display:none}section{break-inside:avoid-page;border:none}}
+@media print{nav{display:none}section{break-inside:avoid-page;border:none}
+details.numbers::details-content{content-visibility:visible;display:block}}
 """

@@ -201,7 +201,7 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
     rows = [(format_number(float(c)), format_number(float(r), 4), format_number(float(p)),
              format_number(float(cv), 3), format_number(float(err), 2))
             for c, r, p, cv, err in zip(rel.cycles, rel.reliability, rel.pf, rel.pf_cov, rel.pf_error)]
-    parts.append("<details><summary>R(N) as numbers</summary>")
+    parts.append('<details class="numbers"><summary>R(N) as numbers</summary>')
     parts.append(table(["cycles", "R(N)", "Pf", "COV of Pf", "surrogate error of R"], rows, cls="num"))
     parts.append("</details>")
     return "".join(parts)
@@ -257,7 +257,7 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
                      format_number(swing, 3)) + err
                     + tuple(_elasticity_text(sens.derivatives, v) if k == "elasticity_mean"
                             else _index_text(sens.sobol, v, k) for k, _h in extra_cols))
-    parts.append("<details><summary>Sensitivity as numbers</summary>")
+    parts.append('<details class="numbers"><summary>Sensitivity as numbers</summary>')
     parts.append(table(["variable", "name", "group", f"R at mean \u00d7 {lo_f:g}", f"R at mean \u00d7 {hi_f:g}",
                         "largest change of R"] + (["surrogate error of R (low / high)"] if has_err else [])
                        + [h for _k, h in extra_cols], rows, cls="num"))

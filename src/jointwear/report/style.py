@@ -33,6 +33,7 @@ import numpy as np
 from cycler import cycler
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+from PIL import Image, PngImagePlugin
 
 __all__ = [
     "COLORS",
@@ -184,25 +185,29 @@ def savefig(fig: Figure, path: str | Path, *, dpi: int = DPI, close: bool = True
     if path.suffix.lower() != ".png":
         path = path.with_suffix(".png")
     path.parent.mkdir(parents=True, exist_ok=True)
-    if fig.canvas is None or not isinstance(fig.canvas, FigureCanvasAgg):
-        FigureCanvasAgg(fig)
-    with matplotlib.rc_context(RC):
-        fig.savefig(path, dpi=dpi, format="png", metadata={"Software": "jointwear"})
-    if close:
-        _close(fig)
+    path.write_bytes(to_png_bytes(fig, dpi=dpi, close=close))
     return path
 
 
 def to_png_bytes(fig: Figure, *, dpi: int = DPI, close: bool = True) -> bytes:
-    """The PNG bytes of ``fig`` (at :data:`DPI`); closes it unless ``close=False``."""
+    """The PNG bytes of ``fig`` (at :data:`DPI`, opaque, 256 colours); closes it unless ``close=False``.
+
+    A palette of 256 colours holds the figures' flat colours and their anti-aliasing: it makes the files (and the
+    report that embeds them) about 60 % smaller than full colour, with no visible change."""
     buf = io.BytesIO()
-    if not isinstance(fig.canvas, FigureCanvasAgg):
+    if fig.canvas is None or not isinstance(fig.canvas, FigureCanvasAgg):
         FigureCanvasAgg(fig)
     with matplotlib.rc_context(RC):
-        fig.savefig(buf, dpi=dpi, format="png", metadata={"Software": "jointwear"})
+        fig.savefig(buf, dpi=dpi, format="png")
     if close:
         _close(fig)
-    return buf.getvalue()
+    with Image.open(buf) as full:
+        palette = full.convert("RGB").quantize(colors=256, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
+    info = PngImagePlugin.PngInfo()
+    info.add_text("Software", "jointwear")
+    out = io.BytesIO()
+    palette.save(out, format="PNG", optimize=True, pnginfo=info, dpi=(dpi, dpi))
+    return out.getvalue()
 
 
 def to_data_uri(fig_or_png: Figure | bytes, *, dpi: int = DPI) -> str:
