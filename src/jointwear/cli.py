@@ -108,10 +108,10 @@ class JointwearGroup(click.Group):
                 raise
             click.echo(f"error: simulation failed: {one_line(str(exc))}", err=True)
             return 1
-        except BaseException as exc:  # a lost Dask scheduler is one (see SchedulerLostError)
-            from jointwear.compute.executors import SchedulerLostError  # here: importing it loads numpy
+        except BaseException as exc:  # a lost Dask scheduler or a worker of another version (see ClusterError)
+            from jointwear.compute.executors import ClusterError  # here: importing it loads numpy
 
-            if not isinstance(exc, SchedulerLostError):
+            if not isinstance(exc, ClusterError):
                 raise
             click.echo(f"error: {one_line(str(exc))}{resume_hint()}", err=True)
             return 2

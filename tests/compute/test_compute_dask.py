@@ -173,6 +173,46 @@ def test_workers_with_another_jointwear_are_refused():
     assert f"{missing} cannot import jointwear" in message
 
 
+@pytest.mark.timeout(90)
+@pytest.mark.parametrize("late", ["other version", "no jointwear"])
+def test_a_worker_that_joins_later_with_another_jointwear_ends_the_study(tmp_path, late):
+    """A worker that joins after the connection check refuses the study's calls before running them: the batch ends
+    with WorkerVersionError naming it, and the store keeps only the calls of the checked worker."""
+    import distributed
+
+    import jointwear
+    from jointwear.compute.executors import WorkerVersionError
+
+    def other_version():
+        import jointwear
+
+        jointwear.__version__ = "0.0.0-other"
+
+    def no_jointwear():
+        import sys
+
+        sys.modules["jointwear"] = None
+
+    X = np.arange(12.0)[:, None]
+    with start_local_cluster(n_workers=1, threads_per_worker=1, processes=True) as c, \
+            EvaluationStore.open(tmp_path, "dask-late") as store, DaskExecutor(c) as ex:
+        ev = Evaluator(slept_model, ex, store)
+        assert ev.evaluate(X[:2]).ok.all()
+        with distributed.Client(c, set_as_default=False) as client:
+            (checked,) = client.scheduler_info()["workers"]
+            c.scale(2)
+            client.wait_for_workers(2)
+            (joined,) = set(client.scheduler_info()["workers"]) - {checked}
+            client.run(other_version if late == "other version" else no_jointwear, workers=[joined])
+            client.retire_workers([checked])  # every later call goes to the late worker
+        with pytest.raises(WorkerVersionError) as err:
+            ev.evaluate(X[2:])
+        assert store.stats().n_calls == 2
+    message = str(err.value)
+    assert joined in message and jointwear.__version__ in message and "\n" not in message
+    assert ("runs jointwear 0.0.0-other" if late == "other version" else "cannot import jointwear") in message
+
+
 def slept_model(x):
     time.sleep(0.2)
     return x.copy(), "ok"
@@ -218,6 +258,23 @@ def test_the_cli_says_the_scheduler_was_lost_and_how_to_resume(monkeypatch, caps
     assert err == ("error: the Dask scheduler at tcp://10.0.0.5:8786 was lost: it stopped, or the network to it "
                    "failed (the model calls made so far are kept in the output folder's evaluation store: run the "
                    "same command again with --resume to continue it)")
+
+
+def test_the_cli_names_a_late_worker_of_another_version(monkeypatch, capsys, tmp_path):
+    from jointwear.cli import main_entry
+    from jointwear.compute.executors import WorkerVersionError
+    from jointwear.study import Study
+
+    def refused(self):
+        raise WorkerVersionError("tcp://10.0.0.7:40123", None, "1.2.3")
+
+    monkeypatch.setattr(Study, "reliability", refused)
+    code = main_entry(["reliability", "flores_slider_crank", "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2
+    assert err.startswith("error: the Dask worker tcp://10.0.0.7:40123, which joined after the study connected, cannot "
+                          "import jointwear; this study runs jointwear 1.2.3 (install jointwear 1.2.3 on that worker, "
+                          "or stop it) (the model calls made so far are kept")
 
 
 class _Silent(threading.Thread):

@@ -25,10 +25,12 @@ from pathlib import Path
 from typing import Any, Callable
 
 __all__ = [
+    "ClusterError",
     "DaskExecutor",
     "LocalExecutor",
     "SchedulerLostError",
     "SerialExecutor",
+    "WorkerVersionError",
     "available_cores",
     "make_executor",
     "scheduler_not_answering",
@@ -308,15 +310,30 @@ class LocalExecutor(_ExecutorBase):
 SCHEDULER_ANSWER_SECONDS = 5.0
 
 
-class SchedulerLostError(BaseException):
-    """The Dask scheduler went away during a batch (it stopped, or the network to it failed).
+class ClusterError(BaseException):
+    """A fault of the cluster, not of a model call, that ends the study (the calls completed before are stored).
 
     A BaseException, as Ctrl-C is: code that records an ``Exception`` from a limit state as a failed sample (the
     reliability engine's) must not turn every later call into a failure; the study ends instead."""
 
+
+class SchedulerLostError(ClusterError):
+    """The Dask scheduler went away during a batch (it stopped, or the network to it failed)."""
+
     def __init__(self, address: str) -> None:
         super().__init__(f"the Dask scheduler at {address} was lost: it stopped, or the network to it failed")
         self.address = address
+
+
+class WorkerVersionError(ClusterError):
+    """A Dask worker that joined after the study connected runs another jointwear, or none: its call is refused
+    before it runs, so no result of another version joins the store."""
+
+    def __init__(self, worker: str, theirs: str | None, mine: str) -> None:
+        runs = f"runs jointwear {theirs}" if theirs is not None else "cannot import jointwear"
+        super().__init__(f"the Dask worker {worker}, which joined after the study connected, {runs}; this study runs "
+                         f"jointwear {mine} (install jointwear {mine} on that worker, or stop it)")
+        self.worker, self.theirs, self.mine = worker, theirs, mine
 
 
 def scheduler_url(address: str) -> str:
@@ -378,6 +395,63 @@ def _jointwear_version() -> str | None:
 _jointwear_version.__module__ = "__main__"
 
 
+#: first argument of the error a worker raises instead of running a call under another jointwear
+_OTHER_JOINTWEAR = "jointwear-version-mismatch"
+
+
+def _call_if_same_jointwear(mine: str, payload: bytes) -> Any:
+    """Run the call ``payload`` (cloudpickled ``(fn, args, kwargs)``) if this process imports jointwear ``mine``.
+
+    Unpickled only after the check: a worker without jointwear could not even load ``fn``."""
+    try:
+        import jointwear
+
+        theirs = getattr(jointwear, "__version__", None)
+    except Exception:  # noqa: BLE001 - any failure to import means the same to the study
+        theirs = None
+    if theirs != mine:
+        try:
+            from distributed import get_worker
+
+            where = get_worker().address
+        except Exception:  # noqa: BLE001 - the address only names the worker in the message
+            where = "(address unknown)"
+        raise RuntimeError(_OTHER_JOINTWEAR, where, theirs)
+    import cloudpickle
+
+    fn, args, kwargs = cloudpickle.loads(payload)
+    return fn(*args, **kwargs)
+
+
+_call_if_same_jointwear.__module__ = "__main__"  # sent by value, as _jointwear_version
+
+
+def _relay(inner: cf.Future, mine: str) -> cf.Future:
+    """A future that follows ``inner`` (cancelling it when cancelled), with a worker's refusal to run under another
+    jointwear raised as :class:`WorkerVersionError`."""
+    outer: cf.Future = cf.Future()
+
+    def follow(done: cf.Future) -> None:
+        try:
+            if done.cancelled():
+                outer.cancel()
+                outer.set_running_or_notify_cancel()  # wakes concurrent.futures.wait (cancel() alone does not)
+                return
+            exc = done.exception()
+            if isinstance(exc, RuntimeError) and exc.args[:1] == (_OTHER_JOINTWEAR,) and len(exc.args) == 3:
+                exc = WorkerVersionError(exc.args[1], exc.args[2], mine)
+            if exc is None:
+                outer.set_result(done.result())
+            else:
+                outer.set_exception(exc)
+        except cf.InvalidStateError:  # the caller cancelled ``outer`` meanwhile
+            pass
+
+    outer.add_done_callback(lambda f: inner.cancel() if f.cancelled() else None)
+    inner.add_done_callback(follow)
+    return outer
+
+
 def _version_problem(workers: dict[str, Any], mine: str) -> str | None:
     """Which workers (address -> version, None or an error) do not run jointwear ``mine``, in one line."""
     bad = []
@@ -407,8 +481,9 @@ class DaskExecutor(_ExecutorBase):
     ``scheduler`` is an address (``"tcp://10.0.0.5:8786"``; a bare ``host:port`` means tcp), a
     ``distributed.Client`` (not closed on exit) or a cluster object (``LocalCluster``; a client is made and
     closed on exit). Every connected worker must run this process's jointwear version (a
-    :class:`~jointwear.schema.ConfigError` otherwise). Tasks are submitted with ``pure=False``. When a worker
-    dies mid-task, the scheduler re-runs its tasks on the remaining workers (up to
+    :class:`~jointwear.schema.ConfigError` otherwise); a worker that joins later checks its version before each call
+    and refuses it (:class:`WorkerVersionError`, which ends the study). Tasks are submitted with ``pure=False``.
+    When a worker dies mid-task, the scheduler re-runs its tasks on the remaining workers (up to
     ``distributed.scheduler.allowed-failures`` times per task, default 3); when the scheduler is lost,
     :class:`SchedulerLostError`.
     """
@@ -494,12 +569,15 @@ class DaskExecutor(_ExecutorBase):
                 f"{self.address}`; the calls made so far are in the evaluation store)")
 
     def submit(self, fn: Callable, /, *args: Any, **kwargs: Any) -> cf.Future:
-        self.check_alive()
-        return self._executor.submit(fn, *args, **kwargs)
+        """Submit ``fn(*args, **kwargs)``, run only by a worker that imports this process's jointwear (``map`` is
+        concurrent.futures', through this method)."""
+        import cloudpickle
 
-    def map(self, fn: Callable, *iterables, timeout=None, chunksize: int = 1):
+        from jointwear import __version__
+
         self.check_alive()
-        return self._executor.map(fn, *iterables, timeout=timeout)
+        payload = cloudpickle.dumps((fn, args, kwargs))
+        return _relay(self._executor.submit(_call_if_same_jointwear, __version__, payload), __version__)
 
     def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
         if self._shutdown:
