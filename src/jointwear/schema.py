@@ -142,6 +142,15 @@ class SIModel(BaseModel):
 
     model_config = ConfigDict(extra="forbid", allow_inf_nan=False, validate_default=True, frozen=True)
 
+    def __setattr__(self, name: str, value: Any) -> None:
+        if name in type(self).model_fields:  # pydantic's own "Instance is frozen" does not say what to do instead
+            raise AttributeError(
+                f"a validated config is read-only ({type(self).__name__}.{name} cannot be set): make a changed, "
+                f"validated copy with jointwear.config.updated(config, {{'<section>.{name}': value}}), e.g. "
+                "updated(config, {'wear.block_cycles': 500})"
+            )
+        super().__setattr__(name, value)
+
     @model_validator(mode="before")
     @classmethod
     def _unit_suffixes(cls, data: Any) -> Any:
