@@ -16,6 +16,14 @@ def test_the_three_presets_ship():
 
 
 @pytest.mark.parametrize("name", PRESETS)
+def test_every_preset_passes_its_own_check(name, tmp_path):
+    # every stage the preset can run, the design included (a variant that drops a variable must drop its design too)
+    from jointwear import Study
+
+    Study(name, out=tmp_path, echo=lambda line: None).check()
+
+
+@pytest.mark.parametrize("name", PRESETS)
 def test_preset_can_run_a_study(name):
     cfg = load_config(name)
     assert cfg.citation and cfg.description

@@ -88,13 +88,14 @@ def test_flapping_wing_report_compares_with_its_reference(tmp_path, monkeypatch,
 
 
 # Statuses of the synthetic flapping-wing fixture under the report's former hard-coded PAPER dict and
-# paper_checks (recorded from that code on the same fixture): the preset's [reference] must give the same.
+# paper_checks (recorded from that code on the same fixture): the preset's [reference] must give the same, except
+# R(420k), which the preset now bands as every other level of R(N) (it had no band, and the one level that misses it).
 FORMER_STATUSES = [
     ("nominal max bearing wear after 400,000 cycles", PASS), ("angle of the max wear", PASS),
     ("second wear peak, depth", INFO), ("second wear peak, angle", PASS),
     ("mean of the max wear at 360,000 cycles", PASS), ("mean of the max wear at 400,000 cycles", PASS),
     ("mean of the max wear at 440,000 cycles", PASS), ("reliability R(N) at 360,000 cycles", PASS),
-    ("reliability R(N) at 400,000 cycles", PASS), ("reliability R(N) at 420,000 cycles", INFO),
+    ("reliability R(N) at 400,000 cycles", PASS), ("reliability R(N) at 420,000 cycles", PASS),
     ("reliability R(N) at 520,000 cycles", PASS), ("life at R = 0.9", PASS),
     ("life at R = 0.9, hours at 480 rpm", INFO), ("true-model calls (whole curve)", PASS),
     ("sensitivity ranking, tolerances", PASS), ("sensitivity ranking, journal material", PASS),
