@@ -57,11 +57,19 @@ class JointWear:
     contact_half_width: float = math.nan  # m, Johnson's b at the mean contact force of the first block
 
     @property
+    def pocket_depth(self) -> float:
+        """Depth the journal can sink into its wear, m: the bore's depth range plus the journal's (max less min of
+        each). A ring worn evenly round the bore, or round the pin, is no pocket; a flat worn on a pin under a load
+        fixed on it is one, as a pocket in the bore is."""
+        return float(np.ptp(self.bearing_wear) + np.ptp(self.journal_wear))
+
+    @property
     def conformal_arc(self) -> float:
-        """Worn arc (rad) of a bore worn to the journal's shape as deep as this one: a journal that has sunk by the
-        max bearing depth h into a bore of radial clearance c0 touches it over 2 acos(c0 / (c0 + h))."""
+        """Worn arc (rad) of a bore worn to the journal's shape as deep as this wear: a journal that has sunk by the
+        pocket depth h (:attr:`pocket_depth`) into a bore of radial clearance c0 touches it over
+        2 acos(c0 / (c0 + h))."""
         c0 = self.bearing_radius - self.journal_radius
-        return 2.0 * math.acos(c0 / (c0 + self.max_bearing_wear))
+        return 2.0 * math.acos(c0 / (c0 + self.pocket_depth))
 
     @property
     def conformity(self) -> float:
