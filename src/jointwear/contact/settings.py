@@ -74,7 +74,7 @@ class ClearanceJointConfig(SIModel):
     journal_radius: float = F(unit="m", gt=0, description="Radius R_j of the journal; must be < bearing_radius.")
     bearing_outer_radius: float | None = F(
         None, unit="m", gt=0,
-        description="Outer radius of the bearing (Table 2: 1.5 mm); the wear allowance 0.01 D uses its diameter.",
+        description="Outer radius of the bearing (the flapping-wing preset: 1.5 mm, Jin et al. 2025, Table 2); the wear allowance 0.01 D uses its diameter.",
     )
     width: float = F(unit="m", gt=0, description="Axial width L of the contact (Table 4: 1 mm).")
     bearing_material: MaterialConfig = F(description="Bearing material.")
