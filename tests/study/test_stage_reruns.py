@@ -225,5 +225,7 @@ def test_a_design_without_a_choice_rebuilds_the_report(base, tmp_path):
     result = jointwear.Study(far, out=folder, workers=1, echo=lines.append).design()
     assert result.chosen is None
     assert any(line.startswith("design: no candidate reaches") for line in lines)
+    # the target (20x today's life) lies past the curve: said on this path too, as the report says it
+    assert any("lies beyond the study's R(N) curve" in line for line in lines), lines
     page = (folder / "report.html").read_text(encoding="utf-8")
     assert "No candidate reaches the target on the surrogate" in page

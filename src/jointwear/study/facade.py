@@ -946,6 +946,8 @@ class Study:
             self.echo(f"design: no candidate reaches {result.target_life_cycles:,.0f} cycles at "
                       f"R = {result.target_reliability:g}{'; ' + nearest if nearest else ''}; {calls}")
             self._warn_design_trust({})
+            if outside := result.target_outside_curve_sentence():  # the nearest's R(N*) is then the less sure
+                self.warn(f"design: {outside}")
             self._refresh_report()
             return result
         picks = choices_text(chosen["choices"])
