@@ -91,6 +91,42 @@ def test_json_is_strict(tmp_path):
     assert strict({"n": np.arange(2)}) == {"n": [0, 1]}
 
 
+@pytest.mark.skipif(sys.platform == "win32", reason="symlinks need privileges on Windows")
+def test_a_symlink_planted_in_a_results_folder_is_never_written_through(tmp_path):
+    """A received folder whose result file, or the old fixed temporary name beside it, is a link to a file outside:
+    writing the result replaces the link and leaves the outside file as it was."""
+    from jointwear.report.markup import write_page
+    from jointwear.study.io import write_csv
+
+    outside = tmp_path / "outside.txt"
+    outside.write_text("keep", encoding="utf-8")
+    folder = tmp_path / "results"
+    folder.mkdir()
+    for name in ("x.json", "report.html.tmp", "x.csv"):
+        (folder / name).symlink_to(outside)
+    write_json(folder / "x.json", {"a": 1})
+    write_page(folder / "report.html", "<p>page</p>")
+    write_csv(folder / "x.csv", {"a": [1.0, 2.0]})
+    assert outside.read_text(encoding="utf-8") == "keep"
+    assert not (folder / "x.json").is_symlink() and json.loads((folder / "x.json").read_text()) == {"a": 1}
+    assert (folder / "report.html").read_text(encoding="utf-8") == "<p>page</p>"
+    assert (folder / "x.csv").read_text(encoding="utf-8").splitlines() == ["a", "1", "2"]
+    assert [f.name for f in folder.glob("*.tmp")] == ["report.html.tmp"]  # the planted link; no temporary file left
+
+
+def test_a_number_too_large_for_its_field_spoils_only_its_stage(tmp_path):
+    # load_results turns an unreadable stage into None with its reason; 10**400 raised OverflowError past it
+    from jointwear.study.io import strict
+
+    rel = _reliability_result()
+    rel.save(tmp_path)
+    data = json.loads((tmp_path / rel.FILE).read_text())
+    data["curve"]["cycles"][0] = 10**400
+    (tmp_path / rel.FILE).write_text(json.dumps(strict(data)))
+    loaded = load_results(tmp_path)
+    assert loaded.reliability is None and "could not be read" in loaded.errors["reliability"]
+
+
 def _reliability_result():
     cycles = np.array([1e5, 2e5, 3e5])
     rel = np.array([0.99, 0.8, 0.3])

@@ -98,13 +98,11 @@ resources</footer>
 
 
 def write_page(path: Path | str, doc: str) -> Path:
-    """Write the page ``doc`` at ``path`` through a temporary file, so a reader never sees half a page."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(doc, encoding="utf-8")
-    tmp.replace(path)
-    return path
+    """Write the page ``doc`` at ``path`` through a temporary file, so a reader never sees half a page (and a
+    symlink planted in the folder is never written through)."""
+    from jointwear.study.io import write_text_atomic
+
+    return write_text_atomic(Path(path), doc)
 
 
 def png_data_uri(path: Path) -> str | None:

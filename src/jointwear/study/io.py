@@ -4,11 +4,13 @@ from __future__ import annotations
 
 import csv
 import datetime as _dt
+import io
 import json
 import math
 import os
 import platform
 import re
+import secrets
 from collections import Counter
 from collections.abc import Mapping, Sequence
 from functools import lru_cache
@@ -37,12 +39,20 @@ def strict(obj: Any) -> Any:
 
 def write_text_atomic(path: Path, text: str) -> Path:
     """Write ``text`` to ``path`` through a temporary file renamed over it: a process killed while writing leaves
-    the old file or the new one, never half of one (a study's records are read back on resume)."""
+    the old file or the new one, never half of one (a study's records are read back on resume). The temporary file
+    is created anew under a random name (O_EXCL, permissions from the umask as for any new file) and the rename
+    replaces a link at ``path``: a symlink planted in a received folder is never written through."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(text, encoding="utf-8")
-    os.replace(tmp, path)
+    tmp = path.with_name(f"{path.name}.{secrets.token_hex(6)}.tmp")
+    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), 0o666)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
+            fh.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
     return path
 
 
@@ -69,17 +79,14 @@ def file_labels(names: Sequence[str]) -> list[str]:
 
 def write_csv(path: Path, columns: Mapping[str, Sequence]) -> Path:
     """Write equal-length columns as a CSV table (header = the column names, units in the names)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     names = list(columns)
     cols = [list(columns[n]) for n in names]
-    with open(path, "w", newline="", encoding="utf-8") as fh:
-        w = csv.writer(fh)
-        w.writerow(names)
-        for row in zip(*cols):
-            w.writerow(["" if v is None else (f"{v:.10g}" if isinstance(v, (float, np.floating)) else v)
-                        for v in row])
-    return path
+    buf = io.StringIO(newline="")
+    w = csv.writer(buf)
+    w.writerow(names)
+    for row in zip(*cols):
+        w.writerow(["" if v is None else (f"{v:.10g}" if isinstance(v, (float, np.floating)) else v) for v in row])
+    return write_text_atomic(path, buf.getvalue())
 
 
 @lru_cache(maxsize=1)

@@ -559,6 +559,6 @@ def load_results(folder: Path | str) -> StudyResults:
             continue
         try:
             setattr(out, stage, cls.load(folder))
-        except (OSError, ValueError, KeyError, TypeError) as exc:
+        except (OSError, ValueError, KeyError, TypeError, OverflowError) as exc:  # 1e300 where a count is due
             out.errors[stage] = f"{cls.FILE} could not be read: {exc}"
     return out
