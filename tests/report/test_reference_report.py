@@ -110,6 +110,22 @@ def test_flapping_wing_checks_as_before(study_dir):
                                         "reported (no band)", "\u2264 80", "same order as the reference"}
 
 
+def test_a_band_that_says_nothing_is_no_band(study_dir, tmp_path):
+    """A tampered config.json whose band has an unknown kind and no limits crashed the report (and would have passed
+    every number): it is reported as having no band."""
+    import shutil
+
+    d = tmp_path / "tampered"
+    shutil.copytree(study_dir, d)
+    cfg = json.loads((d / "config.json").read_text(encoding="utf-8"))
+    cfg["reference"]["values"][1]["band"]["kind"] = "Absolute"
+    (d / "config.json").write_text(json.dumps(cfg), encoding="utf-8")
+    checks = {c.quantity: c for c in reference_checks(load_results(d))}
+    row = checks["angle of the max wear"]
+    assert (row.status, row.band) == (INFO, "reported (no band)")
+    assert "angle of the max wear" in build_report(d).read_text(encoding="utf-8")
+
+
 def test_a_pass_within_an_absolute_band_only_says_so(study_dir):
     """R(520k) = 0.152 against the paper's 0.006 read 'pass' (+/- 0.15 absolute) with nothing beside it."""
     results = load_results(study_dir)

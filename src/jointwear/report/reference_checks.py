@@ -101,7 +101,16 @@ def group_key(group: object) -> str:
     return g[:-1] if g.endswith("s") else g
 
 
+def _readable(band: Mapping | None) -> Mapping | None:
+    """The band, or None when it says nothing a number can be judged by (an unknown kind without limits, as in a
+    tampered config.json): judged as no band, not as a pass."""
+    if band is None or band.get("kind") in ("absolute", "relative", "same_order"):
+        return band
+    return band if _float(band.get("lower")) is not None or _float(band.get("upper")) is not None else None
+
+
 def _band_text(band: Mapping | None, unit: str) -> str:
+    band = _readable(band)
     if band is None:
         return "reported (no band)"
     kind = band.get("kind")
@@ -121,6 +130,7 @@ def _band_text(band: Mapping | None, unit: str) -> str:
 
 def _judge(ours: float | None, ref: float | None, band: Mapping | None, unit: str) -> str:
     """PASS / FAIL inside or outside the band, INFO without a band, NA without our number."""
+    band = _readable(band)
     if ours is None:
         return NA
     if band is None or ref is None and band.get("kind") in ("absolute", "relative"):
