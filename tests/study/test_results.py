@@ -96,21 +96,24 @@ def test_a_symlink_planted_in_a_results_folder_is_never_written_through(tmp_path
     """A received folder whose result file, or the old fixed temporary name beside it, is a link to a file outside:
     writing the result replaces the link and leaves the outside file as it was."""
     from jointwear.report.markup import write_page
+    from jointwear.report.style import figure, savefig
     from jointwear.study.io import write_csv
 
     outside = tmp_path / "outside.txt"
     outside.write_text("keep", encoding="utf-8")
     folder = tmp_path / "results"
     folder.mkdir()
-    for name in ("x.json", "report.html.tmp", "x.csv"):
+    for name in ("x.json", "report.html.tmp", "x.csv", "fig.png"):
         (folder / name).symlink_to(outside)
     write_json(folder / "x.json", {"a": 1})
+    savefig(figure()[0], folder / "fig.png")
     write_page(folder / "report.html", "<p>page</p>")
     write_csv(folder / "x.csv", {"a": [1.0, 2.0]})
     assert outside.read_text(encoding="utf-8") == "keep"
     assert not (folder / "x.json").is_symlink() and json.loads((folder / "x.json").read_text()) == {"a": 1}
     assert (folder / "report.html").read_text(encoding="utf-8") == "<p>page</p>"
     assert (folder / "x.csv").read_text(encoding="utf-8").splitlines() == ["a", "1", "2"]
+    assert not (folder / "fig.png").is_symlink() and (folder / "fig.png").read_bytes().startswith(b"\x89PNG")
     assert [f.name for f in folder.glob("*.tmp")] == ["report.html.tmp"]  # the planted link; no temporary file left
 
 

@@ -185,8 +185,9 @@ def savefig(fig: Figure, path: str | Path, *, dpi: int = DPI, close: bool = True
     if path.suffix.lower() != ".png":
         path = path.with_suffix(".png")
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_bytes(to_png_bytes(fig, dpi=dpi, close=close))
-    return path
+    from jointwear.study.io import write_bytes_atomic
+
+    return write_bytes_atomic(path, to_png_bytes(fig, dpi=dpi, close=close))
 
 
 def to_png_bytes(fig: Figure, *, dpi: int = DPI, close: bool = True) -> bytes:

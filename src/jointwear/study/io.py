@@ -37,8 +37,8 @@ def strict(obj: Any) -> Any:
     return obj
 
 
-def write_text_atomic(path: Path, text: str) -> Path:
-    """Write ``text`` to ``path`` through a temporary file renamed over it: a process killed while writing leaves
+def write_bytes_atomic(path: Path, data: bytes) -> Path:
+    """Write ``data`` to ``path`` through a temporary file renamed over it: a process killed while writing leaves
     the old file or the new one, never half of one (a study's records are read back on resume). The temporary file
     is created anew under a random name (O_EXCL, permissions from the umask as for any new file) and the rename
     replaces a link at ``path``: a symlink planted in a received folder is never written through."""
@@ -47,13 +47,18 @@ def write_text_atomic(path: Path, text: str) -> Path:
     tmp = path.with_name(f"{path.name}.{secrets.token_hex(6)}.tmp")
     fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), 0o666)
     try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
-            fh.write(text)
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
         os.replace(tmp, path)
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
     return path
+
+
+def write_text_atomic(path: Path, text: str) -> Path:
+    """Write ``text`` (UTF-8, newlines as given) to ``path`` as :func:`write_bytes_atomic` does."""
+    return write_bytes_atomic(path, text.encode("utf-8"))
 
 
 def write_json(path: Path, payload: Mapping) -> Path:

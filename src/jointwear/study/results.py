@@ -9,6 +9,7 @@ report and notebooks read results. The reliability stages' results live in
 
 from __future__ import annotations
 
+import io
 import math
 from collections.abc import Collection
 from dataclasses import dataclass, field
@@ -18,7 +19,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 
 from jointwear.study.convergence import WearConvergence
-from jointwear.study.io import file_labels, provenance, read_json
+from jointwear.study.io import file_labels, provenance, read_json, write_bytes_atomic
 from jointwear.study.reliability_results import ReliabilityCurve, SensitivityResult, ValidationResult
 from jointwear.study.stage_result import StageResult, save_figure
 
@@ -179,7 +180,9 @@ class SimulationSummary(StageResult):
             data[p + "slip_speed_m_s"] = tr.slip_speed
             data[p + "penetration_m"] = tr.penetration
             data[p + "in_contact"] = tr.in_contact
-        np.savez_compressed(folder / self.series_file, **data)
+        buf = io.BytesIO()
+        np.savez_compressed(buf, **data)
+        write_bytes_atomic(folder / self.series_file, buf.getvalue())
         if figures:
             from jointwear.report import figures as F
 
