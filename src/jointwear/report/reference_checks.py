@@ -110,7 +110,6 @@ def _readable(band: Mapping | None) -> Mapping | None:
 
 
 def _band_text(band: Mapping | None, unit: str) -> str:
-    band = _readable(band)
     if band is None:
         return "reported (no band)"
     kind = band.get("kind")
@@ -130,7 +129,6 @@ def _band_text(band: Mapping | None, unit: str) -> str:
 
 def _judge(ours: float | None, ref: float | None, band: Mapping | None, unit: str) -> str:
     """PASS / FAIL inside or outside the band, INFO without a band, NA without our number."""
-    band = _readable(band)
     if ours is None:
         return NA
     if band is None or ref is None and band.get("kind") in ("absolute", "relative"):
@@ -265,8 +263,8 @@ def _ranking_check(sens: SensitivityResult | None, v: Mapping) -> Check:
     group = str(v.get("group") or "")
     title = f"sensitivity ranking, {'tolerances' if group_key(group) == 'tolerance' else group.replace('_', ' ')}"
     ref_rank = [str(x) for x in v.get("ranking") or []]
-    band = v.get("band")
-    src, just = str(v.get("source") or ""), str((band or {}).get("justification") or "")
+    band = _readable(v.get("band"))
+    src, just = str(v.get("source") or ""), str((v.get("band") or {}).get("justification") or "")
     rows = {} if sens is None else {group_key(g): items for g, items in ranking_rows(sens).items()}
     members = rows.get(group_key(group), [])
     labels = {n: lab for n, lab in members}
@@ -374,10 +372,10 @@ def reference_checks(results: StudyResults, reference: Mapping | None = None) ->
         if q in ("nominal_max_wear_angle", "second_peak_angle") and ours is not None and pv is not None:
             note = f"{circular_difference(ours, pv):.1f} deg from the reference's"
         note = "; ".join(x for x in (note, str(v.get("note") or "")) if x)
-        band = v.get("band")
+        band = _readable(v.get("band"))
         checks.append(Check(title, pv, ours, shown_unit, _band_text(band, unit), _judge(ours, pv, band, unit), note,
                             digits, source=str(v.get("source") or ""),
-                            justification=str((band or {}).get("justification") or "")))
+                            justification=str((v.get("band") or {}).get("justification") or "")))
     return checks
 
 
