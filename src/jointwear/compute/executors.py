@@ -403,12 +403,7 @@ def _call_if_same_jointwear(mine: str, payload: bytes) -> Any:
     """Run the call ``payload`` (cloudpickled ``(fn, args, kwargs)``) if this process imports jointwear ``mine``.
 
     Unpickled only after the check: a worker without jointwear could not even load ``fn``."""
-    try:
-        import jointwear
-
-        theirs = getattr(jointwear, "__version__", None)
-    except Exception:  # noqa: BLE001 - any failure to import means the same to the study
-        theirs = None
+    theirs = _jointwear_version()  # sent by value with this function
     if theirs != mine:
         try:
             from distributed import get_worker
