@@ -21,6 +21,8 @@ Sections
 - profile_rig_convergence / profile_wing_convergence (only with --only): profile mode's max depth with each setting
   halved (grid spacing, smoothing, block, corner rounding), on the rig at 1e4/1e5 revolutions (beside the closed
   form of docs/verification.md) and on the flapping wing at 520k cycles.
+- profile_rig_mirrored (only with --only, about a minute): the same on the rig mirrored (the load fixed on the pin,
+  only the pin wearing), the pin's flat beside the same closed form.
 - profile_wing_blocks (only with --only, a few minutes): profile mode on the flapping wing to 1.5M cycles, the
   profile preset's settings against the block halved, the deposit's sub-step halved and quartered, and the former
   16 sub-steps per block (two runs each): how they move the max depth over the profile preset's curve.
@@ -516,19 +518,23 @@ def bench_profile_cost(repeats: int = 1) -> dict:
     return out
 
 
-def bench_profile_rig_convergence(n_values=(10_000, 100_000)) -> dict:
+def bench_profile_rig_convergence(n_values=(10_000, 100_000), mirrored: bool = False) -> dict:
     """Issue 14 item 3 on the pendulum rig: profile mode's max depth, baseline vs each setting halved (angular grid
     spacing, running-in smoothing, block size, the corner rounding of the admissible set), at 1e4 and 1e5
     revolutions, beside the closed-form conformal wear (docs/verification.md). The rig's load is steady, so one
-    run per variant (no chaotic scatter to average)."""
+    run per variant (no chaotic scatter to average). mirrored: the rig with the load fixed on the pin, whose flat is
+    judged (closed_form.mirrored_config)."""
     import jointwear.wear.history as hist
 
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-    from verification.closed_form import Rig, conformal_wear, friction_circle
+    from verification.closed_form import Rig, conformal_wear, friction_circle, mirrored_config
 
     cfg = load_config(str(RIG))
-    model = build_model(cfg)
     rig = Rig.from_config(cfg)
+    if mirrored:
+        cfg = mirrored_config(cfg)
+    model = build_model(cfg)
+    side, radius = ("journal_wear", rig.r_j) if mirrored else ("bearing_wear", rig.r_b)
     s = base_settings(cfg).model_copy(update={"geometry_mode": "profile"})
     out = {"settings": {"n_grid": s.n_grid, "profile_smoothing_deg": s.profile_smoothing_deg,
                         "block_cycles": s.block_cycles, "profile_rounding": hist.PROFILE_ROUNDING}}
@@ -538,8 +544,8 @@ def bench_profile_rig_convergence(n_values=(10_000, 100_000)) -> dict:
                                "area_mm2": cf["area"] * 1e6}}
 
         def record(res):
-            h = res.joints[0].bearing_wear
-            return {"max_depth_mm": float(h.max() * MM), "worn_area_mm2": worn_area(h, rig.r_b) * 1e6,
+            h = getattr(res.joints[0], side)
+            return {"max_depth_mm": float(h.max() * MM), "worn_area_mm2": worn_area(h, radius) * 1e6,
                     "arc_deg_above_1pct": np.count_nonzero(h > 0.01 * h.max()) * 360.0 / h.size,
                     "wall_seconds": res.wall_seconds}
 
@@ -934,6 +940,8 @@ def main(argv=None) -> int:
             data["profile_cost"] = bench_profile_cost(a.repeats)
         elif sec == "profile_rig_convergence":
             data["profile_rig_convergence"] = bench_profile_rig_convergence()
+        elif sec == "profile_rig_mirrored":
+            data["profile_rig_mirrored"] = bench_profile_rig_convergence(mirrored=True)
         elif sec == "profile_wing_blocks":
             data["profile_wing_blocks"] = bench_profile_wing_blocks()
         elif sec == "profile_deposit":

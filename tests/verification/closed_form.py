@@ -155,3 +155,15 @@ def spectral_peak(t: np.ndarray, x: np.ndarray, above: float) -> float:
     freq = np.fft.rfftfreq(2**20, tu[1] - tu[0])
     spec[freq < above] = 0.0
     return float(freq[np.argmax(spec)])
+
+
+def mirrored_config(rig_config):
+    """The rig mirrored: the eye on the crank, the pin on the pendulum, so that the load stays fixed on the pin and
+    turns round the bore; only the pin wears (k/H = 1e-14 m^2/N, the rig's bearing's). To first order in c0 / R the
+    pin wears the bore's shape into itself as the rig's bore wears the pin's (docs/verification.md, case 5)."""
+    data = rig_config.model_dump(mode="python")
+    cj = data["clearance_joints"][0]
+    cj["bearing_body"], cj["journal_body"] = cj["journal_body"], cj["bearing_body"]
+    kb = cj["bearing_material"]["wear_coefficient"]
+    cj["bearing_material"]["wear_coefficient"], cj["journal_material"]["wear_coefficient"] = 0.0, kb
+    return type(rig_config).model_validate(data)

@@ -8,8 +8,7 @@ from wear_synthetic import FakeModel, FakeResult, fake_simulate, make_trace
 
 from jointwear.wear import WearSettings, wear_history
 from jointwear.wear.angles import angle_text, body_angle_from_report, report_angle_deg
-from jointwear.wear.cycle import CycleWear
-from jointwear.wear.history import lay_bearing
+from jointwear.wear.history import lay_distributed
 from jointwear.wear.results import conservation_error, find_peaks_periodic
 
 CONS_TOL = 1e-6  # issue 3 acceptance: worn area x width = Archard volume, rel. error < 1e-6
@@ -156,7 +155,7 @@ def test_peaks_periodic():
     ],
 )
 def test_deposit_substeps(g, dn, sub, expected):
-    """lay_bearing's sub-steps: max(min(ceil(g dn / 2), 16), ceil(dn / profile_substep_cycles)) (the rule its
+    """lay_distributed's sub-steps: max(min(ceil(g dn / 2), 16), ceil(dn / profile_substep_cycles)) (the rule its
     docstring and WearSettings.profile_substep_cycles state): the first from the block's own sharing, the others
     laid by the merged loads (ConformalShare.lay, tested against its loop in test_share_load.py)."""
     n = 72
@@ -171,10 +170,8 @@ def test_deposit_substeps(g, dn, sub, expected):
         def merged(self, factor):
             return self
 
-    cw = CycleWear(np.full(n, 1e-9), np.zeros(n), 1e-12, 0.0, 0.0, np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n),
-                   0.0, 0.0, levelling_rate=g, share=Share())
     settings = WearSettings(geometry_mode="profile", profile_substep_cycles=sub, n_grid=n)
-    wb, vol = lay_bearing(cw, np.zeros(n), np.zeros(n), dn, settings)
+    wb, vol = lay_distributed(Share(), np.full(n, 1e-9), 1e-12, g, np.zeros(n), dn, settings)
     assert len(laid) == 1
     steps, dt, first = laid[0]
     assert steps == expected - 1 and dt == pytest.approx(dn / expected, rel=1e-12)

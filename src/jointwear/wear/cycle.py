@@ -12,7 +12,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-
 from .angles import circular_mean
 from .kernels import (
     accumulate_wear,
@@ -70,6 +69,8 @@ class CycleWear:
     mean_orientation: float  # rod (bearing body) mean orientation over the cycles (rad, global)
     levelling_rate: float = 0.0  # profile mode, distributed deposit: 1/cycle (kernels.share_load)
     share: "ConformalShare | None" = dataclasses.field(default=None, repr=False)  # distributed deposit only
+    journal_levelling_rate: float = 0.0  # the same for the journal, on its own grid
+    journal_share: "ConformalShare | None" = dataclasses.field(default=None, repr=False)
 
 
 @dataclass
@@ -136,6 +137,7 @@ def cycle_wear(
     bearing_touch: np.ndarray | None = None,
     journal_touch: np.ndarray | None = None,
     bearing_bore: np.ndarray | None = None,
+    journal_bore: np.ndarray | None = None,
 ) -> CycleWear:
     """Archard wear per cycle of one ContactTrace-like record that spans `n_cycles` cycles.
 
@@ -145,7 +147,13 @@ def cycle_wear(
     (profile mode, 'envelope' contact): grid index of the bore point that touches for each centre-line direction
     (contact.envelope.admissible_set); the wear is laid there. bearing_bore (profile mode, `profile_deposit =
     "distributed"`): the bore's contact profile (smoothed wear, m); each step's bearing wear is shared over the
-    cells the journal touches (kernels.gather_directions, share_load) instead.
+    cells the journal touches (kernels.gather_directions, share_load) instead. journal_bore: the same for the
+    journal, its contact profile on its own grid, shared in the journal's frame (a flat worn on a pin under a load
+    fixed on the pin is the bore's pocket mirrored: e . u <= c0 + h_j(u) to first order in c0 / R).
+
+    Each side shares the load over its own profile only; the contact's Archard volume is (k/H) sum_k N_k ds on both
+    sides, with sum_k N_k / F the larger of the two sides' ratios (the side worn to the other's shape sets how far
+    the pressure spreads).
     """
     mat = materials or JointMaterials.from_trace(trace)
     n = settings.n_grid
@@ -175,33 +183,48 @@ def cycle_wear(
     diag = np.zeros((4, n))
     vb, vj, s, bmax = accumulate_wear(
         tb_w, tj_w, F, v, dt, r_b, r_j, mat.r_b0, mat.r_j0, mat.h_b, mat.h_j,
-        mat.kH_b if bearing_bore is None else 0.0, mat.kH_j, mat.width,
+        mat.kH_b if bearing_bore is None else 0.0, mat.kH_j if journal_bore is None else 0.0, mat.width,
         settings.half_width_factor, settings.pressure == "hertz", settings.track_journal, wb, wj, diag,
         math.radians(settings.profile_smoothing_deg) * math.sqrt(3.0) if bearing_profile is not None else 0.0,
     )
-    g_level = 0.0
-    share = None
-    if bearing_bore is not None:
+    fds = float(np.sum(F * np.abs(v) * dt))  # (1/(k/H)) x the Archard volume of a point contact
+    sides = []  # the sides laid by the shared load: (side, k/H, shares per unit k/H, their deposit on the side)
+    tilt = np.ascontiguousarray(trace.normal_tilt, dtype=float)
+    for side, kH, radius, bore, theta in ((0, mat.kH_b, mat.r_b0, bearing_bore, tb),
+                                          (1, mat.kH_j, mat.r_j0, journal_bore, tj)):
+        if bore is None:
+            continue
         bins = np.zeros((4, n))
-        gather_directions(tb, np.ascontiguousarray(trace.normal_tilt, dtype=float), F, v, dt, r_b, r_j,
-                          mat.h_b + mat.h_j, mat.kH_b, mat.width, settings.half_width_factor, bins)
-        share = ConformalShare(bins / n_cycles, mat.r_b0 - mat.r_j0, mat.r_b0, mat.width)
-        rate_b, vrate_b, g_level = share(bearing_bore)
-        wb += rate_b * n_cycles
-        vb = vrate_b * n_cycles
-        # the journal slides past the same shared pressure: its Archard volume is (k/H) sum_k N_k ds as the bore's,
-        # not (k/H) F ds, so its deposit takes the ratio of the two (on a round bore 1; up to 4/pi in a full pocket)
-        point = mat.kH_b * float(np.sum(F * np.abs(v) * dt))
-        if point > 0.0 and vb > 0.0:
-            wj *= vb / point
-            vj *= vb / point
+        gather_directions(theta, tilt, F, v, dt, r_b, r_j, mat.h_b + mat.h_j, 1.0, mat.width,
+                          settings.half_width_factor, bins)
+        unit = ConformalShare(bins / n_cycles, mat.r_b0 - mat.r_j0, radius, mat.width)
+        sides.append((side, kH, unit, unit(bore)))
+    g_level, share, g_journal, share_j = 0.0, None, 0.0, None
+    if sides:
+        # sum_k N_k / F of each side sharing the load, 1 for a side laid at its touching point
+        ratios = [vrate * n_cycles / fds if fds > 0.0 else 1.0 for _, _, _, (_, vrate, _) in sides]
+        ratio = max(ratios + ([1.0] if len(sides) < 2 else []))
+        for (side, kH, unit, (rate, vrate, g)), own in zip(sides, ratios):
+            f = kH * ratio / own  # this side's k/H, times the contact's ratio over its own
+            laid = ConformalShare(unit.bins * f, unit.c0, unit.r_b0, unit.width)
+            if side == 0:
+                wb += rate * (f * n_cycles)
+                vb = vrate * f * n_cycles
+                g_level, share = g * f, laid
+            else:
+                wj += rate * (f * n_cycles)
+                vj = vrate * f * n_cycles
+                g_journal, share_j = g * f, laid
+        if journal_bore is None and fds > 0.0:  # the journal laid at its touching point takes the contact's ratio
+            wj *= ratio
+            vj *= ratio
     inv = 1.0 / n_cycles
     with np.errstate(invalid="ignore", divide="ignore"):
         fmean = np.where(diag[0] > 0, diag[1] / diag[0], np.nan)
         amean = np.where(diag[0] > 0, diag[3] / diag[0], np.nan)
     mean_or = circular_mean(trace.bearing_body_angle, dt)
     return CycleWear(wb * inv, wj * inv, vb * inv, vj * inv, s * inv, diag[0] * inv, fmean, diag[2] * inv, amean,
-                     bmax, mean_or, g_level, share)
+                     bmax, mean_or, g_level, share, g_journal, share_j)
 
 
 def mean_half_width(cw: CycleWear, mat: JointMaterials, settings: WearSettings) -> float:

@@ -23,7 +23,7 @@ import threading
 import time
 from collections import deque
 from concurrent.futures import ThreadPoolExecutor
-from typing import Any, Callable
+from typing import Any, Callable, NamedTuple
 
 import numpy as np
 
@@ -38,28 +38,33 @@ from .settings import WearSettings, check_cycles
 
 
 def contact_profiles(c0: float, wb: np.ndarray, wj: np.ndarray, settings: WearSettings):
-    """Profiles given to the contact search in profile mode and the touching-point maps (None for 'radial')."""
+    """Profiles given to the contact search in profile mode and the touching-point maps (None for 'radial', for a
+    round side, and for the distributed deposit, which does not use them)."""
     wb, wj = smoothed_profiles(wb, wj, settings)
     if settings.profile_contact == "radial":
         return wb.copy(), wj.copy(), None, None
-    out = []
-    for side, w in enumerate((wb, wj)):
-        if side == 0 and settings.profile_deposit == "distributed":  # the bearing's touch map is not used
-            out.append((None, None))
-            continue
-        if not w.any():  # a round side touches where its normal points: no map (exactly what the map would do)
-            out.append((w.copy(), None))
-            continue
+
+    def touch_map(w):
         ce = np.empty_like(w)
         idx = np.empty(w.shape[0], dtype=np.int64)
         admissible_set(c0 + w, ce, idx)
-        out.append((np.maximum(ce - c0, 0.0), idx))
-    # the bearing: the admissible set with its corners rounded (contact.envelope), so that a journal resting in a
-    # pocket worn to its own shape meets a smooth contact normal
-    rb = np.empty_like(wb)
-    rounded_envelope(c0 + wb, PROFILE_ROUNDING * c0, rb)
-    out[0] = (np.maximum(rb - c0, 0.0), out[0][1])
-    return out[0][0], out[1][0], out[0][1], out[1][1]
+        return np.maximum(ce - c0, 0.0), idx
+
+    def rounded(w):  # the admissible set with its corners rounded (contact.envelope)
+        r = np.empty_like(w)
+        rounded_envelope(c0 + w, PROFILE_ROUNDING * c0, r)
+        return np.maximum(r - c0, 0.0)
+
+    # the bore's corners are rounded so that a journal resting in a pocket worn to its own shape meets a smooth
+    # contact normal; with the distributed deposit the journal's too (a pin's flat resting on the bore)
+    distributed = settings.profile_deposit == "distributed"
+    hb, ib = rounded(wb), None
+    if not distributed and wb.any():  # a round side touches where its normal points: no map (the map's identity)
+        ib = touch_map(wb)[1]
+    hj, ij = wj.copy(), None
+    if wj.any():
+        hj, ij = (rounded(wj), None) if distributed else touch_map(wj)
+    return hb, hj, ib, ij
 
 
 def smoothed_profiles(wb: np.ndarray, wj: np.ndarray, settings: WearSettings):
@@ -70,25 +75,30 @@ def smoothed_profiles(wb: np.ndarray, wj: np.ndarray, settings: WearSettings):
     return wb, wj
 
 
-def bore_profile(wb: np.ndarray, settings: WearSettings) -> np.ndarray:
-    """The bearing's worn profile as the contact sees it (smoothed_profiles' bearing half)."""
-    if settings.profile_smoothing_deg > 0.0:
-        return np.maximum(smooth_periodic(wb, settings.profile_smoothing_deg), 0.0)
-    return wb
+class WornGeometry(NamedTuple):
+    """A joint's geometry for one block and what its wear needs (wear.cycle.cycle_wear)."""
+
+    geometry: Any  # ClearanceGeometry for the dynamics
+    bearing_touch: np.ndarray | None = None  # profile mode, 'touch' deposit: the touching points' maps
+    journal_touch: np.ndarray | None = None
+    bearing_bore: np.ndarray | None = None  # profile mode, distributed deposit: the contact profiles the load shares
+    journal_bore: np.ndarray | None = None
 
 
-def update_geometry(g0, settings: WearSettings, wb: np.ndarray, wj: np.ndarray, growth: float):
+def update_geometry(g0, settings: WearSettings, wb: np.ndarray, wj: np.ndarray, growth: float) -> WornGeometry:
     """The unworn ClearanceGeometry ``g0`` worn by the profiles wb, wj (profile mode) or the clearance growth
-    (uniform mode): (geometry for the dynamics, bearing touch map, journal touch map, bore contact profile or None)."""
+    (uniform mode)."""
     if settings.geometry_mode == "profile":
         c0 = float(g0.bearing_radius - g0.journal_radius + g0.clearance_growth)
         hb, hj, ib, ij = contact_profiles(c0, wb, wj, settings)
-        bore = None
+        bore = pin = None
         if settings.profile_deposit == "distributed":
-            bore = bore_profile(wb, settings)
-            ib = None
-        return dataclasses.replace(g0, use_profile=True, bearing_wear=hb, journal_wear=hj), ib, ij, bore
-    return dataclasses.replace(g0, use_profile=False, clearance_growth=float(growth)), None, None, None
+            bore, pin = smoothed_profiles(wb, wj, settings)
+            if not settings.track_journal:
+                pin = None
+        return WornGeometry(dataclasses.replace(g0, use_profile=True, bearing_wear=hb, journal_wear=hj), ib, ij,
+                            bore, pin)
+    return WornGeometry(dataclasses.replace(g0, use_profile=False, clearance_growth=float(growth)))
 
 
 #: The shares of the load level a bore cell that stands out by eps at a rate g eps (CycleWear.levelling_rate); an
@@ -106,23 +116,24 @@ MAX_LEVELLING_SUBSTEPS = 16
 SUBSTEP_MERGE = 4
 
 
-def lay_bearing(cw: CycleWear, wb: np.ndarray, wj: np.ndarray, dn: int, settings: WearSettings):
-    """Profile mode, distributed deposit: lay a block's bearing wear in sub-steps (see LEVELLING_STEP), each
-    increment smoothed over the running-in length as the contact sees the bore (a ripple shorter than it is
-    invisible to the shares and would otherwise grow from their grid-scale noise; the profile is the sum of the
-    increments, so this smooths it once, not once per block, and conserves the worn area).
-    Returns (new profile, Archard volume of the block)."""
-    m = max(1, min(MAX_LEVELLING_SUBSTEPS, math.ceil(cw.levelling_rate * dn / LEVELLING_STEP)),
+def lay_distributed(share, rate: np.ndarray, volume: float, levelling_rate: float, w: np.ndarray, dn: int,
+                    settings: WearSettings):
+    """Profile mode, distributed deposit: lay a block's wear on one side's profile w in sub-steps (see
+    LEVELLING_STEP), the first at the block's own rate and volume per cycle, the others re-sharing the block's loads
+    (ConformalShare `share`) over the profile as it wears; each increment smoothed over the running-in length as
+    the contact sees the profile (a ripple shorter than it is invisible to the shares and would otherwise grow from
+    their grid-scale noise; the profile is the sum of the increments, so this smooths it once, not once per block,
+    and conserves the worn area). Returns (new profile, Archard volume of the block)."""
+    m = max(1, min(MAX_LEVELLING_SUBSTEPS, math.ceil(levelling_rate * dn / LEVELLING_STEP)),
             math.ceil(dn / settings.profile_substep_cycles))
-    rate = cw.bearing  # the first sub-step: the block's own sharing, at the full direction resolution
     if settings.profile_smoothing_deg > 0.0:
         rate = np.maximum(smooth_periodic(rate, settings.profile_smoothing_deg), 0.0)
-    wb = wb + rate * (dn / m)
-    vol = cw.volume_bearing * (dn / m)
+    w = w + rate * (dn / m)
+    vol = volume * (dn / m)
     if m > 1:
-        share = cw.share.merged(SUBSTEP_MERGE) if SUBSTEP_MERGE > 1 else cw.share
-        vol += share.lay(wb, m - 1, dn / m, settings.profile_smoothing_deg)
-    return wb, vol
+        merged = share.merged(SUBSTEP_MERGE) if SUBSTEP_MERGE > 1 else share
+        vol += merged.lay(w, m - 1, dn / m, settings.profile_smoothing_deg)
+    return w, vol
 
 
 def growth_depth(settings: WearSettings, wb: np.ndarray, wj: np.ndarray) -> float:
@@ -256,7 +267,7 @@ def wear_history(
             while len(inflight) < lanes and (k_next < n_blocks if n_blocks is not None else not inflight):
                 lane = k_next % lanes
                 upd = [update_geometry(geoms0[i], settings, wb[i], wj[i], growth[i]) for i in range(nj)]
-                geoms = [u[0] for u in upd]
+                geoms = [u.geometry for u in upd]
                 state = lane_state[lane]
                 if state is not None:
                     settle = settings.settle_cycles
@@ -280,7 +291,8 @@ def wear_history(
                 cw = cycle_wear(tr, settings, rec, mats[i], growth=growth_used[i],
                                 bearing_profile=geoms[i].bearing_wear if prof else None,
                                 journal_profile=geoms[i].journal_wear if prof else None,
-                                bearing_touch=upd[i][1], journal_touch=upd[i][2], bearing_bore=upd[i][3])
+                                bearing_touch=upd[i].bearing_touch, journal_touch=upd[i].journal_touch,
+                                bearing_bore=upd[i].bearing_bore, journal_bore=upd[i].journal_bore)
                 if first[i] is None:
                     first[i] = cw
                 last[i] = cw
@@ -299,13 +311,19 @@ def wear_history(
             dn = min(block, n_cycles - done)
             for i, cw in enumerate(rates):
                 if cw.share is not None:
-                    wb[i], vb_add = lay_bearing(cw, wb[i], wj[i], dn, settings)
+                    wb[i], vb_add = lay_distributed(cw.share, cw.bearing, cw.volume_bearing, cw.levelling_rate,
+                                                    wb[i], dn, settings)
                 else:
                     wb[i] += cw.bearing * dn
                     vb_add = cw.volume_bearing * dn
-                wj[i] += cw.journal * dn
+                if cw.journal_share is not None:
+                    wj[i], vj_add = lay_distributed(cw.journal_share, cw.journal, cw.volume_journal,
+                                                    cw.journal_levelling_rate, wj[i], dn, settings)
+                else:
+                    wj[i] += cw.journal * dn
+                    vj_add = cw.volume_journal * dn
                 vol_b[i] += vb_add
-                vol_j[i] += cw.volume_journal * dn
+                vol_j[i] += vj_add
                 if settings.geometry_mode == "uniform":
                     growth[i] = growth0[i] + growth_depth(settings, wb[i], wj[i])
                 hist_b[i].append(float(wb[i].max()))

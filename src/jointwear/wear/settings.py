@@ -50,12 +50,14 @@ class WearSettings(SIModel):
     profile_deposit: Literal["distributed", "touch"] = Field(
         "distributed",
         description=(
-            "Profile mode only: where each step's bearing wear is laid. 'distributed' (default): shared over the bore "
-            "cells the journal touches, in proportion to their rigid overlap with it (an elastic foundation whose "
-            "patch on a round bore is Johnson's half-width; kernels.share_load): a journal resting in a "
-            "pocket worn to its own shape loads the whole worn arc with a cos-shaped pressure, the conformal wear of "
-            "Kauzlarich and Williams (2001) that docs/verification.md checks. 'touch': at the single bore point that "
-            "touches (admissible_set's map), spread over the patch and the running-in length (47 % too deep on the conformal rig)."
+            "Profile mode only: where each step's wear is laid. 'distributed' (default): on each side, shared over "
+            "the cells the other body touches, in proportion to their rigid overlap with it (an elastic foundation "
+            "whose patch on a round bore is Johnson's half-width; kernels.share_load): a journal resting in a pocket "
+            "worn to its own shape loads the whole worn arc with a cos-shaped pressure, the conformal wear of "
+            "Kauzlarich and Williams (2001) that docs/verification.md checks, and a pin under a load fixed on it "
+            "wears the bore's shape into itself alike. 'touch': at the single point that touches "
+            "(admissible_set's map), spread over the patch and the running-in length (47 % too deep on the "
+            "conformal rig)."
         ),
     )
     profile_smoothing_deg: float = Field(
@@ -64,7 +66,7 @@ class WearSettings(SIModel):
         le=90.0,
         description=(
             "Profile mode only: running-in length (deg). The worn profiles given to the contact search are smoothed "
-            "by a periodic Gaussian of this standard deviation, and each block's bearing wear is laid smoothed by it "
+            "by a periodic Gaussian of this standard deviation, and each block's wear is laid smoothed by it "
             "(distributed deposit; with the 'touch' deposit each step's wear is laid over at least +-sqrt(3) x this "
             "angle); both conserve the worn area. Default 3 deg: on the conformal rig of docs/verification.md halving it "
             "changes the max depth by < 0.1 % (docs/wear.md 'Profile mode on conformal contacts'); 0: "
@@ -75,8 +77,8 @@ class WearSettings(SIModel):
         300.0,
         gt=0.0,
         description=(
-            "Profile mode, distributed deposit only: most cycles per sub-step in which a block's bearing wear is laid; "
-            "each sub-step re-shares the block's recorded loads over the bore as it wears. A block of n cycles takes "
+            "Profile mode, distributed deposit only: most cycles per sub-step in which a block's wear is laid on "
+            "each side; each sub-step re-shares the block's recorded loads over the profile as it wears. A block of n cycles takes "
             "max(min(ceil(g n / 2), 16), ceil(n / this)) sub-steps, g the levelling rate of the shares (1/cycle): "
             "the first term resolves a steady conformal load (the rig of docs/verification.md), the second bounds "
             "the sub-step where the levelling is faster than any affordable step (a rotating load). There the "
