@@ -829,11 +829,11 @@ def bench_profile_deposit(levels=(700_000, 900_000, 1_100_000, 1_300_000), repli
                           blocks=(1, 10, 40), perturbations: int = 3) -> dict:
     """Issue 14 items 1 and 5: the profile preset's model call (its nominal history to 1.3M cycles) and its
     deposit. `replicates` histories (start phase +0.05 cycle each): the max depth at `levels`, the wall and
-    simulation seconds of each; the wall of laying the deposit alone (history.lay_bearing over one history's blocks,
-    re-run on their recorded loads); and how the deposit's sub-step iteration amplifies rounding: blocks `blocks`
+    simulation seconds of each; the wall of laying the deposit alone (history.lay_distributed over one history's
+    blocks, both sides, re-run on their recorded loads); and how the deposit's sub-step iteration amplifies
+    rounding: bearing blocks `blocks`
     laid again from their input profile perturbed by 1e-13 (relative, `perturbations` draws), the change of the
-    block's increment (largest cell, relative to the increment's max) and of its max. Tree-agnostic, so the same
-    section run on an earlier commit (--out elsewhere) records the code it replaced."""
+    block's increment (largest cell, relative to the increment's max) and of its max."""
     import jointwear.wear.history as history
 
     cfg = load_config("jin2025_flapping_wing_profile")
@@ -854,30 +854,32 @@ def bench_profile_deposit(levels=(700_000, 900_000, 1_100_000, 1_300_000), repli
            "wall_seconds_median": statistics.median(x["wall_seconds"] for x in runs),
            "simulation_seconds_median": statistics.median(x["simulation_seconds"] for x in runs)}
     captured = []
-    lay = history.lay_bearing
+    lay = history.lay_distributed
 
-    def spy(cw, wb, wj, dn, settings):
-        captured.append((cw, wb.copy(), wj.copy(), dn))
-        return lay(cw, wb, wj, dn, settings)
+    def spy(share, rate, volume, levelling_rate, w, dn, settings):
+        captured.append((share, rate, volume, levelling_rate, w.copy(), dn))
+        return lay(share, rate, volume, levelling_rate, w, dn, settings)
 
-    history.lay_bearing = spy
+    history.lay_distributed = spy
     try:
         wear_history(model, s.model_copy(update={"lanes": 1}), n_cycles)
     finally:
-        history.lay_bearing = lay
+        history.lay_distributed = lay
     t0 = time.perf_counter()
-    for cw, wb, wj, dn in captured:
-        lay(cw, wb, wj, dn, s)
+    for share, rate, volume, g, w, dn in captured:
+        lay(share, rate, volume, g, w, dn, s)
     out["deposit_wall_seconds_one_history"] = time.perf_counter() - t0
-    out["deposit_blocks"] = len(captured)
+    bearing = [c for c in captured if c[0].r_b0 == max(x[0].r_b0 for x in captured)]  # the journal's is smaller
+    out["deposit_blocks"] = len(bearing)
+    out["deposit_calls"] = len(captured)  # both sides' (the journal's too when it is shared)
     rng = np.random.default_rng(0)
     cond = []
     for i in blocks:
-        cw, wb, wj, dn = captured[i]
-        inc = lay(cw, wb, wj, dn, s)[0] - wb
+        share, rate, volume, g, wb, dn = bearing[i]
+        inc = lay(share, rate, volume, g, wb, dn, s)[0] - wb
         for _ in range(perturbations):
             pert = wb * (1.0 + 1e-13 * rng.standard_normal(wb.shape))
-            inc_p = lay(cw, pert, wj, dn, s)[0] - pert
+            inc_p = lay(share, rate, volume, g, pert, dn, s)[0] - pert
             cond.append({"block": i, "increment_change": float(np.abs(inc_p - inc).max() / inc.max()),
                          "increment_max_change": float(inc_p.max() / inc.max() - 1.0)})
     out["rounding_amplification"] = cond
@@ -966,6 +968,8 @@ def main(argv=None) -> int:
                                     "load_average_at_start": os.getloadavg()}
             data[sec]["date_utc"] = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
         print(f"{sec}: {time.perf_counter() - t0:.1f} s", file=sys.stderr)
+        out_path.parent.mkdir(parents=True, exist_ok=True)
+        out_path.write_text(json.dumps(data, indent=1))  # after every section: a later failure loses nothing
     if "timing" in data and "literal" in data:
         for name in ("default", "fast"):
             data["literal"][f"ratio_literal_to_{name}"] = (data["literal"]["extrapolated_seconds_520k"]

@@ -31,8 +31,8 @@ class MaterialConfig(SIModel):
         "reading), at least 1 MPa (PTFE's is about 30 MPa): a smaller value is a unit slip.",
     )
     wear_coefficient: float = F(
-        ge=0, lt=1, description="Dimensionless Archard wear coefficient k, 0 <= k < 1 (paper Eq. 29; baseline reading "
-        "of Table 2): a probability per asperity encounter, about 1e-2 for dry mild steel at most; 0 for a side that "
+        ge=0, lt=1, description="Dimensionless Archard wear coefficient k, 0 <= k < 1 (Archard's law, "
+        "dV = k F ds / H): a probability per asperity encounter, about 1e-2 for dry mild steel at most; 0 for a side that "
         "does not wear. From a handbook's specific wear rate K in mm^3/(N m): k = K x 1e-9 x H in Pa (k / H is K in "
         "m^2/N), e.g. POM on steel, K = 2e-6 at H = 170 MPa: k = 3.4e-7.",
     )
@@ -70,13 +70,13 @@ class ClearanceJointConfig(SIModel):
     )
     bearing_body: str = F(description="Body carrying the bearing (the hole); one of the two bodies of `joint`.")
     journal_body: str = F(description="Body carrying the journal (the pin); the other body of `joint`.")
-    bearing_radius: float = F(unit="m", gt=0, description="Inner radius R_i of the bearing (paper Table 2: 1.002 mm).")
+    bearing_radius: float = F(unit="m", gt=0, description="Inner radius R_i of the bearing.")
     journal_radius: float = F(unit="m", gt=0, description="Radius R_j of the journal; must be < bearing_radius.")
     bearing_outer_radius: float | None = F(
         None, unit="m", gt=0,
-        description="Outer radius of the bearing (the flapping-wing preset: 1.5 mm, Jin et al. 2025, Table 2); the wear allowance 0.01 D uses its diameter.",
+        description="Outer radius of the bearing; the wear allowance 0.01 D uses its diameter.",
     )
-    width: float = F(unit="m", gt=0, description="Axial width L of the contact (Table 4: 1 mm).")
+    width: float = F(unit="m", gt=0, description="Axial width L of the contact.")
     bearing_material: MaterialConfig = F(description="Bearing material.")
     journal_material: MaterialConfig = F(description="Journal material.")
     contact_law: Literal["lankarani_nikravesh", "flores", "hunt_crossley"] = F(
@@ -86,7 +86,12 @@ class ClearanceJointConfig(SIModel):
     )
     exponent: float = F(1.5, gt=0, description="Force exponent n of K d^n; 1.5 (Hertz, paper Eq. 16), the only value "
                         "consistent with the stiffness K, which is Hertz's in N/m^1.5 from the materials and radii.")
-    restitution: float = F(0.9, gt=0, le=1, description="Coefficient of restitution cr (Table 4: 0.9).")
+    restitution: float = F(
+        0.9, gt=0, le=1,
+        description="Coefficient of restitution cr the damping of the contact law is built from. Each law matches it "
+        "to first order in 1 - cr only: one impact delivers 0.913 at cr = 0.9 with 'lankarani_nikravesh', 0.909 with "
+        "'hunt_crossley' and 0.894 with 'flores' (docs/verification.md, case 6).",
+    )
     v0_min: float = F(
         1e-4, unit="m/s", gt=0,
         description="Floor on the impact speed v0 in the damping term; paper silent, baseline reading 1e-4 m/s.",

@@ -58,16 +58,15 @@ class FourBarConfig(SIModel):
     """
 
     type: Literal["four_bar"] = "four_bar"
-    crank_pivot: Vec2 = F((0.0, 0.0), unit="m", description="Ground pivot O of the crank (Fig. 14: origin).")
-    rocker_pivot: Vec2 = F(unit="m", description="Ground pivot C of the rocker (Table 4: (11.5, 38) mm).")
-    crank: LinkConfig = F(description="Crank OA (Table 3). Its mass does not matter while its speed is imposed.")
-    rod: LinkConfig = F(description="Connecting rod AB (Table 3).")
+    crank_pivot: Vec2 = F((0.0, 0.0), unit="m", description="Ground pivot O of the crank.")
+    rocker_pivot: Vec2 = F(unit="m", description="Ground pivot C of the rocker.")
+    crank: LinkConfig = F(description="Crank OA. Its mass does not matter while its speed is imposed.")
+    rod: LinkConfig = F(description="Connecting rod AB.")
     rocker: LinkConfig = F(
-        description="Rocker CB: length = l_BC (Table 4); com_offset from C (baseline reading: uniform 27 mm bar, "
-        "C at one end, com 13.5 mm from C)."
+        description="Rocker CB: length = l_BC; com_offset measured from C."
     )
     crank_speed: float = F(
-        unit="rad/s", description="Constant crank speed, positive counter-clockwise (480 rpm, Section 6.1.1)."
+        unit="rad/s", description="Constant crank speed, positive counter-clockwise."
     )
     crank_angle0: float = F(0.0, unit="rad", description="Crank angle at t = 0, from +x, CCW.")
     assembly_branch: Literal[1, -1] = F(

@@ -159,8 +159,8 @@ class ClearanceSpec(SIModel):
                        "given.")
     target: str = Field(description="Dotted path of the clearance in the SI config, e.g. "
                         "'clearance_joints.A.clearance'.")
-    mean: float = F(2e-6, unit="m", description="Designed radial clearance, m (Table 2: 1.002 mm - 1 mm); set by "
-                    "`fit` when that is given.")
+    mean: float = F(2e-6, unit="m", description="Designed radial clearance, m; set by `fit` when that is "
+                    "given.")
     fit: str | None = Field(
         None, description="The fit with its ISO 286 letters, bore/pin, e.g. 'H7/g6' (clearance fits: bores D-H on "
         "pins d-h, nominal diameters up to 120 mm). It sets hole_grade, shaft_grade and the mean (the middle of the "

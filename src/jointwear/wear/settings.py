@@ -249,10 +249,10 @@ class WearSettings(SIModel):
         5e-7,
         gt=0.0,
         description=(
-            "Integrator relative tolerance of the wear runs; None: the dynamics' default (1e-6). Default 5e-7: with "
-            "the dynamics' 1e-6 the max wear at 400k cycles came out 2.4 % +- 1.5 % lower than with 5e-7 (8 "
-            "replicates each), while 2.5e-7 changed it by only +0.5 % from 5e-7; the cost is about 5-10 % more steps "
-            "(benchmarks/wear.py, docs/wear.md)."
+            "Integrator relative tolerance of the wear runs; None: the dynamics' default (1e-6). Default 5e-7, half "
+            "the dynamics' default, as a margin (about 5-10 % more steps), not for a measured gain: at 400k cycles "
+            "the 8-run means at 1e-6, 5e-7 and 2.5e-7 lie within about one standard error (1.5 %) of each other "
+            "(docs/wear.md 'Convergence')."
         ),
     )
     atol: float | None = F(
