@@ -14,6 +14,16 @@ from pydantic import Field, field_validator, model_validator
 from jointwear.schema import F, SIModel
 
 
+#: Upper bounds of the sizes a config asks for, checked when it is loaded (``jointwear check`` fails fast on them
+#: instead of allocating): each is far above any real study and below what would exhaust a workstation's memory.
+#: A Monte Carlo population holds 8 bytes per random variable per sample (1e8 samples of 8 variables: 6.4 GB).
+MAX_MC_SAMPLES = 100_000_000
+#: Levels of the R(N) curve (its grid plus the histogram levels): every level holds a Pf estimate over the whole
+#: population, and a level count in the millions only builds the grid for minutes (the defaults give 11).
+MAX_CURVE_LEVELS = 1_000
+#: Saltelli base sample size: the Sobol' design holds N (d + 2) points of d variables (2**20 with 8 variables: 670 MB).
+MAX_SOBOL_BASE_SAMPLES = 2**20
+
 LimitStateQuantity = Literal["bearing_max_depth", "journal_max_depth", "clearance_growth"]
 
 
@@ -49,7 +59,8 @@ class ReliabilitySettings(SIModel):
         None, description="Last cycle count of the R(N) curve (required by the reliability stages).")
     cycles_step: int | None = Field(
         None, description="Spacing of the R(N) curve; None = (stop - start) / 10. cycles_stop is always a level, so a "
-        "step that does not divide the span leaves a shorter last interval (the histogram levels are added too).")
+        "step that does not divide the span leaves a shorter last interval (the histogram levels are added too). The "
+        "curve has at most 1,000 levels, histogram levels included (each is a Pf estimate over the population).")
     target_reliability: float | list[float] = Field(
         0.9, description="Target reliability, or several (a life table): the life is the first N with "
         "R(N) <= target. The first target is the headline.")
@@ -60,8 +71,12 @@ class ReliabilitySettings(SIModel):
         None, description="Curve level followed by the progress line and the convergence record; None = the "
         "middle level of the curve.")
     n_mc: int = Field(
-        200_000, description="Initial Monte Carlo population (paper: 100,000; 200,000 gives COV < 5 % down to Pf = 2e-3).")
-    n_mc_max: int = Field(2_000_000, description="Largest population when the COV check grows it.")
+        200_000, le=MAX_MC_SAMPLES,
+        description="Initial Monte Carlo population (paper: 100,000; 200,000 gives COV < 5 % down to Pf = 2e-3). At "
+        "most 1e8: the population holds 8 bytes per random variable per sample (6.4 GB for 8 variables).")
+    n_mc_max: int = Field(
+        2_000_000, le=MAX_MC_SAMPLES,
+        description="Largest population when the COV check grows it (at most 1e8, as n_mc).")
     n_initial: int = Field(12, description="Latin hypercube initial design size (paper: 20 calls in all).")
     batch_size: int = Field(2, description="Points added per learning iteration (run in parallel).")
     u_threshold: float = Field(2.0, description="Stop learning when min U >= this (paper Eq. 46: 2).")
@@ -140,7 +155,22 @@ class ReliabilitySettings(SIModel):
                              "design alone makes n_initial model calls")
         if self.histogram_cycles is not None and any(c <= 0 for c in self.histogram_cycles):
             raise ValueError("histogram_cycles must be positive")
+        self._check_level_count()
         return self
+
+    def _check_level_count(self) -> None:
+        """The curve's level count bounded (MAX_CURVE_LEVELS), counted without building its grid."""
+        hist = len(self.histogram_cycles or [])
+        if hist > MAX_CURVE_LEVELS:
+            raise ValueError(f"histogram_cycles: {hist:,} levels given, at most {MAX_CURVE_LEVELS:,}")
+        if self.cycles_start is None or self.cycles_stop is None:
+            return
+        grid = len(range(self.cycles_start, self.cycles_stop + 1, self.step())) + 1  # cycles_stop may be off the step
+        if grid + hist > MAX_CURVE_LEVELS:
+            raise ValueError(
+                f"cycles_step: the R(N) curve from cycles_start = {self.cycles_start:,} to cycles_stop = "
+                f"{self.cycles_stop:,} on a step of {self.step():,} has about {grid + hist:,} levels (histogram levels "
+                f"included), at most {MAX_CURVE_LEVELS:,}: widen cycles_step")
 
     @property
     def targets(self) -> list[float]:
@@ -204,7 +234,10 @@ class SensitivitySettings(SIModel):
         None, description="Cycle count of the sensitivity study, one of the R(N) curve's (paper: 360,000); None = "
         "the curve level whose reliability is nearest the (first) target reliability.")
     factors: tuple[float, float] = Field((0.8, 1.2), description="Mean shifts (paper: 80 % and 120 %).")
-    sobol_base_samples: int = Field(2048, description="Saltelli base sample size on the surrogate (power of 2).")
+    sobol_base_samples: int = Field(
+        2048, le=MAX_SOBOL_BASE_SAMPLES,
+        description="Saltelli base sample size on the surrogate (power of 2; at most 2**20 = 1,048,576: the Sobol' "
+        "design holds N (d + 2) points of d variables, 670 MB for 8 variables).")
     surrogate_shift_limit: float = Field(
         4.0, description="A mean shift up to this many standard deviations is evaluated on the reliability "
         "surrogate (the initial design spans +-5 sigma); a larger one by one true-model call and the separable "

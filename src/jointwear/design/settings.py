@@ -19,6 +19,9 @@ from pydantic import Field, field_validator, model_validator
 from jointwear.schema import F, SIModel
 from jointwear.uncertainty.tolerances import IT_GRADES, grade_key, iso_fit, it_tolerance
 
+#: largest population per candidate, as reliability.n_mc (jointwear.study_settings.MAX_MC_SAMPLES)
+MAX_POPULATION = 100_000_000
+
 if TYPE_CHECKING:
     from jointwear.uncertainty.variables import ClearanceSpec, UncertaintySettings
 
@@ -297,8 +300,10 @@ class DesignSettings(SIModel):
     materials: list[MaterialControl] = Field(default_factory=list, description="Candidate materials.")
     cost_model: CostModel = Field(default_factory=CostModel, description="Tolerance-cost relation for grades.")
     n_population: int = Field(
-        50_000, description="Monte Carlo population per candidate on the surrogate (common random numbers: the "
-        "same standard-normal draws for every candidate, so candidates differ only by their distributions).")
+        50_000, le=MAX_POPULATION,
+        description="Monte Carlo population per candidate on the surrogate (common random numbers: the "
+        "same standard-normal draws for every candidate, so candidates differ only by their distributions). At most "
+        "1e8, as reliability.n_mc (8 bytes per random variable per sample).")
     max_candidates: int = Field(100_000, description="Largest number of combinations enumerated.")
     refine_max_calls: int = Field(
         40, description="Budget of refinement points, each a true-model call where the surrogate must be refined for a "

@@ -16,6 +16,11 @@ from pydantic import Field, field_validator, model_validator
 from jointwear.schema import F, SIModel
 from jointwear.units import fmt_mm
 
+#: Most crank cycles `jointwear simulate` records (every step is kept: ~20,000 rows a cycle, 1-2 GB for 100 cycles).
+MAX_RECORDED_CYCLES = 100
+#: Most crank cycles settled before recording (no record, but each costs the integration of a cycle).
+MAX_SETTLE_CYCLES = 10_000
+
 Vec2 = tuple[float, float]
 
 
@@ -425,9 +430,14 @@ class SimulationConfig(SIModel):
         100.0, unit="1/s", ge=0, description="Baumgarte beta (paper Eq. 6, value not given; project choice)."
     )
     settle_cycles: int = F(
-        3, ge=0, description="Crank cycles simulated and discarded before recording (transient from the centred start)."
+        3, ge=0, le=MAX_SETTLE_CYCLES,
+        description="Crank cycles simulated and discarded before recording (transient from the centred start); at most "
+        "10,000 (minutes of integration; a settling transient lasts a few cycles).",
     )
-    cycles: int = F(2, ge=1, description="Crank cycles recorded by `jointwear simulate` unless --cycles is given.")
+    cycles: int = F(
+        2, ge=1, le=MAX_RECORDED_CYCLES,
+        description="Crank cycles recorded by `jointwear simulate` unless --cycles is given; at most 100 (every "
+        "integration step is kept, about 20,000 per cycle: 100 cycles hold 1-2 GB).")
     max_steps: int = F(50_000_000, ge=1000, description="Safety limit on accepted+rejected steps per call.")
     method: Literal["dopri5", "radau5"] = F(
         "dopri5",

@@ -405,11 +405,15 @@ class Study:
         """
         from jointwear.mechanism import build_model
         from jointwear.mechanism import simulate as run_simulation
+        from jointwear.mechanism.settings import MAX_RECORDED_CYCLES, MAX_SETTLE_CYCLES
 
         n = _cycles_argument(cycles if cycles is not None else self.config.simulation.cycles)
+        if n > MAX_RECORDED_CYCLES:  # as simulation.cycles: every step is recorded
+            raise ConfigError(f"cycles: at most {MAX_RECORDED_CYCLES:,} recorded cycles (got {n:,}): every integration "
+                              "step is kept, about 20,000 a cycle")
         if settle is not None and not (isinstance(settle, numbers.Integral) and not isinstance(settle, bool)
-                                       and settle >= 0):
-            raise ConfigError(f"settle must be a whole number of cycles >= 0, got {settle!r}")
+                                       and 0 <= settle <= MAX_SETTLE_CYCLES):
+            raise ConfigError(f"settle must be a whole number of cycles in [0, {MAX_SETTLE_CYCLES:,}], got {settle!r}")
         self._prepare({"simulate"})
         model = build_model(self.config)
         run_simulation(model, 0.01, settle_cycles=0)  # compile (or load) the kernels so the timing excludes it
