@@ -22,7 +22,9 @@ from __future__ import annotations
 
 import difflib
 import numbers
+import os
 import re
+import stat
 import tomllib
 from collections.abc import Mapping
 from importlib import resources
@@ -568,7 +570,29 @@ def _parse_toml(text: str, source: str) -> dict[str, Any]:
         raise ConfigError(f"{source}: malformed TOML: {exc}") from None
 
 
-def _read_source(source: str | Path) -> tuple[dict[str, Any], str, Path | None]:
+#: Largest config file read (a config, or the file its ``extends`` names): real ones are a few kB, and a config
+#: is read whole, so a path to a device or a huge file must not be.
+MAX_CONFIG_BYTES = 1_000_000
+
+
+def _read_config_file(path: Path, what: str = "config") -> bytes:
+    """The bytes of a config file: a regular file (not a device, FIFO or folder) of at most MAX_CONFIG_BYTES.
+    ``what`` names the field in messages ('config', or 'a.toml: extends')."""
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))  # a FIFO must not block the open
+        with os.fdopen(fd, "rb") as f:
+            if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
+                raise ConfigError(f"{what}: '{path}' is not a regular file (expected a TOML file)")
+            raw = f.read(MAX_CONFIG_BYTES + 1)
+    except OSError as exc:
+        raise ConfigError(f"{what}: cannot read file '{path}': {exc.strerror or exc}") from None
+    if len(raw) > MAX_CONFIG_BYTES:
+        raise ConfigError(f"{what}: file '{path}' is larger than {MAX_CONFIG_BYTES:,} bytes, the most a config file "
+                          "may be")
+    return raw
+
+
+def _read_source(source: str | Path, what: str = "config") -> tuple[dict[str, Any], str, Path | None]:
     """The parsed TOML of a preset name or a file, its name for messages and its folder (None for a preset)."""
     text_source = str(source)
     path = Path(text_source)
@@ -581,14 +605,11 @@ def _read_source(source: str | Path) -> tuple[dict[str, Any], str, Path | None]:
             )
         text = (resources.files("jointwear.presets") / f"{text_source}.toml").read_text(encoding="utf-8")
         return _parse_toml(text, f"preset {text_source}"), f"preset {text_source}", None
-    try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise ConfigError(f"config: cannot read file '{path}': {exc.strerror or exc}") from None
+    raw = _read_config_file(path, what)
     try:
         text = raw.decode("utf-8-sig")  # a byte-order mark (Windows editors) is not TOML
     except UnicodeDecodeError:
-        raise ConfigError(f"config: file '{path}' is not UTF-8 text (expected TOML)") from None
+        raise ConfigError(f"{what}: file '{path}' is not UTF-8 text (expected TOML)") from None
     return _parse_toml(text, str(path)), str(path), path.parent
 
 
@@ -647,10 +668,10 @@ def _merge_named(entries: list[dict], changes: dict[str, Any], where: str) -> li
             for v in entries]
 
 
-def _resolve(source: str | Path, chain: tuple[str, ...] = ()) -> tuple[dict[str, Any], str]:
+def _resolve(source: str | Path, chain: tuple[str, ...] = (), what: str = "config") -> tuple[dict[str, Any], str]:
     """The TOML data of ``source`` with its ``extends`` chain resolved (a preset name, or a path relative to the
-    extending file)."""
-    data, name, folder = _read_source(source)
+    extending file); ``what`` names the field that gave ``source`` in messages."""
+    data, name, folder = _read_source(source, what)
     return _extended(data, name, folder, chain), name
 
 
@@ -665,7 +686,7 @@ def _extended(data: dict[str, Any], name: str, folder: Path | None, chain: tuple
         raise ConfigError(f"{name}: extends: expected a preset name or a TOML path (got {base!r})")
     if folder is not None and (base.endswith(".toml") or "/" in base) and not Path(base).is_absolute():
         base = str(folder / base)
-    base_data, _ = _resolve(base, chain + (name,))
+    base_data, _ = _resolve(base, chain + (name,), f"{name}: extends")
     try:
         return merge_tables(base_data, data)
     except ConfigError as exc:
