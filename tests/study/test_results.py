@@ -434,3 +434,20 @@ def test_a_life_of_minutes_keeps_three_figures_in_hours():
 
     assert life_text({"cycles": 28_713, "hours": 0.0957}) == "28,713 cycles = 0.0957 h"
     assert life_text({"cycles": 376_184, "hours": 13.0619}) == "376,184 cycles = 13.06 h"
+
+
+def test_csv_text_cells_that_a_spreadsheet_would_run_are_neutralised_numbers_are_not(tmp_path):
+    import csv
+
+    from jointwear.study.io import write_csv
+
+    write_csv(tmp_path / "x.csv", {
+        "=1+2 name": ["=HYPERLINK(\"http://x\",\"l\")", "+cmd", "-2+3", "@SUM(A1)", "\tx", "ok", "-1.5", "plain"],
+        "value": [-1.5, -2, np.float64(-3.25), np.int64(-4), None, 0.5, 1.0, True],
+    })
+    with open(tmp_path / "x.csv", newline="", encoding="utf-8") as f:
+        rows = list(csv.reader(f))
+    assert rows[0] == ["'=1+2 name", "value"]
+    assert [r[0] for r in rows[1:]] == ["'=HYPERLINK(\"http://x\",\"l\")", "'+cmd", "'-2+3", "'@SUM(A1)", "'\tx", "ok",
+                                        "-1.5", "plain"]
+    assert [r[1] for r in rows[1:]] == ["-1.5", "-2", "-3.25", "-4", "", "0.5", "1", "True"]

@@ -7,6 +7,7 @@ import datetime as _dt
 import io
 import json
 import math
+import numbers
 import os
 import platform
 import re
@@ -82,15 +83,40 @@ def file_labels(names: Sequence[str]) -> list[str]:
     return [f"{label}_{k}" if counts[label.casefold()] > 1 else label for k, label in enumerate(labels)]
 
 
+#: first characters that make a spreadsheet read a text cell as a formula (OWASP, "CSV injection")
+FORMULA_STARTS = ("=", "+", "-", "@", "\t", "\r")
+
+
+def csv_cell(value: Any) -> Any:
+    """One CSV cell: a float in 10 significant digits, None empty, a number as it is, and a text whose first
+    character a spreadsheet reads as a formula (``= + - @``, tab, carriage return) prefixed with a single quote,
+    the standard neutralisation (a variable named ``=HYPERLINK(...)`` is written ``'=HYPERLINK(...)``). Only text
+    is changed: a negative number, or a text that reads as one (``-1.5``), stays a number."""
+    if value is None:
+        return ""
+    if isinstance(value, (float, np.floating)):
+        return f"{value:.10g}"
+    if isinstance(value, (bool, np.bool_, numbers.Number)):
+        return value
+    text = str(value)
+    if text.startswith(FORMULA_STARTS):
+        try:
+            float(text)
+        except ValueError:
+            return "'" + text
+    return text
+
+
 def write_csv(path: Path, columns: Mapping[str, Sequence]) -> Path:
-    """Write equal-length columns as a CSV table (header = the column names, units in the names)."""
+    """Write equal-length columns as a CSV table (header = the column names, units in the names); every cell as
+    :func:`csv_cell` writes it (text that a spreadsheet would run as a formula is neutralised)."""
     names = list(columns)
     cols = [list(columns[n]) for n in names]
     buf = io.StringIO(newline="")
     w = csv.writer(buf)
-    w.writerow(names)
+    w.writerow([csv_cell(n) for n in names])
     for row in zip(*cols):
-        w.writerow(["" if v is None else (f"{v:.10g}" if isinstance(v, (float, np.floating)) else v) for v in row])
+        w.writerow([csv_cell(v) for v in row])
     return write_text_atomic(path, buf.getvalue())
 
 
