@@ -309,3 +309,21 @@ def test_a_setting_shown_in_other_units_by_each_study_is_compared_in_one(three):
     assert row["unit"] == "GPa" and row["values"] == pytest.approx([3.0, 0.7, 3.0])
     same = compare_studies([three[0], three[2]])
     assert not [d for d in same.differences if d["name"].endswith("youngs_modulus")]
+
+
+def test_names_reach_comparison_md_escaped(tmp_path):
+    import re
+
+    evil = "pin<img src=x onerror=alert(1)>&\x1b[31mRED\x1b]0;PWNED\x07|x\\"
+    a = _study(tmp_path / "a", evil, 1e6)
+    b = _study(tmp_path / "b", "pin|b", 2e6, mode="profile")
+    comp = compare_studies([a, b])
+    comp.save(tmp_path / "out", figures=False)
+    text = (tmp_path / "out" / "comparison.md").read_text(encoding="utf-8")
+    assert not any(ord(c) < 32 and c != "\n" or 0x7f <= ord(c) <= 0x9f for c in text)
+    assert "<img" not in text and "pin&lt;img src=x onerror=alert(1)&gt;&amp;[31mRED]0;PWNED\\|x\\\\ |" in text
+    assert "| setting | pin&lt;img" in text and "| pin\\|b |" in text
+    # every row of the studies' table has as many cells as the header: no pipe in a name splits one
+    rows = [line for line in text.splitlines() if line.startswith("| ")]
+    cells = {len(re.split(r"(?<!\\)\|", line)) for line in rows[:3]}
+    assert len(cells) == 1, rows[:3]

@@ -134,14 +134,17 @@ class StudyComparison(StageResult):
                 for d in self.differences]
 
     def markdown(self) -> str:
-        """The comparison as Markdown: a table of the studies, then the settings that differ."""
+        """The comparison as Markdown: a table of the studies, then the settings that differ. Every cell is
+        escaped (:func:`markdown_cell`): names come from configs and folders that may not be trusted."""
+        def row(cells) -> str:
+            return "| " + " | ".join(markdown_cell(c) for c in cells) + " |"
+
         lines = [f"Life at R = {self.target:g}; the first study is the baseline.", "",
-                 "| " + " | ".join(self.COLUMNS) + " |", "|---" * len(self.COLUMNS) + "|"]
-        lines += ["| " + " | ".join(row) + " |" for row in self.rows()]
+                 row(self.COLUMNS), "|---" * len(self.COLUMNS) + "|"]
+        lines += [row(r) for r in self.rows()]
         if self.differences:
-            lines += ["", "| setting | " + " | ".join(self.labels) + " |",
-                      "|---" * (len(self.labels) + 1) + "|"]
-            lines += ["| " + " | ".join(row) + " |" for row in self.setting_rows()]
+            lines += ["", row(("setting", *self.labels)), "|---" * (len(self.labels) + 1) + "|"]
+            lines += [row(r) for r in self.setting_rows()]
         else:
             lines += ["", "No setting differs between the studies."]
         if note := self.seed_note():
@@ -315,6 +318,19 @@ def _by_name(setting: str, items: dict[str, str]) -> str:
         out.append(setting[last: m.start()] + (f"[{name}]" if name else m.group(0)))
         last = m.end()
     return "".join(out) + setting[last:]
+
+
+#: control characters (C0, DEL, C1): a terminal escape sequence (ESC [ ... m, ESC ] ... BEL) starts with one
+_CONTROL = re.compile(r"[\x00-\x1f\x7f-\x9f]")
+_MARKDOWN_ESCAPES = {"\\": "\\\\", "|": "\\|", "&": "&amp;", "<": "&lt;", ">": "&gt;"}
+
+
+def markdown_cell(text: Any) -> str:
+    """``text`` safe in a Markdown table cell: tabs and line breaks become spaces, other control characters are
+    dropped (no terminal escape reaches a terminal that shows the file), ``&``, ``<`` and ``>`` become entities (no
+    HTML reaches a Markdown renderer) and backslashes and pipes are backslash-escaped (no cell is split)."""
+    text = _CONTROL.sub(lambda m: " " if m.group() in "\t\n\r" else "", str(text))
+    return "".join(_MARKDOWN_ESCAPES.get(c, c) for c in text)
 
 
 def _cycles(value: float | None) -> str:
