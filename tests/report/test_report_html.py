@@ -758,3 +758,26 @@ def test_a_long_text_cell_wraps_in_a_table_of_numbers():
 
     html = table(["variable", "R", "reason"], [["l2", "0.0", "x" * (PROSE_CELL + 1)]], cls="num")
     assert '<td>l2</td><td>0.0</td><td class="prose">' in html
+
+
+def test_a_png_linked_from_outside_the_folder_is_not_embedded(tmp_path: Path):
+    import base64
+
+    from jointwear.report.figures import sobol_figure
+    from jointwear.report.read import read_outputs
+    from jointwear.report.style import savefig
+
+    outside, d = tmp_path / "outside", tmp_path / "results"
+    outside.mkdir()
+    d.mkdir()
+    savefig(sobol_figure(["a", "b"], [0.2, 0.5], [0.3, 0.6]), outside / "secret.png")
+    savefig(sobol_figure(["c", "d"], [0.1, 0.4], [0.2, 0.5]), d / "own.png")
+    (d / "linked.png").symlink_to(outside / "secret.png")
+    (d / "linked.csv").symlink_to(outside / "secret.png")
+    (d / "data").symlink_to(outside, target_is_directory=True)  # a linked data folder is outside too
+    (d / "inside_link.png").symlink_to(d / "own.png")  # a link that stays inside is fine
+    out = read_outputs(d)
+    assert sorted(out.pngs) == ["inside_link", "own"] and not out.files
+    page = build_report(d).read_text()
+    secret = base64.b64encode((outside / "secret.png").read_bytes()).decode()
+    assert base64.b64encode((d / "own.png").read_bytes()).decode() in page and secret not in page

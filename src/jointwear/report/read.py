@@ -53,11 +53,19 @@ def read_outputs(out_dir: Path | str) -> StudyOutputs:
         outputs.files.append(out_dir / "config.json")
     for stage in results.stages:
         outputs.files.append(out_dir / getattr(results, stage).FILE)
+    root = out_dir.resolve()
     for folder in (out_dir, out_dir / "data"):
         if folder.is_dir():
-            outputs.files += sorted(folder.glob("*.csv"))
-            outputs.pngs.update({p.stem: p for p in sorted(folder.glob("*.png"))})
+            outputs.files += [p for p in sorted(folder.glob("*.csv")) if _inside(p, root)]
+            outputs.pngs.update({p.stem: p for p in sorted(folder.glob("*.png")) if _inside(p, root)})
     return outputs
+
+
+def _inside(path: Path, root: Path) -> bool:
+    """Whether ``path`` is a regular file that resolves inside the folder ``root`` (resolved): a symlink planted in
+    a received results folder (or a linked ``data`` folder) must not bring a file from elsewhere into the report."""
+    resolved = path.resolve()
+    return root in resolved.parents and resolved.is_file()
 
 
 def joint_series(out_dir: Path, sim: SimulationSummary, joint: int = 0) -> JointSeries | None:
