@@ -5,6 +5,7 @@ N = 0.1 scale, and its band at 0.09 scale and 0.11 scale (linear interpolation i
 from __future__ import annotations
 
 import json
+import sys
 from html.parser import HTMLParser
 
 import numpy as np
@@ -327,3 +328,16 @@ def test_names_reach_comparison_md_escaped(tmp_path):
     rows = [line for line in text.splitlines() if line.startswith("| ")]
     cells = {len(re.split(r"(?<!\\)\|", line)) for line in rows[:3]}
     assert len(cells) == 1, rows[:3]
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="symlinks need privileges on Windows")
+def test_a_symlink_planted_at_comparison_md_is_never_written_through(three, tmp_path):
+    # comparison.md goes through the same atomic writer as the other results (study.io.write_text_atomic)
+    outside = tmp_path / "outside.txt"
+    outside.write_text("keep", encoding="utf-8")
+    out = tmp_path / "cmp"
+    out.mkdir()
+    (out / "comparison.md").symlink_to(outside)
+    compare_studies(three).save(out, figures=False)
+    assert outside.read_text(encoding="utf-8") == "keep"
+    assert not (out / "comparison.md").is_symlink() and "Life at R" in (out / "comparison.md").read_text()

@@ -18,7 +18,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from jointwear.schema import ConfigError
-from jointwear.study.io import provenance
+from jointwear.study.io import provenance, write_text_atomic
 from jointwear.study.limit_state import intervals_overlap, life_status
 from jointwear.study.reliability_results import interval_cells, reliability_target
 from jointwear.study.results import StudyResults, load_results
@@ -168,7 +168,7 @@ class StudyComparison(StageResult):
         folder = Path(folder)
         folder.mkdir(parents=True, exist_ok=True)
         self.write_tables(folder)
-        (folder / "comparison.md").write_text(self.markdown() + "\n", encoding="utf-8")
+        write_text_atomic(folder / "comparison.md", self.markdown() + "\n")
         figure = folder / "comparison_reliability.png"
         if figures:
             from jointwear.report import figures as F
