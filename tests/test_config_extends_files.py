@@ -49,3 +49,11 @@ def test_extends_of_a_small_file_still_works(tmp_path):
     (tmp_path / "a.toml").write_text('extends = "jin2025_flapping_wing"\nname = "mine"\n', encoding="utf-8")
     (tmp_path / "b.toml").write_text('extends = "a.toml"\n', encoding="utf-8")
     assert load_config(tmp_path / "b.toml").name == "mine"
+
+
+def test_a_results_folders_config_json_is_read_only_if_a_regular_file(tmp_path):
+    # a received results folder: its config.json is read whole, so it gets the same checks as a TOML config
+    folder = tmp_path / "results"
+    folder.mkdir()
+    (folder / "config.json").symlink_to("/dev/zero")
+    assert "is not a regular file" in load_error(folder / "config.json")

@@ -19,13 +19,24 @@ def edit(old: str, new: str) -> str:
     return PRESET.replace(old, new, 1)
 
 
+def _address_space() -> int:
+    """The process's address space now (bytes): the cap is 2 GB above it, whatever the tests before reserved."""
+    try:
+        for line in open("/proc/self/status", encoding="ascii"):
+            if line.startswith("VmSize:"):
+                return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+
+
 def check(tmp_path, text: str, capsys) -> tuple[int, str]:
     """`jointwear check` of ``text`` under a 2 GB address-space cap (an unbounded size would fail on memory, not on
     the config check): its exit status and its message."""
     path = tmp_path / "c.toml"
     path.write_text(text, encoding="utf-8")
     soft, hard = resource.getrlimit(resource.RLIMIT_AS)
-    cap = 2 * 1024**3 + (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024)
+    cap = 2 * 1024**3 + _address_space()
     resource.setrlimit(resource.RLIMIT_AS, (cap if hard == resource.RLIM_INFINITY else min(cap, hard), hard))
     try:
         code = main.run(["check", str(path)])
@@ -72,3 +83,8 @@ def test_simulate_cycles_argument_is_bounded(tmp_path):
 
     with pytest.raises(ConfigError, match="cycles: at most 100 recorded cycles"):
         jointwear.Study("jin2025_flapping_wing", out=tmp_path, workers=1).simulate(cycles=10**12)
+
+
+def test_design_candidates_are_bounded():
+    with pytest.raises(ConfigError, match="max_candidates"):
+        load_config({"extends": "jin2025_flapping_wing", "design": {"max_candidates": 10**12}})

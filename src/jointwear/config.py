@@ -573,22 +573,23 @@ def _parse_toml(text: str, source: str) -> dict[str, Any]:
 #: Largest config file read (a config, or the file its ``extends`` names): real ones are a few kB, and a config
 #: is read whole, so a path to a device or a huge file must not be.
 MAX_CONFIG_BYTES = 1_000_000
+#: Largest config.json read from a results folder (it holds the provenance beside the config: about 130 kB).
+MAX_WRITTEN_CONFIG_BYTES = 16_000_000
 
 
-def _read_config_file(path: Path, what: str = "config") -> bytes:
-    """The bytes of a config file: a regular file (not a device, FIFO or folder) of at most MAX_CONFIG_BYTES.
+def _read_config_file(path: Path, what: str = "config", limit: int = MAX_CONFIG_BYTES) -> bytes:
+    """The bytes of a config file: a regular file (not a device, FIFO or folder) of at most ``limit`` bytes.
     ``what`` names the field in messages ('config', or 'a.toml: extends')."""
     try:
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))  # a FIFO must not block the open
         with os.fdopen(fd, "rb") as f:
             if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
                 raise ConfigError(f"{what}: '{path}' is not a regular file (expected a TOML file)")
-            raw = f.read(MAX_CONFIG_BYTES + 1)
+            raw = f.read(limit + 1)
     except OSError as exc:
         raise ConfigError(f"{what}: cannot read file '{path}': {exc.strerror or exc}") from None
-    if len(raw) > MAX_CONFIG_BYTES:
-        raise ConfigError(f"{what}: file '{path}' is larger than {MAX_CONFIG_BYTES:,} bytes, the most a config file "
-                          "may be")
+    if len(raw) > limit:
+        raise ConfigError(f"{what}: file '{path}' is larger than {limit:,} bytes, the most a config file may be")
     return raw
 
 
@@ -743,10 +744,11 @@ def _written_config(path: Path) -> StudyConfig:
     """The config a study wrote to its folder (config.json's ``study_config``, SI units)."""
     import json
 
+    raw = _read_config_file(path, limit=MAX_WRITTEN_CONFIG_BYTES)
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError) as exc:
-        raise ConfigError(f"config: cannot read '{path}': {getattr(exc, 'strerror', None) or exc}") from None
+        data = json.loads(raw.decode("utf-8"))
+    except ValueError as exc:
+        raise ConfigError(f"config: cannot read '{path}': {exc}") from None
     if not isinstance(data, dict) or "study_config" not in data:
         raise ConfigError(f"config: '{path}' holds no study config (a results folder's config.json written by "
                           "jointwear 0.x before the study config was kept there, or not a config.json)")

@@ -21,6 +21,8 @@ from jointwear.uncertainty.tolerances import IT_GRADES, grade_key, iso_fit, it_t
 
 #: largest population per candidate, as reliability.n_mc (jointwear.study_settings.MAX_MC_SAMPLES)
 MAX_POPULATION = 100_000_000
+#: most combinations enumerated: each costs a Monte Carlo estimate of its R(N*) on the surrogate
+MAX_CANDIDATES = 10_000_000
 
 if TYPE_CHECKING:
     from jointwear.uncertainty.variables import ClearanceSpec, UncertaintySettings
@@ -304,7 +306,10 @@ class DesignSettings(SIModel):
         description="Monte Carlo population per candidate on the surrogate (common random numbers: the "
         "same standard-normal draws for every candidate, so candidates differ only by their distributions). At most "
         "1e8, as reliability.n_mc (8 bytes per random variable per sample).")
-    max_candidates: int = Field(100_000, description="Largest number of combinations enumerated.")
+    max_candidates: int = Field(
+        100_000, le=MAX_CANDIDATES,
+        description="Largest number of combinations enumerated; at most 1e7 (each is a Monte Carlo estimate over "
+        "n_population samples).")
     refine_max_calls: int = Field(
         40, description="Budget of refinement points, each a true-model call where the surrogate must be refined for a "
         "candidate (a point the evaluation store already holds counts too).")
