@@ -187,7 +187,6 @@ def cycle_wear(
         settings.half_width_factor, settings.pressure == "hertz", settings.track_journal, wb, wj, diag,
         math.radians(settings.profile_smoothing_deg) * math.sqrt(3.0) if bearing_profile is not None else 0.0,
     )
-    fds = float(np.sum(F * np.abs(v) * dt))  # (1/(k/H)) x the Archard volume of a point contact
     sides = []  # the sides laid by the shared load: (side, k/H, shares per unit k/H, their deposit on the side)
     tilt = np.ascontiguousarray(trace.normal_tilt, dtype=float)
     for side, kH, radius, bore, theta in ((0, mat.kH_b, mat.r_b0, bearing_bore, tb),
@@ -201,12 +200,13 @@ def cycle_wear(
         sides.append((side, kH, unit, unit(bore)))
     g_level, share, g_journal, share_j = 0.0, None, 0.0, None
     if sides:
+        fds = float(np.sum(F * np.abs(v) * dt))  # (1/(k/H)) x the Archard volume of a point contact
         # sum_k N_k / F of each side sharing the load, 1 for a side laid at its touching point
         ratios = [vrate * n_cycles / fds if fds > 0.0 else 1.0 for _, _, _, (_, vrate, _) in sides]
         ratio = max(ratios + ([1.0] if len(sides) < 2 else []))
         for (side, kH, unit, (rate, vrate, g)), own in zip(sides, ratios):
             f = kH * ratio / own  # this side's k/H, times the contact's ratio over its own
-            laid = ConformalShare(unit.bins * f, unit.c0, unit.r_b0, unit.width)
+            laid = ConformalShare(unit.bins * f, unit.c0, unit.r_b0, unit.width) if f > 0.0 else None
             if side == 0:
                 wb += rate * (f * n_cycles)
                 vb = vrate * f * n_cycles
