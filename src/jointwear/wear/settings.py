@@ -83,8 +83,8 @@ class WearSettings(SIModel):
             "the first term resolves a steady conformal load (the rig of docs/verification.md), the second bounds "
             "the sub-step where the levelling is faster than any affordable step (a rotating load). There the "
             "sub-step, not the block, sets how accurately the profile is laid, and too long a sub-step lays it too "
-            "shallow: on the flapping wing 300 cycles read the max depth 4 % shallow at 1.3M cycles and 100 cycles about "
-            "2 %, against sub-steps that resolve the levelling (about 20 cycles; docs/wear.md 'Profile mode on the "
+            "shallow: on the flapping wing 300 cycles read the max depth about 2 % shallow at 1.3M cycles and 100 "
+            "cycles about 1 %, against sub-steps that resolve the levelling (about 20 cycles; docs/wear.md 'Profile mode on the "
             "flapping wing'; preset jin2025_flapping_wing_profile uses 100). Each sub-step costs about 0.1 ms on a "
             "720-cell grid."
         ),
