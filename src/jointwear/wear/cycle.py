@@ -137,7 +137,7 @@ def cycle_wear(
     bearing_touch: np.ndarray | None = None,
     journal_touch: np.ndarray | None = None,
     bearing_bore: np.ndarray | None = None,
-    journal_bore: np.ndarray | None = None,
+    journal_surface: np.ndarray | None = None,
 ) -> CycleWear:
     """Archard wear per cycle of one ContactTrace-like record that spans `n_cycles` cycles.
 
@@ -147,7 +147,7 @@ def cycle_wear(
     (profile mode, 'envelope' contact): grid index of the bore point that touches for each centre-line direction
     (contact.envelope.admissible_set); the wear is laid there. bearing_bore (profile mode, `profile_deposit =
     "distributed"`): the bore's contact profile (smoothed wear, m); each step's bearing wear is shared over the
-    cells the journal touches (kernels.gather_directions, share_load) instead. journal_bore: the same for the
+    cells the journal touches (kernels.gather_directions, share_load) instead. journal_surface: the same for the
     journal, its contact profile on its own grid, shared in the journal's frame (a flat worn on a pin under a load
     fixed on the pin is the bore's pocket mirrored: e . u <= c0 + h_j(u) to first order in c0 / R).
 
@@ -183,14 +183,14 @@ def cycle_wear(
     diag = np.zeros((4, n))
     vb, vj, s, bmax = accumulate_wear(
         tb_w, tj_w, F, v, dt, r_b, r_j, mat.r_b0, mat.r_j0, mat.h_b, mat.h_j,
-        mat.kH_b if bearing_bore is None else 0.0, mat.kH_j if journal_bore is None else 0.0, mat.width,
+        mat.kH_b if bearing_bore is None else 0.0, mat.kH_j if journal_surface is None else 0.0, mat.width,
         settings.half_width_factor, settings.pressure == "hertz", settings.track_journal, wb, wj, diag,
         math.radians(settings.profile_smoothing_deg) * math.sqrt(3.0) if bearing_profile is not None else 0.0,
     )
     sides = []  # the sides laid by the shared load: (side, k/H, shares per unit k/H, their deposit on the side)
     tilt = np.ascontiguousarray(trace.normal_tilt, dtype=float)
     for side, kH, radius, bore, theta in ((0, mat.kH_b, mat.r_b0, bearing_bore, tb),
-                                          (1, mat.kH_j, mat.r_j0, journal_bore, tj)):
+                                          (1, mat.kH_j, mat.r_j0, journal_surface, tj)):
         if bore is None:
             continue
         bins = np.zeros((4, n))
@@ -215,7 +215,7 @@ def cycle_wear(
                 wj += rate * (f * n_cycles)
                 vj = vrate * f * n_cycles
                 g_journal, share_j = g * f, laid
-        if journal_bore is None and fds > 0.0:  # the journal laid at its touching point takes the contact's ratio
+        if journal_surface is None and fds > 0.0:  # the journal laid at its touching point takes the contact's ratio
             wj *= ratio
             vj *= ratio
     inv = 1.0 / n_cycles

@@ -82,7 +82,7 @@ class WornGeometry(NamedTuple):
     bearing_touch: np.ndarray | None = None  # profile mode, 'touch' deposit: the touching points' maps
     journal_touch: np.ndarray | None = None
     bearing_bore: np.ndarray | None = None  # profile mode, distributed deposit: the contact profiles the load shares
-    journal_bore: np.ndarray | None = None
+    journal_surface: np.ndarray | None = None
 
 
 def update_geometry(g0, settings: WearSettings, wb: np.ndarray, wj: np.ndarray, growth: float) -> WornGeometry:
@@ -292,7 +292,7 @@ def wear_history(
                                 bearing_profile=geoms[i].bearing_wear if prof else None,
                                 journal_profile=geoms[i].journal_wear if prof else None,
                                 bearing_touch=upd[i].bearing_touch, journal_touch=upd[i].journal_touch,
-                                bearing_bore=upd[i].bearing_bore, journal_bore=upd[i].journal_bore)
+                                bearing_bore=upd[i].bearing_bore, journal_surface=upd[i].journal_surface)
                 if first[i] is None:
                     first[i] = cw
                 last[i] = cw
