@@ -194,3 +194,37 @@ def test_posterior_spread_of_pf_keeps_the_correlation_of_the_errors(noise_sd):
     np.testing.assert_allclose(together, one, rtol=0.05)
     apart = posterior_failure_spread(mean, sigma**2 * np.eye(m), shifts, noise_sd, n, rng)
     np.testing.assert_allclose(apart, one / np.sqrt(m), rtol=0.05)
+
+
+def test_quantile_errors_interpolate_the_level_errors_and_divide_by_the_slope():
+    from jointwear.reliability.learning import quantile_errors
+
+    levels, pf, err = np.array([0.0, 1.0, 2.0]), np.array([0.1, 0.3, 0.5]), np.array([0.01, 0.02, 0.03])
+    # Pf = 0.2 halfway between levels 0 and 1: error 0.015 in Pf over a slope of 0.2 per unit level
+    assert quantile_errors(levels, pf, err, [0.2]) == [(0, 1, pytest.approx(0.075))]
+    assert quantile_errors(levels[::-1], pf[::-1], err[::-1], [0.4]) == [(1, 0, pytest.approx(0.125))]
+    assert quantile_errors(levels, pf, err, [0.05, 0.6]) == []  # outside the levels' Pf: no bracket
+    assert quantile_errors(levels, np.array([0.1, 0.1, 0.5]), err, [0.1]) == []  # reached at the first level
+    assert quantile_errors(levels, np.array([0.1, 0.3, 0.3]), err, [0.3]) == [(0, 1, pytest.approx(0.1))]
+
+
+def test_quantile_tol_learns_the_level_where_pf_reaches_a_target():
+    # y = exp(0.5 x1) + 0.3 x2 (nonlinear); a loose absolute tolerance stops the learning on its initial design, where
+    # the level at Pf = 0.25 (between the levels 0.6 and 0.8) is still uncertain by 0.004: quantile_tol carries on
+    from jointwear.reliability.learning import quantile_errors
+
+    def g(x):
+        return np.exp(0.5 * x[:, 0]) + 0.3 * x[:, 1]
+
+    levels = np.array([0.4, 0.6, 0.8, 1.0, 1.2])
+    common = dict(levels=levels, n_mc=20_000, seed=3, pf_floor=1e-3, error_abs_tol=0.03, error_tol=0.5,
+                  hold_iterations=1)
+    loose = akmcs_multi(g, [stats.norm(), stats.norm()], **common)
+    tight = akmcs_multi(g, [stats.norm(), stats.norm()], quantile_pf=[0.25], quantile_tol=0.001, **common)
+    (lo, hi, e_loose), = quantile_errors(levels, loose.pf, loose.error_absolute, [0.25])
+    (lo2, hi2, e_tight), = quantile_errors(levels, tight.pf, tight.error_absolute, [0.25])
+    assert (lo, hi) == (lo2, hi2) == (1, 2)
+    assert e_loose > 0.001 >= e_tight
+    assert tight.n_calls > loose.n_calls and tight.converged
+    with pytest.raises(ValueError, match="quantile_tol"):
+        akmcs_multi(g, [stats.norm(), stats.norm()], quantile_pf=[1.5], quantile_tol=0.01, **common)

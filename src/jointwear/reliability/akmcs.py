@@ -45,6 +45,7 @@ from .kriging import KrigingSurrogate, ShiftedSurrogate
 from .learning import (
     esc_errors,
     needs_optimisation,
+    quantile_errors,
     select_batch,
     u_function,
 )
@@ -70,7 +71,8 @@ def log_scales(surrogate) -> np.ndarray:
 
 def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch_size, u_threshold, cov_target,
          stopping, error_tol, max_calls, seed, evaluation, pf_floor, kriging, refit_growth, full_sweep_every=10,
-         keep_population=False, levels=None, error_abs_tol=None, copula=None, system=None, hold_iterations=3):
+         keep_population=False, levels=None, error_abs_tol=None, copula=None, system=None, hold_iterations=3,
+         quantile_pf=(), quantile_tol=None):
     t_start = time.perf_counter()
     marginals = check_marginals(marginals)
     d = len(marginals)
@@ -100,6 +102,11 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
         raise ValueError(f"system must be None (one response) or 'series' (its components' minimum); got {system!r}")
     if system is not None and levels is None:
         raise ValueError("system='series' needs levels (the thresholds its response is compared with)")
+    quantile_pf = [float(t) for t in np.atleast_1d(np.asarray(quantile_pf, dtype=float))]
+    if quantile_tol is not None:
+        quantile_tol = check_positive("quantile_tol", quantile_tol)
+        if levels is None or levels.size < 2 or not quantile_pf or not all(0.0 < t < 1.0 for t in quantile_pf):
+            raise ValueError("quantile_tol needs levels (two or more) and quantile_pf, Pf values in (0, 1)")
     evaluation = evaluation_or_default(evaluation)
     progress = evaluation.progress
     ev = evaluation.caller_for(g, d, n_outputs=None if (levels is not None and system is None) or not multi
@@ -243,6 +250,10 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
             learned |= err <= error_tol
             if error_abs_tol is not None:
                 learned |= err_abs <= error_abs_tol
+            if quantile_tol is not None:  # the levels that bracket a quantile also learn it to quantile_tol
+                for lo_col, hi_col, q_err in quantile_errors(levels, pf, err_abs, quantile_pf):
+                    if not q_err <= quantile_tol:
+                        learned[[lo_col, hi_col]] = False
         if learned.all():
             # the last fit may have reused hyperparameters: re-optimise once before accepting
             stale = np.array([n_at_opt[j] != int(np.isfinite(design_g[:, j]).sum()) for j in range(n_fit)])
@@ -436,6 +447,8 @@ def akmcs_multi(
     error_abs_tol: float | None = None,
     system: str | None = None,
     keep_population: bool = False,
+    quantile_pf=(),
+    quantile_tol: float | None = None,
 ) -> MultiReliabilityResult:
     """AK-MCS for m limit states sharing one design (e.g. one model call -> the limit state at m cycle counts).
 
@@ -461,10 +474,17 @@ def akmcs_multi(
 
     ``keep_population``: keep the final population (u space, ``population_u``), which the learning classified: the
     curve between its levels is estimated there (:meth:`MultiReliabilityResult.estimate_on`, ``thresholds``).
+
+    ``quantile_tol`` with ``quantile_pf`` (with ``levels`` and ``stopping="error"``): the level at which Pf reaches
+    each of ``quantile_pf`` (read between the two levels that bracket it) must also be learnt to within
+    ``quantile_tol`` (in the levels' units; for levels ln N the relative error of the life there): the two levels'
+    absolute Pf errors interpolated at it, divided by the curve's slope between them
+    (:func:`~jointwear.reliability.learning.quantile_errors`). Until it is, those two levels count as not learnt,
+    and the learning adds points at their limit states.
     """
     return _run(g, marginals, multi=True, n_mc=n_mc, n_mc_max=n_mc_max, n_initial=n_initial,
                 initial_bound=initial_bound, batch_size=batch_size, u_threshold=u_threshold, cov_target=cov_target,
                 stopping=stopping, error_tol=error_tol, max_calls=max_calls, seed=seed, evaluation=evaluation,
                 hold_iterations=hold_iterations, pf_floor=pf_floor, kriging=kriging, refit_growth=refit_growth,
                 levels=levels, error_abs_tol=error_abs_tol, copula=copula, system=system,
-                keep_population=keep_population)
+                keep_population=keep_population, quantile_pf=quantile_pf, quantile_tol=quantile_tol)

@@ -16,6 +16,7 @@ __all__ = [
     "esc_error",
     "esc_errors",
     "needs_optimisation",
+    "quantile_errors",
     "select_batch",
     "u_function",
 ]
@@ -68,6 +69,30 @@ def esc_counts(u: np.ndarray, fail: np.ndarray, known: np.ndarray | None, z: flo
     n_fs = float(pf_.sum() + z * math.sqrt(float((pf_ * (1 - pf_)).sum())))
     n_sf = float(ps_.sum() + z * math.sqrt(float((ps_ * (1 - ps_)).sum())))
     return n_f, n_fs, n_sf
+
+
+def quantile_errors(levels: np.ndarray, pf: np.ndarray, err_abs: np.ndarray,
+                    pf_targets) -> list[tuple[int, int, float]]:
+    """The error of the level where Pf reaches each of ``pf_targets`` (a quantile of the response, read by linear
+    interpolation between the two levels that bracket it): the levels' absolute Pf errors ``err_abs`` interpolated
+    there, divided by the curve's slope dPf / dlevel between them. Returns (lower column, upper column, error) per
+    bracketed target, in the levels' units (for levels ln N: the relative error of the life); a target outside the
+    levels' Pf range is left out, and a flat bracket gives an infinite error."""
+    order = np.argsort(levels)
+    lv, p, e = levels[order], pf[order], err_abs[order]
+    out = []
+    for t in pf_targets:
+        above = np.flatnonzero(p >= t)
+        if above.size == 0 or above[0] == 0:
+            continue
+        i = int(above[0])
+        dp, dl = p[i] - p[i - 1], lv[i] - lv[i - 1]
+        if not (dp > 0 and dl > 0):
+            out.append((int(order[i - 1]), int(order[i]), math.inf))
+            continue
+        w = (t - p[i - 1]) / dp
+        out.append((int(order[i - 1]), int(order[i]), float(((1 - w) * e[i - 1] + w * e[i]) / (dp / dl))))
+    return out
 
 
 def needs_optimisation(forced: bool, n_at_opt: int, n_ok: int, growth: float) -> bool:

@@ -258,6 +258,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         cov_target=rel.cov_target, pf_floor=rel.pf_floor, max_calls=rel.max_calls, seed=rel.seed, copula=ctx.copula,
         evaluation=Evaluation(progress=progress), stopping=rel.stopping, error_tol=rel.error_tol,
         error_abs_tol=rel.error_abs_tol, hold_iterations=rel.hold_iterations,
+        quantile_pf=[1.0 - t for t in rel.targets], quantile_tol=rel.life_tol or None,
         kriging={"estimate_nugget": rel.noise == "estimate"}, keep_population=rel.noise == "none")
     cycles = np.asarray(ctx.cycles, dtype=float)
     # the curve is estimated between its levels too (no call), and the life read there: R(N) is curved between
