@@ -228,3 +228,19 @@ def test_quantile_tol_learns_the_level_where_pf_reaches_a_target():
     assert tight.n_calls > loose.n_calls and tight.converged
     with pytest.raises(ValueError, match="quantile_tol"):
         akmcs_multi(g, [stats.norm(), stats.norm()], quantile_pf=[1.5], quantile_tol=0.01, **common)
+
+
+def test_quantile_tol_of_a_noisy_response_stops_at_its_fitted_scatter():
+    # the same response with a call-to-call scatter, which the Kriging fits (a nugget): its quantile is learnt to that
+    # scatter, not to a quantile_tol far below it, so the learning stops where the levels' rules stop it
+    def g(x):
+        return np.exp(0.5 * x[:, 0]) + 0.3 * x[:, 1] + 0.05 * rng.standard_normal(len(x))
+
+    levels = np.array([0.4, 0.6, 0.8, 1.0, 1.2])
+    common = dict(levels=levels, n_mc=20_000, seed=3, pf_floor=1e-3, error_abs_tol=0.03, error_tol=0.5,
+                  hold_iterations=1, kriging={"estimate_nugget": True})
+    rng = np.random.default_rng(0)
+    plain = akmcs_multi(g, [stats.norm(), stats.norm()], **common)
+    rng = np.random.default_rng(0)
+    tight = akmcs_multi(g, [stats.norm(), stats.norm()], quantile_pf=[0.25], quantile_tol=0.001, **common)
+    assert plain.noise_sd > 0.001 and tight.n_calls == plain.n_calls and tight.converged

@@ -251,8 +251,11 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
             if error_abs_tol is not None:
                 learned |= err_abs <= error_abs_tol
             if quantile_tol is not None:  # the levels that bracket a quantile also learn it to quantile_tol
+                # or to half the response's fitted scatter, when larger: a noisy response's curve integrates its
+                # scatter, and its sign counts would chase the noise
+                tol = max(quantile_tol, 0.5 * float(getattr(surrogates[0], "noise_sd", 0.0)))
                 for lo_col, hi_col, q_err in quantile_errors(levels, pf, err_abs, quantile_pf):
-                    if not q_err <= quantile_tol:
+                    if not q_err <= tol:
                         learned[[lo_col, hi_col]] = False
         if learned.all():
             # the last fit may have reused hyperparameters: re-optimise once before accepting
@@ -480,7 +483,8 @@ def akmcs_multi(
     ``quantile_tol`` (in the levels' units; for levels ln N the relative error of the life there): the two levels'
     absolute Pf errors interpolated at it, divided by the curve's slope between them
     (:func:`~jointwear.reliability.learning.quantile_errors`). Until it is, those two levels count as not learnt,
-    and the learning adds points at their limit states.
+    and the learning adds points at their limit states. A Kriging that fits a noise (``kriging={"estimate_nugget":
+    True}``) learns the quantile to half its noise's standard deviation where that is larger than ``quantile_tol``.
     """
     return _run(g, marginals, multi=True, n_mc=n_mc, n_mc_max=n_mc_max, n_initial=n_initial,
                 initial_bound=initial_bound, batch_size=batch_size, u_threshold=u_threshold, cov_target=cov_target,
