@@ -6,7 +6,7 @@ The default preset with its true wear model replaced by the analytic Archard-typ
 (13 inputs, an exact life per sample), its curve cut to 340k-480k cycles in steps of 40k. Per setting and seed
 (``reliability.seed``): the life at R = 0.9 with its 95 % interval, and R at every level with its band, against the
 exact values read off 4e6 fresh samples of the exact life (their own error is negligible beside the intervals). The
-settings: the defaults, and ``reliability.error_abs_tol = 0.002``.
+settings: the defaults, ``reliability.error_abs_tol = 0.002`` and ``reliability.life_tol = 0.002``.
 """
 
 from __future__ import annotations
@@ -29,7 +29,8 @@ from analytic_wear import RATE, AnalyticWear  # noqa: E402
 OUT = Path(__file__).parent / "results" / "life_coverage.json"
 CURVE = {"reliability.cycles_start": 340_000, "reliability.cycles_stop": 480_000, "reliability.cycles_step": 40_000,
          "reliability.histogram_cycles": [380_000]}
-SETTINGS = {"defaults": {}, "error_abs_tol_0.002": {"reliability.error_abs_tol": 0.002}}
+SETTINGS = {"defaults": {}, "error_abs_tol_0.002": {"reliability.error_abs_tol": 0.002},
+            "life_tol_0.002": {"reliability.life_tol": 0.002}}
 
 
 def one_study(changes: dict, seed: int) -> dict:
