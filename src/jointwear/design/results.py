@@ -63,6 +63,7 @@ class DesignResult(StageResult):
     wall_seconds: float
     baseline_life_cycles: float | None = None
     baseline_reliability_at_target_life: float | None = None  # today's design (the study's inputs) on the surrogate
+    baseline_reliability_error: float | None = None  # its error bound, as a candidate's reliability_error
     life_factor: float | None = None
     targets: list[dict] = field(default_factory=list)
     controls: list[dict] = field(default_factory=list)
@@ -110,12 +111,20 @@ class DesignResult(StageResult):
                     "options), so the change in cost is not known")
         changes = [f"{k} {v} -> {chosen['choices'][k]}" for k, v in self.baseline_choices.items()
                    if chosen["choices"].get(k) != v]
-        r_today = self.baseline_reliability_at_target_life
         today = (f"today's design ({choices_text(self.baseline_choices)}, cost "
-                 f"{self.baseline_cost:.4g}" + ("" if r_today is None else f", R(N*) {r_today:.4f}") + ")")
+                 f"{self.baseline_cost:.4g}" + ("" if self.baseline_reliability_at_target_life is None
+                                                else f", R(N*) {self.baseline_reliability_text()}") + ")")
         if not changes:
             return f"{today} is the choice: it meets the target as it is"
         return f"against {today}: cost {self.cost_change:+.4g}; changes {', '.join(changes)}"
+
+    def baseline_reliability_text(self) -> str:
+        """Today's R(N*) with its error bound when known ('0.8234 +- 0.0123'; '' without it)."""
+        r = self.baseline_reliability_at_target_life
+        if r is None:
+            return ""
+        err = self.baseline_reliability_error
+        return f"{r:.4f}" + ("" if err is None else f" +- {err:.4f}")
 
     @property
     def cost_change(self) -> float | None:

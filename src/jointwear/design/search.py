@@ -190,8 +190,14 @@ def estimate(space: CandidateSpace, sur: LifeSurrogate, cand: Candidate, log_tar
              reliability_target: float) -> Estimate:
     """R(N*) with its error bound, and the life at R*, of one candidate on the surrogate."""
     _, u = space.population(cand)
+    return estimate_on(space, sur, u, space.infeasible_probability(cand), log_target, reliability_target)
+
+
+def estimate_on(space: CandidateSpace, sur: LifeSurrogate, u: np.ndarray, p_inf: float, log_target: float,
+                reliability_target: float) -> Estimate:
+    """R(N*) with its error bound, and the life at R*, of the population ``u`` (a candidate's, or today's design's)
+    whose clearance is infeasible with probability ``p_inf``."""
     mu, sd = sur.predict(u)
-    p_inf = space.infeasible_probability(cand)
     n = mu.size
     g = mu - log_target
     scatter = sur.scatter_sd
@@ -432,9 +438,9 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
                         "verdict": "not_verified", "rounds": [], "note": reason}
     others = [i for i, k in left if k == 0 and i != head["chosen_index"]]
     # today's design (the study's own distributions) on the final surrogate, for comparison with the choice
-    # read as every candidate is (with the life's scatter), so that the two compare
-    mu_today, _ = sur.predict(space.base_u)
-    today = (1.0 - space.p_inf_default) * surviving(sur, space.base_u, mu_today, targets[0]["log_life"]) / mu_today.size
+    # read as every candidate is (with the life's scatter and its error bound), so that the two compare
+    today = estimate_on(space, sur, space.base_u, space.p_inf_default, targets[0]["log_life"],
+                        targets[0]["reliability"])
     # the inputs the design rests on; the session's other stages (sensitivity, validation) evaluated more
     total_calls = study_points + refine_calls + verification_calls
     today_cand, unmatched = today_candidate(controls, ctx.config.uncertainty)
@@ -444,7 +450,7 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
         model_calls=int(total_calls),
         wall_seconds=time.perf_counter() - t0,
         baseline_life_cycles=head["baseline_life_cycles"], life_factor=head["life_factor"],
-        baseline_reliability_at_target_life=today,
+        baseline_reliability_at_target_life=today.reliability, baseline_reliability_error=today.error,
         targets=[{k: v for k, v in row.items() if k not in ("rows", "chosen_index")} for row in per_target],
         controls=[c.to_json() for c in controls], candidates=head["rows"],
         calls={"study": study_points, "refinement": int(refine_calls), "verification": int(verification_calls),

@@ -69,9 +69,9 @@ def design_section(out_dir: Path | str, figs=None) -> str | None:
     if _get(d, "life_factor") and _get(d, "baseline_life_cycles"):
         head += (f" ({_get(d, 'life_factor'):g} x today's life at that reliability, "
                  f"{_get(d, 'baseline_life_cycles'):,.0f} cycles)")
-    today = _get(d, "baseline_reliability_at_target_life")
-    if today is not None:
-        head += f"; today's design (the study's own inputs) reads R(N*) = {today:.4f} on the same surrogate"
+    if _get(d, "baseline_reliability_at_target_life") is not None:
+        head += (f"; today's design (the study's own inputs) reads R(N*) = {d.baseline_reliability_text()} on the "
+                 "same surrogate")
     parts.append(f"<p>{e(head)}; {_get(d, 'n_candidates', 0)} candidate designs, "
                  f"{_get(d, 'model_calls', 0)} true-model calls in all.</p>")
     chosen = _get(d, "chosen")
