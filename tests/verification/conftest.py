@@ -41,4 +41,3 @@ def still_config(rig_config, journal_wear_coefficient: float | None = None):
 @pytest.fixture(scope="session")
 def still_model(rig_config):
     return build_model(still_config(rig_config))
-
