@@ -13,7 +13,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
 import sys
 import time
 from pathlib import Path
@@ -56,6 +55,9 @@ def main(argv=None) -> int:
     ap.add_argument("--cycles", type=float, default=50.0)
     ap.add_argument("--out", default=str(OUT))
     a = ap.parse_args(argv)
+    from jointwear.study.io import provenance
+
+    load = os.getloadavg()
     rows = []
     for preset in PRESETS:
         for general in (False, True):
@@ -66,10 +68,8 @@ def main(argv=None) -> int:
                       f"{r['max_position_violation_m_first_cycle']:.2e} m, "
                       f"all {r['max_position_violation_m']:.2e} m, force {r['mean_contact_force_N']:.5g} N",
                       file=sys.stderr)
-    out = {"date_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
-           "machine": {"python": sys.version.split()[0], "platform": platform.platform(), "cpus": os.cpu_count(),
-                       "load_average_at_start": os.getloadavg()},
-           "rows": rows}
+    out = {"date_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "machine": provenance(),
+           "load_average_at_start": load, "rows": rows}
     Path(a.out).write_text(json.dumps(out, indent=1) + "\n")
     return 0
 

@@ -13,8 +13,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import platform
 import statistics
 import sys
 import time
@@ -88,10 +86,9 @@ def main(argv=None) -> int:
     ap.add_argument("--seeds", type=int, default=40)
     ap.add_argument("--out", default=str(OUT))
     a = ap.parse_args(argv)
-    import llvmlite.binding as llvm
+    from jointwear.study.io import provenance
 
-    out = {"machine": {"python": sys.version.split()[0], "platform": platform.platform(), "cpus": os.cpu_count(),
-                       "llvm_host_cpu": str(llvm.get_host_cpu_name())},
+    out = {"machine": provenance(),
            "date_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "curve": CURVE, "settings": {}}
     for name, changes in SETTINGS.items():
         runs = [one_study(changes, seed) for seed in range(1, a.seeds + 1)]

@@ -17,10 +17,11 @@ from typing import TYPE_CHECKING, Literal
 from pydantic import Field, field_validator, model_validator
 
 from jointwear.schema import F, SIModel
+from jointwear.study_settings import MAX_MC_SAMPLES
 from jointwear.uncertainty.tolerances import IT_GRADES, grade_key, iso_fit, it_tolerance
 
-#: largest population per candidate, as reliability.n_mc (jointwear.study_settings.MAX_MC_SAMPLES)
-MAX_POPULATION = 100_000_000
+#: largest population per candidate, as reliability.n_mc
+MAX_POPULATION = MAX_MC_SAMPLES
 #: most combinations enumerated: each costs a Monte Carlo estimate of its R(N*) on the surrogate
 MAX_CANDIDATES = 10_000_000
 

@@ -184,8 +184,7 @@ def savefig(fig: Figure, path: str | Path, *, dpi: int = DPI, close: bool = True
     path = Path(path)
     if path.suffix.lower() != ".png":
         path = path.with_suffix(".png")
-    path.parent.mkdir(parents=True, exist_ok=True)
-    from jointwear.study.io import write_bytes_atomic
+    from jointwear.study.io import write_bytes_atomic  # it makes the folder
 
     return write_bytes_atomic(path, to_png_bytes(fig, dpi=dpi, close=close))
 

@@ -142,7 +142,8 @@ def _static_provenance() -> dict:
         "jointwear": code_version(),  # with the git commit when run from a checkout: which code wrote the result
         "python": platform.python_version(),
         "numpy": v("numpy"), "scipy": v("scipy"), "numba": v("numba"), "openturns": v("openturns"),
-        "machine": {"platform": platform.platform(), "processor": platform.machine(), "llvm_host_cpu": cpu},
+        "machine": {"platform": platform.platform(), "processor": platform.machine(), "llvm_host_cpu": cpu,
+                    "cpus": os.cpu_count()},
     }
 
 
