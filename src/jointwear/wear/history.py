@@ -39,8 +39,8 @@ from .settings import WearSettings, check_cycles
 
 def contact_profiles(c0: float, wb: np.ndarray, wj: np.ndarray, settings: WearSettings):
     """Profiles given to the contact search in profile mode and the touching-point maps (None for 'radial', for a
-    round side, and for the distributed deposit, which does not use them)."""
-    wb, wj = smoothed_profiles(wb, wj, settings)
+    round side, and for the distributed deposit, which does not use them), from the worn profiles wb, wj as the
+    contact sees them (:func:`smoothed_profiles`)."""
     if settings.profile_contact == "radial":
         return wb.copy(), wj.copy(), None, None
 
@@ -90,12 +90,11 @@ def update_geometry(g0, settings: WearSettings, wb: np.ndarray, wj: np.ndarray, 
     (uniform mode)."""
     if settings.geometry_mode == "profile":
         c0 = float(g0.bearing_radius - g0.journal_radius + g0.clearance_growth)
-        hb, hj, ib, ij = contact_profiles(c0, wb, wj, settings)
+        seen_b, seen_j = smoothed_profiles(wb, wj, settings)
+        hb, hj, ib, ij = contact_profiles(c0, seen_b, seen_j, settings)
         bore = pin = None
-        if settings.profile_deposit == "distributed":
-            bore, pin = smoothed_profiles(wb, wj, settings)
-            if not settings.track_journal:
-                pin = None
+        if settings.profile_deposit == "distributed":  # the load is shared over the profiles the contact sees
+            bore, pin = seen_b, (seen_j if settings.track_journal else None)
         return WornGeometry(dataclasses.replace(g0, use_profile=True, bearing_wear=hb, journal_wear=hj), ib, ij,
                             bore, pin)
     return WornGeometry(dataclasses.replace(g0, use_profile=False, clearance_growth=float(growth)))
