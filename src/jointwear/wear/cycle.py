@@ -196,17 +196,18 @@ def cycle_wear(
         bins = np.zeros((4, n))
         gather_directions(theta, tilt, F, v, dt, r_b, r_j, mat.h_b + mat.h_j, 1.0, mat.width,
                           settings.half_width_factor, bins)
-        unit = ConformalShare(bins / n_cycles, mat.r_b0 - mat.r_j0, radius, mat.width)
-        sides.append((side, kH, unit, unit(bore)))
+        shared = ConformalShare(bins / n_cycles, mat.r_b0 - mat.r_j0, radius, mat.width)  # per unit k/H
+        sides.append((side, kH, shared, shared(bore)))
     g_level, share, g_journal, share_j = 0.0, None, 0.0, None
     if sides:
         fds = float(np.sum(F * np.abs(v) * dt))  # (1/(k/H)) x the Archard volume of a point contact
         # sum_k N_k / F of each side sharing the load, 1 for a side laid at its touching point
         ratios = [vrate * n_cycles / fds if fds > 0.0 else 1.0 for _, _, _, (_, vrate, _) in sides]
         ratio = max(ratios + ([1.0] if len(sides) < 2 else []))
-        for (side, kH, unit, (rate, vrate, g)), own in zip(sides, ratios):
+        for (side, kH, shared, (rate, vrate, g)), own in zip(sides, ratios):
             f = kH * ratio / own  # this side's k/H, times the contact's ratio over its own
-            laid = ConformalShare(unit.bins * f, unit.c0, unit.r_b0, unit.width) if f > 0.0 else None
+            shared.bins *= f  # the shares laid by the block's sub-steps carry the side's k/H and the ratio
+            laid = shared if f > 0.0 else None
             if side == 0:
                 wb += rate * (f * n_cycles)
                 vb = vrate * f * n_cycles
