@@ -49,7 +49,9 @@ class DesignResult(StageResult):
     own distributions) as options of the controls and its cost, None when some control has no option of the study's
     distribution (``baseline_unmatched`` names them). ``life_resolution``: the relative half-width of the study's own
     life interval at R*; a dearer candidate enters the Pareto front only when its life at R* exceeds the best cheaper
-    one's by more than that.
+    one's by more than that. ``refuted``: the choices whose verification missed the headline target (``choices``,
+    ``cost``, the verified ``reliability_at_target_life`` and ``error``), each left out of the search from then on;
+    ``no_choice_reason`` says why there is no choice.
     """
 
     FILE: ClassVar[str] = "design.json"
@@ -79,6 +81,7 @@ class DesignResult(StageResult):
     baseline_cost: float | None = None
     baseline_unmatched: list[str] = field(default_factory=list)  # controls with no option of the study's distribution
     life_resolution: float = 0.0  # relative: a dearer candidate enters the front only beyond it
+    refuted: list[dict] = field(default_factory=list)  # choices their verification refuted, left out of the search
 
     def target_outside_curve_sentence(self) -> str:
         """A target life outside the study's R(N) curve (empty when inside, or unknown): the learning refined the
@@ -98,6 +101,31 @@ class DesignResult(StageResult):
     def feasible(self) -> bool:
         """Whether some candidate reaches the headline target on the surrogate."""
         return self.chosen is not None
+
+    @property
+    def no_choice_reason(self) -> str | None:
+        """Why there is no choice: 'refuted' (every candidate that reached the target on the surrogate was refuted by
+        its own verification), 'unreached' (none reached it on the surrogate); None with a choice."""
+        if self.chosen is not None:
+            return None
+        return "refuted" if self.refuted else "unreached"
+
+    def no_choice_sentence(self) -> str:
+        """Why there is no choice, with the nearest candidate when none reached the target ('' with a choice)."""
+        reason = self.no_choice_reason
+        if reason is None:
+            return ""
+        if reason == "refuted":
+            n = len(self.refuted)
+            each = "; ".join(f"{choices_text(r['choices'])} (cost {r['cost']:.4g}: R(N*) = "
+                             f"{r['reliability_at_target_life']:.4f} +/- {r['error']:.4f})" for r in self.refuted)
+            return (f"no choice is left that its verification did not refute: the {n} candidate"
+                    f"{'' if n == 1 else 's'} that reached {self.target_life_cycles:,.0f} cycles at "
+                    f"R = {self.target_reliability:g} on the surrogate missed it on the true model ({each}), and no "
+                    "other candidate reaches it on the surrogate: relax the target, or add options that reach it")
+        nearest = self.nearest_sentence()
+        return (f"no candidate reaches the target on the surrogate ({self.target_life_cycles:,.0f} cycles at "
+                f"R = {self.target_reliability:g})" + (f"; {nearest}" if nearest else ""))
 
     def change_sentence(self) -> str:
         """What the choice changes against today's design and what that costs, or why today's design cannot be
@@ -153,7 +181,9 @@ class DesignResult(StageResult):
         """With no choice: the cheapest candidate whose R(N*) the surrogate does not tell from the highest (their
         difference within the sum of their error estimates), '' otherwise. The strictly highest R could cost 2.4 more
         for a gain of 0.003 against errors of 0.04."""
-        rows = [r for r in self.candidates if r.get("reliability_at_target_life") is not None]
+        refuted = [r["choices"] for r in self.refuted]
+        rows = [r for r in self.candidates if r.get("reliability_at_target_life") is not None
+                and r["choices"] not in refuted]  # a refuted candidate's surrogate estimate is known to be wrong
         if self.chosen is not None or not rows:
             return ""
         top = max(rows, key=lambda r: (r["reliability_at_target_life"], -r["cost"]))

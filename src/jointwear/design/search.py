@@ -16,13 +16,16 @@ Method (docs/design.md):
    or the budget ends.
 4. The Pareto front is the set of candidates that no cheaper candidate matches in life at R*; the choice is
    the cheapest candidate with R(N*) >= R*. It is verified by its own AK-MCS study on the true model at N*.
+5. A choice its verification refutes (verdict 'misses') is out of the search for the headline target from then on:
+   its calls join the surrogate and the next cheapest candidate is chosen and verified, until one is not refuted,
+   the verification budget ends, or no candidate is left that was not refuted (``DesignResult.no_choice_reason``).
 """
 
 from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Container
 from dataclasses import dataclass
 
 import numpy as np
@@ -322,19 +325,24 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
         return {(i, k): estimate(space, sur, candidates[i], t["log_life"], t["reliability"])
                 for i in indices for k, t in enumerate(targets)}
 
+    refuted: set[int] = set()  # candidates whose verification missed the headline target: never chosen for it again
+
+    def excluded(k: int) -> set[int]:
+        """The candidates out of the search for target ``k`` (those refuted at the headline target)."""
+        return refuted if k == 0 else set()
+
     def undecided(est: dict) -> list[tuple[int, int]]:
         """(candidate, target) pairs no dearer than the target's current choice whose R(N*) is within the
         surrogate's error of R* (the Monte Carlo part of the error is not reduced by model calls)."""
         out = []
         for k, t in enumerate(targets):
-            chosen_cost = math.inf
-            for i in order:
-                if est[(i, k)].reliability >= t["reliability"]:
-                    chosen_cost = candidates[i].cost(controls)
-                    break
+            chosen_i = _cheapest_meeting(est, order, k, t["reliability"], excluded(k))
+            chosen_cost = math.inf if chosen_i is None else candidates[chosen_i].cost(controls)
             for i in order:
                 if candidates[i].cost(controls) > chosen_cost:
                     break
+                if i in excluded(k):
+                    continue
                 e = est[(i, k)]
                 if is_undecided(e.reliability, t["reliability"], e.surrogate_error, e.outside_fraction):
                     out.append((i, k))
@@ -344,8 +352,8 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
         """Candidates no dearer than the dearest current choice (the only ones a refinement can change)."""
         limit = 0.0
         for k, t in enumerate(targets):
-            costs = [candidates[i].cost(controls) for i in order if est[(i, k)].reliability >= t["reliability"]]
-            limit = max(limit, costs[0] if costs else math.inf)
+            chosen_i = _cheapest_meeting(est, order, k, t["reliability"], excluded(k))
+            limit = max(limit, math.inf if chosen_i is None else candidates[chosen_i].cost(controls))
         return [i for i in order if candidates[i].cost(controls) <= limit]
 
     est = evaluate_all(range(len(candidates)))
@@ -382,7 +390,7 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
                 f"call{'' if refine_calls == 1 else 's'}")
         if len(candidates) > 2000:
             est = evaluate_all(range(len(candidates)))
-        head_i = _cheapest_meeting(est, order, 0, targets[0]["reliability"])
+        head_i = _cheapest_meeting(est, order, 0, targets[0]["reliability"], refuted)
         budget = settings.verification_max_calls - verification_calls
         if not settings.verify or head_i is None or head_i in verified or budget <= 0:
             break
@@ -396,7 +404,10 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
         verifications.append(ver)
         if ver["confirmed"]:
             break
-        # Not confirmed: the verification's true calls enter the life surrogate and the search runs again.
+        # Refuted: the candidate leaves the search for the headline target (its surrogate estimate may still meet it
+        # after the few calls below, and it was chosen again), the verification's true calls enter the life
+        # surrogate and the search runs again.
+        refuted.add(head_i)
         sur.add(x_ver)
         est = evaluate_all(range(len(candidates)))
     left = undecided(est)
@@ -405,7 +416,7 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
     for k, t in enumerate(targets):
         rows = [_row(candidates[i], controls, est[(i, k)]) for i in range(len(candidates))]
         resolution = life_resolution(reliability_result, t["reliability"])
-        chosen_i = _cheapest_meeting(est, order, k, t["reliability"])
+        chosen_i = _cheapest_meeting(est, order, k, t["reliability"], excluded(k))
         chosen = None
         if chosen_i is not None:
             chosen = _row(candidates[chosen_i], controls, est[(chosen_i, k)])
@@ -418,8 +429,8 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
 
     every = None
     if len(targets) > 1:  # a drawing must meet every target at once: the cheapest candidate that does
-        both = next((i for i in order if all(est[(i, k)].reliability >= t["reliability"]
-                                             for k, t in enumerate(targets))), None)
+        both = next((i for i in order if i not in refuted and all(est[(i, k)].reliability >= t["reliability"]
+                                                                  for k, t in enumerate(targets))), None)
         if both is not None:
             every = {"choices": candidates[both].choices(controls), "cost": candidates[both].cost(controls),
                      "reliability_at_target_life": [est[(both, k)].reliability for k in range(len(targets))],
@@ -428,6 +439,9 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
     verification = verified.get(head["chosen_index"]) if head["chosen_index"] is not None else None
     if verification is not None:
         verification = dict(verification, model_calls=verification_calls, rounds=verifications)
+    elif head["chosen_index"] is None and refuted:  # every candidate that met the target was refuted
+        verification = dict(verifications[-1], model_calls=verification_calls, rounds=verifications,
+                            note="no candidate left that its verification did not refute")
     elif verifications:  # the budget ended before the latest choice could be verified
         verification = {"reliability_at_target_life": None, "error": None, "model_calls": verification_calls,
                         "confirmed": False, "verdict": "not_verified", "rounds": verifications,
@@ -464,12 +478,16 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
         if len(reliability_result.cycles) else [],
         baseline_choices=None if today_cand is None else today_cand.choices(controls),
         baseline_cost=None if today_cand is None else today_cand.cost(controls), baseline_unmatched=unmatched,
-        life_resolution=head["life_resolution"])
+        life_resolution=head["life_resolution"],
+        refuted=[{"choices": v["choices"], "cost": candidates[i].cost(controls),
+                  "reliability_at_target_life": v["reliability_at_target_life"], "error": v["error"]}
+                 for i, v in verified.items() if i in refuted])
 
 
-def _cheapest_meeting(est: dict, order: list[int], k: int, reliability: float) -> int | None:
-    """The cheapest candidate whose R(N*) on the surrogate meets target ``k``."""
-    return next((i for i in order if est[(i, k)].reliability >= reliability), None)
+def _cheapest_meeting(est: dict, order: list[int], k: int, reliability: float,
+                      excluded: Container[int] = ()) -> int | None:
+    """The cheapest candidate outside ``excluded`` whose R(N*) on the surrogate meets target ``k``."""
+    return next((i for i in order if i not in excluded and est[(i, k)].reliability >= reliability), None)
 
 
 def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: CandidateSpace, target: dict,

@@ -76,9 +76,8 @@ def design_section(out_dir: Path | str, figs=None) -> str | None:
                  f"{_get(d, 'model_calls', 0)} true-model calls in all.</p>")
     chosen = _get(d, "chosen")
     if chosen is None:
-        nearest = d.nearest_sentence()
-        parts.append('<p class="missing">No candidate reaches the target on the surrogate'
-                     f'{"; " + e(nearest) if nearest else ""}.</p>')
+        sentence = d.no_choice_sentence()
+        parts.append(f'<p class="missing">{e(sentence[:1].upper() + sentence[1:])}.</p>')
     else:
         costs = {c["name"]: {o["name"]: o.get("cost") for o in c.get("options", [])}
                  for c in _get(d, "controls") or []}

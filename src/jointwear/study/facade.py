@@ -945,10 +945,8 @@ class Study:
         result.save(self.out)
         calls = f"{result.model_calls} model calls{reused_text(new, result.model_calls)} -> {self.out / result.FILE}"
         chosen = result.chosen
-        if chosen is None:
-            nearest = result.nearest_sentence()
-            self.echo(f"design: no candidate reaches {result.target_life_cycles:,.0f} cycles at "
-                      f"R = {result.target_reliability:g}{'; ' + nearest if nearest else ''}; {calls}")
+        if chosen is None:  # none reached the target on the surrogate, or every one that did was refuted
+            self.echo(f"design: {result.no_choice_sentence()}; {calls}")
             self._warn_design_trust({})
             if outside := result.target_outside_curve_sentence():  # the nearest's R(N*) is then the less sure
                 self.warn(f"design: {outside}")
