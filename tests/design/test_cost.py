@@ -57,3 +57,39 @@ def test_a_reference_grade_makes_a_grades_cost_independent_of_the_list():
     assert loosest[1] == pytest.approx(1.0)  # without a reference: the list's loosest grade
     with pytest.raises(ValueError, match="reference_grade"):
         CostModel(reference_grade="IT99")
+
+
+@pytest.mark.parametrize("grades, costs, pairs", [
+    (["IT9", "IT10", "IT11"], [1.0, 2.0, 3.0], "IT9 at 1 < IT10 at 2, IT9 at 1 < IT11 at 3, IT10 at 2 < IT11 at 3"),
+    (["IT11", "IT8", "IT10"], [1.0, 2.0, 2.5], "IT8 at 2 < IT10 at 2.5"),  # in any order of the list
+])
+def test_a_tighter_grade_costing_less_is_refused_naming_the_grades(grades, costs, pairs):
+    """costs = [1, 2, 3] for IT9, IT10, IT11 (listed loosest first in mind) was accepted: IT9 then cost least of all
+    and the design bought it, in silence."""
+    from jointwear.config import load_config, updated
+    from jointwear.schema import ConfigError
+
+    with pytest.raises(ConfigError, match=rf"design\.tolerances\[0\]: costs: a tighter grade costs less than a looser "
+                                          rf"one \({pairs}\)"):
+        updated(load_config(), {"design.tolerances": [{"variable": "l2", "grades": grades, "costs": costs}]})
+
+
+def test_equal_or_rising_grade_costs_are_accepted():
+    for costs in ([1.0, 1.0, 1.0], [3.0, 2.0, 1.0], [2.0, 2.0, 1.0]):
+        assert ToleranceControl(variable="l2", grades=["IT9", "IT10", "IT11"], costs=costs).costs == costs
+
+
+def test_a_fit_tighter_in_its_grades_costing_less_is_refused():
+    from jointwear.design.settings import FitControl
+
+    def fit(hole, shaft, cost, **extra):
+        return {"hole_grade": hole, "shaft_grade": shaft, "cost": cost, **extra}
+
+    with pytest.raises(ValueError, match=r"cost: a fit tighter in its grades \(with the same mean\) costs less than a "
+                                         r"looser one \(IT7/IT6 at 0.1 < IT8/IT7 at 0.3, IT7/IT6 at 0.1 < IT7/IT7 at "
+                                         r"0.2, IT7/IT7 at 0.2 < IT8/IT7 at 0.3\)"):
+        FitControl(options=[fit("IT8", "IT7", 0.3), fit("IT7", "IT6", 0.1), fit("IT7", "IT7", 0.2)])
+    # not comparable: another mean clearance, grades crossed (tighter bore, looser pin), or letters (their mean moves)
+    FitControl(options=[fit("IT8", "IT7", 0.3, mean=4e-6), fit("IT7", "IT6", 0.1)])
+    FitControl(options=[fit("IT6", "IT8", 0.1), fit("IT8", "IT6", 0.3)])
+    FitControl(options=[{"fit": "H7/g6", "cost": 0.1}, {"fit": "H8/f7", "cost": 0.3}])

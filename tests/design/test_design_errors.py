@@ -24,6 +24,9 @@ def _preset_text() -> str:
     # a grade on a hardness: "nominal size 8.8263e+11 mm outside the tabulated range" before
     ('\n[[design.tolerances]]\nvariable = "E_j"\ngrades = ["IT8"]\n',
      ["'E_j' is not a length (its target is in Pa)", "[[design.properties]]"]),
+    # costs listed loosest first in mind: the tightest grade was the cheapest, in silence
+    ('\n[[design.tolerances]]\nvariable = "l1"\ngrades = ["IT9", "IT11"]\ncosts = [1.0, 3.0]\n',
+     ["design.tolerances[2]: costs", "a tighter grade costs less", "IT9 at 1 < IT11 at 3"]),
 ])
 def test_bad_design_section_exits_2_with_one_line(tmp_path, capsys, extra, words):
     cfg = tmp_path / "bad.toml"

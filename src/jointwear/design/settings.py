@@ -83,7 +83,8 @@ class ToleranceControl(SIModel):
     nominal: float | None = F(None, unit="m", description="Nominal size for the IT table; None = the "
                               "variable's mean.")
     costs: list[float] | None = Field(
-        None, description="Relative cost of each grade (same order); None = the [design.cost_model] relation.")
+        None, description="Relative cost of each grade (same order); None = the [design.cost_model] relation. A "
+        "tighter grade may not cost less than a looser one (equal costs are accepted).")
 
     @field_validator("grades")
     @classmethod
@@ -106,6 +107,11 @@ class ToleranceControl(SIModel):
                 raise ValueError(f"costs: {len(self.costs)} costs for {len(self.grades)} grades")
             if any(c < 0 for c in self.costs):
                 raise ValueError("costs must be >= 0")
+            inverted = _inverted(list(zip(self.grades, self.costs)), lambda g, h: _rank(g) < _rank(h))
+            if inverted:
+                raise ValueError(f"costs: a tighter grade costs less than a looser one ({inverted}), which no "
+                                 "tolerance-cost relation gives (costs listed in another order than the grades?); "
+                                 "give a tighter grade a cost at least the looser one's")
         if self.nominal is not None and not self.nominal > 0:
             raise ValueError(f"nominal must be > 0 m (got {self.nominal:g})")
         return self
@@ -123,7 +129,8 @@ class FitOption(SIModel):
     shaft_grade: str | None = Field(None, description="Pin grade, e.g. 'IT6' (without `fit`).")
     mean: float | None = F(None, unit="m", description="Designed mean radial clearance, without `fit`; None = the "
                            "study's.")
-    cost: float = Field(description="Relative cost (user-given; >= 0).")
+    cost: float = Field(description="Relative cost (user-given; >= 0). Of two fits given by their grades with the "
+                        "same mean, the tighter (neither grade looser) may not cost less.")
 
     @field_validator("hole_grade", "shaft_grade")
     @classmethod
@@ -187,6 +194,12 @@ class FitControl(SIModel):
         if not options:
             raise ValueError("give at least one fit")
         _unique([o.name for o in options])
+        # fits by their letters move the mean clearance with the grades, so only fits by grades with one mean compare
+        graded = [(o, o.cost) for o in options if o.fit is None]
+        inverted = _inverted(graded, _tighter_fit)
+        if inverted:
+            raise ValueError(f"cost: a fit tighter in its grades (with the same mean) costs less than a looser one "
+                             f"({inverted}); give the tighter fit a cost at least the looser one's")
         return options
 
 
@@ -365,6 +378,28 @@ class DesignSettings(SIModel):
 
 #: smallest population per candidate: the exact 95 % interval of R = 0.9 from 1,000 samples is about +/- 0.02
 MIN_POPULATION = 1_000
+
+
+def _rank(grade: str) -> int:
+    return IT_GRADES.index(grade)
+
+
+def _tighter_fit(a: FitOption, b: FitOption) -> bool:
+    """Whether fit ``a`` is tighter than ``b``: the same mean, neither grade looser and one tighter."""
+    if a.mean != b.mean:
+        return False
+    pairs = [(_rank(a.hole_grade), _rank(b.hole_grade)), (_rank(a.shaft_grade), _rank(b.shaft_grade))]
+    return all(x <= y for x, y in pairs) and any(x < y for x, y in pairs)
+
+
+def _inverted(priced: list[tuple], tighter) -> str:
+    """Every pair of ``priced`` (option, cost) where the option ``tighter`` than the other costs strictly less, as
+    'IT9 at 1 < IT11 at 3'; '' when none."""
+    def label(option) -> str:
+        return option if isinstance(option, str) else option.name
+
+    return ", ".join(f"{label(a)} at {ca:g} < {label(b)} at {cb:g}"
+                     for a, ca in priced for b, cb in priced if tighter(a, b) and ca < cb)
 
 
 def _unique(names: list[str]) -> None:
