@@ -79,6 +79,8 @@ def test_a_budget_spent_on_refuted_choices_leaves_the_next_one_unverified(study,
     assert len(seen) == 2 and [r["choices"] for r in res.refuted] == seen
     assert res.chosen is not None and res.chosen["choices"] not in seen and res.verdict() == "not_verified"
     assert res.no_choice_reason is None and "budget spent" in res.verification_sentence()
+    # a refuted candidate is not named as an undecided cheaper one either
+    assert all(choices_text(c) not in res.undecided_sentence() for c in seen)
 
 
 def test_the_reason_survives_the_json(tmp_path):

@@ -231,8 +231,9 @@ class DesignResult(StageResult):
         chosen, r_star, n = self.chosen, self.target_reliability, self.n_population
         if chosen is None or not n:
             return ""
+        refuted = [r["choices"] for r in self.refuted]  # out of the search: not undecided
         left = [r for r in self.candidates if r["cost"] <= chosen["cost"] and r["choices"] != chosen["choices"]
-                and r.get("surrogate_error") is not None
+                and r["choices"] not in refuted and r.get("surrogate_error") is not None
                 and is_undecided(r["reliability_at_target_life"], r_star, r["surrogate_error"],
                               r.get("outside_design_fraction") or 0.0)]
         if not left:
