@@ -78,11 +78,17 @@ def test_bounds_leave_real_studies_alone():
     assert cfg.reliability.n_mc == 10**8 and cfg.sensitivity.sobol_base_samples == 2**20
 
 
-def test_simulate_cycles_argument_is_bounded(tmp_path):
+@pytest.mark.parametrize("kwargs, field, most", [({"cycles": 10**12}, "simulation.cycles", "100"),
+                                                ({"cycles": 2, "settle": 10**12}, "simulation.settle_cycles", "10000")])
+def test_simulate_arguments_are_bounded_by_their_fields(tmp_path, kwargs, field, most):
+    """simulate(cycles=, settle=) is checked by the settings fields it stands for (one bound, one message), before
+    anything is written."""
     import jointwear
 
-    with pytest.raises(ConfigError, match="cycles: at most 100 recorded cycles"):
-        jointwear.Study("jin2025_flapping_wing", out=tmp_path, workers=1).simulate(cycles=10**12)
+    with pytest.raises(ConfigError, match=rf"simulate\(cycles, settle\): {field}: Input should be less than or "
+                                          rf"equal to {most}"):
+        jointwear.Study("jin2025_flapping_wing", out=tmp_path / "out", workers=1).simulate(**kwargs)
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
 
 
 def test_design_candidates_are_bounded():

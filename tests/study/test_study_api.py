@@ -141,8 +141,10 @@ def test_a_design_section_left_behind_by_a_variation_only_stops_the_design_stage
 
 
 @pytest.mark.parametrize("stage, kwargs, message", [
-    ("simulate", {"cycles": 0}, "cycles must be > 0 cycles, got 0"),  # was a ZeroDivisionError
-    ("simulate", {"cycles": 1, "settle": -1}, "settle must be a whole number of cycles in \\[0, 10,000\\], got -1"),
+    ("simulate", {"cycles": 0}, "simulation.cycles: Input should be greater than or equal to 1 \\(got 0\\)"),
+    ("simulate", {"cycles": 1, "settle": -1}, "simulation.settle_cycles: Input should be greater than or equal to 0"),
+    ("simulate", {"cycles": 2.5}, "simulation.cycles: Input should be a valid integer"),
+    ("simulate", {"cycles": "2"}, "cycles: a number is expected, not the string '2'"),
     ("wear", {"cycles": "1000"}, "cycles must be a positive whole number of cycles, got '1000'"),  # was accepted
 ])
 def test_a_stage_argument_is_checked_before_anything_is_written(tmp_path, stage, kwargs, message):

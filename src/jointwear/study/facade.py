@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any, ParamSpec, TypeVar
 import numpy as np
 
 from jointwear.compute.executors import scheduler_argument_accepted
-from jointwear.config import StudyConfig, config_from_dict, load_config
+from jointwear.config import StudyConfig, config_from_dict, load_config, updated
 from jointwear.reliability import AllCallsFailedError
 from jointwear.schema import ConfigError
 from jointwear.study.checks import (
@@ -405,17 +405,15 @@ class Study:
         """
         from jointwear.mechanism import build_model
         from jointwear.mechanism import simulate as run_simulation
-        from jointwear.mechanism.settings import MAX_RECORDED_CYCLES, MAX_SETTLE_CYCLES
 
-        n = _cycles_argument(cycles if cycles is not None else self.config.simulation.cycles)
-        if n > MAX_RECORDED_CYCLES:  # as simulation.cycles: every step is recorded
-            raise ConfigError(f"cycles: at most {MAX_RECORDED_CYCLES:,} recorded cycles (got {n:,}): every integration "
-                              "step is kept, about 20,000 a cycle")
-        if settle is not None and not (isinstance(settle, numbers.Integral) and not isinstance(settle, bool)
-                                       and 0 <= settle <= MAX_SETTLE_CYCLES):
-            raise ConfigError(f"settle must be a whole number of cycles in [0, {MAX_SETTLE_CYCLES:,}], got {settle!r}")
+        # the arguments are checked by the fields they stand for (simulation.cycles, simulation.settle_cycles): one
+        # check, one message naming the field and its range, before anything is written
+        given = {path: v for path, v in (("simulation.cycles", cycles), ("simulation.settle_cycles", settle))
+                 if v is not None}
+        config = updated(self.config, given, source="simulate(cycles, settle)") if given else self.config
+        n, settle = config.simulation.cycles, config.simulation.settle_cycles
         self._prepare({"simulate"})
-        model = build_model(self.config)
+        model = build_model(config)
         run_simulation(model, 0.01, settle_cycles=0)  # compile (or load) the kernels so the timing excludes it
         res = run_simulation(model, n, settle_cycles=settle)
         result = SimulationSummary.from_simulation(res, self.config.name)
