@@ -49,7 +49,7 @@ def check(tmp_path, text: str, capsys) -> tuple[int, str]:
 
 SIZE_CASES = [
     ("curve-levels", edit("cycles_stop = 560000\ncycles_step = 20000",
-                          "cycles_stop = 1_000_000_000_000\ncycles_step = 1"),
+                          "cycles_stop = 1_000_000_000\ncycles_step = 1"),
      "cycles_step"),
     ("n_mc", edit("[reliability]", "[reliability]\nn_mc = 1_000_000_000_000\nn_mc_max = 1_000_000_000_000"),
      "reliability.n_mc"),
@@ -57,6 +57,11 @@ SIZE_CASES = [
      "sensitivity.sobol_base_samples"),
     ("simulation-cycles", edit("cycles = 2\n", "cycles = 1_000_000_000_000\n"), "simulation.cycles"),
     ("settle-cycles", edit("settle_cycles = 1 ", "settle_cycles = 1_000_000_000_000 "), "simulation.settle_cycles"),
+    ("wear-cycles", edit("cycles = 400_000 ", "cycles = 1e300 "), "wear.cycles: must be at most 1,000,000,000"),
+    ("wear-cycles-int", edit("cycles = 400_000 ", "cycles = 1_000_000_001 "), "wear.cycles"),
+    ("block-cycles", edit("[wear]\n", "[wear]\nblock_cycles = 1_000_000_000_000\n"), "wear.block_cycles"),
+    ("max-block", edit("[wear]\n", "[wear]\nmax_block = 1_000_000_000_000\n"), "wear.max_block"),
+    ("curve-stop", edit("cycles_stop = 560000", "cycles_stop = 1_000_000_000_000"), "reliability.cycles_stop"),
 ]
 
 
@@ -76,6 +81,24 @@ def test_bounds_leave_real_studies_alone():
     cfg = load_config({"extends": "jin2025_flapping_wing", "reliability": {"n_mc": 10**8, "n_mc_max": 10**8},
                        "sensitivity": {"sobol_base_samples": 2**20}, "simulation": {"cycles": 100}})
     assert cfg.reliability.n_mc == 10**8 and cfg.sensitivity.sobol_base_samples == 2**20
+
+
+def test_wear_bounds_leave_long_histories_alone():
+    cfg = load_config({"extends": "jin2025_flapping_wing", "wear": {"cycles": 10**9, "block_cycles": 10**9,
+                                                                     "max_block": 10**9},
+                       "reliability": {"cycles_stop": 10**9, "cycles_step": 10**7}})
+    assert cfg.wear.cycles == cfg.wear.block_cycles == cfg.reliability.cycles_stop == 10**9
+
+
+@pytest.mark.parametrize("cycles", [10**12, 10**400, 1e300], ids=["1e12", "int-1e400", "float-1e300"])
+def test_wear_cycles_argument_is_bounded(tmp_path, cycles):
+    """The history length a caller gives is bounded as wear.cycles is, before anything runs or is written."""
+    import jointwear
+
+    study = jointwear.Study("jin2025_flapping_wing", out=tmp_path / "out", workers=1)
+    with pytest.raises(ConfigError, match="cycles must be at most 1,000,000,000 cycles"):
+        study.wear(cycles=cycles)
+    assert not (tmp_path / "out" / "wear.json").exists()
 
 
 @pytest.mark.parametrize("kwargs, field, most", [({"cycles": 10**12}, "simulation.cycles", "100"),

@@ -12,6 +12,7 @@ from typing import Literal
 from pydantic import Field, field_validator, model_validator
 
 from jointwear.schema import F, SIModel
+from jointwear.wear.settings import MAX_WEAR_CYCLES
 
 #: Upper bounds of the sizes a config asks for, checked when it is loaded (``jointwear check`` fails fast on them
 #: instead of allocating): each is far above any real study and below what would exhaust a workstation's memory.
@@ -55,7 +56,10 @@ class ReliabilitySettings(SIModel):
     cycles_start: int | None = Field(
         None, description="First cycle count of the R(N) curve (required by the reliability stages).")
     cycles_stop: int | None = Field(
-        None, description="Last cycle count of the R(N) curve (required by the reliability stages).")
+        None, le=MAX_WEAR_CYCLES,
+        description="Last cycle count of the R(N) curve (required by the reliability stages). Every model call runs a "
+        "wear history to it, and it is the nominal history's default length: at most 10^9, as `wear.cycles` "
+        "(`MAX_WEAR_CYCLES`).")
     cycles_step: int | None = Field(
         None, description="Spacing of the R(N) curve; None = (stop - start) / 10. cycles_stop is always a level, so a "
         "step that does not divide the span leaves a shorter last interval (the histogram levels are added too). The "

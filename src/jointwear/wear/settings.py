@@ -18,6 +18,12 @@ from jointwear.schema import F, SIModel
 #: 1.128 sqrt(F R* (h_i + h_j) / L) with 1/E* = h_i + h_j, h = (1 - nu^2) / E (Johnson, Contact Mechanics, Eq. 4.43).
 JOHNSON_FACTOR = math.sqrt(4.0 / math.pi)
 
+#: Longest wear history (crank cycles) a config or a caller may ask for, and so the longest block. 10^9 cycles are
+#: about 4 years of continuous running at the flapping preset's 480 rpm and 100,000 blocks of the default 10,000
+#: cycles (each block integrates about 3 cycles: some 25 minutes of dynamics for one history, and a reliability
+#: study runs dozens); a count beyond it is a typo or a unit slip, refused before anything runs.
+MAX_WEAR_CYCLES = 1_000_000_000
+
 
 class WearSettings(SIModel):
     """How the Archard wear of the clearance joints is computed and extrapolated over many cycles (``config.wear``).
@@ -114,7 +120,8 @@ class WearSettings(SIModel):
         description=(
             "Number of crank cycles of the nominal wear history (`jointwear wear`, `run`) when the caller does not "
             "give one. Default: the end of the R(N) curve (`reliability.cycles_stop`); a config with neither must "
-            "give it."
+            "give it. At most 10^9 (`MAX_WEAR_CYCLES`: about 4 years of continuous running at 480 rpm, 100,000 "
+            "blocks of the default 10,000 cycles; a larger count is a typo or a unit slip and would run for days)."
         ),
     )
     block_rule: Literal["fixed", "adaptive"] = Field(
@@ -132,10 +139,12 @@ class WearSettings(SIModel):
     block_cycles: int = Field(
         10_000,
         ge=1,
+        le=MAX_WEAR_CYCLES,
         description=(
             "Block size of the 'fixed' rule. Default 10,000 (40 samples to 400k cycles): the run-to-run scatter of "
             "the max wear at 400k cycles is about 3 % (8 runs each at rtol 1e-6 and 5e-7), and halving the block "
-            "changes the mean by less than the 2 % acceptance (benchmarks/wear.py, docs/wear.md)."
+            "changes the mean by less than the 2 % acceptance (benchmarks/wear.py, docs/wear.md). At most 10^9, "
+            "the longest history (`MAX_WEAR_CYCLES`): a longer block would stand for cycles no history runs."
         ),
     )
     initial_block: int = Field(
@@ -146,7 +155,9 @@ class WearSettings(SIModel):
     max_block: int = Field(
         80_000,
         ge=1,
-        description="Adaptive rule: largest block. Default 80,000 (keeps >= 6 history points to 400k cycles).",
+        le=MAX_WEAR_CYCLES,
+        description="Adaptive rule: largest block. Default 80,000 (keeps >= 6 history points to 400k cycles). At "
+        "most 10^9, the longest history (`MAX_WEAR_CYCLES`); `min_block` and `initial_block` lie below it.",
     )
     min_block: int = Field(2_500, ge=1, description="Adaptive rule: smallest block.")
     block_growth: float = Field(
@@ -280,17 +291,24 @@ class WearSettings(SIModel):
 
 
 def check_cycles(value, field: str | None = "cycles") -> int:
-    """Validate a cycle count at an API boundary: a finite, positive whole number. Raises ValueError naming `field`
-    (field None: the message starts with "must be", for validators whose caller adds the field's path)."""
+    """Validate a cycle count at an API boundary: a finite, positive whole number of at most `MAX_WEAR_CYCLES`.
+    Raises ValueError naming `field` (field None: the message starts with "must be", for validators whose caller
+    adds the field's path)."""
     field = field or ""
     if isinstance(value, (bool, str)):  # float("1000") would read a string
         raise ValueError(f"{field}{' ' if field else ''}must be a positive whole number of cycles, got {value!r}")
+    too_many = (f"{field}{' ' if field else ''}must be at most {MAX_WEAR_CYCLES:,} cycles (MAX_WEAR_CYCLES: a "
+                f"longer wear history would run for days), got {value!r}")
     try:
         x = float(value)
+    except OverflowError:  # an int beyond float's range
+        raise ValueError(too_many) from None
     except (TypeError, ValueError):
         raise ValueError(f"{field}{' ' if field else ''}must be a positive whole number of cycles, got {value!r}") from None
     if not math.isfinite(x):
         raise ValueError(f"{field}{' ' if field else ''}must be a finite positive number of cycles, got {value!r}")
+    if x > MAX_WEAR_CYCLES:
+        raise ValueError(too_many)
     if x <= 0:
         raise ValueError(f"{field}{' ' if field else ''}must be > 0 cycles, got {value!r}")
     if x != int(x):
