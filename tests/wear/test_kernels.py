@@ -4,13 +4,15 @@ import math
 
 import numpy as np
 import pytest
-from wear_synthetic import make_trace
+from wear_synthetic import JOINT, make_trace
 
+from jointwear.mechanism.results import ContactTrace
 from jointwear.wear.cycle import JointMaterials, cycle_wear
 from jointwear.wear.kernels import (
     TWO_PI,
     periodic_interp,
     spread_patch,
+    spread_swept_patch,
     worn_area,
 )
 from jointwear.wear.settings import WearSettings
@@ -40,6 +42,78 @@ def test_spread_is_grid_independent(hertz):
     # cells are centred at 2 pi k / n, so grids nest for odd refinement: coarse cell k = fine cells 3k-1 .. 3k+1
     agg = np.roll(fine, 1).reshape(360, 3).mean(axis=1)
     np.testing.assert_allclose(agg, coarse, rtol=1e-10, atol=1e-12 * coarse.max())
+
+
+@pytest.mark.parametrize("hertz", [False, True])
+@pytest.mark.parametrize("start,arc,half", [(0.3, 0.05, 0.02), (6.27, 0.04, 0.01), (0.01, -0.03, 0.02),
+                                            (1.0, 0.2, 0.0), (2.0, 1e-9, 0.02), (3.0, 0.1, 4.0)])
+def test_swept_patch_conserves_area(hertz, start, arc, half):
+    g = np.zeros(360)
+    spread_swept_patch(g, start, arc, half, 2.5e-7, hertz)
+    assert abs(g.sum() * TWO_PI / 360 - 2.5e-7) / 2.5e-7 < 1e-12  # telescoping sum: rounding only
+
+
+@pytest.mark.parametrize("hertz", [False, True])
+def test_swept_patch_limits(hertz):
+    """No arc: the patch itself; an arc of many patch widths: uniform depth area / arc on the cells well inside it;
+    a coarse grid holds the cell averages of a fine one (exact integration over each cell)."""
+    a, b = np.zeros(3600), np.zeros(3600)
+    spread_patch(a, 1.0, 0.02, 1.0, hertz)
+    spread_swept_patch(b, 1.0, 0.0, 0.02, 1.0, hertz)
+    np.testing.assert_array_equal(a, b)
+    g = np.zeros(3600)
+    spread_swept_patch(g, 1.0, 0.5, 0.02, 1.0, hertz)
+    k = np.arange(3600) * TWO_PI / 3600
+    inner = g[(k > 1.03) & (k < 1.47)]
+    np.testing.assert_allclose(inner, 1.0 / 0.5, rtol=1e-9)
+    fine, coarse = np.zeros(1080), np.zeros(360)
+    rng = np.random.default_rng(2)
+    for _ in range(100):
+        c, arc, h = rng.uniform(0, TWO_PI), rng.uniform(-0.1, 0.1), rng.uniform(0.0, 0.05)
+        spread_swept_patch(fine, c, arc, h, 1.0, hertz)
+        spread_swept_patch(coarse, c, arc, h, 1.0, hertz)
+    np.testing.assert_allclose(np.roll(fine, 1).reshape(360, 3).mean(axis=1), coarse, rtol=1e-10,
+                               atol=1e-12 * coarse.max())
+
+
+def sweep_trace(theta0: float, omega: float, step: float, duration: float, force: float = 0.1,
+                slip: float = 0.05) -> ContactTrace:
+    """A contact sweeping the bore at a constant angular speed omega (rad/s) under a constant load, recorded every
+    `step` seconds with trapezoid weights (as the dynamics records)."""
+    t = np.arange(0.0, duration + 0.5 * step, step)
+    m = t.size
+    w = np.zeros(m)
+    w[:-1] += 0.5 * np.diff(t)
+    w[1:] += 0.5 * np.diff(t)
+    th = np.mod(theta0 + omega * t, TWO_PI)
+    z = np.zeros(m)
+    return ContactTrace(name="A", bearing_body="rod", journal_body="crank", t=t, dt_weight=w, theta_bearing=th,
+                        theta_journal=th, force_normal=np.full(m, force), force_tangential=z,
+                        slip_speed=np.full(m, slip), penetration=np.full(m, 1e-8), penetration_rate=z,
+                        in_contact=np.ones(m, dtype=bool), eccentricity_global=np.zeros((m, 2)), bearing_body_angle=z,
+                        journal_body_angle=z, stiffness=np.full(m, 1e10), normal_tilt=z, bearing_radius=1.002e-3,
+                        journal_radius=1.0e-3, clearance_used=2e-6, joint=JOINT)
+
+
+@pytest.mark.parametrize("pressure", ["uniform", "hertz"])
+@pytest.mark.parametrize("step_over_patch", [0.1, 0.7, 1.5])
+def test_swept_contact_depth_does_not_depend_on_the_step(pressure, step_over_patch):
+    """A contact sweeping the bore at a constant rate under a constant load wears a uniform depth
+    (k/H) F |v| / (omega L R) along the swept arc, away from its ends: exact whatever the recorded step. Laid at the
+    recorded angles alone, steps 1.5 patch half-widths apart (the flapping wing at rtol 5e-7: 2-3 deg per step,
+    +-1.6 deg patches) read its maximum 50 % high (uniform pressure; Hertz 23 %), 0.7 apart 9 % (Hertz 6 %)."""
+    s = WearSettings(n_grid=720, pressure=pressure)
+    mat = JointMaterials.from_trace(sweep_trace(1.0, 1.0, 1.0, 1.0))
+    rstar = mat.r_b0 * mat.r_j0 / (mat.r_b0 - mat.r_j0)
+    half = s.half_width_factor * math.sqrt(0.1 * rstar * (mat.h_b + mat.h_j) / mat.width) / mat.r_b0  # rad
+    omega = 200.0  # rad/s: 1 rad in 5 ms
+    tr = sweep_trace(1.0, omega, step_over_patch * half / omega, 0.005)
+    cw = cycle_wear(tr, s, 1.0, mat)
+    exact = mat.kH_b * 0.1 * 0.05 / (omega * mat.width * mat.r_b0)
+    k = np.arange(720) * TWO_PI / 720
+    inner = cw.bearing[(k > 1.0 + 2 * half) & (k < 2.0 - 2 * half)]
+    np.testing.assert_allclose(inner, exact, rtol=1e-9)
+    assert cw.volume_bearing == pytest.approx(mat.kH_b * 0.1 * 0.05 * 0.005, rel=1e-12)
 
 
 def test_uniform_patch_depth_is_archard_depth():

@@ -126,6 +126,22 @@ class ConformalShare:
         return out, vol, g
 
 
+def sweep_shares(t, n: int) -> np.ndarray | None:
+    """The fraction of each recorded step's trapezoid weight that lies before it in time (kernels.accumulate_wear
+    lays that share along the arc back to the previous step's contact angle, the rest on to the next); None when the
+    record has no times (each step's wear is then laid at its own angle)."""
+    if t is None:
+        return None
+    t = np.asarray(t, dtype=float)
+    if t.shape != (n,):
+        return None
+    d = np.diff(t)
+    before = np.concatenate(([0.0], d))
+    after = np.concatenate((d, [0.0]))
+    tot = before + after
+    return np.where(tot > 0.0, before / np.where(tot > 0.0, tot, 1.0), 0.5)
+
+
 def cycle_wear(
     trace,
     settings: WearSettings,
@@ -145,7 +161,9 @@ def cycle_wear(
     (paper Eqs. 36-37); profile mode (when profiles are given) the local radii R_b0 + h_b(theta_b) and
     R_j0 - h_j(theta_j), with the profiles exactly as given to the contact search. bearing_touch / journal_touch
     (profile mode, 'envelope' contact): grid index of the bore point that touches for each centre-line direction
-    (contact.envelope.admissible_set); the wear is laid there. bearing_bore (profile mode, `profile_deposit =
+    (contact.envelope.admissible_set); the wear is laid there. Each step's wear is laid along the arc its contact
+    angle sweeps over its time weight (the angle linear in time between the recorded steps; sweep_shares), not at
+    its one recorded angle. bearing_bore (profile mode, `profile_deposit =
     "distributed"`): the bore's contact profile (smoothed wear, m); each step's bearing wear is shared over the
     cells the journal touches (kernels.gather_directions, share_load) instead. journal_surface: the same for the
     journal, its contact profile on its own grid, shared in the journal's frame (a flat worn on a pin under a load
@@ -186,6 +204,7 @@ def cycle_wear(
         mat.kH_b if bearing_bore is None else 0.0, mat.kH_j if journal_surface is None else 0.0, mat.width,
         settings.half_width_factor, settings.pressure == "hertz", settings.track_journal, wb, wj, diag,
         math.radians(settings.profile_smoothing_deg) * math.sqrt(3.0) if bearing_profile is not None else 0.0,
+        sweep_shares(getattr(trace, "t", None), F.shape[0]),
     )
     sides = []  # the sides laid by the shared load: (side, k/H, shares per unit k/H, their deposit on the side)
     tilt = np.ascontiguousarray(trace.normal_tilt, dtype=float)
