@@ -32,3 +32,32 @@ def full_report(study_dir) -> Path:
     from jointwear.report import build_report
 
     return build_report(study_dir)
+
+
+def _placeholder_png() -> bytes:
+    import io
+
+    from PIL import Image
+
+    buf = io.BytesIO()
+    Image.new("L", (3, 2), 128).save(buf, format="PNG")  # unlike any PNG a test writes itself
+    return buf.getvalue()
+
+
+_PLACEHOLDER_PNG = _placeholder_png()
+
+
+@pytest.fixture
+def figures_made_not_rendered(request, monkeypatch):
+    """For tests that read the report's text: each figure is still made from the study's data (one that cannot be
+    made still falls back or says so) but not rendered to PNG, which is about three quarters of a report's time.
+    Rendering is tested by the module fixture full_report (built before this function-scoped patch applies),
+    test_figures.py and the browser test; a test marked ``rendered`` renders its figures."""
+    if request.node.get_closest_marker("rendered"):
+        return
+    from jointwear.report import style
+
+    def unrendered(fig, *, dpi: int = style.DPI, close: bool = True) -> bytes:
+        return _PLACEHOLDER_PNG  # the report's figures are off pyplot: nothing to close
+
+    monkeypatch.setattr(style, "to_png_bytes", unrendered)

@@ -19,6 +19,7 @@ from jointwear.report import figures as F
 from jointwear.report.compare import comparison_markdown, main
 from jointwear.report.reference_checks import FAIL, INFO, NA, PASS, reference_checks
 
+pytestmark = pytest.mark.usefixtures("figures_made_not_rendered")  # conftest.py: these tests read text
 STAGES = ("simulate", "wear", "reliability", "sensitivity")
 
 

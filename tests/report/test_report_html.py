@@ -19,6 +19,7 @@ from jointwear.report.markup import format_number
 from jointwear.report.reference_checks import FAIL, NA, PASS, reference_checks
 from jointwear.study.results import ReliabilityCurve, SensitivityResult, WearSummary
 
+pytestmark = pytest.mark.usefixtures("figures_made_not_rendered")  # conftest.py: these tests read text
 SECTIONS = ("summary", "comparison", "study", "dynamics", "wear", "reliability", "sensitivity", "files")
 
 
@@ -35,6 +36,7 @@ def test_full_report_is_self_contained(full_report: Path):
     # mechanism, orbit, force, polar, history, Fig. 17, R(N), convergence, histograms, 3 tornados, Sobol'
     assert len(srcs) == 13
     assert all(s.startswith("data:image/png;base64,") for s in srcs)
+    assert min(map(len, srcs)) > 5000  # rendered: figures_made_not_rendered does not reach a module fixture
     assert "<script" not in page.lower()
     assert not re.search(r"""(src|href)\s*=\s*["']?(https?:)?//""", page, re.I)
     assert "url(" not in page and "@import" not in page and "<link" not in page.lower()
@@ -760,6 +762,7 @@ def test_a_long_text_cell_wraps_in_a_table_of_numbers():
     assert '<td>l2</td><td>0.0</td><td class="prose">' in html
 
 
+@pytest.mark.rendered  # its own two PNG files must differ
 def test_a_png_linked_from_outside_the_folder_is_not_embedded(tmp_path: Path):
     import base64
 
