@@ -58,7 +58,8 @@ def test_no_choice_is_left_when_every_candidate_is_refuted(study, monkeypatch):
     ctx, rel = study
     verify, seen = _stub(lambda choices: True)
     monkeypatch.setattr(design_search, "verify", verify)
-    res = run_design(ctx, rel)
+    settings = ctx.config.design
+    res = run_design(ctx, rel, settings.model_copy(update={"properties": settings.properties[1:]}))  # 18 candidates
     assert len(seen) >= 2 and len({choices_text(c) for c in seen}) == len(seen)  # each verified once
     assert res.chosen is None and not res.feasible and res.verdict() is None
     assert res.no_choice_reason == "refuted" and [r["choices"] for r in res.refuted] == seen
@@ -68,7 +69,6 @@ def test_no_choice_is_left_when_every_candidate_is_refuted(study, monkeypatch):
     assert choices_text(seen[0]) in res.no_choice_sentence()
     # nor is a refuted candidate named as the nearest to the target
     assert all(choices_text(c) not in res.nearest_sentence() for c in seen)
-
 
 
 def test_a_budget_spent_on_refuted_choices_leaves_the_next_one_unverified(study, monkeypatch):
