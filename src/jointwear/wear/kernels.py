@@ -166,6 +166,19 @@ def _arc_to(theta: np.ndarray, i: int, j: int, max_sweep: float) -> float:
     return d if abs(d) <= max_sweep else 0.0
 
 
+@njit(cache=True, inline="always")
+def _lay_step(grid: np.ndarray, theta: np.ndarray, i: int, half_angle: float, area: float,
+              left_share: np.ndarray | None, max_sweep: float, hertz: bool) -> None:
+    """Step i's worn cross-section on one body's grid: at its own angle without left_share, else swept over the
+    halves of the arcs to its neighbours' angles in the shares left_share[i] and 1 - left_share[i]."""
+    if left_share is None:
+        spread_patch(grid, theta[i], half_angle, area, hertz)
+    else:
+        sl = left_share[i]
+        spread_swept_pair(grid, theta[i], 0.5 * _arc_to(theta, i, i - 1, max_sweep),
+                          0.5 * _arc_to(theta, i, i + 1, max_sweep), half_angle, area * sl, area * (1.0 - sl), hertz)
+
+
 @njit(cache=True, nogil=True)
 def accumulate_wear(
     theta_b: np.ndarray,
@@ -238,26 +251,14 @@ def accumulate_wear(
         # Archard volume of the step on each body: (k/H) p ds * (2 b L) = (k/H) F ds.
         dvb = kH_b * f * ds
         if dvb != 0.0:  # 0 where the bearing's wear is laid elsewhere (profile mode's distributed deposit)
-            hb = max(b / r_b0, min_half_angle)
-            ab = dvb / (width * r_b0)
-            if left_share is None:
-                spread_patch(wear_b, theta_b[i], hb, ab, hertz)
-            else:
-                sl = left_share[i]
-                spread_swept_pair(wear_b, theta_b[i], 0.5 * _arc_to(theta_b, i, i - 1, max_sweep),
-                                  0.5 * _arc_to(theta_b, i, i + 1, max_sweep), hb, ab * sl, ab * (1.0 - sl), hertz)
+            _lay_step(wear_b, theta_b, i, max(b / r_b0, min_half_angle), dvb / (width * r_b0), left_share,
+                      max_sweep, hertz)
         vol_b += dvb
         if track_journal:
             dvj = kH_j * f * ds
             if dvj != 0.0:
-                hj = max(b / r_j0, min_half_angle)
-                aj = dvj / (width * r_j0)
-                if left_share is None:
-                    spread_patch(wear_j, theta_j[i], hj, aj, hertz)
-                else:
-                    sl = left_share[i]
-                    spread_swept_pair(wear_j, theta_j[i], 0.5 * _arc_to(theta_j, i, i - 1, max_sweep),
-                                      0.5 * _arc_to(theta_j, i, i + 1, max_sweep), hj, aj * sl, aj * (1.0 - sl), hertz)
+                _lay_step(wear_j, theta_j, i, max(b / r_j0, min_half_angle), dvj / (width * r_j0), left_share,
+                          max_sweep, hertz)
             vol_j += dvj
         s_tot += ds
         k = int(math.floor((theta_b[i] % TWO_PI) / delta_b + 0.5)) % n_b
