@@ -583,7 +583,7 @@ def summary_cards(out: StudyOutputs, checks: Sequence[Check], ref: Mapping | Non
 
 
 def validated_life_disagreement(val, rel) -> str | None:
-    """'at R = 0.9 the true model's life is 398,667 cycles (383,602-407,581), the curve's 376,184 (...): ...' when
+    """'at R = 0.9 the true model's life is 398,667 cycles (383,602-407,581), the curve's 373,680 (...): ...' when
     the validation's life at the study's target and the curve's have 95 % intervals that do not overlap (None
     otherwise, and without a validation)."""
     if val is None or rel is None:
