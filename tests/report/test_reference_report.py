@@ -136,6 +136,10 @@ def test_a_pass_within_an_absolute_band_only_says_so(study_dir):
     far = checks["reliability R(N) at 520,000 cycles"]
     assert far.status == PASS and "times the reference's R: within the absolute band only" in far.note
     assert "within the absolute band only" not in checks["reliability R(N) at 400,000 cycles"].note  # 0.804 / 0.739
+    rel.reliability = np.where(np.asarray(rel.cycles) == 520_000, 0.167, rel.reliability)  # outside the band
+    far = {c.quantity: c for c in reference_checks(results)}["reliability R(N) at 520,000 cycles"]
+    assert far.status == FAIL and "27.8 times the reference's R" in far.note  # a fail is not 'within the band'
+    assert "within the absolute band only" not in far.note
 
 
 def test_bands_decide_the_status(tmp_path, nominal):

@@ -356,7 +356,9 @@ def reference_checks(results: StudyResults, reference: Mapping | None = None) ->
                     note += f"; surrogate error estimate {e_n:.3f}"
                 if pv > 0 and not 0.5 <= ours / pv <= 2.0:
                     # an absolute band round a small R passes a value many times it: say so beside the status
-                    note += f"; {ours / pv:.3g} times the reference's R: within the absolute band only"
+                    passed = _judge(ours, pv, _readable(v.get("band")), "") == PASS
+                    note += f"; {ours / pv:.3g} times the reference's R" + (": within the absolute band only"
+                                                                           if passed else "")
         elif q == "life_cycles":
             title = f"life at R = {t:g}"
             ours, note = (None, "") if rel is None else life_with_note(rel, t)
