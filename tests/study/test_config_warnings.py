@@ -258,6 +258,23 @@ def test_a_block_as_long_as_the_history_is_warned():
     assert not [w for w in config_warnings(shorter) if w.startswith("wear.block_cycles")]
 
 
+def test_blocks_so_short_that_every_call_simulates_hours_are_warned():
+    """block_cycles = 100 on the pump's 2,000,000-cycle history: 20,000 blocks of 3 simulated cycles each, minutes of
+    dynamics per model call (hours over a study's calls), passed check in silence. The bound: 10,000 simulated cycles
+    per history."""
+    from jointwear.study.checks import LONG_HISTORY_SIMULATED_CYCLES
+
+    base = load_config(Path(__file__).resolve().parents[2] / "examples" / "piston_pump.toml")
+    n, per_block = base.wear.cycles or base.reliability.cycles_stop, base.wear.settle_cycles + base.wear.record_cycles
+    (warning,) = [w for w in config_warnings(updated(base, {"wear.block_cycles": 100})) if w.startswith("wear.block")]
+    assert warning.startswith(f"wear.block_cycles: 100 cycles makes the nominal history of {n:,} cycles "
+                              f"{n // 100:,} blocks, which simulate {n // 100 * per_block:,.0f} cycles of dynamics")
+    assert "minutes a call" in warning and "jointwear converge" in warning
+    at_bound = math.ceil(n / (LONG_HISTORY_SIMULATED_CYCLES // per_block))  # a block short enough to stay quiet
+    assert not [w for w in config_warnings(updated(base, {"wear.block_cycles": at_bound}))
+                if w.startswith("wear.block_cycles")]
+
+
 def test_a_general_linkage_left_free_by_a_missing_joint_is_warned():
     """A rocker-slider without its slider's prismatic joint passed check and simulated another mechanism; a pendulum
     (a body meant to swing under its load) gets the same warning, which says so."""

@@ -441,15 +441,33 @@ def allowance_warnings(config: StudyConfig) -> list[str]:
     return out
 
 
+#: Dynamics cycles one wear history may simulate before check warns of its cost: at the 1.5-8 ms a cycle of the
+#: shipped presets and examples (docs/wear.md), 10,000 cycles take 0.25-1.3 minutes per model call (the default
+#: study's history simulates 168).
+LONG_HISTORY_SIMULATED_CYCLES = 10_000
+
+
 def block_warnings(config: StudyConfig) -> list[str]:
     """A fixed block as long as the nominal history or longer: the whole history is then one straight block at the
-    unworn geometry's rate, and halving the block (``jointwear converge``) changes nothing while it stays that long."""
+    unworn geometry's rate, and halving the block (``jointwear converge``) changes nothing while it stays that long.
+    Blocks so short that a history simulates more than ``LONG_HISTORY_SIMULATED_CYCLES`` cycles of dynamics (each
+    block settles ``settle_cycles`` and records ``record_cycles``): every model call pays them."""
     wear, n = config.wear, nominal_wear_cycles(config)
-    if wear.block_rule != "fixed" or n is None or wear.block_cycles < n:
+    if wear.block_rule != "fixed" or n is None:
         return []
-    return [f"wear.block_cycles: {wear.block_cycles:,} cycles is at least the nominal history's {n:,}: the history is "
-            "one block, extrapolated straight at the unworn geometry's wear rate; take shorter blocks (jointwear "
-            "converge says which size is converged)"]
+    if wear.block_cycles >= n:
+        return [f"wear.block_cycles: {wear.block_cycles:,} cycles is at least the nominal history's {n:,}: the "
+                "history is one block, extrapolated straight at the unworn geometry's wear rate; take shorter blocks "
+                "(jointwear converge says which size is converged)"]
+    blocks = math.ceil(n / wear.block_cycles)
+    simulated = blocks * (wear.settle_cycles + wear.record_cycles)
+    if simulated <= LONG_HISTORY_SIMULATED_CYCLES:
+        return []
+    return [f"wear.block_cycles: {wear.block_cycles:,} cycles makes the nominal history of {n:,} cycles {blocks:,} "
+            f"blocks, which simulate {simulated:,.0f} cycles of dynamics ({wear.settle_cycles:g} settling and "
+            f"{wear.record_cycles} recorded each), every model call: at the 1.5-8 ms a cycle of the shipped presets "
+            f"and examples, about {simulated * 0.0015 / 60:,.0f}-{simulated * 0.008 / 60:,.0f} minutes a call; take "
+            "longer blocks (jointwear converge says whether they are converged)"]
 
 
 def wear_mode_warnings(config: StudyConfig) -> list[str]:
