@@ -324,6 +324,7 @@ def reference_checks(results: StudyResults, reference: Mapping | None = None) ->
         pv, n, t = _float(v.get("value")), _float(v.get("cycles")), _float(v.get("target_reliability"))
         unit = str(v.get("unit") or "")
         shown_unit = _COUNT_UNITS.get(q, unit)
+        band = _readable(v.get("band"))
         ours, note, digits = None, "", 4
         if q == "nominal_max_wear":
             title = f"nominal max bearing wear after {n:,.0f} cycles"
@@ -356,7 +357,7 @@ def reference_checks(results: StudyResults, reference: Mapping | None = None) ->
                     note += f"; surrogate error estimate {e_n:.3f}"
                 if pv > 0 and not 0.5 <= ours / pv <= 2.0:
                     # an absolute band round a small R passes a value many times it: say so beside the status
-                    passed = _judge(ours, pv, _readable(v.get("band")), "") == PASS
+                    passed = _judge(ours, pv, band, unit) == PASS
                     note += f"; {ours / pv:.3g} times the reference's R" + (": within the absolute band only"
                                                                            if passed else "")
         elif q == "life_cycles":
@@ -374,7 +375,6 @@ def reference_checks(results: StudyResults, reference: Mapping | None = None) ->
         if q in ("nominal_max_wear_angle", "second_peak_angle") and ours is not None and pv is not None:
             note = f"{circular_difference(ours, pv):.1f} deg from the reference's"
         note = "; ".join(x for x in (note, str(v.get("note") or "")) if x)
-        band = _readable(v.get("band"))
         checks.append(Check(title, pv, ours, shown_unit, _band_text(band, unit), _judge(ours, pv, band, unit), note,
                             digits, source=str(v.get("source") or ""),
                             justification=str((v.get("band") or {}).get("justification") or "")))
