@@ -294,24 +294,24 @@ def check_cycles(value, field: str | None = "cycles") -> int:
     """Validate a cycle count at an API boundary: a finite, positive whole number of at most `MAX_WEAR_CYCLES`.
     Raises ValueError naming `field` (field None: the message starts with "must be", for validators whose caller
     adds the field's path)."""
-    field = field or ""
+    prefix = f"{field} " if field else ""
     if isinstance(value, (bool, str)):  # float("1000") would read a string
-        raise ValueError(f"{field}{' ' if field else ''}must be a positive whole number of cycles, got {value!r}")
-    too_many = (f"{field}{' ' if field else ''}must be at most {MAX_WEAR_CYCLES:,} cycles (MAX_WEAR_CYCLES: a "
+        raise ValueError(f"{prefix}must be a positive whole number of cycles, got {value!r}")
+    too_many = (f"{prefix}must be at most {MAX_WEAR_CYCLES:,} cycles (MAX_WEAR_CYCLES: a "
                 f"longer wear history would run for days), got {value!r}")
     try:
         x = float(value)
     except OverflowError:  # an int beyond float's range
         raise ValueError(too_many) from None
     except (TypeError, ValueError):
-        raise ValueError(f"{field}{' ' if field else ''}must be a positive whole number of cycles, got {value!r}") from None
+        raise ValueError(f"{prefix}must be a positive whole number of cycles, got {value!r}") from None
     if not math.isfinite(x):
-        raise ValueError(f"{field}{' ' if field else ''}must be a finite positive number of cycles, got {value!r}")
+        raise ValueError(f"{prefix}must be a finite positive number of cycles, got {value!r}")
     if x > MAX_WEAR_CYCLES:
         raise ValueError(too_many)
     if x <= 0:
-        raise ValueError(f"{field}{' ' if field else ''}must be > 0 cycles, got {value!r}")
+        raise ValueError(f"{prefix}must be > 0 cycles, got {value!r}")
     if x != int(x):
-        raise ValueError(f"{field}{' ' if field else ''}must be a whole number of cycles, got {value!r}")
+        raise ValueError(f"{prefix}must be a whole number of cycles, got {value!r}")
     return int(x)
 
