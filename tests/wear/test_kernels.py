@@ -12,7 +12,7 @@ from jointwear.wear.kernels import (
     TWO_PI,
     periodic_interp,
     spread_patch,
-    spread_swept_patch,
+    spread_swept_pair,
     worn_area,
 )
 from jointwear.wear.settings import WearSettings
@@ -49,7 +49,7 @@ def test_spread_is_grid_independent(hertz):
                                             (1.0, 0.2, 0.0), (2.0, 1e-9, 0.02), (3.0, 0.1, 4.0)])
 def test_swept_patch_conserves_area(hertz, start, arc, half):
     g = np.zeros(360)
-    spread_swept_patch(g, start, arc, half, 2.5e-7, hertz)
+    spread_swept_pair(g, start, arc, 0.0, half, 2.5e-7, 0.0, hertz)  # one arc
     assert abs(g.sum() * TWO_PI / 360 - 2.5e-7) / 2.5e-7 < 1e-12  # telescoping sum: rounding only
 
 
@@ -59,10 +59,10 @@ def test_swept_patch_limits(hertz):
     a coarse grid holds the cell averages of a fine one (exact integration over each cell)."""
     a, b = np.zeros(3600), np.zeros(3600)
     spread_patch(a, 1.0, 0.02, 1.0, hertz)
-    spread_swept_patch(b, 1.0, 0.0, 0.02, 1.0, hertz)
+    spread_swept_pair(b, 1.0, 0.0, 0.0, 0.02, 1.0, 0.0, hertz)  # one arc
     np.testing.assert_array_equal(a, b)
     g = np.zeros(3600)
-    spread_swept_patch(g, 1.0, 0.5, 0.02, 1.0, hertz)
+    spread_swept_pair(g, 1.0, 0.5, 0.0, 0.02, 1.0, 0.0, hertz)  # one arc
     k = np.arange(3600) * TWO_PI / 3600
     inner = g[(k > 1.03) & (k < 1.47)]
     np.testing.assert_allclose(inner, 1.0 / 0.5, rtol=1e-9)
@@ -70,8 +70,8 @@ def test_swept_patch_limits(hertz):
     rng = np.random.default_rng(2)
     for _ in range(100):
         c, arc, h = rng.uniform(0, TWO_PI), rng.uniform(-0.1, 0.1), rng.uniform(0.0, 0.05)
-        spread_swept_patch(fine, c, arc, h, 1.0, hertz)
-        spread_swept_patch(coarse, c, arc, h, 1.0, hertz)
+        spread_swept_pair(fine, c, arc, 0.0, h, 1.0, 0.0, hertz)  # one arc
+        spread_swept_pair(coarse, c, arc, 0.0, h, 1.0, 0.0, hertz)  # one arc
     np.testing.assert_allclose(np.roll(fine, 1).reshape(360, 3).mean(axis=1), coarse, rtol=1e-10,
                                atol=1e-12 * coarse.max())
 

@@ -140,14 +140,6 @@ def spread_swept_pair(grid: np.ndarray, center: float, arc1: float, arc2: float,
             grid[j % n] += scale * frac
 
 
-@njit(cache=True)
-def spread_swept_patch(grid: np.ndarray, start: float, arc: float, half_angle: float, area: float,
-                       hertz: bool) -> None:
-    """Spread a worn cross-section over a patch whose centre moves uniformly from `start` to `start + arc` (rad,
-    signed) while it wears (spread_swept_pair with one arc)."""
-    spread_swept_pair(grid, start, arc, 0.0, half_angle, area, 0.0, hertz)
-
-
 #: The largest change of the contact angle between two recorded steps that is read as the contact sweeping the arc
 #: between them (accumulate_wear); a larger one is a jump (the contact changed side), and each step's wear stays at
 #: its own angle. The integrator moves the journal by at most a quarter of the clearance per step
