@@ -442,8 +442,8 @@ def allowance_warnings(config: StudyConfig) -> list[str]:
 
 
 #: Dynamics cycles one wear history may simulate before check warns of its cost: at the 1.5-8 ms a cycle of the
-#: shipped presets and examples (docs/wear.md), 10,000 cycles take 0.25-1.3 minutes per model call (the default
-#: study's history simulates 168).
+#: shipped presets and examples (docs/wear.md), 10,000 cycles take 0.25-1.3 minutes per model call (a 560,000-cycle
+#: history in the default 10,000-cycle blocks simulates 168).
 LONG_HISTORY_SIMULATED_CYCLES = 10_000
 
 
