@@ -199,12 +199,13 @@ def cycle_wear(
     wb = np.zeros(n)
     wj = np.zeros(n)
     diag = np.zeros((4, n))
+    left = sweep_shares(getattr(trace, "t", None), F.shape[0])
     vb, vj, s, bmax = accumulate_wear(
         tb_w, tj_w, F, v, dt, r_b, r_j, mat.r_b0, mat.r_j0, mat.h_b, mat.h_j,
         mat.kH_b if bearing_bore is None else 0.0, mat.kH_j if journal_surface is None else 0.0, mat.width,
         settings.half_width_factor, settings.pressure == "hertz", settings.track_journal, wb, wj, diag,
         math.radians(settings.profile_smoothing_deg) * math.sqrt(3.0) if bearing_profile is not None else 0.0,
-        sweep_shares(getattr(trace, "t", None), F.shape[0]),
+        left,
     )
     sides = []  # the sides laid by the shared load: (side, k/H, shares per unit k/H, their deposit on the side)
     tilt = np.ascontiguousarray(trace.normal_tilt, dtype=float)
@@ -214,7 +215,7 @@ def cycle_wear(
             continue
         bins = np.zeros((4, n))
         gather_directions(theta, tilt, F, v, dt, r_b, r_j, mat.h_b + mat.h_j, 1.0, mat.width,
-                          settings.half_width_factor, bins)
+                          settings.half_width_factor, bins, left)
         shared = ConformalShare(bins / n_cycles, mat.r_b0 - mat.r_j0, radius, mat.width)  # per unit k/H
         sides.append((side, kH, shared, shared(bore)))
     g_level, share, g_journal, share_j = 0.0, None, 0.0, None

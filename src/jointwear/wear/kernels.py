@@ -13,7 +13,9 @@ Physics (paper Section 3 with the corrections of the user guide's baseline readi
   sum_k h_k R Delta L equals the Archard volume to rounding, and the profile does not depend on the grid;
 * the patch centre theta_c moves over the step's time weight: the contact angle is taken linear in time between the
   recorded steps, and the patch is swept over that arc (exact integration again), so the profile does not depend on
-  where the integrator happened to put its steps either (accumulate_wear, spread_swept_pair).
+  where the integrator happened to put its steps either (accumulate_wear, spread_swept_pair); profile mode's
+  distributed deposit gathers the loads by the direction of the contact normal along the same arcs
+  (gather_directions).
 """
 
 from __future__ import annotations
@@ -363,13 +365,54 @@ def convolve_periodic(x, taps, out):
             out[i] += t * seg[i]
 
 
+@njit(cache=True, inline="always")
+def _gather_arc(bins, start, arc, dv, dh, delta):
+    """Add a load dv (and dv dh to bins[3]) spread uniformly over the directions from `start` to `start + arc`
+    (rad, signed) to the direction cells of bins (4, n), cells centred at 2 pi k / n: each cell takes the part of
+    the arc inside it, with the exact integrals of cos m and sin m over that part."""
+    n = bins.shape[1]
+    if abs(arc) < 1e-12:
+        k = int(math.floor((start % TWO_PI) / delta + 0.5)) % n
+        bins[0, k] += dv
+        bins[1, k] += dv * math.cos(start)
+        bins[2, k] += dv * math.sin(start)
+        bins[3, k] += dv * dh
+        return
+    lo = min(start, start + arc)
+    hi = max(start, start + arc)
+    dens = dv / (hi - lo)
+    j0 = int(math.floor(lo / delta + 0.5))
+    j1 = int(math.floor(hi / delta + 0.5))
+    for j in range(j0, j1 + 1):
+        a = max(lo, (j - 0.5) * delta)
+        b = min(hi, (j + 0.5) * delta)
+        if not (b > a):
+            continue
+        k = j % n
+        part = dens * (b - a)
+        bins[0, k] += part
+        bins[1, k] += dens * (math.sin(b) - math.sin(a))
+        bins[2, k] += dens * (math.cos(a) - math.cos(b))
+        bins[3, k] += part * dh
+
+
 @njit(cache=True, nogil=True)
-def gather_directions(theta_b, tilt, force, slip, dt, r_b, r_j, hsum, kH_b, width, c_half, bins):
+def gather_directions(theta_b, tilt, force, slip, dt, r_b, r_j, hsum, kH_b, width, c_half, bins,
+                      left_share=None, max_sweep=MAX_SWEEP):
     """Gather the recorded steps by the grid cell of their contact normal m (angle theta_b + tilt): bins (4, n)
     receives per cell the Archard volume (k/H) F ds, its weighted sums of cos m and sin m, and of
-    delta_H = b^2 / (2 R*) (see share_load)."""
+    delta_H = b^2 / (2 R*) (see share_load).
+
+    left_share (n,): as accumulate_wear's, the fraction of each step's trapezoid weight that lies before it in time.
+    When given, each step's load is spread over the directions its normal sweeps over its weight's time (m linear in
+    time between steps): the share left_share over the half of the arc back to the previous step's normal, the rest
+    over the half on to the next one (an arc longer than max_sweep is a jump and not swept), each cell taking the
+    part of the arc inside it. Otherwise each step's load goes to the cell nearest its normal: where the normal
+    sweeps several cells per step (the flapping wing at rtol 5e-7: 2-3 deg per step on 0.5 deg cells) the gathered
+    load is then a comb whose teeth follow the integrator's steps (benchmarks/wear_sweep.py, profile_mode)."""
     n = bins.shape[1]
     delta = TWO_PI / n
+    mu = theta_b + tilt
     for i in range(force.shape[0]):
         f = force[i]
         if not (f > 0.0):
@@ -381,12 +424,15 @@ def gather_directions(theta_b, tilt, force, slip, dt, r_b, r_j, hsum, kH_b, widt
         rj = r_j[i]
         rstar = rb * rj / (rb - rj)
         b = c_half * math.sqrt(f * rstar * hsum / width)
-        mu = theta_b[i] + tilt[i]
-        k = int(math.floor((mu % TWO_PI) / delta + 0.5)) % n
-        bins[0, k] += dv
-        bins[1, k] += dv * math.cos(mu)
-        bins[2, k] += dv * math.sin(mu)
-        bins[3, k] += dv * b * b / (2.0 * rstar)
+        dh = b * b / (2.0 * rstar)
+        if left_share is None:
+            _gather_arc(bins, mu[i], 0.0, dv, dh, delta)
+        else:
+            sl = left_share[i]
+            if sl > 0.0:
+                _gather_arc(bins, mu[i], 0.5 * _arc_to(mu, i, i - 1, max_sweep), dv * sl, dh, delta)
+            if sl < 1.0:
+                _gather_arc(bins, mu[i], 0.5 * _arc_to(mu, i, i + 1, max_sweep), dv * (1.0 - sl), dh, delta)
 
 
 @njit(cache=True, inline="always")
@@ -450,8 +496,9 @@ def share_load(bins, c_bore, cs, sn, r_b0, width, wear_b):
     N_k = F w_k / sum_j w_j (u_j . m) balance the force F along m; the Archard volume is (k/H) sum_k N_k ds >=
     (k/H) F ds.
 
-    The steps come gathered by the grid cell of m (gather_directions: their Archard-weighted mean direction and
-    delta_H), and each cell's total is shared once: the sharing is smooth in m within a cell.
+    The steps come gathered by the grid cell of m (gather_directions, each step's load along the arc its normal
+    sweeps: their Archard-weighted mean direction and delta_H), and each cell's total is shared once: the sharing is
+    smooth in m within a cell.
 
     Returns (Archard volume (m^3), levelling rate g (1/s of the record): the largest sum over directions of
     dv / (w-projection sum) / (L R Delta), i.e. d(cell depth rate)/d(cell overlap); a cell standing out by eps is
