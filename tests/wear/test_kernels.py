@@ -139,6 +139,34 @@ def test_swept_normal_gathers_a_uniform_load_whatever_the_step(step_over_cell):
     np.testing.assert_allclose(np.arctan2(bins[2], bins[1])[inner], k[inner], rtol=0.0, atol=1e-12)
 
 
+@pytest.mark.parametrize("n", [64, 720])
+def test_swept_normal_over_a_tiny_arc_gathers_its_exact_direction(n):
+    """A normal creeping 2e-9 rad across a cell edge (the integrator near the normal's turning points): each cell's
+    gathered direction sum over its load is the direction at the middle of its part of the arc, to rounding. The
+    differences sin b - sin a of the arc's ends lost 1e-16 / (b - a) of it (1e-7 here); the record's pieces that
+    short left 5e-11 of the largest cell's sum on the flapping wing (kernels._gather_arc's product form)."""
+    from jointwear.wear.cycle import sweep_shares
+    from jointwear.wear.kernels import gather_directions
+
+    delta = TWO_PI / n
+    k = n // 8
+    edge = (k + 0.5) * delta
+    t = np.arange(11) * 1e-6
+    theta = edge - 1e-9 + 2e-4 * t  # 2e-10 rad a step
+    one = np.ones(t.size)
+    w = np.zeros(t.size)
+    w[:-1] += 0.5 * np.diff(t)
+    w[1:] += 0.5 * np.diff(t)
+    bins = np.zeros((4, n))
+    gather_directions(theta, 0.0 * one, one, one, w, 1.002e-3 * one, 1e-3 * one, 1e-11, 1.0, 1e-2, 1.128, bins,
+                      sweep_shares(t, t.size))
+    assert set(np.flatnonzero(bins[0])) == {k, k + 1}
+    for cell, a, b in ((k, theta[0], edge), (k + 1, edge, theta[-1])):
+        mid = 0.5 * (a + b)
+        np.testing.assert_allclose(bins[1:3, cell] / bins[0, cell], [math.cos(mid), math.sin(mid)], rtol=0.0,
+                                   atol=1e-14)
+
+
 def test_uniform_patch_depth_is_archard_depth():
     """A patch well inside one coarse region: the depth on the patch equals (k/H) p ds with p = F/(2bL)."""
     n = 36000
