@@ -6,7 +6,8 @@
 Replays the study's learning from FOLDER's evaluation store (no new model call: it refuses to make one), predicts
 ln N_f with the learnt Kriging at the validation's samples and compares it with the true model's ln N_f there:
 - the spread of the two (standard deviations; the slope of true on predicted, 1 for an unbiased spread);
-- the residual (true - predicted) by eighths of the prediction, with the Kriging's own standard deviation there;
+- the residual (true - predicted) by eighths of the prediction, with the Kriging's own standard deviation there, and
+  the mean squared standardised residual, on the samples and leave-one-out over the design points;
 - a few quantiles of the two lives, and the life at R = 0.9 read from the learnt mean with its fitted scatter;
 - the same read from Krigings fitted afresh to the same design points (other local optima of the likelihood).
 Writes KEY (default: the config's name) of benchmarks/results/surrogate_bias.json (docs/reliability.md, "The learnt
@@ -86,8 +87,11 @@ def main(argv=None) -> int:
         mean, var = engine.response_surrogate.predict(u)
         scatter = float(engine.noise_sd) if ctx.config.reliability.noise == "estimate" else 0.0
         options = {"estimate_nugget": ctx.config.reliability.noise == "estimate"}  # as the study's Kriging
+        loo_mean, loo_var = engine.response_surrogate.leave_one_out()
+        loo_y = engine.response_surrogate.training_outputs
+        loo_z2 = float(np.mean((loo_y - loo_mean) ** 2 / (loo_var + engine.response_surrogate.noise_variance)))
     ok = np.isfinite(true)
-    fitted = {"life_at_target": life_at(mean[ok] + shift, scatter), "noise_sd": scatter,
+    fitted = {"loo_standardised_residual_mean_square": loo_z2, "life_at_target": life_at(mean[ok] + shift, scatter), "noise_sd": scatter,
               "hyperparameters": {"scale": engine.response_surrogate.hyperparameters.scale.tolist(),
                                   "relative_nugget": engine.response_surrogate.hyperparameters.nugget},
               **spread(true[ok], mean[ok] + shift, np.sqrt(var[ok]), scatter)}
