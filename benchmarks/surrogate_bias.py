@@ -67,6 +67,7 @@ def main(argv=None) -> int:
     import jointwear
     from jointwear.reliability import KrigingSurrogate
     from jointwear.study.io import provenance
+    from jointwear.study.reliability import life_trend
     from jointwear.study.validation import SEED_OFFSET
 
     validation = json.loads((args.folder / "validation.json").read_text(encoding="utf-8"))
@@ -86,12 +87,15 @@ def main(argv=None) -> int:
         shift = float(engine.levels[0])
         mean, var = engine.response_surrogate.predict(u)
         scatter = float(engine.noise_sd) if ctx.config.reliability.noise == "estimate" else 0.0
-        options = {"estimate_nugget": ctx.config.reliability.noise == "estimate"}  # as the study's Kriging
+        trend, iso = life_trend(ctx), ctx.iso()
+        options = {"estimate_nugget": ctx.config.reliability.noise == "estimate",  # as the study's Kriging
+                   "offset": None if trend is None else (lambda v: trend(iso.to_x(v)))}
         loo_mean, loo_var = engine.response_surrogate.leave_one_out()
         loo_y = engine.response_surrogate.training_outputs
         loo_z2 = float(np.mean((loo_y - loo_mean) ** 2 / (loo_var + engine.response_surrogate.noise_variance)))
     ok = np.isfinite(true)
-    fitted = {"loo_standardised_residual_mean_square": loo_z2, "life_at_target": life_at(mean[ok] + shift, scatter), "noise_sd": scatter,
+    fitted = {"loo_standardised_residual_mean_square": loo_z2, "life_at_target": life_at(mean[ok] + shift, scatter),
+              "noise_sd": scatter,
               "hyperparameters": {"scale": engine.response_surrogate.hyperparameters.scale.tolist(),
                                   "relative_nugget": engine.response_surrogate.hyperparameters.nugget},
               **spread(true[ok], mean[ok] + shift, np.sqrt(var[ok]), scatter)}

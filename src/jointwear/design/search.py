@@ -47,7 +47,13 @@ from jointwear.reliability import (
     esc_absolute_error,
     failure_probability,
 )
-from jointwear.study.reliability import POSTERIOR_POINTS, StudyContext, life_scatter_sd, surrogate_pf_error
+from jointwear.study.reliability import (
+    POSTERIOR_POINTS,
+    StudyContext,
+    life_scatter_sd,
+    life_trend,
+    surrogate_pf_error,
+)
 from jointwear.study.validation import clopper_pearson
 
 _Z95 = 1.959963984540054
@@ -97,7 +103,10 @@ class LifeSurrogate:
             self.model = SeriesSurrogate(lives.shape[1], seed=self.seed, estimate_nugget=self.estimate_nugget).fit(
                 u[ok], lives[ok])
         else:
-            self.model = KrigingSurrogate(seed=self.seed, estimate_nugget=self.estimate_nugget).fit(u[ok], y[ok])
+            trend = life_trend(self.ctx)
+            offset = None if trend is None else (lambda v: trend(self.iso.to_x(v)))
+            self.model = KrigingSurrogate(seed=self.seed, estimate_nugget=self.estimate_nugget, offset=offset).fit(
+                u[ok], y[ok])
 
     @property
     def per_joint(self) -> bool:
@@ -510,7 +519,8 @@ def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: C
         n_initial=n_initial, batch_size=rel.batch_size, u_threshold=rel.u_threshold,
         cov_target=rel.cov_target, pf_floor=rel.pf_floor, max_calls=max_calls,
         seed=rel.seed + 17 + seed, stopping=stopping, error_tol=rel.error_tol, hold_iterations=rel.hold_iterations,
-        error_abs_tol=rel.error_abs_tol, kriging={"estimate_nugget": rel.noise == "estimate"})
+        error_abs_tol=rel.error_abs_tol, kriging={"estimate_nugget": rel.noise == "estimate"},
+        trend=life_trend(ctx))
     p_inf = space.infeasible_probability(cand)
     pf_feasible = float(np.asarray(eng.pf)[0])
     cov = float(np.asarray(eng.cov)[0])

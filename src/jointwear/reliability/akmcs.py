@@ -72,7 +72,7 @@ def log_scales(surrogate) -> np.ndarray:
 def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch_size, u_threshold, cov_target,
          stopping, error_tol, max_calls, seed, evaluation, pf_floor, kriging, refit_growth, full_sweep_every=10,
          keep_population=False, levels=None, error_abs_tol=None, copula=None, system=None, hold_iterations=3,
-         quantile_pf=(), quantile_tol=None):
+         quantile_pf=(), quantile_tol=None, trend=None):
     t_start = time.perf_counter()
     marginals = check_marginals(marginals)
     d = len(marginals)
@@ -140,6 +140,10 @@ def _run(g, marginals, *, multi, n_mc, n_mc_max, n_initial, initial_bound, batch
     design_g = G0
     m = design_g.shape[1]
     kriging = dict(kriging or {})
+    if trend is not None:
+        if system is not None:
+            raise ValueError("trend: a known part of the response is for one response, not a series system")
+        kriging["offset"] = lambda u: trend(transform.to_x(u))
     # With `levels`, every column is the same response shifted by a constant: one Kriging serves them all
     # (ordinary Kriging is shift-equivariant), fitted on column 0 + levels[0].
     n_fit = 1 if levels is not None else m
@@ -452,6 +456,7 @@ def akmcs_multi(
     keep_population: bool = False,
     quantile_pf=(),
     quantile_tol: float | None = None,
+    trend: Callable[[np.ndarray], np.ndarray] | None = None,
 ) -> MultiReliabilityResult:
     """AK-MCS for m limit states sharing one design (e.g. one model call -> the limit state at m cycle counts).
 
@@ -485,10 +490,14 @@ def akmcs_multi(
     (:func:`~jointwear.reliability.learning.quantile_errors`). Until it is, those two levels count as not learnt,
     and the learning adds points at their limit states. A Kriging that fits a noise (``kriging={"estimate_nugget":
     True}``) learns the quantile to half its noise's standard deviation where that is larger than ``quantile_tol``.
+
+    ``trend`` (with ``levels``, not with ``system``): a known part of the response y as a function of x (n, d) ->
+    (n,), e.g. Archard's exact scaling of ln N_f in a wear coefficient and a hardness. The Kriging learns y less it
+    (``KrigingSurrogate(offset=...)``, in u space through the inputs' transform) and predicts it plus its mean.
     """
     return _run(g, marginals, multi=True, n_mc=n_mc, n_mc_max=n_mc_max, n_initial=n_initial,
                 initial_bound=initial_bound, batch_size=batch_size, u_threshold=u_threshold, cov_target=cov_target,
                 stopping=stopping, error_tol=error_tol, max_calls=max_calls, seed=seed, evaluation=evaluation,
                 hold_iterations=hold_iterations, pf_floor=pf_floor, kriging=kriging, refit_growth=refit_growth,
                 levels=levels, error_abs_tol=error_abs_tol, copula=copula, system=system,
-                keep_population=keep_population, quantile_pf=quantile_pf, quantile_tol=quantile_tol)
+                keep_population=keep_population, quantile_pf=quantile_pf, quantile_tol=quantile_tol, trend=trend)

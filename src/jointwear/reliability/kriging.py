@@ -32,6 +32,7 @@ import itertools
 import math
 import os
 import warnings
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
@@ -166,6 +167,10 @@ class KrigingSurrogate:
         Latin hypercube points within the bounds). 1 means a warm start only.
     seed:
         Seed of the multistart points.
+    offset:
+        A known part of the response, a function of the inputs (m, d) -> (m,): the Kriging is fitted to the outputs
+        less it and predicts it plus its own mean, ``Y(u) = offset(u) + beta + Z(u)`` (its variance unchanged). None:
+        ordinary Kriging.
     estimate_nugget, nugget_grid:
         For a noisy model: estimate the relative nugget (noise variance over process variance) by maximum
         likelihood jointly with the correlation lengths, within the range of ``nugget_grid`` and from a small and a
@@ -176,6 +181,7 @@ class KrigingSurrogate:
 
     nugget: float = 1e-10
     estimate_nugget: bool = False
+    offset: Callable[[np.ndarray], np.ndarray] | None = None
     nugget_grid: tuple[float, ...] = (1e-8, 1e-6, 1e-5, 1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0, 3.0,
                                       10.0)
     scale_bounds: tuple[float, float] = (0.01, 100.0)
@@ -188,6 +194,7 @@ class KrigingSurrogate:
     _cond: _Conditioned | None = field(default=None, repr=False)
     _x: np.ndarray | None = field(default=None, repr=False)
     _y: np.ndarray | None = field(default=None, repr=False)
+    _fitted_y: np.ndarray | None = field(default=None, repr=False)  # the outputs less the offset
     _nugget_found: dict = field(default_factory=dict, repr=False)
     _ymean: float = 0.0
     _ystd: float = 1.0
@@ -207,10 +214,11 @@ class KrigingSurrogate:
             raise ValueError("KrigingSurrogate.fit: training data must be finite")
         d = x.shape[1]
         self._x, self._y = x, y
-        self._ymean = float(np.mean(y))
-        std = float(np.std(y))
+        self._fitted_y = y - self._offset_at(x)
+        self._ymean = float(np.mean(self._fitted_y))
+        std = float(np.std(self._fitted_y))
         self._ystd = std if std > 0 else 1.0
-        ys = (y - self._ymean) / self._ystd
+        ys = (self._fitted_y - self._ymean) / self._ystd
 
         candidates: list[np.ndarray] = []
         if self.hyperparameters is not None:
@@ -236,6 +244,12 @@ class KrigingSurrogate:
         self._cond = cond
         self.hyperparameters = KrigingHyperparameters(scale=np.array(scale, dtype=float), nugget=nug)
         return self
+
+    def _offset_at(self, u: np.ndarray) -> np.ndarray | float:
+        """The known part of the response at the points ``u`` (0 without an offset)."""
+        if self.offset is None:
+            return 0.0
+        return np.asarray(self.offset(u), dtype=float).reshape(-1)
 
     def _choose(self, x: np.ndarray, ys: np.ndarray, candidates: list[np.ndarray]
                 ) -> tuple[_Conditioned, np.ndarray, float]:
@@ -373,7 +387,7 @@ class KrigingSurrogate:
             else:
                 for s in starts:
                     work(s)
-        mean = mean * self._ystd + self._ymean
+        mean = mean * self._ystd + self._ymean + self._offset_at(u)
         if var is not None:
             var = var * self._ystd**2
         return mean, var
@@ -442,8 +456,8 @@ class KrigingSurrogate:
             raise RuntimeError("fit first")
         c = self._cond
         q_diag = np.einsum("ij,ij->i", c.chol_inv_t, c.chol_inv_t) - c.w * c.w / c.s1
-        ys = (self._y - self._ymean) / self._ystd
-        mean = (ys - c.alpha / q_diag) * self._ystd + self._ymean
+        ys = (self._fitted_y - self._ymean) / self._ystd
+        mean = (ys - c.alpha / q_diag) * self._ystd + self._ymean + self._offset_at(self._x)
         var = c.sigma2 * np.maximum(1.0 / q_diag - self.hyperparameters.nugget, 0.0) * self._ystd**2
         return mean, var
 
@@ -456,7 +470,7 @@ class KrigingSurrogate:
         if self._cond is None:
             raise RuntimeError("fit first")
         d = self._x.shape[1]
-        ys = (self._y - self._ymean) / self._ystd
+        ys = (self._fitted_y - self._ymean) / self._ystd
         amplitude = math.sqrt(self._cond.sigma2)
         cov = ot.SquaredExponential(list(map(float, self.hyperparameters.scale)), [amplitude])
         cov.setNuggetFactor(self.hyperparameters.nugget)
@@ -477,7 +491,7 @@ class KrigingSurrogate:
         s = ot.Sample(np.atleast_2d(np.asarray(u, dtype=float)))
         mean = np.array(res.getMetaModel()(s), dtype=float).ravel()
         var = np.array(ot.GaussianProcessConditionalCovariance(res).getConditionalMarginalVariance(s)).ravel()
-        return mean * self._ystd + self._ymean, var * self._ystd**2
+        return mean * self._ystd + self._ymean + self._offset_at(np.atleast_2d(u)), var * self._ystd**2
 
 
 def gaussian_draws(mean: np.ndarray, cov: np.ndarray, n_draws: int, rng: np.random.Generator) -> np.ndarray:

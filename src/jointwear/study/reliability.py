@@ -153,6 +153,42 @@ class StudyContext:
         return np.log(np.asarray(self.cycles, dtype=float))
 
 
+def archard_exponent(ctx: StudyContext, i: int) -> int | None:
+    """+1 when the judged wear quantity is proportional to variable i under Archard's law (the wear coefficient
+    of the judged body of the single judged joint), -1 when inversely proportional (its hardness), else None."""
+    limit = ctx.limit_state
+    body = {"bearing_max_depth": "bearing_material", "journal_max_depth": "journal_material"}.get(limit.quantity)
+    if body is None or len(limit.joints) != 1 or i >= len(ctx.targets):
+        return None
+    parts = ctx.targets[i].split(".")
+    if len(parts) != 4 or parts[0] != "clearance_joints" or parts[2] != body:
+        return None
+    names = [cj.name for cj in ctx.config.clearance_joints]
+    joint = int(parts[1]) if parts[1].isdigit() else (names.index(parts[1]) if parts[1] in names else -1)
+    if joint != limit.joints[0]:
+        return None
+    return {"wear_coefficient": 1, "hardness": -1}.get(parts[3])
+
+
+def life_trend(ctx: StudyContext) -> Callable[[np.ndarray], np.ndarray] | None:
+    """The known part of ln N_f(x) the Kriging need not learn (``reliability.trend = "archard"``): Archard's exact
+    scaling of the life in the judged body's wear coefficient k and hardness H, ln N_f = -ln(k / k_mean) + ln(H /
+    H_mean) + the rest (the wear depth is k / H times a history that the wear shapes alike, docs/reliability.md, "The
+    learnt life's spread"). None: nothing known (``"constant"``, or no such variable is random)."""
+    if ctx.config.reliability.trend != "archard" or ctx.per_joint:
+        return None
+    exponents = [(i, archard_exponent(ctx, i)) for i in range(len(ctx.names))]
+    terms = [(i, e, float(ctx.marginals[i].mean())) for i, e in exponents if e]
+    if not terms:
+        return None
+
+    def trend(x: np.ndarray) -> np.ndarray:
+        x = np.atleast_2d(np.asarray(x, dtype=float))
+        return -sum(e * np.log(np.clip(x[:, i] / ref, 1e-12, None)) for i, e, ref in terms)
+
+    return trend
+
+
 def study_context(config: StudyConfig, evaluator_factory: Callable[[WearModelCall], Any],
                   threads: int | None = None) -> StudyContext:
     """Random inputs, limit state and true model of the study (the config is checked by the caller); ``threads``:
@@ -259,7 +295,8 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         evaluation=Evaluation(progress=progress), stopping=rel.stopping, error_tol=rel.error_tol,
         error_abs_tol=rel.error_abs_tol, hold_iterations=rel.hold_iterations,
         quantile_pf=[1.0 - t for t in rel.targets], quantile_tol=rel.life_tol or None,
-        kriging={"estimate_nugget": rel.noise == "estimate"}, keep_population=rel.noise == "none")
+        kriging={"estimate_nugget": rel.noise == "estimate"}, keep_population=rel.noise == "none",
+        trend=life_trend(ctx))
     cycles = np.asarray(ctx.cycles, dtype=float)
     # the curve is estimated between its levels too (no call), and the life read there: R(N) is curved between
     # levels, and a straight line between them moved the life by more than its interval on a coarse curve

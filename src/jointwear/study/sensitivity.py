@@ -9,7 +9,7 @@ import time
 import numpy as np
 
 from jointwear.reliability import esc_absolute_error, failure_probability
-from jointwear.study.reliability import StudyContext, WearSurrogates, life_scatter_sd, population
+from jointwear.study.reliability import StudyContext, WearSurrogates, archard_exponent, life_scatter_sd, population
 from jointwear.study.results import ReliabilityCurve, SensitivityResult
 
 #: a random variable's target that is a drawn point's coordinate (mechanism...points.D.y, ground_points.C.x)
@@ -48,23 +48,6 @@ def physical_marginal(ctx: StudyContext, i: int, marginal):
     if clearance is None or "loc" not in marginal.kwds:
         return marginal
     return clearance.model_copy(update={"mean": float(marginal.kwds["loc"])}).feasible()
-
-
-def archard_exponent(ctx: StudyContext, i: int) -> int | None:
-    """+1 when the judged wear quantity is proportional to variable i under Archard's law (the wear coefficient
-    of the judged body of the single judged joint), -1 when inversely proportional (its hardness), else None."""
-    limit = ctx.limit_state
-    body = {"bearing_max_depth": "bearing_material", "journal_max_depth": "journal_material"}.get(limit.quantity)
-    if body is None or len(limit.joints) != 1 or i >= len(ctx.targets):
-        return None
-    parts = ctx.targets[i].split(".")
-    if len(parts) != 4 or parts[0] != "clearance_joints" or parts[2] != body:
-        return None
-    names = [cj.name for cj in ctx.config.clearance_joints]
-    joint = int(parts[1]) if parts[1].isdigit() else (names.index(parts[1]) if parts[1] in names else -1)
-    if joint != limit.joints[0]:
-        return None
-    return {"wear_coefficient": 1, "hardness": -1}.get(parts[3])
 
 
 def survival(margin: np.ndarray, scatter_sd: float) -> float:
