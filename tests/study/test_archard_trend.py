@@ -49,3 +49,18 @@ def test_analytic_life_with_the_trend(seed):
     # Tolerance 0.5 %: benchmarks/life_coverage.py (40 seeds) measured a mean error of -0.02 % and a spread of 0.09 %
     # with the trend, against -0.45 % and 0.45 % without it; the 2e6-sample reference's own error is about 0.03 %
     assert abs(res.life() / exact - 1) < 5e-3
+
+
+def test_check_says_where_the_trend_changes_nothing():
+    from jointwear.study.checks import config_warnings
+
+    base = load_config()
+    assert not [w for w in config_warnings(updated(base, {"reliability.trend": "archard"})) if "trend" in w]
+    six = updated(load_config("watt_six_bar_two_clearances"), {"reliability.trend": "archard"})
+    assert any("reliability.trend" in w and "one judged joint (judged: A, E)" in w for w in config_warnings(six))
+    growth = updated(base, {"reliability.trend": "archard", "reliability.quantity": "clearance_growth"})
+    assert any("reliability.trend" in w and "'clearance_growth'" in w for w in config_warnings(growth))
+    fixed = [v for v in base.model_dump()["uncertainty"]["variables"] if v["name"] not in ("k_b", "HB_b")]
+    no_random = updated(base, {"reliability.trend": "archard", "uncertainty.variables": fixed})
+    assert any("reliability.trend" in w and "no random variable targets clearance_joints.A.bearing_material"
+               in w for w in config_warnings(no_random))

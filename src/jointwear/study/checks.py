@@ -19,6 +19,7 @@ from jointwear.contact.settings import FrictionConfig
 from jointwear.schema import ConfigError
 from jointwear.study.limit_state import (
     allowance_stock_problems,
+    archard_power,
     limit_state_from_config,
     limit_state_problems,
     wearable_stock,
@@ -237,7 +238,8 @@ def config_warnings(config: StudyConfig) -> list[str]:
                        "shift is meant")
     return (mechanism + out + random_input_warnings(config) + clearance_warnings(config)
             + wear_length_warnings(config) + wear_mode_warnings(config) + block_warnings(config)
-            + design_warnings(config) + allowance_warnings(config) + budget_warnings(config) + target_warnings(config))
+            + design_warnings(config) + allowance_warnings(config) + budget_warnings(config) + target_warnings(config)
+            + trend_warnings(config))
 
 
 def friction_warnings(config: StudyConfig) -> list[str]:
@@ -390,6 +392,24 @@ def budget_warnings(config: StudyConfig) -> list[str]:
             f"{needed} (n_initial = {rel.n_initial}, then {rel.hold_iterations - 1} batches of {rel.batch_size} for "
             f"hold_iterations = {rel.hold_iterations}): the learning will end on its budget, unconverged; raise "
             "max_calls, or lower hold_iterations"]
+
+
+def trend_warnings(config: StudyConfig) -> list[str]:
+    """``reliability.trend = "archard"`` where it changes nothing: no random wear coefficient or hardness of the judged
+    body of a single judged joint, so the Kriging has no known part to be told."""
+    rel = config.reliability
+    if rel.trend != "archard" or config.uncertainty is None:
+        return []
+    limit = limit_state_from_config(config)
+    if any(archard_power(config, limit, spec.target) for spec in config.uncertainty.all_specs()):
+        return []
+    body = {"bearing_max_depth": "bearing", "journal_max_depth": "journal"}.get(rel.quantity)
+    why = (f"it needs one judged joint (judged: {', '.join(limit.names)})" if len(limit.joints) != 1 else
+           f"reliability.quantity = {rel.quantity!r} is not one body's wear depth" if body is None else
+           f"no random variable targets clearance_joints.{limit.names[0]}.{body}_material.wear_coefficient or "
+           ".hardness")
+    return [f"reliability.trend: 'archard' changes nothing here, the Kriging learns ln N_f with a constant trend: "
+            f"{why} (docs/reliability.md, \"The learnt life's spread\")"]
 
 
 def target_warnings(config: StudyConfig) -> list[str]:

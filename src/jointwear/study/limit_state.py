@@ -73,6 +73,21 @@ def limit_state_from_config(config) -> LimitState:
     return LimitState(rel.quantity, idx, tuple(chosen), allowances)
 
 
+def archard_power(config, limit: LimitState, target: str) -> int | None:
+    """+1 when the judged wear quantity is proportional to the value at ``target`` under Archard's law (the wear
+    coefficient of the judged body of the single judged joint), -1 when inversely proportional (its hardness), else
+    None."""
+    body = {"bearing_max_depth": "bearing_material", "journal_max_depth": "journal_material"}.get(limit.quantity)
+    parts = target.split(".")
+    if body is None or len(limit.joints) != 1 or len(parts) != 4 or parts[0] != "clearance_joints" or parts[2] != body:
+        return None
+    names = [cj.name for cj in config.clearance_joints]
+    joint = int(parts[1]) if parts[1].isdigit() else (names.index(parts[1]) if parts[1] in names else -1)
+    if joint != limit.joints[0]:
+        return None
+    return {"wear_coefficient": 1, "hardness": -1}.get(parts[3])
+
+
 def joint_allowance(rel, joint) -> float | None:
     """The allowance of one clearance joint, m: its entry in ``allowances``, else ``allowance``, else 0.01 D with D
     its bearing's outer diameter (the paper's rule); None when none of them is given."""

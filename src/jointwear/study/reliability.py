@@ -23,6 +23,7 @@ from jointwear.config import StudyConfig, target_display_unit
 from jointwear.schema import ConfigError
 from jointwear.study.limit_state import (
     LimitState,
+    archard_power,
     curve_cycles,
     curve_half_width,
     life_at,
@@ -154,20 +155,9 @@ class StudyContext:
 
 
 def archard_exponent(ctx: StudyContext, i: int) -> int | None:
-    """+1 when the judged wear quantity is proportional to variable i under Archard's law (the wear coefficient
-    of the judged body of the single judged joint), -1 when inversely proportional (its hardness), else None."""
-    limit = ctx.limit_state
-    body = {"bearing_max_depth": "bearing_material", "journal_max_depth": "journal_material"}.get(limit.quantity)
-    if body is None or len(limit.joints) != 1 or i >= len(ctx.targets):
-        return None
-    parts = ctx.targets[i].split(".")
-    if len(parts) != 4 or parts[0] != "clearance_joints" or parts[2] != body:
-        return None
-    names = [cj.name for cj in ctx.config.clearance_joints]
-    joint = int(parts[1]) if parts[1].isdigit() else (names.index(parts[1]) if parts[1] in names else -1)
-    if joint != limit.joints[0]:
-        return None
-    return {"wear_coefficient": 1, "hardness": -1}.get(parts[3])
+    """+1 when the judged wear quantity is proportional to variable i under Archard's law, -1 when inversely
+    proportional, else None (:func:`~jointwear.study.limit_state.archard_power` of its target)."""
+    return archard_power(ctx.config, ctx.limit_state, ctx.targets[i]) if i < len(ctx.targets) else None
 
 
 def life_trend(ctx: StudyContext) -> Callable[[np.ndarray], np.ndarray] | None:
