@@ -61,3 +61,18 @@ def test_paper_comparison_quotes_the_record():
                    f"nominal R = {r0:.3f}: HB_b at 80 % lowers it by {r0 - hb['reliability_low']:.3f}, k_b at 120 % "
                    f"by {r0 - k['reliability_high']:.3f}"):
         assert quoted in text, quoted
+
+
+def test_the_reports_trust_sentence_quotes_the_validations():
+    """The report's "How far to trust the life" quotes how short the presets' lives read against their validations'
+    true models: the figures are those of the current validation records."""
+    from jointwear.report.result_sections import LIFE_TRUST
+
+    shorts = []
+    for name in ("validate_swept_deposit_znver4.json",
+                 "validate_jin2025_flapping_wing_profile_swept_gather_znver4.json"):
+        row = json.loads((ROOT / "benchmarks" / "results" / name).read_text(encoding="utf-8"))["validation"][
+            "life_table"][0]
+        assert row["surrogate_cycles_high"] < row["cycles"]  # "beyond their 95 % intervals"
+        shorts.append(f"{100 * (1 - row['surrogate_cycles'] / row['cycles']):.1f} %")
+    assert f"lives read {shorts[0]} (uniform mode) and {shorts[1]} (profile mode) short" in LIFE_TRUST, shorts
