@@ -64,35 +64,41 @@ def main(argv=None) -> int:
     ap.add_argument("--out", type=Path, default=OUT)
     args = ap.parse_args(argv)
     warnings.simplefilter("ignore")
-    import jointwear
+    from jointwear import compute
+    from jointwear.config import load_config
     from jointwear.reliability import KrigingSurrogate
+    from jointwear.study import WEAR_MODEL_TAG, run_reliability, study_context
     from jointwear.study.io import provenance
-    from jointwear.study.reliability import life_trend
+    from jointwear.study.reliability import life_offset, store_digest
     from jointwear.study.validation import SEED_OFFSET
 
     validation = json.loads((args.folder / "validation.json").read_text(encoding="utf-8"))
-    study = jointwear.Study(args.config, out=args.folder, workers=1)
-    study._prepare({"reliability"}, store_reuse=True)
-    with study._session(reuse=True) as ctx:
-        learnt = study._learned(ctx)
+    config = load_config(args.config)
+    store = compute.EvaluationStore.open(args.folder, store_digest(config), resume=True)
+    try:
+        ctx = study_context(config, lambda call: compute.Evaluator(call, None, store, tag=WEAR_MODEL_TAG,
+                                                                   n_outputs=call.n_outputs))
+        learnt = run_reliability(ctx)  # the learning replayed: every call is read back
         made = ctx.n_model_calls
-        x = ctx.sample(int(validation["n_samples"]), ctx.config.reliability.seed + SEED_OFFSET)
+        x = ctx.sample(int(validation["n_samples"]), config.reliability.seed + SEED_OFFSET)
         true = np.log(ctx.life(x))
         design_x = np.asarray(learnt.design_x, dtype=float)
         design_y = np.log(ctx.life(design_x))
-        if ctx.n_model_calls != made:
-            sys.exit("the store lacks some of the validation's calls: run benchmarks/validate.py --keep first")
-        engine = learnt.engine
-        u, design_u = ctx.iso().to_u(x), ctx.iso().to_u(design_x)
-        shift = float(engine.levels[0])
-        mean, var = engine.response_surrogate.predict(u)
-        scatter = float(engine.noise_sd) if ctx.config.reliability.noise == "estimate" else 0.0
-        trend, iso = life_trend(ctx), ctx.iso()
-        options = {"estimate_nugget": ctx.config.reliability.noise == "estimate",  # as the study's Kriging
-                   "offset": None if trend is None else (lambda v: trend(iso.to_x(v)))}
-        loo_mean, loo_var = engine.response_surrogate.leave_one_out()
-        loo_y = engine.response_surrogate.training_outputs
-        loo_z2 = float(np.mean((loo_y - loo_mean) ** 2 / (loo_var + engine.response_surrogate.noise_variance)))
+    finally:
+        store.close()
+    if ctx.n_model_calls != made:
+        sys.exit("the store lacks some of the validation's calls: run benchmarks/validate.py --keep first")
+    engine = learnt.engine
+    iso = ctx.iso()
+    u, design_u = iso.to_u(x), iso.to_u(design_x)
+    shift = float(engine.levels[0])
+    mean, var = engine.response_surrogate.predict(u)
+    scatter = float(engine.noise_sd) if config.reliability.noise == "estimate" else 0.0
+    options = {"estimate_nugget": config.reliability.noise == "estimate",  # as the study's Kriging
+               "offset": life_offset(ctx, iso)}
+    loo_mean, loo_var = engine.response_surrogate.leave_one_out()
+    loo_y = engine.response_surrogate.training_outputs
+    loo_z2 = float(np.mean((loo_y - loo_mean) ** 2 / (loo_var + engine.response_surrogate.noise_variance)))
     ok = np.isfinite(true)
     fitted = {"loo_standardised_residual_mean_square": loo_z2, "life_at_target": life_at(mean[ok] + shift, scatter),
               "noise_sd": scatter,
@@ -112,7 +118,7 @@ def main(argv=None) -> int:
              "n_design_points": int(keep.sum()), "target": TARGET, "life_true": life_true,
              "study_life": learnt.life_cycles, "learnt": fitted, "refitted": fresh}
     record = json.loads(args.out.read_text(encoding="utf-8")) if args.out.is_file() else {}
-    record[args.key or ctx.config.name] = entry
+    record[args.key or config.name] = entry
     args.out.write_text(json.dumps(record, indent=1) + "\n", encoding="utf-8")
     print(json.dumps({"life_true": life_true, "learnt_life": fitted["life_at_target"],
                       "slope": fitted["slope_true_on_predicted"],

@@ -50,6 +50,7 @@ from jointwear.reliability import (
 from jointwear.study.reliability import (
     POSTERIOR_POINTS,
     StudyContext,
+    life_offset,
     life_scatter_sd,
     life_trend,
     surrogate_pf_error,
@@ -103,10 +104,8 @@ class LifeSurrogate:
             self.model = SeriesSurrogate(lives.shape[1], seed=self.seed, estimate_nugget=self.estimate_nugget).fit(
                 u[ok], lives[ok])
         else:
-            trend = life_trend(self.ctx)
-            offset = None if trend is None else (lambda v: trend(self.iso.to_x(v)))
-            self.model = KrigingSurrogate(seed=self.seed, estimate_nugget=self.estimate_nugget, offset=offset).fit(
-                u[ok], y[ok])
+            self.model = KrigingSurrogate(seed=self.seed, estimate_nugget=self.estimate_nugget,
+                                          offset=life_offset(self.ctx, self.iso)).fit(u[ok], y[ok])
 
     @property
     def per_joint(self) -> bool:

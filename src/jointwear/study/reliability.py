@@ -165,7 +165,7 @@ def life_trend(ctx: StudyContext) -> Callable[[np.ndarray], np.ndarray] | None:
     scaling of the life in the judged body's wear coefficient k and hardness H, ln N_f = -ln(k / k_mean) + ln(H /
     H_mean) + the rest (the wear depth is k / H times a history that the wear shapes alike, docs/reliability.md, "The
     learnt life's spread"). None: nothing known (``"constant"``, or no such variable is random)."""
-    if ctx.config.reliability.trend != "archard" or ctx.per_joint:
+    if ctx.config.reliability.trend != "archard":
         return None
     exponents = [(i, archard_exponent(ctx, i)) for i in range(len(ctx.names))]
     terms = [(i, e, float(ctx.marginals[i].mean())) for i, e in exponents if e]
@@ -177,6 +177,16 @@ def life_trend(ctx: StudyContext) -> Callable[[np.ndarray], np.ndarray] | None:
         return -sum(e * np.log(np.clip(x[:, i] / ref, 1e-12, None)) for i, e, ref in terms)
 
     return trend
+
+
+def life_offset(ctx: StudyContext, iso=None) -> Callable[[np.ndarray], np.ndarray] | None:
+    """:func:`life_trend` as a function of the standard-normal inputs of ``iso`` (default the study's): the
+    ``offset`` of a Kriging of ln N_f fitted in that space, or None."""
+    trend = life_trend(ctx)
+    if trend is None:
+        return None
+    iso = ctx.iso() if iso is None else iso
+    return lambda u: trend(iso.to_x(u))
 
 
 def study_context(config: StudyConfig, evaluator_factory: Callable[[WearModelCall], Any],

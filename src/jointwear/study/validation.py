@@ -16,7 +16,7 @@ import numpy as np
 from scipy import stats
 
 from jointwear.study.limit_state import bounded_ends, curve_cycles, intervals_overlap, life_at
-from jointwear.study.reliability import StudyContext, life_trend
+from jointwear.study.reliability import StudyContext, life_offset
 from jointwear.study.reliability_results import SurrogateFit
 from jointwear.study.results import ReliabilityCurve, ValidationResult
 
@@ -56,9 +56,8 @@ def leave_one_out(ctx: StudyContext, reliability: ReliabilityCurve, seed: int) -
             with np.errstate(divide="ignore", invalid="ignore"):
                 y = np.log(ctx.life(design_x))
             ok = np.isfinite(y)
-            trend = life_trend(ctx)
-            offset = None if trend is None else (lambda v: trend(ctx.iso().to_x(v)))
-            full = KrigingSurrogate(seed=seed, estimate_nugget=estimate_nugget, offset=offset).fit(u[ok], y[ok])
+            full = KrigingSurrogate(seed=seed, estimate_nugget=estimate_nugget, offset=life_offset(ctx)).fit(u[ok],
+                                                                                                           y[ok])
     pred, var = full.leave_one_out()
     fit = SurrogateFit.of(full, loo=pred)
     y = full.training_outputs
