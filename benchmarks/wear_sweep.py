@@ -206,7 +206,7 @@ def profile_block(tr, ws, mat, upd, wb, wj, swept: bool) -> dict:
     geom = upd.geometry
     gather = C.gather_directions
     if not swept:  # the earlier gathering: no left shares
-        C.gather_directions = lambda *a: gather(*a[:12])
+        C.gather_directions = lambda *a: gather(*a[:10])
     try:
         cw = C.cycle_wear(tr, ws, ws.record_cycles, mat, bearing_profile=geom.bearing_wear,
                           journal_profile=geom.journal_wear, bearing_bore=upd.bearing_bore,
@@ -306,7 +306,7 @@ def profile_history(replicates: int) -> dict:
         row = {"replicate": r, "settle_cycles_initial": settle0 + 0.05 * r}
         for lay in ("nearest_cell", "swept"):
             if lay == "nearest_cell":
-                C.gather_directions = lambda *a: gather(*a[:12])
+                C.gather_directions = lambda *a: gather(*a[:10])
             try:
                 t0 = time.perf_counter()
                 res = wear_history(model, ws.model_copy(update={"settle_cycles_initial": settle0 + 0.05 * r}),

@@ -158,8 +158,7 @@ def test_swept_normal_over_a_tiny_arc_gathers_its_exact_direction(n):
     w[:-1] += 0.5 * np.diff(t)
     w[1:] += 0.5 * np.diff(t)
     bins = np.zeros((4, n))
-    gather_directions(theta, 0.0 * one, one, one, w, 1.002e-3 * one, 1e-3 * one, 1e-11, 1.0, 1e-2, 1.128, bins,
-                      sweep_shares(t, t.size))
+    gather_directions(theta, 0.0 * one, one, one, w, 1e-11, 1.0, 1e-2, 1.128, bins, sweep_shares(t, t.size))
     assert set(np.flatnonzero(bins[0])) == {k, k + 1}
     for cell, a, b in ((k, theta[0], edge), (k + 1, edge, theta[-1])):
         mid = 0.5 * (a + b)

@@ -214,8 +214,8 @@ def cycle_wear(
         if bore is None:
             continue
         bins = np.zeros((4, n))
-        gather_directions(theta, tilt, F, v, dt, r_b, r_j, mat.h_b + mat.h_j, 1.0, mat.width,
-                          settings.half_width_factor, bins, left)
+        gather_directions(theta, tilt, F, v, dt, mat.h_b + mat.h_j, 1.0, mat.width, settings.half_width_factor, bins,
+                          left)
         shared = ConformalShare(bins / n_cycles, mat.r_b0 - mat.r_j0, radius, mat.width)  # per unit k/H
         sides.append((side, kH, shared, shared(bore)))
     g_level, share, g_journal, share_j = 0.0, None, 0.0, None

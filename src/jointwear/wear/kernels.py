@@ -426,11 +426,11 @@ def _gather_arc(bins, start, arc, dv, dh, delta, cos_c, sin_c, poly):
 
 
 @njit(cache=True, nogil=True)
-def gather_directions(theta_b, tilt, force, slip, dt, r_b, r_j, hsum, kH_b, width, c_half, bins,
-                      left_share=None, max_sweep=MAX_SWEEP):
+def gather_directions(theta_b, tilt, force, slip, dt, hsum, kH_b, width, c_half, bins, left_share=None,
+                      max_sweep=MAX_SWEEP):
     """Gather the recorded steps by the grid cell of their contact normal m (angle theta_b + tilt): bins (4, n)
     receives per cell the Archard volume (k/H) F ds, its weighted sums of cos m and sin m, and of
-    delta_H = b^2 / (2 R*) (see share_load) = c_half^2 F (h_b + h_j) / (2 L): R* cancels, and r_b, r_j are not read.
+    delta_H = b^2 / (2 R*) (see share_load) = c_half^2 F (h_b + h_j) / (2 L): R* cancels, so the radii are not needed.
 
     left_share (n,): as accumulate_wear's, the fraction of each step's trapezoid weight that lies before it in time.
     When given, each step's load is spread over the directions its normal sweeps over its weight's time (m linear in
