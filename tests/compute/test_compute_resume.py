@@ -136,8 +136,12 @@ def test_kill9_resume_equals_uninterrupted(tmp_path):
     # the same study, 2 local workers, killed with SIGKILL after k stored calls, then resumed
     out, log = tmp_path / "run", tmp_path / "run.log"
     db = out / "evaluations.sqlite"
-    # (stored calls, signal): kill -9 twice, and a Ctrl-C (SIGINT) in between
-    kill_points = [(4, signal.SIGKILL), (13, signal.SIGINT), (25, signal.SIGKILL)]
+    # (stored calls, signal): kill -9 twice, and a Ctrl-C (SIGINT) in between. The study stores 4 calls,
+    # then 3 per iteration (4, 7, 10, ...): each point lies 2 calls into a batch, when the batch's third call
+    # has just started on the worker the first freed, so a kill lands with a call in flight. At a batch's
+    # end nothing would be in flight until the next batch is drawn, and the re-run check below would race.
+    kill_points = [(6, signal.SIGKILL), (15, signal.SIGINT), (27, signal.SIGKILL)]
+    assert all((k - 4) % 3 == 2 for k, _ in kill_points)
     assert kill_points[-1][0] < n_total
     committed_at_kill: dict[int, set[str]] = {}
     for run, (k, sig) in enumerate(kill_points):
@@ -193,7 +197,7 @@ def test_kill9_resume_equals_uninterrupted(tmp_path):
             n_rerun += 1
     # only calls in flight at a kill can re-run: at most 2 per worker per kill (the evaluator keeps
     # 2 calls per worker submitted); and some do (a call sleeps 40 ms, the kill lands within ~10 ms of
-    # a commit while the other worker is mid-call), so the check above is not vacuous
+    # the commit that frees a worker for the batch's third call), so the check above is not vacuous
     assert 1 <= n_rerun <= 2 * 2 * len(kill_points)
 
 
