@@ -705,8 +705,24 @@ def test_a_validated_life_that_disagrees_is_flagged_beside_the_headline(tmp_path
     assert "the validation's true model disagrees (caveats below)" in page
     assert (f"The true model's life disagrees with the curve's</strong></a>: at R = {rel.target:g} the true model's "
             f"life is {1.06 * life:,.0f} cycles") in page
+    # the reliability section says how far this study's life reads from its own true model's (1 / 1.06 - 1)
+    assert ("How far to trust the life: on 200 direct samples of this study's true model (the validation below), "
+            f"the life reads 5.7 % short of the true model's {1.06 * life:,.0f} cycles") in page
+    assert "<b>their 95 % intervals do not overlap</b>: the life's interval is too narrow" in page
     page = validate(True)
     assert "true model disagrees (caveats below)" not in page and "The true model's life disagrees" not in page
+    assert "the life reads 5.7 % short of the true model's" in page and "their 95 % intervals overlap." in page
+    assert "flapping-wing presets' lives" not in page  # the presets' figures only stand in for a study's own
+
+
+def test_an_unvalidated_life_is_told_the_presets_validations(tmp_path, nominal):
+    """Without its own validation the reliability section gives the presets' measured error and names the command
+    that measures this study's."""
+    from jointwear.report.result_sections import LIFE_TRUST
+
+    d = make_fixture_dir(tmp_path / "n", nominal, which=("reliability",))
+    page = html.unescape(build_report(d).read_text(encoding="utf-8"))
+    assert html.unescape(LIFE_TRUST) in page and "jointwear validate" in page
 
 
 def test_a_wear_history_whose_contact_outgrows_hertz_and_an_unjudged_journal_are_told(tmp_path, nominal):

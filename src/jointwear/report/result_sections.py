@@ -106,6 +106,23 @@ LIFE_TRUST = ("How far to trust the life: against direct Monte Carlo of their tr
               "study's.")
 
 
+def life_trust_sentence(out: StudyOutputs, target: float) -> str:
+    """How far to trust the life: this study's own validation when it was run at ``target``, else the presets'
+    (:data:`LIFE_TRUST`)."""
+    val = out.results.validation
+    row = next((r for r in (val.life_table if val is not None else ()) if r.get("target") == target), None)
+    if row is None or row.get("cycles") is None or row.get("surrogate_cycles") is None:
+        return LIFE_TRUST
+    change = float(row["surrogate_cycles"]) / float(row["cycles"]) - 1.0
+    side = "short of" if change < 0 else "beyond"
+    verdict = ("their 95 % intervals overlap" if row.get("agree")
+               else "<b>their 95 % intervals do not overlap</b>: the life's interval is too narrow")
+    return (f"How far to trust the life: on {val.n_samples:,} direct samples of this study's true model "
+            f"(the validation below), the life reads {100 * abs(change):.1f} % {side} the true model's "
+            f"{float(row['cycles']):,.0f} cycles ({interval_text(row.get('cycles_low'), row.get('cycles_high'))}); "
+            f"{verdict}.")
+
+
 def reliability_section(out: StudyOutputs, figs: Figures) -> str:
     rel = out.results.reliability
     if rel is None:
@@ -138,7 +155,7 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
                                                                rel.surrogate_fit_sentence()))
               if sentence]
     if life is not None and not note:
-        parts.append(f"<p>{LIFE_TRUST}</p>")
+        parts.append(f"<p>{life_trust_sentence(out, rel.target)}</p>")
     missed = curve_misses_life(rel, out.results.wear)
     if missed:
         parts.append(f'<p class="warn"><strong>The curve misses the life.</strong> {missed}</p>')
