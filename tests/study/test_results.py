@@ -14,8 +14,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "wear"))
 from wear_synthetic import FakeModel, fake_simulate  # noqa: E402
 
 from jointwear.config import config_from_dict, load_config  # noqa: E402
-from jointwear.study import ReliabilityCurve, WearSummary, load_results  # noqa: E402
-from jointwear.study.io import file_labels, strict, write_json  # noqa: E402
+from jointwear.study import ReliabilityCurve, ValidationResult, WearSummary, load_results  # noqa: E402
+from jointwear.study.io import file_labels, strict, write_csv, write_json  # noqa: E402
 from jointwear.study.reliability import study_context  # noqa: E402
 from jointwear.wear import WearSettings, wear_history  # noqa: E402
 
@@ -169,6 +169,29 @@ def test_reliability_result_round_trip_and_tables(tmp_path):
     res.save(tmp_path, figures=False)
     np.testing.assert_array_equal(load_results(tmp_path).reliability.pf_error_esc, res.pf_error_esc)
     assert "pf_error_esc" in (tmp_path / "reliability_curve.csv").read_text().splitlines()[0].split(",")
+
+
+def test_a_result_whose_arrays_disagree_in_length_saves_nothing_and_names_them(tmp_path):
+    """A curve cut short by hand wrote its CSV cut at the shortest column, without a word (zip stops there)."""
+    res = _reliability_result()
+    res.pf_error = res.pf_error[:2]
+    with pytest.raises(ValueError, match=r"ReliabilityCurve: cycles, .* run along one axis but their lengths differ "
+                                         r"\(cycles 3, reliability 3, .*pf_error 2"):
+        res.save(tmp_path, figures=False)
+    res = _reliability_result()
+    res.joints[0]["reliability"] = res.joints[0]["reliability"][:2]  # one joint's column of the curve's table
+    res.joints.append({**res.joints[0], "name": "B"})
+    with pytest.raises(ValueError, match=r"ReliabilityCurve table 'reliability_curve': columns of different lengths "
+                                         r"\(cycles 3, .*reliability_A 2"):
+        res.save(tmp_path, figures=False)
+    val = ValidationResult(cycles=[1e5, 2e5], reliability_mc=[0.95, 0.8], ci_low=[0.94, 0.78], ci_high=[0.96, 0.82],
+                           reliability_surrogate=[0.948], surrogate_error=[0.005, 0.01], n_samples=200,
+                           model_calls=200, wall_seconds=1.0, agreement=[True, True])
+    with pytest.raises(ValueError, match=r"ValidationResult: .*\(cycles 2, .*reliability_surrogate 1,"):
+        val.save(tmp_path, figures=False)
+    assert not any(tmp_path.iterdir())  # everything is checked before the first file is written
+    with pytest.raises(ValueError, match=r"t.csv: columns of different lengths \(a 2, b 1\)"):
+        write_csv(tmp_path / "t.csv", {"a": [1, 2], "b": [3]})
 
 
 def test_the_study_inputs_carry_their_si_units():

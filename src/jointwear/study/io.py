@@ -107,9 +107,20 @@ def csv_cell(value: Any) -> Any:
     return text
 
 
+def check_columns(table: str, columns: Mapping[str, Sequence]) -> None:
+    """Raise a ValueError naming ``table`` and its columns' lengths when they differ (a CSV row per index would
+    otherwise be cut at the shortest column without a word)."""
+    lengths = {name: len(column) for name, column in columns.items()}
+    if len(set(lengths.values())) > 1:
+        listed = ", ".join(f"{name} {n}" for name, n in lengths.items())
+        raise ValueError(f"{table}: columns of different lengths ({listed}); were some of its arrays changed after "
+                         "it was computed?")
+
+
 def write_csv(path: Path, columns: Mapping[str, Sequence]) -> Path:
     """Write equal-length columns as a CSV table (header = the column names, units in the names); every cell as
     :func:`csv_cell` writes it (text that a spreadsheet would run as a formula is neutralised)."""
+    check_columns(Path(path).name, columns)
     names = list(columns)
     cols = [list(columns[n]) for n in names]
     buf = io.StringIO(newline="")

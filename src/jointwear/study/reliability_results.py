@@ -177,6 +177,8 @@ class ReliabilityCurve(StageResult):
     """
 
     FILE: ClassVar[str] = "reliability.json"
+    ALIGNED: ClassVar[tuple[tuple[str, ...], ...]] = (
+        ("cycles", "reliability", "pf", "pf_cov", "below_floor", "pf_error", "pf_error_esc"),)
 
     cycles: np.ndarray
     reliability: np.ndarray
@@ -701,6 +703,8 @@ class ValidationResult(StageResult):
     """
 
     FILE: ClassVar[str] = "validation.json"
+    ALIGNED: ClassVar[tuple[tuple[str, ...], ...]] = (
+        ("cycles", "reliability_mc", "ci_low", "ci_high", "reliability_surrogate", "surrogate_error", "agreement"),)
 
     cycles: np.ndarray
     reliability_mc: np.ndarray

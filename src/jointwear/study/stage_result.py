@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from jointwear.study.io import provenance, read_json, write_csv, write_json
+from jointwear.study.io import check_columns, provenance, read_json, write_csv, write_json
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -81,6 +81,8 @@ class StageResult:
     #: fields that record how a run went, not what it found: equality ignores them
     RUN_METADATA: ClassVar[frozenset[str]] = frozenset(
         {"wall_seconds", "wall_seconds_per_cycle", "simulation_seconds", "provenance"})
+    #: groups of array fields that run along one axis (the curve's levels...): checked before anything is saved
+    ALIGNED: ClassVar[tuple[tuple[str, ...], ...]] = ()
     __hash__ = None  # mutable, compared by value
 
     def __eq__(self, other: object) -> bool:
@@ -149,9 +151,23 @@ class StageResult:
             raise KeyError(f"{type(self).__name__} has no table {table!r}; its tables: {', '.join(tables) or 'none'}")
         return pd.DataFrame({name: np.asarray(column) for name, column in tables[table].items()})
 
+    def check_lengths(self) -> None:
+        """Raise a ValueError naming the fields of an ``ALIGNED`` group whose lengths differ (None: not held)."""
+        for group in self.ALIGNED:
+            lengths = {name: len(value) for name in group if (value := getattr(self, name)) is not None}
+            if len(set(lengths.values())) > 1:
+                listed = ", ".join(f"{name} {n}" for name, n in lengths.items())
+                raise ValueError(f"{type(self).__name__}: {', '.join(lengths)} run along one axis but their lengths "
+                                 f"differ ({listed}); were some of its arrays changed after it was computed?")
+
     def write_tables(self, folder: Path | str) -> list[str]:
-        """Write every table as ``<stem>.csv`` in ``folder``; the file names."""
-        return [write_csv(Path(folder) / f"{stem}.csv", columns).name for stem, columns in self.tables().items()]
+        """Write every table as ``<stem>.csv`` in ``folder``; the file names. The result's arrays and every table
+        are checked before any is written: a result whose arrays disagree in length writes nothing."""
+        self.check_lengths()
+        tables = self.tables()
+        for stem, columns in tables.items():
+            check_columns(f"{type(self).__name__} table '{stem}'", columns)
+        return [write_csv(Path(folder) / f"{stem}.csv", columns).name for stem, columns in tables.items()]
 
     def write(self, folder: Path | str) -> Path:
         """Write the stage's JSON file (``FILE``) in ``folder``, with this machine's provenance when the result has
