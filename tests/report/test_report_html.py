@@ -707,11 +707,11 @@ def test_a_validated_life_that_disagrees_is_flagged_beside_the_headline(tmp_path
             f"life is {1.06 * life:,.0f} cycles") in page
     # the reliability section says how far this study's life reads from its own true model's (1 / 1.06 - 1)
     assert ("How far to trust the life: on 200 direct samples of this study's true model (the validation below), "
-            f"the life reads 5.7 % short of the true model's {1.06 * life:,.0f} cycles") in page
+            f"the life reads 5.7 % below the true model's {1.06 * life:,.0f} cycles") in page
     assert "<b>their 95 % intervals do not overlap</b>: the life's interval is too narrow" in page
     page = validate(True)
     assert "true model disagrees (caveats below)" not in page and "The true model's life disagrees" not in page
-    assert "the life reads 5.7 % short of the true model's" in page and "their 95 % intervals overlap." in page
+    assert "the life reads 5.7 % below the true model's" in page and "their 95 % intervals overlap." in page
     assert "flapping-wing presets' lives" not in page  # the presets' figures only stand in for a study's own
 
 

@@ -114,7 +114,7 @@ def life_trust_sentence(out: StudyOutputs, target: float) -> str:
     if row is None or row.get("cycles") is None or row.get("surrogate_cycles") is None:
         return LIFE_TRUST
     change = float(row["surrogate_cycles"]) / float(row["cycles"]) - 1.0
-    side = "short of" if change < 0 else "beyond"
+    side = "below" if change < 0 else "above"
     verdict = ("their 95 % intervals overlap" if row.get("agree")
                else "<b>their 95 % intervals do not overlap</b>: the life's interval is too narrow")
     return (f"How far to trust the life: on {val.n_samples:,} direct samples of this study's true model "
