@@ -43,6 +43,26 @@ def test_full_report_is_self_contained(full_report: Path):
     assert 'class="missing"' not in page  # full fixture: nothing missing
 
 
+def test_the_data_figures_tell_their_numbers_to_a_reader_who_cannot_see_them(full_report: Path, study_dir: Path):
+    """Every image had its caption as its text alternative, so a screen reader read the caption twice and never the
+    numbers; the data figures' alternatives now give them, from the results the figures draw."""
+    page = html.unescape(full_report.read_text(encoding="utf-8"))
+    figures = re.findall(r'<img\s[^>]*alt="([^"]*)">\s*<figcaption>(.*?)</figcaption>', page, re.S)
+    assert len(figures) == 13
+    alts = [alt for alt, caption in figures if alt != caption]
+    res = load_results(study_dir)
+    rel, wear = res.reliability, res.wear
+    life = rel.life()
+    r, c = rel.reliability, rel.cycles
+    assert (f"R goes from {r[0]:.3f} at {c[0]:,.0f} cycles to {r[-1]:.3f} at {c[-1]:,.0f}; it crosses the target "
+            f"{rel.target:g} at {life:,.0f} cycles.") in alts[2]
+    depth = np.asarray(wear.profile["depth_mm"])
+    assert f"deepest {depth.max():.4g} mm" in alts[0]
+    assert f"reaches {wear.history['max_wear_mm'][-1]:.4g} mm at {wear.history['cycles'][-1]:,.0f}" in alts[1]
+    assert sum(a.startswith("Bar chart of R at") and "the widest swing is" in a for a in alts) == 3  # the tornados
+    assert len(alts) == 6  # polar, history, R(N) and three tornados; the other figures keep their caption
+
+
 def test_the_tables_of_numbers_are_printed_though_collapsed_on_screen(full_report: Path):
     # Chromium 156 printing the default study's report: 14 pages without the print rule, and the R(N) and
     # sensitivity tables absent from the PDF's text; 15 pages with it, both tables present
@@ -205,6 +225,8 @@ def test_report_shows_the_validation_from_its_typed_result(tmp_path, nominal):
     assert "\u00b10.02" in page  # the widest half-width of the direct estimate, 0.82 - 0.8: what the check can see
     assert page.count("data:image/png;base64") >= 2
     assert "could not be drawn" not in page  # a figure that fails falls back to the stage's PNG, silently
+    assert ("from 2,000 samples: their 95 % intervals overlap at 1 of 2 levels; the largest difference in R is "
+            "0.012, at 400,000 cycles.") in html.unescape(page)  # the figure's text alternative
     # the summary's caveats name the level that disagrees (the summary spoke only of the learning)
     assert ("<strong>The true model disagrees with the curve</strong></a>: at 1 of 2 levels, not at 400,000 cycles: "
             "true model 0.800 [0.780, 0.820], surrogate 0.812 (its error estimate 0.010)") in page

@@ -59,12 +59,13 @@ def png_width(uri: str) -> int | None:
         return None
 
 
-def figure_html(uri: str, caption: str, *, wide: bool = False) -> str:
-    """A figure shown at its physical size (DPI pixels per inch), never wider than the page."""
+def figure_html(uri: str, caption: str, *, wide: bool = False, alt: str | None = None) -> str:
+    """A figure shown at its physical size (DPI pixels per inch), never wider than the page. ``alt``: what the figure
+    shows, for a reader who cannot see it (its numbers, not its caption again); the caption where none is given."""
     cls = "fig wide" if wide else "fig"
     px = png_width(uri)
     width = f' width="{round(px * 96 / DPI)}"' if px else ""
-    return (f'<figure class="{cls}"><img src="{uri}"{width} alt="{e(caption)}">'
+    return (f'<figure class="{cls}"><img src="{uri}"{width} alt="{e(alt or caption)}">'
             f"<figcaption>{e(caption)}</figcaption></figure>")
 
 
@@ -178,7 +179,9 @@ class Figures:
         self.count = 0
 
     def draw(self, make: Callable[[], object] | None, caption: str, *, png_keys: Sequence[str] = (),
-             wide: bool = False, missing_text: str | None = None) -> str:
+             wide: bool = False, missing_text: str | None = None, alt: str | None = None) -> str:
+        """The figure ``make`` draws (or the stage's PNG file of it) with its caption and text alternative ``alt``
+        (:func:`figure_html`)."""
         if make is not None:
             try:
                 uri = to_data_uri(make())
@@ -187,8 +190,8 @@ class Figures:
                 return png or missing(f"{caption}: the figure could not be drawn ({type(exc).__name__}: {exc}).")
             self.count += 1
             self._supersede(png_keys)
-            return figure_html(uri, caption, wide=wide)
-        return self._png(png_keys, caption) or missing(missing_text or f"{caption}: no data in this folder.")
+            return figure_html(uri, caption, wide=wide, alt=alt)
+        return self._png(png_keys, caption, alt) or missing(missing_text or f"{caption}: no data in this folder.")
 
     def leftovers(self) -> list[str]:
         """The stage PNG files no section showed, as figures."""
@@ -213,7 +216,7 @@ class Figures:
                 self.used.add(stem)
                 return
 
-    def _png(self, keys: Sequence[str], caption: str = "") -> str | None:
+    def _png(self, keys: Sequence[str], caption: str = "", alt: str | None = None) -> str | None:
         for key in keys:
             for stem in self._candidates(key):
                 path = self.pngs[stem]
@@ -222,7 +225,7 @@ class Figures:
                     continue
                 self.used.add(stem)
                 self.count += 1
-                return figure_html(uri, f"{caption} (figure file {path.name})" if caption else path.name)
+                return figure_html(uri, f"{caption} (figure file {path.name})" if caption else path.name, alt=alt)
         return None
 
 

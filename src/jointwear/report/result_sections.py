@@ -11,6 +11,7 @@ from jointwear.study.reliability_results import SurrogateFit, interval_cells, in
 from jointwear.study.sensitivity import coordinate_shift_sentence
 
 from . import figures as F
+from .alt_text import reliability_curve_alt, tornado_alt, validation_alt
 from .markup import Figures, cards, e, format_number, missing, table
 from .read import StudyOutputs
 from .reference_checks import (
@@ -198,7 +199,8 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
         "estimate), the target and the life"
         + ("; dashed: each judged joint's own R(N) with its band" if len(rel.joints) > 1 else "")
         + (f"; crosses: the values of the reference ({label})." if ref_r else "."),
-        png_keys=("reliability_curve",)))
+        png_keys=("reliability_curve",),
+        alt=reliability_curve_alt(rel.cycles, rel.reliability, rel.target, None if note else life)))
     conv = rel.convergence
     at = f" at {conv['cycles']:,.0f} cycles" if conv.get("cycles") else ""
     parts.append(figs.draw(
@@ -266,7 +268,9 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
             [str(v.get("label") or v["name"]) for v in vs], [v["reliability_low"] for v in vs],
             [v["reliability_high"] for v in vs], nominal, cycles=sens.cycles, title=title[:1].upper() + title[1:],
             low_label=f"mean \u00d7 {lo_f:g}", high_label=f"mean \u00d7 {hi_f:g}"),
-            f"Sensitivity of the reliability: {title}.", png_keys=("tornado",)))
+            f"Sensitivity of the reliability: {title}.", png_keys=("tornado",),
+            alt=tornado_alt([str(v.get("label") or v["name"]) for v in vs], [v["reliability_low"] for v in vs],
+                            [v["reliability_high"] for v in vs], nominal, sens.cycles)))
     parts.append("</div>")
     of_joint = f" of joint {sens.sobol['joint']}" if sens.sobol.get("joint") else ""  # whose wear the indices are of
     optional = [("elasticity_mean", "elasticity of R to the mean, (\u03bc/R) dR/d\u03bc (\u00b1 95 % Monte Carlo "
@@ -511,7 +515,9 @@ def validation_section(out: StudyOutputs, figs: Figures) -> str:
     fig1 = figs.draw(lambda: F.validation_figure(val.cycles, val.reliability_mc, val.ci_low, val.ci_high,
                                                  val.reliability_surrogate, val.surrogate_half_width,
                                                  n_samples=val.n_samples),
-                     "R(N): the surrogate against the true model sampled directly", png_keys=("validation",))
+                     "R(N): the surrogate against the true model sampled directly", png_keys=("validation",),
+                     alt=validation_alt(val.cycles, val.reliability_mc, val.reliability_surrogate, val.agreement,
+                                        val.n_samples))
     fig2 = ""
     if cv.get("log_life_true"):
         fig2 = figs.draw(lambda: F.cross_validation_figure(cv["log_life_true"], cv["log_life_loo"],

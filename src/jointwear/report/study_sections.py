@@ -11,6 +11,7 @@ from jointwear.study.limit_state import nominal_lives
 from jointwear.wear.angles import angle_text
 
 from . import figures as F
+from .alt_text import wear_history_alt, wear_polar_alt
 from .markup import Figures, cards, e, format_number, missing, table
 from .read import StudyOutputs, joint_series
 from .reference_checks import reference_label, reference_of, reference_values, second_peak
@@ -312,14 +313,15 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
                                                                 cycles=wear.cycles)),
         "Bearing wear profile over the initial circle" + (f" of joint {wear.joints[0]['name']}" if first else "")
         + "; the radial exaggeration factor is written on the figure.",
-        png_keys=("polar",), missing_text="Polar wear profile: the wear result has no profile."))
+        png_keys=("polar",), missing_text="Polar wear profile: the wear result has no profile.",
+        alt=wear_polar_alt(ang, depth)))
     for j in wear.joints[1:]:
         jp = j.get("profile") or {}
         jang, jdepth = (np.asarray(jp.get(k, []), dtype=float) for k in ("angle_deg", "depth_mm"))
         parts.append(figs.draw(
             None if jang.size == 0 else (lambda j=j, jang=jang, jdepth=jdepth: F.wear_polar_figure(
                 jang, jdepth, radius_mm=j.get("bearing_radius_mm"), peaks=j.get("peaks"), cycles=wear.cycles)),
-            f"Bearing wear profile of joint {j['name']} over the initial circle.",
+            f"Bearing wear profile of joint {j['name']} over the initial circle.", alt=wear_polar_alt(jang, jdepth),
             missing_text=f"Polar wear profile of joint {j['name']}: not in this wear result."))
     rel = out.results.reliability
     mean = rel.mean_max_wear_mm if rel is not None else {}
@@ -337,7 +339,7 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
         "from the life surrogate as allowance \u00d7 N / N_f(x), a linear growth that is exact at the allowance)"
         + (f", the values of the reference ({label})" if ref_mean or nominal else "")
         + (f" and the configured allowance ({limit:g} mm, dashed)." if limit is not None else "."),
-        png_keys=("history",)))
+        png_keys=("history",), alt=wear_history_alt(wear.history["cycles"], wear.history["max_wear_mm"], limit)))
     parts.append("</div>")
     if "contact_force_mean_N" in prof:
         parts.append(figs.draw(lambda: F.wear_panels_figure(
