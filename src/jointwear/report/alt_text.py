@@ -51,14 +51,15 @@ def tornado_alt(labels: Sequence[str], low: Sequence[float | None], high: Sequen
 
 
 def wear_polar_alt(angle_deg: Sequence[float], depth_mm: Sequence[float]) -> str:
-    """The deepest point of a bearing's wear profile and the arc worn to half of it."""
+    """The deepest point of a bearing's wear profile (cells equally spaced round the circle) and the arc worn to half
+    of it."""
     a, d = np.asarray(angle_deg, dtype=float), np.asarray(depth_mm, dtype=float)
     if d.size == 0 or not np.isfinite(d).any() or np.nanmax(d) <= 0:
         return "Polar chart of the bearing's wear depth around the bore: no wear."
     k = int(np.nanargmax(d))
-    half = a[d >= 0.5 * d[k]]
+    arc = 360.0 * np.count_nonzero(d >= 0.5 * d[k]) / d.size  # the profile's cells share the circle equally
     return (f"Polar chart of the bearing's wear depth around the bore: deepest {d[k]:.4g} mm at {a[k]:.0f} deg; "
-            f"{half.size} of {a.size} angles worn to half that depth or more.")
+            f"{arc:.0f} deg of the circle worn to half that depth or more.")
 
 
 def wear_history_alt(cycles: Sequence[float], max_wear_mm: Sequence[float], limit_mm: float | None) -> str:
