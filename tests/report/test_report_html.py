@@ -738,6 +738,41 @@ def test_a_validated_life_that_disagrees_is_flagged_beside_the_headline(tmp_path
     assert "flapping-wing presets' lives" not in page  # the presets' figures only stand in for a study's own
 
 
+def test_a_validation_on_the_same_samples_is_told_beside_the_life_and_in_its_section(tmp_path, nominal):
+    """The surrogate read on the validation's own samples gives its own error of the life (paired_ratio): the
+    reliability section's trust sentence says it and whether the life's interval allows it, the validation section
+    shows it as a card and the paired differences in R as columns."""
+    from jointwear.study.results import ValidationResult
+
+    d = make_fixture_dir(tmp_path / "p", nominal, which=("reliability",))
+    rel = ReliabilityCurve.load(d)
+    life = rel.life()
+    low, high = rel.life_interval()
+
+    def validate(ratio: float) -> str:
+        ValidationResult(cycles=[360_000, 400_000], reliability_mc=[0.95, 0.8], ci_low=[0.94, 0.78],
+                         ci_high=[0.96, 0.82], reliability_surrogate=[0.948, 0.805], surrogate_error=[0.005, 0.01],
+                         n_samples=2000, model_calls=2000, wall_seconds=1.0, agreement=[True, True],
+                         paired_reliability_surrogate=[0.946, 0.79], paired_difference_low=[-0.006, -0.014],
+                         paired_difference_high=[-0.002, -0.006],
+                         life_table=[{"target": rel.target, "cycles": 1.01 * life, "cycles_low": 0.99 * life,
+                                      "cycles_high": 1.03 * life, "surrogate_cycles": life, "surrogate_cycles_low": low,
+                                      "surrogate_cycles_high": high, "agree": True,
+                                      "paired_surrogate_cycles": (1 + ratio) * life, "paired_ratio": ratio,
+                                      "paired_ratio_low": ratio - 0.004, "paired_ratio_high": ratio + 0.004}]).save(d)
+        return html.unescape(build_report(d).read_text(encoding="utf-8"))
+
+    page = validate(-0.019)
+    assert ("How far to trust the life: on 2,000 direct samples of this study's true model (the validation below), the "
+            "surrogate's life at R = 0.9 reads 1.9 % below the true model's on the same samples (95 % interval -2.3 % "
+            "to -1.5 %): <b>beyond what the life's 95 % interval allows</b>") in page
+    assert "surrogate's life on these samples" in page and "-1.9 %" in page
+    assert "-0.004 [-0.014, -0.006]" not in page and "-0.010 [-0.014, -0.006]" in page  # 0.79 - 0.8, its bounds
+    assert page.count("same samples: surrogate \u2212 true (95 %)") == 1
+    page = validate(0.0)
+    assert "(95 % interval -0.4 % to +0.4 %): within what the life's 95 % interval allows." in page
+
+
 def test_an_unvalidated_life_is_told_the_presets_validations(tmp_path, nominal):
     """Without its own validation the reliability section gives the presets' measured error and names the command
     that measures this study's."""

@@ -13,7 +13,7 @@ from analytic_wear import AnalyticWear
 
 from jointwear import compute
 from jointwear.config import load_config, updated
-from jointwear.study import ValidationResult, run_reliability, study_context
+from jointwear.study import ReliabilityCurve, ValidationResult, run_reliability, study_context
 from jointwear.study.io import strict
 from jointwear.study.limit_state import interval_reach, life_at
 from jointwear.study.validation import clopper_pearson, life_check, run_validation
@@ -177,3 +177,89 @@ def test_a_target_beyond_what_the_samples_resolve_is_not_tested():
     assert check["note"] == f"not testable: 800 samples resolve R up to {resolved:.4g}" and resolved < 0.999
     assert check["surrogate_cycles"] == 2.9e5
     assert life_check(levels, r_mc, r_mc - 0.005, r_mc, sur, 0.99, n_samples=800)["agree"] is not None
+
+
+@pytest.fixture(scope="module")
+def analytic_study():
+    """The analytic wear model's study (exact model, tight error tolerance) and its learnt curve."""
+    cfg = updated(load_config(), {
+        "reliability.cycles_start": 320_000, "reliability.cycles_stop": 440_000, "reliability.cycles_step": 40_000,
+        "reliability.histogram_cycles": [400_000], "reliability.n_mc": 20_000, "reliability.max_calls": 40,
+        "reliability.noise": "none", "reliability.error_abs_tol": 0.002})
+    ctx = study_context(cfg, lambda call: compute.Evaluator(
+        AnalyticWear([s.name for s in cfg.uncertainty.all_specs()], call.cycles), None, None,
+        n_outputs=call.n_outputs))
+    return ctx, run_reliability(ctx)
+
+
+class _TrueModelAsSurrogate:
+    """The learnt engine with its failure probabilities replaced by the true model's, every life scaled by ``factor``,
+    at the validation's own samples (whose true lives it holds, in order); the rest (the cross-validation's Kriging)
+    is the engine's."""
+
+    def __init__(self, engine, life: np.ndarray, factor: float):
+        self.engine, self.life, self.factor = engine, life, factor
+
+    def __getattr__(self, name):
+        return getattr(self.engine, name)
+
+    def failure_probabilities(self, u, noise_sd=0.0, thresholds=None):
+        assert u.shape[0] == self.life.size and noise_sd == 0.0
+        return (self.factor * self.life[:, None] <= np.exp(thresholds)[None, :]).astype(float)
+
+
+def test_the_surrogate_read_on_the_validations_own_samples_measures_its_own_error(analytic_study):
+    """The surrogate against the true model on the same samples: exactly no difference for a surrogate that is the
+    true model, exactly the samples' share between the two lives for one that reads every life 3 % long, and that
+    life's ratio within the curve's interpolation (one grid interval of :func:`curve_cycles` on each life)."""
+    from dataclasses import replace
+
+    from jointwear.study.limit_state import curve_cycles
+    from jointwear.study.validation import SEED_OFFSET
+
+    ctx, rel = analytic_study
+    n = 1000
+    life = ctx.life(ctx.sample(n, ctx.config.reliability.seed + SEED_OFFSET))
+    exact = run_validation(ctx, replace(rel, engine=_TrueModelAsSurrogate(rel.engine, life, 1.0)), n)
+    assert exact.paired and exact.n_samples == n
+    np.testing.assert_array_equal(exact.paired_reliability_surrogate, exact.reliability_mc)
+    assert not exact.paired_difference_low.any() and not exact.paired_difference_high.any()
+    row = exact.life_table[0]
+    assert row["paired_ratio"] == row["paired_ratio_low"] == row["paired_ratio_high"] == 0.0
+    assert row["paired_surrogate_cycles"] == row["cycles"]
+
+    long = run_validation(ctx, replace(rel, engine=_TrueModelAsSurrogate(rel.engine, life, 1.03)), n)
+    levels = exact.cycles.astype(float)
+    share = ((life[:, None] <= levels) & (1.03 * life[:, None] > levels)).mean(axis=0)  # safe only on the surrogate
+    np.testing.assert_allclose(long.paired_difference(), share, rtol=0, atol=1e-12)
+    assert np.all(long.paired_difference_low <= share) and np.all(share <= long.paired_difference_high)
+    row = long.life_table[0]
+    grid = np.diff(curve_cycles(levels)).max()
+    assert abs(row["paired_surrogate_cycles"] - 1.03 * row["cycles"]) <= 2 * grid
+    assert row["paired_ratio_low"] <= row["paired_ratio"] <= row["paired_ratio_high"]
+    assert 0.0 < row["paired_ratio_low"]  # 3 % long is seen: the interval excludes no error
+    assert long.paired_life_sentence().startswith("the surrogate's life at R = 0.9 reads 3.0 % above the true model's "
+                                                  "on the same samples (95 % interval +")
+
+
+def test_the_learnt_surrogate_on_the_same_samples_is_within_its_error_estimate(analytic_study):
+    """On the exact analytic model the learnt surrogate's error, measured on the validation's samples, lies within its
+    own error estimate at every level, and the paired interval is narrower than the true model's own (the noise the
+    two share cancels)."""
+    ctx, rel = analytic_study
+    val = run_validation(ctx, rel, 3000)
+    assert val.paired and val.paired_within_error().all(), (val.paired_difference(), val.surrogate_error)
+    assert np.all(val.paired_difference_high - val.paired_difference_low < val.ci_high - val.ci_low)
+    row = val.life_table[0]
+    assert row["paired_ratio_low"] <= 0.0025 and row["paired_ratio_high"] >= -0.0025  # error_abs_tol's reach
+    back = ValidationResult.from_json(json.loads(json.dumps(strict(val.to_json()))))
+    assert back == val and back.paired_reliability_surrogate.dtype == float
+
+
+def test_a_curve_read_back_from_disk_is_validated_unpaired(analytic_study, tmp_path):
+    """A result loaded from its folder holds no surrogate: the validation runs as before, without the paired check."""
+    ctx, rel = analytic_study
+    rel.save(tmp_path, figures=False)
+    val = run_validation(ctx, ReliabilityCurve.load(tmp_path), 200)
+    assert not val.paired and val.paired_difference() is None and val.paired_life_sentence() == ""
+    assert "paired_ratio" not in val.life_table[0]

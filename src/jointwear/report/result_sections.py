@@ -7,7 +7,7 @@ import datetime as _dt
 from collections.abc import Mapping, Sequence
 
 from jointwear.study.limit_state import life_status
-from jointwear.study.reliability_results import SurrogateFit, interval_cells, interval_text
+from jointwear.study.reliability_results import SurrogateFit, interval_cells, interval_text, signed_percent
 from jointwear.study.sensitivity import coordinate_shift_sentence
 
 from . import figures as F
@@ -114,6 +114,9 @@ def life_trust_sentence(out: StudyOutputs, target: float) -> str:
     row = next((r for r in (val.life_table if val is not None else ()) if r.get("target") == target), None)
     if row is None or row.get("cycles") is None or row.get("surrogate_cycles") is None:
         return LIFE_TRUST
+    if paired := val.paired_life_sentence(target):
+        return (f"How far to trust the life: on {val.n_samples:,} direct samples of this study's true model (the "
+                f"validation below), {paired}: {_paired_verdict(row)}.")
     change = float(row["surrogate_cycles"]) / float(row["cycles"]) - 1.0
     side = "below" if change < 0 else "above"
     verdict = ("their 95 % intervals overlap" if row.get("agree")
@@ -122,6 +125,22 @@ def life_trust_sentence(out: StudyOutputs, target: float) -> str:
             f"(the validation below), the life reads {100 * abs(change):.1f} % {side} the true model's "
             f"{float(row['cycles']):,.0f} cycles ({interval_text(row.get('cycles_low'), row.get('cycles_high'))}); "
             f"{verdict}.")
+
+
+def _paired_verdict(row: Mapping) -> str:
+    """Whether the surrogate's error of the life, measured on the validation's samples (``paired_ratio`` and its
+    bounds), lies within what the life's own 95 % interval allows: ratios surrogate / true - 1 from
+    life / high - 1 to life / low - 1."""
+    life, low, high = (row.get(k) for k in ("surrogate_cycles", "surrogate_cycles_low", "surrogate_cycles_high"))
+    r_low, r_high = row.get("paired_ratio_low"), row.get("paired_ratio_high")
+    if None in (life, low, high, r_low, r_high):
+        return "the surrogate's own error, not the sampling noise the two share"
+    allowed = (life / high - 1.0, life / low - 1.0)
+    if r_low <= allowed[1] and r_high >= allowed[0]:
+        return "within what the life's 95 % interval allows"
+    return (f"<b>beyond what the life's 95 % interval allows</b> ({signed_percent(allowed[0])} to "
+            f"{signed_percent(allowed[1])}): the interval holds the surrogate's error as the surrogate estimates it, "
+            "and here it errs by more")
 
 
 def reliability_section(out: StudyOutputs, figs: Figures) -> str:
@@ -487,6 +506,15 @@ def _validated_life_card(row: Mapping) -> tuple[str, str, str]:
     return (f"life at R = {row['target']:g}", value, note)
 
 
+def _paired_life_card(row: Mapping) -> tuple[str, str, str]:
+    """The surrogate's life against the true model's on the same samples: the surrogate's own error."""
+    low, high = row.get("paired_ratio_low"), row.get("paired_ratio_high")
+    bounds = "" if low is None or high is None else f"95 % interval {signed_percent(low)} to {signed_percent(high)}; "
+    return ("surrogate's life on these samples", signed_percent(row["paired_ratio"]),
+            f"{bounds}against the true model's on the same samples: the surrogate's own error, without the sampling "
+            "noise the two share")
+
+
 def validation_section(out: StudyOutputs, figs: Figures) -> str:
     """The surrogate's R(N) against the true model sampled directly, and its cross-validation."""
     val = out.results.validation
@@ -504,14 +532,21 @@ def validation_section(out: StudyOutputs, figs: Figures) -> str:
         ("cross-validation Q\u00b2", "-" if q2 is None else f"{q2:.3f}",
          f"leave-one-out over {cv.get('n_points', 0)} design points"),
         *[_validated_life_card(row) for row in val.life_table[:1]],
+        *[_paired_life_card(row) for row in val.life_table[:1] if row.get("paired_ratio") is not None],
     ])
     rows = [[f"{c:,}", format_number(r), f"[{format_number(lo)}, {format_number(hi)}]", format_number(rs),
              format_number(err), "yes" if a else "NO", "NO" if d else "yes"]
             for c, r, lo, hi, rs, err, a, d in zip(val.cycles, val.reliability_mc, val.ci_low, val.ci_high,
                                                    val.reliability_surrogate, val.surrogate_error, val.agreement,
                                                    val.differs_at_95())]
-    body = table(["cycles", "R, true model", "exact 95 % CI", "R, surrogate", "surrogate error (95 %)",
-                  "intervals overlap", "95 % test"], rows)
+    heads = ["cycles", "R, true model", "exact 95 % CI", "R, surrogate", "surrogate error (95 %)", "intervals overlap",
+             "95 % test"]
+    if val.paired:
+        heads += ["same samples: surrogate \u2212 true (95 %)", "within its error estimate"]
+        for row, d, lo, hi, ok in zip(rows, val.paired_difference(), val.paired_difference_low,
+                                      val.paired_difference_high, val.paired_within_error()):
+            row += [f"{d:+.3f} [{lo:+.3f}, {hi:+.3f}]", "yes" if ok else "NO"]
+    body = table(heads, rows)
     fig1 = figs.draw(lambda: F.validation_figure(val.cycles, val.reliability_mc, val.ci_low, val.ci_high,
                                                  val.reliability_surrogate, val.surrogate_half_width,
                                                  n_samples=val.n_samples),
@@ -529,6 +564,11 @@ def validation_section(out: StudyOutputs, figs: Figures) -> str:
             "Carlo interval plus its own error estimate), that is when the two intervals overlap: a lenient test, "
             "which two independent errors of equal width fail only 0.6 % of the time. The 95 % test asks more: "
             "the difference within the root sum of squares of the three half-widths.</p>")
+    if val.paired:
+        lead += ("<p>The surrogate is also read on the same samples as the true model: their difference then holds "
+                 "the surrogate's own error alone, as the noise of sampling the two share cancels (95 % bootstrap "
+                 "interval). A level is within its error estimate when that interval reaches within +- the "
+                 "surrogate's error estimate.</p>")
     if val.joints:
         n = len(val.cycles)
         banded = all("levels_agree" in j for j in val.joints)  # results written before the joints had a band

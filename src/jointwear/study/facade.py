@@ -679,6 +679,8 @@ class Study:
                     f"{'' if row['agree'] else ' (the intervals do not overlap)'}")
         elif result.life_table and result.life_table[0].get("note"):
             life = f", life at R = {result.life_table[0]['target']:g}: {result.life_table[0]['note']}"
+        if paired := result.paired_life_sentence():
+            life += f"; {paired}"
         joints = "".join(f", joint {j['name']} at {j['levels_agree']}" for j in result.joints if "levels_agree" in j)
         missed = result.disagreement()
         where = f" ({missed})" if missed else ""
