@@ -434,6 +434,9 @@ def test_validation_checks_each_joints_own_reliability(tmp_path):
         r_sur, half = np.array(row["reliability"]), np.array(row["half_width_95"])
         assert np.all(np.abs(r_sur - exact) <= half + ref) and half.max() < 0.03, (row, exact)
         assert j["levels_agree"] == len(res.cycles) and j["agreement"] == [True] * len(res.cycles), j
+    # the system's surrogate read on the same samples (one Kriging per joint, judged by the joint that fails first)
+    # is within its error estimate at every level
+    assert val.paired and val.paired_within_error().all()
     val.save(tmp_path, figures=False)
     back = ValidationResult.load(tmp_path)
     assert back.joints == val.joints
