@@ -9,7 +9,9 @@ ln N_f with the learnt Kriging at the validation's samples and compares it with 
 - the residual (true - predicted) by eighths of the prediction, with the Kriging's own standard deviation there, and
   the mean squared standardised residual, on the samples and leave-one-out over the design points;
 - a few quantiles of the two lives, and the life at R = 0.9 read from the learnt mean with its fitted scatter;
-- the same read from Krigings fitted afresh to the same design points (other local optima of the likelihood).
+- the same read from Krigings fitted afresh to the same design points (other local optima of the likelihood);
+- the validation's paired check (``run_validation``: the surrogate's R(N) and life on the same samples as the true
+  model's, with bootstrap 95 % intervals, and where that difference lies within the surrogate's error estimate).
 Writes KEY (default: the config's name) of benchmarks/results/surrogate_bias.json (docs/reliability.md, "The learnt
 life's spread").
 """
@@ -70,7 +72,7 @@ def main(argv=None) -> int:
     from jointwear.study import WEAR_MODEL_TAG, run_reliability, study_context
     from jointwear.study.io import provenance
     from jointwear.study.reliability import life_offset, store_digest
-    from jointwear.study.validation import SEED_OFFSET
+    from jointwear.study.validation import SEED_OFFSET, run_validation
 
     validation = json.loads((args.folder / "validation.json").read_text(encoding="utf-8"))
     config = load_config(args.config)
@@ -84,6 +86,7 @@ def main(argv=None) -> int:
         true = np.log(ctx.life(x))
         design_x = np.asarray(learnt.design_x, dtype=float)
         design_y = np.log(ctx.life(design_x))
+        validation_now = run_validation(ctx, learnt, int(validation["n_samples"]))  # the product's paired check
     finally:
         store.close()
     if ctx.n_model_calls != made:
@@ -116,11 +119,22 @@ def main(argv=None) -> int:
     life_true = float(np.exp(np.quantile(true[ok], 1.0 - TARGET)))
     entry = {"config": args.config, "machine": provenance(), "n_samples": int(ok.sum()),
              "n_design_points": int(keep.sum()), "target": TARGET, "life_true": life_true,
-             "study_life": learnt.life_cycles, "learnt": fitted, "refitted": fresh}
+             "study_life": learnt.life_cycles, "learnt": fitted, "refitted": fresh,
+             "paired": {"cycles": validation_now.cycles.tolist(),
+                        "difference": validation_now.paired_difference().tolist(),
+                        "difference_low": validation_now.paired_difference_low.tolist(),
+                        "difference_high": validation_now.paired_difference_high.tolist(),
+                        "surrogate_error": validation_now.surrogate_error.tolist(),
+                        "within_error": validation_now.paired_within_error().tolist(),
+                        "life": {k: validation_now.life_table[0].get(k) for k in (
+                            "target", "cycles", "surrogate_cycles", "paired_surrogate_cycles", "paired_ratio",
+                            "paired_ratio_low", "paired_ratio_high")}}}
     record = json.loads(args.out.read_text(encoding="utf-8")) if args.out.is_file() else {}
     record[args.key or config.name] = entry
     args.out.write_text(json.dumps(record, indent=1) + "\n", encoding="utf-8")
     print(json.dumps({"life_true": life_true, "learnt_life": fitted["life_at_target"],
+                      "paired_life": entry["paired"]["life"],
+                      "levels_within_error": sum(entry["paired"]["within_error"]),
                       "slope": fitted["slope_true_on_predicted"],
                       "lowest_eighth_residual": fitted["eighths"][0]["residual_mean"],
                       "refitted": [(f["n_starts"], round(f["life_at_target"])) for f in fresh]}))
