@@ -769,8 +769,13 @@ def test_a_validation_on_the_same_samples_is_told_beside_the_life_and_in_its_sec
     assert "surrogate's life on these samples" in page and "-1.9 %" in page
     assert "-0.004 [-0.014, -0.006]" not in page and "-0.010 [-0.014, -0.006]" in page  # 0.79 - 0.8, its bounds
     assert page.count("same samples: surrogate \u2212 true (95 %)") == 1
+    # the summary, read alone, says so too
+    assert "the validation finds a larger error (caveats below)" in page
+    assert ("The life errs by more than its interval says</strong></a>: on the validation's samples the surrogate's "
+            "life at R = 0.9 reads 1.9 % below the true model's on the same samples") in page
     page = validate(0.0)
     assert "(95 % interval -0.4 % to +0.4 %): within what the life's 95 % interval allows." in page
+    assert "larger error" not in page and "The life errs by more" not in page
 
 
 def test_an_unvalidated_life_is_told_the_presets_validations(tmp_path, nominal):

@@ -263,3 +263,22 @@ def test_a_curve_read_back_from_disk_is_validated_unpaired(analytic_study, tmp_p
     val = run_validation(ctx, ReliabilityCurve.load(tmp_path), 200)
     assert not val.paired and val.paired_difference() is None and val.paired_life_sentence() == ""
     assert "paired_ratio" not in val.life_table[0]
+
+
+def test_a_paired_error_beyond_the_lifes_interval_is_told_from_the_interval_it_allows():
+    """The life 373,680 (368,297-378,809) allows a learnt life from 373,680 / 378,809 - 1 = -1.35 % to
+    373,680 / 368,297 - 1 = +1.46 % of the true one; a paired error of -2.3 % to -1.4 % lies beyond it, one of
+    -2.3 % to -1.3 % does not."""
+    row = {"target": 0.9, "cycles": 381_429.0, "surrogate_cycles": 373_680.0, "surrogate_cycles_low": 368_297.0,
+           "surrogate_cycles_high": 378_809.0, "paired_ratio": -0.018, "paired_ratio_low": -0.023,
+           "paired_ratio_high": -0.014}
+    val = ValidationResult(cycles=[1], reliability_mc=[0.9], ci_low=[0.88], ci_high=[0.92],
+                           reliability_surrogate=[0.9], surrogate_error=[0.01], n_samples=2000, model_calls=0,
+                           wall_seconds=1.0, agreement=[True], life_table=[row])
+    low, high, beyond = val.paired_life_allowed()
+    assert low == pytest.approx(373_680 / 378_809 - 1) and high == pytest.approx(373_680 / 368_297 - 1) and beyond
+    row["paired_ratio_high"] = -0.013
+    assert val.paired_life_allowed(0.9)[2] is False
+    assert val.paired_life_allowed(0.5) is None  # no such target
+    del row["paired_ratio_low"]
+    assert val.paired_life_allowed() is None  # a validation without the paired check

@@ -116,7 +116,7 @@ def life_trust_sentence(out: StudyOutputs, target: float) -> str:
         return LIFE_TRUST
     if paired := val.paired_life_sentence(target):
         return (f"How far to trust the life: on {val.n_samples:,} direct samples of this study's true model (the "
-                f"validation below), {paired}: {_paired_verdict(row)}.")
+                f"validation below), {paired}: {_paired_verdict(val, target)}.")
     change = float(row["surrogate_cycles"]) / float(row["cycles"]) - 1.0
     side = "below" if change < 0 else "above"
     verdict = ("their 95 % intervals overlap" if row.get("agree")
@@ -127,20 +127,17 @@ def life_trust_sentence(out: StudyOutputs, target: float) -> str:
             f"{verdict}.")
 
 
-def _paired_verdict(row: Mapping) -> str:
-    """Whether the surrogate's error of the life, measured on the validation's samples (``paired_ratio`` and its
-    bounds), lies within what the life's own 95 % interval allows: ratios surrogate / true - 1 from
-    life / high - 1 to life / low - 1."""
-    life, low, high = (row.get(k) for k in ("surrogate_cycles", "surrogate_cycles_low", "surrogate_cycles_high"))
-    r_low, r_high = row.get("paired_ratio_low"), row.get("paired_ratio_high")
-    if None in (life, low, high, r_low, r_high):
+def _paired_verdict(val, target: float) -> str:
+    """Whether the surrogate's error of the life, measured on the validation's samples, lies within what the life's
+    own 95 % interval allows (:meth:`ValidationResult.paired_life_allowed`)."""
+    check = val.paired_life_allowed(target)
+    if check is None:
         return "the surrogate's own error, not the sampling noise the two share"
-    allowed = (life / high - 1.0, life / low - 1.0)
-    if r_low <= allowed[1] and r_high >= allowed[0]:
+    low, high, beyond = check
+    if not beyond:
         return "within what the life's 95 % interval allows"
-    return (f"<b>beyond what the life's 95 % interval allows</b> ({signed_percent(allowed[0])} to "
-            f"{signed_percent(allowed[1])}): the interval holds the surrogate's error as the surrogate estimates it, "
-            "and here it errs by more")
+    return (f"<b>beyond what the life's 95 % interval allows</b> ({signed_percent(low)} to {signed_percent(high)}): "
+            "the interval holds the surrogate's error as the surrogate estimates it, and here it errs by more")
 
 
 def reliability_section(out: StudyOutputs, figs: Figures) -> str:
@@ -632,9 +629,12 @@ def summary_cards(out: StudyOutputs, checks: Sequence[Check], ref: Mapping | Non
         items.append(("nominal max wear", "\u2014", "no wear result"))
     if rel is not None:
         life, note = life_with_note(rel, rel.target)
-        disagrees = validated_life_disagreement(out.results.validation, rel) is not None
+        val = out.results.validation
+        disagrees = validated_life_disagreement(val, rel) is not None
+        errs = val is not None and (check := val.paired_life_allowed(rel.target)) is not None and check[2]
         items.append((f"life at R = {rel.target:g}", _life_text(life, note),
-                      ("the validation's true model disagrees (caveats below); " if disagrees else "")
+                      ("the validation's true model disagrees (caveats below); " if disagrees
+                       else "the validation finds a larger error (caveats below); " if errs else "")
                       + (ref_note("life_cycles", target_reliability=rel.target)
                          or ("" if life is None or note else interval_text(*rel.life_interval())))
                       or None))
@@ -733,6 +733,10 @@ def summary_caveats(out: StudyOutputs) -> str:
                       f"{val.differences_at_95()}: the curve's error estimate there is smaller than its error"))
     if (life := validated_life_disagreement(val, rel)) is not None:
         items.append(("validation", "The true model's life disagrees with the curve's", life))
+    elif val is not None and rel is not None and (check := val.paired_life_allowed(rel.target)) and check[2]:
+        items.append(("validation", "The life errs by more than its interval says",
+                      f"on the validation's samples {val.paired_life_sentence(rel.target)}, beyond what its 95 % "
+                      f"interval allows ({signed_percent(check[0])} to {signed_percent(check[1])})"))
     rows = [f'<li><a href="#{e(sid)}"><strong>{e(title)}</strong></a>: {e(sentence.rstrip("."))}.</li>'
             for sid, title, sentence in items]
     missed = None if rel is None else curve_misses_life(rel, wear)  # markup already

@@ -772,6 +772,19 @@ class ValidationResult(StageResult):
         return (f"the surrogate's life at R = {row['target']:g} reads {100 * abs(ratio):.1f} % {side} the true "
                 f"model's on the same samples{bounds}")
 
+    def paired_life_allowed(self, target: float | None = None) -> tuple[float, float, bool] | None:
+        """What the study's life interval allows of the paired ratio (surrogate / true - 1 for a true life anywhere in
+        [``surrogate_cycles_low``, ``_high``]: life / high - 1 to life / low - 1), and whether the paired ratio's 95 %
+        interval lies wholly outside it (the life errs by more than its interval says); None without the numbers."""
+        rows = [r for r in self.life_table if target is None or r.get("target") == target][:1]
+        keys = ("surrogate_cycles", "surrogate_cycles_low", "surrogate_cycles_high", "paired_ratio_low",
+                "paired_ratio_high")
+        if not rows or any(rows[0].get(k) is None for k in keys):
+            return None
+        life, low, high, r_low, r_high = (float(rows[0][k]) for k in keys)
+        allowed = (life / high - 1.0, life / low - 1.0)
+        return allowed[0], allowed[1], r_high < allowed[0] or r_low > allowed[1]
+
     def paired_within_error(self) -> np.ndarray | None:
         """Where the paired difference's 95 % interval reaches within the surrogate's own error estimate (+-
         ``surrogate_error``): the error estimate is not refuted there. False where the surrogate errs by more than it
