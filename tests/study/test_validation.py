@@ -27,14 +27,19 @@ def test_clopper_pearson_exact_values():
     assert hi == 1.0 and lo == pytest.approx(0.025 ** (1 / 100), rel=1e-9)
 
 
-def test_validation_agrees_with_an_exact_model():
+def analytic_context():
+    """The analytic wear model's study context: exact model, tight error tolerance (error_abs_tol 0.002)."""
     cfg = updated(load_config(), {
         "reliability.cycles_start": 320_000, "reliability.cycles_stop": 440_000, "reliability.cycles_step": 40_000,
         "reliability.histogram_cycles": [400_000], "reliability.n_mc": 20_000, "reliability.max_calls": 40,
         "reliability.noise": "none", "reliability.error_abs_tol": 0.002})
-    ctx = study_context(cfg, lambda call: compute.Evaluator(
+    return study_context(cfg, lambda call: compute.Evaluator(
         AnalyticWear([s.name for s in cfg.uncertainty.all_specs()], call.cycles), None, None,
         n_outputs=call.n_outputs))
+
+
+def test_validation_agrees_with_an_exact_model():
+    ctx = analytic_context()
     rel = run_reliability(ctx)
     val = run_validation(ctx, rel, 3000)
     assert val.n_samples == 3000 and val.model_calls == 3000 and val.failed_calls == 0
@@ -181,14 +186,8 @@ def test_a_target_beyond_what_the_samples_resolve_is_not_tested():
 
 @pytest.fixture(scope="module")
 def analytic_study():
-    """The analytic wear model's study (exact model, tight error tolerance) and its learnt curve."""
-    cfg = updated(load_config(), {
-        "reliability.cycles_start": 320_000, "reliability.cycles_stop": 440_000, "reliability.cycles_step": 40_000,
-        "reliability.histogram_cycles": [400_000], "reliability.n_mc": 20_000, "reliability.max_calls": 40,
-        "reliability.noise": "none", "reliability.error_abs_tol": 0.002})
-    ctx = study_context(cfg, lambda call: compute.Evaluator(
-        AnalyticWear([s.name for s in cfg.uncertainty.all_specs()], call.cycles), None, None,
-        n_outputs=call.n_outputs))
+    """The analytic study's context and its learnt curve (not to be changed by a test: the module shares it)."""
+    ctx = analytic_context()
     return ctx, run_reliability(ctx)
 
 
@@ -254,6 +253,15 @@ def test_the_learnt_surrogate_on_the_same_samples_is_within_its_error_estimate(a
     assert row["paired_ratio_low"] <= 0.0025 and row["paired_ratio_high"] >= -0.0025  # error_abs_tol's reach
     back = ValidationResult.from_json(json.loads(json.dumps(strict(val.to_json()))))
     assert back == val and back.paired_reliability_surrogate.dtype == float
+
+
+def test_a_validation_too_small_for_the_target_still_reads_the_levels_paired(analytic_study):
+    """10 samples resolve R up to 0.69: the life at R = 0.9 is not tested (nor paired), the levels are."""
+    ctx, rel = analytic_study
+    val = run_validation(ctx, rel, 10)
+    assert val.life_table[0]["cycles"] is None and "paired_ratio" not in val.life_table[0]
+    assert val.paired and val.paired_difference_low.shape == val.cycles.shape
+    assert val.paired_life_sentence() == "" and val.paired_life_allowed() is None
 
 
 def test_a_curve_read_back_from_disk_is_validated_unpaired(analytic_study, tmp_path):

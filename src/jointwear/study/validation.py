@@ -11,6 +11,7 @@ each design point's log life against its true value, with the Q^2 score.
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 
 import numpy as np
 from scipy import stats
@@ -22,7 +23,7 @@ from jointwear.study.results import ReliabilityCurve, ValidationResult
 
 #: Offset of the validation samples' seed from the study's seed (the study's own draws use seed + 0..7).
 SEED_OFFSET = 1000
-#: Bootstrap resamples of the paired comparison (the 2.5 % and 97.5 % percentiles then rest on 25 resamples each)
+#: Bootstrap resamples of the paired check (its 2.5 % and 97.5 % percentiles then rest on 25 resamples each)
 PAIRED_RESAMPLES = 1000
 
 
@@ -90,16 +91,16 @@ def run_validation(ctx: StudyContext, reliability: ReliabilityCurve, n_samples: 
     life_table = [life_check(fine, *true_fine, reliability, float(row["target"]), n_samples=int(n_samples))
                   for row in reliability.life_table]
     joints = joint_checks(ctx, reliability, x, levels) if len(ctx.limit_state.joints) > 1 else []
-    paired = paired_check(ctx, reliability, x, life, fine, p_inf, seed=int(rel.seed + SEED_OFFSET))
+    tested = [float(row["target"]) for row in life_table if row["cycles"] is not None]  # targets these samples resolve
+    paired = paired_check(ctx, reliability, x, life, fine, p_inf, tested, seed=int(rel.seed + SEED_OFFSET))
     paired_fields = {}
     if paired is not None:
         at_levels = np.searchsorted(fine, levels)
-        low, high = paired.difference_bounds
         paired_fields = {"paired_reliability_surrogate": paired.r_surrogate[at_levels],
-                         "paired_difference_low": low[at_levels], "paired_difference_high": high[at_levels]}
+                         "paired_difference_low": paired.difference_low[at_levels],
+                         "paired_difference_high": paired.difference_high[at_levels]}
         for row in life_table:
-            if row["cycles"] is not None:  # a target these samples resolve
-                row.update(paired.life(float(row["target"])))
+            row.update(paired.lives.get(float(row["target"]), {}))
     return ValidationResult(
         cycles=levels, reliability_mc=r_mc.tolist(), ci_low=lo.tolist(), ci_high=hi.tolist(),
         reliability_surrogate=r_sur,
@@ -110,66 +111,68 @@ def run_validation(ctx: StudyContext, reliability: ReliabilityCurve, n_samples: 
         wall_seconds=time.perf_counter() - t0, **paired_fields)
 
 
-class PairedCurves:
-    """The surrogate's R(N) and the true model's on the same samples, with ``PAIRED_RESAMPLES`` bootstrap
-    resamples of the samples (Efron & Tibshirani 1993, percentile intervals): the sampling noise the two share cancels
-    in their difference, which then measures the surrogate's own error (its classification, or with a call-to-call
-    scatter its failure probability Phi((ln N - mu(x)) / s), as R(N) counts it)."""
+@dataclass
+class PairedCheck:
+    """The surrogate's R(N) on the validation's samples (``r_surrogate``, at the curve's cycle counts) and the 95 %
+    bounds of its difference from the true model's on the same samples (``difference_low``, ``_high``); ``lives``:
+    at each target, the surrogate's life on these samples and its ratio to the true model's less 1 with 95 % bounds
+    (None where a life lies outside the curve, the bounds also where any resample's does)."""
 
-    def __init__(self, cycles: np.ndarray, r_true: np.ndarray, r_surrogate: np.ndarray, boot_true: np.ndarray,
-                 boot_surrogate: np.ndarray):
-        self.cycles, self.r_true, self.r_surrogate = cycles, r_true, r_surrogate
-        self.boot_true, self.boot_surrogate = boot_true, boot_surrogate  # (resamples, cycles)
-
-    @property
-    def difference_bounds(self) -> tuple[np.ndarray, np.ndarray]:
-        """95 % percentile bounds of R_surrogate - R_true at every cycle count."""
-        diff = self.boot_surrogate - self.boot_true
-        return np.percentile(diff, 2.5, axis=0), np.percentile(diff, 97.5, axis=0)
-
-    def life(self, target: float) -> dict:
-        """The surrogate's life on these samples (``paired_surrogate_cycles``) and its ratio to the true model's
-        less 1 (``paired_ratio``) with 95 % percentile bounds (``paired_ratio_low``, ``_high``); None where a life
-        lies outside the curve (the bounds also where more than 2.5 % of the resamples' lives do)."""
-        true, sur = life_at(self.cycles, self.r_true, target), life_at(self.cycles, self.r_surrogate, target)
-        ratio = None if true is None or sur is None else sur / true - 1.0
-        boot = [(life_at(self.cycles, t, target), life_at(self.cycles, s, target))
-                for t, s in zip(self.boot_true, self.boot_surrogate)]
-        ratios = np.array([s / t - 1.0 for t, s in boot if t is not None and s is not None])
-        bounded = ratio is not None and ratios.size >= 0.975 * len(boot)
-        low, high = np.percentile(ratios, [2.5, 97.5]) if bounded else (None, None)
-        return {"paired_surrogate_cycles": sur, "paired_ratio": ratio,
-                "paired_ratio_low": None if low is None else float(low),
-                "paired_ratio_high": None if high is None else float(high)}
+    r_surrogate: np.ndarray
+    difference_low: np.ndarray
+    difference_high: np.ndarray
+    lives: dict[float, dict]
 
 
 def paired_check(ctx: StudyContext, reliability: ReliabilityCurve, x: np.ndarray, life: np.ndarray,
-                 cycles: np.ndarray, p_inf: float, seed: int) -> PairedCurves | None:
-    """R(N) at ``cycles`` of the true model (its ``life`` at the samples ``x``) and of the study's surrogate at the
-    same samples, with their bootstrap resamples (:class:`PairedCurves`); None for a result read back from disk, which
-    holds no surrogate. A failed call counts as a failure, and the 'fail' rule's infeasible mass ``p_inf`` is added
-    to both, as :func:`true_reliability` and the study count them."""
+                 cycles: np.ndarray, p_inf: float, targets: list[float], seed: int) -> PairedCheck | None:
+    """The true model (its ``life`` at the samples ``x``) against the study's surrogate at the same samples, at
+    ``cycles`` and for the life at ``targets``: the sampling noise the two share cancels in their difference, which
+    then measures the surrogate's own error (its classification, or with a call-to-call scatter its failure
+    probability Phi((ln N - mu(x)) / s), as R(N) counts it). 95 % bounds from ``PAIRED_RESAMPLES`` paired bootstrap
+    resamples of the samples (``scipy.stats.bootstrap``, percentile intervals; Efron & Tibshirani 1993). A failed call
+    counts as a failure, and the 'fail' rule's infeasible mass ``p_inf`` is added to both curves, as
+    :func:`true_reliability` and the study count them. None for a result read back from disk, which holds no
+    surrogate."""
     engine = reliability.engine
-    if engine is None or life.size == 0:
+    if engine is None or life.size < 2:
         return None
-    thresholds = np.log(np.asarray(cycles, dtype=float))
-    p_surrogate = engine.failure_probabilities(ctx.iso().to_u(x), life_scatter_sd(ctx, engine), thresholds=thresholds)
-    fails = np.where(np.isnan(life)[:, None], True, life[:, None] <= np.asarray(cycles, dtype=float)[None, :])
-    fails = fails.astype(float)
-    n = life.size
-    rng = np.random.default_rng(seed)
-    boot_true, boot_surrogate = [], []
-    for start in range(0, PAIRED_RESAMPLES, 100):  # 100 resamples' weights at a time: (100, n) floats
-        weights = rng.multinomial(n, np.full(n, 1.0 / n), size=min(100, PAIRED_RESAMPLES - start)) / n
-        boot_true.append(weights @ fails)
-        boot_surrogate.append(weights @ p_surrogate)
+    cycles = np.asarray(cycles, dtype=float)
+    p_surrogate = engine.failure_probabilities(ctx.iso().to_u(x), life_scatter_sd(ctx, engine),
+                                               thresholds=np.log(cycles))
+    fails = np.where(np.isnan(life)[:, None], True, life[:, None] <= cycles[None, :]).astype(float)
 
     def reliability_of(pf_feasible):
         return 1.0 - (p_inf + (1.0 - p_inf) * pf_feasible)
 
-    return PairedCurves(np.asarray(cycles, dtype=float), reliability_of(fails.mean(axis=0)),
-                        reliability_of(p_surrogate.mean(axis=0)), reliability_of(np.vstack(boot_true)),
-                        reliability_of(np.vstack(boot_surrogate)))
+    def ratios(r_true, r_surrogate, target):
+        """The surrogate's life over the true one less 1 for every curve (cycles along the first axis); NaN where
+        either life lies outside the curve."""
+        out = [np.nan if t is None or s is None else s / t - 1.0
+               for t, s in ((life_at(cycles, a, target), life_at(cycles, b, target))
+                            for a, b in zip(r_true.reshape(len(cycles), -1).T, r_surrogate.reshape(len(cycles), -1).T))]
+        return np.reshape(out, r_true.shape[1:])
+
+    def statistic(f, p, axis):
+        """R_surrogate - R_true at every cycle count, then the life ratio at every target."""
+        r_true, r_surrogate = reliability_of(f.mean(axis=axis)), reliability_of(p.mean(axis=axis))
+        lives = np.reshape([ratios(r_true, r_surrogate, t) for t in targets], (len(targets), *r_true.shape[1:]))
+        return np.concatenate([r_surrogate - r_true, lives])
+
+    boot = stats.bootstrap((fails, p_surrogate), statistic, paired=True, vectorized=True, axis=0,
+                           n_resamples=PAIRED_RESAMPLES, batch=20, method="percentile",
+                           rng=np.random.default_rng(seed))
+    low, high = boot.confidence_interval
+    point = statistic(fails, p_surrogate, 0)
+    r_surrogate = reliability_of(p_surrogate.mean(axis=0))
+    lives = {}
+    for k, target in enumerate(targets):
+        ratio, lo, hi = (float(v[len(cycles) + k]) for v in (point, low, high))
+        bounded = np.isfinite(lo) and np.isfinite(hi)
+        lives[target] = {"paired_surrogate_cycles": life_at(cycles, r_surrogate, target),
+                         "paired_ratio": ratio if np.isfinite(ratio) else None,
+                         "paired_ratio_low": lo if bounded else None, "paired_ratio_high": hi if bounded else None}
+    return PairedCheck(r_surrogate, low[:len(cycles)], high[:len(cycles)], lives)
 
 
 def true_reliability(life: np.ndarray, cycles: np.ndarray, p_inf: float = 0.0
