@@ -100,3 +100,18 @@ def test_the_paired_validation_table_quotes_the_record():
                 f"{signed_percent(life['paired_ratio_high'])}) |")
         within = f"| {sum(paired['within_error'])} of {len(paired['within_error'])} |"
         assert any(cell in line and line.rstrip().endswith(within) for line in text.splitlines()), (key, cell, within)
+
+
+def test_the_sample_count_table_quotes_the_record():
+    """docs/study.md's table of the paired check at 200-2,000 samples is benchmarks/results/validate_samples.json's."""
+    from jointwear.study.reliability_results import signed_percent
+
+    runs = json.loads((ROOT / "benchmarks" / "results" / "validate_samples.json").read_text(encoding="utf-8"))[
+        "jin2025_flapping_wing"]["runs"]
+    text = (ROOT / "docs" / "study.md").read_text(encoding="utf-8")
+    for r in runs:
+        row = (f"| {r['samples']:,} | {r['cycles']:,.0f} ({r['cycles_low']:,.0f}-{r['cycles_high']:,.0f}) | "
+               f"{signed_percent(r['surrogate_cycles'] / r['cycles'] - 1)} | {signed_percent(r['paired_ratio'])} "
+               f"({signed_percent(r['paired_ratio_low'])} to {signed_percent(r['paired_ratio_high'])}) | "
+               f"{r['levels_agree']} of {r['levels']} | {r['levels_within_error']} of {r['levels']} |")
+        assert row in text, row
