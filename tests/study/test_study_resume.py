@@ -127,6 +127,9 @@ def test_validate_reuses_the_study_and_adds_only_its_samples(quick_config, refer
         assert key in val
     assert val["n_samples"] == 10 and val["model_calls"] == 10
     assert val["reliability_surrogate"] == expected["curve"]["reliability"]  # read back, not re-learned
+    # the learnt surrogate, replayed from the store, is read on the validation's samples too, and the line says so
+    assert len(val["paired_reliability_surrogate"]) == len(val["cycles"])
+    assert "on the same samples the curve lies within its error estimate at " in done.stdout + done.stderr
     # the replay keeps the study's own wall time in reliability.json (the report's card read the replay's 1.6 s)
     assert json.loads((out / "reliability.json").read_text())["wall_seconds"] == expected["wall_seconds"]
     assert (out / "validation.csv").is_file() and (out / "cross_validation.csv").is_file()

@@ -681,6 +681,10 @@ class Study:
             life = f", life at R = {result.life_table[0]['target']:g}: {result.life_table[0]['note']}"
         if paired := result.paired_life_sentence():
             life += f"; {paired}"
+        if result.paired:
+            within = result.paired_within_error()
+            life += (f"; on the same samples the curve lies within its error estimate at {int(within.sum())} of "
+                     f"{within.size} levels")
         joints = "".join(f", joint {j['name']} at {j['levels_agree']}" for j in result.joints if "levels_agree" in j)
         missed = result.disagreement()
         where = f" ({missed})" if missed else ""
