@@ -645,7 +645,9 @@ class Study:
         """Check the R(N) curve against the true wear model sampled directly, and cross-validate the surrogate.
 
         Runs (or reads back from the store) the reliability stage first. The samples go through the executor
-        and the evaluation store, so an interrupted validation resumes.
+        and the evaluation store, so an interrupted validation resumes. The learnt surrogate is also read on the same
+        samples: their difference is its own error (``ValidationResult.paired_difference``, ``paired_ratio`` of the
+        life in ``life_table``), a few hundred samples measuring the life's (docs/study.md, "Direct validation").
 
         Parameters
         ----------
