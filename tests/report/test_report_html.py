@@ -707,6 +707,26 @@ def test_a_reliability_result_plots_itself(tmp_path, nominal):
     assert any(ln.get_label() == "this study" for ln in ax.get_lines())
 
 
+def test_the_wear_sensitivity_and_validation_results_plot_themselves(tmp_path, nominal):
+    """A notebook had .plot() on the reliability curve only; the wear, sensitivity and validation results draw the
+    figure their stage writes (the same function, so the PNG in the folder is this figure)."""
+    from jointwear.study.results import ValidationResult
+
+    d = make_fixture_dir(tmp_path / "p", nominal, which=("wear", "reliability", "sensitivity"))
+    res = load_results(d)
+    polar = res.wear.plot()
+    assert polar.axes[0].name == "polar" and polar.axes[0].get_title(loc="left") == "Worn bearing, joint A"
+    with pytest.raises(KeyError, match=r"WearSummary has no joint 'Z'; its joints: A"):
+        res.wear.plot("Z")
+    tornado = res.sensitivity.plot()
+    labels = [t.get_text() for ax in tornado.axes for t in ax.get_yticklabels()]
+    assert all(v["label"] in labels for v in res.sensitivity.variables)
+    val = ValidationResult(cycles=[360_000, 400_000], reliability_mc=[0.95, 0.8], ci_low=[0.94, 0.78],
+                           ci_high=[0.96, 0.82], reliability_surrogate=[0.948, 0.805], surrogate_error=[0.005, 0.01],
+                           n_samples=200, model_calls=200, wall_seconds=1.0, agreement=[True, True])
+    assert len(val.plot().axes[0].get_lines()) >= 2  # the two curves
+
+
 def test_a_validated_life_that_disagrees_is_flagged_beside_the_headline(tmp_path, nominal):
     """The summary showed the life at R = 0.9 without a flag while the validation's own life at that target had a
     95 % interval apart from the curve's (398,667 against 376,184 cycles on a 200-sample validation)."""

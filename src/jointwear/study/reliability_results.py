@@ -667,6 +667,17 @@ class SensitivityResult(StageResult):
             table[f"ST_{joint}"] = [by_name.get(v["name"], (None, None))[1] for v in self.variables]
         return {"sensitivity": table}
 
+    def plot(self) -> Figure:
+        """The reliability at ``cycles`` with each variable's mean moved by ``factors`` (the tornado): a matplotlib
+        ``Figure``, for a notebook or ``fig.savefig``."""
+        from jointwear.report import figures as F
+
+        v = self.variables
+        lo, hi = self.factors
+        return F.tornado_figure([x["label"] for x in v], [x["reliability_low"] for x in v],
+                                [x["reliability_high"] for x in v], self.reliability_nominal, cycles=self.cycles,
+                                low_label=f"mean \u00d7 {lo:g}", high_label=f"mean \u00d7 {hi:g}")
+
     def save(self, folder: Path | str, *, figures: bool = True) -> Path:
         """Write ``sensitivity.json``, ``sensitivity.csv`` (:meth:`tables`) and the figures."""
         folder = Path(folder)
@@ -674,12 +685,7 @@ class SensitivityResult(StageResult):
         if figures:
             from jointwear.report import figures as F
 
-            v = self.variables
-            lo, hi = self.factors
-            save_figure(F.tornado_figure([x["label"] for x in v], [x["reliability_low"] for x in v],
-                                      [x["reliability_high"] for x in v], self.reliability_nominal,
-                                      cycles=self.cycles, low_label=f"mean \u00d7 {lo:g}",
-                                      high_label=f"mean \u00d7 {hi:g}"), folder / "sensitivity_tornado.png")
+            save_figure(self.plot(), folder / "sensitivity_tornado.png")
             s = self.sobol
             if s.get("names"):
                 save_figure(F.sobol_figure(s["names"], s["S1"], s["ST"], S1_conf=s.get("S1_conf"),
@@ -891,6 +897,14 @@ class ValidationResult(StageResult):
         return {**super().to_json(), "surrogate_half_width_95": self.surrogate_half_width.tolist(),
                 "differs_at_95": self.differs_at_95().tolist()}
 
+    def plot(self) -> Figure:
+        """The surrogate's R(N) with its band against the true model's with its exact interval (the report's figure): a
+        matplotlib ``Figure``, for a notebook or ``fig.savefig``."""
+        from jointwear.report import figures as F
+
+        return F.validation_figure(self.cycles, self.reliability_mc, self.ci_low, self.ci_high,
+                                   self.reliability_surrogate, self.surrogate_half_width, n_samples=self.n_samples)
+
     def save(self, folder: Path | str, *, figures: bool = True) -> Path:
         """Write ``validation.json``, the CSV tables (:meth:`tables`) and the figures."""
         folder = Path(folder)
@@ -899,9 +913,7 @@ class ValidationResult(StageResult):
         if figures:
             from jointwear.report import figures as F
 
-            save_figure(F.validation_figure(self.cycles, self.reliability_mc, self.ci_low, self.ci_high,
-                                         self.reliability_surrogate, self.surrogate_half_width,
-                                         n_samples=self.n_samples), folder / "validation.png")
+            save_figure(self.plot(), folder / "validation.png")
             if cv.get("log_life_true"):
                 save_figure(F.cross_validation_figure(cv["log_life_true"], cv["log_life_loo"], cv["log_life_loo_sd"],
                                                    q2=cv.get("q2")), folder / "cross_validation.png")

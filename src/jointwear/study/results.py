@@ -24,6 +24,8 @@ from jointwear.study.reliability_results import ReliabilityCurve, SensitivityRes
 from jointwear.study.stage_result import StageResult, save_figure
 
 if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
     from jointwear.design.results import DesignResult
 
 __all__ = ["StageResult", "SimulationSummary", "WearSummary", "ReliabilityCurve", "SensitivityResult",
@@ -453,6 +455,19 @@ class WearSummary(StageResult):
             out[f"wear_profile{sfx}"] = cols
         return out
 
+    def plot(self, joint: str | None = None) -> Figure:
+        """The worn bearing of ``joint`` (default: the first) in polar form, its depth exaggerated, with its peaks: a
+        matplotlib ``Figure``, for a notebook or ``fig.savefig``."""
+        from jointwear.report import figures as F
+
+        names = [j["name"] for j in self.joints]
+        if joint is not None and joint not in names:
+            raise KeyError(f"WearSummary has no joint {joint!r}; its joints: {', '.join(names)}")
+        row = self.joints[names.index(joint) if joint is not None else 0]
+        prof = row["profile"]
+        return F.wear_polar_figure(prof["angle_deg"], prof["depth_mm"], radius_mm=row.get("bearing_radius_mm"),
+                                   peaks=row["peaks"], cycles=self.cycles, title=f"Worn bearing, joint {row['name']}")
+
     def save(self, folder: Path | str, *, figures: bool = True) -> Path:
         """Write ``wear.json``, the CSV tables of every joint (:meth:`tables`) and the figures (with several joints,
         each joint's files end in its name: ``wear_profile_A.csv``)."""
@@ -463,10 +478,7 @@ class WearSummary(StageResult):
 
             for joint, sfx in zip(self.joints, self._suffixes()):
                 h, prof = joint["history"], joint["profile"]
-                save_figure(F.wear_polar_figure(prof["angle_deg"], prof["depth_mm"],
-                                             radius_mm=joint.get("bearing_radius_mm"), peaks=joint["peaks"],
-                                             cycles=self.cycles, title=f"Worn bearing, joint {joint['name']}"),
-                         folder / f"wear_polar{sfx}.png")
+                save_figure(self.plot(joint["name"]), folder / f"wear_polar{sfx}.png")
                 panels = "contact_force_mean_N" in prof
                 if panels:
                     save_figure(F.wear_panels_figure(prof["angle_deg"], prof["depth_mm"],
