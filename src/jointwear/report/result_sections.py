@@ -115,8 +115,8 @@ def life_trust_sentence(out: StudyOutputs, target: float) -> str:
     if row is None or row.get("cycles") is None or row.get("surrogate_cycles") is None:
         return LIFE_TRUST
     if paired := val.paired_life_sentence(target):
-        return (f"How far to trust the life: on {val.n_samples:,} direct samples of this study's true model (the "
-                f"validation below), {paired}: {_paired_verdict(val, target)}.")
+        return (f"How far to trust the life: the validation below ran this study's true model on {val.n_samples:,} "
+                f"samples; {paired}: {_paired_verdict(val, target)}.")
     change = float(row["surrogate_cycles"]) / float(row["cycles"]) - 1.0
     side = "below" if change < 0 else "above"
     verdict = ("their 95 % intervals overlap" if row.get("agree")
@@ -133,11 +133,14 @@ def _paired_verdict(val, target: float) -> str:
     check = val.paired_life_allowed(target)
     if check is None:
         return "the surrogate's own error, not the sampling noise the two share"
-    low, high, beyond = check
-    if not beyond:
-        return "within what the life's 95 % interval allows"
-    return (f"<b>beyond what the life's 95 % interval allows</b> ({signed_percent(low)} to {signed_percent(high)}): "
-            "the interval holds the surrogate's error as the surrogate estimates it, and here it errs by more")
+    low, high, verdict = check
+    allows = f"what the life's 95 % interval allows ({signed_percent(low)} to {signed_percent(high)})"
+    if verdict == "within":
+        return f"within {allows}"
+    if verdict == "unresolved":
+        return f"across the edge of {allows}: these samples cannot tell whether the interval holds it"
+    return (f"<b>beyond {allows}</b>: the interval holds the surrogate's error as the surrogate estimates it, and "
+            "here it errs by more")
 
 
 def reliability_section(out: StudyOutputs, figs: Figures) -> str:
@@ -631,7 +634,7 @@ def summary_cards(out: StudyOutputs, checks: Sequence[Check], ref: Mapping | Non
         life, note = life_with_note(rel, rel.target)
         val = out.results.validation
         disagrees = validated_life_disagreement(val, rel) is not None
-        errs = val is not None and (check := val.paired_life_allowed(rel.target)) is not None and check[2]
+        errs = val is not None and (check := val.paired_life_allowed(rel.target)) is not None and check[2] == "beyond"
         items.append((f"life at R = {rel.target:g}", _life_text(life, note),
                       ("the validation's true model disagrees (caveats below); " if disagrees
                        else "the validation finds a larger error (caveats below); " if errs else "")
@@ -733,10 +736,11 @@ def summary_caveats(out: StudyOutputs) -> str:
                       f"{val.differences_at_95()}: the curve's error estimate there is smaller than its error"))
     if (life := validated_life_disagreement(val, rel)) is not None:
         items.append(("validation", "The true model's life disagrees with the curve's", life))
-    elif val is not None and rel is not None and (check := val.paired_life_allowed(rel.target)) and check[2]:
+    elif (val is not None and rel is not None and (check := val.paired_life_allowed(rel.target))
+          and check[2] == "beyond"):
         items.append(("validation", "The life errs by more than its interval says",
-                      f"on the validation's samples {val.paired_life_sentence(rel.target)}, beyond what its 95 % "
-                      f"interval allows ({signed_percent(check[0])} to {signed_percent(check[1])})"))
+                      f"{val.paired_life_sentence(rel.target)}, beyond what the life's 95 % interval allows "
+                      f"({signed_percent(check[0])} to {signed_percent(check[1])})"))
     rows = [f'<li><a href="#{e(sid)}"><strong>{e(title)}</strong></a>: {e(sentence.rstrip("."))}.</li>'
             for sid, title, sentence in items]
     missed = None if rel is None else curve_misses_life(rel, wear)  # markup already

@@ -698,7 +698,7 @@ class Study:
                   f"resolve R to +-{result.resolution:.2g}){where}{strict}"
                   f"{joints}{life}, cross-validation Q2 = "
                   f"{result.cross_validation.get('q2', float('nan')):.3f} -> {self.out / result.FILE}")
-        if (check := result.paired_life_allowed()) is not None and check[2]:
+        if (check := result.paired_life_allowed()) is not None and check[2] == "beyond":
             self.warn(f"validate: {result.paired_life_sentence()}, beyond what the life's 95 % interval allows "
                       f"({signed_percent(check[0])} to {signed_percent(check[1])}): the life carries more error than "
                       "its interval says (docs/reliability.md, \"The learnt life's spread\")")

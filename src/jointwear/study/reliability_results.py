@@ -765,23 +765,26 @@ class ValidationResult(StageResult):
         return None if not self.paired else self.paired_reliability_surrogate - self.reliability_mc
 
     def paired_life_sentence(self, target: float | None = None) -> str:
-        """'the surrogate's life at R = 0.9 reads 1.9 % below the true model's on the same samples (95 % interval
-        -2.4 % to -1.4 %)' from the life table's paired columns (the first target by default); '' without them."""
+        """'on the same samples the surrogate's life at R = 0.9 is 374,413 cycles, 1.8 % below the true model's 381,429
+        (95 % interval -2.3 % to -1.3 %)' from the life table's paired columns (the first target by default); ''
+        without them. The surrogate's life here is read on the validation's samples, not the study's life."""
         rows = [r for r in self.life_table if target is None or r.get("target") == target][:1]
-        if not rows or rows[0].get("paired_ratio") is None:
+        if not rows or rows[0].get("paired_ratio") is None or rows[0].get("paired_surrogate_cycles") is None:
             return ""
         row = rows[0]
         ratio, low, high = row["paired_ratio"], row.get("paired_ratio_low"), row.get("paired_ratio_high")
         side = "below" if ratio < 0 else "above"
         bounds = ("" if low is None or high is None
                   else f" (95 % interval {signed_percent(low)} to {signed_percent(high)})")
-        return (f"the surrogate's life at R = {row['target']:g} reads {100 * abs(ratio):.1f} % {side} the true "
-                f"model's on the same samples{bounds}")
+        return (f"on the same samples the surrogate's life at R = {row['target']:g} is "
+                f"{row['paired_surrogate_cycles']:,.0f} cycles, {100 * abs(ratio):.1f} % {side} the true model's "
+                f"{row['cycles']:,.0f}{bounds}")
 
-    def paired_life_allowed(self, target: float | None = None) -> tuple[float, float, bool] | None:
+    def paired_life_allowed(self, target: float | None = None) -> tuple[float, float, str] | None:
         """What the study's life interval allows of the paired ratio (surrogate / true - 1 for a true life anywhere in
-        [``surrogate_cycles_low``, ``_high``]: life / high - 1 to life / low - 1), and whether the paired ratio's 95 %
-        interval lies wholly outside it (the life errs by more than its interval says); None without the numbers."""
+        [``surrogate_cycles_low``, ``_high``]: life / high - 1 to life / low - 1), and where the paired ratio's 95 %
+        interval lies: 'within' it, 'beyond' it (the life errs by more than its interval says) or 'unresolved'
+        (across its edge: these samples cannot tell); None without the numbers."""
         rows = [r for r in self.life_table if target is None or r.get("target") == target][:1]
         keys = ("surrogate_cycles", "surrogate_cycles_low", "surrogate_cycles_high", "paired_ratio_low",
                 "paired_ratio_high")
@@ -789,7 +792,9 @@ class ValidationResult(StageResult):
             return None
         life, low, high, r_low, r_high = (float(rows[0][k]) for k in keys)
         allowed = (life / high - 1.0, life / low - 1.0)
-        return allowed[0], allowed[1], r_high < allowed[0] or r_low > allowed[1]
+        verdict = ("beyond" if r_high < allowed[0] or r_low > allowed[1]
+                   else "within" if allowed[0] <= r_low and r_high <= allowed[1] else "unresolved")
+        return allowed[0], allowed[1], verdict
 
     def paired_within_error(self) -> np.ndarray | None:
         """Where the paired difference's 95 % interval reaches within the surrogate's own error estimate (+-
