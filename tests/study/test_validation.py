@@ -295,3 +295,14 @@ def test_a_paired_error_beyond_the_lifes_interval_is_told_from_the_interval_it_a
     assert val.paired_life_allowed(0.5) is None  # no such target
     del row["paired_ratio_low"]
     assert val.paired_life_allowed() is None  # a validation without the paired check
+
+
+def test_agreement_is_overlap_on_the_side_that_faces_the_surrogate():
+    """90 of 100 samples survive: exact interval [0.8238, 0.9510]. A surrogate of 0.99 +- 0.02 (from 0.97) does not
+    overlap it; the larger side (0.9 - 0.8238 = 0.076) let it agree. One of 0.96 +- 0.02 overlaps."""
+    from jointwear.study.validation import agreement
+
+    lo, hi = clopper_pearson(90, 100)
+    assert agreement([0.9], [lo], [hi], [0.99], [0.02]).tolist() == [False]
+    assert agreement([0.9], [lo], [hi], [0.96], [0.02]).tolist() == [True]
+    assert agreement([0.9], [lo], [hi], [0.82], [0.02]).tolist() == [True]  # below: the long side faces it

@@ -190,10 +190,12 @@ def true_reliability(life: np.ndarray, cycles: np.ndarray, p_inf: float = 0.0
 
 
 def agreement(r_mc, ci_low, ci_high, r_surrogate, half_surrogate) -> np.ndarray:
-    """Where the true model's R (with its exact interval [``ci_low``, ``ci_high``]) and the surrogate's agree: they
-    differ by less than the sum of their 95 % half-widths, the exact interval's its larger side."""
-    half_mc = np.maximum(r_mc - ci_low, ci_high - r_mc)
-    return np.abs(np.asarray(r_mc) - np.asarray(r_surrogate)) <= half_mc + np.asarray(half_surrogate)
+    """Where the true model's R (with its exact interval [``ci_low``, ``ci_high``]) and the surrogate's agree: their
+    95 % intervals overlap, the difference within the surrogate's half-width plus the exact interval's side that faces
+    the surrogate (its larger side let a surrogate beyond the shorter side agree without overlapping)."""
+    r_mc, r_surrogate = np.asarray(r_mc, dtype=float), np.asarray(r_surrogate, dtype=float)
+    half_mc = np.where(r_surrogate > r_mc, np.asarray(ci_high) - r_mc, r_mc - np.asarray(ci_low))
+    return np.abs(r_mc - r_surrogate) <= half_mc + np.asarray(half_surrogate)
 
 
 def joint_checks(ctx: StudyContext, reliability: ReliabilityCurve, x: np.ndarray, levels: np.ndarray) -> list[dict]:
