@@ -142,6 +142,30 @@ def test_a_pass_within_an_absolute_band_only_says_so(study_dir):
     assert "within the absolute band only" not in far.note
 
 
+def test_a_reference_between_levels_is_read_on_the_curve_between_them(study_dir):
+    """R at 420,000 cycles, between two levels of a curve, was read on a straight line between them (0.704) where the
+    study's own curve (life_curve, the surrogate's R at 256 or more points) read 0.7068."""
+    from jointwear.study.limit_state import curve_cycles
+
+    results = load_results(study_dir)
+    rel = results.reliability
+    cycles = curve_cycles(np.asarray(rel.cycles, dtype=float), 4)  # the levels and 3 points between each two
+    r = np.interp(cycles, np.asarray(rel.cycles, dtype=float), rel.reliability)
+    inner = float(cycles[1 + 4])  # between the second and third levels
+    bent = np.where(cycles == inner, r - 0.05, r)  # a curve that bends away from the straight line there
+    rel.life_curve = {"cycles": cycles.tolist(), "reliability": bent.tolist(), "half_width_95": [0.0] * cycles.size}
+    from jointwear.report import reference_checks as rc
+
+    def ours_at(n):
+        results.config["reference"]["values"] = [{"quantity": "reliability", "cycles": n, "value": 0.5,
+                                                  "source": "test", "band": {"absolute": 1.0, "justification": "t"}}]
+        return next(c for c in rc.reference_checks(results) if c.quantity.startswith("reliability R(N)")).ours
+
+    assert ours_at(inner) == pytest.approx(float(bent[list(cycles).index(inner)]), abs=1e-12)
+    level = float(rel.cycles[1])
+    assert ours_at(level) == pytest.approx(float(rel.reliability[1]), abs=1e-12)  # a level reads its own R
+
+
 def test_bands_decide_the_status(tmp_path, nominal):
     """Each kind of band, at and beyond its edge (the edges are the preset's: 0.021-0.029 mm, 20 deg, 15 %)."""
     d = make_fixture_dir(tmp_path, nominal, which=("wear", "reliability", "config"))

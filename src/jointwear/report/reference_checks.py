@@ -346,7 +346,11 @@ def reference_checks(results: StudyResults, reference: Mapping | None = None) ->
                     "not from the nominal history" if ours is not None else "")
         elif q == "reliability":
             title, digits = f"reliability R(N) at {n:,.0f} cycles", 3
-            ours = None if rel is None else _interp_at(rel.cycles, rel.reliability, n)
+            # between the levels, read on the curve the surrogate gives there (life_curve), as the life is, not on a
+            # straight line between two levels
+            fine = None if rel is None or n in set(map(float, rel.cycles)) else rel.fine_curve()
+            ours = (None if rel is None else _interp_at(rel.cycles, rel.reliability, n) if fine is None
+                    else _interp_at(fine[0], fine[1], n))
             note = "outside the computed curve" if rel is not None and ours is None else ""
             if ours is not None and pv is not None:
                 note = f"absolute difference {ours - pv:+.3f}"
