@@ -224,6 +224,12 @@ def test_report_shows_the_validation_from_its_typed_result(tmp_path, nominal):
     page = build_report(d).read_text(encoding="utf-8")
     assert 'id="validation"' in page and "1 of 2" in page and "0.970" in page
     assert "\u00b10.02" in page  # the widest half-width of the direct estimate, 0.82 - 0.8: what the check can see
+    # the table holds the half-width the overlap test adds (no COV given: the error estimate alone) beside the estimate
+    assert "its 95 % half-width (error estimate)" in page and "<td>0.01 (0.01)</td>" in page
+    val = ValidationResult.load(d)
+    val.surrogate_cov = np.array([0.0, 0.05])  # the Monte Carlo part: 1.96 x 0.05 x Pf 0.188 = 0.0184 at 400k
+    val.save(d)
+    assert f"<td>{format_number(1.96 * 0.05 * 0.188 + 0.01)} (0.01)</td>" in build_report(d).read_text(encoding="utf-8")
     assert page.count("data:image/png;base64") >= 2
     assert "could not be drawn" not in page  # a figure that fails falls back to the stage's PNG, silently
     assert ("from 2,000 samples: their 95 % intervals overlap at 1 of 2 levels; the largest difference in R is "
