@@ -188,6 +188,29 @@ def test_bands_decide_the_status(tmp_path, nominal):
     assert status("true-model calls") == NA
 
 
+def test_the_tally_counts_rankings_apart_and_names_what_has_no_data(study_dir):
+    """The card read 'checks 11 / 12; 1 outside the band; 4 more without a band': its passes held rankings, which can
+    match but never fail, and rows without data went unsaid. Numbers and rankings are now counted apart."""
+    from jointwear.report.reference_checks import checks_summary, tally
+    from jointwear.report.result_sections import summary_cards
+    from jointwear.report.read import StudyOutputs
+
+    results = load_results(study_dir)
+    results.reliability.reliability = np.where(np.asarray(results.reliability.cycles) == 520_000, 0.167,
+                                               results.reliability.reliability)  # one number outside its band
+    checks = reference_checks(results)
+    t = tally(checks)
+    assert (t.passed, t.failed, t.unbanded, t.no_data, t.rankings, t.rankings_same) == (11, 1, 2, 0, 3, 3)
+    assert checks_summary(checks) == ("11 of 12 numbers within their band; 1 outside the band; 2 reported without "
+                                      "a band; rankings: 3 of 3 in the reference's order")
+    results.sensitivity = None  # the rankings have no data: said, not counted as rankings
+    t = tally(reference_checks(results))
+    assert (t.passed, t.judged, t.no_data, t.rankings) == (11, 12, 3, 0)
+    assert "3 without data" in t.details() and "rankings" not in t.details()
+    card = summary_cards(StudyOutputs(out_dir=study_dir, results=results), reference_checks(results), results.config["reference"])
+    assert "11 / 12" in card and "3 without data" in card
+
+
 def test_reference_declared_in_a_users_config(tmp_path, nominal):
     """A user's own [reference]: its label heads the comparison, its values and bands decide."""
     from jointwear.reference import ReferenceData

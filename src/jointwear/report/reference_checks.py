@@ -17,8 +17,9 @@ from jointwear.study.results import ReliabilityCurve, SensitivityResult, StudyRe
 
 from .markup import format_number
 
-__all__ = ["Check", "PASS", "FAIL", "INFO", "NA", "reference_checks", "reference_of", "reference_values",
-           "reference_label", "group_key", "second_peak", "life_with_note", "circular_difference", "ranking_rows"]
+__all__ = ["Check", "CheckTally", "tally", "checks_summary", "PASS", "FAIL", "INFO", "NA", "reference_checks",
+           "reference_of", "reference_values", "reference_label", "group_key", "second_peak", "life_with_note",
+           "circular_difference", "ranking_rows"]
 
 PASS, FAIL, INFO, NA = "pass", "fail", "info", "n/a"
 
@@ -40,6 +41,9 @@ class Check:
     digits: int = 4
     source: str = ""
     justification: str = ""
+    #: an order of variables, not a number: it can match the reference's (pass) but never fails, so the tally
+    #: counts it apart from the judged numbers
+    ranking: bool = False
 
     @property
     def rel_diff(self) -> float | None:
@@ -270,7 +274,7 @@ def _ranking_check(sens: SensitivityResult | None, v: Mapping) -> Check:
     labels = {n: lab for n, lab in members}
     if not members:
         return Check(title, None, None, "", _band_text(band, ""), NA, " > ".join(ref_rank), source=src,
-                     justification=just)
+                     justification=just, ranking=True)
     names = [n for n, _lab in members]
     ours_rank = [n for n in names if n in ref_rank]
     ref_shown = [n for n in ref_rank if n in names]
@@ -288,7 +292,8 @@ def _ranking_check(sens: SensitivityResult | None, v: Mapping) -> Check:
             + (f"; not resolved within the surrogate's error: {', '.join(tied)}" if tied else "")
             + (f"; not in this study: {', '.join(not_here)}" if not_here else ""))
     status = PASS if same and band is not None else INFO
-    return Check(title, None, None, "", _band_text(band, ""), status, note, source=src, justification=just)
+    return Check(title, None, None, "", _band_text(band, ""), status, note, source=src, justification=just,
+                 ranking=True)
 
 
 def _nominal_wear(wear: WearSummary | None, n: float) -> tuple[float | None, str]:
@@ -385,8 +390,46 @@ def reference_checks(results: StudyResults, reference: Mapping | None = None) ->
     return checks
 
 
+@dataclass(frozen=True)
+class CheckTally:
+    """How the checks came out: the judged numbers by status, the rankings apart (they cannot fail)."""
+
+    passed: int
+    failed: int
+    unbanded: int
+    no_data: int
+    rankings: int
+    rankings_same: int
+
+    @property
+    def judged(self) -> int:
+        """Numbers with a band and a value of the study's: the denominator of 'n / m within their band'."""
+        return self.passed + self.failed
+
+    def details(self) -> str:
+        """'2 outside the band; 2 reported without a band; 1 without data; rankings: 0 of 3 in the reference's
+        order' (the parts that are not zero)."""
+        parts = [f"{format_number(self.failed)} outside the band"]
+        if self.unbanded:
+            parts.append(f"{format_number(self.unbanded)} reported without a band")
+        if self.no_data:
+            parts.append(f"{format_number(self.no_data)} without data")
+        if self.rankings:
+            parts.append(f"rankings: {self.rankings_same} of {self.rankings} in the reference's order")
+        return "; ".join(parts)
+
+
+def tally(checks: Sequence[Check]) -> CheckTally:
+    """Count ``checks``: numbers by status, rankings (with data) apart."""
+    numbers = [c for c in checks if not c.ranking]
+    ranked = [c for c in checks if c.ranking]
+    return CheckTally(passed=sum(c.status == PASS for c in numbers), failed=sum(c.status == FAIL for c in numbers),
+                      unbanded=sum(c.status == INFO for c in numbers),
+                      no_data=sum(c.status == NA for c in checks),
+                      rankings=sum(c.status != NA for c in ranked), rankings_same=sum(c.status == PASS for c in ranked))
+
+
 def checks_summary(checks: Sequence[Check]) -> str:
-    """'n within their band, m outside, k without data'."""
-    n = {s: sum(c.status == s for c in checks) for s in (PASS, FAIL, NA)}
-    return (f"{format_number(n[PASS])} within their band, {format_number(n[FAIL])} outside, "
-            f"{format_number(n[NA])} without data")
+    """'n of m numbers within their band; ...' (:meth:`CheckTally.details`)."""
+    t = tally(checks)
+    return f"{format_number(t.passed)} of {format_number(t.judged)} numbers within their band; {t.details()}"

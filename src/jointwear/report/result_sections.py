@@ -29,6 +29,7 @@ from .reference_checks import (
     reference_label,
     reference_of,
     reference_values,
+    tally,
     unresolved_pairs,
 )
 from .study_sections import allowance_mm, not_run, warning
@@ -610,13 +611,10 @@ def summary_cards(out: StudyOutputs, checks: Sequence[Check], ref: Mapping | Non
     wear, rel = out.results.wear, out.results.reliability
     items: list[tuple[str, str, str | None]] = []
     if ref:
-        n_pass = sum(c.status == PASS for c in checks)
-        n_fail = sum(c.status == FAIL for c in checks)
-        n_banded = sum(c.status in (PASS, FAIL) for c in checks)
-        unbanded = sum(c.status == INFO for c in checks)
-        items.append((f"checks against {reference_label(ref)}", f"{n_pass} / {n_banded}" if n_banded else "\u2014",
-                      (f"{n_fail} outside the band" + (f"; {unbanded} more without a band" if unbanded else ""))
-                      if n_banded else "no results yet"))
+        t = tally(checks)
+        items.append((f"checks against {reference_label(ref)}",
+                      f"{t.passed} / {t.judged}" if t.judged else "\u2014",
+                      t.details() if t.judged or t.rankings else "no results yet"))
 
     def ref_note(quantity: str, **match) -> str | None:
         for v in reference_values(ref, quantity):
