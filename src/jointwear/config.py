@@ -419,8 +419,9 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
         "clearance_joints.B.friction.law": "none", "uncertainty.variables.HB_b.std_HB": 6.0}``. A list of
         named tables (bodies, joints, clearance joints, variables; drivers by their joint) is indexed by an item's
         name or by number, as ``clearance_joints.B`` or ``clearance_joints[0]``;
-        the last key may carry a unit suffix as in TOML (``allowance_mm``), else the value is in SI; a value may
-        be a section (an SIModel). Every path a random variable's ``target`` takes works too: a coordinate of a
+        the last key may carry a unit suffix as in TOML (``allowance_mm``), else the value is in SI. A value may
+        be a section: a mapping is laid over it as ``extends`` lays a table (``{"reliability": {"max_calls": 40}}``
+        changes that key alone), a section object (an SIModel) replaces it whole. Every path a random variable's ``target`` takes works too: a coordinate of a
         point (``mechanism.ground_points.C.x``) and a clearance joint's ``clearance`` (the bearing radius becomes
         the journal radius plus the value), with a unit suffix too (``clearance_joints.B.clearance_um``).
     source : str
@@ -449,7 +450,8 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
     for given, value in changes.items():
         path = re.sub(r"\[([^\]]+)\]", r".\1", given)  # clearance_joints[0] as the messages write it
         *parents, last = path.split(".")
-        value = value.model_dump() if isinstance(value, BaseModel) else value
+        whole = isinstance(value, BaseModel)  # a section object replaces the table; a mapping is laid over it
+        value = value.model_dump() if whole else value
         target = _target_path(data, path, source) if _is_number(value) else None
         if target is not None:  # a random variable's kind of path, perhaps with a unit suffix
             target_path, suffix = target
@@ -466,7 +468,9 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
                 node = node[_list_index(node, key)] if isinstance(node, list) else node[key]
                 walked.append(key)
             if isinstance(node, list):
-                node[_list_index(node, last)] = value
+                i = _list_index(node, last)
+                laid = not whole and isinstance(value, Mapping) and isinstance(node[i], dict)
+                node[i] = merge_tables(node[i], dict(value), path) if laid else value
                 continue
         except (KeyError, IndexError, ValueError, TypeError):
             raise ConfigError(f"{source}: {path}: no such setting{_missing(node, parents[len(walked)], walked)}") \
@@ -476,7 +480,12 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
         split = split_unit_key(last, frozenset(node))
         if split is not None:  # the suffixed key replaces the SI one; the validation converts it
             node.pop(split[0])
-        node[last] = value  # an unknown key is reported by the validation
+        if not whole and isinstance(value, Mapping) and (isinstance(node.get(last), dict)
+                                                         or _named_entries(node.get(last))):
+            # as `extends` lays a table over its base: the keys the mapping does not give keep their values
+            node[last] = merge_tables(node, {last: dict(value)}, ".".join(parents))[last]
+        else:
+            node[last] = value  # an unknown key is reported by the validation
         changed.setdefault(id(node), set()).update(_unit_stems(last))
         if last == "fit" and value is not None and parents[:2] == ["uncertainty", "clearance"]:
             fitted.append(node)

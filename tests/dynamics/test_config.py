@@ -111,6 +111,29 @@ def test_updated_checks_a_variables_suffix_as_a_file_does(change, message):
     assert hb["HB_b"].std == pytest.approx(10.0 * PA_PER_HB)
 
 
+def test_updated_lays_a_mapping_over_its_section_and_replaces_it_with_a_section_object():
+    """updated(cfg, {"reliability": {"max_calls": 20}}) reset every other key of the section to its default (the
+    curve's cycles, the targets, n_mc), silently; a Study from the same mapping merged it. A mapping is now laid over
+    the section as `extends` lays a table, in a list of named tables too; a section object still replaces it."""
+    from jointwear.config import updated
+
+    base = load_config("flores_slider_crank")
+    new = updated(base, {"reliability": {"max_calls": 20}})
+    assert new.reliability == base.reliability.model_copy(update={"max_calls": 20})
+    assert base.reliability.cycles_start is not None and base.reliability.target_reliability != [0.9]  # not defaults
+    mm = updated(base, {"reliability": {"allowance_mm": 0.05}})  # another unit of a key the section holds
+    assert mm.reliability.allowance == pytest.approx(5e-5)
+    assert mm.reliability.max_calls == base.reliability.max_calls
+    friction = base.clearance_joints[0].friction
+    by_item = updated(base, {"clearance_joints.0": {"friction": {"mu_d": 0.012}}})
+    assert by_item == updated(base, {"clearance_joints.0.friction.mu_d": 0.012})
+    assert by_item.clearance_joints[0].friction == friction.model_copy(update={"mu_d": 0.012})
+    whole = updated(base, {"clearance_joints.0.friction": type(friction)(law="none")})
+    assert whole.clearance_joints[0].friction == type(friction)(law="none")  # replaced: the defaults of a new one
+    with pytest.raises(ConfigError, match=r"clearance_joints\[0\]\.friction\.mu_dd: unknown key.*mu_d"):
+        updated(base, {"clearance_joints.0": {"friction": {"mu_dd": 0.2}}})
+
+
 @pytest.mark.parametrize("section, key, value, message", [
     (("reliability",), "target_reliability", "0.9",
      r"reliability: target_reliability: a number is expected, not the string '0.9' \(write it without quotes\)"),
