@@ -300,6 +300,20 @@ def test_equality_ignores_the_runs_metadata():
     assert a != b  # what the run found still counts
 
 
+def test_a_resumed_validation_equals_an_uninterrupted_one():
+    """A validation resumed after an interrupt read most of its samples back: its model_calls (the calls that run
+    made, 21 of 80) made it unequal to the uninterrupted one though every number it found was the same."""
+    def validation(calls: int) -> ValidationResult:
+        return ValidationResult(cycles=[1e5, 2e5], reliability_mc=[0.95, 0.8], ci_low=[0.94, 0.78],
+                                ci_high=[0.96, 0.82], reliability_surrogate=[0.948, 0.81], surrogate_error=[0.005, 0.01],
+                                n_samples=80, model_calls=calls, wall_seconds=float(calls), agreement=[True, True])
+
+    assert validation(80) == validation(21)
+    other = validation(80)
+    other.n_samples = 81
+    assert other != validation(80)  # how many samples it rests on is a finding
+
+
 def test_a_life_target_outside_0_1_or_not_a_number_is_refused_by_name():
     """life_interval(1.5) returned (None, None) and life_interval("0.9") raised numpy's UFuncTypeError."""
     from jointwear.schema import ConfigError

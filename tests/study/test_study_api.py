@@ -240,6 +240,35 @@ def test_a_resume_refused_for_another_model_lists_every_changed_setting(tmp_path
                            "(changed: wear.block_cycles, reliability.cycles_stop). Resume with"), line
 
 
+def test_the_store_survives_a_change_of_what_only_the_wear_and_simulate_stages_read(tmp_path):
+    """A longer nominal history (wear.cycles) or other reported peaks refused the resume of a finished study ('holds
+    calls of another wear model (changed: wear.cycles)'): a call runs to the curve's last level and returns depths,
+    whatever they are. A store keyed before they left the key resumes under its own key; a model change is refused."""
+    import numpy as np
+
+    from jointwear.compute import EvaluationStore, config_hash
+    from jointwear.compute.store import CallRecord
+    from jointwear.study.model_call import WearModelCall
+    from jointwear.study.reliability import model_call, store_digest
+
+    before = load_config("flores_slider_crank")
+    stage_only = {"wear.cycles": 123_000, "simulation.cycles": 3, "wear.peak_prominence": 0.3,
+                  "wear.peak_separation_deg": 40.0}
+    after = updated(before, stage_only)
+    assert store_digest(after) == store_digest(before)
+    assert not any(WearModelCall.depends_on(name) for name in stage_only)
+    assert WearModelCall.depends_on("wear.block_cycles") and WearModelCall.depends_on("simulation.rtol")
+    former = config_hash(model_call(before).identity(former=True))
+    assert former != store_digest(before)
+    with EvaluationStore.open(tmp_path, former) as store:  # a store keyed as before
+        store.put("wear_model", CallRecord(x=np.zeros(2), status="ok", reason=None, outputs=np.ones(2), wall_s=1.0))
+    assert store_digest(before, tmp_path) == former  # read under its own key
+    assert EvaluationStore.refusal(tmp_path, store_digest(before, tmp_path), resume=True) is None
+    assert store_digest(after, tmp_path) != former  # its former key held wear.cycles, which changed: refused
+    changed = updated(before, {"wear.block_cycles": before.wear.block_cycles // 2})
+    assert EvaluationStore.refusal(tmp_path, store_digest(changed, tmp_path), resume=True) is not None
+
+
 def test_simulate_names_the_joint_of_each_mean_contact_force(tmp_path):
     """With two clearance joints, 'mean contact force 6.676 N' did not say which joint it was."""
     lines: list[str] = []

@@ -826,7 +826,7 @@ class Study:
         from jointwear import compute
         from jointwear.study.reliability import store_digest
 
-        problem = compute.EvaluationStore.refusal(self.out, store_digest(self.config), **self._store_mode(reuse))
+        problem = compute.EvaluationStore.refusal(self.out, store_digest(self.config, self.out), **self._store_mode(reuse))
         if problem is not None:
             raise ConfigError(self._store_message(problem))
 
@@ -841,7 +841,7 @@ class Study:
 
         try:
             if store_file is None:
-                store = compute.EvaluationStore.open(self.out, store_digest(self.config), **self._store_mode(reuse))
+                store = compute.EvaluationStore.open(self.out, store_digest(self.config, self.out), **self._store_mode(reuse))
                 self._store_opened = True
             else:
                 store = compute.EvaluationStore.open(self.out / store_file, digest, resume=not self.overwrite,

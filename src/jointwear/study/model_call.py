@@ -93,6 +93,11 @@ class WearModelCall:
                                                 "reliability.cycles_step", "reliability.histogram_cycles",
                                                 "reliability.joints", "reliability.quantity")
 
+    #: settings of the model sections that only the simulate and wear stages read (how long they run, which peaks
+    #: they report): a call runs to the curve's last level and returns depths, so its store survives a change of them
+    STAGE_ONLY: ClassVar[frozenset[str]] = frozenset(
+        {"simulation.cycles", "wear.cycles", "wear.peak_prominence", "wear.peak_separation_deg"})
+
     base: dict
     targets: list[str]
     cycles: list[int]
@@ -104,18 +109,24 @@ class WearModelCall:
     def n_outputs(self) -> int:
         return len(self.cycles) * len(self.joints)
 
-    def identity(self) -> dict:
-        """What the outputs of a call depend on besides x: the config's model sections (``MODEL_SECTIONS``), the
-        targets, the cycle counts, the joints and the quantity. Not ``threads``, nor the study's learning,
-        sensitivity, design or report settings: its hash keys the evaluation store, so a study resumed with a
-        larger budget reads back every call it made."""
-        return {"model": {k: self.base[k] for k in self.MODEL_SECTIONS}, "targets": list(self.targets),
-                "cycles": list(self.cycles), "joints": list(self.joints), "quantity": self.quantity}
+    def identity(self, *, former: bool = False) -> dict:
+        """What the outputs of a call depend on besides x: the config's model sections (``MODEL_SECTIONS``, but
+        ``STAGE_ONLY``), the targets, the cycle counts, the joints and the quantity. Not ``threads``, nor the study's
+        learning, sensitivity, design or report settings: its hash keys the evaluation store, so a study resumed with
+        a larger budget reads back every call it made. ``former``: with the ``STAGE_ONLY`` settings, as stores were
+        keyed before they left it (their calls are the same)."""
+        model = {k: self.base[k] if former or not isinstance(self.base[k], dict) else
+                 {f: v for f, v in self.base[k].items() if f"{k}.{f}" not in self.STAGE_ONLY}
+                 for k in self.MODEL_SECTIONS}
+        return {"model": model, "targets": list(self.targets), "cycles": list(self.cycles),
+                "joints": list(self.joints), "quantity": self.quantity}
 
     @classmethod
     def depends_on(cls, name: str) -> bool:
         """Whether the calls' identity (the evaluation store's key) depends on the setting ``name``, as config.json
         names it ('wear.block_cycles', 'uncertainty.variables[0].target')."""
+        if name in cls.STAGE_ONLY:
+            return False
         return (name.split(".")[0].split("[")[0] in cls.MODEL_SECTIONS or name in cls.CALL_SETTINGS
                 or (name.startswith("uncertainty.") and name.endswith(".target")))
 

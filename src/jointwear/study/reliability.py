@@ -221,12 +221,20 @@ def study_context(config: StudyConfig, evaluator_factory: Callable[[WearModelCal
                         call.cycles, evaluator_factory(call), random_allowance, limit, copula=unc.copula(names))
 
 
-def store_digest(config: StudyConfig) -> str:
+def store_digest(config: StudyConfig, out=None) -> str:
     """The key of a study's evaluation store: the hash of what its model calls' outputs depend on
-    (:meth:`WearModelCall.identity`), so a study resumed with other learning or report settings reuses its calls."""
-    from jointwear.compute import config_hash
+    (:meth:`WearModelCall.identity`), so a study resumed with other learning or report settings reuses its calls.
+    With the output folder ``out``: the key its store was made with when that is the former key of the same calls
+    (``identity(former=True)``), so a store made before the stage-only settings left the key still resumes."""
+    from jointwear.compute import EvaluationStore, config_hash
 
-    return config_hash(model_call(config).identity())
+    call = model_call(config)
+    digest = config_hash(call.identity())
+    if out is not None and EvaluationStore.refusal(out, digest, resume=True) is not None:
+        former = config_hash(call.identity(former=True))
+        if EvaluationStore.refusal(out, former, resume=True) is None:
+            return former
+    return digest
 
 
 def model_call(config: StudyConfig, threads: int | None = None) -> WearModelCall:

@@ -706,7 +706,8 @@ class ValidationResult(StageResult):
     95 % half-widths (``agreement``: the two intervals overlap; :meth:`differs_at_95` is the stricter 95 % test of
     their difference). ``cross_validation``: leave-one-out predictions of the design points'
     log life against their true values, with Q^2. ``model_calls``: the true-model calls this run made (samples read
-    back from the evaluation store are not counted). ``life_table``: at each target of the study, the life read on
+    back from the evaluation store are not counted; run metadata, as the wall time: a resumed validation equals an
+    uninterrupted one). ``life_table``: at each target of the study, the life read on
     the true model's curve (``cycles``) with the interval where its exact 95 % bounds cross the target
     (``cycles_low``, ``cycles_high``), the surrogate's life and interval (``surrogate_cycles``,
     ``surrogate_cycles_low``, ``surrogate_cycles_high``) and whether the two intervals overlap (``agree``).
@@ -715,6 +716,7 @@ class ValidationResult(StageResult):
     """
 
     FILE: ClassVar[str] = "validation.json"
+    RUN_METADATA: ClassVar[frozenset[str]] = StageResult.RUN_METADATA | {"model_calls"}
     ALIGNED: ClassVar[tuple[tuple[str, ...], ...]] = (
         ("cycles", "reliability_mc", "ci_low", "ci_high", "reliability_surrogate", "surrogate_error", "agreement",
          "paired_reliability_surrogate", "paired_difference_low", "paired_difference_high"),)
