@@ -282,7 +282,11 @@ def report(directory, out):
                           "of the command that ran it): jointwear report --out DIR")
     if not directory.is_dir():
         raise ConfigError(f"report: '{directory}' is not a directory with study results")
-    if not load_results(directory).stages:
+    try:
+        stages = load_results(directory).stages
+    except FileNotFoundError as exc:
+        raise ConfigError(f"report: {exc}") from None
+    if not stages:
         raise ConfigError(f"report: '{directory}' has no study results (simulate.json, wear.json, "
                           "reliability.json or sensitivity.json)")
     say(f"report: {build_report(directory)}")

@@ -176,6 +176,9 @@ def test_bad_inputs_name_what_is_wrong(three, tmp_path):
         with pytest.raises(ConfigError, match=r"compare: studies: a list of two or more .*single folder '.*a'"):
             compare_studies(single)
     (tmp_path / "empty").mkdir()
+    with pytest.raises(ConfigError, match="compare: '.*empty' holds no study results"):
+        compare_studies([three[0], tmp_path / "empty"])
+    (tmp_path / "empty" / "config.json").write_text("{}")  # a study whose learning has not run
     with pytest.raises(ConfigError, match="'.*empty' has no reliability result"):
         compare_studies([three[0], tmp_path / "empty"])
     with pytest.raises(ConfigError, match="no study folder"):

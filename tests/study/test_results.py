@@ -233,7 +233,15 @@ def test_every_table_as_its_csv_file_and_as_a_data_frame(tmp_path):
 
 
 def test_load_results_of_an_empty_or_damaged_folder(tmp_path):
-    assert load_results(tmp_path).stages == []
+    """An existing folder with nothing of a study in it (a typo in the last part of the path, the folder above a
+    study's) read as a study with every stage None, and failed later on a None."""
+    (tmp_path / "runs" / "study_a").mkdir(parents=True)
+    (tmp_path / "runs" / "study_a" / "config.json").write_text("{}")
+    with pytest.raises(FileNotFoundError, match=r"runs' holds no study results .*these folders in it do: study_a$"):
+        load_results(tmp_path / "runs")
+    with pytest.raises(FileNotFoundError, match=r"holds no study results \(none of config.json, simulate.json"):
+        load_results(tmp_path)
+    assert load_results(tmp_path / "runs" / "study_a").stages == []  # a study with no stage run yet
     (tmp_path / "reliability.json").write_text("{not json")
     res = load_results(tmp_path)
     assert res.reliability is None and "reliability" in res.errors

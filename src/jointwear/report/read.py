@@ -47,7 +47,12 @@ class JointSeries:
 def read_outputs(out_dir: Path | str) -> StudyOutputs:
     """The typed results of the study in ``out_dir`` and its PNG and CSV files."""
     out_dir = Path(out_dir)
-    results = load_results(out_dir)
+    try:
+        results = load_results(out_dir)
+    except FileNotFoundError:
+        if not out_dir.is_dir():
+            raise
+        results = StudyResults(out_dir)  # nothing of a study yet: the report says what each section misses
     outputs = StudyOutputs(out_dir, results)
     if results.config is not None:
         outputs.files.append(out_dir / "config.json")

@@ -716,7 +716,11 @@ class Study:
         """Build ``out/report.html`` from the results in the output folder; returns its path."""
         from jointwear.report.html import build_report
 
-        if not self.out.is_dir() or not load_results(self.out).stages:
+        try:
+            stages = load_results(self.out).stages
+        except FileNotFoundError:
+            stages = []
+        if not stages:
             raise ConfigError(f"report: '{self.out}' has no study results (simulate.json, wear.json, "
                               "reliability.json or sensitivity.json)")
         path = build_report(self.out)

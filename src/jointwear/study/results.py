@@ -554,11 +554,22 @@ def load_results(folder: Path | str) -> StudyResults:
     Raises
     ------
     FileNotFoundError
-        ``folder`` is not a directory (a mistyped folder would otherwise read as a study with no results).
+        ``folder`` is not a directory, or holds neither ``config.json`` nor any stage's file (a mistyped folder, or
+        the folder above a study's, would otherwise read as a study with no results); the message names the
+        subfolders that hold studies.
     """
+    from jointwear.design.results import DesignResult  # the design stage builds on the study: imported on use
+
     folder = Path(folder)
     if not folder.is_dir():
         raise FileNotFoundError(f"no study folder '{folder}'")
+    files = ("config.json", *(cls.FILE for cls in (*STAGE_TYPES.values(), DesignResult)))
+    if not any((folder / name).is_file() for name in files):
+        inside = sorted(p.name for p in folder.iterdir() if p.is_dir() and any((p / f).is_file() for f in files))
+        raise FileNotFoundError(
+            f"'{folder}' holds no study results (none of {', '.join(files)})"
+            + (f"; these folders in it do: {', '.join(inside[:10])}{', ...' if len(inside) > 10 else ''}"
+               if inside else ""))
     out = StudyResults(folder)
     cfg = folder / "config.json"
     if cfg.is_file():
@@ -566,8 +577,6 @@ def load_results(folder: Path | str) -> StudyResults:
             out.config = read_json(cfg)
         except (OSError, ValueError) as exc:
             out.errors["config"] = f"config.json could not be read: {exc}"
-    from jointwear.design.results import DesignResult  # the design stage builds on the study: imported on use
-
     for stage, cls in (*STAGE_TYPES.items(), ("design", DesignResult)):
         path = folder / cls.FILE
         if not path.is_file():
