@@ -329,6 +329,16 @@ def test_the_help_does_not_load_the_compiled_kernels():
     subprocess.run([sys.executable, "-c", code], check=True, capture_output=True)
 
 
+def test_a_subpackage_is_reached_as_an_attribute_of_the_package():
+    """After `import jointwear`, `jointwear.study.ReliabilityCurve` raised AttributeError until `jointwear.Study` had
+    been touched; the package itself still imports no kernel, and a name it does not have is still refused."""
+    code = ("import sys, jointwear\nassert 'numba' not in sys.modules\n"
+            "assert jointwear.study.ReliabilityCurve.FILE == 'reliability.json'\n"
+            "assert callable(jointwear.reliability.akmcs)\n"
+            "try:\n    jointwear.nope\nexcept AttributeError:\n    pass\nelse:\n    raise SystemExit('nope found')\n")
+    subprocess.run([sys.executable, "-c", code], check=True, capture_output=True)
+
+
 def test_a_config_saved_with_a_byte_order_mark_loads(tmp_path):
     """Notepad's 'UTF-8 with BOM' gave 'malformed TOML: Invalid statement (at line 1, column 1)'."""
     from jointwear.config import load_config

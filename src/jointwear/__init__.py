@@ -5,6 +5,8 @@
 >>> results = study.run()                                            # doctest: +SKIP
 """
 
+import importlib
+import importlib.util
 from importlib.metadata import PackageNotFoundError, version
 from typing import TYPE_CHECKING
 
@@ -35,6 +37,9 @@ def __getattr__(name: str) -> object:
         from jointwear.schema import ConfigError
 
         return ConfigError
+    if not name.startswith("_") and importlib.util.find_spec(f"jointwear.{name}") is not None:
+        # a subpackage reached as an attribute (jointwear.study.ReliabilityCurve), as SciPy's load on first use
+        return importlib.import_module(f"jointwear.{name}")
     raise AttributeError(f"module 'jointwear' has no attribute {name!r}")
 
 
