@@ -269,6 +269,17 @@ def test_the_store_survives_a_change_of_what_only_the_wear_and_simulate_stages_r
     assert EvaluationStore.refusal(tmp_path, store_digest(changed, tmp_path), resume=True) is not None
 
 
+def test_an_interrupt_in_python_says_how_to_resume(tmp_path):
+    """Ctrl-C in a notebook showed a bare traceback: the command line's 'run again with --resume' was not said."""
+    study = jointwear.Study("flores_slider_crank", out=tmp_path, workers=1)
+    with pytest.raises(KeyboardInterrupt) as info:
+        with study._compute(reuse=False):
+            raise KeyboardInterrupt
+    (note,) = info.value.__notes__
+    assert note == (f"The model calls made so far are kept in {tmp_path / 'evaluations.sqlite'}: run the study again "
+                    "with resume=True (--resume) to continue from them.")
+
+
 def test_simulate_names_the_joint_of_each_mean_contact_force(tmp_path):
     """With two clearance joints, 'mean contact force 6.676 N' did not say which joint it was."""
     lines: list[str] = []

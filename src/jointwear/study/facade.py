@@ -871,6 +871,11 @@ class Study:
         try:
             with executor, progress:
                 yield executor, store, progress
+        except KeyboardInterrupt as exc:  # the command line says this on Ctrl-C; Python shows it under the traceback
+            again = ("run the check again to continue from them" if store_file is not None else
+                     "run the study again with resume=True (--resume) to continue from them")
+            exc.add_note(f"The model calls made so far are kept in {store.path}: {again}.")
+            raise
         finally:
             store.close()
 
