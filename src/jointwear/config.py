@@ -127,6 +127,21 @@ class StudyConfig(SIModel):
                     raise ValueError(f"{where}.{problem} (the unit of its target)")
         return data
 
+    @model_validator(mode="before")
+    @classmethod
+    def _clearance_from_joint(cls, data: Any) -> Any:
+        """A clearance's nominal diameter and mean, when not given, are those of the joint its target names (its
+        journal's diameter, its drawn clearance): the defaults must be the user's drawing, not a reference's pin."""
+        if not isinstance(data, dict) or not isinstance(data.get("uncertainty"), dict):
+            return data
+        tables = data["uncertainty"].get("clearance")
+        if not isinstance(tables, (dict, list)):
+            return data
+        filled = [_clearance_defaults(t, data.get("clearance_joints")) if isinstance(t, dict) else t
+                  for t in (tables if isinstance(tables, list) else [tables])]
+        return {**data, "uncertainty": {**data["uncertainty"],
+                                        "clearance": filled if isinstance(tables, list) else filled[0]}}
+
     @model_validator(mode="after")
     def _targets_exist(self) -> StudyConfig:
         if self.uncertainty is None:
@@ -157,6 +172,39 @@ class StudyConfig(SIModel):
                     f"{' and '.join(joints[cj.joint])}"
                 )
         return self
+
+
+def _clearance_defaults(table: dict[str, Any], joints: Any) -> dict[str, Any]:
+    """``table`` (a raw clearance table) with ``nominal_diameter`` and ``mean`` (SI) from the clearance joint its
+    target names where it gives neither in any unit (a fit sets the mean); unchanged where the joint is not found
+    (the target's own check reports it)."""
+    stems = {stem for key in table for stem in _unit_stems(key)}
+    wanted = {"nominal_diameter"} - stems | ({"mean"} - stems if table.get("fit") is None else set())
+    target = str(table.get("target") or "")
+    keys = re.sub(r"\[([^\]]+)\]", r".\1", target).split(".")
+    if not wanted or not target.endswith(CLEARANCE_SUFFIX) or len(keys) != 3 or not isinstance(joints, list):
+        return table
+    joint = next((j for i, j in enumerate(joints) if isinstance(j, dict) and keys[1] in (str(i), j.get("name", "A"))),
+                 None)
+    radii = {name: _si_length(joint, name) for name in ("journal_radius", "bearing_radius")} if joint else {}
+    if radii.get("journal_radius") is None:
+        return table
+    out = dict(table)
+    if "nominal_diameter" in wanted:
+        out["nominal_diameter"] = 2.0 * radii["journal_radius"]
+    if "mean" in wanted and radii.get("bearing_radius") is not None:
+        out["mean"] = radii["bearing_radius"] - radii["journal_radius"]
+    return out
+
+
+def _si_length(table: dict[str, Any], field: str) -> float | None:
+    """A length of a raw table in m, given as ``field`` (SI) or with a unit suffix; None when absent or not a
+    number (the table's own check reports it)."""
+    for key, value in table.items():
+        split = None if key == field else split_unit_key(key, frozenset((field,)))
+        if (key == field or split is not None) and _is_number(value):
+            return float(value) if split is None else float(to_si(value, split[1]))
+    return None
 
 
 def target_unit(path: str) -> str | None:

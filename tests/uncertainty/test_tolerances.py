@@ -43,11 +43,13 @@ def test_bad_grade_and_size_are_named():
 
 
 def test_clearance_rules():
-    spec = ClearanceSpec(target="x")
+    with pytest.raises(ValueError, match="needs its nominal_diameter and mean"):
+        _ = ClearanceSpec(target="x").std  # alone: no joint to take them from
+    spec = ClearanceSpec(target="x", mean_um=2.0, nominal_diameter_mm=2.0)  # the reference paper's pin
     assert spec.infeasible_probability() == pytest.approx(0.02529, abs=1e-4)  # Phi((0.1-2)/0.97183) from tables
     truncated = spec.frozen()
     assert truncated.ppf(0.0) == pytest.approx(spec.minimum, rel=1e-9)
-    printed = ClearanceSpec(target="x", source="table5")
+    printed = ClearanceSpec(target="x", source="table5", mean_um=2.0)
     assert printed.std == 1e-9
 
 
@@ -60,3 +62,27 @@ def test_variable_validation():
         UncertaintySettings(variables=[RandomVariableSpec(name="a", target="x", mean=1, std=1)] * 2)
     ln = RandomVariableSpec(name="k", target="x", distribution="lognormal", mean=2.0, std=0.5).frozen()
     assert ln.mean() == pytest.approx(2.0, rel=1e-12) and ln.std() == pytest.approx(0.5, rel=1e-12)
+
+
+def test_a_clearance_takes_its_nominal_diameter_and_mean_from_its_joint():
+    """Left out, the nominal diameter and the mean were the reference paper's 2 mm pin and 2 um: a 12 mm H7/g6 pin
+    took the tolerances of 2 mm (std 0.97 um instead of 1.76 um), a clearance given by its grades the paper's mean."""
+    import tomllib
+    from importlib import resources
+
+    from jointwear.config import config_from_dict
+    from jointwear.uncertainty.tolerances import clearance_from_fit, iso_fit
+
+    data = tomllib.loads((resources.files("jointwear.presets") / "flores_slider_crank.toml").read_text())
+    table = data["uncertainty"]["clearance"]  # bore 10 mm, pin 9.5 mm: a drawn clearance of 0.5 mm
+    for key in ("mean_mm", "nominal_diameter_mm"):
+        del table[key]
+    spec = config_from_dict(data).uncertainty.clearance
+    assert spec.nominal_diameter == pytest.approx(19e-3, rel=1e-12) and spec.mean == pytest.approx(0.5e-3, rel=1e-12)
+    assert spec.std == clearance_from_fit(19e-3, table["hole_grade"], table["shaft_grade"], 0.5e-3).std
+    table.update(fit="H7/g6")
+    del table["hole_grade"], table["shaft_grade"]
+    spec = config_from_dict(data).uncertainty.clearance
+    assert spec.mean == iso_fit("H7/g6", 19e-3).mean_clearance  # the fit's at the pin's own diameter
+    table.update(nominal_diameter_mm=2.0)  # given: kept
+    assert config_from_dict(data).uncertainty.clearance.mean == iso_fit("H7/g6", 2e-3).mean_clearance

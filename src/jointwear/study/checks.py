@@ -567,8 +567,8 @@ def pin_scatter_warning(uncertainty, clearance) -> str | None:
 
 def nominal_diameter_warning(data: dict, clearance) -> str | None:
     """'nominal_diameter: ...' when the clearance's ISO 286 spread (and a fit's mean) at its nominal diameter differ
-    by more than 1 % from those at its joint's journal diameter 2 R_j: the default, 2 mm, is the reference paper's
-    pin, and a diameter in another size range of ISO 286-2 has other tolerances."""
+    by more than 1 % from those at its joint's journal diameter 2 R_j (its default): a diameter in another size range
+    of ISO 286-2 has other tolerances."""
     from jointwear.uncertainty.targets import CLEARANCE_SUFFIX, target_error, target_value
     from jointwear.uncertainty.tolerances import clearance_from_fit, iso_fit
 
@@ -585,12 +585,10 @@ def nominal_diameter_warning(data: dict, clearance) -> str | None:
         return None
     if abs(std - clearance.std) <= 0.01 * clearance.std and abs(at_journal - clearance.mean) <= 0.01 * clearance.mean:
         return None
-    given = ("" if "nominal_diameter" in clearance.model_fields_set
-             else " (not given: the default, the reference paper's pin)")
     mean = (f", mean {clearance.mean * 1e6:.4g} um" if clearance.fit is not None else "")
     mean_there = (f", mean {at_journal * 1e6:.4g} um" if clearance.fit is not None else "")
     nominal = f"{clearance.nominal_diameter * 1e3:g} mm"
-    return (f"nominal_diameter: {nominal}{given}, while the journal of {joint} is {journal * 1e3:.4g} mm in diameter: "
+    return (f"nominal_diameter: {nominal}, while the journal of {joint} is {journal * 1e3:.4g} mm in diameter: "
             f"the clearance takes the tolerances of {nominal} (std {clearance.std * 1e6:.3g} um{mean}), at "
             f"{journal * 1e3:.4g} mm they are std {std * 1e6:.3g} um"
             f"{mean_there}; set nominal_diameter_mm = {journal * 1e3:.6g} unless the fit's size is meant to differ")

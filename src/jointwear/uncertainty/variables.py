@@ -159,8 +159,8 @@ class ClearanceSpec(SIModel):
                        "given.")
     target: str = Field(description="Dotted path of the clearance in the SI config, e.g. "
                         "'clearance_joints.A.clearance'.")
-    mean: float = F(2e-6, unit="m", description="Designed radial clearance, m; set by `fit` when that is "
-                    "given.")
+    mean: float | None = F(None, unit="m", description="Designed radial clearance, m; set by `fit` when that is "
+                           "given. Default: the joint's drawn clearance, bearing_radius - journal_radius.")
     fit: str | None = Field(
         None, description="The fit with its ISO 286 letters, bore/pin, e.g. 'H7/g6' (clearance fits: bores D-H on "
         "pins d-h, nominal diameters up to 120 mm). It sets hole_grade, shaft_grade and the mean (the middle of the "
@@ -169,9 +169,9 @@ class ClearanceSpec(SIModel):
         "iso286",
         description="'table5': sigma as printed in Table 5 (1e-6 mm = 1 nm, very likely a units slip); "
         "'iso286': sigma_c = sqrt(T_D^2 + T_d^2)/12, Eq. (40), from the grades below.")
-    nominal_diameter: float = F(2e-3, unit="m", description="Nominal fit diameter, m: the journal's diameter, whose "
-                                "ISO 286 size range sets the tolerances. Default: the reference paper's 2 mm pin "
-                                "(`check` warns when it gives other tolerances than the joint's journal).")
+    nominal_diameter: float | None = F(None, unit="m", description="Nominal fit diameter, m, whose ISO 286 size "
+                                       "range sets the tolerances. Default: the diameter of the joint's journal, "
+                                       "2 journal_radius (`check` warns when a given one sets other tolerances).")
     hole_grade: str = Field("IT7", description="Bearing bore grade (usual H7 bore; ISO 286-2); set by `fit` when "
                             "that is given.")
     shaft_grade: str = Field("IT6", description="Journal grade (usual h6/g6 shaft; ISO 286-2); set by `fit` when "
@@ -197,6 +197,8 @@ class ClearanceSpec(SIModel):
 
     @model_validator(mode="after")
     def _fit_and_minimum(self) -> ClearanceSpec:
+        if self.nominal_diameter is None or self.mean is None and self.fit is None:
+            return self  # a study takes them from the target joint (StudyConfig); alone, `std` says to give them
         if self.source == "iso286":
             try:
                 it_tolerance(self.hole_grade, self.nominal_diameter)
@@ -221,9 +223,8 @@ class ClearanceSpec(SIModel):
         derived = {"hole_grade": fit.hole_grade, "shaft_grade": fit.shaft_grade, "mean": fit.mean_clearance}
         for name, value in derived.items():
             given = getattr(self, name)
-            same = (math.isclose(given, value, rel_tol=1e-9) if name == "mean"
-                    else grade_key(given) == value)
-            if name in self.model_fields_set and not same:
+            if name in self.model_fields_set and not (math.isclose(given, value, rel_tol=1e-9) if name == "mean"
+                                                      else grade_key(given) == value):
                 shown = (f"{given * 1e6:g} um" if name == "mean" else repr(given),
                          f"{value * 1e6:g} um" if name == "mean" else repr(value))
                 raise ValueError(f"{name} = {shown[0]} contradicts fit {self.fit!r}, which gives {shown[1]} at "
@@ -252,6 +253,9 @@ class ClearanceSpec(SIModel):
     def std(self) -> float:
         if self.source == "table5":
             return self.table5_std
+        if self.nominal_diameter is None or self.mean is None:
+            raise ValueError("a clearance outside a study needs its nominal_diameter and mean (a study takes them "
+                             "from the joint its target names)")
         return clearance_from_fit(self.nominal_diameter, self.hole_grade, self.shaft_grade, self.mean).std
 
     def frozen(self):
