@@ -890,3 +890,14 @@ def test_a_png_linked_from_outside_the_folder_is_not_embedded(tmp_path: Path):
     page = build_report(d).read_text()
     secret = base64.b64encode((outside / "secret.png").read_bytes()).decode()
     assert base64.b64encode((d / "own.png").read_bytes()).decode() in page and secret not in page
+
+
+def test_the_mechanism_table_names_the_clearance_joint_as_the_results_do():
+    """A clearance joint named 'Bpin' at the mechanism's joint B was 'B' in the mechanism table and 'Bpin' everywhere
+    else; the presets, whose clearance joints carry their joint's name, show one name."""
+    from jointwear.config import load_config, updated
+    from jointwear.report.settings import settings_dump
+
+    named = settings_dump(updated(load_config("flores_slider_crank"), {"clearance_joints.0.name": "Bpin"}))
+    assert (named["mechanism"]["clearance_joint"], named["mechanism"]["clearance_joint_name"]) == ("B", "Bpin")
+    assert "clearance_joint_name" not in settings_dump(load_config("flores_slider_crank"))["mechanism"]

@@ -101,11 +101,12 @@ def _esc_part(rel, cycles: float) -> str:
 
 #: How far the presets' learnt lives read from their true models' on the same samples (tests/test_docs_study_record.py
 #: ties it to benchmarks/results/surrogate_bias.json and the validation records)
-LIFE_TRUST = ("How far to trust the life: read on the same direct Monte Carlo samples as their true models, the "
-              "flapping-wing presets' learnt lives are 1.8 % (uniform mode) and 1.4 % (profile mode) short, as much as "
-              "or more than their 95 % intervals' half-widths (1.4 % and 0.8 %), because the Kriging's life spreads a "
-              "little wider than the true model's (the early failures come early; docs/reliability.md, \"The learnt "
-              "life's spread\"). <code>jointwear validate</code> measures this study's.")
+LIFE_TRUST = ("How far to trust the life: not measured for this study yet. <code>jointwear validate</code> runs its "
+              "true model on fresh samples and reads the learnt life on the same ones (a few hundred samples tell its "
+              "error). For scale, read so, the flapping-wing presets' learnt lives are 1.8 % (uniform mode) and 1.4 % "
+              "(profile mode) short, as much as or more than their 95 % intervals' half-widths (1.4 % and 0.8 %), "
+              "because the Kriging's life spreads a little wider than the true model's (the early failures come "
+              "early; docs/reliability.md, \"The learnt life's spread\").")
 
 
 def life_trust_sentence(out: StudyOutputs, target: float) -> str:

@@ -39,7 +39,7 @@ from __future__ import annotations
 import json
 import math
 import re
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -169,8 +169,13 @@ def _general_mechanism(mech: Any, joints: list) -> dict:
                     **({"direction": [float(j.direction[0]), float(j.direction[1])]}
                        if j.type == "prismatic" and j.direction is not None else {})} for j in mech.joints],
         "driven_joints": [d.joint for d in mech.drivers],
-        "clearance_joints": [str(cj.joint) for cj in joints],
+        "clearance_joints": [str(cj.joint) if cj.name == cj.joint else f"{cj.name} (at {cj.joint})" for cj in joints],
     }
+
+
+def _clearance_name(joints: Sequence) -> dict:
+    """The clearance joint's own name, which the results use, where it differs from its mechanism joint's."""
+    return {"clearance_joint_name": str(joints[0].name)} if joints and joints[0].name != joints[0].joint else {}
 
 
 def _mechanism(config: Any) -> dict | None:
@@ -181,7 +186,8 @@ def _mechanism(config: Any) -> dict | None:
         joints = getattr(config, "clearance_joints", []) or []
         return {"type": "slider_crank", "crank_mm": mech.crank.length * 1e3, "rod_mm": mech.rod.length * 1e3,
                 "offset_mm": mech.offset * 1e3, "guide_angle_deg": math.degrees(mech.guide_angle),
-                "branch": int(mech.assembly_branch), "clearance_joint": str(joints[0].joint) if joints else ""}
+                "branch": int(mech.assembly_branch), "clearance_joint": str(joints[0].joint) if joints else "",
+                **_clearance_name(joints)}
     if mech is None or getattr(mech, "type", None) != "four_bar":
         return None
     try:
@@ -196,6 +202,7 @@ def _mechanism(config: Any) -> dict | None:
             "pivot_mm": [(c[0] - o[0]) * 1e3, (c[1] - o[1]) * 1e3],
             "branch": int(mech.assembly_branch),
             "clearance_joint": str(joints[0].joint) if joints else "",
+            **_clearance_name(joints),
         }
     except AttributeError:
         return None
