@@ -61,6 +61,7 @@ from jointwear.study.results import (
     load_results,
 )
 from jointwear.study.stage_lines import (
+    budget_line,
     force_line,
     learning_stop_line,
     life_text,
@@ -463,6 +464,13 @@ class Study:
             life = nominal_life_line(self.config, result.joints)
             if life:
                 self.echo(f"wear: {life}")
+        if "reliability" in self.stages and result.stopped_at_cycles is None:
+            from jointwear.study.reliability import model_call
+
+            budget = budget_line(res.wall_seconds, result.cycles, max(model_call(self.config).cycles),
+                                 self.config.reliability.max_calls)
+            if budget:
+                self.echo(f"wear: {budget}")
         self._tell("wear", result)
         return result
 

@@ -73,6 +73,33 @@ def profile_mode_line(result: WearSummary) -> str:
     return f"uniform mode would be fair here too (conformity {c:.3g} <= 1: the worn arc within the contact patch)"
 
 
+#: a reliability budget projected to take longer than this (s of model calls in all) is told after the wear stage
+LONG_BUDGET_SECONDS = 1800.0
+
+
+def duration_text(seconds: float) -> str:
+    """'45 s', '12 min', '3.4 h', '2.1 days'."""
+    if seconds < 90:
+        return f"{seconds:.0f} s"
+    if seconds < 5400:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h" if seconds < 172_800 else f"{seconds / 86_400:.1f} days"
+
+
+def budget_line(history_seconds: float, history_cycles: int, call_cycles: int, max_calls: int) -> str:
+    """What the reliability budget may cost at the nominal history's pace, when more than ``LONG_BUDGET_SECONDS``
+    ('' else): a model call runs the same history to the curve's last level."""
+    if history_cycles <= 0 or history_seconds <= 0:
+        return ""
+    per_call = history_seconds * call_cycles / history_cycles
+    if per_call * max_calls <= LONG_BUDGET_SECONDS:
+        return ""
+    return (f"each model call of the reliability stage runs such a history to {call_cycles:,} cycles, about "
+            f"{duration_text(per_call)} at this history's pace: its budget of {max_calls} calls may take up to "
+            f"{duration_text(per_call * max_calls)} in all, shared among the workers (reliability.max_calls; a long "
+            "history per cycle is its dynamics: docs/dynamics.md, \"When the step size collapses\")")
+
+
 def reused_text(new: int, total: int) -> str:
     """' (3 new, 17 read back from the store)' when fewer than ``total`` calls ran now; '' when all did."""
     return f" ({new} new, {total - new} read back from the store)" if new < total else ""
