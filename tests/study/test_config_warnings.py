@@ -333,15 +333,22 @@ def test_a_fit_taken_at_another_diameter_than_its_journals_is_warned(changes, wa
     # nearer point B, on a 40 mm bar
     ("com_mm = [14.3902, 19.5122]", "com_mm = [143.902, 195.122]", "mechanism.bodies[coupler].com:",
      ["200.1 mm from the nearest of the body's points", "(40 mm)"]),
+    # a 3 um bushing on a 4 mm pin (width / diameter 0.00075; pin joints run 0.25-2): it passed check, and the wear
+    # stage reported tens of millimetres of wear without naming the width
+    ("width_mm = 3.0", "width_um = 3.0", "clearance_joints[0]: width 0.003 mm", ["width_mm"]),
+    # the pin, bore and wall 1000x too small: a 2 um pin on a 40 mm linkage
+    ("journal_radius_mm = 2.0", "journal_radius_um = 2.0", "clearance_joints[0]: journal_radius 0.002 mm",
+     ["less than 0.0001 of the mechanism's largest link"]),
 ])
 def test_lengths_out_of_scale_with_the_drawing_are_warned(tmp_path, old, new, start, words):
     text = (Path(__file__).resolve().parents[2] / "examples" / "my_linkage.toml").read_text(encoding="utf-8")
     assert old in text
     path = tmp_path / "slip.toml"
     text = text.replace(old, new)
-    if "journal_radius = 2.0" in text:  # keep the joint legal: the bore and the wall in metres too
-        text = (text.replace("bearing_radius_mm = 2.02", "bearing_radius = 2.02")
-                .replace("bearing_outer_radius_mm = 3.0", "bearing_outer_radius = 3.0"))
+    for unit in ("", "_um"):  # keep the joint legal: the bore and the wall in the same unit
+        if f"journal_radius{unit} = 2.0" in text:
+            text = (text.replace("bearing_radius_mm = 2.02", f"bearing_radius{unit} = 2.02")
+                    .replace("bearing_outer_radius_mm = 3.0", f"bearing_outer_radius{unit} = 3.0"))
     path.write_text(text, encoding="utf-8")
     (warning,) = [w for w in config_warnings(load_config(path)) if w.startswith(start)]
     assert all(word in warning for word in words), warning

@@ -304,9 +304,16 @@ def drawn_links(mechanism) -> list[tuple[str, Any, float]]:
             for name in ("crank", "rod", "rocker") if (link := getattr(mechanism, name, None)) is not None]
 
 
+#: a bearing narrower than this share of its journal's diameter, or a journal smaller than this share of the largest
+#: link, is far outside any pin joint's proportions (width / diameter runs 0.25-2): most likely a unit slip
+NARROW_BEARING = 0.05
+SMALL_JOINT = 1e-4
+
+
 def size_warnings(config: StudyConfig) -> list[str]:
     """Lengths out of scale with the drawing, most likely a unit slip (metres under a _mm key, or the reverse): a
-    clearance joint's journal, bore or width larger than the largest link, and a general body's centre of mass
+    clearance joint's journal, bore or width larger than the largest link, a journal smaller than ``SMALL_JOINT`` of
+    it, a width below ``NARROW_BEARING`` of the journal's diameter, and a general body's centre of mass
     farther from every point of the body than the body is long."""
     m = config.mechanism
     links = drawn_links(m)
@@ -315,11 +322,19 @@ def size_warnings(config: StudyConfig) -> list[str]:
     for i, cj in enumerate(config.clearance_joints):
         sizes = {"journal_radius": cj.journal_radius, "bearing_radius": cj.bearing_radius, "width": cj.width,
                  "bearing_outer_radius": cj.bearing_outer_radius}
-        too_big = [f"{name} {value * 1e3:,.4g} mm" for name, value in sizes.items()
-                   if value is not None and largest > 0.0 and value > largest]
+        too_big = [name for name, value in sizes.items() if value is not None and largest > 0.0 and value > largest]
         if too_big:
-            out.append(f"clearance_joints[{i}]: {', '.join(too_big)}, larger than the mechanism's largest link "
-                       f"({largest * 1e3:.4g} mm): a unit slip? (a suffix gives the unit: journal_radius_mm)")
+            out.append(f"clearance_joints[{i}]: {', '.join(f'{n} {sizes[n] * 1e3:,.4g} mm' for n in too_big)}, "
+                       f"larger than the mechanism's largest link ({largest * 1e3:.4g} mm): a unit slip? (a suffix "
+                       f"gives the unit: {too_big[0]}_mm)")
+        if not too_big and largest > 0.0 and cj.journal_radius < SMALL_JOINT * largest:
+            out.append(f"clearance_joints[{i}]: journal_radius {cj.journal_radius * 1e3:.4g} mm, less than "
+                       f"{SMALL_JOINT:g} of the mechanism's largest link ({largest * 1e3:.4g} mm): a unit slip? "
+                       "(metres under a _mm key)")
+        if not too_big and cj.width < NARROW_BEARING * 2.0 * cj.journal_radius:
+            out.append(f"clearance_joints[{i}]: width {cj.width * 1e3:.4g} mm, less than {NARROW_BEARING:g} of the "
+                       f"journal's diameter ({2e3 * cj.journal_radius:.4g} mm; pin joints run 0.25 to 2): a unit slip? "
+                       "(a suffix gives the unit: width_mm)")
     if m.type == "general":
         for where, b, size in links:
             if len(b.points) < 2 or size <= 0.0:

@@ -142,7 +142,7 @@ def allowance_stock_problems(config, joints: list[str] | None = None) -> list[st
             problems.append(f"{where}: {allowance * 1e3:.6g} mm for joint {joint.name} is not less than its {stock[1]} "
                             f"({stock[0] * 1e3:.6g} mm): the part is worn through before the "
                             f"{QUANTITY_LABELS[rel.quantity]} reaches it (a unit slip? without a suffix the allowance "
-                            "is in m: allowance_mm, allowance_um)")
+                            "is in m: allowance_mm, allowance_um; or in the joint's radii, whose difference that is)")
     return problems
 
 
