@@ -82,6 +82,8 @@ def test_a_folder_with_results_of_another_wear_model_is_warned(tmp_path):
     lines: list[str] = []
     jointwear.Study(None, out=tmp_path, echo=lines.append).simulate(cycles=1)
     assert lines[0].startswith("simulate: 1 cycle, ")  # not "1 cycles"
+    # the crank's speed as the mechanism runs it: 120 without a suffix is 120 rad/s (1,146 rpm), told nowhere else
+    assert ", crank at 480 rpm; mean contact force " in lines[0]  # the preset's crank_speed_rpm = 480
     budget = updated(load_config(), {"reliability.max_calls": 70})
     jointwear.Study(budget, out=tmp_path, echo=lines.append).simulate(cycles=1)
     assert not [line for line in lines if line.startswith("out:")]

@@ -12,6 +12,7 @@ import contextlib
 import difflib
 import functools
 import logging
+import math
 import numbers
 import os
 import re
@@ -420,7 +421,9 @@ class Study:
         result = SimulationSummary.from_simulation(res, self.config.name)
         result.save(self.out)
         self.echo(f"simulate: {n} cycle{'' if n == 1 else 's'}, {result.steps_per_cycle:.0f} steps/cycle, "
-                  f"{result.wall_seconds_per_cycle * 1e3:.1f} ms/cycle; mean contact force {force_line(result)}"
+                  f"{result.wall_seconds_per_cycle * 1e3:.1f} ms/cycle, crank at "
+                  f"{abs(config.mechanism.crank_speed) * 30.0 / math.pi:,.4g} rpm; "
+                  f"mean contact force {force_line(result)}"
                   f" -> {self.out / result.FILE}")
         self._tell("simulate", result)
         return result
@@ -838,7 +841,8 @@ class Study:
         from jointwear import compute
         from jointwear.study.reliability import store_digest
 
-        problem = compute.EvaluationStore.refusal(self.out, store_digest(self.config, self.out), **self._store_mode(reuse))
+        problem = compute.EvaluationStore.refusal(self.out, store_digest(self.config, self.out),
+                                                  **self._store_mode(reuse))
         if problem is not None:
             raise ConfigError(self._store_message(problem))
 
@@ -853,7 +857,8 @@ class Study:
 
         try:
             if store_file is None:
-                store = compute.EvaluationStore.open(self.out, store_digest(self.config, self.out), **self._store_mode(reuse))
+                store = compute.EvaluationStore.open(self.out, store_digest(self.config, self.out),
+                                                     **self._store_mode(reuse))
                 self._store_opened = True
             else:
                 store = compute.EvaluationStore.open(self.out / store_file, digest, resume=not self.overwrite,
