@@ -38,4 +38,5 @@ def test_a_shape_no_branch_takes_is_one_problem_naming_both_shapes(tmp_path, cap
     path.write_text(PRESET.replace("target_reliability = ", "target_reliability = { a = 1 } # ", 1), encoding="utf-8")
     assert main_entry(["check", str(path)]) == 2
     (line,) = capsys.readouterr().err.strip().splitlines()
-    assert line.endswith("reliability.target_reliability: Input should be a valid number or a valid list"), line
+    assert line.endswith("reliability.target_reliability: Input should be a valid number or a valid list "
+                         "(got {'a': 1})"), line

@@ -404,6 +404,10 @@ def validation_problems(exc: ValidationError, data: Any = None) -> list[str]:
             if written:  # as written, and in SI where the field's unit is known here
                 shown = f" (got {written} = {inp:g}{f' {unit}' if unit else ''})" if unit is not None else (
                     f" (got {written})")
+        elif err.get("type", "").endswith(("_type", "_parsing")) and (inp is None or isinstance(inp, (dict, list))):
+            # a table, an array or nothing where a value was due: say which (pydantic names only the type it wanted)
+            text = repr(inp)
+            shown = f" (got {text if len(text) <= 60 else text[:57] + '...'})"
         if err.get("type") == "extra_forbidden":
             msg = "unknown key (not a setting of this section)" + _did_you_mean(tuple(err.get("loc", ())))
             if loc and loc[0] == "clearance_joints" and str(loc[-1]).split("_")[0] == "clearance":

@@ -111,6 +111,22 @@ def test_updated_checks_a_variables_suffix_as_a_file_does(change, message):
     assert hb["HB_b"].std == pytest.approx(10.0 * PA_PER_HB)
 
 
+@pytest.mark.parametrize("value, got", [
+    ({"a": 1}, "(got {'a': 1})"), (None, "(got None)"), ([1, 2], "(got [1, 2])"),
+    (list(range(40)), "(got [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16...)"),  # cut at 60 characters
+])
+def test_a_table_an_array_or_nothing_where_a_number_is_due_is_shown(value, got):
+    """'reliability.max_calls: Input should be a valid integer' did not say what was given instead."""
+    from jointwear.config import updated
+
+    with pytest.raises(ConfigError, match=r"reliability\.max_calls: Input should be a valid integer \(got "):
+        updated(load_config("flores_slider_crank"), {"reliability.max_calls": value})
+    try:
+        updated(load_config("flores_slider_crank"), {"reliability.max_calls": value})
+    except ConfigError as exc:
+        assert str(exc).endswith(got), str(exc)
+
+
 def test_updated_lays_a_mapping_over_its_section_and_replaces_it_with_a_section_object():
     """updated(cfg, {"reliability": {"max_calls": 20}}) reset every other key of the section to its default (the
     curve's cycles, the targets, n_mc), silently; a Study from the same mapping merged it. A mapping is now laid over
