@@ -53,6 +53,18 @@ def test_clearance_rules():
     assert printed.std == 1e-9
 
 
+def test_a_variable_without_scatter_or_a_uniform_given_bounds_is_told_what_to_write():
+    """std = 0 was refused without saying to leave the variable out; a uniform given lower and upper without saying
+    how a uniform is given (mean and std: (a + b) / 2 and (b - a) / sqrt(12))."""
+    with pytest.raises(ValueError, match=r"must be > 0; leave out a setting that does not scatter"):
+        RandomVariableSpec(name="a", target="x", mean=1.0, std=0.0)
+    with pytest.raises(ValueError, match=r"mean \(a \+ b\) / 2 and std \(b - a\) / sqrt\(12\)"):
+        RandomVariableSpec(name="a", target="x", mean=1.0, std=0.1, distribution="uniform", lower=0.8, upper=1.2)
+    with pytest.raises(ValueError) as info:
+        RandomVariableSpec(name="a", target="x", mean=1.0, std=0.1, distribution="gumbel", lower=0.8)
+    assert "sqrt(12)" not in str(info.value)
+
+
 def test_variable_validation():
     with pytest.raises(ValueError, match="std"):
         RandomVariableSpec(name="a", target="x", mean=1.0, std=0.0)

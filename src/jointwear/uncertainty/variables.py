@@ -84,14 +84,17 @@ class RandomVariableSpec(SIModel):
     def _parameters(self) -> RandomVariableSpec:
         name, dist = self.name, self.distribution
         if self.std <= 0:
-            raise FieldValueError("std", self.std, f"std of variable {name!r} must be > 0")
+            raise FieldValueError("std", self.std, f"std of variable {name!r} must be > 0; leave out a setting that "
+                                  "does not scatter (the config's value holds)")
         if dist in ("lognormal", "weibull", "gamma") and self.mean <= 0:
             raise FieldValueError("mean", self.mean, f"{dist} variable {name!r} needs a positive mean")
         needs = _BOUNDS.get(dist)
         for field in ("lower", "upper"):
             if needs is None and getattr(self, field) is not None:
+                uniform = ("; a uniform variable between a and b has mean (a + b) / 2 and std (b - a) / sqrt(12)"
+                           if dist == "uniform" else "")
                 raise ValueError(f"{field} of variable {name!r}: not used by the {dist!r} distribution "
-                                 "(only 'truncated_normal' and 'beta' take bounds)")
+                                 f"(only 'truncated_normal' and 'beta' take bounds){uniform}")
         if needs == "both" and (self.lower is None or self.upper is None):
             missing = "lower" if self.lower is None else "upper"
             raise ValueError(f"{missing} of variable {name!r}: a {dist!r} variable needs both lower and upper")
