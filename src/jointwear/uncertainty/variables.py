@@ -84,8 +84,8 @@ class RandomVariableSpec(SIModel):
     def _parameters(self) -> RandomVariableSpec:
         name, dist = self.name, self.distribution
         if self.std <= 0:
-            raise FieldValueError("std", self.std, f"std of variable {name!r} must be > 0; leave out a setting that "
-                                  "does not scatter (the config's value holds)")
+            hint = "; leave out a setting that does not scatter (the config's value holds)" if self.std == 0 else ""
+            raise FieldValueError("std", self.std, f"std of variable {name!r} must be > 0{hint}")
         if dist in ("lognormal", "weibull", "gamma") and self.mean <= 0:
             raise FieldValueError("mean", self.mean, f"{dist} variable {name!r} needs a positive mean")
         needs = _BOUNDS.get(dist)
