@@ -473,9 +473,10 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
         name or by number, as ``clearance_joints.B`` or ``clearance_joints[0]``;
         the last key may carry a unit suffix as in TOML (``allowance_mm``), else the value is in SI. A value may
         be a section: a mapping is laid over it as ``extends`` lays a table (``{"reliability": {"max_calls": 40}}``
-        changes that key alone), a section object (an SIModel) replaces it whole. Every path a random variable's ``target`` takes works too: a coordinate of a
-        point (``mechanism.ground_points.C.x``) and a clearance joint's ``clearance`` (the bearing radius becomes
-        the journal radius plus the value), with a unit suffix too (``clearance_joints.B.clearance_um``).
+        changes that key alone), a section object (an SIModel) replaces it whole. Every path a random variable's
+        ``target`` takes works too: a coordinate of a point (``mechanism.ground_points.C.x``) and a clearance
+        joint's ``clearance`` (the bearing radius becomes the journal radius plus the value), with a unit suffix too
+        (``clearance_joints.B.clearance_um``).
     source : str
         Name of the config in messages.
 

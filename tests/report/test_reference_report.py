@@ -191,9 +191,9 @@ def test_bands_decide_the_status(tmp_path, nominal):
 def test_the_tally_counts_rankings_apart_and_names_what_has_no_data(study_dir):
     """The card read 'checks 11 / 12; 1 outside the band; 4 more without a band': its passes held rankings, which can
     match but never fail, and rows without data went unsaid. Numbers and rankings are now counted apart."""
+    from jointwear.report.read import StudyOutputs
     from jointwear.report.reference_checks import checks_summary, tally
     from jointwear.report.result_sections import summary_cards
-    from jointwear.report.read import StudyOutputs
 
     results = load_results(study_dir)
     results.reliability.reliability = np.where(np.asarray(results.reliability.cycles) == 520_000, 0.167,
@@ -207,7 +207,8 @@ def test_the_tally_counts_rankings_apart_and_names_what_has_no_data(study_dir):
     t = tally(reference_checks(results))
     assert (t.passed, t.judged, t.no_data, t.rankings) == (11, 12, 3, 0)
     assert "3 without data" in t.details() and "rankings" not in t.details()
-    card = summary_cards(StudyOutputs(out_dir=study_dir, results=results), reference_checks(results), results.config["reference"])
+    card = summary_cards(StudyOutputs(out_dir=study_dir, results=results), reference_checks(results),
+                         results.config["reference"])
     assert "11 / 12" in card and "3 without data" in card
 
 

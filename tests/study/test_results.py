@@ -313,8 +313,9 @@ def test_a_resumed_validation_equals_an_uninterrupted_one():
     made, 21 of 80) made it unequal to the uninterrupted one though every number it found was the same."""
     def validation(calls: int) -> ValidationResult:
         return ValidationResult(cycles=[1e5, 2e5], reliability_mc=[0.95, 0.8], ci_low=[0.94, 0.78],
-                                ci_high=[0.96, 0.82], reliability_surrogate=[0.948, 0.81], surrogate_error=[0.005, 0.01],
-                                n_samples=80, model_calls=calls, wall_seconds=float(calls), agreement=[True, True])
+                                ci_high=[0.96, 0.82], reliability_surrogate=[0.948, 0.81],
+                                surrogate_error=[0.005, 0.01], n_samples=80, model_calls=calls,
+                                wall_seconds=float(calls), agreement=[True, True])
 
     assert validation(80) == validation(21)
     other = validation(80)
