@@ -340,10 +340,10 @@ def test_a_second_study_in_a_folder_in_use_is_refused(quick_config, tmp_path):
         while _stored_calls(out) < 1 and proc.poll() is None and time.monotonic() - t0 < 300:
             time.sleep(0.05)
         assert proc.poll() is None, "the first study ended before the second could start"
-        with pytest.raises(ConfigError, match="another jointwear process is working in"):
+        with pytest.raises(ConfigError, match="another jointwear study is working in"):
             jointwear.Study(quick_config, out=out, workers=1, resume=True).reliability()
         # a run without --resume was told of 'a store from an earlier run', and to resume or overwrite it
-        with pytest.raises(ConfigError, match="another jointwear process is working in"):
+        with pytest.raises(ConfigError, match="another jointwear study is working in"):
             jointwear.Study(quick_config, out=out, workers=1).run()
         assert proc.poll() is None  # the first study goes on
     finally:

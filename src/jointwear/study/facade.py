@@ -338,8 +338,9 @@ class Study:
         try:
             lock.acquire()
         except Timeout:
-            raise ConfigError(f"out: another jointwear process is working in '{self.out}'; wait for it to end or give "
-                              "this study another output folder") from None
+            raise ConfigError(f"out: another jointwear study is working in '{self.out}' (in another process, or in "
+                              "another thread of this one); wait for it to end or give this study another output "
+                              "folder") from None
         except OSError as exc:  # a folder that exists but may not be written (read-only, immutable)
             raise ConfigError(f"out: cannot write to '{self.out}': {exc.strerror or exc}") from None
         self._folder_lock = lock
