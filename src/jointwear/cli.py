@@ -270,7 +270,7 @@ def validate(config, samples, workers, scheduler, resume, overwrite, out):
 def report(directory, out):
     """Build DIRECTORY/report.html from the results of a study (DIRECTORY or --out DIR)."""
     from jointwear.report.html import build_report
-    from jointwear.study import load_results
+    from jointwear.study.results import results_of_a_study
 
     if directory is None and out is None:
         out = Path("results")  # the other commands' default --out
@@ -282,13 +282,7 @@ def report(directory, out):
                           "of the command that ran it): jointwear report --out DIR")
     if not directory.is_dir():
         raise ConfigError(f"report: '{directory}' is not a directory with study results")
-    try:
-        stages = load_results(directory).stages
-    except FileNotFoundError as exc:
-        raise ConfigError(f"report: {exc}") from None
-    if not stages:
-        raise ConfigError(f"report: '{directory}' has no study results (simulate.json, wear.json, "
-                          "reliability.json or sensitivity.json)")
+    results_of_a_study(directory, "report")
     say(f"report: {build_report(directory)}")
 
 

@@ -60,6 +60,7 @@ from jointwear.study.results import (
     ValidationResult,
     WearSummary,
     load_results,
+    results_of_a_study,
 )
 from jointwear.study.stage_lines import (
     budget_line,
@@ -728,13 +729,7 @@ class Study:
         """Build ``out/report.html`` from the results in the output folder; returns its path."""
         from jointwear.report.html import build_report
 
-        try:
-            stages = load_results(self.out).stages
-        except FileNotFoundError:
-            stages = []
-        if not stages:
-            raise ConfigError(f"report: '{self.out}' has no study results (simulate.json, wear.json, "
-                              "reliability.json or sensitivity.json)")
+        results_of_a_study(self.out, "report")
         path = build_report(self.out)
         self.echo(f"report: {path}")
         return path

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
+from jointwear.schema import ConfigError
 from jointwear.study.convergence import WearConvergence
 from jointwear.study.io import file_labels, provenance, read_json, write_bytes_atomic
 from jointwear.study.reliability_results import ReliabilityCurve, SensitivityResult, ValidationResult
@@ -29,7 +30,7 @@ if TYPE_CHECKING:
     from jointwear.design.results import DesignResult
 
 __all__ = ["StageResult", "SimulationSummary", "WearSummary", "ReliabilityCurve", "SensitivityResult",
-           "ValidationResult", "StudyResults", "STAGE_TYPES", "load_results"]
+           "ValidationResult", "StudyResults", "STAGE_TYPES", "load_results", "results_of_a_study", "NO_STUDY_RESULTS"]
 
 
 # --------------------------------------------------------------------------------------------------- simulate
@@ -586,3 +587,21 @@ def load_results(folder: Path | str) -> StudyResults:
         except (OSError, ValueError, KeyError, TypeError, OverflowError) as exc:  # 1e300 where a count is due
             out.errors[stage] = f"{cls.FILE} could not be read: {exc}"
     return out
+
+
+#: what a command that needs a stage's result says of a folder without one
+NO_STUDY_RESULTS = "has no study results (simulate.json, wear.json, reliability.json or sensitivity.json)"
+
+
+def results_of_a_study(folder: Path | str, what: str) -> StudyResults:
+    """:func:`load_results` for a command (``what``) that needs at least one stage's result: a ConfigError otherwise,
+    the same from the command line and from Python (the subfolders that hold studies named when ``folder`` is the
+    one above them)."""
+    try:
+        results = load_results(folder)
+    except FileNotFoundError as exc:
+        raise ConfigError(f"{what}: {exc}" if Path(folder).is_dir() else f"{what}: '{folder}' {NO_STUDY_RESULTS}") \
+            from None
+    if not results.stages:
+        raise ConfigError(f"{what}: '{folder}' {NO_STUDY_RESULTS}")
+    return results
