@@ -75,7 +75,17 @@ from jointwear.uncertainty.variables import (
     RandomVariableSpec,
     UncertaintySettings,
 )
-from jointwear.units import ANY_UNIT, PA_PER_HB, SUFFIXES, split_unit_key, suffix_problem, suffixes_of, to_si
+from jointwear.units import (
+    ANY_UNIT,
+    PA_PER_HB,
+    SUFFIXES,
+    UnitError,
+    convert_keys,
+    split_unit_key,
+    suffix_problem,
+    suffixes_of,
+    to_si,
+)
 from jointwear.wear.settings import WearSettings
 
 __all__ = [
@@ -181,30 +191,29 @@ def _clearance_defaults(table: dict[str, Any], joints: Any) -> dict[str, Any]:
     stems = {stem for key in table for stem in _unit_stems(key)}
     wanted = {"nominal_diameter"} - stems | ({"mean"} - stems if table.get("fit") is None else set())
     target = str(table.get("target") or "")
-    keys = re.sub(r"\[([^\]]+)\]", r".\1", target).split(".")
+    keys = _dotted(target).split(".")
     if not wanted or not target.endswith(CLEARANCE_SUFFIX) or len(keys) != 3 or not isinstance(joints, list):
         return table
     joint = next((j for i, j in enumerate(joints) if isinstance(j, dict) and keys[1] in (str(i), j.get("name", "A"))),
                  None)
-    radii = {name: _si_length(joint, name) for name in ("journal_radius", "bearing_radius")} if joint else {}
-    if radii.get("journal_radius") is None:
+    try:  # the joint's radii in SI, in whatever unit it gives them (a unit it cannot take: its own check says so)
+        radii = convert_keys(joint or {}, frozenset(("journal_radius", "bearing_radius")))
+    except UnitError:
+        return table
+    journal, bearing = radii.get("journal_radius"), radii.get("bearing_radius")
+    if not _is_number(journal):
         return table
     out = dict(table)
     if "nominal_diameter" in wanted:
-        out["nominal_diameter"] = 2.0 * radii["journal_radius"]
-    if "mean" in wanted and radii.get("bearing_radius") is not None:
-        out["mean"] = radii["bearing_radius"] - radii["journal_radius"]
+        out["nominal_diameter"] = 2.0 * journal
+    if "mean" in wanted and _is_number(bearing):
+        out["mean"] = bearing - journal
     return out
 
 
-def _si_length(table: dict[str, Any], field: str) -> float | None:
-    """A length of a raw table in m, given as ``field`` (SI) or with a unit suffix; None when absent or not a
-    number (the table's own check reports it)."""
-    for key, value in table.items():
-        split = None if key == field else split_unit_key(key, frozenset((field,)))
-        if (key == field or split is not None) and _is_number(value):
-            return float(value) if split is None else float(to_si(value, split[1]))
-    return None
+def _dotted(path: str) -> str:
+    """``clearance_joints[0].clearance`` (as messages write a path) as ``clearance_joints.0.clearance``."""
+    return re.sub(r"\[([^\]]+)\]", r".\1", path)
 
 
 def target_unit(path: str) -> str | None:
@@ -501,7 +510,7 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
     fitted: list[dict] = []  # the clearance tables given a fit
     correlated: list[dict] = []  # the correlation table, when entries of it are given
     for given, value in changes.items():
-        path = re.sub(r"\[([^\]]+)\]", r".\1", given)  # clearance_joints[0] as the messages write it
+        path = _dotted(given)
         *parents, last = path.split(".")
         whole = isinstance(value, BaseModel)  # a section object replaces the table; a mapping is laid over it
         value = value.model_dump() if whole else value
