@@ -27,18 +27,18 @@ def _run(capsys, args):
 
 CASES = [
     # (old, new, words expected in the message)
-    ("journal_radius_mm = 1.0 ", "journal_radius_mm = 1.002 ", ["clearance_joints[0].journal_radius", "> 0"]),
-    ("journal_radius_mm = 1.0 ", "journal_radius_mm = 1.1 ", ["clearance_joints[0].journal_radius", "smaller"]),
-    ("bearing_radius_mm = 1.002", "bearing_radius_mm = -1.0", ["clearance_joints[0].bearing_radius", "greater than 0"]),
+    ("journal_radius_mm = 1.0 ", "journal_radius_mm = 1.002 ", ["clearance_joints[A].journal_radius", "> 0"]),
+    ("journal_radius_mm = 1.0 ", "journal_radius_mm = 1.1 ", ["clearance_joints[A].journal_radius", "smaller"]),
+    ("bearing_radius_mm = 1.002", "bearing_radius_mm = -1.0", ["clearance_joints[A].bearing_radius", "greater than 0"]),
     ("mass_kg = 8.71e-4", "mass_kg = nan", ["mechanism.rod.mass", "finite"]),
     ("mass_kg = 8.71e-4", "mass_kg = 0.0", ["mechanism.rod.mass", "greater than 0"]),
     ("mass_kg = 8.71e-4", "mass_kg = -1e-3", ["mechanism.rod.mass", "greater than 0"]),
     ("length_mm = 38.0", "length_mm = 20.0", ["mechanism", "rod", "rocker", "cannot close the loop"]),
     ("length_mm = 6.0", "length_mm = 0.0", ["crank.length", "> 0"]),
-    ("restitution = 0.9 ", "restitution = 1.5 ", ["clearance_joints[0].restitution", "less than or equal to 1"]),
+    ("restitution = 0.9 ", "restitution = 1.5 ", ["clearance_joints[A].restitution", "less than or equal to 1"]),
     ("width_mm = 1.0", "width_mm = 1.0\nwidht_mm = 2.0", ["widht_mm", "unknown key"]),
     ("crank_speed_rpm = 480.0", 'crank_speed_rpm = "fast"', ["mechanism", "crank_speed_rpm"]),
-    ('joint = "A"', 'joint = "O"', ["clearance_joints[0].joint", "allowed"]),
+    ('joint = "A"', 'joint = "O"', ["clearance_joints[A].joint", "allowed"]),
     # a GPa value given in Pa (on the tutorial's linkage the journal's preload then failed to assemble: a traceback)
     ("youngs_modulus_GPa = 120.0", "youngs_modulus_Pa = 3.0",
      ["bearing_material.youngs_modulus", "1e+06 Pa", "a unit slip?", "youngs_modulus_GPa"]),
@@ -148,7 +148,7 @@ def test_all_problems_listed_in_one_line(tmp_path, capsys):
     p.write_text(text, encoding="utf-8")
     code, err = _run(capsys, ["check", str(p)])
     assert code == 2 and len(err.strip().splitlines()) == 1
-    assert "mechanism.rod.mass" in err and "clearance_joints[0].restitution" in err and "[2 problems]" in err
+    assert "mechanism.rod.mass" in err and "clearance_joints[A].restitution" in err and "[2 problems]" in err
 
 
 def test_zero_crank_speed_exits_2(tmp_path, capsys):

@@ -62,7 +62,16 @@ from jointwear.mechanism.settings import (
     SliderCrankConfig,
 )
 from jointwear.reference import AcceptanceBand, ReferenceData, ReferenceValue
-from jointwear.schema import ConfigError, F, FieldValueError, SIModel, field_units, path_unit, walk_schema
+from jointwear.schema import (
+    ConfigError,
+    F,
+    FieldValueError,
+    SIModel,
+    field_units,
+    item_key,
+    path_unit,
+    walk_schema,
+)
 from jointwear.study_settings import (
     ComputeSettings,
     ReliabilitySettings,
@@ -167,8 +176,9 @@ class StudyConfig(SIModel):
     def _joints_exist(self) -> StudyConfig:
         joints = self.mechanism.revolute_joint_bodies()
         seen = set()
+        names = [cj.name for cj in self.clearance_joints]
         for i, cj in enumerate(self.clearance_joints):
-            where = f"clearance_joints[{i}]"
+            where = f"clearance_joints[{item_key(i, names)}]"
             if cj.joint not in joints:
                 allowed = ", ".join(joints)
                 raise ValueError(f"{where}.joint: '{cj.joint}' is not a joint that can carry clearance (allowed: {allowed})")
@@ -273,15 +283,21 @@ def _suffixed_by_target(data: Any) -> list[tuple[str, dict, str | None]]:
 # ---------------------------------------------------------------------------------------------
 # loading
 # ---------------------------------------------------------------------------------------------
-def _loc(loc: tuple[Any, ...]) -> str:
-    out = ""
+def _loc(loc: tuple[Any, ...], data: Any = None) -> str:
+    """An error's location as the config's paths write it: ``uncertainty.variables[k_b].std``, a list's item named as
+    :func:`jointwear.schema.item_key` names it from ``data`` (as validated), else by its index."""
+    out, node = "", data
     for part in loc:
         if isinstance(part, int):
-            out += f"[{part}]"
+            inside = isinstance(node, list) and 0 <= part < len(node)
+            names = [entry.get("name") if isinstance(entry, Mapping) else None for entry in node] if inside else []
+            out += f"[{item_key(part, names)}]" if inside else f"[{part}]"
+            node = node[part] if inside else None
         elif part in ("four_bar", "slider_crank", "general") and out == "mechanism":
             continue  # discriminated-union tag
         else:
             out += ("." if out else "") + str(part)
+            node = node.get(part) if isinstance(node, Mapping) else None
     return out or "config"
 
 
@@ -383,6 +399,17 @@ def _table_at(data: Any, loc: tuple[Any, ...]) -> Any:
     return node
 
 
+def _field_of_message(loc: tuple[Any, ...], where: str, msg: str) -> tuple[str, str]:
+    """A section's rule that names its field first ('max_calls: ...', 'max_calls must ...') with the field joined to
+    the path, as pydantic's own errors write it: ('reliability.max_calls', '...')."""
+    named = re.match(r"([a-z_]\w*)((?:\[[^\]]+\]|\.[a-z_]\w*)*)(: | (?=must ))", msg)
+    found = walk_schema(StudyConfig, loc) if named else None
+    if named and found and any(named[1] in model.model_fields for model in found[0]):
+        path = named[1] + named[2]
+        return (f"{where}.{path}" if where != "config" else path), msg[named.end():]
+    return where, msg
+
+
 def validation_problems(exc: ValidationError, data: Any = None) -> list[str]:
     """Every problem of a pydantic validation error as 'field.path: message (got value)'; with the ``data`` that
     was validated, a value the config gave with a unit suffix is shown as written, then in SI ('got -7 HB =
@@ -395,7 +422,7 @@ def validation_problems(exc: ValidationError, data: Any = None) -> list[str]:
     out = []
     for err in errors:
         loc = tuple(err.get("loc", ()))
-        where = _loc(loc)
+        where = _loc(loc, data)
         msg = err.get("msg", "invalid").removeprefix("Value error, ")
         inp = err.get("input")
         shown = ""
@@ -404,7 +431,7 @@ def validation_problems(exc: ValidationError, data: Any = None) -> list[str]:
         problem = (err.get("ctx") or {}).get("error")
         if isinstance(problem, FieldValueError):  # a section's rule on one field: its raw table is the input
             written = _as_written(inp, problem.field)
-            msg, shown = problem.message, f" (got {problem.value:g})"
+            where, msg, shown = f"{where}.{problem.field}", problem.message, f" (got {problem.value:g})"
             if written:
                 shown = f" (got {written} = {problem.value:g} {SUFFIXES[written.split()[1]][1]})"
         elif err.get("type") not in ("missing", "extra_forbidden") and isinstance(inp, (int, float, str)) \
@@ -430,6 +457,7 @@ def validation_problems(exc: ValidationError, data: Any = None) -> list[str]:
             if not 1e-2 < abs(inp / bound) < 1e2:  # orders of magnitude off its bound: the unit, most likely
                 field = str(err["loc"][-1])
                 msg += f", a unit slip? (a suffix gives the unit: {field}_MPa, {field}_GPa)"
+        where, msg = _field_of_message(loc, where, msg)
         # a whole-config rule's message starts with the fields it names
         text = (f"{where}: {msg}{shown}" if where != "config" else f"{msg}{shown}").replace("\n", " ")
         if text not in out:

@@ -9,6 +9,7 @@ from __future__ import annotations
 import functools
 import types
 import typing
+from collections.abc import Sequence
 from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
@@ -98,6 +99,14 @@ def config_models(annotation: Any) -> list[type[BaseModel]]:
     if typing.get_origin(annotation) in (typing.Union, types.UnionType, typing.Annotated):
         return [m for a in typing.get_args(annotation) for m in config_models(a)]
     return []
+
+
+def item_key(index: int, names: Sequence[str | None]) -> str:
+    """How a path names item ``index`` of a list whose items go by ``names``: by its name where no other item has it
+    (``joints[B]``, as :func:`jointwear.config.updated` reads a path), else by its index (``joints[1]``)."""
+    name = names[index]
+    return name if isinstance(name, str) and name and names.count(name) == 1 and not name.lstrip("-").isdigit() \
+        else str(index)
 
 
 def walk_schema(model: type[BaseModel], keys) -> tuple[list[type[BaseModel]], str | None] | None:

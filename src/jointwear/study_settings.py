@@ -176,8 +176,8 @@ class ReliabilitySettings(SIModel):
         if self.n_mc_max < self.n_mc:
             raise ValueError(f"n_mc_max must be >= n_mc (got {self.n_mc_max:,} < {self.n_mc:,})")
         if self.max_calls < self.n_initial:
-            raise ValueError(f"max_calls ({self.max_calls}) must be >= n_initial ({self.n_initial}): the initial "
-                             "design alone makes n_initial model calls")
+            raise ValueError(f"max_calls must be >= n_initial (got {self.max_calls} < {self.n_initial}): the "
+                             "initial design alone makes n_initial model calls")
         if self.histogram_cycles is not None and any(c <= 0 for c in self.histogram_cycles):
             raise ValueError("histogram_cycles must be positive")
         self._check_level_count()

@@ -69,7 +69,7 @@ def test_a_tighter_grade_costing_less_is_refused_naming_the_grades(grades, costs
     from jointwear.config import load_config, updated
     from jointwear.schema import ConfigError
 
-    with pytest.raises(ConfigError, match=rf"design\.tolerances\[0\]: costs: a tighter grade costs less than a looser "
+    with pytest.raises(ConfigError, match=rf"design\.tolerances\[0\]\.costs: a tighter grade costs less than a looser "
                                           rf"one \({pairs}\)"):
         updated(load_config(), {"design.tolerances": [{"variable": "l2", "grades": grades, "costs": costs}]})
 

@@ -26,7 +26,7 @@ def _preset_text() -> str:
      ["'E_j' is not a length (its target is in Pa)", "[[design.properties]]"]),
     # costs listed loosest first in mind: the tightest grade was the cheapest, in silence
     ('\n[[design.tolerances]]\nvariable = "l1"\ngrades = ["IT9", "IT11"]\ncosts = [1.0, 3.0]\n',
-     ["design.tolerances[2]: costs", "a tighter grade costs less", "IT9 at 1 < IT11 at 3"]),
+     ["design.tolerances[2].costs:", "a tighter grade costs less", "IT9 at 1 < IT11 at 3"]),
 ])
 def test_bad_design_section_exits_2_with_one_line(tmp_path, capsys, extra, words):
     cfg = tmp_path / "bad.toml"

@@ -107,7 +107,7 @@ def test_a_population_too_small_to_resolve_the_target_is_refused():
     from jointwear.config import load_config, updated
     from jointwear.schema import ConfigError
 
-    with pytest.raises(ConfigError, match=r"design.*n_population must be >= 1,000 \(got 10\)"):
+    with pytest.raises(ConfigError, match=r"design\.n_population: must be >= 1,000 \(got 10\)"):
         updated(load_config(), {"design.n_population": 10})
 
 

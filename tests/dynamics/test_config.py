@@ -146,16 +146,16 @@ def test_updated_lays_a_mapping_over_its_section_and_replaces_it_with_a_section_
     assert by_item.clearance_joints[0].friction == friction.model_copy(update={"mu_d": 0.012})
     whole = updated(base, {"clearance_joints.0.friction": type(friction)(law="none")})
     assert whole.clearance_joints[0].friction == type(friction)(law="none")  # replaced: the defaults of a new one
-    with pytest.raises(ConfigError, match=r"clearance_joints\[0\]\.friction\.mu_dd: unknown key.*mu_d"):
+    with pytest.raises(ConfigError, match=r"clearance_joints\[B\]\.friction\.mu_dd: unknown key.*mu_d"):
         updated(base, {"clearance_joints.0": {"friction": {"mu_dd": 0.2}}})
 
 
 @pytest.mark.parametrize("section, key, value, message", [
     (("reliability",), "target_reliability", "0.9",
-     r"reliability: target_reliability: a number is expected, not the string '0.9' \(write it without quotes\)"),
+     r"reliability\.target_reliability: a number is expected, not the string '0.9' \(write it without quotes\)"),
     (("reliability",), "target_reliability", [0.9, "0.5"], r"target_reliability: .*not the string '0.5'"),
-    (("compute",), "workers", True, r"compute: workers: a number is expected, not the boolean true"),
-    (("mechanism",), "rocker_pivot", [0.0115, "38e-3"], r"mechanism: rocker_pivot: .*not the string '38e-3'"),
+    (("compute",), "workers", True, r"compute\.workers: a number is expected, not the boolean true"),
+    (("mechanism",), "rocker_pivot", [0.0115, "38e-3"], r"mechanism\.rocker_pivot: .*not the string '38e-3'"),
 ])
 def test_a_quoted_number_or_a_boolean_is_not_read_as_a_number(section, key, value, message):
     """pydantic's lax mode read `target_reliability = "0.9"` as 0.9 and `workers = true` as 1 without a word."""
@@ -258,13 +258,32 @@ def test_a_mapping_of_toml_tables_is_a_config_as_its_file_is(tmp_path):
 def test_a_bad_value_is_echoed_with_its_si_unit_and_a_whole_config_rule_names_its_field_first():
     cfg = load_config().model_dump()
     cfg["clearance_joints"][0]["width"] = -0.008
-    with pytest.raises(ConfigError, match=r"clearance_joints\[0\]\.width: .*\(got -0\.008 m\)"):
+    with pytest.raises(ConfigError, match=r"clearance_joints\[A\]\.width: .*\(got -0\.008 m\)"):
         config_from_dict(cfg, "my.toml")
     cfg = load_config().model_dump()
     cfg["clearance_joints"][0]["joint"] = "Z"
     with pytest.raises(ConfigError) as err:
         config_from_dict(cfg, "my.toml")
-    assert str(err.value).startswith("my.toml: clearance_joints[0].joint: 'Z' is not a joint")
+    assert str(err.value).startswith("my.toml: clearance_joints[A].joint: 'Z' is not a joint")
+
+
+def test_a_path_in_a_message_names_a_list_item_and_its_field_as_updated_reads_them():
+    """A named variable's bad std was told as `uncertainty.variables[4]`, and a section's own rule as
+    `reliability: max_calls`: both now as the paths `updated` and the docs write."""
+    from jointwear.config import updated
+
+    cfg = load_config()
+    name = cfg.uncertainty.variables[4].name
+    with pytest.raises(ConfigError) as err:
+        updated(cfg, {f"uncertainty.variables[{name}].std": 0.0})
+    assert f"uncertainty.variables[{name}].std: " in str(err.value), err.value
+    with pytest.raises(ConfigError, match=r"config: reliability\.max_calls: must be > 0 \(got -1\)"):
+        updated(cfg, {"reliability.max_calls": -1})
+    data = cfg.model_dump()
+    data["uncertainty"]["variables"][5]["name"] = name  # a name given twice: the index tells which
+    data["uncertainty"]["variables"][5]["std"] = -1.0
+    problems = str(pytest.raises(ConfigError, config_from_dict, data).value)
+    assert "uncertainty.variables[5].std" in problems, problems
 
 
 def test_a_cross_section_problem_names_the_file(tmp_path, capsys):
@@ -281,7 +300,7 @@ def test_a_budget_below_the_initial_design_is_refused_by_the_schema():
     """max_calls < n_initial passed `check` and failed inside the learning, after the store was written."""
     from jointwear.config import updated
 
-    with pytest.raises(ConfigError, match=r"max_calls \(10\) must be >= n_initial \(12\)"):
+    with pytest.raises(ConfigError, match=r"reliability.max_calls: must be >= n_initial \(got 10 < 12\)"):
         updated(load_config(), {"reliability.max_calls": 10})
     assert updated(load_config(), {"reliability.max_calls": 10, "reliability.n_initial": 10}).reliability.max_calls == 10
 
@@ -290,7 +309,7 @@ def test_a_target_reliability_given_twice_is_refused_by_name():
     """`target_reliability = [0.9, 0.9]` passed check: the life table had the same row twice."""
     from jointwear.config import updated
 
-    with pytest.raises(ConfigError, match=r"reliability: target_reliability: 0.9 given twice"):
+    with pytest.raises(ConfigError, match=r"reliability.target_reliability: 0.9 given twice"):
         updated(load_config(), {"reliability.target_reliability": [0.9, 0.5, 0.9]})
     assert updated(load_config(), {"reliability.target_reliability": [0.9, 0.5]}).reliability.targets == [0.9, 0.5]
 

@@ -308,9 +308,9 @@ def _drawn_at_dead_point() -> str:
 BAD = [
     ("dead-point-drawn", _drawn_at_dead_point(), "singular"),
     ("unknown-body", edit('connects = ["coupler.A", "crank.A"]', 'connects = ["couplr.A", "crank.A"]'),
-     "joints[1].connects"),
+     "joints[A].connects"),
     ("unknown-point", edit('connects = ["rocker.B", "coupler.B"]', 'connects = ["rocker.Q", "coupler.B"]'),
-     "joints[2].connects"),
+     "joints[B].connects"),
     ("unknown-ground-point", edit('connects = ["ground.F", "output.F"]', 'connects = ["ground.G", "output.F"]'),
      "ground point"),
     ("body-without-joints", SIX_TEXT.replace("[[mechanism.joints]]", "[[mechanism.bodies]]\nname = \"spare\"\n"
@@ -324,15 +324,15 @@ BAD = [
     # a second driver on a linkage of one degree of freedom: the message says which to remove
     ("two-drivers", edit('speed_rpm = 120.0', 'speed_rpm = 120.0\n\n[[mechanism.drivers]]\njoint = "F"\n'
                          'speed_rpm = 120.0'), "each of the 2 drivers takes a degree of freedom, and the linkage has 1"),
-    ("gap-in-drawing", edit("B = [10.0, 35.0] }\naxis", "B = [10.0, 40.0] }\naxis"), "joints[2].connects"),
+    ("gap-in-drawing", edit("B = [10.0, 35.0] }\naxis", "B = [10.0, 40.0] }\naxis"), "joints[B].connects"),
     # crank 25 mm: the first loop is no longer a crank-rocker
     ("cannot-assemble", edit("points_mm = { O = [0.0, 0.0], A = [10.0, 0.0] }",
                              "points_mm = { O = [0.0, 0.0], A = [25.0, 0.0] }").replace(
         "points_mm = { A = [10.0, 0.0], B", "points_mm = { A = [25.0, 0.0], B"), "cannot assemble"),
     ("driver-not-grounded", edit('joint = "O"\nspeed_rpm', 'joint = "A"\nspeed_rpm'), "drivers[0].joint"),
     ("driver-zero-speed", edit("speed_rpm = 120.0", "speed_rpm = 0.0"), "speed"),
-    ("clearance-on-driver", edit('name = "A"\njoint = "A"', 'name = "A"\njoint = "O"'), "clearance_joints[0].joint"),
-    ("clearance-wrong-body", edit('bearing_body = "output"', 'bearing_body = "rocker"'), "clearance_joints[1]"),
+    ("clearance-on-driver", edit('name = "A"\njoint = "A"', 'name = "A"\njoint = "O"'), "clearance_joints[A].joint"),
+    ("clearance-wrong-body", edit('bearing_body = "output"', 'bearing_body = "rocker"'), "clearance_joints[E]"),
     ("prismatic-no-direction", edit('name = "F"\nconnects', 'name = "F"\ntype = "prismatic"\nconnects'),
      "direction"),
     ("bad-axis", edit('axis = ["D", "E"]', 'axis = ["D", "Z"]'), "axis"),

@@ -183,7 +183,7 @@ def test_a_drawn_gap_the_assembly_closes_is_warned(tmp_path, moved_mm, warned):
                     encoding="utf-8")
     warnings = [w for w in config_warnings(load_config(path)) if w.startswith("mechanism.joints[")]
     if warned:
-        assert warnings == ["mechanism.joints[2].connects: the drawn points rocker.B and coupler.B of revolute joint "
+        assert warnings == ["mechanism.joints[B].connects: the drawn points rocker.B and coupler.B of revolute joint "
                             "'B' are 1 mm apart; the assembly closes the gap, so the links it joins are up to that "
                             "much off the drawing: draw the two points at the same place unless that is meant"]
     else:
@@ -328,16 +328,16 @@ def test_a_fit_taken_at_another_diameter_than_its_journals_is_warned(changes, wa
 
 @pytest.mark.parametrize("old, new, start, words", [
     # the bushing's radii in metres under plain keys: a 4 m pin on a 40 mm linkage
-    ("journal_radius_mm = 2.0", "journal_radius = 2.0", "clearance_joints[0]:", ["journal_radius 2,000 mm"]),
+    ("journal_radius_mm = 2.0", "journal_radius = 2.0", "clearance_joints[B]:", ["journal_radius 2,000 mm"]),
     # the coupler's centre of mass 10x off its drawing: hypot(143.90 - 18.78, 195.12 - 39.02) = 200.1 mm from its
     # nearer point B, on a 40 mm bar
     ("com_mm = [14.3902, 19.5122]", "com_mm = [143.902, 195.122]", "mechanism.bodies[coupler].com:",
      ["200.1 mm from the nearest of the body's points", "(40 mm)"]),
     # a 3 um bushing on a 4 mm pin (width / diameter 0.00075; pin joints run 0.25-2): it passed check, and the wear
     # stage reported tens of millimetres of wear without naming the width
-    ("width_mm = 3.0", "width_um = 3.0", "clearance_joints[0]: width 0.003 mm", ["width_mm"]),
+    ("width_mm = 3.0", "width_um = 3.0", "clearance_joints[B]: width 0.003 mm", ["width_mm"]),
     # the pin, bore and wall 1000x too small: a 2 um pin on a 40 mm linkage
-    ("journal_radius_mm = 2.0", "journal_radius_um = 2.0", "clearance_joints[0]: journal_radius 0.002 mm",
+    ("journal_radius_mm = 2.0", "journal_radius_um = 2.0", "clearance_joints[B]: journal_radius 0.002 mm",
      ["less than 0.0001 of the mechanism's largest link"]),
 ])
 def test_lengths_out_of_scale_with_the_drawing_are_warned(tmp_path, old, new, start, words):

@@ -132,5 +132,5 @@ def test_a_design_chooses_between_fits_given_by_their_letters():
     assert FitOption(fit="H7/g6", hole_grade="IT7", cost=0.0).hole_grade == "IT7"
     big = updated(cfg, {"uncertainty.clearance.nominal_diameter_mm": 150.0,  # Table 5's spread needs no grade
                         "uncertainty.clearance.source": "table5"})
-    assert any("design.fit.options[0].fit: fit 'H7/h6': nominal size 150 mm outside the tabulated range" in p
+    assert any("design.fit.options[H7/h6].fit: fit 'H7/h6': nominal size 150 mm outside the tabulated range" in p
                for p in design_problems(big))

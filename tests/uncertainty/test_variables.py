@@ -171,5 +171,5 @@ def test_a_nominal_diameter_outside_the_tables_is_named():
 
     for changes in ({"uncertainty.clearance.nominal_diameter_mm": 200.0},
                     {"uncertainty.clearance.nominal_diameter_mm": 200.0, "uncertainty.clearance.fit": "H7/g6"}):
-        with pytest.raises(ConfigError, match=r"uncertainty.clearance: nominal_diameter: nominal size 200 mm outside"):
+        with pytest.raises(ConfigError, match=r"uncertainty\.clearance\.nominal_diameter: nominal size 200 mm outside"):
             updated("jin2025_flapping_wing", changes)

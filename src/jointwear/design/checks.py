@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from jointwear.config import StudyConfig, target_display_unit, target_unit
 from jointwear.design.settings import FitControl
+from jointwear.schema import item_key
 from jointwear.uncertainty.tolerances import iso_fit, it_tolerance
 from jointwear.units import ANY_UNIT
 
@@ -64,33 +65,39 @@ def design_problems(config: StudyConfig) -> list[str]:
                             f"[uncertainty.clearance] (known: {', '.join(names)})")
         else:
             claim(fitted.name, where)
+            labels = [f.name for f in fit.options]
             for j, f in enumerate(fit.options):
+                option = f"{where}.options[{item_key(j, labels)}]"
                 if f.fit is not None:
                     try:
                         mean = iso_fit(f.fit, fitted.nominal_diameter).mean_clearance
                     except ValueError as exc:
-                        problems.append(f"{where}.options[{j}].fit: {exc}")
+                        problems.append(f"{option}.fit: {exc}")
                         continue
                     if not mean > fitted.minimum:
-                        problems.append(f"{where}.options[{j}].fit: {f.fit} gives a mean clearance of "
+                        problems.append(f"{option}.fit: {f.fit} gives a mean clearance of "
                                         f"{mean * 1e6:g} um, not above the clearance's minimum "
                                         f"({fitted.minimum * 1e6:g} um)")
                 else:
                     problems += _grade_problems([f.hole_grade, f.shaft_grade], fitted.nominal_diameter,
-                                                f"{where}.options[{j}]")
+                                                option)
     for i, p in enumerate(d.properties):
         where = f"design.properties[{i}].variable"
         if not known(p.variable, where):
             continue
         claim(p.variable, f"design.properties[{i}]")
+        labels = [k.name for k in p.classes]
         for j, k in enumerate(p.classes):
-            problems += _spec_problems(specs[p.variable], k, f"design.properties[{i}].classes[{j}]")
+            problems += _spec_problems(specs[p.variable], k, f"design.properties[{i}].classes[{item_key(j, labels)}]")
+    parts = [m.name for m in d.materials]
     for i, m in enumerate(d.materials):
+        material = f"design.materials[{item_key(i, parts)}]"
         for var in sorted({v for o in m.options for v in o.variables} & set(specs)):
-            claim(var, f"design.materials[{i}]")
+            claim(var, material)
+        labels = [o.name for o in m.options]
         for j, o in enumerate(m.options):
             for var, ch in o.variables.items():
-                where = f"design.materials[{i}].options[{j}].variables.{var}"
+                where = f"{material}.options[{item_key(j, labels)}].variables.{var}"
                 if unc.clearance_named(var) is not None:
                     problems.append(f"{where}: the clearance is set by a fit ([design.fit])")
                 elif known(var, where):

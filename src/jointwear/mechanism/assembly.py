@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from jointwear.mechanism.model import GROUND, Body, Driver, Joint, MechanismModel
-from jointwear.schema import ConfigError
+from jointwear.schema import ConfigError, item_key
 
 
 def rotate(phi: float, v: tuple[float, float]) -> tuple[float, float]:
@@ -140,11 +140,12 @@ def joint_gaps(m) -> list[tuple[int, object, float]]:
 
 def _joint_gap_check(m, lref: float) -> None:
     """The two drawn points of a revolute joint must (nearly) coincide."""
+    names = [j.name for j in m.joints]
     for i, j, gap in joint_gaps(m):
         if gap > m.closure_tolerance * lref:
             raise AssemblyError(
-                f"joints[{i}].connects: the drawn points {j.connects[0]} and {j.connects[1]} of revolute joint "
-                f"'{j.name}' are {gap * 1e3:.4g} mm apart (allowed {m.closure_tolerance * lref * 1e3:.4g} mm = "
+                f"joints[{item_key(i, names)}].connects: the drawn points {j.connects[0]} and {j.connects[1]} of "
+                f"revolute joint '{j.name}' are {gap * 1e3:.4g} mm apart (allowed {m.closure_tolerance * lref * 1e3:.4g} mm = "
                 f"closure_tolerance x median link size): draw them at the same place (a point mistyped, or a body's "
                 "points in other units than the rest: points_mm against points, which are in m)"
             )
@@ -283,4 +284,5 @@ def general_parts(m) -> GeneralParts:
     try:
         return _general_parts(m)
     except AssemblyError as exc:
-        raise ConfigError(f"mechanism: {exc}", [f"mechanism: {exc}"]) from None
+        text = f"mechanism.{exc}" if str(exc).startswith(("joints[", "bodies[")) else f"mechanism: {exc}"
+        raise ConfigError(text, [text]) from None

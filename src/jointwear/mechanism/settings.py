@@ -13,7 +13,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field, field_validator, model_validator
 
-from jointwear.schema import F, SIModel
+from jointwear.schema import F, SIModel, item_key
 from jointwear.units import fmt_mm
 
 #: Most crank cycles `jointwear simulate` records (every step is kept: ~20,000 rows a cycle, 1-2 GB for 100 cycles).
@@ -351,17 +351,18 @@ class GeneralMechanismConfig(SIModel):
                 b, p = ref.split(".")
                 if b == "ground":
                     if p not in self.ground_points:
-                        raise ValueError(f"joints[{i}].connects: '{ref}': no ground point '{p}' "
+                        raise ValueError(f"joints[{item_key(i, jnames)}].connects: '{ref}': no ground point '{p}' "
                                          f"(ground_points: {', '.join(self.ground_points) or 'none'})")
                 elif b not in bodies:
-                    raise ValueError(f"joints[{i}].connects: '{ref}': unknown body '{b}' (bodies: {', '.join(names)})")
+                    raise ValueError(f"joints[{item_key(i, jnames)}].connects: '{ref}': unknown body '{b}' "
+                                     f"(bodies: {', '.join(names)})")
                 elif p not in bodies[b].points:
-                    raise ValueError(f"joints[{i}].connects: '{ref}': body '{b}' has no point '{p}' "
+                    raise ValueError(f"joints[{item_key(i, jnames)}].connects: '{ref}': body '{b}' has no point '{p}' "
                                      f"(points: {', '.join(bodies[b].points)})")
                 used.add(b)
         for i, n in enumerate(names):
             if n not in used:
-                raise ValueError(f"bodies[{i}]: body '{n}' has no joints")
+                raise ValueError(f"bodies[{item_key(i, names)}]: body '{n}' has no joints")
         if not self.drivers:
             raise ValueError("drivers: at least one driver is needed (the cycle is one revolution of the first)")
         jmap = {j.name: j for j in self.joints}

@@ -16,7 +16,7 @@ from urllib.parse import urlsplit
 
 from jointwear.config import StudyConfig
 from jointwear.contact.settings import FrictionConfig
-from jointwear.schema import ConfigError
+from jointwear.schema import ConfigError, item_key
 from jointwear.study.limit_state import (
     allowance_stock_problems,
     archard_power,
@@ -287,8 +287,9 @@ def drawing_warnings(config: StudyConfig) -> list[str]:
     if m.type != "general":
         return []
     size = drawn_link_size([b.points.values() for b in m.bodies])
-    return [f"mechanism.joints[{i}].connects: the drawn points {joint.connects[0]} and {joint.connects[1]} of revolute "
-            f"joint '{joint.name}' are {gap * 1e3:.4g} mm apart; the assembly closes the gap, so the links it joins "
+    names = [j.name for j in m.joints]
+    return [f"mechanism.joints[{item_key(i, names)}].connects: the drawn points {joint.connects[0]} and "
+            f"{joint.connects[1]} of revolute joint '{joint.name}' are {gap * 1e3:.4g} mm apart; the assembly closes the gap, so the links it joins "
             "are up to that much off the drawing: draw the two points at the same place unless that is meant"
             for i, joint, gap in joint_gaps(m) if GAP_WARNING * size < gap <= m.closure_tolerance * size]
 
@@ -319,20 +320,22 @@ def size_warnings(config: StudyConfig) -> list[str]:
     links = drawn_links(m)
     largest = max((size for _, _, size in links), default=0.0)
     out = []
+    names = [cj.name for cj in config.clearance_joints]
     for i, cj in enumerate(config.clearance_joints):
+        where = f"clearance_joints[{item_key(i, names)}]"
         sizes = {"journal_radius": cj.journal_radius, "bearing_radius": cj.bearing_radius, "width": cj.width,
                  "bearing_outer_radius": cj.bearing_outer_radius}
         too_big = [name for name, value in sizes.items() if value is not None and largest > 0.0 and value > largest]
         if too_big:
-            out.append(f"clearance_joints[{i}]: {', '.join(f'{n} {sizes[n] * 1e3:,.4g} mm' for n in too_big)}, "
+            out.append(f"{where}: {', '.join(f'{n} {sizes[n] * 1e3:,.4g} mm' for n in too_big)}, "
                        f"larger than the mechanism's largest link ({largest * 1e3:.4g} mm): a unit slip? (a suffix "
                        f"gives the unit: {too_big[0]}_mm)")
         if not too_big and largest > 0.0 and cj.journal_radius < SMALL_JOINT * largest:
-            out.append(f"clearance_joints[{i}]: journal_radius {cj.journal_radius * 1e3:.4g} mm, less than "
+            out.append(f"{where}: journal_radius {cj.journal_radius * 1e3:.4g} mm, less than "
                        f"{SMALL_JOINT:g} of the mechanism's largest link ({largest * 1e3:.4g} mm): a unit slip? "
                        "(metres under a _mm key)")
         if not too_big and cj.width < NARROW_BEARING * 2.0 * cj.journal_radius:
-            out.append(f"clearance_joints[{i}]: width {cj.width * 1e3:.4g} mm, less than {NARROW_BEARING:g} of the "
+            out.append(f"{where}: width {cj.width * 1e3:.4g} mm, less than {NARROW_BEARING:g} of the "
                        f"journal's diameter ({2e3 * cj.journal_radius:.4g} mm; pin joints run 0.25 to 2): a unit slip? "
                        "(a suffix gives the unit: width_mm)")
     if m.type == "general":
