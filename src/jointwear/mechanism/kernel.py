@@ -22,6 +22,7 @@ the GIL, so independent simulations run in threads (the wear history's lanes, jo
 from __future__ import annotations
 
 import math
+import types
 
 import numpy as np
 from numba import njit
@@ -1013,6 +1014,17 @@ def _dormand_prince(mode: int):
     return compile_for_mode(integrate, mode, nogil=True, error_model="numpy", fastmath=FASTMATH, _nrt=STEP_LOOP_NRT)
 
 
+def _called(fn, **options):
+    """A dispatcher of the inlined function ``fn`` compiled as a function of its own, under its own name and cache
+    file. The record's single evaluation calls it: inlining the right-hand side there again cost 2-3x its own compile
+    (~20 s for the tree's), for a call made once per record."""
+    py = fn.py_func
+    copy = types.FunctionType(py.__code__, py.__globals__, py.__name__ + "_called", py.__defaults__, py.__closure__)
+    copy.__qualname__ = copy.__name__
+    copy.__doc__ = py.__doc__
+    return njit(cache=True, **options)(copy)
+
+
 def _evaluation(mode: int):
     """One evaluation of the right-hand side MODES[mode] (the record's first point; compiled on first call)."""
     def accelerations(t, y, dy, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate, baum,
@@ -1023,12 +1035,12 @@ def _evaluation(mode: int):
                 kin, phi_, phid, rest, jac, smat, lam, f, cout)
         elif mode == 2:
             tree_base(t, y, jint, dpar, kin, phi_, phid)
-            rhs_tree(t, 0.0, y, y, dy, 0, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate,
-                     kin, phi_, phid, rest, jac, smat, lam, f, cout)
+            rhs_tree_called(t, 0.0, y, y, dy, 0, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid, cstate,
+                            kin, phi_, phid, rest, jac, smat, lam, f, cout)
         else:
             Y = np.empty((1, y.shape[0]))
             Y[0, :] = y
-            rhs_fourbar(t, Y, 0, dy, 0, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
+            rhs_fourbar_called(t, Y, 0, dy, 0, dpar, jpar, cint, cpar, prof, ngrid, cstate, baum, lam, cout)
 
     return compile_for_mode(accelerations, mode, error_model="numpy")
 
@@ -1216,3 +1228,8 @@ def rhs_fourbar_cs(c, sn, Y, yrow, dy, row, dpar, fp, cint, cpar, prof, ngrid, c
     dy[row, 5] = p * qay + r * qby
     dy[row, 6] = r * qax + s * qbx
     dy[row, 7] = r * qay + s * qby
+
+
+# the evaluators' flags as the inlined bodies had them there (the caller's: no fastmath): the same arithmetic
+rhs_tree_called = _called(rhs_tree, error_model="numpy", fastmath=False, _nrt=STEP_LOOP_NRT)
+rhs_fourbar_called = _called(rhs_fourbar, error_model="numpy", fastmath=False, _nrt=STEP_LOOP_NRT)
