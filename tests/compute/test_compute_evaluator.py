@@ -183,7 +183,8 @@ def test_store_lookup_is_bit_exact(tmp_path):
         assert list(res.reused) == [True, False]
 
 
-def test_progress_counts_calls_and_is_silent_off_a_terminal(tmp_path, capsys):
+def test_progress_counts_calls_and_is_silent_off_a_terminal(tmp_path, capsys, monkeypatch):
+    monkeypatch.delenv("JOINTWEAR_PROGRESS", raising=False)  # the shell's setting would decide instead of the terminal
     X = np.arange(10.0).reshape(5, 2)
     with Progress(description="calls") as progress:  # stderr is captured: not a terminal
         Evaluator(smooth_model, progress=progress).evaluate(np.vstack([X, X[:2]]))

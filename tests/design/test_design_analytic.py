@@ -15,6 +15,8 @@ from jointwear.study import run_reliability
 
 from design_fixtures import DESIGN, analytic_config, analytic_context, exact_reliabilities
 
+pytestmark = pytest.mark.usefixtures("figures_unrendered")  # tests/conftest.py: these tests read results, not pictures
+
 N_STAR = DESIGN["targets"][0]["life_cycles"]
 R_STAR = DESIGN["targets"][0]["reliability"]
 

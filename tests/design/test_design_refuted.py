@@ -13,6 +13,8 @@ from jointwear.design import search as design_search
 from jointwear.design.results import choices_text, verification_verdict
 from jointwear.study import run_reliability
 
+pytestmark = pytest.mark.usefixtures("figures_unrendered")  # tests/conftest.py: these tests read results, not pictures
+
 
 @pytest.fixture(scope="module")
 def study():

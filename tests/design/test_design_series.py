@@ -17,6 +17,8 @@ from jointwear.design import build_controls, enumerate_candidates, run_design
 from jointwear.design.settings import DesignSettings
 from jointwear.study import run_reliability, study_context
 
+pytestmark = pytest.mark.usefixtures("figures_unrendered")  # tests/conftest.py: these tests read results, not pictures
+
 N_STAR, R_STAR = 240_000, 0.9
 DESIGN = {
     "targets": [{"reliability": R_STAR, "life_cycles": N_STAR}],

@@ -8,6 +8,8 @@ from scipy import stats
 from jointwear.design.results import DesignResult
 from jointwear.design.search import estimate, monte_carlo_half_width, surviving
 
+pytestmark = pytest.mark.usefixtures("figures_unrendered")  # tests/conftest.py: these tests read results, not pictures
+
 
 @pytest.mark.parametrize("k, n", [(10, 10), (0, 10), (9_000, 10_000), (49_000, 50_000)])
 def test_the_monte_carlo_half_width_is_the_exact_interval(k, n):

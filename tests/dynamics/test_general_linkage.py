@@ -24,6 +24,8 @@ from jointwear.config import ConfigError, config_from_dict, load_config, updated
 from jointwear.mechanism import build_model, check_assembly, simulate
 from jointwear.mechanism.builders import FourBarGuess, SliderCrankGuess
 
+pytestmark = pytest.mark.usefixtures("figures_unrendered")  # tests/conftest.py: these tests read results, not pictures
+
 SIX = "watt_six_bar_two_clearances"
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 SIX_TEXT = (resources.files("jointwear.presets") / f"{SIX}.toml").read_text(encoding="utf-8")

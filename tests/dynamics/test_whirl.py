@@ -17,6 +17,8 @@ import jointwear  # noqa: E402
 from jointwear.config import load_config, updated  # noqa: E402
 from jointwear.mechanism import build_model, simulate, whirl_measure, whirl_threshold  # noqa: E402
 
+pytestmark = pytest.mark.usefixtures("figures_unrendered")  # tests/conftest.py: these tests read results, not pictures
+
 
 @pytest.mark.parametrize("turns_per_cycle", [-50.0, 0.0, 3.0])
 def test_contact_revolutions_count_the_contact_point_round_the_bearing(turns_per_cycle):

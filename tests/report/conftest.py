@@ -34,19 +34,6 @@ def full_report(study_dir) -> Path:
     return build_report(study_dir)
 
 
-def _placeholder_png() -> bytes:
-    import io
-
-    from PIL import Image
-
-    buf = io.BytesIO()
-    Image.new("L", (3, 2), 128).save(buf, format="PNG")  # unlike any PNG a test writes itself
-    return buf.getvalue()
-
-
-_PLACEHOLDER_PNG = _placeholder_png()
-
-
 @pytest.fixture
 def figures_made_not_rendered(request, monkeypatch):
     """For tests that read the report's text: each figure is still made from the study's data (one that cannot be
@@ -55,9 +42,8 @@ def figures_made_not_rendered(request, monkeypatch):
     test_figures.py and the browser test; a test marked ``rendered`` renders its figures."""
     if request.node.get_closest_marker("rendered"):
         return
-    from jointwear.report import style
+    from unrendered_figures import unrendered  # tests/unrendered_figures.py
 
-    def unrendered(fig, *, dpi: int = style.DPI, close: bool = True) -> bytes:
-        return _PLACEHOLDER_PNG  # the report's figures are off pyplot: nothing to close
+    from jointwear.report import style
 
     monkeypatch.setattr(style, "to_png_bytes", unrendered)

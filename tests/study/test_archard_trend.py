@@ -8,6 +8,8 @@ from jointwear import compute
 from jointwear.config import load_config, updated
 from jointwear.study import population, run_reliability, study_context
 
+pytestmark = pytest.mark.usefixtures("figures_unrendered")  # tests/conftest.py: these tests read results, not pictures
+
 
 def _context(cfg, factory=None):
     return study_context(cfg, factory or (lambda call: compute.Evaluator(lambda x: None, None, None, n_outputs=1)))

@@ -10,6 +10,8 @@ import pytest
 from jointwear.config import available_presets, load_config, updated
 from jointwear.study.checks import MEAN_SHIFT_WARNING_SIGMAS, config_warnings
 
+pytestmark = pytest.mark.usefixtures("figures_unrendered")  # tests/conftest.py: these tests read results, not pictures
+
 
 @pytest.mark.parametrize("preset", available_presets())
 def test_the_shipped_presets_draw_what_they_sample(preset):

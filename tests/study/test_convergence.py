@@ -26,6 +26,8 @@ from jointwear.study.convergence import (
     run_convergence,
 )
 
+pytestmark = pytest.mark.usefixtures("figures_unrendered")  # tests/conftest.py: these tests read results, not pictures
+
 RIG = Path(__file__).resolve().parents[1] / "wear" / "rigs" / "pendulum.toml"
 
 

@@ -18,6 +18,8 @@ from jointwear import compute
 from jointwear.config import load_config, updated
 from jointwear.study import population, run_reliability, study_context
 
+pytestmark = pytest.mark.usefixtures("figures_unrendered")  # tests/conftest.py: these tests read results, not pictures
+
 CURVE = {"reliability.cycles_start": 340_000, "reliability.cycles_stop": 480_000, "reliability.cycles_step": 40_000,
          "reliability.histogram_cycles": [380_000]}
 

@@ -30,6 +30,8 @@ from jointwear.study.limit_state import (
     limit_state_problems,
 )
 
+pytestmark = pytest.mark.usefixtures("figures_unrendered")  # tests/conftest.py: these tests read results, not pictures
+
 
 def test_life_is_the_first_joint_to_fail():
     ls = LimitState("bearing_max_depth", (0, 1), ("A", "E"), (1.0, 2.0))

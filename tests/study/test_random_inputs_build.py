@@ -11,6 +11,8 @@ from jointwear.schema import ConfigError
 from jointwear.study import Study
 from jointwear.study.checks import random_input_problems, random_input_warnings
 
+pytestmark = pytest.mark.usefixtures("figures_unrendered")  # tests/conftest.py: these tests read results, not pictures
+
 
 def test_a_clearance_mean_in_mm_is_a_problem_naming_the_variable_and_the_models_reason():
     cfg = updated(load_config(), {"uncertainty.clearance.mean_mm": 12.5})

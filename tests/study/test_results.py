@@ -19,6 +19,8 @@ from jointwear.study.io import file_labels, strict, write_csv, write_json  # noq
 from jointwear.study.reliability import study_context  # noqa: E402
 from jointwear.wear import WearSettings, wear_history  # noqa: E402
 
+pytestmark = pytest.mark.usefixtures("figures_unrendered")  # tests/conftest.py: these tests read results, not pictures
+
 
 def test_wear_summary_save_and_load(tmp_path):
     r = wear_history(FakeModel(), WearSettings(n_grid=360), 50_000, simulate=fake_simulate)

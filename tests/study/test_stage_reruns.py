@@ -15,6 +15,8 @@ from jointwear.config import load_config, updated
 from jointwear.design.results import DesignResult
 from jointwear.schema import ConfigError
 
+pytestmark = pytest.mark.usefixtures("figures_unrendered")  # tests/conftest.py: these tests read results, not pictures
+
 SMALL = {
     "extends": "flores_slider_crank",
     "reliability": {"max_calls": 20, "n_mc": 50_000},
@@ -33,7 +35,7 @@ WEAR_FILES = {"wear.json", "wear_history.csv", "wear_journal_profile.csv", "wear
 
 
 @pytest.fixture(scope="module")
-def base(tmp_path_factory):
+def base(tmp_path_factory, figures_unrendered):
     folder = tmp_path_factory.mktemp("study") / "base"
     lines: list[str] = []
     study = jointwear.Study(SMALL, out=folder, workers=1, echo=lines.append)

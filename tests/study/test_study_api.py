@@ -11,6 +11,8 @@ import jointwear
 from jointwear.config import load_config, updated
 from jointwear.schema import ConfigError
 
+pytestmark = pytest.mark.usefixtures("figures_unrendered")  # tests/conftest.py: these tests read results, not pictures
+
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 

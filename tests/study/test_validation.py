@@ -18,6 +18,8 @@ from jointwear.study.io import strict
 from jointwear.study.limit_state import interval_reach, life_at
 from jointwear.study.validation import clopper_pearson, life_check, run_validation
 
+pytestmark = pytest.mark.usefixtures("figures_unrendered")  # tests/conftest.py: these tests read results, not pictures
+
 
 def test_clopper_pearson_exact_values():
     # k = 0: the upper bound solves (1 - p)^n = alpha / 2 exactly

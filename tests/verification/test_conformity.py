@@ -6,11 +6,15 @@ bore; uniform mode is fair while it stays <= 1, i.e. below the depth h* = c0 (1 
 
 import math
 
+import pytest
+
 from jointwear.config import updated
 from jointwear.study import Study
 from jointwear.wear import wear_history
 
 from .closed_form import friction_circle, half_width
+
+pytestmark = pytest.mark.usefixtures("figures_unrendered")  # tests/conftest.py: these tests read results, not pictures
 
 
 def test_rig_half_width_and_conformity_against_johnson(rig, rig_config, rig_model):
