@@ -733,6 +733,35 @@ def test_the_wear_sensitivity_and_validation_results_plot_themselves(tmp_path, n
     assert len(val.plot().axes[0].get_lines()) >= 2  # the two curves
 
 
+def test_a_simulation_result_plots_its_orbit_and_its_force_in_process_and_read_back(tmp_path, nominal):
+    """SimulationSummary had no .plot(): a notebook redrew the stage's orbit from simulate.npz by hand."""
+    import numpy as np
+
+    from jointwear.report import figures
+    from jointwear.study.results import SimulationSummary
+
+    d = make_fixture_dir(tmp_path / "s", nominal, which=("simulate",))
+    loaded = load_results(d).simulate
+    orbit, force = loaded.plot(), loaded.plot("A", kind="force")
+    assert orbit.axes[0].get_title(loc="left") == "Journal centre orbit, joint A"
+    assert force.axes[0].get_title(loc="left") == "Contact force, joint A"
+    with np.load(d / "simulate.npz") as data:  # the series drawn are the saved ones
+        ecc, fn, ft = (data[f"A_{k}"] for k in ("eccentricity_bearing_frame_m", "force_normal_N", "force_tangential_N"))
+        crank_deg = np.degrees(data["crank_angle_rad"])
+    drawn = orbit.axes[0].get_lines()[0].get_xydata()
+    np.testing.assert_allclose(drawn, ecc * 1e6, rtol=1e-12)  # drawn in um (rounding of the mm -> um scaling)
+    expected = figures.contact_force_figure(crank_deg, np.hypot(fn, ft), mean_N=loaded.joints[0]["contact_force_mean_N"])
+    np.testing.assert_array_equal(force.axes[0].get_lines()[0].get_xydata(),
+                                  expected.axes[0].get_lines()[0].get_xydata())
+    with pytest.raises(KeyError, match=r"SimulationSummary has no joint 'Z'; its joints: A"):
+        loaded.plot("Z")
+    with pytest.raises(ValueError, match=r"kind must be 'orbit' or 'force'"):
+        loaded.plot(kind="wear")
+    bare = SimulationSummary.from_json(loaded.to_json())  # no trace, no folder: said, not a KeyError
+    with pytest.raises(ValueError, match=r"loaded from a folder that holds its simulate.npz"):
+        bare.plot()
+
+
 def test_a_validated_life_that_disagrees_is_flagged_beside_the_headline(tmp_path, nominal):
     """The summary showed the life at R = 0.9 without a flag while the validation's own life at that target had a
     95 % interval apart from the curve's (398,667 against 376,184 cycles on a 200-sample validation)."""

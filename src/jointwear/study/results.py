@@ -88,6 +88,8 @@ class SimulationSummary(StageResult):
     provenance: dict = field(default_factory=dict)
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
     trace: Any = field(default=None, repr=False, metadata={"json": False})
+    #: where a loaded result's series are (``simulate.npz`` beside its JSON): :meth:`plot` reads them
+    series_path: Path | None = field(default=None, repr=False, metadata={"json": False})
 
     def outside_hertz_joints(self) -> list[str]:
         """The joints whose contact at its largest normal force is too wide for the Hertz reading of the contact law
@@ -187,16 +189,54 @@ class SimulationSummary(StageResult):
         np.savez_compressed(buf, **data)
         write_bytes_atomic(folder / self.series_file, buf.getvalue())
         if figures:
-            from jointwear.report import figures as F
-
             for tr, label in zip(res.joints, file_labels([tr.name for tr in res.joints])):
-                save_figure(F.orbit_figure(tr.eccentricity[:, 0] * 1e3, tr.eccentricity[:, 1] * 1e3,
-                                        tr.clearance_used * 1e3, title=f"Journal centre orbit, joint {tr.name}"),
-                         folder / f"orbit_{label}.png")
-                save_figure(F.contact_force_figure(np.degrees(res.crank_angle), tr.contact_force,
-                                                mean_N=tr.mean_force, title=f"Contact force, joint {tr.name}"),
-                         folder / f"force_{label}.png")
+                save_figure(self.plot(tr.name, "orbit"), folder / f"orbit_{label}.png")
+                save_figure(self.plot(tr.name, "force"), folder / f"force_{label}.png")
         return self.write(folder)  # last: a result whose JSON is there is whole
+
+    @classmethod
+    def load(cls, folder: Path | str) -> SimulationSummary:
+        """Read ``simulate.json`` back; :meth:`plot` reads the series from ``simulate.npz`` beside it."""
+        out = super().load(folder)
+        out.series_path = Path(folder) / out.series_file
+        return out
+
+    def plot(self, joint: str | None = None, kind: str = "orbit") -> Figure:
+        """The journal centre's orbit in the bearing's frame (``kind="orbit"``) or the contact force over the crank
+        angle (``kind="force"``) of ``joint`` (default: the first), as the stage draws them: a matplotlib ``Figure``.
+        Needs the series: a result computed in this process, or one loaded from a folder with its ``simulate.npz``."""
+        from jointwear.report import figures as F
+
+        names = [j["name"] for j in self.joints]
+        if joint is not None and joint not in names:
+            raise KeyError(f"SimulationSummary has no joint {joint!r}; its joints: {', '.join(names)}")
+        if kind not in ("orbit", "force"):
+            raise ValueError(f"kind must be 'orbit' or 'force' (got {kind!r})")
+        row = self.joints[names.index(joint) if joint is not None else 0]
+        name = row["name"]
+        if kind == "orbit":
+            ecc = self._series(name, "eccentricity_bearing_frame_m")
+            return F.orbit_figure(ecc[:, 0] * 1e3, ecc[:, 1] * 1e3, row["clearance_m"] * 1e3,
+                                  title=f"Journal centre orbit, joint {name}")
+        force = np.hypot(self._series(name, "force_normal_N"), self._series(name, "force_tangential_N"))
+        return F.contact_force_figure(np.degrees(self._series(None, "crank_angle_rad")), force,
+                                      mean_N=row["contact_force_mean_N"], title=f"Contact force, joint {name}")
+
+    def _series(self, joint: str | None, key: str) -> np.ndarray:
+        """One recorded series (``simulate.npz``'s key, a joint's without its prefix) from the trace or the file."""
+        if self.trace is not None:
+            res = self.trace
+            if joint is None:
+                return {"crank_angle_rad": res.crank_angle, "t_s": res.t}[key]
+            tr = next(t for t in res.joints if t.name == joint)
+            return {"eccentricity_bearing_frame_m": tr.eccentricity, "force_normal_N": tr.force_normal,
+                    "force_tangential_N": tr.force_tangential}[key]
+        path = self.series_path
+        if path is None or not path.is_file():
+            raise ValueError("the simulation's series are not here: plot a result computed in this process, or one "
+                             f"loaded from a folder that holds its {self.series_file}")
+        with np.load(path) as data:
+            return data[key if joint is None else f"{joint}_{key}"]
 
 
 # ------------------------------------------------------------------------------------------------------- wear
