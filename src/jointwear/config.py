@@ -146,20 +146,24 @@ class StudyConfig(SIModel):
                     raise ValueError(f"{where}.{problem} (the unit of its target)")
         return data
 
-    @model_validator(mode="before")
+    @model_validator(mode="wrap")
     @classmethod
-    def _clearance_from_joint(cls, data: Any) -> Any:
+    def _clearance_from_joint(cls, data: Any, handler) -> StudyConfig:
         """A clearance's nominal diameter and mean, when not given, are those of the joint its target names (its
-        journal's diameter, its drawn clearance): the defaults must be the user's drawing, not a reference's pin."""
+        journal's diameter, its drawn clearance): the defaults must be the user's drawing, not a reference's pin. Each
+        clearance keeps which of its settings the joint set (``check`` and the report say so)."""
         if not isinstance(data, dict) or not isinstance(data.get("uncertainty"), dict):
-            return data
+            return handler(data)
         tables = data["uncertainty"].get("clearance")
         if not isinstance(tables, (dict, list)):
-            return data
-        filled = [_clearance_defaults(t, data.get("clearance_joints")) if isinstance(t, dict) else t
+            return handler(data)
+        filled = [_clearance_defaults(t, data.get("clearance_joints")) if isinstance(t, dict) else (t, {})
                   for t in (tables if isinstance(tables, list) else [tables])]
-        return {**data, "uncertainty": {**data["uncertainty"],
-                                        "clearance": filled if isinstance(tables, list) else filled[0]}}
+        config = handler({**data, "uncertainty": {**data["uncertainty"], "clearance": [
+            t for t, _ in filled] if isinstance(tables, list) else filled[0][0]}})
+        for spec, (_, taken) in zip(config.uncertainty.clearances(), filled):
+            spec.set_by_joint(taken)
+        return config
 
     @model_validator(mode="after")
     def _targets_exist(self) -> StudyConfig:
@@ -194,31 +198,32 @@ class StudyConfig(SIModel):
         return self
 
 
-def _clearance_defaults(table: dict[str, Any], joints: Any) -> dict[str, Any]:
+def _clearance_defaults(table: dict[str, Any], joints: Any) -> tuple[dict[str, Any], dict[str, str]]:
     """``table`` (a raw clearance table) with ``nominal_diameter`` and ``mean`` (SI) from the clearance joint its
-    target names where it gives neither in any unit (a fit sets the mean); unchanged where the joint is not found
-    (the target's own check reports it)."""
+    target names where it gives neither in any unit (a fit sets the mean), and what set each ({'mean': "joint B's
+    radii"}); unchanged where the joint is not found (the target's own check reports it)."""
     stems = {stem for key in table for stem in _unit_stems(key)}
     wanted = {"nominal_diameter"} - stems | ({"mean"} - stems if table.get("fit") is None else set())
     target = str(table.get("target") or "")
     keys = _dotted(target).split(".")
     if not wanted or not target.endswith(CLEARANCE_SUFFIX) or len(keys) != 3 or not isinstance(joints, list):
-        return table
+        return table, {}
     joint = next((j for i, j in enumerate(joints) if isinstance(j, dict) and keys[1] in (str(i), j.get("name", "A"))),
                  None)
     try:  # the joint's radii in SI, in whatever unit it gives them (a unit it cannot take: its own check says so)
         radii = convert_keys(joint or {}, frozenset(("journal_radius", "bearing_radius")))
     except UnitError:
-        return table
+        return table, {}
     journal, bearing = radii.get("journal_radius"), radii.get("bearing_radius")
     if not _is_number(journal):
-        return table
-    out = dict(table)
+        return table, {}
+    out, taken = dict(table), {}
+    name = joint.get("name", "A")
     if "nominal_diameter" in wanted:
-        out["nominal_diameter"] = 2.0 * journal
+        out["nominal_diameter"], taken["nominal_diameter"] = 2.0 * journal, f"joint {name}'s journal diameter"
     if "mean" in wanted and _is_number(bearing):
-        out["mean"] = bearing - journal
-    return out
+        out["mean"], taken["mean"] = bearing - journal, f"joint {name}'s radii"
+    return out, taken
 
 
 def _dotted(path: str) -> str:

@@ -286,6 +286,33 @@ def test_a_path_in_a_message_names_a_list_item_and_its_field_as_updated_reads_th
     assert "uncertainty.variables[5].std" in problems, problems
 
 
+def test_a_clearance_the_joint_sets_is_listed_as_set_by_it_and_follows_the_joint():
+    """`check` listed a clearance's nominal diameter and mean that the study took from its joint as 'the config', and
+    an updated journal left the nominal diameter at the old pin's (the ISO 286 tolerances of another size)."""
+    from jointwear.config import updated
+    from jointwear.report.settings import origin, settings_records
+
+    data = load_config().model_dump()
+    for key in ("nominal_diameter", "mean"):
+        data["uncertainty"]["clearance"].pop(key)
+    cfg = config_from_dict(data)
+    joint = cfg.clearance_joints[0]
+    spec = cfg.uncertainty.clearance
+    assert spec.nominal_diameter == 2.0 * joint.journal_radius and spec.mean == joint.clearance
+    shown = {r["name"]: origin(r) for r in settings_records(cfg)}
+    assert shown["uncertainty.clearance.nominal_diameter"] == "set by joint A's journal diameter"
+    assert shown["uncertainty.clearance.mean"] == "set by joint A's radii"
+    assert shown["uncertainty.clearance.hole_grade"] == "the config"
+    bigger = updated(cfg, {"clearance_joints.A.journal_radius_mm": 1.5, "clearance_joints.A.bearing_radius_mm": 1.503,
+                           "clearance_joints.A.bearing_outer_radius_mm": 3.0})
+    assert bigger.uncertainty.clearance.nominal_diameter == pytest.approx(3e-3)
+    assert bigger.uncertainty.clearance.mean == pytest.approx(3e-6)
+    assert config_from_dict(cfg.model_dump()) == cfg  # written without them, read back the same
+    # given in the config, they are the config's
+    given = {r["name"]: origin(r) for r in settings_records(load_config())}
+    assert given["uncertainty.clearance.nominal_diameter"] == "the config"
+
+
 def test_a_cross_section_problem_names_the_file(tmp_path, capsys):
     """The study's cross-section rules name the file they read, as the schema's do (they said 'config')."""
     from jointwear.cli import main_entry

@@ -17,6 +17,7 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 from pydantic import (
     Field,
+    PrivateAttr,
     SerializerFunctionWrapHandler,
     ValidationError,
     field_validator,
@@ -191,6 +192,7 @@ class ClearanceSpec(SIModel):
 
     #: the settings a `fit` sets
     FIT_SETS: ClassVar[tuple[str, ...]] = ("mean", "hole_grade", "shaft_grade")
+    _set_by_joint: dict[str, str] = PrivateAttr(default_factory=dict)
 
     @field_validator("hole_grade", "shaft_grade")
     @classmethod
@@ -236,16 +238,23 @@ class ClearanceSpec(SIModel):
             self.__dict__[name] = value  # validated once here: the config is immutable afterwards
         self.__dict__["fit"] = fit.name
 
+    def set_by_joint(self, taken: dict[str, str]) -> None:
+        """Record the settings the study took from the target joint (``{'mean': "joint B's radii"}``; the config's
+        validation sets them, jointwear.config)."""
+        self._set_by_joint = dict(taken)
+
     def derived_settings(self) -> dict[str, str]:
-        """The settings `fit` sets, each with what set it (``jointwear check`` and the report say so)."""
-        if self.fit is None:
-            return {}
-        return dict.fromkeys(self.FIT_SETS, f"fit {self.fit!r}")
+        """The settings that `fit` or the target joint set, each with what set it (``jointwear check`` and the report
+        say so)."""
+        return {**self._set_by_joint, **self._fit_settings()}
+
+    def _fit_settings(self) -> dict[str, str]:
+        return {} if self.fit is None else dict.fromkeys(self.FIT_SETS, f"fit {self.fit!r}")
 
     @model_serializer(mode="wrap")
     def _without_derived(self, handler: SerializerFunctionWrapHandler) -> dict:
-        """A fit's grades and mean are left out of the written config, so that it reads back from the fit (and a
-        changed nominal diameter moves them)."""
+        """A fit's grades and mean, and what the target joint set, are left out of the written config, so that they
+        read back from the fit and the joint (and a changed nominal diameter or journal moves them)."""
         data = handler(self)
         if isinstance(data, dict):
             for name in self.derived_settings():
