@@ -750,7 +750,8 @@ def test_a_simulation_result_plots_its_orbit_and_its_force_in_process_and_read_b
         crank_deg = np.degrees(data["crank_angle_rad"])
     drawn = orbit.axes[0].get_lines()[0].get_xydata()
     np.testing.assert_allclose(drawn, ecc * 1e6, rtol=1e-12)  # drawn in um (rounding of the mm -> um scaling)
-    expected = figures.contact_force_figure(crank_deg, np.hypot(fn, ft), mean_N=loaded.joints[0]["contact_force_mean_N"])
+    mean = loaded.joints[0]["contact_force_mean_N"]
+    expected = figures.contact_force_figure(crank_deg, np.hypot(fn, ft), mean_N=mean)
     np.testing.assert_array_equal(force.axes[0].get_lines()[0].get_xydata(),
                                   expected.axes[0].get_lines()[0].get_xydata())
     with pytest.raises(KeyError, match=r"SimulationSummary has no joint 'Z'; its joints: A"):
