@@ -420,13 +420,22 @@ def validation_problems(exc: ValidationError, data: Any = None) -> list[str]:
     was validated, a value the config gave with a unit suffix is shown as written, then in SI ('got -7 HB =
     -6.8649e+07 Pa').
 
-    An unknown key usually also causes a "missing" error for the key it misspells: unknown keys come first. Of a
-    union (one table or a list of tables), only the branch that fits the input's shape is reported.
+    An unknown key usually also causes a "missing" error for the key it misspells: the unknown key is told with the
+    key it most likely means, and that key's "missing" is left out. Of a union (one table or a list of tables), only
+    the branch that fits the input's shape is reported.
     """
     errors = sorted(_matching_branches(exc.errors()), key=lambda e: e.get("type") != "extra_forbidden")
+    meant = set()  # (table, field) a misspelt key stands for, in any unit
+    for err in errors:
+        loc = tuple(err.get("loc", ()))
+        guess = re.search(r"did you mean (\w+)\?", _did_you_mean(loc)) if err.get("type") == "extra_forbidden" else None
+        if guess and loc:
+            meant |= {(loc[:-1], stem) for stem in _unit_stems(guess[1])}
     out = []
     for err in errors:
         loc = tuple(err.get("loc", ()))
+        if err.get("type") == "missing" and loc and (loc[:-1], loc[-1]) in meant:
+            continue
         where = _loc(loc, data)
         msg = err.get("msg", "invalid").removeprefix("Value error, ")
         inp = err.get("input")

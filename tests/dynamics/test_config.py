@@ -207,6 +207,25 @@ def test_an_unknown_key_names_what_was_meant(section, key, hint):
     assert f"{key}: unknown key (not a setting of this section) ({hint})" in str(err.value)
 
 
+def test_a_misspelt_required_key_is_one_problem_not_two():
+    """A typo in a required key (`targt`) was told twice: the unknown key, and 'target: Field required'."""
+    data = load_config().model_dump()
+    variable = data["uncertainty"]["variables"][0]
+    variable["targt"] = variable.pop("target")
+    with pytest.raises(ConfigError) as err:
+        config_from_dict(data)
+    assert str(err.value).endswith(f"uncertainty.variables[{variable['name']}].targt: unknown key (not a setting of "
+                                   "this section) (did you mean target?)"), err.value
+    joint = load_config().model_dump()
+    joint["clearance_joints"][0]["jornal_radius_mm"] = 1.0  # with a unit suffix: the same
+    joint["clearance_joints"][0].pop("journal_radius")
+    assert "Field required" not in str(pytest.raises(ConfigError, config_from_dict, joint).value)
+    unlike = load_config().model_dump()  # a key like no field: the missing one is still told
+    unlike["clearance_joints"][0]["zzz"] = unlike["clearance_joints"][0].pop("journal_radius")
+    assert "clearance_joints[A].journal_radius: Field required" in str(
+        pytest.raises(ConfigError, config_from_dict, unlike).value)
+
+
 def test_a_clearance_in_a_joints_table_says_how_the_table_gives_it():
     """updated(config, {'clearance_joints.B.clearance_mm': 0.4}) works; the same key in a table was only 'unknown'."""
     cfg = load_config().model_dump()
