@@ -16,7 +16,8 @@ from jointwear.study import life_at, population, run_reliability, study_context
 from jointwear.study.io import strict
 from jointwear.study.limit_state import curve_cycles
 
-pytestmark = pytest.mark.usefixtures("figures_unrendered")  # tests/conftest.py: these tests read results, not pictures
+# tests/conftest.py: these tests read results, not pictures; a long module, scheduled first
+pytestmark = [pytest.mark.usefixtures("figures_unrendered"), pytest.mark.slow]
 
 
 @pytest.fixture(scope="module")
