@@ -931,3 +931,26 @@ def test_the_mechanism_table_names_the_clearance_joint_as_the_results_do():
     named = settings_dump(updated(load_config("flores_slider_crank"), {"clearance_joints.0.name": "Bpin"}))
     assert (named["mechanism"]["clearance_joint"], named["mechanism"]["clearance_joint_name"]) == ("B", "Bpin")
     assert "clearance_joint_name" not in settings_dump(load_config("flores_slider_crank"))["mechanism"]
+
+
+def test_the_clearance_joints_geometry_and_materials_stand_beside_the_mechanism(full_report):
+    """A designer looked for the bushing's and the pin's materials and found them only in the list of every
+    setting; the settings section now tables each clearance joint's bearing and journal."""
+    from jointwear.config import load_config
+    from jointwear.report.settings import settings_records
+    from jointwear.report.study_sections import clearance_joints_table
+
+    page = full_report.read_text(encoding="utf-8")
+    section = page[page.index("Clearance joints: geometry and materials"):]
+    section = section[:section.index("</table>")]
+    cells = re.findall(r"<td>([^<]*)</td>", section)
+    joint = load_config().clearance_joints[0]
+    # the preset's rod eye (titanium, 350 HB) on the crank pin (40Cr, 207 HB), radii 1.002 and 1 mm, 1 mm wide
+    assert cells[:10] == ["A", "bearing", joint.bearing_body, joint.bearing_material.name, "120", "0.32", "350",
+                          "0.0012", "1.002", "1"], cells
+    assert cells[10:19] == ["A", "journal", joint.journal_body, joint.journal_material.name, "211", "0.277", "207",
+                            "0.0021", "1"], cells
+    assert "Young&#x27;s modulus (GPa)" in section and "hardness (HB)" in section and "width (mm)" in section
+    two = clearance_joints_table(settings_records(load_config("watt_six_bar_two_clearances")))
+    assert two.count("<tr>") == 5  # the heading and a bearing and a journal row per joint
+    assert clearance_joints_table([]) == ""

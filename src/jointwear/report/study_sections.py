@@ -137,6 +137,9 @@ def settings_section(out: StudyOutputs, figs: Figures) -> str:
         parts.append(figs.draw(None, "Mechanism sketch", png_keys=("mechanism",),
                                missing_text="Mechanism sketch: drawn for four-bar, slider-crank and general linkages."))
     parts.append("</div>")
+    joints = clearance_joints_table(cfg.get("settings") or [])
+    if joints:
+        parts.append("<h3>Clearance joints: geometry and materials</h3>" + joints)
     variables = cfg.get("random_variables") or []
     if variables:
         parts.append(f"<h3>Random inputs ({len(variables)})</h3>")
@@ -173,6 +176,39 @@ def settings_section(out: StudyOutputs, figs: Figures) -> str:
         parts.append(table(["setting", "value", "unit", "from"], rows, cls="settings"))
         parts.append("</details>")
     return "".join(parts)
+
+
+#: a clearance joint's settings shown per part (bearing, journal), with their heading
+_PART_COLUMNS = (("body", "body"), ("material.name", "material"), ("material.youngs_modulus", "Young's modulus"),
+                 ("material.poissons_ratio", "Poisson's ratio"), ("material.hardness", "hardness"),
+                 ("material.wear_coefficient", "wear coefficient k"), ("radius", "radius"))
+
+
+def clearance_joints_table(records: list[dict]) -> str:
+    """The nominal geometry and the materials of each clearance joint, bearing and journal side by side in a row each,
+    from the study's settings records ('' when it has none): the numbers a designer checks first, which were only in
+    the list of every setting."""
+    by_name = {str(r.get("name")): r for r in records}
+    rows, units = [], {}
+    i = 0
+    while f"clearance_joints[{i}].name" in by_name:
+        joint = f"clearance_joints[{i}]"
+        width = by_name.get(f"{joint}.width")
+        for part in ("bearing", "journal"):
+            cells = []
+            for key, _heading in _PART_COLUMNS:
+                record = by_name.get(f"{joint}.{part}_{key}")
+                units.setdefault(key, (record or {}).get("unit"))
+                cells.append(setting_text(record) if record is not None else "\u2014")
+            rows.append((str(by_name[f"{joint}.name"]["value"]), part, *cells,
+                         setting_text(width) if width and part == "bearing" else ""))  # the joint's, once
+            units.setdefault("width", (width or {}).get("unit"))
+        i += 1
+    if not rows:
+        return ""
+    headings = [heading + (f" ({units[key]})" if units.get(key) else "")
+                for key, heading in (*_PART_COLUMNS, ("width", "width"))]
+    return table(["joint", "part", *headings], rows, cls="settings")
 
 
 def warning(title: str, sentence: str) -> str:
