@@ -8,14 +8,6 @@ if str(HERE) not in sys.path:  # shared test helpers (analytic_wear) are plain m
     sys.path.insert(0, str(HERE))
 
 
-def pytest_collection_modifyitems(config, items):
-    """The modules with a test marked ``slow`` first, each kept whole and in order: pytest-xdist hands out the
-    modules in this order, so the short ones fill in beside the long ones instead of one long module running alone
-    at the end of the suite."""
-    slow = {item.path for item in items if item.get_closest_marker("slow")}
-    items.sort(key=lambda item: item.path not in slow)  # stable: the order within each part is kept
-
-
 @pytest.fixture(scope="module")
 def figures_unrendered():
     """For a module whose tests read results and text, not pictures (module fixtures included, if they come after

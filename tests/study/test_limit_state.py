@@ -30,8 +30,7 @@ from jointwear.study.limit_state import (
     limit_state_problems,
 )
 
-# tests/conftest.py: these tests read results, not pictures; a long module, scheduled first
-pytestmark = [pytest.mark.usefixtures("figures_unrendered"), pytest.mark.slow]
+pytestmark = pytest.mark.usefixtures("figures_unrendered")  # tests/conftest.py: these tests read results, not pictures
 
 
 def test_life_is_the_first_joint_to_fail():

@@ -15,8 +15,7 @@ from jointwear.config import load_config, updated
 from jointwear.design.results import DesignResult
 from jointwear.schema import ConfigError
 
-# tests/conftest.py: these tests read results, not pictures; a long module, scheduled first
-pytestmark = [pytest.mark.usefixtures("figures_unrendered"), pytest.mark.slow]
+pytestmark = pytest.mark.usefixtures("figures_unrendered")  # tests/conftest.py: these tests read results, not pictures
 
 SMALL = {
     "extends": "flores_slider_crank",

@@ -16,8 +16,7 @@ from jointwear.study import life_at, population, run_reliability, study_context
 from jointwear.study.io import strict
 from jointwear.study.limit_state import curve_cycles
 
-# tests/conftest.py: these tests read results, not pictures; a long module, scheduled first
-pytestmark = [pytest.mark.usefixtures("figures_unrendered"), pytest.mark.slow]
+pytestmark = pytest.mark.usefixtures("figures_unrendered")  # tests/conftest.py: these tests read results, not pictures
 
 
 @pytest.fixture(scope="module")

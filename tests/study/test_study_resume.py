@@ -22,8 +22,6 @@ from jointwear.compute import EvaluationStore
 from jointwear.config import load_config, updated
 from jointwear.study.reliability import store_digest
 
-pytestmark = pytest.mark.slow  # a long module: tests/conftest.py schedules it first
-
 QUICK = """
 [wear]
 block_cycles = 80000
