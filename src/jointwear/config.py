@@ -425,10 +425,11 @@ def validation_problems(exc: ValidationError, data: Any = None) -> list[str]:
     the branch that fits the input's shape is reported.
     """
     errors = sorted(_matching_branches(exc.errors()), key=lambda e: e.get("type") != "extra_forbidden")
+    hints = {id(e): _did_you_mean(tuple(e.get("loc", ()))) for e in errors if e.get("type") == "extra_forbidden"}
     meant = set()  # (table, field) a misspelt key stands for, in any unit
     for err in errors:
         loc = tuple(err.get("loc", ()))
-        guess = re.search(r"did you mean (\w+)\?", _did_you_mean(loc)) if err.get("type") == "extra_forbidden" else None
+        guess = re.search(r"did you mean (\w+)\?", hints.get(id(err), ""))
         if guess and loc:
             meant |= {(loc[:-1], stem) for stem in _unit_stems(guess[1])}
     out = []
@@ -459,7 +460,7 @@ def validation_problems(exc: ValidationError, data: Any = None) -> list[str]:
             text = repr(inp)
             shown = f" (got {text if len(text) <= 60 else text[:57] + '...'})"
         if err.get("type") == "extra_forbidden":
-            msg = "unknown key (not a setting of this section)" + _did_you_mean(tuple(err.get("loc", ())))
+            msg = "unknown key (not a setting of this section)" + hints[id(err)]
             if loc and loc[0] == "clearance_joints" and str(loc[-1]).split("_")[0] == "clearance":
                 # updated() and the random variables' targets take a joint's clearance; a table does not
                 msg += ("; a clearance joint's table gives bearing_radius and journal_radius (the clearance is their "
