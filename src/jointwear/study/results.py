@@ -225,12 +225,8 @@ class SimulationSummary(StageResult):
     def _series(self, joint: str | None, key: str) -> np.ndarray:
         """One recorded series (``simulate.npz``'s key, a joint's without its prefix) from the trace or the file."""
         if self.trace is not None:
-            res = self.trace
-            if joint is None:
-                return {"crank_angle_rad": res.crank_angle, "t_s": res.t}[key]
-            tr = next(t for t in res.joints if t.name == joint)
-            return {"eccentricity_bearing_frame_m": tr.eccentricity, "force_normal_N": tr.force_normal,
-                    "force_tangential_N": tr.force_tangential}[key]
+            owner = self.trace if joint is None else next(t for t in self.trace.joints if t.name == joint)
+            return getattr(owner, _TRACE_ATTRIBUTES[key])  # only the one asked for (eccentricity: trig per step)
         path = self.series_path
         if path is None or not path.is_file():
             raise ValueError("the simulation's series are not here: plot a result computed in this process, or one "
@@ -627,6 +623,11 @@ def load_results(folder: Path | str) -> StudyResults:
         except (OSError, ValueError, KeyError, TypeError, OverflowError) as exc:  # 1e300 where a count is due
             out.errors[stage] = f"{cls.FILE} could not be read: {exc}"
     return out
+
+
+#: the trace's attribute behind each series of simulate.npz that SimulationSummary.plot draws (a joint's: unprefixed)
+_TRACE_ATTRIBUTES = {"crank_angle_rad": "crank_angle", "t_s": "t", "eccentricity_bearing_frame_m": "eccentricity",
+                     "force_normal_N": "force_normal", "force_tangential_N": "force_tangential"}
 
 
 #: what a command that needs a stage's result says of a folder without one

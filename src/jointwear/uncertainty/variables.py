@@ -246,10 +246,8 @@ class ClearanceSpec(SIModel):
     def derived_settings(self) -> dict[str, str]:
         """The settings that `fit` or the target joint set, each with what set it (``jointwear check`` and the report
         say so)."""
-        return {**self._set_by_joint, **self._fit_settings()}
-
-    def _fit_settings(self) -> dict[str, str]:
-        return {} if self.fit is None else dict.fromkeys(self.FIT_SETS, f"fit {self.fit!r}")
+        by_fit = {} if self.fit is None else dict.fromkeys(self.FIT_SETS, f"fit {self.fit!r}")
+        return {**self._set_by_joint, **by_fit}
 
     @model_serializer(mode="wrap")
     def _without_derived(self, handler: SerializerFunctionWrapHandler) -> dict:
