@@ -289,8 +289,9 @@ def drawing_warnings(config: StudyConfig) -> list[str]:
     size = drawn_link_size([b.points.values() for b in m.bodies])
     names = [j.name for j in m.joints]
     return [f"mechanism.joints[{item_key(i, names)}].connects: the drawn points {joint.connects[0]} and "
-            f"{joint.connects[1]} of revolute joint '{joint.name}' are {gap * 1e3:.4g} mm apart; the assembly closes the gap, so the links it joins "
-            "are up to that much off the drawing: draw the two points at the same place unless that is meant"
+            f"{joint.connects[1]} of revolute joint '{joint.name}' are {gap * 1e3:.4g} mm apart; the assembly closes "
+            "the gap, so the links it joins are up to that much off the drawing: draw the two points at the same place "
+            "unless that is meant"
             for i, joint, gap in joint_gaps(m) if GAP_WARNING * size < gap <= m.closure_tolerance * size]
 
 
