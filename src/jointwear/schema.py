@@ -103,10 +103,11 @@ def config_models(annotation: Any) -> list[type[BaseModel]]:
 
 def item_key(index: int, names: Sequence[str | None]) -> str:
     """How a path names item ``index`` of a list whose items go by ``names``: by its name where no other item has it
-    (``joints[B]``, as :func:`jointwear.config.updated` reads a path), else by its index (``joints[1]``)."""
+    (``joints[B]``, as :func:`jointwear.config.updated` reads a path), else by its index (``joints[1]``). A name that
+    reads as an index or holds a path's separators (``.``, ``[``, ``]``: a material 'St 37.2') goes by its index too."""
     name = names[index]
-    return name if isinstance(name, str) and name and names.count(name) == 1 and not name.lstrip("-").isdigit() \
-        else str(index)
+    plain = isinstance(name, str) and name and not name.lstrip("-").isdigit() and not any(c in name for c in ".[]")
+    return name if plain and names.count(name) == 1 else str(index)
 
 
 def walk_schema(model: type[BaseModel], keys) -> tuple[list[type[BaseModel]], str | None] | None:

@@ -951,6 +951,11 @@ def test_the_clearance_joints_geometry_and_materials_stand_beside_the_mechanism(
     assert cells[10:19] == ["A", "journal", joint.journal_body, joint.journal_material.name, "211", "0.277", "207",
                             "0.0021", "1"], cells
     assert "Young&#x27;s modulus (GPa)" in section and "hardness (HB)" in section and "width (mm)" in section
-    two = clearance_joints_table(settings_records(load_config("watt_six_bar_two_clearances")))
+    records = settings_records(load_config("watt_six_bar_two_clearances"))
+    two = clearance_joints_table(records)
     assert two.count("<tr>") == 5  # the heading and a bearing and a journal row per joint
+    by_index = [{**r, "name": r["name"].replace("clearance_joints[A]", "clearance_joints[0]")
+                 .replace("clearance_joints[E]", "clearance_joints[1]")}
+                for r in records]  # a folder written when list items went by their index
+    assert clearance_joints_table(by_index) == two
     assert clearance_joints_table([]) == ""

@@ -108,9 +108,8 @@ def test_a_design_specification_is_listed_field_by_field_in_its_variables_unit()
 
     cfg = load_config()  # its [design] has a "hardened" class of HB_b: mean_HB = 390
     k = next(i for i, p in enumerate(cfg.design.properties) if p.variable == "HB_b")
-    j = next(i for i, c in enumerate(cfg.design.properties[k].classes) if c.name == "hardened")
     rows = {r["name"]: r for r in settings_records(cfg)}
-    row = rows[f"design.properties[{k}].classes[{j}].mean"]
+    row = rows[f"design.properties[{k}].classes[hardened].mean"]
     assert row["unit"] == "HB" and row["value"] == pytest.approx(390, rel=1e-12)
     assert not any(isinstance(r["value"], str) and "mean=" in r["value"] for r in rows.values())
 
@@ -139,3 +138,54 @@ def test_a_random_inputs_mean_beside_the_value_drawn_at_its_target():
     assert (rows["E_j"]["mean"], rows["E_j"]["drawn"], rows["E_j"]["unit"]) == (210.0, 211.0, "GPa")
     assert mean_cell(rows["E_j"]) == "210 (drawn: 211)"
     assert [n for n, v in rows.items() if "drawn" in mean_cell(v)] == ["E_j"]
+
+
+class _Item(BaseModel):
+    name: str
+    width: float = Field(0.01, json_schema_extra={"unit": "m"})
+
+
+class _Listed(BaseModel):
+    items: list[_Item]
+
+
+def test_a_lists_items_are_named_as_config_errors_and_updated_name_them():
+    """Each item by its name where it is unique and reads as one path step (as jointwear.config.updated reads a path
+    and config errors write it); by its index where two share a name or it holds a '.', '[' or ']'."""
+    from jointwear.report.settings import settings_records
+
+    names = ["A", "St 37.2", "B", "B", "7", "x]"]
+    listed = _Listed(items=[_Item(name=n) for n in names])
+    recs = [r["name"] for r in settings_records(listed) if r["name"].endswith("width")]
+    assert recs == ["items[A].width", "items[1].width", "items[2].width", "items[3].width", "items[4].width",
+                    "items[5].width"]
+
+
+def test_a_config_json_written_with_indices_reads_as_one_written_with_names(tmp_path):
+    """A study folder recorded before list items went by their names: the same config finds no setting changed (no
+    result is moved aside on resume), and a changed one is named by its item's name."""
+    import re
+
+    from jointwear.config import load_config, updated
+    from jointwear.report.settings import named_paths, write_dump
+    from jointwear.study.superseded import changed_settings
+
+    cfg = load_config("watt_six_bar_two_clearances")
+    dump = settings_dump(cfg)
+    order = {"clearance_joints": [j.name for j in cfg.clearance_joints],
+             "uncertainty.variables": [v.name for v in cfg.uncertainty.variables],
+             "mechanism.joints": [j.name for j in cfg.mechanism.joints],
+             "mechanism.bodies": [b.name for b in cfg.mechanism.bodies]}
+
+    def by_index(name: str) -> str:
+        for path, names in order.items():
+            name = re.sub(rf"^{re.escape(path)}\[([^\]]+)\]", lambda m: f"{path}[{names.index(m.group(1))}]", name)
+        return name
+
+    old = {**dump, "settings": [{**r, "name": by_index(r["name"])} for r in dump["settings"]]}
+    assert "clearance_joints[1].width" in {r["name"] for r in old["settings"]}  # the old spelling, written
+    assert named_paths(old["settings"]) == dump["settings"]
+    write_dump(tmp_path, old)
+    assert changed_settings(tmp_path, dump["settings"]) == []
+    wider = settings_dump(updated(cfg, {"clearance_joints[E].width_mm": 9.0}))["settings"]
+    assert changed_settings(tmp_path, wider) == ["clearance_joints[E].width"]

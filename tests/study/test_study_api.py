@@ -217,7 +217,7 @@ def test_a_folder_recorded_in_other_display_units_is_the_same_model(tmp_path):
     assert any(r["unit"] == "GPa" and r["name"].endswith("hardness") for r in old["settings"])
     assert _changed_settings(tmp_path, dump["settings"]) == []
     harder = settings_dump(updated(cfg, {"clearance_joints.A.bearing_material.hardness_HB": 400.0}))
-    assert _changed_settings(tmp_path, harder["settings"]) == ["clearance_joints[0].bearing_material.hardness"]
+    assert _changed_settings(tmp_path, harder["settings"]) == ["clearance_joints[A].bearing_material.hardness"]
 
 
 def test_a_resume_refused_for_another_model_lists_every_changed_setting(tmp_path, capsys):

@@ -9,7 +9,7 @@ Contract (every key optional; the report lists whatever is there)::
      "jointwear_version": "0.1.0", "seed": 2025,     # any other top-level scalars are listed too
      "mechanism": {"type": "crank_rocker", "crank_mm": 6.0, "rod_mm": 38.0, "rocker_mm": 12.0,
                    "pivot_mm": [11.5, 38.0], "branch": 1, "clearance_joint": "A"},
-     "settings": [{"name": "clearance_joints[0].friction.mu_d", "value": 0.1, "unit": null,
+     "settings": [{"name": "clearance_joints[A].friction.mu_d", "value": 0.1, "unit": null,  # an item by its name
                    "source": "<the field's docstring: where the value comes from>",
                    "paper_open": true, "description": "...",
                    "explicit": false,                  # given in the config (true) or a default (false)
@@ -44,9 +44,11 @@ from pathlib import Path
 from typing import Any
 
 from jointwear.config import display_unit
+from jointwear.schema import item_key
 from jointwear.units import to_display
 
-__all__ = ["settings_records", "settings_dump", "write_settings", "is_paper_open", "random_variables", "origin"]
+__all__ = ["settings_records", "named_paths", "settings_dump", "write_settings", "is_paper_open", "random_variables",
+           "origin"]
 
 _OPEN = re.compile(
     r"paper[- ]notes|paper (is )?silent|paper gives no|not (fixed|given|stated) (by|in) the paper|project choice|"
@@ -101,8 +103,9 @@ def settings_records(model: Any, prefix: str = "", *, explicit: bool = True,
             out += settings_records(value, full, explicit=here, **deeper)
             continue
         if isinstance(value, (list, tuple)) and value and all(isinstance(v, BaseModel) for v in value):
-            for i, v in enumerate(value):
-                out += settings_records(v, f"{full}[{i}]", explicit=here, **deeper)
+            names = [getattr(v, "name", None) for v in value]
+            for i, v in enumerate(value):  # an item by its name, as config errors and `updated` write its path
+                out += settings_records(v, f"{full}[{item_key(i, names)}]", explicit=here, **deeper)
             continue
         if isinstance(value, Mapping) and value and all(isinstance(v, BaseModel) for v in value.values()):
             for key, v in value.items():  # a table of sections, e.g. a material option's specifications by variable
@@ -131,6 +134,29 @@ def settings_records(model: Any, prefix: str = "", *, explicit: bool = True,
             **({"derived_from": set_by} if set_by else {}),
         })
     return out
+
+
+def named_paths(records: Sequence[Mapping]) -> list[dict]:
+    """``records`` with every list item named as :func:`settings_records` names it (:func:`jointwear.schema.item_key`),
+    read off their own ``...[i].name`` records: a config.json written when items went by their index
+    ('uncertainty.variables[3].std' -> 'uncertainty.variables[HB_b].std') reads as one written today."""
+    lists: dict[str, dict[int, Any]] = {}
+    for r in records:
+        if m := re.fullmatch(r"(.*)\[(\d+)\]\.name", str(r.get("name", ""))):
+            lists.setdefault(m.group(1), {})[int(m.group(2))] = r.get("value")
+    keys = {}
+    for path, by_index in lists.items():
+        names = [by_index.get(i) for i in range(max(by_index) + 1)]
+        keys |= {f"{path}[{i}]": f"[{item_key(i, names)}]" for i in by_index}
+
+    def renamed(name: str) -> str:
+        out, last = [], 0
+        for m in re.finditer(r"\[\d+\]", name):  # each index looked up by the path up to it, as written
+            out.append(name[last:m.start()] + keys.get(name[:m.end()], m.group(0)))
+            last = m.end()
+        return "".join(out) + name[last:]
+
+    return [{**r, "name": renamed(str(r["name"]))} if "name" in r else dict(r) for r in records]
 
 
 def origin(record: Mapping) -> str:

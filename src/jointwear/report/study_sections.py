@@ -15,7 +15,7 @@ from .alt_text import wear_history_alt, wear_polar_alt
 from .markup import Figures, cards, e, format_number, missing, table
 from .read import StudyOutputs, joint_series
 from .reference_checks import reference_label, reference_of, reference_values, second_peak
-from .settings import origin
+from .settings import named_paths, origin
 from .style import scale_to_unit
 
 __all__ = ["settings_section", "dynamics_section", "wear_section", "convergence_section", "allowance_mm",
@@ -188,11 +188,12 @@ def clearance_joints_table(records: list[dict]) -> str:
     """The nominal geometry and the materials of each clearance joint, bearing and journal side by side in a row each,
     from the study's settings records ('' when it has none): the numbers a designer checks first, which were only in
     the list of every setting."""
+    records = named_paths(records)  # a folder written when items went by their index reads as one written today
     by_name = {str(r.get("name")): r for r in records}
+    joints = [name.removesuffix(".name") for name in by_name
+              if name.startswith("clearance_joints[") and name.endswith("].name") and name.count(".") == 1]
     rows, units = [], {}
-    i = 0
-    while f"clearance_joints[{i}].name" in by_name:
-        joint = f"clearance_joints[{i}]"
+    for joint in joints:
         width = by_name.get(f"{joint}.width")
         for part in ("bearing", "journal"):
             cells = []
@@ -203,7 +204,6 @@ def clearance_joints_table(records: list[dict]) -> str:
             rows.append((str(by_name[f"{joint}.name"]["value"]), part, *cells,
                          setting_text(width) if width and part == "bearing" else ""))  # the joint's, once
             units.setdefault("width", (width or {}).get("unit"))
-        i += 1
     if not rows:
         return ""
     headings = [heading + (f" ({units[key]})" if units.get(key) else "")

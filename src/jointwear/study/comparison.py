@@ -284,11 +284,12 @@ def _row(res: StudyResults, label: str, target: float) -> dict:
 def _differences(loaded: list[StudyResults]) -> list[dict]:
     """The settings (config.json's resolved ``settings``) whose values differ, in the order the first study that
     has each lists them."""
+    from jointwear.report.settings import named_paths
+
     per_study = []
     for res in loaded:
-        settings = (res.config or {}).get("settings", [])
-        items = _item_names(settings)
-        per_study.append({_by_name(s["name"], items): s for s in settings})
+        # list items by their names: studies listing their variables in another order compare by name
+        per_study.append({s["name"]: s for s in named_paths((res.config or {}).get("settings", []))})
     names: list[str] = []
     for settings in per_study:
         # where the calls run (compute.*) does not change a result: serial, local workers and Dask give the same
@@ -301,23 +302,6 @@ def _differences(loaded: list[StudyResults]) -> list[dict]:
         if any(not same_value(values[0], v, rtol=1e-12) for v in values[1:]):  # a value read back through a unit
             out.append({"name": name, "unit": unit, "values": values})
     return out
-
-
-def _item_names(settings: list[dict]) -> dict[str, str]:
-    """'uncertainty.variables[3]' -> 'HB_b': the name of every item of a list that has one."""
-    return {s["name"][: -len(".name")]: s["value"] for s in settings
-            if re.fullmatch(r".*\[\d+\]\.name", s["name"]) and isinstance(s.get("value"), str) and s["value"]}
-
-
-def _by_name(setting: str, items: dict[str, str]) -> str:
-    """'uncertainty.variables[3].std' -> 'uncertainty.variables[HB_b].std': list items by their names, so that
-    studies listing their variables in another order compare by name, not by position."""
-    out, last = [], 0
-    for m in re.finditer(r"\[\d+\]", setting):
-        name = items.get(setting[: m.end()])
-        out.append(setting[last: m.start()] + (f"[{name}]" if name else m.group(0)))
-        last = m.end()
-    return "".join(out) + setting[last:]
 
 
 #: control characters (C0, DEL, C1): a terminal escape sequence (ESC [ ... m, ESC ] ... BEL) starts with one
