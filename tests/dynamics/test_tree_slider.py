@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from kernel_checks import assert_tree_accelerations_match_cartesian
+from kernel_checks import assert_tree_accelerations_match_cartesian, loop_against_evaluation
 from scipy.interpolate import CubicHermiteSpline
 
 from jointwear.config import config_from_dict, load_config
@@ -152,3 +152,13 @@ def test_slider_same_trajectory_short_window(model):
         assert np.max(np.abs(_hermite(a, k)(t) - _hermite(b, k)(t))) < (1e-9 if k % 3 == 2 else 1e-11)
     for ja, jb in zip(a.joints, b.joints):
         assert abs(ja.force_normal[-1] - jb.force_normal[-1]) < 1e-4 * max(np.max(ja.force_normal), 1e-12)
+
+
+def test_specialised_loop_equals_general_evaluation(model):
+    """The loop specialised to each slider linkage's shape gives, at each accepted step, one evaluation of the general
+    tree kernel's accelerations and contact outputs (the generated slide: its Coriolis term on the turning guide, a
+    revolute body hung from a sliding one). Tolerances: test_tree_kernel's test of the same name (measured 2e-10)."""
+    loop_acc, loop_out, acc, out = loop_against_evaluation(model, 0.01)
+    assert np.all(np.abs(loop_acc - acc) <= 1e-7 * np.abs(acc).max())
+    scale = np.abs(out).max(axis=(0, 1))
+    assert np.all(np.abs(loop_out - out) <= 1e-8 * scale)
