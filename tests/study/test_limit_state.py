@@ -378,16 +378,17 @@ def test_a_noisy_series_systems_reliability_and_sensitivity_take_each_joints_sca
     assert len(table["life_cycles_E"]) == len(table["target_reliability"])
     sens = run_sensitivity(ctx, res)
     assert abs(sens.reliability_nominal - r_exact) <= half + reference, (sens.reliability_nominal, r_exact)
-    # a 0.8 shift of k_A (2 standard deviations), read on the surrogate: within its own error estimate, the Monte
-    # Carlo error of its 200,000 samples (3 standard errors: 0.003), the reference's, and the spread of the Kriging's
-    # posterior that the curve's band counts at this level and the error estimate does not (the same surrogate, read
-    # on a population moved within its learning's range). Without that part the reading missed by 4.1 error
-    # estimates (0.043) on another CPU's learning, and by 1.2 and 1.5 on two of six other seeds.
+    # a 0.8 shift of k_A (2 standard deviations), read on the surrogate: within 3 standard deviations of its error
+    # (the estimate is a 95 % bound, 1.96 of them), the Monte Carlo error of its 200,000 samples (3 standard errors:
+    # 0.003) and the reference's. The estimate holds the spread of R over the Kriging's posterior on the shifted
+    # population (0.038 on this learning): ESC's count alone (0.0105) left a miss of 0.043 (2.2 standard deviations of
+    # the posterior's) on a znver3 host's learning, and of 1.2 and 1.5 estimates on two of six other seeds.
     marginals = list(ctx.marginals)
     marginals[0] = shifted_marginal(marginals[0], 0.8)
     rule = next(r for r in sens.rules if r["variable"] == "k_A" and round(r["factor"], 3) == 0.8)
     r_shift = exact(marginals)
-    assert abs(rule["reliability"] - r_shift) <= rule["error_estimate"] + half + 0.003 + reference, (rule, r_shift)
+    assert abs(rule["reliability"] - r_shift) <= 3 / 1.96 * rule["error_estimate"] + 0.003 + reference, (rule, r_shift)
+    assert sens.reliability_nominal_error >= res.pf_error[col] / 2, (sens.reliability_nominal_error, res.pf_error)
 
 
 def test_a_judged_joint_that_does_not_wear_leaves_the_study_to_the_others():

@@ -257,15 +257,18 @@ class MultiReliabilityResult:
         return pf, cov
 
     def posterior_pf_sd(self, u: np.ndarray, noise_sd: float = 0.0, n_draws: int = 400, seed: int = 0,
-                        thresholds=None) -> np.ndarray:
+                        thresholds=None, point_shifts=None) -> np.ndarray:
         """The Kriging's own uncertainty of every column's Pf: its standard deviation over the posterior of the
         shared Kriging of ``akmcs_multi(levels=...)`` at the points ``u`` (a sample of the population, m points:
         m^2 memory), each point failing with probability Phi(-g / noise_sd) (:func:`posterior_failure_spread`); a
         series system's, from its components' draws, each with its own scatter when ``noise_sd`` > 0.
-        ``thresholds``: at other thresholds on the response than the levels."""
+        ``thresholds``: at other thresholds on the response than the levels; ``point_shifts`` (m,): added to every
+        threshold at each point (a threshold that differs from point to point)."""
         if self.levels is None:
             raise ValueError("posterior_pf_sd needs a result of akmcs_multi(levels=...)")
         shifts = self._level_shifts(thresholds)
+        if point_shifts is not None:
+            shifts = [shift + np.asarray(point_shifts, dtype=float)[:, None] for shift in shifts]
         sur, rng = self.response_surrogate, np.random.default_rng(seed)
         if noise_sd > 0 and hasattr(sur, "failure_probability"):  # a series system: each component's own scatter
             draws = sur.posterior_component_draws(u, n_draws, rng)

@@ -88,7 +88,7 @@ def unresolved_pairs(ranking: Sequence[str], swing: dict[str, float], error: dic
                      groups: dict[str, Sequence[str]]) -> list[dict]:
     """Neighbours in a group's ranking whose order the study does not resolve: the difference of their swings is
     no larger than the sum of the error estimates of the two reliabilities that set those swings (each the
-    surrogate's 95 % bound, ``jointwear.reliability.esc_absolute_error``). ``ranking``: all variables, largest
+    surrogate's 95 % bound: ESC's or the Kriging posterior's, the larger). ``ranking``: all variables, largest
     swing first; ``groups``: group -> member names."""
     out = []
     for group, members in groups.items():

@@ -5,12 +5,24 @@ from __future__ import annotations
 import math
 import re
 import time
+from collections.abc import Callable
 
 import numpy as np
 
 from jointwear.reliability import esc_absolute_error, failure_probability
-from jointwear.study.reliability import StudyContext, WearSurrogates, archard_exponent, life_scatter_sd, population
+from jointwear.study.reliability import (
+    POSTERIOR_DRAWS,
+    StudyContext,
+    WearSurrogates,
+    archard_exponent,
+    life_scatter_sd,
+    population,
+)
 from jointwear.study.results import ReliabilityCurve, SensitivityResult
+
+#: population points of the posterior spread of each shifted reliability: one Cholesky factor of m x m per shifted
+#: population (m = 3000, the curve's, took ~1 s each); fewer points can only widen the spread, never hide it
+SHIFT_POSTERIOR_POINTS = 1000
 
 #: a random variable's target that is a drawn point's coordinate (mechanism...points.D.y, ground_points.C.x)
 COORDINATE_TARGET = re.compile(r"(^|\.)(points|ground_points)\.[^.]+\.[xy]$")
@@ -58,9 +70,11 @@ def survival(margin: np.ndarray, scatter_sd: float) -> float:
 
 def archard_check(ctx: StudyContext, i: int, shifted, exponent: int, pop: np.ndarray, margin: np.ndarray,
                   margin_sd: np.ndarray, factor: float, r_surrogate: float, error: float, cycles: float,
-                  learned: tuple[float, float], scatter_sd: float = 0.0) -> dict:
+                  learned: tuple[float, float], scatter_sd: float = 0.0,
+                  posterior_error: Callable[[np.ndarray], float] | None = None) -> dict:
     """The shifted reliability by Archard's law, against the surrogate's (``scatter_sd``: the life's call-to-call
-    scatter, integrated as R(N) integrates it).
+    scatter, integrated as R(N) integrates it; ``posterior_error(point_shifts)``: the 95 % spread of R over the
+    Kriging's posterior with each nominal point's threshold moved by its shift, see :func:`run_sensitivity`).
 
     The judged depth is proportional to (k / H) of its body, so a sample whose variable i moves from x_i to
     x_i' (paired by quantile) has its life divided by (x_i' / x_i)^exponent; the life itself comes from the
@@ -90,6 +104,8 @@ def archard_check(ctx: StudyContext, i: int, shifted, exponent: int, pop: np.nda
         moved = margin - exponent * np.log(x_shifted / x)
     r_exact = survival(moved, scatter_sd)
     error_archard = esc_absolute_error(moved, margin_sd)
+    if posterior_error is not None:
+        error_archard = max(error_archard, posterior_error(exponent * np.log(x_shifted / x)))
     rel = ctx.config.reliability
 
     def accuracy(r: float, estimate: float) -> float:
@@ -182,11 +198,23 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
             return engine.failure_probabilities(u, scatter, [log_levels[col] + log_shift])[:, 0]
         return failure_probability(margin - log_shift, scatter)
 
+    n_posterior = min(SHIFT_POSTERIOR_POINTS, n_pop)
+
+    def posterior_error(u, log_shift=0.0, point_shifts=None) -> float:
+        """1.96 x the standard deviation of R at N_s over the Kriging's posterior, on the first rows of ``u``, each
+        life divided by exp(log_shift + its point_shifts): the surrogate's error that ESC's count of misclassified
+        points misses where the life's scatter is integrated (its errors, correlated between the points, move R as
+        a whole), as the curve's error counts it (``surrogate_pf_error``)."""
+        shifts = None if point_shifts is None else np.asarray(point_shifts)[:n_posterior]
+        sd = engine.posterior_pf_sd(u[:n_posterior], scatter, POSTERIOR_DRAWS, seed=rel.seed + 23,
+                                    thresholds=[log_levels[col] + log_shift], point_shifts=shifts)
+        return float(1.96 * sd[0])
+
     u_pop = iso.to_u(pop)
     margin_nominal_pop, margin_sd_nominal_pop = log_life_margin(u_pop)
     fail_nominal = failure_at_level(u_pop, margin_nominal_pop)
     r_nominal = float(1.0 - fail_nominal.mean())
-    r_nominal_error = esc_absolute_error(margin_nominal_pop, margin_sd_nominal_pop)
+    r_nominal_error = max(esc_absolute_error(margin_nominal_pop, margin_sd_nominal_pop), posterior_error(u_pop))
 
     n_model = len(ctx.targets)
     means = np.array([m.mean() for m in ctx.marginals[:n_model]])
@@ -229,11 +257,12 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
                 shifted_u = iso.to_u(shifted_pop)
             mu, sd = log_life_margin(shifted_u)
             r = float(1.0 - failure_at_level(shifted_u, mu).mean())
-            error = esc_absolute_error(mu, sd)
+            error = max(esc_absolute_error(mu, sd), posterior_error(shifted_u))
             if exponents[i] is not None:
                 check = archard_check(ctx, i, shifted, exponents[i], pop, margin_nominal_pop, margin_sd_nominal_pop,
                                       factor, r, error, sens_cycles, (min(ctx.cycles), max(ctx.cycles)),
-                                      scatter_sd=scatter)
+                                      scatter_sd=scatter,
+                                      posterior_error=lambda shifts: posterior_error(u_pop, point_shifts=shifts))
                 archard_checks.append(check)
                 if check["consistent"] is not None:
                     # the judged body's k or H: Archard's exact scaling of the nominal population, where the
@@ -263,7 +292,8 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
         mu = margin_nominal_pop - math.log(rho)
         r = float(1.0 - failure_at_level(u_pop, margin_nominal_pop, math.log(rho)).mean())
         # the surrogate's error only (rho comes from two true-model calls)
-        entry.update(reliability=r, wear_ratio=rho, error_estimate=esc_absolute_error(mu, margin_sd_nominal_pop))
+        entry.update(reliability=r, wear_ratio=rho, error_estimate=max(esc_absolute_error(mu, margin_sd_nominal_pop),
+                                                                       posterior_error(u_pop, math.log(rho))))
         rules.append(entry)
         return r, ctx.n_evaluated - before
 
