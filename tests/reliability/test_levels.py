@@ -244,3 +244,25 @@ def test_quantile_tol_of_a_noisy_response_stops_at_its_fitted_scatter():
     rng = np.random.default_rng(0)
     tight = akmcs_multi(g, [stats.norm(), stats.norm()], quantile_pf=[0.25], quantile_tol=0.001, **common)
     assert plain.noise_sd > 0.001 and tight.n_calls == plain.n_calls and tight.converged
+
+
+@pytest.mark.parametrize("noise_sd", [0.3, 0.0])
+def test_point_shifts_move_each_points_threshold(noise_sd):
+    """posterior_pf_sd(point_shifts=s): a shift equal at every point is the threshold moved by it; shifts that differ
+    from point to point move only their own points: with the first half of the points shifted far below every draw
+    (never failing) or far above (always failing), each draw's Pf differs by exactly 0.5, so the two spreads are equal.
+    The same draws (same points, same seed) throughout: equal to rounding."""
+    levels = np.array([-1.0, 0.0])
+    res = akmcs_multi(lambda x: x[:, 0] + x[:, 1], [stats.norm(), stats.norm()], levels=levels, n_mc=5_000, seed=2,
+                      max_calls=12)
+    u = np.random.default_rng(4).standard_normal((400, 2))
+
+    def spread(threshold, shifts=None):
+        return res.posterior_pf_sd(u, noise_sd, 200, seed=5, thresholds=[threshold], point_shifts=shifts)[0]
+
+    assert spread(0.0, np.full(400, 0.3)) == pytest.approx(spread(0.3), rel=1e-12)
+    first_half = np.arange(400) < 200
+    never, always = spread(0.0, np.where(first_half, -1e3, 0.0)), spread(0.0, np.where(first_half, 1e3, 0.0))
+    assert never == pytest.approx(always, rel=1e-9, abs=1e-15)
+    if noise_sd > 0:  # the Kriging of a plane is exact: without the response's scatter its spread is 0
+        assert never > 0 and never != pytest.approx(spread(0.0), rel=1e-3)
