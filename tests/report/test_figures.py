@@ -208,7 +208,7 @@ def test_the_slider_crank_sketch_closes_its_loop_on_the_guide(offset, guide, bra
     slider B lies on the guide line offset * n + s u, on the side the assembly branch picks."""
     fig = F.slider_crank_figure(50.0, 120.0, offset_mm=offset, guide_angle_deg=guide, branch=branch)
     lines = {ln.get_label(): np.asarray(ln.get_xydata()) for ln in fig.axes[0].get_lines()}
-    a, b = lines["rod l2 = 120 mm"]
+    a, b = lines["rod 120 mm"]
     assert np.hypot(*(b - a)) == pytest.approx(120.0, rel=1e-12)
     u = np.array([np.cos(np.deg2rad(guide)), np.sin(np.deg2rad(guide))])
     n = np.array([-u[1], u[0]])

@@ -123,9 +123,9 @@ def mechanism_figure(
     if b is None:
         no_data(ax, "the linkage does not assemble at this crank angle")
         return fig
-    ax.plot(*np.c_[o, a], color=COLORS[0], lw=3, label=f"crank l1 = {crank_mm:g} mm", zorder=3)
-    ax.plot(*np.c_[a, b], color=COLORS[1], lw=3, label=f"rod l2 = {rod_mm:g} mm", zorder=3)
-    ax.plot(*np.c_[b, pivot], color=COLORS[2], lw=3, label=f"rocker l_BC = {rocker_mm:g} mm", zorder=3)
+    ax.plot(*np.c_[o, a], color=COLORS[0], lw=3, label=f"crank {crank_mm:g} mm", zorder=3)
+    ax.plot(*np.c_[a, b], color=COLORS[1], lw=3, label=f"rod {rod_mm:g} mm", zorder=3)
+    ax.plot(*np.c_[b, pivot], color=COLORS[2], lw=3, label=f"rocker {rocker_mm:g} mm", zorder=3)
     _finish_sketch(ax, {"O": o, "A": a, "B": b, "C": pivot}, ("O", "C"), clearance_joint, "crank-rocker")
     return fig
 
@@ -181,8 +181,8 @@ def slider_crank_figure(
     ax.plot(*np.c_[guide[0], guide[1]], color="#666666", lw=1.0, ls="--", zorder=1, label="slider guide")
     ax.add_patch(_circle(o, crank_mm, ls=":", ec="#999999"))
     a, b = pose(np.deg2rad(crank_angle_deg))
-    ax.plot(*np.c_[o, a], color=COLORS[0], lw=3, label=f"crank l1 = {crank_mm:g} mm", zorder=3)
-    ax.plot(*np.c_[a, b], color=COLORS[1], lw=3, label=f"rod l2 = {rod_mm:g} mm", zorder=3)
+    ax.plot(*np.c_[o, a], color=COLORS[0], lw=3, label=f"crank {crank_mm:g} mm", zorder=3)
+    ax.plot(*np.c_[a, b], color=COLORS[1], lw=3, label=f"rod {rod_mm:g} mm", zorder=3)
     ax.plot(*b, marker="s", ms=18, mfc=COLORS[2], mec="#333333", alpha=0.6, zorder=3, ls="none", label="slider")
     _finish_sketch(ax, {"O": o, "A": a, "B": b}, ("O",), clearance_joint, "slider-crank")
     return fig
