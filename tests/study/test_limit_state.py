@@ -388,7 +388,10 @@ def test_a_noisy_series_systems_reliability_and_sensitivity_take_each_joints_sca
     rule = next(r for r in sens.rules if r["variable"] == "k_A" and round(r["factor"], 3) == 0.8)
     r_shift = exact(marginals)
     assert abs(rule["reliability"] - r_shift) <= 3 / 1.96 * rule["error_estimate"] + 0.003 + reference, (rule, r_shift)
-    assert sens.reliability_nominal_error >= res.pf_error[col] / 2, (sens.reliability_nominal_error, res.pf_error)
+    # the nominal R's error is the curve's at this level, its posterior spread drawn on 1,000 of the population's
+    # points instead of 3,000 (no narrower in expectation; 400 draws: 3.5 % sampling error of a standard deviation):
+    # 0.8 of it at least, 5 such errors (measured 0.95; ESC's bound alone gave 0.55 of it)
+    assert sens.reliability_nominal_error >= 0.8 * res.pf_error[col], (sens.reliability_nominal_error, res.pf_error)
 
 
 def test_a_judged_joint_that_does_not_wear_leaves_the_study_to_the_others():

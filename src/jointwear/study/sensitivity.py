@@ -21,8 +21,8 @@ from jointwear.study.reliability import (
 from jointwear.study.results import ReliabilityCurve, SensitivityResult
 
 #: population points of the posterior spread of each shifted reliability: one Cholesky factor of m x m per shifted
-#: population (m = 3000, the curve's, took ~1 s each). Fewer points add to the spread each point's own variance over m,
-#: so the smaller sample errs on the wide side
+#: population (m = 3000, the curve's, took ~1 s each). Fewer points add each point's own variance over m to the
+#: spread, so the smaller sample errs wide in expectation (on a noisy two-joint study: 0.95 of the curve's at its level)
 SHIFT_POSTERIOR_POINTS = 1000
 
 #: a random variable's target that is a drawn point's coordinate (mechanism...points.D.y, ground_points.C.x)
