@@ -514,3 +514,24 @@ def test_a_long_reliability_budget_is_told_after_the_wear_stage():
                            "8.7 h at this history's pace: its budget of 12 calls may take up to 4.3 days in all")
     per_call = LONG_BUDGET_SECONDS / 10
     assert budget_line(per_call, 1000, 1000, 10) == "" and budget_line(per_call * 1.01, 1000, 1000, 10) != ""
+    # the sensitivity stage's runs of far-shifted means count too, and are named
+    assert budget_line(per_call, 1000, 1000, 8) == "" and "sensitivity" not in line
+    with_sensitivity = budget_line(per_call, 1000, 1000, 8, 3)
+    assert "its budget of 8 calls may take up to 24 min in all, and the sensitivity stage's 3 runs of means shifted " \
+           "beyond the learned region up to 9 min more" in with_sensitivity, with_sensitivity
+
+
+def test_the_sensitivity_stages_true_model_calls_are_counted_from_the_config():
+    """The default study's sensitivity made 9 true-model calls beyond the curve's design (the four lengths' and the
+    journal radius' 20 % shifts, hundreds of standard deviations, and the nominal means: benchmarks/results/
+    study.json's sensitivity_extra_model_calls); its materials' shifts (2 standard deviations) need none."""
+    import json
+    from pathlib import Path
+
+    from jointwear.config import load_config, updated
+    from jointwear.study.sensitivity import far_shift_calls
+
+    record = json.loads((Path(__file__).resolve().parents[2] / "benchmarks" / "results" / "study.json").read_text())
+    cfg = load_config()
+    assert far_shift_calls(cfg) == record["runs"][0]["sensitivity_extra_model_calls"] == 9
+    assert far_shift_calls(updated(cfg, {"sensitivity.surrogate_shift_limit": 1e9})) == 0

@@ -471,9 +471,10 @@ class Study:
                 self.echo(f"wear: {life}")
         if "reliability" in self.stages and result.stopped_at_cycles is None:
             from jointwear.study.reliability import model_call
+            from jointwear.study.sensitivity import far_shift_calls
 
             budget = budget_line(res.wall_seconds, result.cycles, max(model_call(self.config).cycles),
-                                 self.config.reliability.max_calls)
+                                 self.config.reliability.max_calls, far_shift_calls(self.config))
             if budget:
                 self.echo(f"wear: {budget}")
         self._tell("wear", result)

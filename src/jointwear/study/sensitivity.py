@@ -43,6 +43,18 @@ def coordinate_shift_sentence(targets: dict[str, str], factors: tuple[float, flo
             "depends on where the origin is drawn (the Sobol' ranking does not)")
 
 
+def far_shift_calls(config) -> int:
+    """The true-model calls the sensitivity stage makes (read back where the store holds them): one at each mean
+    shifted further than ``sensitivity.surrogate_shift_limit`` standard deviations (the separable scaling rule of
+    :func:`run_sensitivity`), and one at the nominal means when there is any."""
+    unc, sens = config.uncertainty, config.sensitivity
+    if unc is None:
+        return 0
+    far = sum(abs((factor - 1.0) * m.mean()) > sens.surrogate_shift_limit * m.std()
+              for m in unc.marginals(feasible=True) for factor in sens.factors)
+    return far + 1 if far else 0
+
+
 def sensitivity_level(ctx: StudyContext, reliability: ReliabilityCurve) -> int:
     """The cycle count of the sensitivity study: the configured one, else the curve level whose reliability is
     nearest the (first) target reliability."""

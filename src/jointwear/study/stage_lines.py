@@ -86,17 +86,24 @@ def duration_text(seconds: float) -> str:
     return f"{seconds / 3600:.1f} h" if seconds < 172_800 else f"{seconds / 86_400:.1f} days"
 
 
-def budget_line(history_seconds: float, history_cycles: int, call_cycles: int, max_calls: int) -> str:
-    """What the reliability budget may cost at the nominal history's pace, when more than ``LONG_BUDGET_SECONDS``
-    ('' else): a model call runs the same history to the curve's last level."""
+def budget_line(history_seconds: float, history_cycles: int, call_cycles: int, max_calls: int,
+                sensitivity_calls: int = 0) -> str:
+    """What the reliability budget (and the sensitivity stage's ``sensitivity_calls`` runs of the true model) may cost
+    at the nominal history's pace, when more than ``LONG_BUDGET_SECONDS`` ('' else): a model call runs the same
+    history to the curve's last level."""
     if history_cycles <= 0 or history_seconds <= 0:
         return ""
     per_call = history_seconds * call_cycles / history_cycles
-    if per_call * max_calls <= LONG_BUDGET_SECONDS:
+    if per_call * (max_calls + sensitivity_calls) <= LONG_BUDGET_SECONDS:
         return ""
+    sensitivity, settings = "", "reliability.max_calls"
+    if sensitivity_calls:
+        sensitivity = (f", and the sensitivity stage's {sensitivity_calls} runs of means shifted beyond the learned "
+                       f"region up to {duration_text(per_call * sensitivity_calls)} more")
+        settings += "; sensitivity.surrogate_shift_limit, sensitivity.factors"
     return (f"each model call of the reliability stage runs such a history to {call_cycles:,} cycles, about "
             f"{duration_text(per_call)} at this history's pace: its budget of {max_calls} calls may take up to "
-            f"{duration_text(per_call * max_calls)} in all, shared among the workers (reliability.max_calls; a long "
+            f"{duration_text(per_call * max_calls)} in all{sensitivity}, shared among the workers ({settings}; a long "
             "history per cycle is its dynamics: docs/dynamics.md, \"When the step size collapses\")")
 
 
