@@ -241,3 +241,35 @@ def test_an_angle_has_no_relative_difference(study_dir):
     angle = checks["angle of the max wear"]
     assert angle.rel_diff is None and "deg from the reference's" in angle.note
     assert checks["nominal max bearing wear after 400,000 cycles"].rel_diff is not None
+
+
+def test_a_ranking_that_differs_only_within_the_surrogates_error_is_told_so(study_dir):
+    """The bearing group read '(differs)' and counted as out of the reference's order where it differed only by two
+    neighbours the study's surrogate error does not separate. Swapping the two least influential bearing variables:
+    told as the same order within the surrogate's error when the pair is unresolved, as another order when it is not."""
+    from jointwear.report.reference_checks import ranking_rows, reference_checks, tally
+
+    results = load_results(study_dir)
+    sens = results.sensitivity
+    bearing = [n for n, _label in ranking_rows(sens)["bearing_material"]]
+    last, before = bearing[-1], bearing[-2]
+    by_name = {v["name"]: v for v in sens.variables}
+    a, b = by_name[before], by_name[last]
+    for key in ("reliability_low", "reliability_high"):
+        a[key], b[key] = b[key], a[key]  # the two swap places in the study's ranking
+    assert [n for n, _label in ranking_rows(sens)["bearing_material"]][-2:] == [last, before]
+
+    def bearing_check():
+        (check,) = [c for c in reference_checks(results) if c.quantity == "sensitivity ranking, bearing material"]
+        return check
+
+    resolved = bearing_check()
+    assert resolved.status != PASS and not resolved.within_error and "(same most influential)" in resolved.note
+    sens.unresolved_pairs = [*sens.unresolved_pairs, {"group": "bearing_material", "first": last, "second": before,
+                                                      "swing_difference": 0.0, "error_sum": 0.01}]
+    tied = bearing_check()
+    assert tied.status != PASS and tied.within_error, tied
+    assert "(the same order within the surrogate's error)" in tied.note and "most influential" not in tied.note
+    t = tally(reference_checks(results))
+    assert (t.rankings, t.rankings_same, t.rankings_within_error) == (3, 2, 1)
+    assert t.details().endswith("rankings: 2 of 3 in the reference's order, 1 more within the surrogate's error")

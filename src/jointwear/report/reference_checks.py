@@ -44,6 +44,8 @@ class Check:
     #: an order of variables, not a number: it can match the reference's (pass) but never fails, so the tally
     #: counts it apart from the judged numbers
     ranking: bool = False
+    #: a ranking that differs from the reference's only between neighbours the study does not separate
+    within_error: bool = False
 
     @property
     def rel_diff(self) -> float | None:
@@ -284,16 +286,31 @@ def _ranking_check(sens: SensitivityResult | None, v: Mapping) -> Check:
     tied = [f"{labels[a]} \u2248 {labels[b]}" for a, b in zip(names, names[1:])
             if (a, b) in unresolved and a in ref_rank and b in ref_rank]
     tied_top = len(ours_rank) > 1 and (ours_rank[0], ours_rank[1]) in unresolved
+    within = not same and bool(ours_rank) and order_within_ties(names, unresolved, ref_shown)
     not_here = [n for n in ref_rank if n not in names]
+    verdict = (" (the same order within the surrogate's error)" if within else
+               " (same most influential" + (", not resolved from the next" if tied_top else "") + ")" if top else
+               " (differs)")
     note = (f"ours: {' > '.join(labels[n] for n in ours_rank)} | reference: "
-            f"{' > '.join(labels.get(n, n) for n in ref_rank)}"
-            + ("" if same else (" (same most influential" + (", not resolved from the next" if top and tied_top
-                                                               else "") + ")" if top else " (differs)"))
+            f"{' > '.join(labels.get(n, n) for n in ref_rank)}" + ("" if same else verdict)
             + (f"; not resolved within the surrogate's error: {', '.join(tied)}" if tied else "")
             + (f"; not in this study: {', '.join(not_here)}" if not_here else ""))
     status = PASS if same and band is not None else INFO
     return Check(title, None, None, "", _band_text(band, ""), status, note, source=src, justification=just,
-                 ranking=True)
+                 ranking=True, within_error=within)
+
+
+def order_within_ties(ranking: Sequence[str], unresolved: set[tuple[str, str]], order: Sequence[str]) -> bool:
+    """Whether ``order`` (some of ``ranking``'s names) is ``ranking`` with only neighbours the study does not separate
+    swapped: the names fall into runs joined by ``unresolved`` (first, second) neighbour pairs, and ``order`` visits
+    the runs in ``ranking``'s order."""
+    run, runs = 0, {}
+    for k, name in enumerate(ranking):
+        if k and (ranking[k - 1], name) not in unresolved:
+            run += 1
+        runs[name] = run
+    visited = [runs[n] for n in order if n in runs]
+    return all(a <= b for a, b in zip(visited, visited[1:]))
 
 
 def _nominal_wear(wear: WearSummary | None, n: float) -> tuple[float | None, str]:
@@ -400,6 +417,7 @@ class CheckTally:
     no_data: int
     rankings: int
     rankings_same: int
+    rankings_within_error: int = 0
 
     @property
     def judged(self) -> int:
@@ -415,7 +433,9 @@ class CheckTally:
         if self.no_data:
             parts.append(f"{format_number(self.no_data)} without data")
         if self.rankings:
-            parts.append(f"rankings: {self.rankings_same} of {self.rankings} in the reference's order")
+            within = (f", {self.rankings_within_error} more within the surrogate's error"
+                      if self.rankings_within_error else "")
+            parts.append(f"rankings: {self.rankings_same} of {self.rankings} in the reference's order{within}")
         return "; ".join(parts)
 
 
@@ -426,7 +446,8 @@ def tally(checks: Sequence[Check]) -> CheckTally:
     return CheckTally(passed=sum(c.status == PASS for c in numbers), failed=sum(c.status == FAIL for c in numbers),
                       unbanded=sum(c.status == INFO for c in numbers),
                       no_data=sum(c.status == NA for c in checks),
-                      rankings=sum(c.status != NA for c in ranked), rankings_same=sum(c.status == PASS for c in ranked))
+                      rankings=sum(c.status != NA for c in ranked), rankings_same=sum(c.status == PASS for c in ranked),
+                      rankings_within_error=sum(c.within_error for c in ranked))
 
 
 def checks_summary(checks: Sequence[Check]) -> str:
