@@ -459,3 +459,21 @@ def test_a_contact_exponent_other_than_hertzs_is_refused_by_name():
         with pytest.raises(ConfigError, match=r"exponent: must be 1.5: the contact stiffness K is Hertz's"):
             updated(base, {"clearance_joints.A.exponent": bad})
     assert updated(base, {"clearance_joints.A.exponent": 1.5}) == base
+
+
+def test_a_standard_deviation_read_as_si_by_a_missing_suffix_is_warned():
+    """`updated(cfg, {"uncertainty.variables[E_b].std": 12})` meant 12 GPa and set 12 Pa (a number without a suffix
+    is SI): the modulus stopped varying, silently. A standard deviation below 1e-6 of its mean is warned; every
+    preset's variables (the narrowest: a 1 um journal tolerance on 1 mm, 1e-3) are not."""
+    from jointwear.study.checks import TINY_SCATTER, scatter_warnings
+
+    base = load_config()
+    slipped = updated(base, {"uncertainty.variables[E_b].std": 12.0, "uncertainty.variables[HB_b].std": 30.5})
+    warnings = scatter_warnings(slipped)
+    assert [w.split(":")[0] for w in warnings] == ["uncertainty.variables[E_b]", "uncertainty.variables[HB_b]"]
+    assert "its standard deviation, 12 Pa, is 1e-10 of its mean (120 GPa)" in warnings[0]
+    assert warnings[0] in config_warnings(slipped)
+    above_the_bar = updated(base, {"uncertainty.variables[E_b].std_GPa": 1.01 * 120.0 * TINY_SCATTER})
+    assert scatter_warnings(above_the_bar) == []
+    for preset in available_presets():
+        assert scatter_warnings(load_config(preset)) == [], preset

@@ -236,7 +236,7 @@ def config_warnings(config: StudyConfig) -> list[str]:
                        "simulate and wear stages run the drawn mechanism, the reliability stages one around the mean "
                        "(R(N) does not follow a change of the drawn value alone); give both the same value unless the "
                        "shift is meant")
-    return (mechanism + out + random_input_warnings(config) + clearance_warnings(config)
+    return (mechanism + out + scatter_warnings(config) + random_input_warnings(config) + clearance_warnings(config)
             + wear_length_warnings(config) + wear_mode_warnings(config) + block_warnings(config)
             + design_warnings(config) + allowance_warnings(config) + budget_warnings(config) + target_warnings(config)
             + trend_warnings(config))
@@ -706,6 +706,29 @@ def random_input_warnings(config: StudyConfig) -> list[str]:
                            "surrogate extrapolates over the rest, so R(N) may read high): narrow the distribution, "
                            "or bound it (truncated_normal)")
                 break
+    return out
+
+
+#: a random variable whose standard deviation is below this share of its mean barely varies: a unit slip (a
+#: standard deviation given without its suffix is SI: 12 for 12 GPa reads 12 Pa, 1e-10 of a 120 GPa modulus)
+TINY_SCATTER = 1e-6
+
+
+def scatter_warnings(config: StudyConfig) -> list[str]:
+    """Each random variable whose standard deviation is below ``TINY_SCATTER`` of its mean's magnitude."""
+    from jointwear.config import target_display_unit
+
+    unc = config.uncertainty
+    if unc is None:
+        return []
+    out = []
+    for spec, marginal in zip(unc.all_specs(), unc.marginals(feasible=True)):
+        mean, std = float(marginal.mean()), float(marginal.std())
+        if mean != 0.0 and std < TINY_SCATTER * abs(mean):
+            si = target_display_unit(spec.target)
+            out.append(f"{unc.field_of(spec.name)}: its standard deviation, {std:.3g}{f' {si}' if si else ''}, is "
+                       f"{std / abs(mean):.2g} of its mean ({shown(mean, spec.target)}): the variable barely varies. "
+                       "A unit slip? A number without a unit suffix is SI (std_GPa = 12 for 12 GPa)")
     return out
 
 
