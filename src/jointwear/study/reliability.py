@@ -263,7 +263,9 @@ def population(marginals: Sequence, n: int, seed: int, copula: Any = None) -> np
 class WearSurrogates:
     """Kriging of ln q(x, N) of judged joint ``joint`` (the first by default) at a few cycle counts, fitted once on
     the final design (no learning): the Sobol' indices of the wear. The reliability and the wear distributions
-    come from the learned life surrogate.
+    come from the learned life surrogate. Its noise is estimated as the life surrogate's is (``reliability.noise``):
+    fitted exactly, a chaotic wear's call-to-call scatter bent the Kriging into variables the wear does not depend on
+    (on a two-joint six-bar, the other joint's wear coefficient took the largest total index).
     """
 
     def __init__(self, ctx: StudyContext, design_x: np.ndarray, cycles: Sequence[int], seed: int = 0,
@@ -276,12 +278,13 @@ class WearSurrogates:
         wear = ctx.wear(x_model, joint)
         cols = [ctx.history_cycles.index(c) for c in self.cycles]
         u = self.iso.to_u(design_x)
+        noisy = ctx.config.reliability.noise == "estimate"
         self.surrogates = []
         for j in cols:
             with np.errstate(divide="ignore", invalid="ignore"):
                 y = np.log(wear[:, j])
             ok = np.isfinite(y)
-            self.surrogates.append(KrigingSurrogate(seed=seed + j).fit(u[ok], y[ok]))
+            self.surrogates.append(KrigingSurrogate(seed=seed + j, estimate_nugget=noisy).fit(u[ok], y[ok]))
 
     def predict(self, x: np.ndarray) -> np.ndarray:
         """Wear (m), shape (n, len(cycles))."""
