@@ -190,6 +190,9 @@ def test_sensitivity_mean_shifts_against_brute_force():
         assert abs(by_name["k_b"][key] - exact) < 0.02, (factor, by_name["k_b"][key], exact)
     rules = {(r["variable"], round(r["factor"], 3)): r for r in sens.rules}
     assert rules[("l2", 0.8)]["rule"] == "separable_scaling"
+    # a deterministic model (noise "none"): the wear ratio's two calls do not scatter, so its error is the surrogate's
+    far = rules[("l2", 0.8)]
+    assert far["error_wear_ratio"] == 0.0 and far["error_estimate"] == far["error_surrogate"] > 0
     assert rules[("k_b", 1.2)]["rule"] == "surrogate"
     assert by_name["l2"]["reliability_high"] == pytest.approx(sens.reliability_nominal, abs=1e-12)
     assert sens.ranking[0] in ("k_b", "HB_b")  # the only variables with a 10 % scatter in the model

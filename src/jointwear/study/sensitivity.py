@@ -168,8 +168,9 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
     * a larger shift (the geometric means moved by 20 % are hundreds of standard deviations away) is
       evaluated by the *separable scaling* rule: one true-model call at the shifted nominal point and one at
       the nominal point give the ratio rho of the max wear, and the reliability is P(rho * delta_max(x) <
-      delta_0) over the nominal population. A shifted mechanism that cannot run (e.g. a rod too short to
-      close the loop) has reliability 0, with its reason reported.
+      delta_0) over the nominal population; its error adds to the surrogate's that of rho itself, whose two calls
+      each scatter by the life's call-to-call scatter (in quadrature). A shifted mechanism that cannot run (e.g. a
+      rod too short to close the loop) has reliability 0, with its reason reported.
 
     The reliability derivatives are the score estimator's for normal marginals (exact with the Gaussian copula) and
     central differences with common random numbers on the surrogate for the others (``derivatives.FD_STEP``
@@ -304,9 +305,17 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
         # wear x rho <=> life / rho (the wear grows linearly in N): failure where ln N_f - ln rho < ln N_s
         mu = margin_nominal_pop - math.log(rho)
         r = float(1.0 - failure_at_level(u_pop, margin_nominal_pop, math.log(rho)).mean())
-        # the surrogate's error only (rho comes from two true-model calls)
-        entry.update(reliability=r, wear_ratio=rho, error_estimate=max(esc_absolute_error(mu, margin_sd_nominal_pop),
-                                                                       posterior_error(u_pop, math.log(rho))))
+        surrogate = max(esc_absolute_error(mu, margin_sd_nominal_pop), posterior_error(u_pop, math.log(rho)))
+        # rho's own error: each of its two calls scatters by the life's call-to-call scatter in ln (a chaotic
+        # model), so ln rho by sqrt(2) of it; R read at ln rho -+ 1.96 of that gives its 95 % half-width
+        rho_sd = math.sqrt(2.0) * scatter
+        ratio = 0.0
+        if rho_sd > 0:
+            ends = [float(1.0 - failure_at_level(u_pop, margin_nominal_pop, math.log(rho) + d).mean())
+                    for d in (-1.96 * rho_sd, 1.96 * rho_sd)]
+            ratio = abs(ends[1] - ends[0]) / 2.0
+        entry.update(reliability=r, wear_ratio=rho, wear_ratio_sd_log=rho_sd, error_surrogate=surrogate,
+                     error_wear_ratio=ratio, error_estimate=math.hypot(surrogate, ratio))
         rules.append(entry)
         return r, ctx.n_evaluated - before
 
