@@ -959,3 +959,18 @@ def test_the_clearance_joints_geometry_and_materials_stand_beside_the_mechanism(
                 for r in records]  # a folder written when list items went by their index
     assert clearance_joints_table(by_index) == two
     assert clearance_joints_table([]) == ""
+
+
+def test_a_coordinate_variables_name_keeps_its_case_in_the_ranking_text():
+    """The six-bar's report wrote 'L_OA and l_AB are coordinates ...': the sentence's capital changed a variable's
+    name (l_OA)."""
+    from jointwear.report.result_sections import ranking_meaning
+
+    class Sensitivity:
+        factors, sobol = (0.8, 1.2), {}
+
+        def variance_ranking(self):
+            return []
+
+    text = ranking_meaning(Sensitivity(), {"l_OA": "mechanism.bodies.crank.points.A.x"})
+    assert "Here l_OA is a coordinate of the drawing" in text and "L_OA" not in text

@@ -429,7 +429,7 @@ def ranking_meaning(sens, targets: Mapping[str, str] | None = None) -> str:
             "tolerance), not of the variable's scatter. Which scatter drives the scatter of the wear is what the "
             "Sobol' indices tell." + by_variance)
     if coordinates := coordinate_shift_sentence(dict(targets or {}), tuple(sens.factors)):
-        text += " " + coordinates[:1].upper() + coordinates[1:] + "."
+        text += f" Here {coordinates}."  # not capitalised: it begins with a variable's name (l_OA)
     return f"<p>{e(text)}</p>"
 
 
