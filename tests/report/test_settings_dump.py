@@ -189,3 +189,24 @@ def test_a_config_json_written_with_indices_reads_as_one_written_with_names(tmp_
     assert changed_settings(tmp_path, dump["settings"]) == []
     wider = settings_dump(updated(cfg, {"clearance_joints[E].width_mm": 9.0}))["settings"]
     assert changed_settings(tmp_path, wider) == ["clearance_joints[E].width"]
+
+
+def test_a_reference_value_is_listed_in_its_quantitys_report_unit():
+    """`check` listed the reference's values in raw SI without a unit: 2.49e-05 (a wear depth in m), 1.91986 (an
+    angle in rad), 46440 (a life of 12.9 h in s). They are listed in mm, deg and h, as config.json's `reference`
+    gives them; plain quantities (a reliability, a cycle count) stay plain."""
+    from jointwear.config import load_config
+    from jointwear.report.settings import settings_records
+
+    cfg = load_config()
+    rows = {r["name"]: r for r in settings_records(cfg)}
+    values = cfg.reference.values
+    listed = {v.quantity: rows[f"reference.values[{i}].value"] for i, v in enumerate(values) if v.value is not None}
+    shown = {quantity: (row["value"], row["unit"]) for quantity, row in listed.items()}
+    assert shown["nominal_max_wear"] == (pytest.approx(0.0249), "mm")
+    assert shown["nominal_max_wear_angle"] == (pytest.approx(110.0), "deg")
+    assert shown["life_hours"] == (pytest.approx(12.9), "h")
+    assert shown["reliability"][1] is None
+    k = next(i for i, v in enumerate(values) if v.quantity == "nominal_max_wear_angle")
+    band = rows[f"reference.values[{k}].band.absolute"]
+    assert (band["value"], band["unit"]) == (pytest.approx(20.0), "deg")

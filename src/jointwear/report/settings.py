@@ -81,16 +81,21 @@ def _plain(v: Any) -> Any:
 
 
 def settings_records(model: Any, prefix: str = "", *, explicit: bool = True,
-                     variable_units: Mapping[str, str | None] | None = None, variable: str | None = None) -> list[dict]:
+                     variable_units: Mapping[str, str | None] | None = None, variable: str | None = None,
+                     dimension: str | None = None) -> list[dict]:
     """Flatten a pydantic model into ``{"name", "value", "unit", "source", "paper_open", "description",
     "explicit"}``; ``explicit`` is whether the config gave the value (False: a default). A design specification's
-    numbers (unit set by its random variable) are shown in that variable's target unit."""
+    numbers (unit set by its random variable) are shown in that variable's target unit; a reference value's (and its
+    band's) in its quantity's report unit (mm, deg, h: ``jointwear.reference.DISPLAY``)."""
     from pydantic import BaseModel
+
+    from jointwear.reference import DISPLAY
 
     if variable_units is None:
         variable_units = _variable_units(model)
     variable = getattr(model, "variable", None) if isinstance(getattr(model, "variable", None), str) else variable
-    deeper = {"variable_units": variable_units, "variable": variable}
+    dimension = getattr(model, "dimension", None) if isinstance(getattr(model, "dimension", None), str) else dimension
+    deeper = {"variable_units": variable_units, "variable": variable, "dimension": dimension}
     out: list[dict] = []
     fields = type(model).model_fields
     given = getattr(model, "model_fields_set", set())
@@ -120,7 +125,11 @@ def settings_records(model: Any, prefix: str = "", *, explicit: bool = True,
             unit = variable_units.get(variable)
         elif name == "hardness" and unit == "Pa":
             unit = "HB"
-        shown, shown_unit = to_display(_plain(value), unit)
+        if extra.get("unit_of") == "quantity" and dimension in DISPLAY and type(value) in (int, float):
+            shown_unit, factor = DISPLAY[dimension]  # a reference value: 12.9 h, not 46440 (s)
+            shown, shown_unit = float(f"{value * factor:.12g}"), shown_unit or None
+        else:
+            shown, shown_unit = to_display(_plain(value), unit)
         desc = info.description or ""
         set_by = derived.get(name) if explicit else None
         out.append({
