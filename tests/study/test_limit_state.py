@@ -517,3 +517,18 @@ def test_an_interval_end_outside_the_curve_is_said_plainly():
         "95 % interval up to 311,404 cycles (its low end lies before the curve's first cycle count)")
     assert interval_text(1.0e5, None).endswith("(its high end lies beyond the curve's last cycle count)")
     assert interval_text(None, None) == "95 % interval wider than the curve"
+
+
+def test_a_unit_suffix_on_an_allowances_entry_is_told_where_it_goes():
+    """`updated(cfg, {"reliability.allowances.E_mm": 0.03})` stored a joint 'E_mm' and was told only "['E_mm'] are
+    not judged joints": the suffix belongs to the table (allowances_mm)."""
+    from jointwear.config import updated
+
+    cfg = config_from_dict(_six_bar())
+    problems = config_problems(updated(cfg, {"reliability.allowances.E_mm": 0.03}), {"reliability"})
+    (problem,) = [p for p in problems if p.startswith("reliability.allowances:")]
+    assert "['E_mm'] are not judged joints" in problem and "allowances_mm = {E = ...} in TOML" in problem
+    assert updated(cfg, {"reliability.allowances_mm": {"E": 0.03}}).reliability.allowances == {"E": pytest.approx(3e-5)}
+    (plain,) = [p for p in config_problems(updated(cfg, {"reliability.allowances.F": 3e-5}), {"reliability"})
+                if p.startswith("reliability.allowances:")]
+    assert "suffix" not in plain  # a joint that is not judged, without a unit: no hint

@@ -115,7 +115,11 @@ def limit_state_problems(config) -> list[str]:
         problems.append("reliability.joints: give at least one clearance joint (or leave it out for all)")
     extra = [n for n in rel.allowances if n not in chosen]
     if extra:
-        problems.append(f"reliability.allowances: {extra} are not judged joints (judged: {chosen})")
+        suffixed = [n for n in extra if "_" in n and n.rsplit("_", 1)[0] in chosen]  # 'E_mm': a unit on one entry
+        joint = suffixed[0].rsplit("_", 1)[0] if suffixed else ""
+        hint = (f"; a unit suffix goes on the table, not on a joint: allowances_mm = {{{joint} = ...}} in TOML, "
+                f"{{\"reliability.allowances_mm\": {{\"{joint}\": ...}}}} in updated()" if suffixed else "")
+        problems.append(f"reliability.allowances: {extra} are not judged joints (judged: {chosen}){hint}")
     for n in chosen:
         if n not in names_all:
             continue
