@@ -328,9 +328,9 @@ def check(config):
     study = Study(config, out=Path("."), echo=lambda line: None)  # its warnings are printed last, below
     found = study.check()
     for rec in settings_records(study.config):
-        unit = f" {rec['unit']}" if rec["unit"] else ""
-        source = " ".join(str(rec["source"]).split())
         value = rec["value"]
+        unit = f" {rec['unit']}" if rec["unit"] and value is not None else ""  # 'None', not 'None HB'
+        source = " ".join(str(rec["source"]).split())
         shown = f"{value:.6g}" if isinstance(value, float) else repr(value)
         note = f"{origin(rec)}: {source}" if source and not rec["explicit"] else origin(rec)
         click.echo(f"{rec['name']} = {shown}{unit}    # {note}")

@@ -60,7 +60,7 @@ def test_the_data_figures_tell_their_numbers_to_a_reader_who_cannot_see_them(ful
     arc = 360.0 * np.count_nonzero(depth >= 0.5 * depth.max()) / depth.size
     assert f"deepest {depth.max():.4g} mm" in alts[0] and f"; {arc:.0f} deg of the circle worn to half" in alts[0]
     assert f"reaches {wear.history['max_wear_mm'][-1]:.4g} mm at {wear.history['cycles'][-1]:,.0f}" in alts[1]
-    assert sum(a.startswith("Bar chart of R at") and "the widest swing is" in a for a in alts) == 3  # the tornados
+    assert sum(a.startswith("Bar chart of R at") and "the largest change of R is" in a for a in alts) == 3  # the tornados
     assert len(alts) == 6  # polar, history, R(N) and three tornados; the other figures keep their caption
 
 
@@ -974,3 +974,13 @@ def test_a_coordinate_variables_name_keeps_its_case_in_the_ranking_text():
 
     text = ranking_meaning(Sensitivity(), {"l_OA": "mechanism.bodies.crank.points.A.x"})
     assert "Here l_OA is a coordinate of the drawing" in text and "L_OA" not in text
+
+
+def test_the_tornados_text_alternative_names_the_variable_the_ranking_puts_first():
+    """The alt text named the rocker (R from 0 to 1: the widest span) while the ranking, which compares each
+    variable's larger change from the nominal R, put the rod first (R = 0 at both shifts)."""
+    from jointwear.report.alt_text import tornado_alt
+
+    text = tornado_alt(["rod length", "rocker length", "crank length"], [0.0, 0.0, 0.99], [0.0, 1.0, 0.5], 0.94,
+                       360_000)
+    assert "the largest change of R is rod length's, R at 0.000 and 0.000" in text

@@ -344,3 +344,11 @@ def test_a_symlink_planted_at_comparison_md_is_never_written_through(three, tmp_
     compare_studies(three).save(out, figures=False)
     assert outside.read_text(encoding="utf-8") == "keep"
     assert not (out / "comparison.md").is_symlink() and "Life at R" in (out / "comparison.md").read_text()
+
+
+def test_a_table_of_numbers_is_shown_rounded_in_a_settings_row():
+    """A comparison row read {'E': 0.015000000000000001} (an allowance converted to mm and back)."""
+    from jointwear.study.comparison import _shown
+
+    assert _shown({"E": 0.015000000000000001, "A": None}) == "{'E': 0.015, 'A': \u2014}"
+    assert _shown([0.1 + 0.2, 1]) == "[0.3, 1]"

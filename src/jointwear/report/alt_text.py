@@ -40,13 +40,15 @@ def validation_alt(cycles: Sequence[float], reliability_mc: Sequence[float], rel
 
 def tornado_alt(labels: Sequence[str], low: Sequence[float | None], high: Sequence[float | None], nominal: float,
                 cycles: float) -> str:
-    """The variable whose mean shifts move R the most, and by how much."""
-    swings = [(abs(float(h) - float(lo)), name, float(lo), float(h)) for name, lo, h in zip(labels, low, high)
+    """The variable whose mean shifts move R the most from the nominal (the larger of its two shifts, as the ranking
+    compares them), and where its two shifts put R."""
+    swings = [(max(abs(float(lo) - nominal), abs(float(h) - nominal)), name, float(lo), float(h))
+              for name, lo, h in zip(labels, low, high)
               if lo is not None and h is not None and np.isfinite(float(lo)) and np.isfinite(float(h))]
     text = f"Bar chart of R at {cycles:,.0f} cycles (nominal {nominal:.3f}) with each variable's mean shifted"
     if swings:
-        _, name, lo, h = max(swings)
-        text += f"; the widest swing is {name}'s, R from {lo:.3f} to {h:.3f}"
+        _, name, lo, h = max(swings, key=lambda s: s[0])  # the first of equal changes, as the ranking lists them
+        text += f"; the largest change of R is {name}'s, R at {lo:.3f} and {h:.3f}"
     return text + "."
 
 

@@ -326,4 +326,8 @@ def _shown(value: Any) -> str:
         return "\u2014"
     if isinstance(value, float):
         return f"{value:.6g}"
+    if isinstance(value, dict):  # a table of numbers: {'E': 0.015}, not {'E': 0.015000000000000001}
+        return "{" + ", ".join(f"{k!r}: {_shown(v)}" for k, v in value.items()) + "}"
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_shown(v) for v in value) + "]"
     return str(value)
