@@ -398,6 +398,14 @@ def test_far_shifts_show_how_they_were_read_and_why_a_shifted_mechanism_failed(t
     page = build_report(d).read_text(encoding="utf-8")
     assert "Shifts outside the learned region" in page and "could not be built or run" not in page
     assert sens.unbuilt_shifts_sentence() == ""
+    assert sens.extreme_shifts_sentence() == "" and "moves otherwise" not in page  # x 1.17: a sensitivity
+    # a rod at 120 % near the dead point wore 40,668 times the nominal, with no caveat
+    sens.rules = [{**sens.rules[0], "wear_ratio": 40668.04}]
+    sens.write(d)
+    page = build_report(d).read_text(encoding="utf-8")
+    assert sens.extreme_shifts_sentence().startswith(
+        f"the shifted mechanism's wear differs from the nominal's more than 10-fold for {name} x 1.2 (wear x 40,668)")
+    assert "A shifted mechanism that moves otherwise." in page
 
 
 def test_the_archard_check_is_shown_and_a_disagreement_warned(tmp_path: Path, nominal: Path):

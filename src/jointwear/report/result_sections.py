@@ -458,6 +458,9 @@ def far_shift_part(sens, labels: Mapping[str, str]) -> str:
                      f'{e(", ".join(names))}</strong> (the table gives the reason): its reliability is counted as 0. '
                      "That measures the shifted mechanism's failure to work, not the wear's sensitivity to the "
                      "variable; read its rank with that in mind.</p>")
+    if extreme := sens.extreme_shifts_sentence():
+        parts.append(f'<p class="warn"><strong>A shifted mechanism that moves otherwise.</strong> '
+                     f"{e(extreme[:1].upper() + extreme[1:])}.</p>")
     parts.append(table(["variable", "shift of the mean", "R", "read from"], rows, cls="num", row_cls=classes))
     return "".join(parts)
 

@@ -652,6 +652,8 @@ class Study:
             self.warn(f"sensitivity: {coordinates}")
         if unbuilt := sens.unbuilt_shifts_sentence():
             self.warn(f"sensitivity: {unbuilt}")
+        if extreme := sens.extreme_shifts_sentence():
+            self.warn(f"sensitivity: {extreme}")
         return sens
 
     @_quiet

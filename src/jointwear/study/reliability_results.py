@@ -634,6 +634,31 @@ class SensitivityResult(StageResult):
         return (f"the shifted mechanism could not be built or run for {shifts}: its R is counted as 0, which measures "
                 "the mechanism's failure to work, not the wear's sensitivity; read those ranks with that in mind")
 
+    #: a far shift's wear ratio beyond this factor either way: the shifted mechanism moves otherwise
+    EXTREME_WEAR_RATIO = 10.0
+
+    def extreme_shifts(self) -> list[dict]:
+        """Those of :meth:`far_shifts` whose wear changes more than ``EXTREME_WEAR_RATIO``-fold either way: the
+        shifted mechanism moves otherwise (near a dead point, in impacts), a change of design rather than a
+        sensitivity."""
+        bar = self.EXTREME_WEAR_RATIO
+        return [r for r in self.far_shifts() if r.get("wear_ratio") is not None
+                and not 1.0 / bar <= float(r["wear_ratio"]) <= bar]
+
+    def extreme_shifts_sentence(self) -> str:
+        """:meth:`extreme_shifts` told; empty when there are none."""
+        extreme = self.extreme_shifts()
+        if not extreme:
+            return ""
+        def ratio(x: float) -> str:
+            return f"{x:,.0f}" if x >= 10 else f"{x:.3g}"
+
+        shifts = "; ".join(f"{r['variable']} x {float(r['factor']):g} (wear x {ratio(float(r['wear_ratio']))})"
+                           for r in extreme)
+        return (f"the shifted mechanism's wear differs from the nominal's more than {self.EXTREME_WEAR_RATIO:g}-fold "
+                f"for {shifts}: it moves otherwise (near a dead point, in impacts), so its R measures that change of "
+                "design, not the wear's sensitivity to the variable")
+
     def variance_ranking(self, floor: float = 0.01) -> list[tuple[str, float]]:
         """The variables whose scatter drives the scatter of the (first judged joint's) wear: (name, total Sobol'
         index) of those with an index of at least ``floor``, largest first; empty without indices. The ranking of the
