@@ -61,6 +61,13 @@ DISPLAY = {"m": ("mm", 1e3), "rad": ("deg", 180.0 / math.pi), "s": ("h", 1.0 / 3
 _NUMERIC_KEYS = ("value", "absolute", "lower", "upper")
 
 
+def in_report_unit(x: float | None, dimension: str) -> tuple[float | None, str]:
+    """An SI number of ``dimension`` in its report unit (``DISPLAY``): (value, unit); 12 digits kept, so that no
+    0.029000000000000005 reaches a listing or the JSON."""
+    unit, f = DISPLAY.get(dimension, ("", 1.0))
+    return (None if x is None else float(f"{x * f:.12g}")), unit
+
+
 def _suffix_dimension(key: str, base: str) -> str | None:
     """SI dimension of ``base_<suffix>`` ("" for the plain key), None if ``key`` is not ``base`` + a suffix."""
     if key == base:
@@ -193,10 +200,10 @@ class ReferenceValue(SIModel):
 
     def report_dict(self) -> dict:
         """The value and band in report units (mm, deg, h), as plain data for the settings JSON."""
-        unit, f = DISPLAY.get(self.dimension, ("", 1.0))
+        unit = in_report_unit(None, self.dimension)[1]
 
         def shown(x):
-            return None if x is None else float(f"{x * f:.12g}")  # no 0.029000000000000005 in the JSON
+            return in_report_unit(x, self.dimension)[0]
 
         out: dict[str, Any] = {
             "quantity": self.quantity, "value": shown(self.value), "unit": unit, "cycles": self.cycles,

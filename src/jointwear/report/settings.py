@@ -89,7 +89,7 @@ def settings_records(model: Any, prefix: str = "", *, explicit: bool = True,
     band's) in its quantity's report unit (mm, deg, h: ``jointwear.reference.DISPLAY``)."""
     from pydantic import BaseModel
 
-    from jointwear.reference import DISPLAY
+    from jointwear.reference import DISPLAY, in_report_unit
 
     if variable_units is None:
         variable_units = _variable_units(model)
@@ -126,8 +126,8 @@ def settings_records(model: Any, prefix: str = "", *, explicit: bool = True,
         elif name == "hardness" and unit == "Pa":
             unit = "HB"
         if extra.get("unit_of") == "quantity" and dimension in DISPLAY and type(value) in (int, float):
-            shown_unit, factor = DISPLAY[dimension]  # a reference value: 12.9 h, not 46440 (s)
-            shown, shown_unit = float(f"{value * factor:.12g}"), shown_unit or None
+            shown, shown_unit = in_report_unit(value, dimension)  # a reference value: 12.9 h, not 46440 (s)
+            shown_unit = shown_unit or None
         else:
             shown, shown_unit = to_display(_plain(value), unit)
         desc = info.description or ""

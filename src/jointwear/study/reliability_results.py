@@ -650,6 +650,7 @@ class SensitivityResult(StageResult):
         extreme = self.extreme_shifts()
         if not extreme:
             return ""
+
         def ratio(x: float) -> str:
             return f"{x:,.0f}" if x >= 10 else f"{x:.3g}"
 
