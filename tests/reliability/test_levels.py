@@ -266,3 +266,25 @@ def test_point_shifts_move_each_points_threshold(noise_sd):
     assert never == pytest.approx(always, rel=1e-9, abs=1e-15)
     if noise_sd > 0:  # the Kriging of a plane is exact: without the response's scatter its spread is 0
         assert never > 0 and never != pytest.approx(spread(0.0), rel=1e-3)
+
+
+def test_posterior_draws_kept_for_the_same_points_give_the_numbers_of_fresh_draws():
+    """posterior_pf_sd keeps its last draws (an m x m factorisation each): a second reading on the same points and seed
+    equals, bit for bit, the reading of a result that never drew before; other points or another seed draw anew."""
+    def fitted():
+        return akmcs_multi(lambda x: x[:, 0] + 0.5 * x[:, 1] ** 2, [stats.norm(), stats.norm()],
+                           levels=np.array([-1.0, 0.0]), n_mc=5_000, seed=2, max_calls=12)
+
+    res, fresh = fitted(), fitted()
+    u = np.random.default_rng(4).standard_normal((300, 2))
+    other = np.random.default_rng(5).standard_normal((300, 2))
+    res.posterior_pf_sd(u, 0.2, 100, seed=5, thresholds=[0.3])
+    res.posterior_pf_sd(other, 0.2, 100, seed=5)
+    calls = []
+    draws = res.response_surrogate.posterior_draws
+    res.response_surrogate.posterior_draws = lambda *a: calls.append(1) or draws(*a)
+    kept = res.posterior_pf_sd(u.copy(), 0.2, 100, seed=5, thresholds=[-0.5, 0.1])
+    assert calls == []  # read from the kept draws
+    assert np.array_equal(kept, fresh.posterior_pf_sd(u, 0.2, 100, seed=5, thresholds=[-0.5, 0.1]))
+    res.posterior_pf_sd(u, 0.2, 100, seed=6)
+    assert calls == [1]

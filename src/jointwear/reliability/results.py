@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+import hashlib
+from collections import OrderedDict
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -61,6 +63,10 @@ def posterior_failure_spread(mean: np.ndarray, cov: np.ndarray, shifts, noise_sd
 
 #: failure probabilities held at once by :meth:`MultiReliabilityResult.estimate_on` (8 bytes each: 40 MB)
 MAX_PROBABILITIES = 5_000_000
+
+#: posterior draws :meth:`MultiReliabilityResult.posterior_pf_sd` keeps (the least recently used go first): a study's
+#: nominal points and one shifted population at a time
+DRAWS_KEPT = 2
 
 
 def failure_spread(draws: np.ndarray, shifts, noise_sd: float = 0.0) -> np.ndarray:
@@ -171,6 +177,8 @@ class MultiReliabilityResult:
     levels: np.ndarray | None = None
     #: the final population (u space) of ``akmcs_multi(keep_population=True)``, else None
     population_u: np.ndarray | None = None
+    #: the last posterior draws of :meth:`posterior_pf_sd` (a study reads R at many thresholds on the same points)
+    _draws: OrderedDict = field(default_factory=OrderedDict, init=False, repr=False, compare=False)
 
     def predict(self, u: np.ndarray, shifts=None) -> np.ndarray:
         """The surrogates' mean of every column at standard-normal points ``u``, shape (n, m); with ``levels=``,
@@ -269,12 +277,28 @@ class MultiReliabilityResult:
         shifts = self._level_shifts(thresholds)
         if point_shifts is not None:
             shifts = [shift + np.asarray(point_shifts, dtype=float)[:, None] for shift in shifts]
-        sur, rng = self.response_surrogate, np.random.default_rng(seed)
+        sur = self.response_surrogate
         if noise_sd > 0 and hasattr(sur, "failure_probability"):  # a series system: each component's own scatter
-            draws = sur.posterior_component_draws(u, n_draws, rng)
+            draws = self._posterior_draws(u, n_draws, seed, components=True)
             return np.array([series_failure_probability(draws - shift, sur.scatter_sds).mean(axis=0).std(ddof=1)
                              for shift in shifts])
-        return failure_spread(sur.posterior_draws(u, n_draws, rng), shifts, noise_sd)
+        return failure_spread(self._posterior_draws(u, n_draws, seed, components=False), shifts, noise_sd)
+
+    def _posterior_draws(self, u: np.ndarray, n_draws: int, seed: int, components: bool) -> np.ndarray:
+        """The response surrogate's posterior draws at ``u`` from ``default_rng(seed)`` (each component's, shape
+        (J, m, n_draws), when ``components``), the last DRAWS_KEPT kept: the same points, count and seed give the
+        same draws, which cost an m x m factorisation."""
+        u = np.ascontiguousarray(u, dtype=float)
+        key = (hashlib.blake2b(u.tobytes(), digest_size=16).digest(), u.shape, int(n_draws), seed, components)
+        if key in self._draws:
+            self._draws.move_to_end(key)
+            return self._draws[key]
+        sur, rng = self.response_surrogate, np.random.default_rng(seed)
+        draws = sur.posterior_component_draws(u, n_draws, rng) if components else sur.posterior_draws(u, n_draws, rng)
+        self._draws[key] = draws
+        while len(self._draws) > DRAWS_KEPT:
+            self._draws.popitem(last=False)
+        return draws
 
     def __repr__(self) -> str:
         return (
