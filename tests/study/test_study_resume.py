@@ -22,6 +22,8 @@ from jointwear.compute import EvaluationStore
 from jointwear.config import load_config, updated
 from jointwear.study.reliability import store_digest
 
+pytestmark = pytest.mark.usefixtures("figures_unrendered")  # tests/conftest.py: these tests read results, not pictures
+
 QUICK = """
 [wear]
 block_cycles = 80000

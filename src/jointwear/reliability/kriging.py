@@ -37,7 +37,7 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.linalg import cho_solve, lapack, solve_triangular
+from scipy.linalg import blas, cho_solve, lapack, solve_triangular
 
 __all__ = ["KrigingHyperparameters", "KrigingSurrogate", "ShiftedSurrogate", "blas_threads", "gaussian_draws"]
 
@@ -520,10 +520,15 @@ def gaussian_draws(mean: np.ndarray, cov: np.ndarray, n_draws: int, rng: np.rand
         factor, piv, rank, info = lapack.dpstrf(cov, lower=1)
         if info < 0:
             raise ValueError(f"gaussian_draws: LAPACK dpstrf rejected argument {-info}")
-        chol = np.zeros((m, rank))
-        chol[piv[:rank] - 1] = np.tril(factor[:rank, :rank])  # the pivoted rows first, then the rest of the columns
-        chol[piv[rank:] - 1] = factor[rank:, :rank]
-        return mean[:, None] + chol @ rng.standard_normal((rank, n_draws))
+        z = rng.standard_normal((rank, n_draws))
+        draws = np.empty((m, n_draws))
+        # L z, the pivoted rows first (a triangular product reads the lower triangle only: the factor's upper one
+        # holds the input's leftovers), then the rest; scattering the draws, not the m x m factor, to their rows
+        draws[piv[:rank] - 1] = blas.dtrmm(1.0, factor[:rank, :rank], z, lower=1)
+        if rank < m:
+            draws[piv[rank:] - 1] = factor[rank:, :rank] @ z
+        draws += mean[:, None]
+        return draws
 
 
 class ShiftedSurrogate:
