@@ -219,6 +219,29 @@ def test_check_says_whether_each_value_comes_from_the_config_or_is_a_default(cap
     assert all(line.split("    # ")[1].startswith(("the config", "jointwear default")) for line in lines)
 
 
+def test_check_of_a_results_folder_tells_the_defaults_its_config_json_records(tmp_path, capsys):
+    """`check <results folder>` marked every setting "the config" (the config kept there sets every value); the
+    folder's records say which were defaults: the same origins as checking the preset itself, a dash where they hold
+    no record (the reference's values, the study's name)."""
+    from jointwear.config import load_config
+    from jointwear.report.settings import settings_dump, write_dump
+
+    write_dump(tmp_path, settings_dump(load_config("jin2025_flapping_wing"), preset="jin2025_flapping_wing"))
+    assert main_entry(["check", "jin2025_flapping_wing"]) == 0
+    preset = capsys.readouterr().out.splitlines()
+    assert main_entry(["check", str(tmp_path)]) == 0
+    captured = capsys.readouterr()
+    folder = captured.out.splitlines()
+    assert "simulation.max_steps = 50000000    # jointwear default: Safety limit on accepted+rejected steps per call." \
+        in folder
+    assert "mechanism.crank_speed = 480 rpm    # the config" in folder
+    differ = [(a, b) for a, b in zip(folder, preset) if a != b]
+    assert len(folder) == len(preset) and differ
+    assert all(a.split(" = ")[0].startswith(("reference", "name", "citation", "description")) and "# \u2014" in a
+               for a, b in differ), differ[:3]
+    assert "config.json records them" in captured.err
+
+
 def test_a_config_extends_a_preset(tmp_path, capsys):
     from jointwear.config import load_config
 

@@ -168,6 +168,22 @@ def named_paths(records: Sequence[Mapping]) -> list[dict]:
     return [{**r, "name": renamed(str(r["name"]))} if "name" in r else dict(r) for r in records]
 
 
+def recorded_origins(source: str | Path) -> dict[str, dict] | None:
+    """Where each setting of a study's folder came from, as its ``config.json`` (``source``: the folder or that file)
+    records it: ``{name: {"explicit": ..., "derived_from": ...}}``. The ``study_config`` kept there gives every value
+    back, each as if the config had set it. None when ``source`` is neither, or records no settings."""
+    path = Path(source)
+    path = path / "config.json" if path.is_dir() else path
+    if path.suffix != ".json" or not path.is_file():
+        return None
+    try:
+        records = named_paths(json.loads(path.read_text(encoding="utf-8"))["settings"])
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+    return {r["name"]: {"explicit": r.get("explicit"), "derived_from": r.get("derived_from")}
+            for r in records if isinstance(r, Mapping) and "name" in r}
+
+
 def origin(record: Mapping) -> str:
     """Where a setting's value comes from, by its record's ``explicit``: 'the config' or 'jointwear default' (a dash
     for a record written before ``explicit`` was), or what in the config set it ("set by fit 'H7/g6'")."""
