@@ -288,3 +288,6 @@ def test_posterior_draws_kept_for_the_same_points_give_the_numbers_of_fresh_draw
     assert np.array_equal(kept, fresh.posterior_pf_sd(u, 0.2, 100, seed=5, thresholds=[-0.5, 0.1]))
     res.posterior_pf_sd(u, 0.2, 100, seed=6)
     assert calls == [1]
+    res.posterior_pf_sd(u, 0.2, 100, seed=None)
+    res.posterior_pf_sd(u, 0.2, 100, seed=None)  # unseeded: drawn afresh each time
+    assert calls == [1, 1, 1]

@@ -287,7 +287,7 @@ class MultiReliabilityResult:
     def _posterior_draws(self, u: np.ndarray, n_draws: int, seed: int, components: bool) -> np.ndarray:
         """The response surrogate's posterior draws at ``u`` from ``default_rng(seed)`` (each component's, shape
         (J, m, n_draws), when ``components``), the last DRAWS_KEPT kept: the same points, count and seed give the
-        same draws, which cost an m x m factorisation."""
+        same draws, which cost an m x m factorisation (``seed=None``: fresh draws each time, none kept)."""
         u = np.ascontiguousarray(u, dtype=float)
         key = (hashlib.blake2b(u.tobytes(), digest_size=16).digest(), u.shape, int(n_draws), seed, components)
         if key in self._draws:
@@ -295,6 +295,8 @@ class MultiReliabilityResult:
             return self._draws[key]
         sur, rng = self.response_surrogate, np.random.default_rng(seed)
         draws = sur.posterior_component_draws(u, n_draws, rng) if components else sur.posterior_draws(u, n_draws, rng)
+        if seed is None:
+            return draws
         self._draws[key] = draws
         while len(self._draws) > DRAWS_KEPT:
             self._draws.popitem(last=False)
