@@ -235,6 +235,16 @@ def test_archard_shifts_check_the_surrogate_and_the_clearance_keeps_its_floor():
         side = "reliability_low" if c["factor"] < 1.0 else "reliability_high"
         assert rows[c["variable"]][side] == c["reliability_archard"]
     assert {r["rule"] for r in sens.rules if r["variable"] in ("k_b", "HB_b")} == {"archard_scaling"}
+    # sensitivity.csv says which rule read each shift, at which factor (it gave the reliabilities alone)
+    table = sens.tables()["sensitivity"]
+    assert table["factor_low"] == [0.9] * len(ctx.names) and table["factor_high"] == [1.1] * len(ctx.names)
+    recorded = {(r["variable"], round(r["factor"], 6)): r["rule"] for r in sens.rules}
+    cells = {(name, f): rule for name, low, high in zip(table["name"], table["rule_low"], table["rule_high"])
+             for f, rule in ((0.9, low), (1.1, high))}
+    assert cells == recorded
+    assert cells[("k_b", 0.9)] == "archard_scaling" and cells[("E_b", 1.1)] == "surrogate"
+    assert cells[("Rj", 0.9)] == "separable_scaling"  # +-10 % of a radius: many of its tolerance's sigmas
+    assert set(table["reliability_nominal"]) == {sens.reliability_nominal} and set(table["cycles"]) == {400_000}
     i = ctx.names.index("c")
     low = physical_marginal(ctx, i, shifted_marginal(ctx.marginals[i], 0.8))
     # the shifted clearance is still truncated at the configured minimum: no sample below it

@@ -681,12 +681,27 @@ class SensitivityResult(StageResult):
         data.setdefault("factors", [0.8, 1.2])
         return super().from_json(data)
 
+    def shift_rule(self, name: str, factor: float) -> str | None:
+        """How the reliability with ``name``'s mean x ``factor`` was read: "surrogate" (on the learnt surrogate),
+        "archard_scaling" (the nominal population's lives scaled by Archard's law) or "separable_scaling" (the
+        wear ratio of two true-model runs); None where no rule is recorded."""
+        return next((r.get("rule") for r in self.rules
+                     if r.get("variable") == name and math.isclose(float(r.get("factor", math.nan)), factor,
+                                                                   rel_tol=1e-9)), None)
+
     def tables(self) -> dict[str, dict[str, Any]]:
-        """``sensitivity``: one row per variable (its unit, the shifted reliabilities, derivatives, Sobol'; with
-        several judged joints also each joint's own Sobol' indices of its wear, ``S1_<joint>`` and ``ST_<joint>``)."""
+        """``sensitivity``: one row per variable (its unit, the shifted reliabilities with the factor and the rule
+        each was read by, R at ``cycles`` unshifted, derivatives, Sobol'; with several judged joints also each
+        joint's own Sobol' indices of its wear, ``S1_<joint>`` and ``ST_<joint>``)."""
         keys = ["name", "label", "group", "unit", "reliability_low", "reliability_high", "reliability_low_error",
                 "reliability_high_error", "dR_dmean", "dR_dstd", "elasticity_mean", "S1", "ST"]
         table = {k: [v.get(k) for v in self.variables] for k in keys}
+        low, high = (float(f) for f in self.factors)
+        n = len(self.variables)
+        table |= {"cycles": [self.cycles] * n, "reliability_nominal": [self.reliability_nominal] * n,
+                  "factor_low": [low] * n, "factor_high": [high] * n,
+                  "rule_low": [self.shift_rule(v["name"], low) for v in self.variables],
+                  "rule_high": [self.shift_rule(v["name"], high) for v in self.variables]}
         for joint, indices in (self.sobol.get("by_joint") or {}).items():
             by_name = dict(zip(indices.get("names") or [], zip(indices.get("S1") or [], indices.get("ST") or [])))
             table[f"S1_{joint}"] = [by_name.get(v["name"], (None, None))[0] for v in self.variables]
