@@ -162,17 +162,21 @@ EDGE_RELIABILITY = 0.01
 
 def ranking_line(sens: SensitivityResult) -> str:
     """Per group, the variables by their effect on R, '~' between neighbours the surrogate's error does not
-    separate: 'tolerance: l2 ~ lBC > l1 | bearing_material: k_b ~ HB_b > ...'; 'none: ...' where no shift moves R."""
+    separate (said once, after the last group): 'tolerance: l2 ~ lBC > l1 | bearing_material: k_b ~ HB_b > ...';
+    'none: ...' where no shift moves R."""
     if not sens.shifts_move_reliability:
         return (f"none: no mean shift changes R at {sens.cycles:,} cycles (R = {sens.reliability_nominal:.3f} "
                 "whatever the shift; put the R(N) curve where R passes the target, or set sensitivity.cycles)")
     ties = {(p["first"], p["second"]) for p in sens.unresolved_pairs}
-    parts = []
+    parts, tied = [], False
     for group, names in sens.ranking_by_group.items():
         text = names[0] if names else ""
         for a, b in zip(names, names[1:]):
+            tied |= (a, b) in ties
             text += (" ~ " if (a, b) in ties else " > ") + b
         parts.append(f"{group}: {text}")
+    if tied:
+        parts[-1] += " (~: not told apart within the surrogate's error)"
     r0 = sens.reliability_nominal
     if not EDGE_RELIABILITY < r0 < 1.0 - EDGE_RELIABILITY:  # almost every sample fails (or none): a few decide
         largest = max((max(abs(v["reliability_low"] - r0), abs(v["reliability_high"] - r0)) for v in sens.variables),
