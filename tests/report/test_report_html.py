@@ -101,6 +101,20 @@ def test_comparison_with_paper_on_fixture(study_dir: Path):
     assert byname["sensitivity ranking, tolerances"].status == PASS
 
 
+def test_a_result_moved_aside_is_told_as_such_not_as_never_run(tmp_path: Path, nominal: Path):
+    """A stage whose result a settings change moved to superseded/ read "has not been run"; the section now names
+    where the last result went (the latest of several moves)."""
+    d = make_fixture_dir(tmp_path, nominal, which=("wear", "reliability", "sensitivity", "config"))
+    for stamp in ("20261129T080000Z", "20261129T090000Z"):
+        (d / "superseded" / stamp).mkdir(parents=True)
+        shutil.copy(d / "sensitivity.json", d / "superseded" / stamp / "sensitivity.json")
+    (d / "sensitivity.json").unlink()
+    page = html.unescape(build_report(d).read_text(encoding="utf-8"))
+    assert ("the sensitivity study has not been run with its current settings; its last result, computed with other "
+            "settings, was moved to superseded/20261129T090000Z/ (jointwear sensitivity runs it again)") in page
+    assert "No reliability.json" not in page and "the reliability study has not been run" not in page
+
+
 def test_comparison_flags_out_of_band(tmp_path: Path, nominal: Path):
     d = make_fixture_dir(tmp_path, nominal, which=("wear", "reliability", "config"))
     wear = WearSummary.load(d)

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 
 from jointwear.study.convergence import half_width
 from jointwear.study.limit_state import nominal_lives
+from jointwear.study.superseded import SUPERSEDED
 from jointwear.wear.angles import angle_text
 
 from . import figures as F
@@ -23,9 +25,17 @@ __all__ = ["settings_section", "dynamics_section", "wear_section", "convergence_
 
 
 def not_run(out: StudyOutputs, stage: str, what: str) -> str:
-    """The notice of a section whose stage has no result: why it could not be read, or that it has not run."""
-    return missing(out.errors.get(stage) or f"No {stage}.json in this folder: {what} has not been run "
-                                            f"(jointwear {stage}).")
+    """The notice of a section whose stage has no result: why it could not be read, that its result was moved aside
+    (computed with other settings: the latest such folder named), or that it has not run."""
+    if stage in out.errors:
+        return missing(out.errors[stage])
+    moved = sorted(Path(out.out_dir).glob(f"{SUPERSEDED}/*/{stage}.json"))
+    if moved:
+        where = moved[-1].parent.relative_to(out.out_dir).as_posix()
+        return missing(f"No {stage}.json in this folder: {what} has not been run with its current settings; its last "
+                       f"result, computed with other settings, was moved to {where}/ (jointwear {stage} runs it "
+                       "again).")
+    return missing(f"No {stage}.json in this folder: {what} has not been run (jointwear {stage}).")
 
 
 def allowance_mm(out: StudyOutputs) -> float | None:
