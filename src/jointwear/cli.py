@@ -322,24 +322,20 @@ def check(config):
     """Check CONFIG whole (every section and cross-section rule, the nominal mechanism runs) and print every
     setting resolved, with its unit and where its value comes from: the config, or jointwear's default (and where
     that default comes from)."""
-    from jointwear.report.settings import origin, recorded_origins, settings_records
+    from jointwear.report.settings import listed_settings, origin
     from jointwear.study import Study
 
     study = Study(config, out=Path("."), echo=lambda line: None)  # its warnings are printed last, below
     found = study.check()
-    # a results folder: the config it keeps sets every value, its records know which were defaults; a setting they
-    # do not record (the reference's, the study's name) or record without "explicit" (an old folder) shows a dash
-    recorded = recorded_origins(config)
-    for rec in settings_records(study.config):
-        if recorded is not None:
-            rec = {**rec, **recorded.get(rec["name"], {"explicit": None, "derived_from": None})}
+    records, from_folder = listed_settings(study.config, config)
+    for rec in records:
         value = rec["value"]
         unit = f" {rec['unit']}" if rec["unit"] and value is not None else ""  # 'None', not 'None HB'
         source = " ".join(str(rec["source"]).split())
         shown = f"{value:.6g}" if isinstance(value, float) else repr(value)
         note = f"{origin(rec)}: {source}" if source and not rec["explicit"] else origin(rec)
         click.echo(f"{rec['name']} = {shown}{unit}    # {note}")
-    if recorded is not None:
+    if from_folder:
         say(f"check: '# jointwear default' and '# the config' as {config}'s config.json records them; '\u2014': a "
             "setting it does not record (the reference's values, the study's name)")
     if extends := _extends(config):

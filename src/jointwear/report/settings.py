@@ -168,20 +168,31 @@ def named_paths(records: Sequence[Mapping]) -> list[dict]:
     return [{**r, "name": renamed(str(r["name"]))} if "name" in r else dict(r) for r in records]
 
 
-def recorded_origins(source: str | Path) -> dict[str, dict] | None:
-    """Where each setting of a study's folder came from, as its ``config.json`` (``source``: the folder or that file)
-    records it: ``{name: {"explicit": ..., "derived_from": ...}}``. The ``study_config`` kept there gives every value
-    back, each as if the config had set it. None when ``source`` is neither, or records no settings."""
+def recorded_settings(source: str | Path) -> list[dict] | None:
+    """The settings records a study's folder keeps (``source``: the folder or its ``config.json``), list items named
+    as today (:func:`named_paths`); None when ``source`` is neither, or its file cannot be read."""
     path = Path(source)
     path = path / "config.json" if path.is_dir() else path
     if path.suffix != ".json" or not path.is_file():
         return None
     try:
-        records = named_paths(json.loads(path.read_text(encoding="utf-8"))["settings"])
+        return named_paths(json.loads(path.read_text(encoding="utf-8"))["settings"])
     except (OSError, ValueError, KeyError, TypeError):
         return None
-    return {r["name"]: {"explicit": r.get("explicit"), "derived_from": r.get("derived_from")}
-            for r in records if isinstance(r, Mapping) and "name" in r}
+
+
+def listed_settings(config: Any, source: str | Path | None = None) -> tuple[list[dict], bool]:
+    """:func:`settings_records` of ``config`` and whether ``source`` is a study's folder (or its config.json). For a
+    folder, where each value came from is read off its records: the config it keeps sets every value, its records
+    know which were defaults; a setting they do not record (the reference's, the study's name) or record without
+    ``explicit`` (an old folder) has ``explicit`` None (:func:`origin`: a dash)."""
+    records = settings_records(config)
+    recorded = None if source is None else recorded_settings(source)
+    if recorded is None:
+        return records, False
+    origins = {r["name"]: {"explicit": r.get("explicit"), "derived_from": r.get("derived_from")}
+               for r in recorded if isinstance(r, Mapping) and "name" in r}
+    return [{**r, **origins.get(r["name"], {"explicit": None, "derived_from": None})} for r in records], True
 
 
 def origin(record: Mapping) -> str:

@@ -68,12 +68,15 @@ def changed_settings(folder: Path, settings: list[dict]) -> list[str] | None:
     """The settings (config.json records: ``name``, ``value``, ``unit``) whose values differ from those
     ``folder/config.json`` records, in the order of ``settings`` then the recorded ones; None when the folder records
     no config (or one that cannot be read)."""
-    from jointwear.report.settings import named_paths
+    from jointwear.report.settings import named_paths, recorded_settings
 
-    try:  # a folder written when list items went by their index reads by their names as the current records do
-        recorded = named_paths(json.loads((Path(folder) / "config.json").read_text(encoding="utf-8"))["settings"])
+    # list items by their names, also in a folder written when they went by their index
+    recorded = recorded_settings(folder) if Path(folder).is_dir() else None
+    if recorded is None:
+        return None
+    try:
         before = {r["name"]: _in_si(r.get("value"), r.get("unit")) for r in recorded}
-    except (OSError, ValueError, KeyError, TypeError):
+    except (ValueError, KeyError, TypeError):
         return None
     now = {r["name"]: _in_si(json.loads(json.dumps(r.get("value"), default=str)), r.get("unit"))
            for r in named_paths(settings)}
