@@ -205,7 +205,8 @@ def test_the_wear_line_names_each_joint_of_a_series_system():
     (0.001, "after about 3,000,000 cycles (its wear history, extrapolated linearly past its end), 10.0 times the R(N) "
             "curve's last level (300,000 cycles): the curve will read R close to 1"),
     (0.015, None),  # life 200,000 cycles, inside the curve
-    (0.3, "after about 10,000 cycles (its wear history, extrapolated linearly past its end), 10.0 times short of the "
+    # a life inside the history is read off it (it said 'extrapolated linearly past its end' here too)
+    (0.3, "after about 10,000 cycles (its wear history), 10.0 times short of the "
           "R(N) curve's first level (100,000 cycles): the curve will read R near 0"),
 ])
 def test_a_nominal_life_far_outside_the_curve_is_told_by_the_wear_stage(wear_per_100k_mm, words):

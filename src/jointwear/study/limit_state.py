@@ -327,7 +327,7 @@ def nominal_life_line(config, joints: list[dict]) -> str:
     if not lives:
         return ""
     measure = ls.quantity.replace("_", " ")
-    end = max((max(j.get("history", {}).get("cycles") or [0.0]) for j in joints), default=0.0)
+    end = history_end(joints)
 
     def after(n: float) -> str:  # a straight line drawn far past the history says only that it is far
         far = NOMINAL_LIFE_FAR * end
@@ -337,9 +337,17 @@ def nominal_life_line(config, joints: list[dict]) -> str:
     whose = "its" if len(allowances) == 1 else f"joint {first}'s"
     reached = (f"{whose} allowance ({allowances[first]:.3g} mm of {measure}) {after(life)} cycles"
                + "".join(f", joint {name}'s ({allowances[name]:.3g} mm) {after(n)}" for name, n in rest))
-    how = ("read off its wear history, extrapolated linearly past its end" if max(lives.values()) > end
-           else "read off its wear history")
-    return f"the nominal design reaches {reached} ({how})"
+    return f"the nominal design reaches {reached} (read off {how_read(max(lives.values()), end)})"
+
+
+def history_end(joints: list[dict]) -> float:
+    """The last cycle count of the nominal wear histories (``joints`` of wear.json); 0 without one."""
+    return max((max(j.get("history", {}).get("cycles") or [0.0]) for j in joints), default=0.0)
+
+
+def how_read(life: float, end: float) -> str:
+    """How a nominal life was read off a history ending at ``end`` cycles."""
+    return "its wear history, extrapolated linearly past its end" if life > end else "its wear history"
 
 
 def nominal_life_outside_curve(config, joints: list[dict]) -> str:
@@ -363,6 +371,6 @@ def nominal_life_outside_curve(config, joints: list[dict]) -> str:
         where, reads = f"{first / life:.1f} times short of the R(N) curve's first level ({first:,} cycles)", "near 0"
     else:
         return ""
-    return (f"the nominal design reaches its allowance{whose} after about {life:,.0f} cycles (its wear history, "
-            f"extrapolated linearly past its end), {where}: the curve will read R {reads} at every level; put it round the nominal "
-            "life (reliability.cycles_start, cycles_stop), about 0.6 to 1.5 times it")
+    return (f"the nominal design reaches its allowance{whose} after about {life:,.0f} cycles "
+            f"({how_read(life, history_end(joints))}), {where}: the curve will read R {reads} at every level; put it "
+            "round the nominal life (reliability.cycles_start, cycles_stop), about 0.6 to 1.5 times it")
