@@ -21,6 +21,7 @@ owning subpackage, e.g. ``wear: WearConfig = Field(default_factory=WearConfig, d
 from __future__ import annotations
 
 import difflib
+import math
 import numbers
 import os
 import re
@@ -92,6 +93,7 @@ from jointwear.units import (
     convert_keys,
     split_unit_key,
     suffix_problem,
+    suffix_unit,
     suffixes_of,
     to_si,
 )
@@ -174,6 +176,7 @@ class StudyConfig(SIModel):
             problem = target_error(data, spec.target)
             if problem:
                 raise ValueError(f"{self.uncertainty.field_of(spec.name)}.target: {problem}")
+            check_display_unit(self.uncertainty.field_of(spec.name), spec)
         return self
 
     @model_validator(mode="after")
@@ -196,6 +199,21 @@ class StudyConfig(SIModel):
                     f"{' and '.join(joints[cj.joint])}"
                 )
         return self
+
+
+def check_display_unit(where: str, spec: RandomVariableSpec) -> None:
+    """Refuse a random variable's display unit of another quantity than its target's (a hardness in 'mm'), or
+    with a scale that does not convert SI to it."""
+    unit = suffix_unit(spec.unit)
+    target = target_unit(spec.target)
+    if unit is None or target == ANY_UNIT:
+        return
+    if SUFFIXES[unit][1] != target:
+        known = f"its units: {', '.join(suffixes_of(target))}" if target else "a plain number, of no unit"
+        raise ValueError(f"{where}.unit: {spec.unit!r} is not a unit of its target {spec.target} ({known})")
+    if not math.isclose(spec.scale * SUFFIXES[unit][0], 1.0, rel_tol=1e-3):
+        raise ValueError(f"{where}.scale: {spec.scale:g} does not show SI values in {spec.unit!r}, which takes "
+                         f"{1.0 / SUFFIXES[unit][0]:.7g}: give that, or leave scale out (the unit sets it)")
 
 
 def _clearance_defaults(table: dict[str, Any], joints: Any) -> tuple[dict[str, Any], dict[str, str]]:

@@ -91,6 +91,18 @@ def column_name(name: str, unit: str) -> str:
     return f"{name}_{suffix}" if suffix else name
 
 
+def suffix_unit(unit: str) -> str | None:
+    """The suffix of :data:`SUFFIXES` a unit as written names ('mm'; 'µm' as 'um'); None for any other."""
+    unit = unit.strip().replace("\u00b5", "u").replace("\u03bc", "u")
+    return unit if unit in SUFFIXES else None
+
+
+def suffix_factor(unit: str) -> float | None:
+    """SI per ``unit`` for a unit keys take as a suffix (1e-3 for 'mm', 9.807e6 for 'HB'); None for any other."""
+    suffix = suffix_unit(unit)
+    return None if suffix is None else SUFFIXES[suffix][0]
+
+
 def suffixes_of(unit: str) -> list[str]:
     """The suffixes that convert to the SI ``unit``, e.g. ``['m', 'mm', 'um', 'nm', 'cm']`` for 'm'."""
     return [s for s, (_, u) in SUFFIXES.items() if u == unit]

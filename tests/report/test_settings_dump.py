@@ -210,3 +210,40 @@ def test_a_reference_value_is_listed_in_its_quantitys_report_unit():
     k = next(i for i, v in enumerate(values) if v.quantity == "nominal_max_wear_angle")
     band = rows[f"reference.values[{k}].band.absolute"]
     assert (band["value"], band["unit"]) == (pytest.approx(20.0), "deg")
+
+
+def test_a_random_inputs_display_unit_sets_its_own_scale():
+    # a designer wrote unit = "mm" / "HB" without scale (as the examples showed the pair): the random-inputs table
+    # read '0.02 mm +- 3.5e-06 mm' for a 20 mm crank and '882,630,000 HB' for a bronze of 90 HB
+    from jointwear.config import updated
+    from jointwear.report.settings import random_variables
+    from jointwear.study.checks import config_warnings
+
+    base = updated("examples/my_linkage.toml", {})
+    assert {v.name: v.unit for v in base.uncertainty.variables if v.unit} == {"l_crank": "mm", "HB_b": "HB"}
+    rows = {v["name"]: v for v in random_variables(base)}
+    assert (rows["l_crank"]["mean"], rows["l_crank"]["std"]) == pytest.approx((10.0, 0.0037), rel=1e-12)
+    assert rows["HB_b"]["mean"] == pytest.approx(120.0, rel=1e-12)  # the HB's own scale, 1 / units.PA_PER_HB
+    # a unit the keys do not take leaves scale to the user, and check says the SI numbers would show under it
+    odd = updated(base, {"uncertainty.variables.HB_b.unit": "kgf/mm2", "uncertainty.variables.HB_b.scale": 1.0})
+    assert {v["name"]: v for v in random_variables(odd)}["HB_b"]["mean"] == pytest.approx(120.0 * 9.807e6)
+    assert any(w.startswith("uncertainty.variables[HB_b].unit: 'kgf/mm2' is not a unit jointwear converts")
+               for w in config_warnings(odd))
+    assert not any(".unit:" in w for w in config_warnings(base))
+
+
+@pytest.mark.parametrize("changes, message", [
+    ({"uncertainty.variables.HB_b.unit": "mm"},
+     "uncertainty.variables[HB_b].unit: 'mm' is not a unit of its target clearance_joints.B.bearing_material.hardness "
+     "(its units: Pa, kPa, MPa, GPa, HB)"),
+    ({"uncertainty.variables.l_crank.scale": 1e6},
+     "uncertainty.variables[l_crank].scale: 1e+06 does not show SI values in 'mm', which takes 1000: give that, or "
+     "leave scale out (the unit sets it)"),
+])
+def test_a_display_unit_of_another_quantity_or_scale_is_refused_naming_the_field(changes, message):
+    from jointwear.config import updated
+    from jointwear.schema import ConfigError
+
+    with pytest.raises(ConfigError) as err:
+        updated("examples/my_linkage.toml", changes)
+    assert message in str(err.value)

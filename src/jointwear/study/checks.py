@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 from urllib.parse import urlsplit
 
-from jointwear.config import StudyConfig
+from jointwear.config import StudyConfig, target_display_unit
 from jointwear.contact.settings import FrictionConfig
 from jointwear.schema import ConfigError, item_key
 from jointwear.study.limit_state import (
@@ -24,6 +24,7 @@ from jointwear.study.limit_state import (
     limit_state_problems,
     wearable_stock,
 )
+from jointwear.units import suffix_unit
 
 RELIABILITY_STAGES = frozenset({"reliability", "sensitivity"})
 SCHEDULER_SCHEMES = ("tcp", "tls", "inproc", "ws", "wss", "ucx")
@@ -239,7 +240,7 @@ def config_warnings(config: StudyConfig) -> list[str]:
     return (mechanism + out + scatter_warnings(config) + random_input_warnings(config) + clearance_warnings(config)
             + wear_length_warnings(config) + wear_mode_warnings(config) + block_warnings(config)
             + design_warnings(config) + allowance_warnings(config) + budget_warnings(config) + target_warnings(config)
-            + trend_warnings(config))
+            + trend_warnings(config) + display_unit_warnings(config))
 
 
 def friction_warnings(config: StudyConfig) -> list[str]:
@@ -588,7 +589,11 @@ def nominal_diameter_warning(data: dict, clearance) -> str | None:
     """'nominal_diameter: ...' when the clearance's ISO 286 spread (and a fit's mean) at its nominal diameter differ
     by more than 1 % from those at its joint's journal diameter 2 R_j (its default): a diameter in another size range
     of ISO 286-2 has other tolerances."""
-    from jointwear.uncertainty.targets import CLEARANCE_SUFFIX, target_error, target_value
+    from jointwear.uncertainty.targets import (
+        CLEARANCE_SUFFIX,
+        target_error,
+        target_value,
+    )
     from jointwear.uncertainty.tolerances import clearance_from_fit, iso_fit
 
     if clearance.source != "iso286" or not clearance.target.endswith(CLEARANCE_SUFFIX) or target_error(
@@ -706,6 +711,22 @@ def random_input_warnings(config: StudyConfig) -> list[str]:
                            "surrogate extrapolates over the rest, so R(N) may read high): narrow the distribution, "
                            "or bound it (truncated_normal)")
                 break
+    return out
+
+
+def display_unit_warnings(config: StudyConfig) -> list[str]:
+    """Each random variable with a display unit jointwear does not convert (not a key suffix) and no scale: the
+    report would show its SI numbers under that unit."""
+    unc = config.uncertainty
+    if unc is None:
+        return []
+    out = []
+    for spec in unc.variables:
+        si = target_display_unit(spec.target)
+        if spec.unit and spec.scale == 1.0 and suffix_unit(spec.unit) is None and spec.unit != si:
+            out.append(f"{unc.field_of(spec.name)}.unit: {spec.unit!r} is not a unit jointwear converts to, and scale "
+                       f"is 1: the report shows the SI value{f' ({si})' if si else ''} under it; give scale (SI value "
+                       "x scale = value in the unit), or a unit keys take as a suffix (mm, um, GPa, MPa, HB, ...)")
     return out
 
 

@@ -29,6 +29,7 @@ from scipy import optimize, special, stats
 from jointwear.schema import F, FieldValueError, SIModel
 from jointwear.uncertainty.copulas import check_correlation, normal_copula
 from jointwear.uncertainty.tolerances import clearance_from_fit, grade_key, iso_fit, it_tolerance
+from jointwear.units import suffix_factor
 
 DistributionName = Literal["normal", "lognormal", "uniform", "truncated_normal", "weibull", "gumbel", "gamma", "beta"]
 
@@ -71,8 +72,22 @@ class RandomVariableSpec(SIModel):
                             "'beta' only.")
     upper: float | None = F(None, unit_of="target", description="Upper bound, SI units: 'truncated_normal' and "
                             "'beta' only.")
-    unit: str = Field("", description="Display unit for reports (SI value x scale).")
-    scale: float = Field(1.0, description="Multiply the SI value by this for display (e.g. 1e3 for mm).")
+    unit: str = Field("", description="Display unit for reports (SI value x scale). A unit of the target's "
+                      "quantity that keys take as a suffix (mm, um, GPa, MPa, HB, N, ...) sets scale itself.")
+    scale: float = Field(1.0, description="Multiply the SI value by this for display; needed only for a unit "
+                         "that is not a key suffix (a known unit sets it: 1e3 for mm).")
+
+    @model_validator(mode="before")
+    @classmethod
+    def _scale_of_unit(cls, data: Any) -> Any:
+        """A display unit that keys take as a suffix sets its scale (SI value x scale = value in the unit) where
+        none is given (or the default 1, as a written config holds it): alone it displayed SI numbers under its
+        name, a 20 mm crank as '0.02 mm'. A scale that does not convert to it is refused by the config
+        (``StudyConfig``), after the unit's dimension."""
+        if not isinstance(data, dict) or not isinstance(data.get("unit"), str) or data.get("scale", 1.0) != 1.0:
+            return data
+        factor = suffix_factor(data["unit"])
+        return data if factor is None else {**data, "scale": 1.0 / factor}
 
     @field_validator("mean", "std", "scale")
     @classmethod
