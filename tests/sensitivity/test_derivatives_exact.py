@@ -118,8 +118,11 @@ def test_a_local_slope_against_a_consistent_mean_shift_trend_is_flagged():
     base = dict(r_nominal=0.5, r_shifted=(0.1, 0.9), errors=(0.01, 0.01), shifted_means=(0.8, 1.2))
     assert slope_contradicts_shifts(-1000.0, 100.0, **base)
     assert not slope_contradicts_shifts(+1000.0, 100.0, **base)  # the slope agrees
-    assert not slope_contradicts_shifts(-1000.0, 600.0, **base)  # the slope is not resolved (1.96 SE > |slope|)
-    assert not slope_contradicts_shifts(-1000.0, 100.0, **(base | {"r_shifted": (0.495, 0.9)}))  # within its error
+    assert not slope_contradicts_shifts(-1000.0, 1200.0, **base)  # the slope is not resolved (its error > |slope|)
+    # one side beyond its error tells the trend (a designer's crank read -43.6 +- 6.6 while R at x 1.2 rose by 0.048,
+    # 2.3 times its error, and R at x 0.8 stayed within its own)
+    assert slope_contradicts_shifts(-1000.0, 100.0, **(base | {"r_shifted": (0.495, 0.9)}))
+    assert not slope_contradicts_shifts(-1000.0, 100.0, **(base | {"r_shifted": (0.495, 0.505)}))  # both within
     assert not slope_contradicts_shifts(-1000.0, 100.0, **(base | {"r_shifted": (0.9, 0.95)}))  # no monotone trend
     # a negative mean: x 0.8 -> -0.8, x 1.2 -> -1.2, so R rising from the first to the second falls with the mean
     assert not slope_contradicts_shifts(-1000.0, 100.0, **(base | {"shifted_means": (-0.8, -1.2)}))
@@ -128,6 +131,13 @@ def test_a_local_slope_against_a_consistent_mean_shift_trend_is_flagged():
     text = _elasticity_text({"names": ["l2"], "dpf_dmean": [1002.0], "dpf_dmean_se": [102.0]},
                             {"name": "l2", "elasticity_mean": -5.0, "slope_contradicts_shifts": True})
     assert text.endswith("(local slope contradicts the mean shifts)") and text.startswith("-5")
+    # the half-width is the slope's recorded 95 % error where the study gives one (the surrogate's own included):
+    # 5 x 2000 / 1002 = 9.98 > 5; a folder without it, 1.96 SE: 5 x 200 / 1002 = 0.998
+    both = {"name": "l2", "elasticity_mean": -5.0, "dR_dmean_error": 2000.0}
+    assert _elasticity_text({"names": ["l2"], "dpf_dmean": [1002.0], "dpf_dmean_se": [102.0]}, both) \
+        == "-5 \u00b1 10 (not resolved)"
+    assert _elasticity_text({"names": ["l2"], "dpf_dmean": [1002.0], "dpf_dmean_se": [102.0]},
+                            {"name": "l2", "elasticity_mean": -5.0}) == "-5 \u00b1 1"
 
 
 def test_a_copula_other_than_the_gaussian_leaves_every_derivative_to_the_finite_differences():

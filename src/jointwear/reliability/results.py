@@ -284,6 +284,18 @@ class MultiReliabilityResult:
                              for shift in shifts])
         return failure_spread(self._posterior_draws(u, n_draws, seed, components=False), shifts, noise_sd)
 
+    def posterior_failure_draws(self, u: np.ndarray, threshold: float, noise_sd: float = 0.0, n_draws: int = 400,
+                                seed: int = 0) -> np.ndarray:
+        """Each point's probability of failure at ``threshold`` on the response under each posterior draw of the
+        shared Kriging (m, n_draws): the draws :meth:`posterior_pf_sd` averages over the points, for another
+        statistic of them (a derivative's score estimator weighs the points)."""
+        shift = self._level_shifts([threshold])[0]
+        sur = self.response_surrogate
+        if noise_sd > 0 and hasattr(sur, "failure_probability"):
+            return series_failure_probability(self._posterior_draws(u, n_draws, seed, components=True) - shift,
+                                              sur.scatter_sds)
+        return failure_probability(self._posterior_draws(u, n_draws, seed, components=False) - shift, noise_sd)
+
     def _posterior_draws(self, u: np.ndarray, n_draws: int, seed: int, components: bool) -> np.ndarray:
         """The response surrogate's posterior draws at ``u`` from ``default_rng(seed)`` (each component's, shape
         (J, m, n_draws), when ``components``), the last DRAWS_KEPT kept: the same points, count and seed give the

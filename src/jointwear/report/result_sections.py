@@ -4,6 +4,7 @@ the sensitivity, the comparison with a cited reference, the summary cards and th
 from __future__ import annotations
 
 import datetime as _dt
+import math
 from collections.abc import Mapping, Sequence
 
 from jointwear.study.limit_state import life_status
@@ -294,8 +295,9 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
                             [v["reliability_high"] for v in vs], nominal, sens.cycles)))
     parts.append("</div>")
     of_joint = f" of joint {sens.sobol['joint']}" if sens.sobol.get("joint") else ""  # whose wear the indices are of
-    optional = [("elasticity_mean", "elasticity of R to the mean, (\u03bc/R) dR/d\u03bc (\u00b1 95 % Monte Carlo "
-                 "error on the surrogate, not the surrogate's own error)"),
+    whose = ("the Monte Carlo error and the surrogate's own" if any("dR_dmean_error" in v for v in sens.variables)
+             else "the Monte Carlo error on the surrogate, not the surrogate's own error")  # a folder before it
+    optional = [("elasticity_mean", f"elasticity of R to the mean, (\u03bc/R) dR/d\u03bc (\u00b1 95 %: {whose})"),
                 ("S1", f"Sobol' S1{of_joint} (\u00b1 95 %)"), ("ST", f"Sobol' ST{of_joint} (\u00b1 95 %)")]
     extra_cols = [(k, h) for k, h in optional if any(v.get(k) is not None for v in sens.variables)]
     has_err = any(v.get("reliability_low_error") is not None for v in sens.variables)
@@ -386,19 +388,23 @@ def _elasticity_text(derivatives: Mapping, variable: Mapping) -> str:
 
 
 def _elasticity_value(derivatives: Mapping, variable: Mapping) -> str:
-    """The elasticity of R to a mean with its 95 % half-width, from the standard error of the derivative it scales
-    (1.96 SE: the Monte Carlo error of the estimator on the surrogate, not the surrogate's own error); 'not resolved'
-    when the half-width exceeds the value (a sign the samples cannot tell)."""
+    """The elasticity of R to a mean with its 95 % half-width, from that of the derivative it scales
+    (``dR_dmean_error``: the Monte Carlo error and the surrogate's own over its posterior; a folder written before
+    it was recorded: 1.96 SE, the Monte Carlo error alone); 'not resolved' when the half-width exceeds the value (a
+    sign the study cannot tell)."""
     value = variable.get("elasticity_mean")
     text = format_number(value, 3)
     names = [str(n) for n in derivatives.get("names") or []]
     if value is None or str(variable["name"]) not in names or not derivatives.get("dpf_dmean_se"):
         return text
     k = names.index(str(variable["name"]))
-    slope, se = derivatives["dpf_dmean"][k], derivatives["dpf_dmean_se"][k]
+    slope = derivatives["dpf_dmean"][k]
+    error = variable.get("dR_dmean_error")
+    if error is None or not math.isfinite(error):
+        error = 1.96 * derivatives["dpf_dmean_se"][k]
     if not slope:
         return text
-    half = 1.96 * abs(value) * se / abs(slope)
+    half = abs(value) * error / abs(slope)
     return f"{text} \u00b1 {format_number(half, 2)}" + (" (not resolved)" if half > abs(value) else "")
 
 

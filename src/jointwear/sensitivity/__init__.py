@@ -5,7 +5,8 @@
 * :func:`reliability_derivatives` - derivatives of Pf with respect to the mean and the standard deviation of
   each normal input (independent or in a Gaussian copula), from one Monte Carlo population (score-function /
   likelihood-ratio estimator); :func:`fill_by_finite_differences` - those of the other inputs, by central
-  differences with common random numbers on a failure function of the population.
+  differences with common random numbers on a failure function of the population; :func:`mean_scores` - the
+  score estimator's weights (to apply it to other failure probabilities of the same points, e.g. posterior draws).
 * :func:`mean_shift_table` - the paper's one-at-a-time mean shifts (80 % / 120 %), given any function that
   returns the reliability for a list of marginals; :func:`unresolved_pairs` - neighbours of a ranking that the
   surrogate's error does not separate.
@@ -14,6 +15,8 @@
 from jointwear.sensitivity.derivatives import (
     ReliabilityDerivatives,
     fill_by_finite_differences,
+    mean_scores,
+    perturbed_column,
     reliability_derivatives,
 )
 from jointwear.sensitivity.mean_shift import (
@@ -29,7 +32,9 @@ __all__ = [
     "ReliabilityDerivatives",
     "SobolResult",
     "fill_by_finite_differences",
+    "mean_scores",
     "mean_shift_table",
+    "perturbed_column",
     "reliability_derivatives",
     "shifted_marginal",
     "sobol_indices",

@@ -125,8 +125,7 @@ def reliability_derivatives(x: np.ndarray, failed: np.ndarray, marginals: Sequen
     d_mean, d_std = np.full(d, np.nan), np.full(d, np.nan)
     se_mean, se_std = np.full(d, np.nan), np.full(d, np.nan)
     if normal.any():
-        z = np.column_stack([m.to_normal(x[:, j]) for j, m in enumerate(ms)])
-        w = z if c is None else z @ np.linalg.inv(c)  # C^-1 symmetric: rows are (C^-1 z)^T
+        z, w = _scores(x, ms, c)
         k = np.flatnonzero(normal)
         t_mean = ind[:, None] * w[:, k] / sd[k]
         t_std = ind[:, None] * (z[:, k] * w[:, k] - 1.0) / sd[k]
@@ -136,6 +135,30 @@ def reliability_derivatives(x: np.ndarray, failed: np.ndarray, marginals: Sequen
     el_mean, el_std = _elasticities(pf, mu, sd, d_mean, d_std)
     method = ["score" if f else "not_computed" for f in normal]
     return ReliabilityDerivatives(list(names), pf, d_mean, d_std, se_mean, se_std, el_mean, el_std, method)
+
+
+def mean_scores(x: np.ndarray, marginals: Sequence, correlation: Any = None) -> np.ndarray:
+    """d log f / d mu_i = (C^-1 z)_i / sigma_i at each row of ``x`` (n, d) (module docstring): the weights of the
+    score estimator dPf/dmu_i = E[I_F x score_i]; NaN columns where the score is not known (a non-normal marginal,
+    a copula other than the Gaussian)."""
+    x = np.asarray(x, dtype=float)
+    ms = [as_marginal(m) for m in marginals]
+    out = np.full(x.shape, np.nan)
+    try:
+        c = copula_correlation(correlation, len(ms))
+    except NotGaussianCopula:
+        return out
+    normal = np.array([m.affine is not None for m in ms])
+    if normal.any():
+        k = np.flatnonzero(normal)
+        out[:, k] = _scores(x, ms, c)[1][:, k] / np.array([ms[j].std() for j in k])
+    return out
+
+
+def _scores(x: np.ndarray, ms: Sequence, c: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+    """The normal scores z of the rows of ``x`` and C^-1 z (rows (C^-1 z)^T, C^-1 symmetric; z without a copula)."""
+    z = np.column_stack([m.to_normal(x[:, j]) for j, m in enumerate(ms)])
+    return z, (z if c is None else z @ np.linalg.inv(c))
 
 
 def perturbed_column(marginal, column: np.ndarray, what: str, step: float) -> np.ndarray:

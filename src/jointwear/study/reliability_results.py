@@ -694,7 +694,7 @@ class SensitivityResult(StageResult):
         each was read by, R at ``cycles`` unshifted, derivatives, Sobol'; with several judged joints also each
         joint's own Sobol' indices of its wear, ``S1_<joint>`` and ``ST_<joint>``)."""
         keys = ["name", "label", "group", "unit", "reliability_low", "reliability_high", "reliability_low_error",
-                "reliability_high_error", "dR_dmean", "dR_dstd", "elasticity_mean", "S1", "ST"]
+                "reliability_high_error", "dR_dmean", "dR_dmean_error", "dR_dstd", "elasticity_mean", "S1", "ST"]
         table = {k: [v.get(k) for v in self.variables] for k in keys}
         low, high = (float(f) for f in self.factors)
         n = len(self.variables)

@@ -131,20 +131,23 @@ def archard_check(ctx: StudyContext, i: int, shifted, exponent: int, pop: np.nda
                   "consistent": bool(abs(r_surrogate - r_exact) <= tolerance)}
 
 
-def slope_contradicts_shifts(dr_dmean: float, dr_dmean_se: float, r_nominal: float, r_shifted: tuple[float, float],
-                             errors: tuple[float, float], shifted_means: tuple[float, float]) -> bool:
-    """True when the local dR/dmu is resolved (|dR/dmu| > 1.96 SE) and of the opposite sign to a consistent mean-shift
-    trend: R at the two shifted means (``r_shifted``, at ``shifted_means``) on opposite sides of R nominal, each
-    beyond its error estimate. The local slope then reads a scale finer than the shifts (a wear that is not smooth
-    in the variable at its tolerance's scale), and the mean shifts are the trend to trust."""
+def slope_contradicts_shifts(dr_dmean: float, dr_dmean_error: float, r_nominal: float,
+                             r_shifted: tuple[float, float], errors: tuple[float, float],
+                             shifted_means: tuple[float, float]) -> bool:
+    """True when the local dR/dmu is resolved (|dR/dmu| > its 95 % error) and of the opposite sign to the trend of R
+    between the shifted means (``r_shifted``, at ``shifted_means``): each shifted R beyond its error estimate from R
+    nominal tells the trend's sign on its side, and one such side is enough unless the other tells the opposite (R
+    not monotone over the shifts: no trend). The local slope then reads a scale finer than the shifts (a wear that
+    is not smooth in the variable at its tolerance's scale, or a trend the surrogate only guesses), and the mean
+    shifts, read by true-model calls or inside the surrogate's learned region, are the trend to trust."""
     (r_lo, r_hi), (e_lo, e_hi), (m_lo, m_hi) = r_shifted, errors, shifted_means
-    if not (math.isfinite(dr_dmean) and abs(dr_dmean) > 1.96 * dr_dmean_se) or m_lo == m_hi:
+    if not (math.isfinite(dr_dmean) and abs(dr_dmean) > dr_dmean_error) or m_lo == m_hi:
         return False
-    below, above = r_lo - r_nominal, r_hi - r_nominal
-    if not (abs(below) > e_lo and abs(above) > e_hi and below * above < 0):
-        return False
-    trend = (r_hi - r_lo) / (m_hi - m_lo)
-    return bool(trend * dr_dmean < 0)
+    up = 1.0 if m_hi > m_lo else -1.0  # the sign of the mean's move to the 'high' factor
+    signs = {float(np.sign(r_hi - r_nominal)) * up} if abs(r_hi - r_nominal) > e_hi else set()
+    if abs(r_lo - r_nominal) > e_lo:
+        signs.add(-float(np.sign(r_lo - r_nominal)) * up)
+    return len(signs) == 1 and signs.pop() * dr_dmean < 0
 
 
 def failure_reason(ctx: StudyContext, x_point: np.ndarray) -> str:
@@ -178,7 +181,9 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
     """
     from jointwear.sensitivity import (
         fill_by_finite_differences,
+        mean_scores,
         mean_shift_table,
+        perturbed_column,
         reliability_derivatives,
         sobol_indices,
         unresolved_pairs,
@@ -336,18 +341,50 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
     deriv = reliability_derivatives(pop, fail_nominal, ctx.marginals, ctx.names, correlation=ctx.copula)
     col_lo, col_hi = pop.min(axis=0), pop.max(axis=0)
 
-    def failure_of(x_shifted: np.ndarray, i: int) -> np.ndarray:
+    def moved_u(x_shifted: np.ndarray, i: int) -> np.ndarray:
+        """The points of a population that differs from the first rows of ``pop`` in column i only."""
         column = np.clip(x_shifted[:, i], col_lo[i], col_hi[i])
         if ctx.copula is None:
-            u = u_pop.copy()
+            u = u_pop[:len(column)].copy()
             u[:, i] = iso.normal_score(i, column)
-        else:
-            moved = pop.copy()
-            moved[:, i] = column
-            u = iso.to_u(moved)
+            return u
+        moved = pop[:len(column)].copy()
+        moved[:, i] = column
+        return iso.to_u(moved)
+
+    def failure_of(x_shifted: np.ndarray, i: int) -> np.ndarray:
+        u = moved_u(x_shifted, i)
         return failure_at_level(u, log_life_margin(u)[0])
 
     deriv = fill_by_finite_differences(deriv, pop, failure_of, ctx.marginals)
+
+    def posterior_slope_sd() -> np.ndarray:
+        """The standard deviation of each dPf/dmu over the Kriging's posterior, on the first rows of the population
+        (the same estimator per posterior draw: the score's weights, or the central difference's two shifted
+        populations): the surrogate's own error of the slope, which the Monte Carlo standard error leaves out (a
+        trend the surrogate only guesses along a variable of no effect read as a resolved slope)."""
+        m, level = n_posterior, log_levels[col]
+        out = np.full(len(ctx.names), np.nan)
+        weights = mean_scores(pop[:m], ctx.marginals, ctx.copula)
+        score = [k for k, how in enumerate(deriv.method) if how == "score"]
+        if score:
+            p = engine.posterior_failure_draws(u_pop[:m], level, scatter, POSTERIOR_DRAWS, seed=rel.seed + 23)
+            out[score] = (weights[:, score].T @ p / m).std(axis=1, ddof=1)
+        for k, how in enumerate(deriv.method):
+            if how == "finite_difference":
+                h = deriv.fd_step_sigma * ctx.marginals[k].std()
+                ends = []
+                for sign in (1.0, -1.0):
+                    x_end = pop[:m].copy()
+                    x_end[:, k] = perturbed_column(ctx.marginals[k], pop[:m, k], "mean", sign * h)
+                    ends.append(moved_u(x_end, k))
+                p = engine.posterior_failure_draws(np.vstack(ends), level, scatter, POSTERIOR_DRAWS,
+                                                   seed=rel.seed + 29)
+                out[k] = ((p[:m] - p[m:]).mean(axis=0) / (2.0 * h)).std(ddof=1)
+        return out
+
+    slope_sd = posterior_slope_sd()
+    slope_error = 1.96 * np.hypot(deriv.dpf_dmean_se, np.nan_to_num(slope_sd))
     groups = {}
     specs = ctx.config.uncertainty.all_specs()
     for spec in specs:
@@ -375,9 +412,11 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
             "reliability_low": table.reliability_low[k], "reliability_high": table.reliability_high[k],
             "reliability_low_error": errors_low[k], "reliability_high_error": errors_high[k],
             "dR_dmean": float(-deriv.dpf_dmean[k]), "dR_dstd": float(-deriv.dpf_dstd[k]),
+            # 95 %: the Monte Carlo error and the surrogate's own (over its posterior), in quadrature
+            "dR_dmean_error": float(slope_error[k]), "dR_dmean_surrogate_sd": float(slope_sd[k]),
             "derivative_method": deriv.method[k],
             "slope_contradicts_shifts": slope_contradicts_shifts(
-                float(-deriv.dpf_dmean[k]), float(deriv.dpf_dmean_se[k]), r_nominal,
+                float(-deriv.dpf_dmean[k]), float(slope_error[k]), r_nominal,
                 (table.reliability_low[k], table.reliability_high[k]), (errors_low[k], errors_high[k]),
                 (sens.factors[0] * means_all[k], sens.factors[1] * means_all[k])),
             # the elasticity of R, (mu / R) dR/dmu = -(Pf / R) x the Pf elasticity the derivatives hold
