@@ -135,44 +135,66 @@ class ReliabilitySettings(SIModel):
     max_calls: int = Field(80, description="Budget of true-model calls for the reliability analysis.")
     seed: int = Field(2025, description="Seed of every random draw of the study.")
 
-    @field_validator("u_threshold", "cov_target", "pf_floor")
+    @field_validator("u_threshold", "cov_target", "pf_floor", "error_tol", "error_abs_tol")
     @classmethod
     def _positive(cls, value: float, info) -> float:
         if not math.isfinite(value) or value <= 0:
-            raise ValueError(f"{info.field_name} must be a positive finite number")
+            raise ValueError("must be a positive finite number")
+        if info.field_name in ("cov_target", "pf_floor", "error_tol", "error_abs_tol") and value >= 1:
+            raise ValueError("must be below 1 (a probability, or a relative error)")
+        return value
+
+    @field_validator("target_reliability")
+    @classmethod
+    def _targets(cls, value: float | list[float]) -> float | list[float]:
+        targets = value if isinstance(value, list) else [value]
+        if not targets:
+            raise ValueError("give at least one target")
+        outside = [t for t in targets if not 0 < t < 1]
+        if outside:
+            raise ValueError(f"must be in (0, 1) (got {outside[0]:g})")
+        repeated = [t for i, t in enumerate(targets) if t in targets[:i]]
+        if repeated:
+            raise ValueError(f"{repeated[0]:g} given twice (each target once: the life table has a row per target)")
+        return value
+
+    @field_validator("allowance", "cycles_start", "cycles_step")
+    @classmethod
+    def _above_zero(cls, value, info):
+        if value is not None and not value > 0:
+            raise ValueError("must be > 0" + (" m" if info.field_name == "allowance" else ""))
+        return value
+
+    @field_validator("life_tol")
+    @classmethod
+    def _life_tol(cls, value: float) -> float:
+        if not 0.0 <= value < 1.0:
+            raise ValueError("must be in [0, 1) (a relative error of the life; 0 = off)")
+        return value
+
+    @field_validator("allowance_std")
+    @classmethod
+    def _allowance_std(cls, value: float) -> float:
+        if value < 0 or not math.isfinite(value):
+            raise ValueError("must be >= 0")
+        return value
+
+    @field_validator("n_mc", "n_mc_max", "n_initial", "batch_size", "max_calls", "hold_iterations")
+    @classmethod
+    def _counts(cls, value: int, info) -> int:
+        least = 2 if info.field_name == "n_initial" else 1  # a Kriging needs two points
+        if value < least:
+            raise ValueError("must be >= 2 (a Kriging needs two points to fit)" if least == 2 else "must be > 0")
         return value
 
     @model_validator(mode="after")
     def _ranges(self) -> ReliabilitySettings:
-        for t in self.targets:
-            if not 0 < t < 1:
-                raise ValueError(f"target_reliability must be in (0, 1) (got {t:g})")
-        if isinstance(self.target_reliability, list) and not self.target_reliability:
-            raise ValueError("target_reliability: give at least one target")
-        repeated = [t for i, t in enumerate(self.targets) if t in self.targets[:i]]
-        if repeated:
-            raise ValueError(f"target_reliability: {repeated[0]:g} given twice (each target once: the life table "
-                             "has a row per target)")
-        if self.allowance is not None and not self.allowance > 0:
-            raise ValueError(f"allowance must be > 0 m (got {self.allowance:g})")
+        """The rules between fields (each field's own range is its validator's: every one is listed at once)."""
         for name, a in self.allowances.items():
             if not (math.isfinite(a) and a > 0):
                 raise ValueError(f"allowances.{name} must be > 0 m (got {a:g})")
-        if not (0.0 <= self.life_tol < 1.0):
-            raise ValueError(f"life_tol must be in [0, 1) (a relative error of the life; 0 = off; got "
-                             f"{self.life_tol:g})")
-        if self.allowance_std < 0 or not math.isfinite(self.allowance_std):
-            raise ValueError("allowance_std must be >= 0")
-        if self.cycles_start is not None and self.cycles_stop is not None:
-            if not 0 < self.cycles_start < self.cycles_stop:
-                raise ValueError(f"need 0 < cycles_start < cycles_stop (got {self.cycles_start}, {self.cycles_stop})")
-        elif self.cycles_start is not None and self.cycles_start <= 0:
-            raise ValueError("cycles_start must be > 0")
-        if self.cycles_step is not None and self.cycles_step <= 0:
-            raise ValueError("cycles_step must be > 0")
-        for name in ("n_mc", "n_mc_max", "n_initial", "batch_size", "max_calls", "hold_iterations"):
-            if getattr(self, name) <= 0:
-                raise ValueError(f"{name} must be > 0 (got {getattr(self, name)})")
+        if self.cycles_start is not None and self.cycles_stop is not None and not self.cycles_start < self.cycles_stop:
+            raise ValueError(f"need 0 < cycles_start < cycles_stop (got {self.cycles_start}, {self.cycles_stop})")
         if self.n_mc_max < self.n_mc:
             raise ValueError(f"n_mc_max must be >= n_mc (got {self.n_mc_max:,} < {self.n_mc:,})")
         if self.max_calls < self.n_initial:

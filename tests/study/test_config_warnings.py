@@ -87,6 +87,22 @@ def test_a_design_specification_beyond_the_studys_population_is_warned():
     assert "lies 8 of the study's standard deviations" in found[0] and "docs/design.md" in found[0]
 
 
+def test_a_verification_budget_below_its_initial_design_is_warned():
+    """verification_max_calls = 12 on the 13 inputs of the default study cut the verification's 2d + 2 = 28-point
+    initial design to 12 and gave 'meets R* beyond its error' from that Kriging (80 calls: 0.956 +- 0.005 against
+    its 0.946 +- 0.033); 3 calls read R = 1.0000 +- 0.34. Nothing said so."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "design"))
+    from design_fixtures import DESIGN
+
+    for calls, warned in ((27, True), (28, False)):
+        cfg = updated(load_config(), {"design": DESIGN | {"verification_max_calls": calls}})
+        found = [w for w in config_warnings(cfg) if w.startswith("design.verification_max_calls")]
+        assert bool(found) is warned, (calls, found)
+    twelve = config_warnings(updated(load_config(), {"design": DESIGN | {"verification_max_calls": 12}}))
+    assert any("fewer than the verification's initial design of 2d + 2 = 28 points (d = 13 random inputs)" in w
+               for w in twelve)
+
+
 def test_a_clearance_mean_at_or_below_its_minimum_is_refused_naming_the_field():
     """A mean of -5 um passed check, and the truncation at the minimum then sampled clearances of 0.1-0.9 um."""
     from jointwear.schema import ConfigError
@@ -422,6 +438,28 @@ def test_a_target_the_curve_cannot_estimate_to_its_cov_is_warned_with_the_settin
              "reliability.n_mc_max": 4_000_000}
     assert config_warnings(updated(base, tuned)) == []
     assert config_warnings(updated(base, {"reliability.target_reliability": 0.999})) == []  # 399,600 samples suffice
+    # a target no population the config takes can read to its COV: the advice stays one the config takes (it said
+    # 'n_mc_max >= 399,999,600', which the schema then refused); 1e8 samples read Pf = 1e-6 to a COV of 0.1
+    (deep,) = config_warnings(updated(base, {"reliability.target_reliability": [0.9, 0.999999]}))
+    assert "n_mc_max = 100,000,000 (the largest population, which reads it to a COV of 0.1;" in deep
+    updated(base, {"reliability.target_reliability": [0.9, 0.999999], "reliability.pf_floor": 1e-6,
+                   "reliability.n_mc_max": 100_000_000})
+
+
+def test_every_reliability_setting_out_of_its_range_is_listed_at_once():
+    """Only a section's first problem was told (max_calls = -3 beside target_reliability = 1.5 said nothing of the
+    calls); n_initial = 1 passed every check and ended in the engine's traceback after the folder was written; a
+    negative error tolerance, a COV target of 500 % and a probability floor of 2 passed without a word."""
+    from jointwear.schema import ConfigError
+
+    with pytest.raises(ConfigError) as err:
+        updated(load_config(), {"reliability.max_calls": -3, "reliability.target_reliability": 1.5,
+                                "reliability.n_initial": 1, "reliability.error_tol": -0.1,
+                                "reliability.cov_target": 5.0, "reliability.pf_floor": 2.0})
+    assert sorted(p.split(":")[0] for p in err.value.problems) == [
+        "reliability.cov_target", "reliability.error_tol", "reliability.max_calls", "reliability.n_initial",
+        "reliability.pf_floor", "reliability.target_reliability"]
+    assert "reliability.n_initial: must be >= 2 (a Kriging needs two points to fit) (got 1)" in err.value.problems
 
 
 def test_an_allowance_past_the_wall_is_refused_for_the_wear_stage_alone():

@@ -24,6 +24,7 @@ from jointwear.study.limit_state import (
     limit_state_problems,
     wearable_stock,
 )
+from jointwear.study_settings import MAX_MC_SAMPLES
 from jointwear.units import suffix_unit
 
 RELIABILITY_STAGES = frozenset({"reliability", "sensitivity"})
@@ -207,6 +208,13 @@ def design_warnings(config: StudyConfig) -> list[str]:
                        f"population of {config.reliability.n_mc:,} reaches: the design judges it by extrapolation, and "
                        "a rejected option is never verified; widen the study's distribution of it to cover the "
                        "option, or run a study of the option (docs/design.md, 'Limits')")
+    least = 2 * len(unc.all_specs()) + 2
+    if design.verification_max_calls < least:
+        out.append(f"design.verification_max_calls: {design.verification_max_calls} calls are fewer than the "
+                   f"verification's initial design of 2d + 2 = {least} points (d = {least // 2 - 1} random inputs): "
+                   "it is cut to the budget, and a Kriging of fewer points than about twice the dimension can be "
+                   "sure of itself where it is wrong, so its verdict may not hold; give at least "
+                   f"{least} (80 by default)")
     return out
 
 
@@ -450,11 +458,16 @@ def target_warnings(config: StudyConfig) -> list[str]:
         cov = math.sqrt((1.0 - pf) / (pf * (rel.n_mc if waived else rel.n_mc_max)))
         why = (f"below pf_floor = {rel.pf_floor:g}, where the COV target is waived" if waived
                else f"beyond n_mc_max = {rel.n_mc_max:,}")
+        if needed <= MAX_MC_SAMPLES:
+            remedy = f"set pf_floor <= {pf:.3g} and n_mc_max >= {needed:,.0f}"
+        else:  # the advice must be one the config takes
+            reachable = math.sqrt((1.0 - pf) / (pf * MAX_MC_SAMPLES))
+            remedy = (f"set pf_floor <= {pf:.3g} and n_mc_max = {MAX_MC_SAMPLES:,} (the largest population, which "
+                      f"reads it to a COV of {reachable:.2g}; the COV target needs {needed:,.0f} samples)")
         out.append(f"reliability.target_reliability: the life at R = {target:g} reads the curve at Pf = {pf:.3g}, "
                    f"{why}: its Monte Carlo COV may reach {cov:.2g} (target {rel.cov_target:g}), and its interval "
-                   f"widens with it. For it, set pf_floor <= {pf:.3g} and n_mc_max >= {needed:,.0f}, and a "
-                   "cycles_start early enough for the curve to reach that R (a validation of N samples cannot test "
-                   "R above about 1 - 3.7 / N)")
+                   f"widens with it. For it, {remedy}, and a cycles_start early enough for the curve to reach that R "
+                   "(a validation of N samples cannot test R above about 1 - 3.7 / N)")
     return out
 
 
