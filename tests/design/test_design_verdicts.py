@@ -201,7 +201,7 @@ def test_the_choice_is_told_against_todays_design():
         baseline_cost=4.083)
     assert res.change_sentence() == ("against today's design (l1 IT9, fit IT7/IT6, HB_b standard, cost 4.083): cost "
                                      "+0.067; changes l1 IT9 -> IT10, fit IT7/IT6 -> H7/g6")
-    res.baseline_reliability_at_target_life = 0.3892  # today's R(N*), on the same surrogate
+    res.baseline_reliability_at_target_life = 0.3892  # today's R(N*), on the surrogate the candidates are read on
     assert "HB_b standard, cost 4.083, R(N*) 0.3892): cost +0.067" in res.change_sentence()
     res.chosen["choices"] = dict(res.baseline_choices)
     assert res.change_sentence().endswith("is the choice: it meets the target as it is")

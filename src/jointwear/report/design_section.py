@@ -71,7 +71,8 @@ def design_section(out_dir: Path | str, figs=None) -> str | None:
                  f"{_get(d, 'baseline_life_cycles'):,.0f} cycles)")
     if _get(d, "baseline_reliability_at_target_life") is not None:
         head += (f"; today's design (the study's own inputs) reads R(N*) = {d.baseline_reliability_text()} on the "
-                 "same surrogate")
+                 "surrogate the candidates are read on (the design stage's own Kriging of the true-model points; the "
+                 "study's R(N) curve, from the reliability stage's, may differ within their errors)")
     parts.append(f"<p>{e(head)}; {_get(d, 'n_candidates', 0)} candidate designs, "
                  f"{_get(d, 'model_calls', 0)} true-model calls in all.</p>")
     chosen = _get(d, "chosen")
