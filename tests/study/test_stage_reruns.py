@@ -78,8 +78,15 @@ def test_calls_read_back_from_the_store_are_not_counted_as_new(base, tmp_path):
     folder = _copy(base, tmp_path)
     lines: list[str] = []
     study = jointwear.Study(SMALL, out=folder, workers=1, echo=lines.append)
+    phases = []
+    told_phase = study._progress_phase
+    study._progress_phase = lambda *args: (phases.append(args), told_phase(*args))
     sens = study.sensitivity()
     assert sens.extra_model_calls > 0
+    # its calls are counted on their own, not on the learning's line ('model calls 23/23 ... budget=14 calls')
+    from jointwear.study.sensitivity import far_shift_calls
+
+    assert phases == [("sensitivity shifts", far_shift_calls(study.config))]
     assert any(line.startswith("reliability: 20 model calls (0 new, 20 read back from the store)") for line in lines)
     (told,) = [line for line in lines if line.startswith("sensitivity: ")]
     assert f"; {sens.extra_model_calls} extra model calls (0 new, {sens.extra_model_calls} read back " in told

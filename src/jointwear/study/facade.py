@@ -631,11 +631,12 @@ class Study:
         SensitivityResult
             Also written to ``sensitivity.json``.
         """
-        from jointwear.study.sensitivity import coordinate_shift_sentence, run_sensitivity
+        from jointwear.study.sensitivity import coordinate_shift_sentence, far_shift_calls, run_sensitivity
 
         self._prepare({"reliability", "sensitivity"}, store_reuse=True)
         with self._session(reuse=True) as ctx:
             learned = self._learned(ctx)
+            self._progress_phase("sensitivity shifts", far_shift_calls(self.config))  # not the learning's count
             before = ctx.n_model_calls
             sens = run_sensitivity(ctx, learned)
             new = ctx.n_model_calls - before
