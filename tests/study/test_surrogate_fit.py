@@ -31,6 +31,10 @@ def test_scatter_alone_is_not_explained_and_warns():
     assert fit.q2 < SurrogateFit.Q2_FLOOR
     text = fit.warning()
     assert "Q^2" in text and "wear.record_cycles" in text and "jointwear validate" in text
+    # it told the scatter as the cause whatever the numbers (a six-bar of 14 calls in 7 inputs, whose design lives
+    # spread 15 times the fitted scatter, was sent to converge); the fit cannot tell them apart, more calls can
+    assert "raise reliability.max_calls and run again with --resume" in text
+    assert f"leave-one-out error of ln N_f {fit.rmse_log_life:.3g}" in text
 
 
 def test_json_round_trip_and_older_results():

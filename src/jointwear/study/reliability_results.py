@@ -120,19 +120,29 @@ class SurrogateFit:
         return self.q2 is not None and self.q2 < self.Q2_FLOOR
 
     def warning(self) -> str:
-        """What a poor fit means for R(N) and what to do (empty when the fit is not poor)."""
+        """What a poor fit means for R(N) and what to do (empty when the fit is not poor). A poor Q^2 has two causes
+        the fit cannot tell apart (its scatter estimate is itself unsure then): a call's scatter larger than what
+        the inputs do, or too few calls for the surrogate to follow them; both are told, with the numbers."""
         if not self.poor and not self.nugget_at_bound:
             return ""
-        what = (f"the life surrogate explains little of its {self.n_points} design points (leave-one-out Q^2 = "
-                f"{self.q2:.2f}, below {self.Q2_FLOOR:g}): the random inputs move the life less than a call's own "
-                f"scatter (about {100 * self.life_scatter:.0f} % in life) and the surrogate's error"
-                if self.poor else
-                f"the call-to-call scatter of the life (about {100 * self.life_scatter:.0f} %) sits at the top of the "
-                f"range the surrogate's noise estimate may take (relative nugget {self.relative_nugget:g})")
-        return (f"{what}, so R(N) may be too steep or too flat. Check the wear history's settings with jointwear "
-                "converge (more cycles recorded per block, wear.record_cycles, lower a scatter that comes from "
-                "sampling few cycles, not one that comes from the history's path), and the curve against the true "
-                "model with jointwear validate (docs/study.md, 'How far to trust the life')")
+        if self.poor:
+            error = "" if self.rmse_log_life is None else f" (leave-one-out error of ln N_f {self.rmse_log_life:.3g})"
+            return (f"the life surrogate explains little of its {self.n_points} design points (leave-one-out Q^2 = "
+                    f"{self.q2:.2f}, below {self.Q2_FLOOR:g}), so R(N) may be too steep or too flat. Either a "
+                    "call's own scatter is larger than what the random inputs do (the fit puts it at "
+                    f"{self.noise_sd_log_life:.3g} in ln N_f, about {100 * self.life_scatter:.0f} % in life, an "
+                    "estimate itself unsure on a poor fit), or the surrogate has too few calls to follow the inputs"
+                    f"{error}. More calls tell the two apart: raise reliability.max_calls and run again with "
+                    "--resume; a Q^2 that stays low is the scatter's, which jointwear converge checks (more cycles "
+                    "recorded per block, wear.record_cycles, lower a scatter that comes from sampling few cycles). "
+                    "Check the curve against the true model with jointwear validate (docs/study.md, 'How far to "
+                    "trust the life')")
+        return (f"the call-to-call scatter of the life (about {100 * self.life_scatter:.0f} %) sits at the top of the "
+                f"range the surrogate's noise estimate may take (relative nugget {self.relative_nugget:g}), so R(N) "
+                "may be too steep or too flat. Check the wear history's settings with jointwear converge (more "
+                "cycles recorded per block, wear.record_cycles, lower a scatter that comes from sampling few cycles, "
+                "not one that comes from the history's path), and the curve against the true model with jointwear "
+                "validate (docs/study.md, 'How far to trust the life')")
 
     def to_json(self) -> dict:
         """The fit's statistics as ``reliability.json`` stores them."""
