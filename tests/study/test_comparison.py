@@ -352,3 +352,23 @@ def test_a_table_of_numbers_is_shown_rounded_in_a_settings_row():
 
     assert _shown({"E": 0.015000000000000001, "A": None}) == "{'E': 0.015, 'A': \u2014}"
     assert _shown([0.1 + 0.2, 1]) == "[0.3, 1]"
+
+
+def test_a_folder_without_its_settings_is_compared_by_its_life_only(three):
+    """A result saved on its own (and every superseded/ folder before it kept a copy of config.json) records no
+    settings: every setting was listed as differing, shown as a dash, and the one real difference was lost."""
+    (three[2] / "config.json").unlink()
+    comp = compare_studies(three)
+    assert [d["name"] for d in comp.differences] == ["wear.geometry_mode"]  # a against b only
+    assert [s["settings_recorded"] for s in comp.studies] == [True, True, False]
+    assert f"{comp.labels[2]} records no settings (no config.json in the folder" in comp.markdown()
+    assert compare_studies(three[:2]).unrecorded_note() == ""
+
+
+def test_results_moved_aside_keep_the_settings_they_ran_with(three):
+    from jointwear.study.superseded import move_aside
+
+    recorded = (three[0] / "config.json").read_text()
+    dest = move_aside(three[0], ["reliability"])
+    assert (dest / "config.json").read_text() == recorded and (three[0] / "config.json").is_file()
+    assert compare_studies([three[1], dest]).unrecorded_note() == ""

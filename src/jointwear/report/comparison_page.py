@@ -23,9 +23,10 @@ def lives_table(comparison) -> str:
 
 def settings_table(comparison) -> str:
     """The settings that differ between the studies as an HTML table (or a sentence saying none does)."""
+    note = f"<p>{e(comparison.unrecorded_note())}</p>" if comparison.unrecorded_note() else ""
     if not comparison.differences:
-        return "<p>No setting differs between the studies.</p>"
-    return table(["setting", *comparison.labels], comparison.setting_rows(), cls="settings")
+        return "<p>No setting differs between the studies.</p>" + note
+    return table(["setting", *comparison.labels], comparison.setting_rows(), cls="settings") + note
 
 
 def write_comparison_page(comparison, path: Path | str, *, figure: Path | None = None) -> Path:

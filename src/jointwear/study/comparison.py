@@ -53,7 +53,8 @@ class StudyComparison(StageResult):
     when the study was validated, ``validation_levels_agreeing`` of its ``validation_levels`` (the curve's levels
     whose 95 % interval overlaps the true model's, sampled directly) and ``validation_levels_passing_95`` (those that
     pass the 95 % test of the difference: :meth:`ValidationResult.differs_at_95`), with its ``validation_samples`` and
-    the ``validation_resolution`` in R they give (:attr:`ValidationResult.resolution`).
+    the ``validation_resolution`` in R they give (:attr:`ValidationResult.resolution`), and ``settings_recorded``
+    (False for a folder without config.json, whose settings are not compared: :meth:`unrecorded_note`).
     ``differences``: every setting whose value differs between the studies (``name``, ``unit``, ``values`` in the
     order of ``studies``; None where a study has no such setting), in the units of the config files.
     ``curves``: each study's R(N) (``cycles``, ``reliability``, ``half_width``: the 95 % half-width of R).
@@ -147,9 +148,20 @@ class StudyComparison(StageResult):
             lines += [row(r) for r in self.setting_rows()]
         else:
             lines += ["", "No setting differs between the studies."]
+        if note := self.unrecorded_note():
+            lines += ["", markdown_cell(note)]
         if note := self.seed_note():
             lines += ["", note]
         return "\n".join(lines)
+
+    def unrecorded_note(self) -> str:
+        """The studies whose folder records no settings (no config.json: a result saved on its own), whose
+        settings are therefore not compared; '' when every one records them."""
+        missing = [s["label"] for s in self.studies if s.get("settings_recorded") is False]
+        if not missing:
+            return ""
+        return (f"{', '.join(missing)} record{'s' if len(missing) == 1 else ''} no settings (no config.json in the "
+                "folder: a result saved on its own), so the settings are compared between the others only.")
 
     def seed_note(self) -> str:
         """When the studies differ only in their seeds: a verdict then measures the learning's own scatter, which
@@ -277,6 +289,7 @@ def _row(res: StudyResults, label: str, target: float) -> dict:
         "validation_levels_passing_95": None if val is None else int(np.sum(~val.differs_at_95())),
         "validation_samples": None if val is None else int(val.n_samples),
         "validation_resolution": None if val is None else float(val.resolution),
+        "settings_recorded": bool((res.config or {}).get("settings")),
         "folder": str(res.folder),
     }
 
@@ -290,6 +303,7 @@ def _differences(loaded: list[StudyResults]) -> list[dict]:
     for res in loaded:
         # list items by their names: studies listing their variables in another order compare by name
         per_study.append({s["name"]: s for s in named_paths((res.config or {}).get("settings", []))})
+    recorded = [i for i, settings in enumerate(per_study) if settings]  # a folder without config.json: not compared
     names: list[str] = []
     for settings in per_study:
         # where the calls run (compute.*) does not change a result: serial, local workers and Dask give the same
@@ -299,7 +313,8 @@ def _differences(loaded: list[StudyResults]) -> list[dict]:
         # each study shows a value in the unit that suits its magnitude (0.7 GPa but 700 MPa): one unit for the row
         unit = next((s[name].get("unit") for s in per_study if name in s), None)
         values = [in_unit(s[name]["value"], s[name].get("unit"), unit) if name in s else None for s in per_study]
-        if any(not same_value(values[0], v, rtol=1e-12) for v in values[1:]):  # a value read back through a unit
+        known = [values[i] for i in recorded]
+        if any(not same_value(known[0], v, rtol=1e-12) for v in known[1:]):  # a value read back through a unit
             out.append({"name": name, "unit": unit, "values": values})
     return out
 

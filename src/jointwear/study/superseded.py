@@ -12,6 +12,7 @@ from __future__ import annotations
 import datetime as _dt
 import json
 import re
+import shutil
 from pathlib import Path
 from typing import Any
 
@@ -118,7 +119,8 @@ def result_files(folder: Path, stage: str) -> list[Path]:
 
 def move_aside(folder: Path, stages: list[str]) -> Path:
     """Move the files of ``stages``' results, and ``report.html`` (built from them), to a new
-    ``folder/superseded/<UTC time>/``; returns that folder."""
+    ``folder/superseded/<UTC time>/`` with a copy of ``config.json`` (the settings they ran with, which the stage
+    about to run rewrites); returns that folder."""
     folder = Path(folder)
     stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y%m%dT%H%M%SZ")
     dest = folder / SUPERSEDED / stamp
@@ -131,4 +133,6 @@ def move_aside(folder: Path, stages: list[str]) -> Path:
     for path in [*files, folder / "report.html"]:
         if path.is_file():
             path.replace(dest / path.name)
+    if (folder / "config.json").is_file():  # the settings the moved results ran with, for load_results and compare
+        shutil.copy2(folder / "config.json", dest / "config.json")
     return dest
