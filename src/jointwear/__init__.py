@@ -11,7 +11,7 @@ from importlib.metadata import PackageNotFoundError, version
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # the names type checkers see; at run time __getattr__ imports them on first use
-    from jointwear.config import load_config
+    from jointwear.config import load_config, updated
     from jointwear.schema import ConfigError
     from jointwear.study import Study, compare_studies, load_results
 
@@ -20,7 +20,7 @@ try:
 except PackageNotFoundError:  # running from a source tree that is not installed
     __version__ = "0+unknown"
 
-__all__ = ["Study", "load_results", "load_config", "compare_studies", "ConfigError", "__version__"]
+__all__ = ["Study", "load_results", "load_config", "updated", "compare_studies", "ConfigError", "__version__"]
 
 
 def __getattr__(name: str) -> object:
@@ -29,10 +29,10 @@ def __getattr__(name: str) -> object:
         from jointwear import study
 
         return getattr(study, name)
-    if name == "load_config":
-        from jointwear.config import load_config
+    if name in ("load_config", "updated"):  # a config, and a variation of one
+        from jointwear import config
 
-        return load_config
+        return getattr(config, name)
     if name == "ConfigError":  # what every boundary check raises: `except jointwear.ConfigError`
         from jointwear.schema import ConfigError
 

@@ -284,6 +284,10 @@ def test_a_life_before_one_curve_is_shorter_than_a_life_inside_another(tmp_path)
     # beyond its curve (R above the target to 1.2 M), a life is at least the last level: longer than 0.9-1.1 M
     beyond = _on_curve(_study(tmp_path / "beyond", "pin beyond", 1e6), lambda n: np.full(n.size, 0.95))
     assert compare_studies([later, beyond]).studies[1]["verdict"] == "longer"
+    # from Python, a life of None says on which side it is (a notebook had to work it out from the curve)
+    for folder, place in ((early, "before_curve"), (later, "in_curve"), (beyond, "beyond_curve")):
+        rel = jointwear.load_results(folder).reliability
+        assert rel.life_place(0.9) == place and (rel.life(0.9) is None) == (place != "in_curve")
 
 
 def test_the_nominal_wear_names_each_joint_with_several(three):

@@ -15,7 +15,7 @@ import numpy as np
 
 from jointwear.schema import ConfigError
 from jointwear.study.io import provenance
-from jointwear.study.limit_state import curve_half_width, interval_reach, life_at, life_interval
+from jointwear.study.limit_state import curve_half_width, interval_reach, life_at, life_interval, life_status
 from jointwear.study.stage_result import StageResult, save_figure
 from jointwear.units import column_name
 
@@ -311,12 +311,21 @@ class ReliabilityCurve(StageResult):
 
     def life(self, target: float | None = None) -> float | None:
         """The life (cycles) at ``target`` (default: the first target): where R(N) falls to it, read on
-        :attr:`life_curve` (:func:`~jointwear.study.limit_state.life_at`); None outside the curve. A target outside
-        (0, 1) raises :class:`~jointwear.schema.ConfigError`."""
+        :attr:`life_curve` (:func:`~jointwear.study.limit_state.life_at`); None outside the curve, on the side
+        :meth:`life_place` tells ('before_curve': lower reliability.cycles_start; 'beyond_curve': extend
+        cycles_stop), with :meth:`life_reach` the bound the curve allows. A target outside (0, 1) raises
+        :class:`~jointwear.schema.ConfigError`."""
         target = self.target if target is None else reliability_target(target, "life: target")
         self._warn_thin_tail(target)
         cycles, r, _ = self._life_curve()
         return life_at(cycles, r, target)
+
+    def life_place(self, target: float | None = None) -> str:
+        """Where the life at ``target`` (default: the first target) lies: 'in_curve', 'before_curve' (R is at or
+        below the target at the first level) or 'beyond_curve' (R stays above it to the last level), as the life
+        table's ``status`` (:func:`~jointwear.study.limit_state.life_status`)."""
+        target = self.target if target is None else reliability_target(target, "life_place: target")
+        return life_status(self._life_curve()[1], target)
 
     def _warn_thin_tail(self, target: float) -> None:
         """A UserWarning when the population's ``n_mc`` samples expect fewer than ``THIN_TAIL_FAILURES`` failures at
