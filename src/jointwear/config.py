@@ -78,7 +78,7 @@ from jointwear.study_settings import (
     ReliabilitySettings,
     SensitivitySettings,
 )
-from jointwear.uncertainty.targets import CLEARANCE_SUFFIX, set_clearance, set_target, target_error
+from jointwear.uncertainty.targets import CLEARANCE_SUFFIX, point_shift, set_clearance, set_target, target_error
 from jointwear.uncertainty.variables import (
     ClearanceSpec,
     CorrelationSpec,
@@ -544,7 +544,9 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
         the last key may carry a unit suffix as in TOML (``allowance_mm``), else the value is in SI. A value may
         be a section: a mapping is laid over it as ``extends`` lays a table (``{"reliability": {"max_calls": 40}}``
         changes that key alone), a section object (an SIModel) replaces it whole. Every path a random variable's
-        ``target`` takes works too: a coordinate of a point (``mechanism.ground_points.C.x``) and a clearance
+        ``target`` takes works too: a coordinate of a point (``mechanism.ground_points.C.x``; on a general linkage
+        its closure tolerance widened by the move, as the study's samples are, so the point's joint partners stay
+        where they are drawn and a crank pin moved out makes the crank longer with the rod as drawn) and a clearance
         joint's ``clearance`` (the bearing radius becomes the journal radius plus the value), with a unit suffix too
         (``clearance_joints.B.clearance_um``).
     source : str
@@ -567,6 +569,7 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
     if not isinstance(changes, Mapping):
         raise TypeError(f"updated: changes must be a mapping of dotted paths to values (got {type(changes).__name__})")
     data = config.model_dump()
+    moved = 0.0  # how far the changes move drawn points of a general linkage (widening its closure tolerance)
     changed: dict[int, set[str]] = {}  # id of a table -> the fields the changes set in it
     fitted: list[dict] = []  # the clearance tables given a fit
     correlated: list[dict] = []  # the correlation table, when entries of it are given
@@ -582,6 +585,7 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
             if target_path.endswith(CLEARANCE_SUFFIX):
                 set_clearance(data, target_path, float(value))
             else:
+                moved += point_shift(data, target_path, float(value)) if _is_number(value) else 0.0
                 set_target(data, target_path, value)
             continue
         node: Any = data
@@ -618,7 +622,20 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
         _drop_fit_sets(node, changed[id(node)])
     for node in correlated:
         _drop_correlation_entries(node, changed[id(node)])
+    if moved > 0.0 and data["mechanism"].get("type") == "general":
+        widen_closure(data["mechanism"], config.mechanism, moved)
     return config_from_dict(data, source)
+
+
+def widen_closure(mech: dict[str, Any], drawn: Any, moved: float) -> None:
+    """Widen the closure tolerance of the raw general ``mech`` by ``moved`` (m) over the link size of the
+    ``drawn`` mechanism, so that a drawn point moved by a variation (or a sample) is assembled with its joint
+    partners where they are drawn: a crank's pin moved to make it 20 % longer keeps the rod as drawn, as the
+    sensitivity's shifted calls run it."""
+    from jointwear.mechanism.assembly import drawn_link_size  # the mechanism's modules load the kernels
+
+    size = drawn_link_size([b.points.values() for b in drawn.bodies])
+    mech["closure_tolerance"] = float(mech["closure_tolerance"]) + moved / size
 
 
 def _drop_fit_sets(table: dict[str, Any], keep: set[str]) -> None:
