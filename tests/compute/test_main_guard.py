@@ -56,3 +56,18 @@ def test_a_script_read_from_stdin_is_refused_before_any_worker_starts():
     done = subprocess.run([sys.executable, "-"], input=body, capture_output=True, text=True, timeout=120)
     assert done.returncode != 0
     assert "the main script (<stdin>) cannot be read again by the 2 worker processes" in done.stderr
+
+
+def test_a_study_without_the_guard_is_refused_before_it_writes_its_folder(tmp_path):
+    """Study(..., workers=2).reliability() in such a script was refused by the executor after config.json and an
+    empty evaluation store were written (a designer's audit)."""
+    done = _run(tmp_path, f"""
+        import jointwear
+        try:
+            jointwear.Study("jin2025_flapping_wing", out={str(tmp_path / "out")!r}, workers=2).reliability()
+        except jointwear.ConfigError as exc:
+            print(exc)
+    """)
+    assert done.returncode == 0, done.stderr
+    assert "compute: cannot start the executor: " in done.stdout and "runs model calls in 2 worker" in done.stdout
+    assert not (tmp_path / "out").exists()

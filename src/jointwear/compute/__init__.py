@@ -20,6 +20,7 @@ from .executors import (
     available_cores,
     make_executor,
     start_local_cluster,
+    worker_pool_problem,
 )
 from .progress import Progress
 from .store import (
@@ -54,4 +55,5 @@ __all__ = [
     "row_key",
     "run_call",
     "start_local_cluster",
+    "worker_pool_problem",
 ]

@@ -200,6 +200,21 @@ def unguarded_main_script() -> str | None:
     return None if any(_is_main_guard(node) for node in tree.body) else str(path)
 
 
+def worker_pool_problem(workers: int) -> str | None:
+    """Why ``workers`` local worker processes cannot run this process's model calls (they import its main script
+    again: one without the ``__main__`` guard, or one that cannot be read again), else None."""
+    script = unguarded_main_script()
+    if script is not None:
+        return (f"{script} runs model calls in {workers} worker processes, which import it again: put the "
+                "study under `if __name__ == \"__main__\":` (or use workers=1 to run the calls in this process)")
+    main_path = getattr(sys.modules.get("__main__"), "__file__", None)
+    if main_path and not Path(main_path).is_file():  # python - < script.py: every worker would die importing '<stdin>'
+        return (f"the main script ({main_path}) cannot be read again by the {workers} worker processes, which "
+                "import it: save it to a file (with the study under `if __name__ == \"__main__\":`), or use workers=1 "
+                "to run the calls in this process")
+    return None
+
+
 def _is_main_guard(node: ast.stmt) -> bool:
     """``if __name__ == "__main__":`` (either order of the comparison)."""
     if not isinstance(node, ast.If) or not isinstance(node.test, ast.Compare) or len(node.test.comparators) != 1:
@@ -226,17 +241,9 @@ class LocalExecutor(_ExecutorBase):
         self._workers = int(workers) if workers is not None else available_cores()
         if self._workers < 1:
             raise ValueError(f"workers must be >= 1, got {workers}")
-        script = unguarded_main_script()
-        if script is not None:
-            raise RuntimeError(
-                f"{script} runs model calls in {self._workers} worker processes, which import it again: put the "
-                "study under `if __name__ == \"__main__\":` (or use workers=1 to run the calls in this process)")
-        main_path = getattr(sys.modules.get("__main__"), "__file__", None)
-        if main_path and not Path(main_path).is_file():
-            raise RuntimeError(  # python - < script.py: every worker would die importing '<stdin>'
-                f"the main script ({main_path}) cannot be read again by the {self._workers} worker processes, which "
-                "import it: save it to a file (with the study under `if __name__ == \"__main__\":`), or use workers=1 "
-                "to run the calls in this process")
+        problem = worker_pool_problem(self._workers)
+        if problem is not None:
+            raise RuntimeError(problem)
         if mp_context is None:
             methods = multiprocessing.get_all_start_methods()
             mp_context = "forkserver" if "forkserver" in methods else "spawn"

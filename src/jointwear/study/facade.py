@@ -290,6 +290,7 @@ class Study:
         self._warn_design_problems(stages)
         if store_reuse is not None or calls:
             self._reach_scheduler()
+            self._refuse_worker_pool()
         try:
             self.out.mkdir(parents=True, exist_ok=True)
             probe = self.out / ".jointwear-write-test"
@@ -424,7 +425,7 @@ class Study:
         result.save(self.out)
         self.echo(f"simulate: {n} cycle{'' if n == 1 else 's'}, {result.steps_per_cycle:.0f} steps/cycle, "
                   f"{result.wall_seconds_per_cycle * 1e3:.1f} ms/cycle, crank at "
-                  f"{abs(config.mechanism.crank_speed) * 30.0 / math.pi:,.4g} rpm; "
+                  f"{config.mechanism.crank_speed * 30.0 / math.pi:,.4g} rpm; "  # signed: a clockwise drive
                   f"mean contact force {force_line(result)}"
                   f" -> {self.out / result.FILE}")
         self._tell("simulate", result)
@@ -457,8 +458,9 @@ class Study:
         res = wear_history(build_model(self.config), self.config.wear, n, progress=progress)
         result = WearSummary.from_history(res, self.config, self._allowances())
         result.save(self.out)
-        ran = (f"{result.cycles} cycles" if result.stopped_at_cycles is None
-               else f"{result.stopped_at_cycles} of {result.cycles_requested} cycles (stopped: worn away)")
+        asked = result.cycles_requested or result.cycles
+        ran = (f"{result.cycles:,} cycles" if result.stopped_at_cycles is None
+               else f"{result.stopped_at_cycles:,} of {asked:,} cycles (stopped: worn away)")
         self.echo(f"wear: max bearing wear {wear_line(result)} after {ran} "
                   f"(history {res.wall_seconds:.1f} s, stage {time.perf_counter() - t0:.1f} s) "
                   f"-> {self.out / result.FILE}")
@@ -891,6 +893,16 @@ class Study:
             raise
         finally:
             store.close()
+
+    def _refuse_worker_pool(self) -> None:
+        """Refuse local worker processes that could not run this process's calls (a script without the
+        ``__main__`` guard) before anything is written: the executor would refuse them after the folder was."""
+        from jointwear import compute
+
+        workers = self.workers if self.workers is not None else compute.available_cores()
+        problem = compute.worker_pool_problem(workers) if self.scheduler is None and workers > 1 else None
+        if problem is not None:
+            raise ConfigError(f"compute: cannot start the executor: {problem}")
 
     def _reach_scheduler(self) -> None:
         """Refuse a Dask scheduler that does not answer (in seconds, where distributed waits half a minute); once
