@@ -156,8 +156,9 @@ class SIModel(BaseModel):
         if name in type(self).model_fields:  # pydantic's own "Instance is frozen" does not say what to do instead
             raise AttributeError(
                 f"a validated config is read-only ({type(self).__name__}.{name} cannot be set): make a changed, "
-                f"validated copy with jointwear.config.updated(config, {{'<section>.{name}': value}}), e.g. "
-                "updated(config, {'wear.block_cycles': 500})"
+                f"validated copy with jointwear.updated(config, {{'<path>.{name}': value}}), the path as `jointwear "
+                "check` lists it, e.g. updated(config, {'wear.block_cycles': 500}) or "
+                "updated(config, {'uncertainty.variables.HB_b.std_HB': 20})"
             )
         super().__setattr__(name, value)
 

@@ -215,7 +215,7 @@ def test_configs_are_frozen_and_updated_revalidates():
     cfg = load_config("jin2025_flapping_wing")
     with pytest.raises(AttributeError, match=r"^a validated config is read-only \(ClearanceJointConfig.journal_radius "
                                              r"cannot be set\): make a changed, validated copy with "
-                                             r"jointwear.config.updated\(config, \{'<section>.journal_radius'"):
+                                             r"jointwear.updated\(config, \{'<path>.journal_radius'"):
         cfg.clearance_joints[0].journal_radius = 1.003e-3
     assert cfg.clearance_joints[0].journal_radius == 1e-3
     with pytest.raises(ConfigError, match="rod .* and rocker .* cannot close the loop"):

@@ -288,6 +288,11 @@ def test_a_life_before_one_curve_is_shorter_than_a_life_inside_another(tmp_path)
     for folder, place in ((early, "before_curve"), (later, "in_curve"), (beyond, "beyond_curve")):
         rel = jointwear.load_results(folder).reliability
         assert rel.life_place(0.9) == place and (rel.life(0.9) is None) == (place != "in_curve")
+    # and R at any cycle count on the curve, with its band (exact on a straight line): 1 - 1e6 / 1e7 = 0.9 +- 0.01
+    rel = jointwear.load_results(later).reliability
+    assert rel.reliability_at(1e6) == pytest.approx((0.9, 0.01), rel=1e-12)
+    with pytest.raises(ConfigError, match="reliability_at: cycles: a cycle count on the curve"):
+        rel.reliability_at(5e7)
 
 
 def test_the_nominal_wear_names_each_joint_with_several(three):

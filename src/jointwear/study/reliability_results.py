@@ -309,6 +309,16 @@ class ReliabilityCurve(StageResult):
         written without it."""
         return self._life_curve() if self.life_curve.get("cycles") else None
 
+    def reliability_at(self, cycles: float) -> tuple[float, float]:
+        """R at ``cycles`` and its 95 % half-width, read on :attr:`life_curve` as the life is (straight between its
+        points); a cycle count outside the curve raises :class:`~jointwear.schema.ConfigError` (R there is not
+        estimated: extend reliability.cycles_start or cycles_stop)."""
+        n, r, half = self._life_curve()
+        if isinstance(cycles, bool) or not isinstance(cycles, numbers.Real) or not n[0] <= cycles <= n[-1]:
+            raise ConfigError(f"reliability_at: cycles: a cycle count on the curve, {n[0]:,.0f} to {n[-1]:,.0f} "
+                              f"(got {cycles!r})")
+        return float(np.interp(cycles, n, r)), float(np.interp(cycles, n, half))
+
     def life(self, target: float | None = None) -> float | None:
         """The life (cycles) at ``target`` (default: the first target): where R(N) falls to it, read on
         :attr:`life_curve` (:func:`~jointwear.study.limit_state.life_at`); None outside the curve, on the side
