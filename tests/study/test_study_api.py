@@ -284,15 +284,6 @@ def test_an_interrupt_in_python_says_how_to_resume(tmp_path):
                     "with resume=True (--resume) to continue from them.")
 
 
-def test_simulate_names_the_joint_of_each_mean_contact_force(tmp_path):
-    """With two clearance joints, 'mean contact force 6.676 N' did not say which joint it was."""
-    lines: list[str] = []
-    res = jointwear.Study("watt_six_bar_two_clearances", out=tmp_path, echo=lines.append).simulate(cycles=1, settle=0)
-    forces = ", ".join(f"{j['name']} {j['contact_force_mean_N']:.4g} N" for j in res.joints)
-    assert [j["name"] for j in res.joints] == ["A", "E"]
-    assert f"; mean contact force {forces} -> " in lines[0], lines[0]
-
-
 def test_the_learnings_progress_line_gives_its_budget(tmp_path):
     """The bar's total grows batch by batch ('12/15'); the learning's call budget was nowhere on the line."""
     from types import SimpleNamespace
