@@ -95,6 +95,10 @@ def test_calls_read_back_from_the_store_are_not_counted_as_new(base, tmp_path):
     study.validate(n_samples=4)
     assert any(line.startswith("validate: 4 true-model samples (0 new, 4 read back from the store), ")
                for line in lines)
+    # a smaller validation replacing it says so (validate(n_samples=1) replaced 40 samples without a word)
+    study.validate(n_samples=2)
+    assert f"validate: this validation of 2 samples replaces one of 4 in {folder}; validating again with 4 reads " \
+        "its calls back from the store" in lines
 
 
 def test_a_rerun_with_other_reliability_settings_moves_aside_what_the_old_curve_gave(base, tmp_path):

@@ -685,11 +685,15 @@ class Study:
             raise ConfigError(f"n_samples: must be a whole number >= 1 (got {n_samples!r})")
         n_samples = int(n_samples)
         self._prepare({"reliability"}, store_reuse=True)
+        before = ValidationResult.load_if_present(self.out)  # after _prepare: one of other settings has moved aside
         with self._session(reuse=True) as ctx:
             learned = self._learned(ctx)
             self._progress_phase("validation samples", n_samples)
             result = run_validation(ctx, learned, n_samples)
         result.save(self.out)
+        if before is not None and before.n_samples > n_samples:  # its calls stay in the store: nothing is lost
+            self.warn(f"validate: this validation of {n_samples:,} samples replaces one of {before.n_samples:,} in "
+                      f"{self.out}; validating again with {before.n_samples:,} reads its calls back from the store")
         agree = sum(result.agreement)
         life = ""
         if result.life_table and result.life_table[0]["cycles"] is not None:
