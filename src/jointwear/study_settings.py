@@ -290,18 +290,34 @@ class SensitivitySettings(SIModel):
         "surrogate (the initial design spans +-5 sigma); a larger one by one true-model call and the separable "
         "scaling rule (docs/study.md). Project choice: the paper does not say how its shifted analyses were run.")
 
-    @model_validator(mode="after")
-    def _check(self) -> SensitivitySettings:
-        if self.cycles is not None and self.cycles <= 0:
-            raise ValueError("cycles must be > 0")
-        if not all(f > 0 and math.isfinite(f) for f in self.factors):
-            raise ValueError("factors must be positive")
-        if not (self.surrogate_shift_limit > 0 and math.isfinite(self.surrogate_shift_limit)):
-            raise ValueError("surrogate_shift_limit must be a positive number of standard deviations")
-        n = self.sobol_base_samples
-        if n < 2 or n & (n - 1):
-            raise ValueError("sobol_base_samples must be a power of two")
-        return self
+    # each field's own check, so that every problem of the section is listed at once
+    @field_validator("cycles")
+    @classmethod
+    def _cycles(cls, value: int | None) -> int | None:
+        if value is not None and value <= 0:
+            raise ValueError("must be > 0")
+        return value
+
+    @field_validator("factors")
+    @classmethod
+    def _factors(cls, value):
+        if not all(f > 0 and math.isfinite(f) for f in value):
+            raise ValueError("must be positive")
+        return value
+
+    @field_validator("surrogate_shift_limit")
+    @classmethod
+    def _shift_limit(cls, value: float) -> float:
+        if not (value > 0 and math.isfinite(value)):
+            raise ValueError("must be a positive number of standard deviations")
+        return value
+
+    @field_validator("sobol_base_samples")
+    @classmethod
+    def _sobol_base(cls, value: int) -> int:
+        if value < 2 or value & (value - 1):
+            raise ValueError("must be a power of two")
+        return value
 
 
 class ComputeSettings(SIModel):

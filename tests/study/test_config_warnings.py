@@ -460,6 +460,13 @@ def test_every_reliability_setting_out_of_its_range_is_listed_at_once():
         "reliability.cov_target", "reliability.error_tol", "reliability.max_calls", "reliability.n_initial",
         "reliability.pf_floor", "reliability.target_reliability"]
     assert "reliability.n_initial: must be >= 2 (a Kriging needs two points to fit) (got 1)" in err.value.problems
+    # the sensitivity and design sections too (each told its first problem only)
+    with pytest.raises(ConfigError) as err:
+        updated(load_config(), {"sensitivity.sobol_base_samples": 100, "sensitivity.surrogate_shift_limit": -1,
+                                "design.refine_max_calls": -1, "design.verification_max_calls": -1})
+    assert sorted(p.split(":")[0] for p in err.value.problems) == [
+        "design.refine_max_calls", "design.verification_max_calls", "sensitivity.sobol_base_samples",
+        "sensitivity.surrogate_shift_limit"]
 
 
 def test_an_allowance_past_the_wall_is_refused_for_the_wear_stage_alone():

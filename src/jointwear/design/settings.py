@@ -343,18 +343,24 @@ class DesignSettings(SIModel):
             raise ValueError("give at least one target")
         return targets
 
+    @field_validator("n_population")
+    @classmethod
+    def _population(cls, value: int) -> int:
+        if value < MIN_POPULATION:
+            raise ValueError(f"must be >= {MIN_POPULATION:,} (got {value:,}): a candidate's R(N*) is the share of its "
+                             "population that survives, and fewer samples cannot tell a reliability of 0.9 from 0.95")
+        return value
+
+    @field_validator("max_candidates", "batch_size", "refine_max_calls", "verification_max_calls")
+    @classmethod
+    def _counts(cls, value: int, info) -> int:  # each its own check: every problem of the section at once
+        least = 1 if info.field_name in ("max_candidates", "batch_size") else 0
+        if value < least:
+            raise ValueError(f"must be >= {least}")
+        return value
+
     @model_validator(mode="after")
     def _check(self) -> DesignSettings:
-        if self.n_population < MIN_POPULATION:
-            raise ValueError(f"n_population must be >= {MIN_POPULATION:,} (got {self.n_population:,}): a candidate's "
-                             "R(N*) is the share of its population that survives, and fewer samples cannot tell a "
-                             "reliability of 0.9 from 0.95")
-        for name in ("max_candidates", "batch_size"):
-            if getattr(self, name) < 1:
-                raise ValueError(f"{name} must be >= 1")
-        for name in ("refine_max_calls", "verification_max_calls"):
-            if getattr(self, name) < 0:
-                raise ValueError(f"{name} must be >= 0")
         if not (self.tolerances or self.fit or self.properties or self.materials):
             raise ValueError("name at least one control (tolerances, fit, properties or materials)")
         n = 1
