@@ -325,6 +325,16 @@ def test_a_coordinates_mean_shift_is_said_to_depend_on_the_origin():
     assert coordinate_shift_sentence(targets, (0.8, 1.2)).startswith("arm and pivot are coordinates of the drawing: "
                                                                      "each mean x 0.8 / x 1.2 moves its point")
     assert coordinate_shift_sentence({"l1": "mechanism.crank.length"}, (0.8, 1.2)) == ""
+    # a coordinate that scales a link is no origin's choice: the example's crank O-A is drawn from O = (0, 0) along
+    # x, so A.x x 0.8 is the crank at 80 % (a designer's audit read the note on such a crank); its rocker's B.y and
+    # its ground pivot C = (35, 20) mm are not on such an axis
+    from jointwear.config import load_config as load
+
+    mech = load(Path(__file__).resolve().parents[2] / "examples" / "my_linkage.toml").model_dump()["mechanism"]
+    drawn = {"l_crank": "mechanism.bodies.crank.points.A.x", "arm": "mechanism.bodies.rocker.points.B.y",
+             "pivot": "mechanism.ground_points.C.x"}
+    assert coordinate_shift_sentence(drawn, (0.8, 1.2), mech).startswith("arm and pivot are coordinates")
+    assert coordinate_shift_sentence({"l_crank": drawn["l_crank"]}, (0.8, 1.2), mech) == ""
 
 
 @pytest.mark.parametrize("changes, warned", [

@@ -340,7 +340,7 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
             "error estimate of the two reliabilities)"]
     parts.append(f"<h3>Ranking beside the reference's ({e(reference_label(ref))})</h3>" if ref else "<h3>Ranking</h3>")
     targets = {str(v.get("name")): str(v.get("target") or "") for v in (out.config or {}).get("random_variables") or []}
-    parts.append(ranking_meaning(sens, targets))
+    parts.append(ranking_meaning(sens, targets, ((out.config or {}).get("study_config") or {}).get("mechanism")))
     parts.append(table(head + [reference_label(ref)] if ref else head, rrows, cls="kv"))
     parts.append(far_shift_part(sens, labels))
     parts.append(archard_check_part(sens))
@@ -420,7 +420,7 @@ def _index_text(sobol: Mapping, variable: Mapping, key: str) -> str:
     return text if half is None else f"{text} \u00b1 {format_number(float(half), 2)}"
 
 
-def ranking_meaning(sens, targets: Mapping[str, str] | None = None) -> str:
+def ranking_meaning(sens, targets: Mapping[str, str] | None = None, mechanism: Mapping | None = None) -> str:
     """What the ranking measures, and what it does not: the change of R when one mean moves by a fixed fraction is
     a change of the nominal design (for a toleranced length, many of its standard deviations), not of the
     variable's scatter, whose share in the scatter of the wear the Sobol' indices give."""
@@ -434,7 +434,8 @@ def ranking_meaning(sens, targets: Mapping[str, str] | None = None) -> str:
             "of its value: a change of the nominal design (for a toleranced length, many standard deviations of its "
             "tolerance), not of the variable's scatter. Which scatter drives the scatter of the wear is what the "
             "Sobol' indices tell." + by_variance)
-    if coordinates := coordinate_shift_sentence(dict(targets or {}), tuple(sens.factors)):
+    if coordinates := coordinate_shift_sentence(dict(targets or {}), tuple(sens.factors),
+                                                dict(mechanism) if mechanism else None):
         text += f" Here {coordinates}."  # not capitalised: it begins with a variable's name (l_OA)
     return f"<p>{e(text)}</p>"
 

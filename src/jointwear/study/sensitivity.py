@@ -29,11 +29,15 @@ SHIFT_POSTERIOR_POINTS = 1000
 COORDINATE_TARGET = re.compile(r"(^|\.)(points|ground_points)\.[^.]+\.[xy]$")
 
 
-def coordinate_shift_sentence(targets: dict[str, str], factors: tuple[float, float]) -> str:
+def coordinate_shift_sentence(targets: dict[str, str], factors: tuple[float, float],
+                              mechanism: dict | None = None) -> str:
     """For the random variables whose targets are drawn coordinates (name -> target): their mean shifts move a point
     by a share of its distance from the drawing's origin, not of a link, so their ranking depends on where the
-    origin lies ('' when there is none)."""
-    names = [name for name, target in targets.items() if COORDINATE_TARGET.search(str(target))]
+    origin lies ('' when there is none). With the config's ``mechanism`` (SI, as dumped), a coordinate that scales
+    a link is left out: its point on an axis through another point of its body at the origin (a crank O-A drawn
+    from O = (0, 0) along x, toleranced as A.x)."""
+    names = [name for name, target in targets.items() if COORDINATE_TARGET.search(str(target))
+             and not (mechanism and scales_a_link(mechanism, str(target)))]
     if not names:
         return ""
     which = " and ".join([", ".join(names[:-1]), names[-1]] if len(names) > 1 else names)
@@ -41,6 +45,23 @@ def coordinate_shift_sentence(targets: dict[str, str], factors: tuple[float, flo
     return (f"{which} {verb} of the drawing: each mean x {factors[0]:g} / x {factors[1]:g} moves its point by that "
             "share of its distance from the origin, not of a link's length, so its place in the mean-shift ranking "
             "depends on where the origin is drawn (the Sobol' ranking does not)")
+
+
+def scales_a_link(mechanism: dict, target: str) -> bool:
+    """Whether moving the drawn coordinate ``target`` by a factor scales the distance of its point from another point
+    of the same body (or of the ground) that lies at the origin: the point's other coordinate is 0."""
+    keys = target.split(".")
+    try:
+        if keys[1] == "ground_points":
+            points, point, axis = mechanism["ground_points"], keys[2], keys[3]
+        else:
+            bodies = mechanism["bodies"]
+            body = bodies[int(keys[2])] if keys[2].isdigit() else next(b for b in bodies if b.get("name") == keys[2])
+            points, point, axis = body["points"], keys[4], keys[5]
+        other = points[point][1 if axis == "x" else 0]
+    except (KeyError, IndexError, StopIteration, TypeError, ValueError):
+        return False
+    return other == 0 and any(name != point and tuple(xy) == (0.0, 0.0) for name, xy in points.items())
 
 
 def far_shift_calls(config) -> int:
