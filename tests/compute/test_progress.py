@@ -39,3 +39,21 @@ def test_a_plain_line_times_its_own_phase_and_says_what_is_left(monkeypatch, cap
     progress.update(completed=60)  # 60 in 30 s: 540 more take 270 s
     line = capsys.readouterr().err.strip().splitlines()[-1]
     assert line == "validation samples 60/600  elapsed 0:00:30  left 0:04:30"
+
+
+def test_a_narrow_terminal_cuts_the_fields_not_the_count():
+    """At 80 columns the live line read 'model calls ... Pf(400k)=0.284 COV=0.0036 min U=0.00 budget=12 calls ...
+    left ...': rich had dropped the call count and the times to keep the fields (a reliability engineer's audit)."""
+    import io
+    import re
+
+    from rich.console import Console
+
+    buf = io.StringIO()
+    progress = Progress(total=23, enabled=True, console=Console(file=buf, force_terminal=True, width=80))
+    progress.start()
+    progress.update(completed=12, **{"Pf(400k)": "0.284", "COV": "0.0036", "min U": "0.00", "budget": "80 calls"})
+    progress.stop()
+    last = re.sub(r"\x1b\[[0-9;?]*[A-Za-z]", "", buf.getvalue()).strip().splitlines()[-1]
+    assert "12/23" in last and " left " in last and "Pf" in last, last
+    assert len(last.rstrip()) <= 80

@@ -109,15 +109,29 @@ class Progress:
                 Progress as RichProgress,
             )
 
+            from rich.table import Column
+
+            class FieldsColumn(TextColumn):
+                """The fields, cut with an ellipsis where the line is too narrow (they give way first: the
+                count and the times stay; at 80 columns rich dropped the count instead)."""
+
+                def render(self, task):
+                    text = super().render(task)
+                    text.no_wrap, text.overflow = True, "ellipsis"
+                    return text
+
+            def kept() -> Column:
+                return Column(no_wrap=True)  # rich narrows only the columns that may wrap
+
             console = self._console or Console(stderr=True)
             self._rich = RichProgress(
-                TextColumn("[bold]{task.description}"),
-                BarColumn(),
-                MofNCompleteColumn(),
-                TextColumn("{task.fields[info]}"),
-                TimeElapsedColumn(),
-                TextColumn("left"),
-                TimeRemainingColumn(),
+                TextColumn("[bold]{task.description}", table_column=kept()),
+                BarColumn(bar_width=20, table_column=kept()),
+                MofNCompleteColumn(table_column=kept()),
+                FieldsColumn("{task.fields[info]}", table_column=Column(no_wrap=False)),
+                TimeElapsedColumn(table_column=kept()),
+                TextColumn("left", table_column=kept()),
+                TimeRemainingColumn(table_column=kept()),
                 console=console,
                 transient=self._transient,
                 refresh_per_second=4,
