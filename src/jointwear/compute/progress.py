@@ -108,7 +108,6 @@ class Progress:
             from rich.progress import (
                 Progress as RichProgress,
             )
-
             from rich.table import Column
 
             class FieldsColumn(TextColumn):
