@@ -266,6 +266,10 @@ def test_point_shifts_move_each_points_threshold(noise_sd):
     assert never == pytest.approx(always, rel=1e-9, abs=1e-15)
     if noise_sd > 0:  # the Kriging of a plane is exact: without the response's scatter its spread is 0
         assert never > 0 and never != pytest.approx(spread(0.0), rel=1e-3)
+    # the points' failure probabilities under each draw (which the sensitivity weighs for a slope's error) average to
+    # the Pf whose spread posterior_pf_sd gives: the same draws
+    p = res.posterior_failure_draws(u, 0.3, noise_sd, 200, seed=5)
+    assert p.shape == (400, 200) and p.mean(axis=0).std(ddof=1) == pytest.approx(spread(0.3), rel=1e-12, abs=1e-15)
 
 
 def test_posterior_draws_kept_for_the_same_points_give_the_numbers_of_fresh_draws():
