@@ -265,6 +265,23 @@ def test_a_validation_too_small_for_the_target_still_reads_the_levels_paired(ana
     assert val.life_table[0]["cycles"] is None and "paired_ratio" not in val.life_table[0]
     assert val.paired and val.paired_difference_low.shape == val.cycles.shape
     assert val.paired_life_sentence() == "" and val.paired_life_allowed() is None
+    assert val.unpaired_life_sentence() == ""  # not tried (too few samples): nothing to explain
+
+
+def test_a_paired_life_outside_the_curve_is_told_why_it_is_missing(analytic_study):
+    """100 samples of a designer's compressor read the surrogate's R at the first level below the target: the paired
+    life was missing from the validate line without a word."""
+    import dataclasses
+
+    ctx, rel = analytic_study
+    val = run_validation(ctx, rel, 200)
+    row = {**val.life_table[0], "paired_ratio": None, "paired_surrogate_cycles": None}
+    before = dataclasses.replace(val, life_table=[row],
+                                 paired_reliability_surrogate=np.full_like(val.paired_reliability_surrogate, 0.5))
+    assert before.unpaired_life_sentence() == (
+        f"on the same samples the surrogate's life lies before the curve's first level at R = {row['target']:g}, so "
+        "the two lives are not compared (a curve that starts or ends further would compare them)")
+    assert before.paired_life_sentence() == "" and val.unpaired_life_sentence() == ""
 
 
 def test_a_curve_read_back_from_disk_is_validated_unpaired(analytic_study, tmp_path):

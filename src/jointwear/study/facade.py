@@ -705,7 +705,7 @@ class Study:
                     f"{'' if row['agree'] else ' (the intervals do not overlap)'}")
         elif result.life_table and result.life_table[0].get("note"):
             life = f", life at R = {result.life_table[0]['target']:g}: {result.life_table[0]['note']}"
-        if paired := result.paired_life_sentence():
+        if paired := result.paired_life_sentence() or result.unpaired_life_sentence():
             life += f"; {paired}"
         if result.paired:
             within = result.paired_within_error()

@@ -852,6 +852,23 @@ class ValidationResult(StageResult):
                 f"{row['paired_surrogate_cycles']:,.0f} cycles, {100 * abs(ratio):.1f} % {side} the true model's "
                 f"{row['cycles']:,.0f}{bounds}")
 
+    def unpaired_life_sentence(self, target: float | None = None) -> str:
+        """Why the paired reading of the life at ``target`` (the first target by default) is missing, where the
+        paired curve is there: 'on the same samples the surrogate's life lies before the curve's first level at
+        R = 0.9, ...'; '' otherwise (a validation of 100 samples said nothing of it)."""
+        rows = [r for r in self.life_table if target is None or r.get("target") == target][:1]
+        if not rows or not self.paired or "paired_ratio" not in rows[0] or (  # not tried: too few samples
+                rows[0]["paired_ratio"] is not None and rows[0].get("paired_surrogate_cycles") is not None):
+            return ""
+        place = {"before_curve": "before the curve's first level", "beyond_curve": "beyond its last level"}
+        where = [place.get(life_status(r, rows[0]["target"]))
+                 for r in (self.paired_reliability_surrogate, self.reliability_mc)]
+        whose = ("the surrogate's and the true model's lives lie" if where[0] and where[1] else
+                 "the surrogate's life lies" if where[0] else "the true model's life lies")
+        side = where[0] or where[1]
+        return (f"on the same samples {whose} {side} at R = {rows[0]['target']:g}, so the two lives are not compared "
+                "(a curve that starts or ends further would compare them)" if side else "")
+
     def paired_life_allowed(self, target: float | None = None) -> tuple[float, float, str] | None:
         """What the study's life interval allows of the paired ratio (surrogate / true - 1 for a true life anywhere in
         [``surrogate_cycles_low``, ``_high``]: life / high - 1 to life / low - 1), and where the paired ratio's 95 %
