@@ -23,7 +23,8 @@ def lives_table(comparison) -> str:
 
 def settings_table(comparison) -> str:
     """The settings that differ between the studies as an HTML table (or a sentence saying none does)."""
-    note = f"<p>{e(comparison.unrecorded_note())}</p>" if comparison.unrecorded_note() else ""
+    unrecorded = comparison.unrecorded_note()
+    note = f"<p>{e(unrecorded)}</p>" if unrecorded else ""
     if not comparison.differences:
         return "<p>No setting differs between the studies.</p>" + note
     return table(["setting", *comparison.labels], comparison.setting_rows(), cls="settings") + note

@@ -602,11 +602,7 @@ def nominal_diameter_warning(data: dict, clearance) -> str | None:
     """'nominal_diameter: ...' when the clearance's ISO 286 spread (and a fit's mean) at its nominal diameter differ
     by more than 1 % from those at its joint's journal diameter 2 R_j (its default): a diameter in another size range
     of ISO 286-2 has other tolerances."""
-    from jointwear.uncertainty.targets import (
-        CLEARANCE_SUFFIX,
-        target_error,
-        target_value,
-    )
+    from jointwear.uncertainty.targets import CLEARANCE_SUFFIX, target_error, target_value
     from jointwear.uncertainty.tolerances import clearance_from_fit, iso_fit
 
     if clearance.source != "iso286" or not clearance.target.endswith(CLEARANCE_SUFFIX) or target_error(

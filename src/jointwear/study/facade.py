@@ -651,8 +651,7 @@ class Study:
                   f"{extra} extra model calls{reused_text(new, extra)} "
                   f"-> {self.out / sens.FILE}")
         targets = {s.name: s.target for s in self.config.uncertainty.all_specs()}
-        if coordinates := coordinate_shift_sentence(targets, tuple(sens.factors),
-                                                    self.config.model_dump()["mechanism"]):
+        if coordinates := coordinate_shift_sentence(targets, tuple(sens.factors), self.config.mechanism.model_dump()):
             self.warn(f"sensitivity: {coordinates}")
         if unbuilt := sens.unbuilt_shifts_sentence():
             self.warn(f"sensitivity: {unbuilt}")

@@ -289,6 +289,11 @@ def life_status(reliability, target: float) -> str:
     return "before_curve" if below[0] == 0 else "in_curve"
 
 
+#: where a life outside the curve lies, by its :func:`life_status`, and the setting that brings it in
+OUTSIDE_CURVE = {"before_curve": ("before the curve's first level", "lower cycles_start"),
+                 "beyond_curve": ("beyond the curve's last level", "extend cycles_stop")}
+
+
 #: the wear history's key (wear.json, each joint's ``history``) of each judged quantity, in mm
 HISTORY_KEYS = {"bearing_max_depth": "max_wear_mm", "journal_max_depth": "max_journal_wear_mm",
                 "clearance_growth": "clearance_growth_mm"}

@@ -15,7 +15,14 @@ import numpy as np
 
 from jointwear.schema import ConfigError
 from jointwear.study.io import provenance
-from jointwear.study.limit_state import curve_half_width, interval_reach, life_at, life_interval, life_status
+from jointwear.study.limit_state import (
+    OUTSIDE_CURVE,
+    curve_half_width,
+    interval_reach,
+    life_at,
+    life_interval,
+    life_status,
+)
 from jointwear.study.stage_result import StageResult, save_figure
 from jointwear.units import column_name
 
@@ -860,8 +867,7 @@ class ValidationResult(StageResult):
         if not rows or not self.paired or "paired_ratio" not in rows[0] or (  # not tried: too few samples
                 rows[0]["paired_ratio"] is not None and rows[0].get("paired_surrogate_cycles") is not None):
             return ""
-        place = {"before_curve": "before the curve's first level", "beyond_curve": "beyond its last level"}
-        where = [place.get(life_status(r, rows[0]["target"]))
+        where = [OUTSIDE_CURVE.get(life_status(r, rows[0]["target"]), ("",))[0]
                  for r in (self.paired_reliability_surrogate, self.reliability_mc)]
         whose = ("the surrogate's and the true model's lives lie" if where[0] and where[1] else
                  "the surrogate's life lies" if where[0] else "the true model's life lies")

@@ -4,6 +4,7 @@ the sensitivity's rankings."""
 from __future__ import annotations
 
 from jointwear.reliability import cov_population
+from jointwear.study.limit_state import OUTSIDE_CURVE
 from jointwear.study.reliability_results import ReliabilityCurve, SensitivityResult, interval_text
 from jointwear.study.results import SimulationSummary, WearSummary
 from jointwear.wear.angles import angle_text
@@ -121,8 +122,8 @@ def life_text(row: dict) -> str:
         hours = row["hours"]  # a life of minutes keeps three figures: 0.0957 h, not 0.10 h
         shown = f"{hours:.2f}" if hours >= 1 else f"{hours:.3g}"
         return f"{row['cycles']:,.0f} cycles = {shown} h{interval}"
-    return {"beyond_curve": "beyond the curve's last level (extend cycles_stop)",
-            "before_curve": "before the curve's first level (lower cycles_start)"}.get(row.get("status"), "not reached")
+    where = OUTSIDE_CURVE.get(row.get("status"))
+    return "not reached" if where is None else f"{where[0]} ({where[1]})"
 
 
 def other_lives_line(res: ReliabilityCurve) -> str:
