@@ -293,6 +293,38 @@ def test_a_curve_read_back_from_disk_is_validated_unpaired(analytic_study, tmp_p
     assert "paired_ratio" not in val.life_table[0]
 
 
+def test_the_validations_samples_are_kept_and_recount_its_curve(analytic_study, tmp_path):
+    """The direct Monte Carlo is handed over: the samples the true model ran on (in SI, as config keys with their
+    units) and the life each gave; counting them again gives the validation's R at every level exactly, also from
+    the CSV it writes (a reliability engineer's own estimator needs them; they were not exposed)."""
+    import pandas as pd
+
+    from jointwear.study.validation import SEED_OFFSET
+
+    ctx, rel = analytic_study
+    val = run_validation(ctx, rel, 300)
+    x = ctx.sample(300, ctx.config.reliability.seed + SEED_OFFSET)
+    np.testing.assert_array_equal(val.sample_x, x)
+    np.testing.assert_array_equal(val.sample_life, ctx.life(x))
+    assert val.names == ctx.names and val.units == ctx.units
+    p_inf = ctx.config.uncertainty.infeasible_probability()
+    recount = [1.0 - (p_inf + (1.0 - p_inf) * np.mean(val.sample_life <= n)) for n in val.cycles]
+    np.testing.assert_allclose(recount, val.reliability_mc, rtol=0, atol=1e-15)
+    val.save(tmp_path, figures=False)
+    table = pd.read_csv(tmp_path / "validation_samples.csv")
+    assert list(table.columns) == [*rel.frame("design_points").columns[:len(ctx.names)], "life_cycles"]
+    # the CSV's 10 significant digits (jointwear.study.io.csv_cell): half a unit of the last
+    np.testing.assert_allclose(table.to_numpy()[:, :-1], x, rtol=5e-10)
+    np.testing.assert_allclose(table["life_cycles"], val.sample_life, rtol=5e-10)
+    back = ValidationResult.load(tmp_path)
+    assert back == val and back.sample_x.shape == (300, len(ctx.names))
+    # a validation.json written before the samples were kept still reads, without them
+    old = {k: v for k, v in json.loads(json.dumps(strict(val.to_json()))).items()
+           if k not in ("sample_x", "sample_life", "names", "units")}
+    older = ValidationResult.from_json(old)
+    assert older.sample_x is None and "validation_samples" not in older.tables()
+
+
 def test_a_paired_error_beyond_the_lifes_interval_is_told_from_the_interval_it_allows():
     """The life 373,680 (368,297-378,809) allows a learnt life from 373,680 / 378,809 - 1 = -1.35 % to
     373,680 / 368,297 - 1 = +1.46 % of the true one; a paired error of -2.3 % to -1.4 % lies beyond it, one of

@@ -789,7 +789,10 @@ class ValidationResult(StageResult):
     (``cycles_low``, ``cycles_high``), the surrogate's life and interval (``surrogate_cycles``,
     ``surrogate_cycles_low``, ``surrogate_cycles_high``) and whether the two intervals overlap (``agree``).
     ``joints`` (several judged joints): each joint's own R(N) on the same samples against the study's
-    (:func:`jointwear.study.validation.joint_checks`).
+    (:func:`jointwear.study.validation.joint_checks`). ``sample_x``: the samples the true model ran on, in SI
+    (columns in the order of ``names``, units in ``units``, as the reliability's ``design_x``), and ``sample_life``
+    the life each gave in cycles (NaN for a failed call): the direct Monte Carlo itself, for estimators of one's own
+    (table ``validation_samples``; results written before they were kept hold None).
     """
 
     FILE: ClassVar[str] = "validation.json"
@@ -817,12 +820,20 @@ class ValidationResult(StageResult):
     paired_reliability_surrogate: np.ndarray | None = None
     paired_difference_low: np.ndarray | None = None
     paired_difference_high: np.ndarray | None = None
+    names: list[str] = field(default_factory=list)
+    units: list[str] = field(default_factory=list)
+    sample_x: np.ndarray | None = None
+    sample_life: np.ndarray | None = None
     provenance: dict = field(default_factory=provenance)
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
 
     def __post_init__(self) -> None:
         """The curves as arrays (as ReliabilityCurve's), built or read back from JSON (lists with null holes)."""
         self.cycles = np.array(self.cycles, dtype=np.int64)  # copies: never a view of the reliability's arrays
+        if self.sample_x is not None:
+            self.sample_x = np.array(self.sample_x, dtype=float)
+        if self.sample_life is not None:
+            self.sample_life = np.array(self.sample_life, dtype=float)
         for name in ("reliability_mc", "ci_low", "ci_high", "reliability_surrogate", "surrogate_error",
                      "surrogate_cov"):
             setattr(self, name, np.array(getattr(self, name), dtype=float))
@@ -961,8 +972,9 @@ class ValidationResult(StageResult):
 
     def tables(self) -> dict[str, dict[str, Any]]:
         """``validation`` (the direct Monte Carlo against the surrogate at every level), ``validation_life`` (the
-        life at each target on both curves, with their intervals) and, when computed, ``cross_validation``
-        (leave-one-out log lives of the design points)."""
+        life at each target on both curves, with their intervals), ``validation_samples`` (each sample's inputs in
+        SI, columns named as config keys with their unit, ``Rj_m``, and the life it gave, ``life_cycles``) and, when
+        computed, ``cross_validation`` (leave-one-out log lives of the design points)."""
         out = {"validation": {
             "cycles": self.cycles, "reliability_mc": self.reliability_mc, "ci_low": self.ci_low,
             "ci_high": self.ci_high, "reliability_surrogate": self.reliability_surrogate,
@@ -981,6 +993,11 @@ class ValidationResult(StageResult):
         if cv.get("log_life_true"):
             out["cross_validation"] = {"log_life_true": cv["log_life_true"], "log_life_loo": cv["log_life_loo"],
                                        "log_life_loo_sd": cv["log_life_loo_sd"]}
+        if self.sample_x is not None and self.sample_life is not None and self.sample_x.ndim == 2:
+            out["validation_samples"] = {
+                **{column_name(name, unit): self.sample_x[:, k]
+                   for k, (name, unit) in enumerate(zip(self.names, [*self.units, *[""] * len(self.names)]))},
+                "life_cycles": self.sample_life}
         if self.joints:  # one row per joint and level
             out["validation_joints"] = {
                 "joint": [j["name"] for j in self.joints for _ in self.cycles],

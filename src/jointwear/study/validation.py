@@ -108,6 +108,7 @@ def run_validation(ctx: StudyContext, reliability: ReliabilityCurve, n_samples: 
         surrogate_cov=reliability.pf_cov,
         agreement=agree, n_samples=int(n_samples), model_calls=int(calls), failed_calls=int(failed.sum()),
         seed=int(rel.seed + SEED_OFFSET), cross_validation=cv, life_table=life_table, joints=joints,
+        names=list(ctx.names), units=list(ctx.units), sample_x=x, sample_life=life,
         wall_seconds=time.perf_counter() - t0, **paired_fields)
 
 
