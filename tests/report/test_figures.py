@@ -235,3 +235,28 @@ def test_a_general_linkage_sketch_draws_a_slider_and_its_guide():
     # B and P drawn at one point: their names one under the other, not on top of each other
     offsets = {t.get_text(): t.xyann for t in ax.texts}
     assert offsets["B"] != offsets["P"]
+
+
+def test_the_tornado_shows_each_shifts_error_and_which_shifts_could_not_run():
+    """A shifted R is read with an error (a reader took two bars within it for a ranking), and a mechanism that could
+    not run counts R = 0, which looked like a real R = 0 of wear: whiskers of the given 95 % errors at the bars' ends,
+    and the bars that could not run hatched, with a legend entry saying so."""
+    import matplotlib.pyplot as plt
+
+    fig = F.tornado_figure(["rod length", "clearance", "crank"], [0.0, 0.99, 0.95], [0.0, 0.5, 0.98], 0.978,
+                           error_low=[0.0, 0.004, 0.02], error_high=[0.0, 0.03, 0.006],
+                           not_run_low=[True, False, False], not_run_high=[True, False, False])
+    ax = fig.axes[0]
+    # the error bars: one per bar, at its end, as wide as its error (the order is the figure's: largest on top)
+    segments = [seg for coll in ax.collections for seg in coll.get_segments()]
+    spans = sorted((round(float(s[0][0]), 6), round(float(s[1][0]), 6)) for s in segments)
+    expected = sorted((round(v - e, 6), round(v + e, 6)) for v, e in
+                      zip([0.0, 0.99, 0.95, 0.0, 0.5, 0.98], [0.0, 0.004, 0.02, 0.0, 0.03, 0.006]))
+    assert spans == expected
+    hatched = [p for p in ax.patches if p.get_hatch()]
+    assert len(hatched) == 2  # rod length at both shifts
+    assert "could not run (counted as failure)" in [t.get_text() for t in ax.get_legend().get_texts()]
+    plt.close(fig)
+    plain = F.tornado_figure(["a"], [0.9], [0.95], 0.93)  # without errors and failures: as before
+    assert not plain.axes[0].collections and not any(p.get_hatch() for p in plain.axes[0].patches)
+    plt.close(plain)

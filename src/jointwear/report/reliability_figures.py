@@ -8,6 +8,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.patches import Patch
 
 from jointwear.study.limit_state import curve_half_width
 from jointwear.study.reliability_results import interval_text
@@ -257,10 +258,16 @@ def tornado_figure(
     low_label: str = "mean \u00d7 0.8",
     high_label: str = "mean \u00d7 1.2",
     title: str | None = None,
+    error_low: Array | None = None,
+    error_high: Array | None = None,
+    not_run_low: Sequence[bool] | None = None,
+    not_run_high: Sequence[bool] | None = None,
 ) -> Figure:
     """Tornado of the reliability when each variable's mean is moved to 80 % and 120 % (Figs. 22-24).
 
-    Bars start at the nominal reliability; the most influential variable is on top.
+    Bars start at the nominal reliability; the most influential variable is on top. ``error_low``, ``error_high``:
+    each shifted R's 95 % error, drawn as a whisker at the bar's end; ``not_run_low``, ``not_run_high``: the shifts
+    whose mechanism could not run (R = 0 by the rule, not by wear), hatched.
     """
     lo = require_array(reliability_low)
     hi = require_array(reliability_high)
@@ -269,15 +276,30 @@ def tornado_figure(
     order = np.argsort(-np.nan_to_num(spread, nan=-1.0), kind="stable")[::-1]
     fig, ax = figure(size=(6.4, max(2.4, 0.45 * len(labels) + 1.4)))
     y = np.arange(len(labels))
-    ax.barh(y, lo[order] - nom, left=nom, height=0.38, align="edge", color=COLORS[0], label=low_label)
-    ax.barh(y - 0.38, hi[order] - nom, left=nom, height=0.38, align="edge", color=COLORS[1], label=high_label)
+    for values, errors, not_run, offset, color, label in (
+            (lo, error_low, not_run_low, 0.0, COLORS[0], low_label),
+            (hi, error_high, not_run_high, -0.38, COLORS[1], high_label)):
+        bars = ax.barh(y + offset, values[order] - nom, left=nom, height=0.38, align="edge", color=color,
+                       label=label)
+        if not_run is not None:
+            for bar, failed in zip(bars, np.asarray(not_run, dtype=bool)[order]):
+                if failed:
+                    bar.set(hatch="///", facecolor="white", edgecolor=color)
+        if errors is not None:
+            err = np.nan_to_num(np.asarray(errors, dtype=float)[order])
+            ax.errorbar(values[order], y + offset + 0.19, xerr=err, fmt="none", ecolor=PAPER_COLOR, elinewidth=0.9,
+                        capsize=2)
+    handles = ax.get_legend_handles_labels()[0]
+    if any(np.any(np.asarray(f, dtype=bool)) for f in (not_run_low, not_run_high) if f is not None):
+        handles.append(Patch(hatch="///", facecolor="white", edgecolor=PAPER_COLOR,
+                             label="could not run (counted as failure)"))
     ax.axvline(nom, color=PAPER_COLOR, lw=1.0)
     ax.set_yticks(y)
     ax.set_yticklabels([labels[i] for i in order])
     ax.set_xlim(-0.02, 1.02)
     ax.set_xlabel(axis_label("reliability R" + (f" at {cycles:,.0f} cycles" if cycles else ""), None))
     ax.grid(axis="y", visible=False)
-    ax.legend(loc="lower left", bbox_to_anchor=(0, 1.0), ncols=2, fontsize=8.5)
+    ax.legend(handles=handles, loc="lower left", bbox_to_anchor=(0, 1.0), ncols=min(len(handles), 3), fontsize=8.5)
     ax.set_title(title or f"Sensitivity: nominal R = {nom:.3f}", pad=22)
     return fig
 

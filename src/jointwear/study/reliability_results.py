@@ -725,6 +725,12 @@ class SensitivityResult(StageResult):
                      if r.get("variable") == name and math.isclose(float(r.get("factor", math.nan)), factor,
                                                                    rel_tol=1e-9)), None)
 
+    def shift_not_run(self, name: str, factor: float) -> bool:
+        """Whether the mechanism with ``name``'s mean x ``factor`` could not run (its R = 0 counts it as failing;
+        the rule's ``reason`` says why)."""
+        return any(r.get("variable") == name and r.get("reason")
+                   and math.isclose(float(r.get("factor", math.nan)), factor, rel_tol=1e-9) for r in self.rules)
+
     def tables(self) -> dict[str, dict[str, Any]]:
         """``sensitivity``: one row per variable (its unit, the shifted reliabilities with the factor and the rule
         each was read by, R at ``cycles`` unshifted, derivatives, Sobol'; with several judged joints also each
