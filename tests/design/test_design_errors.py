@@ -27,6 +27,10 @@ def _preset_text() -> str:
     # costs listed loosest first in mind: the tightest grade was the cheapest, in silence
     ('\n[[design.tolerances]]\nvariable = "l1"\ngrades = ["IT9", "IT11"]\ncosts = [1.0, 3.0]\n',
      ["design.tolerances[2].costs:", "a tighter grade costs less", "IT9 at 1 < IT11 at 3"]),
+    # a class's mean the model cannot take: it passed `check`, was chosen as the cheapest and every call of its
+    # verification failed (a designer's typo, a negative wear coefficient)
+    ('\n[[design.properties]]\nvariable = "E_b"\nclasses = [{ name = "typo", mean_GPa = -110.0, cost = 0.1 }]\n',
+     ["design.properties[2].classes[typo].mean: at -110 GPa the model cannot be built", "young"]),
 ])
 def test_bad_design_section_exits_2_with_one_line(tmp_path, capsys, extra, words):
     cfg = tmp_path / "bad.toml"

@@ -88,7 +88,8 @@ def design_problems(config: StudyConfig) -> list[str]:
         claim(p.variable, f"design.properties[{i}]")
         labels = [k.name for k in p.classes]
         for j, k in enumerate(p.classes):
-            problems += _spec_problems(specs[p.variable], k, f"design.properties[{i}].classes[{item_key(j, labels)}]")
+            problems += _spec_problems(config, specs[p.variable], k,
+                                       f"design.properties[{i}].classes[{item_key(j, labels)}]")
     parts = [m.name for m in d.materials]
     for i, m in enumerate(d.materials):
         material = f"design.materials[{item_key(i, parts)}]"
@@ -101,7 +102,7 @@ def design_problems(config: StudyConfig) -> list[str]:
                 if unc.clearance_named(var) is not None:
                     problems.append(f"{where}: the clearance is set by a fit ([design.fit])")
                 elif known(var, where):
-                    problems += _spec_problems(specs[var], ch, where)
+                    problems += _spec_problems(config, specs[var], ch, where)
     fitted = [f.clearance(unc) for f in fits]
     # two fits of one clearance are reported above, once
     fit_names = ["fit"] if len(fits) == 1 else list(dict.fromkeys(f"fit {c.name}" for c in fitted if c is not None))
@@ -126,8 +127,15 @@ def _grade_problems(grades, nominal: float, where: str) -> list[str]:
     return out
 
 
-def _spec_problems(spec, change, where: str) -> list[str]:
+def _spec_problems(config: StudyConfig, spec, change, where: str) -> list[str]:
+    """A property specification the design cannot use: acceptance limits on a variable they cannot truncate or that
+    leave out its mean, and a mean at which the model cannot be built (every call of a design with it would fail)."""
+    from jointwear.study.checks import shown, unbuilt_reason
+
     out = []
+    if change.mean is not None and (reason := unbuilt_reason(config, [spec.target], [change.mean])) is not None:
+        out.append(f"{where}.mean: at {shown(change.mean, spec.target)} the model cannot be built, so every call of "
+                   f"a design with it would fail: {reason}")
     truncated = change.lower is not None or change.upper is not None
     if truncated and spec.distribution != "normal":
         out.append(f"{where}: acceptance limits need a normal variable ('{spec.name}' is {spec.distribution})")

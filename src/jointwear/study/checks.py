@@ -644,7 +644,7 @@ def out_problem(out: Path) -> str | None:
 SIGMA_ENDS = 3.0
 
 
-def _unbuilt(config: StudyConfig, targets: list[str], x: list[float]) -> str | None:
+def unbuilt_reason(config: StudyConfig, targets: list[str], x: list[float]) -> str | None:
     """Why the model of ``config`` with ``targets`` set to ``x`` (SI) cannot be built, as a model call would
     record it (None when it builds)."""
     from jointwear.mechanism import build_model
@@ -682,12 +682,12 @@ def random_input_problems(config: StudyConfig) -> list[str]:
         return []
     specs = unc.all_specs()
     means = [float(m.mean()) for m in unc.marginals(feasible=True)]  # the distributions as the study samples them
-    together = _unbuilt(config, [s.target for s in specs], means)
+    together = unbuilt_reason(config, [s.target for s in specs], means)
     if together is None:
         return []
     out = []
     for spec, mean in zip(specs, means):
-        reason = _unbuilt(config, [spec.target], [mean])
+        reason = unbuilt_reason(config, [spec.target], [mean])
         if reason is not None:
             out.append(f"{unc.field_of(spec.name)}: at its mean, {shown(mean, spec.target)}"
                        + f", the model cannot be built, so every model call would fail: {reason}"
@@ -712,7 +712,7 @@ def random_input_warnings(config: StudyConfig) -> list[str]:
     for i, (spec, marginal) in enumerate(zip(specs, marginals)):
         for sign in (-1.0, 1.0):
             end = float(marginal.ppf(norm.cdf(sign * SIGMA_ENDS)))  # the same tail share of any distribution
-            reason = _unbuilt(config, targets, means[:i] + [end] + means[i + 1:])
+            reason = unbuilt_reason(config, targets, means[:i] + [end] + means[i + 1:])
             if reason is not None:
                 out.append(f"{unc.field_of(spec.name)}: at its {'+' if sign > 0 else '-'}{SIGMA_ENDS:g} sigma end, "
                            f"{shown(end, spec.target)}, the model cannot be built: {reason}; the samples beyond "
