@@ -192,6 +192,11 @@ def test_a_life_longer_within_the_studys_own_interval_does_not_enter_the_front()
     # at 1.2 %: IT10 (+0.04 %) and IT9 (+1.0 %) are not resolved from IT11; IT8 (+1.5 %) is, and no cheaper design
     # lives as long
     assert [r["choices"]["g"] for r in pareto_front(rows, resolution=0.012)] == ["IT11", "IT8"]
+    # the choice is on the front whatever the resolution: a designer's front listed a dearer design beside the
+    # headline choice it had left out (6.2 % longer than the previous point, under a 7.1 % resolution)
+    # (the dearer points are then resolved against it: IT8 is 1.46 % beyond IT10 and 0.5 % beyond IT9)
+    assert [r["choices"]["g"] for r in pareto_front(rows, resolution=0.012, keep=1)] == ["IT11", "IT10", "IT8"]
+    assert [r["choices"]["g"] for r in pareto_front(rows, resolution=0.012, keep=2)] == ["IT11", "IT9"]
 
 
 def test_the_choice_is_told_against_todays_design():

@@ -243,21 +243,23 @@ def _refine_point(space: CandidateSpace, sur: LifeSurrogate, cand: Candidate, lo
     return x[int(np.argmin(score))]
 
 
-def pareto_front(rows: list[dict], resolution: float = 0.0) -> list[dict]:
+def pareto_front(rows: list[dict], resolution: float = 0.0, keep: int | None = None) -> list[dict]:
     """Candidates that no cheaper (or equally cheap) candidate matches in life at R*, cheapest first, each living
     longer than the front's previous point by more than the relative ``resolution`` (the study's own life interval:
     a longer life within it is not resolved). A life read by extrapolation (more than
     ``EXTRAPOLATED_SHARE`` of the candidate's population outside the study's inputs) puts no candidate off the front:
-    a well-estimated alternative stays on it beside the extrapolated one."""
+    a well-estimated alternative stays on it beside the extrapolated one. ``rows[keep]`` (the choice) is on the
+    front whatever its life: a front without it read as if the cheapest design that works were a dearer one."""
     front = []
     best, best_trusted = -math.inf, -math.inf  # the longest life of any cheaper candidate
     shown, shown_trusted = -math.inf, -math.inf  # the longest life on the front so far
+    kept = None if keep is None else rows[keep]
     for row in sorted(rows, key=lambda r: (r["cost"], -(r["life_at_target_cycles"] or 0.0))):
         life = row["life_at_target_cycles"] or 0.0
         trusted = (row.get("outside_design_fraction") or 0.0) <= EXTRAPOLATED_SHARE
         dominated = life <= (best_trusted if trusted else best)
         resolved = life > (shown_trusted if trusted else shown) * (1.0 + resolution)
-        if not dominated and resolved:
+        if row is kept or (not dominated and resolved):
             front.append(row)
             shown = max(shown, life)
             if trusted:
@@ -431,7 +433,8 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
             chosen["distributions"] = candidates[chosen_i].distributions(controls)
         per_target.append({"target_life_cycles": t["life_cycles"], "target_reliability": t["reliability"],
                            "life_factor": t["life_factor"], "baseline_life_cycles": t["baseline_life_cycles"],
-                           "chosen": chosen, "chosen_index": chosen_i, "pareto": pareto_front(rows, resolution),
+                           "chosen": chosen, "chosen_index": chosen_i,
+                           "pareto": pareto_front(rows, resolution, keep=chosen_i),
                            "life_resolution": resolution, "rows": rows,
                            "undecided": sum(1 for _, kk in left if kk == k)})
 
