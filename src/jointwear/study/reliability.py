@@ -160,6 +160,12 @@ def archard_exponent(ctx: StudyContext, i: int) -> int | None:
     return archard_power(ctx.config, ctx.limit_state, ctx.targets[i]) if i < len(ctx.targets) else None
 
 
+def archard_trend_unused(ctx: StudyContext) -> bool:
+    """Whether the Kriging learns a constant trend where ``reliability.trend = "archard"`` would tell it Archard's
+    scaling (a wear coefficient or hardness of the judged body of a single judged joint is random)."""
+    return ctx.config.reliability.trend == "constant" and any(archard_exponent(ctx, i) for i in range(len(ctx.names)))
+
+
 def life_trend(ctx: StudyContext) -> Callable[[np.ndarray], np.ndarray] | None:
     """The known part of ln N_f(x) the Kriging need not learn (``reliability.trend = "archard"``): Archard's exact
     scaling of the life in the judged body's wear coefficient k and hardness H, ln N_f = -ln(k / k_mean) + ln(H /
@@ -393,7 +399,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         # 12 digits: the rpm entered comes back through rad/s as 399.99999999999994
         crank_speed_rpm=float(f"{abs(float(ctx.config.mechanism.crank_speed)) * 60 / (2 * math.pi):.12g}"),
         engine=engine, infeasible=infeasible, learning_stop="" if engine.converged else str(engine.message),
-        surrogate_fit=SurrogateFit.of(engine.response_surrogate),
+        surrogate_fit=SurrogateFit.of(engine.response_surrogate, archard_trend_hint=archard_trend_unused(ctx)),
         life_surrogate="per_joint" if ctx.per_joint else "system_life")
 
 

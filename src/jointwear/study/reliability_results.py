@@ -83,7 +83,9 @@ class SurrogateFit:
     range the fit may choose from (the scatter may then be larger than the fit allows). With one Kriging per judged
     joint (``reliability.surrogate = 'per_joint'``) each design point's ln N_f and its prediction are the minimum over
     the joints, the two standard deviations weight each joint's by its share of the design points it governs, and
-    the nugget is the largest joint's.
+    the nugget is the largest joint's. ``worst_share``: the share of the leave-one-out squared error that its worst
+    point carries, ``worst_life_ratio`` that point's life over the points' median; ``archard_trend_hint``: the
+    Kriging learnt a constant trend where ``reliability.trend = "archard"`` would tell it Archard's scaling.
     """
 
     n_points: int
@@ -93,20 +95,27 @@ class SurrogateFit:
     process_sd_log_life: float
     relative_nugget: float
     nugget_at_bound: bool
+    worst_share: float | None = None
+    worst_life_ratio: float | None = None
+    archard_trend_hint: bool = False
 
     #: Below this Q^2 the inputs explain less of the design points' ln N_f than the model's scatter and the
     #: surrogate's error leave unexplained (the definition of Q^2: half the variance).
     Q2_FLOOR: ClassVar[float] = 0.5
+    #: A poor fit whose worst point carries this share of the leave-one-out squared error is that point's
+    WORST_SHARE: ClassVar[float] = 0.5
 
     @classmethod
-    def of(cls, surrogate, loo: np.ndarray | None = None) -> SurrogateFit:
+    def of(cls, surrogate, loo: np.ndarray | None = None, archard_trend_hint: bool = False) -> SurrogateFit:
         """From a fitted :class:`~jointwear.reliability.KrigingSurrogate` of ln N_f; ``loo``: its leave-one-out
         predictions when the caller already has them."""
         y = np.asarray(surrogate.training_outputs, dtype=float)
         if loo is None:
             loo, _ = surrogate.leave_one_out()
-        ss_res = float(np.sum((y - loo) ** 2))
+        squares = (y - loo) ** 2
+        ss_res = float(np.sum(squares))
         ss_tot = float(np.sum((y - y.mean()) ** 2))
+        worst = int(np.argmax(squares)) if y.size else None
         parts = getattr(surrogate, "fitted_components", [surrogate])  # a per-joint study's: every joint's Kriging
         return cls(n_points=int(y.size), q2=1.0 - ss_res / ss_tot if ss_tot > 0 else None,
                    rmse_log_life=math.sqrt(ss_res / y.size) if y.size else None,
@@ -114,7 +123,10 @@ class SurrogateFit:
                    process_sd_log_life=math.sqrt(surrogate.process_variance),
                    relative_nugget=max(float(p.hyperparameters.nugget) for p in parts),
                    nugget_at_bound=any(p.estimate_nugget and p.hyperparameters.nugget >= 0.99 * max(p.nugget_grid)
-                                       for p in parts))
+                                       for p in parts),
+                   worst_share=float(squares[worst] / ss_res) if worst is not None and ss_res > 0 else None,
+                   worst_life_ratio=None if worst is None else float(np.exp(y[worst] - np.median(y))),
+                   archard_trend_hint=bool(archard_trend_hint))
 
     @property
     def life_scatter(self) -> float:
@@ -134,16 +146,29 @@ class SurrogateFit:
             return ""
         if self.poor:
             error = "" if self.rmse_log_life is None else f" (leave-one-out error of ln N_f {self.rmse_log_life:.3g})"
-            return (f"the life surrogate explains little of its {self.n_points} design points (leave-one-out Q^2 = "
-                    f"{self.q2:.2f}, below {self.Q2_FLOOR:g}), so R(N) may be too steep or too flat. Either a "
-                    "call's own scatter is larger than what the random inputs do (the fit puts it at "
-                    f"{self.noise_sd_log_life:.3g} in ln N_f, about {100 * self.life_scatter:.0f} % in life, an "
+            head = (f"the life surrogate explains little of its {self.n_points} design points (leave-one-out Q^2 = "
+                    f"{self.q2:.2f}, below {self.Q2_FLOOR:g}), so R(N) may be too steep or too flat. ")
+            trend = ("with reliability.trend = 'archard' the Kriging is told Archard's scaling of the life in the "
+                     "judged body's wear coefficient and hardness, which such a point follows; run again with "
+                     "--resume (the calls made are read back; docs/reliability.md, \"The learnt life's spread\")"
+                     if self.archard_trend_hint else "more calls near it may let the surrogate follow it: raise "
+                     "reliability.max_calls and run again with --resume")
+            if self.worst_share is not None and self.worst_share >= self.WORST_SHARE and self.worst_life_ratio:
+                return (head + f"One design point carries {100 * self.worst_share:.0f} % of its leave-one-out "
+                        f"error{error}: its life is {_times(self.worst_life_ratio)} the points' median, a point in "
+                        "the inputs' far tail (a wear coefficient near zero lives orders of magnitude longer) that "
+                        f"the surrogate cannot follow from the others. {trend[:1].upper() + trend[1:]}. Check the "
+                        "curve against the true model with jointwear validate (docs/study.md, 'How far to trust the "
+                        "life')")
+            hint = f"; {trend}" if self.archard_trend_hint else ""
+            return (head + "Either a call's own scatter is larger than what the random inputs do (the fit puts it at "
+                    f"{self.noise_sd_log_life:.3g} in ln N_f, about {100 * self.life_scatter:.2g} % in life, an "
                     "estimate itself unsure on a poor fit), or the surrogate has too few calls to follow the inputs"
                     f"{error}. More calls tell the two apart: raise reliability.max_calls and run again with "
                     "--resume; a Q^2 that stays low is the scatter's, which jointwear converge checks (more cycles "
-                    "recorded per block, wear.record_cycles, lower a scatter that comes from sampling few cycles). "
-                    "Check the curve against the true model with jointwear validate (docs/study.md, 'How far to "
-                    "trust the life')")
+                    "recorded per block, wear.record_cycles, lower a scatter that comes from sampling few cycles)"
+                    f"{hint}. Check the curve against the true model with jointwear validate (docs/study.md, 'How "
+                    "far to trust the life')")
         return (f"the call-to-call scatter of the life (about {100 * self.life_scatter:.0f} %) sits at the top of the "
                 f"range the surrogate's noise estimate may take (relative nugget {self.relative_nugget:g}), so R(N) "
                 "may be too steep or too flat. Check the wear history's settings with jointwear converge (more "
@@ -156,7 +181,8 @@ class SurrogateFit:
         return {"n_points": self.n_points, "q2": self.q2, "rmse_log_life": self.rmse_log_life,
                 "noise_sd_log_life": self.noise_sd_log_life, "process_sd_log_life": self.process_sd_log_life,
                 "relative_nugget": self.relative_nugget, "nugget_at_bound": self.nugget_at_bound,
-                "life_scatter": self.life_scatter}
+                "life_scatter": self.life_scatter, "worst_share": self.worst_share,
+                "worst_life_ratio": self.worst_life_ratio, "archard_trend_hint": self.archard_trend_hint}
 
     @classmethod
     def from_json(cls, data: dict | None) -> SurrogateFit | None:
@@ -165,7 +191,14 @@ class SurrogateFit:
         return cls(n_points=int(data["n_points"]), q2=data.get("q2"), rmse_log_life=data.get("rmse_log_life"),
                    noise_sd_log_life=float(data["noise_sd_log_life"]),
                    process_sd_log_life=float(data["process_sd_log_life"]),
-                   relative_nugget=float(data["relative_nugget"]), nugget_at_bound=bool(data["nugget_at_bound"]))
+                   relative_nugget=float(data["relative_nugget"]), nugget_at_bound=bool(data["nugget_at_bound"]),
+                   worst_share=data.get("worst_share"), worst_life_ratio=data.get("worst_life_ratio"),
+                   archard_trend_hint=bool(data.get("archard_trend_hint", False)))
+
+
+def _times(ratio: float) -> str:
+    """'690 times' for a ratio above 1, '1/690 of' below it."""
+    return f"{ratio:,.3g} times" if ratio >= 1.0 else f"1/{1.0 / ratio:,.3g} of"
 
 
 @dataclass(repr=False, eq=False)  # StageResult compares by value
