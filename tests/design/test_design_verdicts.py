@@ -81,6 +81,26 @@ def test_the_verification_says_whether_it_meets_the_target_beyond_its_error(r, e
     assert "and may be too small" in sentence
 
 
+def test_a_verification_whose_surrogate_fits_poorly_says_so_with_the_cure():
+    """A designer's verification read R(N*) = 0.77 +/- 0.13 where four other readings gave 0.90-0.975: its 16 calls
+    held an initial point at a wear coefficient near zero that its constant-trend Kriging could not follow, and the
+    verification said nothing of its fit. Its fit is recorded and a poor one told, with the Archard trend as cure."""
+    from jointwear.study.reliability_results import SurrogateFit
+
+    poor = SurrogateFit(n_points=16, q2=0.2, rmse_log_life=1.3, noise_sd_log_life=1e-3, process_sd_log_life=1.0,
+                        relative_nugget=1e-6, nugget_at_bound=False, worst_share=0.9, worst_life_ratio=60.0,
+                        archard_trend_hint=True)
+    ver = {"reliability_at_target_life": 0.7715, "error": 0.1332, "model_calls": 16, "confirmed": True,
+           "converged": False}
+    sentence = _result({**ver, "surrogate_fit": poor.to_json()}).verification_sentence()
+    assert "; in that study the life surrogate explains little of its 16 design points" in sentence
+    assert "its life is 60 times the points' median" in sentence and "reliability.trend = 'archard'" in sentence
+    fine = SurrogateFit(n_points=16, q2=0.99, rmse_log_life=0.01, noise_sd_log_life=1e-3, process_sd_log_life=1.0,
+                        relative_nugget=1e-6, nugget_at_bound=False)
+    assert "in that study" not in _result({**ver, "surrogate_fit": fine.to_json()}).verification_sentence()
+    assert "in that study" not in _result(ver).verification_sentence()  # a design.json written before
+
+
 def test_a_choice_not_verified_says_so():
     res = _result({"reliability_at_target_life": None, "error": None, "model_calls": 0, "confirmed": False,
                    "note": "design.verify = false"})

@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, ClassVar
 
+from jointwear.study.reliability_results import SurrogateFit
 from jointwear.study.stage_result import StageResult
 
 #: share of a candidate's population outside the study's inputs beyond which its estimate is called extrapolated
@@ -277,6 +278,9 @@ class DesignResult(StageResult):
             text += ("; its learning stopped on its budget of calls (design.verification_max_calls) before its "
                      "tolerance, so its error is the estimate of a Kriging that has not met its own stopping rule and "
                      "may be too small (raise the budget and run again with --resume to settle it)")
+        fit = SurrogateFit.from_json(ver.get("surrogate_fit"))
+        if fit is not None and fit.poor:  # its R(N*) may be far off, more than its error says
+            text += "; in that study " + fit.warning()
         return text
 
     def tables(self) -> dict[str, dict[str, Any]]:

@@ -50,11 +50,13 @@ from jointwear.reliability import (
 from jointwear.study.reliability import (
     POSTERIOR_POINTS,
     StudyContext,
+    archard_trend_unused,
     life_offset,
     life_scatter_sd,
     life_trend,
     surrogate_pf_error,
 )
+from jointwear.study.reliability_results import SurrogateFit
 from jointwear.study.validation import clopper_pearson
 
 _Z95 = 1.959963984540054
@@ -549,7 +551,10 @@ def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: C
             "confirmed": verdict != "misses", "verdict": verdict,
             "meets_target_without_error": bool(reliability >= target["reliability"]),
             "pf_cov": cov, "surrogate_error": sur_err, "n_mc": int(eng.n_mc), "converged": bool(eng.converged),
-            "failed_calls": int(eng.n_failed_calls)}, np.asarray(eng.design_x, dtype=float)
+            "failed_calls": int(eng.n_failed_calls),
+            "surrogate_fit": SurrogateFit.of(eng.response_surrogate,
+                                             archard_trend_hint=archard_trend_unused(ctx)).to_json(),
+            }, np.asarray(eng.design_x, dtype=float)
 
 
 __all__ = ["run_design", "verify", "estimate", "LifeSurrogate", "CandidateSpace", "Estimate"]
