@@ -103,6 +103,23 @@ def test_a_verification_budget_below_its_initial_design_is_warned():
                for w in twelve)
 
 
+def test_a_design_target_outside_the_curve_is_warned():
+    """A target of 100 cycles beside a curve from 1.5M passed `check` without a word (docs/design.md promised it):
+    the study's learning refines the surrogate only about its curve's levels (300k-560k on the default study)."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "design"))
+    from design_fixtures import DESIGN
+
+    for life, side in ((100.0, "before"), (299_999.0, "before"), (300_000.0, None), (560_000.0, None),
+                       (900_000.0, "beyond")):
+        cfg = updated(load_config(), {"design": DESIGN | {"targets": [{"reliability": 0.9, "life_cycles": life}]}})
+        found = [w for w in config_warnings(cfg) if w.startswith("design.targets[0].life_cycles")]
+        assert bool(found) is (side is not None), (life, found)
+        if side:
+            assert f"cycles lies {side} the R(N) curve (300,000-560,000 cycles)" in found[0], found
+    factor = updated(load_config(), {"design": DESIGN | {"targets": [{"reliability": 0.9, "life_factor": 5.0}]}})
+    assert not [w for w in config_warnings(factor) if w.startswith("design.targets")]  # known only after the study
+
+
 def test_a_clearance_mean_at_or_below_its_minimum_is_refused_naming_the_field():
     """A mean of -5 um passed check, and the truncation at the minimum then sampled clearances of 0.1-0.9 um."""
     from jointwear.schema import ConfigError

@@ -208,6 +208,15 @@ def design_warnings(config: StudyConfig) -> list[str]:
                        f"population of {config.reliability.n_mc:,} reaches: the design judges it by extrapolation, and "
                        "a rejected option is never verified; widen the study's distribution of it to cover the "
                        "option, or run a study of the option (docs/design.md, 'Limits')")
+    rel = config.reliability
+    first, last = rel.cycles_start, rel.cycles_stop
+    for i, target in enumerate(design.targets):
+        n = target.life_cycles
+        if n is not None and first is not None and last is not None and not first <= n <= last:
+            out.append(f"design.targets[{i}].life_cycles: {n:,.0f} cycles lies {'before' if n < first else 'beyond'} "
+                       f"the R(N) curve ({first:,}-{last:,} cycles), where the study's learning has not refined "
+                       "the surrogate, so the design judges it there; put the curve round the target "
+                       "(reliability.cycles_start, cycles_stop; docs/design.md, 'Limits')")
     least = 2 * len(unc.all_specs()) + 2
     if design.verification_max_calls < least:
         out.append(f"design.verification_max_calls: {design.verification_max_calls} calls are fewer than the "
