@@ -98,6 +98,14 @@ def test_a_verification_whose_surrogate_fits_poorly_says_so_with_the_cure():
     fine = SurrogateFit(n_points=16, q2=0.99, rmse_log_life=0.01, noise_sd_log_life=1e-3, process_sd_log_life=1.0,
                         relative_nugget=1e-6, nugget_at_bound=False)
     assert "in that study" not in _result({**ver, "surrogate_fit": fine.to_json()}).verification_sentence()
+    # the designer's verification itself: Q^2 = 0.81, one point of 35 times the median life with 91 % of the error
+    far = SurrogateFit(n_points=16, q2=0.81, rmse_log_life=0.527, noise_sd_log_life=1.4e-4, process_sd_log_life=1.44,
+                       relative_nugget=1e-8, nugget_at_bound=False, worst_share=0.91, worst_life_ratio=35.1,
+                       archard_trend_hint=True)
+    sentence = _result({**ver, "surrogate_fit": far.to_json()}).verification_sentence()
+    assert ("; in that study one of the life surrogate's 16 design points carries 91 % of its leave-one-out error "
+            "(Q^2 = 0.81") in sentence and "R(N) may be off by more than its error says" in sentence
+    assert "reliability.trend = 'archard'" in sentence
     assert "in that study" not in _result(ver).verification_sentence()  # a design.json written before
 
 
@@ -260,3 +268,22 @@ def test_an_undecided_candidate_closer_to_the_target_than_its_population_resolve
         "that design")
     near["reliability_at_target_life"] = 0.895  # 0.005 away: beyond the resolution, the refinement may settle it
     assert res.undecided_sentence().endswith("run again with --resume (resume=True in Python)")
+
+
+def test_a_candidate_undecided_by_its_share_outside_the_design_is_refined_outside_it():
+    """A loose grade's spread reached beyond the study's +-5 sigma: its candidates stayed undecided by the share of
+    their population outside the design's box, and the refinement's lowest-U points, all inside the box, never
+    shrank it (3 undecided after 14 calls; a designer's audit). Such a candidate's point is the least certain of
+    those outside the box, which widens it; otherwise the least certain of all."""
+    from types import SimpleNamespace
+
+    from jointwear.design.search import _refine_point
+
+    u = np.array([[0.0, 0.1], [0.0, 6.0], [0.0, 7.0], [0.0, -0.2]])
+    mu, sd = np.array([1.0, 3.0, 2.0, 1.05]), np.ones(4)  # U = |mu - ln N*| / sd with ln N* = 1: rows 0, 3, 2, 1
+    space = SimpleNamespace(population=lambda cand: (u * 10.0, u))
+    sur = SimpleNamespace(predict=lambda uu: (mu, sd), outside=lambda uu: np.abs(uu[:, 1]) > 5.0)
+    np.testing.assert_array_equal(_refine_point(space, sur, None, 1.0), u[0] * 10.0)
+    np.testing.assert_array_equal(_refine_point(space, sur, None, 1.0, widen=True), u[2] * 10.0)
+    inside = SimpleNamespace(predict=sur.predict, outside=lambda uu: np.zeros(len(uu), dtype=bool))
+    np.testing.assert_array_equal(_refine_point(space, inside, None, 1.0, widen=True), u[0] * 10.0)

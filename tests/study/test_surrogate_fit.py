@@ -69,3 +69,20 @@ def test_a_point_far_in_the_tail_is_named_as_the_cause_with_the_archard_trend_as
     scattered = SurrogateFit(n_points=24, q2=0.3, rmse_log_life=0.7, noise_sd_log_life=0.000189,
                              process_sd_log_life=0.5, relative_nugget=1e-6, nugget_at_bound=False)
     assert "about 0.019 % in life" in scattered.warning()
+
+
+def test_a_far_point_is_told_above_the_q2_floor_where_the_archard_trend_cures_it():
+    """A verification's Kriging of 16 calls had Q^2 = 0.81 but one point at 35 times the median life carried 91 % of
+    its leave-one-out error, and its R(N*) read 0.77 where the design's own study gave 0.90: told where the Archard
+    trend would cure it; a point within 10 times the median, or no such cure, stays quiet above the floor."""
+    def fit(ratio, hint=True, share=0.91):
+        return SurrogateFit(n_points=16, q2=0.81, rmse_log_life=0.527, noise_sd_log_life=1.4e-4,
+                            process_sd_log_life=1.44, relative_nugget=1e-8, nugget_at_bound=False,
+                            worst_share=share, worst_life_ratio=ratio, archard_trend_hint=hint)
+
+    assert fit(35.1).far_point and not fit(35.1).poor
+    assert fit(35.1).warning().startswith("one of the life surrogate's 16 design points carries 91 % of its "
+                                          "leave-one-out error (Q^2 = 0.81, leave-one-out error of ln N_f 0.527): "
+                                          "its life is 35.1 times the points' median")
+    assert "1/20 of the points' median" in fit(0.05).warning()  # a point living far shorter
+    assert fit(9.0).warning() == "" and fit(35.1, hint=False).warning() == "" and fit(35.1, share=0.4).warning() == ""

@@ -279,8 +279,8 @@ class DesignResult(StageResult):
                      "tolerance, so its error is the estimate of a Kriging that has not met its own stopping rule and "
                      "may be too small (raise the budget and run again with --resume to settle it)")
         fit = SurrogateFit.from_json(ver.get("surrogate_fit"))
-        if fit is not None and fit.poor:  # its R(N*) may be far off, more than its error says
-            text += "; in that study " + fit.warning()
+        if fit is not None and (warning := fit.warning()):  # its R(N*) may be far off, more than its error says
+            text += "; in that study " + warning
         return text
 
     def tables(self) -> dict[str, dict[str, Any]]:

@@ -235,13 +235,20 @@ def estimate_on(space: CandidateSpace, sur: LifeSurrogate, u: np.ndarray, p_inf:
     return Estimate(reliability, error, sur_err, life, outside)
 
 
-def _refine_point(space: CandidateSpace, sur: LifeSurrogate, cand: Candidate, log_target: float) -> np.ndarray:
-    """The population point of ``cand`` whose sign of ln N_f - ln N* is least certain (lowest U)."""
+def _refine_point(space: CandidateSpace, sur: LifeSurrogate, cand: Candidate, log_target: float,
+                  widen: bool = False) -> np.ndarray:
+    """The population point of ``cand`` whose sign of ln N_f - ln N* is least certain (lowest U); with ``widen``, the
+    least certain of those outside the design's box, which a point inside it would leave as they are (a candidate
+    undecided only by the share of its population there, a loose grade's spread beyond the study's +-5 sigma)."""
     x, u = space.population(cand)
     mu, sd = sur.predict(u)
     with np.errstate(divide="ignore", invalid="ignore"):
         score = np.abs(mu - log_target) / sd
     score[~np.isfinite(score)] = np.inf
+    if widen:
+        outside = sur.outside(u)
+        if outside.any():
+            score = np.where(outside, score, np.inf)
     return x[int(np.argmin(score))]
 
 
@@ -387,7 +394,9 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
                 if i in seen:
                     continue
                 seen.add(i)
-                picks.append(_refine_point(space, sur, candidates[i], targets[k]["log_life"]))
+                e = est[(i, k)]  # undecided by its outside share alone: widen the box rather than refine inside it
+                widen = abs(e.reliability - targets[k]["reliability"]) > e.surrogate_error
+                picks.append(_refine_point(space, sur, candidates[i], targets[k]["log_life"], widen=widen))
                 if len(picks) >= min(settings.batch_size, settings.refine_max_calls - refine_points):
                     break
             before = ctx.n_evaluated

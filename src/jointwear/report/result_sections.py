@@ -110,6 +110,12 @@ LIFE_TRUST = ("How far to trust the life: not measured for this study yet. <code
               "early; docs/reliability.md, \"The learnt life's spread\").")
 
 
+def _fit_title(rel) -> str:
+    """The title of the life surrogate's warning: 'The surrogate explains little' below the Q^2 floor."""
+    fit = rel.surrogate_fit
+    return "The surrogate explains little" if fit is None or fit.poor else "The surrogate's fit"
+
+
 def life_trust_sentence(out: StudyOutputs, target: float) -> str:
     """How far to trust the life: this study's own validation when it was run at ``target``, else the presets'
     (:data:`LIFE_TRUST`)."""
@@ -174,8 +180,7 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
     ])]
     parts += [warning(title, sentence) for title, sentence in (("Failed model calls.", rel.failed_calls_sentence()),
                                                               ("Joints worn away.", rel.worn_away_sentence()),
-                                                              ("The surrogate explains little.",
-                                                               rel.surrogate_fit_sentence()))
+                                                              (_fit_title(rel) + ".", rel.surrogate_fit_sentence()))
               if sentence]
     if life is not None and not note:
         parts.append(f"<p>{life_trust_sentence(out, rel.target)}</p>")
@@ -725,8 +730,7 @@ def summary_caveats(out: StudyOutputs) -> str:
                           "band and the surrogate error of R say how much)"))
         items += [("reliability", title, s) for title, s in (("Failed model calls", rel.failed_calls_sentence()),
                                                              ("Joints worn away", rel.worn_away_sentence()),
-                                                             ("The surrogate explains little",
-                                                              rel.surrogate_fit_sentence()),
+                                                             (_fit_title(rel), rel.surrogate_fit_sentence()),
                                                              ("A series system", rel.series_sentence())) if s]
     design = out.results.design
     if design is not None and design.chosen is not None:

@@ -104,6 +104,8 @@ class SurrogateFit:
     Q2_FLOOR: ClassVar[float] = 0.5
     #: A poor fit whose worst point carries this share of the leave-one-out squared error is that point's
     WORST_SHARE: ClassVar[float] = 0.5
+    #: ... and whose life is this many times the points' median (or as much less) is in the inputs' far tail
+    FAR_LIFE_RATIO: ClassVar[float] = 10.0
 
     @classmethod
     def of(cls, surrogate, loo: np.ndarray | None = None, archard_trend_hint: bool = False) -> SurrogateFit:
@@ -138,28 +140,38 @@ class SurrogateFit:
         """Whether the inputs explain less than :attr:`Q2_FLOOR` of the design points' ln N_f."""
         return self.q2 is not None and self.q2 < self.Q2_FLOOR
 
+    @property
+    def far_point(self) -> bool:
+        """Whether one design point carries ``WORST_SHARE`` or more of the leave-one-out error with a life
+        ``FAR_LIFE_RATIO`` times the points' median or more (or as much less): a point in the inputs' far tail."""
+        ratio = self.worst_life_ratio
+        return (self.worst_share is not None and self.worst_share >= self.WORST_SHARE and bool(ratio)
+                and not 1.0 / self.FAR_LIFE_RATIO < ratio < self.FAR_LIFE_RATIO)
+
     def warning(self) -> str:
-        """What a poor fit means for R(N) and what to do (empty when the fit is not poor). A poor Q^2 has two causes
-        the fit cannot tell apart (its scatter estimate is itself unsure then): a call's scatter larger than what
-        the inputs do, or too few calls for the surrogate to follow them; both are told, with the numbers."""
-        if not self.poor and not self.nugget_at_bound:
-            return ""
+        """What a poor fit means for R(N) and what to do (empty when the fit is not poor). A poor Q^2 has causes the
+        fit cannot always tell apart (its scatter estimate is itself unsure then): a call's scatter larger than what
+        the inputs do, or too few calls for the surrogate to follow them, both told with the numbers; or one point
+        in the inputs' far tail (:attr:`far_point`), which a constant trend cannot follow and which bends the
+        surrogate elsewhere too, told also above ``Q2_FLOOR`` where Archard's trend would cure it."""
+        error = "" if self.rmse_log_life is None else f" (leave-one-out error of ln N_f {self.rmse_log_life:.3g})"
+        validate = ("Check the curve against the true model with jointwear validate (docs/study.md, 'How far to trust "
+                    "the life')")
+        trend = ("with reliability.trend = 'archard' the Kriging is told Archard's scaling of the life in the "
+                 "judged body's wear coefficient and hardness, which such a point follows; run again with "
+                 "--resume (the calls made are read back; docs/reliability.md, \"The learnt life's spread\")"
+                 if self.archard_trend_hint else "more calls near it may let the surrogate follow it: raise "
+                 "reliability.max_calls and run again with --resume")
+        share = f"{100 * (self.worst_share or 0.0):.0f} %"
+        what = (f"its life is {_times(self.worst_life_ratio or 1.0)} the points' median, a point in the inputs' far "
+                "tail (a wear coefficient near zero lives orders of magnitude longer) that the surrogate cannot "
+                "follow from the others")
+        cure = f"{trend[:1].upper() + trend[1:]}. {validate}"
         if self.poor:
-            error = "" if self.rmse_log_life is None else f" (leave-one-out error of ln N_f {self.rmse_log_life:.3g})"
             head = (f"the life surrogate explains little of its {self.n_points} design points (leave-one-out Q^2 = "
                     f"{self.q2:.2f}, below {self.Q2_FLOOR:g}), so R(N) may be too steep or too flat. ")
-            trend = ("with reliability.trend = 'archard' the Kriging is told Archard's scaling of the life in the "
-                     "judged body's wear coefficient and hardness, which such a point follows; run again with "
-                     "--resume (the calls made are read back; docs/reliability.md, \"The learnt life's spread\")"
-                     if self.archard_trend_hint else "more calls near it may let the surrogate follow it: raise "
-                     "reliability.max_calls and run again with --resume")
-            if self.worst_share is not None and self.worst_share >= self.WORST_SHARE and self.worst_life_ratio:
-                return (head + f"One design point carries {100 * self.worst_share:.0f} % of its leave-one-out "
-                        f"error{error}: its life is {_times(self.worst_life_ratio)} the points' median, a point in "
-                        "the inputs' far tail (a wear coefficient near zero lives orders of magnitude longer) that "
-                        f"the surrogate cannot follow from the others. {trend[:1].upper() + trend[1:]}. Check the "
-                        "curve against the true model with jointwear validate (docs/study.md, 'How far to trust the "
-                        "life')")
+            if self.far_point:
+                return head + f"One design point carries {share} of its leave-one-out error{error}: {what}. {cure}"
             hint = f"; {trend}" if self.archard_trend_hint else ""
             return (head + "Either a call's own scatter is larger than what the random inputs do (the fit puts it at "
                     f"{self.noise_sd_log_life:.3g} in ln N_f, about {100 * self.life_scatter:.2g} % in life, an "
@@ -167,8 +179,14 @@ class SurrogateFit:
                     f"{error}. More calls tell the two apart: raise reliability.max_calls and run again with "
                     "--resume; a Q^2 that stays low is the scatter's, which jointwear converge checks (more cycles "
                     "recorded per block, wear.record_cycles, lower a scatter that comes from sampling few cycles)"
-                    f"{hint}. Check the curve against the true model with jointwear validate (docs/study.md, 'How "
-                    "far to trust the life')")
+                    f"{hint}. {validate}")
+        if self.far_point and self.archard_trend_hint:
+            rmse = "" if self.rmse_log_life is None else f", leave-one-out error of ln N_f {self.rmse_log_life:.3g}"
+            return (f"one of the life surrogate's {self.n_points} design points carries {share} of its leave-one-out "
+                    f"error (Q^2 = {self.q2:.2f}{rmse}): {what}, and it bends the surrogate elsewhere too, so R(N) "
+                    f"may be off by more than its error says. {cure}")
+        if not self.nugget_at_bound:
+            return ""
         return (f"the call-to-call scatter of the life (about {100 * self.life_scatter:.0f} %) sits at the top of the "
                 f"range the surrogate's noise estimate may take (relative nugget {self.relative_nugget:g}), so R(N) "
                 "may be too steep or too flat. Check the wear history's settings with jointwear converge (more "
