@@ -723,7 +723,8 @@ def test_the_summary_carries_the_design_and_its_verification(tmp_path, nominal):
     page = build_report(d).read_text(encoding="utf-8")
     summary = page[page.index("cards summary"):page.index("cards summary") + 3000]
     assert "design for 260,545 cycles at R = 0.9" in summary and "cost 4.148" in summary
-    assert "verification: meets; today&#x27;s design 4.083 (+0.065)" in summary
+    # with the verification's own R(N*): a designer's card read 'within error' beside a verified 0.77 +- 0.13
+    assert "verification: meets (R(N*) = 0.950 \u00b1 0.003); today&#x27;s design 4.083 (+0.065)" in summary
     assert "The choice&#x27;s verification stopped on its budget" in page
 
 

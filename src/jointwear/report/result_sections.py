@@ -672,6 +672,9 @@ def summary_cards(out: StudyOutputs, checks: Sequence[Check], ref: Mapping | Non
         today = ("" if design.cost_change is None
                  else f"; today's design {design.baseline_cost:.4g} ({design.cost_change:+.4g})")
         verdict = (design.verdict() or "").replace("_", " ")
+        ver = design.verification or {}
+        if ver.get("reliability_at_target_life") is not None and ver.get("error") is not None:
+            verdict += f" (R(N*) = {ver['reliability_at_target_life']:.3f} \u00b1 {ver['error']:.3f})"
         items.append((f"design for {design.target_life_cycles:,.0f} cycles at R = {design.target_reliability:g}",
                       "no candidate" if chosen is None else f"cost {chosen['cost']:.4g}",
                       None if chosen is None else f"verification: {verdict}{today}"))
