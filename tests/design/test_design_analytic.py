@@ -181,7 +181,7 @@ def test_a_refinement_that_learns_nothing_stops_at_its_budget(setup, design, mon
 
     cfg, ctx, model, rel, controls, cands, exact = setup
     known = np.asarray(rel.design_x)[:1]
-    monkeypatch.setattr(search, "_refine_point", lambda *args: known.copy())
+    monkeypatch.setattr(search, "_refine_point", lambda *args, **kwargs: known.copy())
     monkeypatch.setattr(search.LifeSurrogate, "add", lambda self, x: None)
     # a target life where the cheapest feasible design sits on R*: undecided until the surrogate learns
     target = cfg.design.targets[0].model_copy(update={"life_cycles": design.chosen["life_at_target_cycles"]})

@@ -381,3 +381,19 @@ def test_results_moved_aside_keep_the_settings_they_ran_with(three):
     dest = move_aside(three[0], ["reliability"])
     assert (dest / "config.json").read_text() == recorded and (three[0] / "config.json").is_file()
     assert compare_studies([three[1], dest]).unrecorded_note() == ""
+
+
+def test_a_uniform_study_outside_its_range_beside_a_profile_one_says_which_to_trust(three, tmp_path):
+    """The wear stage says 'this is the answer to trust' of profile mode where uniform mode is outside its range; the
+    comparison of the two showed only '(outside its range)' in a cell, and a designer read the ratio alone."""
+    comp = compare_studies(three)
+    assert comp.wear_mode_note() == ""  # no wear stage: uniform mode's range not judged
+    comp.studies[0]["uniform_out_of_range"] = True
+    note = comp.wear_mode_note()
+    assert note == ("Uniform mode is outside its range in pin (the worn surface conforms to the journal, "
+                    "docs/wear.md): of these studies, pin profile, in profile mode, is the answer to trust.")
+    assert note in comp.markdown()
+    comp.save(tmp_path / "cmp", figures=False)
+    assert note.replace("'", "&#x27;") in (tmp_path / "cmp" / "comparison.html").read_text(encoding="utf-8")
+    comp.studies[1]["geometry_mode"] = "uniform"  # nothing in profile mode to trust instead
+    assert comp.wear_mode_note() == ""

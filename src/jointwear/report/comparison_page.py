@@ -40,7 +40,10 @@ def write_comparison_page(comparison, path: Path | str, *, figure: Path | None =
     settings = settings_table(comparison)
     sections = [
         ("lives", f"Life at R = {comparison.target:g}",
-         lives_table(comparison) + f'<p class="lead">{e(READING)}</p>',
+         lives_table(comparison)
+         + "".join(f'<p class="warn">{e(note)}</p>' for note in (comparison.wear_mode_note(), comparison.seed_note())
+                   if note)
+         + f'<p class="lead">{e(READING)}</p>',
          f"The first study, {comparison.labels[0]}, is the baseline."),
         ("curves", "Reliability R(N)", curves, ""),
         ("settings", "Settings that differ", settings, "In the units of the config files."),

@@ -143,6 +143,8 @@ class StudyComparison(StageResult):
         lines = [f"Life at R = {self.target:g}; the first study is the baseline.", "",
                  row(self.COLUMNS), "|---" * len(self.COLUMNS) + "|"]
         lines += [row(r) for r in self.rows()]
+        if note := self.wear_mode_note():
+            lines += ["", markdown_cell(note)]
         if self.differences:
             lines += ["", row(("setting", *self.labels)), "|---" * (len(self.labels) + 1) + "|"]
             lines += [row(r) for r in self.setting_rows()]
@@ -162,6 +164,17 @@ class StudyComparison(StageResult):
             return ""
         return (f"{', '.join(missing)} record{'s' if len(missing) == 1 else ''} no settings (no config.json in the "
                 "folder: a result saved on its own), so the settings are compared between the others only.")
+
+    def wear_mode_note(self) -> str:
+        """Which studies to trust when some ran uniform mode outside its range and others profile mode (the wear
+        stage's own verdict, docs/wear.md); '' otherwise."""
+        outside = [s["label"] for s in self.studies if s.get("uniform_out_of_range")]
+        profile = [s["label"] for s in self.studies if s.get("geometry_mode") == "profile"]
+        if not outside or not profile:
+            return ""
+        return (f"Uniform mode is outside its range in {', '.join(outside)} (the worn surface conforms to the journal, "
+                f"docs/wear.md): of these studies, {', '.join(profile)}, in profile mode, "
+                f"{'is' if len(profile) == 1 else 'are'} the answer to trust.")
 
     def seed_note(self) -> str:
         """When the studies differ only in their seeds: a verdict then measures the learning's own scatter, which
