@@ -308,9 +308,15 @@ def compare(directories, target, labels, out):
     """Compare two or more finished studies (their results folders; the first is the baseline): the life at the
     target with its 95 % interval, whether it differs beyond the errors, the nominal wear and the settings that
     differ."""
+    import warnings
+
     from jointwear.study import compare_studies
 
-    result = compare_studies(list(directories), target=target, labels=list(labels) or None)
+    with warnings.catch_warnings(record=True) as caught:  # said as the stages say theirs, not as Python's
+        warnings.simplefilter("always")
+        result = compare_studies(list(directories), target=target, labels=list(labels) or None)
+    for message in dict.fromkeys(" ".join(str(w.message).split()) for w in caught):
+        say(f"compare: warning: {message}")
     click.echo(result.markdown())
     if out is not None:
         say(f"compare: {result.save(out)}")

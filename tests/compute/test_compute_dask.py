@@ -296,6 +296,36 @@ class _Silent(threading.Thread):
                 return
 
 
+class _Banner(_Silent):
+    """A TCP server that speaks first, as SSH does, and keeps the connection open."""
+
+    def run(self):
+        while True:
+            try:
+                conn = self.sock.accept()[0]
+            except OSError:
+                return
+            conn.sendall(b"SSH-2.0-OpenSSH_8.9p1 Ubuntu-3ubuntu0.6\r\n")
+            self.conns.append(conn)
+
+
+@pytest.mark.timeout(60)
+def test_a_service_that_speaks_another_protocol_is_named_as_not_a_scheduler():
+    """An SSH banner read as a Dask frame length gave 'cannot reach the Dask scheduler ...: Unable to allocate 2.82
+    EiB for an array' (a user's audit): the message says the address answered, not as a Dask scheduler."""
+    from jointwear.compute.executors import scheduler_not_answering
+
+    banner = _Banner()
+    banner.start()
+    try:
+        address = f"tcp://127.0.0.1:{banner.port}"
+        problem = scheduler_not_answering(address, timeout=5.0)
+        assert problem is not None and problem.startswith(f"{address} answered, but not as a Dask scheduler"), problem
+        assert "allocate" not in problem
+    finally:
+        banner.sock.close()
+
+
 @pytest.mark.timeout(60)
 def test_a_port_that_is_not_a_scheduler_fails_in_seconds(monkeypatch):
     """A port that accepts TCP but is no Dask scheduler (a silent server, an HTTP server like the dashboard) is

@@ -82,6 +82,14 @@ def test_studies_that_differ_only_in_their_seeds_say_so(three):
     assert [d["name"] for d in comp.differences] == ["reliability.seed"]
     assert "differ only in their seeds" in comp.seed_note() and comp.seed_note() in comp.markdown()
     assert compare_studies(three[:2]).seed_note() == ""
+    # a call's time-out does change a result (a call it stops counts as a failure): 'No setting differs' hid it
+    for folder, timeout in ((three[0], 600.0), (three[2], 300.0)):
+        path = folder / "config.json"
+        data = json.loads(path.read_text())
+        data["settings"] += [{"name": "compute.call_timeout", "value": timeout, "unit": "s"}]
+        path.write_text(json.dumps(data))
+    comp = compare_studies([three[0], three[2]])
+    assert [d["name"] for d in comp.differences] == ["reliability.seed", "compute.call_timeout"]
 
 
 def test_a_life_outside_the_curve_has_no_interval_cell():
@@ -200,6 +208,16 @@ def test_the_command_prints_the_table_and_writes_with_out(three, tmp_path, capsy
     assert "two or more" in capsys.readouterr().err
 
 
+def test_a_warning_of_the_comparison_is_said_as_a_compare_line(three, capsys):
+    """A target beyond what the studies' populations resolve printed Python's UserWarning with a source path and line
+    (a user's audit); it is a 'compare: warning:' line, once."""
+    assert main_entry(["compare", *map(str, three[:2]), "--target", "0.999999"]) == 0
+    err = capsys.readouterr().err
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert lines and all(line.startswith("compare: warning: life at R = 0.999999: the 1,000 Monte Carlo") for line in lines), err
+    assert len(lines) == len(set(lines)) and "UserWarning" not in err and ".py:" not in err
+
+
 def test_a_validated_study_shows_how_many_levels_agree(three):
     r = np.linspace(1.0, 0.6, 5)
     # level 3 off by 0.015 (> 0.01 + 0: the intervals miss), level 4 by 0.012 with an error of 0.005 (the intervals
@@ -303,6 +321,10 @@ def test_the_nominal_wear_names_each_joint_with_several(three):
                            max_wear_mm_by_joint={"A": 0.008318, "E": 0.001954})
     wear = [row[comp.COLUMNS.index("max wear (mm)")] for row in comp.rows()]
     assert wear == ["0.02524 at 450,000", "0.008318 (A), 0.001954 (E) at 450,000"]
+    # comparison.csv holds each study's depths by joint as JSON (it held a Python dict's repr, which a script
+    # reading the CSV could only eval)
+    column = comp.tables()["comparison"]["max_wear_mm_by_joint"]
+    assert [json.loads(c) for c in column] == [{"A": 0.02524}, {"A": 0.008318, "E": 0.001954}]
 
 
 def test_a_setting_shown_in_other_units_by_each_study_is_compared_in_one(three):

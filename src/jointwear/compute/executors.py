@@ -380,6 +380,9 @@ def scheduler_not_answering(address: str, timeout: float = SCHEDULER_ANSWER_SECO
     if isinstance(error, (TimeoutError, asyncio.TimeoutError)) or not outcome:
         return (f"nothing at {address} answered as a Dask scheduler within {timeout:g} s (a stopped scheduler, or "
                 "another service's port such as the dashboard's; `dask scheduler` listens on 8786 by default)")
+    if error is not None and not isinstance(error, OSError):  # bytes came back that Dask's protocol cannot read
+        return (f"{address} answered, but not as a Dask scheduler (its reply is not Dask's protocol: "
+                f"{type(error).__name__}); is the address another service's, such as SSH or the dashboard's?")
     if error is not None:
         return f"cannot reach the Dask scheduler at {address}: {' '.join(str(error).split()) or type(error).__name__}"
     kind = reply.get("type") if isinstance(reply, dict) else None

@@ -9,6 +9,7 @@ overlap. The intervals cover the error of each study's estimate of R(N), not the
 from __future__ import annotations
 
 import html
+import json
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -89,7 +90,10 @@ class StudyComparison(StageResult):
         """``comparison`` (one row per study) and ``comparison_settings`` (one row per setting that differs, a
         column per study)."""
         keys = [k for k in self.studies[0] if k != "folder"] + ["folder"] if self.studies else []
-        out = {"comparison": {k: [s.get(k) for s in self.studies] for k in keys}}
+        def cell(value):  # a table of numbers as JSON, which a script reads back (a dict's repr it could not)
+            return json.dumps(value) if isinstance(value, dict) else value
+
+        out = {"comparison": {k: [cell(s.get(k)) for s in self.studies] for k in keys}}
         settings: dict[str, list] = {"setting": [d["name"] for d in self.differences],
                                      "unit": [d.get("unit") or "" for d in self.differences]}
         for i, label in enumerate(self.labels):
@@ -319,8 +323,10 @@ def _differences(loaded: list[StudyResults]) -> list[dict]:
     recorded = [i for i, settings in enumerate(per_study) if settings]  # a folder without config.json: not compared
     names: list[str] = []
     for settings in per_study:
-        # where the calls run (compute.*) does not change a result: serial, local workers and Dask give the same
-        names += [n for n in settings if n not in names and n not in _NOT_SETTINGS and not n.startswith("compute.")]
+        # where the calls run (compute.workers, .scheduler) does not change a result: serial, local workers and Dask
+        # give the same; a call's time-out does (a call it stops counts as a failure of the mechanism)
+        names += [n for n in settings if n not in names and n not in _NOT_SETTINGS
+                  and (not n.startswith("compute.") or n == "compute.call_timeout")]
     out = []
     for name in names:
         # each study shows a value in the unit that suits its magnitude (0.7 GPa but 700 MPa): one unit for the row
