@@ -214,7 +214,8 @@ def test_a_warning_of_the_comparison_is_said_as_a_compare_line(three, capsys):
     assert main_entry(["compare", *map(str, three[:2]), "--target", "0.999999"]) == 0
     err = capsys.readouterr().err
     lines = [line for line in err.splitlines() if line.strip()]
-    assert lines and all(line.startswith("compare: warning: life at R = 0.999999: the 1,000 Monte Carlo") for line in lines), err
+    start = "compare: warning: life at R = 0.999999: the 1,000 Monte Carlo"
+    assert lines and all(line.startswith(start) for line in lines), err
     assert len(lines) == len(set(lines)) and "UserWarning" not in err and ".py:" not in err
 
 
