@@ -25,6 +25,20 @@ def test_an_argument_replaces_the_configs_compute_section(tmp_path):
     with_scheduler = updated(load_config(), {"compute.scheduler": "tcp://127.0.0.1:8786"})
     study = jointwear.Study(with_scheduler, out=tmp_path, workers=1)
     assert (study.workers, study.scheduler) == (1, None)
+    # and config.json records where the calls ran: the config's scheduler it recorded was never used, and a resume
+    # from the folder would have connected to it (a user's audit)
+    study.simulate(cycles=1)
+    recorded = json.loads((tmp_path / "config.json").read_text())["study_config"]["compute"]
+    assert (recorded["workers"], recorded["scheduler"]) == (1, None)
+    assert jointwear.load_config(tmp_path).compute.scheduler is None
+    from types import SimpleNamespace
+
+    from jointwear.compute.executors import scheduler_address
+
+    cluster, client = SimpleNamespace(scheduler_address="tcp://a:1"), SimpleNamespace(scheduler=SimpleNamespace(
+        address="tcp://b:2"))
+    assert [scheduler_address(s) for s in (None, "tcp://c:3", cluster, client, object())] == [
+        None, "tcp://c:3", "tcp://a:1", "tcp://b:2", None]
     assert (jointwear.Study(with_workers, out=tmp_path).workers, jointwear.Study(with_workers).scheduler) == (2, None)
     with pytest.raises(ConfigError, match="not both"):
         jointwear.Study(out=tmp_path, workers=1, scheduler="tcp://127.0.0.1:8786")

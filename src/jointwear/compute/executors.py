@@ -33,6 +33,7 @@ __all__ = [
     "WorkerVersionError",
     "available_cores",
     "make_executor",
+    "scheduler_address",
     "scheduler_not_answering",
     "scheduler_url",
     "start_local_cluster",
@@ -478,6 +479,17 @@ def scheduler_argument_accepted(scheduler: Any) -> bool:
     a cluster object (anything with a ``scheduler_address``)."""
     return (isinstance(scheduler, str) or hasattr(scheduler, "scheduler_address")
             or type(scheduler).__module__.split(".")[0] == "distributed")
+
+
+def scheduler_address(scheduler: Any) -> str | None:
+    """The address of a scheduler argument (an address string, a ``distributed.Client`` or a cluster object); None
+    for None or an object that does not say."""
+    if scheduler is None or isinstance(scheduler, str):
+        return scheduler
+    address = getattr(scheduler, "scheduler_address", None)  # a cluster object
+    if not isinstance(address, str):  # a Client
+        address = getattr(getattr(scheduler, "scheduler", None), "address", None)
+    return address if isinstance(address, str) else None
 
 
 class DaskExecutor(_ExecutorBase):

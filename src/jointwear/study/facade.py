@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any, ParamSpec, TypeVar
 
 import numpy as np
 
-from jointwear.compute.executors import scheduler_argument_accepted
+from jointwear.compute.executors import scheduler_address, scheduler_argument_accepted
 from jointwear.config import StudyConfig, config_from_dict, load_config, updated
 from jointwear.reliability import AllCallsFailedError
 from jointwear.schema import ConfigError
@@ -179,6 +179,9 @@ class Study:
         given = workers is not None or scheduler is not None
         self.workers = workers if given else compute.workers
         self.scheduler = scheduler if given else compute.scheduler
+        # config.json records where the calls run (a resume from the folder connects there), not the config's
+        self._compute_run = (compute.model_copy(update={"workers": workers, "scheduler": scheduler_address(scheduler)})
+                             if given else None)
         self.resume = bool(resume)
         self.overwrite = bool(overwrite)
         self.echo = echo if echo is not None else logger.info
@@ -304,7 +307,9 @@ class Study:
         from jointwear.report.settings import settings_dump, write_dump
 
         source = "preset" if self._preset else "python" if self.source is None else str(self.source)
-        dump = settings_dump(self.config, preset=self.config.name if self._preset else None, source=source)
+        ran = (self.config if self._compute_run is None
+               else self.config.model_copy(update={"compute": self._compute_run}))
+        dump = settings_dump(ran, preset=self.config.name if self._preset else None, source=source)
         self._supersede(dump["settings"])
         write_dump(self.out, dump)
 
