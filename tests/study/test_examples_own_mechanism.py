@@ -12,6 +12,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from result_keys import undocumented_keys
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples"
@@ -65,6 +66,9 @@ def test_toml_example_runs_the_whole_study(tmp_path):
     html = re.sub(r"data:image/png;base64,[A-Za-z0-9+/=]+", "", (out / "report.html").read_text())
     assert 'id="wear-convergence"' in html  # the check run before the study is in its report
     assert not re.search(r"\bJin\b|Drones", html)  # a report about the user's study, not the reference paper
+    # every key of every result file is in docs/results.md (tests/result_keys.py)
+    for name in ("simulate.json", "wear.json", "reliability.json", "sensitivity.json", "config.json"):
+        assert undocumented_keys(out / name) == [], name
 
 
 @pytest.mark.timeout(900)

@@ -10,6 +10,7 @@ import json
 import numpy as np
 import pytest
 from analytic_wear import AnalyticWear
+from result_keys import undocumented_keys
 
 from jointwear import compute
 from jointwear.config import load_config, updated
@@ -318,6 +319,7 @@ def test_the_validations_samples_are_kept_and_recount_its_curve(analytic_study, 
     np.testing.assert_allclose(table["life_cycles"], val.sample_life, rtol=5e-10)
     back = ValidationResult.load(tmp_path)
     assert back == val and back.sample_x.shape == (300, len(ctx.names))
+    assert undocumented_keys(tmp_path / "validation.json") == []  # docs/results.md (tests/result_keys.py)
     # a validation.json written before the samples were kept still reads, without them
     old = {k: v for k, v in json.loads(json.dumps(strict(val.to_json()))).items()
            if k not in ("sample_x", "sample_life", "names", "units")}
