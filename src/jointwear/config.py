@@ -624,7 +624,21 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
         _drop_correlation_entries(node, changed[id(node)])
     if moved > 0.0 and data["mechanism"].get("type") == "general":
         widen_closure(data["mechanism"], config.mechanism, moved)
-    return config_from_dict(data, source)
+    result = config_from_dict(data, source)
+    before = setting_values(config)
+    restore_given(result, {name for name, (value, _) in setting_values(result).items()
+                           if before.get(name, (None, True))[1] or not _same_setting(value, before[name][0])})
+    return result
+
+
+def _same_setting(a: Any, b: Any) -> bool:
+    """Whether two values of a setting are equal (a number within round-off of a unit there and back)."""
+    if isinstance(a, float) and isinstance(b, (int, float)) and not isinstance(b, bool):
+        return math.isclose(a, b, rel_tol=1e-12, abs_tol=0.0) or a == b
+    try:
+        return bool(a == b)
+    except (TypeError, ValueError):
+        return False
 
 
 def widen_closure(mech: dict[str, Any], drawn: Any, moved: float) -> None:
@@ -901,7 +915,57 @@ def _written_config(path: Path) -> StudyConfig:
     if not isinstance(data, dict) or "study_config" not in data:
         raise ConfigError(f"config: '{path}' holds no study config (a results folder's config.json written by "
                           "jointwear 0.x before the study config was kept there, or not a config.json)")
-    return config_from_dict(data["study_config"], str(path))
+    config = config_from_dict(data["study_config"], str(path))
+    settings = data.get("settings")
+    if isinstance(settings, list) and settings and all(isinstance(r, dict) and "explicit" in r for r in settings):
+        # the values the study's own config gave, as config.json records them: every value of study_config would
+        # otherwise count as given, and a study run again from the folder would call its defaults the config's
+        restore_given(config, {str(r.get("name")) for r in settings if r.get("explicit")})
+    return config
+
+
+def _children(model: BaseModel, prefix: str):
+    """(field name, its setting's name as config.json names it, the sections under it or None for a value)."""
+    for name in type(model).model_fields:
+        value = getattr(model, name)
+        full = f"{prefix}.{name}" if prefix else name
+        if isinstance(value, BaseModel):
+            yield name, full, [(value, full)]
+        elif isinstance(value, (list, tuple)) and value and all(isinstance(v, BaseModel) for v in value):
+            names = [getattr(v, "name", None) for v in value]
+            yield name, full, [(v, f"{full}[{item_key(i, names)}]") for i, v in enumerate(value)]
+        elif isinstance(value, Mapping) and value and all(isinstance(v, BaseModel) for v in value.values()):
+            yield name, full, [(v, f"{full}.{key}") for key, v in value.items()]
+        else:
+            yield name, full, None
+
+
+def setting_values(model: BaseModel, prefix: str = "", given: bool = True) -> dict[str, tuple[Any, bool]]:
+    """Every setting of ``model`` by its name as config.json names it (``clearance_joints[A].width``): its value and
+    whether the config gave it (its field and every section above it set, pydantic's ``model_fields_set``)."""
+    out: dict[str, tuple[Any, bool]] = {}
+    for name, full, sections in _children(model, prefix):
+        here = given and name in model.model_fields_set
+        if sections is None:
+            out[full] = (getattr(model, name), here)
+        else:
+            for section, path in sections:
+                out.update(setting_values(section, path, here))
+    return out
+
+
+def restore_given(model: BaseModel, given: set[str], prefix: str = "") -> bool:
+    """Leave in ``model``'s set fields (pydantic's ``model_fields_set``, what the config gave) only those whose
+    settings, named as config.json names them, are in ``given``: a config validated again from a whole dump (a
+    results folder's, a variation's) would otherwise count every default as given. Whether any is."""
+    kept = False
+    for name, full, sections in _children(model, prefix):
+        here = (full in given if sections is None
+                else any([restore_given(section, given, path) for section, path in sections]))
+        if not here:
+            model.__pydantic_fields_set__.discard(name)
+        kept = kept or here
+    return kept
 
 
 # ---------------------------------------------------------------------------------------------

@@ -390,3 +390,23 @@ def test_a_mapping_with_a_key_that_is_not_a_string_is_refused_by_where():
     for tables, where in (({1: 2}, "1 at the top level"), ({"mechanism": {3: 1}}, "3 in mechanism")):
         with pytest.raises(ConfigError, match=rf"^config: every key of the tables must be a str.*\({where}\)"):
             jointwear.load_config(tables)
+
+
+def test_a_study_run_again_from_its_folder_or_from_python_keeps_what_its_config_gave(tmp_path):
+    """Run again from its results folder, every value of the study counted as given in the config (the report read
+    '224 of 224 given' for 128, and `check` called the defaults the config's; a user's audit); so did a config
+    loaded in Python and handed to Study, or varied by `updated` (which adds only what it changed)."""
+    def given(folder):
+        settings = json.loads((folder / "config.json").read_text())["settings"]
+        return {s["name"] for s in settings if s["explicit"]}, len(settings)
+
+    jointwear.Study(None, out=tmp_path / "a").simulate(cycles=1)
+    first, total = given(tmp_path / "a")
+    assert 0 < len(first) < total
+    jointwear.Study(str(tmp_path / "a"), out=tmp_path / "b").simulate(cycles=1)
+    jointwear.Study(load_config(), out=tmp_path / "c").simulate(cycles=1)
+    assert given(tmp_path / "b") == given(tmp_path / "c") == (first, total)
+    assert "reliability.n_mc" not in first
+    varied = updated(load_config(tmp_path / "a"), {"reliability.n_mc": 1000})
+    jointwear.Study(varied, out=tmp_path / "d").simulate(cycles=1)
+    assert given(tmp_path / "d") == (first | {"reliability.n_mc"}, total)

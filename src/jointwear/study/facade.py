@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, Any, ParamSpec, TypeVar
 import numpy as np
 
 from jointwear.compute.executors import scheduler_address, scheduler_argument_accepted
-from jointwear.config import StudyConfig, config_from_dict, load_config, updated
+from jointwear.config import StudyConfig, config_from_dict, load_config, restore_given, setting_values, updated
 from jointwear.reliability import AllCallsFailedError
 from jointwear.schema import ConfigError
 from jointwear.study.checks import (
@@ -150,6 +150,8 @@ class Study:
         # a StudyConfig is validated again: its lists are plain lists, which Python code can still change in place
         self.config: StudyConfig = (config_from_dict(config.model_dump(), "config") if isinstance(config, StudyConfig)
                                     else load_config(config))
+        if isinstance(config, StudyConfig):  # what the config gave, not every value of its dump
+            restore_given(self.config, {name for name, (_, given) in setting_values(config).items() if given})
         self.source = config if isinstance(config, (str, Path)) else None
         # a preset is named (or the default); a StudyConfig or a mapping comes from Python, not from a preset
         self._preset = config is None or (isinstance(config, str) and not config.endswith(".toml")
