@@ -163,9 +163,10 @@ class SurrogateFit:
                  if self.archard_trend_hint else "more calls near it may let the surrogate follow it: raise "
                  "reliability.max_calls and run again with --resume")
         share = f"{100 * (self.worst_share or 0.0):.0f} %"
-        what = (f"its life is {_times(self.worst_life_ratio or 1.0)} the points' median, a point in the inputs' far "
-                "tail (a wear coefficient near zero lives orders of magnitude longer) that the surrogate cannot "
-                "follow from the others")
+        ratio = self.worst_life_ratio or 1.0
+        example = " (a wear coefficient near zero lives orders of magnitude longer)" if ratio >= 1.0 else ""
+        what = (f"its life is {_times(ratio)} the points' median, a point in the inputs' far tail{example} that the "
+                "surrogate cannot follow from the others")
         cure = f"{trend[:1].upper() + trend[1:]}. {validate}"
         if self.poor:
             head = (f"the life surrogate explains little of its {self.n_points} design points (leave-one-out Q^2 = "
