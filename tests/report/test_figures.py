@@ -260,3 +260,31 @@ def test_the_tornado_shows_each_shifts_error_and_which_shifts_could_not_run():
     plain = F.tornado_figure(["a"], [0.9], [0.95], 0.93)  # without errors and failures: as before
     assert not plain.axes[0].collections and not any(p.get_hatch() for p in plain.axes[0].patches)
     plt.close(plain)
+
+
+def test_the_sensitivity_results_own_tornado_shows_the_errors_and_the_shifts_that_could_not_run(tmp_path):
+    """The stage's sensitivity_tornado.png (SensitivityResult.plot, which the report draws per group) had neither:
+    only the report's figure was given them (the default study's l2 x 0.8, whose linkage cannot close, read as an R
+    of 0 by wear)."""
+    import matplotlib.pyplot as plt
+
+    from jointwear.study import SensitivityResult
+
+    variables = [{"name": "l2", "label": "rod length", "group": "tolerance", "reliability_low": 0.0,
+                  "reliability_high": 0.2, "reliability_low_error": 0.0, "reliability_high_error": 0.05},
+                 {"name": "k_b", "label": "wear coefficient", "group": "material", "reliability_low": 0.99,
+                  "reliability_high": 0.6, "reliability_low_error": 0.004, "reliability_high_error": 0.03}]
+    rules = [{"variable": "l2", "factor": 0.8, "rule": "separable_scaling", "reliability": 0.0,
+              "reason": "the shifted mechanism could not run (counted as failure): links cannot close the loop"}]
+    sens = SensitivityResult(cycles=360_000, factors=[0.8, 1.2], reliability_nominal=0.94, variables=variables,
+                             ranking=["l2", "k_b"], ranking_by_group={}, sobol={}, rules=rules)
+    assert sens.shift_not_run("l2", 0.8) and not sens.shift_not_run("l2", 1.2) and not sens.shift_not_run("k_b", 0.8)
+    ax = sens.plot().axes[0]
+    assert len([p for p in ax.patches if p.get_hatch()]) == 1
+    spans = sorted(round(float(seg[1][0] - seg[0][0]), 9) for c in ax.collections for seg in c.get_segments())
+    assert spans == sorted(round(2 * e, 9) for e in (0.0, 0.05, 0.004, 0.03))
+    plt.close("all")
+    one = sens.plot(variables[1:], title="Material").axes[0]  # one group, as the report draws it
+    assert "Material" in (one.get_title("left"), one.get_title())
+    assert [t.get_text() for t in one.get_yticklabels()] == ["wear coefficient"]
+    plt.close("all")

@@ -291,14 +291,7 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
     parts.append('<div class="grid">')
     for g, vs in groups.items():
         title = g.replace("_", " ")
-        parts.append(figs.draw(lambda vs=vs, title=title: F.tornado_figure(
-            [str(v.get("label") or v["name"]) for v in vs], [v["reliability_low"] for v in vs],
-            [v["reliability_high"] for v in vs], nominal, cycles=sens.cycles, title=title[:1].upper() + title[1:],
-            low_label=f"mean \u00d7 {lo_f:g}", high_label=f"mean \u00d7 {hi_f:g}",
-            error_low=[v.get("reliability_low_error") or 0.0 for v in vs],
-            error_high=[v.get("reliability_high_error") or 0.0 for v in vs],
-            not_run_low=[sens.shift_not_run(v["name"], lo_f) for v in vs],
-            not_run_high=[sens.shift_not_run(v["name"], hi_f) for v in vs]),
+        parts.append(figs.draw(lambda vs=vs, title=title: sens.plot(vs, title=title[:1].upper() + title[1:]),
             f"Sensitivity of the reliability: {title}.", png_keys=("tornado",),
             alt=tornado_alt([str(v.get("label") or v["name"]) for v in vs], [v["reliability_low"] for v in vs],
                             [v["reliability_high"] for v in vs], nominal, sens.cycles)))

@@ -802,16 +802,21 @@ class SensitivityResult(StageResult):
             table[f"ST_{joint}"] = [by_name.get(v["name"], (None, None))[1] for v in self.variables]
         return {"sensitivity": table}
 
-    def plot(self) -> Figure:
-        """The reliability at ``cycles`` with each variable's mean moved by ``factors`` (the tornado): a matplotlib
-        ``Figure``, for a notebook or ``fig.savefig``."""
+    def plot(self, variables: list[dict] | None = None, title: str | None = None) -> Figure:
+        """The reliability at ``cycles`` with each variable's mean moved by ``factors`` (the tornado), each shifted R
+        with its 95 % error and the shifts that could not run hatched: a matplotlib ``Figure``, for a notebook or
+        ``fig.savefig``. ``variables``: some of :attr:`variables` (all by default; the report draws one group)."""
         from jointwear.report import figures as F
 
-        v = self.variables
+        v = self.variables if variables is None else variables
         lo, hi = self.factors
-        return F.tornado_figure([x["label"] for x in v], [x["reliability_low"] for x in v],
+        return F.tornado_figure([str(x.get("label") or x["name"]) for x in v], [x["reliability_low"] for x in v],
                                 [x["reliability_high"] for x in v], self.reliability_nominal, cycles=self.cycles,
-                                low_label=f"mean \u00d7 {lo:g}", high_label=f"mean \u00d7 {hi:g}")
+                                title=title, low_label=f"mean \u00d7 {lo:g}", high_label=f"mean \u00d7 {hi:g}",
+                                error_low=[x.get("reliability_low_error") or 0.0 for x in v],
+                                error_high=[x.get("reliability_high_error") or 0.0 for x in v],
+                                not_run_low=[self.shift_not_run(x["name"], lo) for x in v],
+                                not_run_high=[self.shift_not_run(x["name"], hi) for x in v])
 
     def save(self, folder: Path | str, *, figures: bool = True) -> Path:
         """Write ``sensitivity.json``, ``sensitivity.csv`` (:meth:`tables`) and the figures."""
