@@ -255,7 +255,7 @@ def test_the_tornado_shows_each_shifts_error_and_which_shifts_could_not_run():
     assert spans == expected
     hatched = [p for p in ax.patches if p.get_hatch()]
     assert len(hatched) == 2  # rod length at both shifts
-    assert "could not run (counted as failure)" in [t.get_text() for t in ax.get_legend().get_texts()]
+    assert "could not run (R = 0)" in [t.get_text() for t in ax.get_legend().get_texts()]
     plt.close(fig)
     plain = F.tornado_figure(["a"], [0.9], [0.95], 0.93)  # without errors and failures: as before
     assert not plain.axes[0].collections and not any(p.get_hatch() for p in plain.axes[0].patches)

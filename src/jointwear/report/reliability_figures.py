@@ -292,7 +292,7 @@ def tornado_figure(
     handles = ax.get_legend_handles_labels()[0]
     if any(np.any(np.asarray(f, dtype=bool)) for f in (not_run_low, not_run_high) if f is not None):
         handles.append(Patch(hatch="///", facecolor="white", edgecolor=PAPER_COLOR,
-                             label="could not run (counted as failure)"))
+                             label="could not run (R = 0)"))
     ax.axvline(nom, color=PAPER_COLOR, lw=1.0)
     ax.set_yticks(y)
     ax.set_yticklabels([labels[i] for i in order])
