@@ -46,6 +46,8 @@ CASES = [
     ("youngs_modulus_GPa = 120.0", "youngs_modulus_GPa = 120e9",
      ["bearing_material.youngs_modulus", "1.5e+12 Pa", "a unit slip?"]),
     ("hardness_HB = 350.0", "hardness_Pa = 120.0", ["bearing_material.hardness", "1e+06 Pa", "a unit slip?"]),
+    # and a hardness in MPa given as if in kPa: 35 TPa, 300 times diamond's, passed and cut the wear a millionfold
+    ("hardness_HB = 350.0", "hardness_MPa = 35000000.0", ["bearing_material.hardness", "1.5e+11 Pa", "a unit slip?"]),
     ("wear_coefficient = 1.2e-3", "wear_coefficient = 2.0", ["bearing_material.wear_coefficient", "less than 1"]),
     # a bad value given with a unit suffix is shown as written, then in SI (it was only '-6.8649e+07' for -7 HB)
     ("std_HB = 30.5", "std_HB = -7.0", ["uncertainty.variables[", "must be > 0 (got -7 HB = -6.8649e+07 Pa)"]),

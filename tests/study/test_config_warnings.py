@@ -520,6 +520,13 @@ def test_a_static_friction_below_the_sliding_one_is_warned():
     assert friction_warnings(base) == []
     assert friction_warnings(updated(base, {"clearance_joints.A.friction.mu_d": 0.6,
                                             "clearance_joints.A.friction.law": "none"})) == []
+    # a sliding coefficient of 5 (a percentage or a typo) passed in silence; dry metals slide at 0.1-0.8
+    high = friction_warnings(updated(base, {"clearance_joints.A.friction.mu_d": 5.0,
+                                            "clearance_joints.A.friction.mu_s": 5.0}))
+    assert high == ["clearance_joints.A.friction.mu_d: 5 is above 1, beyond a sliding friction coefficient of dry "
+                    "metals (0.1-0.8); a percentage or a typo?"]
+    assert friction_warnings(updated(base, {"clearance_joints.A.friction.mu_d": 1.0,
+                                            "clearance_joints.A.friction.mu_s": 1.0})) == []
 
 
 def test_a_contact_exponent_other_than_hertzs_is_refused_by_name():

@@ -26,9 +26,10 @@ class MaterialConfig(SIModel):
     )
     poissons_ratio: float = F(gt=-1.0, lt=0.5, description="Poisson's ratio nu, in (-1, 0.5).")
     hardness: float = F(
-        unit="Pa", ge=1e6,
+        unit="Pa", ge=1e6, le=1.5e11,
         description="Hardness H used by Archard's law (key hardness_HB: Brinell number x 9.807e6 Pa; baseline "
-        "reading), at least 1 MPa (PTFE's is about 30 MPa): a smaller value is a unit slip.",
+        "reading), from 1 MPa (PTFE's is about 30 MPa) to 150 GPa (above diamond's 100 GPa or so): a value outside "
+        "is a unit slip.",
     )
     wear_coefficient: float = F(
         ge=0, lt=1, description="Dimensionless Archard wear coefficient k, 0 <= k < 1 (Archard's law, "

@@ -264,10 +264,19 @@ def friction_warnings(config: StudyConfig) -> list[str]:
     """Each clearance joint whose static friction coefficient is below its sliding one: friction then rises with the
     slip speed, which few material pairs do, and setting mu_d alone keeps the default mu_s."""
     default_mu_s = FrictionConfig.model_fields["mu_s"].default
-    return [f"clearance_joints.{cj.name}.friction.mu_s: {cj.friction.mu_s:g} is below mu_d = {cj.friction.mu_d:g}, so "
-            "friction rises from static to sliding; most material pairs have mu_s >= mu_d (mu_d given alone keeps the "
-            f"default mu_s = {default_mu_s:g})"
-            for cj in config.clearance_joints if cj.friction.law != "none" and cj.friction.mu_s < cj.friction.mu_d]
+    rising = [f"clearance_joints.{cj.name}.friction.mu_s: {cj.friction.mu_s:g} is below mu_d = {cj.friction.mu_d:g}, "
+              "so friction rises from static to sliding; most material pairs have mu_s >= mu_d (mu_d given alone keeps "
+              f"the default mu_s = {default_mu_s:g})"
+              for cj in config.clearance_joints if cj.friction.law != "none" and cj.friction.mu_s < cj.friction.mu_d]
+    # dry metal pairs slide at 0.1-0.8, clean ones in vacuum up to about 1; beyond, a percentage or a typo
+    high = [f"clearance_joints.{cj.name}.friction.mu_d: {cj.friction.mu_d:g} is above {MU_D_WARNING:g}, beyond a "
+            "sliding friction coefficient of dry metals (0.1-0.8); a percentage or a typo?"
+            for cj in config.clearance_joints if cj.friction.law != "none" and cj.friction.mu_d > MU_D_WARNING]
+    return rising + high
+
+
+#: a sliding friction coefficient above this is warned (dry metal pairs: 0.1-0.8)
+MU_D_WARNING = 1.0
 
 
 #: what the wear stage says when it has no length for the nominal history

@@ -219,7 +219,8 @@ class WearSettings(SIModel):
         description=(
             "Pressure distribution over the contact patch |s| <= b. 'uniform': p = F_N / A with A = 2 b L, the "
             "paper's Eq. 31-33 (depth dh = (k/H) p ds over the whole patch). 'hertz': the elliptical line-contact "
-            "distribution p(s) = 2 F_N / (pi b L) sqrt(1 - s^2/b^2). Both conserve the Archard volume (k/H) F_N ds."
+            "distribution p(s) = 2 F_N / (pi b L) sqrt(1 - s^2/b^2). Both conserve the Archard volume (k/H) F_N ds. "
+            "Uniform geometry mode only: profile mode reads the pressure off the worn shape (profile_contact)."
         ),
     )
     half_width_factor: float = Field(
