@@ -426,7 +426,10 @@ class WearSummary(StageResult):
         says the same of its own cycles: docs/dynamics.md, "Where the contact law holds"); ``skip``: joints already
         told of."""
         from jointwear.contact.geometry import HERTZ_HALF_ANGLE_LIMIT
+        from jointwear.wear.settings import JOHNSON_FACTOR
 
+        factor = float(self.settings.get("half_width_factor") or JOHNSON_FACTOR)
+        own = not math.isclose(factor, JOHNSON_FACTOR, rel_tol=1e-9)
         out = []
         for j in self.joints:
             if j["name"] in skip:
@@ -434,10 +437,14 @@ class WearSummary(StageResult):
             radius_um = (j.get("bearing_radius_mm") or 0.0) * 1e3
             width = j.get("max_half_width_um") or 0.0
             if radius_um > 0.0 and width / radius_um > HERTZ_HALF_ANGLE_LIMIT:
+                # a factor of one's own, not the material, may make it so wide: said first, with Johnson's width
+                why = (f"It is read with wear.half_width_factor = {factor:g}, {factor / JOHNSON_FACTOR:.3g} times "
+                       f"Johnson's {JOHNSON_FACTOR:.4g}, which gives {width * JOHNSON_FACTOR / factor:.4g} um: check "
+                       "that setting first. " if own else "")
                 out.append(f"joint {j['name']}'s contact is {half_angle_text(math.degrees(width / radius_um))} "
                            f"in the history's last recorded cycles (Johnson's half-width {width:.4g} um on a "
                            f"{radius_um / 1e3:.4g} mm bore), more than the {math.degrees(HERTZ_HALF_ANGLE_LIMIT):.3g} "
-                           f"deg to which the Hertz contact law holds. {SOFT_CONTACT_NOTE}")
+                           f"deg to which the Hertz contact law holds. {why}{SOFT_CONTACT_NOTE}")
         return out
 
     def worn_through(self) -> list[str]:
