@@ -924,18 +924,20 @@ def _written_config(path: Path) -> StudyConfig:
     return config
 
 
-def _children(model: BaseModel, prefix: str):
-    """(field name, its setting's name as config.json names it, the sections under it or None for a value)."""
+def setting_children(model: BaseModel, prefix: str = ""):
+    """Each field of ``model``: (its name, its setting's name as config.json and config errors write it, the sections
+    under it or None for a value). A section is (model, its name, the key of a table of sections or None): a list's
+    item goes by its name (``clearance_joints[A]``, :func:`jointwear.schema.item_key`), a table's by its key."""
     for name in type(model).model_fields:
         value = getattr(model, name)
         full = f"{prefix}.{name}" if prefix else name
         if isinstance(value, BaseModel):
-            yield name, full, [(value, full)]
+            yield name, full, [(value, full, None)]
         elif isinstance(value, (list, tuple)) and value and all(isinstance(v, BaseModel) for v in value):
             names = [getattr(v, "name", None) for v in value]
-            yield name, full, [(v, f"{full}[{item_key(i, names)}]") for i, v in enumerate(value)]
+            yield name, full, [(v, f"{full}[{item_key(i, names)}]", None) for i, v in enumerate(value)]
         elif isinstance(value, Mapping) and value and all(isinstance(v, BaseModel) for v in value.values()):
-            yield name, full, [(v, f"{full}.{key}") for key, v in value.items()]
+            yield name, full, [(v, f"{full}.{key}", str(key)) for key, v in value.items()]
         else:
             yield name, full, None
 
@@ -944,12 +946,12 @@ def setting_values(model: BaseModel, prefix: str = "", given: bool = True) -> di
     """Every setting of ``model`` by its name as config.json names it (``clearance_joints[A].width``): its value and
     whether the config gave it (its field and every section above it set, pydantic's ``model_fields_set``)."""
     out: dict[str, tuple[Any, bool]] = {}
-    for name, full, sections in _children(model, prefix):
+    for name, full, sections in setting_children(model, prefix):
         here = given and name in model.model_fields_set
         if sections is None:
             out[full] = (getattr(model, name), here)
         else:
-            for section, path in sections:
+            for section, path, _ in sections:
                 out.update(setting_values(section, path, here))
     return out
 
@@ -959,9 +961,9 @@ def restore_given(model: BaseModel, given: set[str], prefix: str = "") -> bool:
     settings, named as config.json names them, are in ``given``: a config validated again from a whole dump (a
     results folder's, a variation's) would otherwise count every default as given. Whether any is."""
     kept = False
-    for name, full, sections in _children(model, prefix):
+    for name, full, sections in setting_children(model, prefix):
         here = (full in given if sections is None
-                else any([restore_given(section, given, path) for section, path in sections]))
+                else any([restore_given(section, given, path) for section, path, _ in sections]))
         if not here:
             model.__pydantic_fields_set__.discard(name)
         kept = kept or here

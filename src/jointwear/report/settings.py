@@ -43,7 +43,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from jointwear.config import display_unit
+from jointwear.config import display_unit, setting_children
 from jointwear.schema import item_key
 from jointwear.units import to_display
 
@@ -87,8 +87,6 @@ def settings_records(model: Any, prefix: str = "", *, explicit: bool = True,
     "explicit"}``; ``explicit`` is whether the config gave the value (False: a default). A design specification's
     numbers (unit set by its random variable) are shown in that variable's target unit; a reference value's (and its
     band's) in its quantity's report unit (mm, deg, h: ``jointwear.reference.DISPLAY``)."""
-    from pydantic import BaseModel
-
     from jointwear.reference import DISPLAY, in_report_unit
 
     if variable_units is None:
@@ -100,22 +98,14 @@ def settings_records(model: Any, prefix: str = "", *, explicit: bool = True,
     fields = type(model).model_fields
     given = getattr(model, "model_fields_set", set())
     derived = model.derived_settings() if callable(getattr(model, "derived_settings", None)) else {}
-    for name, info in fields.items():
-        value = getattr(model, name)
-        full = f"{prefix}.{name}" if prefix else name
+    for name, full, sections in setting_children(model, prefix):
+        value, info = getattr(model, name), fields[name]
         here = explicit and name in given
-        if isinstance(value, BaseModel):
-            out += settings_records(value, full, explicit=here, **deeper)
-            continue
-        if isinstance(value, (list, tuple)) and value and all(isinstance(v, BaseModel) for v in value):
-            names = [getattr(v, "name", None) for v in value]
-            for i, v in enumerate(value):  # an item by its name, as config errors and `updated` write its path
-                out += settings_records(v, f"{full}[{item_key(i, names)}]", explicit=here, **deeper)
-            continue
-        if isinstance(value, Mapping) and value and all(isinstance(v, BaseModel) for v in value.values()):
-            for key, v in value.items():  # a table of sections, e.g. a material option's specifications by variable
-                out += settings_records(v, f"{full}.{key}", explicit=here, variable_units=variable_units,
-                                        variable=str(key))
+        if sections is not None:
+            for section, path, key in sections:  # a table of sections (a material option's by variable) sets it
+                out += settings_records(section, path, explicit=here,
+                                        **(deeper if key is None else {"variable_units": variable_units,
+                                                                       "variable": key}))
             continue
         extra = info.json_schema_extra if isinstance(info.json_schema_extra, Mapping) else {}
         unit = extra.get("unit")

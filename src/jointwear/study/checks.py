@@ -19,7 +19,7 @@ from jointwear.contact.settings import FrictionConfig
 from jointwear.schema import ConfigError, item_key
 from jointwear.study.limit_state import (
     allowance_stock_problems,
-    archard_power,
+    archard_trend_applies,
     limit_state_from_config,
     limit_state_problems,
     wearable_stock,
@@ -444,11 +444,9 @@ def trend_warnings(config: StudyConfig) -> list[str]:
     """``reliability.trend = "archard"`` where it changes nothing: no random wear coefficient or hardness of the judged
     body of a single judged joint, so the Kriging has no known part to be told."""
     rel = config.reliability
-    if rel.trend != "archard" or config.uncertainty is None:
+    if rel.trend != "archard" or config.uncertainty is None or archard_trend_applies(config):
         return []
     limit = limit_state_from_config(config)
-    if any(archard_power(config, limit, spec.target) for spec in config.uncertainty.all_specs()):
-        return []
     body = {"bearing_max_depth": "bearing", "journal_max_depth": "journal"}.get(rel.quantity)
     why = (f"it needs one judged joint (judged: {', '.join(limit.names)})" if len(limit.joints) != 1 else
            f"reliability.quantity = {rel.quantity!r} is not one body's wear depth" if body is None else

@@ -73,6 +73,15 @@ def limit_state_from_config(config) -> LimitState:
     return LimitState(rel.quantity, idx, tuple(chosen), allowances)
 
 
+def archard_trend_applies(config) -> bool:
+    """Whether ``reliability.trend = "archard"`` has a known part to tell the Kriging: a random wear coefficient or
+    hardness of the judged body of a single judged joint (:func:`archard_power` of some random variable's target)."""
+    if config.uncertainty is None:
+        return False
+    limit = limit_state_from_config(config)
+    return any(archard_power(config, limit, spec.target) for spec in config.uncertainty.all_specs())
+
+
 def archard_power(config, limit: LimitState, target: str) -> int | None:
     """+1 when the judged wear quantity is proportional to the value at ``target`` under Archard's law (the wear
     coefficient of the judged body of the single judged joint), -1 when inversely proportional (its hardness), else

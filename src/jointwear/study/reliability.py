@@ -24,6 +24,7 @@ from jointwear.schema import ConfigError
 from jointwear.study.limit_state import (
     LimitState,
     archard_power,
+    archard_trend_applies,
     curve_cycles,
     curve_half_width,
     life_at,
@@ -163,7 +164,7 @@ def archard_exponent(ctx: StudyContext, i: int) -> int | None:
 def archard_trend_unused(ctx: StudyContext) -> bool:
     """Whether the Kriging learns a constant trend where ``reliability.trend = "archard"`` would tell it Archard's
     scaling (a wear coefficient or hardness of the judged body of a single judged joint is random)."""
-    return ctx.config.reliability.trend == "constant" and any(archard_exponent(ctx, i) for i in range(len(ctx.names)))
+    return ctx.config.reliability.trend == "constant" and archard_trend_applies(ctx.config)
 
 
 def life_trend(ctx: StudyContext) -> Callable[[np.ndarray], np.ndarray] | None:
