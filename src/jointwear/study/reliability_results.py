@@ -769,19 +769,21 @@ class SensitivityResult(StageResult):
         data.setdefault("factors", [0.8, 1.2])
         return super().from_json(data)
 
+    def _shift_entry(self, name: str, factor: float) -> dict:
+        """The record of the reliability with ``name``'s mean x ``factor`` in :attr:`rules` (empty where none is)."""
+        return next((r for r in self.rules if r.get("variable") == name
+                     and math.isclose(float(r.get("factor", math.nan)), factor, rel_tol=1e-9)), {})
+
     def shift_rule(self, name: str, factor: float) -> str | None:
         """How the reliability with ``name``'s mean x ``factor`` was read: "surrogate" (on the learnt surrogate),
         "archard_scaling" (the nominal population's lives scaled by Archard's law) or "separable_scaling" (the
         wear ratio of two true-model runs); None where no rule is recorded."""
-        return next((r.get("rule") for r in self.rules
-                     if r.get("variable") == name and math.isclose(float(r.get("factor", math.nan)), factor,
-                                                                   rel_tol=1e-9)), None)
+        return self._shift_entry(name, factor).get("rule")
 
     def shift_not_run(self, name: str, factor: float) -> bool:
         """Whether the mechanism with ``name``'s mean x ``factor`` could not run (its R = 0 counts it as failing;
         the rule's ``reason`` says why)."""
-        return any(r.get("variable") == name and r.get("reason")
-                   and math.isclose(float(r.get("factor", math.nan)), factor, rel_tol=1e-9) for r in self.rules)
+        return bool(self._shift_entry(name, factor).get("reason"))
 
     def tables(self) -> dict[str, dict[str, Any]]:
         """``sensitivity``: one row per variable (its unit, the shifted reliabilities with the factor and the rule
