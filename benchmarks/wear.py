@@ -41,6 +41,12 @@ Sections
   profile mode's pocket after 2e4 revolutions with the Young's moduli x4 and /4 (the contact's normal mode) and
   without friction (which sustains the rocking), and with the implicit Radau IIA integrator: steps and rejected
   steps per cycle.
+- profile_rig_start_phase (only with --only, about 3 minutes): the pendulum rig, whose swing nothing damps, with
+  mu_d 0.1 (the rig's) and 0.2: the max depth after 1e4 revolutions in each geometry mode from 8 start phases (the
+  first block's settling lengthened by k/8 cycle, one lane): how much a single history's answer depends on the start.
+- profile_rig_soft_liner (only with --only, about 2 minutes): the pendulum rig with a filled-PTFE bore (E 1 GPa,
+  k/H 1e-15 m^2/N), whose contact patch is 36 deg each side, to 1e5 revolutions: uniform mode with flat and Hertz
+  pressure and profile mode, beside the unworn patch's closed-form deposit with each pressure shape.
 - profile_jammed_shift (only with --only, about a minute): the profile preset's rod length x 1.2 in both geometry modes
   until the step budget stops it: why the step size collapses there (docs/dynamics.md).
 - profile_convergence (only with --only, long: about 10 minutes on 2 cores): profile mode (geometry_mode = "profile")
@@ -771,6 +777,69 @@ def bench_profile_rig_step_drivers(n_cycles: int = 20_000) -> dict:
     return out
 
 
+def bench_profile_rig_start_phase(mus=(0.1, 0.2), n_cycles: int = 10_000, phases: int = 8) -> dict:
+    """The pendulum rig's free swing (docs/verification.md) is undamped in the model, so where a history starts may
+    set where its contact wears: the max depth after ``n_cycles`` revolutions from ``phases`` start phases, each
+    geometry mode, for each mu_d; the scatter (std / mean) and the range."""
+    out = {"cycles": n_cycles, "phases": phases}
+    for mu in mus:
+        data = load_config(str(RIG)).model_dump(mode="python")
+        data["clearance_joints"][0]["friction"]["mu_d"] = mu
+        data["clearance_joints"][0]["friction"]["mu_s"] = max(mu, 0.15)
+        cfg = type(load_config(str(RIG))).model_validate(data)
+        model = build_model(cfg)
+        rec = {}
+        for mode in ("uniform", "profile"):
+            s0 = base_settings(cfg)
+            depths = []
+            for k in range(phases):
+                s = s0.model_copy(update={"geometry_mode": mode, "lanes": 1,
+                                          "settle_cycles_initial": cfg.simulation.settle_cycles + 2 + k / phases})
+                depths.append(wear_history(model, s, n_cycles).joints[0].max_bearing_wear * MM)
+            d = np.array(depths)
+            rec[mode] = {"max_depth_mm": depths, "mean_mm": float(d.mean()), "scatter": float(d.std(ddof=1) / d.mean()),
+                         "min_mm": float(d.min()), "max_mm": float(d.max())}
+            print(mu, mode, rec[mode]["scatter"], file=sys.stderr)
+        out[f"mu_d_{mu:g}"] = rec
+    return out
+
+
+SOFT_LINER = {"name": "filled PTFE", "youngs_modulus": 1.0e9, "poissons_ratio": 0.46, "hardness": 35.0e6,
+              "wear_coefficient": 3.5e-8}  # k/H = 1e-15 m^2/N
+
+
+def bench_profile_rig_soft_liner(levels=(1_000, 10_000, 100_000)) -> dict:
+    """Where uniform mode is fair by its indicator, the two modes still lay the patch's deposit with different
+    pressure shapes (uniform mode: `wear.pressure`, flat by default; profile mode: the elastic foundation's parabola). A soft
+    liner's wide patch shows it: the rig with a PTFE bore, max depth at ``levels`` revolutions in each mode, beside
+    the unworn patch's closed-form deposit (docs/verification.md, case 2) for flat, Hertz and parabolic pressure."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+    from verification.closed_form import Rig, deposit_per_rev, friction_circle, half_width
+
+    data = load_config(str(RIG)).model_dump(mode="python")
+    data["clearance_joints"][0]["bearing_material"] = dict(SOFT_LINER)
+    cfg = type(load_config(str(RIG))).model_validate(data)
+    rig = Rig.from_config(cfg)
+    force = friction_circle(rig)[1]
+    b = half_width(force, rig.r_b, rig.r_j, rig.hsum, rig.width)
+    flat = deposit_per_rev(rig.kH_b, force, rig.slide_per_rev, b, rig.width, "uniform")
+    per_rev = {"flat": flat, "hertz": deposit_per_rev(rig.kH_b, force, rig.slide_per_rev, b, rig.width, "hertz"),
+               "parabola": 1.5 * flat}  # a parabola's peak is 3/2 of its mean
+    out = {"contact_half_angle_deg": math.degrees(b / rig.r_b), "normal_force_N": force,
+           "closed_form_unworn_per_revolution_nm": {k: v * 1e9 for k, v in per_rev.items()}}
+    model = build_model(cfg)
+    s0 = base_settings(cfg)
+    for name, update in (("uniform_flat", {"geometry_mode": "uniform", "pressure": "uniform"}),
+                         ("uniform_hertz", {"geometry_mode": "uniform", "pressure": "hertz"}),
+                         ("profile", {"geometry_mode": "profile"})):
+        res = wear_history(model, s0.model_copy(update=update), max(levels))
+        out[name] = {"max_depth_um": {str(n): float(res.max_wear_at(n) * 1e6) for n in levels},
+                     "conformity": res.conformity, "uniform_mode_valid": res.uniform_mode_valid,
+                     "wall_seconds": res.wall_seconds}
+        print(name, out[name]["max_depth_um"], file=sys.stderr)
+    return out
+
+
 def bench_profile_jammed_shift(factor: float = 1.2, n_cycles: int = 400_000) -> dict:
     """The profile preset's most extreme sensitivity shift, rod length x 1.2 (hundreds of sigma), in each geometry
     mode until the step budget stops its history: the linkage's Grashof slack, the steps of every call, the stop's
@@ -956,6 +1025,10 @@ def main(argv=None) -> int:
             data["profile_rig_rounding"] = bench_profile_rig_rounding()
         elif sec == "profile_rig_step_drivers":
             data["profile_rig_step_drivers"] = bench_profile_rig_step_drivers()
+        elif sec == "profile_rig_start_phase":
+            data["profile_rig_start_phase"] = bench_profile_rig_start_phase()
+        elif sec == "profile_rig_soft_liner":
+            data["profile_rig_soft_liner"] = bench_profile_rig_soft_liner()
         elif sec == "profile_jammed_shift":
             data["profile_jammed_shift"] = bench_profile_jammed_shift()
         elif sec == "profile_wing_convergence":

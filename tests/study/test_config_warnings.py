@@ -155,16 +155,36 @@ def test_a_clearance_mostly_truncated_at_its_minimum_is_warned_with_the_mean_it_
      "wear.profile_substep_cycles: read only with profile_deposit = 'distributed'"),
     ({"wear.geometry_mode": "profile", "wear.uniform_growth": "bearing_max"},
      "wear.uniform_growth: read only with geometry_mode = 'uniform'"),
+    ({"wear.geometry_mode": "profile", "wear.pressure": "hertz"},
+     "wear.pressure: read only with geometry_mode = 'uniform'"),
     ({"wear.geometry_mode": "profile", "wear.profile_substep_cycles": 50.0}, None),
 ])
 def test_a_wear_setting_its_mode_does_not_read_is_warned(changes, unread):
-    """profile_smoothing_deg in uniform mode, and profile_substep_cycles with the touch deposit, passed silently."""
+    """profile_smoothing_deg in uniform mode, profile_substep_cycles with the touch deposit, and the pressure in profile
+    mode (which gave bit-identical profiles with either) passed silently."""
     warnings = config_warnings(updated(load_config(), changes))
     if unread is None:
         assert warnings == []
         return
     (warning,) = warnings
     assert warning.startswith(unread) and warning.endswith("so the setting changes nothing")
+
+
+@pytest.mark.parametrize("factor, warned", [(100.0, True), (0.5, True), (1.596, False), (2.2, False)])
+def test_a_half_width_factor_far_from_johnsons_is_warned(factor, warned):
+    """A factor of 100 passed check and the wear stage blamed the material for the patch it made; the paper's reading
+    (1.596, 1.41 times Johnson's) and anything within 2 times either way pass quietly."""
+    from jointwear.wear.settings import JOHNSON_FACTOR
+
+    warnings = [w for w in config_warnings(updated(load_config(), {"wear.half_width_factor": factor}))
+                if w.startswith("wear.half_width_factor")]
+    assert bool(warnings) == warned
+    if warned:
+        assert f"is {factor / JOHNSON_FACTOR:.3g} times Johnson's" in warnings[0]
+    # the same without an uncertainty section (a wear-only config)
+    rig = load_config(str(Path(__file__).resolve().parents[1] / "wear" / "rigs" / "pendulum.toml"))
+    assert bool([w for w in config_warnings(updated(rig, {"wear.half_width_factor": factor}))
+                 if w.startswith("wear.half_width_factor")]) == warned
 
 
 def test_an_allowance_the_joint_cannot_be_checked_against_and_many_clearances_deep_is_warned():
@@ -320,6 +340,7 @@ def test_a_general_linkage_left_free_by_a_missing_joint_is_warned():
     rigs = Path(__file__).resolve().parents[1] / "wear" / "rigs"
     (warning,) = mobility_warnings(load_config(rigs / "pendulum.toml"))
     assert "keeps 1 degree of freedom after its drivers" in warning and "a joint is missing" in warning
+    assert "`jointwear converge` measures that scatter" in warning  # uniform mode's depth depends on the start there
     assert mobility_warnings(load_config("watt_six_bar_two_clearances")) == []  # 3 x 5 - 2 x 7 - 1 driver = 0
 
 

@@ -202,8 +202,10 @@ def test_the_wear_line_names_each_joint_of_a_series_system():
 
 
 @pytest.mark.parametrize("wear_per_100k_mm, words", [
-    (0.001, "after about 3,000,000 cycles (its wear history, extrapolated linearly past its end), 10.0 times the R(N) "
-            "curve's last level (300,000 cycles): the curve will read R close to 1"),
+    # 30 times the history's length: told as rough, with the setting that runs the history that far
+    (0.001, "after about 3,000,000 cycles (its wear history, extrapolated linearly to 30 times its length: a rough "
+            "reading where the depth's growth is not steady; a history that long, wear.cycles or --cycles, reads it), "
+            "10.0 times the R(N) curve's last level (300,000 cycles): the curve will read R close to 1"),
     (0.015, None),  # life 200,000 cycles, inside the curve
     # a life inside the history is read off it (it said 'extrapolated linearly past its end' here too)
     (0.3, "after about 10,000 cycles (its wear history), 10.0 times short of the "

@@ -33,7 +33,7 @@ def test_wear_summary_save_and_load(tmp_path):
     assert d["cycles"] == 50_000
     assert set(d["profile"]) == {"angle_deg", "depth_mm", "contact_force_mean_N", "sliding_mm_per_deg_per_cycle",
                                  "contact_area_mean_mm2", "body_angle_deg", "contact_time_s_per_cycle",
-                                 "depth_rate_mm_per_cycle"}
+                                 "depth_rate_mm_per_cycle", "depth_growth_mm_per_cycle"}
     assert all(len(v) == 360 for v in d["profile"].values())
     assert set(d["history"]) == {"cycles", "max_wear_mm"} and d["history"]["cycles"][-1] == 50_000
     assert d["peaks"][0]["depth_mm"] == pytest.approx(d["max_wear_mm"])
@@ -263,7 +263,7 @@ def test_a_result_prints_short_with_every_field(tmp_path):
         text = repr(res)
         assert len(text) < 3000 and text.startswith(type(res).__name__ + "(")
         assert all(f"\n    {f.name}=" in text for f in fields(res) if f.repr)
-    assert "profile=<dict of 8: angle_deg, depth_mm" in repr(s)
+    assert "profile=<dict of 9: angle_deg, depth_mm" in repr(s)
     assert f"reliability={np.array2string(rel.reliability, precision=4, separator=', ')}" in repr(rel)
     expected = f"StudyResults(folder={str(tmp_path)!r}, name=None, stages=['wear', 'reliability'])"
     assert repr(load_results(tmp_path)) == expected

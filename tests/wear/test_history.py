@@ -9,7 +9,7 @@ from wear_synthetic import FakeModel, FakeResult, fake_simulate, make_trace
 from jointwear.wear import WearSettings, wear_history
 from jointwear.wear.angles import angle_text, body_angle_from_report, report_angle_deg
 from jointwear.wear.history import lay_distributed
-from jointwear.wear.results import conservation_error, find_peaks_periodic
+from jointwear.wear.results import TOP_TOLERANCE, conservation_error, find_peaks_periodic, top_centre
 
 CONS_TOL = 1e-6  # issue 3 acceptance: worn area x width = Archard volume, rel. error < 1e-6
 
@@ -142,6 +142,37 @@ def test_peaks_periodic():
     # a peak straddling 0 / 360 is found once
     q = np.roll(p, -10)
     assert len(find_peaks_periodic(q, 0.05)) == 2
+
+
+@pytest.mark.parametrize("mode", ["uniform", "profile"])
+def test_the_last_blocks_growth_is_the_wear_it_laid(mode):
+    """`last_growth` (wear_profile.csv's depth_growth_mm_per_cycle) is the depth each cell gained per cycle over the
+    last block: exactly the difference from the same history one block shorter. In uniform mode that is the block's
+    rate profile; in profile mode the rate profile (on the geometry the block starts from) is not the deposit."""
+    s = WearSettings(n_grid=360, block_cycles=10_000, geometry_mode=mode)
+    a = wear_history(FakeModel(), s, 50_000, simulate=fake_simulate).joints[0]
+    b = wear_history(FakeModel(), s, 40_000, simulate=fake_simulate).joints[0]
+    laid = (a.bearing_wear - b.bearing_wear) / 10_000
+    assert laid.max() > 0
+    np.testing.assert_allclose(a.last_growth, laid, rtol=1e-12, atol=1e-12 * laid.max())
+    if mode == "uniform":
+        np.testing.assert_allclose(a.last_growth, a.diagnostics.bearing, rtol=1e-12, atol=1e-12 * laid.max())
+
+
+def test_a_flat_top_is_placed_at_its_middle():
+    """A plateau whose deepest cell lies at its edge (a wandering contact in uniform mode) is placed at its middle,
+    also across 0 / 360; a sharp peak stays at its cell, and a profile flat all round at the cell asked."""
+    n = 720
+    p = np.zeros(n)
+    p[100:201] = 1.0 + np.linspace(0.0, 0.5 * TOP_TOLERANCE, 101)[::-1]  # deepest at 100, top 100..200
+    assert int(np.argmax(p)) == 100 and top_centre(p, 100) == pytest.approx(150.0)
+    assert top_centre(np.roll(p, -150), int(np.argmax(np.roll(p, -150)))) == pytest.approx(0.0)  # top -50..50
+    q = p.copy()
+    q[160] = 1.0 - 2 * TOP_TOLERANCE  # a notch ends the top: cells 100..159
+    assert top_centre(q, 100) == pytest.approx(129.5)
+    sharp = np.exp(-(((np.arange(n) - 300.0) / 20.0) ** 2))
+    assert top_centre(sharp, 300) == 300.0
+    assert top_centre(np.ones(n), 7) == 7.0
 
 
 @pytest.mark.parametrize(

@@ -237,9 +237,11 @@ def config_warnings(config: StudyConfig) -> list[str]:
 
     mechanism = (drawing_warnings(config) + size_warnings(config) + mobility_warnings(config)
                  + gravity_warnings(config) + inertia_warnings(config) + friction_warnings(config))
+    wear = (wear_length_warnings(config) + wear_mode_warnings(config) + half_width_warnings(config)
+            + block_warnings(config))
     unc = config.uncertainty
     if unc is None:
-        return mechanism + wear_length_warnings(config) + block_warnings(config)
+        return mechanism + wear
     data = config.model_dump()
     out = []
     for spec in unc.all_specs():
@@ -255,8 +257,8 @@ def config_warnings(config: StudyConfig) -> list[str]:
                        "(R(N) does not follow a change of the drawn value alone); give both the same value unless the "
                        "shift is meant")
     return (mechanism + out + scatter_warnings(config) + random_input_warnings(config) + clearance_warnings(config)
-            + wear_length_warnings(config) + wear_mode_warnings(config) + block_warnings(config)
-            + design_warnings(config) + allowance_warnings(config) + budget_warnings(config) + target_warnings(config)
+            + wear + design_warnings(config) + allowance_warnings(config) + budget_warnings(config)
+            + target_warnings(config)
             + trend_warnings(config) + display_unit_warnings(config))
 
 
@@ -380,13 +382,16 @@ def size_warnings(config: StudyConfig) -> list[str]:
 
 def mobility_warnings(config: StudyConfig) -> list[str]:
     """A general linkage that keeps degrees of freedom after its drivers: legal (a pendulum swings under its load),
-    but a forgotten joint gives the same, and a silently different mechanism."""
+    but a forgotten joint gives the same, and a silently different mechanism; and a swing nothing in the model damps
+    keeps the amplitude its start gave it (benchmarks/wear.py `profile_rig_start_phase`)."""
     m = config.mechanism
     if m.type != "general" or (dof := m.free_degrees_of_freedom()) <= 0:
         return []
     return [f"mechanism: the linkage keeps {dof} degree{'s' if dof > 1 else ''} of freedom after its drivers (3 per "
             "free body, less 2 per joint): some bodies move only under their loads, as a pendulum does; if none "
-            "should, a joint is missing (a slider's prismatic joint, say)"]
+            "should, a joint is missing (a slider's prismatic joint, say). Nothing in the model damps such a swing, "
+            "so where a joint wears in uniform mode can depend on how its history starts: `jointwear converge` "
+            "measures that scatter (docs/wear.md, 'A swing nothing damps')"]
 
 
 #: Gravity larger than this (m/s^2) is warned as a likely unit slip (mm/s^2 under an _m_s2 key): 10 g
@@ -552,9 +557,30 @@ def wear_mode_warnings(config: StudyConfig) -> list[str]:
         unread += [(name, "geometry_mode = 'uniform'") for name in sorted(given) if name.startswith("uniform_")]
         if wear.profile_deposit == "touch" and "profile_substep_cycles" in given:
             unread.append(("profile_substep_cycles", "profile_deposit = 'distributed'"))
+        if "pressure" in given:  # profile mode reads the pressure off the worn shape
+            unread.append(("pressure", "geometry_mode = 'uniform'"))
     return [f"wear.{name}: read only with {needed}; this study runs geometry_mode = '{mode}'"
             + (f" with profile_deposit = '{wear.profile_deposit}'" if mode == "profile" else "")
             + ", so the setting changes nothing" for name, needed in unread]
+
+
+#: a half-width factor more than this many times Johnson's, or less than its inverse, is warned (project choice: the
+#: paper's reading, 1.596, is 1.41 times Johnson's)
+HALF_WIDTH_FACTOR_WARNING = 2.0
+
+
+def half_width_warnings(config: StudyConfig) -> list[str]:
+    """A contact half-width factor far from Johnson's sqrt(4/pi): the patch, hence how the wear is spread and the
+    conformity indicator, scale with it; a factor of 100 passed silently and read as a soft bushing."""
+    from jointwear.wear.settings import JOHNSON_FACTOR
+
+    ratio = config.wear.half_width_factor / JOHNSON_FACTOR
+    if 1.0 / HALF_WIDTH_FACTOR_WARNING <= ratio <= HALF_WIDTH_FACTOR_WARNING:
+        return []
+    return [f"wear.half_width_factor: {config.wear.half_width_factor:g} is {ratio:.3g} times Johnson's line-contact "
+            f"factor sqrt(4/pi) = {JOHNSON_FACTOR:.4g} (the paper's reading is 1.596): the contact patch, how the wear "
+            "is spread over it and the conformity indicator scale with it; leave it at the default unless such a "
+            "patch is meant"]
 
 
 def clearance_warnings(config: StudyConfig) -> list[str]:

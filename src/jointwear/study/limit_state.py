@@ -359,9 +359,20 @@ def history_end(joints: list[dict]) -> float:
     return max((max(j.get("history", {}).get("cycles") or [0.0]) for j in joints), default=0.0)
 
 
+#: a life read more than this many times the history's length past its end is told as rough (project choice)
+LONG_EXTRAPOLATION = 3.0
+
+
 def how_read(life: float, end: float) -> str:
-    """How a nominal life was read off a history ending at ``end`` cycles."""
-    return "its wear history, extrapolated linearly past its end" if life > end else "its wear history"
+    """How a nominal life was read off a history ending at ``end`` cycles. A straight line drawn far past the end
+    reads long where the depth grows faster than linearly (uniform mode under a steady load) and short where it
+    grows slower (profile mode's widening pocket): docs/tutorial.md, section 4."""
+    if life <= end:
+        return "its wear history"
+    if LONG_EXTRAPOLATION * end < life <= NOMINAL_LIFE_FAR * end:
+        return (f"its wear history, extrapolated linearly to {life / end:.2g} times its length: a rough reading where "
+                "the depth's growth is not steady; a history that long, wear.cycles or --cycles, reads it")
+    return "its wear history, extrapolated linearly past its end"
 
 
 def nominal_life_outside_curve(config, joints: list[dict]) -> str:

@@ -238,21 +238,24 @@ class SimulationSummary(StageResult):
 # ------------------------------------------------------------------------------------------------------- wear
 #: per-cell columns of a joint's wear profile besides the depth (wear.json ``profile`` and wear_profile.csv)
 _PANEL_KEYS = ("contact_force_mean_N", "sliding_mm_per_deg_per_cycle", "contact_area_mean_mm2", "body_angle_deg",
-               "contact_time_s_per_cycle", "depth_rate_mm_per_cycle")
+               "contact_time_s_per_cycle", "depth_rate_mm_per_cycle", "depth_growth_mm_per_cycle")
 
 
 def _profile_panels(jw, order) -> dict[str, list[float]]:
     """Mean contact force, sliding distance per degree of bearing, mean contact area, the cell's angle in the
-    bearing body's frame, contact time and depth rate of each bearing cell over the last simulated cycles, in the
-    profile's angle order (kept in wear.json, so that a folder read back gives the CSV's every column)."""
+    bearing body's frame, contact time and depth rate of each bearing cell over the last simulated cycles, and the
+    depth each cell gained per cycle over the last block, in the profile's angle order (kept in wear.json, so that a
+    folder read back gives the CSV's every column)."""
     d = jw.diagnostics
     cell_deg = 360.0 / jw.theta.size
+    growth = {} if jw.last_growth is None else {"depth_growth_mm_per_cycle": (jw.last_growth[order] * 1e3).tolist()}
     return {"contact_force_mean_N": d.force_mean[order].tolist(),
             "sliding_mm_per_deg_per_cycle": (d.slip_distance[order] * 1e3 / cell_deg).tolist(),
             "contact_area_mean_mm2": (d.area_mean[order] * 1e6).tolist(),
             "body_angle_deg": np.degrees(jw.theta[order]).tolist(),
             "contact_time_s_per_cycle": d.contact_time[order].tolist(),
-            "depth_rate_mm_per_cycle": (d.bearing[order] * 1e3).tolist()}
+            "depth_rate_mm_per_cycle": (d.bearing[order] * 1e3).tolist()} | growth
+
 
 def _last_slope_mm(cycles: np.ndarray, depth_m: np.ndarray) -> float | None:
     """Growth of a depth history over its last segment, mm per cycle (None with fewer than two points)."""

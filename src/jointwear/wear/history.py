@@ -33,7 +33,7 @@ from jointwear.mechanism.results import whirl_measure
 
 from .cycle import CycleWear, JointMaterials, cycle_wear, mean_half_width
 from .kernels import TWO_PI, smooth_periodic
-from .results import BlockRecord, JointWear, WearResult, find_peaks_periodic
+from .results import BlockRecord, JointWear, WearResult, find_peaks_periodic, top_centre
 from .settings import WearSettings, check_cycles
 
 
@@ -225,6 +225,7 @@ def wear_history(
     growth0 = list(growth)
     vol_b = [0.0] * nj
     vol_j = [0.0] * nj
+    laid = [np.zeros(n) for _ in range(nj)]  # the last block's growth of each bearing cell, m per cycle
     hist_c = [0]
     hist_b = [[0.0] for _ in range(nj)]
     hist_j = [[0.0] for _ in range(nj)]
@@ -309,6 +310,7 @@ def wear_history(
             prev_vrate = vrate
             dn = min(block, n_cycles - done)
             for i, cw in enumerate(rates):
+                before = wb[i].copy()
                 if cw.share is not None:
                     wb[i], vb_add = lay_distributed(cw.share, cw.bearing, cw.volume_bearing, cw.levelling_rate,
                                                     wb[i], dn, settings)
@@ -321,6 +323,7 @@ def wear_history(
                 else:
                     wj[i] += cw.journal * dn
                     vj_add = cw.volume_journal * dn
+                laid[i] = (wb[i] - before) / dn
                 vol_b[i] += vb_add
                 vol_j[i] += vj_add
                 if settings.geometry_mode == "uniform":
@@ -357,10 +360,10 @@ def wear_history(
             history_max_journal=np.asarray(hist_j[i]), history_clearance_growth=np.asarray(hist_g[i]),
             volume_bearing=vol_b[i], volume_journal=vol_j[i], bearing_radius=mats[i].r_b0,
             journal_radius=mats[i].r_j0, width=mats[i].width, peaks=[], diagnostics=last[i], first_rate=first[i],
+            last_growth=laid[i],
             contact_half_width=mean_half_width(first[i], mats[i], settings),
         )
-        ang = jw.angle_deg
-        jw.peaks = [{"angle_deg": float(ang[k]), "depth": float(wb[i][k])}
+        jw.peaks = [{"angle_deg": jw.grid_angle_deg(top_centre(wb[i], k)), "depth": float(wb[i][k])}
                     for k in find_peaks_periodic(wb[i], settings.peak_prominence, settings.peak_separation_deg)]
         joints.append(jw)
     return WearResult(joints, settings, n_cycles, blocks, time.perf_counter() - t_wall, sim_seconds, sim_cycles,

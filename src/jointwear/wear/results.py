@@ -12,6 +12,26 @@ from .cycle import CycleWear
 from .kernels import worn_area
 from .settings import WearSettings
 
+TOP_TOLERANCE = 1e-3  # cells within 0.1 % of a peak's depth make its top
+
+
+def top_centre(profile: np.ndarray, index: int, tolerance: float = TOP_TOLERANCE) -> float:
+    """Grid position (a fractional, periodic index) of the middle of the top round ``index``: the run of cells next to
+    it within ``tolerance`` of its depth. A flat-topped hump (uniform mode under a contact that wanders) has its
+    deepest cell anywhere on its top, often at an edge; its middle is where the load acts. A profile flat all round
+    has no top to centre: ``index`` itself."""
+    p = np.asarray(profile, dtype=float)
+    n = p.size
+    floor = p[index] - tolerance * abs(p[index])
+    left = right = 0
+    while left < n and p[(index - left - 1) % n] >= floor:
+        left += 1
+    while right < n and p[(index + right + 1) % n] >= floor:
+        right += 1
+    if left + right + 1 >= n:
+        return float(index)
+    return float((index + 0.5 * (right - left)) % n)
+
 
 def find_peaks_periodic(profile: np.ndarray, prominence_fraction: float = 0.05,
                         separation_deg: float = 30.0) -> list[int]:
@@ -55,6 +75,9 @@ class JointWear:
     diagnostics: CycleWear  # per-cycle quantities of the last block (Fig. 17)
     first_rate: CycleWear  # per-cycle quantities of the first block (unworn geometry)
     contact_half_width: float = math.nan  # m, Johnson's b at the mean contact force of the first block
+    # (n_grid,) the last block's growth of the bearing's depth per cycle (m/cycle), bearing frame: the wear laid, where
+    # diagnostics.bearing is the rate its recorded cycles wear on the geometry the block starts from
+    last_growth: np.ndarray | None = None
 
     @property
     def pocket_depth(self) -> float:
@@ -94,10 +117,15 @@ class JointWear:
         """Deepest point of the worn bearing at the history's end, m."""
         return float(self.bearing_wear.max())
 
+    def grid_angle_deg(self, position: float) -> float:
+        """Report angle (deg, as :attr:`angle_deg`) of a fractional grid position (:func:`top_centre`)."""
+        return report_angle_deg(2.0 * math.pi * position / self.theta.size, self.mean_orientation)
+
     @property
     def max_wear_angle_deg(self) -> float:
-        """Report angle (deg, as :attr:`angle_deg`) of the deepest point of the worn bearing."""
-        return float(self.angle_deg[int(np.argmax(self.bearing_wear))])
+        """Report angle (deg, as :attr:`angle_deg`) of the deepest point of the worn bearing: the middle of its top
+        (:func:`top_centre`) where the deepest cells make a plateau."""
+        return self.grid_angle_deg(top_centre(self.bearing_wear, int(np.argmax(self.bearing_wear))))
 
     def max_wear_at(self, n_cycles):
         """Max bearing depth (m) at any cycle count(s), linear between history points, linear extrapolation past the end."""
