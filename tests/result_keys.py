@@ -1,11 +1,15 @@
 """Every key a result file holds is in docs/results.md, in that file's section (a reliability engineer reading the
-JSON with scripts found a fifth of the keys documented nowhere)."""
+JSON with scripts found a fifth of the keys documented nowhere; a dynamics audit found the series file and the joints'
+table documented nowhere)."""
 
 from __future__ import annotations
 
+import csv
 import json
 import re
 from pathlib import Path
+
+import numpy as np
 
 RESULTS_DOC = Path(__file__).resolve().parents[1] / "docs" / "results.md"
 #: subtrees documented as a whole: the versions (the page's introduction), the config itself (docs/config.md)
@@ -25,9 +29,17 @@ def doc_section(file_name: str) -> str:
 
 
 def undocumented_keys(path: Path) -> list[str]:
-    """The key names of the JSON file at ``path`` that its section of docs/results.md does not give as `name`; a key
-    the section gives as `key.<...>` (a dict keyed by the study's names, such as its joints) is not looked into."""
+    """The key names of the result file at ``path`` that its section of docs/results.md does not give as `name`: a
+    JSON file's keys (a key the section gives as `key.<...>`, a dict keyed by the study's names such as its joints,
+    is not looked into), an ``.npz`` file's arrays (:func:`undocumented_series`) or a CSV table's columns."""
+    if path.suffix == ".npz":
+        return undocumented_series(path)
     text = doc_section(path.name)
+    if path.suffix == ".csv":
+        with path.open(encoding="utf-8", newline="") as f:
+            header = next(csv.reader(f))
+        words = {word for span in re.findall(r"`([^`\n]+)`", text) for word in _NAME.findall(span)}
+        return sorted(set(header) - words)
     spans = re.findall(r"`([^`\n]+)`", text)  # the section's code spans, in order (each pair of backticks once)
     words = {word for span in spans for word in _NAME.findall(span)}
     opaque = OPAQUE | OPAQUE_IN.get(path.name, set())
@@ -47,4 +59,20 @@ def undocumented_keys(path: Path) -> list[str]:
                 walk(item)
 
     walk(json.loads(path.read_text(encoding="utf-8")))
+    return sorted(missing)
+
+
+def undocumented_series(path: Path) -> list[str]:
+    """The arrays of the series file at ``path`` (``simulate.npz``) that its section of docs/results.md does not give
+    as a code span of its own: `name`, or `<joint>_name` for a clearance joint's (the joints named in the
+    ``simulate.json`` beside it)."""
+    spans = set(re.findall(r"`([^`\n]+)`", doc_section(path.name)))
+    joints = [j["name"] for j in json.loads((path.parent / "simulate.json").read_text(encoding="utf-8"))["joints"]]
+    with np.load(path) as data:
+        keys = list(data.files)
+    missing = []
+    for key in keys:
+        generic = [f"<joint>_{key[len(name) + 1:]}" for name in joints if key.startswith(f"{name}_")]
+        if key not in spans and not any(g in spans for g in generic):
+            missing.append(key)
     return sorted(missing)

@@ -35,6 +35,23 @@ def test_contact_revolutions_count_the_contact_point_round_the_bearing(turns_per
     assert apart.contact_revolutions == 0.0
 
 
+def test_contact_revolutions_leave_out_the_moves_through_free_flight():
+    """docs/results.md: on an impacting joint the measure is what the contact point travels while in contact, not
+    the contact zone's net migration. Two contacts each turn +0.1 revolution; between them the journal flies and
+    strikes the bore 0.4 revolution back (in five steps of -0.08, each below pi): +0.2 counted, while the contact
+    zone's net move is -0.2."""
+    base = make_trace(n_cycles=1)
+    steps = np.r_[np.full(10, 0.01), np.full(5, -0.08), np.full(10, 0.01)] * 2 * np.pi
+    theta = np.mod(1.0 + np.r_[0.0, np.cumsum(steps)], 2 * np.pi)
+    contact = np.r_[np.ones(11, bool), np.zeros(4, bool), np.ones(11, bool)]
+    n = theta.size
+    tr = dataclasses.replace(base, t=base.t[:n], dt_weight=base.dt_weight[:n], theta_bearing=theta,
+                             in_contact=contact)
+    assert tr.contact_revolutions == pytest.approx(0.2, abs=1e-12)  # rounding of 20 wrapped steps
+    net = (np.sum(steps)) / (2 * np.pi)
+    assert net == pytest.approx(-0.2, abs=1e-12)
+
+
 def test_the_whirl_threshold_follows_the_relative_rotation():
     assert whirl_threshold(0.0) == 5.0 and whirl_threshold(1.0) == 6.0 and whirl_threshold(-3.0) == 12.0
 

@@ -67,7 +67,8 @@ def test_toml_example_runs_the_whole_study(tmp_path):
     assert 'id="wear-convergence"' in html  # the check run before the study is in its report
     assert not re.search(r"\bJin\b|Drones", html)  # a report about the user's study, not the reference paper
     # every key of every result file is in docs/results.md (tests/result_keys.py)
-    for name in ("simulate.json", "wear.json", "reliability.json", "sensitivity.json", "config.json"):
+    for name in ("simulate.json", "simulate.npz", "simulate_joints.csv", "wear.json", "reliability.json",
+                 "sensitivity.json", "config.json"):
         assert undocumented_keys(out / name) == [], name
 
 

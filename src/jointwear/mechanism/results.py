@@ -88,8 +88,12 @@ class ContactTrace:
 
     @property
     def contact_revolutions(self) -> float:
-        """Net revolutions of the contact point round the bearing while in contact (CCW > 0): the wrapped steps of
-        theta_bearing between consecutive samples both in contact, summed, over 2 pi."""
+        """Revolutions the contact point slides or rolls round the bearing while the journal stays in contact (CCW in
+        the bearing body's frame > 0): the steps of theta_bearing, each wrapped to [-pi, pi], between consecutive
+        samples both in contact, summed, over 2 pi. A step with either end in free flight is left out, so on an
+        impacting joint the contact point's moves through free flight (from where the journal leaves the bore to
+        where it strikes it next) are not counted: this is not the net migration of the contact zone, which only
+        a joint in continuous contact has equal to it. The whirl flag (:func:`whirl_measure`) reads it."""
         contact = np.asarray(self.in_contact, dtype=bool)
         step = _wrapped_steps(self.theta_bearing)
         return float(np.sum(step[contact[1:] & contact[:-1]]) / (2.0 * np.pi))
@@ -125,6 +129,11 @@ def whirl_measure(trace: ContactTrace, n_cycles: float) -> tuple[float, bool]:
     return n_c, abs(n_c) > whirl_threshold(trace.relative_revolutions / n_cycles)
 
 
+#: the kernels (``SimulationResult.extra["kernel"]``) that record no multipliers of the ideal joints: the natural-
+#: coordinate four-bar's are those of its link lengths, the tree kernel's joints hold by construction
+UNRECORDED_MULTIPLIERS = ("natural_fourbar", "tree")
+
+
 @dataclass
 class SimulationResult:
     """Recorded steps of a forward simulation (like scipy's OdeResult)."""
@@ -134,7 +143,8 @@ class SimulationResult:
     body_angles: np.ndarray  # (steps, n_bodies), all bodies in model order (unwrapped)
     body_names: list[str]
     free_body_names: list[str]
-    multipliers: np.ndarray  # (steps, n_constraints): lam of the ideal joints (M qdd + J^T lam = f)
+    multipliers: np.ndarray  # (steps, n_constraints): lam of the ideal joints (M qdd + J^T lam = f); NaN but on the
+    # Cartesian kernel (UNRECORDED_MULTIPLIERS)
     joint_names: list[str]  # the ideal joints, in the multipliers' order
     joints: list[ContactTrace]
     state_end: SimulationState
@@ -190,7 +200,16 @@ class SimulationResult:
 
     def reaction(self, joint: str) -> np.ndarray:
         """(steps, 2) what body_i exerts on body_j through an ideal joint (as ``Model.reactions``): the force (x, y),
-        N, of a revolute joint; the moment, N m, and the force along the guide's normal, N, of a prismatic one."""
+        N, of a revolute joint; the moment, N m, and the force along the guide's normal, N, of a prismatic one.
+
+        Only the Cartesian kernel has the ideal joints' multipliers: on the natural-coordinate and tree kernels (the
+        default where a model qualifies, ``extra["kernel"]``) this raises a ValueError that says so; run
+        ``simulate(..., fast=False)`` for the reactions."""
+        kernel = self.extra.get("kernel", "")
+        if kernel in UNRECORDED_MULTIPLIERS:
+            raise ValueError(f"joint {joint}'s reaction was not recorded: the {kernel} kernel that ran this "
+                             "simulation has no multipliers of the ideal joints (docs/dynamics.md, 'Which kernel "
+                             "runs'); run simulate(..., fast=False) for the Cartesian kernel, which records them")
         k = self.joint_names.index(joint)
         pair = self.multipliers[:, 2 * k: 2 * k + 2].copy()
         if joint in self.prismatic:

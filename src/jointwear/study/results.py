@@ -175,7 +175,7 @@ class SimulationSummary(StageResult):
         if res is None:
             return self.write(folder)
         data: dict[str, np.ndarray] = {"t_s": res.t, "crank_angle_rad": res.crank_angle,
-                                       "body_angles_rad": res.body_angles}
+                                       "body_angles_rad": res.body_angles, "body_names": np.array(res.body_names)}
         for tr in res.joints:
             p = f"{tr.name}_"
             data[p + "eccentricity_bearing_frame_m"] = tr.eccentricity
