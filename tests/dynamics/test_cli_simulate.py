@@ -35,6 +35,12 @@ def test_simulate_command(tmp_path, capsys):
                                atol=1e-9)  # the same angle wrapped apart, to its rounding (1e-15 of 2 pi x turns)
     assert z["t_s"][0] == pytest.approx(d["settle_cycles"] * d["period_s"], rel=1e-12)
     assert z["t_s"][-1] == pytest.approx((d["settle_cycles"] + d["cycles"]) * d["period_s"], rel=1e-12)
+    # the driver's torque (tests/dynamics/test_driver_torque.py) and its summary, the trapezoid rule on t_s
+    tau, w = z["driver_torque_N_m"], np.gradient(z["t_s"])
+    w[0], w[-1] = w[0] / 2, w[-1] / 2  # the trapezoid weights
+    assert d["driver_torque_mean_N_m"] == pytest.approx(np.sum(w * tau) / np.sum(w), rel=1e-9)  # rounding
+    assert d["driver_torque_rms_N_m"] == pytest.approx(np.sqrt(np.sum(w * tau**2) / np.sum(w)), rel=1e-9)
+    assert d["driver_torque_max_N_m"] == np.max(np.abs(tau)) > 0
     # every key of the three files is in its section of docs/results.md (tests/result_keys.py)
     for name in ("simulate.json", "simulate.npz", "simulate_joints.csv"):
         assert undocumented_keys(tmp_path / name) == [], name

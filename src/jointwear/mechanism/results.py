@@ -159,6 +159,10 @@ class SimulationResult:
     extra: dict = field(default_factory=dict)
     prismatic: list[str] = field(default_factory=list)  # the ideal joints that are prismatic
     _cart_fn: object = field(default=None, repr=False)  # () -> (q, qd, qdd), evaluated on first access
+    #: what driver_torque reads of the model (set by simulate): gravity, the free bodies' (mass, inertia, force x,
+    #: force y, torque) and the driven bodies' (mass, force x, force y, torque, pivot x, y, pivot point x, y in the
+    #: body frame, angle0, speed)
+    drive: dict | None = field(default=None, repr=False)
     _cart: tuple | None = field(default=None, repr=False)
 
     def _cartesian(self) -> tuple:
@@ -215,6 +219,44 @@ class SimulationResult:
         if joint in self.prismatic:
             pair[:, 1] *= -1.0  # its constraint row carries +n for body_j
         return pair
+
+    @property
+    def driver_torque(self) -> np.ndarray:
+        """(steps,) the torque the driver applies to the driven body about its pivot (the generalized force of the
+        driver constraint), N m, counter-clockwise positive, on every kernel.
+
+        From the power balance of the whole mechanism at each sample: tau omega is the rate of change of the free
+        bodies' kinetic energy, less the power of gravity and the applied loads on every body and of the clearance
+        joints' contact forces (-F_N d delta/dt + F_T v_t, their damping and friction included); the ideal joints do
+        no work, and a driven body turning at constant speed about a fixed pivot keeps its kinetic energy. A
+        ValueError where it is not defined: several driven bodies (one power, several torques), a driver at rest,
+        a worn profile's contact (``normal_tilt`` not 0), a result without the model's data."""
+        d = self.drive
+        if d is None:
+            raise ValueError("driver_torque needs the model's masses and loads: a result of simulate() has them")
+        if len(d["driven"]) != 1 or d["driven"][0][-1] == 0.0:
+            raise ValueError("driver_torque is defined for one driven body turning at a non-zero speed (this model "
+                             f"has {len(d['driven'])} driven bodies)")
+        if any(np.any(tr.normal_tilt != 0.0) for tr in self.joints):
+            raise ValueError("driver_torque is not derived for a worn profile's contact (normal_tilt not 0)")
+        g = np.asarray(d["gravity"], dtype=float)
+        qd, qdd = self.qd, self.qdd
+        power = np.zeros(self.t.size)
+        for i, (mass, inertia, fx, fy, torque) in enumerate(d["free"]):
+            v, a = qd[:, 3 * i: 3 * i + 2], qdd[:, 3 * i: 3 * i + 2]
+            omega, alpha = qd[:, 3 * i + 2], qdd[:, 3 * i + 2]
+            load = mass * g + (fx, fy)
+            power += mass * (a[:, 0] * v[:, 0] + a[:, 1] * v[:, 1]) + inertia * alpha * omega
+            power -= load[0] * v[:, 0] + load[1] * v[:, 1] + torque * omega
+        mass, fx, fy, torque, px, py, cx, cy, angle0, speed = d["driven"][0]
+        phi = angle0 + speed * self.t
+        c, s = np.cos(phi), np.sin(phi)
+        rx, ry = -(c * cx - s * cy), -(s * cx + c * cy)  # centre of mass - pivot, global frame
+        load = mass * g + (fx, fy)
+        power -= speed * (load[1] * rx - load[0] * ry) + torque * speed  # v_G = omega k x r
+        for tr in self.joints:
+            power -= -tr.force_normal * tr.penetration_rate + tr.force_tangential * tr.slip_speed
+        return power / speed
 
     @property
     def steps_per_cycle(self) -> float:

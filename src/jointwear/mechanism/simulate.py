@@ -399,5 +399,15 @@ def _package(model, geometry, cat, free_phi, joint_angles, cart, state_end, coun
         _cart_fn=cart, multipliers=cat["rec_lam"], joint_names=[j.name for j in model.joints],
         prismatic=[j.name for j in model.joints if j.kind == "prismatic"], joints=traces,
         state_end=state_end, n_steps=int(counters[1]), n_rejected=int(counters[2]), n_recorded_steps=t.size - 1,
-        n_cycles=n_cycles, settle_cycles=settle, period=period, wall_seconds=wall,
+        n_cycles=n_cycles, settle_cycles=settle, period=period, wall_seconds=wall, drive=_drive_data(model),
     )
+
+
+def _drive_data(model) -> dict:
+    """What SimulationResult.driver_torque reads of the model (plain numbers: the result pickles)."""
+    driven = []
+    for b in model.driven_bodies:
+        cx, cy = b.points[b.driver.point]
+        driven.append((b.mass, *b.force, b.torque, *b.driver.pivot, cx, cy, b.driver.angle0, b.driver.speed))
+    return {"gravity": tuple(model.gravity), "driven": driven,
+            "free": [(b.mass, b.inertia, *b.force, b.torque) for b in model.free_bodies]}

@@ -84,6 +84,9 @@ class SimulationSummary(StageResult):
     contact_force_max_N: float | None = None
     contact_fraction: float | None = None
     impacts_per_cycle: float | None = None
+    driver_torque_mean_N_m: float | None = None
+    driver_torque_rms_N_m: float | None = None
+    driver_torque_max_N_m: float | None = None
     series_file: str = "simulate.npz"
     provenance: dict = field(default_factory=dict)
     extra: dict = field(default_factory=dict, repr=False, metadata={"json": False})
@@ -126,6 +129,7 @@ class SimulationSummary(StageResult):
     def from_simulation(cls, res, name: str = "") -> SimulationSummary:
         from jointwear.contact.geometry import hertz_half_angle
         from jointwear.mechanism import whirl_measure
+        from jointwear.mechanism.simulate import trapezoid_weights
 
         total = res.n_cycles + res.settle_cycles
         joints = []
@@ -150,7 +154,15 @@ class SimulationSummary(StageResult):
                 "whirl": whirl,
             })
         first = joints[0] if joints else {}
-        return cls(
+        torque = _driver_torque(res)
+        if torque is not None:
+            w = trapezoid_weights(res.t)
+            torque_stats = {"driver_torque_mean_N_m": float(np.sum(w * torque) / np.sum(w)),
+                            "driver_torque_rms_N_m": float(np.sqrt(np.sum(w * torque**2) / np.sum(w))),
+                            "driver_torque_max_N_m": float(np.max(np.abs(torque)))}
+        else:
+            torque_stats = {}
+        return cls(**torque_stats,
             config=name, cycles=res.n_cycles, settle_cycles=res.settle_cycles, period_s=res.period,
             steps_per_cycle=res.steps_per_cycle,
             wall_seconds_per_cycle=res.wall_seconds / total if total else math.nan,
@@ -176,6 +188,9 @@ class SimulationSummary(StageResult):
             return self.write(folder)
         data: dict[str, np.ndarray] = {"t_s": res.t, "crank_angle_rad": res.crank_angle,
                                        "body_angles_rad": res.body_angles, "body_names": np.array(res.body_names)}
+        torque = _driver_torque(res)
+        if torque is not None:
+            data["driver_torque_N_m"] = torque
         for tr in res.joints:
             p = f"{tr.name}_"
             data[p + "eccentricity_bearing_frame_m"] = tr.eccentricity
@@ -233,6 +248,17 @@ class SimulationSummary(StageResult):
                              f"loaded from a folder that holds its {self.series_file}")
         with np.load(path) as data:
             return data[key if joint is None else f"{joint}_{key}"]
+
+
+def _driver_torque(res) -> np.ndarray | None:
+    """The driver's torque series of a simulation (SimulationResult.driver_torque), None where it has none (several
+    driven bodies, a worn profile); computed once per result."""
+    if "driver_torque" not in res.extra:
+        try:
+            res.extra["driver_torque"] = res.driver_torque
+        except ValueError:
+            res.extra["driver_torque"] = None
+    return res.extra["driver_torque"]
 
 
 # ------------------------------------------------------------------------------------------------------- wear
