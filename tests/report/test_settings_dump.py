@@ -140,6 +140,30 @@ def test_a_random_inputs_mean_beside_the_value_drawn_at_its_target():
     assert [n for n, v in rows.items() if "drawn" in mean_cell(v)] == ["E_j"]
 
 
+def test_a_truncated_inputs_own_moments_are_given_beside_its_parent_normals():
+    """The flapping wing's clearance was given as 2.0 um, std 0.97 um: its parent normal's, while the truncated normal
+    drawn (at 0.1 um) has 2.059 and 0.911 um. Exact: a normal truncated below at a = (lower - mu) / s has mean
+    mu + s lam and variance s^2 (1 + a lam - lam^2), lam = phi(a) / (1 - Phi(a)) (Johnson, Kotz & Balakrishnan)."""
+    import math
+
+    from scipy.stats import norm
+
+    from jointwear.config import load_config
+    from jointwear.report.settings import random_variables
+    from jointwear.report.study_sections import _distribution_cell
+
+    rows = {v["name"]: v for v in random_variables(load_config("jin2025_flapping_wing"))}
+    c = rows["c"]
+    mu, s = c["mean"], c["std"]
+    a = (c["lower"] - mu) / s
+    lam = norm.pdf(a) / norm.sf(a)
+    assert c["sampled_mean"] == pytest.approx(mu + s * lam, rel=1e-12)
+    assert c["sampled_std"] == pytest.approx(s * math.sqrt(1 + a * lam - lam**2), rel=1e-12)
+    assert (round(c["sampled_mean"], 3), round(c["sampled_std"], 3)) == (2.059, 0.911)  # the audit's values
+    assert (rows["l2"]["sampled_mean"], rows["l2"]["sampled_std"]) == (rows["l2"]["mean"], rows["l2"]["std"])
+    assert _distribution_cell(c).endswith("; sampled: mean 2.059, std 0.9106")
+
+
 class _Item(BaseModel):
     name: str
     width: float = Field(0.01, json_schema_extra={"unit": "m"})

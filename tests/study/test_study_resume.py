@@ -131,7 +131,8 @@ def test_validate_reuses_the_study_and_adds_only_its_samples(quick_config, refer
     assert val["reliability_surrogate"] == expected["curve"]["reliability"]  # read back, not re-learned
     # the learnt surrogate, replayed from the store, is read on the validation's samples too, and the line says so
     assert len(val["paired_reliability_surrogate"]) == len(val["cycles"])
-    assert "on the same samples the curve lies within its error estimate at " in done.stdout + done.stderr
+    assert "on the same samples the curve's difference from the true model lies inside its error estimate at " in (
+        done.stdout + done.stderr)
     # the replay keeps the study's own wall time in reliability.json (the report's card read the replay's 1.6 s)
     assert json.loads((out / "reliability.json").read_text())["wall_seconds"] == expected["wall_seconds"]
     assert (out / "validation.csv").is_file() and (out / "cross_validation.csv").is_file()
@@ -300,6 +301,32 @@ def test_a_learning_stopped_by_its_budget_is_told_with_its_error(quick_config, r
     assert confirming.startswith("the learning's stopping rule held but was not yet confirmed when it stopped "
                                  "(max_calls=14 reached while confirming")
     assert "raise reliability.max_calls and run again with --resume" in confirming
+
+
+def test_a_converged_learning_whose_whole_error_estimate_exceeds_its_tolerance_says_so(quick_config, reference_dir):
+    """'converged' was printed while the error estimate with the Kriging's posterior was 2.7 times the tolerance
+    (the rule reads ESC's part alone): told with where, how far, and what checks it; not where it is met."""
+    import numpy as np
+
+    from jointwear.study.results import ReliabilityCurve
+    from jointwear.study.stage_lines import posterior_error_line
+
+    settings = load_config(quick_config).reliability
+    res = ReliabilityCurve.load(reference_dir)
+    res.converged = True
+    counted = ~np.asarray(res.below_floor)
+    k = int(np.flatnonzero(counted)[0])
+    tolerance = max(settings.error_abs_tol, settings.error_tol * float(res.pf[k]))
+    res.pf_error_esc = np.full(len(res.cycles), 0.5 * settings.error_abs_tol)
+    res.pf_error = np.where(np.arange(len(res.cycles)) == k, 2.7 * tolerance, 0.5 * tolerance)
+    line = posterior_error_line(res, settings)
+    assert f"reaches {2.7 * tolerance:.3f} at {res.cycles[k]:,.0f} cycles, 2.7 times the tolerance there" in line
+    assert "`jointwear validate` checks against the true model" in line
+    res.pf_error = np.full(len(res.cycles), 0.9 * settings.error_abs_tol)  # met: nothing to tell
+    assert posterior_error_line(res, settings) == ""
+    res.converged = False  # the unconverged line tells the error instead
+    res.pf_error = np.full(len(res.cycles), 2.7 * tolerance)
+    assert posterior_error_line(res, settings) == ""
 
 
 def test_a_population_that_hit_n_mc_max_says_how_large_it_must_be(quick_config, reference_dir):

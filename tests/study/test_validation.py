@@ -259,6 +259,28 @@ def test_the_learnt_surrogate_on_the_same_samples_is_within_its_error_estimate(a
     assert back == val and back.paired_reliability_surrogate.dtype == float
 
 
+def test_the_paired_check_tells_inside_reaching_and_exceeding_the_error_estimate(analytic_study):
+    """'within its error estimate at 11 of 11 levels' was printed where the surrogate erred by up to 1.3 times its
+    estimate: an interval that merely reaches +- e is not refuted, not shown. Three degrees, and the largest ratio,
+    on made-up differences of known place (e = 0.01, the paired interval +- 0.005)."""
+    from dataclasses import replace
+
+    ctx, rel = analytic_study
+    val = run_validation(ctx, rel, 200)
+    n = len(val.cycles)
+    d = np.zeros(n)
+    d[0], d[1] = 0.012, -0.03  # reaches +-e (0.007 <= 0.01), exceeds it (-0.025 < -0.01)
+    made = replace(val, reliability_mc=np.full(n, 0.5), paired_reliability_surrogate=0.5 + d,
+                   paired_difference_low=d - 0.005, paired_difference_high=d + 0.005, surrogate_error=np.full(n, 0.01))
+    np.testing.assert_array_equal(made.paired_inside_error(), np.r_[False, False, np.ones(n - 2, bool)])
+    np.testing.assert_array_equal(made.paired_within_error(), np.r_[True, False, np.ones(n - 2, bool)])
+    np.testing.assert_allclose(made.paired_error_ratio(), np.abs(d) / 0.01)
+    assert made.paired_error_sentence() == (
+        f"on the same samples the curve's difference from the true model lies inside its error estimate at {n - 2} of "
+        f"{n} levels (its 95 % interval within +- the estimate), reaches it at 1 more, and exceeds it at 1; the "
+        f"largest is 3 times the estimate (at {val.cycles[1]:,.0f} cycles)")
+
+
 def test_a_validation_too_small_for_the_target_still_reads_the_levels_paired(analytic_study):
     """10 samples resolve R up to 0.69: the life at R = 0.9 is not tested (nor paired), the levels are."""
     ctx, rel = analytic_study

@@ -6,10 +6,12 @@ from __future__ import annotations
 import datetime as _dt
 import math
 from collections.abc import Mapping, Sequence
+from types import SimpleNamespace
 
 from jointwear.study.limit_state import life_status
 from jointwear.study.reliability_results import SurrogateFit, interval_cells, interval_text, signed_percent
 from jointwear.study.sensitivity import coordinate_shift_sentence
+from jointwear.study.stage_lines import posterior_error_line
 
 from . import figures as F
 from .alt_text import reliability_curve_alt, tornado_alt, validation_alt
@@ -557,10 +559,13 @@ def validation_section(out: StudyOutputs, figs: Figures) -> str:
     heads = ["cycles", "R, true model", "exact 95 % CI", "R, surrogate", "its 95 % half-width (error estimate)",
              "intervals overlap", "95 % test"]
     if val.paired:
-        heads += ["same samples: surrogate \u2212 true (95 %)", "within its error estimate"]
-        for row, d, lo, hi, ok in zip(rows, val.paired_difference(), val.paired_difference_low,
-                                      val.paired_difference_high, val.paired_within_error()):
-            row += [f"{d:+.3f} [{lo:+.3f}, {hi:+.3f}]", "yes" if ok else "NO"]
+        heads += ["same samples: surrogate \u2212 true (95 %)", "|difference| / error estimate"]
+        for row, d, lo, hi, ratio, inside, ok in zip(rows, val.paired_difference(), val.paired_difference_low,
+                                                     val.paired_difference_high, val.paired_error_ratio(),
+                                                     val.paired_inside_error(), val.paired_within_error()):
+            degree = "inside" if inside else "reaches it" if ok else "EXCEEDS it"
+            row += [f"{d:+.3f} [{lo:+.3f}, {hi:+.3f}]",
+                    f"{ratio:.2g} ({degree})" if math.isfinite(ratio) else degree]
     body = table(heads, rows)
     fig1 = figs.draw(lambda: F.validation_figure(val.cycles, val.reliability_mc, val.ci_low, val.ci_high,
                                                  val.reliability_surrogate, val.surrogate_half_width,
@@ -582,8 +587,10 @@ def validation_section(out: StudyOutputs, figs: Figures) -> str:
     if val.paired:
         lead += ("<p>The surrogate is also read on the same samples as the true model: their difference then holds "
                  "the surrogate's own error alone, as the noise of sampling the two share cancels (95 % bootstrap "
-                 "interval). A level is within its error estimate when that interval reaches within +- the "
-                 "surrogate's error estimate.</p>")
+                 "interval). Against the surrogate's own error estimate e at each level: <em>inside</em> when that "
+                 "interval lies within +-e (the estimate holds), <em>reaches it</em> when it only overlaps +-e (not "
+                 "refuted, not shown), <em>exceeds it</em> when it lies beyond (the surrogate errs by more than it "
+                 "says); the ratio is |difference| / e.</p>")
     if val.joints:
         n = len(val.cycles)
         banded = all("levels_agree" in j for j in val.joints)  # results written before the joints had a band
@@ -690,6 +697,12 @@ def validated_life_disagreement(val, rel) -> str | None:
             f"more error than its interval says (the validation's {val.n_samples:,} samples)")
 
 
+def _learning_rule(results) -> SimpleNamespace | None:
+    """The learning's stopping rule as config.json records it (None where it records none)."""
+    values = {k: results.setting(f"reliability.{k}") for k in ("stopping", "error_abs_tol", "error_tol")}
+    return None if None in values.values() else SimpleNamespace(**values)
+
+
 def summary_caveats(out: StudyOutputs) -> str:
     """The warnings of the sections below that bear on the summary's numbers, one line each with a link to its
     section (empty when there is none): a reader of the headline alone must not miss them."""
@@ -723,7 +736,11 @@ def summary_caveats(out: StudyOutputs) -> str:
                    else rel.learning_stop)
             items.append(("reliability", "The learning did not converge",
                           f"{why}; the curve and the life carry more error than the settings ask for (the R(N) "
-                          "band and the surrogate error of R say how much)"))
+                          "band and the surrogate error of R are the surrogate's own estimate of how much; "
+                          "<code>jointwear validate</code> measures it against the true model)"))
+        elif line := posterior_error_line(rel, _learning_rule(out.results)):
+            items.append(("reliability", "The whole error estimate exceeds the learning's tolerance",
+                          line.replace("`jointwear validate`", "<code>jointwear validate</code>")))
         items += [("reliability", title, s) for title, s in (("Failed model calls", rel.failed_calls_sentence()),
                                                              ("Joints worn away", rel.worn_away_sentence()),
                                                              (_fit_title(rel), rel.surrogate_fit_sentence()),

@@ -297,10 +297,11 @@ def settings_dump(config: Any, *sections: tuple[str, Any], preset: str | None = 
 
 def random_variables(config: Any) -> list[dict]:
     """The study's random inputs in report units: ``name``, ``label``, ``group``, ``distribution``, ``target``,
-    ``mean``, ``std``, ``cov`` (std / |mean|), ``lower``, ``upper``, ``unit`` and ``drawn`` (the value the config
-    draws at the target, which the nominal stages run; None where it cannot be read). The unit is the variable's own
-    display unit (``unit`` and ``scale``) when it gives one, else its target's, shown as the settings are (mm, MPa,
-    ...)."""
+    ``mean``, ``std``, ``cov`` (std / |mean|), ``lower``, ``upper``, ``unit``, ``drawn`` (the value the config
+    draws at the target, which the nominal stages run; None where it cannot be read), and ``sampled_mean``,
+    ``sampled_std`` (the moments of what is drawn: a truncated normal's mean and std are its parent normal's). The
+    unit is the variable's own display unit (``unit`` and ``scale``) when it gives one, else its target's, shown as
+    the settings are (mm, MPa, ...)."""
     from jointwear.uncertainty.targets import target_error, target_value
 
     unc = getattr(config, "uncertainty", None)
@@ -323,8 +324,19 @@ def random_variables(config: Any) -> list[dict]:
                      "std": conv(spec.std), "cov": spec.std / abs(spec.mean) if spec.mean else None,
                      "lower": conv(spec.lower), "upper": conv(spec.upper), "unit": unit or "",
                      "drawn": None if not data or target_error(data, spec.target) else conv(target_value(data,
-                                                                                                       spec.target))})
+                                                                                                       spec.target)),
+                     **sampled_moments(spec, conv)})
     return rows
+
+
+def sampled_moments(spec, conv) -> dict:
+    """``sampled_mean``, ``sampled_std`` of a variable as drawn, converted by ``conv``: a truncated normal's own (its
+    ``mean`` and ``std`` are its parent normal's: the flapping wing's clearance, 2 um and 0.97 um, is drawn with
+    2.06 um and 0.91 um), every other distribution's ``mean`` and ``std``."""
+    if spec.distribution != "truncated_normal":
+        return {"sampled_mean": conv(spec.mean), "sampled_std": conv(spec.std)}
+    drawn = spec.frozen()
+    return {"sampled_mean": conv(float(drawn.mean())), "sampled_std": conv(float(drawn.std()))}
 
 
 def _allowances(config: Any) -> dict:

@@ -65,15 +65,18 @@ def mean_cell(v: dict) -> str:
 
 
 def _distribution_cell(v: dict) -> str:
-    """'normal', or e.g. 'truncated normal, >= 0.1' (bounds in the row's unit)."""
+    """'normal', or e.g. 'truncated normal, >= 0.1; sampled: mean 2.059, std 0.9106' (bounds and a truncated normal's
+    own moments in the row's unit: its mean and std columns are its parent normal's)."""
     text = str(v["distribution"]).replace("_", " ")
     lower, upper = v.get("lower"), v.get("upper")
     if lower is not None and upper is not None:
-        return f"{text}, {format_number(lower)} to {format_number(upper)}"
-    if lower is not None:
-        return f"{text}, >= {format_number(lower)}"
-    if upper is not None:
-        return f"{text}, <= {format_number(upper)}"
+        text = f"{text}, {format_number(lower)} to {format_number(upper)}"
+    elif lower is not None:
+        text = f"{text}, >= {format_number(lower)}"
+    elif upper is not None:
+        text = f"{text}, <= {format_number(upper)}"
+    if v["distribution"] == "truncated_normal" and v.get("sampled_mean") is not None:
+        text += f"; sampled: mean {format_number(v['sampled_mean'])}, std {format_number(v['sampled_std'])}"
     return text
 
 

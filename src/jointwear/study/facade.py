@@ -66,6 +66,7 @@ from jointwear.study.stage_lines import (
     budget_line,
     force_line,
     learning_stop_line,
+    posterior_error_line,
     life_text,
     other_lives_line,
     posterior_tail_line,
@@ -622,6 +623,7 @@ class Study:
 
             missed = curve_misses_life(res, WearSummary.load_if_present(self.out))
             sentences = [learning_stop_line(res, self.config.reliability) if not res.converged else None,
+                         posterior_error_line(res, self.config.reliability),
                          res.failed_calls_sentence(), res.worn_away_sentence(), res.surrogate_fit_sentence(),
                          res.series_sentence(), missed and re.sub(r"</?code>", "", missed).rstrip("."),
                          posterior_tail_line(res, POSTERIOR_POINTS)]
@@ -714,9 +716,7 @@ class Study:
         if paired := result.paired_life_sentence() or result.unpaired_life_sentence():
             life += f"; {paired}"
         if result.paired:
-            within = result.paired_within_error()
-            life += (f"; on the same samples the curve lies within its error estimate at {int(within.sum())} of "
-                     f"{within.size} levels")
+            life += f"; {result.paired_error_sentence()}"
         joints = "".join(f", joint {j['name']} at {j['levels_agree']}" for j in result.joints if "levels_agree" in j)
         missed = result.disagreement()
         where = f" ({missed})" if missed else ""

@@ -3,6 +3,8 @@ the sensitivity's rankings."""
 
 from __future__ import annotations
 
+import numpy as np
+
 from jointwear.reliability import cov_population
 from jointwear.study.limit_state import OUTSIDE_CURVE
 from jointwear.study.reliability_results import ReliabilityCurve, SensitivityResult, interval_text
@@ -40,6 +42,26 @@ def learning_stop_line(res: ReliabilityCurve, settings) -> str:
     if res.stopped_while_confirming:
         return f"the learning's stopping rule held but was not yet confirmed when it stopped ({reason}){error}{advice}"
     return f"the learning stopped before its stopping rule was met ({reason}){error}{advice}"
+
+
+def posterior_error_line(res: ReliabilityCurve, settings) -> str:
+    """A learning that met its error rule while its error estimate with the Kriging's posterior exceeds the rule's
+    tolerance: the rule reads ESC's part alone (docs/reliability.md, "The surrogate's error of R(N)"), so
+    'converged' does not say the whole estimate met it; '' otherwise."""
+    if settings is None or not res.converged or settings.stopping != "error" or res.pf_error_esc is None:
+        return ""
+    worst = res.largest_error()
+    if worst is None:
+        return ""
+    k = int(np.flatnonzero(np.asarray(res.cycles, dtype=float) == worst[1])[0])
+    tolerance = max(settings.error_abs_tol, settings.error_tol * float(res.pf[k]))
+    if worst[0] <= tolerance:
+        return ""
+    return (f"the learning met its rule on ESC's error of R (tolerance {settings.error_abs_tol:g} in R or "
+            f"{settings.error_tol * 100:.3g} % of Pf), but its error estimate with the Kriging's posterior reaches "
+            f"{worst[0]:.3f} at {worst[1]:,.0f} cycles, {worst[0] / tolerance:.2g} times the tolerance there; the R(N) "
+            "band and the life's interval carry it, and both are the surrogate's own estimate, which `jointwear "
+            "validate` checks against the true model")
 
 
 def force_line(result: SimulationSummary) -> str:
