@@ -9,7 +9,13 @@ from collections.abc import Mapping, Sequence
 from types import SimpleNamespace
 
 from jointwear.study.limit_state import life_status
-from jointwear.study.reliability_results import SurrogateFit, interval_cells, interval_text, signed_percent
+from jointwear.study.reliability_results import (
+    SurrogateFit,
+    interval_cells,
+    interval_text,
+    scatter_sentence,
+    signed_percent,
+)
 from jointwear.study.sensitivity import coordinate_shift_sentence
 from jointwear.study.stage_lines import posterior_error_line
 
@@ -438,6 +444,8 @@ def ranking_meaning(sens, targets: Mapping[str, str] | None = None, mechanism: M
             "of its value: a change of the nominal design (for a toleranced length, many standard deviations of its "
             "tolerance), not of the variable's scatter. Which scatter drives the scatter of the wear is what the "
             "Sobol' indices tell." + by_variance)
+    if scatter := scatter_sentence(sens.sobol):
+        text += f" Beside them, {scatter}."
     if coordinates := coordinate_shift_sentence(dict(targets or {}), tuple(sens.factors),
                                                 dict(mechanism) if mechanism else None):
         text += f" Here {coordinates}."  # not capitalised: it begins with a variable's name (l_OA)

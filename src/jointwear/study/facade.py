@@ -656,7 +656,8 @@ class Study:
         variance, output = variance_line(sens), sens.sobol.get("output") or "wear"
         self.echo(f"sensitivity: ranking by R at each mean x {sens.factors[0]:g} and x {sens.factors[1]:g} (a change "
                   f"of the nominal design, not of its scatter): {ranking_line(sens)}"
-                  f"{f'; by total-effect Sobol index ST of the {output}: {variance}' if variance else ''}; "
+                  f"{f'; by total-effect Sobol index ST of the {output}: {variance}' if variance else ''}"
+                  f"{f' ({scatter})' if (scatter := sens.scatter_sentence()) and variance else ''}; "
                   f"{extra} extra model calls{reused_text(new, extra)} "
                   f"-> {self.out / sens.FILE}")
         targets = {s.name: s.target for s in self.config.uncertainty.all_specs()}

@@ -298,6 +298,18 @@ class WearSurrogates:
         u = self.iso.to_u(x)
         return np.column_stack([np.exp(s.predict(u, return_variance=False)[0]) for s in self.surrogates])
 
+    def scatter_share(self, x: np.ndarray, column: int = 0) -> float:
+        """Share of the wear's variance over the inputs ``x`` that its call-to-call scatter holds, which belongs to
+        no input: with q = exp(mu(x) + s eps) (s the Kriging's noise in ln q), E[q^2 | x] (e^{s^2} - 1) over the
+        total, Var(e^mu) + E[e^{2 mu}] (e^{s^2} - 1), in units of e^{s^2}; 0 for an interpolating fit. Sobol'
+        indices of the predicted wear e^mu share the rest."""
+        model = self.surrogates[column]
+        mu = model.predict(self.iso.to_u(x), return_variance=False)[0]
+        q = np.exp(mu - mu.mean())  # the share has no scale
+        scatter = float(np.mean(q**2) * np.expm1(model.noise_variance))
+        total = float(np.var(q)) + scatter
+        return scatter / total if total > 0.0 else 0.0
+
 
 def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> ReliabilityCurve:
     """R(N) over the curve's cycle counts from one shared AK-MCS design (paper Sections 5-6.2)."""

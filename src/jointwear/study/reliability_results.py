@@ -7,6 +7,7 @@ import math
 import numbers
 import warnings
 from collections import Counter
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, ClassVar
@@ -660,6 +661,18 @@ _RELIABILITY_KEYS = frozenset({
 
 
 # ------------------------------------------------------------------------------------------------ sensitivity
+def scatter_sentence(sobol: Mapping, floor: float = 0.005) -> str:
+    """'the wear's call-to-call scatter holds 7 % of its variance, which no input does: the indices are shares of the
+    rest (the surrogate's mean wear), a variable's share of the whole is its index x 0.93'; '' where the scatter's
+    share (``sobol['scatter_share']``, sensitivity.json) is below ``floor`` or not recorded."""
+    share = sobol.get("scatter_share")
+    if share is None or not share >= floor:
+        return ""
+    return (f"the wear's call-to-call scatter holds {100 * share:.0f} % of its variance, which no input does: the "
+            "indices are shares of the rest (the surrogate's mean wear), a variable's share of the whole is its "
+            f"index x {1.0 - share:.2g}")
+
+
 @dataclass(repr=False, eq=False)  # StageResult compares by value
 class SensitivityResult(StageResult):
     """How the reliability at ``cycles`` moves with each variable: mean shifts (``variables`` rows with
@@ -755,6 +768,10 @@ class SensitivityResult(StageResult):
         names, totals = self.sobol.get("names") or [], self.sobol.get("ST") or []
         ranked = [(str(n), float(st)) for n, st in zip(names, totals) if st is not None and float(st) >= floor]
         return sorted(ranked, key=lambda item: -item[1])
+
+    def scatter_sentence(self) -> str:
+        """:func:`scatter_sentence` of this result's Sobol' indices."""
+        return scatter_sentence(self.sobol)
 
     @classmethod
     def from_json(cls, data: dict) -> SensitivityResult:

@@ -25,6 +25,9 @@ from jointwear.study.results import ReliabilityCurve, SensitivityResult
 #: spread, so the smaller sample errs wide in expectation (on a noisy two-joint study: 0.95 of the curve's at its level)
 SHIFT_POSTERIOR_POINTS = 1000
 
+#: inputs on which the call-to-call scatter's share of the wear's variance is read (its sampling error ~ 1 %)
+SCATTER_SHARE_SAMPLES = 20_000
+
 #: a random variable's target that is a drawn point's coordinate (mechanism...points.D.y, ground_points.C.x)
 COORDINATE_TARGET = re.compile(r"(^|\.)(points|ground_points)\.[^.]+\.[xy]$")
 
@@ -352,8 +355,11 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
         wear_model = WearSurrogates(ctx, np.asarray(reliability.design_x), [sens_cycles], seed=rel.seed, joint=j)
         indices = sobol_indices(lambda x, m=wear_model: m.predict(x)[:, 0] * 1e3, ctx.marginals,
                                 ctx.names, n_base=sens.sobol_base_samples, seed=rel.seed)
+        # the indices' inputs drawn independently, as theirs are
+        independent = population(ctx.marginals, SCATTER_SHARE_SAMPLES, rel.seed)
         by_joint[joint] = {**indices.as_dict(), "joint": joint,
-                           "output": f"{ctx.limit_state.label} of joint {joint} at {sens_cycles:,} cycles"}
+                           "output": f"{ctx.limit_state.label} of joint {joint} at {sens_cycles:,} cycles",
+                           "scatter_share": wear_model.scatter_share(independent)}
     sobol = next(iter(by_joint.values()))  # the headline: the first judged joint's, as before
     # normal marginals: the score (exact, with the copula's C^-1); the others: central differences with common random
     # numbers on this population's failure probability, the perturbed column read on the surrogate as fail_nominal
