@@ -32,7 +32,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from pydantic import BaseModel, ValidationError, model_validator
+from pydantic import BaseModel, PrivateAttr, ValidationError, model_validator
 
 from jointwear.contact.settings import (
     ClearanceJointConfig,
@@ -134,6 +134,15 @@ class StudyConfig(SIModel):
         None, description="Cited results of the publication the study reproduces; the report compares with them "
         "only when given (jointwear.reference).")
     design: DesignSettings | None = F(None, description="Uncertainty control: controls, costs and targets (docs/design.md).")
+    # the preset, file or folder load_config read (None for a config built in Python): a validated config is read-only,
+    # so a Study given it runs what that source says and records the source as if given it
+    _origin: str | None = PrivateAttr(None)
+
+    @property
+    def origin(self) -> str | None:
+        """The preset name, TOML file, results folder or config.json :func:`load_config` read this config from; None
+        for a config built in Python (a mapping, or :func:`updated`'s changed copy)."""
+        return self._origin
 
     @model_validator(mode="before")
     @classmethod
@@ -896,11 +905,13 @@ def load_config(source: str | Path | None = None) -> StudyConfig:
                           f"(got {type(source).__name__})")
     written = Path(source) / "config.json"
     if written.is_file():  # a study's output folder
-        return _written_config(written)
-    if Path(source).suffix == ".json":
-        return _written_config(Path(source))
-    data, name = _resolve(source)
-    return config_from_dict(data, name)
+        config = _written_config(written)
+    elif Path(source).suffix == ".json":
+        config = _written_config(Path(source))
+    else:
+        config = config_from_dict(*_resolve(source))
+    config._origin = str(source)
+    return config
 
 
 def _written_config(path: Path) -> StudyConfig:

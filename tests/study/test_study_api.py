@@ -92,6 +92,26 @@ def test_a_config_from_python_is_not_labelled_a_preset(tmp_path):
     assert (preset["preset"], preset["source"]) == ("jin2025_flapping_wing", "preset")
 
 
+def test_a_config_loaded_from_a_file_or_preset_records_where_it_came_from(tmp_path):
+    """Study(load_config(file)) recorded its source as 'python', as a config built in Python; a validated config is
+    read-only, so it is that file's config, recorded as Study(file) records it. A changed copy (updated) is Python's."""
+    from pathlib import Path
+
+    from jointwear.config import load_config, updated
+
+    rig = str(Path(__file__).resolve().parents[1] / "wear" / "rigs" / "pendulum.toml")
+    assert load_config(rig).origin == rig and load_config(load_config(rig)).origin == rig
+    assert updated(load_config(rig), {"wear.block_cycles": 500}).origin is None
+    for given in (rig, "flores_slider_crank"):
+        assert repr(jointwear.Study(load_config(given), out=tmp_path)) == repr(jointwear.Study(given, out=tmp_path))
+    changed = jointwear.Study(updated(load_config(rig), {"wear.block_cycles": 500}), out=tmp_path)
+    assert changed.source is None
+    # what config.json records, as test_a_config_from_python_is_not_labelled_a_preset reads it
+    jointwear.Study(load_config("jin2025_flapping_wing"), out=tmp_path / "preset").simulate(cycles=1)
+    written = json.loads((tmp_path / "preset" / "config.json").read_text())
+    assert (written["preset"], written["source"]) == ("jin2025_flapping_wing", "preset")
+
+
 def test_a_folder_with_results_of_another_wear_model_is_warned(tmp_path):
     """A stage run into a folder that holds another model's results: the report would mix the two, so the stage
     moves them aside and says so; another budget (a learning setting) changes no result there and says nothing."""

@@ -153,10 +153,13 @@ class Study:
                                     else load_config(config))
         if isinstance(config, StudyConfig):  # what the config gave, not every value of its dump
             restore_given(self.config, {name for name, (_, given) in setting_values(config).items() if given})
-        self.source = config if isinstance(config, (str, Path)) else None
-        # a preset is named (or the default); a StudyConfig or a mapping comes from Python, not from a preset
-        self._preset = config is None or (isinstance(config, str) and not config.endswith(".toml")
-                                          and not Path(config).exists())
+        # a StudyConfig that load_config read is that source's config (it is read-only): recorded as if given it
+        self.source = (config if isinstance(config, (str, Path))
+                       else config.origin if isinstance(config, StudyConfig) else None)
+        # a preset is named (or the default); a mapping or a config built in Python is not a preset
+        named = config if isinstance(config, str) else self.source if isinstance(config, StudyConfig) else None
+        self._preset = config is None or (isinstance(named, str) and not named.endswith(".toml")
+                                          and not Path(named).exists())
         if isinstance(out, bytes) or not isinstance(out, (str, os.PathLike)) or not str(out):
             raise ConfigError(f"out: must be the output folder, a str or pathlib.Path (got {out!r})")
         self.out = Path(out)
