@@ -363,6 +363,27 @@ def test_a_clearance_that_is_a_large_share_of_the_journal_radius_is_warned(beari
         assert warnings[0] in config_warnings(loose)
 
 
+@pytest.mark.parametrize("rocker_mm, warned", [(8.5, True), (12.0, False)])
+def test_a_four_bar_whose_transmission_angle_leaves_30_to_150_deg_is_warned(rocker_mm, warned):
+    """A near-limit linkage ran without a word at peaks of 1.4 kN. Exact: the flapping wing's crank 6, rod 38 mm and
+    pivots 39.70 mm apart put the distance from crank pin to rocker pivot in [d - 6, d + 6]; with a rocker of 8.5 mm
+    the law of cosines gives 152.4 deg at d + 6 (warned), with the preset's 12 mm 60.3-123.3 deg (quiet)."""
+    import math
+
+    from jointwear.study.checks import transmission_range, transmission_warnings
+
+    cfg = updated(load_config(), {"mechanism.rocker.length_mm": rocker_mm})
+    d = math.hypot(11.5, 38.0)
+    angles = [math.degrees(math.acos((38.0**2 + rocker_mm**2 - ac**2) / (2 * 38.0 * rocker_mm)))
+              for ac in (d - 6, d + 6)]
+    assert transmission_range(cfg.mechanism) == pytest.approx((min(angles), max(angles)), rel=1e-9)
+    warnings = transmission_warnings(cfg)
+    assert bool(warnings) == warned
+    if warned:
+        assert warnings[0].startswith(f"mechanism: the transmission angle ranges over {min(angles):.3g}-"
+                                      f"{max(angles):.3g} deg") and max(angles) > 150
+
+
 def test_gravity_in_mm_per_s2_is_warned():
     from jointwear.study.checks import gravity_warnings
 
