@@ -242,3 +242,20 @@ def test_a_design_without_a_choice_rebuilds_the_report(base, tmp_path):
     assert any("lies beyond the study's R(N) curve" in line for line in lines), lines
     page = (folder / "report.html").read_text(encoding="utf-8")
     assert "No candidate reaches the target on the surrogate" in page
+
+
+def test_a_label_changed_moves_no_result_aside_but_the_one_that_records_it(tmp_path):
+    """A random input's label or a material's name changes what the report shows, not what any stage computes:
+    every result moved aside for it (to be read back from the store). The sensitivity, which records the labels it
+    drew its tornado with, goes; a value beside them still supersedes what depends on it."""
+    from jointwear.study.superseded import stale_stages
+
+    for name in ("simulate.json", "wear.json", "reliability.json", "sensitivity.json", "validation.json"):
+        (tmp_path / name).write_text("{}")
+    shown = ["uncertainty.variables[HB_b].label", "uncertainty.clearance.label",
+             "clearance_joints[A].bearing_material.name"]
+    assert stale_stages(tmp_path, shown) == ["sensitivity"]
+    assert stale_stages(tmp_path, shown + ["uncertainty.variables[HB_b].std"]) == [
+        "reliability", "sensitivity", "validation"]
+    assert stale_stages(tmp_path, ["clearance_joints[A].bearing_material.youngs_modulus"]) == [
+        "simulate", "wear", "reliability", "sensitivity", "validation"]

@@ -37,6 +37,10 @@ DEPENDS_ON: dict[str, tuple[str, ...]] = {
 }
 #: settings of a section a stage depends on that the stage does not read: the dynamics reads no wear property
 NOT_READ_BY: dict[str, re.Pattern] = {"simulate": re.compile(r"_material\.(wear_coefficient|hardness)$")}
+#: settings no stage computes with, only the report shows: a random input's label, a material's name (a renamed
+#: label moved every result aside, to be read back from the store); the sensitivity records the labels it drew with
+DISPLAY_ONLY = re.compile(r"^uncertainty\..*\.label$|_material\.name$")
+LABELS_RECORDED_BY = ("sensitivity",)
 # the figures each stage's save() draws (its JSON, tables and ``files`` are read off the result itself)
 _FIGURES: dict[str, tuple[str, ...]] = {
     "simulate": ("orbit_*.png", "force_*.png"),
@@ -97,7 +101,9 @@ def stale_stages(folder: Path, changed: list[str]) -> list[str]:
     """The stages with a result in ``folder`` that depend on a setting in ``changed``, in the order of the study."""
     def reads(stage: str, name: str) -> bool:
         ignored = NOT_READ_BY.get(stage)
-        return section(name) in DEPENDS_ON[stage] and not (ignored is not None and ignored.search(name))
+        shown_only = DISPLAY_ONLY.search(name) and stage not in LABELS_RECORDED_BY
+        return (section(name) in DEPENDS_ON[stage] and not shown_only
+                and not (ignored is not None and ignored.search(name)))
 
     return [stage for stage in DEPENDS_ON
             if any(reads(stage, name) for name in changed) and (Path(folder) / _result_type(stage).FILE).is_file()]
