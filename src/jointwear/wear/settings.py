@@ -142,7 +142,8 @@ class WearSettings(SIModel):
         le=MAX_WEAR_CYCLES,
         description=(
             "Block size of the 'fixed' rule. Default 10,000 (40 samples to 400k cycles): the run-to-run scatter of "
-            "the max wear at 400k cycles is about 3 % (8 runs each at rtol 1e-6 and 5e-7), and halving the block "
+            "the max wear at 400k cycles is about 4 % (3.9 %, 8 runs at the default rtol 5e-7: "
+            "benchmarks/results/wear.json 'convergence'), and halving the block "
             "changes the mean by less than the 2 % acceptance (benchmarks/wear.py, docs/wear.md). At most 10^9, "
             "the longest history (`MAX_WEAR_CYCLES`): a longer block would stand for cycles no history runs."
         ),
