@@ -144,6 +144,14 @@ class StudyConfig(SIModel):
         for a config built in Python (a mapping, or :func:`updated`'s changed copy)."""
         return self._origin
 
+    def __eq__(self, other: object) -> bool:
+        """Equal settings, wherever each was read from (pydantic's own comparison counts the origin too)."""
+        if not isinstance(other, StudyConfig):
+            return NotImplemented
+        return self.__dict__ == other.__dict__
+
+    __hash__ = None  # a config holds lists: not hashable, as pydantic's would not be
+
     @model_validator(mode="before")
     @classmethod
     def _variable_units(cls, data: Any) -> Any:

@@ -1002,8 +1002,9 @@ class ValidationResult(StageResult):
         return (self.paired_difference_low >= -error) & (self.paired_difference_high <= error)
 
     def paired_error_ratio(self) -> np.ndarray | None:
-        """|surrogate - true| on the same samples over the surrogate's error estimate, per level: above 1 the
-        surrogate errs by more than it says (nan where it gives no finite, positive estimate)."""
+        """The absolute difference of surrogate and true model on the same samples over the surrogate's error estimate,
+        per level: above 1 the surrogate errs by more than it says (nan where it gives no finite, positive
+        estimate)."""
         if not self.paired:
             return None
         error = np.asarray(self.surrogate_error, dtype=float)
