@@ -96,12 +96,15 @@ class ReliabilitySettings(SIModel):
         "(2 % on the flapping wing, 13 % on the six-bar; docs/wear.md); interpolating that scatter stalls the "
         "learning, and R(N) counts it as part of each mechanism's life (docs/reliability.md, 'A noisy model'; project "
         "choice). 'none' = DACE interpolation, as in the paper, with no scatter in R(N).")
-    trend: Literal["constant", "archard"] = Field(
+    trend: Literal["constant", "archard", "linear"] = Field(
         "constant",
         description="What the Kriging of ln N_f knows before it learns: 'constant' = ordinary Kriging (a constant "
         "trend, as in the paper); 'archard' = Archard's exact scaling of the life in the judged body's wear "
         "coefficient and hardness, -ln(k / k_mean) + ln(H / H_mean), where they are random and one joint is "
-        "judged, the Kriging learning the rest (docs/reliability.md, 'The learnt life's spread').")
+        "judged, the Kriging learning the rest; 'linear' = a linear trend in every input's normal score, fitted by "
+        "least squares on the design once it holds two points per coefficient, the Kriging learning the rest with "
+        "correlation lengths of at least 1 (so that the rest's scatter is read as noise) (docs/reliability.md, "
+        "'The learnt life's spread').")
     error_tol: float = Field(
         0.02, description="Relative Pf error tolerance of the 'error' stopping rule (project choice).")
     hold_iterations: int = Field(

@@ -124,6 +124,38 @@ def test_leave_one_out_is_the_refit_without_each_point(estimate_nugget):
 
 
 
+def test_a_linear_trend_is_fitted_by_least_squares_once_the_design_can_hold_it():
+    """linear_trend: the least-squares [a, b] of the design, then the Kriging of the rest. Exact on a linear response:
+    the trend is its coefficients and the prediction the response itself far outside the design (where a constant
+    trend reverts to its mean); below 2 points per coefficient no trend is fitted (the constant Kriging's answer)."""
+    from jointwear.reliability.kriging import LINEAR_TREND_POINTS_PER_TERM
+
+    rng = np.random.default_rng(5)
+    d = 3
+    coef = np.array([2.0, 0.5, -0.3, 0.0])
+
+    def linear(u):
+        return coef[0] + u @ coef[1:]
+
+    x = rng.uniform(-1.0, 1.0, (20, d))
+    k = KrigingSurrogate(seed=0, linear_trend=True).fit(x, linear(x))
+    far = np.array([[4.0, -4.0, 3.0], [-5.0, 2.0, 0.0]])
+    np.testing.assert_allclose(k.predict(far, return_variance=False)[0], linear(far), rtol=0, atol=1e-9)
+    constant = KrigingSurrogate(seed=0).fit(x, linear(x))
+    assert np.max(np.abs(constant.predict(far, return_variance=False)[0] - linear(far))) > 1e-3  # only approaches it
+    few = LINEAR_TREND_POINTS_PER_TERM * (d + 1) - 1
+    small = KrigingSurrogate(seed=0, linear_trend=True).fit(x[:few], linear(x[:few]))
+    plain = KrigingSurrogate(seed=0).fit(x[:few], linear(x[:few]))
+    np.testing.assert_array_equal(small.predict(far, return_variance=False)[0],
+                                  plain.predict(far, return_variance=False)[0])
+    # the leave-one-out and the posterior read the same trend (the mean of a posterior draw's spread is the mean)
+    noisy = linear(x) + 0.05 * rng.standard_normal(x.shape[0])
+    fit = KrigingSurrogate(seed=0, linear_trend=True, estimate_nugget=True, scale_bounds=(1.0, 100.0)).fit(x, noisy)
+    loo, _ = fit.leave_one_out()
+    assert np.sqrt(np.mean((loo - noisy) ** 2)) < 0.1  # the noise, not the trend's 1.1 spread
+    assert np.all(fit.hyperparameters.scale >= 1.0 - 1e-9)
+
+
 def test_estimated_noise_is_the_noise_added():
     # y = smooth + N(0, 0.2^2) at 200 points: the fit's noise SD must match 0.2 within 4 standard errors of an SD
     # estimated from 200 residuals (0.2 * 4 / sqrt(2 * 200) = 0.04); an interpolating fit would say ~0.

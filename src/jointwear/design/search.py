@@ -51,6 +51,7 @@ from jointwear.study.reliability import (
     POSTERIOR_POINTS,
     StudyContext,
     archard_trend_unused,
+    kriging_options,
     life_offset,
     life_scatter_sd,
     life_trend,
@@ -103,11 +104,11 @@ class LifeSurrogate:
         self.u_design = u[ok]
         self.lo, self.hi = self.u_design.min(axis=0), self.u_design.max(axis=0)
         if self.per_joint:
-            self.model = SeriesSurrogate(lives.shape[1], seed=self.seed, estimate_nugget=self.estimate_nugget).fit(
+            self.model = SeriesSurrogate(lives.shape[1], seed=self.seed, **kriging_options(self.ctx.config)).fit(
                 u[ok], lives[ok])
         else:
-            self.model = KrigingSurrogate(seed=self.seed, estimate_nugget=self.estimate_nugget,
-                                          offset=life_offset(self.ctx, self.iso)).fit(u[ok], y[ok])
+            self.model = KrigingSurrogate(seed=self.seed, offset=life_offset(self.ctx, self.iso),
+                                          **kriging_options(self.ctx.config)).fit(u[ok], y[ok])
 
     @property
     def per_joint(self) -> bool:
@@ -532,8 +533,7 @@ def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: C
         n_initial=n_initial, batch_size=rel.batch_size, u_threshold=rel.u_threshold,
         cov_target=rel.cov_target, pf_floor=rel.pf_floor, max_calls=max_calls,
         seed=rel.seed + 17 + seed, stopping=stopping, error_tol=rel.error_tol, hold_iterations=rel.hold_iterations,
-        error_abs_tol=rel.error_abs_tol, kriging={"estimate_nugget": rel.noise == "estimate"},
-        trend=life_trend(ctx))
+        error_abs_tol=rel.error_abs_tol, kriging=kriging_options(ctx.config), trend=life_trend(ctx))
     p_inf = space.infeasible_probability(cand)
     pf_feasible = float(np.asarray(eng.pf)[0])
     cov = float(np.asarray(eng.cov)[0])

@@ -24,6 +24,12 @@ The variance is the universal-Kriging (DACE) mean squared error, which accounts 
 
 Outputs are standardised (zero mean, unit variance) before fitting and mapped back on prediction, so limit
 states in any unit (metres of wear, pascals) fit the same way.
+
+With ``linear_trend`` the Kriging first takes a linear trend in the inputs, fitted by least squares on the design
+(two-stage: then treated as known, its coefficients' own uncertainty left out of the variance), and learns the
+rest: ``Y(u) = a + b^T u + beta + Z(u)``. A constant trend must bend to follow a response that keeps rising across
+the inputs, which it does as an S between an active-learning design's cluster and its far points
+(docs/reliability.md, "The learnt life's spread").
 """
 
 from __future__ import annotations
@@ -44,6 +50,12 @@ __all__ = ["KrigingHyperparameters", "KrigingSurrogate", "ShiftedSurrogate", "bl
 
 #: The large start of the relative nugget when it is estimated.
 NUGGET_START = 0.1
+
+#: Default bounds on the correlation lengths (standard-normal units); see ``KrigingSurrogate.scale_bounds``.
+SCALE_BOUNDS = (0.01, 100.0)
+
+#: A linear trend is fitted once the design holds this many points per coefficient (1 + d); before, the constant.
+LINEAR_TREND_POINTS_PER_TERM = 2
 
 
 def _optimizer():
@@ -183,6 +195,10 @@ class KrigingSurrogate:
         A known part of the response, a function of the inputs (m, d) -> (m,): the Kriging is fitted to the outputs
         less it and predicts it plus its own mean, ``Y(u) = offset(u) + beta + Z(u)`` (its variance unchanged). None:
         ordinary Kriging.
+    linear_trend:
+        Fit a linear trend in the inputs by least squares on the design (after ``offset``), once the design holds
+        ``LINEAR_TREND_POINTS_PER_TERM`` points per coefficient, and Krige the rest. Off by default (the paper's
+        ordinary Kriging).
     estimate_nugget, nugget_grid:
         For a noisy model: estimate the relative nugget (noise variance over process variance) by maximum
         likelihood jointly with the correlation lengths, within the range of ``nugget_grid`` and from a small and a
@@ -194,9 +210,10 @@ class KrigingSurrogate:
     nugget: float = 1e-10
     estimate_nugget: bool = False
     offset: Callable[[np.ndarray], np.ndarray] | None = None
+    linear_trend: bool = False
     nugget_grid: tuple[float, ...] = (1e-8, 1e-6, 1e-5, 1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0, 3.0,
                                       10.0)
-    scale_bounds: tuple[float, float] = (0.01, 100.0)
+    scale_bounds: tuple[float, float] = SCALE_BOUNDS
     n_starts: int = 2
     seed: int | None = 0
     chunk_size: int = 2048
@@ -207,6 +224,7 @@ class KrigingSurrogate:
     _x: np.ndarray | None = field(default=None, repr=False)
     _y: np.ndarray | None = field(default=None, repr=False)
     _fitted_y: np.ndarray | None = field(default=None, repr=False)  # the outputs less the offset
+    _trend: np.ndarray | None = field(default=None, repr=False)  # (1 + d,) least-squares [a, b] of linear_trend
     _nugget_found: dict = field(default_factory=dict, repr=False)
     _ymean: float = 0.0
     _ystd: float = 1.0
@@ -226,6 +244,10 @@ class KrigingSurrogate:
             raise ValueError("KrigingSurrogate.fit: training data must be finite")
         d = x.shape[1]
         self._x, self._y = x, y
+        self._trend = None
+        if self.linear_trend and x.shape[0] >= LINEAR_TREND_POINTS_PER_TERM * (d + 1):
+            basis = np.column_stack([np.ones(x.shape[0]), x])
+            self._trend = np.linalg.lstsq(basis, y - self._offset_at(x), rcond=None)[0]
         self._fitted_y = y - self._offset_at(x)
         self._ymean = float(np.mean(self._fitted_y))
         std = float(np.std(self._fitted_y))
@@ -258,10 +280,12 @@ class KrigingSurrogate:
         return self
 
     def _offset_at(self, u: np.ndarray) -> np.ndarray | float:
-        """The known part of the response at the points ``u`` (0 without an offset)."""
-        if self.offset is None:
-            return 0.0
-        return np.asarray(self.offset(u), dtype=float).reshape(-1)
+        """The part of the response the Kriging does not learn at the points ``u``: the offset, and the fitted linear
+        trend (0 without either)."""
+        known = 0.0 if self.offset is None else np.asarray(self.offset(u), dtype=float).reshape(-1)
+        if self._trend is None:
+            return known
+        return known + self._trend[0] + np.asarray(u, dtype=float) @ self._trend[1:]
 
     def _choose(self, x: np.ndarray, ys: np.ndarray, candidates: list[np.ndarray]
                 ) -> tuple[_Conditioned, np.ndarray, float]:

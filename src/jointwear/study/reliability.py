@@ -167,6 +167,26 @@ def archard_trend_unused(ctx: StudyContext) -> bool:
     return ctx.config.reliability.trend == "constant" and archard_trend_applies(ctx.config)
 
 
+#: the shortest correlation length (standard deviations of an input) a Kriging with a linear trend may fit where the
+#: noise is estimated: shorter, the likelihood reads the rest's scatter as signal and the nugget collapses (on the
+#: slider-crank preset's 80 points, noise sd 0.001 against the true model's 0.037; docs/reliability.md)
+LINEAR_TREND_MIN_LENGTH = 1.0
+
+
+def kriging_options(config) -> dict:
+    """The life Kriging's settings from ``reliability.noise`` and ``reliability.trend`` (``KrigingSurrogate``'s
+    keywords), the same for the study's learning, its replay, the validation and the design."""
+    from jointwear.reliability.kriging import SCALE_BOUNDS
+
+    rel = config.reliability
+    options: dict = {"estimate_nugget": rel.noise == "estimate"}
+    if rel.trend == "linear":
+        options["linear_trend"] = True
+        if rel.noise == "estimate":
+            options["scale_bounds"] = (LINEAR_TREND_MIN_LENGTH, SCALE_BOUNDS[1])
+    return options
+
+
 def life_trend(ctx: StudyContext) -> Callable[[np.ndarray], np.ndarray] | None:
     """The known part of ln N_f(x) the Kriging need not learn (``reliability.trend = "archard"``): Archard's exact
     scaling of the life in the judged body's wear coefficient k and hardness H, ln N_f = -ln(k / k_mean) + ln(H /
@@ -325,8 +345,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         evaluation=Evaluation(progress=progress), stopping=rel.stopping, error_tol=rel.error_tol,
         error_abs_tol=rel.error_abs_tol, hold_iterations=rel.hold_iterations,
         quantile_pf=[1.0 - t for t in rel.targets], quantile_tol=rel.life_tol or None,
-        kriging={"estimate_nugget": rel.noise == "estimate"}, keep_population=rel.noise == "none",
-        trend=life_trend(ctx))
+        kriging=kriging_options(ctx.config), keep_population=rel.noise == "none", trend=life_trend(ctx))
     cycles = np.asarray(ctx.cycles, dtype=float)
     # the curve is estimated between its levels too (no call), and the life read there: R(N) is curved between
     # levels, and a straight line between them moved the life by more than its interval on a coarse curve

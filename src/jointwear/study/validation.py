@@ -17,7 +17,7 @@ import numpy as np
 from scipy import stats
 
 from jointwear.study.limit_state import bounded_ends, curve_cycles, intervals_overlap, life_at
-from jointwear.study.reliability import StudyContext, life_offset, life_scatter_sd
+from jointwear.study.reliability import StudyContext, kriging_options, life_offset, life_scatter_sd
 from jointwear.study.reliability_results import SurrogateFit
 from jointwear.study.results import ReliabilityCurve, ValidationResult
 
@@ -50,17 +50,16 @@ def leave_one_out(ctx: StudyContext, reliability: ReliabilityCurve, seed: int) -
         full, shift = engine.response_surrogate, float(engine.levels[0])  # fitted to ln N_f - ln N_1
     else:
         u = ctx.iso().to_u(design_x)
-        estimate_nugget = ctx.config.reliability.noise == "estimate"
+        options = kriging_options(ctx.config)
         shift = 0.0
         if ctx.per_joint:
             lives = ctx.log_joint_lives(design_x)
-            full = SeriesSurrogate(lives.shape[1], seed=seed, estimate_nugget=estimate_nugget).fit(u, lives)
+            full = SeriesSurrogate(lives.shape[1], seed=seed, **options).fit(u, lives)
         else:
             with np.errstate(divide="ignore", invalid="ignore"):
                 y = np.log(ctx.life(design_x))
             ok = np.isfinite(y)
-            full = KrigingSurrogate(seed=seed, estimate_nugget=estimate_nugget, offset=life_offset(ctx)).fit(u[ok],
-                                                                                                           y[ok])
+            full = KrigingSurrogate(seed=seed, offset=life_offset(ctx), **options).fit(u[ok], y[ok])
     pred, var = full.leave_one_out()
     fit = SurrogateFit.of(full, loo=pred)
     y = full.training_outputs
