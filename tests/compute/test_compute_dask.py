@@ -173,6 +173,37 @@ def test_workers_with_another_jointwear_are_refused():
     assert f"{missing} cannot import jointwear" in message
 
 
+@pytest.mark.timeout(60)
+def test_a_worker_loaded_from_another_commit_of_the_same_version_is_refused():
+    """The check compared jointwear.__version__ alone: a worker started from an editable checkout before a `git pull`
+    passed it and ran the old code. It compares code_version(), the commit the worker loaded."""
+    import distributed
+
+    from jointwear.compute.store import code_version
+    from jointwear.schema import ConfigError
+
+    def older_commit():
+        import jointwear
+        import jointwear.compute.store as store
+
+        store.code_version = lambda with_git=True: f"{jointwear.__version__}+g0000000"
+
+    with start_local_cluster(n_workers=1, threads_per_worker=1, processes=True) as c:
+        with distributed.Client(c, set_as_default=False) as client:
+            (worker,) = client.scheduler_info()["workers"]
+            client.run(older_commit, workers=[worker])
+        with pytest.raises(ConfigError) as err:
+            DaskExecutor(c)
+    assert f"{worker} runs jointwear {jointwear_version()}+g0000000" in str(err.value)
+    assert code_version() in str(err.value)
+
+
+def jointwear_version() -> str:
+    import jointwear
+
+    return jointwear.__version__
+
+
 @pytest.mark.timeout(90)
 @pytest.mark.parametrize("late", ["other version", "no jointwear"])
 def test_a_worker_that_joins_later_with_another_jointwear_ends_the_study(tmp_path, late):

@@ -24,6 +24,8 @@ import sys
 from pathlib import Path
 from typing import Any, Callable
 
+from .store import code_version
+
 __all__ = [
     "ClusterError",
     "DaskExecutor",
@@ -393,12 +395,13 @@ def scheduler_not_answering(address: str, timeout: float = SCHEDULER_ANSWER_SECO
 
 
 def _jointwear_version() -> str | None:
-    """The jointwear version of the process it runs in (None: jointwear cannot be imported there)."""
+    """The jointwear of the process it runs in, with the commit of a checkout it runs from
+    (``jointwear.compute.store.code_version``; None: jointwear cannot be imported there)."""
     try:
-        import jointwear
+        from jointwear.compute.store import code_version
     except Exception:  # noqa: BLE001 - any failure to import means the same to the study
         return None
-    return getattr(jointwear, "__version__", None)
+    return code_version()
 
 
 # sent to the workers by value (as functions of __main__ are), so a worker without jointwear answers None instead of
@@ -471,7 +474,8 @@ def _version_problem(workers: dict[str, Any], mine: str) -> str | None:
     if not bad:
         return None
     return (f"Dask workers must run this study's jointwear {mine}: {'; '.join(bad)} (install jointwear {mine} on "
-            "the workers, or stop those workers)")
+            "the workers, from the same commit where it runs from a git checkout, and restart them; or stop those "
+            "workers)")
 
 
 def scheduler_argument_accepted(scheduler: Any) -> bool:
@@ -545,10 +549,9 @@ class DaskExecutor(_ExecutorBase):
     def _check_workers(self) -> None:
         """Refuse workers that run another jointwear (their results would join the store) or none (they die on the
         first call, and the study would wait for a worker forever)."""
-        from jointwear import __version__
         from jointwear.schema import ConfigError
 
-        problem = _version_problem(self.client.run(_jointwear_version, on_error="return"), __version__)
+        problem = _version_problem(self.client.run(_jointwear_version, on_error="return"), code_version())
         if problem:
             raise ConfigError(problem)
 
@@ -590,11 +593,10 @@ class DaskExecutor(_ExecutorBase):
         concurrent.futures', through this method)."""
         import cloudpickle
 
-        from jointwear import __version__
-
         self.check_alive()
         payload = cloudpickle.dumps((fn, args, kwargs))
-        return _relay(self._executor.submit(_call_if_same_jointwear, __version__, payload), __version__)
+        mine = code_version()
+        return _relay(self._executor.submit(_call_if_same_jointwear, mine, payload), mine)
 
     def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
         if self._shutdown:

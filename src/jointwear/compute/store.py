@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import contextlib
 import datetime as _dt
+import functools
 import hashlib
 import json
 import os
@@ -173,19 +174,21 @@ def code_version(with_git: bool = True) -> str:
     checkout = Path(__file__).resolve().parents[3]  # <checkout>/src/jointwear/compute
     if not (checkout / ".git").exists():  # an installed package: a surrounding repository is not its source
         return version
+    commit = source_commit(checkout)
+    return version if commit is None else f"{version}+g{commit}"
+
+
+@functools.cache
+def source_commit(checkout: Path) -> str | None:
+    """``git describe --always --dirty`` of ``checkout``, read once per process: the commit of the code this process
+    loaded (a checkout that moves later does not change what it runs), so a Dask worker started before a ``git pull``
+    is told from the client that ran it."""
     try:
-        out = subprocess.run(
-            ["git", "describe", "--always", "--dirty"],
-            cwd=checkout,
-            capture_output=True,
-            text=True,
-            timeout=5,
-        )
-        if out.returncode == 0 and out.stdout.strip():
-            return f"{version}+g{out.stdout.strip()}"
+        out = subprocess.run(["git", "describe", "--always", "--dirty"], cwd=checkout, capture_output=True,
+                             text=True, timeout=5)
     except (OSError, subprocess.SubprocessError):
-        pass
-    return version
+        return None
+    return out.stdout.strip() if out.returncode == 0 and out.stdout.strip() else None
 
 
 def _now() -> str:
