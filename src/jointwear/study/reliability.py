@@ -168,8 +168,8 @@ def archard_trend_unused(ctx: StudyContext) -> bool:
 
 
 #: the shortest correlation length (standard deviations of an input) a Kriging with a linear trend may fit where the
-#: noise is estimated: shorter, the likelihood reads the rest's scatter as signal and the nugget collapses (on the
-#: slider-crank preset's 80 points, noise sd 0.001 against the true model's 0.037; docs/reliability.md)
+#: noise is estimated: shorter, the likelihood reads the rest's scatter as signal and the nugget collapses (every
+#: trend refitted to the slider-crank preset's 80 points without this bound did; docs/reliability.md)
 LINEAR_TREND_MIN_LENGTH = 1.0
 
 
