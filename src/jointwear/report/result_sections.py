@@ -17,7 +17,7 @@ from jointwear.study.reliability_results import (
     signed_percent,
 )
 from jointwear.study.sensitivity import coordinate_shift_sentence
-from jointwear.study.stage_lines import posterior_error_line
+from jointwear.study.stage_lines import linear_trend_hint, posterior_error_line
 
 from . import figures as F
 from .alt_text import reliability_curve_alt, tornado_alt, validation_alt
@@ -773,13 +773,15 @@ def summary_caveats(out: StudyOutputs) -> str:
         items.append(("validation", "The curve passes the lenient check only",
                       f"its 95 % interval overlaps the true model's at every level, but "
                       f"{val.differences_at_95()}: the curve's error estimate there is smaller than its error"))
+    hint = linear_trend_hint(out.results.setting("reliability.trend"))
     if (life := validated_life_disagreement(val, rel)) is not None:
-        items.append(("validation", "The true model's life disagrees with the curve's", life))
+        items.append(("validation", "The true model's life disagrees with the curve's",
+                      life + (f"; {hint}" if hint else "")))
     elif (val is not None and rel is not None and (check := val.paired_life_allowed(rel.target))
           and check[2] == "beyond"):
         items.append(("validation", "The life errs by more than its interval says",
                       f"{val.paired_life_sentence(rel.target)}, beyond what the life's 95 % interval allows "
-                      f"({signed_percent(check[0])} to {signed_percent(check[1])})"))
+                      f"({signed_percent(check[0])} to {signed_percent(check[1])})" + (f"; {hint}" if hint else "")))
     rows = [f'<li><a href="#{e(sid)}"><strong>{e(title)}</strong></a>: {e(sentence.rstrip("."))}.</li>'
             for sid, title, sentence in items]
     missed = None if rel is None else curve_misses_life(rel, wear)  # markup already

@@ -67,6 +67,7 @@ from jointwear.study.stage_lines import (
     force_line,
     learning_stop_line,
     life_text,
+    linear_trend_hint,
     other_lives_line,
     posterior_error_line,
     posterior_tail_line,
@@ -735,7 +736,8 @@ class Study:
         if (check := result.paired_life_allowed()) is not None and check[2] == "beyond":
             self.warn(f"validate: {result.paired_life_sentence()}, beyond what the life's 95 % interval allows "
                       f"({signed_percent(check[0])} to {signed_percent(check[1])}): the life carries more error than "
-                      "its interval says (docs/reliability.md, \"The learnt life's spread\")")
+                      "its interval says (docs/reliability.md, \"The learnt life's spread\")"
+                      + (f"; {hint}" if (hint := linear_trend_hint(self.config.reliability.trend)) else ""))
         self._refresh_report()
         return result
 

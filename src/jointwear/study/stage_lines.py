@@ -64,6 +64,15 @@ def posterior_error_line(res: ReliabilityCurve, settings) -> str:
             "validate` checks against the true model")
 
 
+def linear_trend_hint(trend: str | None) -> str:
+    """The cure to name where a validation finds the learnt life beyond its interval: '' where the study already
+    learns with the linear trend (docs/reliability.md, "The learnt life's spread")."""
+    if trend == "linear":
+        return ""
+    return ("reliability.trend = \"linear\" (a linear trend under the Kriging, which a constant trend otherwise "
+            "bends around) took such an error away on the slider-crank and default presets")
+
+
 def force_line(result: SimulationSummary) -> str:
     """'6.843 N', or each joint's when there are several: 'A 6.676 N, E 1.02 N' (the headline is the first's)."""
     def newtons(value: float | None) -> str:
