@@ -70,7 +70,8 @@ def linear_trend_hint(trend: str | None) -> str:
     if trend == "linear":
         return ""
     return ("reliability.trend = \"linear\" (a linear trend under the Kriging, which a constant trend otherwise "
-            "bends around) took such an error away on the slider-crank and default presets")
+            "bends around) took such an error away on the slider-crank and default presets and halved it on the "
+            "six-bar")
 
 
 def force_line(result: SimulationSummary) -> str:
