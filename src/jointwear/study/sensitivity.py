@@ -351,12 +351,11 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
     table = mean_shift_table(reliability_of, ctx.marginals, ctx.names, ctx.labels, factors=tuple(sens.factors),
                              reliability_nominal=r_nominal)
     by_joint = {}
+    independent = population(ctx.marginals, SCATTER_SHARE_SAMPLES, rel.seed)  # drawn independently, as the indices'
     for j, joint in enumerate(ctx.limit_state.names):
         wear_model = WearSurrogates(ctx, np.asarray(reliability.design_x), [sens_cycles], seed=rel.seed, joint=j)
         indices = sobol_indices(lambda x, m=wear_model: m.predict(x)[:, 0] * 1e3, ctx.marginals,
                                 ctx.names, n_base=sens.sobol_base_samples, seed=rel.seed)
-        # the indices' inputs drawn independently, as theirs are
-        independent = population(ctx.marginals, SCATTER_SHARE_SAMPLES, rel.seed)
         by_joint[joint] = {**indices.as_dict(), "joint": joint,
                            "output": f"{ctx.limit_state.label} of joint {joint} at {sens_cycles:,} cycles",
                            "scatter_share": wear_model.scatter_share(independent)}

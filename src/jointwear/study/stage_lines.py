@@ -50,16 +50,17 @@ def posterior_error_line(res: ReliabilityCurve, settings) -> str:
     'converged' does not say the whole estimate met it; '' otherwise."""
     if settings is None or not res.converged or settings.stopping != "error" or res.pf_error_esc is None:
         return ""
-    worst = res.largest_error()
-    if worst is None:
-        return ""
-    k = int(np.flatnonzero(np.asarray(res.cycles, dtype=float) == worst[1])[0])
-    tolerance = max(settings.error_abs_tol, settings.error_tol * float(res.pf[k]))
-    if worst[0] <= tolerance:
+    # each level's tolerance as the rule reads it (absolute in R or relative to its Pf), over the counted levels
+    error = np.asarray(res.pf_error, dtype=float)
+    tolerance = np.maximum(settings.error_abs_tol, settings.error_tol * np.asarray(res.pf, dtype=float))
+    counted = np.isfinite(error) & ~np.asarray(res.below_floor, dtype=bool)
+    ratio = np.where(counted, error / tolerance, -np.inf)
+    k = int(np.argmax(ratio)) if ratio.size else 0
+    if not ratio.size or not ratio[k] > 1.0:
         return ""
     return (f"the learning met its rule on ESC's error of R (tolerance {settings.error_abs_tol:g} in R or "
             f"{settings.error_tol * 100:.3g} % of Pf), but its error estimate with the Kriging's posterior reaches "
-            f"{worst[0]:.3f} at {worst[1]:,.0f} cycles, {worst[0] / tolerance:.2g} times the tolerance there; the R(N) "
+            f"{error[k]:.3f} at {res.cycles[k]:,.0f} cycles, {ratio[k]:.2g} times the tolerance there; the R(N) "
             "band and the life's interval carry it, and both are the surrogate's own estimate, which `jointwear "
             "validate` checks against the true model")
 
