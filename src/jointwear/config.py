@@ -78,7 +78,7 @@ from jointwear.study_settings import (
     ReliabilitySettings,
     SensitivitySettings,
 )
-from jointwear.uncertainty.targets import CLEARANCE_SUFFIX, point_shift, set_clearance, set_target, target_error
+from jointwear.uncertainty.targets import CLEARANCE_SUFFIX, apply_targets, target_error
 from jointwear.uncertainty.variables import (
     ClearanceSpec,
     CorrelationSpec,
@@ -565,7 +565,9 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
         its closure tolerance widened by the move, as the study's samples are, so the point's joint partners stay
         where they are drawn and a crank pin moved out makes the crank longer with the rod as drawn) and a clearance
         joint's ``clearance`` (the bearing radius becomes the journal radius plus the value), with a unit suffix too
-        (``clearance_joints.B.clearance_um``).
+        (``clearance_joints.B.clearance_um``). These are set after the other changes and the clearances last
+        (uncertainty.targets.apply_targets, as for a sample), so a clearance and a journal radius give
+        R_i = R_j + c in either order.
     source : str
         Name of the config in messages.
 
@@ -586,7 +588,7 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
     if not isinstance(changes, Mapping):
         raise TypeError(f"updated: changes must be a mapping of dotted paths to values (got {type(changes).__name__})")
     data = config.model_dump()
-    moved = 0.0  # how far the changes move drawn points of a general linkage (widening its closure tolerance)
+    targets: list[tuple[str, float]] = []  # the changes with a random variable's kind of path, set after the others
     changed: dict[int, set[str]] = {}  # id of a table -> the fields the changes set in it
     fitted: list[dict] = []  # the clearance tables given a fit
     correlated: list[dict] = []  # the correlation table, when entries of it are given
@@ -598,12 +600,7 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
         target = _target_path(data, path, source) if _is_number(value) else None
         if target is not None:  # a random variable's kind of path, perhaps with a unit suffix
             target_path, suffix = target
-            value = to_si(value, suffix) if suffix else value
-            if target_path.endswith(CLEARANCE_SUFFIX):
-                set_clearance(data, target_path, float(value))
-            else:
-                moved += point_shift(data, target_path, float(value)) if _is_number(value) else 0.0
-                set_target(data, target_path, value)
+            targets.append((target_path, to_si(value, suffix) if suffix else value))
             continue
         node: Any = data
         walked: list[str] = []
@@ -639,8 +636,10 @@ def updated(config: StudyConfig, changes: Mapping[str, Any], source: str = "conf
         _drop_fit_sets(node, changed[id(node)])
     for node in correlated:
         _drop_correlation_entries(node, changed[id(node)])
-    if moved > 0.0 and data["mechanism"].get("type") == "general":
-        widen_closure(data["mechanism"], config.mechanism, moved)
+    for path, _ in targets:  # a later change may have replaced the table that held a target
+        if (problem := target_error(data, path)) is not None:
+            raise ConfigError(f"{source}: {problem}")
+    apply_targets(data, targets)
     result = config_from_dict(data, source)
     before = setting_values(config)
     restore_given(result, {name for name, (value, _) in setting_values(result).items()
@@ -656,17 +655,6 @@ def _same_setting(a: Any, b: Any) -> bool:
         return bool(a == b)
     except (TypeError, ValueError):
         return False
-
-
-def widen_closure(mech: dict[str, Any], drawn: Any, moved: float) -> None:
-    """Widen the closure tolerance of the raw general ``mech`` by ``moved`` (m) over the link size of the
-    ``drawn`` mechanism, so that a drawn point moved by a variation (or a sample) is assembled with its joint
-    partners where they are drawn: a crank's pin moved to make it 20 % longer keeps the rod as drawn, as the
-    sensitivity's shifted calls run it."""
-    from jointwear.mechanism.assembly import drawn_link_size  # the mechanism's modules load the kernels
-
-    size = drawn_link_size([b.points.values() for b in drawn.bodies])
-    mech["closure_tolerance"] = float(mech["closure_tolerance"]) + moved / size
 
 
 def _drop_fit_sets(table: dict[str, Any], keep: set[str]) -> None:

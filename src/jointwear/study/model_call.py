@@ -16,7 +16,7 @@ import numpy as np
 
 from jointwear.config import StudyConfig, config_from_dict
 from jointwear.schema import ConfigError
-from jointwear.uncertainty.targets import CLEARANCE_SUFFIX, point_shift, set_clearance, set_target, target_error
+from jointwear.uncertainty.targets import apply_targets, target_error
 
 
 def apply_sample(base: StudyConfig | dict, targets: Sequence[str], x: Sequence[float]) -> StudyConfig:
@@ -30,28 +30,14 @@ def apply_sample(base: StudyConfig | dict, targets: Sequence[str], x: Sequence[f
     Raises ConfigError when ``x`` and ``targets`` differ in length or the sample gives an invalid config (whether a
     general linkage assembles is checked when the model is built).
     """
-    from jointwear.mechanism.assembly import drawn_link_size
-
     if len(x) != len(targets):  # zip would drop the surplus silently
         raise ConfigError(f"uncertainty: a sample of {len(x)} values for {len(targets)} targets")
     data = base.model_dump() if isinstance(base, StudyConfig) else copy.deepcopy(base)
-    mech = data.get("mechanism") or {}
-    size = drawn_link_size([b["points"].values() for b in mech["bodies"]]) if mech.get("type") == "general" else None
-    derived = []
-    moved = 0.0
-    for path, value in zip(targets, x):
+    for path in targets:
         problem = target_error(data, path)
         if problem:
             raise ConfigError(f"uncertainty: target {problem}")
-        if path.endswith(CLEARANCE_SUFFIX):
-            derived.append((path, float(value)))
-        else:
-            moved += point_shift(data, path, float(value))
-            set_target(data, path, float(value))
-    for path, c in derived:
-        set_clearance(data, path, c)
-    if moved > 0.0 and size is not None:
-        mech["closure_tolerance"] += moved / size
+    apply_targets(data, zip(targets, x))
     return config_from_dict(data, source="sample")
 
 

@@ -11,6 +11,7 @@ The suffix ``.clearance`` on a clearance joint is a derived target: the bearing 
 from __future__ import annotations
 
 import difflib
+from collections.abc import Iterable
 from typing import Any
 
 CLEARANCE_SUFFIX = ".clearance"
@@ -134,3 +135,31 @@ def set_clearance(data: dict, path: str, clearance: float) -> None:
     """Derived target: bearing radius = journal radius + clearance."""
     node = _walk(data, path[: -len(CLEARANCE_SUFFIX)].split("."))
     node["bearing_radius"] = node["journal_radius"] + clearance
+
+
+def apply_targets(data: dict, assignments: Iterable[tuple[str, float]]) -> None:
+    """Set target values (SI) on the raw config ``data`` in place; the paths are taken as valid (target_error).
+
+    The plain targets are set in the order given, then the derived clearances (R_i = R_j + c), so that a journal
+    radius set with a clearance combines with it in either order. A general linkage's closure tolerance is then
+    widened once by the total move of its drawn points over its drawn link size (mechanism.assembly.drawn_link_size,
+    of the points before the move): the moved points are assembled with their joint partners where they are drawn,
+    so a crank's pin moved out makes the crank longer with the rod as drawn.
+    """
+    assignments = [(path, float(value)) for path, value in assignments]
+    plain = [(path, value) for path, value in assignments if not path.endswith(CLEARANCE_SUFFIX)]
+    mech = data.get("mechanism") or {}
+    size = None
+    if plain and mech.get("type") == "general":
+        from jointwear.mechanism.assembly import drawn_link_size  # the mechanism's modules load the kernels
+
+        size = drawn_link_size([b["points"].values() for b in mech["bodies"]])
+    moved = 0.0
+    for path, value in plain:
+        moved += point_shift(data, path, value)
+        set_target(data, path, value)
+    for path, value in assignments:
+        if path.endswith(CLEARANCE_SUFFIX):
+            set_clearance(data, path, value)
+    if moved > 0.0 and size is not None:
+        mech["closure_tolerance"] = float(mech["closure_tolerance"]) + moved / size
