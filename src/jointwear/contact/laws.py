@@ -41,7 +41,9 @@ FRICTION_CODES = {"none": 0, "ambrosio": 1}
 
 @njit(cache=True, inline="always")
 def contact_stiffness(hsum: float, r_i: float, r_j: float) -> float:
-    """Generalized stiffness K of a pin in a hole (internal contact), N/m^n."""
+    """Generalized stiffness K = 4 / (3 hsum) * sqrt(R_i R_j / (R_i - R_j)) (N/m^n) of a pin of radius R_j in a hole
+    of radius R_i, hsum = h_i + h_j (compliance); Lankarani & Nikravesh 1990, paper Eq. 17 as corrected in the
+    baseline reading. Compiled for the kernels, and called as it is from Python."""
     return 4.0 / (3.0 * hsum) * math.sqrt(r_i * r_j / (r_i - r_j))
 
 
@@ -81,7 +83,11 @@ def friction_coefficient(v: float, mu_d: float, mu_s: float, v_s: float, v_d: fl
     return mu_s * (2.0 * y * y * (3.0 - 2.0 * y) - 1.0)
 
 
+def compliance(youngs_modulus: float, poissons_ratio: float) -> float:
+    """Compliance h = (1 - nu^2) / E of a body's material (1/Pa), the term of K and of the Hertz half-width."""
+    return (1.0 - poissons_ratio**2) / youngs_modulus
+
+
 def contact_stiffness_py(e_i: float, nu_i: float, e_j: float, nu_j: float, r_i: float, r_j: float) -> float:
-    """K from materials and radii (Python helper)."""
-    hsum = (1.0 - nu_i**2) / e_i + (1.0 - nu_j**2) / e_j
-    return 4.0 / (3.0 * hsum) * math.sqrt(r_i * r_j / (r_i - r_j))
+    """K from materials and radii: contact_stiffness(compliance(E_i, nu_i) + compliance(E_j, nu_j), R_i, R_j)."""
+    return contact_stiffness(compliance(e_i, nu_i) + compliance(e_j, nu_j), r_i, r_j)

@@ -9,6 +9,7 @@ import math
 import numpy as np
 
 from jointwear.contact.geometry import ClearanceGeometry
+from jointwear.contact.laws import contact_stiffness
 from jointwear.mechanism.kernel import profile_at
 from jointwear.mechanism.model import MechanismModel
 from jointwear.mechanism.results import SimulationState
@@ -62,7 +63,7 @@ def initial_state(model: MechanismModel, t0: float = 0.0, preload: bool = True,
                     hj = profile_value(g.journal_wear, ang - body_angle(cj.journal_body))
                     clear += hb + hj
                     rb, rj = rb + hb, rj - hj
-                kst = 4.0 / (3.0 * spec.hsum) * np.sqrt(rb * rj / (rb - rj))
+                kst = contact_stiffness(spec.hsum, rb, rj)
             delta = (fmag / kst) ** (1.0 / spec.exponent)
             e = (clear + delta) * n
             c, s = np.cos(phib), np.sin(phib)

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from jointwear.contact.geometry import DEFAULT_N_GRID, ClearanceGeometry
-from jointwear.contact.laws import FRICTION_CODES, LAW_CODES
+from jointwear.contact.laws import FRICTION_CODES, LAW_CODES, contact_stiffness
 from jointwear.contact.settings import ClearanceJointConfig
 from jointwear.mechanism import kernel as K
 from jointwear.mechanism.settings import SimulationConfig
@@ -231,7 +231,7 @@ class MechanismModel:
             rj = g.journal_radius - 0.5 * g.clearance_growth
             cpar[k] = (*self.point(cj.bearing_body, cj.bearing_point), *self.point(cj.journal_body, cj.journal_point),
                        g.bearing_radius, g.journal_radius, g.clearance_growth, s.hsum,
-                       4.0 / (3.0 * s.hsum) * math.sqrt(rb * rj / (rb - rj)), s.exponent, s.restitution, s.v0_min,
+                       contact_stiffness(s.hsum, rb, rj), s.exponent, s.restitution, s.v0_min,
                        fr.mu_d, fr.mu_s, fr.v_s, fr.v_d)
             prof[k, 0, : g.bearing_wear.size] = g.bearing_wear
             prof[k, 1, : g.journal_wear.size] = g.journal_wear
