@@ -226,7 +226,7 @@ def test_check_of_a_results_folder_tells_the_defaults_its_config_json_records(tm
     folder's records say which were defaults: the same origins as checking the preset itself, a dash where they hold
     no record (the reference's values, the study's name)."""
     from jointwear.config import load_config
-    from jointwear.report.settings import settings_dump, write_dump
+    from jointwear.study.settings_record import settings_dump, write_dump
 
     write_dump(tmp_path, settings_dump(load_config("jin2025_flapping_wing"), preset="jin2025_flapping_wing"))
     assert main_entry(["check", "jin2025_flapping_wing"]) == 0

@@ -328,8 +328,8 @@ def check(config):
     """Check CONFIG whole (every section and cross-section rule, the nominal mechanism runs) and print every
     setting resolved, with its unit and where its value comes from: the config, or jointwear's default (and where
     that default comes from)."""
-    from jointwear.report.settings import listed_settings, origin
     from jointwear.study import Study
+    from jointwear.study.settings_record import listed_settings, origin
 
     study = Study(config, out=Path("."), echo=lambda line: None)  # its warnings are printed last, below
     found = study.check()

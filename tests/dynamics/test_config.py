@@ -309,7 +309,7 @@ def test_a_clearance_the_joint_sets_is_listed_as_set_by_it_and_follows_the_joint
     """`check` listed a clearance's nominal diameter and mean that the study took from its joint as 'the config', and
     an updated journal left the nominal diameter at the old pin's (the ISO 286 tolerances of another size)."""
     from jointwear.config import updated
-    from jointwear.report.settings import origin, settings_records
+    from jointwear.study.settings_record import origin, settings_records
 
     data = load_config().model_dump()
     for key in ("nominal_diameter", "mean"):

@@ -18,8 +18,8 @@ import numpy as np
 from scipy import stats
 
 from jointwear.config import load_config
-from jointwear.report.settings import write_settings
 from jointwear.study.results import ReliabilityCurve, SensitivityResult
+from jointwear.study.settings_record import write_settings
 
 PRESET = "jin2025_flapping_wing"
 ALL = ("simulate", "wear", "reliability", "sensitivity", "config")

@@ -368,7 +368,7 @@ def test_a_general_linkage_is_sketched_as_drawn(tmp_path):
     """A user's own linkage (examples/my_linkage.toml) gets its sketch from the drawing's global coordinates: the
     config.json summary carries every body's points in mm, and the report draws them instead of saying it cannot."""
     from jointwear.config import load_config
-    from jointwear.report.settings import settings_dump
+    from jointwear.study.settings_record import settings_dump
 
     root = Path(__file__).resolve().parents[2]
     toml = root / "examples" / "my_linkage.toml"
@@ -957,7 +957,7 @@ def test_the_mechanism_table_names_the_clearance_joint_as_the_results_do():
     """A clearance joint named 'Bpin' at the mechanism's joint B was 'B' in the mechanism table and 'Bpin' everywhere
     else; the presets, whose clearance joints carry their joint's name, show one name."""
     from jointwear.config import load_config, updated
-    from jointwear.report.settings import settings_dump
+    from jointwear.study.settings_record import settings_dump
 
     named = settings_dump(updated(load_config("flores_slider_crank"), {"clearance_joints.0.name": "Bpin"}))
     assert (named["mechanism"]["clearance_joint"], named["mechanism"]["clearance_joint_name"]) == ("B", "Bpin")
@@ -968,8 +968,8 @@ def test_the_clearance_joints_geometry_and_materials_stand_beside_the_mechanism(
     """A designer looked for the bushing's and the pin's materials and found them only in the list of every
     setting; the settings section now tables each clearance joint's bearing and journal."""
     from jointwear.config import load_config
-    from jointwear.report.settings import settings_records
     from jointwear.report.study_sections import clearance_joints_table
+    from jointwear.study.settings_record import settings_records
 
     page = full_report.read_text(encoding="utf-8")
     section = page[page.index("Clearance joints: geometry and materials"):]

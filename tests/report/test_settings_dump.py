@@ -8,7 +8,7 @@ import pytest
 from pydantic import BaseModel, Field
 
 from jointwear.report import build_report
-from jointwear.report.settings import is_paper_open, settings_dump, write_settings
+from jointwear.study.settings_record import is_paper_open, settings_dump, write_settings
 
 
 class _Inner(BaseModel):
@@ -104,7 +104,7 @@ def test_a_design_specification_is_listed_field_by_field_in_its_variables_unit()
     """`check` printed a material option's specifications as a raw SI dump ("{'HB_b': 'mean=1176840000.0 ...'}");
     each field is now a row, in the unit of its variable's target (a hardness in HB, as entered)."""
     from jointwear.config import load_config
-    from jointwear.report.settings import settings_records
+    from jointwear.study.settings_record import settings_records
 
     cfg = load_config()  # its [design] has a "hardened" class of HB_b: mean_HB = 390
     k = next(i for i, p in enumerate(cfg.design.properties) if p.variable == "HB_b")
@@ -131,8 +131,8 @@ def test_a_random_inputs_mean_beside_the_value_drawn_at_its_target():
     # the preset's E_j samples around Table 6's 210 GPa while the nominal mechanism runs Table 2's 211 GPa: a shift of
     # under 0.1 standard deviations, not warned, and the report's random inputs showed 210 with nothing beside it
     from jointwear.config import load_config
-    from jointwear.report.settings import random_variables
     from jointwear.report.study_sections import mean_cell
+    from jointwear.study.settings_record import random_variables
 
     rows = {v["name"]: v for v in random_variables(load_config("jin2025_flapping_wing"))}
     assert (rows["E_j"]["mean"], rows["E_j"]["drawn"], rows["E_j"]["unit"]) == (210.0, 211.0, "GPa")
@@ -149,8 +149,8 @@ def test_a_truncated_inputs_own_moments_are_given_beside_its_parent_normals():
     from scipy.stats import norm
 
     from jointwear.config import load_config
-    from jointwear.report.settings import random_variables
     from jointwear.report.study_sections import _distribution_cell
+    from jointwear.study.settings_record import random_variables
 
     rows = {v["name"]: v for v in random_variables(load_config("jin2025_flapping_wing"))}
     c = rows["c"]
@@ -176,7 +176,7 @@ class _Listed(BaseModel):
 def test_a_lists_items_are_named_as_config_errors_and_updated_name_them():
     """Each item by its name where it is unique and reads as one path step (as jointwear.config.updated reads a path
     and config errors write it); by its index where two share a name or it holds a '.', '[' or ']'."""
-    from jointwear.report.settings import settings_records
+    from jointwear.study.settings_record import settings_records
 
     names = ["A", "St 37.2", "B", "B", "7", "x]"]
     listed = _Listed(items=[_Item(name=n) for n in names])
@@ -191,7 +191,7 @@ def test_a_config_json_written_with_indices_reads_as_one_written_with_names(tmp_
     import re
 
     from jointwear.config import load_config, updated
-    from jointwear.report.settings import named_paths, write_dump
+    from jointwear.study.settings_record import named_paths, write_dump
     from jointwear.study.superseded import changed_settings
 
     cfg = load_config("watt_six_bar_two_clearances")
@@ -220,7 +220,7 @@ def test_a_reference_value_is_listed_in_its_quantitys_report_unit():
     angle in rad), 46440 (a life of 12.9 h in s). They are listed in mm, deg and h, as config.json's `reference`
     gives them; plain quantities (a reliability, a cycle count) stay plain."""
     from jointwear.config import load_config
-    from jointwear.report.settings import settings_records
+    from jointwear.study.settings_record import settings_records
 
     cfg = load_config()
     rows = {r["name"]: r for r in settings_records(cfg)}
@@ -240,8 +240,8 @@ def test_a_random_inputs_display_unit_sets_its_own_scale():
     # a designer wrote unit = "mm" / "HB" without scale (as the examples showed the pair): the random-inputs table
     # read '0.02 mm +- 3.5e-06 mm' for a 20 mm crank and '882,630,000 HB' for a bronze of 90 HB
     from jointwear.config import updated
-    from jointwear.report.settings import random_variables
     from jointwear.study.checks import config_warnings
+    from jointwear.study.settings_record import random_variables
 
     base = updated("examples/my_linkage.toml", {})
     assert {v.name: v.unit for v in base.uncertainty.variables if v.unit} == {"l_crank": "mm", "HB_b": "HB"}

@@ -236,8 +236,8 @@ def test_the_package_offers_its_lazily_imported_names_to_tab_completion():
 def test_a_folder_recorded_in_other_display_units_is_the_same_model(tmp_path):
     """A folder whose config.json shows the hardness in GPa (as older versions wrote it) was said to hold another
     wear model (changed: ...hardness) by a study that shows it in HB: the values are compared in SI now."""
-    from jointwear.report.settings import settings_dump, write_dump
     from jointwear.study.facade import _changed_settings
+    from jointwear.study.settings_record import settings_dump, write_dump
     from jointwear.units import PA_PER_HB
 
     cfg = load_config()
@@ -262,8 +262,8 @@ def test_a_resume_refused_for_another_model_lists_every_changed_setting(tmp_path
     from jointwear.cli import main_entry
     from jointwear.compute import EvaluationStore
     from jointwear.compute.store import CallRecord
-    from jointwear.report.settings import write_settings
     from jointwear.study.reliability import store_digest
+    from jointwear.study.settings_record import write_settings
 
     before = load_config()
     write_settings(tmp_path, before)  # as the interrupted study left them: its config beside a store with a call

@@ -14,8 +14,8 @@ from jointwear.config import load_config, updated
 from jointwear.design import build_controls
 from jointwear.design.checks import design_problems
 from jointwear.design.settings import DesignSettings, FitOption
-from jointwear.report.settings import origin, settings_records
 from jointwear.schema import ConfigError
+from jointwear.study.settings_record import origin, settings_records
 from jointwear.uncertainty.tolerances import iso_fit
 from jointwear.uncertainty.variables import ClearanceSpec
 

@@ -25,7 +25,7 @@ class StudyOutputs:
 
     @property
     def config(self) -> dict:
-        """The resolved settings the study wrote (``config.json``, see :mod:`jointwear.report.settings`); empty
+        """The resolved settings the study wrote (``config.json``, see :mod:`jointwear.study.settings_record`); empty
         when the folder has none."""
         return self.results.config or {}
 

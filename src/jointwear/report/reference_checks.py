@@ -12,8 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from jointwear.study.limit_state import nominal_lives
 from jointwear.study.results import ReliabilityCurve, SensitivityResult, StudyResults, WearSummary
+from jointwear.study.stage_lines import curve_misses_life_line
 
 from .markup import format_number
 
@@ -179,15 +179,10 @@ def _mean_max_wear(rel: ReliabilityCurve, levels) -> dict[float, float]:
     return out
 
 
-def _life_row(rel: ReliabilityCurve, target: float) -> dict | None:
-    """The life table's row of ``target`` (None when the table has none)."""
-    return next((r for r in rel.life_table if abs(float(r["target"]) - target) < 1e-12), None)
-
-
 def life_with_note(rel: ReliabilityCurve, target: float) -> tuple[float | None, str]:
     """The study's life at ``target`` (cycles) and a note on how it was read: from the life table, else
     interpolated on the curve; 'at most' when R is below the target at the curve's first level."""
-    row = _life_row(rel, target)
+    row = rel.life_row(target)
     life = None if row is None else row.get("cycles")
     note = ""
     if life is None and row is None:
@@ -203,35 +198,12 @@ def life_with_note(rel: ReliabilityCurve, target: float) -> tuple[float | None, 
 
 
 def curve_misses_life(rel: ReliabilityCurve, wear: WearSummary | None) -> str | None:
-    """Why and how to move an R(N) curve that does not contain the life at its headline target (the life table
-    says 'before_curve' or 'beyond_curve'), or None when it does. Where the judged quantity is the bearing's max
-    depth, the nominal design's own crossing of the allowance (its wear history; the first judged joint to cross
-    it) says where to put the curve."""
-    row = _life_row(rel, rel.target)
-    status = None if row is None else row.get("status")
-    if status not in ("before_curve", "beyond_curve") or rel.cycles.size == 0:
-        return None
-    if status == "before_curve":
-        text = (f"The life at R = {rel.target:g} lies before this curve: R = {rel.reliability[0]:.3f} already at "
-                f"its first level ({rel.cycles[0]:,.0f} cycles). Lower <code>reliability.cycles_start</code>")
-    else:
-        text = (f"The life at R = {rel.target:g} lies beyond this curve: R = {rel.reliability[-1]:.3f} still at "
-                f"its last level ({rel.cycles[-1]:,.0f} cycles). Raise <code>reliability.cycles_stop</code>")
-    judged = {str(j.get("name")): j.get("allowance_mm") for j in rel.joints}
-    lives = {} if wear is None or None in judged.values() else nominal_lives(wear.joints, judged, rel.quantity)
-    if rel.quantity == "bearing_max_depth" and judged and len(lives) == len(judged):
-        crossing = min(lives.values())
-        if crossing <= wear.cycles:  # inside the history: no extrapolation
-            text += (f"; the nominal design reaches its allowance after about {crossing:,.0f} cycles (its wear "
-                     "history), and the curve should hold that count")
-        else:
-            text += (f"; the nominal design stays below its allowance over its whole wear history "
-                     f"({wear.cycles:,.0f} cycles)")
-    return text + "."
+    """:func:`~jointwear.study.stage_lines.curve_misses_life_line` with its setting names as code."""
+    return curve_misses_life_line(rel, wear, code=lambda name: f"<code>{name}</code>")
 
 
 def _life_hours(rel: ReliabilityCurve, target: float) -> float | None:
-    row = _life_row(rel, target)
+    row = rel.life_row(target)
     if row is not None and row.get("hours") is not None:
         return float(row["hours"])
     life, _note = life_with_note(rel, target)

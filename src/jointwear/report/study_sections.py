@@ -9,6 +9,7 @@ import numpy as np
 
 from jointwear.study.convergence import half_width
 from jointwear.study.limit_state import nominal_lives
+from jointwear.study.settings_record import named_paths, origin
 from jointwear.study.superseded import SUPERSEDED
 from jointwear.wear.angles import angle_text
 
@@ -17,7 +18,6 @@ from .alt_text import wear_history_alt, wear_polar_alt
 from .markup import Figures, cards, e, format_number, missing, table
 from .read import StudyOutputs, joint_series
 from .reference_checks import reference_label, reference_of, reference_values, second_peak
-from .settings import named_paths, origin
 from .style import scale_to_unit
 
 __all__ = ["settings_section", "dynamics_section", "wear_section", "convergence_section", "allowance_mm",

@@ -314,7 +314,7 @@ def _row(res: StudyResults, label: str, target: float) -> dict:
 def _differences(loaded: list[StudyResults]) -> list[dict]:
     """The settings (config.json's resolved ``settings``) whose values differ, in the order the first study that
     has each lists them."""
-    from jointwear.report.settings import named_paths
+    from jointwear.study.settings_record import named_paths
 
     per_study = []
     for res in loaded:

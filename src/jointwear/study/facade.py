@@ -15,7 +15,6 @@ import logging
 import math
 import numbers
 import os
-import re
 import sqlite3
 import time
 import warnings
@@ -64,6 +63,7 @@ from jointwear.study.results import (
 )
 from jointwear.study.stage_lines import (
     budget_line,
+    curve_misses_life_line,
     force_line,
     learning_stop_line,
     life_text,
@@ -311,7 +311,7 @@ class Study:
         self._hold_folder()  # before the store is judged: a study starting beside this one finds no store yet
         if store_reuse is not None:
             self._refuse_store(store_reuse)
-        from jointwear.report.settings import settings_dump, write_dump
+        from jointwear.study.settings_record import settings_dump, write_dump
 
         source = "preset" if self._preset else "python" if self.source is None else str(self.source)
         ran = (self.config if self._compute_run is None
@@ -622,14 +622,13 @@ class Study:
             if uniform := res.uniform_range_sentence():
                 sentences.append(uniform)
         elif stage == "reliability":
-            from jointwear.report.reference_checks import curve_misses_life
             from jointwear.study.reliability import POSTERIOR_POINTS
 
-            missed = curve_misses_life(res, WearSummary.load_if_present(self.out))
+            missed = curve_misses_life_line(res, WearSummary.load_if_present(self.out))
             sentences = [learning_stop_line(res, self.config.reliability) if not res.converged else None,
                          posterior_error_line(res, self.config.reliability),
                          res.failed_calls_sentence(), res.worn_away_sentence(), res.surrogate_fit_sentence(),
-                         res.series_sentence(), missed and re.sub(r"</?code>", "", missed).rstrip("."),
+                         res.series_sentence(), missed and missed.rstrip("."),
                          posterior_tail_line(res, POSTERIOR_POINTS)]
         for sentence in sentences:
             if sentence:
@@ -843,7 +842,7 @@ class Study:
         from jointwear import compute
 
         if isinstance(exc, compute.ConfigChangedError):
-            from jointwear.report.settings import settings_dump
+            from jointwear.study.settings_record import settings_dump
 
             changed = _changed_settings(self.out, settings_dump(self.config)["settings"], of_calls=True)
             named = f" (changed: {', '.join(changed)})" if changed else (
@@ -1034,7 +1033,7 @@ class Study:
     def _warn_design_trust(self, chosen: dict) -> None:
         """What the choice rests on that the user must know before buying it: an extrapolated estimate, and
         uniform-mode wear outside its range (as the folder's wear stage found it)."""
-        from jointwear.report.design_section import EXTRAPOLATED_SHARE
+        from jointwear.design.results import EXTRAPOLATED_SHARE
 
         share = chosen.get("outside_design_fraction") or 0.0
         if share > EXTRAPOLATED_SHARE:

@@ -379,6 +379,11 @@ class ReliabilityCurve(StageResult):
                               f"(got {cycles!r})")
         return float(np.interp(cycles, n, r)), float(np.interp(cycles, n, half))
 
+    def life_row(self, target: float | None = None) -> dict | None:
+        """The life table's row of ``target`` (default: the first target); None when the table has none."""
+        target = self.target if target is None else float(target)
+        return next((r for r in self.life_table if abs(float(r["target"]) - target) < 1e-12), None)
+
     def life(self, target: float | None = None) -> float | None:
         """The life (cycles) at ``target`` (default: the first target): where R(N) falls to it, read on
         :attr:`life_curve` (:func:`~jointwear.study.limit_state.life_at`); None outside the curve, on the side

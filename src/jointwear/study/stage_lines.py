@@ -3,10 +3,12 @@ the sensitivity's rankings."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from jointwear.reliability import cov_population
-from jointwear.study.limit_state import OUTSIDE_CURVE
+from jointwear.study.limit_state import OUTSIDE_CURVE, nominal_lives
 from jointwear.study.reliability_results import ReliabilityCurve, SensitivityResult, interval_text
 from jointwear.study.results import SimulationSummary, WearSummary
 from jointwear.wear.angles import angle_text
@@ -73,6 +75,35 @@ def linear_trend_hint(trend: str | None) -> str:
     return ("reliability.trend = \"linear\" (a linear trend under the Kriging, which a constant trend otherwise "
             "bends around) took such an error away on the slider-crank and default presets and halved it on the "
             "six-bar")
+
+
+def curve_misses_life_line(rel: ReliabilityCurve, wear: WearSummary | None,
+                           code: Callable[[str], str] = str) -> str | None:
+    """Why and how to move an R(N) curve that does not contain the life at its headline target (the life table
+    says 'before_curve' or 'beyond_curve'), or None when it does. Where the judged quantity is the bearing's max
+    depth, the nominal design's own crossing of the allowance (its wear history; the first judged joint to cross
+    it) says where to put the curve. ``code`` marks a setting's name (the report's markup)."""
+    row = rel.life_row()
+    status = None if row is None else row.get("status")
+    if status not in ("before_curve", "beyond_curve") or rel.cycles.size == 0:
+        return None
+    if status == "before_curve":
+        text = (f"The life at R = {rel.target:g} lies before this curve: R = {rel.reliability[0]:.3f} already at "
+                f"its first level ({rel.cycles[0]:,.0f} cycles). Lower {code('reliability.cycles_start')}")
+    else:
+        text = (f"The life at R = {rel.target:g} lies beyond this curve: R = {rel.reliability[-1]:.3f} still at "
+                f"its last level ({rel.cycles[-1]:,.0f} cycles). Raise {code('reliability.cycles_stop')}")
+    judged = {str(j.get("name")): j.get("allowance_mm") for j in rel.joints}
+    lives = {} if wear is None or None in judged.values() else nominal_lives(wear.joints, judged, rel.quantity)
+    if rel.quantity == "bearing_max_depth" and judged and len(lives) == len(judged):
+        crossing = min(lives.values())
+        if crossing <= wear.cycles:  # inside the history: no extrapolation
+            text += (f"; the nominal design reaches its allowance after about {crossing:,.0f} cycles (its wear "
+                     "history), and the curve should hold that count")
+        else:
+            text += (f"; the nominal design stays below its allowance over its whole wear history "
+                     f"({wear.cycles:,.0f} cycles)")
+    return text + "."
 
 
 def force_line(result: SimulationSummary) -> str:

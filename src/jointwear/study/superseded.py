@@ -73,7 +73,7 @@ def changed_settings(folder: Path, settings: list[dict]) -> list[str] | None:
     """The settings (config.json records: ``name``, ``value``, ``unit``) whose values differ from those
     ``folder/config.json`` records, in the order of ``settings`` then the recorded ones; None when the folder records
     no config (or one that cannot be read)."""
-    from jointwear.report.settings import named_paths, recorded_settings
+    from jointwear.study.settings_record import named_paths, recorded_settings
 
     # list items by their names, also in a folder written when they went by their index
     recorded = recorded_settings(folder) if Path(folder).is_dir() else None

@@ -1,4 +1,5 @@
-"""The study's resolved settings as the report reads them: ``config.json`` in the output folder.
+"""The study's resolved settings as recorded in the output folder, ``config.json``: resume, staleness and the
+report read it.
 
 Contract (every key optional; the report lists whatever is there)::
 
