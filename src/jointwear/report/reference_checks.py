@@ -207,7 +207,7 @@ def _life_hours(rel: ReliabilityCurve, target: float) -> float | None:
     if row is not None and row.get("hours") is not None:
         return float(row["hours"])
     life, _note = life_with_note(rel, target)
-    return None if life is None or not rel.crank_speed_rpm else life / (rel.crank_speed_rpm * 60.0)
+    return rel.hours(life)
 
 
 def _swing(var: Mapping, nominal: float) -> float:

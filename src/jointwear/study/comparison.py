@@ -288,7 +288,7 @@ def _row(res: StudyResults, label: str, target: float) -> dict:
     rel = res.reliability
     life = rel.life(target)
     low, high = rel.life_interval(target)
-    hours = None if life is None or not rel.crank_speed_rpm else life / (rel.crank_speed_rpm * 60.0)
+    hours = rel.hours(life)
     wear = res.wear
     val = res.validation
     return {

@@ -379,6 +379,10 @@ class ReliabilityCurve(StageResult):
                               f"(got {cycles!r})")
         return float(np.interp(cycles, n, r)), float(np.interp(cycles, n, half))
 
+    def hours(self, cycles: float | None) -> float | None:
+        """``cycles`` of the crank as hours of running at :attr:`crank_speed_rpm`: N / (60 rpm); None without either."""
+        return None if cycles is None or not self.crank_speed_rpm else float(cycles) / (60.0 * self.crank_speed_rpm)
+
     def life_row(self, target: float | None = None) -> dict | None:
         """The life table's row of ``target`` (default: the first target); None when the table has none."""
         target = self.target if target is None else float(target)

@@ -3,6 +3,7 @@ the sensitivity's rankings."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import numpy as np
@@ -130,7 +131,7 @@ def profile_mode_line(result: WearSummary) -> str:
     """In profile mode, whether uniform mode would have been fair here (the conformity indicator, docs/wear.md "When
     uniform mode is fair"); '' in uniform mode, which warns when it is outside its range."""
     c = result.conformity
-    if result.geometry_mode != "profile" or c is None or not c == c:
+    if result.geometry_mode != "profile" or c is None or math.isnan(c):
         return ""
     if c > 1.0:
         return (f"profile mode follows the worn shape here (conformity {c:.3g} > 1: the journal fits into its own "
