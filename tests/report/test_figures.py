@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from matplotlib.projections.polar import PolarAxes
 
+from jointwear.reliability import Z95
 from jointwear.report import figures as F
 from jointwear.report.style import (
     COLORS,
@@ -160,7 +161,7 @@ def test_the_reliability_band_adds_the_surrogates_error_to_the_monte_carlo_half_
     mc = band(F.reliability_curve_figure(cyc, rel, pf_cov=cov))
     both = F.reliability_curve_figure(cyc, rel, pf_cov=cov, pf_error=[0.01, 0.03, 0.05])
     # the widest point is the last: R = 0.5 +- (1.96 x 0.02 x 0.5 + 0.05), clipped at neither end
-    assert band(both) == pytest.approx(2 * (1.96 * 0.02 * 0.5 + 0.05), rel=1e-9) and band(both) > mc
+    assert band(both) == pytest.approx(2 * (Z95 * 0.02 * 0.5 + 0.05), rel=1e-9) and band(both) > mc
     assert "95 % band (COV of Pf + surrogate error)" in [t.get_text() for t in both.axes[0].get_legend().get_texts()]
 
 

@@ -905,6 +905,7 @@ def test_the_validation_figure_draws_the_band_the_agreement_test_reads():
     # 1.96 COV Pf plus that estimate: 1.96 x 0.05 x 0.2 + 0.01 = 0.0296
     import numpy as np
 
+    from jointwear.reliability import Z95
     from jointwear.report import figures as F
     from jointwear.study.results import ValidationResult
 
@@ -912,7 +913,7 @@ def test_the_validation_figure_draws_the_band_the_agreement_test_reads():
                            ci_high=[0.96, 0.82], reliability_surrogate=[0.95, 0.8], surrogate_error=[0.005, 0.01],
                            surrogate_cov=np.array([0.1, 0.05]), n_samples=2000, model_calls=2000, wall_seconds=1.0,
                            agreement=[True, True])
-    assert val.surrogate_half_width == pytest.approx([1.96 * 0.1 * 0.05 + 0.005, 1.96 * 0.05 * 0.2 + 0.01])
+    assert val.surrogate_half_width == pytest.approx([Z95 * 0.1 * 0.05 + 0.005, Z95 * 0.05 * 0.2 + 0.01])
     fig = F.validation_figure(val.cycles, val.reliability_mc, val.ci_low, val.ci_high, val.reliability_surrogate,
                               val.surrogate_half_width, n_samples=val.n_samples)
     band = fig.axes[0].collections[0].get_paths()[0].vertices[:, 1]

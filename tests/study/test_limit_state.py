@@ -13,6 +13,7 @@ from analytic_wear import two_joint_six_bar as _six_bar
 
 from jointwear import compute
 from jointwear.config import config_from_dict, load_config
+from jointwear.reliability import Z95
 from jointwear.schema import ConfigError
 from jointwear.study import (
     LimitState,
@@ -273,10 +274,10 @@ def test_curve_half_width_adds_the_monte_carlo_and_the_surrogate_parts():
     pf = np.array([0.0, 0.1, 0.5])
     half = curve_half_width(pf, np.array([np.nan, 0.02, 0.01]), np.array([0.001, np.nan, 0.003]))
     # no COV where Pf = 0 and no error where none was estimated: each counts as 0
-    np.testing.assert_allclose(half, [0.001, 1.96 * 0.02 * 0.1, 1.96 * 0.01 * 0.5 + 0.003], rtol=1e-15)
+    np.testing.assert_allclose(half, [0.001, Z95 * 0.02 * 0.1, Z95 * 0.01 * 0.5 + 0.003], rtol=1e-15)
     # an unbounded error estimate leaves R anywhere in [0, 1]: a half-width of 1, not of 1.8e308
     assert curve_half_width(np.array([0.2]), np.array([0.01]), np.array([np.inf]))[0] == pytest.approx(
-        1.0 + 1.96 * 0.01 * 0.2, rel=1e-15)
+        1.0 + Z95 * 0.01 * 0.2, rel=1e-15)
 
 
 def test_the_life_is_read_between_the_levels_not_on_a_straight_line_between_them():

@@ -14,6 +14,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "wear"))
 from wear_synthetic import FakeModel, fake_simulate  # noqa: E402
 
 from jointwear.config import config_from_dict, load_config  # noqa: E402
+from jointwear.reliability import Z95  # noqa: E402
 from jointwear.study import ReliabilityCurve, ValidationResult, WearSummary, load_results  # noqa: E402
 from jointwear.study.io import file_labels, strict, write_csv, write_json  # noqa: E402
 from jointwear.study.reliability import study_context  # noqa: E402
@@ -160,8 +161,9 @@ def test_reliability_result_round_trip_and_tables(tmp_path):
     # the band R -/+ (1.96 COV Pf + error) is 0.99 -/+ 0.001 at 1e5 (the infinite COV counts as 0) and
     # 0.8 -/+ (1.96 x 0.02 x 0.2 + 0.01) = 0.8 -/+ 0.01784 at 2e5: it crosses 0.9 where linear interpolation puts it
     low, high = res.life_interval()
-    assert low == pytest.approx(1e5 + (0.989 - 0.9) / (0.989 - (0.8 - 0.01784)) * 1e5, rel=1e-12)
-    assert high == pytest.approx(1e5 + (0.991 - 0.9) / (0.991 - (0.8 + 0.01784)) * 1e5, rel=1e-12)
+    half = Z95 * 0.02 * 0.2 + 0.01
+    assert low == pytest.approx(1e5 + (0.989 - 0.9) / (0.989 - (0.8 - half)) * 1e5, rel=1e-12)
+    assert high == pytest.approx(1e5 + (0.991 - 0.9) / (0.991 - (0.8 + half)) * 1e5, rel=1e-12)
     assert back.to_json()["life_at_target"]["cycles_low"] == pytest.approx(low, rel=1e-15)
     # each input column named as a config key with its SI unit, a plain number bare
     assert (tmp_path / "design_points.csv").read_text().splitlines()[0] == "a_Pa,b,life_cycles"

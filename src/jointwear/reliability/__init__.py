@@ -22,6 +22,7 @@ from .kriging import KrigingSurrogate, ShiftedSurrogate, blas_threads
 from .learning import esc_absolute_error, esc_error, esc_errors
 from .methods import form, importance_sampling, monte_carlo, sorm, subset_simulation
 from .results import (
+    Z95,
     IterationRecord,
     MultiReliabilityResult,
     ReliabilityResult,
@@ -45,6 +46,7 @@ __all__ = [
     "ReliabilityResult",
     "SeriesSurrogate",
     "ShiftedSurrogate",
+    "Z95",
     "akis",
     "akmcs",
     "akmcs_multi",

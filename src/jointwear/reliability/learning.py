@@ -11,6 +11,8 @@ import numpy as np
 from scipy.cluster.vq import kmeans2
 from scipy.special import ndtr
 
+from .results import Z95
+
 __all__ = [
     "esc_absolute_error",
     "esc_error",
@@ -21,10 +23,7 @@ __all__ = [
     "u_function",
 ]
 
-_Z95 = 1.959963984540054
-
-
-def esc_error(u: np.ndarray, fail: np.ndarray, known: np.ndarray | None = None, z: float = _Z95) -> float:
+def esc_error(u: np.ndarray, fail: np.ndarray, known: np.ndarray | None = None, z: float = Z95) -> float:
     """Estimated maximum relative error of Pf from the surrogate's sign uncertainty (ESC criterion).
 
     ``u``: U values of the candidates; ``fail``: predicted failure flags; ``known``: candidates whose sign
@@ -34,7 +33,7 @@ def esc_error(u: np.ndarray, fail: np.ndarray, known: np.ndarray | None = None, 
 
 
 def esc_errors(u: np.ndarray, fail: np.ndarray, known: np.ndarray | None = None,
-               z: float = _Z95) -> tuple[float, float]:
+               z: float = Z95) -> tuple[float, float]:
     """The ESC estimates of Pf = mean(fail), (relative, absolute). Relative: max(n_fs / (n_f - n_fs),
     n_sf / (n_f + n_sf)) (Wang & Shafieezadeh 2019), +inf when the predicted failures n_f do not exceed the bound
     n_fs on those that are safe. Absolute: relative x n_f / n, and where the relative one is unbounded (a level
@@ -48,7 +47,7 @@ def esc_errors(u: np.ndarray, fail: np.ndarray, known: np.ndarray | None = None,
     return math.inf, max(n_fs, n_sf) / n
 
 
-def esc_absolute_error(mu: np.ndarray, sd: np.ndarray, z: float = _Z95) -> float:
+def esc_absolute_error(mu: np.ndarray, sd: np.ndarray, z: float = Z95) -> float:
     """Estimated maximum absolute error of Pf = P[mu <= 0] (and so of R) over a population from the surrogate's
     mean ``mu`` and standard deviation ``sd``: :func:`esc_errors`' absolute estimate, the form of the R(N) curve's
     error estimate."""

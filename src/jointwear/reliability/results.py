@@ -19,12 +19,17 @@ __all__ = [
     "IterationRecord",
     "MultiReliabilityResult",
     "ReliabilityResult",
+    "Z95",
     "cov_population",
     "mc_cov",
     "pf_to_beta",
     "population_size",
     "posterior_failure_spread",
 ]
+
+#: the two-sided 95 % quantile of the standard normal distribution, Phi^-1(0.975) (scipy.stats.norm.ppf(0.975)):
+#: the half-width of a 95 % interval in standard deviations
+Z95 = 1.959963984540054
 
 
 def pf_to_beta(pf: float | np.ndarray) -> float | np.ndarray:

@@ -10,6 +10,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 
+from jointwear.reliability.results import Z95
 from jointwear.study.limit_state import curve_half_width
 from jointwear.study.reliability_results import interval_text
 
@@ -231,7 +232,7 @@ def convergence_figure(
     fig, ax = figure()
     if cov is not None:
         c = require_array(cov)
-        half = 1.96 * np.where(np.isfinite(c), c, 0.0) * p  # no band where the COV is undefined (Pf = 0)
+        half = Z95 * np.where(np.isfinite(c), c, 0.0) * p  # no band where the COV is undefined (Pf = 0)
         ax.fill_between(calls, np.clip(p - half, 0, 1), np.clip(p + half, 0, 1), color=COLORS[0], alpha=0.2, lw=0,
                         label="95 % band (COV of Pf)")
     ax.plot(calls, p, color=COLORS[0], marker="o", ms=3.5, label=label or "Pf estimate")
@@ -380,7 +381,7 @@ def cross_validation_figure(
     lo, hi = (float(np.nanmin(np.r_[y, p])), float(np.nanmax(np.r_[y, p]))) if y.size else (0.0, 1.0)
     ax.plot([lo, hi], [lo, hi], color="0.5", lw=1, ls="--", label="exact")
     if loo_sd is not None:
-        ax.errorbar(y, p, yerr=1.96 * require_array(loo_sd), fmt="o", ms=4, color=COLORS[0], alpha=0.8, capsize=2,
+        ax.errorbar(y, p, yerr=Z95 * require_array(loo_sd), fmt="o", ms=4, color=COLORS[0], alpha=0.8, capsize=2,
                     label="leave-one-out prediction (95 %)")
     else:
         ax.plot(y, p, "o", ms=4, color=COLORS[0], label="leave-one-out prediction")

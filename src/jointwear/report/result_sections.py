@@ -8,6 +8,7 @@ import math
 from collections.abc import Mapping, Sequence
 from types import SimpleNamespace
 
+from jointwear.reliability.results import Z95
 from jointwear.study.limit_state import life_status
 from jointwear.study.reliability_results import (
     SurrogateFit,
@@ -411,7 +412,7 @@ def _elasticity_value(derivatives: Mapping, variable: Mapping) -> str:
     slope = derivatives["dpf_dmean"][k]
     error = variable.get("dR_dmean_error")
     if error is None or not math.isfinite(error):
-        error = 1.96 * derivatives["dpf_dmean_se"][k]
+        error = Z95 * derivatives["dpf_dmean_se"][k]
     if not slope:
         return text
     half = abs(value) * error / abs(slope)

@@ -33,6 +33,7 @@ import numpy as np
 from scipy import stats
 
 from jointwear.config import StudyConfig
+from jointwear.reliability.results import Z95
 from jointwear.schema import ConfigError
 from jointwear.study.io import provenance
 from jointwear.study.limit_state import limit_state_from_config
@@ -44,8 +45,6 @@ from jointwear.study.stage_result import StageResult
 DEFAULT_TOLERANCE = 0.02
 #: start-phase step between replicates (cycles of the first block's settling), as benchmarks/wear.py
 REPLICATE_PHASE_STEP = 0.05
-#: 95 % two-sided normal quantile: the change's interval with many replicates
-Z95 = 1.96
 
 REFINEMENT_NAMES = ("record_cycles", "settle_cycles", "block", "n_grid", "tolerance", "profile_smoothing_deg",
                     "profile_substep_cycles")
@@ -91,7 +90,7 @@ def refinements(config: StudyConfig, factor: float) -> list[Refinement]:
 
 def t95(dof: float) -> float:
     """The two-sided 95 % quantile of Student's t with ``dof`` degrees of freedom (1.96 as dof -> inf)."""
-    return float(stats.t.ppf(0.975, dof)) if math.isfinite(dof) else float(stats.norm.ppf(0.975))
+    return float(stats.t.ppf(0.975, dof)) if math.isfinite(dof) else Z95
 
 
 def welch_dof(std_a: float, n_a: int, std_b: float, n_b: int) -> float:

@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from jointwear.reliability.results import Z95
+
 QUANTITY_LABELS = {
     "bearing_max_depth": "max bearing wear depth",
     "journal_max_depth": "max journal wear depth",
@@ -240,7 +242,7 @@ def curve_half_width(pf, pf_cov, pf_error=None) -> np.ndarray:
     where Pf = 0). The band the report draws and the validation compares with."""
     pf = np.asarray(pf, dtype=float)
     cov = np.asarray(pf_cov, dtype=float)
-    half = 1.96 * np.where(np.isfinite(cov), cov, 0.0) * pf
+    half = Z95 * np.where(np.isfinite(cov), cov, 0.0) * pf
     if pf_error is not None:  # an unbounded estimate leaves R anywhere in [0, 1]
         half = half + np.nan_to_num(np.asarray(pf_error, dtype=float), posinf=1.0)
     return half

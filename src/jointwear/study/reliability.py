@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from jointwear.config import StudyConfig, target_display_unit
+from jointwear.reliability.results import Z95
 from jointwear.schema import ConfigError
 from jointwear.study.limit_state import (
     LimitState,
@@ -521,7 +522,7 @@ def _joint_breakdown(ctx: StudyContext, engine, design_x: np.ndarray, pop: np.nd
         pf, mc_sd = failure_mean_and_sd(pred[:, k], np.log(fine), float(taus[k]))
         posterior_sd = np.interp(fine, coarse, failure_spread(draws[k], np.log(coarse), float(taus[k])))
         r_fine = np.maximum(1.0 - pf, system_fine)
-        half_fine = 1.96 * (mc_sd + posterior_sd)
+        half_fine = Z95 * (mc_sd + posterior_sd)
         row["reliability"] = r_fine[at_levels].tolist()
         row["half_width_95"] = half_fine[at_levels].tolist()
         row["curve"] = {"reliability": r_fine.tolist(), "half_width_95": half_fine.tolist()}
@@ -574,12 +575,12 @@ def surrogate_pf_error(engine, u: np.ndarray, scatter_sd: float, seed: int, cycl
     counts instead of the levels (:func:`curve_cycles`), both parts interpolated between where they are known."""
     esc = np.asarray(engine.error_absolute, dtype=float)
     if cycles is None:
-        return np.fmax(esc, 1.96 * engine.posterior_pf_sd(u, scatter_sd, POSTERIOR_DRAWS, seed=seed))
+        return np.fmax(esc, Z95 * engine.posterior_pf_sd(u, scatter_sd, POSTERIOR_DRAWS, seed=seed))
     # the posterior's spread is smooth in N: drawn at POSTERIOR_SUBDIVISIONS points per interval, interpolated between
     cycles = np.asarray(cycles, dtype=float)
     coarse = curve_cycles(np.exp(engine.levels), POSTERIOR_SUBDIVISIONS)
     spread = engine.posterior_pf_sd(u, scatter_sd, POSTERIOR_DRAWS, seed=seed, thresholds=np.log(coarse))
-    return np.fmax(np.interp(cycles, np.exp(engine.levels), esc), 1.96 * np.interp(cycles, coarse, spread))
+    return np.fmax(np.interp(cycles, np.exp(engine.levels), esc), Z95 * np.interp(cycles, coarse, spread))
 
 
 def _curve_estimate(ctx: StudyContext, engine, thresholds: np.ndarray, at_levels: np.ndarray, n_mc: int,

@@ -9,7 +9,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from jointwear.reliability import esc_absolute_error, failure_probability
+from jointwear.reliability import Z95, esc_absolute_error, failure_probability
 from jointwear.study.reliability import (
     POSTERIOR_DRAWS,
     StudyContext,
@@ -148,7 +148,7 @@ def archard_check(ctx: StudyContext, i: int, shifted, exponent: int, pop: np.nda
     def accuracy(r: float, estimate: float) -> float:
         return max(estimate, rel.error_tol * (1.0 - r), rel.error_abs_tol)
 
-    noise = 1.96 * math.sqrt(2.0 * max(r_exact * (1.0 - r_exact), 1e-12) / pop.shape[0])
+    noise = Z95 * math.sqrt(2.0 * max(r_exact * (1.0 - r_exact), 1e-12) / pop.shape[0])
     tolerance = accuracy(r_surrogate, error) + accuracy(r_exact, error_archard) + noise
     return out | {"reliability_archard": r_exact, "difference": r_surrogate - r_exact, "error_surrogate": error,
                   "error_archard": error_archard, "tolerance": tolerance,
@@ -251,7 +251,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
         shifts = None if point_shifts is None else np.asarray(point_shifts)[:n_posterior]
         sd = engine.posterior_pf_sd(u[:n_posterior], scatter, POSTERIOR_DRAWS, seed=rel.seed + 23,
                                     thresholds=[log_levels[col] + log_shift], point_shifts=shifts)
-        return float(1.96 * sd[0])
+        return float(Z95 * sd[0])
 
     u_pop = iso.to_u(pop)
     margin_nominal_pop, margin_sd_nominal_pop = log_life_margin(u_pop)
@@ -341,7 +341,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
         ratio = 0.0
         if rho_sd > 0:
             ends = [float(1.0 - failure_at_level(u_pop, margin_nominal_pop, math.log(rho) + d).mean())
-                    for d in (-1.96 * rho_sd, 1.96 * rho_sd)]
+                    for d in (-Z95 * rho_sd, Z95 * rho_sd)]
             ratio = abs(ends[1] - ends[0]) / 2.0
         entry.update(reliability=r, wear_ratio=rho, wear_ratio_sd_log=rho_sd, error_surrogate=surrogate,
                      error_wear_ratio=ratio, error_estimate=math.hypot(surrogate, ratio))
@@ -410,7 +410,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
         return out
 
     slope_sd = posterior_slope_sd()
-    slope_error = 1.96 * np.hypot(deriv.dpf_dmean_se, np.nan_to_num(slope_sd))
+    slope_error = Z95 * np.hypot(deriv.dpf_dmean_se, np.nan_to_num(slope_sd))
     groups = {}
     specs = ctx.config.uncertainty.all_specs()
     for spec in specs:
