@@ -36,11 +36,17 @@ from jointwear.study.limit_state import (
 from jointwear.study.model_call import WORN_AWAY_WEAR, WearModelCall
 from jointwear.study.reliability_results import SurrogateFit
 from jointwear.study.results import ReliabilityCurve
+from jointwear.units import SUFFIXES
+
+
+def crank_speed_rpm(config: StudyConfig) -> float:
+    """The config's crank speed in rpm (its magnitude; the config holds rad/s)."""
+    return abs(float(config.mechanism.crank_speed)) / SUFFIXES["rpm"][0]
 
 
 def cycles_to_hours(cycles: float, config: StudyConfig) -> float:
-    """Operating hours of ``cycles`` crank revolutions at the config's crank speed."""
-    return cycles * (2.0 * math.pi / abs(float(config.mechanism.crank_speed))) / 3600.0
+    """Operating hours of ``cycles`` crank revolutions at the config's crank speed: N / (60 rpm)."""
+    return cycles / (60.0 * crank_speed_rpm(config))
 
 
 @dataclass
@@ -430,7 +436,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         design_wear_cycles=np.asarray(ctx.history_cycles, dtype=float),
         quantity=ctx.limit_state.quantity, joints=joints,
         # 12 digits: the rpm entered comes back through rad/s as 399.99999999999994
-        crank_speed_rpm=float(f"{abs(float(ctx.config.mechanism.crank_speed)) * 60 / (2 * math.pi):.12g}"),
+        crank_speed_rpm=float(f"{crank_speed_rpm(ctx.config):.12g}"),
         engine=engine, infeasible=infeasible, learning_stop="" if engine.converged else str(engine.message),
         surrogate_fit=SurrogateFit.of(engine.response_surrogate, archard_trend_hint=archard_trend_unused(ctx)),
         life_surrogate="per_joint" if ctx.per_joint else "system_life")
