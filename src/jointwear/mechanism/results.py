@@ -192,11 +192,6 @@ class SimulationResult:
         """(steps, 3 n) accelerations of the free bodies, in their order (m/s^2, rad/s^2)."""
         return self._cartesian()[2]
 
-    def body_pose(self, name: str) -> np.ndarray:
-        """(steps, 3) x, y, phi of a free body."""
-        i = self.free_body_names.index(name)
-        return self.q[:, 3 * i: 3 * i + 3]
-
     def body_acceleration(self, name: str) -> np.ndarray:
         """(steps, 3) x'', y'', phi'' of a free body."""
         i = self.free_body_names.index(name)

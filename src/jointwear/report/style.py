@@ -16,7 +16,7 @@ global state and there is nothing to leak if a figure is not closed. (If a figur
 
 The style itself is plain ``rcParams`` (:data:`RC`); every figure function is wrapped in :func:`styled`, which
 applies it through ``matplotlib.rc_context`` for the drawing only (a notebook user's own figures keep their
-style); :func:`apply_style` installs it globally for those who want it.
+style).
 """
 
 from __future__ import annotations
@@ -43,7 +43,6 @@ __all__ = [
     "DPI",
     "SIZES",
     "RC",
-    "apply_style",
     "styled",
     "figure",
     "savefig",
@@ -122,12 +121,6 @@ RC: dict[str, object] = {
     "axes.formatter.limits": (-4, 5),
     "mathtext.default": "regular",
 }
-
-
-def apply_style() -> None:
-    """Install the house style into matplotlib's global ``rcParams`` (for your own figures; jointwear's own
-    figures use :func:`styled` and leave the global settings alone)."""
-    matplotlib.rcParams.update(RC)
 
 
 def styled(draw):
