@@ -565,23 +565,9 @@ def rhs(t, y, dy, row, nb, winv, fext, dpar, jint, jpar, cint, cpar, prof, ngrid
 
 
 # ---------------------------------------------------------------------------------------------
-# Tree kernel (joint coordinates): a mechanism whose ideal joints, once the clearance joints are cut, form a forest of
-# revolute joints hanging from the ground or from driven bodies (the six-bar with clearance at A and E: the rocker
-# on C carrying the coupler on B and the link on D; the output on F). Its free bodies then have exactly one degree of
-# freedom each (the body's absolute angle) or three (a body held by clearance joints only: x, y, phi), the ideal joints
-# hold exactly, and there are no multipliers, no Baumgarte terms and no Schur complement: the equations of motion are
-# M(q) qdd = J^T (f - M_c c), with J the Jacobian of the bodies' Cartesian velocities and c their accelerations at
-# qdd = 0, over 1 coordinate per body instead of 3. Absolute angles (not relative ones) keep the coordinates those of
-# the Cartesian state (same values, same error scales, no growth with a driven parent's turns).
-# Tables (built by jointwear.mechanism.tree, one row per free body, parents first), passed in the slots of the
-# Cartesian kernel's tables: jint row (kind, body, parent code, first coordinate, length L of the path, the path: the
-# coordinates the body's velocity depends on, ancestors' first and its own angle last, ascending), jpar row
-# (parent-frame point of the joint, body-frame point of the joint); winv holds the masses M_c (not M^-1). The
-# Jacobian is stored by path (jt[3 b + c, i] = d v_bc / d qdot_path[i]), so that M and J^T f sum over the L^2 pairs
-# of each body's path instead of n^2 x 3 nb dense products (the six-bar: 8 pairs instead of 160).
-# simulate runs these equations through jointwear.mechanism.tree_codegen, which generates them for one linkage shape
-# (literal indices, locals, the mass matrix factorised leaves first); rhs_tree below is the general form, the
-# reference of that generated code.
+# Tree kernel (joint coordinates; docs/dynamics.md, "Tree kernel"): the ideal joints of a linkage cut at its clearance
+# joints form a forest hanging from the ground or driven bodies, so they hold exactly, with no multipliers. simulate
+# runs code generated per linkage shape (jointwear.mechanism.tree_codegen); rhs_tree is its general reference form.
 TREE_REVOLUTE = 0
 TREE_FLOATING = 1
 TREE_PRISMATIC = 2
@@ -753,7 +739,16 @@ def rhs_tree(t, dt, y, yb, dy, row, nb, mass, fext, dpar, jint, jpar, cint, cpar
              kin, cb, sb, cacc, jt, mm, gq, f, cout):
     """dy[row] = (qd, qdd) of the tree kernel at (t, y), the stage of a step from the base point (t - dt, yb) whose
     cos/sin are in cb, sb (tree_base). M(q) = J^T M_c J and the generalized forces J^T (f - M_c c) over the
-    coordinates, then M qdd = g by a dense L D L^T (one division per coordinate). Also fills cout."""
+    coordinates, then M qdd = g by a dense L D L^T (one division per coordinate). Also fills cout.
+
+    The coordinates are one absolute angle per body (a slide for a body on a prismatic joint; x, y, phi for a body
+    held by clearance joints only): those of the Cartesian state, with the same error scales. The tables (jointwear.mechanism.tree: one row per free body,
+    parents first) take the Cartesian kernel's slots: a jint row is (kind, body, parent code, first coordinate,
+    length L of the path, the path: the coordinates the body's velocity depends on, ascending, its own angle last),
+    a jpar row (parent-frame point of the joint, body-frame point of the joint), and ``mass`` (the slot of winv)
+    holds the masses M_c, not M^-1. The Jacobian is stored by path (jt[3 b + c, i] = d v_bc / d qdot_path[i]), so
+    that M and J^T f sum over the L^2 pairs of each body's path instead of dense products (the six-bar: 8 pairs
+    instead of 160)."""
     n = y.shape[0] // 2
     nd = dpar.shape[0]
     nq = 3 * nb

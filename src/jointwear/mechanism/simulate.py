@@ -39,9 +39,9 @@ def _atol_vector(model: MechanismModel, atol: float) -> np.ndarray:
 
 # Record buffers are reused between calls once nothing refers to them any more. A fresh buffer costs its first
 # touch: the allocator maps new zeroed pages for every large array, ~1 ms per simulated cycle against ~0.1 ms to
-# rewrite warm memory, a sixth of a flapping-wing cycle (same-process A/B of simulate(): 0.88x with the pool). A pooled set is free when only
-# the pool refers to its dict and arrays: results keep views of them (numpy views refer to their base array), so a
-# kept result is never overwritten. The lock makes the check-and-take atomic for the wear stage's lane threads.
+# rewrite warm memory, a sixth of a flapping-wing cycle. A pooled set is free when only the pool refers to its dict
+# and arrays: results keep views of them (numpy views refer to their base array), so a kept result is never
+# overwritten. The lock makes the check-and-take atomic for the wear stage's lane threads.
 _POOL_MIN_CAP = 1000  # rows; smaller sets are cheap to allocate
 _POOL_MAX_CAP = 100_000  # rows (~25 MB per set for the flapping wing): longer records are not kept
 _POOL_MAX_SETS = 8

@@ -136,8 +136,8 @@ def config_problems(config: StudyConfig, stages: frozenset[str] | set[str]) -> l
 
 
 #: a random variable's mean this many standard deviations from the drawn value is worth a warning: beyond rounding
-#: (the presets' one shift, the paper's E_j given to three figures, is 0.05 sigma). A 20 % change of a nominal wear
-#: coefficient (2 sigma) left R(N) the same under 3 sigma, the former threshold, without a word.
+#: (the presets' one shift, the paper's E_j given to three figures, is 0.05 sigma), and well below a change of the
+#: drawn value alone, which R(N) does not follow (a 20 % change of a nominal wear coefficient is 2 sigma).
 MEAN_SHIFT_WARNING_SIGMAS = 0.1
 
 

@@ -359,7 +359,7 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
         by_joint[joint] = {**indices.as_dict(), "joint": joint,
                            "output": f"{ctx.limit_state.label} of joint {joint} at {sens_cycles:,} cycles",
                            "scatter_share": wear_model.scatter_share(independent)}
-    sobol = next(iter(by_joint.values()))  # the headline: the first judged joint's, as before
+    sobol = next(iter(by_joint.values()))  # the headline indices: the first judged joint's
     # normal marginals: the score (exact, with the copula's C^-1); the others: central differences with common random
     # numbers on this population's failure probability, the perturbed column read on the surrogate as fail_nominal
     # is (a value beyond the population's own range of that column is read at its end: the surrogate knows the
