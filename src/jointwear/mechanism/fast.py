@@ -117,9 +117,9 @@ def to_cartesian(model: MechanismModel, lay: FastLayout, Y: np.ndarray, Ydd: np.
     A, B, Ad, Bd = Y[:, 0:2], Y[:, 2:4], Y[:, 4:6], Y[:, 6:8]
     C = np.asarray(lay.c_point)
     out = {}
-    for name, P, Pd, s_p, s_q, Q, Qd in (
-        (lay.rod, A, Ad, lay.s_rod_a, lay.s_rod_b, B, Bd),
-        (lay.rocker, np.broadcast_to(C, B.shape), np.zeros_like(B), lay.s_rock_c, lay.s_rock_b, B, Bd),
+    for name, P, Pd, s_p, Q, Qd in (
+        (lay.rod, A, Ad, lay.s_rod_a, B, Bd),
+        (lay.rocker, np.broadcast_to(C, B.shape), np.zeros_like(B), lay.s_rock_c, B, Bd),
     ):
         d = Q - P
         dd = Qd - Pd

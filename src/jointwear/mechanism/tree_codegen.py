@@ -209,7 +209,7 @@ def rhs_source(key: tuple) -> str:
         return ground if code == -1 else body[code]
 
     # generalized forces per free body, then the clearance contacts (as kernel.eval_contacts)
-    for r, row in enumerate(rows):
+    for row in rows:
         b = row[K.T_BODY]
         for c, k in enumerate(("fx", "fy", "fm")):
             e(f"b{b}_{k} = fext[{3 * b + c}]")
@@ -274,7 +274,7 @@ def rhs_source(key: tuple) -> str:
     # M = J^T M_c J and g = J^T (f - M_c c), summed over the bodies (rows) in order, structural zeros skipped
     gterms: dict[int, list[str]] = {i: [] for i in range(n)}
     mterms: dict[tuple, list[str]] = {}
-    for r, row in enumerate(rows):
+    for row in rows:
         b = row[K.T_BODY]
         p = f"b{b}_"
         J = body[b]["J"]

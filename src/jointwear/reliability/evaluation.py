@@ -152,7 +152,7 @@ class LimitStateCaller:
                 blocks.append((s, val, why))
         step = self.rows_per_task if self.executor is not None else 1
         shaped: dict[int, np.ndarray] = {}
-        for s, val, why in blocks:  # successful blocks first: they fix the output width in "auto" mode
+        for s, val, _ in blocks:  # successful blocks first: they fix the output width in "auto" mode
             if val is not None:
                 shaped[s] = self._shape_output(val, min(step, n - s))
         width = self.n_outputs

@@ -110,7 +110,7 @@ def mechanism_figure(
     pivot = np.asarray(pivot_mm, dtype=float)
     fig, ax = figure(size="square")
     o = np.zeros(2)
-    for k, phi in enumerate(np.linspace(0, 2 * np.pi, n_ghosts, endpoint=False)):
+    for phi in np.linspace(0, 2 * np.pi, n_ghosts, endpoint=False):
         a = crank_mm * np.array([np.cos(phi), np.sin(phi)])
         b = _four_bar_B(a, rod_mm, rocker_mm, pivot, branch)
         if b is None:
@@ -207,7 +207,7 @@ def linkage_figure(mech: Mapping) -> Figure:
         ax.plot(*pts.T, color=color, lw=3, zorder=3, label=body["name"],
                 **({"marker": "s", "ms": 16, "alpha": 0.6} if len(pts) == 1 else {}))
         ax.plot(*np.asarray(body["com_mm"], dtype=float), marker="+", ms=9, mew=1.5, color=color, zorder=4)
-    for name, p in mech.get("ground_mm", {}).items():
+    for p in mech.get("ground_mm", {}).values():
         ax.plot(*p, marker="^", ms=10, color="#333333", zorder=4)
     driven = set(mech.get("driven_joints", []))
     clearance = set(mech.get("clearance_joints", []))
@@ -371,7 +371,7 @@ def wear_polar_figure(
     if not pk and dmax > 0:
         i = int(np.argmax(depth))
         pk = [(float(ang[i]), dmax)]
-    for k, (a, d) in enumerate(pk[:3]):
+    for a, d in pk[:3]:
         ax.plot(np.deg2rad(a), r0 + exaggeration * d, "o", color=PAPER_COLOR, ms=5, zorder=5)
         ux, uy = -np.cos(np.deg2rad(a)), np.sin(np.deg2rad(a))  # outward direction on the page
         ax.annotate(f"{d:.4f} mm\nat {a:.0f}\u00b0", (np.deg2rad(a), r0 + exaggeration * d),
