@@ -10,7 +10,7 @@ from typing import Any, Literal
 
 from pydantic import field_validator, model_validator
 
-from jointwear.contact.laws import contact_stiffness_py
+from jointwear.contact.laws import compliance, contact_stiffness_py
 from jointwear.schema import F, SIModel
 from jointwear.units import fmt_mm
 
@@ -40,8 +40,8 @@ class MaterialConfig(SIModel):
 
     @property
     def h(self) -> float:
-        """Compliance (1 - nu^2) / E (1/Pa)."""
-        return (1.0 - self.poissons_ratio**2) / self.youngs_modulus
+        """Compliance (1 - nu^2) / E (1/Pa): :func:`jointwear.contact.laws.compliance`."""
+        return compliance(self.youngs_modulus, self.poissons_ratio)
 
 
 class FrictionConfig(SIModel):
