@@ -6,8 +6,8 @@ The default preset with its true wear model replaced by the analytic Archard-typ
 (13 inputs, an exact life per sample), its curve cut to 340k-480k cycles in steps of 40k. Per setting and seed
 (``reliability.seed``): the life at R = 0.9 with its 95 % interval, and R at every level with its band, against the
 exact values read off 4e6 fresh samples of the exact life (their own error is negligible beside the intervals). The
-settings: the defaults, ``reliability.error_abs_tol = 0.002``, ``reliability.life_tol = 0.002`` and
-``reliability.trend = "archard"``.
+settings: the defaults, ``reliability.error_abs_tol = 0.002``, ``reliability.life_tol = 0.002``,
+``reliability.trend = "archard"`` and ``reliability.trend = "linear"``.
 """
 
 from __future__ import annotations
@@ -29,7 +29,8 @@ OUT = Path(__file__).parent / "results" / "life_coverage.json"
 CURVE = {"reliability.cycles_start": 340_000, "reliability.cycles_stop": 480_000, "reliability.cycles_step": 40_000,
          "reliability.histogram_cycles": [380_000]}
 SETTINGS = {"defaults": {}, "error_abs_tol_0.002": {"reliability.error_abs_tol": 0.002},
-            "life_tol_0.002": {"reliability.life_tol": 0.002}, "trend_archard": {"reliability.trend": "archard"}}
+            "life_tol_0.002": {"reliability.life_tol": 0.002}, "trend_archard": {"reliability.trend": "archard"},
+            "trend_linear": {"reliability.trend": "linear"}}
 
 
 def one_study(changes: dict, seed: int) -> dict:
@@ -100,7 +101,7 @@ def main(argv=None) -> int:
         if a.only and name not in a.only:
             continue
         runs = [one_study(changes, seed) for seed in range(1, a.seeds + 1)]
-        out["settings"][name] = {"changes": changes, **summary(runs), "per_seed": runs,
+        out["settings"][name] = {"changes": changes, **summary(runs), "per_seed": runs, "machine": provenance(),
                                  "date_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}
         s = out["settings"][name]
         print(f"{name}: life held {s['life_held']}/{s['runs']} (95 % {s['coverage_95_interval'][0]:.2f}-"

@@ -128,11 +128,10 @@ class ReliabilitySettings(SIModel):
         "interpolated) over the curve's slope dR / d ln N there; until then the learning adds points at those two "
         "levels. For a model without call-to-call scatter, where the levels' rules alone read the life short: on the "
         "default preset with an analytic wear model whose exact life is known (benchmarks/life_coverage.py, 40 "
-        "seeds) the levels' rules stopped at a median 28 calls with the life at R = 0.9 0.45 % (+-0.07 %) short and "
-        "its 95 % interval holding the exact life in 34 of 40 seeds; with 0.002, 39 of 40, 0.09 % (+-0.02 %) short, "
+        "seeds) the levels' rules stopped at a median 28 calls with the life at R = 0.9 0.40 % (+-0.06 %) short and "
+        "its 95 % interval holding the exact life in 36 of 40 seeds; with 0.002, 39 of 40, 0.09 % (+-0.02 %) short, "
         "at a median 34 calls. Not the default: on the default study (the true, chaotic wear model) 0.002 spent the "
-        "whole budget of 80 calls without meeting the levels' rules (68 calls without it; both runs before the swept "
-        "deposit, docs/wear.md).")
+        "whole budget of 80 calls without meeting the levels' rules (docs/reliability.md).")
     cov_target: float = Field(0.05, description="Required COV of Pf at every N with Pf > pf_floor (paper: 0.05).")
     pf_floor: float = Field(1e-3, description="Levels with Pf below this need not meet the COV target.")
     max_calls: int = Field(80, description="Budget of true-model calls for the reliability analysis.")

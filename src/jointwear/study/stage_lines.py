@@ -73,9 +73,9 @@ def linear_trend_hint(trend: str | None) -> str:
     learns with the linear trend (docs/reliability.md, "The learnt life's spread")."""
     if trend == "linear":
         return ""
-    return ("reliability.trend = \"linear\" (a linear trend under the Kriging, which a constant trend otherwise "
-            "bends around) took such an error away on the slider-crank and default presets and halved it on the "
-            "six-bar")
+    return ("try reliability.trend = \"linear\" (a linear trend under the Kriging, which a constant trend otherwise "
+            "bends around) and validate again: it took such an error away on the slider-crank and default presets "
+            "and halved it on the six-bar, but not on every model")
 
 
 def curve_misses_life_line(rel: ReliabilityCurve, wear: WearSummary | None,
