@@ -222,3 +222,31 @@ def test_with_several_targets_the_design_names_the_cheapest_meeting_them_all(set
     assert every["cost"] >= min(cands[i].cost(controls) for i in both)
     res.save(tmp_path, figures=False)
     assert "<strong>The headline choice does not meet every target.</strong>" in design_section(tmp_path)
+
+
+def test_candidates_of_equal_cost_rank_by_fewest_changes_then_by_their_margin(setup):
+    """With every option at cost 0 the design chose the first candidate in enumeration order that met R*, changing
+    controls that bought nothing (a user's tie: three drawing changes where today's design met the target as well).
+    Ties now go to the fewest changes from today's design, then to the highest R(N*) minus its error."""
+    cfg, ctx, model, rel, controls, cands, exact = setup
+    free = copy.deepcopy(DESIGN)
+    free["tolerances"][0].update(grades=["IT11", "IT10", "IT9"], costs=[0.0, 0.0, 0.0])  # loosest first
+    free["fit"]["options"].reverse()  # today's fit (H7/g6) last
+    for option in free["fit"]["options"]:
+        option["cost"] = 0.0
+    for prop in free["properties"]:
+        for option in prop["classes"]:
+            option["cost"] = 0.0
+    free.update(refine_max_calls=0, verify=False)
+    res = run_design(ctx, rel, settings=analytic_config(free).design)
+    # today's design: the fit and the two properties match their first options; the study's l2 is no grade listed,
+    # so every l2 option is a change alike
+    today = {"fit": "H7/g6", "HB_b": "standard", "k_b": "standard"}
+    meeting = [r for r in res.candidates if r["reliability_at_target_life"] >= R_STAR]
+    changes = {id(r): sum(r["choices"][k] != v for k, v in today.items()) + 1 for r in meeting}
+    fewest = min(changes.values())
+    best = max((r for r in meeting if changes[id(r)] == fewest),
+               key=lambda r: r["reliability_at_target_life"] - r["reliability_error"])
+    assert res.chosen["choices"] == best["choices"]
+    first = meeting[0]["choices"]  # what enumeration order alone picked: a change of fit that bought nothing
+    assert first["fit"] == "H6/g5" and first["l2"] == "IT11" and best["choices"]["fit"] == "H7/g6"

@@ -165,20 +165,31 @@ def _distance(a, b) -> float:
     return float(np.max(np.where(same, 0.0, np.nan_to_num(rel, nan=np.inf))))
 
 
-def today_candidate(controls: list[Control], uncertainty: UncertaintySettings) -> tuple[Candidate | None, list[str]]:
-    """Today's design among the candidates: for every control, the option nearest the study's own distributions
-    within ``SAME_DISTRIBUTION_RTOL``. Returns (that candidate, []) or (None, the controls none of whose options
-    sets the study's distributions)."""
+def today_picks(controls: list[Control], uncertainty: UncertaintySettings) -> list[int | None]:
+    """For every control, the option nearest the study's own distributions within ``SAME_DISTRIBUTION_RTOL``
+    (None when no option is)."""
     study = {s.name: s.frozen() for s in uncertainty.all_specs()}
     study.update({c.name: c.feasible() for c in uncertainty.clearances()})
-    picks, unmatched = [], []
+    picks = []
     for control in controls:
         distance = [max(_distance(d, study[v]) for v, d in o.marginals.items()) for o in control.options]
         best = int(np.argmin(distance))
-        if distance[best] > SAME_DISTRIBUTION_RTOL:
-            unmatched.append(control.name)
-        picks.append(best)
+        picks.append(best if distance[best] <= SAME_DISTRIBUTION_RTOL else None)
+    return picks
+
+
+def today_candidate(controls: list[Control], uncertainty: UncertaintySettings) -> tuple[Candidate | None, list[str]]:
+    """Today's design among the candidates (:func:`today_picks`). Returns (that candidate, []) or (None, the controls
+    none of whose options sets the study's distributions)."""
+    picks = today_picks(controls, uncertainty)
+    unmatched = [c.name for c, p in zip(controls, picks) if p is None]
     return (None, unmatched) if unmatched else (Candidate(tuple(picks)), [])
+
+
+def changes_from(cand: Candidate, picks: list[int | None]) -> int:
+    """How many controls ``cand`` sets otherwise than ``picks`` (today's; a control today's design matches no option
+    of counts as a change for every candidate)."""
+    return sum(p != t for p, t in zip(cand.picks, picks))
 
 
 def enumerate_candidates(controls: list[Control]) -> Iterator[Candidate]:

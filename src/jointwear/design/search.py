@@ -30,7 +30,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from jointwear.design.candidates import Candidate, Control, build_controls, enumerate_candidates, today_candidate
+from jointwear.design.candidates import (
+    Candidate,
+    Control,
+    build_controls,
+    changes_from,
+    enumerate_candidates,
+    today_candidate,
+    today_picks,
+)
 from jointwear.design.results import (
     EXTRAPOLATED_SHARE,
     DesignResult,
@@ -339,7 +347,11 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
                         "life_factor": t.life_factor, "baseline_life_cycles": base})
 
     candidates = list(enumerate_candidates(controls))
-    order = sorted(range(len(candidates)), key=lambda i: candidates[i].cost(controls))
+    # equal costs (to rounding: the same option costs summed in another order) rank by the fewest changes from
+    # today's design; _cheapest_meeting then prefers the highest R(N*) - error among them (docs/design.md, step 4)
+    today = today_picks(controls, ctx.config.uncertainty)
+    rank = [(round(c.cost(controls), 9), changes_from(c, today)) for c in candidates]
+    order = sorted(range(len(candidates)), key=rank.__getitem__)
 
     def evaluate_all(indices) -> dict:
         return {(i, k): estimate(space, sur, candidates[i], t["log_life"], t["reliability"])
@@ -356,10 +368,10 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
         surrogate's error of R* (the Monte Carlo part of the error is not reduced by model calls)."""
         out = []
         for k, t in enumerate(targets):
-            chosen_i = _cheapest_meeting(est, order, k, t["reliability"], excluded(k))
-            chosen_cost = math.inf if chosen_i is None else candidates[chosen_i].cost(controls)
+            chosen_i = _cheapest_meeting(est, order, k, t["reliability"], excluded(k), rank)
+            chosen_cost = math.inf if chosen_i is None else rank[chosen_i][0]
             for i in order:
-                if candidates[i].cost(controls) > chosen_cost:
+                if rank[i][0] > chosen_cost:
                     break
                 if i in excluded(k):
                     continue
@@ -372,7 +384,7 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
         """Candidates no dearer than the dearest current choice (the only ones a refinement can change)."""
         limit = 0.0
         for k, t in enumerate(targets):
-            chosen_i = _cheapest_meeting(est, order, k, t["reliability"], excluded(k))
+            chosen_i = _cheapest_meeting(est, order, k, t["reliability"], excluded(k), rank)
             limit = max(limit, math.inf if chosen_i is None else candidates[chosen_i].cost(controls))
         return [i for i in order if candidates[i].cost(controls) <= limit]
 
@@ -412,7 +424,7 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
                 f"call{'' if refine_calls == 1 else 's'}")
         if len(candidates) > 2000:
             est = evaluate_all(range(len(candidates)))
-        head_i = _cheapest_meeting(est, order, 0, targets[0]["reliability"], refuted)
+        head_i = _cheapest_meeting(est, order, 0, targets[0]["reliability"], refuted, rank)
         budget = settings.verification_max_calls - verification_calls
         if not settings.verify or head_i is None or head_i in verified or budget <= 0:
             break
@@ -438,7 +450,7 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
     for k, t in enumerate(targets):
         rows = [_row(candidates[i], controls, est[(i, k)]) for i in range(len(candidates))]
         resolution = life_resolution(reliability_result, t["reliability"])
-        chosen_i = _cheapest_meeting(est, order, k, t["reliability"], excluded(k))
+        chosen_i = _cheapest_meeting(est, order, k, t["reliability"], excluded(k), rank)
         chosen = None
         if chosen_i is not None:
             chosen = _row(candidates[chosen_i], controls, est[(chosen_i, k)])
@@ -452,8 +464,9 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
 
     every = None
     if len(targets) > 1:  # a drawing must meet every target at once: the cheapest candidate that does
-        both = next((i for i in order if i not in refuted and all(est[(i, k)].reliability >= t["reliability"]
-                                                                  for k, t in enumerate(targets))), None)
+        both = _cheapest(order, lambda i: i not in refuted and all(est[(i, k)].reliability >= t["reliability"]
+                                                                   for k, t in enumerate(targets)),
+                         lambda i: est[(i, 0)].reliability - est[(i, 0)].error, rank)
         if both is not None:
             every = {"choices": candidates[both].choices(controls), "cost": candidates[both].cost(controls),
                      "reliability_at_target_life": [est[(both, k)].reliability for k in range(len(targets))],
@@ -508,9 +521,29 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
 
 
 def _cheapest_meeting(est: dict, order: list[int], k: int, reliability: float,
-                      excluded: Container[int] = ()) -> int | None:
-    """The cheapest candidate outside ``excluded`` whose R(N*) on the surrogate meets target ``k``."""
-    return next((i for i in order if i not in excluded and est[(i, k)].reliability >= reliability), None)
+                      excluded: Container[int] = (), rank: list | None = None) -> int | None:
+    """The cheapest candidate outside ``excluded`` whose R(N*) on the surrogate meets target ``k``; of several tied
+    in ``rank``, the one with the highest R(N*) - error."""
+    return _cheapest(order, lambda i: i not in excluded and est[(i, k)].reliability >= reliability,
+                     lambda i: est[(i, k)].reliability - est[(i, k)].error, rank)
+
+
+def _cheapest(order: list[int], ok: Callable[[int], bool], margin: Callable[[int], float],
+              rank: list | None = None) -> int | None:
+    """The first candidate of ``order`` that is ``ok`` and, of those ``ok`` that ``rank`` ties with it (equal cost and
+    changes from today's design: ``order`` is sorted by ``rank``), the one of the highest ``margin`` (the first of
+    equal margins)."""
+    it = iter(order)
+    first = next((i for i in it if ok(i)), None)
+    if first is None or rank is None:
+        return first
+    best = first
+    for i in it:
+        if rank[i] != rank[first]:
+            break
+        if ok(i) and margin(i) > margin(best):
+            best = i
+    return best
 
 
 def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: CandidateSpace, target: dict,
