@@ -11,6 +11,9 @@ from jointwear.study.stage_result import StageResult
 
 #: share of a candidate's population outside the study's inputs beyond which its estimate is called extrapolated
 EXTRAPOLATED_SHARE = 0.05
+#: relative nugget (noise variance over process variance) from which a verification's model is read as scattering
+#: from call to call: noise sd 1 % of the process's; the noise grid's floor (1e-8) is what a noise-free model fits
+SCATTER_NUGGET = 1e-4
 
 
 def verification_verdict(reliability: float, error: float, target: float) -> str:
@@ -274,14 +277,51 @@ class DesignResult(StageResult):
                  "within_error": f"R* = {self.target_reliability:g} lies within its error, so the target is not "
                                  "excluded, nor proven",
                  "misses": f"it misses R* = {self.target_reliability:g}"}[verdict]
+        fit = SurrogateFit.from_json(ver.get("surrogate_fit"))
         if ver.get("converged") is False:
             text += ("; its learning stopped on its budget of calls (design.verification_max_calls) before its "
                      "tolerance, so its error is the estimate of a Kriging that has not met its own stopping rule and "
-                     "may be too small (raise the budget and run again with --resume to settle it)")
-        fit = SurrogateFit.from_json(ver.get("surrogate_fit"))
+                     "may be too small")
+            if fit is None or fit.relative_nugget < SCATTER_NUGGET:
+                text += " (raise the budget and run again with --resume to settle it)"
+            else:  # the nugget keeps U low near the limit state: the rule (min U >= 2) may not hold at any budget
+                text += (f". On this model a call's life scatters by about {100 * fit.life_scatter:.2g} % about what "
+                         "the inputs set, so the learning's stopping rule may hold at no budget, and more calls narrow "
+                         "the error only slowly")
+                if verdict == "within_error":
+                    gap = abs(ver["reliability_at_target_life"] - self.target_reliability)
+                    text += (f"; the verdict is limited by that scatter: R(N*) lies {gap:.2g} from R*, and a larger "
+                             "budget (--resume) settles it only if the error falls below that distance")
         if fit is not None and (warning := fit.warning()):  # its R(N*) may be far off, more than its error says
             text += "; in that study " + warning
         return text
+
+    def margin_choice(self) -> dict | None:
+        """The first point of the Pareto front dearer than the choice whose surrogate R(N*) minus its error clears R*
+        (refuted candidates left out): the cheapest design with margin on the front; None without a choice or such a
+        point."""
+        chosen = self.chosen
+        if chosen is None:
+            return None
+        refuted = [r["choices"] for r in self.refuted]
+        return next((r for r in self.pareto if r["cost"] >= chosen["cost"] and r["choices"] != chosen["choices"]
+                     and r["choices"] not in refuted and r.get("reliability_error") is not None
+                     and r["reliability_at_target_life"] - r["reliability_error"] >= self.target_reliability), None)
+
+    def unproven_sentence(self) -> str:
+        """When the verification's verdict is 'within_error': that the choice is not proven to meet R* by the true
+        model, and the cheapest design with margin (:meth:`margin_choice`); '' otherwise."""
+        if self.verdict() != "within_error":
+            return ""
+        ver = self.verification
+        text = (f"not proven: the true model's R(N*) = {ver['reliability_at_target_life']:.4f} +- {ver['error']:.4f} "
+                f"straddles R* = {self.target_reliability:g}")
+        margin = self.margin_choice()
+        if margin is None:
+            return text + "; no dearer design on the Pareto front clears R* by its error on the surrogate"
+        return (text + f"; the cheapest design with margin is {choices_text(margin['choices'])} (cost "
+                f"{margin['cost']:.4g}, R(N*) {margin['reliability_at_target_life']:.4f} +- "
+                f"{margin['reliability_error']:.4f} on the surrogate, not verified)")
 
     def tables(self) -> dict[str, dict[str, Any]]:
         """``design_pareto`` (the front) and ``design_candidates`` (every candidate): each control's choice, the

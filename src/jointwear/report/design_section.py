@@ -101,6 +101,8 @@ def design_section(out_dir: Path | str, figs=None) -> str | None:
         text += sentence[:1].upper() + sentence[1:] + "."
         cls = "" if d.verdict() in ("meets", "within_error") else ' class="warn"'  # misses, or not verified
         parts.append(f"<p{cls}>{e(text)}</p>")
+        if unproven := d.unproven_sentence():
+            parts.append(warning("The choice is not proven to meet the target.", unproven))
     if every := d.every_target_sentence():
         parts.append('<p class="warn"><strong>The headline choice does not meet every target.</strong> '
                      f"{e(every[:1].upper() + every[1:])}.</p>")

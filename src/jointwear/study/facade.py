@@ -1015,9 +1015,10 @@ class Study:
         picks = choices_text(chosen["choices"])
         life = chosen.get("life_at_target_cycles")
         life = "" if life is None else f", a life of {life:,.0f} cycles at R = {result.target_reliability:g}"
+        unproven = result.unproven_sentence()  # its verification neither refutes nor proves it
         self.echo(f"design: {picks} (cost {chosen['cost']:.3g}): on the surrogate R = "
                   f"{chosen['reliability_at_target_life']:.4f} +/- {chosen['reliability_error']:.4f} at the target "
-                  f"{result.target_life_cycles:,.0f} cycles{life}; {calls}")
+                  f"{result.target_life_cycles:,.0f} cycles{life}{'; ' + unproven if unproven else ''}; {calls}")
         self.echo(f"design: {result.change_sentence()}")
         sentence = result.verification_sentence()
         (self.echo if result.verdict() in ("meets", "within_error") else self.warn)(f"design: {sentence}")
