@@ -124,6 +124,10 @@ def test_design_json_has_the_contract_keys_and_loads_back(design, tmp_path):
     for key in ("reliability_at_target_life", "error", "model_calls"):
         assert key in data["verification"]
     assert (tmp_path / "design_pareto.csv").read_text().count("\n") == len(data["pareto"]) + 1
+    assert data["no_choice_reason"] is None and data["nearest"] is None
+    from result_keys import undocumented_keys
+
+    assert undocumented_keys(tmp_path / "design.json") == []  # every key in docs/results.md (tests/result_keys.py)
     back = DesignResult.load(tmp_path)
     assert back.chosen["choices"] == design.chosen["choices"] and back.target_life_cycles == design.target_life_cycles
     # and with every other stage's result: load_results had no design field although Study.design() writes one

@@ -287,3 +287,29 @@ def test_a_candidate_undecided_by_its_share_outside_the_design_is_refined_outsid
     np.testing.assert_array_equal(_refine_point(space, sur, None, 1.0, widen=True), u[2] * 10.0)
     inside = SimpleNamespace(predict=sur.predict, outside=lambda uu: np.zeros(len(uu), dtype=bool))
     np.testing.assert_array_equal(_refine_point(space, inside, None, 1.0, widen=True), u[0] * 10.0)
+
+
+def test_no_choice_writes_its_reason_and_the_nearest_candidate_to_design_json(tmp_path):
+    """With no choice, design.json held chosen: null and nothing else: the reason and the nearest candidate were a
+    console sentence and computed properties only."""
+    import json
+
+    from result_keys import undocumented_keys
+
+    from jointwear import load_results
+
+    rows = [{"choices": {"l1": "IT8"}, "cost": 9.0, "life_at_target_cycles": 5e5, "reliability_at_target_life": 0.877,
+             "reliability_error": 0.01, "outside_design_fraction": 0.0},
+            {"choices": {"l1": "IT9"}, "cost": 5.0, "life_at_target_cycles": 4e5, "reliability_at_target_life": 0.8,
+             "reliability_error": 0.01, "outside_design_fraction": 0.0}]
+    res = DesignResult(target_life_cycles=1e6, target_reliability=0.9, chosen=None, pareto=rows[::-1],
+                       verification=None, model_calls=10, wall_seconds=1.0, candidates=rows)
+    res.save(tmp_path, figures=False)
+    data = json.loads((tmp_path / "design.json").read_text())
+    assert data["no_choice_reason"] == "unreached"
+    assert data["nearest"] == {"choices": {"l1": "IT8"}, "cost": 9.0, "reliability_at_target_life": 0.877,
+                               "reliability_error": 0.01}
+    assert undocumented_keys(tmp_path / "design.json") == []
+    back = load_results(tmp_path).design
+    assert back.no_choice_reason == "unreached" and back.nearest == data["nearest"]
+    assert back.to_json()["nearest"] == data["nearest"]  # and written back as read

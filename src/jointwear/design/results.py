@@ -181,15 +181,14 @@ class DesignResult(StageResult):
                 f"{every['cost']:.4g}; R(N*) {errors} at the targets in order, on the surrogate: only the headline "
                 "choice is verified on the true model)")
 
-    def nearest_sentence(self) -> str:
-        """With no choice: the cheapest candidate whose R(N*) the surrogate does not tell from the highest (their
-        difference within the sum of their error estimates), '' otherwise. The strictly highest R could cost 2.4 more
-        for a gain of 0.003 against errors of 0.04."""
+    def _nearest_rows(self) -> tuple[dict, dict] | None:
+        """With no choice: (the cheapest candidate whose R(N*) the surrogate does not tell from the highest, their
+        difference within the sum of their error estimates; the highest), refuted candidates left out; else None."""
         refuted = [r["choices"] for r in self.refuted]
         rows = [r for r in self.candidates if r.get("reliability_at_target_life") is not None
                 and r["choices"] not in refuted]  # a refuted candidate's surrogate estimate is known to be wrong
         if self.chosen is not None or not rows:
-            return ""
+            return None
         top = max(rows, key=lambda r: (r["reliability_at_target_life"], -r["cost"]))
 
         def level_with_top(r: dict) -> bool:
@@ -197,6 +196,30 @@ class DesignResult(StageResult):
             return gap <= (top.get("reliability_error") or 0.0) + (r.get("reliability_error") or 0.0)
 
         best = min((r for r in rows if level_with_top(r)), key=lambda r: (r["cost"], -r["reliability_at_target_life"]))
+        return best, top
+
+    @property
+    def nearest(self) -> dict | None:
+        """With no choice, the candidate :meth:`nearest_sentence` names: its ``choices``, ``cost``,
+        ``reliability_at_target_life`` and ``reliability_error`` on the surrogate; None with a choice."""
+        found = self._nearest_rows()
+        if found is None:
+            return None
+        return {k: found[0].get(k) for k in ("choices", "cost", "reliability_at_target_life", "reliability_error")}
+
+    def to_json(self) -> dict:
+        """The fields, and why there is no choice with the nearest candidate (both null with a choice; read back
+        from the fields they derive from)."""
+        return {**super().to_json(), "no_choice_reason": self.no_choice_reason, "nearest": self.nearest}
+
+    def nearest_sentence(self) -> str:
+        """With no choice: the cheapest candidate whose R(N*) the surrogate does not tell from the highest (their
+        difference within the sum of their error estimates), '' otherwise. The strictly highest R could cost 2.4 more
+        for a gain of 0.003 against errors of 0.04."""
+        found = self._nearest_rows()
+        if found is None:
+            return ""
+        best, top = found
         text = (f"the nearest is {choices_text(best['choices'])} (cost {best['cost']:.4g}): R = "
                 f"{best['reliability_at_target_life']:.4f} +/- {best['reliability_error']:.4f} at "
                 f"{self.target_life_cycles:,.0f} cycles")
