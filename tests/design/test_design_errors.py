@@ -31,6 +31,11 @@ def _preset_text() -> str:
     # verification failed (a designer's typo, a negative wear coefficient)
     ('\n[[design.properties]]\nvariable = "E_b"\nclasses = [{ name = "typo", mean_GPa = -110.0, cost = 0.1 }]\n',
      ["design.properties[2].classes[typo].mean: at -110 GPa the model cannot be built", "young"]),
+    # a negative cost: 'got' said twice ('cost must be >= 0 (got -1) (got -1.0)'), and a grade's not named
+    ('\n[[design.properties]]\nvariable = "E_b"\nclasses = [{ name = "screened", cost = -1.0 }]\n',
+     ["design.properties[2].classes[screened].cost: must be >= 0 (got -1.0)"]),
+    ('\n[[design.tolerances]]\nvariable = "l1"\ngrades = ["IT9", "IT11"]\ncosts = [1.0, -3.0]\n',
+     ["design.tolerances[2].costs: IT11 costs -3, must be >= 0"]),
 ])
 def test_bad_design_section_exits_2_with_one_line(tmp_path, capsys, extra, words):
     cfg = tmp_path / "bad.toml"

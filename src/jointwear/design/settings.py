@@ -105,8 +105,9 @@ class ToleranceControl(SIModel):
         if self.costs is not None:
             if len(self.costs) != len(self.grades):
                 raise ValueError(f"costs: {len(self.costs)} costs for {len(self.grades)} grades")
-            if any(c < 0 for c in self.costs):
-                raise ValueError("costs must be >= 0")
+            negative = [f"{g} costs {c:g}" for g, c in zip(self.grades, self.costs) if c < 0]
+            if negative:
+                raise ValueError(f"costs: {', '.join(negative)}, must be >= 0")
             inverted = _inverted(list(zip(self.grades, self.costs)), lambda g, h: _rank(g) < _rank(h))
             if inverted:
                 raise ValueError(f"costs: a tighter grade costs less than a looser one ({inverted}), which no "
@@ -233,7 +234,7 @@ class PropertyClass(PropertySpec):
     @classmethod
     def _cost(cls, cost: float) -> float:
         if cost < 0:
-            raise ValueError(f"cost must be >= 0 (got {cost:g})")
+            raise ValueError("must be >= 0")  # the config boundary adds the value as written ("(got -1.0)")
         return cost
 
 
