@@ -71,6 +71,7 @@ class DesignResult(StageResult):
     baseline_reliability_at_target_life: float | None = None  # today's design (the study's inputs) on the surrogate
     baseline_reliability_error: float | None = None  # its error bound, as a candidate's reliability_error
     life_factor: float | None = None
+    baseline_life_interval: list[float] | None = None  # the study's 95 % interval of baseline_life_cycles
     targets: list[dict] = field(default_factory=list)
     controls: list[dict] = field(default_factory=list)
     candidates: list[dict] = field(default_factory=list)
@@ -330,6 +331,19 @@ class DesignResult(StageResult):
         return next((r for r in self.pareto if r["cost"] >= chosen["cost"] and r["choices"] != chosen["choices"]
                      and r["choices"] not in refuted and r.get("reliability_error") is not None
                      and r["reliability_at_target_life"] - r["reliability_error"] >= self.target_reliability), None)
+
+    def relative_target_sentence(self) -> str:
+        """Where N* is ``life_factor`` times the study's own life at R*: the range N* inherits from that life's 95 %
+        interval, and what to do for a contractual target; '' for a target given in cycles."""
+        if not self.life_factor or self.baseline_life_cycles is None:
+            return ""
+        text = (f"the target N* = {self.life_factor:g} x today's life at R = {self.target_reliability:g} "
+                f"({self.baseline_life_cycles:,.0f} cycles, the study's estimate)")
+        if self.baseline_life_interval:
+            low, high = (self.life_factor * v for v in self.baseline_life_interval)
+            text += f" carries that life's 95 % interval: N* is {low:,.0f}-{high:,.0f} cycles within it"
+        return (text + "; for a contractual target, check today's life with jointwear validate or give "
+                "design.targets.life_cycles")
 
     def unproven_sentence(self) -> str:
         """When the verification's verdict is 'within_error': that the choice is not proven to meet R* by the true

@@ -343,8 +343,10 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
                               "which the R(N) curve does not reach (give life_cycles instead)")
         else:
             life = t.life_factor * base
+        interval = list(reliability_result.life_interval(t.reliability))  # [None, None] off the curve
         targets.append({"reliability": float(t.reliability), "life_cycles": life, "log_life": math.log(life),
-                        "life_factor": t.life_factor, "baseline_life_cycles": base})
+                        "life_factor": t.life_factor, "baseline_life_cycles": base,
+                        "baseline_life_interval": interval if None not in interval else None})
 
     candidates = list(enumerate_candidates(controls))
     # equal costs (to rounding: the same option costs summed in another order) rank by the fewest changes from
@@ -457,6 +459,7 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
             chosen["distributions"] = candidates[chosen_i].distributions(controls)
         per_target.append({"target_life_cycles": t["life_cycles"], "target_reliability": t["reliability"],
                            "life_factor": t["life_factor"], "baseline_life_cycles": t["baseline_life_cycles"],
+                           "baseline_life_interval": t["baseline_life_interval"],
                            "chosen": chosen, "chosen_index": chosen_i,
                            "pareto": pareto_front(rows, resolution, keep=chosen_i),
                            "life_resolution": resolution, "rows": rows,
@@ -500,6 +503,7 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
         model_calls=int(total_calls),
         wall_seconds=time.perf_counter() - t0,
         baseline_life_cycles=head["baseline_life_cycles"], life_factor=head["life_factor"],
+        baseline_life_interval=head["baseline_life_interval"],
         baseline_reliability_at_target_life=today.reliability, baseline_reliability_error=today.error,
         targets=[{k: v for k, v in row.items() if k not in ("rows", "chosen_index")} for row in per_target],
         controls=[c.to_json() for c in controls], candidates=head["rows"],

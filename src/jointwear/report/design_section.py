@@ -66,9 +66,8 @@ def design_section(out_dir: Path | str, figs=None) -> str | None:
     parts = []
     r_star, n_star = _get(d, "target_reliability"), _get(d, "target_life_cycles")
     head = f"Target: {_fmt(n_star, ',.0f')} cycles at R = {_fmt(r_star, 'g')}"
-    if _get(d, "life_factor") and _get(d, "baseline_life_cycles"):
-        head += (f" ({_get(d, 'life_factor'):g} x today's life at that reliability, "
-                 f"{_get(d, 'baseline_life_cycles'):,.0f} cycles)")
+    if relative := d.relative_target_sentence():
+        head += f" ({relative})"
     if _get(d, "baseline_reliability_at_target_life") is not None:
         head += (f"; today's design (the study's own inputs) reads R(N*) = {d.baseline_reliability_text()} on the "
                  "surrogate the candidates are read on (the design stage's own Kriging of the true-model points; the "

@@ -1020,6 +1020,8 @@ class Study:
                   f"{chosen['reliability_at_target_life']:.4f} +/- {chosen['reliability_error']:.4f} at the target "
                   f"{result.target_life_cycles:,.0f} cycles{life}{'; ' + unproven if unproven else ''}; {calls}")
         self.echo(f"design: {result.change_sentence()}")
+        if relative := result.relative_target_sentence():
+            self.echo(f"design: {relative}")
         sentence = result.verification_sentence()
         (self.echo if result.verdict() in ("meets", "within_error") else self.warn)(f"design: {sentence}")
         if every := result.every_target_sentence():
