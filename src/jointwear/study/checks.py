@@ -208,6 +208,7 @@ def design_warnings(config: StudyConfig) -> list[str]:
                        f"population of {config.reliability.n_mc:,} reaches: the design judges it by extrapolation, and "
                        "a rejected option is never verified; widen the study's distribution of it to cover the "
                        "option, or run a study of the option (docs/design.md, 'Limits')")
+    out += _fit_correlation_warnings(design, unc)
     rel = config.reliability
     first, last = rel.cycles_start, rel.cycles_stop
     for i, target in enumerate(design.targets):
@@ -224,6 +225,31 @@ def design_warnings(config: StudyConfig) -> list[str]:
                    "it is cut to the budget, and a Kriging of fewer points than about twice the dimension can be "
                    "sure of itself where it is wrong, so its verdict may not hold; give at least "
                    f"{least} (80 by default)")
+    return out
+
+
+def _fit_correlation_warnings(design, unc) -> list[str]:
+    """A fit control whose clearance is correlated with another random input (a pin radius whose grade the fit
+    sets): the options change the clearance's spread only, while that input keeps its spread and the correlation
+    coefficient, both set from the study's fit (c = (D - d) / 2 gives corr(R_j, c) = -s_Rj / s_c)."""
+    corr = unc.correlation
+    if corr is None:
+        return []
+    names = corr.names()
+    out = []
+    for fit in design.fits():
+        fitted = fit.clearance(unc)
+        if fitted is None or fitted.name not in names:
+            continue
+        matrix = corr.full_matrix(names)
+        i = names.index(fitted.name)
+        partners = [f"'{n}' ({matrix[i, j]:+.3g})" for j, n in enumerate(names) if j != i and matrix[i, j] != 0.0]
+        if partners:
+            where = "design.fit" if fit is design.fit else f"design.fit[{fitted.name}]"
+            out.append(f"{where}: its options change the spread of '{fitted.name}' only; the inputs correlated with "
+                       f"it, {', '.join(partners)}, keep their spread and correlation as the study set them, though a "
+                       "fit that changes the pin's grade changes the pin radius's spread and that correlation too; "
+                       "set those inputs for the chosen fit in a study of it to check (docs/design.md, 'Limits')")
     return out
 
 
