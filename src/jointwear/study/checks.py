@@ -263,7 +263,8 @@ def config_warnings(config: StudyConfig) -> list[str]:
 
     mechanism = (drawing_warnings(config) + size_warnings(config) + clearance_size_warnings(config)
                  + transmission_warnings(config) + mobility_warnings(config)
-                 + gravity_warnings(config) + inertia_warnings(config) + friction_warnings(config))
+                 + gravity_warnings(config) + speed_warnings(config) + inertia_warnings(config)
+                 + friction_warnings(config))
     wear = (wear_length_warnings(config) + wear_mode_warnings(config) + half_width_warnings(config)
             + block_warnings(config))
     unc = config.uncertainty
@@ -485,6 +486,25 @@ def gravity_warnings(config: StudyConfig) -> list[str]:
         return []
     return [f"mechanism.gravity: {magnitude:,.6g} m/s^2 is {magnitude / 9.80665:,.0f} g (a unit slip? gravity_m_s2 "
             "takes m/s^2, 9.80665 on earth)"]
+
+
+#: A crank faster than this (rad/s, about 9,500 rpm) is warned as a likely number of rpm written without its suffix:
+#: linkages with clearance joints run well below it (the presets at 480 and 5,000 rpm), and 1,450 read as rad/s is
+#: 13,846 rpm.
+CRANK_SPEED_WARNING = 1000.0
+
+
+def speed_warnings(config: StudyConfig) -> list[str]:
+    """A crank speed above ``CRANK_SPEED_WARNING``: most likely rpm written where rad/s is read (no suffix)."""
+    from jointwear.units import SUFFIXES
+
+    speed = abs(float(getattr(config.mechanism, "crank_speed", 0.0) or 0.0))
+    if speed <= CRANK_SPEED_WARNING:
+        return []
+    field = "drivers[0].speed" if hasattr(config.mechanism, "drivers") else "crank_speed"
+    rpm = speed / SUFFIXES["rpm"][0]
+    return [f"mechanism.{field}: {speed:,.6g} rad/s is {rpm:,.0f} rpm (a unit slip? a number without a suffix is "
+            f"read as rad/s: write {field.split('.')[-1]}_rpm = {speed:,.6g} if rpm was meant)"]
 
 
 #: Radii of gyration sqrt(I / m) outside these fractions of a link's drawn size are warned as a likely unit slip: a
