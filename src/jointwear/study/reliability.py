@@ -521,9 +521,7 @@ def _joint_breakdown(ctx: StudyContext, engine, design_x: np.ndarray, pop: np.nd
     scatter = life_scatter_sd(ctx, engine)
     taus = engine.response_surrogate.scatter_sds if ctx.per_joint and scatter > 0 else np.zeros(len(rows))
     drawn = pred + rng.standard_normal(pred.shape) * taus[None, :] if np.any(taus > 0) else pred
-    governing = np.argmin(drawn, axis=1)
-    system_fail = drawn.min(axis=1)[:, None] < levels[None, :]
-    n_sys = system_fail.sum(axis=0)
+    shares_fine = governing_shares_at(drawn, np.log(fine))  # (J, len(fine)); NaN where nothing has failed yet
     for k, row in enumerate(rows):
         pf, mc_sd = failure_mean_and_sd(pred[:, k], np.log(fine), float(taus[k]))
         posterior_sd = np.interp(fine, coarse, failure_spread(draws[k], np.log(coarse), float(taus[k])))
@@ -531,13 +529,26 @@ def _joint_breakdown(ctx: StudyContext, engine, design_x: np.ndarray, pop: np.nd
         half_fine = Z95 * (mc_sd + posterior_sd)
         row["reliability"] = r_fine[at_levels].tolist()
         row["half_width_95"] = half_fine[at_levels].tolist()
-        row["curve"] = {"reliability": r_fine.tolist(), "half_width_95": half_fine.tolist()}
-        share = np.where(n_sys > 0, (system_fail & (governing == k)[:, None]).sum(axis=0) / np.maximum(n_sys, 1),
-                         np.nan)
-        row["governing_share"] = share.tolist()
+        row["curve"] = {"reliability": r_fine.tolist(), "half_width_95": half_fine.tolist(),
+                        "governing_share": shares_fine[k].tolist()}
+        row["governing_share"] = shares_fine[k][at_levels].tolist()
         if ctx.per_joint and engine.response_surrogate.fitted[k]:  # how well its own Kriging explains its life
             row["surrogate_fit"] = SurrogateFit.of(engine.response_surrogate.components[k]).to_json()
     return rows
+
+
+def governing_shares_at(log_lives: np.ndarray, thresholds: np.ndarray) -> np.ndarray:
+    """Each joint's share of a series system's failures by each of ``thresholds`` (ln N): among the samples whose
+    shortest life ``log_lives`` (n, J) lies below the threshold, the fraction whose shortest is joint j's. (J, T);
+    NaN where no sample has failed."""
+    life = log_lives.min(axis=1)
+    order = np.argsort(life)
+    first = np.argmin(log_lives, axis=1)[order]
+    failed = np.searchsorted(life[order], thresholds, side="left")  # samples with life < threshold
+    counts = np.vstack([np.zeros((1, log_lives.shape[1])),
+                        np.cumsum(first[:, None] == np.arange(log_lives.shape[1])[None, :], axis=0)])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(failed > 0, counts[failed].T / failed, np.nan)
 
 
 def failure_mean_and_sd(log_life: np.ndarray, thresholds: np.ndarray, scatter_sd: float = 0.0,

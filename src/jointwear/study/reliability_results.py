@@ -463,8 +463,14 @@ class ReliabilityCurve(StageResult):
 
     def governing_shares(self) -> dict[str, float]:
         """Each judged joint's share of the system's failures at the headline life (or at the end of the curve
-        when the target is not reached)."""
+        when the target is not reached), read on :attr:`life_curve` (a result written before the shares were
+        kept there: at the nearest level)."""
         n = self.life_cycles if self.life_cycles is not None else float(self.cycles[-1])
+        fine = self.life_curve.get("cycles") if self.life_curve else None
+        if fine and all("governing_share" in (j.get("curve") or {}) for j in self.joints):
+            return {j["name"]: float(np.interp(n, fine, np.nan_to_num(np.asarray(j["curve"]["governing_share"],
+                                                                                 dtype=float))))
+                    for j in self.joints}
         k = int(np.argmin(np.abs(np.asarray(self.cycles, dtype=float) - n)))
         return {j["name"]: float(np.nan_to_num(np.asarray(j["governing_share"], dtype=float))[k]) for j in self.joints}
 
