@@ -42,9 +42,23 @@ class TableGuess:
         return {name: (float(q[3 * k]), float(q[3 * k + 1]), float(q[3 * k + 2])) for k, name in enumerate(self.names)}
 
 
+@dataclass(frozen=True)
+class DeadPointMargin:
+    """How close the one-cycle assembly sweep of a general linkage comes to a dead point: the smallest ratio of the
+    smallest to the largest singular value of the constraint Jacobian (angle columns scaled by the reference length,
+    so dimensionless; 0 at a dead point, where the assembly refuses below 1e-6) over the ``assembly_steps`` positions,
+    where it occurs and the links involved (the bodies carrying the near-singular self-stress and motion)."""
+
+    ratio: float
+    turn_deg: float  # the first driver's turn from the drawing where the ratio is smallest, deg (signed as its speed)
+    driver_angle_deg: float  # the first driver's axis angle there in the drawing's frame, deg in [0, 360)
+    links: tuple[str, ...]
+
+
 @dataclass
 class GeneralParts:
-    """A general linkage ready to be a MechanismModel: bodies, ideal joints, ground points, assembly guess."""
+    """A general linkage ready to be a MechanismModel: bodies, ideal joints, ground points, assembly guess, and the
+    sweep's closest approach to a dead point."""
 
     bodies: list[Body]
     joints: list[Joint]
@@ -52,12 +66,13 @@ class GeneralParts:
     guess: TableGuess
     length_ref: float
     period: float
+    dead_point: DeadPointMargin | None = None
 
 class AssemblyError(ValueError):
     """A general linkage cannot be assembled (one-line message naming the links)."""
 
 
-_GENERAL_CACHE: dict[str, TableGuess] = {}
+_GENERAL_CACHE: dict[str, tuple[TableGuess, DeadPointMargin]] = {}
 
 
 def _body_angle0(b) -> float:
@@ -145,7 +160,8 @@ def _joint_gap_check(m, lref: float) -> None:
         if gap > m.closure_tolerance * lref:
             raise AssemblyError(
                 f"joints[{item_key(i, names)}].connects: the drawn points {j.connects[0]} and {j.connects[1]} of "
-                f"revolute joint '{j.name}' are {gap * 1e3:.4g} mm apart (allowed {m.closure_tolerance * lref * 1e3:.4g} mm = "
+                f"revolute joint '{j.name}' are {gap * 1e3:.4g} mm apart (allowed "
+                f"{m.closure_tolerance * lref * 1e3:.4g} mm = "
                 f"closure_tolerance x median link size): draw them at the same place (a point mistyped, or a body's "
                 "points in other units than the rest: points_mm against points, which are in m)"
             )
@@ -171,10 +187,11 @@ def _links_of(model: MechanismModel, v: np.ndarray, frac: float = 0.1) -> list[s
 
 
 def _assemble_at(model: MechanismModel, arrays, t: float, q: np.ndarray, lref: float, where: str
-              ) -> tuple[np.ndarray, np.ndarray]:
+                 ) -> tuple[np.ndarray, np.ndarray, float, np.ndarray, np.ndarray]:
     """Positions and velocities at time t from the predicted q (model.newton, angle columns scaled to lengths:
-    a dimensionless condition number). AssemblyError naming the links when the loop does not close or the
-    constraint Jacobian is singular."""
+    a dimensionless condition number), the ratio sv_min / sv_max of the scaled constraint Jacobian there and its
+    singular vectors of sv_min (left over the joints, right over the free coordinates). AssemblyError naming the
+    links when the loop does not close or the constraint Jacobian is singular."""
     zero = np.zeros_like(q)
     scale = np.ones_like(q)
     scale[2::3] = lref
@@ -197,7 +214,15 @@ def _assemble_at(model: MechanismModel, arrays, t: float, q: np.ndarray, lref: f
             f"at links {', '.join(_culprits(model, u[:, -1], vt[-1]))}"
         )
     qd = np.linalg.solve(jac, -phid0) if jac.shape[0] == jac.shape[1] else np.linalg.lstsq(jac, -phid0, rcond=None)[0]
-    return q, qd
+    # the dead-point margin: a constraint on angles alone (a prismatic joint's parallelism) is dimensionless, so its
+    # row is brought to lengths too (x L_ref); otherwise its 1 / L_ref entry alone sets sv_max (a slider-crank with a
+    # 75-deg transmission angle would read 0.02)
+    angle_rows = ~np.any(jac[:, (np.arange(q.size) % 3) != 2] != 0.0, axis=1)
+    if np.any(angle_rows):
+        scaled = jac / scale[None, :]
+        scaled[angle_rows] *= lref
+        u, sv, vt = np.linalg.svd(scaled, full_matrices=False)
+    return q, qd, float(sv[-1] / sv[0]), u[:, -1], vt[-1]
 
 
 def _general_parts(m) -> GeneralParts:
@@ -209,12 +234,13 @@ def _general_parts(m) -> GeneralParts:
     key = m.model_dump_json(exclude={"gravity": True, "bodies": {"__all__": {"mass", "inertia", "force", "torque"}}})
     hit = _GENERAL_CACHE.get(key)
     if hit is not None:
-        return GeneralParts(bodies, joints, gpts, copy.deepcopy(hit), lref, period)
+        return GeneralParts(bodies, joints, gpts, copy.deepcopy(hit[0]), lref, period, hit[1])
     _joint_gap_check(m, lref)
     model = MechanismModel(bodies=bodies, joints=joints, ground_points=gpts, length_ref=lref, period_override=period)
     arrays = model.kernel_arrays()
     q0 = model.state_from_poses(poses)
-    q, qd = _assemble_at(model, arrays, 0.0, q0, lref, "at the drawn configuration")
+    q, qd, ratio, u_min, v_min = _assemble_at(model, arrays, 0.0, q0, lref, "at the drawn configuration")
+    k_min = 0
     drawn_shift = np.abs(q - q0)
     drawn_shift[2::3] *= lref
     # a drawing is trusted to a quarter of a link; a sample that moves drawn points widens the closure tolerance
@@ -232,7 +258,9 @@ def _general_parts(m) -> GeneralParts:
     for k in range(1, n + 1):
         pred = q + qd * dt
         where = f"after the first driver turned {math.degrees(speed0 * k * dt):+.1f} deg from the drawing"
-        q_new, qd = _assemble_at(model, arrays, k * dt, pred, lref, where)
+        q_new, qd, r_k, u_k, v_k = _assemble_at(model, arrays, k * dt, pred, lref, where)
+        if r_k < ratio:  # the sweep's closest approach to a dead point (its links found once, below)
+            ratio, u_min, v_min, k_min = r_k, u_k, v_k, k
         jump = np.abs(q_new - pred)
         jump[2::3] *= lref
         if np.max(jump) > 0.05 * lref:
@@ -255,10 +283,14 @@ def _general_parts(m) -> GeneralParts:
             "after one revolution of the first driver (branch change)"
         )
     guess = TableGuess(period, [b.name for b in model.free_bodies], tab)
+    turn = math.degrees(speed0 * k_min * dt)
+    angle0 = bodies[0].driver.angle0 if bodies[0].driver is not None else 0.0
+    margin = DeadPointMargin(ratio, turn, (math.degrees(angle0) + turn) % 360.0,
+                             tuple(_culprits(model, u_min, v_min)))
     if len(_GENERAL_CACHE) > 32:
         _GENERAL_CACHE.pop(next(iter(_GENERAL_CACHE)))
-    _GENERAL_CACHE[key] = copy.deepcopy(guess)
-    return GeneralParts(bodies, joints, gpts, guess, lref, period)
+    _GENERAL_CACHE[key] = (copy.deepcopy(guess), margin)
+    return GeneralParts(bodies, joints, gpts, guess, lref, period, margin)
 
 
 def check_assembly(config) -> None:

@@ -447,13 +447,56 @@ def transmission_range(mechanism) -> tuple[float, float] | None:
     return None
 
 
+#: the smallest ratio sv_min / sv_max of a general linkage's scaled constraint Jacobian over its assembly sweep below
+#: which it is warned of as passing near a dead point (project calibration, audit 61-K: general four-bars drawn
+#: from examples/my_linkage.toml at 13 link proportions, crank : rod : rocker from 10:12:30 to 10:150:40, and
+#: general slider-cranks from piston_pump.toml at 3 crank : rod ratios and varied offsets). The ratio follows
+#: c sin(mu) of the worst transmission angle mu (its distance from 0 or 180 deg) closely within one proportion, but
+#: c ranges 0.165-0.24 over the four-bars and 0.25-0.27 over the slider-cranks: a 30-deg four-bar reads 0.085-0.12,
+#: a 10-deg one 0.029-0.041. And more links spread the singular values: the six-bar preset
+#: (watt_six_bar_two_clearances), whose transmission angles stay within 48-99 deg, reads 0.095, like a 25-deg
+#: four-bar. So the rule cannot be the 30-deg one; 0.06 is chosen conservatively between the two: it warns every
+#: four-bar or slider-crank of 10 deg or less and none of 30 deg or more (a four-bar is warned below 14-21 deg
+#: depending on its proportions, a slider-crank below 13 deg), and leaves the six-bar a margin of 1.6
+DEAD_POINT_RATIO_WARNING = 0.06
+
+
+def dead_point_warnings(config: StudyConfig) -> list[str]:
+    """A general linkage, driven with no free degree of freedom, whose assembly sweep comes near a dead point: the
+    smallest ratio sv_min / sv_max of its scaled constraint Jacobian over the cycle (recorded by the assembly,
+    :class:`jointwear.mechanism.assembly.DeadPointMargin`) below ``DEAD_POINT_RATIO_WARNING``, the counterpart of
+    the four-bar's transmission-angle rule (a general four-bar 0.4 deg from a dead point passed silently, then
+    simulated a 39 kN peak against a 231 N mean)."""
+    m = config.mechanism
+    if m.type != "general" or m.free_degrees_of_freedom() > 0:
+        return []
+    from jointwear.mechanism.assembly import general_parts
+
+    try:
+        margin = general_parts(m).dead_point
+    except ConfigError:  # the assembly check reports it
+        return []
+    if margin is None or margin.ratio >= DEAD_POINT_RATIO_WARNING:
+        return []
+    driver = m.drivers[0].joint
+    return [f"mechanism: the linkage passes near a dead point at links {', '.join(margin.links)}, when the first "
+            f"driver (joint '{driver}') is at {margin.driver_angle_deg:.4g} deg ({margin.turn_deg:+.4g} deg from the "
+            f"drawing): the constraint Jacobian's smallest singular value falls to {margin.ratio:.3g} of its largest "
+            f"there, below {DEAD_POINT_RATIO_WARNING:g} (a four-bar with a transmission angle of about 14-21 deg; 0 "
+            "is the dead point). Near a dead point the joint forces grow without bound, so the peaks, the clearance "
+            "joints' impacts and their wear climb there: lengthen or shorten those links, or move their pivots, to "
+            "keep the linkage away from the position where they line up (docs/dynamics.md, 'General linkages')"]
+
+
 def transmission_warnings(config: StudyConfig) -> list[str]:
     """A four-bar or slider-crank whose transmission angle leaves 30-150 deg: its joint forces grow as 1 / sin of the
     angle, so the peaks, the impacts of a clearance joint and its wear climb near such a position (a 13-deg linkage
-    ran without a word at peaks of 1.4 kN)."""
+    ran without a word at peaks of 1.4 kN); a general linkage near a dead point (:func:`dead_point_warnings`)."""
     span = transmission_range(config.mechanism)
     low, high = TRANSMISSION_ANGLE_WARNING_DEG
-    if span is None or low <= span[0] and span[1] <= high:
+    if span is None:
+        return dead_point_warnings(config)
+    if low <= span[0] and span[1] <= high:
         return []
     return [f"mechanism: the transmission angle ranges over {span[0]:.3g}-{span[1]:.3g} deg in a crank turn, beyond "
             f"{low:g}-{high:g} deg: the joint forces grow as 1 / sin of it, so peaks and the clearance joints' "
