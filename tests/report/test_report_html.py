@@ -250,7 +250,7 @@ def test_report_shows_the_validation_from_its_typed_result(tmp_path, nominal):
     assert ("from 2,000 samples: their 95 % intervals overlap at 1 of 2 levels; the largest difference in R is "
             "0.012, at 400,000 cycles.") in html.unescape(page)  # the figure's text alternative
     # the summary's caveats name the level that disagrees (the summary spoke only of the learning)
-    assert ("<strong>The true model disagrees with the curve</strong></a>: at 1 of 2 levels, not at 400,000 cycles: "
+    assert ("<strong>The true model disagrees with the curve</strong></a>: at 1 of 2 levels (400,000 cycles: "
             "true model 0.800 [0.780, 0.820], surrogate 0.812 (its error estimate 0.010)") in page
 
 
@@ -845,18 +845,20 @@ def test_a_validation_on_the_same_samples_is_told_beside_the_life_and_in_its_sec
     page = validate(-0.019)
     assert ("How far to trust the life: the validation below ran this study's true model on 2,000 samples; on the "
             f"same samples the surrogate's life at R = 0.9 is {0.981 * life:,.0f} cycles, 1.9 % below the true "
-            f"model's {1.01 * life:,.0f} (95 % interval -2.3 % to -1.5 %): <b>beyond what the life's 95 % interval "
-            "allows (") in page
+            f"model's {1.01 * life:,.0f} (95 % interval -2.3 % to -1.5 %): the learnt life reads 1.9 % short (95 %: "
+            "1.5-2.3 % short), on the safe side: a short life is conservative; <b>beyond what the life's 95 % "
+            "interval allows (") in page
     assert "surrogate's life on these samples" in page and "-1.9 %" in page
     assert "-0.004 [-0.014, -0.006]" not in page and "-0.010 [-0.014, -0.006]" in page  # 0.79 - 0.8, its bounds
     assert page.count("same samples: surrogate \u2212 true (95 %)") == 1
     # the summary, read alone, says so too
     assert "the validation finds a larger error (caveats below)" in page
-    assert ("The life errs by more than its interval says</strong></a>: on the same samples the surrogate's "
-            "life at R = 0.9 is") in page
+    assert ("The life errs by more than its interval says</strong></a>: against 2,000 direct runs of the true "
+            "model, on the same samples the surrogate's life at R = 0.9 is") in page
     assert 'reliability.trend = "linear" (a linear trend under the Kriging' in page  # the cure, named
     page = validate(0.0)
-    assert "(95 % interval -0.4 % to +0.4 %): within what the life's 95 % interval allows (" in page
+    assert ("(95 % interval -0.4 % to +0.4 %): the learnt life reads true (95 %: 0.4 % short to 0.4 % long); "
+            "within what the life's 95 % interval allows (") in page
     assert "larger error" not in page and "The life errs by more" not in page
 
 

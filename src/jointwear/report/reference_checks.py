@@ -368,12 +368,18 @@ def reference_checks(results: StudyResults, reference: Mapping | None = None) ->
         elif q == "model_calls":
             title = "true-model calls (whole curve)"
             ours = None if rel is None else float(rel.model_calls)
+            if rel is not None and not rel.converged:  # the calls stayed within the budget because it ended them
+                note = ("the learning did not converge: its budget ended the calls before its stop was confirmed, "
+                        "so a goal of calls with a confirmed stop is not met")
         else:  # a quantity this version does not compare: listed, not judged
             title = str(q)
         if q in ("nominal_max_wear_angle", "second_peak_angle") and ours is not None and pv is not None:
             note = f"{circular_difference(ours, pv):.1f} deg from the reference's"
         note = "; ".join(x for x in (note, str(v.get("note") or "")) if x)
-        checks.append(Check(title, pv, ours, shown_unit, _band_text(band, unit), _judge(ours, pv, band, unit), note,
+        status = _judge(ours, pv, band, unit)
+        if q == "model_calls" and status == PASS and rel is not None and not rel.converged:
+            status = FAIL
+        checks.append(Check(title, pv, ours, shown_unit, _band_text(band, unit), status, note,
                             digits, source=str(v.get("source") or ""),
                             justification=str((v.get("band") or {}).get("justification") or "")))
     return checks

@@ -225,8 +225,13 @@ def convergence_figure(
     *,
     cov: Array | None = None,
     label: str | None = None,
+    curve_pf: float | None = None,
 ) -> Figure:
-    """The failure probability estimate against the number of true-model calls during active learning."""
+    """The failure probability estimate against the number of true-model calls during active learning.
+
+    ``curve_pf``: the R(N) curve's Pf at the same level, drawn beside the learning's last estimate when the two
+    are different estimators (the learning's counts the samples whose surrogate mean fails; the curve's also
+    integrates the life's call-to-call scatter)."""
     calls = require_array(n_calls)
     p = require_array(pf)
     fig, ax = figure()
@@ -235,9 +240,14 @@ def convergence_figure(
         half = Z95 * np.where(np.isfinite(c), c, 0.0) * p  # no band where the COV is undefined (Pf = 0)
         ax.fill_between(calls, np.clip(p - half, 0, 1), np.clip(p + half, 0, 1), color=COLORS[0], alpha=0.2, lw=0,
                         label="95 % band (COV of Pf)")
-    ax.plot(calls, p, color=COLORS[0], marker="o", ms=3.5, label=label or "Pf estimate")
+    ax.plot(calls, p, color=COLORS[0], marker="o", ms=3.5, label=label or (
+        "Pf estimate" if curve_pf is None else "the learning's Pf (surrogate mean, no call-to-call scatter)"))
     if p.size:
-        hline(ax, float(p[-1]), f"final Pf = {p[-1]:.4g}", color=COLORS[1], ls=":")
+        last = "learning's last Pf" if curve_pf is not None else "final Pf"
+        hline(ax, float(p[-1]), f"{last} = {p[-1]:.4g}", color=COLORS[1], ls=":")
+    if curve_pf is not None:  # in the legend: its value sits close to the last estimate's label
+        ax.axhline(float(curve_pf), color=COLORS[2], ls="--", lw=1.2, zorder=1,
+                   label=f"R(N) curve's Pf = {curve_pf:.4g} (with the scatter)")
     pos = p[p > 0]
     if pos.size and pos.max() / pos.min() > 50:
         ax.set_yscale("log")

@@ -8,6 +8,8 @@ import math
 from collections.abc import Mapping, Sequence
 from types import SimpleNamespace
 
+import numpy as np
+
 from jointwear.reliability.results import Z95
 from jointwear.study.limit_state import life_status
 from jointwear.study.reliability_results import (
@@ -51,6 +53,27 @@ __all__ = ["reliability_section", "sensitivity_section", "validation_section", "
 def _pill(status: str) -> str:
     text = {PASS: "PASS", FAIL: "FAIL", INFO: "info", NA: "no data"}.get(status, status)
     return f'<span class="pill {e(status.replace("/", ""))}">{e(text)}</span>'
+
+
+def running_time(hours: float) -> str:
+    """A life's running time at the study's crank speed, in a unit that shows its digits: '12.3 h', '6.6 min',
+    '42 s' (two decimals of an hour hid a 5.5-minute life as '0.09 h')."""
+    if hours >= 10:
+        return f"{hours:,.0f} h"
+    if hours >= 1:
+        return f"{hours:.3g} h"
+    if hours * 60 >= 1:
+        return f"{60 * hours:.3g} min"
+    return f"{3600 * hours:.3g} s"
+
+
+def probability_pair(r: float, pf: float) -> tuple[str, str]:
+    """R and Pf to four significant digits each, the one that would round to 1 written as 1 less its complement
+    ('1 \u2212 3.9e-06' beside Pf 3.943e-06), so neither reads as certain beside a small other."""
+    def one(x: float, other: float) -> str:
+        text = format_number(x, 4)
+        return f"1 \u2212 {other:.2g}" if text == "1" and 0 < other else text
+    return one(r, pf), one(pf, r)
 
 
 def _life_text(life: float | None, note: str) -> str:
@@ -113,7 +136,7 @@ def _esc_part(rel, cycles: float) -> str:
 #: ties it to benchmarks/results/surrogate_bias.json and the validation records)
 LIFE_TRUST = ("How far to trust the life: not measured for this study yet. <code>jointwear validate</code> runs its "
               "true model on fresh samples and reads the learnt life on the same ones (a few hundred samples tell its "
-              "error). For scale, read so, the flapping-wing presets' learnt lives are 1.8 % (uniform mode) and 1.4 % "
+              "error). On the flapping-wing presets the learnt lives are 1.8 % (uniform mode) and 1.4 % "
               "(profile mode) short, as much as or more than their 95 % intervals' half-widths (1.4 % and 0.8 %), "
               "because the Kriging's life spreads a little wider than the true model's (the early failures come "
               "early; docs/reliability.md, \"The learnt life's spread\").")
@@ -125,16 +148,45 @@ def _fit_title(rel) -> str:
     return "The surrogate explains little" if fit is None or fit.poor else "The surrogate's fit"
 
 
+def _short_long(low: float, high: float) -> str:
+    """A paired ratio's 95 % bounds as a side: '0.6-3.6 % short', '0.2-1.0 % long', '3.6 % short to 1.1 % long'."""
+    if high <= 0:
+        return f"{-100 * high:.1f}-{-100 * low:.1f} % short"
+    if low >= 0:
+        return f"{100 * low:.1f}-{100 * high:.1f} % long"
+    return f"{-100 * low:.1f} % short to {100 * high:.1f} % long"
+
+
+def paired_life_verdict(val, target: float) -> tuple[str, str] | None:
+    """The validation's paired check of the life at ``target``: its verdict ('within', 'unresolved', 'beyond':
+    :meth:`ValidationResult.paired_life_allowed`) and the sentence the summary and the reliability section both
+    give ('on the same samples the surrogate's life at R = 0.9 is 33,869 cycles, 1.9 % below the true model's
+    34,519 (95 % interval -3.6 % to -0.6 %): the learnt life reads 1.9 % short (95 %: 0.6-3.6 % short), on the
+    safe side; across the edge of what the life's 95 % interval allows ...'); None without a paired check."""
+    if val is None or not (paired := val.paired_life_sentence(target)):
+        return None
+    row = next(r for r in val.life_table if r.get("target") == target)
+    ratio, low, high = row["paired_ratio"], row.get("paired_ratio_low"), row.get("paired_ratio_high")
+    side = ("on the safe side: a short life is conservative" if ratio < 0
+            else "on the unsafe side: a long life is not conservative")
+    bounds = "" if low is None or high is None else f" (95 %: {_short_long(float(low), float(high))})"
+    reads = (f"the learnt life reads {100 * abs(ratio):.1f} % {'short' if ratio < 0 else 'long'}{bounds}, {side}"
+             if ratio else f"the learnt life reads true{bounds}")
+    check = val.paired_life_allowed(target)
+    verdict = "within" if check is None else check[2]
+    return verdict, f"{paired}: {reads}; {_paired_verdict(val, target)}"
+
+
 def life_trust_sentence(out: StudyOutputs, target: float) -> str:
-    """How far to trust the life: this study's own validation when it was run at ``target``, else the presets'
-    (:data:`LIFE_TRUST`)."""
+    """How far to trust the life: this study's own validation when it was run at ``target`` (its paired check where
+    it has one: :func:`paired_life_verdict`), else the presets' (:data:`LIFE_TRUST`)."""
     val = out.results.validation
     row = next((r for r in (val.life_table if val is not None else ()) if r.get("target") == target), None)
     if row is None or row.get("cycles") is None or row.get("surrogate_cycles") is None:
         return LIFE_TRUST
-    if paired := val.paired_life_sentence(target):
+    if paired := paired_life_verdict(val, target):
         return (f"How far to trust the life: the validation below ran this study's true model on {val.n_samples:,} "
-                f"samples; {paired}: {_paired_verdict(val, target)}.")
+                f"samples; {paired[1]}.")
     change = float(row["surrogate_cycles"]) / float(row["cycles"]) - 1.0
     side = "below" if change < 0 else "above"
     verdict = ("their 95 % intervals overlap" if row.get("agree")
@@ -161,6 +213,14 @@ def _paired_verdict(val, target: float) -> str:
             "here it errs by more")
 
 
+def _curve_pf_at(rel, cycles) -> float | None:
+    """The R(N) curve's Pf at the level ``cycles`` (None where the curve has no such level)."""
+    if cycles is None:
+        return None
+    levels = [float(c) for c in rel.cycles]
+    return float(rel.pf[levels.index(float(cycles))]) if float(cycles) in levels else None
+
+
 def reliability_section(out: StudyOutputs, figs: Figures) -> str:
     rel = out.results.reliability
     if rel is None:
@@ -169,7 +229,7 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
     cov = rel.largest_cov()
     worst = rel.largest_error()
     interval = rel.life_interval()
-    life_notes = (([] if rel.life_hours is None else [f"{rel.life_hours:,.2f} h"])
+    life_notes = (([] if rel.life_hours is None else [running_time(rel.life_hours)])
                   + ([] if life is None or note else [interval_text(*interval)]))
     parts = [cards([
         (f"life at R = {rel.target:g}", _life_text(life, note), "; ".join(life_notes) or None),
@@ -199,10 +259,10 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
     if truncated := rel.truncation_sentence():
         parts.append(f"<p>{e(truncated[:1].upper() + truncated[1:])}.</p>")
     if len(rel.life_table) > 1:
-        parts.append(table(["target R", "life (cycles)", "95 % interval (cycles)", "life (h)", "where"], [
+        parts.append(table(["target R", "life (cycles)", "95 % interval (cycles)", "running time", "where"], [
             (format_number(r["target"], 6), format_number(r["cycles"]),
              interval_cells(*rel.life_interval(float(r["target"])), reach=rel.life_reach(float(r["target"]))),
-             "\u2014" if r.get("hours") is None else f"{r['hours']:,.2f}",
+             "\u2014" if r.get("hours") is None else running_time(float(r["hours"])),
              str(r.get("status", "")).replace("_", " ")) for r in rel.life_table], cls="kv"))
     if len(rel.joints) > 1:
         series = (f"<p>Series system of {len(rel.joints)} joints; the joint that governs: "
@@ -239,11 +299,18 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
         alt=reliability_curve_alt(rel.cycles, rel.reliability, rel.target, None if note else life)))
     conv = rel.convergence
     at = f" at {conv['cycles']:,.0f} cycles" if conv.get("cycles") else ""
+    fit = rel.surrogate_fit  # a life with a call-to-call scatter: the curve integrates it, the learning does not
+    curve_pf = _curve_pf_at(rel, conv.get("cycles")) if fit is not None and fit.life_scatter > 0 else None
+    scatter = (f"; it is the learning's own estimator, the share of its Monte Carlo population whose surrogate mean "
+               "fails, without the life's call-to-call scatter that R(N) counts, so its last value differs from the "
+               f"curve's Pf there ({curve_pf:.4g}, dashed), which the tables and the life read"
+               if curve_pf is not None and conv.get("pf") and f"{conv['pf'][-1]:.4g}" != f"{curve_pf:.4g}" else "")
     parts.append(figs.draw(
-        (lambda: F.convergence_figure(conv["n_calls"], conv["pf"], cov=conv.get("cov"))) if conv.get("n_calls")
+        (lambda: F.convergence_figure(conv["n_calls"], conv["pf"], cov=conv.get("cov"),
+                                      curve_pf=curve_pf if scatter else None)) if conv.get("n_calls")
         else None,
-        f"Convergence of the failure probability{at} against the number of true-model calls; its band is the "
-        "Monte Carlo part alone (1.96 COV of Pf), not the surrogate's error estimate.",
+        f"Convergence of the failure probability{at} against the number of true-model calls{scatter}; its band is "
+        "the Monte Carlo part alone (1.96 COV of Pf), not the surrogate's error estimate.",
         png_keys=("convergence",), missing_text="Convergence of Pf: not recorded in this result."))
     parts.append("</div>")
     hist = rel.histograms
@@ -256,15 +323,15 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
         + (f" of joint {hist['joint']}" if len(rel.joints) > 1 and hist.get("joint") else "")
         + " over the random inputs"
         + (f" at {', '.join(f'{c:,.0f}' for c in hist['cycles'])} cycles" if hist.get("cycles") else "")
-        + (f", {hist['n_samples_shown']:,} of {hist['n_population']:,} samples, the wear read from the life "
-           "surrogate (the curve and the tables read its whole Monte Carlo population, so the means and exceedances "
-           "shown here differ from theirs by the sampling)"
+        + (f", {hist['n_samples_shown']:,} of the {hist['n_population']:,} samples drawn for these histograms, the "
+           f"wear read from the life surrogate (the curve and the tables read the study's own population of "
+           f"{format_number(rel.n_mc)}, so the means and exceedances shown here differ from theirs by the sampling)"
            if hist.get("n_samples_shown") and hist.get("n_population") else "")
         + "; solid line: mean"
         + (f", dotted: the mean the reference reports ({label})" if ref_mean else "")
         + ", dashed: the allowable wear.", png_keys=("histogram",), wide=True,
         missing_text="Max wear histograms: none requested ([reliability] histogram levels)."))
-    rows = [(format_number(float(c)), format_number(float(r), 4), format_number(float(p)),
+    rows = [(format_number(float(c)), *probability_pair(float(r), float(p)),
              format_number(float(cv), 3), format_number(float(err), 2))
             for c, r, p, cv, err in zip(rel.cycles, rel.reliability, rel.pf, rel.pf_cov, rel.pf_error)]
     parts.append('<details class="numbers"><summary>R(N) as numbers</summary>')
@@ -540,6 +607,40 @@ def _paired_life_card(row: Mapping) -> tuple[str, str, str]:
             "noise the two share")
 
 
+_ALLOWED = {"within": "within", "unresolved": "across its edge", "beyond": "BEYOND"}
+
+
+def _validated_life_table(val) -> str:
+    """Every target's life on the true model's curve beside the surrogate's, and the paired check's reading of it
+    against what the life's 95 % interval allows (the cards above give the first target's); empty without a life
+    table."""
+    if not val.life_table:
+        return ""
+    paired = any(row.get("paired_ratio") is not None for row in val.life_table)
+    rows = []
+    for row in val.life_table:
+        true = ("\u2014" if row.get("cycles") is None
+                else f"{row['cycles']:,.0f} ({interval_cells(row.get('cycles_low'), row.get('cycles_high'))})")
+        surrogate = ("\u2014" if row.get("surrogate_cycles") is None else f"{row['surrogate_cycles']:,.0f} "
+                     f"({interval_cells(row.get('surrogate_cycles_low'), row.get('surrogate_cycles_high'))})")
+        cells = (format_number(row["target"], 6), true + (f"; {row['note']}" if row.get("note") else ""), surrogate,
+                 {True: "yes", False: "NO"}.get(row.get("agree"), "\u2014"))
+        if paired:
+            low, high = row.get("paired_ratio_low"), row.get("paired_ratio_high")
+            ratio = ("\u2014" if row.get("paired_ratio") is None else signed_percent(row["paired_ratio"])
+                     + ("" if low is None or high is None else f" ({signed_percent(low)} to {signed_percent(high)})"))
+            check = val.paired_life_allowed(float(row["target"]))
+            cells += (ratio, "\u2014" if check is None
+                      else f"{_ALLOWED[check[2]]} ({signed_percent(check[0])} to {signed_percent(check[1])})")
+        rows.append(cells)
+    heads = ["target R", "life, true model (95 %)", "life, surrogate (95 %)", "intervals overlap"]
+    if paired:
+        heads += ["surrogate / true \u2212 1 on the same samples (95 %)", "against what the life's 95 % interval "
+                  "allows"]
+    return "<p>The life at every target on the true model's curve and on the surrogate's:</p>" + table(
+        heads, rows, cls="kv")
+
+
 def validation_section(out: StudyOutputs, figs: Figures) -> str:
     """The surrogate's R(N) against the true model sampled directly, and its cross-validation."""
     val = out.results.validation
@@ -569,10 +670,11 @@ def validation_section(out: StudyOutputs, figs: Figures) -> str:
              "intervals overlap", "95 % test"]
     if val.paired:
         heads += ["same samples: surrogate \u2212 true (95 %)", "|difference| / error estimate"]
-        for row, d, lo, hi, ratio, inside, ok in zip(rows, val.paired_difference(), val.paired_difference_low,
-                                                     val.paired_difference_high, val.paired_error_ratio(),
-                                                     val.paired_inside_error(), val.paired_within_error()):
-            degree = "inside" if inside else "reaches it" if ok else "EXCEEDS it"
+        degrees = {"inside": "inside", "reaches": "reaches it", "exceeds": "EXCEEDS it"}
+        for row, d, lo, hi, ratio, verdict in zip(rows, val.paired_difference(), val.paired_difference_low,
+                                                  val.paired_difference_high, val.paired_error_ratio(),
+                                                  val.paired_verdict()):
+            degree = degrees[str(verdict)]
             row += [f"{d:+.3f} [{lo:+.3f}, {hi:+.3f}]",
                     f"{ratio:.2g} ({degree})" if math.isfinite(ratio) else degree]
     body = table(heads, rows)
@@ -610,7 +712,7 @@ def validation_section(out: StudyOutputs, figs: Figures) -> str:
                           "interval"] + (["levels in agreement"] if banded else []),
                          [(j["name"], f"{j['largest_difference']:.3f}", f"{j['levels_within_interval']} of {n}")
                           + ((f"{j['levels_agree']} of {n}",) if banded else ()) for j in val.joints], cls="kv"))
-    return head + lead + body + f'<div class="grid">{fig1}{fig2}</div>'
+    return head + _validated_life_table(val) + lead + body + f'<div class="grid">{fig1}{fig2}</div>'
 
 
 def comparison_section(checks: Sequence[Check], ref: Mapping) -> str:
@@ -633,6 +735,64 @@ def comparison_section(checks: Sequence[Check], ref: Mapping) -> str:
     head += "</p>"
     return head + table(["quantity", label, "this study", "relative difference", "band", "status", "note", "source"],
                         rows, cls="compare", raw_cols=(0, 1, 2, 3, 4, 5, 6, 7), row_cls=classes)
+
+
+_QUANTITY_TEXT = {"bearing_max_depth": "the max wear depth of {}'s bearing",
+                  "journal_max_depth": "the max wear depth of {}'s journal",
+                  "clearance_growth": "the clearance growth of {}"}
+
+
+def judged_quantity(out: StudyOutputs) -> str:
+    """What the life judges, for the summary's life card: 'joint B's bearing's max wear depth reaching 0.1 mm,
+    uniform wear mode' ('' without a reliability result)."""
+    rel = out.results.reliability
+    if rel is None:
+        return ""
+    what = _QUANTITY_TEXT.get(rel.quantity, rel.quantity.replace("_", " ") + " of {}")
+    joints = [j for j in rel.joints if j.get("name")]
+    if len(joints) == 1:
+        allowance = joints[0].get("allowance_mm")
+        text = what.format(f"joint {joints[0]['name']}") + (f" reaching {allowance:g} mm" if allowance else "")
+    else:
+        names = ", ".join(str(j["name"]) for j in joints)
+        text = what.format(f"each of joints {names}") + " reaching its allowance, the first to fail"
+    mode = out.results.setting("wear.geometry_mode")
+    return text + (f", {mode} wear mode" if mode else "")
+
+
+def _crossing(cycles, depth, allowance: float) -> float | None:
+    """The cycle count where a nominal wear history first reaches ``allowance`` (linear between its points); None
+    where it stays below."""
+    c, d = np.asarray(cycles, dtype=float), np.asarray(depth, dtype=float)
+    above = np.flatnonzero(d >= allowance)
+    if not above.size:
+        return None
+    k = int(above[0])
+    if k == 0:
+        return float(c[0])
+    return float(c[k - 1] + (allowance - d[k - 1]) * (c[k] - c[k - 1]) / (d[k] - d[k - 1]))
+
+
+def _unjudged_when(wear, rel, sentence: str) -> str:
+    """When the unjudged part of the joint ``sentence`` names reaches the allowance in the nominal history, against
+    the headline life ('; the nominal journal reaches it at about 30,300 cycles, before the life at R = 0.9');
+    '' where the history does not tell."""
+    quantity = rel.quantity if rel is not None else None
+    part, key = {"bearing_max_depth": ("journal", "max_journal_wear_mm"),
+                 "journal_max_depth": ("bearing", "max_wear_mm")}.get(quantity, (None, None))
+    joint = next((j for j in wear.joints if sentence.startswith(f"joint {j['name']}'s")), None)
+    history = (joint or {}).get("history") or {}
+    if key is None or not joint.get("allowance_mm") or not history.get(key):
+        return ""
+    at = _crossing(history["cycles"], history[key], float(joint["allowance_mm"]))
+    if at is None:
+        return ""
+    text = f"; the nominal {part} reaches the allowance at about {at:,.0f} cycles"
+    life, note = life_with_note(rel, rel.target)
+    if life is not None and not note:
+        text += (f", {'before' if at < life else 'after'} the life at R = {rel.target:g} ({life:,.0f} cycles)"
+                 + (": the mechanism may fail by it first" if at < life else ""))
+    return text
 
 
 def summary_cards(out: StudyOutputs, checks: Sequence[Check], ref: Mapping | None) -> str:
@@ -660,19 +820,21 @@ def summary_cards(out: StudyOutputs, checks: Sequence[Check], ref: Mapping | Non
         items.append(("nominal max wear", "\u2014", "no wear result"))
     if rel is not None:
         life, note = life_with_note(rel, rel.target)
-        val = out.results.validation
-        disagrees = validated_life_disagreement(val, rel) is not None
-        errs = val is not None and (check := val.paired_life_allowed(rel.target)) is not None and check[2] == "beyond"
-        items.append((f"life at R = {rel.target:g}", _life_text(life, note),
-                      ("the validation's true model disagrees (caveats below); " if disagrees
-                       else "the validation finds a larger error (caveats below); " if errs else "")
-                      + (ref_note("life_cycles", target_reliability=rel.target)
-                         or ("" if life is None or note else interval_text(*rel.life_interval())))
-                      or None))
+        paired = paired_life_verdict(out.results.validation, rel.target)
+        flags = {"beyond": "the validation finds a larger error (caveats below); ",
+                 "unresolved": "the validation's error reaches the interval's edge (caveats below); "}
+        flag = (flags.get(paired[0], "") if paired is not None
+                else "the validation's true model disagrees (caveats below); "
+                if validated_life_disagreement(out.results.validation, rel) is not None else "")
+        what = judged_quantity(out)
+        shown = "; ".join(x for x in (what, "" if life is None or note else interval_text(*rel.life_interval()),
+                                      ref_note("life_cycles", target_reliability=rel.target), flag.rstrip("; ")) if x)
+        items.append((f"life at R = {rel.target:g}", _life_text(life, note), shown or None))
         sens = out.results.sensitivity
-        extra = f"; {sens.extra_model_calls} more for the sensitivity" if sens and sens.extra_model_calls else ""
+        extra = (f"this study ran {sens.extra_model_calls} more for the sensitivity"
+                 if sens and sens.extra_model_calls else "")
         items.append(("true-model calls", format_number(rel.model_calls),
-                      (ref_note("model_calls") or "the whole R(N) curve") + extra))
+                      "; ".join(x for x in ("the whole R(N) curve", ref_note("model_calls"), extra) if x)))
     else:
         items.append(("life at the target R", "\u2014", "no reliability result"))
     design = out.results.design
@@ -712,6 +874,80 @@ def _learning_rule(results) -> SimpleNamespace | None:
     return None if None in values.values() else SimpleNamespace(**values)
 
 
+_PAIRED_LIFE_TITLES = {"beyond": "The life errs by more than its interval says",
+                       "unresolved": "The life's error reaches the edge of its interval",
+                       "within": "The true model's life differs from the curve's on other samples"}
+
+
+def _life_validation_caveats(out: StudyOutputs) -> list[tuple[str, str, str]]:
+    """The validation's verdict on the life at the study's target, for the summary: the paired check's (the same
+    sentence as the reliability section's "How far to trust the life", :func:`paired_life_verdict`) where the
+    validation has one, with the unpaired intervals' non-overlap as a clause; the unpaired non-overlap alone
+    (:func:`validated_life_disagreement`) where it has none."""
+    val, rel = out.results.validation, out.results.reliability
+    if val is None or rel is None:
+        return []
+    hint = linear_trend_hint(out.results.setting("reliability.trend"))
+    unpaired = validated_life_disagreement(val, rel)
+    paired = paired_life_verdict(val, rel.target)
+    if paired is None:
+        return [] if unpaired is None else [("validation", "The true model's life disagrees with the curve's",
+                                             unpaired + (f"; {hint}" if hint else ""))]
+    verdict, sentence = paired
+    if verdict == "within" and unpaired is None:
+        return []
+    text = f"against {val.n_samples:,} direct runs of the true model, {sentence}".replace("<b>", "").replace("</b>", "")
+    if unpaired is not None:
+        row = next(r for r in val.life_table if r.get("target") == rel.target)
+        shift = float(row["paired_surrogate_cycles"]) / float(row["surrogate_cycles"]) - 1.0
+        text += (f". The unpaired 95 % intervals (the true model's {float(row['cycles']):,.0f} cycles, the curve's "
+                 f"{float(row['surrogate_cycles']):,.0f}) do not overlap, partly from these samples' own draw: the "
+                 f"surrogate read on them gives {float(row['paired_surrogate_cycles']):,.0f} cycles, "
+                 f"{100 * abs(shift):.1f} % {'above' if shift > 0 else 'below'} its life on the study's population")
+    if verdict != "within" and hint:
+        text += f"; {hint}"
+    return [("validation", _PAIRED_LIFE_TITLES[verdict], text)]
+
+
+def _paired_at_missed(val) -> str:
+    """At the levels where the true model's and the curve's intervals do not overlap, what the paired check says of
+    the surrogate's own error there ('; on the same samples the surrogate's difference there reaches its error
+    estimate (0.97 of it): part of the disagreement is these samples' own draw'); '' unpaired."""
+    if not val.paired:
+        return ""
+    missed = [k for k, ok in enumerate(val.agreement) if not ok][:3]
+    verdicts, ratio = val.paired_verdict(), val.paired_error_ratio()
+    told = []
+    for k in missed:
+        size = f" ({ratio[k]:.2g} of it)" if math.isfinite(ratio[k]) else ""
+        where = f" at {val.cycles[k]:,.0f} cycles" if len(missed) > 1 else " there"
+        told.append(f"{'lies inside' if verdicts[k] == 'inside' else verdicts[k]} its error estimate{size}{where}")
+    if not told:
+        return ""
+    own = ("" if all(verdicts[k] == "exceeds" for k in missed)
+           else ": part of the disagreement is these samples' own draw")
+    return f"; on the same samples the surrogate's difference {', '.join(told)}{own}"
+
+
+def _held_but_wider(rel, rule) -> str:
+    """For a learning whose budget ended while its stop held on some designs: why the rule can hold while the error
+    shown exceeds its tolerance (the stop tests ESC's count of misclassified samples only; the error shown adds the
+    Kriging's posterior spread); '' where that is not the case."""
+    if rule is None or rule.stopping != "error" or not rel.stopped_while_confirming or rel.pf_error_esc is None:
+        return ""
+    tolerance = np.maximum(rule.error_abs_tol, rule.error_tol * np.asarray(rel.pf, dtype=float))
+    counted = ~np.asarray(rel.below_floor, dtype=bool)
+    esc, total = np.asarray(rel.pf_error_esc, dtype=float), np.asarray(rel.pf_error, dtype=float)
+    esc_ok = np.all(~counted | ~np.isfinite(esc) | (esc <= tolerance))
+    over = counted & np.isfinite(total) & (total > tolerance)
+    if not esc_ok or not over.any():
+        return ""
+    k = int(np.argmax(np.where(over, total / tolerance, -np.inf)))
+    return (f". The stop held although the error shown reaches {total[k]:.3f} at {rel.cycles[k]:,.0f} cycles, over "
+            f"its tolerance {tolerance[k]:.3g}: the stop tests ESC's count of misclassified samples only "
+            f"({esc[k]:.3f} there), and the error shown adds the Kriging's posterior spread")
+
+
 def summary_caveats(out: StudyOutputs) -> str:
     """The warnings of the sections below that bear on the summary's numbers, one line each with a link to its
     section (empty when there is none): a reader of the headline alone must not miss them."""
@@ -731,7 +967,8 @@ def summary_caveats(out: StudyOutputs) -> str:
         items += [("wear", "Outside the contact law's range", s) for s in wear.outside_hertz(skip=told)]
         quantity = rel.quantity if rel is not None else out.results.setting("reliability.quantity")
         if quantity:
-            items += [("wear", "Wear the limit state does not judge", s) for s in wear.unjudged_wear(quantity)]
+            items += [("wear", "Wear the limit state does not judge", s + _unjudged_when(wear, rel, s))
+                      for s in wear.unjudged_wear(quantity)]
     conv = out.results.wear_convergence
     if conv is not None and conv.not_converged():
         own = " or a joint's own" if conv.baseline.get("joints") else ""
@@ -743,10 +980,13 @@ def summary_caveats(out: StudyOutputs) -> str:
         if not rel.converged:
             why = ("its budget of model calls ended" if rel.stopped_by_budget or not rel.learning_stop
                    else rel.learning_stop)
+            max_calls = out.results.setting("reliability.max_calls")
             items.append(("reliability", "The learning did not converge",
-                          f"{why}; the curve and the life carry more error than the settings ask for (the R(N) "
-                          "band and the surrogate error of R are the surrogate's own estimate of how much; "
-                          "<code>jointwear validate</code> measures it against the true model)"))
+                          f"{why}; the curve and the life carry more error than the settings ask for, and the R(N) "
+                          "band and the life's interval, the surrogate's own estimate of that error, can then be too "
+                          "narrow (docs/study.md; jointwear validate measures it against the true model). Raise "
+                          f"reliability.max_calls{f' (now {max_calls})' if max_calls else ''} and run again with "
+                          "--resume: the calls made are kept" + _held_but_wider(rel, _learning_rule(out.results))))
         elif line := posterior_error_line(rel, _learning_rule(out.results)):
             items.append(("reliability", "The whole error estimate exceeds the learning's tolerance",
                           line.replace("`jointwear validate`", "<code>jointwear validate</code>")))
@@ -768,21 +1008,14 @@ def summary_caveats(out: StudyOutputs) -> str:
         also = (f"; the 95 % test of the difference rejects {strict} levels" if strict > (~val.agreement).sum()
                 else "")
         items.append(("validation", "The true model disagrees with the curve",
-                      f"at {int((~val.agreement).sum())} of {len(val.agreement)} levels, {missed}{also}; the levels "
-                      f"share the validation's {val.n_samples:,} samples, so they are not independent checks"))
+                      f"at {int((~val.agreement).sum())} of {len(val.agreement)} levels "
+                      f"({missed.removeprefix('not at ')}){_paired_at_missed(val)}{also}; the levels share the "
+                      f"validation's {val.n_samples:,} samples, so they are not independent checks"))
     elif val is not None and val.differs_at_95().any():
         items.append(("validation", "The curve passes the lenient check only",
                       f"its 95 % interval overlaps the true model's at every level, but "
                       f"{val.differences_at_95()}: the curve's error estimate there is smaller than its error"))
-    hint = linear_trend_hint(out.results.setting("reliability.trend"))
-    if (life := validated_life_disagreement(val, rel)) is not None:
-        items.append(("validation", "The true model's life disagrees with the curve's",
-                      life + (f"; {hint}" if hint else "")))
-    elif (val is not None and rel is not None and (check := val.paired_life_allowed(rel.target))
-          and check[2] == "beyond"):
-        items.append(("validation", "The life errs by more than its interval says",
-                      f"{val.paired_life_sentence(rel.target)}, beyond what the life's 95 % interval allows "
-                      f"({signed_percent(check[0])} to {signed_percent(check[1])})" + (f"; {hint}" if hint else "")))
+    items += _life_validation_caveats(out)
     rows = [f'<li><a href="#{e(sid)}"><strong>{e(title)}</strong></a>: {e(sentence.rstrip("."))}.</li>'
             for sid, title, sentence in items]
     missed = None if rel is None else curve_misses_life(rel, wear)  # markup already

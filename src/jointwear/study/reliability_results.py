@@ -1016,6 +1016,16 @@ class ValidationResult(StageResult):
         error = np.nan_to_num(self.surrogate_error, nan=0.0, posinf=1.0)
         return (self.paired_difference_low >= -error) & (self.paired_difference_high <= error)
 
+    def paired_verdict(self) -> np.ndarray | None:
+        """The paired check's degree at each level, as the report classifies it: 'inside' (the paired difference's
+        95 % interval lies within +- the surrogate's error estimate: the estimate holds), 'reaches' (it only
+        overlaps +- the estimate: not refuted, not shown) or 'exceeds' (it lies beyond: the surrogate errs by more
+        than it says); None unpaired."""
+        if not self.paired:
+            return None
+        return np.where(self.paired_inside_error(), "inside", np.where(self.paired_within_error(), "reaches",
+                                                                         "exceeds"))
+
     def paired_error_ratio(self) -> np.ndarray | None:
         """The absolute difference of surrogate and true model on the same samples over the surrogate's error estimate,
         per level: above 1 the surrogate errs by more than it says (nan where it gives no finite, positive
@@ -1121,7 +1131,7 @@ class ValidationResult(StageResult):
                 "reliability_surrogate_same_samples": self.paired_reliability_surrogate,
                 "paired_difference": self.paired_difference(), "paired_difference_low": self.paired_difference_low,
                 "paired_difference_high": self.paired_difference_high,
-                "paired_within_error": self.paired_within_error()})
+                "paired_within_error": self.paired_within_error(), "paired_verdict": self.paired_verdict()})
         if self.life_table:
             keys = dict.fromkeys(key for row in self.life_table for key in row)  # an untestable row adds its note
             out["validation_life"] = {key: [row.get(key) for row in self.life_table] for key in keys}
