@@ -178,6 +178,34 @@ def test_the_convergence_figure_draws_the_curves_pf_beside_the_learnings():
     assert "learning's last Pf = 0.76" in [t.get_text() for t in fig.axes[0].texts]
 
 
+def test_the_report_shows_the_provenance_and_the_seeds(tmp_path, nominal):
+    """The report said 'jointwear 0.1.0' only; the results record the commit, the host CPU, the versions and the
+    seeds."""
+    d = make_fixture_dir(tmp_path / "p", nominal, which=("reliability", "config"))
+    rel = ReliabilityCurve.load(d)
+    rel.provenance = {"jointwear": "0.1.0+gf75291d", "python": "3.11.7", "numpy": "2.4.6", "scipy": "1.17.1",
+                      "numba": "0.68.1", "openturns": "1.27.post1", "written_at": "2026-11-29T18:04:00+00:00",
+                      "machine": {"llvm_host_cpu": "znver3", "cpus": 2}}
+    rel.write(d)
+    _validation(rel).save(d)
+    page = _text(_page(d))
+    assert "results by jointwear 0.1.0+gf75291d on znver3 (2 CPUs)" in page  # the footer
+    prov = page[page.index("Provenance"):]
+    assert "reliability 0.1.0+gf75291d znver3, 2 CPUs python 3.11.7, numpy 2.4.6, scipy 1.17.1, numba 0.68.1, " \
+        "openturns 1.27.post1" in prov
+    assert "the validation's seed 3025 and its 400 samples" in prov
+
+
+def test_the_random_inputs_show_their_correlations():
+    from jointwear.report.study_sections import correlation_part
+
+    cfg = {"study_config": {"uncertainty": {"correlation": {"pairs": [["Rj", "c", -0.537]], "measure": "pearson"}}}}
+    assert "Rj and c: -0.537" in correlation_part(cfg) and "pearson" in correlation_part(cfg)
+    cfg = {"study_config": {"uncertainty": {"correlation": {"variables": ["a", "b"], "matrix": [[1, 0.3], [0.3, 1]]}}}}
+    assert "a and b: +0.3" in correlation_part(cfg)
+    assert "independent" in correlation_part({})
+
+
 def test_a_learning_out_of_budget_names_the_remedy_and_why_its_stop_held(tmp_path, nominal):
     """The non-convergence caveat gave no remedy, and a card said the stop 'held' beside an error three times its
     tolerance: the stop tests ESC's count only, the error shown adds the Kriging's posterior spread."""
@@ -206,6 +234,26 @@ def test_a_learning_out_of_budget_names_the_remedy_and_why_its_stop_held(tmp_pat
     rel.write(d)
     page = _text(_page(d))
     assert "Raise reliability.max_calls" in page and "the stop tests ESC's count" not in page
+
+
+def test_minor_captions_times_and_probabilities_read_right(tmp_path, nominal):
+    """The histogram caption called its own 100,000 samples the curve's population (200,000); the wear history's
+    caption kept '(if computed; ...'; a 5.5-minute life read '0.09 h'; the R(N) table printed R = 1 beside
+    Pf = 3.9e-06."""
+    from jointwear.report.result_sections import probability_pair, running_time
+
+    assert running_time(0.0917) == "5.5 min" and running_time(0.11) == "6.6 min" and running_time(13.04) == "13 h"
+    assert probability_pair(1 - 3.943e-06, 3.943e-06) == ("1 \u2212 3.9e-06", "3.943e-06")
+    assert probability_pair(4.752e-05, 1 - 4.752e-05) == ("4.752e-05", "1 \u2212 4.8e-05")
+    d = make_fixture_dir(tmp_path / "m", nominal)
+    rel = ReliabilityCurve.load(d)
+    rel.histograms.update({"n_samples_shown": 2000, "n_population": 100_000})
+    rel.write(d)
+    page = _text(_page(d))
+    assert ("2,000 of the 100,000 samples drawn for these histograms, the wear read from the life surrogate (the "
+            f"curve and the tables read the study's own population of {rel.n_mc:,}") in page
+    assert "if computed" not in page
+    assert f"{rel.target:g} {rel.life():,.0f}" in page and running_time(rel.life_hours) in page
 
 
 def test_a_call_count_goal_is_not_passed_by_a_learning_its_budget_ended(tmp_path, nominal):

@@ -25,7 +25,13 @@ from .result_sections import (
     summary_caveats,
     validation_section,
 )
-from .study_sections import convergence_section, dynamics_section, settings_section, wear_section
+from .study_sections import (
+    convergence_section,
+    dynamics_section,
+    provenance_line,
+    settings_section,
+    wear_section,
+)
 
 __all__ = ["build_report"]
 
@@ -105,5 +111,6 @@ def build_report(out_dir: Path | str, *, output: Path | str | None = None, title
 {summary_lead}</section>
 {main}"""
     doc = html_page(page_title, "Wear of revolute clearance joints and wear reliability of a planar mechanism "
-                    f"\u00b7 {sub}", nav, body, f"{figs.count} figures embedded")
+                    f"\u00b7 {sub}", nav, body,
+                    " \u00b7 ".join(x for x in (f"{figs.count} figures embedded", provenance_line(out)) if x))
     return write_page(output if output is not None else out_dir / "report.html", doc)

@@ -161,6 +161,7 @@ def settings_section(out: StudyOutputs, figs: Figures) -> str:
             [(str(v["label"]), str(v["name"]), str(v["group"]).replace("_", " "), _distribution_cell(v),
               mean_cell(v), format_number(v["std"]), format_number(v["cov"]),
               str(v["unit"]), str(v["target"])) for v in variables], cls="settings"))
+        parts.append(correlation_part(cfg))
     recs = list(cfg.get("settings") or [])
     ref = reference_of(cfg)
     if ref:
@@ -188,7 +189,82 @@ def settings_section(out: StudyOutputs, figs: Figures) -> str:
         parts.append(f"<details open><summary>All {len(recs)} settings of this study</summary>")
         parts.append(table(["setting", "value", "unit", "from"], rows, cls="settings"))
         parts.append("</details>")
+    parts.append(provenance_part(out))
     return "".join(parts)
+
+
+def correlation_pairs(cfg: dict) -> list[tuple[str, str, float]]:
+    """The correlated pairs of random inputs the config records ([uncertainty.correlation]: its ``pairs``, or the
+    off-diagonal non-zero terms of its ``matrix`` over its ``variables``)."""
+    corr = (((cfg or {}).get("study_config") or {}).get("uncertainty") or {}).get("correlation") or {}
+    pairs = [(str(a), str(b), float(r)) for a, b, r in corr.get("pairs") or []]
+    names, matrix = corr.get("variables") or [], corr.get("matrix")
+    if matrix and names:
+        pairs += [(str(names[i]), str(names[j]), float(matrix[i][j])) for i in range(len(names))
+                  for j in range(i + 1, len(names)) if matrix[i][j]]
+    return pairs
+
+
+def correlation_part(cfg: dict) -> str:
+    """A line under the random inputs' table: the correlated pairs and the measure, or that the inputs are
+    independent."""
+    pairs = correlation_pairs(cfg)
+    if not pairs:
+        return "<p>The random inputs are independent (no [uncertainty.correlation]).</p>"
+    measure = ((cfg.get("study_config") or {}).get("uncertainty") or {}).get("correlation", {}).get("measure")
+    told = ", ".join(f"{a} and {b}: {r:+.3g}" for a, b, r in pairs)
+    return (f"<p><b>Correlated inputs</b> ([uncertainty.correlation]{f', {measure}' if measure else ''}): {e(told)}; "
+            "the others are independent. The correlation is part of the population the life is computed on.</p>")
+
+
+_STAGE_NAMES = {"simulate": "simulate", "wear": "wear", "wear_convergence": "converge", "reliability": "reliability",
+                "sensitivity": "sensitivity", "validation": "validate", "design": "design"}
+
+
+def provenance_line(out: StudyOutputs) -> str:
+    """'results by jointwear 0.1.0+gf75291d on znver3 (2 CPUs)' from the first result's provenance, with 'and
+    others' where the stages differ; '' without a result."""
+    records = [getattr(out.results, stage).provenance or {} for stage in out.results.stages
+               if getattr(getattr(out.results, stage), "provenance", None)]
+    if not records:
+        return ""
+    keys = {(r.get("jointwear"), (r.get("machine") or {}).get("llvm_host_cpu")) for r in records}
+    first = records[0]
+    machine = first.get("machine") or {}
+    cpus = f" ({machine['cpus']} CPUs)" if machine.get("cpus") else ""
+    return (f"results by jointwear {first.get('jointwear', '?')} on {machine.get('llvm_host_cpu') or '?'}{cpus}"
+            + ("; the stages differ (see Study and settings)" if len(keys) > 1 else ""))
+
+
+def provenance_part(out: StudyOutputs) -> str:
+    """Which code, machine and seeds produced each result: every stage's recorded provenance (the jointwear
+    version with its commit, the CPU the kernels were compiled for, the versions of Python, numpy, scipy, numba
+    and openturns, when it was written), the study's seed and the validation's seed and sample count."""
+    rows = []
+    for stage in out.results.stages:
+        prov = getattr(getattr(out.results, stage), "provenance", None) or {}
+        if not prov:
+            continue
+        machine = prov.get("machine") or {}
+        cpu = machine.get("llvm_host_cpu") or "\u2014"
+        cpu += f", {machine['cpus']} CPUs" if machine.get("cpus") else ""
+        versions = ", ".join(f"{k} {prov[k]}" for k in ("python", "numpy", "scipy", "numba", "openturns")
+                             if prov.get(k))
+        rows.append((_STAGE_NAMES.get(stage, stage), str(prov.get("jointwear") or "\u2014"), cpu, versions or "\u2014",
+                     str(prov.get("written_at") or "\u2014").replace("T", " ")))
+    if not rows:
+        return ""
+    seeds = []
+    if (seed := out.results.setting("reliability.seed")) is not None:
+        seeds.append(f"the study's seed {seed} (reliability.seed)")
+    val = out.results.validation
+    if val is not None:
+        seeds.append(f"the validation's seed {val.seed if val.seed is not None else 'not recorded'} and its "
+                     f"{val.n_samples:,} samples")
+    return ("<h3>Provenance</h3><p>The code (jointwear's version with its commit), the CPU its kernels were compiled "
+            "for and the libraries each result was computed with: results can differ between CPUs and versions."
+            + (f" Seeds: {e('; '.join(seeds))}." if seeds else "") + "</p>"
+            + table(["stage", "jointwear", "host CPU", "versions", "written"], rows, cls="kv"))
 
 
 #: a clearance joint's settings shown per part (bearing, journal), with their heading
@@ -384,8 +460,9 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
                                       mean_cycles=mean.get("cycles"), mean_max_wear_mm=mean.get("mean"),
                                       reference_mean=ref_mean or None, reference_nominal=nominal,
                                       reference_label=label),
-        "Max bearing wear against cycles: the nominal design, the mean over the random inputs (if computed; read "
-        "from the life surrogate as allowance \u00d7 N / N_f(x), a linear growth that is exact at the allowance)"
+        "Max bearing wear against cycles: the nominal design"
+        + (", the mean over the random inputs (read from the life surrogate as allowance \u00d7 N / N_f(x): "
+           "linear in N by construction, exact at the allowance)" if mean.get("mean") else "")
         + (f", the values of the reference ({label})" if ref_mean or nominal else "")
         + (f" and the configured allowance ({limit:g} mm, dashed)." if limit is not None else "."),
         png_keys=("history",), alt=wear_history_alt(wear.history["cycles"], wear.history["max_wear_mm"], limit)))
