@@ -141,29 +141,43 @@ GAP_WARNING = 1e-3
 
 
 def joint_gaps(m) -> list[tuple[int, object, float]]:
-    """(index, joint, gap in m) of each revolute joint of a general mechanism: the distance between its two drawn
-    points."""
+    """(index, joint, gap in m) of each joint of a general mechanism: a revolute joint's distance between its two
+    drawn points, a prismatic joint's distance of its second point from its guide (the line through its first point
+    along ``direction``)."""
     pts = {(b.name, k): p for b in m.bodies for k, p in b.points.items()}
     pts.update({(GROUND, k): p for k, p in m.ground_points.items()})
     out = []
     for i, j in enumerate(m.joints):
+        a, b = (pts[tuple(r.split("."))] for r in j.connects)
         if j.type == "revolute":
-            a, b = (pts[tuple(r.split("."))] for r in j.connects)
             out.append((i, j, math.dist(a, b)))
+        else:
+            d = j.direction
+            out.append((i, j, abs((b[0] - a[0]) * d[1] - (b[1] - a[1]) * d[0]) / math.hypot(*d)))
     return out
 
 
+def gap_text(joint, gap: float) -> str:
+    """What a drawn gap of ``joint`` is, in words: two points apart (revolute) or a point off its guide (prismatic)."""
+    if joint.type == "revolute":
+        return (f"the drawn points {joint.connects[0]} and {joint.connects[1]} of revolute joint '{joint.name}' are "
+                f"{gap * 1e3:.4g} mm apart")
+    return (f"the drawn point {joint.connects[1]} of prismatic joint '{joint.name}' lies {gap * 1e3:.4g} mm off its "
+            f"guide (the line through {joint.connects[0]} along its direction)")
+
+
 def _joint_gap_check(m, lref: float) -> None:
-    """The two drawn points of a revolute joint must (nearly) coincide."""
+    """The two drawn points of a revolute joint must (nearly) coincide, a prismatic joint's point (nearly) lie on
+    its guide."""
     names = [j.name for j in m.joints]
     for i, j, gap in joint_gaps(m):
         if gap > m.closure_tolerance * lref:
             raise AssemblyError(
-                f"joints[{item_key(i, names)}].connects: the drawn points {j.connects[0]} and {j.connects[1]} of "
-                f"revolute joint '{j.name}' are {gap * 1e3:.4g} mm apart (allowed "
-                f"{m.closure_tolerance * lref * 1e3:.4g} mm = "
-                f"closure_tolerance x median link size): draw them at the same place (a point mistyped, or a body's "
-                "points in other units than the rest: points_mm against points, which are in m)"
+                f"joints[{item_key(i, names)}].connects: {gap_text(j, gap)} (allowed "
+                f"{m.closure_tolerance * lref * 1e3:.4g} mm = closure_tolerance x median link size): "
+                + ("draw them at the same place" if j.type == "revolute" else "draw the point on the guide")
+                + " (a point mistyped, or a body's points in other units than the rest: points_mm against points, "
+                "which are in m)"
             )
 
 

@@ -333,20 +333,21 @@ def wear_length_warnings(config: StudyConfig) -> list[str]:
 
 
 def drawing_warnings(config: StudyConfig) -> list[str]:
-    """The revolute joints of a general linkage whose two drawn points lie apart by more than ``GAP_WARNING`` of the
-    median link size but within ``closure_tolerance`` of it: the assembly closes such a gap without a word, so the
-    links it joins are not as drawn (a misplaced point, most likely)."""
-    from jointwear.mechanism.assembly import GAP_WARNING, drawn_link_size, joint_gaps
+    """The joints of a general linkage whose drawn gap (two points of a revolute joint apart, a prismatic joint's
+    point off its guide) is more than ``GAP_WARNING`` of the median link size but within ``closure_tolerance`` of it:
+    the assembly closes such a gap without a word, so the links it joins are not as drawn (a misplaced point, most
+    likely)."""
+    from jointwear.mechanism.assembly import GAP_WARNING, drawn_link_size, gap_text, joint_gaps
 
     m = config.mechanism
     if m.type != "general":
         return []
     size = drawn_link_size([b.points.values() for b in m.bodies])
     names = [j.name for j in m.joints]
-    return [f"mechanism.joints[{item_key(i, names)}].connects: the drawn points {joint.connects[0]} and "
-            f"{joint.connects[1]} of revolute joint '{joint.name}' are {gap * 1e3:.4g} mm apart; the assembly closes "
-            "the gap, so the links it joins are up to that much off the drawing: draw the two points at the same place "
-            "unless that is meant"
+    return [f"mechanism.joints[{item_key(i, names)}].connects: {gap_text(joint, gap)}; the assembly closes the gap, "
+            "so the links it joins are up to that much off the drawing: "
+            + ("draw the two points at the same place" if joint.type == "revolute" else "draw the point on the guide")
+            + " unless that is meant"
             for i, joint, gap in joint_gaps(m) if GAP_WARNING * size < gap <= m.closure_tolerance * size]
 
 
