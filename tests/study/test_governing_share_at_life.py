@@ -7,21 +7,9 @@ import copy
 
 import numpy as np
 import pytest
+from test_results import small_reliability_curve
 
-from jointwear.study import ReliabilityCurve
 from jointwear.study.reliability import governing_shares_at
-
-
-def _curve() -> ReliabilityCurve:
-    cycles, rel = np.array([1e5, 2e5, 3e5]), np.array([0.99, 0.8, 0.3])
-    return ReliabilityCurve(
-        cycles=cycles, reliability=rel, pf=1 - rel, pf_cov=np.array([np.inf, 0.02, 0.01]),
-        below_floor=np.array([False, False, False]), pf_error=np.array([0.001, 0.01, 0.01]), target=0.9,
-        life_cycles=1.45e5, life_hours=1.0, model_calls=20, failed_calls=0, n_mc=1000, converged=True,
-        wall_seconds=1.0, names=["a", "b"], units=["Pa", ""], histograms={}, mean_max_wear_mm={}, convergence={},
-        design_x=np.ones((3, 2)), design_wear=np.ones((3, 3)), design_life=np.array([1e5, 2e5, np.inf]),
-        life_table=[{"target": 0.9, "cycles": 1.45e5, "hours": 1.0}],
-        joints=[{"name": "A", "allowance_mm": 0.03, "reliability": rel.tolist(), "governing_share": [1.0] * 3}])
 
 
 def test_shares_by_each_threshold_are_the_fraction_of_failed_samples_whose_shortest_life_is_each_joints():
@@ -40,7 +28,7 @@ def test_shares_by_each_threshold_are_the_fraction_of_failed_samples_whose_short
 
 
 def test_the_result_reads_the_shares_at_the_life_between_levels():
-    res = _curve()
+    res = small_reliability_curve()
     res.life_curve = {"cycles": [1e5, 1.5e5, 2e5, 3e5], "reliability": [0.99, 0.9, 0.8, 0.3],
                       "half_width_95": [0.01] * 4}
     two = copy.deepcopy(res.joints[0])

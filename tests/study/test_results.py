@@ -124,7 +124,7 @@ def test_a_number_too_large_for_its_field_spoils_only_its_stage(tmp_path):
     # load_results turns an unreadable stage into None with its reason; 10**400 raised OverflowError past it
     from jointwear.study.io import strict
 
-    rel = _reliability_result()
+    rel = small_reliability_curve()
     rel.save(tmp_path)
     data = json.loads((tmp_path / rel.FILE).read_text())
     data["curve"]["cycles"][0] = 10**400
@@ -133,7 +133,7 @@ def test_a_number_too_large_for_its_field_spoils_only_its_stage(tmp_path):
     assert loaded.reliability is None and "could not be read" in loaded.errors["reliability"]
 
 
-def _reliability_result():
+def small_reliability_curve():
     cycles = np.array([1e5, 2e5, 3e5])
     rel = np.array([0.99, 0.8, 0.3])
     return ReliabilityCurve(
@@ -148,7 +148,7 @@ def _reliability_result():
 
 
 def test_reliability_result_round_trip_and_tables(tmp_path):
-    res = _reliability_result()
+    res = small_reliability_curve()
     res.save(tmp_path, figures=False)
     back = load_results(tmp_path).reliability
     np.testing.assert_array_equal(back.reliability, res.reliability)
@@ -177,12 +177,12 @@ def test_reliability_result_round_trip_and_tables(tmp_path):
 
 def test_a_result_whose_arrays_disagree_in_length_saves_nothing_and_names_them(tmp_path):
     """A curve cut short by hand wrote its CSV cut at the shortest column, without a word (zip stops there)."""
-    res = _reliability_result()
+    res = small_reliability_curve()
     res.pf_error = res.pf_error[:2]
     with pytest.raises(ValueError, match=r"ReliabilityCurve: cycles, .* run along one axis but their lengths differ "
                                          r"\(cycles 3, reliability 3, .*pf_error 2"):
         res.save(tmp_path, figures=False)
-    res = _reliability_result()
+    res = small_reliability_curve()
     res.joints[0]["reliability"] = res.joints[0]["reliability"][:2]  # one joint's column of the curve's table
     res.joints.append({**res.joints[0], "name": "B"})
     with pytest.raises(ValueError, match=r"ReliabilityCurve table 'reliability_curve': columns of different lengths "
@@ -217,7 +217,7 @@ def test_every_table_as_its_csv_file_and_as_a_data_frame(tmp_path):
     (a notebook reads the result without the folder)."""
     import pandas as pd
 
-    res = _reliability_result()
+    res = small_reliability_curve()
     res.save(tmp_path, figures=False)
     tables = res.tables()
     assert list(tables) == ["reliability_curve", "life_table", "design_points"]
@@ -259,7 +259,7 @@ def test_a_result_prints_short_with_every_field(tmp_path):
     r = wear_history(FakeModel(), WearSettings(n_grid=360), 50_000, simulate=fake_simulate)
     s = WearSummary.from_history(r, allowances_m={"joint0": 3e-5})
     s.save(tmp_path)
-    rel = _reliability_result()
+    rel = small_reliability_curve()
     rel.save(tmp_path, figures=False)
     for res in (s, rel):
         text = repr(res)
@@ -293,18 +293,18 @@ def test_profile_mode_writes_the_limit_states_clearance_growth(tmp_path):
 
 def test_results_compare_by_value():
     """`rel_a == rel_b` raised 'the truth value of an array is ambiguous' (the dataclass comparison)."""
-    a, b = _reliability_result(), _reliability_result()
+    a, b = small_reliability_curve(), small_reliability_curve()
     a.pf_error[0] = b.pf_error[0] = np.nan  # NaN holes, as a loaded result has them, compare equal
     assert a == b and not (a != b)
     b.reliability = b.reliability.copy()
     b.reliability[1] = 0.81
     assert a != b
-    assert a != "a string" and a != _reliability_result().__dict__
+    assert a != "a string" and a != small_reliability_curve().__dict__
 
 
 def test_equality_ignores_the_runs_metadata():
     """The same curve computed twice compared unequal: the wall time and the provenance's time of writing differ."""
-    a, b = _reliability_result(), _reliability_result()
+    a, b = small_reliability_curve(), small_reliability_curve()
     b.wall_seconds = a.wall_seconds + 7.0
     b.provenance = {**a.provenance, "written_at": "2030-01-01T00:00:00+00:00", "machine": "another"}
     assert a == b
@@ -331,7 +331,7 @@ def test_a_life_target_outside_0_1_or_not_a_number_is_refused_by_name():
     """life_interval(1.5) returned (None, None) and life_interval("0.9") raised numpy's UFuncTypeError."""
     from jointwear.schema import ConfigError
 
-    res = _reliability_result()
+    res = small_reliability_curve()
     for bad in (1.5, 0.0, 1.0, -0.1, "0.9", True, float("nan")):
         with pytest.raises(ConfigError, match=r"life_interval: target: a reliability in \(0, 1\)"):
             res.life_interval(bad)
@@ -386,7 +386,7 @@ def test_a_stage_killed_while_drawing_leaves_no_json_that_reads_as_whole(tmp_pat
 
     monkeypatch.setattr(rr, "save_figure", killed)
     with pytest.raises(KeyboardInterrupt):
-        _reliability_result().save(tmp_path)
+        small_reliability_curve().save(tmp_path)
     assert (tmp_path / "reliability_curve.csv").is_file() and not (tmp_path / "reliability.json").exists()
 
 
@@ -410,7 +410,7 @@ def test_the_command_line_gives_every_targets_life():
     """Only the headline target's life was printed; a second target (R = 0.9999) appeared in the table alone."""
     from jointwear.study.stage_lines import other_lives_line
 
-    res = _reliability_result()
+    res = small_reliability_curve()
     res.life_table[1]["status"] = "beyond_curve"
     assert other_lives_line(res) == "R = 0.99: beyond the curve's last level (extend cycles_stop)"
     res.life_table = res.life_table[:1]
@@ -422,7 +422,7 @@ def test_a_target_in_the_posterior_points_thin_tail_is_told():
     that part of the life's interval rested on about nothing, and nothing said so."""
     from jointwear.study.stage_lines import POSTERIOR_TAIL_POINTS, posterior_tail_line
 
-    res = _reliability_result()  # targets 0.9 and 0.99: 300 and 30 expected failures among 3,000
+    res = small_reliability_curve()  # targets 0.9 and 0.99: 300 and 30 expected failures among 3,000
     assert 0.01 * 3000 >= POSTERIOR_TAIL_POINTS and posterior_tail_line(res, 3000) == ""
     res.life_table = [*res.life_table, {"target": 0.999, "cycles": None, "hours": None}]
     line = posterior_tail_line(res, 3000)
@@ -434,7 +434,7 @@ def test_a_life_read_in_the_populations_thin_tail_warns_in_python():
     stage's check warns only of the configured targets). Threshold: THIN_TAIL_FAILURES expected failures, n Pf."""
     import warnings
 
-    res = _reliability_result()  # n_mc = 1000
+    res = small_reliability_curve()  # n_mc = 1000
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         res.life(0.9)  # 100 expected failures
