@@ -449,16 +449,8 @@ def transmission_range(mechanism) -> tuple[float, float] | None:
 
 
 #: the smallest ratio sv_min / sv_max of a general linkage's scaled constraint Jacobian over its assembly sweep below
-#: which it is warned of as passing near a dead point (project calibration, audit 61-K: general four-bars drawn
-#: from examples/my_linkage.toml at 13 link proportions, crank : rod : rocker from 10:12:30 to 10:150:40, and
-#: general slider-cranks from piston_pump.toml at 3 crank : rod ratios and varied offsets). The ratio follows
-#: c sin(mu) of the worst transmission angle mu (its distance from 0 or 180 deg) closely within one proportion, but
-#: c ranges 0.165-0.24 over the four-bars and 0.25-0.27 over the slider-cranks: a 30-deg four-bar reads 0.085-0.12,
-#: a 10-deg one 0.029-0.041. And more links spread the singular values: the six-bar preset
-#: (watt_six_bar_two_clearances), whose transmission angles stay within 48-99 deg, reads 0.095, like a 25-deg
-#: four-bar. So the rule cannot be the 30-deg one; 0.06 is chosen conservatively between the two: it warns every
-#: four-bar or slider-crank of 10 deg or less and none of 30 deg or more (a four-bar is warned below 14-21 deg
-#: depending on its proportions, a slider-crank below 13 deg), and leaves the six-bar a margin of 1.6
+#: which it is warned of as passing near a dead point: calibrated on general four-bars and slider-cranks to warn at
+#: 10 deg of transmission angle and not at 30, with the six-bar preset's 0.095 clear (docs/dynamics.md, "Dead points")
 DEAD_POINT_RATIO_WARNING = 0.06
 
 
