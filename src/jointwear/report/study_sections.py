@@ -344,16 +344,23 @@ def dynamics_section(out: StudyOutputs, figs: Figures) -> str:
                                                             series.eccentricity_bearing_frame_m[:, 1] * 1e3,
                                                             clearance)),
         f"Journal centre orbit of joint {name} relative to the bearing centre, in the frame of the bearing body; "
-        "dashed: the clearance circle.", png_keys=("orbit",),
+        "dashed: the clearance circle.", png_keys=joint_png_keys(("orbit",), name),
         missing_text=f"Journal orbit: no series file ({sim.series_file})."))
     parts.append(figs.draw(
         None if series is None else (lambda: F.contact_force_figure(np.degrees(series.crank_angle_rad),
                                                                     series.force_normal_N,
                                                                     mean_N=sim.contact_force_mean_N)),
         f"Normal contact force in clearance joint {name} against the crank angle.",
-        png_keys=("contact_force", "force"), missing_text=f"Contact force: no series file ({sim.series_file})."))
+        png_keys=joint_png_keys(("contact_force", "force"), name),
+        missing_text=f"Contact force: no series file ({sim.series_file})."))
     parts.append("</div>")
     return "".join(parts)
+
+
+def joint_png_keys(keys: tuple[str, ...], joint: str | None) -> tuple[str, ...]:
+    """The stage files a figure of ``joint`` drawn here stands for: its own (``orbit_K``) before any of the kind, so
+    that a second joint's file (``orbit_C``, sorting first) is not taken for it and stays in the appendix."""
+    return (*(f"{key}_{joint}".lower() for key in keys), *keys) if joint else keys  # stems are matched lower-case
 
 
 def joints_dynamics_table(joints: list[dict]) -> str:
@@ -430,6 +437,7 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
     if len(wear.joints) > 1:
         parts.append(joints_wear_table(wear.joints))
     prof = wear.profile
+    head = str(wear.joints[0]["name"]) if wear.joints else None  # the joint the profile and history are of
     ang, depth = np.asarray(prof["angle_deg"], dtype=float), np.asarray(prof["depth_mm"], dtype=float)
     radius = wear.joints[0].get("bearing_radius_mm") if wear.joints else None
     parts.append('<div class="grid">')
@@ -438,7 +446,7 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
                                                                 cycles=wear.cycles)),
         "Bearing wear profile over the initial circle" + (f" of joint {wear.joints[0]['name']}" if first else "")
         + "; the radial exaggeration factor is written on the figure.",
-        png_keys=("polar",), missing_text="Polar wear profile: the wear result has no profile.",
+        png_keys=joint_png_keys(("polar",), head), missing_text="Polar wear profile: the wear result has no profile.",
         alt=wear_polar_alt(ang, depth)))
     for j in wear.joints[1:]:
         jp = j.get("profile") or {}
@@ -465,7 +473,8 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
            "linear in N by construction, exact at the allowance)" if mean.get("mean") else "")
         + (f", the values of the reference ({label})" if ref_mean or nominal else "")
         + (f" and the configured allowance ({limit:g} mm, dashed)." if limit is not None else "."),
-        png_keys=("history",), alt=wear_history_alt(wear.history["cycles"], wear.history["max_wear_mm"], limit)))
+        png_keys=joint_png_keys(("history",), head),
+        alt=wear_history_alt(wear.history["cycles"], wear.history["max_wear_mm"], limit)))
     parts.append("</div>")
     if "contact_force_mean_N" in prof:
         parts.append(figs.draw(lambda: F.wear_panels_figure(
@@ -473,9 +482,10 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
             slip_unit="mm/deg per cycle", slip_quantity="sliding distance",
             contact_force_N=prof["contact_force_mean_N"], contact_area_mm2=prof["contact_area_mean_mm2"]),
             "Sliding distance, mean contact force, mean contact area and bearing wear depth against the angle on "
-            "the bearing.", png_keys=("fig17", "panels", "vs_angle"), wide=True))
+            "the bearing.", png_keys=joint_png_keys(("fig17", "panels", "vs_angle"), head), wide=True))
     else:
-        parts.append(figs.draw(None, "Wear against the angle", png_keys=("fig17", "panels", "vs_angle"),
+        parts.append(figs.draw(None, "Wear against the angle", png_keys=joint_png_keys(("fig17", "panels", "vs_angle"),
+                                                                                      head),
                                missing_text="Wear against the angle (sliding, force, area): not in this wear "
                                             "result."))
     if wear.peaks:
