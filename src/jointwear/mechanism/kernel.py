@@ -742,8 +742,9 @@ def rhs_tree(t, dt, y, yb, dy, row, nb, mass, fext, dpar, jint, jpar, cint, cpar
     coordinates, then M qdd = g by a dense L D L^T (one division per coordinate). Also fills cout.
 
     The coordinates are one absolute angle per body (a slide for a body on a prismatic joint; x, y, phi for a body
-    held by clearance joints only): those of the Cartesian state, with the same error scales. The tables (jointwear.mechanism.tree: one row per free body,
-    parents first) take the Cartesian kernel's slots: a jint row is (kind, body, parent code, first coordinate,
+    held by clearance joints only): those of the Cartesian state, with the same error scales. The tables
+    (jointwear.mechanism.tree: one row per free body, parents first) take the Cartesian kernel's slots: a jint row
+    is (kind, body, parent code, first coordinate,
     length L of the path, the path: the coordinates the body's velocity depends on, ascending, its own angle last),
     a jpar row (parent-frame point of the joint, body-frame point of the joint), and ``mass`` (the slot of winv)
     holds the masses M_c, not M^-1. The Jacobian is stored by path (jt[3 b + c, i] = d v_bc / d qdot_path[i]), so
