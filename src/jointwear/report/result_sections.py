@@ -5,13 +5,13 @@ from __future__ import annotations
 
 import datetime as _dt
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from types import SimpleNamespace
 
 import numpy as np
 
 from jointwear.reliability.results import Z95
-from jointwear.study.limit_state import life_status
+from jointwear.study.limit_state import life_status, nominal_lives
 from jointwear.study.reliability_results import (
     SurrogateFit,
     interval_cells,
@@ -20,7 +20,7 @@ from jointwear.study.reliability_results import (
     signed_percent,
 )
 from jointwear.study.sensitivity import coordinate_shift_sentence
-from jointwear.study.stage_lines import linear_trend_hint, posterior_error_line
+from jointwear.study.stage_lines import error_tolerances, linear_trend_hint, posterior_error_line
 
 from . import figures as F
 from .alt_text import reliability_curve_alt, tornado_alt, validation_alt
@@ -157,12 +157,14 @@ def _short_long(low: float, high: float) -> str:
     return f"{-100 * low:.1f} % short to {100 * high:.1f} % long"
 
 
-def paired_life_verdict(val, target: float) -> tuple[str, str] | None:
+def paired_life_verdict(val, target: float, strong: Callable[[str], str] = lambda text: f"<b>{text}</b>"
+                        ) -> tuple[str, str] | None:
     """The validation's paired check of the life at ``target``: its verdict ('within', 'unresolved', 'beyond':
     :meth:`ValidationResult.paired_life_allowed`) and the sentence the summary and the reliability section both
     give ('on the same samples the surrogate's life at R = 0.9 is 33,869 cycles, 1.9 % below the true model's
     34,519 (95 % interval -3.6 % to -0.6 %): the learnt life reads 1.9 % short (95 %: 0.6-3.6 % short), on the
-    safe side; across the edge of what the life's 95 % interval allows ...'); None without a paired check."""
+    safe side; across the edge of what the life's 95 % interval allows ...'); None without a paired check.
+    ``strong`` marks an error beyond the interval (the report's bold; ``str`` for plain text)."""
     if val is None or not (paired := val.paired_life_sentence(target)):
         return None
     row = next(r for r in val.life_table if r.get("target") == target)
@@ -174,7 +176,7 @@ def paired_life_verdict(val, target: float) -> tuple[str, str] | None:
              if ratio else f"the learnt life reads true{bounds}")
     check = val.paired_life_allowed(target)
     verdict = "within" if check is None else check[2]
-    return verdict, f"{paired}: {reads}; {_paired_verdict(val, target)}"
+    return verdict, f"{paired}: {reads}; {_paired_verdict(val, target, strong)}"
 
 
 def life_trust_sentence(out: StudyOutputs, target: float) -> str:
@@ -197,9 +199,9 @@ def life_trust_sentence(out: StudyOutputs, target: float) -> str:
             f"{verdict}.")
 
 
-def _paired_verdict(val, target: float) -> str:
+def _paired_verdict(val, target: float, strong: Callable[[str], str] = lambda text: f"<b>{text}</b>") -> str:
     """Whether the surrogate's error of the life, measured on the validation's samples, lies within what the life's
-    own 95 % interval allows (:meth:`ValidationResult.paired_life_allowed`)."""
+    own 95 % interval allows (:meth:`ValidationResult.paired_life_allowed`); ``strong`` marks an error beyond it."""
     check = val.paired_life_allowed(target)
     if check is None:
         return "the surrogate's own error, not the sampling noise the two share"
@@ -209,8 +211,8 @@ def _paired_verdict(val, target: float) -> str:
         return f"within {allows}"
     if verdict == "unresolved":
         return f"across the edge of {allows}: these samples cannot tell whether the interval holds it"
-    return (f"<b>beyond {allows}</b>: the interval holds the surrogate's error as the surrogate estimates it, and "
-            "here it errs by more")
+    return (f"{strong(f'beyond {allows}')}: the interval holds the surrogate's error as the surrogate estimates it, "
+            "and here it errs by more")
 
 
 def _curve_pf_at(rel, cycles) -> float | None:
@@ -760,32 +762,18 @@ def judged_quantity(out: StudyOutputs) -> str:
     return text + (f", {mode} wear mode" if mode else "")
 
 
-def _crossing(cycles, depth, allowance: float) -> float | None:
-    """The cycle count where a nominal wear history first reaches ``allowance`` (linear between its points); None
-    where it stays below."""
-    c, d = np.asarray(cycles, dtype=float), np.asarray(depth, dtype=float)
-    above = np.flatnonzero(d >= allowance)
-    if not above.size:
-        return None
-    k = int(above[0])
-    if k == 0:
-        return float(c[0])
-    return float(c[k - 1] + (allowance - d[k - 1]) * (c[k] - c[k - 1]) / (d[k] - d[k - 1]))
-
-
 def _unjudged_when(wear, rel, sentence: str) -> str:
     """When the unjudged part of the joint ``sentence`` names reaches the allowance in the nominal history, against
     the headline life ('; the nominal journal reaches it at about 30,300 cycles, before the life at R = 0.9');
     '' where the history does not tell."""
     quantity = rel.quantity if rel is not None else None
-    part, key = {"bearing_max_depth": ("journal", "max_journal_wear_mm"),
-                 "journal_max_depth": ("bearing", "max_wear_mm")}.get(quantity, (None, None))
+    part, other = {"bearing_max_depth": ("journal", "journal_max_depth"),
+                   "journal_max_depth": ("bearing", "bearing_max_depth")}.get(quantity, (None, None))
     joint = next((j for j in wear.joints if sentence.startswith(f"joint {j['name']}'s")), None)
-    history = (joint or {}).get("history") or {}
-    if key is None or not joint.get("allowance_mm") or not history.get(key):
+    if other is None or joint is None or not joint.get("allowance_mm"):
         return ""
-    at = _crossing(history["cycles"], history[key], float(joint["allowance_mm"]))
-    if at is None:
+    at = nominal_lives([joint], {str(joint["name"]): float(joint["allowance_mm"])}, other).get(str(joint["name"]))
+    if at is None or at > wear.cycles:  # within the history only: no extrapolation
         return ""
     text = f"; the nominal {part} reaches the allowance at about {at:,.0f} cycles"
     life, note = life_with_note(rel, rel.target)
@@ -889,14 +877,14 @@ def _life_validation_caveats(out: StudyOutputs) -> list[tuple[str, str, str]]:
         return []
     hint = linear_trend_hint(out.results.setting("reliability.trend"))
     unpaired = validated_life_disagreement(val, rel)
-    paired = paired_life_verdict(val, rel.target)
+    paired = paired_life_verdict(val, rel.target, strong=str)  # the summary's lines are escaped plain text
     if paired is None:
         return [] if unpaired is None else [("validation", "The true model's life disagrees with the curve's",
                                              unpaired + (f"; {hint}" if hint else ""))]
     verdict, sentence = paired
     if verdict == "within" and unpaired is None:
         return []
-    text = f"against {val.n_samples:,} direct runs of the true model, {sentence}".replace("<b>", "").replace("</b>", "")
+    text = f"against {val.n_samples:,} direct runs of the true model, {sentence}"
     if unpaired is not None:
         row = next(r for r in val.life_table if r.get("target") == rel.target)
         shift = float(row["paired_surrogate_cycles"]) / float(row["surrogate_cycles"]) - 1.0
@@ -935,7 +923,7 @@ def _held_but_wider(rel, rule) -> str:
     Kriging's posterior spread); '' where that is not the case."""
     if rule is None or rule.stopping != "error" or not rel.stopped_while_confirming or rel.pf_error_esc is None:
         return ""
-    tolerance = np.maximum(rule.error_abs_tol, rule.error_tol * np.asarray(rel.pf, dtype=float))
+    tolerance = error_tolerances(rel, rule)
     counted = ~np.asarray(rel.below_floor, dtype=bool)
     esc, total = np.asarray(rel.pf_error_esc, dtype=float), np.asarray(rel.pf_error, dtype=float)
     esc_ok = np.all(~counted | ~np.isfinite(esc) | (esc <= tolerance))

@@ -196,13 +196,16 @@ def settings_section(out: StudyOutputs, figs: Figures) -> str:
 def correlation_pairs(cfg: dict) -> list[tuple[str, str, float]]:
     """The correlated pairs of random inputs the config records ([uncertainty.correlation]: its ``pairs``, or the
     off-diagonal non-zero terms of its ``matrix`` over its ``variables``)."""
-    corr = (((cfg or {}).get("study_config") or {}).get("uncertainty") or {}).get("correlation") or {}
-    pairs = [(str(a), str(b), float(r)) for a, b, r in corr.get("pairs") or []]
-    names, matrix = corr.get("variables") or [], corr.get("matrix")
-    if matrix and names:
-        pairs += [(str(names[i]), str(names[j]), float(matrix[i][j])) for i in range(len(names))
-                  for j in range(i + 1, len(names)) if matrix[i][j]]
-    return pairs
+    from jointwear.uncertainty.variables import CorrelationSpec
+
+    corr = (((cfg or {}).get("study_config") or {}).get("uncertainty") or {}).get("correlation")
+    if not corr:
+        return []
+    spec = CorrelationSpec.model_validate(corr)  # as the study read it
+    names = spec.names()
+    matrix = spec.full_matrix(names)
+    return [(a, b, float(matrix[i, j])) for i, a in enumerate(names) for j, b in enumerate(names)
+            if i < j and matrix[i, j]]
 
 
 def correlation_part(cfg: dict) -> str:
@@ -222,8 +225,8 @@ _STAGE_NAMES = {"simulate": "simulate", "wear": "wear", "wear_convergence": "con
 
 
 def provenance_line(out: StudyOutputs) -> str:
-    """'results by jointwear 0.1.0+gf75291d on znver3 (2 CPUs)' from the first result's provenance, with 'and
-    others' where the stages differ; '' without a result."""
+    """'results by jointwear 0.1.0+gf75291d on znver3 (2 CPUs)' from the first result's provenance, saying so where
+    the stages' code or CPU differ; '' without a result."""
     records = [getattr(out.results, stage).provenance or {} for stage in out.results.stages
                if getattr(getattr(out.results, stage), "provenance", None)]
     if not records:

@@ -236,12 +236,12 @@ def _fit_correlation_warnings(design, unc) -> list[str]:
     if corr is None:
         return []
     names = corr.names()
+    matrix = corr.full_matrix(names)
     out = []
     for fit in design.fits():
         fitted = fit.clearance(unc)
         if fitted is None or fitted.name not in names:
             continue
-        matrix = corr.full_matrix(names)
         i = names.index(fitted.name)
         partners = [f"'{n}' ({matrix[i, j]:+.3g})" for j, n in enumerate(names) if j != i and matrix[i, j] != 0.0]
         if partners:

@@ -47,15 +47,20 @@ def learning_stop_line(res: ReliabilityCurve, settings) -> str:
     return f"the learning stopped before its stopping rule was met ({reason}){error}{advice}"
 
 
+def error_tolerances(res: ReliabilityCurve, settings) -> np.ndarray:
+    """Each level's tolerance of the 'error' rule as it reads it: ``error_abs_tol`` in R or ``error_tol`` of Pf,
+    the larger."""
+    return np.maximum(settings.error_abs_tol, settings.error_tol * np.asarray(res.pf, dtype=float))
+
+
 def posterior_error_line(res: ReliabilityCurve, settings) -> str:
     """A learning that met its error rule while its error estimate with the Kriging's posterior exceeds the rule's
     tolerance: the rule reads ESC's part alone (docs/reliability.md, "The surrogate's error of R(N)"), so
     'converged' does not say the whole estimate met it; '' otherwise."""
     if settings is None or not res.converged or settings.stopping != "error" or res.pf_error_esc is None:
         return ""
-    # each level's tolerance as the rule reads it (absolute in R or relative to its Pf), over the counted levels
     error = np.asarray(res.pf_error, dtype=float)
-    tolerance = np.maximum(settings.error_abs_tol, settings.error_tol * np.asarray(res.pf, dtype=float))
+    tolerance = error_tolerances(res, settings)  # over the counted levels
     counted = np.isfinite(error) & ~np.asarray(res.below_floor, dtype=bool)
     ratio = np.where(counted, error / tolerance, -np.inf)
     k = int(np.argmax(ratio)) if ratio.size else 0
