@@ -13,10 +13,11 @@ def _data(d, n, seed=0):
     return x, y
 
 
+@pytest.mark.parametrize("linear_trend", [False, True])
 @pytest.mark.parametrize("d,n", [(2, 25), (6, 40)])
-def test_prediction_matches_openturns(d, n):
+def test_prediction_matches_openturns(d, n, linear_trend):
     x, y = _data(d, n)
-    k = KrigingSurrogate(nugget=1e-8, n_starts=1).fit(x, y)
+    k = KrigingSurrogate(nugget=1e-8, n_starts=1, linear_trend=linear_trend).fit(x, y)
     xt = np.random.default_rng(1).uniform(-3, 3, (7, d))
     mean, var = k.predict(xt)
     mean_ot, var_ot = k.predict_openturns(xt)
@@ -26,12 +27,13 @@ def test_prediction_matches_openturns(d, n):
     np.testing.assert_allclose(var, var_ot, rtol=1e-4, atol=1e-6 * np.var(y))
 
 
+@pytest.mark.parametrize("linear_trend", [False, True])
 @pytest.mark.parametrize("estimate_nugget", [False, True])
-def test_posterior_covariance_matches_openturns(estimate_nugget):
+def test_posterior_covariance_matches_openturns(estimate_nugget, linear_trend):
     x, y = _data(3, 30)
     if estimate_nugget:  # a noisy response: the fit finds a nugget of order 0.2^2 / var(y)
         y = y + 0.2 * np.random.default_rng(3).standard_normal(y.size)
-    k = KrigingSurrogate(nugget=1e-8, n_starts=1, estimate_nugget=estimate_nugget).fit(x, y)
+    k = KrigingSurrogate(nugget=1e-8, n_starts=1, estimate_nugget=estimate_nugget, linear_trend=linear_trend).fit(x, y)
     xt = np.random.default_rng(1).uniform(-3, 3, (6, 3))
     cov = k.posterior_covariance(xt)
     np.testing.assert_allclose(np.diag(cov), k.predict(xt)[1], rtol=1e-9, atol=1e-12 * np.var(y))
@@ -105,18 +107,20 @@ def test_estimated_nugget_smooths_a_noisy_response():
     assert err_noisy < 0.1  # below the noise level: the smoother averages several noisy points
 
 
+@pytest.mark.parametrize("linear_trend", [False, True])
 @pytest.mark.parametrize("estimate_nugget", [False, True])
-def test_leave_one_out_is_the_refit_without_each_point(estimate_nugget):
+def test_leave_one_out_is_the_refit_without_each_point(estimate_nugget, linear_trend):
     # Dubrule's closed form is an identity: it must equal n refits on n - 1 points with the hyperparameters kept,
     # to rounding (the variances once each refit's re-estimated sigma^2 is divided out).
     rng = np.random.default_rng(3)
     x, y = _data(3, 30)
     y = y + 0.05 * rng.standard_normal(y.size)
-    full = KrigingSurrogate(seed=0, estimate_nugget=estimate_nugget).fit(x, y)
+    full = KrigingSurrogate(seed=0, estimate_nugget=estimate_nugget, linear_trend=linear_trend).fit(x, y)
     mean, var = full.leave_one_out()
     for i in range(y.size):
         keep = np.arange(y.size) != i
-        refit = KrigingSurrogate(seed=0, nugget=full.hyperparameters.nugget, hyperparameters=full.hyperparameters)
+        refit = KrigingSurrogate(seed=0, nugget=full.hyperparameters.nugget, hyperparameters=full.hyperparameters,
+                                 linear_trend=linear_trend)
         refit.fit(x[keep], y[keep], optimize=False)
         m, v = refit.predict(x[i:i + 1])
         assert m[0] == pytest.approx(mean[i], abs=1e-9 * np.ptp(y))
@@ -124,10 +128,11 @@ def test_leave_one_out_is_the_refit_without_each_point(estimate_nugget):
 
 
 
-def test_a_linear_trend_is_fitted_by_least_squares_once_the_design_can_hold_it():
-    """linear_trend: the least-squares [a, b] of the design, then the Kriging of the rest. Exact on a linear response:
-    the trend is its coefficients and the prediction the response itself far outside the design (where a constant
-    trend reverts to its mean); below 2 points per coefficient no trend is fitted (the constant Kriging's answer)."""
+def test_a_linear_trend_is_estimated_with_the_process_once_the_design_can_hold_it():
+    """linear_trend: universal Kriging with the basis [1, u]. Exact on a linear response: the prediction is the
+    response itself far outside the design (where a constant trend reverts to its mean); below 2 points per
+    coefficient no trend is fitted and the constant phase keeps the default bounds (the constant Kriging's answer,
+    bit for bit)."""
     from jointwear.reliability.kriging import LINEAR_TREND_POINTS_PER_TERM
 
     rng = np.random.default_rng(5)
@@ -144,16 +149,57 @@ def test_a_linear_trend_is_fitted_by_least_squares_once_the_design_can_hold_it()
     constant = KrigingSurrogate(seed=0).fit(x, linear(x))
     assert np.max(np.abs(constant.predict(far, return_variance=False)[0] - linear(far))) > 1e-3  # only approaches it
     few = LINEAR_TREND_POINTS_PER_TERM * (d + 1) - 1
-    small = KrigingSurrogate(seed=0, linear_trend=True).fit(x[:few], linear(x[:few]))
+    small = KrigingSurrogate(seed=0, linear_trend=True, trend_scale_bounds=(1.0, 100.0)).fit(x[:few], linear(x[:few]))
     plain = KrigingSurrogate(seed=0).fit(x[:few], linear(x[:few]))
-    np.testing.assert_array_equal(small.predict(far, return_variance=False)[0],
-                                  plain.predict(far, return_variance=False)[0])
-    # the leave-one-out and the posterior read the same trend (the mean of a posterior draw's spread is the mean)
+    np.testing.assert_array_equal(small.predict(far)[0], plain.predict(far)[0])
+    np.testing.assert_array_equal(small.predict(far)[1], plain.predict(far)[1])
+    # the leave-one-out reads the same trend; the trend's fits keep their own bounds
     noisy = linear(x) + 0.05 * rng.standard_normal(x.shape[0])
-    fit = KrigingSurrogate(seed=0, linear_trend=True, estimate_nugget=True, scale_bounds=(1.0, 100.0)).fit(x, noisy)
+    fit = KrigingSurrogate(seed=0, linear_trend=True, estimate_nugget=True, trend_scale_bounds=(1.0, 100.0)).fit(
+        x, noisy)
     loo, _ = fit.leave_one_out()
     assert np.sqrt(np.mean((loo - noisy) ** 2)) < 0.1  # the noise, not the trend's 1.1 spread
     assert np.all(fit.hyperparameters.scale >= 1.0 - 1e-9)
+
+
+def _restricted_loglik(x, ys, scale, nugget):
+    """REML log-likelihood of the linear trend from the contrasts z = K^T y, K an orthonormal basis of the null space
+    of F^T (Patterson and Thompson 1971): z ~ N(0, sigma^2 K^T C K), sigma^2 profiled out; and that sigma^2."""
+    from scipy.linalg import null_space
+
+    n, p = x.shape[0], x.shape[1] + 1
+    a = x / scale
+    c = np.exp(-0.5 * np.sum((a[:, None, :] - a[None, :, :]) ** 2, axis=-1)) + nugget * np.eye(n)
+    k = null_space(np.column_stack([np.ones(n), x]).T)
+    z, kck = k.T @ ys, k.T @ c @ k
+    sigma2 = z @ np.linalg.solve(kck, z) / (n - p)
+    return -0.5 * (n - p) * np.log(sigma2) - 0.5 * np.linalg.slogdet(kck)[1], sigma2
+
+
+def test_the_linear_trend_chooses_its_nugget_by_the_restricted_likelihood():
+    """With 6 coefficients on 14 points, maximum likelihood takes the response for a plane plus white noise (the
+    grid's largest relative nugget, 10) at 9 of these 10 designs (REML at 3), where the noise is 2 % of the
+    response's spread.
+    The nugget profiled at fixed lengths must be the argmax of the REML likelihood computed independently from the
+    contrasts (an identity: Harville 1974), and the process variance its sigma^2 (to rounding)."""
+    from jointwear.reliability.kriging import KrigingHyperparameters
+
+    grid = KrigingSurrogate().nugget_grid
+    d, n, scale = 5, 14, np.full(5, 2.0)
+    plane_noise = 0
+    for seed in range(10):
+        rng = np.random.default_rng(seed)
+        x = rng.normal(size=(n, d))
+        y = x @ rng.normal(size=d) + 0.3 * np.sin(2 * x[:, 0]) + 0.05 * rng.normal(size=n)
+        ys = (y - y.mean()) / y.std()
+        reml = [_restricted_loglik(x, ys, scale, g)[0] for g in grid]
+        k = KrigingSurrogate(linear_trend=True, estimate_nugget=True, nugget=grid[0],
+                             hyperparameters=KrigingHyperparameters(scale, grid[0])).fit(x, y, optimize=False)
+        chosen = grid[int(np.argmax(reml))]
+        assert k.hyperparameters.nugget == chosen
+        assert k.process_variance / y.var() == pytest.approx(_restricted_loglik(x, ys, scale, chosen)[1], rel=1e-9)
+        plane_noise += chosen == grid[-1]
+    assert plane_noise <= 3
 
 
 def test_estimated_noise_is_the_noise_added():

@@ -20,16 +20,22 @@ variance ``sigma^2`` and squared-exponential (Gaussian) correlation
 
 The variance is the universal-Kriging (DACE) mean squared error, which accounts for the estimated trend:
 
-    s^2(u) = sigma^2 * (1 - r^T R^-1 r + (1 - 1^T R^-1 r)^2 / (1^T R^-1 1))
+    s^2(u) = sigma^2 * (1 - r^T C^-1 r + v^T (F^T C^-1 F)^-1 v),   v = f(u) - F^T C^-1 r
+
+with C = R + nugget I, F the design's trend basis (a column of ones for the constant trend) and f(u) that of u;
+the trend's coefficients are the generalised least-squares beta = (F^T C^-1 F)^-1 F^T C^-1 y.
 
 Outputs are standardised (zero mean, unit variance) before fitting and mapped back on prediction, so limit
 states in any unit (metres of wear, pascals) fit the same way.
 
-With ``linear_trend`` the Kriging first takes a linear trend in the inputs, fitted by least squares on the design
-(two-stage: then treated as known, its coefficients' own uncertainty left out of the variance), and learns the
-rest: ``Y(u) = a + b^T u + beta + Z(u)``. A constant trend must bend to follow a response that keeps rising across
-the inputs, which it does as an S between an active-learning design's cluster and its far points
-(docs/reliability.md, "The learnt life's spread").
+With ``linear_trend`` the trend is linear in the inputs, ``Y(u) = beta_0 + b^T u + Z(u)`` (universal Kriging, the
+trend estimated with the process and its uncertainty in the variance), once the design holds
+``LINEAR_TREND_POINTS_PER_TERM`` points per coefficient. Its correlation lengths and nugget are chosen by the
+restricted likelihood (REML: the likelihood of the residuals' contrasts, which does not count the p trend
+coefficients as known; Santner, Williams and Notz, The Design and Analysis of Computer Experiments, 2003, section 3.3):
+with 14 coefficients on ~28 points, maximum likelihood prefers a "plane plus white noise" fit whose tail is wrong
+(docs/reliability.md, "The learnt life's spread"). A constant trend must bend to follow a response that keeps rising
+across the inputs, which it does as an S between an active-learning design's cluster and its far points.
 """
 
 from __future__ import annotations
@@ -125,14 +131,29 @@ class KrigingHyperparameters:
 class _Conditioned:
     x: np.ndarray  # (n, d) training inputs divided by the scales
     x_sq: np.ndarray  # (n,) squared norms of x
-    chol: np.ndarray  # (n, n) lower Cholesky factor of R + nugget I
+    chol: np.ndarray  # (n, n) lower Cholesky factor of C = R + nugget I
     chol_inv_t: np.ndarray | None  # (n, n) L^-T, so that r @ L^-T = (L^-1 r)^T; set for the chosen fit only
-    alpha: np.ndarray  # R^-1 (y - beta)
-    w: np.ndarray  # R^-1 1
-    s1: float  # 1^T R^-1 1
-    beta: float  # GLS constant trend (standardised scale)
+    alpha: np.ndarray  # C^-1 (y - F beta)
+    c_inv_f: np.ndarray  # (n, p) C^-1 F
+    gram: np.ndarray  # (p, p) G = F^T C^-1 F
+    g_chol: np.ndarray  # (p, p) its lower Cholesky factor
+    beta: np.ndarray  # (p,) GLS trend coefficients (standardised scale)
     sigma2: float  # process variance (standardised scale)
-    loglik: float  # concentrated log-likelihood
+    loglik: float  # concentrated log-likelihood (restricted with a trend basis)
+
+    def trend_variance(self, t: np.ndarray) -> np.ndarray:
+        """The estimated trend's share of the variance, t G^-1 t^T for each row of t = f(u) - r^T C^-1 F (m, p)."""
+        if self.beta.size == 1:  # the constant trend: t^2 / (1^T C^-1 1)
+            return t[:, 0] * t[:, 0] / self.gram[0, 0]
+        z = solve_triangular(self.g_chol, t.T, lower=True)
+        return np.einsum("ij,ij->j", z, z)
+
+    def trend_covariance(self, t: np.ndarray) -> np.ndarray:
+        """Its share of the covariance, t G^-1 t^T (m, m)."""
+        if self.beta.size == 1:
+            return np.outer(t[:, 0], t[:, 0]) / self.gram[0, 0]
+        z = solve_triangular(self.g_chol, t.T, lower=True)
+        return z.T @ z
 
 
 def _corr(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -143,29 +164,43 @@ def _corr(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.exp(d2, out=d2)
 
 
-def _condition(x_scaled: np.ndarray, y: np.ndarray, nugget: float) -> _Conditioned:
-    """Closed-form part of ordinary Kriging for fixed correlation lengths (raises LinAlgError)."""
+def _condition(x_scaled: np.ndarray, y: np.ndarray, nugget: float, basis: np.ndarray | None = None) -> _Conditioned:
+    """Closed-form part of Kriging for fixed correlation lengths (raises LinAlgError). ``basis``: the design's trend
+    basis F (n, p), None for the constant trend (ordinary Kriging, maximum likelihood); with a basis the variance
+    and the likelihood are the restricted ones: sigma^2 = r^T C^-1 r / (n - p) and
+    -(n - p)/2 ln sigma^2 - 1/2 ln det C - 1/2 ln det(F^T C^-1 F)."""
     n = x_scaled.shape[0]
     r = _corr(x_scaled, x_scaled)
     r[np.diag_indices(n)] += nugget
     chol = np.linalg.cholesky(r)
-    ones = np.ones(n)
-    w = cho_solve((chol, True), ones)
-    s1 = float(ones @ w)
-    beta = float(w @ y) / s1
-    resid = y - beta
+    if basis is None:
+        ones = np.ones(n)
+        w = cho_solve((chol, True), ones)
+        s1 = float(ones @ w)
+        c_inv_f, gram, beta = w[:, None], np.array([[s1]]), np.array([float(w @ y) / s1])
+        g_chol = np.sqrt(gram)
+        dof = n
+    else:
+        c_inv_f = cho_solve((chol, True), basis)
+        gram = basis.T @ c_inv_f
+        g_chol = np.linalg.cholesky(gram)
+        beta = cho_solve((g_chol, True), c_inv_f.T @ y)
+        dof = n - basis.shape[1]
+    resid = y - (beta[0] if basis is None else basis @ beta)
     alpha = cho_solve((chol, True), resid)
-    sigma2 = max(float(resid @ alpha) / n, 1e-300)
-    # concentrated (profile) log-likelihood, up to a constant
-    loglik = -0.5 * n * math.log(sigma2) - float(np.sum(np.log(np.diag(chol))))
+    sigma2 = max(float(resid @ alpha) / dof, 1e-300)
+    loglik = -0.5 * dof * math.log(sigma2) - float(np.sum(np.log(np.diag(chol))))
+    if basis is not None:
+        loglik -= float(np.sum(np.log(np.diag(g_chol))))
     return _Conditioned(
         x=x_scaled,
         x_sq=np.sum(x_scaled * x_scaled, axis=1),
         chol=chol,
         chol_inv_t=None,
         alpha=alpha,
-        w=w,
-        s1=s1,
+        c_inv_f=c_inv_f,
+        gram=gram,
+        g_chol=g_chol,
         beta=beta,
         sigma2=sigma2,
         loglik=loglik,
@@ -196,9 +231,13 @@ class KrigingSurrogate:
         less it and predicts it plus its own mean, ``Y(u) = offset(u) + beta + Z(u)`` (its variance unchanged). None:
         ordinary Kriging.
     linear_trend:
-        Fit a linear trend in the inputs by least squares on the design (after ``offset``), once the design holds
-        ``LINEAR_TREND_POINTS_PER_TERM`` points per coefficient, and Krige the rest. Off by default (the paper's
-        ordinary Kriging).
+        Universal Kriging with a linear trend in the inputs (after ``offset``), its lengths and nugget chosen by the
+        restricted likelihood, once the design holds ``LINEAR_TREND_POINTS_PER_TERM`` points per coefficient; the
+        constant trend before. Off by default (the paper's ordinary Kriging).
+    trend_scale_bounds:
+        Bounds on the correlation lengths of the fits that carry the linear trend; None: ``scale_bounds``. The
+        fits of the constant phase before it keep ``scale_bounds``, so that a design too small for the trend is
+        learnt exactly as without it.
     estimate_nugget, nugget_grid:
         For a noisy model: estimate the relative nugget (noise variance over process variance) by maximum
         likelihood jointly with the correlation lengths, within the range of ``nugget_grid`` and from a small and a
@@ -214,6 +253,7 @@ class KrigingSurrogate:
     nugget_grid: tuple[float, ...] = (1e-8, 1e-6, 1e-5, 1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0, 3.0,
                                       10.0)
     scale_bounds: tuple[float, float] = SCALE_BOUNDS
+    trend_scale_bounds: tuple[float, float] | None = None
     n_starts: int = 2
     seed: int | None = 0
     chunk_size: int = 2048
@@ -224,7 +264,7 @@ class KrigingSurrogate:
     _x: np.ndarray | None = field(default=None, repr=False)
     _y: np.ndarray | None = field(default=None, repr=False)
     _fitted_y: np.ndarray | None = field(default=None, repr=False)  # the outputs less the offset
-    _trend: np.ndarray | None = field(default=None, repr=False)  # (1 + d,) least-squares [a, b] of linear_trend
+    _linear: bool = field(default=False, repr=False)  # whether the fit carries the linear trend
     _nugget_found: dict = field(default_factory=dict, repr=False)
     _ymean: float = 0.0
     _ystd: float = 1.0
@@ -244,10 +284,8 @@ class KrigingSurrogate:
             raise ValueError("KrigingSurrogate.fit: training data must be finite")
         d = x.shape[1]
         self._x, self._y = x, y
-        self._trend = None
-        if self.linear_trend and x.shape[0] >= LINEAR_TREND_POINTS_PER_TERM * (d + 1):
-            basis = np.column_stack([np.ones(x.shape[0]), x])
-            self._trend = np.linalg.lstsq(basis, y - self._offset_at(x), rcond=None)[0]
+        self._linear = self.linear_trend and x.shape[0] >= LINEAR_TREND_POINTS_PER_TERM * (d + 1)
+        lo, hi = self._bounds()
         self._fitted_y = y - self._offset_at(x)
         self._ymean = float(np.mean(self._fitted_y))
         std = float(np.std(self._fitted_y))
@@ -256,7 +294,7 @@ class KrigingSurrogate:
 
         candidates: list[np.ndarray] = []
         if self.hyperparameters is not None:
-            candidates.append(np.asarray(self.hyperparameters.scale, dtype=float))
+            candidates.append(np.clip(np.asarray(self.hyperparameters.scale, dtype=float), lo, hi))
         if optimize or self.hyperparameters is None:
             for n_starts in dict.fromkeys((self.n_starts, 1)):  # multistart, then a single warm start
                 try:
@@ -280,17 +318,24 @@ class KrigingSurrogate:
         return self
 
     def _offset_at(self, u: np.ndarray) -> np.ndarray | float:
-        """The part of the response the Kriging does not learn at the points ``u``: the offset, and the fitted linear
-        trend (0 without either)."""
-        known = 0.0 if self.offset is None else np.asarray(self.offset(u), dtype=float).reshape(-1)
-        if self._trend is None:
-            return known
-        return known + self._trend[0] + np.asarray(u, dtype=float) @ self._trend[1:]
+        """The known part of the response at the points ``u`` (0 without an offset)."""
+        return 0.0 if self.offset is None else np.asarray(self.offset(u), dtype=float).reshape(-1)
+
+    def _bounds(self) -> tuple[float, float]:
+        """The bounds on the correlation lengths of the current fit."""
+        return self.trend_scale_bounds if self._linear and self.trend_scale_bounds else self.scale_bounds
+
+    def _basis(self, u: np.ndarray) -> np.ndarray:
+        """The trend basis f(u) at the points ``u`` (m, d): [1, u] with the linear trend on, else [1]."""
+        ones = np.ones((u.shape[0], 1))
+        return np.hstack([ones, u]) if self._linear else ones
 
     def _choose(self, x: np.ndarray, ys: np.ndarray, candidates: list[np.ndarray]
                 ) -> tuple[_Conditioned, np.ndarray, float]:
-        """The most likely of the candidate correlation lengths, each with the smallest nugget that conditions it
-        (and, with the nugget estimated, the most likely nugget of the grid at the chosen lengths)."""
+        """The most likely of the candidate correlation lengths (by the restricted likelihood with the linear trend),
+        each with the smallest nugget that conditions it (and, with the nugget estimated, the most likely nugget of
+        the grid at the chosen lengths)."""
+        basis = self._basis(x) if self._linear else None
         best: tuple[_Conditioned, np.ndarray, float] | None = None
         for scale in candidates:
             nug = self._nugget_found.get(tuple(np.asarray(scale, dtype=float)), self.nugget) if self.estimate_nugget \
@@ -300,7 +345,7 @@ class KrigingSurrogate:
             nug_limit = max(1e-4, 10.0 * nug)
             while nug <= nug_limit:
                 try:
-                    cond = _condition(x / scale, ys, nug)
+                    cond = _condition(x / scale, ys, nug, basis)
                 except np.linalg.LinAlgError:
                     nug *= 10.0
                     continue
@@ -317,7 +362,7 @@ class KrigingSurrogate:
                 if nug <= best[2]:
                     continue
                 try:
-                    cond = _condition(x / best[1], ys, nug)
+                    cond = _condition(x / best[1], ys, nug, basis)
                 except np.linalg.LinAlgError:
                     continue
                 if cond.loglik > best[0].loglik + 1e-9:
@@ -328,7 +373,7 @@ class KrigingSurrogate:
         import openturns as ot
 
         n, d = x.shape
-        lo, hi = self.scale_bounds
+        lo, hi = self._bounds()
         if self.hyperparameters is not None:
             start = np.clip(self.hyperparameters.scale, lo * 1.0001, hi * 0.9999)
         else:
@@ -342,7 +387,7 @@ class KrigingSurrogate:
             # log-uniform in the upper-middle of the bounds (0.3..30 for the default bounds): short scales are
             # reached from there, while starts near the lower bound get stuck in interpolating optima
             starts += list(np.exp(np.log(lo) + (np.log(hi) - np.log(lo)) * (0.4 + 0.4 * lhs)))
-        basis = ot.ConstantBasisFactory(d).build()
+        basis = (ot.LinearBasisFactory if self._linear else ot.ConstantBasisFactory)(d).build()
         found = []
         errors = []
         flags = ot.Log.Flags()
@@ -398,7 +443,7 @@ class KrigingSurrogate:
         c = self._cond
         # -0.5 * |a - x|^2 = a.x - 0.5 |a|^2 - 0.5 |x|^2 as one BLAS product of augmented matrices
         x_aug = np.hstack([c.x, np.ones((c.x.shape[0], 1)), -0.5 * c.x_sq[:, None]])
-        aw = np.column_stack([c.alpha, c.w])
+        aw = np.column_stack([c.alpha, c.c_inv_f])
 
         def work(s: int) -> None:
             e = min(s + chunk, m)
@@ -408,12 +453,12 @@ class KrigingSurrogate:
             np.minimum(r, 0.0, out=r)
             np.exp(r, out=r)
             mw = r @ aw
-            mean[s:e] = c.beta + mw[:, 0]
+            f = self._basis(u[s:e])
+            mean[s:e] = f @ c.beta + mw[:, 0]
             if var is not None:
                 v = r @ c.chol_inv_t
                 q = np.einsum("ij,ij->i", v, v)
-                t = 1.0 - mw[:, 1]
-                var[s:e] = c.sigma2 * np.maximum(1.0 - q + t * t / c.s1, 0.0)
+                var[s:e] = c.sigma2 * np.maximum(1.0 - q + c.trend_variance(f - mw[:, 1:]), 0.0)
 
         n_threads = self.n_threads or min(4, os.cpu_count() or 1)
         with blas_threads(1):  # parallel over chunks instead (numpy releases the GIL in BLAS and ufuncs)
@@ -433,19 +478,19 @@ class KrigingSurrogate:
 
     def posterior_covariance(self, u: np.ndarray) -> np.ndarray:
         """Covariance of the Gaussian process at the points ``u`` (m, d) given the training data, that of the
-        latent response without the noise: sigma^2 [R(u, u) - r^T C^-1 r + t t^T / (1^T C^-1 1)], r the correlations
-        with the training points, C = R + nugget I, t = 1 - r^T C^-1 1 (ordinary Kriging with the trend estimated;
+        latent response without the noise: sigma^2 [R(u, u) - r^T C^-1 r + t G^-1 t^T], r the correlations with the
+        training points, C = R + nugget I, t = f(u) - r^T C^-1 F, G = F^T C^-1 F (Kriging with the trend estimated;
         its diagonal is :meth:`predict`'s variance). Shape (m, m); m^2 memory, for a sample of a population."""
         if self._cond is None:
             raise RuntimeError("fit first")
         c = self._cond
-        a = np.atleast_2d(np.asarray(u, dtype=float)) / self.hyperparameters.scale
+        u = np.atleast_2d(np.asarray(u, dtype=float))
+        a = u / self.hyperparameters.scale
         r = _corr(a, c.x)
         v = r @ c.chol_inv_t
-        t = 1.0 - r @ c.w
         cov = _corr(a, a)
         cov -= v @ v.T
-        cov += np.outer(t, t) / c.s1
+        cov += c.trend_covariance(self._basis(u) - r @ c.c_inv_f)
         cov *= c.sigma2 * self._ystd**2
         return cov
 
@@ -484,14 +529,14 @@ class KrigingSurrogate:
 
     def leave_one_out(self) -> tuple[np.ndarray, np.ndarray]:
         """Leave-one-out prediction of every training output with the hyperparameters kept, in closed form
-        (Dubrule 1983, with the trend re-estimated): with C = R + nugget I and Q = C^-1 - C^-1 1 1^T C^-1 /
-        (1^T C^-1 1), the residual of output i is (Q y)_i / Q_ii = alpha_i / Q_ii and the variance of y_i given the
+        (Dubrule 1983, with the trend re-estimated): with C = R + nugget I and Q = C^-1 - C^-1 F (F^T C^-1 F)^-1
+        F^T C^-1, the residual of output i is (Q y)_i / Q_ii = alpha_i / Q_ii and the variance of y_i given the
         others sigma^2 / Q_ii. Returns the predictions (those of a refit without point i) and the variance of the
         predicted mean (that variance less the noise's; with this fit's sigma^2, which a refit would re-estimate)."""
         if self._cond is None:
             raise RuntimeError("fit first")
         c = self._cond
-        q_diag = np.einsum("ij,ij->i", c.chol_inv_t, c.chol_inv_t) - c.w * c.w / c.s1
+        q_diag = np.einsum("ij,ij->i", c.chol_inv_t, c.chol_inv_t) - c.trend_variance(c.c_inv_f)
         ys = (self._fitted_y - self._ymean) / self._ystd
         mean = (ys - c.alpha / q_diag) * self._ystd + self._ymean + self._offset_at(self._x)
         var = c.sigma2 * np.maximum(1.0 / q_diag - self.hyperparameters.nugget, 0.0) * self._ystd**2
@@ -511,7 +556,8 @@ class KrigingSurrogate:
         cov = ot.SquaredExponential(list(map(float, self.hyperparameters.scale)), [amplitude])
         cov.setNuggetFactor(self.hyperparameters.nugget)
         fitter = ot.GaussianProcessFitter(
-            ot.Sample(self._x), ot.Sample(ys[:, None]), cov, ot.ConstantBasisFactory(d).build()
+            ot.Sample(self._x), ot.Sample(ys[:, None]), cov,
+            (ot.LinearBasisFactory if self._linear else ot.ConstantBasisFactory)(d).build()
         )
         fitter.setOptimizeParameters(False)
         fitter.run()

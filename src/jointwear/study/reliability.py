@@ -174,9 +174,9 @@ def archard_trend_unused(ctx: StudyContext) -> bool:
     return ctx.config.reliability.trend == "constant" and archard_trend_applies(ctx.config)
 
 
-#: the shortest correlation length (standard deviations of an input) a Kriging with a linear trend may fit where the
-#: noise is estimated: shorter, the likelihood reads the rest's scatter as signal and the nugget collapses (every
-#: trend refitted to the slider-crank preset's 80 points without this bound did; docs/reliability.md)
+#: the shortest correlation length (standard deviations of an input) a Kriging with the linear trend on may fit where
+#: the noise is estimated: shorter, the likelihood reads the rest's scatter as signal and the nugget collapses (on the
+#: slider-crank preset's 80 points; docs/reliability.md). The constant phase before the trend keeps the default bounds.
 LINEAR_TREND_MIN_LENGTH = 1.0
 
 
@@ -190,7 +190,7 @@ def kriging_options(config) -> dict:
     if rel.trend == "linear":
         options["linear_trend"] = True
         if rel.noise == "estimate":
-            options["scale_bounds"] = (LINEAR_TREND_MIN_LENGTH, SCALE_BOUNDS[1])
+            options["trend_scale_bounds"] = (LINEAR_TREND_MIN_LENGTH, SCALE_BOUNDS[1])
     return options
 
 
