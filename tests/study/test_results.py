@@ -523,6 +523,22 @@ def test_a_long_reliability_budget_is_told_after_the_wear_stage():
            "beyond the learned region up to 9 min more" in with_sensitivity, with_sensitivity
 
 
+def test_simulate_tells_a_model_calls_cost_and_names_the_stick_branch_of_a_stiff_cycle():
+    """A designer's loaded press took 1.6 million steps and 3.7 s a cycle, and simulate said neither what a model call
+    would cost nor why (audit 61-K, D5). The line multiplies the pace by the history's simulated cycles (blocks times
+    settled and recorded cycles) and the budget's calls; past MANY_STEPS_PER_CYCLE it names the friction law's stick
+    branch. A history of adaptive blocks (no simulated count) and a light cycle say nothing."""
+    from jointwear.study.stage_lines import MANY_STEPS_PER_CYCLE, simulation_cost_line
+
+    assert simulation_cost_line(5_000, 0.004, None, 520_000, 80) == ""
+    line = simulation_cost_line(1_589_723, 3.7, 90, 300_000, 26)  # 333 s a call, 8,658 s for 26
+    assert line.startswith("a wear history of 300,000 cycles (each model call) simulates 90 cycles of dynamics: about "
+                           "6 min at this pace; the reliability budget of 26 calls about 2.4 h of computing"), line
+    assert "1,589,723 steps a cycle is many" in line and "larger friction v_s and v_d" in line
+    assert "steps a cycle" not in simulation_cost_line(MANY_STEPS_PER_CYCLE, 1.0, 90, 300_000, None)
+    assert "budget" not in simulation_cost_line(MANY_STEPS_PER_CYCLE, 1.0, 90, 300_000, None)
+
+
 def test_the_sensitivity_stages_true_model_calls_are_counted_from_the_config():
     """The default study's sensitivity made 9 true-model calls beyond the curve's design (the four lengths' and the
     journal radius' 20 % shifts, hundreds of standard deviations, and the nominal means: benchmarks/results/

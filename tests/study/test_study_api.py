@@ -120,6 +120,10 @@ def test_a_folder_with_results_of_another_wear_model_is_warned(tmp_path):
     assert lines[0].startswith("simulate: 1 cycle, ")  # not "1 cycles"
     # the crank's speed as the mechanism runs it: 120 without a suffix is 120 rad/s (1,146 rpm), told nowhere else
     assert ", crank at 480 rpm; mean contact force " in lines[0]  # the preset's crank_speed_rpm = 480
+    # what a model call costs: its history to the curve's last level in 56 blocks of 10,000 cycles, each settling 1
+    # and recording 2
+    assert lines[1].startswith("simulate: a wear history of 560,000 cycles (each model call) simulates 168 cycles "), \
+        lines[1]
     budget = updated(load_config(), {"reliability.max_calls": 70})
     jointwear.Study(budget, out=tmp_path, echo=lines.append).simulate(cycles=1)
     assert not [line for line in lines if line.startswith("out:")]

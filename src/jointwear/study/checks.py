@@ -669,7 +669,7 @@ def block_warnings(config: StudyConfig) -> list[str]:
                 "history is one block, extrapolated straight at the unworn geometry's wear rate; take shorter blocks "
                 "(jointwear converge says which size is converged)"]
     blocks = math.ceil(n / wear.block_cycles)
-    simulated = blocks * (wear.settle_cycles + wear.record_cycles)
+    simulated = wear.simulated_cycles(n)
     if simulated <= LONG_HISTORY_SIMULATED_CYCLES:
         return []
     return [f"wear.block_cycles: {wear.block_cycles:,} cycles makes the nominal history of {n:,} cycles {blocks:,} "

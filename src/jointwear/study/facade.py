@@ -74,6 +74,7 @@ from jointwear.study.stage_lines import (
     profile_mode_line,
     ranking_line,
     reused_text,
+    simulation_cost_line,
     variance_line,
     wear_line,
 )
@@ -440,6 +441,14 @@ class Study:
                   f"{config.mechanism.crank_speed * 30.0 / math.pi:,.4g} rpm; "  # signed: a clockwise drive
                   f"mean contact force {force_line(result)}"
                   f" -> {self.out / result.FILE}")
+        # a model call runs the history to the curve's last level
+        studied = config.uncertainty is not None and not config.reliability.curve_problems()
+        call_cycles = max(config.reliability.curve_cycles()) if studied else nominal_wear_cycles(config)
+        cost = simulation_cost_line(result.steps_per_cycle, result.wall_seconds_per_cycle,
+                                    call_cycles and config.wear.simulated_cycles(call_cycles), call_cycles,
+                                    config.reliability.max_calls if studied else None)
+        if cost:
+            self.echo(f"simulate: {cost}")
         self._tell("simulate", result)
         return result
 

@@ -178,6 +178,29 @@ def budget_line(history_seconds: float, history_cycles: int, call_cycles: int, m
             "history per cycle is its dynamics: docs/dynamics.md, \"When the step size collapses\")")
 
 
+#: steps per simulated cycle above which ``simulate`` names the friction law's stick branch as a likely cause:
+#: 6x the heaviest shipped preset's (the six-bar, about 38,000; benchmarks/results/dynamics.json)
+MANY_STEPS_PER_CYCLE = 250_000
+
+
+def simulation_cost_line(steps_per_cycle: float, seconds_per_cycle: float, simulated_cycles: float | None,
+                         history_cycles: int | None, max_calls: int | None) -> str:
+    """What a wear history (one model call) may cost at the simulated cycles' pace ('' without a fixed-block
+    history), and where a very stiff cycle usually comes from."""
+    parts = []
+    if simulated_cycles and history_cycles:
+        per_call = seconds_per_cycle * simulated_cycles
+        budget = (f"; the reliability budget of {max_calls} calls about {duration_text(per_call * max_calls)} of "
+                  "computing, shared among the workers") if max_calls else ""
+        parts.append(f"a wear history of {history_cycles:,} cycles (each model call) simulates {simulated_cycles:,.0f} "
+                     f"cycles of dynamics: about {duration_text(per_call)} at this pace{budget}")
+    if steps_per_cycle > MANY_STEPS_PER_CYCLE:
+        parts.append(f"{steps_per_cycle:,.0f} steps a cycle is many: under large contact forces the friction law's "
+                     "stick branch (slope about 1.5 mu_s F_N / v_s) usually sets the step; larger friction v_s and v_d "
+                     "take fewer steps (docs/dynamics.md, \"When the step size collapses\")")
+    return "; ".join(parts)
+
+
 def reused_text(new: int, total: int) -> str:
     """' (3 new, 17 read back from the store)' when fewer than ``total`` calls ran now; '' when all did."""
     return f" ({new} new, {total - new} read back from the store)" if new < total else ""

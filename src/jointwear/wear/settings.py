@@ -291,6 +291,13 @@ class WearSettings(SIModel):
             )
         return self
 
+    def simulated_cycles(self, cycles: int) -> float | None:
+        """Cycles of dynamics a history of ``cycles`` simulates in fixed blocks, each settling ``settle_cycles`` and
+        recording ``record_cycles``; None with adaptive blocks, whose number the wear sets."""
+        if self.block_rule != "fixed":
+            return None
+        return math.ceil(cycles / self.block_cycles) * (self.settle_cycles + self.record_cycles)
+
 
 def check_cycles(value, field: str | None = "cycles") -> int:
     """Validate a cycle count at an API boundary: a finite, positive whole number of at most `MAX_WEAR_CYCLES`.
