@@ -136,6 +136,11 @@ def main(argv=None) -> int:
         record = {"machine": provenance(), "date_utc": dt.datetime.now(dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
                   "config": a.config, "samples": a.samples, "validation_seed": VALIDATION_SEED, "target": target,
                   "true_life": truth, "true_failed_calls": int(np.isnan(life).sum()), "trends": {}}
+        if out_file.is_file():  # keep the trends not run from a record read against the same true samples
+            kept = json.loads(out_file.read_text(encoding="utf-8"))
+            if all(kept.get(k) == record[k] for k in ("config", "samples", "validation_seed", "true_life")):
+                record["trends"] = {k: {"machine": kept["machine"], "date_utc": kept["date_utc"], **v}
+                                    for k, v in kept["trends"].items() if k not in a.trends}
         for trend in a.trends:
             runs = []
             for seed in range(1, a.seeds + 1):
@@ -146,7 +151,8 @@ def main(argv=None) -> int:
                       f"{r['upper']:,.0f}), error {r['error_relative']:+.4f}, paired {r['paired_ratio']:+.4f} "
                       f"({r['paired_ratio_low']:+.4f} to {r['paired_ratio_high']:+.4f}), "
                       f"scatter sd {r['fitted_scatter_sd_log_life']:.4f}", flush=True)
-            record["trends"][trend] = {**summary(runs), "per_seed": runs}
+            record["trends"][trend] = {**summary(runs), "per_seed": runs, "machine": provenance(),
+                                       "date_utc": dt.datetime.now(dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ")}
             s = record["trends"][trend]
             print(f"{trend}: error {s['error_mean_relative']:+.4f} +- {s['error_se_relative']:.4f} (spread "
                   f"{s['error_spread_relative']:.4f}), paired {s['paired_mean']:+.4f} +- {s['paired_se']:.4f}, "

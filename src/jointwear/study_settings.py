@@ -101,10 +101,10 @@ class ReliabilitySettings(SIModel):
         description="What the Kriging of ln N_f knows before it learns: 'constant' = ordinary Kriging (a constant "
         "trend, as in the paper); 'archard' = Archard's exact scaling of the life in the judged body's wear "
         "coefficient and hardness, -ln(k / k_mean) + ln(H / H_mean), where they are random and one joint is "
-        "judged, the Kriging learning the rest; 'linear' = a linear trend in every input's normal score, fitted by "
-        "least squares on the design once it holds two points per coefficient, the Kriging learning the rest with "
-        "correlation lengths of at least 1 (so that the rest's scatter is read as noise) (docs/reliability.md, "
-        "'The learnt life's spread').")
+        "judged, the Kriging learning the rest; 'linear' = universal Kriging with a linear trend in every input's "
+        "normal score, estimated with the process once the design holds two points per coefficient (its lengths "
+        "and nugget by the restricted likelihood; with the noise estimated, correlation lengths of at least 1, so "
+        "that the rest's scatter is read as noise) (docs/reliability.md, 'The learnt life's spread').")
     error_tol: float = Field(
         0.02, description="Relative Pf error tolerance of the 'error' stopping rule (project choice).")
     hold_iterations: int = Field(

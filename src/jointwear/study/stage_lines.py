@@ -79,8 +79,8 @@ def linear_trend_hint(trend: str | None) -> str:
     if trend == "linear":
         return ""
     return ("try reliability.trend = \"linear\" (a linear trend under the Kriging, which a constant trend otherwise "
-            "bends around) and validate again: it took such an error away on the slider-crank and default presets "
-            "and halved it on the six-bar, but not on every model")
+            "bends around) and validate again: it took such an error away on the slider-crank, default and six-bar "
+            "presets, but not on every model")
 
 
 def curve_misses_life_line(rel: ReliabilityCurve, wear: WearSummary | None,
