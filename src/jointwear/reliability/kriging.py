@@ -1,4 +1,4 @@
-"""Ordinary Kriging surrogate: OpenTURNS fits, numpy predicts.
+"""Kriging surrogate (ordinary, or universal with a linear trend): OpenTURNS fits, numpy predicts.
 
 Model: ``Y(u) = beta + Z(u)`` with a constant trend ``beta`` and a stationary Gaussian process ``Z`` of
 variance ``sigma^2`` and squared-exponential (Gaussian) correlation
@@ -8,7 +8,8 @@ variance ``sigma^2`` and squared-exponential (Gaussian) correlation
 (the DACE / Echard et al. 2011 model; OpenTURNS' ``SquaredExponential`` uses the same parametrisation).
 
 * Fitting (the hyperparameters ``theta``, then ``beta`` and ``sigma^2`` in closed form) is done by
-  OpenTURNS' ``GaussianProcessFitter`` (maximum likelihood), with bounds on the scales, a small nugget,
+  OpenTURNS' ``GaussianProcessFitter`` (maximum likelihood; the choice among its candidates restricted with the
+  linear trend, below), with bounds on the scales, a small nugget,
   an optional multistart, a warm start from the previous fit and a fallback to the previous hyperparameters
   when a fit fails or is worse (by the concentrated likelihood) than the previous one. The choice of
   library is measured in ``docs/reliability.md``.
@@ -209,7 +210,8 @@ def _condition(x_scaled: np.ndarray, y: np.ndarray, nugget: float, basis: np.nda
 
 @dataclass
 class KrigingSurrogate:
-    """Ordinary Kriging (constant trend, Gaussian correlation) in standard-normal space.
+    """Kriging with a constant trend (ordinary) or a linear one (universal), Gaussian correlation, in standard-normal
+    space.
 
     Parameters
     ----------
@@ -603,7 +605,7 @@ def gaussian_draws(mean: np.ndarray, cov: np.ndarray, n_draws: int, rng: np.rand
 
 class ShiftedSurrogate:
     """A surrogate minus a constant ``offset``: one level of ``akmcs_multi(levels=...)``, whose levels all
-    share one Kriging of the response (ordinary Kriging is shift-equivariant)."""
+    share one Kriging of the response (a Kriging whose trend holds a constant is shift-equivariant)."""
 
     def __init__(self, surrogate, offset: float):
         self.surrogate, self.offset = surrogate, float(offset)
