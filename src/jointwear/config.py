@@ -205,7 +205,8 @@ class StudyConfig(SIModel):
             where = f"clearance_joints[{item_key(i, names)}]"
             if cj.joint not in joints:
                 allowed = ", ".join(joints)
-                raise ValueError(f"{where}.joint: '{cj.joint}' is not a joint that can carry clearance (allowed: {allowed})")
+                raise ValueError(f"{where}.joint: '{cj.joint}' is not a joint that can carry clearance"
+                                 f"{_why_no_clearance(self.mechanism, cj.joint)} (allowed: {allowed})")
             if cj.joint in seen:
                 raise ValueError(f"{where}.joint: joint '{cj.joint}' given twice")
             seen.add(cj.joint)
@@ -216,6 +217,24 @@ class StudyConfig(SIModel):
                     f"{' and '.join(joints[cj.joint])}"
                 )
         return self
+
+
+def _why_no_clearance(mechanism: Any, joint: str) -> str:
+    """Why a joint of the mechanism cannot carry clearance (': it is prismatic, ...'); '' for a name that is no joint
+    of it. A clearance joint is a revolute pin in its bore, and a driver turns its body about an ideal pivot."""
+    if joint == "O" and mechanism.type in ("four_bar", "slider_crank"):
+        return ": O is the crank's driven pivot, which the constant-speed drive turns about an ideal pin"
+    found = next((j for j in getattr(mechanism, "joints", ()) if j.name == joint), None)
+    if found is None:
+        return ""
+    if found.type == "prismatic":
+        return (f": {joint} is a prismatic joint (a slider), and a clearance joint is a revolute joint's pin in its "
+                "bore")
+    driver = next((i for i, d in enumerate(mechanism.drivers) if d.joint == joint), None)
+    if driver is not None:
+        return (f": {joint} is driven (mechanism.drivers[{driver}].joint), and a driver turns its body about an ideal "
+                "pin")
+    return ""
 
 
 def check_display_unit(where: str, spec: RandomVariableSpec) -> None:
