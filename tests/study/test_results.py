@@ -346,13 +346,13 @@ def test_profile_mode_says_whether_uniform_mode_would_have_been_fair():
 
     from jointwear.study.stage_lines import profile_mode_line
 
-    assert profile_mode_line(SimpleNamespace(geometry_mode="profile", conformity=6.57)) == (
+    assert profile_mode_line(SimpleNamespace(geometry_mode="profile", joints=[], conformity=6.57)) == (
         "profile mode follows the worn shape here (conformity 6.57 > 1: the journal fits into its own wear, which "
         "uniform mode ignores): this is the answer to trust")
-    assert profile_mode_line(SimpleNamespace(geometry_mode="profile", conformity=0.4)).startswith(
+    assert profile_mode_line(SimpleNamespace(geometry_mode="profile", joints=[], conformity=0.4)).startswith(
         "uniform mode would be fair here too (conformity 0.4 <= 1")
-    assert profile_mode_line(SimpleNamespace(geometry_mode="uniform", conformity=6.57)) == ""
-    assert profile_mode_line(SimpleNamespace(geometry_mode="profile", conformity=float("nan"))) == ""
+    assert profile_mode_line(SimpleNamespace(geometry_mode="uniform", joints=[], conformity=6.57)) == ""
+    assert profile_mode_line(SimpleNamespace(geometry_mode="profile", joints=[], conformity=float("nan"))) == ""
 
 
 def test_every_stage_result_saves_with_the_same_signature():

@@ -327,6 +327,17 @@ def nominal_lives(joints: list[dict], allowances_mm: dict[str, float], quantity:
     return lives
 
 
+def life_within_history(history: dict, allowance_mm: float | None, quantity: str) -> float | None:
+    """The cycles at which a joint's nominal wear history (a ``joints[].history`` of wear.json) first reaches
+    ``allowance_mm`` in the judged ``quantity``, read as :func:`nominal_lives` reads it; None where the history
+    stays below it (no extrapolation: a count past the history is not known from it) or there is no allowance."""
+    depth = history.get(HISTORY_KEYS[quantity])
+    if allowance_mm is None or not depth:
+        return None
+    life = float(life_from_history(history["cycles"], [depth], float(allowance_mm))[0])
+    return life if life <= max(history["cycles"]) else None
+
+
 #: a nominal life more than this many times the wear history's length is told as only that (project choice)
 NOMINAL_LIFE_FAR = 1000
 

@@ -303,7 +303,9 @@ class WearSummary(StageResult):
     half-angle on the unworn bore (a joint's ``contact_half_width_um``: Johnson's half-width at the first block's mean
     force; ``max_half_width_um`` is the largest in the last block's recorded cycles); ``uniform_mode_valid`` is
     False when it exceeds 1 for any joint, where only ``geometry_mode = "profile"`` describes the contact
-    (docs/wear.md).
+    (docs/wear.md). ``limit_mm`` is the first joint's allowance; each joint's own is its ``allowance_mm``, and its
+    ``nominal_life_cycles`` the cycles at which its ``quantity`` (the limit state's) reaches that allowance within
+    the history (None where it stays below it, or has no allowance).
     ``history_result`` (not saved) is the full :class:`jointwear.wear.WearResult`.
     """
 
@@ -327,6 +329,7 @@ class WearSummary(StageResult):
     settings: dict = field(default_factory=dict)
     geometry_mode: str = "uniform"
     limit_mm: float | None = None
+    quantity: str | None = None  # the limit state's, which the joints' nominal lives are read in
     conformity: float | None = None
     uniform_mode_valid: bool | None = None
     stopped_at_cycles: int | None = None  # ``cycles`` then holds these, the history's end, and
@@ -339,11 +342,14 @@ class WearSummary(StageResult):
 
     @classmethod
     def from_history(cls, res, config=None, allowances_m: dict[str, float] | None = None) -> WearSummary:
-        """Summarise a :class:`jointwear.wear.WearResult` of ``config`` (allowances by joint name, m)."""
+        """Summarise a :class:`jointwear.wear.WearResult` of ``config`` (allowances by joint name, m; each joint's
+        nominal life is read in ``config.reliability.quantity``, the bearing's max depth without a config)."""
+        from jointwear.study.limit_state import life_within_history
         from jointwear.wear.angles import report_angle_deg
         from jointwear.wear.results import conservation_error
 
         allowances_m = allowances_m or {}
+        quantity = config.reliability.quantity if config is not None else "bearing_max_depth"
         joints = []
         for jw in res.joints:
             name = str(config.clearance_joints[jw.index].name) if config is not None else f"joint{jw.index}"
@@ -394,6 +400,8 @@ class WearSummary(StageResult):
                 "conformity": jw.conformity,
                 "uniform_mode_valid": jw.uniform_mode_valid,
             })
+            row = joints[-1]  # what the wear stage prints, kept: the judged quantity's crossing of the allowance
+            row["nominal_life_cycles"] = life_within_history(row["history"], row["allowance_mm"], quantity)
         j0 = joints[0]
         return cls(
             cycles=res.n_cycles if res.stopped_at is None else res.stopped_at, max_wear_mm=j0["max_wear_mm"],
@@ -408,7 +416,7 @@ class WearSummary(StageResult):
                      "contact_revolutions_per_cycle": list(b.contact_revolutions),
                      "whirl": [joints[i]["name"] for i, w in enumerate(b.whirl) if w]} for b in res.blocks],
             settings=res.settings.model_dump(mode="json"), geometry_mode=res.settings.geometry_mode,
-            limit_mm=j0["allowance_mm"], conformity=j0["conformity"],
+            limit_mm=j0["allowance_mm"], quantity=quantity, conformity=j0["conformity"],
             uniform_mode_valid=all(j["uniform_mode_valid"] for j in joints), stopped_at_cycles=res.stopped_at,
             cycles_requested=res.n_cycles, stop_reason=res.stop_reason, provenance=provenance(), history_result=res)
 

@@ -134,14 +134,26 @@ def wear_line(result: WearSummary) -> str:
 
 def profile_mode_line(result: WearSummary) -> str:
     """In profile mode, whether uniform mode would have been fair here (the conformity indicator, docs/wear.md "When
-    uniform mode is fair"); '' in uniform mode, which warns when it is outside its range."""
-    c = result.conformity
-    if result.geometry_mode != "profile" or c is None or math.isnan(c):
+    uniform mode is fair"); '' in uniform mode, which warns when it is outside its range. With several joints each is
+    named: those past 1 when any is (as uniform mode's warning names them), else all."""
+    if result.geometry_mode != "profile":
         return ""
-    if c > 1.0:
-        return (f"profile mode follows the worn shape here (conformity {c:.3g} > 1: the journal fits into its own "
+    if len(result.joints) < 2:
+        c = result.conformity
+        if c is None or math.isnan(c):
+            return ""
+        past, values = c > 1.0, f"{c:.3g}"
+    else:  # the verdict is every joint's: one joint past 1 makes profile mode the answer to trust
+        measured = [(j["name"], j["conformity"]) for j in result.joints
+                    if j.get("conformity") is not None and not math.isnan(j["conformity"])]
+        if not measured:
+            return ""
+        past = any(c > 1.0 for _, c in measured)
+        values = ", ".join(f"{c:.3g} at joint {name}" for name, c in measured if c > 1.0 or not past)
+    if past:
+        return (f"profile mode follows the worn shape here (conformity {values} > 1: the journal fits into its own "
                 "wear, which uniform mode ignores): this is the answer to trust")
-    return f"uniform mode would be fair here too (conformity {c:.3g} <= 1: the worn arc within the contact patch)"
+    return f"uniform mode would be fair here too (conformity {values} <= 1: the worn arc within the contact patch)"
 
 
 #: a reliability budget projected to take longer than this (s of model calls in all) is told after the wear stage
