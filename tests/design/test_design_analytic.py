@@ -6,6 +6,7 @@ Monte Carlo with 10^6 samples; the design stage sees the model only through true
 
 import copy
 import json
+from html import escape
 
 import numpy as np
 import pytest
@@ -152,7 +153,7 @@ def test_report_section_shows_the_front_the_choice_and_the_verified_reliability(
     for option in design.chosen["choices"].values():
         assert option in html
     assert f"{design.verification['reliability_at_target_life']:.4f}" in html
-    assert design.verification_sentence()[1:] in html and design.verdict() in ("meets", "within_error")
+    assert escape(design.verification_sentence()[1:]) in html and design.verdict() in ("meets", "within_error")
     today = f"{design.baseline_reliability_at_target_life:.4f} +- {design.baseline_reliability_error:.4f}"
     assert f"today&#x27;s design (the study&#x27;s own inputs) reads R(N*) = {today} on the surrogate the candidates are read on" in html
     assert "Extrapolated candidates" not in html and "outside the study's inputs</th>" in html

@@ -39,14 +39,16 @@ def test_a_choice_within_the_error_of_its_verification_is_told_not_proven_with_t
     res = _audit_result()
     assert res.unproven_sentence() == (
         "not proven: the true model's R(N*) = 0.8995 +- 0.0124 straddles R* = 0.9; the cheapest design with margin is "
-        "k_b lowwear, HB_b standard (cost 2.2, R(N*) 0.9509 +- 0.0113 on the surrogate, not verified)")
+        "k_b lowwear, HB_b standard (cost 2.2, R(N*) 0.9509 +- 0.0113 on the surrogate, not verified); "
+        "design.require = 'proven' chooses the cheapest design its verification proves")
     met = _audit_result(r=0.95, err=0.01)
     assert met.verdict() == "meets" and met.unproven_sentence() == ""
     res.pareto[3]["reliability_error"] = 0.06  # its lower bound no longer clears R*: the next one does
     assert "is k_b lowwear, HB_b hardened (cost 3.7" in res.unproven_sentence()
     res.pareto = res.pareto[:4]
     assert res.unproven_sentence().endswith("no dearer design on the Pareto front clears R* by its error on the "
-                                            "surrogate")
+                                            "surrogate; design.require = 'proven' chooses the cheapest design its "
+                                            "verification proves")
 
 
 def test_a_verification_stopped_on_its_budget_on_a_scattering_model_is_not_told_more_calls_settle_it():

@@ -20,10 +20,12 @@ def design_problems(config: StudyConfig) -> list[str]:
     specs = {s.name: s for s in unc.all_specs()}
     problems = []
     controlled: dict[str, str] = {}
+    told_twice: set[str] = set()  # variables claim() has named as set twice: the names check below says it once
 
     def claim(var: str, where: str) -> None:
         if var in controlled:
             problems.append(f"{where}: variable '{var}' is already set by {controlled[var]}")
+            told_twice.add(var)
         else:
             controlled[var] = where
 
@@ -108,7 +110,7 @@ def design_problems(config: StudyConfig) -> list[str]:
     fit_names = ["fit"] if len(fits) == 1 else list(dict.fromkeys(f"fit {c.name}" for c in fitted if c is not None))
     names = ([t.variable for t in d.tolerances] + fit_names + [p.variable for p in d.properties]
              + [m.name for m in d.materials])
-    dup = sorted({n for n in names if names.count(n) > 1})
+    dup = sorted({n for n in names if names.count(n) > 1} - told_twice)
     if dup:
         problems.append(f"design: control names given twice: {dup} (a material's name must differ from the "
                         "controlled variables and from 'fit')")

@@ -16,6 +16,15 @@ EXTRAPOLATED_SHARE = 0.05
 SCATTER_NUGGET = 1e-4
 
 
+#: a candidate's values at each target other than the headline, beside the headline's (key + target_suffix(k))
+OTHER_TARGET_KEYS = ("reliability_at_target_life", "reliability_error", "life_at_target_cycles")
+
+
+def target_suffix(k: int) -> str:
+    """The suffix of target ``k``'s (0-based) columns beside the headline's: '_t2' for the second target."""
+    return f"_t{k + 1}"
+
+
 def verification_verdict(reliability: float, error: float, target: float) -> str:
     """'meets' when R(N*) - error >= R*, 'within_error' when only R(N*) + error >= R*, else 'misses'."""
     if reliability - error >= target:
@@ -26,6 +35,18 @@ def verification_verdict(reliability: float, error: float, target: float) -> str
 def choices_text(choices: dict) -> str:
     """A candidate's options as a reader reads them: 'l1 IT10, fit H7/g6, HB_b hardened'."""
     return ", ".join(f"{k} {v}" for k, v in choices.items())
+
+
+def life_interval_text(row: dict) -> str:
+    """A row's life at R* with its 95 % interval: '40,135 (39,210-41,060)' (an unknown end as '?')."""
+    life = row.get("life_at_target_cycles")
+    if life is None:
+        return "-"
+    low, high = row.get("life_at_target_low_cycles"), row.get("life_at_target_high_cycles")
+    if low is None and high is None:
+        return f"{life:,.0f}"
+    return (f"{life:,.0f} ({'?' if low is None else format(low, ',.0f')}-"
+            f"{'?' if high is None else format(high, ',.0f')})")
 
 
 def is_undecided(reliability: float, target: float, surrogate_error: float, outside_fraction: float) -> bool:
@@ -55,7 +76,14 @@ class DesignResult(StageResult):
     life interval at R*; a dearer candidate enters the Pareto front only when its life at R* exceeds the best cheaper
     one's by more than that. ``refuted``: the choices whose verification missed the headline target (``choices``,
     ``cost``, the verified ``reliability_at_target_life`` and ``error``), each left out of the search from then on;
-    ``no_choice_reason`` says why there is no choice.
+    ``no_choice_reason`` says why there is no choice. ``decision_rule``: ``design.require``, the rule that chose
+    ('not_refuted' or 'proven'); under 'proven', ``unproven`` lists the candidates whose verification straddled R*
+    (passed over up the front, as ``refuted``) and ``unverified_next`` the front point the verification budget did
+    not reach (a candidate row; None when none). Every candidate and front row also has the 95 % interval of its
+    life at R* (``life_at_target_low_cycles``, ``life_at_target_high_cycles``), every front row ``step_resolved``
+    (its interval wholly above the previous point's), and with several targets each further target's
+    ``reliability_at_target_life``, ``reliability_error`` and ``life_at_target_cycles`` with the suffix ``_t2``,
+    ``_t3``, ... (:func:`target_suffix`).
     """
 
     FILE: ClassVar[str] = "design.json"
@@ -87,6 +115,9 @@ class DesignResult(StageResult):
     baseline_unmatched: list[str] = field(default_factory=list)  # controls with no option of the study's distribution
     life_resolution: float = 0.0  # relative: a dearer candidate enters the front only beyond it
     refuted: list[dict] = field(default_factory=list)  # choices their verification refuted, left out of the search
+    decision_rule: str = "not_refuted"  # design.require: what the verification must say of the headline choice
+    unproven: list[dict] = field(default_factory=list)  # require = 'proven': candidates verified 'within_error'
+    unverified_next: dict | None = None  # require = 'proven': the next front point, left unverified by the budget
 
     def target_outside_curve_sentence(self) -> str:
         """A target life outside the study's R(N) curve (empty when inside, or unknown): the learning refined the
@@ -109,10 +140,13 @@ class DesignResult(StageResult):
 
     @property
     def no_choice_reason(self) -> str | None:
-        """Why there is no choice: 'refuted' (every candidate that reached the target on the surrogate was refuted by
-        its own verification), 'unreached' (none reached it on the surrogate); None with a choice."""
+        """Why there is no choice: 'unproven' (require = 'proven': no candidate's verification met the target beyond
+        its error within the budget), 'refuted' (every candidate that reached the target on the surrogate was refuted
+        by its own verification), 'unreached' (none reached it on the surrogate); None with a choice."""
         if self.chosen is not None:
             return None
+        if self.decision_rule == "proven" and (self.unproven or self.unverified_next is not None):
+            return "unproven"
         return "refuted" if self.refuted else "unreached"
 
     def no_choice_sentence(self) -> str:
@@ -120,6 +154,8 @@ class DesignResult(StageResult):
         reason = self.no_choice_reason
         if reason is None:
             return ""
+        if reason == "unproven":
+            return self._unproven_no_choice_sentence()
         if reason == "refuted":
             n = len(self.refuted)
             each = "; ".join(f"{choices_text(r['choices'])} (cost {r['cost']:.4g}: R(N*) = "
@@ -131,6 +167,26 @@ class DesignResult(StageResult):
         nearest = self.nearest_sentence()
         return (f"no candidate reaches the target on the surrogate ({self.target_life_cycles:,.0f} cycles at "
                 f"R = {self.target_reliability:g})" + (f"; {nearest}" if nearest else ""))
+
+    def _unproven_no_choice_sentence(self) -> str:
+        """No choice under require = 'proven': which candidates were not proven, and why the walk up the front
+        stopped."""
+        text = (f"no candidate is proven to meet {self.target_life_cycles:,.0f} cycles at R = "
+                f"{self.target_reliability:g} (design.require = 'proven')")
+        if self.unproven:
+            each = "; ".join(f"{choices_text(r['choices'])} (cost {r['cost']:.4g}: R(N*) = "
+                             f"{r['reliability_at_target_life']:.4f} +/- {r['error']:.4f})" for r in self.unproven)
+            text += f": the verification of {each} straddles R*"
+        nxt = self.unverified_next
+        if nxt is not None:
+            text += (f"; the verification budget ran out before {choices_text(nxt['choices'])} (cost "
+                     f"{nxt['cost']:.4g}, R(N*) {nxt['reliability_at_target_life']:.4f} +/- "
+                     f"{nxt['reliability_error']:.4f} on the surrogate) was verified: raise "
+                     "design.verification_total_max_calls and run again with --resume (resume=True in Python)")
+        else:
+            text += "; no dearer point of the Pareto front reaches the target on the surrogate"
+        return (text + "; or take the cheapest design its verification does not refute, told as not proven, with "
+                "design.require = 'not_refuted'")
 
     def change_sentence(self) -> str:
         """What the choice changes against today's design and what that costs, or why today's design cannot be
@@ -202,7 +258,14 @@ class DesignResult(StageResult):
     @property
     def nearest(self) -> dict | None:
         """With no choice, the candidate :meth:`nearest_sentence` names: its ``choices``, ``cost``,
-        ``reliability_at_target_life`` and ``reliability_error`` on the surrogate; None with a choice."""
+        ``reliability_at_target_life`` and ``reliability_error`` on the surrogate; None with a choice. With no choice
+        under require = 'proven' ('unproven'), the candidate not proven whose verified R(N*) minus its error is the
+        highest, with its verified R(N*) and error."""
+        if self.no_choice_reason == "unproven" and self.unproven:
+            best = max(self.unproven, key=lambda r: r["reliability_at_target_life"] - r["error"])
+            return {"choices": best["choices"], "cost": best["cost"],
+                    "reliability_at_target_life": best["reliability_at_target_life"],
+                    "reliability_error": best["error"]}
         found = self._nearest_rows()
         if found is None:
             return None
@@ -295,8 +358,8 @@ class DesignResult(StageResult):
         if verdict == "not_verified":
             why = f" ({ver['note']})" if ver.get("note") else ""
             return f"the choice is not verified on the true model{why}: its R(N*) rests on the study's surrogate alone"
-        text = (f"its own reliability study ({ver.get('model_calls', 0)} true-model calls) gives R(N*) = "
-                f"{ver['reliability_at_target_life']:.4f} +/- {ver['error']:.4f}: ")
+        text = (f"{self.rule_sentence()}: its own reliability study ({ver.get('model_calls', 0)} true-model calls) "
+                f"gives R(N*) = {ver['reliability_at_target_life']:.4f} +/- {ver['error']:.4f}: ")
         text += {"meets": "it meets R* beyond its error",
                  "within_error": f"R* = {self.target_reliability:g} lies within its error, so the target is not "
                                  "excluded, nor proven",
@@ -318,6 +381,17 @@ class DesignResult(StageResult):
                              "budget (--resume) settles it only if the error falls below that distance")
         if fit is not None and (warning := fit.warning()):  # its R(N*) may be far off, more than its error says
             text += "; in that study " + warning
+        return text
+
+    def rule_sentence(self) -> str:
+        """Which rule chose (``design.require``), and under 'proven' the candidates it passed over as not proven."""
+        if self.decision_rule != "proven":
+            return "chosen by design.require = 'not_refuted' (the cheapest that its verification does not refute)"
+        text = "chosen by design.require = 'proven' (the cheapest up the front that its verification proves)"
+        if self.unproven:
+            each = "; ".join(f"{choices_text(r['choices'])}, cost {r['cost']:.4g}: R(N*) = "
+                             f"{r['reliability_at_target_life']:.4f} +/- {r['error']:.4f}" for r in self.unproven)
+            text += f" after {len(self.unproven)} not proven ({each})"
         return text
 
     def margin_choice(self) -> dict | None:
@@ -354,23 +428,33 @@ class DesignResult(StageResult):
         text = (f"not proven: the true model's R(N*) = {ver['reliability_at_target_life']:.4f} +- {ver['error']:.4f} "
                 f"straddles R* = {self.target_reliability:g}")
         margin = self.margin_choice()
+        rule = "; design.require = 'proven' chooses the cheapest design its verification proves"
         if margin is None:
-            return text + "; no dearer design on the Pareto front clears R* by its error on the surrogate"
+            return text + "; no dearer design on the Pareto front clears R* by its error on the surrogate" + rule
         return (text + f"; the cheapest design with margin is {choices_text(margin['choices'])} (cost "
                 f"{margin['cost']:.4g}, R(N*) {margin['reliability_at_target_life']:.4f} +- "
-                f"{margin['reliability_error']:.4f} on the surrogate, not verified)")
+                f"{margin['reliability_error']:.4f} on the surrogate, not verified)" + rule)
 
     def tables(self) -> dict[str, dict[str, Any]]:
         """``design_pareto`` (the front) and ``design_candidates`` (every candidate): each control's choice, the
-        cost, the life at the target reliability and the reliability at the target life with its error."""
+        cost, the life at the target reliability with its 95 % interval and the reliability at the target life with
+        its error (the front: whether each step up it is resolved), then each further target's R(N*), its error and
+        life at R* (suffix ``_t2``, ...); and ``design_pareto_t2``, ... (each further target's own front)."""
         names = [c["name"] for c in self.controls]
-        out = {}
-        for rows, stem in ((self.pareto, "design_pareto"), (self.candidates, "design_candidates")):
+        base = ("cost", "life_at_target_cycles", "life_at_target_low_cycles", "life_at_target_high_cycles",
+                "reliability_at_target_life", "reliability_error", "outside_design_fraction")
+        others = tuple(f"{key}{target_suffix(k)}" for k in range(1, len(self.targets)) for key in OTHER_TARGET_KEYS)
+
+        def table(rows: list[dict], keys: tuple[str, ...]) -> dict[str, list]:
             cols = {n: [r["choices"][n] for r in rows] for n in names}
-            for key in ("cost", "life_at_target_cycles", "reliability_at_target_life", "reliability_error",
-                        "outside_design_fraction"):
-                cols[key] = [r.get(key) for r in rows]
-            out[stem] = cols
+            cols.update({key: [r.get(key) for r in rows] for key in keys})
+            return cols
+
+        out = {"design_pareto": table(self.pareto, base + ("step_resolved",) + others),
+               "design_candidates": table(self.candidates, base + others)}
+        for k in range(1, len(self.targets)):
+            out[f"design_pareto{target_suffix(k)}"] = table(self.targets[k].get("pareto") or [],
+                                                             base + ("step_resolved",))
         return out
 
     def save(self, folder: Path | str, *, figures: bool = True) -> Path:

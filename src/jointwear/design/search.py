@@ -41,9 +41,11 @@ from jointwear.design.candidates import (
 )
 from jointwear.design.results import (
     EXTRAPOLATED_SHARE,
+    OTHER_TARGET_KEYS,
     DesignResult,
     choices_text,
     is_undecided,
+    target_suffix,
     verification_verdict,
 )
 from jointwear.design.settings import DesignSettings
@@ -80,6 +82,9 @@ class Estimate:
     surrogate_error: float
     life_cycles: float | None
     outside_fraction: float
+    # the life at R*'s 95 % interval: where R -/+ its error bound at that life crosses R* (None: outside the population)
+    life_low: float | None = None
+    life_high: float | None = None
 
 
 def monte_carlo_half_width(k: float, n: int) -> float:
@@ -217,31 +222,46 @@ def estimate(space: CandidateSpace, sur: LifeSurrogate, cand: Candidate, log_tar
 
 def estimate_on(space: CandidateSpace, sur: LifeSurrogate, u: np.ndarray, p_inf: float, log_target: float,
                 reliability_target: float) -> Estimate:
-    """R(N*) with its error bound, and the life at R*, of the population ``u`` (a candidate's, or today's design's)
-    whose clearance is infeasible with probability ``p_inf``."""
+    """R(N*) with its error bound, and the life at R* with its 95 % interval, of the population ``u`` (a candidate's,
+    or today's design's) whose clearance is infeasible with probability ``p_inf``."""
     mu, sd = sur.predict(u)
-    n = mu.size
-    g = mu - log_target
-    scatter = sur.scatter_sd
-    k = surviving(sur, u, mu, log_target)
-    r_feasible = k / n
-    # 'fail' rule: an infeasible clearance is a failure at every N (the learning runs on the feasible part)
-    reliability = (1.0 - p_inf) * r_feasible
-    sur_err = (1.0 - p_inf) * esc_absolute_error(g, sd)  # Pf = P[g <= 0]: the same absolute error as R
-    mc_err = (1.0 - p_inf) * monte_carlo_half_width(k, n)
     outside = float(np.mean(sur.outside(u)))
-    # the share drawn outside the design's region may be misclassified wholesale: the Kriging extrapolates there,
-    # with a variance that need not say so (a far PTFE option read R = 1.0000 +/- 0.0000, its own study 0.9 at 1.8x)
-    error = min(sur_err + mc_err + (1.0 - p_inf) * outside, 1.0)  # R is a probability: no error exceeds 1
-    level = 1.0 - reliability_target / (1.0 - p_inf)
+    reliability, sur_err, error = _reliability_error(sur, u, mu, sd, p_inf, outside, log_target)
+    scatter = sur.scatter_sd
     if scatter == 0:
         log_life = mu
     elif sur.per_joint:
         log_life = sur.model.response_draws(u, space.scatter_draws(len(sur.model.components)))
     else:
         log_life = mu + scatter * space.scatter
-    life = float(np.exp(np.quantile(log_life, level))) if 0.0 < level < 1.0 else None
-    return Estimate(reliability, error, sur_err, life, outside)
+
+    def life_at(r: float) -> float | None:  # the life where the population's R is r (None outside it)
+        level = 1.0 - r / (1.0 - p_inf)
+        return float(np.exp(np.quantile(log_life, level))) if 0.0 < level < 1.0 else None
+
+    life = life_at(reliability_target)
+    low = high = None
+    if life is not None:
+        # the study's life interval, made for a candidate: the band R -/+ its error (its error read at the life itself,
+        # where a dearer design's R(N*) error near 0 says nothing) crosses R* (docs/design.md, step 2)
+        e_life = _reliability_error(sur, u, mu, sd, p_inf, outside, math.log(life))[2]
+        low, high = life_at(reliability_target + e_life), life_at(reliability_target - e_life)
+    return Estimate(reliability, error, sur_err, life, outside, low, high)
+
+
+def _reliability_error(sur: LifeSurrogate, u: np.ndarray, mu: np.ndarray, sd: np.ndarray, p_inf: float,
+                       outside: float, log_target: float) -> tuple[float, float, float]:
+    """(R, the surrogate's ESC bound, the whole error bound) of the population ``u`` at ln N = ``log_target``."""
+    n = mu.size
+    k = surviving(sur, u, mu, log_target)
+    # 'fail' rule: an infeasible clearance is a failure at every N (the learning runs on the feasible part)
+    reliability = (1.0 - p_inf) * k / n
+    sur_err = (1.0 - p_inf) * esc_absolute_error(mu - log_target, sd)  # Pf = P[g <= 0]: the same absolute error as R
+    mc_err = (1.0 - p_inf) * monte_carlo_half_width(k, n)
+    # the share drawn outside the design's region may be misclassified wholesale: the Kriging extrapolates there,
+    # with a variance that need not say so (a far PTFE option read R = 1.0000 +/- 0.0000, its own study 0.9 at 1.8x)
+    error = min(sur_err + mc_err + (1.0 - p_inf) * outside, 1.0)  # R is a probability: no error exceeds 1
+    return reliability, sur_err, error
 
 
 def _refine_point(space: CandidateSpace, sur: LifeSurrogate, cand: Candidate, log_target: float,
@@ -268,7 +288,7 @@ def pareto_front(rows: list[dict], resolution: float = 0.0, keep: int | None = N
     ``EXTRAPOLATED_SHARE`` of the candidate's population outside the study's inputs) puts no candidate off the front:
     a well-estimated alternative stays on it beside the extrapolated one. ``rows[keep]`` (the choice) is on the
     front whatever its life: a front without it read as if the cheapest design that works were a dearer one."""
-    front = []
+    front: list[dict] = []
     best, best_trusted = -math.inf, -math.inf  # the longest life of any cheaper candidate
     shown, shown_trusted = -math.inf, -math.inf  # the longest life on the front so far
     kept = None if keep is None else rows[keep]
@@ -278,7 +298,7 @@ def pareto_front(rows: list[dict], resolution: float = 0.0, keep: int | None = N
         dominated = life <= (best_trusted if trusted else best)
         resolved = life > (shown_trusted if trusted else shown) * (1.0 + resolution)
         if row is kept or (not dominated and resolved):
-            front.append(row)
+            front.append(dict(row, step_resolved=_step_resolved(front[-1] if front else None, row)))
             shown = max(shown, life)
             if trusted:
                 shown_trusted = max(shown_trusted, life)
@@ -288,9 +308,21 @@ def pareto_front(rows: list[dict], resolution: float = 0.0, keep: int | None = N
     return front
 
 
+def _step_resolved(previous: dict | None, row: dict) -> bool | None:
+    """Whether ``row``'s life interval at R* lies wholly above ``previous``'s (the step up the front is then resolved
+    by the surrogate's own error of the two lives); None for the first point or where an end is unknown."""
+    if previous is None:
+        return None
+    low, high = row.get("life_at_target_low_cycles"), previous.get("life_at_target_high_cycles")
+    if low is None or high is None:
+        return None
+    return bool(low > high)
+
+
 def _row(cand: Candidate, controls: list[Control], est: Estimate) -> dict:
     return {"choices": cand.choices(controls), "cost": cand.cost(controls),
-            "life_at_target_cycles": est.life_cycles, "reliability_at_target_life": est.reliability,
+            "life_at_target_cycles": est.life_cycles, "life_at_target_low_cycles": est.life_low,
+            "life_at_target_high_cycles": est.life_high, "reliability_at_target_life": est.reliability,
             "reliability_error": est.error, "surrogate_error": est.surrogate_error,
             "outside_design_fraction": est.outside_fraction}
 
@@ -360,22 +392,35 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
                 for i in indices for k, t in enumerate(targets)}
 
     refuted: set[int] = set()  # candidates whose verification missed the headline target: never chosen for it again
+    # require = 'proven': candidates whose verification straddled R* ('within_error'); the search walks up the front
+    # past them (docs/design.md, 'Requiring a proven choice')
+    unproven: set[int] = set()
+    proven = settings.require == "proven"
+    head_resolution = life_resolution(reliability_result, targets[0]["reliability"])
 
-    def excluded(k: int) -> set[int]:
-        """The candidates out of the search for target ``k`` (those refuted at the headline target)."""
-        return refuted if k == 0 else set()
+    def excluded(k: int, est: dict) -> set[int]:
+        """The candidates out of the search for target ``k``: those refuted at the headline target and, under
+        require = 'proven', those not proven and every candidate whose life at R* is not resolved above theirs
+        (the next point of the front is the cheapest candidate left)."""
+        if k != 0:
+            return set()
+        if not unproven:
+            return refuted
+        floor = max(est[(i, 0)].life_cycles or 0.0 for i in unproven) * (1.0 + head_resolution)
+        return refuted | unproven | {i for i in range(len(candidates)) if (est[(i, 0)].life_cycles or 0.0) <= floor}
 
     def undecided(est: dict) -> list[tuple[int, int]]:
         """(candidate, target) pairs no dearer than the target's current choice whose R(N*) is within the
         surrogate's error of R* (the Monte Carlo part of the error is not reduced by model calls)."""
         out = []
         for k, t in enumerate(targets):
-            chosen_i = _cheapest_meeting(est, order, k, t["reliability"], excluded(k), rank)
+            out_k = excluded(k, est)
+            chosen_i = _cheapest_meeting(est, order, k, t["reliability"], out_k, rank)
             chosen_cost = math.inf if chosen_i is None else rank[chosen_i][0]
             for i in order:
                 if rank[i][0] > chosen_cost:
                     break
-                if i in excluded(k):
+                if i in out_k:
                     continue
                 e = est[(i, k)]
                 if is_undecided(e.reliability, t["reliability"], e.surrogate_error, e.outside_fraction):
@@ -386,7 +431,7 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
         """Candidates no dearer than the dearest current choice (the only ones a refinement can change)."""
         limit = 0.0
         for k, t in enumerate(targets):
-            chosen_i = _cheapest_meeting(est, order, k, t["reliability"], excluded(k), rank)
+            chosen_i = _cheapest_meeting(est, order, k, t["reliability"], excluded(k, est), rank)
             limit = max(limit, math.inf if chosen_i is None else candidates[chosen_i].cost(controls))
         return [i for i in order if candidates[i].cost(controls) <= limit]
 
@@ -397,13 +442,12 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
     verifications: list[dict] = []
     verified: dict[int, dict] = {}
     phase = on_phase if on_phase is not None else (lambda _d, _n: None)
+    total_budget = settings.verification_budget
     while True:
-        if refine_points < settings.refine_max_calls and undecided(est):
+        todo = undecided(est) if refine_points < settings.refine_max_calls else []
+        if todo:
             phase("design refinement", settings.refine_max_calls - refine_points)
-        while refine_points < settings.refine_max_calls:
-            todo = undecided(est)
-            if not todo:
-                break
+        while refine_points < settings.refine_max_calls and todo:
             picks, seen = [], set()
             for i, k in todo:
                 if i in seen:
@@ -422,12 +466,14 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
             sur.add(x_new)
             iterations += 1
             est.update(evaluate_all(_relevant(est) if len(candidates) > 2000 else range(len(candidates))))
-            say(f"design: refinement {iterations}: {len(todo)} undecided, {refine_calls} "
-                f"call{'' if refine_calls == 1 else 's'}")
+            left_now = undecided(est)  # the count after the round's calls (the log said the count before it)
+            say(f"design: refinement {iterations}: {len(todo)} undecided before it, {len(left_now)} after; "
+                f"{refine_calls} call{'' if refine_calls == 1 else 's'}")
+            todo = left_now
         if len(candidates) > 2000:
             est = evaluate_all(range(len(candidates)))
-        head_i = _cheapest_meeting(est, order, 0, targets[0]["reliability"], refuted, rank)
-        budget = settings.verification_max_calls - verification_calls
+        head_i = _cheapest_meeting(est, order, 0, targets[0]["reliability"], excluded(0, est), rank)
+        budget = min(settings.verification_max_calls, total_budget - verification_calls)
         if not settings.verify or head_i is None or head_i in verified or budget <= 0:
             break
         say(f"design: verifying {choices_text(candidates[head_i].choices(controls))} with its own reliability study")
@@ -438,8 +484,14 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
         ver["choices"] = candidates[head_i].choices(controls)
         verified[head_i] = ver
         verifications.append(ver)
-        if ver["confirmed"]:
+        if ver["verdict"] == "meets" or (ver["confirmed"] and not proven):
             break
+        if ver["confirmed"]:  # 'within_error' under require = 'proven': verify the next point of the front
+            unproven.add(head_i)  # its calls do not refute the surrogate, which stays as it is
+            say(f"design: {choices_text(ver['choices'])} is not proven (R(N*) = {ver['reliability_at_target_life']:.4f}"
+                f" +/- {ver['error']:.4f} straddles R* = {targets[0]['reliability']:g}); design.require = 'proven': "
+                "the next point of the front")
+            continue
         # Refuted: the candidate leaves the search for the headline target (its surrogate estimate may still meet it
         # after the few calls below, and it was chosen again), the verification's true calls enter the life
         # surrogate and the search runs again.
@@ -448,11 +500,19 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
         est = evaluate_all(range(len(candidates)))
     left = undecided(est)
 
+    pending = None  # require = 'proven': the candidate the walk reached but could not verify (budget spent)
     per_target = []
+    rows_of = [[_row(candidates[i], controls, est[(i, k)]) for i in range(len(candidates))]
+               for k in range(len(targets))]
+    for k in range(1, len(targets)):  # the other targets beside the headline's, in its candidates and front
+        for row, other in zip(rows_of[0], rows_of[k]):
+            row.update({f"{key}{target_suffix(k)}": other[key] for key in OTHER_TARGET_KEYS})
     for k, t in enumerate(targets):
-        rows = [_row(candidates[i], controls, est[(i, k)]) for i in range(len(candidates))]
+        rows = rows_of[k]
         resolution = life_resolution(reliability_result, t["reliability"])
-        chosen_i = _cheapest_meeting(est, order, k, t["reliability"], excluded(k), rank)
+        chosen_i = _cheapest_meeting(est, order, k, t["reliability"], excluded(k, est), rank)
+        if k == 0 and proven and chosen_i is not None and verified.get(chosen_i, {}).get("verdict") != "meets":
+            pending, chosen_i = chosen_i, None  # not proven: under this rule no choice
         chosen = None
         if chosen_i is not None:
             chosen = _row(candidates[chosen_i], controls, est[(chosen_i, k)])
@@ -478,6 +538,13 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
     verification = verified.get(head["chosen_index"]) if head["chosen_index"] is not None else None
     if verification is not None:
         verification = dict(verification, model_calls=verification_calls, rounds=verifications)
+    elif head["chosen_index"] is None and proven and (unproven or pending is not None):
+        note = ("no point of the front above the candidates not proven reaches the target on the surrogate"
+                if pending is None else f"verification budget spent before "
+                f"{choices_text(candidates[pending].choices(controls))} was verified")
+        last = verifications[-1] if verifications else {"reliability_at_target_life": None, "error": None,
+                                                        "confirmed": False, "verdict": "not_verified"}
+        verification = dict(last, model_calls=verification_calls, rounds=verifications, note=note)
     elif head["chosen_index"] is None and refuted:  # every candidate that met the target was refuted
         verification = dict(verifications[-1], model_calls=verification_calls, rounds=verifications,
                             note="no candidate left that its verification did not refute")
@@ -521,7 +588,12 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
         life_resolution=head["life_resolution"],
         refuted=[{"choices": v["choices"], "cost": candidates[i].cost(controls),
                   "reliability_at_target_life": v["reliability_at_target_life"], "error": v["error"]}
-                 for i, v in verified.items() if i in refuted])
+                 for i, v in verified.items() if i in refuted],
+        decision_rule=settings.require,
+        unproven=[{"choices": v["choices"], "cost": candidates[i].cost(controls),
+                   "reliability_at_target_life": v["reliability_at_target_life"], "error": v["error"]}
+                  for i, v in verified.items() if i in unproven],
+        unverified_next=None if pending is None else _row(candidates[pending], controls, est[(pending, 0)]))
 
 
 def _cheapest_meeting(est: dict, order: list[int], k: int, reliability: float,

@@ -330,11 +330,24 @@ class DesignSettings(SIModel):
         "candidate (a point the evaluation store already holds counts too).")
     batch_size: int = Field(2, description="Refinement points per iteration (run in parallel).")
     verify: bool = Field(True, description="Verify the chosen design with its own reliability study.")
-    verification_max_calls: int = Field(80, description="Budget of true-model calls of the verification study.")
+    verification_max_calls: int = Field(80, description="Budget of true-model calls of a verification study (all "
+                                        "of them together: verification_total_max_calls).")
     verification_stopping: Literal["u", "error"] = Field(
         "u", description="Learning stop of the verification study: 'u' (the paper's rule, min U >= 2, else the "
         "budget) keeps learning near the limit state at N*; 'error' stops once the ESC error bound is below the "
         "study's tolerance, which a Kriging fitted on its initial design alone can meet too early (project choice).")
+    require: Literal["not_refuted", "proven"] = Field(
+        "not_refuted", description="The decision rule for the headline choice. 'not_refuted': the cheapest candidate "
+        "that meets the target on the surrogate and that its verification does not refute (a verdict 'within_error' "
+        "stands, told as not proven). 'proven': the cheapest candidate whose verification meets the target beyond its "
+        "error bound; a verdict 'within_error' passes to the next point of the Pareto front, each verified in turn "
+        "within verification_total_max_calls, and no such candidate leaves no choice (docs/design.md, 'Requiring a "
+        "proven choice').")
+    verification_total_max_calls: int | None = Field(
+        None, description="Budget of true-model calls of all the verifications together (each at most "
+        "verification_max_calls). None = verification_max_calls under require = 'not_refuted' (the rounds after a "
+        "refuted choice share it), 3 x verification_max_calls under require = 'proven' (up to three front points "
+        "on a model whose verification runs to its budget).")
     seed: int = Field(0, description="Seed of the candidates' population and the refinement.")
 
     @field_validator("targets")
@@ -360,8 +373,28 @@ class DesignSettings(SIModel):
             raise ValueError(f"must be >= {least}")
         return value
 
+    @field_validator("verification_total_max_calls")
+    @classmethod
+    def _total(cls, value: int | None) -> int | None:
+        if value is not None and value < 0:
+            raise ValueError("must be >= 0 (or omitted: a multiple of verification_max_calls)")
+        return value
+
+    @property
+    def verification_budget(self) -> int:
+        """The true-model calls all the verifications may spend together (verification_total_max_calls resolved)."""
+        if self.verification_total_max_calls is not None:
+            return self.verification_total_max_calls
+        return self.verification_max_calls * (PROVEN_ROUNDS if self.require == "proven" else 1)
+
     @model_validator(mode="after")
     def _check(self) -> DesignSettings:
+        if self.require == "proven" and (not self.verify or not self.verification_max_calls
+                                         or not self.verification_budget):
+            off = ("verify = false" if not self.verify else "verification_max_calls = 0"
+                   if not self.verification_max_calls else "verification_total_max_calls = 0")
+            raise ValueError(f"require: 'proven' needs the verification on the true model, and {off} turns it off "
+                             "(or keep require = 'not_refuted')")
         if not (self.tolerances or self.fit or self.properties or self.materials):
             raise ValueError("name at least one control (tolerances, fit, properties or materials)")
         n = 1
@@ -383,6 +416,8 @@ class DesignSettings(SIModel):
                 + [len(p.classes) for p in self.properties] + [len(m.options) for m in self.materials])
 
 
+#: verifications the default budget of require = 'proven' allows when each runs to its verification_max_calls
+PROVEN_ROUNDS = 3
 #: smallest population per candidate: the exact 95 % interval of R = 0.9 from 1,000 samples is about +/- 0.02
 MIN_POPULATION = 1_000
 

@@ -7,7 +7,7 @@ import html
 from collections.abc import Mapping
 from pathlib import Path
 
-from jointwear.design.results import EXTRAPOLATED_SHARE
+from jointwear.design.results import EXTRAPOLATED_SHARE, life_interval_text
 from jointwear.report.markup import figure_html
 from jointwear.report.study_sections import warning
 from jointwear.report.style import TARGET_COLOR, figure, label_axes, styled, to_data_uri
@@ -36,6 +36,13 @@ def design_pareto_figure(result):
     if front:
         ax.plot([r["cost"] for r in front], [r["life_at_target_cycles"] / 1e3 for r in front], "o-", ms=4,
                 label="Pareto front")
+        # each point's 95 % interval of its life at R* (an end outside the population drawn to the point)
+        lives = [r["life_at_target_cycles"] for r in front]
+        low = [life - (r.get("life_at_target_low_cycles") or life) for r, life in zip(front, lives)]
+        high = [(r.get("life_at_target_high_cycles") or life) - life for r, life in zip(front, lives)]
+        if any(low) or any(high):
+            ax.errorbar([r["cost"] for r in front], [v / 1e3 for v in lives],
+                        yerr=[[v / 1e3 for v in low], [v / 1e3 for v in high]], fmt="none", capsize=3, lw=1)
     target = _get(result, "target_life_cycles")
     if target:
         ax.axhline(target / 1e3, color=TARGET_COLOR, ls="--", lw=1, label="target life")
@@ -93,7 +100,8 @@ def design_section(out_dir: Path | str, figs=None) -> str | None:
         hours = f" ({life / rpm / 60:,.2f} h)" if life and rpm else ""
         text = (f"Cost {chosen['cost']:.4g} (relative units: the sum of the options' costs); on the study's "
                 f"surrogate R(N*) = {chosen['reliability_at_target_life']:.4f} +/- "
-                f"{chosen.get('reliability_error', 0):.4f} and a life of {_fmt(life, ',.0f')} cycles{hours} at R*. ")
+                f"{chosen.get('reliability_error', 0):.4f} and a life of {life_interval_text(chosen)} cycles{hours} "
+                "at R* (95 % interval in brackets). ")
         change = d.change_sentence()
         text += change[:1].upper() + change[1:] + ". "
         sentence = d.verification_sentence()
@@ -115,22 +123,31 @@ def design_section(out_dir: Path | str, figs=None) -> str | None:
             parts.append(figs.draw(lambda: design_pareto_figure(d), caption, png_keys=("design_pareto",)))
         else:
             parts.append(figure_html(to_data_uri(design_pareto_figure(d)), caption))
-        names = list(_get(d, "pareto")[0]["choices"])
+        front = _get(d, "pareto")
+        names = list(front[0]["choices"])
         header = "".join(f"<th>{e(n)}</th>" for n in names) + (
-            "<th>cost</th><th>life at R* (cycles)</th><th>R(N*)</th><th>+/- error</th>"
-            "<th>outside the study's inputs</th>")
+            "<th>cost</th><th>life at R* (95 % interval), cycles</th><th>step resolved</th><th>R(N*)</th>"
+            "<th>+/- error</th><th>outside the study's inputs</th>")
+        steps = {True: "yes", False: "no", None: "-"}
         body = "".join("<tr>" + "".join(f"<td>{e(str(r['choices'][n]))}</td>" for n in names)
-                       + f"<td>{r['cost']:.4g}</td><td>{_fmt(r.get('life_at_target_cycles'), ',.0f')}</td>"
+                       + f"<td>{r['cost']:.4g}</td><td>{e(life_interval_text(r))}</td>"
+                       f"<td>{steps[r.get('step_resolved')]}</td>"
                        f"<td>{r['reliability_at_target_life']:.4f}</td><td>{_fmt(r.get('reliability_error'), '.4f')}"
                        f"</td><td>{_fmt(r.get('outside_design_fraction'), '.1%')}</td></tr>"
-                       for r in _get(d, "pareto"))
+                       for r in front)
         parts.append(f"<table><thead><tr>{header}</tr></thead><tbody>{body}</tbody></table>")
         if resolution := _get(d, "life_resolution"):
             parts.append(f"<p>The front: each well-estimated design costs more than the well-estimated one above it "
-                         f"and lives longer at R* by more than {resolution:.1%}, the half-width of the study's own life "
-                         "interval (a longer life within it is not resolved). Extrapolated designs (the last column "
-                         f"above {EXTRAPOLATED_SHARE:.0%}) stand beside them and push none of them off, so the front "
-                         "may step back in life where one of them stands.</p>")
+                         f"and lives longer at R* by more than {resolution:.1%}, the half-width of the study's own "
+                         "life interval (a longer life within it is not resolved). Extrapolated designs (the last "
+                         f"column above {EXTRAPOLATED_SHARE:.0%}) stand beside them and push none of them off, so the "
+                         "front may step back in life where one of them stands.</p>")
+        unresolved = sum(1 for r in front if r.get("step_resolved") is False)
+        if unresolved:
+            parts.append(f"<p>{unresolved} of the {len(front) - 1} steps up the front are not resolved by the "
+                         "surrogate's own error of the lives ('step resolved' no: the point's life interval overlaps "
+                         "the previous point's): the two designs may live equally long at R*, so that step buys an "
+                         "improvement the surrogate cannot show; verify the dearer design before paying for it.</p>")
         far = [r for r in _get(d, "pareto") + ([chosen] if chosen else [])
                if (r.get("outside_design_fraction") or 0.0) > EXTRAPOLATED_SHARE]
         if far:
