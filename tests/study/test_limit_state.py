@@ -6,9 +6,11 @@ joints, so its exact R(N) is known by brute-force Monte Carlo.
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
-from analytic_wear import TwoJointWear
+from analytic_wear import ALLOWANCE, RATES_TWO_JOINTS, TwoJointWear
 from analytic_wear import two_joint_six_bar as _six_bar
 
 from jointwear import compute
@@ -156,6 +158,17 @@ def test_series_system_reliability_against_brute_force(surrogate):
     # joint A wears faster at the mean point, so it governs most failures at the headline life
     assert res.governing_joint == "A"
     assert [j["name"] for j in res.joints] == ["A", "E"]
+    # every design point's life per joint (design_points.csv's life_cycles_A, _E), each joint's exact one, the
+    # system's their smaller (to the rounding of the linear life read off the history)
+    per_joint = {"A": ALLOWANCE / (RATES_TWO_JOINTS["A"] * res.design_x[:, 0] / 1e-4),
+                 "E": ALLOWANCE / (RATES_TWO_JOINTS["E"] * res.design_x[:, 1] / 1e-4)}
+    points = res.tables()["design_points"]
+    for name, exact in per_joint.items():
+        np.testing.assert_allclose(points[f"life_cycles_{name}"], exact, rtol=1e-9)
+    np.testing.assert_array_equal(points["life_cycles"], np.minimum(points["life_cycles_A"], points["life_cycles_E"]))
+    back = type(res).from_json(json.loads(json.dumps(res.to_json())))
+    for name in per_joint:
+        np.testing.assert_array_equal(back.design_joint_lives[name], res.design_joint_lives[name])
     for j in res.joints:  # a joint alone is at least as reliable as the series system
         assert np.all(np.asarray(j["reliability"]) >= res.reliability)
 

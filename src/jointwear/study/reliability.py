@@ -433,6 +433,8 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         converged=bool(engine.converged), wall_seconds=time.perf_counter() - t0, names=ctx.names, units=ctx.units,
         histograms=histograms, mean_max_wear_mm=mean_max, convergence=convergence,
         design_x=design_x, design_wear=design_wear, design_life=ctx.life(design_x),
+        design_joint_lives=dict(zip(ctx.limit_state.names, ctx.joint_lives(design_x).T))
+        if len(ctx.limit_state.names) > 1 else None,
         design_wear_cycles=np.asarray(ctx.history_cycles, dtype=float),
         quantity=ctx.limit_state.quantity, joints=joints,
         # 12 digits: the rpm entered comes back through rad/s as 399.99999999999994

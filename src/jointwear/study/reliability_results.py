@@ -245,7 +245,8 @@ class ReliabilityCurve(StageResult):
     Units: ``design_x`` are the true-model inputs in SI (columns in the order of ``names``, units in ``units``: a
     hardness in Pa, "" for a plain number),
     ``design_wear`` their wear quantity in m (the first judged joint's) at the history's cycles
-    ``design_wear_cycles``, ``design_life`` their life in cycles;
+    ``design_wear_cycles``, ``design_life`` their life in cycles (the system's; with several judged joints each
+    joint's in ``design_joint_lives``, by name);
     ``mean_max_wear_mm`` (``cycles``, ``mean``) and ``histograms`` (``max_wear_mm``) are in mm, as named.
 
     ``engine``: the learning engine with its surrogates, held only by the result a run returns (it is not written
@@ -278,6 +279,7 @@ class ReliabilityCurve(StageResult):
     design_wear: np.ndarray
     life_table: list[dict] = field(default_factory=list)
     design_life: np.ndarray | None = None
+    design_joint_lives: dict[str, np.ndarray] | None = None
     design_wear_cycles: np.ndarray | None = None
     quantity: str = "bearing_max_depth"
     joints: list[dict] = field(default_factory=list)
@@ -525,7 +527,9 @@ class ReliabilityCurve(StageResult):
             "design": {"x": np.asarray(self.design_x).tolist(), "wear_m": np.asarray(self.design_wear).tolist(),
                        "wear_cycles": None if self.design_wear_cycles is None
                        else np.asarray(self.design_wear_cycles).tolist(),
-                       "life_cycles": None if self.design_life is None else np.asarray(self.design_life).tolist()},
+                       "life_cycles": None if self.design_life is None else np.asarray(self.design_life).tolist(),
+                       "joint_life_cycles": None if self.design_joint_lives is None else
+                       {name: np.asarray(v).tolist() for name, v in self.design_joint_lives.items()}},
             "infeasible": self.infeasible,
             "provenance": self.provenance or provenance(),
             **{k: v for k, v in self.extra.items() if k not in _RELIABILITY_KEYS},
@@ -557,6 +561,8 @@ class ReliabilityCurve(StageResult):
             design_x=np.asarray(design.get("x", []), dtype=float),
             design_wear=np.asarray(design.get("wear_m", []), dtype=float),
             design_life=None if design.get("life_cycles") is None else arr(design["life_cycles"]),
+            design_joint_lives=None if design.get("joint_life_cycles") is None else
+            {name: arr(v) for name, v in design["joint_life_cycles"].items()},
             design_wear_cycles=None if design.get("wear_cycles") is None else arr(design["wear_cycles"]),
             life_table=data.get("life_table", []), quantity=data.get("quantity", "bearing_max_depth"),
             joints=data.get("joints", []), crank_speed_rpm=data.get("crank_speed_rpm"),
@@ -633,6 +639,8 @@ class ReliabilityCurve(StageResult):
                                     for k, (name, unit) in enumerate(zip(names, units))}
             if self.design_life is not None:
                 cols["life_cycles"] = self.design_life
+            for name, lives in (self.design_joint_lives or {}).items():
+                cols[f"life_cycles_{name}"] = lives
             out["design_points"] = cols
         return out
 
