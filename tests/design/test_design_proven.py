@@ -79,6 +79,9 @@ def test_a_choice_not_proven_passes_to_the_next_point_of_the_front(study, monkey
     sentence = res.verification_sentence()
     assert sentence.startswith(f"chosen by design.require = 'proven' (the cheapest up the front that its "
                                f"verification proves) after 1 not proven ({choices_text(first)}, cost")
+    # the choice's own study, and every verification's calls (it said 160 calls of the choice's 80-call study)
+    assert f"its own reliability study ({CALLS} true-model calls; {2 * CALLS} true-model calls in the 2 " \
+           "verifications) gives R(N*) = 0.9900 +/- 0.0100: it meets R* beyond its error" in sentence
     assert res.unproven_sentence() == ""  # proven: nothing to warn of
 
 

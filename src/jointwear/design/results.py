@@ -358,8 +358,12 @@ class DesignResult(StageResult):
         if verdict == "not_verified":
             why = f" ({ver['note']})" if ver.get("note") else ""
             return f"the choice is not verified on the true model{why}: its R(N*) rests on the study's surrogate alone"
-        text = (f"{self.rule_sentence()}: its own reliability study ({ver.get('model_calls', 0)} true-model calls) "
-                f"gives R(N*) = {ver['reliability_at_target_life']:.4f} +/- {ver['error']:.4f}: ")
+        rounds = ver.get("rounds") or []
+        calls = f"{ver.get('model_calls', 0)} true-model calls"
+        if len(rounds) > 1:  # model_calls counts every round's; the choice's own study is the last round
+            calls = f"{rounds[-1].get('model_calls', 0)} true-model calls; {calls} in the {len(rounds)} verifications"
+        text = (f"{self.rule_sentence()}: its own reliability study ({calls}) gives R(N*) = "
+                f"{ver['reliability_at_target_life']:.4f} +/- {ver['error']:.4f}: ")
         text += {"meets": "it meets R* beyond its error",
                  "within_error": f"R* = {self.target_reliability:g} lies within its error, so the target is not "
                                  "excluded, nor proven",

@@ -142,6 +142,10 @@ def design_section(out_dir: Path | str, figs=None) -> str | None:
                          "life interval (a longer life within it is not resolved). Extrapolated designs (the last "
                          f"column above {EXTRAPOLATED_SHARE:.0%}) stand beside them and push none of them off, so the "
                          "front may step back in life where one of them stands.</p>")
+        parts.append("<p>A life's interval is the surrogate's own error of that life (where R(N) -/+ its error bound "
+                     "crosses R*). It assumes, as the error of R(N*) does, that the Kriging's variance is calibrated: "
+                     "where a validation finds the study's life outside the study's own interval, read these as too "
+                     "narrow as well.</p>")
         unresolved = sum(1 for r in front if r.get("step_resolved") is False)
         if unresolved:
             parts.append(f"<p>{unresolved} of the {len(front) - 1} steps up the front are not resolved by the "
