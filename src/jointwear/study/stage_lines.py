@@ -209,7 +209,8 @@ def simulation_cost_line(steps_per_cycle: float, seconds_per_cycle: float, simul
     if steps_per_cycle > MANY_STEPS_PER_CYCLE:
         parts.append(f"{steps_per_cycle:,.0f} steps a cycle is many: under large contact forces the friction law's "
                      "stick branch (slope about 1.5 mu_s F_N / v_s) usually sets the step; larger friction v_s and v_d "
-                     "take fewer steps (docs/dynamics.md, \"When the step size collapses\")")
+                     "take fewer steps but change the wear: compare the two first (docs/dynamics.md, \"When the step "
+                     "size collapses\")")
     return "; ".join(parts)
 
 
