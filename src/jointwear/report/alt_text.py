@@ -4,7 +4,7 @@ see it (a screen reader reads the caption too, so these do not repeat it). Plain
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 
 import numpy as np
 
@@ -39,16 +39,31 @@ def validation_alt(cycles: Sequence[float], reliability_mc: Sequence[float], rel
 
 
 def tornado_alt(labels: Sequence[str], low: Sequence[float | None], high: Sequence[float | None], nominal: float,
-                cycles: float) -> str:
+                cycles: float, *, names: Sequence[str] | None = None,
+                unresolved: Collection[tuple[str, str]] = ()) -> str:
     """The variable whose mean shifts move R the most from the nominal (the larger of its two shifts, as the ranking
-    compares them), and where its two shifts put R."""
-    swings = [(max(abs(float(lo) - nominal), abs(float(h) - nominal)), name, float(lo), float(h))
-              for name, lo, h in zip(labels, low, high)
+    compares them), and where its two shifts put R; with ``names`` and ``unresolved`` (pairs of ranking neighbours
+    the surrogate's error does not separate, by name), the variables not told apart from it, so the text claims no
+    order the ranking leaves open."""
+    keys = list(names) if names is not None else list(labels)
+    swings = [(max(abs(float(lo) - nominal), abs(float(h) - nominal)), name, float(lo), float(h), key)
+              for name, lo, h, key in zip(labels, low, high, keys)
               if lo is not None and h is not None and np.isfinite(float(lo)) and np.isfinite(float(h))]
     text = f"Bar chart of R at {cycles:,.0f} cycles (nominal {nominal:.3f}) with each variable's mean shifted"
     if swings:
-        _, name, lo, h = max(swings, key=lambda s: s[0])  # the first of equal changes, as the ranking lists them
-        text += f"; the largest change of R is {name}'s, R at {lo:.3f} and {h:.3f}"
+        ranked = sorted(swings, key=lambda s: -s[0])  # stable: the first of equal changes, as the ranking lists them
+        _, name, lo, h, _ = ranked[0]
+        tied = []
+        for before, after in zip(ranked, ranked[1:]):  # the run of neighbours the ranking writes with ≈
+            if (before[4], after[4]) not in unresolved:
+                break
+            tied.append(after[1])
+        if tied:
+            others = tied[0] if len(tied) == 1 else f"{', '.join(tied[:-1])} and {tied[-1]}"
+            text += (f"; the largest changes of R are {name}'s (R at {lo:.3f} and {h:.3f}) and those of {others}, "
+                     "not told apart within the surrogate's error")
+        else:
+            text += f"; the largest change of R is {name}'s, R at {lo:.3f} and {h:.3f}"
     return text + "."
 
 

@@ -21,7 +21,8 @@ from .reference_checks import FAIL, NA, PASS, reference_checks, reference_label,
 
 
 def comparison_markdown(out_dir: Path | str) -> str:
-    """A Markdown table: quantity | reference | jointwear | relative difference | band | status | note | source.
+    """A Markdown table: quantity | reference | jointwear | difference (relative; absolute for R) | band | status |
+    note | source.
 
     Raises ``LookupError`` when the study in ``out_dir`` declares no reference.
     """
@@ -29,13 +30,14 @@ def comparison_markdown(out_dir: Path | str) -> str:
     ref = reference_of(results.config)
     if ref is None:
         raise LookupError(f"{out_dir}: the study's settings (config.json) declare no [reference]; nothing to compare")
-    rows = [f"| quantity | {reference_label(ref)} | jointwear | relative difference | band | status | note | source |",
+    rows = [f"| quantity | {reference_label(ref)} | jointwear | difference (relative; absolute for R) | band | status "
+            "| note | source |",
             "|---|---|---|---|---|---|---|---|"]
     for c in reference_checks(results, ref):
         unit = "" if c.unit in ("-", "") else f" {c.unit}"
         theirs = "-" if c.reference is None else format_number(c.reference, c.digits) + unit
         ours = "-" if c.ours is None else format_number(c.ours, c.digits) + unit
-        rd = "-" if c.rel_diff is None else f"{c.rel_diff * 100:+.1f} %"
+        rd = c.difference_text.replace("\u2014", "-")
         status = {PASS: "**pass**", FAIL: "**FAIL**", NA: "no data"}.get(c.status, c.status)
         rows.append(f"| {c.quantity} | {theirs} | {ours} | {rd} | {c.band} | {status} | "
                     f"{c.note.replace('|', '/')} | {c.source.replace('|', '/')} |")

@@ -406,10 +406,12 @@ def wear_panels_figure(
     cycles: float | None = None,
     slip_quantity: str = "relative slip distance",
     slip_unit: str | None = None,
+    joint: str | None = None,
 ) -> Figure:
     """The paper's Fig. 17: (a) relative slip distance, (b) contact force, (c) contact area and (d) bearing wear
     depth against the angle on the bearing. Panels without data say so. Each quantity may have its own angle
-    grid (``*_angle_deg``); by default all share ``angle_deg``."""
+    grid (``*_angle_deg``); by default all share ``angle_deg``. ``joint``: the clearance joint's name, in the title
+    (a mechanism with several)."""
     fig, axes = figure(2, 2, size="panels")
     ang = require_array(angle_deg)
 
@@ -465,7 +467,8 @@ def wear_panels_figure(
     ax.set_ylim(bottom=0)
     cyc = f" ({cycles:,.0f} cycles)" if cycles else ""
     ax.set_title("bearing wear depth" + cyc, loc="center", fontweight="normal")
-    fig.suptitle("Wear data against the angle on the bearing (0\u00b0 = leftmost point, clockwise)")
+    fig.suptitle("Wear data" + (f" of joint {joint}" if joint else "")
+                 + " against the angle on the bearing (0\u00b0 = leftmost point, clockwise)")
     return fig
 
 
@@ -479,10 +482,12 @@ def wear_history_figure(
     reference_mean: Mapping[float, float] | None = None,
     reference_nominal: tuple[float, float] | None = None,
     reference_label: str = "reference",
+    joint: str | None = None,
 ) -> Figure:
     """Max bearing wear against cycles: the nominal history, optionally the Monte Carlo mean of the max wear,
     the allowable wear ``limit_mm`` (the study's configured allowance) and a cited reference's values
-    (``reference_mean`` {cycles: mm}, ``reference_nominal`` (cycles, mm)), labelled ``reference_label``."""
+    (``reference_mean`` {cycles: mm}, ``reference_nominal`` (cycles, mm)), labelled ``reference_label``.
+    ``joint``: the clearance joint's name, in the title (a mechanism with several)."""
     fig, ax = figure()
     ax.plot(kilo_cycles(cycles), require_array(max_wear_mm), color=COLORS[0], label="nominal design")
     if mean_cycles is not None and mean_max_wear_mm is not None:
@@ -502,7 +507,7 @@ def wear_history_figure(
     ax.set_xlabel(CYCLES_LABEL)
     ax.set_ylabel(axis_label("max bearing wear", "mm"))
     ax.legend(loc="lower right")
-    ax.set_title("Max wear against cycles")
+    ax.set_title("Max wear" + (f" of joint {joint}" if joint else "") + " against cycles")
     return fig
 
 

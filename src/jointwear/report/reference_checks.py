@@ -46,14 +46,24 @@ class Check:
     ranking: bool = False
     #: a ranking that differs from the reference's only between neighbours the study does not separate
     within_error: bool = False
+    #: a probability, whose difference is read in absolute terms (a relative one round R = 0.006 read +2642.8 %)
+    absolute: bool = False
 
     @property
     def rel_diff(self) -> float | None:
         """(ours - reference) / |reference|; None for an angle, whose origin is a convention (its note gives the
-        difference in degrees)."""
-        if self.reference in (None, 0) or self.ours is None or self.unit == "deg":
+        difference in degrees), and for a probability (:attr:`absolute`)."""
+        if self.reference in (None, 0) or self.ours is None or self.unit == "deg" or self.absolute:
             return None
         return (self.ours - self.reference) / abs(self.reference)
+
+    @property
+    def difference_text(self) -> str:
+        """The difference as the comparison shows it: '+6.5 %', '+0.159 absolute' for a probability, an em dash
+        where there is none (an angle's is in its note)."""
+        if self.absolute and self.reference is not None and self.ours is not None:
+            return f"{self.ours - self.reference:+.3f} absolute"
+        return "\u2014" if self.rel_diff is None else f"{self.rel_diff * 100:+.1f} %"
 
 
 def _float(v) -> float | None:
@@ -381,7 +391,8 @@ def reference_checks(results: StudyResults, reference: Mapping | None = None) ->
             status = FAIL
         checks.append(Check(title, pv, ours, shown_unit, _band_text(band, unit), status, note,
                             digits, source=str(v.get("source") or ""),
-                            justification=str((v.get("band") or {}).get("justification") or "")))
+                            justification=str((v.get("band") or {}).get("justification") or ""),
+                            absolute=q == "reliability"))
     return checks
 
 

@@ -58,6 +58,21 @@ def _life_bar(ax, n, target: float, low: float | None, high: float | None, color
     ax.plot([lo, hi], [target, target], color=color, lw=3, solid_capstyle="butt", zorder=4, label=label)
 
 
+def _life_marker(ax, n, target: float, life: float, interval: tuple[float | None, float | None] | None, color: str,
+                 marker: str, label: str) -> None:
+    """A life (cycles) at its target R, with its 95 % interval as a bar with end caps (an end that is None runs to
+    the curve's end), in the legend as ``label``: a bar alone hid under the marker when the interval was narrow."""
+    x = life / 1e3
+    if interval is None or not n.size:  # the life's line already names it
+        ax.plot(x, target, marker, color=color, ms=6, zorder=5, ls="none")
+        return
+    low, high = interval
+    lo = n[0] if low is None else low / 1e3
+    hi = n[-1] if high is None else high / 1e3
+    ax.errorbar([x], [target], xerr=[[max(x - lo, 0.0)], [max(hi - x, 0.0)]], fmt=marker, color=color, ms=5,
+                elinewidth=2.5, capsize=5, capthick=2, zorder=5, label=label)
+
+
 def reliability_curve_figure(
     cycles: Array,
     reliability: Array,
@@ -72,6 +87,7 @@ def reliability_curve_figure(
     reference_label: str = "reference",
     joints: Mapping[str, tuple[Array, Array | None]] | None = None,
     fine: tuple[Array, Array, Array] | None = None,
+    other_lives: Sequence[tuple[float, float, float | None, float | None]] = (),
 ) -> Figure:
     """R(N) with a 95 % band, the Monte Carlo half-width 1.96 COV Pf plus the surrogate's error estimate
     ``pf_error`` (absolute, in R) when given, the target line, the life at the target with its 95 % interval
@@ -80,7 +96,8 @@ def reliability_curve_figure(
     labelled ``reference_label``, and each joint's own R(N) of a series system ``joints`` {name: (R, its 95 %
     half-width or None)}, dashed (on ``fine``'s cycles when as long). ``fine``: (cycles, R, 95 % half-width) of
     the curve between its levels too, where the life is read: the line and the band follow it, the levels marked
-    on it."""
+    on it. ``other_lives``: (target, life, low, high) of the study's other targets, each drawn at its R with its
+    interval. A life's interval is drawn as a bar with end caps, which show however narrow it is."""
     n = kilo_cycles(cycles)
     rel = require_array(reliability)
     fig, ax = figure()
@@ -113,9 +130,13 @@ def reliability_curve_figure(
     if life_cycles is not None and np.isfinite(life_cycles):
         vline(ax, life_cycles / 1e3, f"life {life_cycles:,.0f} cycles", color=TARGET_COLOR)
         if target is not None:
-            ax.plot(life_cycles / 1e3, target, "D", color=TARGET_COLOR, ms=6, zorder=5)
-            if life_interval is not None:
-                _life_bar(ax, n, target, *life_interval, TARGET_COLOR, label=f"life: {interval_text(*life_interval)}")
+            _life_marker(ax, n, target, life_cycles, life_interval, TARGET_COLOR, "D",
+                         f"life at R = {target:g}: {life_cycles:,.0f} cycles"
+                         + (f", {interval_text(*life_interval)}" if life_interval else ""))
+    for k, (t, life, low, high) in enumerate(other_lives):
+        if life is not None and np.isfinite(life):
+            _life_marker(ax, n, t, life, (low, high), JOINT_COLORS[(k + 1) % len(JOINT_COLORS)], "s",
+                         f"life at R = {t:g}: {life:,.0f} cycles, {interval_text(low, high)}")
     if reference_life is not None and target is not None:
         ax.plot(reference_life / 1e3, target, "D", mfc="none", color=PAPER_COLOR, ms=7,
                 label=f"{reference_label}: life {reference_life:,.0f} cycles")
@@ -300,11 +321,11 @@ def tornado_figure(
             err = np.nan_to_num(np.asarray(errors, dtype=float)[order])
             ax.errorbar(values[order], y + offset + 0.19, xerr=err, fmt="none", ecolor=PAPER_COLOR, elinewidth=0.9,
                         capsize=2)
+    ax.axvline(nom, color=PAPER_COLOR, lw=1.0, label=f"nominal R = {nom:.3f}")
     handles = ax.get_legend_handles_labels()[0]
     if any(np.any(np.asarray(f, dtype=bool)) for f in (not_run_low, not_run_high) if f is not None):
         handles.append(Patch(hatch="///", facecolor="white", edgecolor=PAPER_COLOR,
                              label="could not run (R = 0)"))
-    ax.axvline(nom, color=PAPER_COLOR, lw=1.0)
     ax.set_yticks(y)
     ax.set_yticklabels([labels[i] for i in order])
     ax.set_xlim(-0.02, 1.02)

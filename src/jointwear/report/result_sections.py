@@ -88,16 +88,24 @@ def _scatter_text(fit) -> str:
     return f"\u00b1{100 * fit.life_scatter:.2g} %"
 
 
-def _surrogate_fit_cards(fit) -> list[tuple]:
+def _surrogate_fit_cards(fit, record_cycles=None) -> list[tuple]:
     """The life surrogate's leave-one-out Q^2 and the call-to-call scatter it estimated (none for an older
-    result)."""
+    result); ``record_cycles``: the cycles each wear block records (wear.record_cycles), which set part of that
+    scatter."""
     if fit is None:
         return []
+    recorded = f" (this study records {record_cycles:g})" if record_cycles else ""
     return [("surrogate fit, Q\u00b2", _q2_text(fit),
-             f"leave-one-out over the {fit.n_points} design points: the share of their ln N_f the inputs explain"),
+             f"leave-one-out predictive R\u00b2 over the {fit.n_points} design points: the share of the variance of "
+             "their ln N_f that the surrogate predicts at each point when refitted without it (1: all of it)"),
             ("scatter of a call's life", _scatter_text(fit),
-             "one standard deviation about the smooth surrogate, estimated by the fit (its nugget); R(N) counts it "
-             "as part of each mechanism's life" + ("; at the top of its range" if fit.nugget_at_bound else ""))]
+             "one standard deviation about the smooth surrogate, estimated by the fit (its nugget: the Kriging's "
+             "noise term); R(N) counts it as part of each mechanism's life"
+             + ("; at the top of its range" if fit.nugget_at_bound else "")
+             # docs/wear.md "Sampling scatter": a chaotic contact's wear map differs from cycle to cycle
+             + ". Part of it can be the sampling noise of recording few cycles of chaotic contact dynamics per wear "
+             f"block{recorded}, not a difference between mechanisms: more cycles (wear.record_cycles) lower that "
+             "part (docs/wear.md)")]
 
 
 def _joint_fit_table(rel) -> str:
@@ -140,6 +148,21 @@ LIFE_TRUST = ("How far to trust the life: not measured for this study yet. <code
               "(profile mode) short, as much as or more than their 95 % intervals' half-widths (1.4 % and 0.8 %), "
               "because the Kriging's life spreads a little wider than the true model's (the early failures come "
               "early; docs/reliability.md, \"The learnt life's spread\").")
+
+
+def numerics_unchecked(out: StudyOutputs) -> str:
+    """That the wear history's numerical settings are outside the life's interval and not checked on this study
+    (docs/study.md, "How far to trust the life"), with the cycles each block records; '' once ``jointwear
+    converge`` has run on the folder (its own verdicts are reported then)."""
+    if out.results.wear_convergence is not None:
+        return ""
+    record, settle = (out.results.setting(f"wear.{k}") for k in ("record_cycles", "settle_cycles"))
+    here = (f"; this study records {record:g} cycle{'s' if record != 1 else ''}"
+            + (f" and settles {settle:g}" if settle is not None else "") + " per wear block" if record else "")
+    return ("the wear history's numerical settings (the cycles each wear block records and settles, the block, the "
+            "grid, the tolerances) are outside the life's interval and have not been checked on this study"
+            f"{here}; jointwear converge refines each and tells whether the nominal life moves (docs/wear.md, "
+            "\"Is my history converged?\")")
 
 
 def _fit_title(rel) -> str:
@@ -223,6 +246,18 @@ def _curve_pf_at(rel, cycles) -> float | None:
     return float(rel.pf[levels.index(float(cycles))]) if float(cycles) in levels else None
 
 
+def _other_lives(rel) -> list[tuple[float, float, float | None, float | None]]:
+    """(target, life, low, high) of the life table's targets other than the headline's, where the curve reaches
+    them."""
+    out = []
+    for row in rel.life_table:
+        target = float(row["target"])
+        life, note = life_with_note(rel, target)
+        if target != rel.target and life is not None and not note:
+            out.append((target, life, *rel.life_interval(target)))
+    return out
+
+
 def reliability_section(out: StudyOutputs, figs: Figures) -> str:
     rel = out.results.reliability
     if rel is None:
@@ -246,7 +281,7 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
         ("surrogate error of R", "\u2014" if worst is None else f"{worst[0]:.3f}",
          None if worst is None else f"largest estimate, at {worst[1]:,.0f} cycles{_esc_part(rel, worst[1])}"),
         ("max COV of Pf", "\u2014" if cov is None else f"{cov:.3g}", "over the levels with Pf \u2265 pf_floor"),
-        *_surrogate_fit_cards(rel.surrogate_fit),
+        *_surrogate_fit_cards(rel.surrogate_fit, out.results.setting("wear.record_cycles")),
         ("wall time", f"{rel.wall_seconds:.4g} s", None),
     ])]
     parts += [warning(title, sentence) for title, sentence in (("Failed model calls.", rel.failed_calls_sentence()),
@@ -254,7 +289,9 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
                                                               (_fit_title(rel) + ".", rel.surrogate_fit_sentence()))
               if sentence]
     if life is not None and not note:
-        parts.append(f"<p>{life_trust_sentence(out, rel.target)}</p>")
+        unchecked = numerics_unchecked(out)
+        parts.append(f"<p>{life_trust_sentence(out, rel.target)}"
+                     + (f" Beyond that, {e(unchecked)}." if unchecked else "") + "</p>")
     missed = curve_misses_life(rel, out.results.wear)
     if missed:
         parts.append(f'<p class="warn"><strong>The curve misses the life.</strong> {missed}</p>')
@@ -292,9 +329,11 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
                                            target=rel.target, life_cycles=life,
                                            life_interval=None if note else interval, reference=ref_r or None,
                                            reference_life=ref_life, reference_label=label,
-                                           joints=rel.joint_curves() or None, fine=rel.fine_curve()),
+                                           joints=rel.joint_curves() or None, fine=rel.fine_curve(),
+                                           other_lives=_other_lives(rel)),
         "Reliability R(N) with a 95 % band (the Monte Carlo half-width from the COV of Pf plus the surrogate's error "
-        "estimate), the target and the life"
+        "estimate), the target and the life, with its 95 % interval as a capped bar"
+        + ("; the other targets' lives at their R" if _other_lives(rel) else "")
         + ("; dashed: each judged joint's own R(N) with its band" if len(rel.joints) > 1 else "")
         + (f"; crosses: the values of the reference ({label})." if ref_r else "."),
         png_keys=("reliability_curve",),
@@ -318,7 +357,8 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
     hist = rel.histograms
     ref_mean = {float(v["cycles"]): float(v["value"]) for v in reference_values(ref, "mean_max_wear")}
     parts.append(figs.draw(
-        (lambda: F.wear_histograms_figure(hist["cycles"], hist["max_wear_mm"], limit_mm=allowance_mm(out),
+        (lambda: F.wear_histograms_figure(hist["cycles"], hist["max_wear_mm"],
+                                          limit_mm=allowance_mm(out, hist.get("joint")),
                                           reference_means=ref_mean or None, reference_label=label))
         if hist.get("cycles") else None,
         "Distribution of the max wear"
@@ -355,7 +395,8 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
         curve = float(rel.reliability[[float(c) for c in rel.cycles].index(float(sens.cycles))])
     if curve is not None and f"{curve:.3f}" != f"{nominal:.3f}":
         population += f"; the R(N) curve, on its own population, reads {curve:.4g} there"
-    parts = [f"<p>{e(f'Reliability at {sens.cycles:,.0f} cycles (nominal {nominal:.3f}{population}) when the mean of each variable is moved to {lo_f * 100:g} % and to {hi_f * 100:g} % of its value, the others fixed.')}</p>"]
+    parts = [f"<p>{e(f'Reliability at {sens.cycles:,.0f} cycles (nominal {nominal:.3f}{population}) when the mean of each variable is moved to {lo_f * 100:g} % and to {hi_f * 100:g} % of its value, the others fixed.')}"
+             f"{e(_level_against_life(sens, rel))}</p>"]
     if not sens.shifts_move_reliability:
         parts.append(f'<p class="warn"><strong>No mean shift changes the reliability here.</strong> At '
                      f"{sens.cycles:,.0f} cycles R = {nominal:.3f} whatever the shift: the level lies outside the "
@@ -367,12 +408,15 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
     for v in sens.variables:
         groups.setdefault(str(v.get("group") or "variables"), []).append(v)
     parts.append('<div class="grid">')
+    unresolved = unresolved_pairs(sens)
+    ranked = ranking_rows(sens)
     for g, vs in groups.items():
         title = g.replace("_", " ")
         parts.append(figs.draw(lambda vs=vs, title=title: sens.plot(vs, title=title[:1].upper() + title[1:]),
-            f"Sensitivity of the reliability: {title}.", png_keys=("tornado",),
+            _tornado_caption(sens, title, ranked.get(g, []), unresolved), png_keys=("tornado",),
             alt=tornado_alt([str(v.get("label") or v["name"]) for v in vs], [v["reliability_low"] for v in vs],
-                            [v["reliability_high"] for v in vs], nominal, sens.cycles)))
+                            [v["reliability_high"] for v in vs], nominal, sens.cycles,
+                            names=[str(v["name"]) for v in vs], unresolved=unresolved)))
     parts.append("</div>")
     of_joint = f" of joint {sens.sobol['joint']}" if sens.sobol.get("joint") else ""  # whose wear the indices are of
     whose = ("the Monte Carlo error and the surrogate's own" if any("dR_dmean_error" in v for v in sens.variables)
@@ -408,9 +452,8 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
     labels = {str(v["name"]): str(v.get("label") or v["name"]) for v in sens.variables}
     ref_ranks = {group_key(v.get("group")): [labels.get(str(n), str(n)) for n in v.get("ranking") or []]
                  for v in reference_values(ref, "sensitivity_ranking")}
-    unresolved = unresolved_pairs(sens)
     rrows = []
-    for g, items in ranking_rows(sens).items():
+    for g, items in ranked.items():
         row = (g.replace("_", " "), ranking_text(items, unresolved))
         if ref:
             theirs = ref_ranks.get(group_key(g))
@@ -437,6 +480,34 @@ def sensitivity_section(out: StudyOutputs, figs: Figures) -> str:
         parts.append(figs.draw(None, "Sobol' indices", png_keys=("sobol",),
                                missing_text="Sobol' indices: not computed in this result."))
     return "".join(parts)
+
+
+def _tornado_caption(sens, title: str, items: Sequence[tuple[str, str]], unresolved: set[tuple[str, str]]) -> str:
+    """A group's tornado: what the bars, whiskers and line are, and the variables whose order its bars draw but the
+    surrogate's error does not resolve (the ranking writes them with ≈)."""
+    lo_f, hi_f = sens.factors
+    text = (f"Sensitivity of the reliability: {title}. R at {sens.cycles:,.0f} cycles with each mean at "
+            f"\u00d7 {lo_f:g} and \u00d7 {hi_f:g}, drawn from the nominal R (the vertical line), longest change on "
+            "top; whiskers: each shifted R's 95 % error")
+    tied = [f"{items[k][1]} \u2248 {items[k + 1][1]}" for k in range(len(items) - 1)
+            if (items[k][0], items[k + 1][0]) in unresolved]
+    if tied:
+        text += (f". Not told apart within the surrogate's error, so their order here is not resolved: "
+                 f"{ranking_text(items, unresolved)} (the ranking below)")
+    return text + "."
+
+
+def _level_against_life(sens, rel) -> str:
+    """' This level is not the life's: ...' when the sensitivity's level differs from the life at the study's
+    target, where a variable's effect on R, and so the ranking, may differ ('' otherwise)."""
+    if rel is None:
+        return ""
+    life, note = life_with_note(rel, rel.target)
+    if life is None or note or abs(float(sens.cycles) - life) <= 0.005 * life:
+        return ""
+    return (f" This level (sensitivity.cycles) is not the life at R = {rel.target:g} ({life:,.0f} cycles): a mean "
+            "shift moves R most where the level sits in the middle of the lives' scatter, so the changes and the "
+            "ranking read at the life can differ from these.")
 
 
 def sobol_by_joint_part(sobol: Mapping, labels: Mapping[str, str]) -> str:
@@ -535,6 +606,7 @@ def far_shift_part(sens, labels: Mapping[str, str]) -> str:
         name = str(r["variable"])
         rows.append((f"{labels.get(name, name)} ({name})", f"\u00d7 {float(r['factor']):g}",
                      format_number(r.get("reliability"), 3),
+                     "0 (exact)" if r in failed else format_number(r.get("error_estimate"), 3),
                      str(r.get("reason") or "") if r in failed else f"wear \u00d7 {format_number(r['wear_ratio'], 3)}"))
         classes.append("bad" if r in failed else "")
     parts = ["<h3>Shifts outside the learned region</h3>",
@@ -550,7 +622,9 @@ def far_shift_part(sens, labels: Mapping[str, str]) -> str:
     if extreme := sens.extreme_shifts_sentence():
         parts.append(f'<p class="warn"><strong>A shifted mechanism that moves otherwise.</strong> '
                      f"{e(extreme[:1].upper() + extreme[1:])}.</p>")
-    parts.append(table(["variable", "shift of the mean", "R", "read from"], rows, cls="num", row_cls=classes))
+    parts.append(table(["variable", "shift of the mean", "R", "error of R (the surrogate's and the wear ratio's "
+                        "scatter)", "read from: the nominal population's wear scaled by"], rows, cls="num",
+                       row_cls=classes))
     return "".join(parts)
 
 
@@ -721,12 +795,11 @@ def comparison_section(checks: Sequence[Check], ref: Mapping) -> str:
     label = reference_label(ref)
     rows, classes = [], []
     for c in checks:
-        rd = c.rel_diff
         unit = "" if c.unit in ("-", "") else f" {c.unit}"
         band = e(c.band) + (f'<div class="desc">{e(c.justification)}</div>' if c.justification else "")
         rows.append((e(c.quantity), e("\u2014" if c.reference is None else format_number(c.reference, c.digits) + unit),
                      e("\u2014" if c.ours is None else format_number(c.ours, c.digits) + unit),
-                     e("\u2014" if rd is None else f"{rd * 100:+.1f} %"), band, _pill(c.status), e(c.note),
+                     e(c.difference_text), band, _pill(c.status), e(c.note),
                      e(c.source)))
         classes.append(c.status.replace("/", ""))
     head = (f"<p>{e(checks_summary(checks))}. Reference values: {e(ref.get('citation') or label)}; each row names "
@@ -735,7 +808,8 @@ def comparison_section(checks: Sequence[Check], ref: Mapping) -> str:
     if ref.get("note"):
         head += f" {e(ref['note'])}"
     head += "</p>"
-    return head + table(["quantity", label, "this study", "relative difference", "band", "status", "note", "source"],
+    return head + table(["quantity", label, "this study", "difference (relative; absolute for R)", "band", "status",
+                         "note", "source"],
                         rows, cls="compare", raw_cols=(0, 1, 2, 3, 4, 5, 6, 7), row_cls=classes)
 
 
@@ -818,11 +892,9 @@ def summary_cards(out: StudyOutputs, checks: Sequence[Check], ref: Mapping | Non
         shown = "; ".join(x for x in (what, "" if life is None or note else interval_text(*rel.life_interval()),
                                       ref_note("life_cycles", target_reliability=rel.target), flag.rstrip("; ")) if x)
         items.append((f"life at R = {rel.target:g}", _life_text(life, note), shown or None))
-        sens = out.results.sensitivity
-        extra = (f"this study ran {sens.extra_model_calls} more for the sensitivity"
-                 if sens and sens.extra_model_calls else "")
         items.append(("true-model calls", format_number(rel.model_calls),
-                      "; ".join(x for x in ("the whole R(N) curve", ref_note("model_calls"), extra) if x)))
+                      "; ".join(x for x in ("for the whole R(N) curve", _other_calls(out), ref_note("model_calls"))
+                                if x)))
     else:
         items.append(("life at the target R", "\u2014", "no reliability result"))
     design = out.results.design
@@ -838,6 +910,19 @@ def summary_cards(out: StudyOutputs, checks: Sequence[Check], ref: Mapping | Non
                       "no candidate" if chosen is None else f"cost {chosen['cost']:.4g}",
                       None if chosen is None else f"verification: {verdict}{today}"))
     return cards(items, cls="cards summary")
+
+
+def _other_calls(out: StudyOutputs) -> str:
+    """The true-model calls this study ran beyond the curve's ('beyond them this study ran 9 for the sensitivity and
+    400 for the validation'), written before any reference's count so that they cannot read as the reference's; ''
+    when there are none. The design's calls are in its own card."""
+    sens, val = out.results.sensitivity, out.results.validation
+    runs = [f"{format_number(n)} for {what}" for n, what in (
+        (getattr(sens, "extra_model_calls", None), "the sensitivity"),
+        (getattr(val, "n_samples", None), "the validation")) if n]  # its samples: a resumed one reads them back
+    if not runs:
+        return ""
+    return "beyond them this study ran " + (runs[0] if len(runs) == 1 else f"{', '.join(runs[:-1])} and {runs[-1]}")
 
 
 def validated_life_disagreement(val, rel) -> str | None:
@@ -958,6 +1043,8 @@ def summary_caveats(out: StudyOutputs) -> str:
             items += [("wear", "Wear the limit state does not judge", s + _unjudged_when(wear, rel, s))
                       for s in wear.unjudged_wear(quantity)]
     conv = out.results.wear_convergence
+    if rel is not None and (unchecked := numerics_unchecked(out)):
+        items.append(("reliability", "The wear history's numerics are not checked", unchecked))
     if conv is not None and conv.not_converged():
         own = " or a joint's own" if conv.baseline.get("joints") else ""
         items.append(("wear-convergence", "The wear history is not converged",

@@ -38,13 +38,29 @@ def not_run(out: StudyOutputs, stage: str, what: str) -> str:
     return missing(f"No {stage}.json in this folder: {what} has not been run (jointwear {stage}).")
 
 
-def allowance_mm(out: StudyOutputs) -> float | None:
-    """The allowable wear of the first judged joint (mm): the study's settings first, then the stages' own."""
+def allowance_mm(out: StudyOutputs, joint: str | None = None) -> float | None:
+    """The allowable wear of ``joint`` (mm; default: the first judged joint): the study's settings first, then the
+    stages' own; a judged joint after the first, the stages' per-joint record (the settings hold the first's)."""
+    per_joint = joint_allowances(out)
+    if joint is not None and str(joint) in per_joint and str(joint) != next(iter(per_joint)):
+        return per_joint[str(joint)]
     for value in (out.config.get("allowance_mm"),
                   out.results.wear.limit_mm if out.results.wear is not None else None):
         if value is not None:
             return float(value)
     return None
+
+
+def joint_allowances(out: StudyOutputs) -> dict[str, float]:
+    """Each judged joint's allowable wear (mm) as the reliability stage resolved it (else the wear stage's): the
+    settings record one value, the first joint's, beside per-joint allowances."""
+    for result in (out.results.reliability, out.results.wear):
+        joints = getattr(result, "joints", None) or []
+        found = {str(j["name"]): float(j["allowance_mm"]) for j in joints
+                 if j.get("name") is not None and j.get("allowance_mm") is not None}
+        if found:
+            return found
+    return {}
 
 
 def _settings_row(x: dict) -> tuple:
@@ -114,6 +130,10 @@ def settings_section(out: StudyOutputs, figs: Figures) -> str:
     meta = [(k, format_number(v)) for k, v in cfg.items()
             if k not in ("settings", "mechanism", "citation", "reference") and v is not None
             and not isinstance(v, (dict, list))]
+    allowances = joint_allowances(out)
+    if len(allowances) > 1 and len(set(allowances.values())) > 1:  # config.json records the first joint's alone
+        meta = [(k, ", ".join(f"joint {j}: {format_number(a)}" for j, a in allowances.items()) + " (per joint)"
+                 if k == "allowance_mm" else v) for k, v in meta]
     parts.append('<div class="grid"><div>')
     if meta:
         parts.append(table(["item", "value"], meta, cls="kv"))
@@ -417,9 +437,7 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
         second = ("\u2014", None) if sp is None else (f"{sp[1]:.4g} mm", f"at {angle_text(sp[0])} deg")
     first = f" (joint {wear.joints[0]['name']})" if len(wear.joints) > 1 else ""
     items = [
-        ("cycles of the history", format_number(wear.cycles),
-         None if not wear.n_simulated_cycles or wear.n_simulated_cycles >= wear.cycles else
-         f"{format_number(wear.n_simulated_cycles)} of them simulated; the blocks between carry their rates"),
+        ("cycles of the history", format_number(wear.cycles), simulated_note(wear)),
         ("max bearing wear" + first, f"{format_number(wear.max_wear_mm)} mm", None),
         ("at angle", f"{angle_text(wear.max_wear_angle_deg, 1)} deg", "0 deg = leftmost, clockwise"),
         ("second peak", *second),
@@ -451,13 +469,16 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
         + "; the radial exaggeration factor is written on the figure.",
         png_keys=joint_png_keys(("polar",), head), missing_text="Polar wear profile: the wear result has no profile.",
         alt=wear_polar_alt(ang, depth)))
+    several = len(wear.joints) > 1
     for j in wear.joints[1:]:
         jp = j.get("profile") or {}
         jang, jdepth = (np.asarray(jp.get(k, []), dtype=float) for k in ("angle_deg", "depth_mm"))
         parts.append(figs.draw(
             None if jang.size == 0 else (lambda j=j, jang=jang, jdepth=jdepth: F.wear_polar_figure(
-                jang, jdepth, radius_mm=j.get("bearing_radius_mm"), peaks=j.get("peaks"), cycles=wear.cycles)),
+                jang, jdepth, radius_mm=j.get("bearing_radius_mm"), peaks=j.get("peaks"), cycles=wear.cycles,
+                title=f"Bearing wear profile of joint {j['name']} after {wear.cycles:,.0f} cycles")),
             f"Bearing wear profile of joint {j['name']} over the initial circle.", alt=wear_polar_alt(jang, jdepth),
+            png_keys=(f"polar_{j['name']}".lower(),),
             missing_text=f"Polar wear profile of joint {j['name']}: not in this wear result."))
     rel = out.results.reliability
     mean = rel.mean_max_wear_mm if rel is not None else {}
@@ -470,33 +491,73 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
         lambda: F.wear_history_figure(wear.history["cycles"], wear.history["max_wear_mm"], limit_mm=limit,
                                       mean_cycles=mean.get("cycles"), mean_max_wear_mm=mean.get("mean"),
                                       reference_mean=ref_mean or None, reference_nominal=nominal,
-                                      reference_label=label),
-        "Max bearing wear against cycles: the nominal design"
-        + (", the mean over the random inputs (read from the life surrogate as allowance \u00d7 N / N_f(x): "
-           "linear in N by construction, exact at the allowance)" if mean.get("mean") else "")
-        + (f", the values of the reference ({label})" if ref_mean or nominal else "")
-        + (f" and the configured allowance ({limit:g} mm, dashed)." if limit is not None else "."),
+                                      reference_label=label, joint=head if several else None),
+        _history_caption(head if several else None, bool(mean.get("mean")),
+                         label if ref_mean or nominal else None, limit),
         png_keys=joint_png_keys(("history",), head),
         alt=wear_history_alt(wear.history["cycles"], wear.history["max_wear_mm"], limit)))
+    for j in wear.joints[1:]:  # each joint's own history, standing for its stage file (wear_history_C.png)
+        h = j.get("history") or {}
+        jlimit = j.get("allowance_mm")
+        parts.append(figs.draw(
+            (lambda h=h, j=j, jlimit=jlimit: F.wear_history_figure(h["cycles"], h["max_wear_mm"], limit_mm=jlimit,
+                                                                 joint=str(j["name"]))) if h.get("cycles") else None,
+            _history_caption(str(j["name"]), False, None, jlimit), png_keys=(f"history_{j['name']}".lower(),),
+            alt=wear_history_alt(h.get("cycles", []), h.get("max_wear_mm", []), jlimit),
+            missing_text=f"Wear history of joint {j['name']}: not in this wear result."))
     parts.append("</div>")
-    if "contact_force_mean_N" in prof:
-        parts.append(figs.draw(lambda: F.wear_panels_figure(
-            ang, depth, cycles=wear.cycles, slip_mm=prof["sliding_mm_per_deg_per_cycle"],
-            slip_unit="mm/deg per cycle", slip_quantity="sliding distance",
-            contact_force_N=prof["contact_force_mean_N"], contact_area_mm2=prof["contact_area_mean_mm2"]),
-            "Sliding distance, mean contact force, mean contact area and bearing wear depth against the angle on "
-            "the bearing.", png_keys=joint_png_keys(("fig17", "panels", "vs_angle"), head), wide=True))
-    else:
-        parts.append(figs.draw(None, "Wear against the angle", png_keys=joint_png_keys(("fig17", "panels", "vs_angle"),
-                                                                                      head),
-                               missing_text="Wear against the angle (sliding, force, area): not in this wear "
-                                            "result."))
+    for j in wear.joints or [{"profile": prof}]:
+        parts.append(_panels(figs, wear, j, str(j["name"]) if several else None))
     if wear.peaks:
         parts.append("<h3>Wear peaks</h3>")
         parts.append(table(["angle (deg)", "depth (mm)"], [(angle_text(p["angle_deg"], 1),
                                                             format_number(p["depth_mm"])) for p in wear.peaks],
                            cls="kv"))
     return "".join(parts)
+
+
+def simulated_note(wear) -> str | None:
+    """How many of the history's cycles were simulated as dynamics, and what a fraction of a cycle is ('84.5 of them
+    simulated ...: each of the 28 wear blocks settles 1 and records 2 cycles; the half: ...'); None where all
+    were."""
+    n = wear.n_simulated_cycles
+    if not n or n >= wear.cycles:
+        return None
+    settle, record = (wear.settings.get(k) for k in ("settle_cycles", "record_cycles"))
+    text = f"{format_number(n)} of them simulated as dynamics"
+    if wear.n_blocks and settle is not None and record is not None:
+        text += (f": each of the {wear.n_blocks:,} wear blocks settles {float(settle):g} and records "
+                 f"{float(record):g} crank cycles")
+    if n != int(n):  # wear/history.py: a second lane's first block settles lane / lanes of a cycle longer
+        text += ("; the fraction is a second chain of blocks started part of a cycle later, at another phase "
+                 "(wear.lanes)")
+    return text + "; the cycles between carry the recorded wear rates"
+
+
+def _history_caption(joint: str | None, mean: bool, reference: str | None, limit: float | None) -> str:
+    """The caption of a joint's wear history figure."""
+    return ("Max bearing wear" + (f" of joint {joint}" if joint else "") + " against cycles: the nominal design"
+            + (", the mean over the random inputs (read from the life surrogate as allowance \u00d7 N / N_f(x): "
+               "linear in N by construction, exact at the allowance)" if mean else "")
+            + (f", the values of the reference ({reference})" if reference else "")
+            + (f" and the configured allowance ({limit:g} mm, dashed)." if limit is not None else "."))
+
+
+def _panels(figs: Figures, wear, joint: dict, name: str | None) -> str:
+    """Sliding, force, area and wear depth against the bearing angle of one joint (``name``: said in the caption
+    and title with several joints), standing for that joint's stage file."""
+    prof = joint.get("profile") or {}
+    keys = joint_png_keys(("fig17", "panels", "vs_angle"), str(joint.get("name")) if joint.get("name") else None)
+    of = f" of joint {name}" if name else ""
+    if "contact_force_mean_N" not in prof:
+        return figs.draw(None, f"Wear{of} against the angle", png_keys=keys,
+                         missing_text=f"Wear{of} against the angle (sliding, force, area): not in this wear result.")
+    return figs.draw(lambda: F.wear_panels_figure(
+        np.asarray(prof["angle_deg"], dtype=float), np.asarray(prof["depth_mm"], dtype=float), cycles=wear.cycles,
+        slip_mm=prof["sliding_mm_per_deg_per_cycle"], slip_unit="mm/deg per cycle", slip_quantity="sliding distance",
+        contact_force_N=prof["contact_force_mean_N"], contact_area_mm2=prof["contact_area_mean_mm2"], joint=name),
+        f"Sliding distance, mean contact force, mean contact area and bearing wear depth{of} against the angle on "
+        "the bearing.", png_keys=keys, wide=True)
 
 
 def nominal_life_card(wear, quantity: str, first: str):
