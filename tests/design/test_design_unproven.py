@@ -88,3 +88,11 @@ def test_the_report_and_the_console_tell_the_choice_not_proven(tmp_path, monkeyp
     (head,) = [line for line in lines if line.startswith("design: ") and " model calls" in line]
     assert ("at the target 39,618 cycles, a life of 40,135 cycles at R = 0.9; not proven: the true model's R(N*) = "
             "0.8995 +- 0.0124 straddles R* = 0.9; the cheapest design with margin is k_b lowwear") in head
+    # the choice's life with its 95 % interval where the result holds one
+    with_interval = _audit_result()
+    with_interval.chosen.update(life_at_target_low_cycles=39_692.0, life_at_target_high_cycles=40_539.0)
+    monkeypatch.setattr(search, "run_design", lambda *a, **k: with_interval)
+    lines.clear()
+    study.design()
+    (head,) = [line for line in lines if line.startswith("design: ") and " model calls" in line]
+    assert "a life of 40,135 (39,692-40,539) cycles at R = 0.9;" in head

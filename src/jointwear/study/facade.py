@@ -1002,7 +1002,7 @@ class Study:
             Also written to ``design.json``.
         """
         from jointwear.design import design_problems, run_design
-        from jointwear.design.results import choices_text
+        from jointwear.design.results import choices_text, life_interval_text
 
         problems = design_problems(self.config)
         if problems:
@@ -1022,8 +1022,8 @@ class Study:
             self._refresh_report()
             return result
         picks = choices_text(chosen["choices"])
-        life = chosen.get("life_at_target_cycles")
-        life = "" if life is None else f", a life of {life:,.0f} cycles at R = {result.target_reliability:g}"
+        life = "" if chosen.get("life_at_target_cycles") is None else \
+            f", a life of {life_interval_text(chosen)} cycles at R = {result.target_reliability:g}"
         unproven = result.unproven_sentence()  # its verification neither refutes nor proves it
         self.echo(f"design: {picks} (cost {chosen['cost']:.3g}): on the surrogate R = "
                   f"{chosen['reliability_at_target_life']:.4f} +/- {chosen['reliability_error']:.4f} at the target "
