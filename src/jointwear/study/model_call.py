@@ -17,6 +17,7 @@ import numpy as np
 from jointwear.config import StudyConfig, config_from_dict
 from jointwear.schema import ConfigError
 from jointwear.uncertainty.targets import apply_targets, target_error
+from jointwear.wear.results import history_at
 
 
 def apply_sample(base: StudyConfig | dict, targets: Sequence[str], x: Sequence[float]) -> StudyConfig:
@@ -48,19 +49,12 @@ WORN_AWAY_WEAR = 1.0
 
 
 def quantity_history(joint_wear, quantity: str, cycles) -> np.ndarray:
-    """The wear quantity (m) of one joint's history at ``cycles``: linear between history points, linear
-    extrapolation past the end (the wear grows linearly in N)."""
+    """The wear quantity (m) of one joint's history at ``cycles`` (:func:`~jointwear.wear.results.history_at`)."""
     if quantity == "bearing_max_depth":
         return np.asarray(joint_wear.max_wear_at(np.asarray(cycles, dtype=float)), dtype=float)
     series = {"journal_max_depth": joint_wear.history_max_journal,
               "clearance_growth": joint_wear.history_max_bearing + joint_wear.history_max_journal}[quantity]
-    x = np.asarray(cycles, dtype=float)
-    c = joint_wear.history_cycles
-    y = np.interp(x, c, series)
-    if c.size >= 2:
-        slope = (series[-1] - series[-2]) / (c[-1] - c[-2])
-        y = np.where(x > c[-1], series[-1] + slope * (x - c[-1]), y)
-    return y
+    return history_at(joint_wear.history_cycles, series, cycles)
 
 
 @dataclass

@@ -128,14 +128,21 @@ class JointWear:
         return self.grid_angle_deg(top_centre(self.bearing_wear, int(np.argmax(self.bearing_wear))))
 
     def max_wear_at(self, n_cycles):
-        """Max bearing depth (m) at any cycle count(s), linear between history points, linear extrapolation past the end."""
-        x = np.asarray(n_cycles, dtype=float)
-        c, h = self.history_cycles, self.history_max_bearing
-        y = np.interp(x, c, h)
-        if c.size >= 2:
-            slope = (h[-1] - h[-2]) / (c[-1] - c[-2])
-            y = np.where(x > c[-1], h[-1] + slope * (x - c[-1]), y)
+        """Max bearing depth (m) at any cycle count(s), as :func:`history_at` reads it."""
+        y = history_at(self.history_cycles, self.history_max_bearing, n_cycles)
         return float(y) if y.ndim == 0 else y
+
+
+def history_at(history_cycles: np.ndarray, series: np.ndarray, n_cycles) -> np.ndarray:
+    """A wear history's ``series`` at any cycle count(s): linear between its points, extrapolated linearly from its
+    last two past the end (the wear grows linearly in N)."""
+    x = np.asarray(n_cycles, dtype=float)
+    c = history_cycles
+    y = np.interp(x, c, series)
+    if c.size >= 2:
+        slope = (series[-1] - series[-2]) / (c[-1] - c[-2])
+        y = np.where(x > c[-1], series[-1] + slope * (x - c[-1]), y)
+    return y
 
 
 @dataclass
