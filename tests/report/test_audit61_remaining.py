@@ -205,3 +205,68 @@ def test_the_simulated_cycles_say_what_a_fraction_is():
     assert "fraction" not in simulated_note(wear)
     wear.n_simulated_cycles = 70_000
     assert simulated_note(wear) is None
+
+
+def test_a_glossary_explains_the_terms_the_page_uses(tmp_path, nominal):
+    """ESC, nugget, surrogate, Q^2, hold_iterations and the paired verdicts were used without definition for a
+    reader who did not run the study (audit 61-L, D11): a glossary at the foot explains those the page uses."""
+    from test_audit61l_report import _validation
+
+    from jointwear.report.glossary import TERMS
+
+    d = make_fixture_dir(tmp_path / "g", nominal, which=("wear", "reliability", "config"))
+    rel = ReliabilityCurve.load(d)
+    rel.converged = False
+    rel.learning_stop = ("max_calls=80 reached while confirming the learning stop (it held on 1 of the 3 successive "
+                         "designs hold_iterations asks for)")
+    rel.write(d)
+    text = _text(_page(d))
+    glossary = text[text.rindex("Glossary The terms of the trade"):]
+    assert 'explained in the Glossary at its foot' in text
+    for term in ("surrogate, Kriging", "hold_iterations, max_calls", "conformity"):
+        assert term in glossary
+    assert "inside, reaches it, exceeds it" not in glossary  # no validation: its verdicts are not on the page
+    _validation(rel).save(d)
+    glossary = _text(_page(d)).split("Glossary The terms of the trade")[-1]
+    paired = next(meaning for term, _t, meaning in TERMS if term == "inside, reaches it, exceeds it")
+    assert paired in glossary and "leave-one-out predictive R²" in glossary
+
+
+def test_figure_captions_say_what_they_overlay_and_label_the_perfect_prediction(tmp_path, nominal):
+    """The contact-force figure overlaid the recorded cycles without saying so; the cross-validation plot labelled
+    its 1:1 line 'exact' and gave ln N_f no unit (audit 61-L, D14)."""
+    import matplotlib.pyplot as plt
+
+    from jointwear import load_results
+    from jointwear.report.figures import cross_validation_figure
+
+    fig = cross_validation_figure([10.0, 11.0], [10.1, 10.9], q2=0.9)
+    ax = fig.axes[0]
+    assert "1:1, a perfect prediction" in [t.get_text() for t in ax.get_legend().get_texts()]
+    assert "wear life in cycles" in ax.get_xlabel()
+    plt.close(fig)
+    d = make_fixture_dir(tmp_path / "f", nominal, which=("simulate",))
+    sim = load_results(d).simulate
+    sim.cycles, sim.settle_cycles = 2, 1  # the flores preset's two recorded cycles (the fixture records one)
+    sim.write(d)
+    text = _text(_page(d))
+    assert "the 2 recorded cycles overlaid (after 1 settling)" in text
+
+
+def test_the_r_n_figure_draws_each_life_with_a_capped_interval():
+    """The life's interval bar hid under its marker (32,399-33,638 cycles on a 20,000-70,000 axis) and the life at
+    the second target (R = 0.99) was not drawn (audit 61-L, D14)."""
+    import matplotlib.pyplot as plt
+
+    from jointwear.report.figures import reliability_curve_figure
+
+    cyc, rel = [2e4, 3e4, 4e4, 5e4], [0.999, 0.968, 0.539, 0.075]
+    fig = reliability_curve_figure(cyc, rel, target=0.9, life_cycles=33_015, life_interval=(32_399, 33_638),
+                                   other_lives=[(0.99, 27_673, 26_570, 29_052)])
+    ax = fig.axes[0]
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert "life at R = 0.9: 33,015 cycles, 95 % interval 32,399-33,638 cycles" in labels
+    assert "life at R = 0.99: 27,673 cycles, 95 % interval 26,570-29,052 cycles" in labels
+    caps = [line for line in ax.lines if line.get_marker() == "|"]  # errorbar's end caps, two per life
+    assert sorted(round(x, 3) for c in caps for x in c.get_xdata()) == [26.57, 29.052, 32.399, 33.638]
+    plt.close(fig)

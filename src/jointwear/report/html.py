@@ -13,6 +13,7 @@ import datetime as _dt
 from pathlib import Path
 
 from .design_section import design_section
+from .glossary import glossary_section
 from .markup import Figures, e, html_page, safe, section, write_page
 from .read import read_outputs
 from .reference_checks import reference_checks, reference_label, reference_of
@@ -91,6 +92,9 @@ def build_report(out_dir: Path | str, *, output: Path | str | None = None, title
                            '<div class="grid">' + "".join(extra) + "</div>",
                            "PNG files found in the output folder that the sections above do not show."))
     summary = summary_cards(out, checks, ref) + summary_caveats(out)
+    terms = glossary_section(summary + "".join(f"<p>{e(lead)}</p>{b}" for _sid, _t, b, lead in bodies))
+    if terms:
+        bodies.append(("glossary", "Glossary", terms, "The terms of the trade this page uses, in plain words."))
 
     preset, source, name = cfg.get("preset"), cfg.get("source"), cfg.get("name")
     sub = " \u00b7 ".join([
@@ -102,6 +106,8 @@ def build_report(out_dir: Path | str, *, output: Path | str | None = None, title
     page_title = title or "jointwear study report"
     cited = cfg.get("citation")
     summary_lead = "".join([
+        '<p class="lead">The terms of the trade this page uses (surrogate, ESC, Q\u00b2, ...) are explained in the '
+        '<a href="#glossary">Glossary</a> at its foot.</p>' if terms else "",
         f'<p class="lead">Source of the study\'s data: {e(cited)}</p>' if cited else "",
         f'<p class="lead">Compared with: {e(ref.get("citation") or label)}</p>' if ref else
         '<p class="lead">The study declares no reference results ([reference]); nothing is compared.</p>'])

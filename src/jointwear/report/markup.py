@@ -278,6 +278,8 @@ table.compare tr.fail,table.num tr.bad{background:#fdf0ef}
 .pill.info,.pill.na{background:#e8ecf0;color:#44505c} .pill.open{background:#ffe9b3;color:var(--open)}
 .missing{color:#6b5a00;background:#fff9e0;border-left:4px solid #e0b400;padding:8px 12px;border-radius:4px}
 .citation{font-size:14px}
+dl.glossary{display:grid;grid-template-columns:minmax(10em,16em) 1fr;gap:6px 16px;margin:0}
+dl.glossary dt{font-weight:600} dl.glossary dd{margin:0}
 details{margin:8px 0}
 summary{cursor:pointer;color:var(--accent);font-weight:600}
 footer{color:var(--muted);font-size:12.5px;text-align:center;padding:10px 0 30px}

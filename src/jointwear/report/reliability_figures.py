@@ -404,13 +404,14 @@ def cross_validation_figure(
     loo_sd: Array | None = None,
     *,
     q2: float | None = None,
-    quantity: str = "ln N_f (wear life)",
+    quantity: str = "ln N_f (N_f: wear life in cycles)",
 ) -> Figure:
-    """Leave-one-out predictions of the design points against their true values (the 1:1 line is exact)."""
+    """Leave-one-out predictions of the design points against their true values; on the 1:1 line a prediction
+    equals the true value."""
     y, p = require_array(true_values), require_array(loo_values)
     fig, ax = figure()
     lo, hi = (float(np.nanmin(np.r_[y, p])), float(np.nanmax(np.r_[y, p]))) if y.size else (0.0, 1.0)
-    ax.plot([lo, hi], [lo, hi], color="0.5", lw=1, ls="--", label="exact")
+    ax.plot([lo, hi], [lo, hi], color="0.5", lw=1, ls="--", label="1:1, a perfect prediction")
     if loo_sd is not None:
         ax.errorbar(y, p, yerr=Z95 * require_array(loo_sd), fmt="o", ms=4, color=COLORS[0], alpha=0.8, capsize=2,
                     label="leave-one-out prediction (95 %)")

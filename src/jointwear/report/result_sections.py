@@ -764,13 +764,18 @@ def validation_section(out: StudyOutputs, figs: Figures) -> str:
     if cv.get("log_life_true"):
         fig2 = figs.draw(lambda: F.cross_validation_figure(cv["log_life_true"], cv["log_life_loo"],
                                                            cv.get("log_life_loo_sd"), q2=q2),
-                         "Leave-one-out cross-validation of the life surrogate", png_keys=("cross_validation",))
+                         "Leave-one-out cross-validation of the life surrogate: each design point's ln N_f (the "
+                         "natural log of its wear life in cycles) predicted by the surrogate refitted without it, "
+                         "against its true value, with the prediction's 95 % interval; Q\u00b2 is the leave-one-out "
+                         "predictive R\u00b2, the share of the points' variance of ln N_f so predicted (1: all of "
+                         "it).", png_keys=("cross_validation",))
     lead = ("<p>Each sample is one run of the true wear model; its reliability at a level is the share of samples "
             "whose wear life is longer, with an exact (Clopper-Pearson) 95 % interval. A level agrees when the "
             "two estimates differ by less than the sum of their 95 % half-widths (the surrogate's: its Monte "
             "Carlo interval plus its own error estimate), that is when the two intervals overlap: a lenient test, "
             "which two independent errors of equal width fail only 0.6 % of the time. The 95 % test asks more: "
-            "the difference within the root sum of squares of the three half-widths.</p>")
+            "the difference within the root sum of squares of the three 95 % half-widths (the true model's "
+            "sampling, the surrogate's Monte Carlo and the surrogate's error estimate).</p>")
     if val.paired:
         lead += ("<p>The surrogate is also read on the same samples as the true model: their difference then holds "
                  "the surrogate's own error alone, as the noise of sampling the two share cancels (95 % bootstrap "

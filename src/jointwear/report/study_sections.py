@@ -373,7 +373,10 @@ def dynamics_section(out: StudyOutputs, figs: Figures) -> str:
         None if series is None else (lambda: F.contact_force_figure(np.degrees(series.crank_angle_rad),
                                                                     series.force_normal_N,
                                                                     mean_N=sim.contact_force_mean_N)),
-        f"Normal contact force in clearance joint {name} against the crank angle.",
+        f"Normal contact force in clearance joint {name} against the crank angle"
+        + (f", the {format_number(sim.cycles)} recorded cycles overlaid (after {format_number(sim.settle_cycles)} "
+           "settling); their spread is the contact's cycle-to-cycle variation"
+           if sim.cycles and sim.cycles > 1 else "") + ".",
         png_keys=joint_png_keys(("contact_force", "force"), name),
         missing_text=f"Contact force: no series file ({sim.series_file})."))
     parts.append("</div>")
@@ -453,7 +456,8 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
     if wear.conformity is not None and math.isfinite(wear.conformity):
         items.append(("conformity", format_number(wear.conformity, 3),
                       "worn arc / contact patch; profile mode follows the worn shape at any value: the answer to trust"
-                      if wear.geometry_mode == "profile" else "worn arc / contact patch; uniform mode is fair up to 1"))
+                      if wear.geometry_mode == "profile" else "worn arc / contact patch; up to 1 uniform mode's "
+                      "depths are fair, above it too deep"))
     parts.append(cards(items))
     if len(wear.joints) > 1:
         parts.append(joints_wear_table(wear.joints))
