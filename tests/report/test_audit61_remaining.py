@@ -84,8 +84,8 @@ def test_the_tornado_follows_the_resolved_ranking_and_says_its_level_is_not_the_
     assert (f"the largest changes of R are {label['l2']}'s (R at 0.000 and 0.000) and those of {label['c']}, not "
             "told apart within the surrogate's error") in tolerance
     text = _text(page)
-    assert (f"Not told apart within the surrogate's error, so their order here is not resolved: {label['l2']} "
-            f"\u2248 {label['c']} >") in text
+    assert ("The ranking below (≈: not told apart within the surrogate's error, so the bars' order between them is "
+            f"not resolved): {label['l2']} \u2248 {label['c']} >") in text
     life = ReliabilityCurve.load(d).life()
     assert f"This level (sensitivity.cycles) is not the life at R = 0.9 ({life:,.0f} cycles)" in text
     table = text[text.index("Shifts outside the learned region"):][:900]
@@ -250,7 +250,7 @@ def test_figure_captions_say_what_they_overlay_and_label_the_perfect_prediction(
     sim.cycles, sim.settle_cycles = 2, 1  # the flores preset's two recorded cycles (the fixture records one)
     sim.write(d)
     text = _text(_page(d))
-    assert "the 2 recorded cycles overlaid (after 1 settling)" in text
+    assert "the 2 recorded cycles overlaid (after 1 settling cycle)" in text
 
 
 def test_the_r_n_figure_draws_each_life_with_a_capped_interval():

@@ -492,8 +492,8 @@ def _tornado_caption(sens, title: str, items: Sequence[tuple[str, str]], unresol
     tied = [f"{items[k][1]} \u2248 {items[k + 1][1]}" for k in range(len(items) - 1)
             if (items[k][0], items[k + 1][0]) in unresolved]
     if tied:
-        text += (f". Not told apart within the surrogate's error, so their order here is not resolved: "
-                 f"{ranking_text(items, unresolved)} (the ranking below)")
+        text += (". The ranking below (\u2248: not told apart within the surrogate's error, so the bars' order "
+                 f"between them is not resolved): {ranking_text(items, unresolved)}")
     return text + "."
 
 

@@ -375,7 +375,8 @@ def dynamics_section(out: StudyOutputs, figs: Figures) -> str:
                                                                     mean_N=sim.contact_force_mean_N)),
         f"Normal contact force in clearance joint {name} against the crank angle"
         + (f", the {format_number(sim.cycles)} recorded cycles overlaid (after {format_number(sim.settle_cycles)} "
-           "settling); their spread is the contact's cycle-to-cycle variation"
+           f"settling cycle{'' if sim.settle_cycles == 1 else 's'}); their spread is the contact's cycle-to-cycle "
+           "variation"
            if sim.cycles and sim.cycles > 1 else "") + ".",
         png_keys=joint_png_keys(("contact_force", "force"), name),
         missing_text=f"Contact force: no series file ({sim.series_file})."))
