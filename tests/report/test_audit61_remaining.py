@@ -270,3 +270,18 @@ def test_the_r_n_figure_draws_each_life_with_a_capped_interval():
     caps = [line for line in ax.lines if line.get_marker() == "|"]  # errorbar's end caps, two per life
     assert sorted(round(x, 3) for c in caps for x in c.get_xdata()) == [26.57, 29.052, 32.399, 33.638]
     plt.close(fig)
+
+
+def test_the_mean_wear_is_drawn_on_its_own_joints_history(tmp_path, nominal):
+    """The mean over the random inputs is the first judged joint's (the histograms name it); with joints A and E
+    and E judged first it was drawn on A's history figure."""
+    d = make_fixture_dir(tmp_path / "m", nominal, which=("wear", "reliability", "config"))
+    _two_joint_wear(d)
+    rel = ReliabilityCurve.load(d)
+    rel.histograms["joint"] = "E"
+    rel.write(d)
+    text = _text(_page(d))
+    mean = "the mean over the random inputs"
+    a = text[text.index("Max bearing wear of joint A against cycles"):][:200]
+    e = text[text.index("Max bearing wear of joint E against cycles"):][:200]
+    assert mean not in a and mean in e

@@ -486,7 +486,10 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
             png_keys=(f"polar_{j['name']}".lower(),),
             missing_text=f"Polar wear profile of joint {j['name']}: not in this wear result."))
     rel = out.results.reliability
-    mean = rel.mean_max_wear_mm if rel is not None else {}
+    mean_all = rel.mean_max_wear_mm if rel is not None else {}
+    # the mean is the first judged joint's (the histograms name it), which need not be the first clearance joint
+    mean_joint = str((rel.histograms or {}).get("joint") or head) if rel is not None else head
+    mean = mean_all if mean_joint == head else {}
     limit = allowance_mm(out)
     ref = reference_of(out.config)
     label = reference_label(ref)
@@ -504,10 +507,13 @@ def wear_section(out: StudyOutputs, figs: Figures) -> str:
     for j in wear.joints[1:]:  # each joint's own history, standing for its stage file (wear_history_C.png)
         h = j.get("history") or {}
         jlimit = j.get("allowance_mm")
+        jmean = mean_all if mean_joint == str(j["name"]) else {}
         parts.append(figs.draw(
-            (lambda h=h, j=j, jlimit=jlimit: F.wear_history_figure(h["cycles"], h["max_wear_mm"], limit_mm=jlimit,
-                                                                 joint=str(j["name"]))) if h.get("cycles") else None,
-            _history_caption(str(j["name"]), False, None, jlimit), png_keys=(f"history_{j['name']}".lower(),),
+            (lambda h=h, j=j, jlimit=jlimit, jmean=jmean: F.wear_history_figure(
+                h["cycles"], h["max_wear_mm"], limit_mm=jlimit, mean_cycles=jmean.get("cycles"),
+                mean_max_wear_mm=jmean.get("mean"), joint=str(j["name"]))) if h.get("cycles") else None,
+            _history_caption(str(j["name"]), bool(jmean.get("mean")), None, jlimit),
+            png_keys=(f"history_{j['name']}".lower(),),
             alt=wear_history_alt(h.get("cycles", []), h.get("max_wear_mm", []), jlimit),
             missing_text=f"Wear history of joint {j['name']}: not in this wear result."))
     parts.append("</div>")
