@@ -76,3 +76,25 @@ def test_the_nominal_life_is_read_in_the_limit_states_quantity():
     assert s.quantity == "journal_max_depth"
     assert row["nominal_life_cycles"] == nominal_lives(s.joints, {name: 0.5 * journal}, "journal_max_depth")[name]
     assert row["nominal_life_cycles"] != nominal_lives(s.joints, {name: 0.5 * journal}, "bearing_max_depth")[name]
+
+
+def test_the_wear_stages_own_figures_name_their_joint(tmp_path, monkeypatch):
+    """wear_history_<J>.png and wear_vs_angle_<J>.png of a mechanism with several joints: each figure's title names
+    its joint (the designer's two files read alike); a single joint's figures stay unnamed."""
+    from jointwear.report import figures as F
+
+    seen: dict[str, list] = {"history": [], "panels": []}
+    monkeypatch.setattr(F, "wear_history_figure", lambda *a, joint=None, **k: seen["history"].append(joint))
+    monkeypatch.setattr(F, "wear_panels_figure", lambda *a, joint=None, **k: seen["panels"].append(joint))
+    monkeypatch.setattr("jointwear.study.results.save_figure", lambda fig, path: None)
+    monkeypatch.setattr(WearSummary, "plot", lambda self, name=None: None)
+    two = WearSummary.from_history(wear_history(FakeModel(n_joints=2), WearSettings(n_grid=360), 20_000,
+                                                simulate=fake_simulate))
+    two.save(tmp_path / "two")
+    assert seen["history"] == ["joint0", "joint1"]
+    assert seen["panels"] == ["joint0", "joint1"]
+    seen["history"].clear()
+    one = WearSummary.from_history(wear_history(FakeModel(n_joints=1), WearSettings(n_grid=360), 20_000,
+                                                simulate=fake_simulate))
+    one.save(tmp_path / "one")
+    assert seen["history"] == [None]

@@ -559,6 +559,7 @@ class WearSummary(StageResult):
 
             for joint, sfx in zip(self.joints, self._suffixes()):
                 h, prof = joint["history"], joint["profile"]
+                named = joint["name"] if len(self.joints) > 1 else None  # the figure's title names it
                 save_figure(self.plot(joint["name"]), folder / f"wear_polar{sfx}.png")
                 panels = "contact_force_mean_N" in prof
                 if panels:
@@ -566,9 +567,11 @@ class WearSummary(StageResult):
                                                   slip_mm=prof["sliding_mm_per_deg_per_cycle"],
                                                   contact_force_N=prof["contact_force_mean_N"],
                                                   contact_area_mm2=prof["contact_area_mean_mm2"], cycles=self.cycles,
-                                                  slip_unit="mm/deg per cycle", slip_quantity="sliding distance"),
+                                                  slip_unit="mm/deg per cycle", slip_quantity="sliding distance",
+                                                  joint=named),
                              folder / f"wear_vs_angle{sfx}.png")
-                save_figure(F.wear_history_figure(h["cycles"], h["max_wear_mm"], limit_mm=joint.get("allowance_mm")),
+                save_figure(F.wear_history_figure(h["cycles"], h["max_wear_mm"], limit_mm=joint.get("allowance_mm"),
+                                                  joint=named),
                          folder / f"wear_history{sfx}.png")
                 files += [f"wear_polar{sfx}.png", f"wear_history{sfx}.png"] + (
                     [f"wear_vs_angle{sfx}.png"] if panels else [])
