@@ -28,7 +28,9 @@ N_EXACT = 400_000  # brute-force samples per candidate: 3 s.e. of R near 0.9 is 
 
 @pytest.fixture(scope="module")
 def two_targets():
-    design = dict(DESIGN, targets=[DESIGN["targets"][0], SECOND], verify=False, n_population=20_000)
+    # 4 refinement calls: the log's rounds and their count left, in a quarter of the 21 the rule would take here
+    design = dict(DESIGN, targets=[DESIGN["targets"][0], SECOND], verify=False, n_population=20_000,
+                  refine_max_calls=4)
     cfg = analytic_config(design)
     ctx, model = analytic_context(cfg)
     rel = run_reliability(ctx)
