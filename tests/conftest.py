@@ -24,16 +24,18 @@ def figures_unrendered():
         yield
 
 
-#: the files that take longest on a cold suite on 2 cores (each over 25 s, ``--durations``), longest first. xdist
-#: hands each worker whole files in collection order: starting with these (longest processing time first) leaves
-#: short files for the end, so the workers finish together instead of one running a long file alone.
+#: the files that take longest on a cold suite on 2 cores (each over 18 s, ``--durations=0`` summed per file), longest
+#: first. xdist hands each worker whole files in collection order: starting with these (longest processing time first)
+#: leaves short files for the end, so the workers finish together instead of one running a long file alone.
 LONGEST_FIRST = (
-    "tests/study/test_study_resume.py", "tests/study/test_stage_reruns.py",
-    "tests/study/test_examples_own_mechanism.py", "tests/study/test_study_analytic.py",
-    "tests/study/test_limit_state.py", "tests/dynamics/test_tree_kernel.py", "tests/dynamics/test_general_linkage.py",
-    "tests/study/test_study_api.py", "tests/dynamics/test_tree_slider.py", "tests/design/test_design_analytic.py",
-    "tests/report/test_report_html.py", "tests/study/test_validation.py", "tests/verification/test_conformal_wear.py",
-    "tests/compute/test_compute_dask.py", "tests/study/test_convergence.py", "tests/design/test_design_refuted.py",
+    "tests/study/test_study_resume.py", "tests/study/test_examples_own_mechanism.py",
+    "tests/study/test_stage_reruns.py", "tests/study/test_study_analytic.py", "tests/study/test_config_warnings.py",
+    "tests/study/test_limit_state.py", "tests/dynamics/test_general_linkage.py", "tests/study/test_study_api.py",
+    "tests/dynamics/test_tree_kernel.py", "tests/report/test_report_html.py",
+    "tests/verification/test_conformal_wear.py", "tests/dynamics/test_radau.py", "tests/dynamics/test_tree_slider.py",
+    "tests/test_cli_errors.py",
+    "tests/design/test_design_analytic.py", "tests/compute/test_compute_dask.py", "tests/study/test_convergence.py",
+    "tests/study/test_validation.py", "tests/design/test_design_refuted.py",
 )
 
 

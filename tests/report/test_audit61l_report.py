@@ -7,10 +7,13 @@ from __future__ import annotations
 import html
 import re
 
+import pytest
 from report_fixtures import make_fixture_dir
 
 from jointwear.report import build_report
 from jointwear.study.results import ReliabilityCurve
+
+pytestmark = pytest.mark.usefixtures("figures_unrendered")  # tests/conftest.py: these tests read text, not pictures
 
 
 def _page(folder) -> str:
