@@ -74,3 +74,18 @@ def exact_reliabilities(ctx, model, controls, candidates, life, n=1_000_000, see
 
 
 __all__ = ["AnalyticWear", "analytic_config", "analytic_context", "exact_reliabilities"]
+
+
+class FixedPopulationSpace:
+    """A candidate space whose every candidate (and today's design) has the same population: ``n`` points at the
+    origin of ``dim`` inputs, with the life-scatter draw ``scatter`` (n,) per point (zeros by default)."""
+
+    def __init__(self, n, dim=1, scatter=None):
+        self.u = np.zeros((n, dim))
+        self.scatter = np.zeros(n) if scatter is None else np.asarray(scatter, dtype=float)
+
+    def population(self, cand):
+        return self.u, self.u
+
+    def infeasible_probability(self, cand):
+        return 0.0

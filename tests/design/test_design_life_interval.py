@@ -11,7 +11,7 @@ import csv
 
 import numpy as np
 import pytest
-from design_fixtures import DESIGN, analytic_config, analytic_context, exact_reliabilities
+from design_fixtures import DESIGN, FixedPopulationSpace, analytic_config, analytic_context, exact_reliabilities
 
 from jointwear.config import load_config, updated
 from jointwear.design import build_controls, design_problems, enumerate_candidates, run_design
@@ -37,20 +37,6 @@ def two_targets():
     lines = []
     res = run_design(ctx, rel, echo=lines.append)
     return cfg, ctx, model, res, lines
-
-
-class _Space:
-    """A population of ``n`` points, every candidate the same."""
-
-    def __init__(self, n):
-        self.u = np.zeros((n, 1))
-        self.scatter = np.zeros(n)
-
-    def population(self, cand):
-        return self.u, self.u
-
-    def infeasible_probability(self, cand):
-        return 0.0
 
 
 class _Surrogate:
@@ -79,7 +65,7 @@ def test_a_certain_surrogates_life_interval_is_its_populations_own():
     """With a surrogate certain of every point (sd near 0) the interval is the population's: R at its ends is R*
     plus and minus the exact Monte Carlo half-width at the life."""
     n = 10_000
-    est = estimate(_Space(n), _Surrogate(1e-9), None, log_target=np.log(2e5), reliability_target=R_STAR)
+    est = estimate(FixedPopulationSpace(n), _Surrogate(1e-9), None, log_target=np.log(2e5), reliability_target=R_STAR)
     half = monte_carlo_half_width(round(R_STAR * n), n)
     assert est.life_low < est.life_cycles < est.life_high
     # R read at each end, to one sample of the population
@@ -91,8 +77,9 @@ def test_the_interval_is_read_at_the_life_not_at_the_target():
     """A dearer design read far beyond N*: its R(N*) is certain (R = 1 of the population, an error of 0.0004), while
     its life at R* lies where the surrogate is unsure; the interval uses the error there, not the error at N*."""
     n = 10_000
-    certain = estimate(_Space(n), _Surrogate(1e-9), None, log_target=np.log(2e4), reliability_target=R_STAR)
-    unsure = estimate(_Space(n), _Surrogate(0.05), None, log_target=np.log(2e4), reliability_target=R_STAR)
+    space = FixedPopulationSpace(n)
+    certain = estimate(space, _Surrogate(1e-9), None, log_target=np.log(2e4), reliability_target=R_STAR)
+    unsure = estimate(space, _Surrogate(0.05), None, log_target=np.log(2e4), reliability_target=R_STAR)
     assert unsure.error == pytest.approx(certain.error, abs=1e-6)  # N* far below every point: nothing to add there
     mu = _Surrogate(0.0).predict(np.zeros((n, 1)))[0]
     at_target = [np.exp(np.quantile(mu, 1 - (R_STAR + s * unsure.error))) for s in (1, -1)]  # the error at N*

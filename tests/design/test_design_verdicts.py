@@ -3,6 +3,7 @@ inputs in the error, the verification's verdict, and which candidates are left u
 
 import numpy as np
 import pytest
+from design_fixtures import FixedPopulationSpace
 from scipy import stats
 
 from jointwear.design.results import DesignResult
@@ -20,16 +21,9 @@ def test_the_monte_carlo_half_width_is_the_exact_interval(k, n):
         assert monte_carlo_half_width(k, n) == pytest.approx(1 - 0.025 ** (1 / n), rel=1e-12)
 
 
-class _Space:
-    def __init__(self, n):
-        self.u = np.zeros((n, 2))
-        self.scatter = np.random.default_rng(0).standard_normal(n)
-
-    def population(self, cand):
-        return self.u, self.u
-
-    def infeasible_probability(self, cand):
-        return 0.0
+def _space(n):
+    """Every candidate's population: ``n`` points, each with a standard-normal life-scatter draw (seed 0)."""
+    return FixedPopulationSpace(n, dim=2, scatter=np.random.default_rng(0).standard_normal(n))
 
 
 class _Surrogate:
@@ -53,7 +47,7 @@ def test_a_candidate_drawn_outside_the_studys_inputs_carries_that_share_in_its_e
     """A PTFE option 8 standard deviations out read R(N*) = 1.0000 +/- 0.0000; its own study gave a life 1.8x
     the design's: the share outside may be misclassified wholesale."""
     n = 2_000
-    est = estimate(_Space(n), _Surrogate(share), None, log_target=10.0, reliability_target=0.9)
+    est = estimate(_space(n), _Surrogate(share), None, log_target=10.0, reliability_target=0.9)
     assert est.reliability == 1.0 and est.surrogate_error == pytest.approx(0.0, abs=1e-12)
     assert est.outside_fraction == pytest.approx(share)
     assert est.error == pytest.approx(min(monte_carlo_half_width(n, n) + share, 1.0), rel=1e-9)
@@ -166,10 +160,10 @@ class _ScatteredSurrogate(_Surrogate):
 def test_a_candidate_integrates_the_life_scatter():
     # each sample survives N* with probability Phi(0.1 / 0.2) exactly; the mean alone would read R = 1
     n = 20_000
-    est = estimate(_Space(n), _ScatteredSurrogate(), None, log_target=10.0, reliability_target=0.6)
+    est = estimate(_space(n), _ScatteredSurrogate(), None, log_target=10.0, reliability_target=0.6)
     assert est.reliability == pytest.approx(stats.norm.cdf(0.5), rel=1e-12)
     # the life at R* = 0.6: the 40 % quantile of ln N = 10.1 + 0.2 z over the space's draws of z (exactly, on them)
-    assert est.life_cycles == pytest.approx(np.exp(np.quantile(10.1 + 0.2 * _Space(n).scatter, 0.4)), rel=1e-12)
+    assert est.life_cycles == pytest.approx(np.exp(np.quantile(10.1 + 0.2 * _space(n).scatter, 0.4)), rel=1e-12)
     # and close to the closed form exp(10.1 + 0.2 Phi^-1(0.4)) within ~3 standard errors of the quantile
     # (sqrt(p (1 - p) / n) / phi(Phi^-1(p)) x 0.2 = 1.8e-3)
     assert est.life_cycles == pytest.approx(np.exp(10.1 + 0.2 * stats.norm.ppf(0.4)), rel=5e-3)
@@ -185,7 +179,7 @@ def test_todays_design_and_the_candidates_count_survivors_alike():
     mu, _ = sur.predict(u)
     assert surviving(sur, u, mu, 10.0) / n == pytest.approx(stats.norm.cdf(0.5), rel=1e-12)
     assert surviving(_Surrogate(0.0), u, mu, 10.0) == n  # without scatter: a count
-    est = estimate(_Space(n), sur, None, log_target=10.0, reliability_target=0.6)
+    est = estimate(_space(n), sur, None, log_target=10.0, reliability_target=0.6)
     assert est.reliability == pytest.approx(surviving(sur, u, mu, 10.0) / n, rel=1e-15)
 
 
