@@ -320,22 +320,27 @@ def nominal_lives(joints: list[dict], allowances_mm: dict[str, float], quantity:
     by_name = {str(j.get("name")): j.get("history") or {} for j in joints}
     lives = {}
     for name, allowance in allowances_mm.items():
-        history = by_name.get(name) or {}
-        depth = history.get(HISTORY_KEYS[quantity])
-        if depth:
-            lives[name] = float(life_from_history(history["cycles"], [depth], float(allowance))[0])
+        life = history_life(by_name.get(name) or {}, allowance, quantity)
+        if life is not None:
+            lives[name] = life
     return lives
 
 
-def life_within_history(history: dict, allowance_mm: float | None, quantity: str) -> float | None:
-    """The cycles at which a joint's nominal wear history (a ``joints[].history`` of wear.json) first reaches
-    ``allowance_mm`` in the judged ``quantity``, read as :func:`nominal_lives` reads it; None where the history
-    stays below it (no extrapolation: a count past the history is not known from it) or there is no allowance."""
+def history_life(history: dict, allowance_mm: float, quantity: str) -> float | None:
+    """The cycles at which a joint's nominal wear history (a ``joints[].history`` of wear.json) reaches
+    ``allowance_mm`` in the judged ``quantity``, extrapolated linearly past its end (inf where it stops growing);
+    None where the history lacks that quantity."""
     depth = history.get(HISTORY_KEYS[quantity])
-    if allowance_mm is None or not depth:
+    if not depth:
         return None
-    life = float(life_from_history(history["cycles"], [depth], float(allowance_mm))[0])
-    return life if life <= max(history["cycles"]) else None
+    return float(life_from_history(history["cycles"], [depth], float(allowance_mm))[0])
+
+
+def life_within_history(history: dict, allowance_mm: float | None, quantity: str) -> float | None:
+    """:func:`history_life` within the history only: None where the history stays below the allowance (a count past
+    the history is not known from it) or there is no allowance."""
+    life = None if allowance_mm is None else history_life(history, allowance_mm, quantity)
+    return life if life is not None and life <= max(history["cycles"]) else None
 
 
 #: a nominal life more than this many times the wear history's length is told as only that (project choice)

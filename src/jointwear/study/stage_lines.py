@@ -138,18 +138,15 @@ def profile_mode_line(result: WearSummary) -> str:
     named: those past 1 when any is (as uniform mode's warning names them), else all."""
     if result.geometry_mode != "profile":
         return ""
-    if len(result.joints) < 2:
-        c = result.conformity
-        if c is None or math.isnan(c):
-            return ""
-        past, values = c > 1.0, f"{c:.3g}"
-    else:  # the verdict is every joint's: one joint past 1 makes profile mode the answer to trust
-        measured = [(j["name"], j["conformity"]) for j in result.joints
-                    if j.get("conformity") is not None and not math.isnan(j["conformity"])]
-        if not measured:
-            return ""
-        past = any(c > 1.0 for _, c in measured)
-        values = ", ".join(f"{c:.3g} at joint {name}" for name, c in measured if c > 1.0 or not past)
+    # the verdict is every joint's: one joint past 1 makes profile mode the answer to trust
+    given = [(None, result.conformity)] if len(result.joints) < 2 else \
+        [(j["name"], j.get("conformity")) for j in result.joints]
+    measured = [(name, c) for name, c in given if c is not None and not math.isnan(c)]
+    if not measured:
+        return ""
+    past = any(c > 1.0 for _, c in measured)
+    values = ", ".join(f"{c:.3g}" + (f" at joint {name}" if name else "") for name, c in measured
+                       if c > 1.0 or not past)
     if past:
         return (f"profile mode follows the worn shape here (conformity {values} > 1: the journal fits into its own "
                 "wear, which uniform mode ignores): this is the answer to trust")
