@@ -323,6 +323,7 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
     ref_r = {float(v["cycles"]): float(v["value"]) for v in reference_values(ref, "reliability")}
     ref_life = next((float(v["value"]) for v in reference_values(ref, "life_cycles")
                      if v.get("target_reliability") == rel.target), None)
+    other_lives = _other_lives(rel)
     parts.append('<div class="grid">')
     parts.append(figs.draw(
         lambda: F.reliability_curve_figure(rel.cycles, rel.reliability, pf_cov=rel.pf_cov, pf_error=rel.pf_error,
@@ -330,10 +331,10 @@ def reliability_section(out: StudyOutputs, figs: Figures) -> str:
                                            life_interval=None if note else interval, reference=ref_r or None,
                                            reference_life=ref_life, reference_label=label,
                                            joints=rel.joint_curves() or None, fine=rel.fine_curve(),
-                                           other_lives=_other_lives(rel)),
+                                           other_lives=other_lives),
         "Reliability R(N) with a 95 % band (the Monte Carlo half-width from the COV of Pf plus the surrogate's error "
         "estimate), the target and the life, with its 95 % interval as a capped bar"
-        + ("; the other targets' lives at their R" if _other_lives(rel) else "")
+        + ("; the other targets' lives at their R" if other_lives else "")
         + ("; dashed: each judged joint's own R(N) with its band" if len(rel.joints) > 1 else "")
         + (f"; crosses: the values of the reference ({label})." if ref_r else "."),
         png_keys=("reliability_curve",),
