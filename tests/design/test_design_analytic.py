@@ -218,7 +218,7 @@ def test_with_several_targets_the_design_names_the_cheapest_meeting_them_all(set
     res = run_design(ctx, rel, settings=settings)
     assert res.verdict() == "not_verified" and "(design.verify = false)" in res.verification_sentence()
     every = res.chosen_every_target
-    assert every is not None and every["choices"] != res.chosen["choices"]
+    assert every is not None and every["choices"] != res.chosen["choices"] and "verification" not in every
     meets = [t["reliability"] for t in settings.model_dump()["targets"]]
     assert all(r >= m for r, m in zip(every["reliability_at_target_life"], meets))
     assert every["cost"] >= max(t["chosen"]["cost"] for t in res.targets)
@@ -227,6 +227,32 @@ def test_with_several_targets_the_design_names_the_cheapest_meeting_them_all(set
     assert every["cost"] >= min(cands[i].cost(controls) for i in both)
     res.save(tmp_path, figures=False)
     assert "<strong>The headline choice does not meet every target.</strong>" in design_section(tmp_path)
+
+
+def test_the_design_meeting_every_target_is_verified_at_every_target(setup, tmp_path):
+    """The cheapest design meeting every target is what a drawing needs, yet only the headline choice was verified
+    (at the first target): it now gets its own verification at every target's N*, each R(N*) within its error bound
+    (plus 3 s.e. of the 10^6-sample reference) of the exact value."""
+    from jointwear.report.design_section import design_section
+
+    cfg, ctx, model, rel, controls, cands, exact = setup
+    second = cfg.design.targets[0].model_copy(update={"reliability": 0.99, "life_cycles": 380_000})
+    settings = cfg.design.model_copy(update={"targets": [cfg.design.targets[0], second]})
+    res = run_design(ctx, rel, settings=settings)
+    every = res.chosen_every_target
+    checked = every["verification"]
+    index = next(i for i, c in enumerate(cands) if c.choices(controls) == every["choices"])
+    for k, life in enumerate((N_STAR, 380_000)):
+        truth = exact_reliabilities(ctx, model, controls, [cands[index]], life)[0]
+        assert abs(checked["reliability_at_target_life"][k] - truth) <= (
+            checked["error"][k] + 3 * np.sqrt(truth * (1 - truth) / 1e6)), k
+    assert checked["verdict"] == min(checked["verdicts"], key=["misses", "within_error", "meets"].index)
+    assert res.calls["verification"] == res.verification["model_calls"] + checked["new_model_calls"]
+    res.save(tmp_path, figures=False)
+    assert "verified at every target on the true model: R(N*) = " in design_section(tmp_path)
+    from result_keys import undocumented_keys
+
+    assert undocumented_keys(tmp_path / "design.json") == []  # its keys too are in docs/results.md
 
 
 def test_candidates_of_equal_cost_rank_by_fewest_changes_then_by_their_margin(setup):

@@ -32,6 +32,16 @@ def verification_verdict(reliability: float, error: float, target: float) -> str
     return "within_error" if reliability + error >= target else "misses"
 
 
+def every_target_verification_text(checked: dict) -> str:
+    """A verification at several targets as a reader reads it: 'verified at every target on the true model: R(N*) =
+    0.9412 +- 0.0087 (meets), 0.9871 +- 0.0040 (within_error): not proven at every target'."""
+    parts = ", ".join(f"{r:.4f} +- {e:.4f} ({v})" for r, e, v in zip(checked["reliability_at_target_life"],
+                                                                   checked["error"], checked["verdicts"]))
+    verdict = {"meets": "meets every target", "within_error": "not proven at every target",
+               "misses": "refuted: misses a target"}[checked["verdict"]]
+    return f"verified at every target on the true model: R(N*) = {parts}: {verdict}"
+
+
 def choices_text(choices: dict) -> str:
     """A candidate's options as a reader reads them: 'l1 IT10, fit H7/g6, HB_b hardened'."""
     return ", ".join(f"{k} {v}" for k, v in choices.items())
@@ -223,9 +233,9 @@ class DesignResult(StageResult):
         return self.chosen["cost"] - self.baseline_cost
 
     def every_target_sentence(self) -> str:
-        """With several targets, when the headline choice misses one: the cheapest design that meets them all at once,
-        read on the surrogate (its R(N*) and error per target; only the headline choice is verified), or that none
-        does; '' otherwise."""
+        """With several targets, when the headline choice misses one: the cheapest design that meets them all at once
+        (its R(N*) and error per target on the surrogate, and its verification at every target when it ran), or that
+        none does; '' otherwise."""
         every = self.chosen_every_target
         if len(self.targets) < 2 or self.chosen is None or (every is not None
                                                              and every["choices"] == self.chosen["choices"]):
@@ -234,9 +244,21 @@ class DesignResult(StageResult):
             return "no candidate meets every target at once"
         errors = ", ".join(f"{r:.4f} +/- {err:.4f}" for r, err in zip(every["reliability_at_target_life"],
                                                                      every["reliability_error"]))
+        checked = every.get("verification")
+        told = ("only the headline choice is verified on the true model" if checked is None
+                else every_target_verification_text(checked))
         return (f"the cheapest design that meets every target at once: {choices_text(every['choices'])} (cost "
-                f"{every['cost']:.4g}; R(N*) {errors} at the targets in order, on the surrogate: only the headline "
-                "choice is verified on the true model)")
+                f"{every['cost']:.4g}; R(N*) {errors} at the targets in order, on the surrogate); {told}")
+
+    def every_target_check_sentence(self) -> str:
+        """With several targets, when the headline choice meets them all on the surrogate and was verified at every
+        target (its own verification checks the first only): that verification; '' otherwise."""
+        every = self.chosen_every_target
+        if (len(self.targets) < 2 or self.chosen is None or every is None or every["choices"] != self.chosen["choices"]
+                or every.get("verification") is None):
+            return ""
+        checked = every_target_verification_text(every["verification"])
+        return f"the choice meets every target on the surrogate; {checked}"
 
     def _nearest_rows(self) -> tuple[dict, dict] | None:
         """With no choice: (the cheapest candidate whose R(N*) the surrogate does not tell from the highest, their

@@ -525,7 +525,7 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
                            "life_resolution": resolution, "rows": rows,
                            "undecided": sum(1 for _, kk in left if kk == k)})
 
-    every = None
+    every, every_calls = None, 0
     if len(targets) > 1:  # a drawing must meet every target at once: the cheapest candidate that does
         both = _cheapest(order, lambda i: i not in refuted and all(est[(i, k)].reliability >= t["reliability"]
                                                                    for k, t in enumerate(targets)),
@@ -534,6 +534,13 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
             every = {"choices": candidates[both].choices(controls), "cost": candidates[both].cost(controls),
                      "reliability_at_target_life": [est[(both, k)].reliability for k in range(len(targets))],
                      "reliability_error": [est[(both, k)].error for k in range(len(targets))]}
+        if every is not None and settings.verify and settings.verify_every_target and settings.verification_max_calls:
+            say(f"design: verifying {choices_text(every['choices'])} at every target with its own reliability study")
+            phase("design verification, every target", settings.verification_max_calls)
+            every["verification"] = every_target_verification(
+                verify_targets(ctx, candidates[both], controls, space, targets, settings.verification_max_calls,
+                               settings.seed, settings.verification_stopping)[0])
+            every_calls = every["verification"]["new_model_calls"]
     head = per_target[0]
     verification = verified.get(head["chosen_index"]) if head["chosen_index"] is not None else None
     if verification is not None:
@@ -562,7 +569,7 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
     today = estimate_on(space, sur, space.base_u, space.p_inf_default, targets[0]["log_life"],
                         targets[0]["reliability"])
     # the inputs the design rests on; the session's other stages (sensitivity, validation) evaluated more
-    total_calls = study_points + refine_calls + verification_calls
+    total_calls = study_points + refine_calls + verification_calls + every_calls
     today_cand, unmatched = today_candidate(controls, ctx.config.uncertainty)
     return DesignResult(
         target_life_cycles=head["target_life_cycles"], target_reliability=head["target_reliability"],
@@ -574,7 +581,8 @@ def run_design(ctx: StudyContext, reliability_result, settings: DesignSettings |
         baseline_reliability_at_target_life=today.reliability, baseline_reliability_error=today.error,
         targets=[{k: v for k, v in row.items() if k not in ("rows", "chosen_index")} for row in per_target],
         controls=[c.to_json() for c in controls], candidates=head["rows"],
-        calls={"study": study_points, "refinement": int(refine_calls), "verification": int(verification_calls),
+        calls={"study": study_points, "refinement": int(refine_calls),
+               "verification": int(verification_calls + every_calls),
                "new_in_this_stage": int(ctx.n_evaluated - calls_before),
                "run_now": int(ctx.n_model_calls - made_before)},
         refinement={"iterations": iterations, "model_calls": int(refine_calls),
@@ -622,6 +630,18 @@ def _cheapest(order: list[int], ok: Callable[[int], bool], margin: Callable[[int
     return best
 
 
+def every_target_verification(verdicts: list[dict]) -> dict:
+    """One verification at several targets as one record: per target (in order) its R(N*), error and verdict; the
+    overall verdict the worst of them ('misses' before 'within_error' before 'meets'); the shared counts once."""
+    worst = min((v["verdict"] for v in verdicts), key=["misses", "within_error", "meets"].index)
+    return {"verdict": worst, "confirmed": worst != "misses",
+            "verdicts": [v["verdict"] for v in verdicts],
+            "reliability_at_target_life": [v["reliability_at_target_life"] for v in verdicts],
+            "error": [v["error"] for v in verdicts],
+            **{key: verdicts[0][key] for key in ("model_calls", "new_model_calls", "run_now", "n_mc", "converged",
+                                                  "failed_calls", "surrogate_fit")}}
+
+
 def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: CandidateSpace, target: dict,
            max_calls: int, seed: int, stopping: str = "u") -> tuple[dict, np.ndarray]:
     """The chosen design's own reliability study at N*: AK-MCS on the true model (through the study's evaluator
@@ -632,47 +652,60 @@ def verify(ctx: StudyContext, cand: Candidate, controls: list[Control], space: C
     study's own is smaller: with fewer points than about twice the dimension, the Kriging variance after a
     maximum-likelihood fit can be too small for the error bound to be trusted.
     """
+    verdicts, x = verify_targets(ctx, cand, controls, space, [target], max_calls, seed, stopping)
+    return verdicts[0], x
+
+
+def verify_targets(ctx: StudyContext, cand: Candidate, controls: list[Control], space: CandidateSpace,
+                   targets: list[dict], max_calls: int, seed: int,
+                   stopping: str = "u") -> tuple[list[dict], np.ndarray]:
+    """:func:`verify` at every target's N* at once (one AK-MCS learning all their levels): one verdict per target,
+    in their order, each with the study's shared counts, and the study's design points."""
     rel = ctx.config.reliability
     marginals = cand.marginals(controls, ctx.names, ctx.marginals)
     before, made_before = ctx.n_evaluated, ctx.n_model_calls
     n_initial = min(max(rel.n_initial, 2 * len(marginals) + 2), max_calls)
     g, system = ctx.learnt_response
     eng = akmcs_multi(
-        g, marginals, levels=np.array([target["log_life"]]), system=system, n_mc=rel.n_mc, n_mc_max=rel.n_mc_max,
-        n_initial=n_initial, batch_size=rel.batch_size, u_threshold=rel.u_threshold,
+        g, marginals, levels=np.array([t["log_life"] for t in targets]), system=system, n_mc=rel.n_mc,
+        n_mc_max=rel.n_mc_max, n_initial=n_initial, batch_size=rel.batch_size, u_threshold=rel.u_threshold,
         cov_target=rel.cov_target, pf_floor=rel.pf_floor, max_calls=max_calls,
         seed=rel.seed + 17 + seed, stopping=stopping, error_tol=rel.error_tol, hold_iterations=rel.hold_iterations,
         error_abs_tol=rel.error_abs_tol, kriging=kriging_options(ctx.config), trend=life_trend(ctx))
     p_inf = space.infeasible_probability(cand)
-    pf_feasible = float(np.asarray(eng.pf)[0])
-    cov = float(np.asarray(eng.cov)[0])
+    pf_feasible = np.asarray(eng.pf, dtype=float)
+    cov = np.asarray(eng.cov, dtype=float)
     scatter = life_scatter_sd(ctx, eng)
     if scatter > 0:  # the life's call-to-call scatter, integrated as the study's R(N) does
         rng = np.random.default_rng(seed + 23)
         pf_arr, cov_arr = eng.estimate_on(lambda m, start: rng.standard_normal((m, len(marginals))), eng.n_mc,
                                           noise_sd=scatter)
-        pf_feasible, cov = float(pf_arr[0]), float(cov_arr[0])
-    pf = p_inf + (1.0 - p_inf) * pf_feasible
+        pf_feasible, cov = np.asarray(pf_arr, dtype=float), np.asarray(cov_arr, dtype=float)
     # the bound: the surrogate's own absolute error (the larger of ESC's and its posterior spread, as the study's
     # band) plus the 95 % Monte Carlo half-width
     u_posterior = np.random.default_rng(seed + 29).standard_normal((POSTERIOR_POINTS, len(marginals)))
-    sur_err = (1.0 - p_inf) * float(surrogate_pf_error(eng, u_posterior, scatter, seed + 31)[0])
-    mc_err = _Z95 * (1.0 - p_inf) * (cov * pf_feasible if math.isfinite(cov) else 0.0)
-    reliability = 1.0 - pf
-    error = sur_err + mc_err
-    verdict = verification_verdict(reliability, error, target["reliability"])
-    return {"reliability_at_target_life": reliability, "error": error,
+    sur_errs = np.asarray(surrogate_pf_error(eng, u_posterior, scatter, seed + 31), dtype=float)
+    fit = SurrogateFit.of(eng.response_surrogate, archard_trend_hint=archard_trend_unused(ctx)).to_json()
+    verdicts = []
+    for k, target in enumerate(targets):
+        pf_k, cov_k = float(pf_feasible[k]), float(cov[k])
+        pf = p_inf + (1.0 - p_inf) * pf_k
+        sur_err = (1.0 - p_inf) * float(sur_errs[k])
+        mc_err = _Z95 * (1.0 - p_inf) * (cov_k * pf_k if math.isfinite(cov_k) else 0.0)
+        reliability = 1.0 - pf
+        error = sur_err + mc_err
+        verdict = verification_verdict(reliability, error, target["reliability"])
+        verdicts.append({
+            "reliability_at_target_life": reliability, "error": error,
             # new_model_calls: the inputs it added to the design (its budget counts them, so a resumed run replays
             # the same rounds); run_now: the calls it made in this process, the rest read back from the store
             "model_calls": int(eng.n_calls), "new_model_calls": int(ctx.n_evaluated - before),
             "run_now": int(ctx.n_model_calls - made_before),
             "confirmed": verdict != "misses", "verdict": verdict,
             "meets_target_without_error": bool(reliability >= target["reliability"]),
-            "pf_cov": cov, "surrogate_error": sur_err, "n_mc": int(eng.n_mc), "converged": bool(eng.converged),
-            "failed_calls": int(eng.n_failed_calls),
-            "surrogate_fit": SurrogateFit.of(eng.response_surrogate,
-                                             archard_trend_hint=archard_trend_unused(ctx)).to_json(),
-            }, np.asarray(eng.design_x, dtype=float)
+            "pf_cov": cov_k, "surrogate_error": sur_err, "n_mc": int(eng.n_mc), "converged": bool(eng.converged),
+            "failed_calls": int(eng.n_failed_calls), "surrogate_fit": fit})
+    return verdicts, np.asarray(eng.design_x, dtype=float)
 
 
-__all__ = ["run_design", "verify", "estimate", "LifeSurrogate", "CandidateSpace", "Estimate"]
+__all__ = ["run_design", "verify", "verify_targets", "estimate", "LifeSurrogate", "CandidateSpace", "Estimate"]

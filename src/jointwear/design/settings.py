@@ -208,8 +208,10 @@ class PropertySpec(SIModel):
     """A specification of one random material property: its mean and standard deviation (None = the study's)
     and optional acceptance limits that truncate the (normal) distribution (parts outside are rejected)."""
 
-    mean: float | None = F(None, unit_of="variable", description="Mean; in SI without a unit suffix (mean_HB, mean_GPa, ...).")
-    std: float | None = F(None, unit_of="variable", description="Standard deviation (> 0); in SI without a unit suffix.")
+    mean: float | None = F(None, unit_of="variable", description="Mean; None = the study's. Entered with a key "
+                           "suffix of its variable's quantity (mean_HB, mean_GPa, ...) or in SI.")
+    std: float | None = F(None, unit_of="variable", description="Standard deviation (> 0); None = the study's. "
+                          "Entered as `mean` is (std_HB, ...).")
     lower: float | None = F(None, unit_of="variable", description="Lower acceptance limit (truncates the "
                             "distribution).")
     upper: float | None = F(None, unit_of="variable", description="Upper acceptance limit (truncates the "
@@ -348,6 +350,10 @@ class DesignSettings(SIModel):
         "verification_max_calls). None = verification_max_calls under require = 'not_refuted' (the rounds after a "
         "refuted choice share it), 3 x verification_max_calls under require = 'proven' (up to three front points "
         "on a model whose verification runs to its budget).")
+    verify_every_target: bool = Field(
+        True, description="With several targets: verify the cheapest design that meets them all at once "
+        "(chosen_every_target, what a drawing needs) with its own reliability study at every target's N*, on a budget "
+        "of verification_max_calls of its own (the headline choice's verification checks the first target only).")
     seed: int = Field(0, description="Seed of the candidates' population and the refinement.")
 
     @field_validator("targets")

@@ -113,6 +113,9 @@ def design_section(out_dir: Path | str, figs=None) -> str | None:
     if every := d.every_target_sentence():
         parts.append('<p class="warn"><strong>The headline choice does not meet every target.</strong> '
                      f"{e(every[:1].upper() + every[1:])}.</p>")
+    if check := d.every_target_check_sentence():
+        cls = "" if d.chosen_every_target["verification"]["verdict"] == "meets" else ' class="warn"'
+        parts.append(f"<p{cls}>{e(check[:1].upper() + check[1:])}.</p>")
     if undecided := d.undecided_sentence():
         parts.append(warning("Candidates left undecided.", undecided))
     if outside := d.target_outside_curve_sentence():
