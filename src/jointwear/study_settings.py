@@ -43,14 +43,14 @@ class ReliabilitySettings(SIModel):
         None, description="Names of the clearance joints judged (any subset); None = every clearance joint. With "
         "several, the mechanism fails when the first of them fails (series system).")
     allowance: float | None = F(
-        None, unit="m", description="Wear allowance delta_0 of every judged joint, m. None = 0.01 D per joint with D "
+        None, unit="m", description="Wear allowance delta_0 of every judged joint. None = 0.01 D per joint with D "
         "the bearing's outer diameter (the paper's rule, Section 6.2; needs bearing_outer_radius).")
     allowances: dict[str, float] = F(
         default_factory=dict, unit="m",
-        description="Per-joint allowance, m, by clearance-joint name (e.g. allowances_mm = { E = 0.04 }); "
+        description="Per-joint allowance, by clearance-joint name (e.g. allowances_mm = { E = 0.04 }); "
         "overrides `allowance` for the joints it names.")
     allowance_std: float = F(
-        0.0, unit="m", description="Standard deviation of a random allowance, m (Section 5.1 suggests 0.0002-0.0005 "
+        0.0, unit="m", description="Standard deviation of a random allowance (Section 5.1 suggests 0.0002-0.0005 "
         "D); 0 = deterministic, as in the paper's results. With several joints one random factor scales every "
         "joint's allowance (delta_0,j x delta_0 / mean).")
     cycles_start: int | None = Field(

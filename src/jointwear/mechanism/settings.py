@@ -16,6 +16,9 @@ from pydantic import Field, field_validator, model_validator
 from jointwear.schema import F, SIModel, item_key
 from jointwear.units import fmt_mm
 
+MECHANISM_KIND = ("Mechanism kind: 'four_bar' (crank OA, rod AB, rocker CB), 'slider_crank' (crank OA, rod AB, "
+                  "slider at B) or 'general' (bodies, joints and drivers as listed); it selects the fields below.")
+
 #: Most crank cycles `jointwear simulate` records (every step is kept: ~20,000 rows a cycle, 1-2 GB for 100 cycles).
 MAX_RECORDED_CYCLES = 100
 #: Most crank cycles settled before recording (no record, but each costs the integration of a cycle).
@@ -62,7 +65,7 @@ class FourBarConfig(SIModel):
     second (crank O->A, rod A->B, rocker C->B).
     """
 
-    type: Literal["four_bar"] = "four_bar"
+    type: Literal["four_bar"] = Field("four_bar", description=MECHANISM_KIND)
     crank_pivot: Vec2 = F((0.0, 0.0), unit="m", description="Ground pivot O of the crank.")
     rocker_pivot: Vec2 = F(unit="m", description="Ground pivot C of the rocker.")
     crank: LinkConfig = F(description="Crank OA. Its mass does not matter while its speed is imposed.")
@@ -121,7 +124,7 @@ class SliderCrankConfig(SIModel):
     Body frames: origin at the centre of mass, x along O->A (crank), A->B (rod), the guide (slider).
     """
 
-    type: Literal["slider_crank"] = "slider_crank"
+    type: Literal["slider_crank"] = Field("slider_crank", description=MECHANISM_KIND)
     crank_pivot: Vec2 = F((0.0, 0.0), unit="m", description="Ground pivot O of the crank.")
     crank: LinkConfig = F(description="Crank OA.")
     rod: LinkConfig = F(description="Connecting rod AB.")
@@ -289,7 +292,7 @@ class GeneralMechanismConfig(SIModel):
     assembly over the whole cycle is checked after it (jointwear.mechanism.check_assembly, when the model is built).
     """
 
-    type: Literal["general"] = "general"
+    type: Literal["general"] = Field("general", description=MECHANISM_KIND)
     bodies: list[GeneralBodyConfig] = F(description="The moving bodies ([[mechanism.bodies]]).")
     ground_points: dict[str, Vec2] = F(
         default_factory=dict, unit="m",

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -17,11 +18,22 @@ from . import figures as F
 from .alt_text import wear_history_alt, wear_polar_alt
 from .markup import Figures, cards, e, format_number, missing, table
 from .read import StudyOutputs, joint_series
-from .reference_checks import reference_label, reference_of, reference_values, second_peak
+from .reference_checks import (
+    reference_label,
+    reference_of,
+    reference_values,
+    second_peak,
+)
 from .style import scale_to_unit
 
-__all__ = ["settings_section", "dynamics_section", "wear_section", "convergence_section", "allowance_mm",
-           "not_run"]
+__all__ = [
+    "allowance_mm",
+    "convergence_section",
+    "dynamics_section",
+    "not_run",
+    "settings_section",
+    "wear_section",
+]
 
 
 def not_run(out: StudyOutputs, stage: str, what: str) -> str:
@@ -63,12 +75,118 @@ def joint_allowances(out: StudyOutputs) -> dict[str, float]:
     return {}
 
 
-def _settings_row(x: dict) -> tuple:
+def _settings_row(x: dict, value: str | None = None, told: dict[str, str] | None = None) -> tuple:
+    """A row of a settings table with its source; ``told``: the descriptions given so far (text -> the setting whose
+    row gave it), so that a description given above is not repeated: 'as for <that setting>' where that is shorter."""
     flag = '<span class="pill open">open</span>' if x.get("paper_open") else ""
-    src = e(x.get("source") or "\u2014")
+    text = x.get("source") or "\u2014"
     if x.get("description") and x.get("description") != x.get("source"):
-        src += f'<div class="desc">{e(x["description"])}</div>'
-    return (e(x.get("name")), e(setting_text(x)), e(x.get("unit") or ""), flag, src)
+        text = f"{text}\n{x['description']}"
+    first = (told or {}).get(text)
+    if first is not None and first != x.get("name") and len(f"as for {first}") < len(text):
+        src = e(f"as for {first}")
+    else:
+        if told is not None:
+            told.setdefault(text, str(x.get("name")))
+        src = e(x.get("source") or "\u2014")
+        if x.get("description") and x.get("description") != x.get("source"):
+            src += f'<div class="desc">{e(x["description"])}</div>'
+    return (e(x.get("name")), e(setting_text(x) if value is None else value), e(_unit_cell(x)), flag, src)
+
+
+def _unit_cell(x: dict) -> str:
+    """A setting's unit, beside a value that has one (not beside a dash: no value, no unit); a setting in degrees by
+    its name (``peak_separation_deg``) says so too."""
+    if x.get("value") is None or x.get("value") in ({}, []):
+        return ""
+    return str(x.get("unit") or ("deg" if str(x.get("name", "")).endswith("_deg") else ""))
+
+
+#: a random input's fields that the Random inputs table shows
+_RANDOM_INPUT_FIELDS = ("name", "label", "target", "group", "distribution", "mean", "std", "lower", "upper", "unit")
+
+
+def in_random_inputs(records: list[dict], variables: list[dict]) -> set[str]:
+    """The names of the settings ``uncertainty.variables[X].<field>`` whose values the Random inputs table shows as
+    they read here (six digits, one unit; a std scaled by ``uncertainty.std_scale`` is not, so it stays listed; so
+    does anything of a variable that table does not list)."""
+    rows = {str(v.get("name")): v for v in variables}
+    out = set()
+    for r in records:
+        m = re.fullmatch(r"uncertainty\.variables\[(.+)\]\.(\w+)", str(r.get("name")))
+        if not m or m.group(1) not in rows or m.group(2) not in _RANDOM_INPUT_FIELDS:
+            continue
+        row, field, value = rows[m.group(1)], m.group(2), r.get("value")
+        shown = row.get(field)
+        if field == "label":
+            same = value in ("", shown)  # an empty label is shown as the name
+        elif field in ("mean", "std", "lower", "upper") and value is not None:
+            same = (isinstance(shown, (int, float)) and str(r.get("unit") or "") == str(row.get("unit") or "")
+                    and _entered(value) == _entered(shown))
+        else:
+            same = value == shown
+        if same:
+            out.add(str(r["name"]))
+    return out
+
+
+def _number(v: float) -> str:
+    """A factor as a reader writes it: 9.807e6, 1e-9."""
+    return re.sub(r"e([+-])0*(\d)", lambda m: "e" + ("-" if m.group(1) == "-" else "") + m.group(2), f"{v:.6g}")
+
+
+def _scale_text(x: dict, by_name: dict[str, dict]) -> str:
+    """A random input's display scale with what it converts: '1e-09 (Pa -> GPa)', '1.01968e-07 (Pa -> HB; 1 HB =
+    9.807e6 Pa)', or that it is unused (without a unit the variable is shown in its target's report unit)."""
+    from jointwear.config import target_display_unit
+
+    base = str(x["name"]).removesuffix(".scale")
+    unit = (by_name.get(f"{base}.unit") or {}).get("value")
+    value = x.get("value")
+    if not unit:
+        return f"{setting_text(x)} (unused: no display unit)"
+    si = target_display_unit(str((by_name.get(f"{base}.target") or {}).get("value", ""))) or "SI"
+    note = f"{si} -> {unit}"
+    if isinstance(value, (int, float)) and value > 0 and not math.isclose(math.log10(value), round(math.log10(value)),
+                                                                         abs_tol=1e-9):
+        note += f"; 1 {unit} = {_number(1.0 / value)} {si}"
+    return f"{setting_text(x)} ({note})"
+
+
+def judged_joints(by_name: dict[str, dict]) -> list[str]:
+    """The clearance joints the limit state judges, from the settings: ``reliability.joints``, or every one."""
+    chosen = (by_name.get("reliability.joints") or {}).get("value")
+    if isinstance(chosen, list) and chosen:
+        return [str(j) for j in chosen]
+    return [str(r.get("value")) for name, r in by_name.items()
+            if re.fullmatch(r"clearance_joints\[[^\]]+\]\.name", name)]
+
+
+def _surrogate_text(x: dict, by_name: dict[str, dict]) -> str:
+    """``reliability.surrogate`` with what it learns for this study's judged joints: with one, its life is the
+    system's whichever is set (reliability.json's ``life_surrogate``: 'system_life')."""
+    n = len(judged_joints(by_name))
+    value = x.get("value")
+    if value == "per_joint" and n == 1:
+        return "per_joint (one judged joint: one Kriging of its life, the system's)"
+    if value == "per_joint" and n > 1:
+        return f"per_joint ({n} judged joints: one Kriging of each joint's life)"
+    if value == "system_life" and n >= 1:
+        return f"system_life (one Kriging of the system's life{f', over {n} judged joints' if n > 1 else ''})"
+    return setting_text(x)
+
+
+def settings_value(x: dict, by_name: dict[str, dict]) -> str:
+    """A setting's value as the settings tables show it: as entered, a random input's display scale with the units it
+    converts between, and the surrogate with what it learns."""
+    name = str(x.get("name"))
+    if re.fullmatch(r"uncertainty\.variables\[.+\]\.scale", name):
+        return _scale_text(x, by_name)
+    if name == "reliability.surrogate":
+        return _surrogate_text(x, by_name)
+    if x.get("value") == "":
+        return "(empty)"
+    return setting_text(x)
 
 
 def mean_cell(v: dict) -> str:
@@ -76,8 +194,8 @@ def mean_cell(v: dict) -> str:
     drawn one; a shift under 0.1 standard deviations is not warned, but shown here)."""
     mean, drawn = v.get("mean"), v.get("drawn")
     if drawn is None or mean is None or abs(drawn - mean) <= 1e-9 * max(abs(mean), abs(drawn)):
-        return format_number(mean)
-    return f"{format_number(mean)} (drawn: {format_number(drawn)})"
+        return _entered(mean)
+    return f"{_entered(mean)} (drawn: {_entered(drawn)})"
 
 
 def _distribution_cell(v: dict) -> str:
@@ -86,11 +204,11 @@ def _distribution_cell(v: dict) -> str:
     text = str(v["distribution"]).replace("_", " ")
     lower, upper = v.get("lower"), v.get("upper")
     if lower is not None and upper is not None:
-        text = f"{text}, {format_number(lower)} to {format_number(upper)}"
+        text = f"{text}, {_entered(lower)} to {_entered(upper)}"
     elif lower is not None:
-        text = f"{text}, >= {format_number(lower)}"
+        text = f"{text}, >= {_entered(lower)}"
     elif upper is not None:
-        text = f"{text}, <= {format_number(upper)}"
+        text = f"{text}, <= {_entered(upper)}"
     if v["distribution"] == "truncated_normal" and v.get("sampled_mean") is not None:
         text += f"; sampled: mean {format_number(v['sampled_mean'])}, std {format_number(v['sampled_std'])}"
     return text
@@ -130,7 +248,7 @@ def settings_section(out: StudyOutputs, figs: Figures) -> str:
     meta = [(k, format_number(v)) for k, v in cfg.items()
             if k not in ("settings", "mechanism", "citation", "reference") and v is not None
             and not isinstance(v, (dict, list))]
-    allowances = joint_allowances(out)
+    allowances = joint_allowances(out) or dict(cfg.get("allowances_mm") or {})
     if len(allowances) > 1 and len(set(allowances.values())) > 1:  # config.json records the first joint's alone
         meta = [(k, ", ".join(f"joint {j}: {format_number(a)}" for j, a in allowances.items()) + " (per joint)"
                  if k == "allowance_mm" else v) for k, v in meta]
@@ -146,7 +264,10 @@ def settings_section(out: StudyOutputs, figs: Figures) -> str:
                 ("clearance joints", ", ".join(mech.get("clearance_joints", [])) or "\u2014")]
         parts.append(table(["mechanism", "value"], rows, cls="kv"))
     elif mech:
-        parts.append(table(["mechanism", "value"], [(k, format_number(v)) for k, v in mech.items()], cls="kv"))
+        kinds = {"crank_rocker": "four_bar (a crank-rocker)"}  # as mechanism.type names it, below
+        parts.append(table(["mechanism", "value"],
+                           [(k, kinds.get(v, v) if k == "type" else format_number(v)) for k, v in mech.items()],
+                           cls="kv"))
     parts.append("</div>")
     if mech and all(mech.get(k) is not None for k in ("crank_mm", "rod_mm", "rocker_mm", "pivot_mm")):
         parts.append(figs.draw(lambda: F.mechanism_figure(
@@ -179,34 +300,47 @@ def settings_section(out: StudyOutputs, figs: Figures) -> str:
         parts.append(table(
             ["variable", "name", "group", "distribution", "mean", "std", "COV", "unit", "sets"],
             [(str(v["label"]), str(v["name"]), str(v["group"]).replace("_", " "), _distribution_cell(v),
-              mean_cell(v), format_number(v["std"]), format_number(v["cov"]),
+              mean_cell(v), _entered(v["std"]), format_number(v["cov"]),
               str(v["unit"]), str(v["target"])) for v in variables], cls="settings"))
         parts.append(correlation_part(cfg))
-    recs = list(cfg.get("settings") or [])
+    recs = named_paths(list(cfg.get("settings") or []))  # an old folder's list items by their names, as today
+    by_name = {str(x.get("name")): x for x in recs}
+    shown_above = in_random_inputs(recs, variables)
+    listed = [x for x in recs if str(x.get("name")) not in shown_above]
+    otherwise = any(re.fullmatch(r"uncertainty\.variables\[.+\]\.(\w+)", str(x.get("name")))
+                    and not str(x.get("name")).endswith(".scale") for x in listed)
+    above = (f"<p>Each random input's {', '.join(_RANDOM_INPUT_FIELDS[:-1])} and {_RANDOM_INPUT_FIELDS[-1]} "
+             f"({len(shown_above)} settings) are in Random inputs above and not repeated here; listed below are its "
+             "display scale" + (" and each value that table shows otherwise (a std there is scaled by "
+                                "uncertainty.std_scale)" if otherwise else "") + ".</p>" if shown_above else "")
     ref = reference_of(cfg)
     if ref:
         open_recs = [x for x in recs if x.get("paper_open")]
+        told: dict[str, str] = {}
         parts.append(f"<h3>Settings the reference ({e(reference_label(ref))}) leaves open ({len(open_recs)})</h3>")
         parts.append("<p>Each value below is this project's baseline reading of the reference (see the user guide), "
                      "not a number printed in it; the source says where it comes from.</p>")
         if open_recs:
-            parts.append(table(["setting", "value", "unit", "", "source"], [_settings_row(x) for x in open_recs],
+            parts.append(table(["setting", "value", "unit", "", "source"],
+                               [_settings_row(x, settings_value(x, by_name), told) for x in open_recs],
                                cls="settings", raw_cols=(0, 1, 2, 3, 4), row_cls=["open"] * len(open_recs)))
         else:
             parts.append(missing("No setting is marked as left open by the reference."))
-        parts.append(f"<details><summary>All {len(recs)} settings of this study</summary>")
-        parts.append(table(["setting", "value", "unit", "", "source"], [_settings_row(x) for x in recs],
+        told = {}
+        parts.append(f"<details><summary>All {len(recs)} settings of this study</summary>{above}")
+        parts.append(table(["setting", "value", "unit", "", "source"],
+                           [_settings_row(x, settings_value(x, by_name), told) for x in listed],
                            cls="settings", raw_cols=(0, 1, 2, 3, 4),
-                           row_cls=["open" if x.get("paper_open") else "" for x in recs]))
+                           row_cls=["open" if x.get("paper_open") else "" for x in listed]))
         parts.append("</details>")
     else:
         # no reference: the study's own values; where a default comes from is documented in docs/config.md
-        rows = [(str(x.get("name")), setting_text(x), str(x.get("unit") or ""), origin(x)) for x in recs]
+        rows = [(str(x.get("name")), settings_value(x, by_name), _unit_cell(x), origin(x)) for x in listed]
         n_set = sum(x.get("explicit") is True for x in recs)
         parts.append(f"<h3>Settings of this study ({len(recs)}, {n_set} given in the config)</h3>")
         parts.append("<p>Values not given in the config are jointwear's defaults; <code>jointwear check CONFIG</code> "
                      "prints them and docs/config.md says where each comes from.</p>")
-        parts.append(f"<details open><summary>All {len(recs)} settings of this study</summary>")
+        parts.append(f"<details open><summary>All {len(recs)} settings of this study</summary>{above}")
         parts.append(table(["setting", "value", "unit", "from"], rows, cls="settings"))
         parts.append("</details>")
     parts.append(provenance_part(out))

@@ -31,8 +31,9 @@ deg, h); the report compares with it, and only with it: without one there is no 
 setting carries the description its field already has; :func:`write_settings` writes it. A field is marked
 ``paper_open`` when its ``json_schema_extra`` says so, otherwise when its description says the value is not from
 the paper (``paper-notes``, ``paper silent``, ``not fixed by the paper``, ``project choice``, ...).
-Values are shown in report units: lengths in mm, moduli and hardness in GPa / MPa, speeds in rpm where the
-unit is rad/s of a crank.
+Values are shown in report units: lengths in mm, moduli in GPa / MPa, hardness in HB, speeds in rpm where the
+unit is rad/s of a crank; a random variable's numbers (its mean, std and bounds, a design class's of it, a clearance's
+mean, minimum and Table 5 std) all in the one unit the random-inputs table gives it (:func:`variable_display`).
 """
 
 from __future__ import annotations
@@ -46,15 +47,26 @@ from typing import Any
 
 from jointwear.config import display_unit, setting_children
 from jointwear.schema import item_key
-from jointwear.units import to_display
+from jointwear.units import scaled, suffix_factor, to_display
 
-__all__ = ["settings_records", "named_paths", "settings_dump", "write_settings", "is_paper_open", "random_variables",
-           "origin"]
+__all__ = [
+    "is_paper_open",
+    "named_paths",
+    "origin",
+    "random_variables",
+    "settings_dump",
+    "settings_records",
+    "variable_display",
+    "write_settings",
+]
+
+#: a clearance's own numbers (its distribution's), shown in its display unit; its nominal diameter stays in mm
+CLEARANCE_VALUES = ("mean", "minimum", "table5_std")
 
 _OPEN = re.compile(
     r"paper[- ]notes|paper (is )?silent|paper gives no|not (fixed|given|stated) (by|in) the paper|project choice|"
     r"paper leaves|assumed|baseline|not in the paper|no value in the paper|convergence study",
-    re.I,
+    re.IGNORECASE,
 )
 
 
@@ -82,16 +94,20 @@ def _plain(v: Any) -> Any:
 
 
 def settings_records(model: Any, prefix: str = "", *, explicit: bool = True,
-                     variable_units: Mapping[str, str | None] | None = None, variable: str | None = None,
-                     dimension: str | None = None) -> list[dict]:
+                     variable_units: Mapping[str, tuple[float, str | None]] | None = None,
+                     variable: str | None = None, dimension: str | None = None) -> list[dict]:
     """Flatten a pydantic model into ``{"name", "value", "unit", "source", "paper_open", "description",
-    "explicit"}``; ``explicit`` is whether the config gave the value (False: a default). A design specification's
-    numbers (unit set by its random variable) are shown in that variable's target unit; a reference value's (and its
-    band's) in its quantity's report unit (mm, deg, h: ``jointwear.reference.DISPLAY``)."""
+    "explicit"}``; ``explicit`` is whether the config gave the value (False: a default). A random variable's numbers,
+    and a design specification's of it, are shown in that variable's display unit (:func:`variable_display`, as the
+    random-inputs table gives them); a reference value's (and its band's) in its quantity's report unit (mm, deg, h:
+    ``jointwear.reference.DISPLAY``)."""
     from jointwear.reference import DISPLAY, in_report_unit
 
     if variable_units is None:
         variable_units = _variable_units(model)
+    # this model's own numbers in its variable's display unit: a random variable's, a clearance's
+    own = variable_units.get(model.name) if isinstance(getattr(model, "target", None), str) and isinstance(
+        getattr(model, "name", None), str) else None
     variable = getattr(model, "variable", None) if isinstance(getattr(model, "variable", None), str) else variable
     dimension = getattr(model, "dimension", None) if isinstance(getattr(model, "dimension", None), str) else dimension
     deeper = {"variable_units": variable_units, "variable": variable, "dimension": dimension}
@@ -110,15 +126,20 @@ def settings_records(model: Any, prefix: str = "", *, explicit: bool = True,
             continue
         extra = info.json_schema_extra if isinstance(info.json_schema_extra, Mapping) else {}
         unit = extra.get("unit")
-        if extra.get("unit_of") == "target" and isinstance(getattr(model, "target", None), str):
-            unit = display_unit(model.target)  # a random variable's numbers: its target's unit
+        display = None  # (factor, unit) of a variable's numbers
+        if own is not None and (extra.get("unit_of") == "target" or (unit == "m" and name in CLEARANCE_VALUES)):
+            display = own
+        elif extra.get("unit_of") == "target" and isinstance(getattr(model, "target", None), str):
+            unit = display_unit(model.target)  # a variable the config does not list: its target's unit
         elif extra.get("unit_of") == "variable" and variable is not None:
-            unit = variable_units.get(variable)
+            display = variable_units.get(variable)
         elif name == "hardness" and unit == "Pa":
             unit = "HB"
         if extra.get("unit_of") == "quantity" and dimension in DISPLAY and type(value) in (int, float):
             shown, shown_unit = in_report_unit(value, dimension)  # a reference value: 12.9 h, not 46440 (s)
             shown_unit = shown_unit or None
+        elif display is not None:
+            shown, shown_unit = scaled(_plain(value), display[0]), display[1] or None
         else:
             shown, shown_unit = to_display(_plain(value), unit)
         desc = info.description or ""
@@ -194,12 +215,25 @@ def origin(record: Mapping) -> str:
     return {True: "the config", False: "jointwear default"}.get(record.get("explicit"), "\u2014")
 
 
-def _variable_units(config: Any) -> dict[str, str | None]:
-    """Each random variable's target unit (None where it has none), from a study config; empty for a section."""
+def variable_display(spec: Any) -> tuple[float, str | None]:
+    """(factor from SI, unit) of a random variable's numbers, one for its mean, std and bounds: its own ``unit`` and
+    ``scale`` when it gives a unit (a unit keys take as a suffix by its exact factor: the config holds ``scale`` to
+    it within 1e-3), else its target's report unit (mm, HB, GPa or MPa by the size of its mean)."""
+    if getattr(spec, "unit", ""):
+        exact = suffix_factor(spec.unit)
+        return (spec.scale if exact is None else 1.0 / exact), spec.unit
+    probe = abs(spec.mean) if spec.mean else 1.0
+    shown, unit = to_display(probe, display_unit(spec.target))
+    return shown / probe, unit
+
+
+def _variable_units(config: Any) -> dict[str, tuple[float, str | None]]:
+    """Each random variable's :func:`variable_display`, the clearances' too, by name, from a study config; empty for
+    a section."""
     unc = getattr(config, "uncertainty", None)
     if unc is None or not hasattr(unc, "all_specs"):
         return {}
-    return {spec.name: display_unit(spec.target) for spec in unc.all_specs()}
+    return {spec.name: variable_display(spec) for spec in unc.all_specs()}
 
 
 def _general_mechanism(mech: Any, joints: list) -> dict:
@@ -311,11 +345,7 @@ def random_variables(config: Any) -> list[dict]:
     data = config.model_dump() if hasattr(config, "model_dump") else {}
     rows = []
     for spec in unc.all_specs():
-        if spec.unit:
-            factor, unit = spec.scale, spec.unit
-        else:
-            shown, unit = to_display(spec.mean, display_unit(spec.target))
-            factor = shown / spec.mean if spec.mean else 1.0  # one prefix for the mean, std and bounds
+        factor, unit = variable_display(spec)
 
         def conv(v: float | None) -> float | None:
             return None if v is None else v * factor

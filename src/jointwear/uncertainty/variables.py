@@ -56,7 +56,9 @@ class RandomVariableSpec(SIModel):
     name: str = Field(description="Short identifier, e.g. 'l2'.")
     label: str = Field("", description="Readable name for reports, e.g. 'rod length'.")
     target: str = Field(description="Dotted path of the SI config field this variable sets.")
-    group: Literal["tolerance", "bearing_material", "journal_material", "other"] = "other"
+    group: Literal["tolerance", "bearing_material", "journal_material", "other"] = Field(
+        "other", description="Kind of input: 'tolerance' (a dimension), 'bearing_material', 'journal_material' or "
+        "'other'; uncertainty.std_scale and the sensitivity's groups go by it.")
     distribution: DistributionName = Field(
         "normal",
         description="'normal', 'lognormal' (mean > 0), 'uniform' (mean +/- sqrt(3) std), 'truncated_normal' "
@@ -64,14 +66,12 @@ class RandomVariableSpec(SIModel):
         "mean > 0; shape from std / mean), 'gumbel' (of maxima, right-skewed), 'gamma' (mean > 0), 'beta' "
         "(on [lower, upper], both needed; shapes from mean and std). All 13 paper variables are normal "
         "(Section 4).")
-    mean: float = F(unit_of="target", description="Mean, SI units (for 'truncated_normal': of the normal before "
+    mean: float = F(unit_of="target", description="Mean (for 'truncated_normal': of the normal before "
                     "truncation).")
-    std: float = F(unit_of="target", description="Standard deviation, SI units, > 0 (for 'truncated_normal': of the "
-                   "normal before truncation).")
-    lower: float | None = F(None, unit_of="target", description="Lower bound, SI units: 'truncated_normal' and "
-                            "'beta' only.")
-    upper: float | None = F(None, unit_of="target", description="Upper bound, SI units: 'truncated_normal' and "
-                            "'beta' only.")
+    std: float = F(unit_of="target", description="Standard deviation, > 0 (for 'truncated_normal': of the normal "
+                   "before truncation).")
+    lower: float | None = F(None, unit_of="target", description="Lower bound: 'truncated_normal' and 'beta' only.")
+    upper: float | None = F(None, unit_of="target", description="Upper bound: 'truncated_normal' and 'beta' only.")
     unit: str = Field("", description="Display unit for reports (SI value x scale). A unit of the target's "
                       "quantity that keys take as a suffix (mm, um, GPa, MPa, HB, N, ...) sets scale itself.")
     scale: float = Field(1.0, description="Multiply the SI value by this for display; needed only for a unit "
@@ -178,8 +178,8 @@ class ClearanceSpec(SIModel):
                        "given.")
     target: str = Field(description="Dotted path of the clearance in the SI config, e.g. "
                         "'clearance_joints.A.clearance'.")
-    mean: float | None = F(None, unit="m", description="Designed radial clearance, m; set by `fit` when that is "
-                           "given. Default: the joint's drawn clearance, bearing_radius - journal_radius.")
+    mean: float | None = F(None, unit="m", description="Designed radial clearance; set by `fit` when that is given."
+                           " Default: the joint's drawn clearance, bearing_radius - journal_radius.")
     fit: str | None = Field(
         None, description="The fit with its ISO 286 letters, bore/pin, e.g. 'H7/g6' (clearance fits: bores D-H on "
         "pins d-h, nominal diameters up to 120 mm). It sets hole_grade, shaft_grade and the mean (the middle of the "
@@ -188,17 +188,17 @@ class ClearanceSpec(SIModel):
         "iso286",
         description="'table5': sigma as printed in Table 5 (1e-6 mm = 1 nm, very likely a units slip); "
         "'iso286': sigma_c = sqrt(T_D^2 + T_d^2)/12, Eq. (40), from the grades below.")
-    nominal_diameter: float | None = F(None, unit="m", description="Nominal fit diameter, m, whose ISO 286 size "
+    nominal_diameter: float | None = F(None, unit="m", description="Nominal fit diameter, whose ISO 286 size "
                                        "range sets the tolerances. Default: the diameter of the joint's journal, "
                                        "2 journal_radius (`check` warns when a given one sets other tolerances).")
     hole_grade: str = Field("IT7", description="Bearing bore grade (usual H7 bore; ISO 286-2); set by `fit` when "
                             "that is given.")
     shaft_grade: str = Field("IT6", description="Journal grade (usual h6/g6 shaft; ISO 286-2); set by `fit` when "
                              "that is given.")
-    table5_std: float = F(1e-9, unit="m", description="Table 5 as printed: 1e-6 mm.")
+    table5_std: float = F(1e-9, unit="m", description="Table 5 as printed: 1e-6 mm (1 nm).")
     minimum: float = F(
         1e-7, unit="m",
-        description="Smallest clearance a sample may have, m. At or below it the fit is an interference or "
+        description="Smallest clearance a sample may have. At or below it the fit is an interference or "
         "line-to-line fit that the clearance-joint model does not describe.")
     infeasible_rule: Literal["truncate", "fail"] = Field(
         "truncate",
