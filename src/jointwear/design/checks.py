@@ -5,6 +5,7 @@ from __future__ import annotations
 from jointwear.config import StudyConfig, target_display_unit, target_unit
 from jointwear.design.settings import FitControl
 from jointwear.schema import item_key
+from jointwear.study.checks import shown, unbuilt_reason
 from jointwear.uncertainty.tolerances import iso_fit, it_tolerance
 from jointwear.units import ANY_UNIT
 
@@ -132,8 +133,6 @@ def _grade_problems(grades, nominal: float, where: str) -> list[str]:
 def _spec_problems(config: StudyConfig, spec, change, where: str) -> list[str]:
     """A property specification the design cannot use: acceptance limits on a variable they cannot truncate or that
     leave out its mean, and a mean at which the model cannot be built (every call of a design with it would fail)."""
-    from jointwear.study.checks import shown, unbuilt_reason
-
     out = []
     if change.mean is not None and (reason := unbuilt_reason(config, [spec.target], [change.mean])) is not None:
         out.append(f"{where}.mean: at {shown(change.mean, spec.target)} the model cannot be built, so every call of "

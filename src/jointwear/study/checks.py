@@ -98,7 +98,8 @@ def nominal_wear_cycles(config: StudyConfig) -> int | None:
 
 
 def config_problems(config: StudyConfig, stages: frozenset[str] | set[str]) -> list[str]:
-    """Every cross-section problem of ``config`` for running ``stages`` (empty when it can run)."""
+    """Every cross-section problem of ``config`` for running ``stages`` (empty when it can run). The design stage's
+    own problems are the design package's ``design_problems``, which the study facade adds."""
     problems: list[str] = []
     needs_reliability = bool(set(stages) & RELIABILITY_STAGES)
     if needs_reliability:
@@ -128,10 +129,6 @@ def config_problems(config: StudyConfig, stages: frozenset[str] | set[str]) -> l
         check_assembly(config)
     except ConfigError as exc:
         problems += exc.problems
-    if "design" in stages:
-        from jointwear.design.checks import design_problems
-
-        problems += design_problems(config)
     return problems
 
 

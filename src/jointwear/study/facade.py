@@ -51,6 +51,7 @@ from jointwear.study.limit_state import (
 from jointwear.study.model_call import WearModelCall
 from jointwear.study.reliability_results import interval_text, signed_percent
 from jointwear.study.results import (
+    LATER_STAGE_TYPES,
     STAGE_TYPES,
     ReliabilityCurve,
     SensitivityResult,
@@ -87,6 +88,17 @@ STAGES = ("simulate", "wear", "reliability", "sensitivity")
 
 if TYPE_CHECKING:
     from jointwear.design.results import DesignResult
+
+
+def design_result_type() -> type[DesignResult]:
+    """The design stage's result type, for the readers of a study folder (``LATER_STAGE_TYPES``)."""
+    # imported on use: the design package imports the study's modules, and the study package imports this one
+    from jointwear.design.results import DesignResult
+
+    return DesignResult
+
+
+LATER_STAGE_TYPES["design"] = design_result_type
 
 logger = logging.getLogger("jointwear")
 LOG_FILE = "jointwear.log"
@@ -253,6 +265,10 @@ class Study:
         if stages <= self._checked:
             return []
         problems = config_problems(self.config, stages | self._checked)
+        if "design" in stages | self._checked:
+            from jointwear.design import design_problems
+
+            problems += design_problems(self.config)
         if isinstance(self.scheduler, str) and self.scheduler != self.config.compute.scheduler:
             problem = scheduler_problem(self.scheduler)
             if problem:  # the argument's, told as such when alone (not as the config's, as `out` below)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import io
 import math
-from collections.abc import Collection
+from collections.abc import Callable, Collection
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, ClassVar
@@ -27,10 +27,9 @@ from jointwear.study.stage_result import StageResult, save_figure
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from jointwear.design.results import DesignResult
-
 __all__ = ["StageResult", "SimulationSummary", "WearSummary", "ReliabilityCurve", "SensitivityResult",
-           "ValidationResult", "StudyResults", "STAGE_TYPES", "load_results", "results_of_a_study", "NO_STUDY_RESULTS"]
+           "ValidationResult", "StudyResults", "STAGE_TYPES", "LATER_STAGE_TYPES", "stage_types", "load_results",
+           "results_of_a_study", "NO_STUDY_RESULTS"]
 
 
 # --------------------------------------------------------------------------------------------------- simulate
@@ -591,7 +590,7 @@ class StudyResults:
     reliability: ReliabilityCurve | None = None
     sensitivity: SensitivityResult | None = None
     validation: ValidationResult | None = None
-    design: DesignResult | None = None
+    design: StageResult | None = None  # the design stage's DesignResult
     wear_convergence: WearConvergence | None = None
     errors: dict[str, str] = field(default_factory=dict)
 
@@ -620,6 +619,15 @@ STAGE_TYPES: dict[str, type] = {"simulate": SimulationSummary, "wear": WearSumma
                                 "wear_convergence": WearConvergence, "reliability": ReliabilityCurve,
                                 "sensitivity": SensitivityResult, "validation": ValidationResult}
 
+#: the result types of the stages built on the study (the design stage), each by a function that imports it: filled
+#: by the layer above both (:mod:`jointwear.study.facade`), so that reading a folder imports none of their packages
+LATER_STAGE_TYPES: dict[str, Callable[[], type[StageResult]]] = {}
+
+
+def stage_types() -> dict[str, type[StageResult]]:
+    """Every stage's result type by stage name, in the study's order: ``STAGE_TYPES``, then the later stages'."""
+    return {**STAGE_TYPES, **{stage: result_type() for stage, result_type in LATER_STAGE_TYPES.items()}}
+
 
 def load_results(folder: Path | str) -> StudyResults:
     """Read the typed results of a study back from its output folder.
@@ -642,12 +650,11 @@ def load_results(folder: Path | str) -> StudyResults:
         the folder above a study's, would otherwise read as a study with no results); the message names the
         subfolders that hold studies.
     """
-    from jointwear.design.results import DesignResult  # the design stage builds on the study: imported on use
-
     folder = Path(folder)
     if not folder.is_dir():
         raise FileNotFoundError(f"no study folder '{folder}'")
-    files = ("config.json", *(cls.FILE for cls in (*STAGE_TYPES.values(), DesignResult)))
+    types = stage_types()
+    files = ("config.json", *(cls.FILE for cls in types.values()))
     if not any((folder / name).is_file() for name in files):
         inside = sorted(p.name for p in folder.iterdir() if p.is_dir() and any((p / f).is_file() for f in files))
         raise FileNotFoundError(
@@ -661,7 +668,7 @@ def load_results(folder: Path | str) -> StudyResults:
             out.config = read_json(cfg)
         except (OSError, ValueError) as exc:
             out.errors["config"] = f"config.json could not be read: {exc}"
-    for stage, cls in (*STAGE_TYPES.items(), ("design", DesignResult)):
+    for stage, cls in types.items():
         path = folder / cls.FILE
         if not path.is_file():
             continue

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from jointwear.study.model_call import WearModelCall
+from jointwear.study.results import stage_types
 from jointwear.study.stage_result import same_value
 
 __all__ = ["DEPENDS_ON", "SUPERSEDED", "changed_settings", "move_aside", "result_files", "section", "stale_stages"]
@@ -90,13 +91,6 @@ def changed_settings(folder: Path, settings: list[dict]) -> list[str] | None:
             if not same_value(now.get(name), before.get(name), rtol=1e-12)]
 
 
-def _result_type(stage: str) -> type:
-    from jointwear.design.results import DesignResult  # the design stage builds on the study: imported on use
-    from jointwear.study.results import STAGE_TYPES
-
-    return DesignResult if stage == "design" else STAGE_TYPES[stage]
-
-
 def stale_stages(folder: Path, changed: list[str]) -> list[str]:
     """The stages with a result in ``folder`` that depend on a setting in ``changed``, in the order of the study."""
     def reads(stage: str, name: str) -> bool:
@@ -105,14 +99,15 @@ def stale_stages(folder: Path, changed: list[str]) -> list[str]:
         return (section(name) in DEPENDS_ON[stage] and not shown_only
                 and not (ignored is not None and ignored.search(name)))
 
+    types = stage_types()
     return [stage for stage in DEPENDS_ON
-            if any(reads(stage, name) for name in changed) and (Path(folder) / _result_type(stage).FILE).is_file()]
+            if any(reads(stage, name) for name in changed) and (Path(folder) / types[stage].FILE).is_file()]
 
 
 def result_files(folder: Path, stage: str) -> list[Path]:
     """The files of ``stage``'s result in ``folder``: its JSON, its tables, its figures and series."""
     folder = Path(folder)
-    cls = _result_type(stage)
+    cls = stage_types()[stage]
     names = {cls.FILE}
     result = cls.load_if_present(folder)
     if result is not None:
