@@ -307,3 +307,28 @@ def test_no_choice_writes_its_reason_and_the_nearest_candidate_to_design_json(tm
     back = load_results(tmp_path).design
     assert back.no_choice_reason == "unreached" and back.nearest == data["nearest"]
     assert back.to_json()["nearest"] == data["nearest"]  # and written back as read
+
+
+@pytest.mark.parametrize("verdicts, overall", [(["meets", "meets"], "meets"),
+                                               (["meets", "within_error"], "within_error"),
+                                               (["within_error", "misses"], "misses")])
+def test_a_verification_at_every_target_is_told_with_its_worst_verdict(verdicts, overall):
+    """With several targets the headline choice's own verification checks the first only; its verification at every
+    target is one record whose verdict is the worst of the targets', and the sentence gives each target's."""
+    from jointwear.design.search import every_target_verification
+
+    per = [{"reliability_at_target_life": 0.95 - 0.01 * k, "error": 0.004, "verdict": v, "model_calls": 30,
+            "new_model_calls": 12, "run_now": 12, "n_mc": 10_000, "converged": True, "failed_calls": 0,
+            "surrogate_fit": {}} for k, v in enumerate(verdicts)]
+    checked = every_target_verification(per)
+    assert checked["verdict"] == overall and checked["confirmed"] == (overall != "misses")
+    assert checked["verdicts"] == verdicts and checked["new_model_calls"] == 12
+    res = _result({"verdict": "meets"})
+    res.targets = [{"target_reliability": 0.9}, {"target_reliability": 0.95}]
+    res.chosen_every_target = {"choices": {"fit": "H7/g6"}, "cost": 1.0, "reliability_at_target_life": [0.95, 0.96],
+                               "reliability_error": [0.01, 0.01], "verification": checked}
+    assert res.every_target_sentence() == ""  # the headline choice meets every target on the surrogate
+    sentence = res.every_target_check_sentence()
+    assert "0.9500 +- 0.0040 (" + verdicts[0] + "), 0.9400 +- 0.0040 (" + verdicts[1] + ")" in sentence
+    assert sentence.endswith({"meets": "meets every target", "within_error": "not proven at every target",
+                              "misses": "refuted: misses a target"}[overall])

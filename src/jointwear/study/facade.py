@@ -1051,6 +1051,9 @@ class Study:
         (self.echo if result.verdict() in ("meets", "within_error") else self.warn)(f"design: {sentence}")
         if every := result.every_target_sentence():
             self.warn(f"design: the headline choice does not meet every target; {every}")
+        if check := result.every_target_check_sentence():
+            met = result.chosen_every_target["verification"]["verdict"] == "meets"
+            (self.echo if met else self.warn)(f"design: {check}")
         self._warn_design_trust(chosen)
         for sentence in (result.undecided_sentence(), result.target_outside_curve_sentence()):
             if sentence:
