@@ -6,6 +6,8 @@ import math
 import re
 import time
 from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
@@ -19,6 +21,9 @@ from jointwear.study.reliability import (
     population,
 )
 from jointwear.study.results import ReliabilityCurve, SensitivityResult
+
+if TYPE_CHECKING:  # jointwear.sensitivity is imported on use (it loads SALib)
+    from jointwear.sensitivity import MeanShiftResult, ReliabilityDerivatives
 
 #: population points of the posterior spread of each shifted reliability: one Cholesky factor of m x m per shifted
 #: population (m = 3000, the curve's, took ~1 s each). Fewer points add each point's own variance over m to the
@@ -203,65 +208,127 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
     central differences with common random numbers on the surrogate for the others (``derivatives.FD_STEP``
     sigma); ``slope_contradicts_shifts`` marks a local slope against a consistent mean-shift trend.
     """
-    from jointwear.sensitivity import (
-        fill_by_finite_differences,
-        mean_scores,
-        mean_shift_table,
-        perturbed_column,
-        reliability_derivatives,
-        sobol_indices,
-        unresolved_pairs,
-    )
-
     t0 = time.perf_counter()
-    sens = ctx.config.sensitivity
-    rel = ctx.config.reliability
-    sens_cycles = sensitivity_level(ctx, reliability)
-    col = ctx.cycles.index(sens_cycles)
-    engine = reliability.engine
-    n_pop = min(max(engine.n_mc, 100_000), 400_000)
-    pop = ctx.sample(n_pop, rel.seed + 2)
+    level = read_level(ctx, reliability)
+    shifts = mean_shifts(level, reliability)
+    by_joint = sobol_by_joint(ctx, reliability, level.cycles)
+    slopes = reliability_slopes(level)
+    return sensitivity_result(level, shifts, by_joint, slopes, wall_seconds=time.perf_counter() - t0)
 
-    iso = ctx.iso()
 
-    def log_life_margin(u):
+@dataclass(eq=False)
+class LevelReading:
+    """The nominal population at the sensitivity's cycle count read on the reliability study's life surrogate: what
+    the mean shifts and the derivatives start from, and how they read a population of their own."""
+
+    ctx: StudyContext
+    engine: Any
+    cycles: int
+    col: int  # the level's index on the curve
+    log_level: float  # ln of the level, the threshold of the life surrogate's margin
+    pop: np.ndarray  # the nominal population (physical)
+    u_pop: np.ndarray  # its standard-normal points
+    iso: Any
+    scatter: float  # the life's call-to-call scatter, in ln
+    n_posterior: int
+    margin: np.ndarray = field(init=False)  # ln N_f - ln N_s on the nominal population, and its Kriging sd
+    margin_sd: np.ndarray = field(init=False)
+    fail_nominal: np.ndarray = field(init=False)
+    r_nominal: float = field(init=False)
+    r_nominal_error: float = field(init=False)
+    col_lo: np.ndarray = field(init=False)  # each column's range over the population
+    col_hi: np.ndarray = field(init=False)
+
+    def __post_init__(self) -> None:
+        """The nominal population's margins, failure probabilities and reliability, with its error."""
+        self.margin, self.margin_sd = self.log_life_margin(self.u_pop)
+        self.fail_nominal = self.failure_at_level(self.u_pop, self.margin)
+        self.r_nominal = float(1.0 - self.fail_nominal.mean())
+        self.r_nominal_error = max(esc_absolute_error(self.margin, self.margin_sd), self.posterior_error(self.u_pop))
+        self.col_lo, self.col_hi = self.pop.min(axis=0), self.pop.max(axis=0)
+
+    @property
+    def n_pop(self) -> int:
+        """The size of the nominal population."""
+        return self.pop.shape[0]
+
+    def log_life_margin(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """ln N_f - ln N_s at the standard-normal points u from the learned life surrogate (failure where < 0) and
         its Kriging standard deviation."""
-        mu, var = engine.surrogates[col].predict(u)
+        mu, var = self.engine.surrogates[self.col].predict(u)
         return mu, np.sqrt(np.maximum(var, 0.0))
 
-    scatter = life_scatter_sd(ctx, engine)
-    log_levels = ctx.log_levels()
-
-    def failure_at_level(u, margin, log_shift=0.0):
+    def failure_at_level(self, u: np.ndarray, margin: np.ndarray, log_shift: float = 0.0) -> np.ndarray:
         """Each row's probability of failure at N_s with its life divided by exp(log_shift), the life's scatter
         integrated as R(N) integrates it: each judged joint's own in a per-joint study, else ``failure_probability``
         of the margin."""
-        if ctx.per_joint and scatter > 0:  # the engine's own rule (each joint's scatter), not the one margin's
-            return engine.failure_probabilities(u, scatter, [log_levels[col] + log_shift])[:, 0]
-        return failure_probability(margin - log_shift, scatter)
+        if self.ctx.per_joint and self.scatter > 0:  # the engine's own rule (each joint's scatter), not the margin's
+            return self.engine.failure_probabilities(u, self.scatter, [self.log_level + log_shift])[:, 0]
+        return failure_probability(margin - log_shift, self.scatter)
 
-    n_posterior = min(SHIFT_POSTERIOR_POINTS, n_pop)
-
-    def posterior_error(u, log_shift=0.0, point_shifts=None) -> float:
+    def posterior_error(self, u: np.ndarray, log_shift: float = 0.0, point_shifts=None) -> float:
         """1.96 x the standard deviation of R at N_s over the Kriging's posterior, on the first rows of ``u``, each
         life divided by exp(log_shift + its point_shifts): the surrogate's error that ESC's count of misclassified
         points misses where the life's scatter is integrated (its errors, correlated between the points, move R as
         a whole), as the curve's error counts it (``surrogate_pf_error``)."""
-        shifts = None if point_shifts is None else np.asarray(point_shifts)[:n_posterior]
-        sd = engine.posterior_pf_sd(u[:n_posterior], scatter, POSTERIOR_DRAWS, seed=rel.seed + 23,
-                                    thresholds=[log_levels[col] + log_shift], point_shifts=shifts)
+        shifts = None if point_shifts is None else np.asarray(point_shifts)[:self.n_posterior]
+        sd = self.engine.posterior_pf_sd(u[:self.n_posterior], self.scatter, POSTERIOR_DRAWS,
+                                         seed=self.ctx.config.reliability.seed + 23,
+                                         thresholds=[self.log_level + log_shift], point_shifts=shifts)
         return float(Z95 * sd[0])
 
-    u_pop = iso.to_u(pop)
-    margin_nominal_pop, margin_sd_nominal_pop = log_life_margin(u_pop)
-    fail_nominal = failure_at_level(u_pop, margin_nominal_pop)
-    r_nominal = float(1.0 - fail_nominal.mean())
-    r_nominal_error = max(esc_absolute_error(margin_nominal_pop, margin_sd_nominal_pop), posterior_error(u_pop))
+    def moved_u(self, x_shifted: np.ndarray, i: int) -> np.ndarray:
+        """The points of a population that differs from the first rows of ``pop`` in column i only (a value beyond
+        the population's own range of that column is read at its end)."""
+        column = np.clip(x_shifted[:, i], self.col_lo[i], self.col_hi[i])
+        if self.ctx.copula is None:
+            u = self.u_pop[:len(column)].copy()
+            u[:, i] = self.iso.normal_score(i, column)
+            return u
+        moved = self.pop[:len(column)].copy()
+        moved[:, i] = column
+        return self.iso.to_u(moved)
 
+    def failure_of(self, x_shifted: np.ndarray, i: int) -> np.ndarray:
+        """Each row's probability of failure at N_s, for a population that differs from ``pop`` in column i only."""
+        u = self.moved_u(x_shifted, i)
+        return self.failure_at_level(u, self.log_life_margin(u)[0])
+
+
+def read_level(ctx: StudyContext, reliability: ReliabilityCurve) -> LevelReading:
+    """The nominal population at the sensitivity's cycle count and the reliability there on the learned surrogate."""
+    rel = ctx.config.reliability
+    cycles = sensitivity_level(ctx, reliability)
+    col = ctx.cycles.index(cycles)
+    engine = reliability.engine
+    n_pop = min(max(engine.n_mc, 100_000), 400_000)
+    pop = ctx.sample(n_pop, rel.seed + 2)
+    iso = ctx.iso()
+    scatter = life_scatter_sd(ctx, engine)
+    log_level = ctx.log_levels()[col]
+    return LevelReading(ctx, engine, cycles, col, log_level, pop, iso.to_u(pop), iso, scatter,
+                        n_posterior=min(SHIFT_POSTERIOR_POINTS, n_pop))
+
+
+@dataclass
+class MeanShifts:
+    """The reliability at each mean x factor, the rule that read each shift, the Archard checks made, and the
+    true-model calls beyond the study's design that the shifts needed."""
+
+    table: MeanShiftResult
+    rules: list[dict]
+    archard_checks: list[dict]
+    extra_model_calls: int
+
+
+def mean_shifts(level: LevelReading, reliability: ReliabilityCurve) -> MeanShifts:
+    """Each variable's mean moved to each ``sensitivity.factors`` in turn, read by the rule its shift falls under."""
+    from jointwear.sensitivity import mean_shift_table
+
+    ctx, sens = level.ctx, level.ctx.config.sensitivity
     n_model = len(ctx.targets)
     means = np.array([m.mean() for m in ctx.marginals[:n_model]])
-    hist_col = ctx.history_cycles.index(sens_cycles)
+    hist_col = ctx.history_cycles.index(level.cycles)
     # the points this stage needs beyond the study's design, counted whether they are run now or read back, so the
     # result is the same computed twice
     design = {np.asarray(x[:n_model], dtype=float).tobytes() for x in np.atleast_2d(reliability.design_x)}
@@ -281,153 +348,217 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
     exponents = [archard_exponent(ctx, i) for i in range(len(ctx.names))]
 
     def reliability_of(marginals):
+        """R and the new true-model calls with at most one marginal shifted (``mean_shift_table``'s callback)."""
         changed = [i for i, (a, b) in enumerate(zip(marginals, ctx.marginals)) if a is not b]
         if not changed:
-            return r_nominal, 0
+            return level.r_nominal, 0
         i = changed[0]
-        factor = marginals[i].mean() / ctx.marginals[i].mean()
         shifted = physical_marginal(ctx, i, marginals[i])
-        shift = shifted.mean() - ctx.marginals[i].mean()
-        sigma = ctx.marginals[i].std()
-        if abs(shift) <= sens.surrogate_shift_limit * sigma:
-            if ctx.copula is None:  # independent inputs: one column drawn anew, and mapped alone
-                shifted_u = u_pop.copy()
-                shifted_u[:, i] = iso.normal_score(i, population([shifted], n_pop, rel.seed + 3 + i)[:, 0])
-            else:  # dependent inputs: move the column by quantile so the copula is kept
-                shifted_pop = pop.copy()
-                q = np.clip(ctx.marginals[i].cdf(pop[:, i]), 1e-15, 1 - 1e-15)
-                shifted_pop[:, i] = shifted.ppf(q)
-                shifted_u = iso.to_u(shifted_pop)
-            mu, sd = log_life_margin(shifted_u)
-            r = float(1.0 - failure_at_level(shifted_u, mu).mean())
-            error = max(esc_absolute_error(mu, sd), posterior_error(shifted_u))
-            if exponents[i] is not None:
-                check = archard_check(ctx, i, shifted, exponents[i], pop, margin_nominal_pop, margin_sd_nominal_pop,
-                                      factor, r, error, sens_cycles, (min(ctx.cycles), max(ctx.cycles)),
-                                      scatter_sd=scatter,
-                                      posterior_error=lambda shifts: posterior_error(u_pop, point_shifts=shifts))
+        if abs(shifted.mean() - ctx.marginals[i].mean()) <= sens.surrogate_shift_limit * ctx.marginals[i].std():
+            rule, check = surrogate_shift(level, i, marginals[i], shifted, exponents[i])
+            if check is not None:
                 archard_checks.append(check)
-                if check["consistent"] is not None:
-                    # the judged body's k or H: Archard's exact scaling of the nominal population, where the
-                    # surrogate was learned (its direct reading on the shifted population is the check)
-                    rules.append({"variable": ctx.names[i], "factor": factor, "rule": "archard_scaling",
-                                  "reliability": check["reliability_archard"],
-                                  "error_estimate": check["error_archard"], "reliability_surrogate": r})
-                    return check["reliability_archard"], 0
-            rules.append({"variable": ctx.names[i], "factor": factor, "rule": "surrogate", "reliability": r,
-                          "error_estimate": error})
-            return r, 0
+            rules.append(rule)
+            return rule["reliability"], 0
         before = ctx.n_evaluated
-        base_wear = true_wear(means)
-        x_s = means.copy()
-        x_s[i] = marginals[i].mean()
-        shifted_wear = true_wear(x_s)
-        # the shift as configured, without the ratio's rounding noise (0.8000000000000002)
-        entry = {"variable": ctx.names[i], "factor": round(marginals[i].mean() / ctx.marginals[i].mean(), 12),
-                 "rule": "separable_scaling"}
-        if not math.isfinite(shifted_wear):
-            entry.update(reliability=0.0, reason="the shifted mechanism could not run (counted as failure): "
-                                                 + failure_reason(ctx, x_s))
-            rules.append(entry)
-            return 0.0, ctx.n_evaluated - before
-        rho = shifted_wear / base_wear
-        # wear x rho <=> life / rho (the wear grows linearly in N): failure where ln N_f - ln rho < ln N_s
-        mu = margin_nominal_pop - math.log(rho)
-        r = float(1.0 - failure_at_level(u_pop, margin_nominal_pop, math.log(rho)).mean())
-        surrogate = max(esc_absolute_error(mu, margin_sd_nominal_pop), posterior_error(u_pop, math.log(rho)))
-        # rho's own error: each of its two calls scatters by the life's call-to-call scatter in ln (a chaotic
-        # model), so ln rho by sqrt(2) of it; R read at ln rho -+ 1.96 of that gives its 95 % half-width
-        rho_sd = math.sqrt(2.0) * scatter
-        ratio = 0.0
-        if rho_sd > 0:
-            ends = [float(1.0 - failure_at_level(u_pop, margin_nominal_pop, math.log(rho) + d).mean())
-                    for d in (-Z95 * rho_sd, Z95 * rho_sd)]
-            ratio = abs(ends[1] - ends[0]) / 2.0
-        entry.update(reliability=r, wear_ratio=rho, wear_ratio_sd_log=rho_sd, error_surrogate=surrogate,
-                     error_wear_ratio=ratio, error_estimate=math.hypot(surrogate, ratio))
-        rules.append(entry)
-        return r, ctx.n_evaluated - before
+        rule = separable_shift(level, i, marginals[i], means, true_wear)
+        rules.append(rule)
+        return rule["reliability"], ctx.n_evaluated - before
 
     table = mean_shift_table(reliability_of, ctx.marginals, ctx.names, ctx.labels, factors=tuple(sens.factors),
-                             reliability_nominal=r_nominal)
+                             reliability_nominal=level.r_nominal)
+    return MeanShifts(table, rules, archard_checks, len(asked - design))
+
+
+def surrogate_shift(level: LevelReading, i: int, marginal, shifted, exponent: int | None) -> tuple[dict, dict | None]:
+    """A shift inside the surrogate's learned region: its reading of the shifted population, or for the judged body's
+    k or H Archard's exact scaling with that reading as its check; the rule applied and the check (None if none)."""
+    ctx, rel = level.ctx, level.ctx.config.reliability
+    factor = marginal.mean() / ctx.marginals[i].mean()
+    if ctx.copula is None:  # independent inputs: one column drawn anew, and mapped alone
+        shifted_u = level.u_pop.copy()
+        shifted_u[:, i] = level.iso.normal_score(i, population([shifted], level.n_pop, rel.seed + 3 + i)[:, 0])
+    else:  # dependent inputs: move the column by quantile so the copula is kept
+        shifted_pop = level.pop.copy()
+        q = np.clip(ctx.marginals[i].cdf(level.pop[:, i]), 1e-15, 1 - 1e-15)
+        shifted_pop[:, i] = shifted.ppf(q)
+        shifted_u = level.iso.to_u(shifted_pop)
+    mu, sd = level.log_life_margin(shifted_u)
+    r = float(1.0 - level.failure_at_level(shifted_u, mu).mean())
+    error = max(esc_absolute_error(mu, sd), level.posterior_error(shifted_u))
+    check = None
+    if exponent is not None:
+        check = archard_check(ctx, i, shifted, exponent, level.pop, level.margin, level.margin_sd, factor, r, error,
+                              level.cycles, (min(ctx.cycles), max(ctx.cycles)), scatter_sd=level.scatter,
+                              posterior_error=lambda shifts: level.posterior_error(level.u_pop, point_shifts=shifts))
+        if check["consistent"] is not None:
+            # the judged body's k or H: Archard's exact scaling of the nominal population, where the surrogate was
+            # learned (its direct reading on the shifted population is the check)
+            return {"variable": ctx.names[i], "factor": factor, "rule": "archard_scaling",
+                    "reliability": check["reliability_archard"], "error_estimate": check["error_archard"],
+                    "reliability_surrogate": r}, check
+    return {"variable": ctx.names[i], "factor": factor, "rule": "surrogate", "reliability": r,
+            "error_estimate": error}, check
+
+
+def separable_shift(level: LevelReading, i: int, marginal, means: np.ndarray,
+                    true_wear: Callable[[np.ndarray], float]) -> dict:
+    """A shift beyond the surrogate's region, by the separable scaling rule: the ratio rho of the wear at the shifted
+    and at the nominal means (two true-model calls) moves the nominal population's lives; the rule applied."""
+    ctx = level.ctx
+    base_wear = true_wear(means)
+    x_s = means.copy()
+    x_s[i] = marginal.mean()
+    shifted_wear = true_wear(x_s)
+    # the shift as configured, without the ratio's rounding noise (0.8000000000000002)
+    entry = {"variable": ctx.names[i], "factor": round(marginal.mean() / ctx.marginals[i].mean(), 12),
+             "rule": "separable_scaling"}
+    if not math.isfinite(shifted_wear):
+        entry.update(reliability=0.0, reason="the shifted mechanism could not run (counted as failure): "
+                                             + failure_reason(ctx, x_s))
+        return entry
+    rho = shifted_wear / base_wear
+    # wear x rho <=> life / rho (the wear grows linearly in N): failure where ln N_f - ln rho < ln N_s
+    mu = level.margin - math.log(rho)
+    r = float(1.0 - level.failure_at_level(level.u_pop, level.margin, math.log(rho)).mean())
+    surrogate = max(esc_absolute_error(mu, level.margin_sd), level.posterior_error(level.u_pop, math.log(rho)))
+    # rho's own error: each of its two calls scatters by the life's call-to-call scatter in ln (a chaotic
+    # model), so ln rho by sqrt(2) of it; R read at ln rho -+ 1.96 of that gives its 95 % half-width
+    rho_sd = math.sqrt(2.0) * level.scatter
+    ratio = 0.0
+    if rho_sd > 0:
+        ends = [float(1.0 - level.failure_at_level(level.u_pop, level.margin, math.log(rho) + d).mean())
+                for d in (-Z95 * rho_sd, Z95 * rho_sd)]
+        ratio = abs(ends[1] - ends[0]) / 2.0
+    entry.update(reliability=r, wear_ratio=rho, wear_ratio_sd_log=rho_sd, error_surrogate=surrogate,
+                 error_wear_ratio=ratio, error_estimate=math.hypot(surrogate, ratio))
+    return entry
+
+
+def sobol_by_joint(ctx: StudyContext, reliability: ReliabilityCurve, cycles: int) -> dict[str, dict]:
+    """Sobol' indices of each judged joint's wear at ``cycles`` on a wear surrogate of the study's design, with the
+    share of its variance that the model's call-to-call scatter makes."""
+    from jointwear.sensitivity import sobol_indices
+
+    rel, sens = ctx.config.reliability, ctx.config.sensitivity
     by_joint = {}
     independent = population(ctx.marginals, SCATTER_SHARE_SAMPLES, rel.seed)  # drawn independently, as the indices'
     for j, joint in enumerate(ctx.limit_state.names):
-        wear_model = WearSurrogates(ctx, np.asarray(reliability.design_x), [sens_cycles], seed=rel.seed, joint=j)
+        wear_model = WearSurrogates(ctx, np.asarray(reliability.design_x), [cycles], seed=rel.seed, joint=j)
         indices = sobol_indices(lambda x, m=wear_model: m.predict(x)[:, 0] * 1e3, ctx.marginals,
                                 ctx.names, n_base=sens.sobol_base_samples, seed=rel.seed)
         by_joint[joint] = {**indices.as_dict(), "joint": joint,
-                           "output": f"{ctx.limit_state.label} of joint {joint} at {sens_cycles:,} cycles",
+                           "output": f"{ctx.limit_state.label} of joint {joint} at {cycles:,} cycles",
                            "scatter_share": wear_model.scatter_share(independent)}
-    sobol = next(iter(by_joint.values()))  # the headline indices: the first judged joint's
+    return by_joint
+
+
+class Slopes(NamedTuple):
+    """The reliability derivatives and the 95 % error of each dR/dmu."""
+
+    derivatives: ReliabilityDerivatives
+    posterior_sd: np.ndarray  # the surrogate's own standard deviation of each dPf/dmu
+    error: np.ndarray  # 95 %: the Monte Carlo error and the surrogate's own, in quadrature
+
+
+def reliability_slopes(level: LevelReading) -> Slopes:
+    """The derivatives of R by each mean and standard deviation on the nominal population, with their errors."""
+    from jointwear.sensitivity import (
+        fill_by_finite_differences,
+        reliability_derivatives,
+    )
+
+    ctx = level.ctx
     # normal marginals: the score (exact, with the copula's C^-1); the others: central differences with common random
     # numbers on this population's failure probability, the perturbed column read on the surrogate as fail_nominal
     # is (a value beyond the population's own range of that column is read at its end: the surrogate knows the
     # model only through the marginal's normal score, which has no value beyond a bounded support)
-    deriv = reliability_derivatives(pop, fail_nominal, ctx.marginals, ctx.names, correlation=ctx.copula)
-    col_lo, col_hi = pop.min(axis=0), pop.max(axis=0)
+    deriv = reliability_derivatives(level.pop, level.fail_nominal, ctx.marginals, ctx.names, correlation=ctx.copula)
+    deriv = fill_by_finite_differences(deriv, level.pop, level.failure_of, ctx.marginals)
+    slope_sd = posterior_slope_sd(level, deriv)
+    return Slopes(deriv, slope_sd, Z95 * np.hypot(deriv.dpf_dmean_se, np.nan_to_num(slope_sd)))
 
-    def moved_u(x_shifted: np.ndarray, i: int) -> np.ndarray:
-        """The points of a population that differs from the first rows of ``pop`` in column i only."""
-        column = np.clip(x_shifted[:, i], col_lo[i], col_hi[i])
-        if ctx.copula is None:
-            u = u_pop[:len(column)].copy()
-            u[:, i] = iso.normal_score(i, column)
-            return u
-        moved = pop[:len(column)].copy()
-        moved[:, i] = column
-        return iso.to_u(moved)
 
-    def failure_of(x_shifted: np.ndarray, i: int) -> np.ndarray:
-        u = moved_u(x_shifted, i)
-        return failure_at_level(u, log_life_margin(u)[0])
+def posterior_slope_sd(level: LevelReading, deriv: ReliabilityDerivatives) -> np.ndarray:
+    """The standard deviation of each dPf/dmu over the Kriging's posterior, on the first rows of the population
+    (the same estimator per posterior draw: the score's weights, or the central difference's two shifted
+    populations): the surrogate's own error of the slope, which the Monte Carlo standard error leaves out (a
+    trend the surrogate only guesses along a variable of no effect read as a resolved slope)."""
+    from jointwear.sensitivity import mean_scores, perturbed_column
 
-    deriv = fill_by_finite_differences(deriv, pop, failure_of, ctx.marginals)
+    ctx, engine, pop, seed = level.ctx, level.engine, level.pop, level.ctx.config.reliability.seed
+    m = level.n_posterior
+    out = np.full(len(ctx.names), np.nan)
+    weights = mean_scores(pop[:m], ctx.marginals, ctx.copula)
+    score = [k for k, how in enumerate(deriv.method) if how == "score"]
+    if score:
+        p = engine.posterior_failure_draws(level.u_pop[:m], level.log_level, level.scatter, POSTERIOR_DRAWS,
+                                           seed=seed + 23)
+        out[score] = (weights[:, score].T @ p / m).std(axis=1, ddof=1)
+    for k, how in enumerate(deriv.method):
+        if how == "finite_difference":
+            h = deriv.fd_step_sigma * ctx.marginals[k].std()
+            ends = []
+            for sign in (1.0, -1.0):
+                x_end = pop[:m].copy()
+                x_end[:, k] = perturbed_column(ctx.marginals[k], pop[:m, k], "mean", sign * h)
+                ends.append(level.moved_u(x_end, k))
+            p = engine.posterior_failure_draws(np.vstack(ends), level.log_level, level.scatter, POSTERIOR_DRAWS,
+                                               seed=seed + 29)
+            out[k] = ((p[:m] - p[m:]).mean(axis=0) / (2.0 * h)).std(ddof=1)
+    return out
 
-    def posterior_slope_sd() -> np.ndarray:
-        """The standard deviation of each dPf/dmu over the Kriging's posterior, on the first rows of the population
-        (the same estimator per posterior draw: the score's weights, or the central difference's two shifted
-        populations): the surrogate's own error of the slope, which the Monte Carlo standard error leaves out (a
-        trend the surrogate only guesses along a variable of no effect read as a resolved slope)."""
-        m, level = n_posterior, log_levels[col]
-        out = np.full(len(ctx.names), np.nan)
-        weights = mean_scores(pop[:m], ctx.marginals, ctx.copula)
-        score = [k for k, how in enumerate(deriv.method) if how == "score"]
-        if score:
-            p = engine.posterior_failure_draws(u_pop[:m], level, scatter, POSTERIOR_DRAWS, seed=rel.seed + 23)
-            out[score] = (weights[:, score].T @ p / m).std(axis=1, ddof=1)
-        for k, how in enumerate(deriv.method):
-            if how == "finite_difference":
-                h = deriv.fd_step_sigma * ctx.marginals[k].std()
-                ends = []
-                for sign in (1.0, -1.0):
-                    x_end = pop[:m].copy()
-                    x_end[:, k] = perturbed_column(ctx.marginals[k], pop[:m, k], "mean", sign * h)
-                    ends.append(moved_u(x_end, k))
-                p = engine.posterior_failure_draws(np.vstack(ends), level, scatter, POSTERIOR_DRAWS,
-                                                   seed=rel.seed + 29)
-                out[k] = ((p[:m] - p[m:]).mean(axis=0) / (2.0 * h)).std(ddof=1)
-        return out
 
-    slope_sd = posterior_slope_sd()
-    slope_error = Z95 * np.hypot(deriv.dpf_dmean_se, np.nan_to_num(slope_sd))
+def sensitivity_result(level: LevelReading, shifts: MeanShifts, by_joint: dict[str, dict], slopes: Slopes,
+                       wall_seconds: float) -> SensitivityResult:
+    """The stage's result: one row per variable, the rankings (by group too) and the pairs they do not separate."""
+    from jointwear.sensitivity import unresolved_pairs
+
+    ctx, sens, table = level.ctx, level.ctx.config.sensitivity, shifts.table
     groups = {}
     specs = ctx.config.uncertainty.all_specs()
     for spec in specs:
         groups.setdefault(spec.group, []).append(spec.name)
     ranking = table.ranking()
     ranking_by_group = {g: [n for n in ranking if n in members] for g, members in groups.items()}
-    # error estimate of each shifted reliability (0 where the shifted mechanism could not run: R = 0 is exact)
-    shift_error = {(e["variable"], round(e["factor"], 9)): e.get("error_estimate", 0.0) for e in rules}
-    errors_low, errors_high, swing_error = [], [], {}
-    for k, name in enumerate(ctx.names):
-        lo_err = shift_error.get((name, round(sens.factors[0], 9)), 0.0)
-        hi_err = shift_error.get((name, round(sens.factors[1], 9)), 0.0)
-        errors_low.append(lo_err)
-        errors_high.append(hi_err)
-        lo, hi = table.reliability_low[k], table.reliability_high[k]
-        swing_error[name] = lo_err if abs(lo - r_nominal) >= abs(hi - r_nominal) else hi_err
+    errors_low, errors_high = shift_errors(ctx.names, sens.factors, shifts.rules)
+    swing_error = {name: errors_low[k] if abs(table.reliability_low[k] - level.r_nominal)
+                   >= abs(table.reliability_high[k] - level.r_nominal) else errors_high[k]
+                   for k, name in enumerate(ctx.names)}
     unresolved = unresolved_pairs(ranking, dict(zip(ctx.names, table.swings())), swing_error, groups)
+    sobol = next(iter(by_joint.values()))  # the headline indices: the first judged joint's
+    return SensitivityResult(**{
+        "cycles": level.cycles, "factors": list(sens.factors), "reliability_nominal": level.r_nominal,
+        "reliability_nominal_error": level.r_nominal_error,
+        "variables": variable_rows(level, table, (errors_low, errors_high), slopes, sobol),
+        "ranking": ranking, "ranking_by_group": ranking_by_group,
+        "unresolved_pairs": unresolved,
+        "rules": shifts.rules, "archard_checks": shifts.archard_checks,
+        "notes": [] if ctx.copula is None else [
+            "Sobol' indices assume independent inputs: they are computed on the marginals without the copula; the "
+            "mean shifts and the reliability derivatives keep it."],
+        "extra_model_calls": shifts.extra_model_calls,
+        "sobol": {**sobol, **({"by_joint": by_joint} if len(by_joint) > 1 else {})},
+        "derivatives": slopes.derivatives.as_dict(), "n_population": level.n_pop,
+        "wall_seconds": wall_seconds,
+    })
+
+
+def shift_errors(names: list[str], factors, rules: list[dict]) -> tuple[list[float], list[float]]:
+    """The error estimate of each variable's shifted reliability at the low and the high factor (0 where the shifted
+    mechanism could not run: R = 0 is exact)."""
+    shift_error = {(e["variable"], round(e["factor"], 9)): e.get("error_estimate", 0.0) for e in rules}
+    return ([shift_error.get((name, round(factors[0], 9)), 0.0) for name in names],
+            [shift_error.get((name, round(factors[1], 9)), 0.0) for name in names])
+
+
+def variable_rows(level: LevelReading, table: MeanShiftResult, errors: tuple[list[float], list[float]],
+                  slopes: Slopes, sobol: dict) -> list[dict]:
+    """One row per random variable: its shifted reliabilities, derivatives and Sobol' indices."""
+    ctx, factors, r_nominal = level.ctx, level.ctx.config.sensitivity.factors, level.r_nominal
+    deriv, slope_sd, slope_error = slopes
+    errors_low, errors_high = errors
+    specs = ctx.config.uncertainty.all_specs()
     means_all = [m.mean() for m in ctx.marginals]
     variables = []
     for k, name in enumerate(ctx.names):
@@ -444,23 +575,10 @@ def run_sensitivity(ctx: StudyContext, reliability: ReliabilityCurve) -> Sensiti
             "slope_contradicts_shifts": slope_contradicts_shifts(
                 float(-deriv.dpf_dmean[k]), float(slope_error[k]), r_nominal,
                 (table.reliability_low[k], table.reliability_high[k]), (errors_low[k], errors_high[k]),
-                (sens.factors[0] * means_all[k], sens.factors[1] * means_all[k])),
+                (factors[0] * means_all[k], factors[1] * means_all[k])),
             # the elasticity of R, (mu / R) dR/dmu = -(Pf / R) x the Pf elasticity the derivatives hold
             "elasticity_mean": (float(-deriv.elasticity_mean[k] * deriv.pf / (1.0 - deriv.pf))
                                 if 0.0 < deriv.pf < 1.0 else 0.0),
             "S1": float(sobol["S1"][k]), "ST": float(sobol["ST"][k]),
         })
-    return SensitivityResult(**{
-        "cycles": sens_cycles, "factors": list(sens.factors), "reliability_nominal": r_nominal,
-        "reliability_nominal_error": r_nominal_error,
-        "variables": variables, "ranking": ranking, "ranking_by_group": ranking_by_group,
-        "unresolved_pairs": unresolved,
-        "rules": rules, "archard_checks": archard_checks,
-        "notes": [] if ctx.copula is None else [
-            "Sobol' indices assume independent inputs: they are computed on the marginals without the copula; the "
-            "mean shifts and the reliability derivatives keep it."],
-        "extra_model_calls": len(asked - design),
-        "sobol": {**sobol, **({"by_joint": by_joint} if len(by_joint) > 1 else {})},
-        "derivatives": deriv.as_dict(), "n_population": n_pop,
-        "wall_seconds": time.perf_counter() - t0,
-    })
+    return variables
