@@ -340,12 +340,46 @@ class WearSurrogates:
 
 def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> ReliabilityCurve:
     """R(N) over the curve's cycle counts from one shared AK-MCS design (paper Sections 5-6.2)."""
+    rel = ctx.config.reliability
+    t0 = time.perf_counter()
+    engine = learn_life(ctx, progress)
+    curve = estimate_curve(ctx, engine)
+    pop, histograms, mean_max = wear_distributions(ctx, engine, curve.pf)
+    convergence = learning_convergence(ctx, engine)
+    design_x = np.asarray(engine.design_x)
+    design_x_model = ctx.split(design_x)[0]
+    design_wear = ctx.wear(design_x_model)
+    infeasible = infeasible_record(ctx, engine, design_x_model, curve.p_inf)
+    joints = _joint_breakdown(ctx, engine, design_x, pop, curve.life_curve, curve.at_levels, curve.u_posterior,
+                              rel.seed + 19)
+    pf, targets, lives, life_table = curve.pf, rel.targets, curve.lives, curve.life_table
+    return ReliabilityCurve(
+        cycles=curve.cycles, reliability=curve.reliability, pf=pf, pf_cov=curve.pf_cov,
+        below_floor=pf < rel.pf_floor, target=targets[0],
+        pf_error=curve.pf_error, pf_error_esc=curve.pf_error_esc,
+        life_cycles=lives[0], life_hours=life_table[0]["hours"], life_table=life_table, life_curve=curve.life_curve,
+        model_calls=int(engine.n_calls), failed_calls=int(engine.n_failed_calls), n_mc=curve.n_mc,
+        converged=bool(engine.converged), wall_seconds=time.perf_counter() - t0, names=ctx.names, units=ctx.units,
+        histograms=histograms, mean_max_wear_mm=mean_max, convergence=convergence,
+        design_x=design_x, design_wear=design_wear, design_life=ctx.life(design_x),
+        design_joint_lives=dict(zip(ctx.limit_state.names, ctx.joint_lives(design_x).T))
+        if len(ctx.limit_state.names) > 1 else None,
+        design_wear_cycles=np.asarray(ctx.history_cycles, dtype=float),
+        quantity=ctx.limit_state.quantity, joints=joints,
+        # 12 digits: the rpm entered comes back through rad/s as 399.99999999999994
+        crank_speed_rpm=float(f"{crank_speed_rpm(ctx.config):.12g}"),
+        engine=engine, infeasible=infeasible, learning_stop="" if engine.converged else str(engine.message),
+        surrogate_fit=SurrogateFit.of(engine.response_surrogate, archard_trend_hint=archard_trend_unused(ctx)),
+        life_surrogate="per_joint" if ctx.per_joint else "system_life")
+
+
+def learn_life(ctx: StudyContext, progress: Callable | None = None):
+    """The AK-MCS engine that learns the life surrogate on one design shared by every level of the curve."""
     from jointwear.reliability import Evaluation, akmcs_multi
 
     rel = ctx.config.reliability
-    t0 = time.perf_counter()
     g, system = ctx.learnt_response
-    engine = akmcs_multi(
+    return akmcs_multi(
         g, ctx.marginals, levels=ctx.log_levels(), system=system, n_mc=rel.n_mc, n_mc_max=rel.n_mc_max,
         n_initial=rel.n_initial, batch_size=rel.batch_size, u_threshold=rel.u_threshold,
         cov_target=rel.cov_target, pf_floor=rel.pf_floor, max_calls=rel.max_calls, seed=rel.seed, copula=ctx.copula,
@@ -353,6 +387,31 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         error_abs_tol=rel.error_abs_tol, hold_iterations=rel.hold_iterations,
         quantile_pf=[1.0 - t for t in rel.targets], quantile_tol=rel.life_tol or None,
         kriging=kriging_options(ctx.config), keep_population=rel.noise == "none", trend=life_trend(ctx))
+
+
+@dataclass
+class CurveEstimate:
+    """R(N) at the curve's levels and between them, with its errors and the lives read off it."""
+
+    cycles: np.ndarray  # the curve's levels
+    fine: np.ndarray  # the levels and the cycle counts between them
+    at_levels: np.ndarray  # the levels' indices in ``fine``
+    pf: np.ndarray
+    pf_cov: np.ndarray
+    reliability: np.ndarray
+    n_mc: Any
+    p_inf: float  # the probability of a sample that fails at assembly
+    pf_error: np.ndarray
+    pf_error_esc: np.ndarray
+    u_posterior: np.ndarray  # the points of the Kriging's posterior spread
+    life_curve: dict
+    lives: list
+    life_table: list[dict]
+
+
+def estimate_curve(ctx: StudyContext, engine) -> CurveEstimate:
+    """Pf, its COV and the surrogate's error at every level and between them, and the life at each target."""
+    rel = ctx.config.reliability
     cycles = np.asarray(ctx.cycles, dtype=float)
     # the curve is estimated between its levels too (no call), and the life read there: R(N) is curved between
     # levels, and a straight line between them moved the life by more than its interval on a coarse curve
@@ -385,9 +444,15 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
         low, high = life_interval(fine, 1.0 - pf_fine, half_fine, t)
         life_table.append({"target": t, "cycles": n, "hours": None if n is None else cycles_to_hours(n, ctx.config),
                            "status": life_status(reliability, t), "cycles_low": low, "cycles_high": high})
+    return CurveEstimate(cycles, fine, at_levels, pf, pf_cov, reliability, n_mc, p_inf, pf_error, pf_error_esc,
+                         u_posterior, life_curve, lives, life_table)
 
-    # Wear distributions over the random inputs (paper Fig. 20), from the same life model as R(N), so that
-    # P(wear > allowance at N) = 1 - R(N) up to Monte Carlo noise.
+
+def wear_distributions(ctx: StudyContext, engine, pf: np.ndarray) -> tuple[np.ndarray, dict, dict]:
+    """The population they are drawn on, the wear histograms at the histogram levels and the mean wear at every level
+    (paper Fig. 20), from the same life model as R(N), so that P(wear > allowance at N) = 1 - R(N) up to Monte Carlo
+    noise."""
+    rel = ctx.config.reliability
     hist_levels = rel.histogram_levels()
     n_hist = min(engine.n_mc, 100_000)
     pop = ctx.sample(n_hist, rel.seed + 1)
@@ -405,14 +470,21 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
                   "one_minus_reliability": [float(pf[ctx.cycles.index(c)]) for c in hist_levels]}
     mean_max = {"cycles": wear_levels, "mean": (wear_all.mean(axis=0) * 1e3).tolist(),
                 "std": (wear_all.std(axis=0) * 1e3).tolist()}
+    return pop, histograms, mean_max
+
+
+def learning_convergence(ctx: StudyContext, engine) -> dict:
+    """The learning's Pf, COV, error estimate and least U after each step, at the progress level of the curve."""
     hist = engine.history
-    ref = rel.progress_level(ctx.cycles)
-    convergence = {"cycles": ctx.cycles[ref], "n_calls": [h.n_calls for h in hist],
-                   "pf": [_at(h.pf, ref) for h in hist], "cov": [_at(h.cov, ref) for h in hist],
-                   "error_estimate": [_at(h.error, ref) for h in hist], "min_u": [_at(h.min_u, ref) for h in hist]}
-    design_x = np.asarray(engine.design_x)
-    design_x_model = ctx.split(design_x)[0]
-    design_wear = ctx.wear(design_x_model)
+    ref = ctx.config.reliability.progress_level(ctx.cycles)
+    return {"cycles": ctx.cycles[ref], "n_calls": [h.n_calls for h in hist],
+            "pf": [_at(h.pf, ref) for h in hist], "cov": [_at(h.cov, ref) for h in hist],
+            "error_estimate": [_at(h.error, ref) for h in hist], "min_u": [_at(h.min_u, ref) for h in hist]}
+
+
+def infeasible_record(ctx: StudyContext, engine, design_x_model: np.ndarray, p_inf: float) -> dict:
+    """The samples that cannot run: each clearance's share below its minimum, and the design's failed and worn-away
+    calls with the model's reason for each failure."""
     unc = ctx.config.uncertainty
     infeasible = {"clearances": [{"name": c.name, "rule": c.infeasible_rule, "minimum_clearance_m": c.minimum,
                                   "probability_below_minimum": c.infeasible_probability()} for c in unc.clearances()],
@@ -423,25 +495,7 @@ def run_reliability(ctx: StudyContext, *, progress: Callable | None = None) -> R
     # the model's own reason for a call that returned NaN, where the engine only saw the NaN
     infeasible["failure_reasons"] = {str(k): ctx.failure_reason(design_x_model[int(k)]) or v
                                      for k, v in engine.failure_reasons.items()}
-    joints = _joint_breakdown(ctx, engine, design_x, pop, life_curve, at_levels, u_posterior, rel.seed + 19)
-    return ReliabilityCurve(
-        cycles=cycles, reliability=reliability, pf=pf, pf_cov=pf_cov,
-        below_floor=pf < rel.pf_floor, target=targets[0],
-        pf_error=pf_error, pf_error_esc=pf_error_esc,
-        life_cycles=lives[0], life_hours=life_table[0]["hours"], life_table=life_table, life_curve=life_curve,
-        model_calls=int(engine.n_calls), failed_calls=int(engine.n_failed_calls), n_mc=n_mc,
-        converged=bool(engine.converged), wall_seconds=time.perf_counter() - t0, names=ctx.names, units=ctx.units,
-        histograms=histograms, mean_max_wear_mm=mean_max, convergence=convergence,
-        design_x=design_x, design_wear=design_wear, design_life=ctx.life(design_x),
-        design_joint_lives=dict(zip(ctx.limit_state.names, ctx.joint_lives(design_x).T))
-        if len(ctx.limit_state.names) > 1 else None,
-        design_wear_cycles=np.asarray(ctx.history_cycles, dtype=float),
-        quantity=ctx.limit_state.quantity, joints=joints,
-        # 12 digits: the rpm entered comes back through rad/s as 399.99999999999994
-        crank_speed_rpm=float(f"{crank_speed_rpm(ctx.config):.12g}"),
-        engine=engine, infeasible=infeasible, learning_stop="" if engine.converged else str(engine.message),
-        surrogate_fit=SurrogateFit.of(engine.response_surrogate, archard_trend_hint=archard_trend_unused(ctx)),
-        life_surrogate="per_joint" if ctx.per_joint else "system_life")
+    return infeasible
 
 
 def implied_wear(ctx: StudyContext, engine, pop: np.ndarray, cycles) -> np.ndarray:
