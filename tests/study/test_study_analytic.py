@@ -114,6 +114,12 @@ def _small_config():
         "reliability.histogram_cycles": [400_000], "reliability.n_mc": 20_000, "reliability.max_calls": 30})
 
 
+@pytest.fixture(scope="module")
+def small_serial():
+    """The small study run serially, the reference of the parallel, Dask and 'fail' rule runs (deterministic)."""
+    return _analytic_study(_small_config())
+
+
 def test_random_allowance_enters_as_a_variable():
     # Section 5.1: delta_0 ~ N(0.01 D, 0.0005 D). Exact R(N) by brute force with the allowance sampled too.
     cfg = updated(_small_config(), {"reliability.allowance_std": 0.0005 * 3e-3, "reliability.noise": "none", "reliability.error_tol": 0.02, "reliability.error_abs_tol": 0.002})
@@ -128,22 +134,22 @@ def test_random_allowance_enters_as_a_variable():
         assert abs(res.pf[k] - pf_ref[k]) < tol
 
 
-def test_same_result_serially_and_with_two_local_workers():
+def test_same_result_serially_and_with_two_local_workers(small_serial):
     from jointwear.compute import make_executor
 
     cfg = _small_config()
-    _, serial, _ = _analytic_study(cfg)
+    _, serial, _ = small_serial
     with make_executor(workers=2) as ex:
         _, parallel, _ = _analytic_study(cfg, ex)
     assert parallel.model_calls == serial.model_calls
     np.testing.assert_array_equal(parallel.reliability, serial.reliability)  # bit-identical by design
 
 
-def test_same_result_on_a_dask_cluster():
+def test_same_result_on_a_dask_cluster(small_serial):
     from jointwear.compute import make_executor, start_local_cluster
 
     cfg = _small_config()
-    _, serial, _ = _analytic_study(cfg)
+    _, serial, _ = small_serial
     cluster = start_local_cluster(n_workers=2)
     try:
         with make_executor(scheduler=cluster) as ex:
@@ -154,11 +160,12 @@ def test_same_result_on_a_dask_cluster():
     np.testing.assert_array_equal(on_dask.reliability, serial.reliability)
 
 
-def test_fail_rule_adds_the_infeasible_probability():
+def test_fail_rule_adds_the_infeasible_probability(small_serial):
     # 'fail': Pf = P(c <= c_min) + P(c > c_min) Pf(feasible); 'truncate': Pf(feasible). Same learning (the
     # learning always runs on the feasible samples), so the relation holds to rounding.
     cfg = _small_config()
-    _, truncated, _ = _analytic_study(cfg)
+    assert cfg.uncertainty.clearance.infeasible_rule == "truncate"
+    _, truncated, _ = small_serial
     cfg = updated(cfg, {"uncertainty.clearance.infeasible_rule": "fail"})
     _, failing, _ = _analytic_study(cfg)
     p_inf = cfg.uncertainty.clearance.infeasible_probability()
@@ -167,17 +174,24 @@ def test_fail_rule_adds_the_infeasible_probability():
     assert failing.infeasible["probability_failed_at_assembly"] == pytest.approx(p_inf, rel=1e-12)  # 1 - (1 - p)
 
 
-def test_sensitivity_mean_shifts_against_brute_force():
-    # Mean shifts of the analytic wear model at 400k cycles: k_b (a 2-sigma shift, on the surrogate) and the
-    # rod length l2 (hundreds of sigma, separable scaling: the analytic wear does not depend on l2, so its
-    # reliability must stay the nominal one). Exact values by brute-force Monte Carlo.
-    from jointwear.sensitivity import shifted_marginal
+@pytest.fixture(scope="module")
+def small_sensitivity():
+    """The small deterministic study's sensitivity at 400k cycles (mean shifts of 0.8 and 1.2)."""
     from jointwear.study import run_sensitivity
 
     cfg = updated(_small_config(), {"reliability.noise": "none", "reliability.error_tol": 0.02, "reliability.error_abs_tol": 0.002, "sensitivity.cycles": 400_000,
                                     "sensitivity.sobol_base_samples": 256})
     ctx, res, model = _analytic_study(cfg)
-    sens = run_sensitivity(ctx, res)
+    return cfg, ctx, model, run_sensitivity(ctx, res)
+
+
+def test_sensitivity_mean_shifts_against_brute_force(small_sensitivity):
+    # Mean shifts of the analytic wear model at 400k cycles: k_b (a 2-sigma shift, on the surrogate) and the
+    # rod length l2 (hundreds of sigma, separable scaling: the analytic wear does not depend on l2, so its
+    # reliability must stay the nominal one). Exact values by brute-force Monte Carlo.
+    from jointwear.sensitivity import shifted_marginal
+
+    cfg, ctx, model, sens = small_sensitivity
     by_name = {v["name"]: v for v in sens.variables}
     i = ctx.names.index("k_b")
     for factor, key in ((0.8, "reliability_low"), (1.2, "reliability_high")):
@@ -258,15 +272,12 @@ def test_archard_shifts_check_the_surrogate_and_the_clearance_keeps_its_floor():
     assert low.mean() < ctx.marginals[i].mean()
 
 
-def test_archard_check_is_not_made_outside_the_learned_curve():
+def test_archard_check_is_not_made_outside_the_learned_curve(small_sensitivity):
     # +-20 % shifts of k_b and H_b move the Archard reading's limit state to 400k x 1.2^(+-1) and 400k x 0.8^(+-1)
     # (320k to 500k cycles), all outside a 360k-440k curve, where the surrogate was never learned: not checked, and said
-    from jointwear.study import run_sensitivity
-
-    cfg = updated(_small_config(), {"reliability.noise": "none", "sensitivity.cycles": 400_000,
-                                    "sensitivity.sobol_base_samples": 256})
-    ctx, res, _ = _analytic_study(cfg)
-    checks = run_sensitivity(ctx, res).archard_checks
+    cfg, _, _, sens = small_sensitivity
+    assert cfg.sensitivity.factors == (0.8, 1.2) and cfg.reliability.curve_cycles() == [360_000, 400_000, 440_000]
+    checks = sens.archard_checks
     assert len(checks) == 4
     for c in checks:
         assert c["consistent"] is None and "outside the learned curve" in c["note"]
