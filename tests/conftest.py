@@ -13,8 +13,8 @@ def figures_unrendered():
     """For a module whose tests read results and text, not pictures (module fixtures included, if they come after
     it): each figure is still made from the data (one that cannot be made fails or falls back as it would) but not
     rendered to PNG, most of a stage's or a report's figure time; the PNG files hold a 3x2 placeholder. Rendering
-    is tested by tests/report (test_figures, the full report, the browser test), the subprocess studies and every
-    module that does not use this fixture."""
+    is tested by tests/report (test_figures, the full report, the browser test), the example scripts run as a user
+    runs them and every module that does not use this fixture (tests/study/unrendered_cli.py: the CLI unrendered)."""
     from unrendered_figures import unrendered
 
     from jointwear.report import style

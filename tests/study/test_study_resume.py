@@ -1,7 +1,8 @@
 """kill -9 a real reliability study at several points, resume it, and get the uninterrupted result.
 
 Runs the CLI as a subprocess on a reduced version of the default preset (coarse wear blocks, a small
-Monte Carlo population and budget) so that the whole test takes about a minute on 2 cores.
+Monte Carlo population and budget), its figures made but not rendered (tests/study/unrendered_cli.py): these tests
+read results and text.
 """
 
 from __future__ import annotations
@@ -62,9 +63,11 @@ def quick_config(tmp_path_factory) -> Path:
     return path
 
 
+CLI = [sys.executable, str(Path(__file__).with_name("unrendered_cli.py"))]  # `python -m jointwear`, unrendered
+
+
 def _cmd(config: Path, out: Path, *extra: str) -> list[str]:
-    return [sys.executable, "-m", "jointwear", "reliability", str(config), "--out", str(out), "--workers", "2",
-            *extra]
+    return [*CLI, "reliability", str(config), "--out", str(out), "--workers", "2", *extra]
 
 
 def _env() -> dict:
@@ -119,15 +122,14 @@ def test_validate_reuses_the_study_and_adds_only_its_samples(quick_config, refer
     out = tmp_path / "validate"
     shutil.copytree(reference_dir, out)
     assert "true-model samples" not in build_report(out).read_text(encoding="utf-8")
-    cmd = [sys.executable, "-m", "jointwear", "validate", str(quick_config), "--samples", "10", "--out", str(out),
-           "--workers", "2"]
+    cmd = [*CLI, "validate", str(quick_config), "--samples", "4", "--out", str(out), "--workers", "2"]
     done = subprocess.run(cmd, env=_env(), capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr[-2000:]
     val = json.loads((out / "validation.json").read_text())
     for key in ("cycles", "reliability_mc", "ci_low", "ci_high", "reliability_surrogate", "surrogate_error",
                 "n_samples", "model_calls", "wall_seconds", "cross_validation"):
         assert key in val
-    assert val["n_samples"] == 10 and val["model_calls"] == 10
+    assert val["n_samples"] == 4 and val["model_calls"] == 4
     assert val["reliability_surrogate"] == expected["curve"]["reliability"]  # read back, not re-learned
     # the learnt surrogate, replayed from the store, is read on the validation's samples too, and the line says so
     assert len(val["paired_reliability_surrogate"]) == len(val["cycles"])
@@ -176,24 +178,31 @@ def test_cli_study_resumed_from_python(quick_config, expected, tmp_path):
     assert stats.n_repeated == 0 and stats.n_calls == expected["model_calls"]
 
 
-def test_resume_with_a_changed_model_is_refused(quick_config, tmp_path):
+def test_resume_with_a_changed_model_is_refused(quick_config, reference_dir, tmp_path, capsys):
+    import shutil
+
+    from jointwear.cli import main_entry
+
     out = tmp_path / "study"
-    assert _run_and_kill(_cmd(quick_config, out), out, after_calls=1) or (out / "reliability.json").exists()
+    shutil.copytree(reference_dir, out)  # a folder whose store holds the calls of the quick study
     changed = quick_config.with_name("changed.toml")
     changed.write_text(quick_config.read_text().replace("block_cycles = 80000", "block_cycles = 40000"),
                        encoding="utf-8")
     before = (out / "config.json").read_bytes()
-    res = subprocess.run(_cmd(changed, out, "--resume"), env=_env(), capture_output=True, text=True, timeout=300)
-    assert res.returncode == 2
-    assert "holds calls of another wear model (changed: wear.block_cycles)" in res.stderr
-    assert len([ln for ln in res.stderr.splitlines() if ln.strip()]) == 1
+    capsys.readouterr()
+    assert main_entry(["reliability", str(changed), "--out", str(out), "--workers", "2", "--resume"]) == 2
+    err = capsys.readouterr().err
+    assert "holds calls of another wear model (changed: wear.block_cycles)" in err
+    assert len([ln for ln in err.splitlines() if ln.strip()]) == 1
     assert (out / "config.json").read_bytes() == before  # refused before it wrote anything
 
 
-def test_a_run_on_a_folder_with_a_store_is_refused_before_it_writes(quick_config, reference_dir, tmp_path):
+def test_a_run_on_a_folder_with_a_store_is_refused_before_it_writes(quick_config, reference_dir, tmp_path, capsys):
     """`jointwear run` into a folder that holds another study's store: refused up front, not after simulate and
     wear have overwritten that study's results."""
     import shutil
+
+    from jointwear.cli import main_entry
 
     out = tmp_path / "taken"
     shutil.copytree(reference_dir, out)
@@ -201,9 +210,9 @@ def test_a_run_on_a_folder_with_a_store_is_refused_before_it_writes(quick_config
         return {p.name: p.read_bytes() for p in out.iterdir() if p.is_file() and not p.name.endswith(("-wal", "-shm"))}
 
     files = results()
-    cmd = [sys.executable, "-m", "jointwear", "run", str(quick_config), "--out", str(out), "--workers", "2"]
-    res = subprocess.run(cmd, env=_env(), capture_output=True, text=True, timeout=300)
-    assert res.returncode == 2 and "an evaluation store already exists" in res.stderr
+    capsys.readouterr()
+    assert main_entry(["run", str(quick_config), "--out", str(out), "--workers", "2"]) == 2
+    assert "an evaluation store already exists" in capsys.readouterr().err
     assert results() == files
 
 
