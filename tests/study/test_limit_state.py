@@ -136,13 +136,26 @@ def exact_life(lives: np.ndarray, target: float) -> tuple[float, float]:
     return exact, 3 * np.sqrt(target * (1 - target) / lives.size) / slope
 
 
+@pytest.fixture(scope="module")
+def series_study():
+    """The two-joint series system learnt on TwoJointWear with either surrogate: (ctx, result), each run once."""
+    done = {}
+
+    def study(surrogate: str):
+        if surrogate not in done:
+            cfg = config_from_dict(_six_bar({"n_mc": 50_000, "noise": "none", "error_abs_tol": 0.002, "max_calls": 60,
+                                             "target_reliability": [0.9, 0.5], "surrogate": surrogate}))
+            ctx = study_context(cfg, lambda call: compute.Evaluator(TwoJointWear(call.cycles), None, None,
+                                                                    n_outputs=call.n_outputs))
+            done[surrogate] = ctx, run_reliability(ctx)
+        return done[surrogate]
+
+    return study
+
+
 @pytest.mark.parametrize("surrogate", ["per_joint", "system_life"])
-def test_series_system_reliability_against_brute_force(surrogate):
-    cfg = config_from_dict(_six_bar({"n_mc": 50_000, "noise": "none", "error_abs_tol": 0.002, "max_calls": 60,
-                                     "target_reliability": [0.9, 0.5], "surrogate": surrogate}))
-    ctx = study_context(cfg, lambda call: compute.Evaluator(TwoJointWear(call.cycles), None, None,
-                                                            n_outputs=call.n_outputs))
-    res = run_reliability(ctx)
+def test_series_system_reliability_against_brute_force(series_study, surrogate):
+    ctx, res = series_study(surrogate)
     x = population(ctx.marginals, 1_000_000, seed=3)
     assert_series_pf_matches_brute_force(res, x)
     assert [row["target"] for row in res.life_table] == [0.9, 0.5]
@@ -443,7 +456,7 @@ def test_a_judged_joint_that_does_not_wear_leaves_the_study_to_the_others():
     assert e["reliability"] == [1.0] * len(both.cycles) and "surrogate_fit" not in e
 
 
-def test_validation_checks_each_joints_own_reliability(tmp_path):
+def test_validation_checks_each_joints_own_reliability(series_study, tmp_path):
     # the validation's samples give each joint's R(N) too (no new call): against brute force on 1e6 samples within
     # the exact 95 % interval of the 2,000 (3 standard errors of the reference added); the study's own R of each joint
     # (from its learnt Kriging) lies in that interval at every level but at most one, and within 0.03 of it (the
@@ -451,10 +464,9 @@ def test_validation_checks_each_joints_own_reliability(tmp_path):
     from jointwear.study.results import ValidationResult
     from jointwear.study.validation import run_validation
 
-    cfg = config_from_dict(_six_bar({"n_mc": 50_000, "noise": "none", "error_abs_tol": 0.002, "max_calls": 60}))
-    ctx = study_context(cfg, lambda call: compute.Evaluator(TwoJointWear(call.cycles), None, None,
-                                                            n_outputs=call.n_outputs))
-    res = run_reliability(ctx)
+    # the per-joint study of the series-system test: its targets change no call of the learning (life_tol = 0)
+    ctx, res = series_study("per_joint")
+    assert ctx.config.reliability.life_tol == 0.0 and ctx.config.reliability.surrogate == "per_joint"
     val = run_validation(ctx, res, 2000)
     assert [j["name"] for j in val.joints] == ["A", "E"]
     x = population(ctx.marginals, 1_000_000, seed=3)
