@@ -18,7 +18,8 @@ ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples"
 
 SMALL = {
-    "[wear]": "[wear]\ncycles = 300000\nblock_cycles = 150000\n",
+    # one recorded cycle a block (2 by default): a third less dynamics in every history, converge's 48 included
+    "[wear]": "[wear]\ncycles = 300000\nblock_cycles = 150000\nrecord_cycles = 1\n",
     "[reliability]": ("[reliability]\nallowance_mm = 0.003\ncycles_start = 100000\ncycles_stop = 300000\n"
                       "cycles_step = 100000\ntarget_reliability = [0.9, 0.99]\nn_mc = 20000\nn_initial = 6\n"
                       "max_calls = 8\n"),
