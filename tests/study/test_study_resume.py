@@ -371,7 +371,10 @@ def test_a_second_study_in_a_folder_in_use_is_refused(quick_config, tmp_path):
     from jointwear.schema import ConfigError
 
     out = tmp_path / "busy"
-    proc = subprocess.Popen(_cmd(quick_config, out), env=_env(), stdout=subprocess.DEVNULL,
+    # a budget the first study cannot spend before the checks: 14 calls ended within seconds of the first one
+    longer = quick_config.with_name("longer.toml")
+    longer.write_text(quick_config.read_text().replace("max_calls = 14", "max_calls = 60"), encoding="utf-8")
+    proc = subprocess.Popen(_cmd(longer, out), env=_env(), stdout=subprocess.DEVNULL,
                             stderr=subprocess.PIPE, start_new_session=True)
     try:
         t0 = time.monotonic()
