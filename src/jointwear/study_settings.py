@@ -129,8 +129,8 @@ class ReliabilitySettings(SIModel):
         "levels. For a model without call-to-call scatter, where the levels' rules alone read the life short: on the "
         "default preset with an analytic wear model whose exact life is known (benchmarks/life_coverage.py, 40 "
         "seeds) the levels' rules stopped at a median 28 calls with the life at R = 0.9 0.40 % (+-0.06 %) short and "
-        "its 95 % interval holding the exact life in 36 of 40 seeds; with 0.002, 39 of 40, 0.09 % (+-0.02 %) short, "
-        "at a median 34 calls. Not the default: on the default study (the true, chaotic wear model) 0.002 spent the "
+        "its 95 % interval holding the exact life in 36 of 40 seeds; with 0.002, 40 of 40, 0.08 % (+-0.02 %) short, "
+        "at a median 36 calls. Not the default: on the default study (the true, chaotic wear model) 0.002 spent the "
         "whole budget of 80 calls without meeting the levels' rules (docs/reliability.md).")
     cov_target: float = Field(0.05, description="Required COV of Pf at every N with Pf > pf_floor (paper: 0.05).")
     pf_floor: float = Field(1e-3, description="Levels with Pf below this need not meet the COV target.")
