@@ -271,8 +271,8 @@ class WearSettings(SIModel):
     atol: float | None = F(
         5e-10, unit="m",
         gt=0.0,
-        description="Integrator absolute tolerance on positions; None: the dynamics' default (1e-9 m). Halved "
-        "with rtol (see rtol).",
+        description="Integrator absolute tolerance on positions; None: the dynamics' default (simulation.atol, "
+        "1e-6 mm). Halved with rtol (see rtol).",
     )
 
     @field_validator("cycles", mode="before")
