@@ -79,18 +79,16 @@ def _settings_row(x: dict, value: str | None = None, told: dict[str, str] | None
     """A row of a settings table with its source; ``told``: the descriptions given so far (text -> the setting whose
     row gave it), so that a description given above is not repeated: 'as for <that setting>' where that is shorter."""
     flag = '<span class="pill open">open</span>' if x.get("paper_open") else ""
-    text = x.get("source") or "\u2014"
-    if x.get("description") and x.get("description") != x.get("source"):
-        text = f"{text}\n{x['description']}"
+    source = x.get("source") or "\u2014"
+    desc = x.get("description") if x.get("description") != x.get("source") else None
+    text = f"{source}\n{desc}" if desc else source
     first = (told or {}).get(text)
     if first is not None and first != x.get("name") and len(f"as for {first}") < len(text):
         src = e(f"as for {first}")
     else:
         if told is not None:
             told.setdefault(text, str(x.get("name")))
-        src = e(x.get("source") or "\u2014")
-        if x.get("description") and x.get("description") != x.get("source"):
-            src += f'<div class="desc">{e(x["description"])}</div>'
+        src = e(source) + (f'<div class="desc">{e(desc)}</div>' if desc else "")
     return (e(x.get("name")), e(setting_text(x) if value is None else value), e(_unit_cell(x)), flag, src)
 
 
